@@ -1,0 +1,25 @@
+#pragma once
+// Raster I/O through GDAL: any format GDAL reads (GeoTIFF, ESRI ASCII grid, VRT, ...).
+#include <string>
+
+#include "terrain/grid.hpp"
+
+namespace terrain {
+
+// Reads band 1 of `path` as float elevations; the band's no-data value (and NaN) become
+// NaN. Requires a north-up geotransform (no rotation terms). The CRS is read as WKT and
+// classified (geographic / projected / none); `epsg` is filled when GDAL can identify it.
+// Throws Error: missing file, unreadable file, rotated raster, fewer than 2 x 2 samples.
+Grid read_dem(const std::string& path);
+
+// Writes `grid` as a Float32 GeoTIFF (DEFLATE, tiled) with its CRS and geotransform;
+// NaN samples become the no-data value -9999. `metadata` is stored as the TIFF
+// description (tool, version, command line). Atomic: temp file + rename.
+void write_geotiff(const Grid& grid, const std::string& path, const std::string& metadata = {});
+
+// Fills the no-data samples of `grid` in place by GDAL's inverse-distance interpolation
+// (GDALFillNodata, unlimited search distance, no smoothing). Returns how many samples it
+// filled. Throws Error when the grid has no valid sample.
+std::size_t fill_nodata(Grid& grid);
+
+}  // namespace terrain

@@ -1,0 +1,95 @@
+#pragma once
+// The terrain mesh: a regular grid of vertices with implicit triangles (no per-face
+// storage), vertex positions relative to a local origin, and unit vertex normals.
+//
+// Triangulation convention (one place; locked by tests/grid_mesh_test.cpp):
+//   * vertex (r, c) has index r * cols + c (row 0 north, as in grid.hpp);
+//   * cell (r, c), r < rows-1, c < cols-1, has corners NW=(r,c), NE=(r,c+1),
+//     SW=(r+1,c), SE=(r+1,c+1) and is split along its NW-SE diagonal into
+//         face 2*cell + 0 = (NW, SW, SE)      face 2*cell + 1 = (NW, SE, NE)
+//     with cell = r * (cols-1) + c; both are counter-clockwise seen from above, so
+//     face normals point up (+z);
+//   * local coordinates: vertex (r, c) of a flat grid sits at (c*dx, -r*dy, z); the
+//     world (CRS) position is origin + local. The origin is the grid's sample (0,0),
+//     with origin z = 0, so float coordinates stay exact to ~1 mm over 100 km.
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "terrain/grid.hpp"
+
+namespace terrain {
+
+struct GridTopology {
+  std::size_t rows = 0, cols = 0;
+
+  std::size_t n_vertices() const { return rows * cols; }
+  std::size_t n_cells() const { return (rows - 1) * (cols - 1); }
+  std::size_t n_faces() const { return 2 * n_cells(); }
+  // Vertex indices of face f in counter-clockwise order (convention above).
+  std::array<std::uint32_t, 3> face(std::size_t f) const {
+    const std::size_t cell = f / 2, r = cell / (cols - 1), c = cell % (cols - 1);
+    const auto nw = std::uint32_t(r * cols + c), ne = nw + 1;
+    const auto sw = std::uint32_t(nw + cols), se = sw + 1;
+    return (f % 2 == 0) ? std::array<std::uint32_t, 3>{nw, sw, se}
+                        : std::array<std::uint32_t, 3>{nw, se, ne};
+  }
+  std::size_t face_of_cell(std::size_t r, std::size_t c, int k) const {
+    return 2 * (r * (cols - 1) + c) + std::size_t(k);
+  }
+};
+
+// Where the mesh sits in the world and which grid it came from.
+struct MeshGeoref {
+  std::string crs_wkt;  // empty: unknown CRS (metres)
+  int epsg = 0;
+  double origin_x = 0.0, origin_y = 0.0, origin_z = 0.0;  // world = origin + local
+  double dx = 1.0, dy = 1.0;                              // grid spacing, metres
+};
+
+struct GridMesh {
+  GridTopology topo;
+  MeshGeoref geo;
+  std::vector<Eigen::Vector3f> positions;  // #V, local coordinates
+  std::vector<Eigen::Vector3f> normals;    // #V, unit vertex normals
+  std::string provenance;                  // tool, version, command line (free text)
+
+  std::size_t n_vertices() const { return positions.size(); }
+  std::size_t n_faces() const { return topo.n_faces(); }
+};
+
+enum class NormalWeighting { Uniform, Angle, Area };
+
+// Vertex normals on grid topology (ALGORITHMS.md 3): the normalized sum of the incident
+// unit face normals (Uniform: the Creases paper's rule), weighted by the corner angle
+// (Angle, Thurmer & Wuthrich 1998) or by face area (Area, exact for quadratics on a
+// regular grid). positions: #V local coordinates. Degenerate faces add nothing; a vertex
+// with no usable face gets (0, 0, 1). Tested on planes and a worked example.
+std::vector<Eigen::Vector3f> vertex_normals(const std::vector<Eigen::Vector3f>& positions,
+                                            const GridTopology& topo, NormalWeighting weighting);
+
+// Unit normal of the triangle (p0, p1, p2), counter-clockwise; zero when degenerate.
+Eigen::Vector3d face_normal(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                            const Eigen::Vector3d& p2);
+
+// Parses "uniform" (alias "paper"), "angle", "area"; throws Error otherwise.
+NormalWeighting parse_normal_weighting(const std::string& name);
+const char* to_string(NormalWeighting w);
+
+// Builds the mesh of a grid without no-data (Error otherwise): one vertex per sample,
+// two triangles per cell, vertex normals by `weighting`. The CRS and spacing come from
+// grid.geo.
+GridMesh make_grid_mesh(const Grid& grid, NormalWeighting weighting);
+
+// World (CRS) coordinates of a vertex.
+inline Eigen::Vector3d world_position(const GridMesh& m, std::size_t v) {
+  return {m.geo.origin_x + double(m.positions[v].x()), m.geo.origin_y + double(m.positions[v].y()),
+          m.geo.origin_z + double(m.positions[v].z())};
+}
+
+// The mesh's vertex elevations back on its grid (rows x cols) with its georeferencing.
+Grid mesh_to_grid(const GridMesh& mesh);
+
+}  // namespace terrain

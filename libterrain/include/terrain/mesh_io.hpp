@@ -1,0 +1,38 @@
+#pragma once
+// The mesh file: binary little-endian PLY that MeshLab and Blender open.
+//
+//   element vertex: float x y z (local coordinates), float nx ny nz (unit normals)
+//   element face:   list uchar int vertex_indices (the grid_mesh.hpp triangulation)
+//   header comments, ignored by other readers, carry what later steps need:
+//     comment terrain-mesh 1                      format version of these comments
+//     comment grid <rows> <cols> <dx> <dy>        grid layout and spacing (metres)
+//     comment origin <x> <y> <z>                  world = origin + local (CRS units)
+//     comment crs_epsg <code>                     0 when unknown
+//     comment crs_wkt <text>                      WKT2, split over lines of <= 200 chars
+//     comment provenance <text>                   tool, version and command line
+// The PLY body is written and read by OpenMesh's PLY codec through an exporter and an
+// importer over our arrays (no half-edge mesh is built); the comment lines are added to
+// and read from the header text around it. Documented in docs/formats.md.
+#include <string>
+
+#include "terrain/grid_mesh.hpp"
+
+namespace terrain {
+
+// Writes atomically (temp file + rename). Throws Error on failure.
+void write_mesh_ply(const GridMesh& mesh, const std::string& path);
+
+// Reads a mesh written by write_mesh_ply. Throws Error: missing or non-PLY file, no
+// terrain-mesh comments, no vertex normals, vertex count or faces that do not match the
+// grid layout, truncated data.
+GridMesh read_mesh_ply(const std::string& path);
+
+// Writes the mesh as Wavefront OBJ (vertices, vertex normals, faces) through OpenMesh's
+// OBJ writer, in local coordinates; leading '#' comment lines give the origin, CRS and
+// provenance. Atomic.
+void write_mesh_obj(const GridMesh& mesh, const std::string& path);
+
+// True when `path` starts with the PLY magic line.
+bool is_ply_file(const std::string& path);
+
+}  // namespace terrain

@@ -1,0 +1,51 @@
+#pragma once
+// Curved point-normal (PN) triangles, Vlachos, Peters, Boyd & Mitchell 2001
+// (ALGORITHMS.md 1 and 2). This CPU code is the reference the renderer's shaders are
+// tested against.
+//
+// Barycentric convention (one place): (b1, b2, b3) are the weights of corners P1, P2, P3;
+// b1 + b2 + b3 = 1. Control point b_ijk carries b1^i b2^j b3^k. (s, t) = (b2, b3).
+#include <Eigen/Core>
+#include <array>
+
+namespace terrain {
+
+struct PnPatch {
+  // Cubic geometry control points, in this order:
+  //   b300 b030 b003 b210 b120 b021 b012 b102 b201 b111
+  std::array<Eigen::Vector3d, 10> b;
+  // Quadratic normal coefficients: n200 n020 n002 n110 n011 n101
+  std::array<Eigen::Vector3d, 6> n;
+};
+
+enum PnIndex { B300, B030, B003, B210, B120, B021, B012, B102, B201, B111 };
+enum PnNormalIndex { N200, N020, N002, N110, N011, N101 };
+
+// Control points from corner positions P1..P3 and UNIT vertex normals N1..N3 (in this
+// order, counter-clockwise). Degenerate edges and cancelling normals fall back to the
+// face normal (ALGORITHMS.md 1.5).
+PnPatch make_pn_patch(const Eigen::Vector3d& p1, const Eigen::Vector3d& p2, const Eigen::Vector3d& p3,
+                      const Eigen::Vector3d& n1, const Eigen::Vector3d& n2, const Eigen::Vector3d& n3);
+
+// Cubic position P(b1, b2, b3).
+Eigen::Vector3d pn_position(const PnPatch& p, double b1, double b2, double b3);
+
+// Quadratic shading normal, the paper's form (no factor 2 on the mixed terms), normalized.
+Eigen::Vector3d pn_normal(const PnPatch& p, double b1, double b2, double b3);
+
+// dP/ds and dP/dt at (b1, b2, b3), with s = b2, t = b3, b1 = 1 - s - t.
+void pn_derivatives(const PnPatch& p, double b1, double b2, double b3, Eigen::Vector3d& dpds,
+                    Eigen::Vector3d& dpdt);
+
+struct PnXySolution {
+  double b1 = 0, b2 = 0, b3 = 0;  // may be outside [0,1] when the point is not on this patch
+  Eigen::Vector3d position;       // P(b1, b2, b3)
+  bool converged = false;         // |P.xy - (x, y)| <= tolerance
+};
+
+// Solves P.xy(b1, b2, b3) = (x, y) by Newton's method on (s, t) from the planar
+// barycentrics, with backtracking (ALGORITHMS.md 2.3). `tolerance` is in the units of
+// the positions. Tested: worked example 2.5, planar patches, random terrain patches.
+PnXySolution pn_solve_xy(const PnPatch& p, double x, double y, double tolerance = 1e-9);
+
+}  // namespace terrain

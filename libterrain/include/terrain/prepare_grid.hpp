@@ -1,0 +1,52 @@
+#pragma once
+// From a DEM as read to the regular metric grid the mesh is built on: reprojection of a
+// geographic DEM onto UTM, cropping, resampling to a spacing, and the no-data policy.
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "terrain/error.hpp"
+#include "terrain/grid.hpp"
+#include "terrain/resample.hpp"
+#include "terrain/utm.hpp"
+
+namespace terrain {
+
+struct GridRequest {
+  std::optional<double> spacing;                // metres (square cells); default: the source's
+  std::optional<std::array<double, 4>> bbox;    // xmin ymin xmax ymax in the target CRS
+  std::optional<std::array<double, 2>> center;  // easting northing in the target CRS ...
+  std::optional<std::array<double, 2>> size;    // ... and width height in metres
+  std::optional<std::string> utm_zone;          // "17", "17N", "17S": geographic input only
+  Resampling resampling = Resampling::Bilinear;
+  bool fill_nodata = false;                     // else no-data in the area is an error
+};
+
+struct PreparedGrid {
+  Grid grid;
+  std::vector<std::string> warnings;  // for the tool to print (for example: no CRS)
+  std::size_t filled = 0;             // no-data samples filled by interpolation
+};
+
+// Rules (documented in docs/dem2mesh.md, tested in tests/prepare_grid_test.cpp):
+//  * Geographic source: target = UTM zone of the DEM centre (or `utm_zone`) on the
+//    source datum. Every target sample centre is inverse-mapped with
+//    GeographicLib::UTMUPS::Reverse and sampled in the source. The default area is the
+//    largest axis-aligned UTM rectangle inside the footprint of the source sample centres,
+//    so no target sample needs data from outside the DEM; target cells are aligned to
+//    multiples of the spacing (like gdalwarp -tap). Default spacing: the source's N-S
+//    sample spacing in metres at the centre, rounded to 0.01 m.
+//  * Projected source (metres): stays in its CRS; target cells are aligned to the source
+//    cell lattice shifted by whole target cells, so at the source spacing the samples are
+//    the source samples themselves. No CRS: taken as metres, with a warning.
+//  * Crop: the target samples are those whose centres lie inside the bbox (or the
+//    centre/size box). A box reaching beyond the DEM's extent is an error.
+//  * No-data in the result: Error naming the count and bounding rows/columns/coordinates,
+//    unless fill_nodata (GDALFillNodata on the result).
+// Throws Error for every impossible request (spacing <= 0, empty area, < 2 x 2 samples,
+// more than 2^31 - 1 samples, all no-data).
+PreparedGrid prepare_grid(const Grid& source, const GridRequest& request,
+                          const Progress& progress = {});
+
+}  // namespace terrain

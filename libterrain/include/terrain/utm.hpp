@@ -1,0 +1,25 @@
+#pragma once
+// UTM zones and CRSs through GeographicLib (zone rules) and GDAL/OGR (CRS definitions).
+#include <string>
+#include <string_view>
+
+namespace terrain {
+
+struct UtmZone {
+  int zone = 0;       // 1..60
+  bool north = true;  // hemisphere
+};
+
+// The standard zone of a point (GeographicLib::UTMUPS::StandardZone, with the Norway and
+// Svalbard exceptions). Throws Error for latitudes outside UTM's [-80, 84) band.
+UtmZone standard_utm_zone(double lat, double lon);
+
+// Parses "17", "17N", "17s": a bare number takes the hemisphere of `lat_hint`.
+// Throws Error for anything else or a zone outside 1..60.
+UtmZone parse_utm_zone(std::string_view text, double lat_hint);
+
+// The UTM zone CRS on the datum of `geographic_wkt` (for example NAD83 -> "NAD83 / UTM
+// zone 17N", EPSG:26917) as WKT; `epsg` receives the EPSG code when GDAL identifies one.
+std::string utm_crs_wkt(const std::string& geographic_wkt, UtmZone zone, int& epsg);
+
+}  // namespace terrain

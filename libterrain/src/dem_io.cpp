@@ -1,0 +1,199 @@
+#include "terrain/dem_io.hpp"
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <gdal_alg.h>
+#include <gdal_priv.h>
+#include <ogr_spatialref.h>
+
+#include <filesystem>
+#include <memory>
+#include <mutex>
+
+#include "terrain/atomic_file.hpp"
+#include "terrain/error.hpp"
+
+namespace terrain {
+
+namespace {
+
+constexpr double kGeoTiffNodata = -9999.0;
+
+void ensure_gdal() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    GDALAllRegister();
+    // GDAL prints its own errors to stderr by default; we turn them into Error messages.
+    CPLSetErrorHandler(CPLQuietErrorHandler);
+  });
+}
+
+std::string last_gdal_error() {
+  std::string msg = CPLGetLastErrorMsg();
+  return msg.empty() ? std::string("unknown GDAL error") : msg;
+}
+
+struct DatasetCloser {
+  void operator()(GDALDataset* ds) const { GDALClose(ds); }
+};
+using DatasetPtr = std::unique_ptr<GDALDataset, DatasetCloser>;
+
+// A MEM dataset that aliases `grid.z` (no copy), nodata = NaN.
+DatasetPtr wrap_in_mem_dataset(Grid& grid) {
+  ensure_gdal();
+  GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
+  DatasetPtr ds(mem->Create("", int(grid.cols), int(grid.rows), 0, GDT_Float32, nullptr));
+  if (!ds) throw Error("cannot create an in-memory raster: " + last_gdal_error());
+  char ptr[64];
+  CPLPrintPointer(ptr, grid.z.data(), sizeof(ptr));
+  std::string opt = std::string("DATAPOINTER=") + ptr;
+  char* opts[] = {opt.data(), nullptr};
+  if (ds->AddBand(GDT_Float32, opts) != CE_None)
+    throw Error("cannot create an in-memory raster band: " + last_gdal_error());
+  ds->GetRasterBand(1)->SetNoDataValue(std::numeric_limits<double>::quiet_NaN());
+  return ds;
+}
+
+}  // namespace
+
+Grid read_dem(const std::string& path) {
+  ensure_gdal();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec) && path.rfind("/vsi", 0) != 0)
+    throw Error("cannot read '" + path + "': no such file");
+  CPLErrorReset();
+  DatasetPtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  if (!ds) throw Error("cannot read '" + path + "': not a raster GDAL can open (" +
+                       last_gdal_error() + ")");
+  if (ds->GetRasterCount() < 1) throw Error("cannot read '" + path + "': it has no raster band");
+
+  const int cols = ds->GetRasterXSize(), rows = ds->GetRasterYSize();
+  if (cols < 2 || rows < 2)
+    throw Error("cannot use '" + path + "': " + std::to_string(cols) + " x " +
+                std::to_string(rows) + " samples; a DEM needs at least 2 x 2");
+
+  double gt[6] = {0, 1, 0, 0, 0, -1};
+  const bool has_gt = ds->GetGeoTransform(gt) == CE_None;
+  if (gt[2] != 0.0 || gt[4] != 0.0)
+    throw Error("cannot use '" + path + "': rotated or sheared geotransform; warp it north-up first (gdalwarp)");
+  if (gt[1] <= 0.0) throw Error("cannot use '" + path + "': non-positive pixel width in the geotransform");
+
+  Grid grid;
+  grid.rows = std::size_t(rows);
+  grid.cols = std::size_t(cols);
+  grid.z.resize(grid.rows * grid.cols);
+  GDALRasterBand* band = ds->GetRasterBand(1);
+  if (band->RasterIO(GF_Read, 0, 0, cols, rows, grid.z.data(), cols, rows, GDT_Float32, 0, 0) !=
+      CE_None)
+    throw Error("cannot read '" + path + "': " + last_gdal_error());
+
+  // South-up rasters (positive pixel height) are flipped to the north-up convention.
+  if (gt[5] > 0.0) {
+    for (std::size_t r = 0; r < grid.rows / 2; ++r)
+      std::swap_ranges(grid.z.begin() + long(r * grid.cols), grid.z.begin() + long((r + 1) * grid.cols),
+                       grid.z.begin() + long((grid.rows - 1 - r) * grid.cols));
+    gt[3] += gt[5] * rows;
+    gt[5] = -gt[5];
+  }
+  grid.geo.x0 = gt[0];
+  grid.geo.y0 = gt[3];
+  grid.geo.dx = gt[1];
+  grid.geo.dy = -gt[5];
+  if (!has_gt) grid.geo.y0 = double(rows);  // pixel coordinates, row 0 at the top
+
+  int has_nodata = 0;
+  const double nodata = band->GetNoDataValue(&has_nodata);
+  if (has_nodata) {
+    const float nd = float(nodata);
+    for (float& v : grid.z)
+      if (v == nd || (std::isnan(nodata) && std::isnan(v))) v = std::numeric_limits<float>::quiet_NaN();
+  }
+
+  if (const OGRSpatialReference* srs = ds->GetSpatialRef()) {
+    char* wkt = nullptr;
+    const char* opts[] = {"FORMAT=WKT2_2019", "MULTILINE=NO", nullptr};
+    if (srs->exportToWkt(&wkt, opts) == OGRERR_NONE && wkt) grid.geo.crs_wkt = wkt;
+    CPLFree(wkt);
+    grid.geo.crs_kind = srs->IsGeographic() ? CrsKind::Geographic
+                        : srs->IsProjected() ? CrsKind::Projected
+                                             : CrsKind::None;
+    OGRSpatialReference copy(*srs);
+    if (copy.GetAuthorityName(nullptr) == nullptr) copy.AutoIdentifyEPSG();
+    const char* auth = copy.GetAuthorityName(nullptr);
+    const char* code = copy.GetAuthorityCode(nullptr);
+    if (auth && code && std::string(auth) == "EPSG") grid.geo.epsg = std::atoi(code);
+    if (grid.geo.crs_kind == CrsKind::Projected && std::abs(copy.GetLinearUnits() - 1.0) > 1e-12)
+      throw Error("cannot use '" + path + "': its projected CRS is in " +
+                  std::string(copy.GetAttrValue("UNIT") ? copy.GetAttrValue("UNIT") : "non-metre units") +
+                  ", not metres; reproject it first (gdalwarp -t_srs EPSG:...)");
+  }
+  return grid;
+}
+
+void write_geotiff(const Grid& grid, const std::string& path, const std::string& metadata) {
+  ensure_gdal();
+  AtomicFile out(path);
+  GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+  const bool tiled = grid.cols >= 256 && grid.rows >= 256;
+  CPLStringList opts;
+  opts.SetNameValue("COMPRESS", "DEFLATE");
+  opts.SetNameValue("PREDICTOR", "3");
+  if (tiled) opts.SetNameValue("TILED", "YES");
+  opts.SetNameValue("BIGTIFF", "IF_SAFER");
+  CPLErrorReset();
+  {
+    DatasetPtr ds(gtiff->Create(out.temp_path().c_str(), int(grid.cols), int(grid.rows), 1,
+                                GDT_Float32, opts.List()));
+    if (!ds) throw Error("cannot write '" + path + "': " + last_gdal_error());
+    double gt[6] = {grid.geo.x0, grid.geo.dx, 0.0, grid.geo.y0, 0.0, -grid.geo.dy};
+    ds->SetGeoTransform(gt);
+    if (!grid.geo.crs_wkt.empty()) {
+      OGRSpatialReference srs;
+      if (srs.importFromWkt(grid.geo.crs_wkt.c_str()) == OGRERR_NONE) ds->SetSpatialRef(&srs);
+    }
+    if (!metadata.empty()) ds->SetMetadataItem("TIFFTAG_IMAGEDESCRIPTION", metadata.c_str());
+    GDALRasterBand* band = ds->GetRasterBand(1);
+    band->SetNoDataValue(kGeoTiffNodata);
+    std::vector<float> row(grid.cols);
+    for (std::size_t r = 0; r < grid.rows; ++r) {
+      for (std::size_t c = 0; c < grid.cols; ++c) {
+        const float v = grid.at(r, c);
+        row[c] = std::isnan(v) ? float(kGeoTiffNodata) : v;
+      }
+      if (band->RasterIO(GF_Write, 0, int(r), int(grid.cols), 1, row.data(), int(grid.cols), 1,
+                         GDT_Float32, 0, 0) != CE_None)
+        throw Error("cannot write '" + path + "': " + last_gdal_error());
+    }
+    // GDALClose flushes; a failure there (disk full) must not be committed.
+    CPLErrorReset();
+    ds.reset();
+    if (CPLGetLastErrorType() >= CE_Failure) throw Error("cannot write '" + path + "': " + last_gdal_error());
+  }
+  out.commit();
+}
+
+std::size_t fill_nodata(Grid& grid) {
+  const std::size_t missing = grid.count_nodata();
+  if (missing == 0) return 0;
+  if (missing == grid.size()) throw Error("cannot fill no-data: the grid has no valid sample");
+  DatasetPtr ds = wrap_in_mem_dataset(grid);
+  GDALRasterBand* band = ds->GetRasterBand(1);
+  const double max_search = double(std::max(grid.rows, grid.cols));
+  if (GDALFillNodata(band, nullptr, max_search, 0, 0, nullptr, nullptr, nullptr) != CE_None)
+    throw Error("GDALFillNodata failed: " + last_gdal_error());
+  ds.reset();  // the data pointer aliases grid.z: nothing to copy back
+  const std::size_t left = grid.count_nodata();
+  if (left != 0) throw Error("GDALFillNodata left " + std::to_string(left) + " no-data samples");
+  return missing;
+}
+
+std::string crs_name(const Georef& geo) {
+  if (geo.crs_wkt.empty()) return "none";
+  ensure_gdal();
+  OGRSpatialReference srs;
+  if (srs.importFromWkt(geo.crs_wkt.c_str()) != OGRERR_NONE) return "unparsed CRS";
+  const char* name = srs.GetName();
+  return name ? name : "unnamed CRS";
+}
+
+}  // namespace terrain

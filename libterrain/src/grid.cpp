@@ -1,0 +1,44 @@
+#include "terrain/grid.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace terrain {
+
+std::vector<std::uint8_t> Grid::nodata_mask() const {
+  std::vector<std::uint8_t> mask(z.size());
+  std::transform(z.begin(), z.end(), mask.begin(),
+                 [](float v) { return static_cast<std::uint8_t>(std::isnan(v)); });
+  return mask;
+}
+
+std::size_t Grid::count_nodata() const {
+  return static_cast<std::size_t>(
+      std::count_if(z.begin(), z.end(), [](float v) { return std::isnan(v); }));
+}
+
+ElevationStats elevation_stats(const std::vector<float>& z) {
+  ElevationStats s;
+  double sum = 0.0, sum2 = 0.0;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (float v : z) {
+    if (std::isnan(v)) {
+      ++s.nodata;
+      continue;
+    }
+    ++s.count;
+    sum += v;
+    sum2 += double(v) * v;
+    lo = std::min(lo, double(v));
+    hi = std::max(hi, double(v));
+  }
+  if (s.count > 0) {
+    s.min = lo;
+    s.max = hi;
+    s.mean = sum / double(s.count);
+    s.stddev = std::sqrt(std::max(0.0, sum2 / double(s.count) - s.mean * s.mean));
+  }
+  return s;
+}
+
+}  // namespace terrain

@@ -1,0 +1,357 @@
+#include "terrain/mesh_io.hpp"
+
+#include <OpenMesh/Core/IO/exporter/BaseExporter.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/IO/reader/PLYReader.hh>
+#include <OpenMesh/Core/IO/writer/OBJWriter.hh>
+#include <OpenMesh/Core/IO/writer/PLYWriter.hh>
+#include <OpenMesh/Core/Mesh/BaseKernel.hh>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <streambuf>
+
+#include "terrain/atomic_file.hpp"
+#include "terrain/error.hpp"
+
+namespace terrain {
+
+namespace {
+
+namespace OM = OpenMesh;
+using OM::IO::BaseExporter;
+using OM::IO::BaseImporter;
+
+constexpr int kFormatVersion = 1;
+constexpr std::size_t kWktChunk = 200;
+
+// Property container without connectivity: OpenMesh's PLY writer reads custom vertex and
+// face properties through it (none yet; later steps store per-vertex data here).
+class PropertyKernel : public OM::BaseKernel {
+ public:
+  PropertyKernel(std::size_t nv, std::size_t nf) : nv_(nv), nf_(nf) {}
+  size_t n_vertices() const override { return nv_; }
+  size_t n_faces() const override { return nf_; }
+
+ private:
+  std::size_t nv_, nf_;
+};
+
+// Presents a GridMesh to OpenMesh's writers (PLY, OBJ) without building a half-edge mesh.
+class GridMeshExporter : public BaseExporter {
+ public:
+  explicit GridMeshExporter(const GridMesh& m) : m_(m), kernel_(m.n_vertices(), m.n_faces()) {}
+
+  OM::Vec3f point(OM::VertexHandle v) const override {
+    const auto& p = m_.positions[std::size_t(v.idx())];
+    return {p.x(), p.y(), p.z()};
+  }
+  OM::Vec3d pointd(OM::VertexHandle v) const override { return OM::Vec3d(point(v)); }
+  bool is_point_double() const override { return false; }
+  OM::Vec3f normal(OM::VertexHandle v) const override {
+    const auto& n = m_.normals[std::size_t(v.idx())];
+    return {n.x(), n.y(), n.z()};
+  }
+  OM::Vec3d normald(OM::VertexHandle v) const override { return OM::Vec3d(normal(v)); }
+  bool is_normal_double() const override { return false; }
+  unsigned int get_vhandles(OM::FaceHandle f, std::vector<OM::VertexHandle>& vh) const override {
+    const auto t = m_.topo.face(std::size_t(f.idx()));
+    vh.assign({OM::VertexHandle(int(t[0])), OM::VertexHandle(int(t[1])), OM::VertexHandle(int(t[2]))});
+    return 3;
+  }
+  OM::BaseKernel* kernel() override { return &kernel_; }
+  size_t n_vertices() const override { return m_.n_vertices(); }
+  size_t n_faces() const override { return m_.n_faces(); }
+  size_t n_edges() const override { return 0; }
+  bool is_triangle_mesh() const override { return true; }
+  bool has_vertex_normals() const override { return true; }
+
+  // Attributes we do not have.
+  OM::Vec3uc color(OM::VertexHandle) const override { return {}; }
+  OM::Vec4uc colorA(OM::VertexHandle) const override { return {}; }
+  OM::Vec3ui colori(OM::VertexHandle) const override { return {}; }
+  OM::Vec4ui colorAi(OM::VertexHandle) const override { return {}; }
+  OM::Vec3f colorf(OM::VertexHandle) const override { return {}; }
+  OM::Vec4f colorAf(OM::VertexHandle) const override { return {}; }
+  OM::Vec2f texcoord(OM::VertexHandle) const override { return {}; }
+  OM::Vec2f texcoord(OM::HalfedgeHandle) const override { return {}; }
+  OM::Attributes::StatusInfo status(OM::VertexHandle) const override { return {}; }
+  OM::HalfedgeHandle getHeh(OM::FaceHandle, OM::VertexHandle) const override { return {}; }
+  unsigned int get_face_texcoords(std::vector<OM::Vec2f>&) const override { return 0; }
+  OM::Vec3f normal(OM::FaceHandle) const override { return {}; }
+  OM::Vec3d normald(OM::FaceHandle) const override { return {}; }
+  OM::Vec3uc color(OM::FaceHandle) const override { return {}; }
+  OM::Vec4uc colorA(OM::FaceHandle) const override { return {}; }
+  OM::Vec3ui colori(OM::FaceHandle) const override { return {}; }
+  OM::Vec4ui colorAi(OM::FaceHandle) const override { return {}; }
+  OM::Vec3f colorf(OM::FaceHandle) const override { return {}; }
+  OM::Vec4f colorAf(OM::FaceHandle) const override { return {}; }
+  OM::Attributes::StatusInfo status(OM::FaceHandle) const override { return {}; }
+  OM::Vec3uc color(OM::EdgeHandle) const override { return {}; }
+  OM::Vec4uc colorA(OM::EdgeHandle) const override { return {}; }
+  OM::Vec3ui colori(OM::EdgeHandle) const override { return {}; }
+  OM::Vec4ui colorAi(OM::EdgeHandle) const override { return {}; }
+  OM::Vec3f colorf(OM::EdgeHandle) const override { return {}; }
+  OM::Vec4f colorAf(OM::EdgeHandle) const override { return {}; }
+  OM::Attributes::StatusInfo status(OM::EdgeHandle) const override { return {}; }
+  int get_halfedge_id(OM::VertexHandle) override { return -1; }
+  int get_halfedge_id(OM::FaceHandle) override { return -1; }
+  int get_next_halfedge_id(OM::HalfedgeHandle) override { return -1; }
+  int get_to_vertex_id(OM::HalfedgeHandle) override { return -1; }
+  int get_face_id(OM::HalfedgeHandle) override { return -1; }
+  OM::Attributes::StatusInfo status(OM::HalfedgeHandle) const override { return {}; }
+
+ private:
+  const GridMesh& m_;
+  PropertyKernel kernel_;
+};
+
+// Receives OpenMesh's PLY reader output into a GridMesh whose topology is known from the
+// header comments; faces are checked against that topology instead of being stored.
+class GridMeshImporter : public BaseImporter {
+ public:
+  explicit GridMeshImporter(GridMesh& m) : m_(m), kernel_(m.topo.n_vertices(), m.topo.n_faces()) {
+    m_.positions.reserve(m.topo.n_vertices());
+    m_.normals.reserve(m.topo.n_vertices());
+  }
+  std::size_t faces_read = 0;
+  std::size_t bad_faces = 0;
+
+  OM::VertexHandle add_vertex(const OM::Vec3f& p) override {
+    m_.positions.emplace_back(p[0], p[1], p[2]);
+    m_.normals.emplace_back(0.0f, 0.0f, 0.0f);
+    return OM::VertexHandle(int(m_.positions.size() - 1));
+  }
+  OM::VertexHandle add_vertex() override { return add_vertex(OM::Vec3f(0, 0, 0)); }
+  void set_point(OM::VertexHandle v, const OM::Vec3f& p) override {
+    if (valid(v)) m_.positions[std::size_t(v.idx())] = {p[0], p[1], p[2]};
+  }
+  void set_normal(OM::VertexHandle v, const OM::Vec3f& n) override {
+    if (valid(v)) m_.normals[std::size_t(v.idx())] = {n[0], n[1], n[2]};
+  }
+  void set_normal(OM::VertexHandle v, const OM::Vec3d& n) override { set_normal(v, OM::Vec3f(n)); }
+  OM::FaceHandle add_face(const VHandles& vh) override {
+    const std::size_t f = faces_read++;
+    bool ok = vh.size() == 3 && f < m_.topo.n_faces();
+    if (ok) {
+      const auto t = m_.topo.face(f);
+      for (int k = 0; k < 3; ++k) ok = ok && vh[std::size_t(k)].idx() == int(t[std::size_t(k)]);
+    }
+    if (!ok) ++bad_faces;
+    return OM::FaceHandle(int(f));
+  }
+  OM::BaseKernel* kernel() override { return &kernel_; }
+  bool is_triangle_mesh() const override { return true; }
+  size_t n_vertices() const override { return m_.positions.size(); }
+  size_t n_faces() const override { return faces_read; }
+  size_t n_edges() const override { return 0; }
+
+  // Data we do not keep.
+  OM::HalfedgeHandle add_edge(OM::VertexHandle, OM::VertexHandle) override { return {}; }
+  OM::FaceHandle add_face(OM::HalfedgeHandle) override { return {}; }
+  void add_face_texcoords(OM::FaceHandle, OM::VertexHandle, const std::vector<OM::Vec2f>&) override {}
+  void add_face_texcoords(OM::FaceHandle, OM::VertexHandle, const std::vector<OM::Vec3f>&) override {}
+  void set_face_texindex(OM::FaceHandle, int) override {}
+  void set_halfedge(OM::VertexHandle, OM::HalfedgeHandle) override {}
+  void set_color(OM::VertexHandle, const OM::Vec3uc&) override {}
+  void set_color(OM::VertexHandle, const OM::Vec4uc&) override {}
+  void set_color(OM::VertexHandle, const OM::Vec3f&) override {}
+  void set_color(OM::VertexHandle, const OM::Vec4f&) override {}
+  void set_texcoord(OM::VertexHandle, const OM::Vec2f&) override {}
+  void set_status(OM::VertexHandle, const OM::Attributes::StatusInfo&) override {}
+  void set_next(OM::HalfedgeHandle, OM::HalfedgeHandle) override {}
+  void set_face(OM::HalfedgeHandle, OM::FaceHandle) override {}
+  void request_face_texcoords2D() override {}
+  void set_texcoord(OM::HalfedgeHandle, const OM::Vec2f&) override {}
+  void set_texcoord(OM::VertexHandle, const OM::Vec3f&) override {}
+  void set_texcoord(OM::HalfedgeHandle, const OM::Vec3f&) override {}
+  void set_status(OM::HalfedgeHandle, const OM::Attributes::StatusInfo&) override {}
+  void set_color(OM::EdgeHandle, const OM::Vec3uc&) override {}
+  void set_color(OM::EdgeHandle, const OM::Vec4uc&) override {}
+  void set_color(OM::EdgeHandle, const OM::Vec3f&) override {}
+  void set_color(OM::EdgeHandle, const OM::Vec4f&) override {}
+  void set_status(OM::EdgeHandle, const OM::Attributes::StatusInfo&) override {}
+  void set_normal(OM::FaceHandle, const OM::Vec3f&) override {}
+  void set_normal(OM::FaceHandle, const OM::Vec3d&) override {}
+  void set_color(OM::FaceHandle, const OM::Vec3uc&) override {}
+  void set_color(OM::FaceHandle, const OM::Vec4uc&) override {}
+  void set_color(OM::FaceHandle, const OM::Vec3f&) override {}
+  void set_color(OM::FaceHandle, const OM::Vec4f&) override {}
+  void set_status(OM::FaceHandle, const OM::Attributes::StatusInfo&) override {}
+  void add_texture_information(int, std::string) override {}
+
+ private:
+  bool valid(OM::VertexHandle v) const { return v.idx() >= 0 && std::size_t(v.idx()) < m_.positions.size(); }
+  GridMesh& m_;
+  PropertyKernel kernel_;
+};
+
+// Forwards bytes to `dest`, inserting `text` after the `after`-th newline (PLY: after the
+// "ply" and "format" lines of the header OpenMesh writes; OBJ: at the start).
+class CommentInjector : public std::streambuf {
+ public:
+  CommentInjector(std::streambuf* dest, std::string text, int after)
+      : dest_(dest), text_(std::move(text)), after_(after) {
+    if (after_ == 0) done_ = dest_->sputn(text_.data(), std::streamsize(text_.size())) == std::streamsize(text_.size());
+  }
+
+ protected:
+  int overflow(int ch) override {
+    if (ch == traits_type::eof()) return traits_type::not_eof(ch);
+    const char c = char(ch);
+    return xsputn(&c, 1) == 1 ? ch : traits_type::eof();
+  }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    if (done_) return dest_->sputn(s, n);
+    for (std::streamsize i = 0; i < n; ++i) {
+      if (dest_->sputc(s[i]) == traits_type::eof()) return i;
+      if (s[i] == '\n' && ++newlines_ == after_) {
+        done_ = true;
+        const auto len = std::streamsize(text_.size());
+        if (dest_->sputn(text_.data(), len) != len) return i;
+        const std::streamsize rest = n - i - 1;
+        return i + 1 + (rest > 0 ? dest_->sputn(s + i + 1, rest) : 0);
+      }
+    }
+    return n;
+  }
+  int sync() override { return dest_->pubsync(); }
+
+ private:
+  std::streambuf* dest_;
+  std::string text_;
+  int after_;
+  int newlines_ = 0;
+  bool done_ = false;
+};
+
+std::string header_comments(const GridMesh& m) {
+  std::string out = fmt::format("comment terrain-mesh {}\n", kFormatVersion);
+  out += fmt::format("comment grid {} {} {:.17g} {:.17g}\n", m.topo.rows, m.topo.cols, m.geo.dx, m.geo.dy);
+  out += fmt::format("comment origin {:.17g} {:.17g} {:.17g}\n", m.geo.origin_x, m.geo.origin_y, m.geo.origin_z);
+  out += fmt::format("comment crs_epsg {}\n", m.geo.epsg);
+  for (std::size_t i = 0; i < m.geo.crs_wkt.size(); i += kWktChunk)
+    out += "comment crs_wkt " + m.geo.crs_wkt.substr(i, kWktChunk) + "\n";
+  std::string prov = m.provenance;
+  for (char& c : prov)
+    if (c == '\n' || c == '\r') c = ' ';
+  if (!prov.empty()) out += "comment provenance " + prov + "\n";
+  return out;
+}
+
+struct PlyHeader {
+  std::vector<std::string> comments;  // text after "comment "
+  bool binary_le = false;
+};
+
+PlyHeader read_ply_header(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot read '" + path + "': no such file or not readable");
+  std::string line;
+  if (!std::getline(in, line) || (line != "ply" && line != "ply\r"))
+    throw Error("cannot read '" + path + "': not a PLY file");
+  PlyHeader h;
+  for (int n = 0; n < 100000 && std::getline(in, line); ++n) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line == "end_header") return h;
+    if (line.rfind("format ", 0) == 0) h.binary_le = line.rfind("format binary_little_endian", 0) == 0;
+    if (line.rfind("comment ", 0) == 0) h.comments.push_back(line.substr(8));
+  }
+  throw Error("cannot read '" + path + "': PLY header has no end_header");
+}
+
+}  // namespace
+
+bool is_ply_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[4] = {};
+  in.read(magic, 4);
+  return in && std::string(magic, 3) == "ply" && (magic[3] == '\n' || magic[3] == '\r');
+}
+
+namespace {
+
+// Writes `mesh` with an OpenMesh writer into a temp file, `comments` inserted after the
+// `after`-th newline, then renames it onto `path`.
+void write_with(const OM::IO::BaseWriter& writer, OM::IO::Options opt, const GridMesh& mesh,
+                const std::string& path, const std::string& comments, int after) {
+  if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != mesh.positions.size())
+    throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
+  AtomicFile out(path);
+  {
+    std::vector<char> buffer(std::size_t(1) << 20);
+    std::ofstream file;
+    file.rdbuf()->pubsetbuf(buffer.data(), std::streamsize(buffer.size()));
+    file.open(out.temp_path(), std::ios::binary | std::ios::trunc);
+    if (!file) throw Error("cannot write '" + path + "': cannot create the file");
+    CommentInjector injector(file.rdbuf(), comments, after);
+    std::ostream stream(&injector);
+    GridMeshExporter exporter(mesh);
+    if (!writer.write(stream, exporter, opt, 9) || !stream)
+      throw Error("cannot write '" + path + "': the mesh writer failed");
+    stream.flush();
+    file.close();
+    if (!file) throw Error("cannot write '" + path + "': write failed (disk full?)");
+  }
+  out.commit();
+}
+
+}  // namespace
+
+void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
+  write_with(OM::IO::PLYWriter(), OM::IO::Options::Binary | OM::IO::Options::LSB | OM::IO::Options::VertexNormal,
+             mesh, path, header_comments(mesh), 2);
+}
+
+void write_mesh_obj(const GridMesh& mesh, const std::string& path) {
+  // The PLY comment block, as OBJ comments.
+  std::istringstream lines(header_comments(mesh));
+  std::string comments, line;
+  while (std::getline(lines, line)) comments += "# " + line.substr(8) + "\n";
+  write_with(OM::IO::OBJWriter(), OM::IO::Options::VertexNormal, mesh, path, comments, 0);
+}
+
+GridMesh read_mesh_ply(const std::string& path) {
+  const PlyHeader header = read_ply_header(path);
+  GridMesh m;
+  int version = -1;
+  bool has_grid = false, has_origin = false;
+  for (const std::string& c : header.comments) {
+    std::istringstream ss(c);
+    std::string key;
+    ss >> key;
+    if (key == "terrain-mesh") ss >> version;
+    else if (key == "grid") has_grid = bool(ss >> m.topo.rows >> m.topo.cols >> m.geo.dx >> m.geo.dy);
+    else if (key == "origin") has_origin = bool(ss >> m.geo.origin_x >> m.geo.origin_y >> m.geo.origin_z);
+    else if (key == "crs_epsg") ss >> m.geo.epsg;
+    else if (key == "crs_wkt") m.geo.crs_wkt += c.substr(8);
+    else if (key == "provenance") m.provenance = c.substr(11);
+  }
+  if (version < 0 || !has_grid || !has_origin)
+    throw Error("cannot read '" + path + "': a PLY file but not a terrain mesh (no georeferencing comments; make it with dem2mesh)");
+  if (version > kFormatVersion)
+    throw Error(fmt::format("cannot read '{}': terrain-mesh version {} is newer than this tool's ({})", path, version,
+                            kFormatVersion));
+  if (m.topo.rows < 2 || m.topo.cols < 2 || !(m.geo.dx > 0) || !(m.geo.dy > 0))
+    throw Error("cannot read '" + path + "': invalid grid comment");
+
+  GridMeshImporter importer(m);
+  OM::IO::Options opt(OM::IO::Options::VertexNormal);
+  if (!OM::IO::PLYReader().read(path, importer, opt))
+    throw Error("cannot read '" + path + "': OpenMesh's PLY reader failed (corrupt or truncated file)");
+  if (!opt.vertex_has_normal()) throw Error("cannot read '" + path + "': it has no vertex normals");
+  if (m.positions.size() != m.topo.n_vertices())
+    throw Error(fmt::format("cannot read '{}': {} vertices, but its {} x {} grid needs {}", path, m.positions.size(),
+                            m.topo.rows, m.topo.cols, m.topo.n_vertices()));
+  if (importer.faces_read != m.topo.n_faces() || importer.bad_faces != 0)
+    throw Error(fmt::format("cannot read '{}': its faces are not the {} x {} grid triangulation ({} faces, {} differ)",
+                            path, m.topo.rows, m.topo.cols, importer.faces_read, importer.bad_faces));
+  for (const auto& n : m.normals)
+    if (!(std::abs(n.squaredNorm() - 1.0f) < 1e-3f))
+      throw Error("cannot read '" + path + "': a vertex normal is not unit length (corrupt file?)");
+  return m;
+}
+
+}  // namespace terrain

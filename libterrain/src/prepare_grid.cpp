@@ -1,0 +1,206 @@
+#include "terrain/prepare_grid.hpp"
+
+#include <GeographicLib/UTMUPS.hpp>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+
+#include "terrain/dem_io.hpp"
+
+namespace terrain {
+
+namespace {
+
+using GeographicLib::UTMUPS;
+
+struct Box {
+  double x0, y0, x1, y1;  // xmin ymin xmax ymax
+};
+
+// Maps a target sample centre (x, y) to fractional source sample coordinates.
+using ToSource = std::function<void(double x, double y, double& row, double& col)>;
+
+// Forward UTM projection into a fixed zone and hemisphere (continued across the equator).
+void utm_forward(UtmZone z, double lat, double lon, double& x, double& y) {
+  int zone_out = 0;
+  bool northp = true;
+  UTMUPS::Forward(lat, lon, zone_out, northp, x, y, z.zone);
+  if (northp != z.north) y += northp ? 10e6 : -10e6;
+}
+
+// Indices k of lattice cells [anchor + k*step, anchor + (k+1)*step] whose centres lie
+// in [lo, hi]; returns false when there is none.
+bool lattice_range(double anchor, double step, double lo, double hi, long& kmin, long& kmax) {
+  constexpr double eps = 1e-9;
+  kmin = long(std::ceil((lo - anchor) / step - 0.5 - eps));
+  kmax = long(std::floor((hi - anchor) / step - 0.5 + eps));
+  return kmax >= kmin;
+}
+
+std::string fmt_box(const Box& b) {
+  return fmt::format("x {:.3f}..{:.3f}, y {:.3f}..{:.3f}", b.x0, b.x1, b.y0, b.y1);
+}
+
+}  // namespace
+
+PreparedGrid prepare_grid(const Grid& src, const GridRequest& req, const Progress& progress) {
+  PreparedGrid out;
+  if (src.rows < 2 || src.cols < 2)
+    throw Error(fmt::format("the DEM has {} x {} samples; a mesh needs at least 2 x 2", src.cols, src.rows));
+  if (src.count_nodata() == src.size())
+    throw Error("the DEM has no valid elevation: every sample is no-data");
+  if (req.spacing && !(*req.spacing > 0.0 && std::isfinite(*req.spacing)))
+    throw Error(fmt::format("spacing must be a positive number of metres (got {})", *req.spacing));
+  if (req.bbox && (req.center || req.size))
+    throw Error("give either a bbox or a center and size, not both");
+  if (req.center.has_value() != req.size.has_value())
+    throw Error("a center needs a size and a size needs a center");
+  if (req.size && !((*req.size)[0] > 0.0 && (*req.size)[1] > 0.0))
+    throw Error("the crop size must be positive");
+  if (req.bbox && !((*req.bbox)[2] > (*req.bbox)[0] && (*req.bbox)[3] > (*req.bbox)[1]))
+    throw Error("the bbox must be xmin ymin xmax ymax with xmin < xmax and ymin < ymax");
+
+  const Georef& sg = src.geo;
+  const bool geographic = sg.crs_kind == CrsKind::Geographic;
+  if (!geographic && req.utm_zone)
+    throw Error("--utm-zone applies to geographic DEMs only; this DEM is in " + crs_name(sg));
+  if (sg.crs_kind == CrsKind::None)
+    out.warnings.push_back("the DEM has no CRS: its coordinates are taken as metres");
+
+  Georef tg;
+  double sx = 0, sy = 0;  // target spacing
+  double ax = 0, ay = 0;  // lattice anchor (a target cell corner)
+  Box valid{};            // where target sample centres may lie
+  ToSource to_source;
+
+  if (geographic) {
+    const double lat_c = sg.y_of_row((double(src.rows) - 1) / 2);
+    const double lon_c = sg.x_of_col((double(src.cols) - 1) / 2);
+    const UtmZone zone = req.utm_zone ? parse_utm_zone(*req.utm_zone, lat_c) : standard_utm_zone(lat_c, lon_c);
+    tg.crs_wkt = utm_crs_wkt(sg.crs_wkt, zone, tg.epsg);
+    tg.crs_kind = CrsKind::Projected;
+    try {
+      // Default spacing: the N-S sample spacing in metres at the centre.
+      double xa, ya, xb, yb;
+      utm_forward(zone, lat_c - sg.dy / 2, lon_c, xa, ya);
+      utm_forward(zone, lat_c + sg.dy / 2, lon_c, xb, yb);
+      const double ns = std::round(std::hypot(xb - xa, yb - ya) * 100.0) / 100.0;
+      sx = sy = req.spacing.value_or(ns);
+      // Inner rectangle of the footprint of the source sample centres.
+      valid = {-1e300, -1e300, 1e300, 1e300};
+      for (std::size_t r = 0; r < src.rows; ++r) {
+        double x, y;
+        utm_forward(zone, sg.y_of_row(double(r)), sg.x_of_col(0), x, y);
+        valid.x0 = std::max(valid.x0, x);
+        utm_forward(zone, sg.y_of_row(double(r)), sg.x_of_col(double(src.cols - 1)), x, y);
+        valid.x1 = std::min(valid.x1, x);
+      }
+      for (std::size_t c = 0; c < src.cols; ++c) {
+        double x, y;
+        utm_forward(zone, sg.y_of_row(0), sg.x_of_col(double(c)), x, y);
+        valid.y1 = std::min(valid.y1, y);
+        utm_forward(zone, sg.y_of_row(double(src.rows - 1)), sg.x_of_col(double(c)), x, y);
+        valid.y0 = std::max(valid.y0, y);
+      }
+    } catch (const GeographicLib::GeographicErr& e) {
+      throw Error(fmt::format("cannot project the DEM into UTM zone {}{}: {}", zone.zone,
+                              zone.north ? "N" : "S", e.what()));
+    }
+    to_source = [zone, sg](double x, double y, double& row, double& col) {
+      double lat, lon;
+      UTMUPS::Reverse(zone.zone, zone.north, x, y, lat, lon);
+      row = sg.row_of_y(lat);
+      col = sg.col_of_x(lon);
+    };
+  } else {
+    tg = sg;
+    sx = req.spacing.value_or(sg.dx);
+    sy = req.spacing.value_or(sg.dy);
+    ax = sg.x0;
+    ay = sg.y0;
+    valid = {sg.x_of_col(0), sg.y_of_row(double(src.rows - 1)), sg.x_of_col(double(src.cols - 1)),
+             sg.y_of_row(0)};
+    to_source = [sg](double x, double y, double& row, double& col) {
+      row = sg.row_of_y(y);
+      col = sg.col_of_x(x);
+    };
+  }
+  if (valid.x1 <= valid.x0 || valid.y1 <= valid.y0)
+    throw Error("the DEM's footprint is empty after projection");
+
+  // The requested area, checked against the DEM's extent (valid centres + half a cell).
+  Box area = valid;
+  if (req.bbox) area = {(*req.bbox)[0], (*req.bbox)[1], (*req.bbox)[2], (*req.bbox)[3]};
+  if (req.center)
+    area = {(*req.center)[0] - (*req.size)[0] / 2, (*req.center)[1] - (*req.size)[1] / 2,
+            (*req.center)[0] + (*req.size)[0] / 2, (*req.center)[1] + (*req.size)[1] / 2};
+  const Box extent{valid.x0 - sx / 2, valid.y0 - sy / 2, valid.x1 + sx / 2, valid.y1 + sy / 2};
+  if (area.x1 <= extent.x0 || area.x0 >= extent.x1 || area.y1 <= extent.y0 || area.y0 >= extent.y1)
+    throw Error("the requested area (" + fmt_box(area) + ") lies outside the DEM (" + fmt_box(extent) + ")");
+  const double tol = 1e-6 * std::max(sx, sy);
+  if (area.x0 < extent.x0 - tol || area.x1 > extent.x1 + tol || area.y0 < extent.y0 - tol ||
+      area.y1 > extent.y1 + tol)
+    throw Error("the requested area (" + fmt_box(area) + ") reaches beyond the DEM (" + fmt_box(extent) + ")");
+  const Box take{std::max(area.x0, valid.x0), std::max(area.y0, valid.y0), std::min(area.x1, valid.x1),
+                 std::min(area.y1, valid.y1)};
+
+  long c0, c1, r0, r1;
+  const bool has_cols = lattice_range(ax, sx, take.x0, take.x1, c0, c1);
+  // Rows run southwards: row k covers y in [ay - (k+1)*sy, ay - k*sy].
+  const bool has_rows = lattice_range(-ay, sy, -take.y1, -take.y0, r0, r1);
+  const long cols = has_cols ? c1 - c0 + 1 : 0, rows = has_rows ? r1 - r0 + 1 : 0;
+  if (cols < 2 || rows < 2)
+    throw Error(fmt::format("the requested area holds {} x {} samples at {} m spacing; a mesh needs at least 2 x 2",
+                            std::max(cols, 0L), std::max(rows, 0L), sx));
+  if (double(cols) * double(rows) > double(std::numeric_limits<std::int32_t>::max()))
+    throw Error(fmt::format("the output would have {} x {} = {:.3g} samples, more than a mesh file can index "
+                            "(2^31 - 1); use a larger spacing or a smaller area",
+                            cols, rows, double(cols) * double(rows)));
+  tg.x0 = ax + double(c0) * sx;
+  tg.y0 = ay - double(r0) * sy;
+  tg.dx = sx;
+  tg.dy = sy;
+
+  Grid& g = out.grid;
+  g = Grid(std::size_t(rows), std::size_t(cols), tg);
+  const long block = 64;
+  for (long rb = 0; rb < rows; rb += block) {
+    const long re = std::min(rows, rb + block);
+#pragma omp parallel for schedule(static)
+    for (long r = rb; r < re; ++r) {
+      const double y = tg.y_of_row(double(r));
+      for (long c = 0; c < cols; ++c) {
+        double sr, sc;
+        to_source(tg.x_of_col(double(c)), y, sr, sc);
+        g.at(std::size_t(r), std::size_t(c)) = sample_grid(src, sr, sc, req.resampling);
+      }
+    }
+    report(progress, double(re) / double(rows));
+  }
+
+  const std::size_t missing = g.count_nodata();
+  if (missing > 0) {
+    if (!req.fill_nodata) {
+      std::size_t rmin = g.rows, rmax = 0, cmin = g.cols, cmax = 0;
+      for (std::size_t r = 0; r < g.rows; ++r)
+        for (std::size_t c = 0; c < g.cols; ++c)
+          if (std::isnan(g.at(r, c))) {
+            rmin = std::min(rmin, r), rmax = std::max(rmax, r);
+            cmin = std::min(cmin, c), cmax = std::max(cmax, c);
+          }
+      throw Error(fmt::format(
+          "{} no-data samples inside the chosen area (rows {}-{}, columns {}-{} of {} x {}; "
+          "x {:.1f}..{:.1f}, y {:.1f}..{:.1f}); crop them away or pass --fill-nodata",
+          missing, rmin, rmax, cmin, cmax, g.rows, g.cols, tg.x_of_col(double(cmin)),
+          tg.x_of_col(double(cmax)), tg.y_of_row(double(rmax)), tg.y_of_row(double(rmin))));
+    }
+    out.filled = fill_nodata(g);
+  }
+  return out;
+}
+
+}  // namespace terrain

@@ -1,0 +1,79 @@
+#include "common.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+namespace terrain::tools {
+
+std::string version() { return std::string(TERRAIN_VERSION) + " (git " + TERRAIN_GIT_HASH + ")"; }
+
+std::string provenance(int argc, char** argv) {
+  std::string out = std::string(argc > 0 ? argv[0] : "?");
+  if (auto slash = out.rfind('/'); slash != std::string::npos) out = out.substr(slash + 1);
+  out += " " + version() + ":";
+  for (int i = 1; i < argc; ++i) out += std::string(" ") + argv[i];
+  return out;
+}
+
+void add_verbosity_flags(CLI::App& app, Verbosity& v) {
+  app.add_flag("-q,--quiet", v.quiet, "No progress or warnings on stderr (errors still print)");
+  app.add_flag("-v,--verbose", v.verbose, "Per-step timings on stderr");
+}
+
+terrain::Progress terminal_progress(const Verbosity& v, const std::string& label) {
+  if (v.quiet) return {};
+  auto last = std::make_shared<int>(-1);
+  return [last, label](double f) {
+    const int tick = int(f * 40.0 + 1e-9);  // 2.5 % steps, as GDAL's term progress
+    if (*last < 0) std::fprintf(stderr, "%s: ", label.c_str());
+    while (*last < tick && *last < 40) {
+      ++*last;
+      if (*last % 4 == 0) std::fprintf(stderr, "%d", *last * 10 / 4);
+      else std::fputc('.', stderr);
+    }
+    if (tick >= 40 && *last == 40) {
+      std::fputs(" - done.\n", stderr);
+      *last = 41;
+    }
+    std::fflush(stderr);
+    return true;
+  };
+}
+
+void warn(const Verbosity& v, const std::string& message) {
+  if (!v.quiet) std::cerr << "warning: " << message << "\n";
+}
+
+void step(const Verbosity& v, const std::string& message) {
+  if (v.verbose && !v.quiet) std::cerr << message << "\n";
+}
+
+int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
+  const std::string name = app.get_name();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << name << ": usage error: " << e.what() << " (see " << name << " --help)\n";
+    return 2;
+  }
+  try {
+    return body();
+  } catch (const terrain::Error& e) {
+    std::cerr << name << ": error: " << e.what() << "\n";
+  } catch (const std::bad_alloc&) {
+    std::cerr << name << ": error: out of memory\n";
+  } catch (const std::exception& e) {
+    std::cerr << name << ": error: " << e.what() << "\n";
+  }
+  return 1;
+}
+
+}  // namespace terrain::tools

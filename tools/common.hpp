@@ -1,0 +1,39 @@
+#pragma once
+// What every tool shares: version and provenance strings, progress on stderr, and the
+// one top-level error handler with the exit-code policy (0 ok, 1 failure, 2 usage).
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+
+#include "terrain/error.hpp"
+
+namespace terrain::tools {
+
+// "0.1.0 (git abc1234)"
+std::string version();
+
+// "TOOL VERSION: ARGV..." recorded in every output file's header or metadata.
+std::string provenance(int argc, char** argv);
+
+// Verbosity from -q / -v.
+struct Verbosity {
+  bool quiet = false;
+  bool verbose = false;
+};
+void add_verbosity_flags(CLI::App& app, Verbosity& v);
+
+// GDAL-style "0...10...20...30...40...50...60...70...80...90...100 - done." on stderr;
+// empty (silent) when quiet.
+terrain::Progress terminal_progress(const Verbosity& v, const std::string& label);
+
+// A diagnostic line on stderr ("TOOL: warning: ..."), suppressed by -q.
+void warn(const Verbosity& v, const std::string& message);
+// A per-step timing line on stderr at -v.
+void step(const Verbosity& v, const std::string& message);
+
+// Runs `body` after CLI11 parsing with the exit-code policy: CLI11 usage errors -> 2
+// (message and a hint to --help), terrain::Error and other exceptions -> 1 with one line
+// "TOOL: error: MESSAGE" on stderr, --help -> 0.
+int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& body);
+
+}  // namespace terrain::tools

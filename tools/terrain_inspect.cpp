@@ -1,0 +1,160 @@
+// terrain-inspect: summary, preview and export of the toolkit's files (DEMs, meshes).
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <numbers>
+
+#include "common.hpp"
+#include "terrain/atomic_file.hpp"
+#include "terrain/dem_io.hpp"
+#include "terrain/grid_mesh.hpp"
+#include "terrain/hillshade.hpp"
+#include "terrain/image_io.hpp"
+#include "terrain/mesh_io.hpp"
+
+namespace tt = terrain::tools;
+
+namespace {
+
+std::string crs_line(const std::string& wkt, int epsg) {
+  terrain::Georef g;
+  g.crs_wkt = wkt;
+  return terrain::crs_name(g) + (epsg ? fmt::format(" (EPSG:{})", epsg) : "");
+}
+
+void print_stats(const terrain::ElevationStats& s) {
+  std::cout << fmt::format("elevation_min: {:.3f}\nelevation_max: {:.3f}\nelevation_mean: {:.3f}\n"
+                           "elevation_stddev: {:.3f}\n",
+                           s.min, s.max, s.mean, s.stddev);
+}
+
+void info_mesh(const std::string& path) {
+  const terrain::GridMesh m = terrain::read_mesh_ply(path);
+  const terrain::Grid g = terrain::mesh_to_grid(m);
+  double tilt_sum = 0.0, tilt_max = 0.0;
+  for (const auto& n : m.normals) {
+    const double tilt = std::acos(std::clamp(double(n.z()), -1.0, 1.0)) * 180.0 / std::numbers::pi;
+    tilt_sum += tilt;
+    tilt_max = std::max(tilt_max, tilt);
+  }
+  std::cout << "file: " << path << "\n"
+            << "type: terrain mesh (PLY)\n"
+            << "grid: " << m.topo.cols << " x " << m.topo.rows << " (columns x rows)\n"
+            << "vertices: " << m.n_vertices() << "\n"
+            << "faces: " << m.n_faces() << "\n"
+            << "crs: " << crs_line(m.geo.crs_wkt, m.geo.epsg) << "\n"
+            << fmt::format("spacing: {} {}\n", m.geo.dx, m.geo.dy)
+            << fmt::format("origin: {:.3f} {:.3f} {:.3f}\n", m.geo.origin_x, m.geo.origin_y, m.geo.origin_z)
+            << fmt::format("extent: {:.3f} {:.3f} {:.3f} {:.3f}\n", g.geo.x0, g.geo.y0 - double(g.rows) * g.geo.dy,
+                           g.geo.x0 + double(g.cols) * g.geo.dx, g.geo.y0);
+  print_stats(terrain::elevation_stats(g.z));
+  std::cout << fmt::format("normal_tilt_mean_deg: {:.3f}\nnormal_tilt_max_deg: {:.3f}\n",
+                           tilt_sum / double(m.normals.size()), tilt_max)
+            << "provenance: " << (m.provenance.empty() ? "unknown" : m.provenance) << "\n";
+}
+
+void info_dem(const std::string& path) {
+  const terrain::Grid g = terrain::read_dem(path);
+  const char* kind = g.geo.crs_kind == terrain::CrsKind::Geographic  ? "geographic"
+                     : g.geo.crs_kind == terrain::CrsKind::Projected ? "projected"
+                                                                     : "none";
+  std::cout << "file: " << path << "\n"
+            << "type: raster DEM\n"
+            << "grid: " << g.cols << " x " << g.rows << " (columns x rows)\n"
+            << "crs: " << crs_line(g.geo.crs_wkt, g.geo.epsg) << "\n"
+            << "crs_kind: " << kind << "\n"
+            << fmt::format("spacing: {:.10g} {:.10g}\n", g.geo.dx, g.geo.dy)
+            << fmt::format("extent: {:.10g} {:.10g} {:.10g} {:.10g}\n", g.geo.x0, g.geo.y0 - double(g.rows) * g.geo.dy,
+                           g.geo.x0 + double(g.cols) * g.geo.dx, g.geo.y0);
+  const terrain::ElevationStats s = terrain::elevation_stats(g.z);
+  std::cout << "valid: " << s.count << "\nnodata: " << s.nodata << "\n";
+  if (s.count > 0) print_stats(s);
+}
+
+// Grey + alpha hillshade of a DEM (no-data transparent). Geographic DEMs are shaded with
+// metres per degree at their centre.
+std::vector<std::uint8_t> dem_shade(const terrain::Grid& g, double az, double alt, double zf) {
+  double sx = g.geo.dx, sy = g.geo.dy;
+  if (g.geo.crs_kind == terrain::CrsKind::Geographic) {
+    const double lat = g.geo.y_of_row(double(g.rows) / 2) * std::numbers::pi / 180.0;
+    sx *= 111320.0 * std::cos(lat);
+    sy *= 110574.0;
+  }
+  std::vector<Eigen::Vector3f> pos(g.size());
+  for (std::size_t r = 0; r < g.rows; ++r)
+    for (std::size_t c = 0; c < g.cols; ++c)
+      pos[g.index(r, c)] = {float(double(c) * sx), float(-double(r) * sy), float(zf * g.at(r, c))};
+  const auto normals = terrain::vertex_normals(pos, {g.rows, g.cols}, terrain::NormalWeighting::Area);
+  const auto shade = terrain::hillshade(normals, az, alt);
+  std::vector<std::uint8_t> ga(2 * g.size());
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    ga[2 * i] = shade[i];
+    ga[2 * i + 1] = g.valid(i) ? 255 : 0;
+  }
+  return ga;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Inspect the toolkit's files: DEMs (any raster GDAL reads) and terrain meshes (.ply).",
+               "terrain-inspect"};
+  app.footer(
+      "Examples:\n"
+      "  terrain-inspect info data/logan_utm12n_100m.tif\n"
+      "  terrain-inspect info out/msh_10m.ply\n"
+      "  terrain-inspect preview out/msh_10m.ply -o msh.png\n"
+      "  terrain-inspect export out/msh_10m.ply --to tif -o msh_from_mesh.tif");
+  app.set_version_flag("--version", tt::version());
+  app.require_subcommand(1);
+  tt::Verbosity verb;
+  tt::add_verbosity_flags(app, verb);
+
+  std::string file, out, to;
+  double azimuth = 315.0, altitude = 45.0, zfactor = 1.0;
+  CLI::App* info = app.add_subcommand("info", "What FILE is: size, CRS, extent, elevation statistics ('key: value' lines)");
+  info->add_option("FILE", file, "DEM or mesh")->required();
+  CLI::App* preview = app.add_subcommand("preview", "Hillshade PNG of a DEM or a mesh (meshes: shaded with their vertex normals)");
+  preview->add_option("FILE", file, "DEM or mesh")->required();
+  preview->add_option("-o,--output", out, "PNG to write")->required();
+  preview->add_option("--azimuth", azimuth, "Light azimuth, degrees clockwise from grid north")->capture_default_str();
+  preview->add_option("--altitude", altitude, "Light altitude above the horizon, degrees")
+      ->check(CLI::Range(0.0, 90.0))
+      ->capture_default_str();
+  preview->add_option("--z-factor", zfactor, "Vertical exaggeration (DEMs only)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  CLI::App* exp = app.add_subcommand("export", "Convert a mesh: obj (Wavefront, local coordinates) or tif (its elevations as a GeoTIFF)");
+  exp->add_option("MESH", file, "Terrain mesh (.ply)")->required();
+  exp->add_option("--to", to, "Output format")->required()->check(CLI::IsMember({"obj", "tif"}));
+  exp->add_option("-o,--output", out, "Output file (default: MESH with the new extension)");
+
+  return tt::run_main(app, argc, argv, [&]() {
+    const bool is_mesh = terrain::is_ply_file(file);
+    if (*info) {
+      is_mesh ? info_mesh(file) : info_dem(file);
+    } else if (*preview) {
+      terrain::check_output_path(out);
+      const std::string desc = tt::provenance(argc, argv);
+      if (is_mesh) {
+        const terrain::GridMesh m = terrain::read_mesh_ply(file);
+        terrain::write_png(out, int(m.topo.cols), int(m.topo.rows), 1, terrain::hillshade(m.normals, azimuth, altitude), desc);
+      } else {
+        const terrain::Grid g = terrain::read_dem(file);
+        terrain::write_png(out, int(g.cols), int(g.rows), 2, dem_shade(g, azimuth, altitude, zfactor), desc);
+      }
+      std::cout << "output: " << out << "\n";
+    } else if (*exp) {
+      if (!is_mesh) throw terrain::Error("'" + file + "' is not a terrain mesh (.ply)");
+      if (out.empty()) out = std::filesystem::path(file).replace_extension(to).string();
+      terrain::check_output_path(out);
+      const terrain::GridMesh m = terrain::read_mesh_ply(file);
+      if (to == "obj") terrain::write_mesh_obj(m, out);
+      else terrain::write_geotiff(terrain::mesh_to_grid(m), out, tt::provenance(argc, argv));
+      std::cout << "output: " << out << "\n";
+    }
+    return 0;
+  });
+}
