@@ -29,7 +29,8 @@ int main(int argc, char** argv) {
 
   std::string input, output, resample = "bilinear", weighting = "uniform", grid_out;
   terrain::GridRequest req;
-  std::vector<double> bbox, center, size;
+  std::array<double, 4> bbox{};
+  std::array<double, 2> center{}, size{};
   std::string utm_zone;
   double spacing = 0.0;
   tt::Verbosity verb;
@@ -37,10 +38,9 @@ int main(int argc, char** argv) {
   app.add_option("OUTPUT", output, "Mesh file to write (.ply)")->required();
   auto* spacing_opt = app.add_option("--spacing", spacing, "Grid spacing in metres (default: the DEM's own spacing)")
                           ->check(CLI::PositiveNumber);
-  auto* bbox_opt = app.add_option("--bbox", bbox, "Crop to XMIN YMIN XMAX YMAX in the output CRS (metres)")
-                       ->expected(4);
-  auto* center_opt = app.add_option("--center", center, "Crop centre E N in the output CRS (with --size)")->expected(2);
-  auto* size_opt = app.add_option("--size", size, "Crop width and height W H in metres (with --center)")->expected(2);
+  auto* bbox_opt = app.add_option("--bbox", bbox, "Crop to XMIN YMIN XMAX YMAX in the output CRS (metres)");
+  auto* center_opt = app.add_option("--center", center, "Crop centre E N in the output CRS (with --size)");
+  auto* size_opt = app.add_option("--size", size, "Crop width and height W H in metres (with --center)");
   center_opt->needs(size_opt);
   size_opt->needs(center_opt);
   bbox_opt->excludes(center_opt)->excludes(size_opt);
@@ -63,10 +63,10 @@ int main(int argc, char** argv) {
     terrain::check_output_path(output);
     if (!grid_out.empty()) terrain::check_output_path(grid_out);
     if (*spacing_opt) req.spacing = spacing;
-    if (!bbox.empty()) req.bbox = std::array<double, 4>{bbox[0], bbox[1], bbox[2], bbox[3]};
-    if (!center.empty()) {
-      req.center = std::array<double, 2>{center[0], center[1]};
-      req.size = std::array<double, 2>{size[0], size[1]};
+    if (*bbox_opt) req.bbox = bbox;
+    if (*center_opt) {
+      req.center = center;
+      req.size = size;
     }
     if (!utm_zone.empty()) req.utm_zone = utm_zone;
     req.resampling = terrain::parse_resampling(resample);

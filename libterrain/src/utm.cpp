@@ -48,6 +48,13 @@ std::string utm_crs_wkt(const std::string& geographic_wkt, UtmZone zone, int& ep
     const char* code = utm.GetAuthorityCode(nullptr);
     if (code) epsg = std::atoi(code);
   }
+  if (epsg == 0) {  // a datum without authority codes (common in GeoTIFF keys): ask PROJ
+    if (OGRSpatialReference* match = utm.FindBestMatch(90, "EPSG")) {
+      const char* code = match->GetAuthorityCode(nullptr);
+      if (code) epsg = std::atoi(code);
+      match->Release();
+    }
+  }
   if (epsg > 0) {  // prefer the full EPSG definition when one exists
     OGRSpatialReference official;
     if (official.importFromEPSG(epsg) == OGRERR_NONE) utm = official;

@@ -1,0 +1,71 @@
+// The PN surface of a grid mesh: the point above (x, y).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "terrain/dem_io.hpp"
+#include "terrain/pn_surface.hpp"
+#include "test_support.hpp"
+
+namespace terrain {
+namespace {
+
+TEST(PnPointAbove, PlanarMeshGivesThePlane) {
+  Georef geo;
+  geo.dx = geo.dy = 50.0;
+  Grid g(6, 8, geo);
+  for (std::size_t r = 0; r < g.rows; ++r)
+    for (std::size_t c = 0; c < g.cols; ++c) g.at(r, c) = float(100.0 + 0.2 * double(c) * 50.0 + 0.1 * double(r) * 50.0);
+  const GridMesh m = make_grid_mesh(g, NormalWeighting::Uniform);
+  // Local coordinates: x = c * 50, y = -r * 50; z = 100 + 0.2 x - 0.1 y.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> ux(0, 350), uy(-250, 0);
+  for (int k = 0; k < 300; ++k) {
+    const double x = ux(rng), y = uy(rng);
+    const auto p = pn_point_above(m, x, y);
+    ASSERT_TRUE(p);
+    EXPECT_NEAR(p->position.x(), x, 1e-7);  // Newton stops at 1e-9 x spacing
+    EXPECT_NEAR(p->position.y(), y, 1e-7);
+    EXPECT_NEAR(p->position.z(), 100.0 + 0.2 * x - 0.1 * y, 1e-4);  // float vertex z
+    EXPECT_NEAR(p->normal.dot(Eigen::Vector3d(-0.2, 0.1, 1).normalized()), 1.0, 1e-6);
+  }
+  EXPECT_FALSE(pn_point_above(m, -100.0, -10.0));  // off the mesh
+}
+
+// On real, rough terrain the returned point is exactly above the request (1e-6 m), lies
+// inside its patch (or extrapolates a boundary patch), and is the patch's own point.
+TEST(PnPointAbove, MountStHelensXyMatchesTheRequest) {
+  const GridMesh m = make_grid_mesh(read_dem(test::data("msh_2007_utm10n_10m.tif")), NormalWeighting::Uniform);
+  const double w = double(m.topo.cols - 1) * m.geo.dx, h = double(m.topo.rows - 1) * m.geo.dy;
+  const unsigned seed = 42;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> ux(0, w), uy(-h, 0);
+  double worst = 0.0;
+  int hops_needed = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const double x = ux(rng), y = uy(rng);
+    const auto p = pn_point_above(m, x, y);
+    ASSERT_TRUE(p) << "seed " << seed << " at " << x << ", " << y;
+    worst = std::max(worst, std::hypot(p->position.x() - x, p->position.y() - y));
+    const PnPatch patch = face_patch(m, p->face);
+    EXPECT_LT((pn_position(patch, p->b1, p->b2, p->b3) - p->position).norm(), 1e-9);
+    // The flat triangle under the point is not always the PN patch above it.
+    const std::size_t c = std::size_t(x / m.geo.dx), r = std::size_t(-y / m.geo.dy);
+    if (p->face / 2 != r * (m.topo.cols - 1) + c) ++hops_needed;
+  }
+  EXPECT_LT(worst, 1e-6) << "seed " << seed;
+  EXPECT_GT(hops_needed, 0);  // the walk between patches was exercised
+  // The corners of the mesh and points on its boundary have answers too.
+  for (auto [x, y] : {std::pair{0.0, 0.0}, {w, -h}, {w / 2, 0.0}, {0.0, -h / 3}}) {
+    const auto p = pn_point_above(m, x, y);
+    ASSERT_TRUE(p) << x << ", " << y;
+    EXPECT_LT(std::hypot(p->position.x() - x, p->position.y() - y), 1e-6);
+  }
+  // At a vertex the surface passes through the vertex.
+  const auto v = pn_point_above(m, 100.0, -200.0);
+  ASSERT_TRUE(v);
+  EXPECT_NEAR(v->position.z(), m.positions[20 * m.topo.cols + 10].z(), 1e-4);
+}
+
+}  // namespace
+}  // namespace terrain

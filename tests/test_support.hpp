@@ -1,0 +1,33 @@
+#pragma once
+// Shared helpers of the test suite: data paths (from CMake, never the working
+// directory), a scratch directory, and running a tool.
+#include <filesystem>
+#include <string>
+
+namespace terrain::test {
+
+inline std::string data(const std::string& name) { return std::string(TERRAIN_DATA_DIR) + "/" + name; }
+inline std::string tool(const std::string& name) { return std::string(TERRAIN_BIN_DIR) + "/" + name; }
+
+// A fresh directory under the system temp dir, removed at destruction.
+class ScratchDir {
+ public:
+  ScratchDir();
+  ~ScratchDir();
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::size_t n_entries() const;
+
+ private:
+  std::filesystem::path dir_;
+};
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+
+// Runs a command line through /bin/sh and captures its exit code, stdout and stderr.
+RunResult run(const std::string& command_line);
+
+}  // namespace terrain::test

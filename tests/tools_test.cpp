@@ -1,0 +1,119 @@
+// End-to-end: the command-line tools on good and bad input.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "terrain/dem_io.hpp"
+#include "terrain/mesh_io.hpp"
+#include "test_support.hpp"
+
+namespace terrain {
+namespace {
+
+using test::data;
+using test::run;
+using test::tool;
+
+std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
+
+TEST(Dem2mesh, MeshesMountStHelensAt50m) {
+  test::ScratchDir dir;
+  const auto r = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + dir.path("m.ply") +
+                     " --spacing 50 --grid-out " + dir.path("g.tif") + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");  // -q: nothing on stderr
+  EXPECT_NE(r.out.find("vertices: 5368\n"), std::string::npos) << r.out;  // 61 x 88
+  EXPECT_NE(r.out.find("(EPSG:26910)"), std::string::npos) << r.out;
+  const GridMesh m = read_mesh_ply(dir.path("m.ply"));
+  EXPECT_EQ(m.geo.dx, 50.0);
+  EXPECT_NE(m.provenance.find("dem2mesh"), std::string::npos);
+  EXPECT_NE(m.provenance.find("--spacing 50"), std::string::npos);
+
+  // export --to tif gives back exactly the resampled grid.
+  const auto e = run(tool("terrain-inspect") + " export " + dir.path("m.ply") + " --to tif -o " + dir.path("back.tif"));
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  const Grid g = read_dem(dir.path("g.tif")), back = read_dem(dir.path("back.tif"));
+  EXPECT_EQ(back.z, g.z);
+  EXPECT_DOUBLE_EQ(back.geo.x0, g.geo.x0);
+  EXPECT_DOUBLE_EQ(back.geo.y0, g.geo.y0);
+  EXPECT_EQ(back.geo.epsg, 26910);
+
+  const auto i = run(tool("terrain-inspect") + " info " + dir.path("m.ply"));
+  ASSERT_EQ(i.exit_code, 0) << i.err;
+  EXPECT_NE(i.out.find("type: terrain mesh (PLY)"), std::string::npos);
+  EXPECT_NE(i.out.find("grid: 61 x 88"), std::string::npos) << i.out;
+
+  for (const std::string& in : {dir.path("m.ply"), data("msh_2007_utm10n_10m.tif"), data("sinmap_crop_10m.asc")}) {
+    const auto p = run(tool("terrain-inspect") + " preview " + in + " -o " + dir.path("p.png"));
+    ASSERT_EQ(p.exit_code, 0) << p.err;
+    const Grid png = read_dem(dir.path("p.png"));  // GDAL reads PNG: check the size
+    const Grid src = is_ply_file(in) ? mesh_to_grid(read_mesh_ply(in)) : read_dem(in);
+    EXPECT_EQ(png.cols, src.cols);
+    EXPECT_EQ(png.rows, src.rows);
+  }
+}
+
+// Every bad input: non-zero exit, one line on stderr, no output file.
+TEST(Dem2mesh, BadInputFailsCleanly) {
+  test::ScratchDir dir;
+  std::ofstream(dir.path("garbage.tif")) << "this is not a raster\n";
+  Georef geo;
+  geo.x0 = 500000;
+  geo.y0 = 4000000;
+  geo.dx = geo.dy = 10;
+  Grid nodata(20, 20, geo, std::numeric_limits<float>::quiet_NaN());
+  write_geotiff(nodata, dir.path("nodata.tif"));
+  write_geotiff(Grid(1, 1, geo, 100.0f), dir.path("one.tif"));
+  const std::string msh = data("msh_2007_utm10n_10m.tif");
+  struct Case {
+    std::string args;
+    std::string message;  // a fragment the error line must contain
+    int code;
+  };
+  const Case cases[] = {
+      {dir.path("missing.tif"), "no such file", 1},
+      {dir.path("garbage.tif"), "not a raster", 1},
+      {dir.path("nodata.tif"), "no valid elevation", 1},
+      {msh + " --bbox 0 0 1000 1000", "outside the DEM", 1},
+      {dir.path("one.tif"), "at least 2 x 2", 1},
+      {msh + " --spacing 0", "--spacing", 2},
+      {msh + " --spacing -5", "--spacing", 2},
+      {data("sinmap_crop_10m.asc"), "no-data samples", 1},
+      {msh + " --utm-zone 10", "geographic DEMs only", 1},
+      {msh + " --resample nearest", "--resample", 2},
+  };
+  for (const Case& c : cases) {
+    const std::string out = dir.path("out.ply");
+    const auto r = run(tool("dem2mesh") + " " + c.args + " " + out + " -q");
+    EXPECT_EQ(r.exit_code, c.code) << c.args << "\n" << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.args << "\n" << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out)) << c.args;
+  }
+  EXPECT_EQ(dir.n_entries(), 3u);  // only the three inputs: no temporary files left
+  // An output directory that does not exist fails before any work.
+  const auto r = run(tool("dem2mesh") + " " + msh + " " + dir.path("nowhere/out.ply"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
+}
+
+TEST(Dem2mesh, HelpShowsAnExample) {
+  const auto r = run(tool("dem2mesh") + " --help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("Examples:"), std::string::npos);
+  EXPECT_NE(r.out.find("--spacing"), std::string::npos);
+}
+
+TEST(TerrainInspect, DemInfo) {
+  const auto r = run(tool("terrain-inspect") + " info " + data("logan_utm12n_100m.tif"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("grid: 289 x 498"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("crs: NAD83 / UTM zone 12N (EPSG:26912)"), std::string::npos) << r.out;
+  const auto bad = run(tool("terrain-inspect") + " info /nonexistent.tif");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_EQ(lines(bad.err), 1u);
+}
+
+}  // namespace
+}  // namespace terrain
