@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <omp.h>
 
 #include "terrain/error.hpp"
 
@@ -32,49 +33,81 @@ const char* to_string(NormalWeighting w) {
 
 namespace {
 
-// The faces around vertex (r, c): the cell offset (dr, dc) relative to the vertex, the
-// face k in that cell, and the position of the vertex among the face's corners.
-struct Incidence {
-  int dr, dc, k, corner;
+// What one face gives each of its corners, computed once per face.
+struct FaceTerms {
+  Eigen::Vector3d unit = Eigen::Vector3d::Zero();   // unit normal (zero if degenerate)
+  Eigen::Vector3d cross = Eigen::Vector3d::Zero();  // (p1 - p0) x (p2 - p0): 2 * area * unit
+  double angle[3] = {0, 0, 0};                      // corner angles (Angle weighting only)
+
+  Eigen::Vector3d at_corner(int k, NormalWeighting w) const {
+    switch (w) {
+      case NormalWeighting::Uniform: return unit;
+      case NormalWeighting::Area: return cross;
+      case NormalWeighting::Angle: return unit * angle[k];
+    }
+    return unit;
+  }
 };
-// Cell (r-1,c-1): vertex is SE, in both faces (corner 2 of (NW,SW,SE), corner 1 of
-// (NW,SE,NE)); cell (r-1,c): vertex is SW, face 0 corner 1; cell (r,c-1): vertex is NE,
-// face 1 corner 2; cell (r,c): vertex is NW, corner 0 of both faces.
-constexpr Incidence kIncidences[6] = {{-1, -1, 0, 2}, {-1, -1, 1, 1}, {-1, 0, 0, 1},
-                                      {0, -1, 1, 2},  {0, 0, 0, 0},   {0, 0, 1, 0}};
+
+// Terms of both faces of every cell of cell row `cr`: out[2*c + k].
+void cell_row_terms(const std::vector<Eigen::Vector3f>& positions, const GridTopology& topo, std::size_t cr,
+                    NormalWeighting w, std::vector<FaceTerms>& out) {
+  out.resize(2 * (topo.cols - 1));
+  for (std::size_t c = 0; c + 1 < topo.cols; ++c)
+    for (int k = 0; k < 2; ++k) {
+      const auto f = topo.face(topo.face_of_cell(cr, c, k));
+      const Eigen::Vector3d p[3] = {positions[f[0]].cast<double>(), positions[f[1]].cast<double>(),
+                                    positions[f[2]].cast<double>()};
+      FaceTerms& t = out[2 * c + std::size_t(k)];
+      t.cross = (p[1] - p[0]).cross(p[2] - p[0]);
+      const double len = t.cross.norm();
+      if (!(len > 0.0)) {  // degenerate or no-data: contributes nothing
+        t = FaceTerms{};
+        continue;
+      }
+      t.unit = t.cross / len;
+      if (w == NormalWeighting::Angle)
+        for (int i = 0; i < 3; ++i) {
+          const Eigen::Vector3d e1 = p[(i + 1) % 3] - p[i], e2 = p[(i + 2) % 3] - p[i];
+          t.angle[i] = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
+        }
+    }
+}
 
 }  // namespace
 
 std::vector<Eigen::Vector3f> vertex_normals(const std::vector<Eigen::Vector3f>& positions,
                                             const GridTopology& topo, NormalWeighting weighting) {
-  if (positions.size() != topo.n_vertices())
+  if (positions.size() != topo.n_vertices() || topo.rows < 2 || topo.cols < 2)
     throw Error("vertex_normals: positions do not match the grid topology");
   std::vector<Eigen::Vector3f> normals(positions.size());
-  const long rows = long(topo.rows), cols = long(topo.cols);
-#pragma omp parallel for schedule(static)
-  for (long r = 0; r < rows; ++r) {
-    for (long c = 0; c < cols; ++c) {
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      for (const Incidence& inc : kIncidences) {
-        const long cr = r + inc.dr, cc = c + inc.dc;
-        if (cr < 0 || cc < 0 || cr >= rows - 1 || cc >= cols - 1) continue;
-        const auto f = topo.face(topo.face_of_cell(std::size_t(cr), std::size_t(cc), inc.k));
-        // Corners (v, q, s) counter-clockwise starting at this vertex.
-        const Eigen::Vector3d v = positions[f[inc.corner]].cast<double>();
-        const Eigen::Vector3d q = positions[f[(inc.corner + 1) % 3]].cast<double>();
-        const Eigen::Vector3d s = positions[f[(inc.corner + 2) % 3]].cast<double>();
-        const Eigen::Vector3d e1 = q - v, e2 = s - v, cross = e1.cross(e2);
-        const double len = cross.norm();
-        if (!(len > 0.0)) continue;
-        switch (weighting) {
-          case NormalWeighting::Uniform: sum += cross / len; break;
-          case NormalWeighting::Area: sum += cross; break;
-          case NormalWeighting::Angle: sum += cross / len * std::atan2(len, e1.dot(e2)); break;
-        }
+  const std::size_t rows = topo.rows, cols = topo.cols;
+  // Each thread takes a contiguous band of vertex rows and slides a window of two cell
+  // rows (above and below the vertex row) over it, so every face is evaluated about once.
+#pragma omp parallel
+  {
+    const std::size_t nt = std::size_t(omp_get_num_threads()), t = std::size_t(omp_get_thread_num());
+    const std::size_t r_begin = rows * t / nt, r_end = rows * (t + 1) / nt;
+    std::vector<FaceTerms> above, below;
+    if (r_begin < r_end && r_begin > 0) cell_row_terms(positions, topo, r_begin - 1, weighting, above);
+    for (std::size_t r = r_begin; r < r_end; ++r) {
+      if (r + 1 < rows) cell_row_terms(positions, topo, r, weighting, below);
+      for (std::size_t c = 0; c < cols; ++c) {
+        // Faces around vertex (r, c) and the vertex's corner in each (grid_mesh.hpp):
+        // cell (r-1,c-1): SE of both faces (corner 2 of face 0, corner 1 of face 1);
+        // cell (r-1,c): SW, face 0 corner 1; cell (r,c-1): NE, face 1 corner 2;
+        // cell (r,c): NW, corner 0 of both faces.
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        if (r > 0 && c > 0)
+          sum += above[2 * (c - 1)].at_corner(2, weighting) + above[2 * (c - 1) + 1].at_corner(1, weighting);
+        if (r > 0 && c + 1 < cols) sum += above[2 * c].at_corner(1, weighting);
+        if (r + 1 < rows && c > 0) sum += below[2 * (c - 1) + 1].at_corner(2, weighting);
+        if (r + 1 < rows && c + 1 < cols)
+          sum += below[2 * c].at_corner(0, weighting) + below[2 * c + 1].at_corner(0, weighting);
+        const double len = sum.norm();
+        normals[r * cols + c] = len > 0.0 ? Eigen::Vector3f((sum / len).cast<float>()) : Eigen::Vector3f(0, 0, 1);
       }
-      const double len = sum.norm();
-      normals[std::size_t(r * cols + c)] =
-          len > 0.0 ? Eigen::Vector3f((sum / len).cast<float>()) : Eigen::Vector3f(0, 0, 1);
+      std::swap(above, below);
     }
   }
   return normals;

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <streambuf>
@@ -188,43 +189,57 @@ class GridMeshImporter : public BaseImporter {
   PropertyKernel kernel_;
 };
 
-// Forwards bytes to `dest`, inserting `text` after the `after`-th newline (PLY: after the
-// "ply" and "format" lines of the header OpenMesh writes; OBJ: at the start).
+// A buffered stream buffer that forwards bytes to `dest`, inserting `text` after the
+// `after`-th newline (PLY: after the "ply" and "format" lines of the header OpenMesh
+// writes; OBJ: at the start). OpenMesh writes binary PLY one value at a time, so the
+// buffer (filled by the inherited xsputn) keeps that to a memcpy per value.
 class CommentInjector : public std::streambuf {
  public:
   CommentInjector(std::streambuf* dest, std::string text, int after)
-      : dest_(dest), text_(std::move(text)), after_(after) {
-    if (after_ == 0) done_ = dest_->sputn(text_.data(), std::streamsize(text_.size())) == std::streamsize(text_.size());
+      : dest_(dest), text_(std::move(text)), after_(after), buffer_(std::size_t(1) << 20) {
+    setp(buffer_.data(), buffer_.data() + buffer_.size());
+    if (after_ == 0) inject();
   }
+  ~CommentInjector() override { flush_buffer(); }
 
  protected:
   int overflow(int ch) override {
-    if (ch == traits_type::eof()) return traits_type::not_eof(ch);
-    const char c = char(ch);
-    return xsputn(&c, 1) == 1 ? ch : traits_type::eof();
-  }
-  std::streamsize xsputn(const char* s, std::streamsize n) override {
-    if (done_) return dest_->sputn(s, n);
-    for (std::streamsize i = 0; i < n; ++i) {
-      if (dest_->sputc(s[i]) == traits_type::eof()) return i;
-      if (s[i] == '\n' && ++newlines_ == after_) {
-        done_ = true;
-        const auto len = std::streamsize(text_.size());
-        if (dest_->sputn(text_.data(), len) != len) return i;
-        const std::streamsize rest = n - i - 1;
-        return i + 1 + (rest > 0 ? dest_->sputn(s + i + 1, rest) : 0);
-      }
+    if (!flush_buffer()) return traits_type::eof();
+    if (ch != traits_type::eof()) {
+      *pptr() = char(ch);
+      pbump(1);
     }
-    return n;
+    return traits_type::not_eof(ch);
   }
-  int sync() override { return dest_->pubsync(); }
+  int sync() override { return flush_buffer() && dest_->pubsync() == 0 ? 0 : -1; }
 
  private:
+  void inject() {
+    ok_ = ok_ && dest_->sputn(text_.data(), std::streamsize(text_.size())) == std::streamsize(text_.size());
+    done_ = true;
+  }
+  bool flush_buffer() {
+    const char* p = pbase();
+    const char* end = pptr();
+    while (!done_ && p < end) {  // still inside the header: look for the insertion point
+      const char* nl = static_cast<const char*>(std::memchr(p, '\n', std::size_t(end - p)));
+      const char* upto = nl ? nl + 1 : end;
+      ok_ = ok_ && dest_->sputn(p, upto - p) == upto - p;
+      p = upto;
+      if (nl && ++newlines_ == after_) inject();
+    }
+    if (p < end) ok_ = ok_ && dest_->sputn(p, end - p) == end - p;
+    setp(buffer_.data(), buffer_.data() + buffer_.size());
+    return ok_;
+  }
+
   std::streambuf* dest_;
   std::string text_;
   int after_;
+  std::vector<char> buffer_;
   int newlines_ = 0;
   bool done_ = false;
+  bool ok_ = true;
 };
 
 std::string header_comments(const GridMesh& m) {
