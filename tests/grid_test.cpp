@@ -1,4 +1,5 @@
 // Reading real DEMs and the grid coordinate convention.
+#include <gdal_utils.h>
 #include <gtest/gtest.h>
 
 #include "terrain/dem_io.hpp"
@@ -76,6 +77,35 @@ TEST(ReadDem, AsciiGridWithoutCrsAndWithNodata) {
   EXPECT_LT(g.count_nodata(), g.size());
   const auto mask = g.nodata_mask();
   EXPECT_EQ(std::size_t(std::count(mask.begin(), mask.end(), 1)), g.count_nodata());
+}
+
+TEST(ReadDem, VrtMosaic) {
+  // A VRT mosaic of two GeoTIFF halves (west and east) reads as the whole DEM.
+  test::ScratchDir dir;
+  const Grid g = read_dem(data("msh_2007_utm10n_10m.tif"));
+  Grid west = g, east = g;
+  west.cols = 150;
+  east.cols = g.cols - 150;
+  east.geo.x0 += 150 * g.geo.dx;
+  west.z.clear();
+  east.z.clear();
+  for (std::size_t r = 0; r < g.rows; ++r)
+    for (std::size_t c = 0; c < g.cols; ++c) (c < 150 ? west.z : east.z).push_back(g.at(r, c));
+  write_geotiff(west, dir.path("w.tif"));
+  write_geotiff(east, dir.path("e.tif"));
+  const char* inputs[] = {nullptr, nullptr};
+  const std::string w = dir.path("w.tif"), e = dir.path("e.tif");
+  inputs[0] = w.c_str();
+  inputs[1] = e.c_str();
+  GDALDatasetH vrt = GDALBuildVRT(dir.path("m.vrt").c_str(), 2, nullptr, inputs, nullptr, nullptr);
+  ASSERT_NE(vrt, nullptr);
+  GDALClose(vrt);
+  const Grid m = read_dem(dir.path("m.vrt"));
+  EXPECT_EQ(m.cols, g.cols);
+  EXPECT_EQ(m.rows, g.rows);
+  EXPECT_EQ(m.geo.epsg, 26910);
+  EXPECT_DOUBLE_EQ(m.geo.x0, g.geo.x0);
+  EXPECT_EQ(m.z, g.z);
 }
 
 TEST(ReadDem, ErrorsNameTheFile) {
