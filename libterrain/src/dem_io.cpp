@@ -72,8 +72,11 @@ Grid read_dem(const std::string& path) {
     throw Error("cannot use '" + path + "': " + std::to_string(cols) + " x " +
                 std::to_string(rows) + " samples; a DEM needs at least 2 x 2");
 
-  double gt[6] = {0, 1, 0, 0, 0, -1};
-  const bool has_gt = ds->GetGeoTransform(gt) == CE_None;
+  double gt[6];
+  if (ds->GetGeoTransform(gt) != CE_None) {  // no georeferencing: pixel coordinates, row 0 at the top
+    const double pixel[6] = {0.0, 1.0, 0.0, double(rows), 0.0, -1.0};
+    std::copy(pixel, pixel + 6, gt);
+  }
   if (gt[2] != 0.0 || gt[4] != 0.0)
     throw Error("cannot use '" + path + "': rotated or sheared geotransform; warp it north-up first (gdalwarp)");
   if (gt[1] <= 0.0) throw Error("cannot use '" + path + "': non-positive pixel width in the geotransform");
@@ -99,7 +102,6 @@ Grid read_dem(const std::string& path) {
   grid.geo.y0 = gt[3];
   grid.geo.dx = gt[1];
   grid.geo.dy = -gt[5];
-  if (!has_gt) grid.geo.y0 = double(rows);  // pixel coordinates, row 0 at the top
 
   int has_nodata = 0;
   const double nodata = band->GetNoDataValue(&has_nodata);
