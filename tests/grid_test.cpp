@@ -129,8 +129,11 @@ TEST(WriteGeotiff, RoundTripKeepsValuesCrsAndNodata) {
   EXPECT_DOUBLE_EQ(back.geo.y0, g.geo.y0);
   ASSERT_EQ(back.size(), g.size());
   EXPECT_TRUE(std::isnan(back.at(5, 7)));
-  for (std::size_t i = 0; i < g.size(); ++i)
-    if (g.valid(i)) ASSERT_EQ(back.z[i], g.z[i]) << i;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    if (g.valid(i)) {
+      ASSERT_EQ(back.z[i], g.z[i]) << i;
+    }
+  }
   EXPECT_EQ(dir.n_entries(), 1u);  // no temporary file left behind
 }
 

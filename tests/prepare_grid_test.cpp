@@ -14,6 +14,9 @@
 #include "test_support.hpp"
 
 namespace terrain {
+
+void PrintTo(Resampling r, std::ostream* os) { *os << (r == Resampling::Bilinear ? "bilinear" : "cubic"); }
+
 namespace {
 
 using test::data;
@@ -77,8 +80,6 @@ Grid gdalwarp(const std::string& src, std::vector<std::string> args) {
 // nanometres); measured differences are ~1e-4 m (float rounding). The spacing (8 m) is
 // finer than the source's (8.3 m E-W, 10.3 m N-S) because gdalwarp widens its kernel
 // when downsampling, which dem2mesh does not (docs/dem2mesh.md).
-void PrintTo(Resampling r, std::ostream* os) { *os << (r == Resampling::Bilinear ? "bilinear" : "cubic"); }
-
 class EnoVsGdalwarp : public ::testing::TestWithParam<Resampling> {};
 
 TEST_P(EnoVsGdalwarp, AgreesAtSampledCells) {

@@ -132,46 +132,49 @@ Grid read_dem(const std::string& path) {
   return grid;
 }
 
-void write_geotiff(const Grid& grid, const std::string& path, const std::string& metadata) {
+void write_raster(const std::string& path, const Georef& geo, std::size_t rows, std::size_t cols,
+                  RasterType type, const void* data, std::optional<double> nodata, const std::string& metadata) {
   ensure_gdal();
   AtomicFile out(path);
+  const GDALDataType gdt = type == RasterType::Byte    ? GDT_Byte
+                           : type == RasterType::Int16 ? GDT_Int16
+                           : type == RasterType::UInt32 ? GDT_UInt32
+                                                        : GDT_Float32;
   GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
-  const bool tiled = grid.cols >= 256 && grid.rows >= 256;
   CPLStringList opts;
   opts.SetNameValue("COMPRESS", "DEFLATE");
-  opts.SetNameValue("PREDICTOR", "3");
-  if (tiled) opts.SetNameValue("TILED", "YES");
+  opts.SetNameValue("PREDICTOR", type == RasterType::Float32 ? "3" : "2");
+  if (cols >= 256 && rows >= 256) opts.SetNameValue("TILED", "YES");
   opts.SetNameValue("BIGTIFF", "IF_SAFER");
   CPLErrorReset();
   {
-    DatasetPtr ds(gtiff->Create(out.temp_path().c_str(), int(grid.cols), int(grid.rows), 1,
-                                GDT_Float32, opts.List()));
+    DatasetPtr ds(gtiff->Create(out.temp_path().c_str(), int(cols), int(rows), 1, gdt, opts.List()));
     if (!ds) throw Error("cannot write '" + path + "': " + last_gdal_error());
-    double gt[6] = {grid.geo.x0, grid.geo.dx, 0.0, grid.geo.y0, 0.0, -grid.geo.dy};
+    double gt[6] = {geo.x0, geo.dx, 0.0, geo.y0, 0.0, -geo.dy};
     ds->SetGeoTransform(gt);
-    if (!grid.geo.crs_wkt.empty()) {
+    if (!geo.crs_wkt.empty()) {
       OGRSpatialReference srs;
-      if (srs.importFromWkt(grid.geo.crs_wkt.c_str()) == OGRERR_NONE) ds->SetSpatialRef(&srs);
+      if (srs.importFromWkt(geo.crs_wkt.c_str()) == OGRERR_NONE) ds->SetSpatialRef(&srs);
     }
     if (!metadata.empty()) ds->SetMetadataItem("TIFFTAG_IMAGEDESCRIPTION", metadata.c_str());
     GDALRasterBand* band = ds->GetRasterBand(1);
-    band->SetNoDataValue(kGeoTiffNodata);
-    std::vector<float> row(grid.cols);
-    for (std::size_t r = 0; r < grid.rows; ++r) {
-      for (std::size_t c = 0; c < grid.cols; ++c) {
-        const float v = grid.at(r, c);
-        row[c] = std::isnan(v) ? float(kGeoTiffNodata) : v;
-      }
-      if (band->RasterIO(GF_Write, 0, int(r), int(grid.cols), 1, row.data(), int(grid.cols), 1,
-                         GDT_Float32, 0, 0) != CE_None)
-        throw Error("cannot write '" + path + "': " + last_gdal_error());
-    }
-    // GDALClose flushes; a failure there (disk full) must not be committed.
+    if (nodata) band->SetNoDataValue(*nodata);
+    if (band->RasterIO(GF_Write, 0, 0, int(cols), int(rows), const_cast<void*>(data), int(cols), int(rows), gdt, 0,
+                       0) != CE_None)
+      throw Error("cannot write '" + path + "': " + last_gdal_error());
+    // Closing flushes; a failure there (disk full) must not be committed.
     CPLErrorReset();
     ds.reset();
     if (CPLGetLastErrorType() >= CE_Failure) throw Error("cannot write '" + path + "': " + last_gdal_error());
   }
   out.commit();
+}
+
+void write_geotiff(const Grid& grid, const std::string& path, const std::string& metadata) {
+  std::vector<float> values(grid.z);
+  for (float& v : values)
+    if (std::isnan(v)) v = float(kGeoTiffNodata);
+  write_raster(path, grid.geo, grid.rows, grid.cols, RasterType::Float32, values.data(), kGeoTiffNodata, metadata);
 }
 
 std::size_t fill_nodata(Grid& grid) {

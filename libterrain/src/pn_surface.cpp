@@ -1,7 +1,10 @@
 #include "terrain/pn_surface.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace terrain {
 
@@ -14,10 +17,10 @@ PnPatch face_patch(const GridMesh& mesh, std::size_t f) {
 
 namespace {
 
-constexpr std::size_t kNone = std::size_t(-1);
+constexpr std::size_t kNoFace = std::size_t(-1);
 
 // The face across the edge opposite corner k of face f (grid_mesh.hpp convention), or
-// kNone on the mesh boundary. Face 0 = (NW, SW, SE): opposite NW is the south edge (cell
+// kNoFace on the mesh boundary. Face 0 = (NW, SW, SE): opposite NW is the south edge (cell
 // below, face 1), opposite SW the diagonal (face 1), opposite SE the west edge (cell to
 // the west, face 1). Face 1 = (NW, SE, NE): opposite NW is the east edge (cell to the
 // east, face 0), opposite SE the north edge (cell above, face 0), opposite NE the
@@ -26,54 +29,136 @@ std::size_t neighbour(const GridTopology& topo, std::size_t f, int k) {
   const std::size_t cell = f / 2, r = cell / (topo.cols - 1), c = cell % (topo.cols - 1);
   const std::size_t last_r = topo.rows - 2, last_c = topo.cols - 2;
   if (f % 2 == 0) {
-    if (k == 0) return r < last_r ? topo.face_of_cell(r + 1, c, 1) : kNone;
+    if (k == 0) return r < last_r ? topo.face_of_cell(r + 1, c, 1) : kNoFace;
     if (k == 1) return f + 1;
-    return c > 0 ? topo.face_of_cell(r, c - 1, 1) : kNone;
+    return c > 0 ? topo.face_of_cell(r, c - 1, 1) : kNoFace;
   }
-  if (k == 0) return c < last_c ? topo.face_of_cell(r, c + 1, 0) : kNone;
-  if (k == 1) return r > 0 ? topo.face_of_cell(r - 1, c, 0) : kNone;
+  if (k == 0) return c < last_c ? topo.face_of_cell(r, c + 1, 0) : kNoFace;
+  if (k == 1) return r > 0 ? topo.face_of_cell(r - 1, c, 0) : kNoFace;
   return f - 1;
 }
 
-}  // namespace
-
-std::optional<SurfacePoint> pn_point_above(const GridMesh& mesh, double x, double y) {
+// The face of the flat grid under local (x, y), or kNoFace outside the grid's extent
+// (with half a cell of slack).
+std::size_t flat_face(const GridMesh& mesh, double x, double y) {
   const GridTopology& topo = mesh.topo;
-  const double dx = mesh.geo.dx, dy = mesh.geo.dy;
-  const double fc = x / dx, fr = -y / dy;
+  const double fc = x / mesh.geo.dx, fr = -y / mesh.geo.dy;
   if (!(fc >= -0.5 && fr >= -0.5 && fc <= double(topo.cols) - 0.5 && fr <= double(topo.rows) - 0.5))
-    return std::nullopt;
-  // The flat grid triangle under (x, y).
+    return kNoFace;
   const std::size_t c = std::size_t(std::clamp(std::floor(fc), 0.0, double(topo.cols - 2)));
   const std::size_t r = std::size_t(std::clamp(std::floor(fr), 0.0, double(topo.rows - 2)));
   // Face 0 (NW, SW, SE) lies below the NW-SE diagonal: (fr - r) >= (fc - c).
-  std::size_t f = topo.face_of_cell(r, c, (fr - double(r)) >= (fc - double(c)) ? 0 : 1);
+  return topo.face_of_cell(r, c, (fr - double(r)) >= (fc - double(c)) ? 0 : 1);
+}
 
-  const double tol = 1e-9 * std::max({dx, dy, 1.0});
-  std::optional<SurfacePoint> best;
+struct WalkResult {
+  std::size_t face = kNoFace;
+  PnXySolution solution;
+};
+
+// The patch walk of pn_point_above over polynomials from `poly(face)`.
+template <class PolyOf>
+WalkResult walk(const GridMesh& mesh, double x, double y, PolyOf&& poly) {
+  std::size_t f = flat_face(mesh, x, y);
+  if (f == kNoFace) return {};
+  const double tol = 1e-9 * std::max({mesh.geo.dx, mesh.geo.dy, 1.0});
+  WalkResult best;
   double best_min = -1e300;
-  std::size_t prev = kNone;
+  std::size_t prev = kNoFace;
   for (int hop = 0; hop < 8; ++hop) {
-    const PnPatch patch = face_patch(mesh, f);
-    const PnXySolution s = pn_solve_xy(patch, x, y, tol);
+    const PnXySolution s = pn_solve_xy(poly(f), x, y, tol);
     if (!s.converged) break;
     const double bary[3] = {s.b1, s.b2, s.b3};
     const int k = int(std::min_element(bary, bary + 3) - bary);
-    const std::size_t next = neighbour(topo, f, k);
-    const bool inside = bary[k] >= -1e-9;
-    const bool boundary = next == kNone && bary[k] >= -0.5;
-    SurfacePoint here{f, s.b1, s.b2, s.b3, s.position, pn_normal(patch, s.b1, s.b2, s.b3)};
-    if (inside || boundary) return here;
+    const std::size_t next = neighbour(mesh.topo, f, k);
+    if (bary[k] >= -1e-9 || (next == kNoFace && bary[k] >= -0.5)) return {f, s};
     if (bary[k] > best_min) {
       best_min = bary[k];
-      best = here;
+      best = {f, s};
     }
     if (next == prev) break;  // ping-pong across one edge from rounding: take the better side
     prev = f;
     f = next;
   }
-  if (best && best_min >= -1e-6) return best;
-  return std::nullopt;
+  return best_min >= -1e-6 ? best : WalkResult{};
+}
+
+}  // namespace
+
+std::optional<SurfacePoint> pn_point_above(const GridMesh& mesh, double x, double y) {
+  PnPolynomial scratch;
+  const WalkResult w = walk(mesh, x, y, [&](std::size_t f) -> const PnPolynomial& {
+    scratch = to_polynomial(face_patch(mesh, f));
+    return scratch;
+  });
+  if (w.face == kNoFace) return std::nullopt;
+  const PnXySolution& s = w.solution;
+  return SurfacePoint{w.face, s.b1, s.b2, s.b3, s.position, pn_normal(face_patch(mesh, w.face), s.b1, s.b2, s.b3)};
+}
+
+SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Progress& progress) {
+  if (!(spacing > 0.0 && std::isfinite(spacing))) throw Error("the sampling spacing must be a positive number of metres");
+  const double width = double(mesh.topo.cols - 1) * mesh.geo.dx, height = double(mesh.topo.rows - 1) * mesh.geo.dy;
+  const std::size_t nx = std::size_t(std::floor(width / spacing + 1e-9)) + 1;
+  const std::size_t ny = std::size_t(std::floor(height / spacing + 1e-9)) + 1;
+  if (double(nx) * double(ny) >= double(std::numeric_limits<std::uint32_t>::max()))
+    throw Error("sampling at " + std::to_string(spacing) + " m would give more than 2^32 - 1 points");
+  Georef geo;
+  geo.dx = geo.dy = spacing;
+  geo.x0 = mesh.geo.origin_x - spacing / 2;
+  geo.y0 = mesh.geo.origin_y + spacing / 2;
+  geo.crs_wkt = mesh.geo.crs_wkt;
+  geo.epsg = mesh.geo.epsg;
+  geo.crs_kind = mesh.geo.crs_wkt.empty() ? CrsKind::None : CrsKind::Projected;
+  SampledSurface out;
+  out.grid = Grid(ny, nx, geo);
+  const std::size_t face_row = 2 * (mesh.topo.cols - 1);
+  const long rows = long(ny), block = 64;
+  std::size_t fallbacks = 0;
+  for (long jb = 0; jb < rows; jb += block) {
+    const long je = std::min(rows, jb + block);
+#pragma omp parallel reduction(+ : fallbacks)
+    {
+      // Polynomials of three cell rows, slot = cell row % 3, built on first use.
+      struct Slot {
+        std::size_t row = std::size_t(-1);
+        std::vector<PnPolynomial> polys;
+      } cache[3];
+      auto poly = [&](std::size_t f) -> const PnPolynomial& {
+        const std::size_t row = f / face_row;
+        Slot& slot = cache[row % 3];
+        if (slot.row != row) {
+          slot.polys.resize(face_row);
+          for (std::size_t k = 0; k < face_row; ++k) slot.polys[k] = to_polynomial(face_patch(mesh, row * face_row + k));
+          slot.row = row;
+        }
+        return slot.polys[f - row * face_row];
+      };
+#pragma omp for schedule(static)
+      for (long j = jb; j < je; ++j) {
+        const double y = -double(j) * spacing;
+        for (std::size_t i = 0; i < nx; ++i) {
+          const double x = double(i) * spacing;
+          const WalkResult w = walk(mesh, x, y, poly);
+          double z;
+          if (w.face != kNoFace) {
+            z = w.solution.position.z();
+          } else {  // fold-over: the flat triangle under the point
+            ++fallbacks;
+            const auto v = mesh.topo.face(flat_face(mesh, x, y));
+            const Eigen::Vector3d a = mesh.positions[v[0]].cast<double>(), b = mesh.positions[v[1]].cast<double>(),
+                                  c = mesh.positions[v[2]].cast<double>();
+            const Eigen::Vector3d n = face_normal(a, b, c);  // equal normals: the patch is the flat triangle
+            z = pn_solve_xy(to_polynomial(make_pn_patch(a, b, c, n, n, n)), x, y).position.z();
+          }
+          out.grid.z[std::size_t(j) * nx + i] = float(z + mesh.geo.origin_z);
+        }
+      }
+    }
+    report(progress, double(je) / double(rows));
+  }
+  out.fallbacks = fallbacks;
+  return out;
 }
 
 }  // namespace terrain

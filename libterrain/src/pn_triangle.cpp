@@ -86,11 +86,81 @@ void pn_derivatives(const PnPatch& p, double b1, double b2, double b3, Vector3d&
   dpdt = d3 - d1;
 }
 
+namespace {
+
+// Monomial coefficients of the ten cubic Bernstein terms: kBasis[term][m], term in PnIndex
+// order, m as in PnPolynomial. Built once by expanding 3!/(i!j!k!) (1-s-t)^i s^j t^k.
+struct BasisTable {
+  double m[10][10] = {};
+  BasisTable() {
+    const int exps[10][3] = {{3, 0, 0}, {0, 3, 0}, {0, 0, 3}, {2, 1, 0}, {1, 2, 0},
+                             {0, 2, 1}, {0, 1, 2}, {1, 0, 2}, {2, 0, 1}, {1, 1, 1}};
+    const int mono[10][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}};
+    const double fact[4] = {1, 1, 2, 6};
+    for (int term = 0; term < 10; ++term) {
+      const int i = exps[term][0], j = exps[term][1], k = exps[term][2];
+      // poly[a][b]: coefficient of s^a t^b; start with (1 - s - t)^i.
+      double poly[4][4] = {{1}};
+      for (int e = 0; e < i; ++e) {
+        double next[4][4] = {};
+        for (int a = 0; a < 4; ++a)
+          for (int b = 0; a + b < 4; ++b) {
+            if (poly[a][b] == 0) continue;
+            next[a][b] += poly[a][b];
+            if (a + 1 < 4) next[a + 1][b] -= poly[a][b];
+            if (b + 1 < 4) next[a][b + 1] -= poly[a][b];
+          }
+        std::copy(&next[0][0], &next[0][0] + 16, &poly[0][0]);
+      }
+      const double coef = fact[3] / (fact[i] * fact[j] * fact[k]);
+      for (int mi = 0; mi < 10; ++mi) {
+        const int a = mono[mi][0] - j, b = mono[mi][1] - k;  // times s^j t^k
+        if (a >= 0 && b >= 0 && a + b < 4) m[term][mi] = coef * poly[a][b];
+      }
+    }
+  }
+};
+const BasisTable kBasis;
+
+}  // namespace
+
+PnPolynomial to_polynomial(const PnPatch& p) {
+  PnPolynomial out;
+  for (auto& c : out.c) c.setZero();
+  for (int term = 0; term < 10; ++term)
+    for (int mi = 0; mi < 10; ++mi)
+      if (kBasis.m[term][mi] != 0.0) out.c[std::size_t(mi)] += kBasis.m[term][mi] * p.b[std::size_t(term)];
+  return out;
+}
+
+Vector3d PnPolynomial::at(double s, double t) const {
+  return c[0] + s * (c[1] + s * (c[3] + s * c[6]) + t * (c[4] + s * c[7])) +
+         t * (c[2] + t * (c[5] + t * c[9]) + s * t * c[8]);
+}
+
 PnXySolution pn_solve_xy(const PnPatch& p, double x, double y, double tolerance) {
-  const Vector3d& p1 = p.b[B300];
-  const Vector3d& p2 = p.b[B030];
-  const Vector3d& p3 = p.b[B003];
-  // Planar barycentrics of (x, y) in the flat triangle as the first guess.
+  return pn_solve_xy(to_polynomial(p), x, y, tolerance);
+}
+
+PnXySolution pn_solve_xy(const PnPolynomial& p, double x, double y, double tolerance) {
+  const auto& c = p.c;
+  // xy of P and its partial derivatives, from the monomial coefficients.
+  auto eval = [&](double s, double t, int d, double& fx, double& fy, double& sx, double& sy, double& tx,
+                  double& ty) {
+    const double ss = s * s, tt = t * t, st = s * t;
+    auto comp = [&](int k, double& v, double& ds, double& dt) {
+      v = c[0][k] + c[1][k] * s + c[2][k] * t + c[3][k] * ss + c[4][k] * st + c[5][k] * tt + c[6][k] * ss * s +
+          c[7][k] * ss * t + c[8][k] * s * tt + c[9][k] * tt * t;
+      if (d) {
+        ds = c[1][k] + 2 * c[3][k] * s + c[4][k] * t + 3 * c[6][k] * ss + 2 * c[7][k] * st + c[8][k] * tt;
+        dt = c[2][k] + c[4][k] * s + 2 * c[5][k] * t + c[7][k] * ss + 2 * c[8][k] * st + 3 * c[9][k] * tt;
+      }
+    };
+    comp(0, fx, sx, tx);
+    comp(1, fy, sy, ty);
+  };
+  // Planar barycentrics of (x, y) in the flat triangle (corners P(0,0), P(1,0), P(0,1)).
+  const Vector3d p1 = c[0], p2 = c[0] + c[1] + c[3] + c[6], p3 = c[0] + c[2] + c[5] + c[9];
   const double ax = p2.x() - p1.x(), ay = p2.y() - p1.y();
   const double cx = p3.x() - p1.x(), cy = p3.y() - p1.y();
   const double det = ax * cy - ay * cx;
@@ -99,24 +169,25 @@ PnXySolution pn_solve_xy(const PnPatch& p, double x, double y, double tolerance)
   double s = ((x - p1.x()) * cy - (y - p1.y()) * cx) / det;
   double t = (ax * (y - p1.y()) - ay * (x - p1.x())) / det;
 
-  Vector3d pos = pn_position(p, 1.0 - s - t, s, t);
-  double fx = pos.x() - x, fy = pos.y() - y, err = std::hypot(fx, fy);
+  double px, py, sx, sy, tx, ty;
+  eval(s, t, 1, px, py, sx, sy, tx, ty);
+  double fx = px - x, fy = py - y, err = std::hypot(fx, fy);
   for (int it = 0; it < 30 && err > tolerance; ++it) {
-    Vector3d ds, dt;
-    pn_derivatives(p, 1.0 - s - t, s, t, ds, dt);
-    const double dj = ds.x() * dt.y() - dt.x() * ds.y();
+    const double dj = sx * ty - tx * sy;
     if (dj == 0.0 || !std::isfinite(dj)) break;
-    const double step_s = (dt.y() * fx - dt.x() * fy) / dj;
-    const double step_t = (-ds.y() * fx + ds.x() * fy) / dj;
+    const double step_s = (ty * fx - tx * fy) / dj;
+    const double step_t = (-sy * fx + sx * fy) / dj;
     // Backtracking: halve the step while the residual grows.
     double lambda = 1.0;
     for (int k = 0; k < 20; ++k, lambda *= 0.5) {
       const double ns = s - lambda * step_s, nt = t - lambda * step_t;
-      const Vector3d np = pn_position(p, 1.0 - ns - nt, ns, nt);
-      const double ne = std::hypot(np.x() - x, np.y() - y);
+      double nx, ny, a, b, e, f;
+      eval(ns, nt, 0, nx, ny, a, b, e, f);
+      const double ne = std::hypot(nx - x, ny - y);
       if (ne < err || k == 19) {
-        s = ns, t = nt, pos = np, err = ne;
-        fx = np.x() - x, fy = np.y() - y;
+        s = ns, t = nt, err = ne;
+        eval(s, t, 1, px, py, sx, sy, tx, ty);
+        fx = px - x, fy = py - y;
         break;
       }
     }
@@ -124,7 +195,7 @@ PnXySolution pn_solve_xy(const PnPatch& p, double x, double y, double tolerance)
   sol.b1 = 1.0 - s - t;
   sol.b2 = s;
   sol.b3 = t;
-  sol.position = pos;
+  sol.position = p.at(s, t);
   sol.converged = err <= tolerance;
   return sol;
 }

@@ -1,8 +1,10 @@
 #pragma once
-// The PN surface of a grid mesh: the patch of every face, and the surface point above a
-// given (x, y) (ALGORITHMS.md 2.4).
+// The PN surface of a grid mesh: the patch of every face, the surface point above a given
+// (x, y) (ALGORITHMS.md 2.4), and sampling the surface on a regular grid.
 #include <optional>
 
+#include "terrain/error.hpp"
+#include "terrain/grid.hpp"
 #include "terrain/grid_mesh.hpp"
 #include "terrain/pn_triangle.hpp"
 
@@ -27,5 +29,16 @@ struct SurfacePoint {
 // flat grid's extent has an answer. Returns nullopt outside that, or when Newton fails.
 // Tested: x, y of the result equal the request to 1e-6 m on real meshes; planar meshes.
 std::optional<SurfacePoint> pn_point_above(const GridMesh& mesh, double x, double y);
+
+struct SampledSurface {
+  Grid grid;                 // the samples, with the mesh's CRS; sample (0,0) = mesh vertex (0,0)
+  std::size_t fallbacks = 0; // samples where Newton failed and the flat triangle was used
+};
+
+// Samples the PN surface at every point (i * spacing, -j * spacing) (local coordinates)
+// of the mesh's extent: z is the PN surface exactly above (pn_point_above), computed with
+// patches cached per cell row in monomial form. Parallel over rows; the result does not
+// depend on the thread count. Throws Error for spacing <= 0 or more than 2^32 - 1 samples.
+SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Progress& progress = {});
 
 }  // namespace terrain

@@ -1,0 +1,24 @@
+#pragma once
+// GeoTIFF views of a drainage result, for QGIS and for checking against other tools.
+#include <string>
+#include <vector>
+
+#include "drainage/d8.hpp"
+#include "drainage/pipeline.hpp"
+
+namespace drainage {
+
+// Writes into directory `dir` (which must exist): surface.tif (Float32), d8.tif (Int16, in
+// `encoding`; 0 = no in-grid direction, -32768 = no-data), accumulation.tif (UInt32 points),
+// normalized_flow.tif (Float32), basin.tif (UInt32, 4294967295 = no-data), class.tif (Byte:
+// 0 ridge, 1 channel, 2 junction, 3 pit, 255 no-data), order.tif (Byte Strahler order,
+// 0 = no-data). Each atomically, with the grid's CRS and `provenance`.
+void write_drainage_rasters(const std::string& dir, const DrainageResult& r, D8Encoding encoding,
+                            const std::string& provenance);
+
+// Reads a D8 direction raster in `encoding` into our codes (d8.hpp) with its grid (the
+// Grid's z holds the raw codes). Throws terrain::Error naming the first invalid code and
+// where it is.
+std::vector<std::uint8_t> read_d8_raster(const std::string& path, D8Encoding encoding, terrain::Grid& grid);
+
+}  // namespace drainage

@@ -1,0 +1,149 @@
+#include "drainage/network.hpp"
+
+#include <string>
+
+#include "drainage/d8.hpp"
+
+namespace drainage {
+
+const char* to_string(PointClass c) {
+  switch (c) {
+    case PointClass::Ridge: return "ridge";
+    case PointClass::Channel: return "channel";
+    case PointClass::Junction: return "junction";
+    case PointClass::Pit: return "pit";
+    case PointClass::Nodata: return "nodata";
+  }
+  return "?";
+}
+
+Network analyze_network(const std::vector<std::uint8_t>& dirs, std::size_t rows, std::size_t cols,
+                        const terrain::Progress& progress) {
+  const std::size_t n = rows * cols;
+  if (dirs.size() != n) throw terrain::Error("analyze_network: direction grid does not match rows x cols");
+  if (n >= std::size_t(kNone)) throw terrain::Error("analyze_network: more than 2^32 - 1 points");
+  Network net;
+  const long R = long(rows), C = long(cols);
+
+  // Downstream links: in-grid, valid targets only.
+  net.downstream.assign(n, kNone);
+#pragma omp parallel for schedule(static)
+  for (long r = 0; r < R; ++r)
+    for (long c = 0; c < C; ++c) {
+      const std::size_t i = std::size_t(r * C + c);
+      const std::uint8_t d = dirs[i];
+      if (d >= 8) continue;
+      const long rr = r + kDRow[d], cc = c + kDCol[d];
+      if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;
+      const std::size_t j = std::size_t(rr * C + cc);
+      if (dirs[j] != kNodata) net.downstream[i] = std::uint32_t(j);
+    }
+  terrain::report(progress, 0.1);
+
+  // In-degrees (gathered per point: no write conflicts) and classes.
+  std::vector<std::uint8_t> indeg(n, 0);
+  net.point_class.assign(n, std::uint8_t(PointClass::Nodata));
+  std::size_t points = 0;
+#pragma omp parallel for schedule(static) reduction(+ : points)
+  for (long r = 0; r < R; ++r)
+    for (long c = 0; c < C; ++c) {
+      const std::size_t i = std::size_t(r * C + c);
+      if (dirs[i] == kNodata) continue;
+      ++points;
+      std::uint8_t in = 0;
+      for (int k = 0; k < 8; ++k) {
+        const long rr = r - kDRow[k], cc = c - kDCol[k];  // the neighbour that would flow in along k
+        if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;
+        const std::size_t j = std::size_t(rr * C + cc);
+        if (net.downstream[j] == i) ++in;
+      }
+      indeg[i] = in;
+      const PointClass cls = net.downstream[i] == kNone ? PointClass::Pit
+                             : in == 0                  ? PointClass::Ridge
+                             : in == 1                  ? PointClass::Channel
+                                                        : PointClass::Junction;
+      net.point_class[i] = std::uint8_t(cls);
+    }
+  net.points = points;
+  terrain::report(progress, 0.2);
+
+  // Kahn: accumulate flow and Strahler order in topological order.
+  net.accumulated.assign(n, 0);
+  net.order.assign(n, 0);
+  std::vector<std::uint8_t> max_count(n, 0);  // inflows carrying the maximum order so far
+  std::vector<std::uint32_t> topo;
+  topo.reserve(net.points);
+  for (std::size_t i = 0; i < n; ++i)
+    if (dirs[i] != kNodata && indeg[i] == 0) topo.push_back(std::uint32_t(i));
+  for (std::size_t head = 0; head < topo.size(); ++head) {
+    const std::uint32_t i = topo[head];
+    net.accumulated[i] += 1;
+    // order[i] holds the largest incoming order so far (0: none).
+    const std::uint8_t ord = net.order[i] == 0 ? 1 : std::uint8_t(net.order[i] + (max_count[i] >= 2 ? 1 : 0));
+    net.order[i] = ord;
+    const std::uint32_t d = net.downstream[i];
+    if (d == kNone) continue;
+    net.accumulated[d] += net.accumulated[i];
+    if (ord > net.order[d]) {
+      net.order[d] = ord;
+      max_count[d] = 1;
+    } else if (ord == net.order[d]) {
+      ++max_count[d];
+    }
+    if (--indeg[d] == 0) topo.push_back(d);
+  }
+  if (topo.size() != net.points)
+    throw terrain::Error("the D8 directions contain a cycle: " + std::to_string(net.points - topo.size()) +
+                         " points never reach a pit or outlet");
+  std::vector<std::uint8_t>().swap(max_count);
+  std::vector<std::uint8_t>().swap(indeg);
+  terrain::report(progress, 0.5);
+
+  // Basins: numbered by ascending pit index, propagated upstream in reverse topological order.
+  net.basin.assign(n, kNone);
+  for (std::size_t i = 0; i < n; ++i)
+    if (dirs[i] != kNodata && net.downstream[i] == kNone) {
+      net.basin[i] = std::uint32_t(net.pits.size());
+      net.pits.push_back(std::uint32_t(i));
+    }
+  for (auto it = topo.rbegin(); it != topo.rend(); ++it)
+    if (net.downstream[*it] != kNone) net.basin[*it] = net.basin[net.downstream[*it]];
+  std::vector<std::uint32_t>().swap(topo);
+  net.normalized.assign(n, 0.0f);
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < long(n); ++i)
+    if (net.basin[std::size_t(i)] != kNone)
+      net.normalized[std::size_t(i)] =
+          float(double(net.accumulated[std::size_t(i)]) / double(net.accumulated[net.pits[net.basin[std::size_t(i)]]]));
+  terrain::report(progress, 0.7);
+
+  // Branches: a point continues the branch of its one upstream neighbour of equal order.
+  std::vector<std::uint8_t> continued(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t d = net.downstream[i];
+    if (d != kNone && net.order[d] == net.order[i]) continued[d] = 1;
+  }
+  net.branch_vertices.reserve(net.points);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (dirs[i] == kNodata || continued[i]) continue;
+    Branch b;
+    b.first = std::uint32_t(net.branch_vertices.size());
+    b.order = net.order[i];
+    std::uint32_t v = std::uint32_t(i);
+    while (true) {
+      net.branch_vertices.push_back(v);
+      const std::uint32_t d = net.downstream[v];
+      if (d == kNone || net.order[d] != b.order) {
+        b.drains_into = d;
+        break;
+      }
+      v = d;
+    }
+    b.count = std::uint32_t(net.branch_vertices.size()) - b.first;
+    net.branches.push_back(b);
+  }
+  terrain::report(progress, 1.0);
+  return net;
+}
+
+}  // namespace drainage

@@ -1,0 +1,162 @@
+// build-drainage: the drainage vertex database (.dv) of a mesh's PN surface or of a raster.
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+
+#include "common.hpp"
+#include "drainage/d8.hpp"
+#include "drainage/dv_file.hpp"
+#include "drainage/pipeline.hpp"
+#include "drainage/rasters.hpp"
+#include "terrain/atomic_file.hpp"
+#include "terrain/dem_io.hpp"
+#include "terrain/mesh_io.hpp"
+#include "terrain/pn_surface.hpp"
+
+namespace tt = terrain::tools;
+
+namespace {
+
+void check_same_grid(const terrain::Grid& a, const terrain::Grid& b, const std::string& an, const std::string& bn) {
+  const double tol = 1e-6 * std::max(a.geo.dx, a.geo.dy);
+  if (a.rows != b.rows || a.cols != b.cols || std::abs(a.geo.x0 - b.geo.x0) > tol ||
+      std::abs(a.geo.y0 - b.geo.y0) > tol || std::abs(a.geo.dx - b.geo.dx) > tol || std::abs(a.geo.dy - b.geo.dy) > tol)
+    throw terrain::Error(fmt::format("mismatched grids: '{}' is {} x {} at ({}, {}) step {}, '{}' is {} x {} at ({}, {}) "
+                                     "step {}",
+                                     an, a.cols, a.rows, a.geo.x0, a.geo.y0, a.geo.dx, bn, b.cols, b.rows, b.geo.x0,
+                                     b.geo.y0, b.geo.dx));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Build the drainage vertex database (.dv): sample the PN surface of a mesh on a fine grid,\n"
+               "D8 steepest descent, flats, pits/ridges/channels/junctions, basins, flow accumulation\n"
+               "normalized per basin, Strahler order and branches.",
+               "build-drainage"};
+  app.footer(
+      "Examples:\n"
+      "  build-drainage out/msh_50m.ply out/msh.dv --spacing 10 --rasters out/msh_rasters\n"
+      "  build-drainage --raster data/logan_utm12n_100m.tif logan.dv --fill\n"
+      "  build-drainage --raster dem.tif --d8-input dirs.tif --d8-encoding taudem acc.dv\n\n"
+      "Output: stdout gets 'key: value' lines (points, pits, basins, classes, branches); see\n"
+      "docs/build-drainage.md for the rules and docs/dv-format.md for the file.");
+  app.set_version_flag("--version", tt::version());
+
+  std::vector<std::string> positional;
+  std::string raster, d8_input, rasters_dir, surface_out, encoding = "taudem";
+  double spacing = 10.0;
+  bool keep_flats = false, fill = false;
+  int threads = 0;
+  tt::Verbosity verb;
+  app.add_option("MESH_OR_OUTPUT", positional, "MESH.ply OUTPUT.dv, or only OUTPUT.dv with --raster / --d8-input")
+      ->required()
+      ->expected(1, 2);
+  app.add_option("--spacing", spacing, "Sampling spacing of the PN surface in metres")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--raster", raster, "Raster mode: run on this DEM's own grid (no PN surface)");
+  app.add_option("--d8-input", d8_input, "Accumulate these D8 directions instead of computing them");
+  app.add_option("--d8-encoding", encoding, "Encoding of --d8-input and of the d8 raster of --rasters")
+      ->check(CLI::IsMember({"taudem", "esri"}))
+      ->capture_default_str();
+  app.add_flag("--keep-flats", keep_flats, "Keep flat areas as one-point pits (the paper's literal behaviour)");
+  app.add_flag("--fill", fill, "Fill depressions first (Priority-Flood); off by default: every pit is a basin");
+  app.add_option("--rasters", rasters_dir, "Also write GeoTIFFs of every layer into this directory");
+  app.add_option("--surface", surface_out, "Also write the sampled surface as a GeoTIFF");
+  app.add_option("--threads", threads, "Threads (default: all cores); the output does not depend on it")
+      ->check(CLI::PositiveNumber);
+  tt::add_verbosity_flags(app, verb);
+
+  return tt::run_main(app, argc, argv, [&]() {
+    using clock = std::chrono::steady_clock;
+    const bool raster_mode = !raster.empty() || !d8_input.empty();
+    if (raster_mode && positional.size() != 1)
+      throw terrain::Error("with --raster or --d8-input give only OUTPUT.dv (no mesh)");
+    if (!raster_mode && positional.size() != 2) throw terrain::Error("give MESH.ply and OUTPUT.dv (or use --raster)");
+    const std::string output = positional.back();
+    if (!output.ends_with(".dv")) throw terrain::Error("OUTPUT must be a .dv file: '" + output + "'");
+    if (!d8_input.empty() && (fill || keep_flats))
+      throw terrain::Error("--fill and --keep-flats do not apply to --d8-input (directions are given)");
+    terrain::check_output_path(output);
+    if (!surface_out.empty()) terrain::check_output_path(surface_out);
+    if (!rasters_dir.empty() && !std::filesystem::is_directory(rasters_dir))
+      throw terrain::Error("--rasters: directory '" + rasters_dir + "' does not exist");
+    if (threads > 0) omp_set_num_threads(threads);
+    const drainage::D8Encoding enc = drainage::parse_d8_encoding(encoding);
+    const std::string prov = tt::provenance(argc, argv);
+
+    auto t0 = clock::now();
+    auto seconds = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
+    terrain::Grid surface;
+    std::uint32_t flags = 0;
+    if (!raster_mode) {
+      const terrain::GridMesh mesh = terrain::read_mesh_ply(positional[0]);
+      tt::step(verb, fmt::format("read mesh {} x {}: {:.2f} s", mesh.topo.cols, mesh.topo.rows, seconds()));
+      t0 = clock::now();
+      terrain::SampledSurface s = terrain::sample_pn_surface(mesh, spacing, tt::terminal_progress(verb, "sample"));
+      const double dt = seconds();
+      tt::step(verb, fmt::format("sampled {} points: {:.2f} s ({:.1f} M points/s)", s.grid.size(), dt,
+                                 double(s.grid.size()) / dt * 1e-6));
+      if (s.fallbacks > 0)
+        tt::warn(verb, fmt::format("{} samples used the flat triangle (PN patch folds over)", s.fallbacks));
+      surface = std::move(s.grid);
+      flags |= drainage::kDvFromPnSurface;
+    } else if (!raster.empty()) {
+      surface = terrain::read_dem(raster);
+      if (surface.geo.crs_kind == terrain::CrsKind::Geographic)
+        throw terrain::Error("'" + raster + "' is geographic (degrees); D8 needs metres: reproject it first (dem2mesh --grid-out)");
+    }
+    if (!surface_out.empty()) terrain::write_geotiff(surface, surface_out, prov);
+
+    t0 = clock::now();
+    drainage::DrainageResult result;
+    if (!d8_input.empty()) {
+      terrain::Grid dir_grid;
+      std::vector<std::uint8_t> dirs = drainage::read_d8_raster(d8_input, enc, dir_grid);
+      if (!raster.empty()) {
+        check_same_grid(surface, dir_grid, raster, d8_input);
+        for (std::size_t i = 0; i < surface.size(); ++i)  // no elevation: not a point
+          if (std::isnan(surface.z[i])) dirs[i] = drainage::kNodata;
+        flags |= drainage::kDvHasElevations;
+      } else {
+        surface = dir_grid;
+        for (std::size_t i = 0; i < surface.size(); ++i) surface.z[i] = dirs[i] == drainage::kNodata ? NAN : 0.0f;
+      }
+      result = drainage::drainage_from_directions(std::move(surface), std::move(dirs),
+                                                  tt::terminal_progress(verb, "drainage"));
+    } else {
+      result = drainage::compute_drainage(std::move(surface), {fill, !keep_flats}, tt::terminal_progress(verb, "drainage"));
+    }
+    flags |= result.dv_flags;
+    tt::step(verb, fmt::format("drainage (steps 2-6): {:.2f} s", seconds()));
+
+    t0 = clock::now();
+    const drainage::DvHeader header = drainage::make_dv_header(result.surface, result.net, flags, prov);
+    drainage::write_dv(output, header, result.surface, result.dirs, result.net);
+    tt::step(verb, fmt::format("write {}: {:.2f} s", output, seconds()));
+    if (!rasters_dir.empty()) drainage::write_drainage_rasters(rasters_dir, result, enc, prov);
+
+    const drainage::Network& net = result.net;
+    std::size_t counts[4] = {0, 0, 0, 0};
+    for (std::uint8_t c : net.point_class)
+      if (c < 4) ++counts[c];
+    std::cout << "output: " << output << "\n"
+              << "grid: " << result.surface.cols << " x " << result.surface.rows << " (columns x rows)\n"
+              << fmt::format("spacing: {} {}\n", result.surface.geo.dx, result.surface.geo.dy)
+              << "points: " << net.points << "\n"
+              << "basins: " << net.pits.size() << "\n"
+              << "pits: " << counts[3] << "\n"
+              << "ridges: " << counts[0] << "\n"
+              << "channels: " << counts[1] << "\n"
+              << "junctions: " << counts[2] << "\n"
+              << "branches: " << net.branches.size() << "\n"
+              << "flats: " << result.flats.flats << " (" << result.flats.undrainable << " undrainable)\n"
+              << "filled: " << result.filled << "\n";
+    return 0;
+  });
+}
