@@ -117,7 +117,7 @@ int main(int argc, char** argv) {
     drainage::DrainageResult result;
     if (!d8_input.empty()) {
       terrain::Grid dir_grid;
-      std::vector<std::uint8_t> dirs = drainage::read_d8_raster(d8_input, enc, dir_grid);
+      drainage::D8Codes dirs = drainage::read_d8_raster(d8_input, enc, dir_grid);
       if (!raster.empty()) {
         check_same_grid(surface, dir_grid, raster, d8_input);
         for (std::size_t i = 0; i < surface.size(); ++i)  // no elevation: not a point
@@ -133,6 +133,7 @@ int main(int argc, char** argv) {
       result = drainage::compute_drainage(std::move(surface), {fill, !keep_flats}, tt::terminal_progress(verb, "drainage"));
     }
     flags |= result.dv_flags;
+    for (const auto& [name, secs] : result.timings) tt::step(verb, fmt::format("  {}: {:.3f} s", name, secs));
     tt::step(verb, fmt::format("drainage (steps 2-6): {:.2f} s", seconds()));
 
     t0 = clock::now();

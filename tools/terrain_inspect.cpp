@@ -82,7 +82,7 @@ std::vector<std::uint8_t> dem_shade(const terrain::Grid& g, double az, double al
     sx *= 111320.0 * std::cos(lat);
     sy *= 110574.0;
   }
-  std::vector<Eigen::Vector3f> pos(g.size());
+  terrain::BigVector<Eigen::Vector3f> pos(g.size());
   for (std::size_t r = 0; r < g.rows; ++r)
     for (std::size_t c = 0; c < g.cols; ++c)
       pos[g.index(r, c)] = {float(double(c) * sx), float(-double(r) * sy), float(zf * g.at(r, c))};

@@ -28,9 +28,9 @@ int to_foreign_code(std::uint8_t code, D8Encoding enc) {
   return enc == D8Encoding::Taudem ? kTaudemCode[code] : kEsriCode[code];
 }
 
-std::vector<std::uint8_t> d8_directions(const terrain::Grid& g) {
+D8Codes d8_directions(const terrain::Grid& g) {
   const long rows = long(g.rows), cols = long(g.cols);
-  std::vector<std::uint8_t> dirs(g.size());
+  D8Codes dirs(g.size());
   double inv_dist[8];
   for (int k = 0; k < 8; ++k) inv_dist[k] = 1.0 / std::hypot(kDCol[k] * g.geo.dx, kDRow[k] * g.geo.dy);
 #pragma omp parallel for schedule(static)

@@ -99,7 +99,7 @@ DvHeader make_dv_header(const terrain::Grid& grid, const Network& net, std::uint
 }
 
 void write_dv(const std::string& path, const DvHeader& h, const terrain::Grid& z,
-              const std::vector<std::uint8_t>& dirs, const Network& net) {
+              const D8Codes& dirs, const Network& net) {
   const std::size_t n = std::size_t(h.rows * h.cols);
   if (z.size() != n || dirs.size() != n || net.downstream.size() != n)
     throw terrain::Error("write_dv: grid, directions and network sizes disagree");

@@ -19,7 +19,7 @@ std::size_t priority_flood_fill(terrain::Grid& g) {
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
   std::vector<std::uint32_t> pit;  // FIFO of depression cells, with a head index
   std::size_t pit_head = 0;
-  std::vector<std::uint8_t> closed(g.size(), 0);
+  terrain::BigVector<std::uint8_t> closed(g.size(), 0);
 
   auto inside = [&](long r, long c) { return r >= 0 && c >= 0 && r < rows && c < cols; };
   for (long r = 0; r < rows; ++r)

@@ -17,7 +17,7 @@ const char* to_string(PointClass c) {
   return "?";
 }
 
-Network analyze_network(const std::vector<std::uint8_t>& dirs, std::size_t rows, std::size_t cols,
+Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
                         const terrain::Progress& progress) {
   const std::size_t n = rows * cols;
   if (dirs.size() != n) throw terrain::Error("analyze_network: direction grid does not match rows x cols");
@@ -41,7 +41,7 @@ Network analyze_network(const std::vector<std::uint8_t>& dirs, std::size_t rows,
   terrain::report(progress, 0.1);
 
   // In-degrees (gathered per point: no write conflicts) and classes.
-  std::vector<std::uint8_t> indeg(n, 0);
+  terrain::BigVector<std::uint8_t> indeg(n, 0);
   net.point_class.assign(n, std::uint8_t(PointClass::Nodata));
   std::size_t points = 0;
 #pragma omp parallel for schedule(static) reduction(+ : points)
@@ -67,36 +67,41 @@ Network analyze_network(const std::vector<std::uint8_t>& dirs, std::size_t rows,
   net.points = points;
   terrain::report(progress, 0.2);
 
-  // Kahn: accumulate flow and Strahler order in topological order.
+  // Kahn's topological order, walked chain by chain: from each source (in index order)
+  // follow the flow downstream for as long as the next point has received all its
+  // inflows. Accumulate flow and Strahler order on the way.
   net.accumulated.assign(n, 0);
   net.order.assign(n, 0);
-  std::vector<std::uint8_t> max_count(n, 0);  // inflows carrying the maximum order so far
-  std::vector<std::uint32_t> topo;
+  terrain::BigVector<std::uint8_t> max_count(n, 0);  // inflows carrying the maximum order so far
+  terrain::BigVector<std::uint32_t> topo;
   topo.reserve(net.points);
-  for (std::size_t i = 0; i < n; ++i)
-    if (dirs[i] != kNodata && indeg[i] == 0) topo.push_back(std::uint32_t(i));
-  for (std::size_t head = 0; head < topo.size(); ++head) {
-    const std::uint32_t i = topo[head];
-    net.accumulated[i] += 1;
-    // order[i] holds the largest incoming order so far (0: none).
-    const std::uint8_t ord = net.order[i] == 0 ? 1 : std::uint8_t(net.order[i] + (max_count[i] >= 2 ? 1 : 0));
-    net.order[i] = ord;
-    const std::uint32_t d = net.downstream[i];
-    if (d == kNone) continue;
-    net.accumulated[d] += net.accumulated[i];
-    if (ord > net.order[d]) {
-      net.order[d] = ord;
-      max_count[d] = 1;
-    } else if (ord == net.order[d]) {
-      ++max_count[d];
+  for (std::size_t src = 0; src < n; ++src) {
+    if (dirs[src] == kNodata || indeg[src] != 0) continue;
+    std::uint32_t i = std::uint32_t(src);
+    while (true) {
+      topo.push_back(i);
+      indeg[i] = 0xFF;  // done: not a source for the outer loop any more
+      net.accumulated[i] += 1;
+      // order[i] holds the largest incoming order so far (0: none).
+      const std::uint8_t ord = net.order[i] == 0 ? 1 : std::uint8_t(net.order[i] + (max_count[i] >= 2 ? 1 : 0));
+      net.order[i] = ord;
+      const std::uint32_t d = net.downstream[i];
+      if (d == kNone) break;
+      net.accumulated[d] += net.accumulated[i];
+      if (ord > net.order[d]) {
+        net.order[d] = ord;
+        max_count[d] = 1;
+      } else if (ord == net.order[d]) {
+        ++max_count[d];
+      }
+      if (--indeg[d] != 0) break;
+      i = d;
     }
-    if (--indeg[d] == 0) topo.push_back(d);
   }
   if (topo.size() != net.points)
     throw terrain::Error("the D8 directions contain a cycle: " + std::to_string(net.points - topo.size()) +
                          " points never reach a pit or outlet");
-  std::vector<std::uint8_t>().swap(max_count);
-  std::vector<std::uint8_t>().swap(indeg);
+  terrain::BigVector<std::uint8_t>().swap(indeg);
   terrain::report(progress, 0.5);
 
   // Basins: numbered by ascending pit index, propagated upstream in reverse topological order.
@@ -108,7 +113,6 @@ Network analyze_network(const std::vector<std::uint8_t>& dirs, std::size_t rows,
     }
   for (auto it = topo.rbegin(); it != topo.rend(); ++it)
     if (net.downstream[*it] != kNone) net.basin[*it] = net.basin[net.downstream[*it]];
-  std::vector<std::uint32_t>().swap(topo);
   net.normalized.assign(n, 0.0f);
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < long(n); ++i)
@@ -118,12 +122,14 @@ Network analyze_network(const std::vector<std::uint8_t>& dirs, std::size_t rows,
   terrain::report(progress, 0.7);
 
   // Branches: a point continues the branch of its one upstream neighbour of equal order.
-  std::vector<std::uint8_t> continued(n, 0);
+  terrain::BigVector<std::uint8_t>& continued = max_count;  // reuse the buffer
+  std::fill(continued.begin(), continued.end(), 0);
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t d = net.downstream[i];
     if (d != kNone && net.order[d] == net.order[i]) continued[d] = 1;
   }
-  net.branch_vertices.reserve(net.points);
+  topo.clear();
+  net.branch_vertices.swap(topo);  // reuse the buffer
   for (std::size_t i = 0; i < n; ++i) {
     if (dirs[i] == kNodata || continued[i]) continue;
     Branch b;

@@ -30,9 +30,9 @@ void write_drainage_rasters(const std::string& dir, const DrainageResult& r, D8E
   terrain::write_raster(path("order.tif"), g.geo, g.rows, g.cols, RasterType::Byte, net.order.data(), 0.0, provenance);
 }
 
-std::vector<std::uint8_t> read_d8_raster(const std::string& path, D8Encoding encoding, terrain::Grid& grid) {
+D8Codes read_d8_raster(const std::string& path, D8Encoding encoding, terrain::Grid& grid) {
   grid = terrain::read_dem(path);
-  std::vector<std::uint8_t> dirs(grid.size());
+  D8Codes dirs(grid.size());
   for (std::size_t i = 0; i < grid.size(); ++i) {
     try {
       dirs[i] = from_foreign_code(grid.z[i], encoding, false);

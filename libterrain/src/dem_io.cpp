@@ -171,7 +171,7 @@ void write_raster(const std::string& path, const Georef& geo, std::size_t rows, 
 }
 
 void write_geotiff(const Grid& grid, const std::string& path, const std::string& metadata) {
-  std::vector<float> values(grid.z);
+  BigVector<float> values(grid.z);
   for (float& v : values)
     if (std::isnan(v)) v = float(kGeoTiffNodata);
   write_raster(path, grid.geo, grid.rows, grid.cols, RasterType::Float32, values.data(), kGeoTiffNodata, metadata);

@@ -17,7 +17,7 @@ std::size_t Grid::count_nodata() const {
       std::count_if(z.begin(), z.end(), [](float v) { return std::isnan(v); }));
 }
 
-ElevationStats elevation_stats(const std::vector<float>& z) {
+ElevationStats elevation_stats(std::span<const float> z) {
   ElevationStats s;
   double sum = 0.0, sum2 = 0.0;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;

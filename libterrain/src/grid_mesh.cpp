@@ -50,7 +50,7 @@ struct FaceTerms {
 };
 
 // Terms of both faces of every cell of cell row `cr`: out[2*c + k].
-void cell_row_terms(const std::vector<Eigen::Vector3f>& positions, const GridTopology& topo, std::size_t cr,
+void cell_row_terms(const BigVector<Eigen::Vector3f>& positions, const GridTopology& topo, std::size_t cr,
                     NormalWeighting w, std::vector<FaceTerms>& out) {
   out.resize(2 * (topo.cols - 1));
   for (std::size_t c = 0; c + 1 < topo.cols; ++c)
@@ -76,11 +76,11 @@ void cell_row_terms(const std::vector<Eigen::Vector3f>& positions, const GridTop
 
 }  // namespace
 
-std::vector<Eigen::Vector3f> vertex_normals(const std::vector<Eigen::Vector3f>& positions,
+BigVector<Eigen::Vector3f> vertex_normals(const BigVector<Eigen::Vector3f>& positions,
                                             const GridTopology& topo, NormalWeighting weighting) {
   if (positions.size() != topo.n_vertices() || topo.rows < 2 || topo.cols < 2)
     throw Error("vertex_normals: positions do not match the grid topology");
-  std::vector<Eigen::Vector3f> normals(positions.size());
+  BigVector<Eigen::Vector3f> normals(positions.size());
   const std::size_t rows = topo.rows, cols = topo.cols;
   // Each thread takes a contiguous band of vertex rows and slides a window of two cell
   // rows (above and below the vertex row) over it, so every face is evaluated about once.

@@ -11,7 +11,7 @@ Eigen::Vector3d light_direction(double azimuth_deg, double altitude_deg) {
   return {std::sin(az) * std::cos(alt), std::cos(az) * std::cos(alt), std::sin(alt)};
 }
 
-std::vector<std::uint8_t> hillshade(const std::vector<Eigen::Vector3f>& normals, double azimuth_deg,
+std::vector<std::uint8_t> hillshade(std::span<const Eigen::Vector3f> normals, double azimuth_deg,
                                     double altitude_deg) {
   const Eigen::Vector3f l = light_direction(azimuth_deg, altitude_deg).cast<float>();
   std::vector<std::uint8_t> out(normals.size());

@@ -11,9 +11,13 @@
 #include <string_view>
 #include <vector>
 
+#include "terrain/big_vector.hpp"
 #include "terrain/grid.hpp"
 
 namespace drainage {
+
+// One D8 code per grid sample.
+using D8Codes = terrain::BigVector<std::uint8_t>;
 
 inline constexpr std::uint8_t kNoFlow = 8;
 inline constexpr std::uint8_t kOutlet = 9;
@@ -47,7 +51,7 @@ int to_foreign_code(std::uint8_t code, D8Encoding enc);
 // missing too); if such a virtual neighbour is the steepest, or a boundary sample has no
 // lower neighbour at all, the sample is an outlet (kOutlet). Interior samples with no lower
 // neighbour get kNoFlow. Parallel over rows; the result does not depend on the threads.
-std::vector<std::uint8_t> d8_directions(const terrain::Grid& z);
+D8Codes d8_directions(const terrain::Grid& z);
 
 // Index of the downstream sample of `i` under `code`, or kNone (kNoFlow, kOutlet, kNodata).
 inline std::uint32_t downstream(std::uint32_t i, std::uint8_t code, std::size_t cols) {

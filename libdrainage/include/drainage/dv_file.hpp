@@ -56,9 +56,9 @@ static_assert(sizeof(DvVertex) == 32 && sizeof(DvBranch) == 16);
 
 struct DrainageDb {
   DvHeader header;
-  std::vector<DvVertex> vertices;            // rows * cols
+  terrain::BigVector<DvVertex> vertices;     // rows * cols
   std::vector<DvBranch> branches;
-  std::vector<std::uint32_t> branch_vertices;
+  terrain::BigVector<std::uint32_t> branch_vertices;
 };
 
 // The header of a network on `grid` (rows, cols, spacing, CRS, origin = sample (0,0)).
@@ -68,7 +68,7 @@ DvHeader make_dv_header(const terrain::Grid& grid, const Network& net, std::uint
 // Writes atomically (temp + rename), streaming the records from the arrays (no copy of
 // the database in memory). `z` gives elevations (NaN/no-data points keep class Nodata).
 void write_dv(const std::string& path, const DvHeader& header, const terrain::Grid& z,
-              const std::vector<std::uint8_t>& dirs, const Network& net);
+              const D8Codes& dirs, const Network& net);
 
 // Reads and validates: wrong magic, a newer version, a truncated or oversized file and a
 // CRC mismatch are each a terrain::Error with a clear message.

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "drainage/d8.hpp"
 #include "terrain/grid.hpp"
 
 namespace drainage {
@@ -22,6 +23,6 @@ struct FlatStats {
 // stays the single pit and the rest of the flat drains to it the same way. Deterministic
 // and sequential (breadth-first searches). Tested on the worked example of ALGORITHMS.md
 // 8.7, a plateau with one outlet, and real DEMs (no kNoFlow left except one per flat).
-FlatStats resolve_flats(const terrain::Grid& z, std::vector<std::uint8_t>& dirs);
+FlatStats resolve_flats(const terrain::Grid& z, D8Codes& dirs);
 
 }  // namespace drainage

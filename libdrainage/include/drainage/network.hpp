@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "drainage/d8.hpp"
+#include "terrain/big_vector.hpp"
 #include "terrain/error.hpp"
 
 namespace drainage {
@@ -24,15 +26,15 @@ struct Branch {
 
 struct Network {
   std::size_t points = 0;                  // valid points
-  std::vector<std::uint32_t> downstream;   // #P: downstream point or kNone
-  std::vector<std::uint32_t> accumulated;  // #P: 1 + sum of the accumulated flow draining in
-  std::vector<float> normalized;           // #P: accumulated / accumulated of its basin's pit
-  std::vector<std::uint32_t> basin;        // #P: basin id (0..#basins-1), kNone for no-data
-  std::vector<std::uint8_t> point_class;   // #P: PointClass
-  std::vector<std::uint8_t> order;         // #P: Strahler order (1 at ridges), 0 for no-data
+  terrain::BigVector<std::uint32_t> downstream;   // #P: downstream point or kNone
+  terrain::BigVector<std::uint32_t> accumulated;  // #P: 1 + sum of the accumulated flow draining in
+  terrain::BigVector<float> normalized;           // #P: accumulated / accumulated of its basin's pit
+  terrain::BigVector<std::uint32_t> basin;        // #P: basin id (0..#basins-1), kNone for no-data
+  terrain::BigVector<std::uint8_t> point_class;   // #P: PointClass
+  terrain::BigVector<std::uint8_t> order;         // #P: Strahler order (1 at ridges), 0 for no-data
   std::vector<std::uint32_t> pits;         // #basins: the pit point of each basin, ascending
   std::vector<Branch> branches;            // heads in ascending point order
-  std::vector<std::uint32_t> branch_vertices;  // #valid points, grouped by branch
+  terrain::BigVector<std::uint32_t> branch_vertices;  // #valid points, grouped by branch
 };
 
 // Everything above from D8 codes (d8.hpp) on a rows x cols grid. A direction that leaves
@@ -42,7 +44,7 @@ struct Network {
 // ascending pit index; a branch is a maximal downstream chain of points of one Strahler
 // order (each point has at most one upstream neighbour of its own order), started at
 // every point without one. Deterministic and independent of the thread count.
-Network analyze_network(const std::vector<std::uint8_t>& dirs, std::size_t rows, std::size_t cols,
+Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
                         const terrain::Progress& progress = {});
 
 }  // namespace drainage

@@ -1,6 +1,7 @@
 #pragma once
 // Steps 2-6 of build-drainage on a surface grid: (fill), D8, (flats), network.
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "drainage/flats.hpp"
@@ -17,11 +18,12 @@ struct DrainageOptions {
 
 struct DrainageResult {
   terrain::Grid surface;               // the surface used (filled when fill)
-  std::vector<std::uint8_t> dirs;      // D8 codes (d8.hpp)
+  D8Codes dirs;                        // D8 codes (d8.hpp)
   Network net;
   FlatStats flats;
   std::size_t filled = 0;              // samples raised by filling
   std::uint32_t dv_flags = 0;          // DvFlags describing how it was made
+  std::vector<std::pair<const char*, double>> timings;  // wall seconds per step, for -v
 };
 
 // Fill (optional), D8 directions, flat resolution (optional), then the network.
@@ -29,7 +31,7 @@ DrainageResult compute_drainage(terrain::Grid surface, const DrainageOptions& op
                                 const terrain::Progress& progress = {});
 
 // The network of given directions on `surface`'s grid (--d8-input): skips D8 and flats.
-DrainageResult drainage_from_directions(terrain::Grid surface, std::vector<std::uint8_t> dirs,
+DrainageResult drainage_from_directions(terrain::Grid surface, D8Codes dirs,
                                         const terrain::Progress& progress = {});
 
 }  // namespace drainage

@@ -19,6 +19,6 @@ void write_drainage_rasters(const std::string& dir, const DrainageResult& r, D8E
 // Reads a D8 direction raster in `encoding` into our codes (d8.hpp) with its grid (the
 // Grid's z holds the raw codes). Throws terrain::Error naming the first invalid code and
 // where it is.
-std::vector<std::uint8_t> read_d8_raster(const std::string& path, D8Encoding encoding, terrain::Grid& grid);
+D8Codes read_d8_raster(const std::string& path, D8Encoding encoding, terrain::Grid& grid);
 
 }  // namespace drainage

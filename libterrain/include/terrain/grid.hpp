@@ -12,8 +12,11 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
+
+#include "terrain/big_vector.hpp"
 
 namespace terrain {
 
@@ -38,7 +41,7 @@ struct Grid {
   std::size_t rows = 0;
   std::size_t cols = 0;
   Georef geo;
-  std::vector<float> z;  // rows * cols, row-major, NaN = no data
+  BigVector<float> z;  // rows * cols, row-major, NaN = no data
 
   Grid() = default;
   Grid(std::size_t rows_, std::size_t cols_, Georef geo_, float fill = 0.0f)
@@ -61,7 +64,7 @@ struct ElevationStats {
   std::size_t nodata = 0;
   double min = 0.0, max = 0.0, mean = 0.0, stddev = 0.0;
 };
-ElevationStats elevation_stats(const std::vector<float>& z);
+ElevationStats elevation_stats(std::span<const float> z);
 
 // Human-readable CRS name ("NAD83 / UTM zone 10N"), or "none" without a CRS.
 std::string crs_name(const Georef& geo);

@@ -52,8 +52,8 @@ struct MeshGeoref {
 struct GridMesh {
   GridTopology topo;
   MeshGeoref geo;
-  std::vector<Eigen::Vector3f> positions;  // #V, local coordinates
-  std::vector<Eigen::Vector3f> normals;    // #V, unit vertex normals
+  BigVector<Eigen::Vector3f> positions;  // #V, local coordinates
+  BigVector<Eigen::Vector3f> normals;    // #V, unit vertex normals
   std::string provenance;                  // tool, version, command line (free text)
 
   std::size_t n_vertices() const { return positions.size(); }
@@ -67,7 +67,7 @@ enum class NormalWeighting { Uniform, Angle, Area };
 // (Angle, Thurmer & Wuthrich 1998) or by face area (Area, exact for quadratics on a
 // regular grid). positions: #V local coordinates. Degenerate faces add nothing; a vertex
 // with no usable face gets (0, 0, 1). Tested on planes and a worked example.
-std::vector<Eigen::Vector3f> vertex_normals(const std::vector<Eigen::Vector3f>& positions,
+BigVector<Eigen::Vector3f> vertex_normals(const BigVector<Eigen::Vector3f>& positions,
                                             const GridTopology& topo, NormalWeighting weighting);
 
 // Unit normal of the triangle (p0, p1, p2), counter-clockwise; zero when degenerate.

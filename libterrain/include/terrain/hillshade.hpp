@@ -2,6 +2,7 @@
 // Hillshade from unit normals, for previews.
 #include <Eigen/Core>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace terrain {
@@ -9,7 +10,7 @@ namespace terrain {
 // Grey level 0..255 per normal: 255 * max(0, n . L), L the unit vector towards a light at
 // azimuth `azimuth_deg` (clockwise from grid north, +y) and altitude `altitude_deg` above
 // the horizon. The default is the cartographic convention (315, 45): lit from the NW.
-std::vector<std::uint8_t> hillshade(const std::vector<Eigen::Vector3f>& normals, double azimuth_deg = 315.0,
+std::vector<std::uint8_t> hillshade(std::span<const Eigen::Vector3f> normals, double azimuth_deg = 315.0,
                                     double altitude_deg = 45.0);
 
 // The unit vector towards the light of hillshade().
