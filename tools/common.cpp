@@ -13,7 +13,17 @@ std::string provenance(int argc, char** argv) {
   std::string out = std::string(argc > 0 ? argv[0] : "?");
   if (auto slash = out.rfind('/'); slash != std::string::npos) out = out.substr(slash + 1);
   out += " " + version() + ":";
-  for (int i = 1; i < argc; ++i) out += std::string(" ") + argv[i];
+  // Options that do not change the result are left out, so that outputs made with
+  // different thread counts or verbosity are byte-identical.
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "-q" || a == "--quiet" || a == "-v" || a == "--verbose" || a.rfind("--threads=", 0) == 0) continue;
+    if (a == "--threads") {
+      ++i;
+      continue;
+    }
+    out += " " + a;
+  }
   return out;
 }
 

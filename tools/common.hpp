@@ -12,7 +12,8 @@ namespace terrain::tools {
 // "0.1.0 (git abc1234)"
 std::string version();
 
-// "TOOL VERSION: ARGV..." recorded in every output file's header or metadata.
+// "TOOL VERSION: ARGV..." recorded in every output file's header or metadata, without the
+// options that cannot change an output (-q, -v, --threads).
 std::string provenance(int argc, char** argv);
 
 // Verbosity from -q / -v.

@@ -56,18 +56,31 @@ struct WalkResult {
   PnXySolution solution;
 };
 
+// The Newton correction (solution minus planar guess) of the last solved point, a
+// better start for the next point in the same face (samples along a row).
+struct Hint {
+  std::size_t face = kNoFace;
+  double ds = 0, dt = 0;
+};
+
 // The patch walk of pn_point_above over polynomials from `poly(face)`.
 template <class PolyOf>
-WalkResult walk(const GridMesh& mesh, double x, double y, PolyOf&& poly) {
+WalkResult walk(const GridMesh& mesh, double x, double y, PolyOf&& poly, Hint& hint) {
   std::size_t f = flat_face(mesh, x, y);
   if (f == kNoFace) return {};
-  const double tol = 1e-9 * std::max({mesh.geo.dx, mesh.geo.dy, 1.0});
+  const double tol = 5e-7;  // metres: half the 1e-6 m the inverse evaluation promises
   WalkResult best;
   double best_min = -1e300;
   std::size_t prev = kNoFace;
   for (int hop = 0; hop < 8; ++hop) {
-    const PnXySolution s = pn_solve_xy(poly(f), x, y, tol);
+    const PnPolynomial& pf = poly(f);
+    double s0, t0;
+    if (!pn_planar_st(pf, x, y, s0, t0)) break;
+    const double ps = s0, pt = t0;
+    if (hint.face == f) s0 += hint.ds, t0 += hint.dt;
+    const PnXySolution s = pn_solve_xy_from(pf, x, y, s0, t0, tol);
     if (!s.converged) break;
+    hint = {f, s.b2 - ps, s.b3 - pt};
     const double bary[3] = {s.b1, s.b2, s.b3};
     const int k = int(std::min_element(bary, bary + 3) - bary);
     const std::size_t next = neighbour(mesh.topo, f, k);
@@ -87,10 +100,14 @@ WalkResult walk(const GridMesh& mesh, double x, double y, PolyOf&& poly) {
 
 std::optional<SurfacePoint> pn_point_above(const GridMesh& mesh, double x, double y) {
   PnPolynomial scratch;
-  const WalkResult w = walk(mesh, x, y, [&](std::size_t f) -> const PnPolynomial& {
-    scratch = to_polynomial(face_patch(mesh, f));
-    return scratch;
-  });
+  Hint hint;
+  const WalkResult w = walk(
+      mesh, x, y,
+      [&](std::size_t f) -> const PnPolynomial& {
+        scratch = to_polynomial(face_patch(mesh, f));
+        return scratch;
+      },
+      hint);
   if (w.face == kNoFace) return std::nullopt;
   const PnXySolution& s = w.solution;
   return SurfacePoint{w.face, s.b1, s.b2, s.b3, s.position, pn_normal(face_patch(mesh, w.face), s.b1, s.b2, s.b3)};
@@ -113,7 +130,8 @@ SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Pro
   SampledSurface out;
   out.grid = Grid(ny, nx, geo);
   const std::size_t face_row = 2 * (mesh.topo.cols - 1);
-  const long rows = long(ny), block = 64;
+  // Blocks of rows between progress reports; each block rebuilds the per-thread caches.
+  const long rows = long(ny), block = std::max(256L, rows / 20);
   std::size_t fallbacks = 0;
   for (long jb = 0; jb < rows; jb += block) {
     const long je = std::min(rows, jb + block);
@@ -124,7 +142,10 @@ SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Pro
         std::size_t row = std::size_t(-1);
         std::vector<PnPolynomial> polys;
       } cache[3];
+      std::size_t last_face = kNoFace;
+      const PnPolynomial* last_poly = nullptr;
       auto poly = [&](std::size_t f) -> const PnPolynomial& {
+        if (f == last_face) return *last_poly;  // consecutive samples share faces
         const std::size_t row = f / face_row;
         Slot& slot = cache[row % 3];
         if (slot.row != row) {
@@ -132,14 +153,17 @@ SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Pro
           for (std::size_t k = 0; k < face_row; ++k) slot.polys[k] = to_polynomial(face_patch(mesh, row * face_row + k));
           slot.row = row;
         }
-        return slot.polys[f - row * face_row];
+        last_face = f;
+        last_poly = &slot.polys[f - row * face_row];
+        return *last_poly;
       };
 #pragma omp for schedule(static)
       for (long j = jb; j < je; ++j) {
         const double y = -double(j) * spacing;
+        Hint hint;  // per row: the result does not depend on how rows are shared out
         for (std::size_t i = 0; i < nx; ++i) {
           const double x = double(i) * spacing;
-          const WalkResult w = walk(mesh, x, y, poly);
+          const WalkResult w = walk(mesh, x, y, poly, hint);
           double z;
           if (w.face != kNoFace) {
             z = w.solution.position.z();

@@ -142,7 +142,25 @@ PnXySolution pn_solve_xy(const PnPatch& p, double x, double y, double tolerance)
   return pn_solve_xy(to_polynomial(p), x, y, tolerance);
 }
 
+bool pn_planar_st(const PnPolynomial& p, double x, double y, double& s, double& t) {
+  const auto& c = p.c;
+  const Vector3d p1 = c[0], p2 = c[0] + c[1] + c[3] + c[6], p3 = c[0] + c[2] + c[5] + c[9];
+  const double ax = p2.x() - p1.x(), ay = p2.y() - p1.y();
+  const double cx = p3.x() - p1.x(), cy = p3.y() - p1.y();
+  const double det = ax * cy - ay * cx;
+  if (det == 0.0) return false;
+  s = ((x - p1.x()) * cy - (y - p1.y()) * cx) / det;
+  t = (ax * (y - p1.y()) - ay * (x - p1.x())) / det;
+  return true;
+}
+
 PnXySolution pn_solve_xy(const PnPolynomial& p, double x, double y, double tolerance) {
+  double s, t;
+  if (!pn_planar_st(p, x, y, s, t)) return {};
+  return pn_solve_xy_from(p, x, y, s, t, tolerance);
+}
+
+PnXySolution pn_solve_xy_from(const PnPolynomial& p, double x, double y, double s, double t, double tolerance) {
   const auto& c = p.c;
   // xy of P and its partial derivatives, from the monomial coefficients.
   auto eval = [&](double s, double t, int d, double& fx, double& fy, double& sx, double& sy, double& tx,
@@ -159,20 +177,14 @@ PnXySolution pn_solve_xy(const PnPolynomial& p, double x, double y, double toler
     comp(0, fx, sx, tx);
     comp(1, fy, sy, ty);
   };
-  // Planar barycentrics of (x, y) in the flat triangle (corners P(0,0), P(1,0), P(0,1)).
-  const Vector3d p1 = c[0], p2 = c[0] + c[1] + c[3] + c[6], p3 = c[0] + c[2] + c[5] + c[9];
-  const double ax = p2.x() - p1.x(), ay = p2.y() - p1.y();
-  const double cx = p3.x() - p1.x(), cy = p3.y() - p1.y();
-  const double det = ax * cy - ay * cx;
   PnXySolution sol;
-  if (det == 0.0) return sol;
-  double s = ((x - p1.x()) * cy - (y - p1.y()) * cx) / det;
-  double t = (ax * (y - p1.y()) - ay * (x - p1.x())) / det;
 
+  // Squared residuals throughout (hypot is costly and not needed for comparisons).
+  const double tol2 = tolerance * tolerance;
   double px, py, sx, sy, tx, ty;
   eval(s, t, 1, px, py, sx, sy, tx, ty);
-  double fx = px - x, fy = py - y, err = std::hypot(fx, fy);
-  for (int it = 0; it < 30 && err > tolerance; ++it) {
+  double fx = px - x, fy = py - y, err2 = fx * fx + fy * fy;
+  for (int it = 0; it < 30 && err2 > tol2; ++it) {
     const double dj = sx * ty - tx * sy;
     if (dj == 0.0 || !std::isfinite(dj)) break;
     const double step_s = (ty * fx - tx * fy) / dj;
@@ -181,12 +193,12 @@ PnXySolution pn_solve_xy(const PnPolynomial& p, double x, double y, double toler
     double lambda = 1.0;
     for (int k = 0; k < 20; ++k, lambda *= 0.5) {
       const double ns = s - lambda * step_s, nt = t - lambda * step_t;
-      double nx, ny, a, b, e, f;
-      eval(ns, nt, 0, nx, ny, a, b, e, f);
-      const double ne = std::hypot(nx - x, ny - y);
-      if (ne < err || k == 19) {
-        s = ns, t = nt, err = ne;
-        eval(s, t, 1, px, py, sx, sy, tx, ty);
+      double nx, ny, nsx, nsy, ntx, nty;
+      eval(ns, nt, 1, nx, ny, nsx, nsy, ntx, nty);
+      const double ne2 = (nx - x) * (nx - x) + (ny - y) * (ny - y);
+      if (ne2 < err2 || k == 19) {
+        s = ns, t = nt, err2 = ne2;
+        px = nx, py = ny, sx = nsx, sy = nsy, tx = ntx, ty = nty;
         fx = px - x, fy = py - y;
         break;
       }
@@ -196,7 +208,7 @@ PnXySolution pn_solve_xy(const PnPolynomial& p, double x, double y, double toler
   sol.b2 = s;
   sol.b3 = t;
   sol.position = p.at(s, t);
-  sol.converged = err <= tolerance;
+  sol.converged = err2 <= tol2;
   return sol;
 }
 

@@ -60,4 +60,12 @@ struct PnXySolution {
 PnXySolution pn_solve_xy(const PnPatch& p, double x, double y, double tolerance = 1e-9);
 PnXySolution pn_solve_xy(const PnPolynomial& p, double x, double y, double tolerance = 1e-9);
 
+// The planar barycentrics (s, t) = (b2, b3) of (x, y) in the flat triangle of the patch's
+// corners; false when the triangle is degenerate in xy.
+bool pn_planar_st(const PnPolynomial& p, double x, double y, double& s, double& t);
+// Newton from the start (s0, t0) instead of the planar guess (for callers that know a
+// better one, such as a neighbouring sample's solution).
+PnXySolution pn_solve_xy_from(const PnPolynomial& p, double x, double y, double s0, double t0,
+                              double tolerance = 1e-9);
+
 }  // namespace terrain
