@@ -7,6 +7,8 @@
 #include <numbers>
 
 #include "common.hpp"
+#include "drainage/dv_file.hpp"
+#include "drainage/dv_views.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/grid_mesh.hpp"
@@ -73,6 +75,34 @@ void info_dem(const std::string& path) {
   if (s.count > 0) print_stats(s);
 }
 
+void info_dv(const std::string& path) {
+  const drainage::DrainageDb db = drainage::read_dv(path);
+  const drainage::DvHeader& h = db.header;
+  const drainage::DvSummary s = drainage::summarize(db);
+  std::cout << "file: " << path << "\n"
+            << "type: drainage vertex database (.dv version " << h.version << ")\n"
+            << "grid: " << h.cols << " x " << h.rows << " (columns x rows)\n"
+            << "crs: " << crs_line(h.crs_wkt, h.epsg) << "\n"
+            << fmt::format("spacing: {} {}\n", h.dx, h.dy)
+            << fmt::format("origin: {:.3f} {:.3f} {:.3f}\n", h.origin_x, h.origin_y, h.origin_z)
+            << "source: " << ((h.flags & drainage::kDvFromPnSurface) ? "PN surface of a mesh" : "raster grid") << "\n"
+            << "flats_resolved: " << ((h.flags & drainage::kDvFlatsResolved) ? "yes" : "no") << "\n"
+            << "filled: " << ((h.flags & drainage::kDvFilled) ? "yes" : "no") << "\n"
+            << "points: " << s.points << "\n"
+            << "basins: " << h.basins << "\n"
+            << "basins_over_1pct: " << s.basins_over_1pct << "\n"
+            << "pits: " << s.pits << "\n"
+            << "ridges: " << s.ridges << "\n"
+            << "channels: " << s.channels << "\n"
+            << "junctions: " << s.junctions << "\n"
+            << "branches: " << h.branches << "\n";
+  for (const auto& [order, count] : s.branches_per_order) std::cout << "branches_order_" << order << ": " << count << "\n";
+  std::cout << "max_order: " << (s.branches_per_order.empty() ? 0 : s.branches_per_order.rbegin()->first) << "\n"
+            << "flow_max: " << s.max_accumulated << "\n"
+            << fmt::format("normalized_flow_mean: {:.6f}\n", s.mean_normalized)
+            << "provenance: " << (h.provenance.empty() ? "unknown" : h.provenance) << "\n";
+}
+
 // Grey + alpha hillshade of a DEM (no-data transparent). Geographic DEMs are shaded with
 // metres per degree at their centre.
 std::vector<std::uint8_t> dem_shade(const terrain::Grid& g, double az, double alt, double zf) {
@@ -99,14 +129,18 @@ std::vector<std::uint8_t> dem_shade(const terrain::Grid& g, double az, double al
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Inspect the toolkit's files: DEMs (any raster GDAL reads) and terrain meshes (.ply).",
+  CLI::App app{"Inspect the toolkit's files: DEMs (any raster GDAL reads), terrain meshes (.ply) and drainage\n"
+               "vertex databases (.dv).",
                "terrain-inspect"};
   app.footer(
       "Examples:\n"
       "  terrain-inspect info data/logan_utm12n_100m.tif\n"
       "  terrain-inspect info out/msh_10m.ply\n"
       "  terrain-inspect preview out/msh_10m.ply -o msh.png\n"
-      "  terrain-inspect export out/msh_10m.ply --to tif -o msh_from_mesh.tif");
+      "  terrain-inspect export out/msh_10m.ply --to tif -o msh_from_mesh.tif\n"
+      "  terrain-inspect info out/msh.dv\n"
+      "  terrain-inspect preview out/msh.dv -o msh_drainage.png\n"
+      "  terrain-inspect export out/msh.dv --to gpkg --min-order 2");
   app.set_version_flag("--version", tt::version());
   app.require_subcommand(1);
   tt::Verbosity verb;
@@ -115,9 +149,10 @@ int main(int argc, char** argv) {
   std::string file, out, to;
   double azimuth = 315.0, altitude = 45.0, zfactor = 1.0;
   CLI::App* info = app.add_subcommand("info", "What FILE is: size, CRS, extent, elevation statistics ('key: value' lines)");
-  info->add_option("FILE", file, "DEM or mesh")->required();
-  CLI::App* preview = app.add_subcommand("preview", "Hillshade PNG of a DEM or a mesh (meshes: shaded with their vertex normals)");
-  preview->add_option("FILE", file, "DEM or mesh")->required();
+  info->add_option("FILE", file, "DEM, mesh or .dv")->required();
+  CLI::App* preview = app.add_subcommand(
+      "preview", "Hillshade PNG of a DEM or a mesh (meshes: shaded with their vertex normals); drainage over a hillshade for a .dv");
+  preview->add_option("FILE", file, "DEM, mesh or .dv")->required();
   preview->add_option("-o,--output", out, "PNG to write")->required();
   preview->add_option("--azimuth", azimuth, "Light azimuth, degrees clockwise from grid north")->capture_default_str();
   preview->add_option("--altitude", altitude, "Light altitude above the horizon, degrees")
@@ -126,19 +161,32 @@ int main(int argc, char** argv) {
   preview->add_option("--z-factor", zfactor, "Vertical exaggeration (DEMs only)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  CLI::App* exp = app.add_subcommand("export", "Convert a mesh: obj (Wavefront, local coordinates) or tif (its elevations as a GeoTIFF)");
-  exp->add_option("MESH", file, "Terrain mesh (.ply)")->required();
-  exp->add_option("--to", to, "Output format")->required()->check(CLI::IsMember({"obj", "tif"}));
-  exp->add_option("-o,--output", out, "Output file (default: MESH with the new extension)");
+  CLI::App* exp = app.add_subcommand("export", "Convert: a mesh to obj (Wavefront, local coordinates) or tif (its elevations "
+                                                 "as a GeoTIFF); a .dv to gpkg (branches as LineString ZM, M = normalized flow)");
+  exp->add_option("FILE", file, "Terrain mesh (.ply) or drainage database (.dv)")->required();
+  exp->add_option("--to", to, "Output format")->required()->check(CLI::IsMember({"obj", "tif", "gpkg"}));
+  exp->add_option("-o,--output", out, "Output file (default: FILE with the new extension)");
+  int min_order = 1;
+  std::uint32_t min_flow = 0;
+  exp->add_option("--min-order", min_order, "gpkg: only branches of at least this Strahler order")
+      ->check(CLI::Range(1, 255))
+      ->capture_default_str();
+  preview->add_option("--min-flow", min_flow, ".dv: draw points with at least this accumulated flow (default: points / 1000, at least 20)");
 
   return tt::run_main(app, argc, argv, [&]() {
     const bool is_mesh = terrain::is_ply_file(file);
+    const bool is_dv = drainage::is_dv_file(file);
     if (*info) {
-      is_mesh ? info_mesh(file) : info_dem(file);
+      if (is_dv) info_dv(file);
+      else if (is_mesh) info_mesh(file);
+      else info_dem(file);
     } else if (*preview) {
       terrain::check_output_path(out);
       const std::string desc = tt::provenance(argc, argv);
-      if (is_mesh) {
+      if (is_dv) {
+        const drainage::DrainageDb db = drainage::read_dv(file);
+        terrain::write_png(out, int(db.header.cols), int(db.header.rows), 3, drainage::dv_preview(db, min_flow), desc);
+      } else if (is_mesh) {
         const terrain::GridMesh m = terrain::read_mesh_ply(file);
         terrain::write_png(out, int(m.topo.cols), int(m.topo.rows), 1, terrain::hillshade(m.normals, azimuth, altitude), desc);
       } else {
@@ -147,9 +195,15 @@ int main(int argc, char** argv) {
       }
       std::cout << "output: " << out << "\n";
     } else if (*exp) {
-      if (!is_mesh) throw terrain::Error("'" + file + "' is not a terrain mesh (.ply)");
       if (out.empty()) out = std::filesystem::path(file).replace_extension(to).string();
       terrain::check_output_path(out);
+      if (to == "gpkg") {
+        if (!is_dv) throw terrain::Error("'" + file + "' is not a drainage database (.dv): only those export to gpkg");
+        const std::size_t n = drainage::export_branches_gpkg(drainage::read_dv(file), out, min_order);
+        std::cout << "output: " << out << "\nfeatures: " << n << "\n";
+        return 0;
+      }
+      if (!is_mesh) throw terrain::Error("'" + file + "' is not a terrain mesh (.ply): only meshes export to " + to);
       const terrain::GridMesh m = terrain::read_mesh_ply(file);
       if (to == "obj") terrain::write_mesh_obj(m, out);
       else terrain::write_geotiff(terrain::mesh_to_grid(m), out, tt::provenance(argc, argv));

@@ -27,8 +27,10 @@ void check_output_path(const fs::path& path) {
 
 AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
   check_output_path(target_);
-  temp_ = target_.parent_path() /
-          ("." + target_.filename().string() + ".tmp" + std::to_string(::getpid()));
+  // Hidden, unique per process, and with the target's extension (drivers such as GDAL's
+  // GPKG look at it).
+  temp_ = target_.parent_path() / ("." + target_.stem().string() + ".tmp" + std::to_string(::getpid()) +
+                                   target_.extension().string());
 }
 
 AtomicFile::~AtomicFile() {

@@ -1,0 +1,37 @@
+#pragma once
+// Views of a drainage database for people and other tools: a summary, a preview image and
+// a GeoPackage of branches.
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "drainage/dv_file.hpp"
+#include "terrain/grid.hpp"
+
+namespace drainage {
+
+struct DvSummary {
+  std::size_t points = 0, pits = 0, ridges = 0, channels = 0, junctions = 0;
+  std::map<int, std::size_t> branches_per_order;
+  std::uint32_t max_accumulated = 0;
+  double mean_normalized = 0.0;
+  std::size_t basins_over_1pct = 0;  // basins holding more than 1 % of the points
+};
+DvSummary summarize(const DrainageDb& db);
+
+// The database's elevations as a grid (no-data where a vertex is not a point).
+terrain::Grid dv_elevations(const DrainageDb& db);
+
+// RGB preview, rows x cols: a hillshade of the database's surface with drainage points of
+// at least `min_accumulated` points drawn in blue, darker with larger normalized flow
+// (alpha 0.35 + 0.65 * sqrt(normalized)). 0 picks max(20, points / 1000).
+std::vector<std::uint8_t> dv_preview(const DrainageDb& db, std::uint32_t min_accumulated = 0);
+
+// Writes a GeoPackage (GDAL/OGR) with layer "branches": one LineString ZM per branch of
+// order >= min_order, its vertices followed by the vertex it drains into, world
+// coordinates, M = normalized flow; fields order, basin, max_flow (largest accumulated
+// flow, points) and vertices. Atomic. Returns the number of features written.
+std::size_t export_branches_gpkg(const DrainageDb& db, const std::string& path, int min_order = 1);
+
+}  // namespace drainage

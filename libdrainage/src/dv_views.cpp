@@ -1,0 +1,127 @@
+#include "drainage/dv_views.hpp"
+
+#include <gdal_priv.h>
+#include <ogrsf_frmts.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "drainage/d8.hpp"
+#include "terrain/atomic_file.hpp"
+#include "terrain/error.hpp"
+#include "terrain/grid_mesh.hpp"
+#include "terrain/hillshade.hpp"
+
+namespace drainage {
+
+DvSummary summarize(const DrainageDb& db) {
+  DvSummary s;
+  double sum = 0.0;
+  for (const DvVertex& v : db.vertices) {
+    switch (PointClass(v.point_class)) {
+      case PointClass::Pit: ++s.pits; break;
+      case PointClass::Ridge: ++s.ridges; break;
+      case PointClass::Channel: ++s.channels; break;
+      case PointClass::Junction: ++s.junctions; break;
+      case PointClass::Nodata: continue;
+    }
+    ++s.points;
+    sum += v.normalized;
+    s.max_accumulated = std::max(s.max_accumulated, v.accumulated);
+    if (PointClass(v.point_class) == PointClass::Pit && double(v.accumulated) > 0.01 * double(db.header.valid))
+      ++s.basins_over_1pct;
+  }
+  if (s.points) s.mean_normalized = sum / double(s.points);
+  for (const DvBranch& b : db.branches) ++s.branches_per_order[b.order];
+  return s;
+}
+
+terrain::Grid dv_elevations(const DrainageDb& db) {
+  const DvHeader& h = db.header;
+  terrain::Georef geo;
+  geo.dx = h.dx;
+  geo.dy = h.dy;
+  geo.x0 = h.origin_x - h.dx / 2;
+  geo.y0 = h.origin_y + h.dy / 2;
+  geo.crs_wkt = h.crs_wkt;
+  geo.epsg = h.epsg;
+  geo.crs_kind = h.crs_wkt.empty() ? terrain::CrsKind::None : terrain::CrsKind::Projected;
+  terrain::Grid g(h.rows, h.cols, geo);
+  for (std::size_t i = 0; i < g.size(); ++i)
+    g.z[i] = PointClass(db.vertices[i].point_class) == PointClass::Nodata ? std::numeric_limits<float>::quiet_NaN()
+                                                                           : float(h.origin_z + db.vertices[i].z);
+  return g;
+}
+
+std::vector<std::uint8_t> dv_preview(const DrainageDb& db, std::uint32_t min_accumulated) {
+  const terrain::Grid g = dv_elevations(db);
+  terrain::BigVector<Eigen::Vector3f> pos(g.size());
+  for (std::size_t i = 0; i < g.size(); ++i) pos[i] = {db.vertices[i].x, db.vertices[i].y, g.z[i]};
+  const auto normals = terrain::vertex_normals(pos, {g.rows, g.cols}, terrain::NormalWeighting::Area);
+  const auto shade = terrain::hillshade(normals);
+  if (min_accumulated == 0) min_accumulated = std::max<std::uint32_t>(20, std::uint32_t(db.header.valid / 1000));
+  std::vector<std::uint8_t> rgb(3 * g.size());
+  const float blue[3] = {20, 50, 140};
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    const DvVertex& v = db.vertices[i];
+    float grey = PointClass(v.point_class) == PointClass::Nodata ? 255.0f : float(shade[i]) * 0.8f + 40.0f;
+    float alpha = 0.0f;
+    if (PointClass(v.point_class) != PointClass::Nodata && v.accumulated >= min_accumulated)
+      alpha = 0.35f + 0.65f * std::sqrt(v.normalized);
+    for (int k = 0; k < 3; ++k) rgb[3 * i + std::size_t(k)] = std::uint8_t(std::lround((1 - alpha) * grey + alpha * blue[k]));
+  }
+  return rgb;
+}
+
+std::size_t export_branches_gpkg(const DrainageDb& db, const std::string& path, int min_order) {
+  GDALAllRegister();
+  terrain::AtomicFile out(path);
+  const DvHeader& h = db.header;
+  std::size_t written = 0;
+  {
+    GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("GPKG");
+    if (!drv) throw terrain::Error("GDAL has no GPKG driver");
+    CPLErrorReset();
+    std::unique_ptr<GDALDataset> ds(drv->Create(out.temp_path().c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+    if (!ds) throw terrain::Error("cannot write '" + path + "': " + CPLGetLastErrorMsg());
+    OGRSpatialReference srs;
+    const bool has_srs = !h.crs_wkt.empty() && srs.importFromWkt(h.crs_wkt.c_str()) == OGRERR_NONE;
+    OGRLayer* layer = ds->CreateLayer("branches", has_srs ? &srs : nullptr, wkbLineStringZM, nullptr);
+    if (!layer) throw terrain::Error("cannot write '" + path + "': " + CPLGetLastErrorMsg());
+    for (const char* name : {"order", "basin", "max_flow", "vertices"}) {
+      OGRFieldDefn field(name, OFTInteger64);
+      layer->CreateField(&field);
+    }
+    ds->StartTransaction();
+    for (const DvBranch& b : db.branches) {
+      if (b.order < min_order) continue;
+      OGRLineString line;
+      std::uint32_t max_flow = 0;
+      auto add = [&](std::uint32_t v) {
+        const DvVertex& p = db.vertices[v];
+        line.addPoint(h.origin_x + p.x, h.origin_y + p.y, h.origin_z + p.z, p.normalized);
+        max_flow = std::max(max_flow, p.accumulated);
+      };
+      for (std::uint32_t k = 0; k < b.count; ++k) add(db.branch_vertices[b.first + k]);
+      if (b.drains_into != kNone) add(b.drains_into);
+      if (line.getNumPoints() < 2) continue;  // a lone pit: no line
+      OGRFeature feature(layer->GetLayerDefn());
+      feature.SetField("order", GIntBig(b.order));
+      feature.SetField("basin", GIntBig(db.vertices[db.branch_vertices[b.first]].basin));
+      feature.SetField("max_flow", GIntBig(max_flow));
+      feature.SetField("vertices", GIntBig(line.getNumPoints()));
+      feature.SetGeometry(&line);
+      if (layer->CreateFeature(&feature) != OGRERR_NONE)
+        throw terrain::Error("cannot write '" + path + "': " + CPLGetLastErrorMsg());
+      ++written;
+    }
+    if (ds->CommitTransaction() != OGRERR_NONE) throw terrain::Error("cannot write '" + path + "': " + CPLGetLastErrorMsg());
+    CPLErrorReset();
+    ds.reset();
+    if (CPLGetLastErrorType() >= CE_Failure) throw terrain::Error("cannot write '" + path + "': " + CPLGetLastErrorMsg());
+  }
+  out.commit();
+  return written;
+}
+
+}  // namespace drainage
