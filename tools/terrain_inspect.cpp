@@ -143,6 +143,7 @@ int main(int argc, char** argv) {
       "  terrain-inspect export out/msh.dv --to gpkg --min-order 2");
   app.set_version_flag("--version", tt::version());
   app.require_subcommand(1);
+  app.fallthrough();  // -q / -v also after the subcommand's arguments
   tt::Verbosity verb;
   tt::add_verbosity_flags(app, verb);
 

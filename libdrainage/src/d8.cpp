@@ -3,6 +3,8 @@
 #include <cmath>
 #include <string>
 
+#include <fmt/format.h>
+
 #include "terrain/error.hpp"
 
 namespace drainage {
@@ -19,7 +21,7 @@ std::uint8_t from_foreign_code(double value, D8Encoding enc, bool is_nodata) {
   const auto& table = enc == D8Encoding::Taudem ? kTaudemCode : kEsriCode;
   for (std::uint8_t k = 0; k < 8; ++k)
     if (value == double(table[k])) return k;
-  throw terrain::Error("D8 code " + std::to_string(value) + " is not a valid " +
+  throw terrain::Error(fmt::format("D8 code {} is not a valid ", value) +
                        (enc == D8Encoding::Taudem ? "TauDEM code (1..8)" : "ESRI code (1, 2, 4, ..., 128)"));
 }
 

@@ -1,0 +1,119 @@
+// End-to-end: build-drainage and terrain-inspect on .dv files.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "drainage/dv_file.hpp"
+#include "drainage/rasters.hpp"
+#include "terrain/dem_io.hpp"
+#include "test_support.hpp"
+
+namespace drainage {
+namespace {
+
+using terrain::test::data;
+using terrain::test::run;
+using terrain::test::tool;
+
+std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(BuildDrainage, MeshPipelineIsDeterministicAcrossThreadCounts) {
+  terrain::test::ScratchDir dir;
+  const auto m = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + dir.path("m.ply") + " --spacing 50 -q");
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  const auto a = run(tool("build-drainage") + " " + dir.path("m.ply") + " " + dir.path("a.dv") + " --threads 1 -q");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  // Same command line as far as the output is concerned: the same file name.
+  std::filesystem::rename(dir.path("a.dv"), dir.path("first.dv"));
+  const auto b = run(tool("build-drainage") + " " + dir.path("m.ply") + " " + dir.path("a.dv") + " --threads 2 -q");
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_EQ(a.out, b.out);
+  EXPECT_TRUE(slurp(dir.path("first.dv")) == slurp(dir.path("a.dv"))) << "the .dv differs between 1 and 2 threads";
+  EXPECT_NE(a.out.find("points: 131236\n"), std::string::npos) << a.out;  // 301 x 436 samples at 10 m
+
+  const auto i = run(tool("terrain-inspect") + " info " + dir.path("a.dv"));
+  ASSERT_EQ(i.exit_code, 0) << i.err;
+  EXPECT_NE(i.out.find("points: 131236\n"), std::string::npos) << i.out;
+  EXPECT_NE(i.out.find("source: PN surface of a mesh"), std::string::npos);
+  const auto p = run(tool("terrain-inspect") + " preview " + dir.path("a.dv") + " -o " + dir.path("a.png"));
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  EXPECT_TRUE(std::filesystem::exists(dir.path("a.png")));
+  const auto g = run(tool("terrain-inspect") + " export " + dir.path("a.dv") + " --to gpkg --min-order 2");
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  EXPECT_TRUE(std::filesystem::exists(dir.path("a.gpkg")));
+}
+
+// --rasters writes every layer; feeding its d8.tif back through --d8-input reproduces the
+// accumulation (the encodings round-trip), in both encodings.
+TEST(BuildDrainage, RastersAndD8InputRoundTrip) {
+  terrain::test::ScratchDir dir;
+  std::filesystem::create_directory(dir.path("r"));
+  for (const std::string enc : {"taudem", "esri"}) {
+    const auto a = run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + dir.path("a.dv") +
+                       " --rasters " + dir.path("r") + " --d8-encoding " + enc + " -q");
+    ASSERT_EQ(a.exit_code, 0) << a.err;
+    for (const char* f : {"surface", "d8", "accumulation", "normalized_flow", "basin", "class", "order"})
+      EXPECT_TRUE(std::filesystem::exists(dir.path(std::string("r/") + f + ".tif"))) << f;
+    const auto b = run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " --d8-input " +
+                       dir.path("r/d8.tif") + " --d8-encoding " + enc + " " + dir.path("b.dv") + " -q");
+    ASSERT_EQ(b.exit_code, 0) << b.err;
+    const DrainageDb da = read_dv(dir.path("a.dv")), db = read_dv(dir.path("b.dv"));
+    ASSERT_EQ(da.vertices.size(), db.vertices.size());
+    for (std::size_t i = 0; i < da.vertices.size(); ++i) {
+      ASSERT_EQ(da.vertices[i].accumulated, db.vertices[i].accumulated) << enc << " " << i;
+      ASSERT_EQ(da.vertices[i].basin, db.vertices[i].basin);
+    }
+    const terrain::Grid acc = terrain::read_dem(dir.path("r/accumulation.tif"));
+    for (std::size_t i = 0; i < acc.size(); ++i) ASSERT_EQ(double(acc.z[i]), double(da.vertices[i].accumulated));
+  }
+}
+
+TEST(BuildDrainage, BadInputFailsCleanly) {
+  terrain::test::ScratchDir dir;
+  // A D8 raster with an invalid TauDEM code (9), and a truncated .dv.
+  terrain::Grid bad = terrain::read_dem(data("logan_utm12n_100m.tif"));
+  std::fill(bad.z.begin(), bad.z.end(), 1.0f);
+  bad.at(10, 10) = 9.0f;
+  terrain::write_geotiff(bad, dir.path("bad_d8.tif"));
+  bad.at(10, 10) = 1.0f;
+  terrain::write_geotiff(bad, dir.path("good_d8.tif"));
+  const auto ok = run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + dir.path("ok.dv") + " -q");
+  ASSERT_EQ(ok.exit_code, 0);
+  std::filesystem::resize_file(dir.path("ok.dv"), std::filesystem::file_size(dir.path("ok.dv")) - 1);
+  const std::size_t entries = dir.n_entries();
+  struct Case {
+    std::string command, message;
+    int code;
+  };
+  const std::string out = dir.path("out.dv");
+  const Case cases[] = {
+      {tool("build-drainage") + " " + data("logan_utm12n_100m.tif") + " " + out, "not a PLY file", 1},
+      {tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " --d8-input " + dir.path("bad_d8.tif") +
+           " " + out,
+       "row 10, column 10: D8 code 9 is not a valid TauDEM code", 1},
+      {tool("build-drainage") + " --raster " + data("msh_2007_utm10n_10m.tif") + " --d8-input " + dir.path("good_d8.tif") +
+           " " + out,
+       "mismatched grids", 1},
+      {tool("build-drainage") + " --raster " + data("eno_nad83_geographic_crop.tif") + " " + out, "geographic", 1},
+      {tool("build-drainage") + " --raster " + data("missing.tif") + " " + out, "no such file", 1},
+      {tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + out + " --spacing 0", "--spacing", 2},
+      {tool("terrain-inspect") + " info " + dir.path("ok.dv"), "truncated", 1},
+  };
+  for (const Case& c : cases) {
+    const auto r = run(c.command + " -q");
+    EXPECT_EQ(r.exit_code, c.code) << c.command << "\n" << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << c.command << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.message), std::string::npos) << c.command << "\n" << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out)) << c.command;
+  }
+  EXPECT_EQ(dir.n_entries(), entries);  // nothing left behind
+}
+
+}  // namespace
+}  // namespace drainage

@@ -1,0 +1,116 @@
+// The .dv file: round trip, rejection of damaged files, and its views.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "drainage/dv_file.hpp"
+#include "drainage/dv_views.hpp"
+#include "drainage/pipeline.hpp"
+#include "drainage_test_support.hpp"
+#include "terrain/dem_io.hpp"
+#include "test_support.hpp"
+
+namespace drainage {
+namespace {
+
+namespace fs = std::filesystem;
+
+DrainageResult logan_drainage() {
+  return compute_drainage(terrain::read_dem(terrain::test::data("logan_utm12n_100m.tif")), {});
+}
+
+TEST(DvFile, RoundTrip) {
+  terrain::test::ScratchDir dir;
+  const DrainageResult r = logan_drainage();
+  const DvHeader h = make_dv_header(r.surface, r.net, r.dv_flags, "dv_file_test");
+  write_dv(dir.path("a.dv"), h, r.surface, r.dirs, r.net);
+  EXPECT_EQ(dir.n_entries(), 1u);
+  ASSERT_TRUE(is_dv_file(dir.path("a.dv")));
+  const DrainageDb db = read_dv(dir.path("a.dv"));
+  EXPECT_EQ(db.header.rows, r.surface.rows);
+  EXPECT_EQ(db.header.cols, r.surface.cols);
+  EXPECT_EQ(db.header.epsg, 26912);
+  EXPECT_EQ(db.header.crs_wkt, r.surface.geo.crs_wkt);
+  EXPECT_EQ(db.header.provenance, "dv_file_test");
+  EXPECT_EQ(db.header.valid, r.net.points);
+  EXPECT_EQ(db.header.basins, r.net.pits.size());
+  EXPECT_DOUBLE_EQ(db.header.origin_x, r.surface.geo.x_of_col(0));
+  ASSERT_EQ(db.vertices.size(), r.surface.size());
+  for (std::size_t i = 0; i < db.vertices.size(); ++i) {
+    const DvVertex& v = db.vertices[i];
+    ASSERT_EQ(v.accumulated, r.net.accumulated[i]);
+    ASSERT_EQ(v.normalized, r.net.normalized[i]);
+    ASSERT_EQ(v.basin, r.net.basin[i]);
+    ASSERT_EQ(v.downstream, r.net.downstream[i]);
+    ASSERT_EQ(v.point_class, r.net.point_class[i]);
+    ASSERT_EQ(v.order, r.net.order[i]);
+    ASSERT_EQ(v.d8, r.dirs[i]);
+    ASSERT_FLOAT_EQ(float(db.header.origin_z) + v.z, r.surface.z[i]);
+  }
+  ASSERT_EQ(db.branches.size(), r.net.branches.size());
+  for (std::size_t b = 0; b < db.branches.size(); ++b) {
+    ASSERT_EQ(db.branches[b].first, r.net.branches[b].first);
+    ASSERT_EQ(db.branches[b].count, r.net.branches[b].count);
+    ASSERT_EQ(db.branches[b].drains_into, r.net.branches[b].drains_into);
+    ASSERT_EQ(db.branches[b].order, r.net.branches[b].order);
+  }
+  EXPECT_TRUE(std::equal(db.branch_vertices.begin(), db.branch_vertices.end(), r.net.branch_vertices.begin()));
+  const DvSummary s = summarize(db);
+  EXPECT_EQ(s.points, r.net.points);
+  EXPECT_EQ(s.pits, r.net.pits.size());
+  EXPECT_EQ(s.pits + s.ridges + s.channels + s.junctions, s.points);
+}
+
+void expect_error(const std::string& path, const std::string& fragment) {
+  try {
+    read_dv(path);
+    FAIL() << "no error for " << path;
+  } catch (const terrain::Error& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
+TEST(DvFile, RejectsDamagedFiles) {
+  terrain::test::ScratchDir dir;
+  const DrainageResult r = logan_drainage();
+  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs, r.net);
+  const auto size = fs::file_size(dir.path("a.dv"));
+  auto patched = [&](const std::string& name, std::size_t offset, const std::string& bytes) {
+    fs::copy_file(dir.path("a.dv"), dir.path(name));
+    std::fstream f(dir.path(name), std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(std::streamoff(offset));
+    f.write(bytes.data(), std::streamsize(bytes.size()));
+    return dir.path(name);
+  };
+  expect_error(patched("magic.dv", 0, "NOTADV!!"), "wrong magic");
+  expect_error(patched("version.dv", 8, std::string("\x02\x00\x00\x00", 4)), "newer");
+  expect_error(patched("flip.dv", size / 2, "\xff\xfe"), "checksum");
+  fs::copy_file(dir.path("a.dv"), dir.path("cut.dv"));
+  fs::resize_file(dir.path("cut.dv"), size - 100);
+  expect_error(dir.path("cut.dv"), "truncated");
+  std::ofstream(dir.path("text.dv")) << "hello";
+  expect_error(dir.path("text.dv"), "wrong magic");
+  expect_error(dir.path("missing.dv"), "no such file");
+}
+
+TEST(DvViews, GeopackageHasOneLinePerBranch) {
+  terrain::test::ScratchDir dir;
+  const DrainageResult r = logan_drainage();
+  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs, r.net);
+  const DrainageDb db = read_dv(dir.path("a.dv"));
+  std::size_t lines = 0, lines_order3 = 0;
+  for (const DvBranch& b : db.branches) {
+    const std::size_t points = b.count + (b.drains_into != kNone ? 1 : 0);
+    lines += points >= 2;
+    lines_order3 += points >= 2 && b.order >= 3;
+  }
+  EXPECT_EQ(export_branches_gpkg(db, dir.path("all.gpkg")), lines);
+  EXPECT_EQ(export_branches_gpkg(db, dir.path("o3.gpkg"), 3), lines_order3);
+  EXPECT_EQ(dir.n_entries(), 3u);  // no temporary left
+  const auto rgb = dv_preview(db);
+  EXPECT_EQ(rgb.size(), 3 * db.vertices.size());
+}
+
+}  // namespace
+}  // namespace drainage
