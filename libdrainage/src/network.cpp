@@ -104,34 +104,36 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
   terrain::BigVector<std::uint8_t>().swap(indeg);
   terrain::report(progress, 0.5);
 
-  // Basins: numbered by ascending pit index, propagated upstream in reverse topological order.
-  net.basin.assign(n, kNone);
-  for (std::size_t i = 0; i < n; ++i)
-    if (dirs[i] != kNodata && net.downstream[i] == kNone) {
+  // Basins, numbered by ascending pit index, and normalized flow: pits first, then one
+  // pass in reverse topological order (each point after the point it drains into).
+  net.basin.resize(n);
+  net.normalized.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (dirs[i] == kNodata) {
+      net.basin[i] = kNone;
+      net.normalized[i] = 0.0f;
+    } else if (net.downstream[i] == kNone) {
       net.basin[i] = std::uint32_t(net.pits.size());
+      net.normalized[i] = 1.0f;
       net.pits.push_back(std::uint32_t(i));
     }
-  for (auto it = topo.rbegin(); it != topo.rend(); ++it)
-    if (net.downstream[*it] != kNone) net.basin[*it] = net.basin[net.downstream[*it]];
-  net.normalized.assign(n, 0.0f);
-#pragma omp parallel for schedule(static)
-  for (long i = 0; i < long(n); ++i)
-    if (net.basin[std::size_t(i)] != kNone)
-      net.normalized[std::size_t(i)] =
-          float(double(net.accumulated[std::size_t(i)]) / double(net.accumulated[net.pits[net.basin[std::size_t(i)]]]));
+  }
+  for (auto it = topo.rbegin(); it != topo.rend(); ++it) {
+    const std::uint32_t i = *it, d = net.downstream[i];
+    if (d == kNone) continue;
+    const std::uint32_t b = net.basin[d];
+    net.basin[i] = b;
+    net.normalized[i] = float(double(net.accumulated[i]) / double(net.accumulated[net.pits[b]]));
+  }
   terrain::report(progress, 0.7);
 
-  // Branches: a point continues the branch of its one upstream neighbour of equal order.
-  terrain::BigVector<std::uint8_t>& continued = max_count;  // reuse the buffer
-  std::fill(continued.begin(), continued.end(), 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t d = net.downstream[i];
-    if (d != kNone && net.order[d] == net.order[i]) continued[d] = 1;
-  }
+  // Branches. A point continues the branch of an upstream neighbour exactly when one
+  // inflow carried its final order, i.e. max_count == 1 (two or more raised the order,
+  // none means a ridge); every other point heads a branch.
   topo.clear();
   net.branch_vertices.swap(topo);  // reuse the buffer
   for (std::size_t i = 0; i < n; ++i) {
-    if (dirs[i] == kNodata || continued[i]) continue;
+    if (dirs[i] == kNodata || max_count[i] == 1) continue;
     Branch b;
     b.first = std::uint32_t(net.branch_vertices.size());
     b.order = net.order[i];
