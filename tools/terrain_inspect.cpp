@@ -172,7 +172,7 @@ int main(int argc, char** argv) {
   exp->add_option("--min-order", min_order, "gpkg: only branches of at least this Strahler order")
       ->check(CLI::Range(1, 255))
       ->capture_default_str();
-  preview->add_option("--min-flow", min_flow, ".dv: draw points with at least this accumulated flow (default: points / 1000, at least 20)");
+  preview->add_option("--min-flow", min_flow, ".dv: draw points with at least this accumulated flow (default: the top 4 % of points, at least 20)");
 
   return tt::run_main(app, argc, argv, [&]() {
     const bool is_mesh = terrain::is_ply_file(file);

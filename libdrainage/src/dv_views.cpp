@@ -59,7 +59,18 @@ std::vector<std::uint8_t> dv_preview(const DrainageDb& db, std::uint32_t min_acc
   for (std::size_t i = 0; i < g.size(); ++i) pos[i] = {db.vertices[i].x, db.vertices[i].y, g.z[i]};
   const auto normals = terrain::vertex_normals(pos, {g.rows, g.cols}, terrain::NormalWeighting::Area);
   const auto shade = terrain::hillshade(normals);
-  if (min_accumulated == 0) min_accumulated = std::max<std::uint32_t>(20, std::uint32_t(db.header.valid / 1000));
+  if (min_accumulated == 0) {  // the 96th percentile of accumulated flow, at least 20 points
+    std::vector<std::uint32_t> acc;
+    acc.reserve(db.header.valid);
+    for (const DvVertex& v : db.vertices)
+      if (PointClass(v.point_class) != PointClass::Nodata) acc.push_back(v.accumulated);
+    if (!acc.empty()) {
+      auto nth = acc.begin() + std::ptrdiff_t(double(acc.size()) * 0.96);
+      std::nth_element(acc.begin(), nth, acc.end());
+      min_accumulated = *nth;
+    }
+    min_accumulated = std::max<std::uint32_t>(20, min_accumulated);
+  }
   std::vector<std::uint8_t> rgb(3 * g.size());
   const float blue[3] = {20, 50, 140};
   for (std::size_t i = 0; i < g.size(); ++i) {

@@ -25,7 +25,8 @@ terrain::Grid dv_elevations(const DrainageDb& db);
 
 // RGB preview, rows x cols: a hillshade of the database's surface with drainage points of
 // at least `min_accumulated` points drawn in blue, darker with larger normalized flow
-// (alpha 0.35 + 0.65 * sqrt(normalized)). 0 picks max(20, points / 1000).
+// (alpha 0.35 + 0.65 * sqrt(normalized)). 0 picks the 96th percentile of accumulated flow
+// (the top 4 % of points are drawn), at least 20.
 std::vector<std::uint8_t> dv_preview(const DrainageDb& db, std::uint32_t min_accumulated = 0);
 
 // Writes a GeoPackage (GDAL/OGR) with layer "branches": one LineString ZM per branch of
