@@ -2,8 +2,6 @@
 // worked example, TauDEM's reference output, analytic surfaces and real DEMs.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-
 #include "drainage/network.hpp"
 #include "drainage/pipeline.hpp"
 #include "drainage/rasters.hpp"
@@ -49,12 +47,9 @@ TEST(AnalyzeNetwork, CycleIsAnError) {
 // TauDEM's own D8 directions of the Logan DEM, accumulated, equal TauDEM's aread8 on every
 // cell where it has a value (1,587,804 cells).
 TEST(AnalyzeNetwork, MatchesTaudemAread8OnLogan) {
-  const std::string dir = std::string(TERRAIN_SHARED_DATA_DIR);
-  if (!std::filesystem::exists(dir + "/logan_30m_taudem_d8dir.tif"))
-    GTEST_SKIP() << "reference data not found in " << dir;
   terrain::Grid g;
-  const D8Codes d = read_d8_raster(dir + "/logan_30m_taudem_d8dir.tif", D8Encoding::Taudem, g);
-  const terrain::Grid ref = terrain::read_dem(dir + "/logan_30m_taudem_aread8.tif");
+  const D8Codes d = read_d8_raster(terrain::test::data("logan_30m_taudem_d8dir.tif"), D8Encoding::Taudem, g);
+  const terrain::Grid ref = terrain::read_dem(terrain::test::data("logan_30m_taudem_aread8.tif"));
   ASSERT_EQ(ref.size(), d.size());
   const Network net = analyze_network(d, g.rows, g.cols);
   test::check_network_properties(net, d);
