@@ -100,8 +100,8 @@ int main(int argc, char** argv) {
       t0 = clock::now();
       terrain::SampledSurface s = terrain::sample_pn_surface(mesh, spacing, tt::terminal_progress(verb, "sample"));
       const double dt = seconds();
-      tt::step(verb, fmt::format("sampled {} points: {:.2f} s ({:.1f} M points/s)", s.grid.size(), dt,
-                                 double(s.grid.size()) / dt * 1e-6));
+      tt::step(verb, fmt::format("sampled {} points: {:.2f} s ({:.1f} M points/s), peak RSS so far {:.0f} MiB",
+                                 s.grid.size(), dt, double(s.grid.size()) / dt * 1e-6, tt::peak_rss_mib()));
       if (s.fallbacks > 0)
         tt::warn(verb, fmt::format("{} samples used the flat triangle (PN patch folds over)", s.fallbacks));
       surface = std::move(s.grid);
@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
     }
     flags |= result.dv_flags;
     for (const auto& [name, secs] : result.timings) tt::step(verb, fmt::format("  {}: {:.3f} s", name, secs));
-    tt::step(verb, fmt::format("drainage (steps 2-6): {:.2f} s", seconds()));
+    tt::step(verb, fmt::format("drainage (steps 2-6): {:.2f} s, peak RSS so far {:.0f} MiB", seconds(), tt::peak_rss_mib()));
 
     t0 = clock::now();
     const drainage::DvHeader header = drainage::make_dv_header(result.surface, result.net, flags, prov);

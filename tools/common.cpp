@@ -52,6 +52,17 @@ terrain::Progress terminal_progress(const Verbosity& v, const std::string& label
   };
 }
 
+double peak_rss_mib() {
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (!f) return 0.0;
+  char line[256];
+  double kib = 0.0;
+  while (std::fgets(line, sizeof line, f))
+    if (std::sscanf(line, "VmHWM: %lf kB", &kib) == 1) break;
+  std::fclose(f);
+  return kib / 1024.0;
+}
+
 void warn(const Verbosity& v, const std::string& message) {
   if (!v.quiet) std::cerr << "warning: " << message << "\n";
 }

@@ -29,6 +29,9 @@ terrain::Progress terminal_progress(const Verbosity& v, const std::string& label
 
 // A diagnostic line on stderr ("TOOL: warning: ..."), suppressed by -q.
 void warn(const Verbosity& v, const std::string& message);
+// Peak resident memory of this process so far, in MiB (Linux VmHWM; 0 when unknown).
+double peak_rss_mib();
+
 // A per-step timing line on stderr at -v.
 void step(const Verbosity& v, const std::string& message);
 
