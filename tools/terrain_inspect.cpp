@@ -103,21 +103,9 @@ void info_dv(const std::string& path) {
             << "provenance: " << (h.provenance.empty() ? "unknown" : h.provenance) << "\n";
 }
 
-// Grey + alpha hillshade of a DEM (no-data transparent). Geographic DEMs are shaded with
-// metres per degree at their centre.
+// Grey + alpha hillshade of a DEM (no-data transparent).
 std::vector<std::uint8_t> dem_shade(const terrain::Grid& g, double az, double alt, double zf) {
-  double sx = g.geo.dx, sy = g.geo.dy;
-  if (g.geo.crs_kind == terrain::CrsKind::Geographic) {
-    const double lat = g.geo.y_of_row(double(g.rows) / 2) * std::numbers::pi / 180.0;
-    sx *= 111320.0 * std::cos(lat);
-    sy *= 110574.0;
-  }
-  terrain::BigVector<Eigen::Vector3f> pos(g.size());
-  for (std::size_t r = 0; r < g.rows; ++r)
-    for (std::size_t c = 0; c < g.cols; ++c)
-      pos[g.index(r, c)] = {float(double(c) * sx), float(-double(r) * sy), float(zf * g.at(r, c))};
-  const auto normals = terrain::vertex_normals(pos, {g.rows, g.cols}, terrain::NormalWeighting::Area);
-  const auto shade = terrain::hillshade(normals, az, alt);
+  const auto shade = terrain::hillshade_grid(g, az, alt, zf);
   std::vector<std::uint8_t> ga(2 * g.size());
   for (std::size_t i = 0; i < g.size(); ++i) {
     ga[2 * i] = shade[i];

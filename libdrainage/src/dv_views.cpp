@@ -9,7 +9,6 @@
 #include "drainage/d8.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/error.hpp"
-#include "terrain/grid_mesh.hpp"
 #include "terrain/hillshade.hpp"
 
 namespace drainage {
@@ -55,10 +54,7 @@ terrain::Grid dv_elevations(const DrainageDb& db) {
 
 std::vector<std::uint8_t> dv_preview(const DrainageDb& db, std::uint32_t min_accumulated) {
   const terrain::Grid g = dv_elevations(db);
-  terrain::BigVector<Eigen::Vector3f> pos(g.size());
-  for (std::size_t i = 0; i < g.size(); ++i) pos[i] = {db.vertices[i].x, db.vertices[i].y, g.z[i]};
-  const auto normals = terrain::vertex_normals(pos, {g.rows, g.cols}, terrain::NormalWeighting::Area);
-  const auto shade = terrain::hillshade(normals);
+  const auto shade = terrain::hillshade_grid(g);
   if (min_accumulated == 0) {  // the 96th percentile of accumulated flow, at least 20 points
     std::vector<std::uint32_t> acc;
     acc.reserve(db.header.valid);

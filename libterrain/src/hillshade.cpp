@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "terrain/grid_mesh.hpp"
+
 namespace terrain {
 
 Eigen::Vector3d light_direction(double azimuth_deg, double altitude_deg) {
@@ -19,6 +21,24 @@ std::vector<std::uint8_t> hillshade(std::span<const Eigen::Vector3f> normals, do
     return std::uint8_t(std::lround(255.0f * std::clamp(n.dot(l), 0.0f, 1.0f)));
   });
   return out;
+}
+
+std::vector<std::uint8_t> hillshade_grid(const Grid& g, double azimuth_deg, double altitude_deg, double z_factor) {
+  double sx = g.geo.dx, sy = g.geo.dy;
+  if (g.geo.crs_kind == CrsKind::Geographic) {
+    const double lat = g.geo.y_of_row(double(g.rows) / 2) * std::numbers::pi / 180.0;
+    sx *= 111320.0 * std::cos(lat);
+    sy *= 110574.0;
+  }
+  BigVector<Eigen::Vector3f> pos(g.size());
+  for (std::size_t r = 0; r < g.rows; ++r)
+    for (std::size_t c = 0; c < g.cols; ++c)
+      pos[g.index(r, c)] = {float(double(c) * sx), float(-double(r) * sy), float(z_factor * g.at(r, c))};
+  std::vector<std::uint8_t> shade = hillshade(vertex_normals(pos, {g.rows, g.cols}, NormalWeighting::Area), azimuth_deg,
+                                              altitude_deg);
+  for (std::size_t i = 0; i < g.size(); ++i)
+    if (!g.valid(i)) shade[i] = 0;
+  return shade;
 }
 
 }  // namespace terrain

@@ -5,6 +5,8 @@
 #include <span>
 #include <vector>
 
+#include "terrain/grid.hpp"
+
 namespace terrain {
 
 // Grey level 0..255 per normal: 255 * max(0, n . L), L the unit vector towards a light at
@@ -12,6 +14,12 @@ namespace terrain {
 // the horizon. The default is the cartographic convention (315, 45): lit from the NW.
 std::vector<std::uint8_t> hillshade(std::span<const Eigen::Vector3f> normals, double azimuth_deg = 315.0,
                                     double altitude_deg = 45.0);
+
+// Hillshade of a grid (rows x cols, row 0 north): area-weighted vertex normals of its
+// triangulated samples, elevations scaled by `z_factor`; geographic grids use metres per
+// degree at their centre. No-data samples get 0 (callers mask them).
+std::vector<std::uint8_t> hillshade_grid(const Grid& grid, double azimuth_deg = 315.0, double altitude_deg = 45.0,
+                                         double z_factor = 1.0);
 
 // The unit vector towards the light of hillshade().
 Eigen::Vector3d light_direction(double azimuth_deg, double altitude_deg);
