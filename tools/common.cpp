@@ -87,6 +87,9 @@ int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& b
   }
   try {
     return body();
+  } catch (const CLI::ParseError& e) {  // validation done after parsing is a usage error too
+    std::cerr << name << ": usage error: " << e.what() << " (see " << name << " --help)\n";
+    return 2;
   } catch (const terrain::Error& e) {
     std::cerr << name << ": error: " << e.what() << "\n";
   } catch (const std::bad_alloc&) {

@@ -1,0 +1,51 @@
+#pragma once
+// Camera matrices and projection (GL-free; the renderer uploads these and tests project
+// with them). Coordinates are the mesh's local frame (world = origin + local) with z
+// multiplied by the vertical exaggeration; x east, y north, z up.
+#include <array>
+
+#include <Eigen/Core>
+
+#include "renderer/frame_params.hpp"
+
+namespace renderer {
+
+struct Box {
+  Eigen::Vector3d lo, hi;
+};
+
+// The view of one frame: eye, orthonormal axes, projection and image size.
+struct View {
+  Eigen::Vector3d eye, forward, right, up;  // local frame
+  double fov_deg = 35, near = 1;
+  int width = 1, height = 1;
+  bool reversed_z = true;                   // depth 1 at `near`, 0 at infinity (glClipControl)
+  Eigen::Matrix4d view_matrix() const;      // local -> eye space (camera looks down -z)
+  Eigen::Matrix4d projection() const;       // infinite far plane
+  Eigen::Matrix4d view_projection() const { return projection() * view_matrix(); }
+};
+
+// Unit line-of-sight vector for a bearing and an angle below the horizon (degrees).
+Eigen::Vector3d view_direction(double view_az_deg, double view_alt_deg);
+
+// The eye position (local frame) that frames `box` entirely, looking along
+// view_direction(view_az, view_alt), with a vertical field of view `fov` and aspect
+// width/height: the nearest eye for which every box corner lies inside the view (5%
+// margin), moved sideways so that the box's image is centred.
+Eigen::Vector3d frame_box(const Box& box, double view_az, double view_alt, double fov_deg, double aspect);
+
+// The view of `camera` over a scene whose local frame has world origin `origin` and whose
+// (exaggerated) bounding box is `box`: the eye is camera.eye - origin, or framed on `box`
+// (frame_box) when camera.eye is unset. `near` is half the distance from the eye to the
+// box, at least 1e-4 of the box diagonal.
+View make_view(const Camera& camera, const Eigen::Vector3d& origin, const Box& box, int width, int height,
+               bool reversed_z = true);
+
+struct Projected {
+  double u = 0, v = 0;   // pixel coordinates: u right, v down, pixel centres at +0.5
+  double depth = 0;      // window depth as the GL depth buffer stores it
+  bool in_front = false; // in front of the near plane
+};
+Projected project(const View& view, const Eigen::Vector3d& p_local);
+
+}  // namespace renderer

@@ -1,0 +1,74 @@
+#pragma once
+// What one frame of terrain-render draws: camera, light, crease score and layers.
+// Plain data; the defaults are the ones --help shows.
+//
+// Angles (one place, documented in docs/terrain-render.md):
+//   view_az   compass bearing of the line of sight, degrees clockwise from grid north
+//   view_alt  angle of the line of sight below the horizon, degrees (0 level, 90 straight
+//             down); the paper's "view altitude"
+//   fov       vertical field of view, degrees
+//   light_az, light_alt  direction towards the light: bearing from grid north and angle
+//             above the horizon, as in hillshading
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+namespace renderer {
+
+// The crease rendering score of a drainage vertex (ALGORITHMS.md 9.1):
+//   rs = (sw*sc + iw*ic + fw*fc) / D - rs_min(d)
+//   sc = 1 - n.z (slope), ic = 1 - n.l (illumination), fc = normalized flow,
+//   D = sw + iw + fw (default) or 3 (literal: the paper's equation 6),
+//   rs_min(d) = min_score + (1 - min_score) * falloff * clamp(d / far_distance, 0, 1),
+//   d = distance from the eye to the vertex. A vertex is drawn when rs >= 0.
+struct CreaseScoreParams {
+  double sw = 0.1, iw = 0.3, fw = 0.6;  // the paper's Table 5 weights
+  double min_score = 0.5;               // rs_base
+  double falloff = 0.5;                 // k: how far rs_min rises towards 1 at far_distance
+  double far_distance = 0;              // d_far in metres; 0: the terrain's diagonal
+  bool literal_divisor = false;         // divide by 3 instead of the weight sum
+};
+
+struct Camera {
+  // Eye in world (CRS) coordinates, metres; unset: framed automatically (frame_terrain).
+  std::optional<Eigen::Vector3d> eye;
+  double view_az = 225.0, view_alt = 30.0, fov = 35.0;
+};
+
+struct Light {
+  double azimuth = 315.0, altitude = 45.0;
+};
+
+// Which images the composite shows.
+struct Layers {
+  bool shaded = false;       // the shaded relief (Lambert, light above)
+  bool mask = true;          // the surface in the mask colour (hidden-line mask)
+  bool creases = true;
+  bool silhouettes = true;
+};
+// Parses "shaded,creases,..." (names: shaded, mask, creases, silhouettes); Error on an
+// unknown name, an empty list, or both shaded and mask.
+Layers parse_layers(const std::string& list);
+std::string to_string(const Layers& layers);
+
+struct Style {
+  Eigen::Vector3f background{1, 1, 1}, mask{1, 1, 1};
+  Eigen::Vector3f crease_colour{0.05f, 0.2f, 0.55f}, silhouette_colour{0, 0, 0};
+  double crease_width = 1.0, crease_width_max = 3.0;  // pixels at normalized flow 0 and 1
+  int silhouette_width = 1;                           // pixels
+  double exaggeration = 1.0;                          // vertical exaggeration
+  double crease_lift = -1;        // metres along the normal; < 0: 0.5 x mesh spacing
+  double pixels_per_edge = 6.0;   // tessellation target: screen length of a triangle edge
+};
+
+struct FrameParams {
+  Camera camera;
+  Light light;
+  CreaseScoreParams score;
+};
+
+// Parses a colour "#rrggbb", "r,g,b" (0..255) or a name (white, black, grey, blue, ...).
+Eigen::Vector3f parse_colour(const std::string& text);
+
+}  // namespace renderer

@@ -1,0 +1,40 @@
+#pragma once
+// Frame lists for batch mode (CSV) and straight flight paths (GL-free).
+//
+// FRAMES.csv: a header row naming the columns, then one row per frame; blank lines and
+// lines starting with '#' are skipped. Columns (any order, any subset):
+//   easting northing elevation   eye in world coordinates (all three or none; none: the
+//                                framing camera of terrain-render frame)
+//   view_az view_alt fov light_az light_alt
+//   sw iw fw min_score falloff   crease score (frame_params.hpp)
+// A missing column takes the value of `defaults` (the command line's options).
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "renderer/frame_params.hpp"
+
+namespace renderer {
+
+// The column names accepted in FRAMES.csv, in the order write_path_csv writes them.
+const std::vector<std::string>& frame_columns();
+
+// Parses CSV text. `name` is used in errors, which name the line (and column):
+// "frames.csv:4: expected 8 fields, found 7", "frames.csv:1: unknown column 'foo'",
+// "frames.csv:3: field 'fov': 'abc' is not a number". No rows is an error too.
+std::vector<FrameParams> parse_frames_csv(const std::string& text, const FrameParams& defaults,
+                                          const std::string& name);
+// Reads and parses a file (Error when it cannot be read).
+std::vector<FrameParams> read_frames_csv(const std::string& path, const FrameParams& defaults);
+
+struct FlightPath {
+  Eigen::Vector3d from, to;  // world coordinates
+  int frames = 2;            // >= 2: first at `from`, last at `to`
+  FrameParams params;        // view, light, score for every frame; view_az: NaN = bearing from -> to
+};
+
+// The CSV text of a straight flight path at equal steps (full set of columns).
+std::string path_csv(const FlightPath& path);
+
+}  // namespace renderer

@@ -1,0 +1,79 @@
+#pragma once
+// The renderer of the Creases paper (Appendix A) on a PN-triangle terrain, headless.
+// Passes per frame (docs/terrain-render.md):
+//   TFT  PN patches tessellated adaptively (about Style::pixels_per_edge pixels per edge,
+//        so the level falls with distance; patches outside the view are culled by the
+//        convex hull of their control points); toward-facing fragments (PN normal towards
+//        the eye) write colour and the TOWARD depth.
+//   AFT  the same surface, away-facing fragments, AWAY depth only.
+//   DM   a compute pass scores every crease vertex and keeps the segments whose two ends
+//        score >= 0 (a rejected vertex breaks the strip); they are drawn as screen-space
+//        quads, lifted along the PN normal, wider where the flow is larger.
+//   SIL  Toward/Away (Mower 2015): a pixel with toward depth t < away depth a and an
+//        8-neighbour whose toward depth is beyond a.
+//   LAY  composite of the chosen layers: surface, then crease and silhouette pixels that
+//        are not behind the nearest toward surface.
+// Depth is reversed (1 at the near plane, 0 at infinity) where glClipControl exists.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "drainage/dv_file.hpp"
+#include "renderer/camera.hpp"
+#include "renderer/crease.hpp"
+#include "renderer/frame_params.hpp"
+#include "renderer/gl_context.hpp"
+#include "renderer/timing.hpp"
+#include "terrain/grid_mesh.hpp"
+
+namespace renderer {
+
+struct FrameResult {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgba;   // width x height x 4, row 0 at the top
+  FrameTimings timings;
+  std::size_t crease_segments = 0;  // segments the DM pass drew (both ends accepted)
+  View view;                        // the view used (for projection by callers)
+};
+
+// Per-pixel buffers of the last frame, for tests and diagnostics (row 0 at the top).
+struct FrameBuffers {
+  std::vector<float> toward_depth, away_depth, crease_depth;  // window depth (clear: far)
+  std::vector<std::uint8_t> silhouette, crease;                // 0/1 masks before compositing
+};
+
+class TerrainRenderer {
+ public:
+  // Uploads the mesh (positions, normals, faces) and, when given, the creases. The
+  // context must stay alive and current while the renderer is used.
+  TerrainRenderer(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases,
+                  int width, int height, const Layers& layers, const Style& style);
+  ~TerrainRenderer();
+  TerrainRenderer(const TerrainRenderer&) = delete;
+  TerrainRenderer& operator=(const TerrainRenderer&) = delete;
+
+  FrameResult render(const FrameParams& frame);
+  FrameBuffers read_buffers() const;
+
+  // The scene's bounding box in the exaggerated local frame, and its world origin.
+  const Box& box() const;
+  Eigen::Vector3d origin() const;
+
+  // GLSL PN evaluation read back through transform feedback: every patch of `faces`
+  // tessellated at the uniform `level`, each generated vertex as
+  // (face, b1, b2, b3, position xyz, normal xyz) in the mesh's local frame (exaggeration 1).
+  struct PnSample {
+    std::uint32_t face;
+    float b1, b2, b3;
+    Eigen::Vector3f position, normal;
+  };
+  static_assert(sizeof(PnSample) == 40);
+  std::vector<PnSample> capture_pn(const std::vector<std::uint32_t>& faces, int level);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace renderer

@@ -1,0 +1,37 @@
+// LAY: the background, the surface (shaded or mask colour) where a toward surface is,
+// crease pixels whose depth is not behind that surface, silhouette pixels (dilated to
+// the silhouette width).
+layout(binding = 0) uniform sampler2D u_toward;
+layout(binding = 1) uniform sampler2D u_surface_colour;
+layout(binding = 2) uniform sampler2D u_crease;
+layout(binding = 3) uniform sampler2D u_crease_depth;
+layout(binding = 4) uniform sampler2D u_silhouette;
+layout(location = 0) uniform ivec4 u_layers;  // shaded, mask, creases, silhouettes
+layout(location = 1) uniform vec3 u_background;
+layout(location = 2) uniform vec3 u_mask_colour;
+layout(location = 3) uniform vec3 u_crease_colour;
+layout(location = 4) uniform vec3 u_silhouette_colour;
+layout(location = 5) uniform int u_silhouette_width;
+layout(location = 0) out vec4 o_colour;
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  ivec2 size = textureSize(u_toward, 0);
+  float t = far_of(texelFetch(u_toward, p, 0).r);
+  bool surface = t < 1.0;
+  vec3 c = u_background;
+  if (surface && u_layers.x != 0) c = texelFetch(u_surface_colour, p, 0).rgb;
+  else if (surface && u_layers.y != 0) c = u_mask_colour;
+  if (u_layers.z != 0 && texelFetch(u_crease, p, 0).r > 0.0 && far_of(texelFetch(u_crease_depth, p, 0).r) <= t)
+    c = u_crease_colour;
+  if (u_layers.w != 0) {
+    int r0 = -(u_silhouette_width - 1) / 2, r1 = u_silhouette_width / 2;
+    bool sil = false;
+    for (int dy = r0; dy <= r1; ++dy)
+      for (int dx = r0; dx <= r1; ++dx) {
+        ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
+        sil = sil || texelFetch(u_silhouette, q, 0).r > 0.0;
+      }
+    if (sil) c = u_silhouette_colour;
+  }
+  o_colour = vec4(c, 1.0);
+}

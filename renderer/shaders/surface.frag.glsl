@@ -1,0 +1,14 @@
+// TFT (u_mode 0): toward-facing fragments write the shaded colour and the toward depth.
+// AFT (u_mode 1): away-facing fragments write the away depth only. Facing uses the PN
+// normal and the line of sight: toward when n . (eye - p) > 0.
+in vec3 f_pos;
+in vec3 f_nrm;
+layout(location = 0) out vec4 o_colour;
+layout(location = 0) uniform int u_mode;
+void main() {
+  vec3 n = normalize(f_nrm);
+  bool toward = dot(n, u_eye.xyz - f_pos) > 0.0;
+  if ((u_mode == 0) != toward) discard;
+  float lambert = max(dot(n, u_light.xyz), 0.0);
+  o_colour = vec4(vec3(0.2 + 0.8 * lambert), 1.0);
+}

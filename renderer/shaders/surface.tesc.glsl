@@ -1,0 +1,85 @@
+// PN triangle control points (Vlachos et al. 2001; ALGORITHMS.md 1.1, 1.3; the CPU
+// reference is libterrain's make_pn_patch) and adaptive tessellation levels.
+layout(vertices = 3) out;
+in vec3 v_pos[];
+in vec3 v_nrm[];
+out vec3 c_pos[];
+out vec3 c_nrm[];
+patch out vec3 p_b210, p_b120, p_b021, p_b012, p_b102, p_b201, p_b111;
+patch out vec3 p_n110, p_n011, p_n101;
+
+// Point 1/3 along Pi -> Pj projected into the tangent plane of Pi.
+vec3 edge_point(vec3 pi, vec3 pj, vec3 ni) { return (2.0 * pi + pj - dot(pj - pi, ni) * ni) / 3.0; }
+
+// Mid-edge normal: Ni + Nj reflected in the plane perpendicular to the edge.
+vec3 mid_normal(vec3 pi, vec3 pj, vec3 ni, vec3 nj, vec3 face_n) {
+  vec3 e = pj - pi;
+  float ee = dot(e, e);
+  vec3 h = ee > 0.0 ? ni + nj - 2.0 * dot(e, ni + nj) / ee * e : ni + nj;
+  float len = length(h);
+  return len > 1e-12 ? h / len : face_n;
+}
+
+vec2 to_pixels(vec4 c) { return (c.xy / c.w * 0.5 + 0.5) * u_viewport.xy; }
+
+// Level of an edge: its screen length over the target pixels per edge, in [1, max]. An
+// end at or behind the near plane gets the maximum. Computed from the edge's two corners
+// only, so both patches sharing the edge agree (no cracks).
+float edge_level(vec4 ci, vec4 cj) {
+  if (ci.w <= u_misc.x || cj.w <= u_misc.x) return u_viewport.w;
+  return clamp(distance(to_pixels(ci), to_pixels(cj)) / u_viewport.z, 1.0, u_viewport.w);
+}
+
+void main() {
+  c_pos[gl_InvocationID] = v_pos[gl_InvocationID];
+  c_nrm[gl_InvocationID] = v_nrm[gl_InvocationID];
+  if (gl_InvocationID != 0) return;
+
+  vec3 p1 = v_pos[0], p2 = v_pos[1], p3 = v_pos[2];
+  vec3 n1 = v_nrm[0], n2 = v_nrm[1], n3 = v_nrm[2];
+  p_b210 = edge_point(p1, p2, n1);
+  p_b120 = edge_point(p2, p1, n2);
+  p_b021 = edge_point(p2, p3, n2);
+  p_b012 = edge_point(p3, p2, n3);
+  p_b102 = edge_point(p3, p1, n3);
+  p_b201 = edge_point(p1, p3, n1);
+  vec3 e = (p_b210 + p_b120 + p_b021 + p_b012 + p_b102 + p_b201) / 6.0;
+  vec3 v = (p1 + p2 + p3) / 3.0;
+  p_b111 = e + (e - v) / 2.0;
+  vec3 fn = cross(p2 - p1, p3 - p1);
+  fn = length(fn) > 0.0 ? normalize(fn) : vec3(0.0, 0.0, 1.0);
+  p_n110 = mid_normal(p1, p2, n1, n2, fn);
+  p_n011 = mid_normal(p2, p3, n2, n3, fn);
+  p_n101 = mid_normal(p3, p1, n3, n1, fn);
+
+  if (u_lines.z > 0.0) {  // fixed level (tests, capture)
+    gl_TessLevelOuter[0] = gl_TessLevelOuter[1] = gl_TessLevelOuter[2] = u_lines.z;
+    gl_TessLevelInner[0] = u_lines.z;
+    return;
+  }
+  // Cull: the patch lies in the convex hull of its 10 control points; drop it when they
+  // are all beyond one side plane of the view, or all behind the eye.
+  vec4 c[10] = vec4[10](u_view_proj * vec4(p1, 1), u_view_proj * vec4(p2, 1), u_view_proj * vec4(p3, 1),
+                        u_view_proj * vec4(p_b210, 1), u_view_proj * vec4(p_b120, 1),
+                        u_view_proj * vec4(p_b021, 1), u_view_proj * vec4(p_b012, 1),
+                        u_view_proj * vec4(p_b102, 1), u_view_proj * vec4(p_b201, 1),
+                        u_view_proj * vec4(p_b111, 1));
+  bvec4 all_out = bvec4(true);
+  bool all_behind = true;
+  for (int i = 0; i < 10; ++i) {
+    all_out = bvec4(all_out.x && c[i].x < -c[i].w, all_out.y && c[i].x > c[i].w,
+                    all_out.z && c[i].y < -c[i].w, all_out.w && c[i].y > c[i].w);
+    all_behind = all_behind && c[i].w <= 0.0;
+  }
+  if (any(all_out) || all_behind) {
+    gl_TessLevelOuter[0] = gl_TessLevelOuter[1] = gl_TessLevelOuter[2] = 0.0;
+    gl_TessLevelInner[0] = 0.0;
+    return;
+  }
+  // Outer level k belongs to the edge opposite corner k (gl_TessCoord[k] = 0 there).
+  float l0 = edge_level(c[1], c[2]), l1 = edge_level(c[2], c[0]), l2 = edge_level(c[0], c[1]);
+  gl_TessLevelOuter[0] = l0;
+  gl_TessLevelOuter[1] = l1;
+  gl_TessLevelOuter[2] = l2;
+  gl_TessLevelInner[0] = max(l0, max(l1, l2));
+}

@@ -1,0 +1,119 @@
+#include "renderer/camera.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace renderer {
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+std::array<Eigen::Vector3d, 8> corners(const Box& b) {
+  std::array<Eigen::Vector3d, 8> c;
+  for (int i = 0; i < 8; ++i)
+    c[i] = {(i & 1) ? b.hi.x() : b.lo.x(), (i & 2) ? b.hi.y() : b.lo.y(), (i & 4) ? b.hi.z() : b.lo.z()};
+  return c;
+}
+
+// Right and up axes of a line of sight at bearing `az`: right is horizontal, so the image
+// is never rolled, also when looking straight down.
+void axes(double az_deg, const Eigen::Vector3d& f, Eigen::Vector3d& right, Eigen::Vector3d& up) {
+  right = Eigen::Vector3d(std::cos(az_deg * kDeg), -std::sin(az_deg * kDeg), 0.0);
+  up = right.cross(f).normalized();
+}
+}  // namespace
+
+Eigen::Vector3d view_direction(double az, double alt) {
+  return {std::sin(az * kDeg) * std::cos(alt * kDeg), std::cos(az * kDeg) * std::cos(alt * kDeg),
+          -std::sin(alt * kDeg)};
+}
+
+Eigen::Matrix4d View::view_matrix() const {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.block<1, 3>(0, 0) = right.transpose();
+  m.block<1, 3>(1, 0) = up.transpose();
+  m.block<1, 3>(2, 0) = -forward.transpose();
+  m(0, 3) = -right.dot(eye);
+  m(1, 3) = -up.dot(eye);
+  m(2, 3) = forward.dot(eye);
+  return m;
+}
+
+Eigen::Matrix4d View::projection() const {
+  // Infinite far plane. Reversed (glClipControl ZERO_TO_ONE): z_ndc = near / distance,
+  // 1 at the near plane, 0 at infinity. Conventional: z_ndc = 1 - 2 near / distance.
+  const double f = 1.0 / std::tan(0.5 * fov_deg * kDeg), aspect = double(width) / double(height);
+  Eigen::Matrix4d p = Eigen::Matrix4d::Zero();
+  p(0, 0) = f / aspect;
+  p(1, 1) = f;
+  p(3, 2) = -1.0;
+  if (reversed_z) {
+    p(2, 3) = near;
+  } else {
+    p(2, 2) = -1.0;
+    p(2, 3) = -2.0 * near;
+  }
+  return p;
+}
+
+Eigen::Vector3d frame_box(const Box& box, double az, double alt, double fov_deg, double aspect) {
+  const Eigen::Vector3d f = view_direction(az, alt);
+  Eigen::Vector3d right, up;
+  axes(az, f, right, up);
+  const double tv = std::tan(0.5 * fov_deg * kDeg) / 1.05, th = tv * aspect;
+  // Eye = target - d f. A corner c at offset o from the target has depth d + o.f and must
+  // satisfy |o.right| <= (d + o.f) th and |o.up| <= (d + o.f) tv: the smallest such d.
+  // Then the target moves sideways so that the box's image is centred, and d is found
+  // again (two rounds are enough in practice).
+  Eigen::Vector3d target = 0.5 * (box.lo + box.hi);
+  double d = 0;
+  for (int round = 0; round < 3; ++round) {
+    d = 0;
+    for (const auto& c : corners(box)) {
+      const Eigen::Vector3d o = c - target;
+      d = std::max({d, std::abs(o.dot(right)) / th - o.dot(f), std::abs(o.dot(up)) / tv - o.dot(f)});
+    }
+    if (round == 2) break;
+    double x_lo = 1e300, x_hi = -1e300, y_lo = 1e300, y_hi = -1e300;
+    for (const auto& c : corners(box)) {
+      const Eigen::Vector3d o = c - (target - d * f);
+      const double depth = o.dot(f);
+      x_lo = std::min(x_lo, o.dot(right) / depth), x_hi = std::max(x_hi, o.dot(right) / depth);
+      y_lo = std::min(y_lo, o.dot(up) / depth), y_hi = std::max(y_hi, o.dot(up) / depth);
+    }
+    target += d * (0.5 * (x_lo + x_hi) * right + 0.5 * (y_lo + y_hi) * up);
+  }
+  return target - d * f;
+}
+
+View make_view(const Camera& cam, const Eigen::Vector3d& origin, const Box& box, int width, int height,
+               bool reversed_z) {
+  View v;
+  v.width = width;
+  v.height = height;
+  v.fov_deg = cam.fov;
+  v.reversed_z = reversed_z;
+  v.forward = view_direction(cam.view_az, cam.view_alt);
+  axes(cam.view_az, v.forward, v.right, v.up);
+  v.eye = cam.eye ? Eigen::Vector3d(*cam.eye - origin)
+                  : frame_box(box, cam.view_az, cam.view_alt, cam.fov, double(width) / double(height));
+  const Eigen::Vector3d nearest = v.eye.cwiseMax(box.lo).cwiseMin(box.hi);
+  const double diag = (box.hi - box.lo).norm();
+  v.near = std::max(0.5 * (nearest - v.eye).norm(), 1e-4 * std::max(diag, 1.0));
+  return v;
+}
+
+Projected project(const View& view, const Eigen::Vector3d& p) {
+  const Eigen::Vector4d c = view.view_projection() * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.0);
+  Projected r;
+  r.in_front = c.w() > view.near * (1 - 1e-9);
+  const double x = c.x() / c.w(), y = c.y() / c.w(), z = c.z() / c.w();
+  r.u = (x * 0.5 + 0.5) * view.width;
+  r.v = (1.0 - (y * 0.5 + 0.5)) * view.height;
+  r.depth = view.reversed_z ? z : z * 0.5 + 0.5;
+  return r;
+}
+
+}  // namespace renderer

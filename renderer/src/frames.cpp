@@ -1,0 +1,195 @@
+#include "renderer/frames.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "terrain/error.hpp"
+
+namespace renderer {
+
+namespace {
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::string cur;
+  std::istringstream in(s);
+  while (std::getline(in, cur, sep)) out.push_back(cur);
+  if (!s.empty() && s.back() == sep) out.emplace_back();
+  return out;
+}
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r"), e = s.find_last_not_of(" \t\r");
+  return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+}
+
+bool to_double(const std::string& s, double& v) {
+  const char* end = s.data() + s.size();
+  const auto r = std::from_chars(s.data(), end, v);
+  return r.ec == std::errc() && r.ptr == end && std::isfinite(v);
+}
+
+}  // namespace
+
+Layers parse_layers(const std::string& list) {
+  Layers l{false, false, false, false};
+  bool any = false;
+  for (const auto& raw : split(list, ',')) {
+    const std::string name = trim(raw);
+    if (name == "shaded") l.shaded = true;
+    else if (name == "mask") l.mask = true;
+    else if (name == "creases") l.creases = true;
+    else if (name == "silhouettes") l.silhouettes = true;
+    else throw terrain::Error("unknown layer '" + name + "' (layers: shaded, mask, creases, silhouettes)");
+    any = true;
+  }
+  if (!any) throw terrain::Error("--layers is empty (layers: shaded, mask, creases, silhouettes)");
+  if (l.shaded && l.mask) throw terrain::Error("--layers: choose shaded or mask, not both");
+  return l;
+}
+
+std::string to_string(const Layers& l) {
+  std::string s;
+  for (auto [on, name] : {std::pair{l.shaded, "shaded"}, {l.mask, "mask"}, {l.creases, "creases"},
+                          {l.silhouettes, "silhouettes"}})
+    if (on) s += (s.empty() ? "" : ",") + std::string(name);
+  return s;
+}
+
+Eigen::Vector3f parse_colour(const std::string& text) {
+  static const std::map<std::string, Eigen::Vector3f> names = {
+      {"white", {1, 1, 1}},       {"black", {0, 0, 0}},         {"grey", {0.5f, 0.5f, 0.5f}},
+      {"gray", {0.5f, 0.5f, 0.5f}}, {"blue", {0.05f, 0.2f, 0.55f}}, {"red", {0.75f, 0.1f, 0.1f}},
+      {"brown", {0.45f, 0.3f, 0.15f}}};
+  const std::string t = trim(text);
+  if (auto it = names.find(t); it != names.end()) return it->second;
+  if (t.size() == 7 && t[0] == '#') {
+    unsigned v = 0;
+    const auto r = std::from_chars(t.data() + 1, t.data() + 7, v, 16);
+    if (r.ec == std::errc() && r.ptr == t.data() + 7)
+      return Eigen::Vector3f(float((v >> 16) & 255), float((v >> 8) & 255), float(v & 255)) / 255.0f;
+  }
+  const auto parts = split(t, ',');
+  if (parts.size() == 3) {
+    Eigen::Vector3f c;
+    bool ok = true;
+    for (int i = 0; i < 3; ++i) {
+      double v = 0;
+      ok = ok && to_double(trim(parts[i]), v) && v >= 0 && v <= 255;
+      c[i] = float(v / 255.0);
+    }
+    if (ok) return c;
+  }
+  throw terrain::Error("bad colour '" + text + "' (use #rrggbb, r,g,b in 0..255, or white, black, grey, blue, red, brown)");
+}
+
+const std::vector<std::string>& frame_columns() {
+  static const std::vector<std::string> cols = {"easting", "northing", "elevation", "view_az", "view_alt",
+                                                "fov",     "light_az", "light_alt", "sw",      "iw",
+                                                "fw",      "min_score", "falloff"};
+  return cols;
+}
+
+namespace {
+
+double* field_of(FrameParams& f, Eigen::Vector3d& eye, const std::string& col) {
+  if (col == "easting") return &eye.x();
+  if (col == "northing") return &eye.y();
+  if (col == "elevation") return &eye.z();
+  if (col == "view_az") return &f.camera.view_az;
+  if (col == "view_alt") return &f.camera.view_alt;
+  if (col == "fov") return &f.camera.fov;
+  if (col == "light_az") return &f.light.azimuth;
+  if (col == "light_alt") return &f.light.altitude;
+  if (col == "sw") return &f.score.sw;
+  if (col == "iw") return &f.score.iw;
+  if (col == "fw") return &f.score.fw;
+  if (col == "min_score") return &f.score.min_score;
+  if (col == "falloff") return &f.score.falloff;
+  return nullptr;
+}
+
+}  // namespace
+
+std::vector<FrameParams> parse_frames_csv(const std::string& text, const FrameParams& defaults,
+                                          const std::string& name) {
+  std::istringstream in(text);
+  std::string line;
+  std::vector<std::string> header;
+  std::vector<FrameParams> frames;
+  int line_no = 0, header_line = 0, eye_columns = 0;
+  auto fail = [&](int at, const std::string& what) { throw terrain::Error(fmt::format("{}:{}: {}", name, at, what)); };
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::string t = trim(line);
+    if (t.empty() || t[0] == '#') continue;
+    auto fields = split(t, ',');
+    for (auto& f : fields) f = trim(f);
+    if (header.empty()) {
+      header = fields;
+      header_line = line_no;
+      for (std::size_t i = 0; i < header.size(); ++i) {
+        if (std::find(frame_columns().begin(), frame_columns().end(), header[i]) == frame_columns().end())
+          fail(line_no, fmt::format("unknown column '{}' (columns: {})", header[i], fmt::join(frame_columns(), " ")));
+        if (std::find(header.begin(), header.begin() + long(i), header[i]) != header.begin() + long(i))
+          fail(line_no, fmt::format("column '{}' appears twice", header[i]));
+        if (header[i] == "easting" || header[i] == "northing" || header[i] == "elevation") ++eye_columns;
+      }
+      if (eye_columns != 0 && eye_columns != 3)
+        fail(line_no, "columns easting, northing and elevation go together (all three or none)");
+      continue;
+    }
+    if (fields.size() != header.size())
+      fail(line_no, fmt::format("expected {} fields, found {}", header.size(), fields.size()));
+    FrameParams f = defaults;
+    Eigen::Vector3d eye = defaults.camera.eye.value_or(Eigen::Vector3d::Zero());
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      double v = 0;
+      if (!to_double(fields[i], v)) fail(line_no, fmt::format("field '{}': '{}' is not a number", header[i], fields[i]));
+      *field_of(f, eye, header[i]) = v;
+    }
+    if (eye_columns == 3) f.camera.eye = eye;
+    if (!(f.camera.fov > 0 && f.camera.fov < 180)) fail(line_no, "fov must be in (0, 180) degrees");
+    frames.push_back(f);
+  }
+  if (header.empty()) throw terrain::Error(name + ": no header row");
+  if (frames.empty()) fail(header_line, "no frames after the header row");
+  return frames;
+}
+
+std::vector<FrameParams> read_frames_csv(const std::string& path, const FrameParams& defaults) {
+  std::ifstream in(path);
+  if (!in) throw terrain::Error("cannot read " + path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_frames_csv(ss.str(), defaults, path);
+}
+
+std::string path_csv(const FlightPath& p) {
+  if (p.frames < 2) throw terrain::Error("--frames must be at least 2");
+  double az = p.params.camera.view_az;
+  const Eigen::Vector3d d = p.to - p.from;
+  if (std::isnan(az)) {
+    if (std::hypot(d.x(), d.y()) == 0) throw terrain::Error("--from and --to are vertically aligned: give --view-az");
+    az = std::fmod(std::atan2(d.x(), d.y()) * 180.0 / std::numbers::pi + 360.0, 360.0);
+  }
+  std::string out = fmt::format("{}\n", fmt::join(frame_columns(), ","));
+  for (int i = 0; i < p.frames; ++i) {
+    const Eigen::Vector3d e = p.from + d * (double(i) / double(p.frames - 1));
+    const auto& s = p.params.score;
+    out += fmt::format("{:.3f},{:.3f},{:.3f},{},{},{},{},{},{},{},{},{},{}\n", e.x(), e.y(), e.z(), az,
+                       p.params.camera.view_alt, p.params.camera.fov, p.params.light.azimuth,
+                       p.params.light.altitude, s.sw, s.iw, s.fw, s.min_score, s.falloff);
+  }
+  return out;
+}
+
+}  // namespace renderer

@@ -1,0 +1,306 @@
+// terrain-render: headless OpenGL renderer of PN-triangle terrain with drainage creases and
+// Toward/Away silhouettes (Mower's Creases algorithm); single frames, batches, flight paths.
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+
+#include "common.hpp"
+#include "drainage/dv_file.hpp"
+#include "renderer/crease.hpp"
+#include "renderer/frames.hpp"
+#include "renderer/gl_context.hpp"
+#include "renderer/terrain_renderer.hpp"
+#include "terrain/atomic_file.hpp"
+#include "terrain/image_io.hpp"
+#include "terrain/mesh_io.hpp"
+
+namespace tt = terrain::tools;
+namespace rr = renderer;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Options shared by frame and batch: the defaults of every frame and the style.
+struct RenderOptions {
+  rr::FrameParams frame;
+  rr::Style style;
+  std::vector<double> eye;
+  std::string size = "1280x720", layers = "mask,creases,silhouettes";
+  std::string background = "white", mask = "white", crease_colour = "blue", silhouette_colour = "black";
+  bool literal = false;
+  std::uint32_t min_accumulated = 20;
+};
+
+void add_render_options(CLI::App* app, RenderOptions& o) {
+  auto& f = o.frame;
+  app->add_option("--size", o.size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
+  app->add_option("--eye", o.eye, "Viewpoint E N Z: easting, northing (mesh CRS) and elevation in metres; "
+                                  "default: an oblique view framing the whole terrain")
+      ->expected(3);
+  app->add_option("--view-az", f.camera.view_az, "Bearing of the line of sight, degrees clockwise from grid north")
+      ->capture_default_str();
+  app->add_option("--view-alt", f.camera.view_alt, "Angle of the line of sight below the horizon, degrees")
+      ->check(CLI::Range(-90.0, 90.0))
+      ->capture_default_str();
+  app->add_option("--fov", f.camera.fov, "Vertical field of view, degrees")
+      ->check(CLI::Range(1.0, 170.0))
+      ->capture_default_str();
+  app->add_option("--light-az", f.light.azimuth, "Light azimuth, degrees clockwise from north")->capture_default_str();
+  app->add_option("--light-alt", f.light.altitude, "Light altitude above the horizon, degrees")
+      ->check(CLI::Range(-90.0, 90.0))
+      ->capture_default_str();
+  app->add_option("--sw", f.score.sw, "Crease score: slope weight")->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  app->add_option("--iw", f.score.iw, "Crease score: illumination weight")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app->add_option("--fw", f.score.fw, "Crease score: flow weight")->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  app->add_option("--min-score", f.score.min_score,
+                  "Crease score: minimum (rs_min at the eye); 0 draws every crease, 1 none")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app->add_option("--falloff", f.score.falloff,
+                  "Crease score: k in rs_min(d) = min + (1 - min) k clamp(d / far, 0, 1); 0 = no distance term")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app->add_option("--far-distance", f.score.far_distance,
+                  "Crease score: distance (m) at which rs_min stops rising; 0 = the terrain's diagonal")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app->add_option("--min-accumulation", o.min_accumulated,
+                  "Creases start where at least this many drainage points drain (channel initiation; 0: every "
+                  "D8 link, as the paper)")
+      ->capture_default_str();
+  app->add_flag("--literal-score", o.literal,
+                "Divide the weighted sum by 3 (the paper's equation 6) instead of by the weight sum");
+  app->add_option("--layers", o.layers, "Layers to composite: shaded or mask, creases, silhouettes (comma list)")
+      ->capture_default_str();
+  app->add_option("--background", o.background, "Background colour (#rrggbb, r,g,b or a name)")->capture_default_str();
+  app->add_option("--mask-colour", o.mask, "Surface colour of the mask layer")->capture_default_str();
+  app->add_option("--crease-colour", o.crease_colour, "Crease colour")->capture_default_str();
+  app->add_option("--silhouette-colour", o.silhouette_colour, "Silhouette colour")->capture_default_str();
+  app->add_option("--crease-width", o.style.crease_width, "Crease width in pixels at normalized flow 0")
+      ->check(CLI::Range(0.5, 20.0))
+      ->capture_default_str();
+  app->add_option("--crease-width-max", o.style.crease_width_max, "Crease width in pixels at normalized flow 1")
+      ->check(CLI::Range(0.5, 20.0))
+      ->capture_default_str();
+  app->add_option("--silhouette-width", o.style.silhouette_width, "Silhouette width in pixels")
+      ->check(CLI::Range(1, 9))
+      ->capture_default_str();
+  app->add_option("--exaggeration", o.style.exaggeration, "Vertical exaggeration")
+      ->check(CLI::Range(0.01, 100.0))
+      ->capture_default_str();
+  app->add_option("--crease-lift", o.style.crease_lift,
+                  "Creases are lifted this far (m) along the surface normal; default 0.5 x mesh spacing");
+  app->add_option("--pixels-per-edge", o.style.pixels_per_edge,
+                  "Adaptive tessellation target: screen length of a tessellated edge, pixels")
+      ->check(CLI::Range(1.0, 100.0))
+      ->capture_default_str();
+}
+
+// Resolves the string options; returns width and height.
+std::pair<int, int> finish_options(RenderOptions& o, rr::Layers& layers) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(o.size.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
+    throw CLI::ValidationError("--size", "expected WIDTHxHEIGHT, e.g. 1280x720, got '" + o.size + "'");
+  if (w < 16 || h < 16 || w > 16384 || h > 16384)
+    throw CLI::ValidationError("--size", "width and height must be in 16 .. 16384");
+  if (!o.eye.empty()) o.frame.camera.eye = Eigen::Vector3d(o.eye[0], o.eye[1], o.eye[2]);
+  o.frame.score.literal_divisor = o.literal;
+  if (o.frame.score.sw + o.frame.score.iw + o.frame.score.fw <= 0)
+    throw CLI::ValidationError("--sw/--iw/--fw", "at least one weight must be > 0");
+  layers = rr::parse_layers(o.layers);
+  o.style.background = rr::parse_colour(o.background);
+  o.style.mask = rr::parse_colour(o.mask);
+  o.style.crease_colour = rr::parse_colour(o.crease_colour);
+  o.style.silhouette_colour = rr::parse_colour(o.silhouette_colour);
+  return {w, h};
+}
+
+struct Scene {
+  terrain::GridMesh mesh;
+  std::optional<rr::CreaseGeometry> creases;
+};
+
+Scene load_scene(const std::string& mesh_path, const std::string& dv_path, std::uint32_t min_accumulated,
+                 const tt::Verbosity& verb) {
+  auto t0 = Clock::now();
+  Scene s{terrain::read_mesh_ply(mesh_path), std::nullopt};
+  tt::step(verb, fmt::format("read mesh {} x {} ({} patches): {:.2f} s", s.mesh.topo.cols, s.mesh.topo.rows,
+                             s.mesh.n_faces(), since(t0)));
+  if (!dv_path.empty()) {
+    t0 = Clock::now();
+    const drainage::DrainageDb db = drainage::read_dv(dv_path);
+    s.creases = rr::build_crease_geometry(s.mesh, db, min_accumulated);
+    tt::step(verb, fmt::format("read {} and its PN normals: {} vertices, {} segments: {:.2f} s", dv_path,
+                               s.creases->positions.size(), s.creases->n_segments(), since(t0)));
+  }
+  return s;
+}
+
+void print_device(const rr::GlContext& ctx) {
+  std::cout << "renderer: " << ctx.info().renderer << " (" << ctx.info().platform << ", OpenGL " << ctx.info().version
+            << ")\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Render PN-triangle terrain with drainage creases and Toward/Away silhouettes, headless\n"
+               "(OpenGL 4.5 through EGL: a GPU where there is one, Mesa llvmpipe otherwise).",
+               "terrain-render"};
+  app.footer(
+      "Examples:\n"
+      "  terrain-render frame out/msh_50m.ply out/msh.dv -o msh.png\n"
+      "  terrain-render frame out/msh_50m.ply out/msh.dv -o msh_shaded.png --layers shaded --view-az 180\n"
+      "  terrain-render path --from 560000 5120000 2600 --to 563000 5117000 2600 --frames 99 -o path.csv\n"
+      "  terrain-render batch out/msh_50m.ply out/msh.dv path.csv -o frames/\n"
+      "  terrain-render --device\n\n"
+      "See docs/terrain-render.md for the passes, the crease score and the camera conventions.");
+  app.set_version_flag("--version", tt::version());
+  app.require_subcommand(0, 1);
+  app.fallthrough();  // -q / -v after the subcommand
+  bool list_devices = false;
+  app.add_flag("--device", list_devices, "List the EGL devices and OpenGL renderers found, then exit");
+  tt::Verbosity verb;
+  tt::add_verbosity_flags(app, verb);
+
+  // frame
+  auto* frame_cmd = app.add_subcommand("frame", "Render one frame to a PNG");
+  std::string frame_mesh, frame_dv, frame_out;
+  RenderOptions frame_opts;
+  frame_cmd->add_option("MESH", frame_mesh, "Mesh (.ply from dem2mesh)")->required();
+  frame_cmd->add_option("DV", frame_dv, "Drainage database (.dv from build-drainage); no creases without it");
+  frame_cmd->add_option("-o,--output", frame_out, "Output PNG")->required();
+  add_render_options(frame_cmd, frame_opts);
+
+  // batch
+  auto* batch_cmd = app.add_subcommand("batch", "Render every frame of a CSV list; write PNGs and timings.csv");
+  std::vector<std::string> batch_pos;
+  std::string batch_dir;
+  RenderOptions batch_opts;
+  batch_cmd->add_option("MESH [DV] FRAMES", batch_pos, "Mesh, optional drainage database, frame list (CSV)")
+      ->required()
+      ->expected(2, 3);
+  batch_cmd->add_option("-o,--output", batch_dir, "Output directory (created if missing)")->required();
+  add_render_options(batch_cmd, batch_opts);
+
+  // path
+  auto* path_cmd = app.add_subcommand("path", "Write a straight flight path as a frame list (CSV)");
+  std::vector<double> from, to;
+  int n_frames = 0;
+  std::string path_out;
+  rr::FrameParams path_params;
+  path_params.camera.view_az = std::numeric_limits<double>::quiet_NaN();
+  path_params.camera.view_alt = 10.0;
+  path_cmd->add_option("--from", from, "Start viewpoint E N Z (metres)")->expected(3)->required();
+  path_cmd->add_option("--to", to, "End viewpoint E N Z (metres)")->expected(3)->required();
+  path_cmd->add_option("--frames", n_frames, "Number of frames (>= 2)")->check(CLI::Range(2, 1000000))->required();
+  path_cmd->add_option("--view-az", path_params.camera.view_az, "Bearing of the line of sight; default: along the path");
+  path_cmd->add_option("--view-alt", path_params.camera.view_alt, "Angle of the line of sight below the horizon")
+      ->check(CLI::Range(-90.0, 90.0))
+      ->capture_default_str();
+  path_cmd->add_option("--fov", path_params.camera.fov, "Vertical field of view, degrees")
+      ->check(CLI::Range(1.0, 170.0))
+      ->capture_default_str();
+  path_cmd->add_option("--light-az", path_params.light.azimuth, "Light azimuth")->capture_default_str();
+  path_cmd->add_option("--light-alt", path_params.light.altitude, "Light altitude")->capture_default_str();
+  path_cmd->add_option("--min-score", path_params.score.min_score, "Crease minimum score")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  path_cmd->add_option("-o,--output", path_out, "Output CSV")->required();
+
+  return tt::run_main(app, argc, argv, [&]() -> int {
+    if (list_devices) {
+      const auto devices = rr::list_gl_devices();
+      for (const auto& d : devices)
+        std::cout << d.platform << ": " << d.renderer << (d.version.empty() ? "" : " | OpenGL " + d.version)
+                  << (d.software ? " | software" : "") << (d.usable ? " | usable" : "")
+                  << (d.detail.empty() ? "" : " | " + d.detail) << "\n";
+      rr::GlContext ctx;
+      std::cout << "selected: " << ctx.info().platform << " (" << ctx.info().renderer << ")\n";
+      return 0;
+    }
+    const std::string prov = tt::provenance(argc, argv);
+
+    if (path_cmd->parsed()) {
+      terrain::check_output_path(path_out);
+      rr::FlightPath p{Eigen::Vector3d(from[0], from[1], from[2]), Eigen::Vector3d(to[0], to[1], to[2]), n_frames,
+                       path_params};
+      const std::string text = "# " + prov + "\n" + rr::path_csv(p);
+      terrain::AtomicFile af(path_out);
+      std::ofstream(af.temp_path()) << text;
+      af.commit();
+      std::cout << "output: " << path_out << "\nframes: " << n_frames << "\n";
+      return 0;
+    }
+
+    if (frame_cmd->parsed()) {
+      rr::Layers layers;
+      const auto [w, h] = finish_options(frame_opts, layers);
+      if (!frame_out.ends_with(".png")) throw terrain::Error("the output must be a .png file: '" + frame_out + "'");
+      terrain::check_output_path(frame_out);
+      if (!frame_dv.empty() && !drainage::is_dv_file(frame_dv))
+        throw terrain::Error("'" + frame_dv + "' is not a drainage database (.dv)");
+      const Scene scene = load_scene(frame_mesh, frame_dv, frame_opts.min_accumulated, verb);
+      auto t0 = Clock::now();
+      rr::GlContext ctx;
+      rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, w, h, layers,
+                            frame_opts.style);
+      tt::step(verb, fmt::format("OpenGL set-up ({}): {:.2f} s", ctx.info().renderer, since(t0)));
+      const rr::FrameResult res = r.render(frame_opts.frame);
+      terrain::write_png(frame_out, w, h, 4, res.rgba, prov);
+      const Eigen::Vector3d eye = res.view.eye + r.origin();
+      std::cout << "output: " << frame_out << "\n"
+                << "size: " << w << " x " << h << "\n";
+      print_device(ctx);
+      std::cout << fmt::format("eye: {:.1f} {:.1f} {:.1f}\n", eye.x(), eye.y(), eye.z())
+                << "crease segments drawn: " << res.crease_segments << "\n";
+      for (int p = 0; p < rr::kPassCount; ++p)
+        std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p), res.timings.gpu_ms[p],
+                                 res.timings.wall_ms[p]);
+      return 0;
+    }
+
+    if (batch_cmd->parsed()) {
+      rr::Layers layers;
+      const auto [w, h] = finish_options(batch_opts, layers);
+      const std::string mesh_path = batch_pos[0], csv = batch_pos.back();
+      const std::string dv_path = batch_pos.size() == 3 ? batch_pos[1] : "";
+      if (!dv_path.empty() && !drainage::is_dv_file(dv_path))
+        throw terrain::Error("'" + dv_path + "' is not a drainage database (.dv)");
+      const auto frames = rr::read_frames_csv(csv, batch_opts.frame);
+      std::filesystem::create_directories(batch_dir);
+      terrain::check_output_path(std::filesystem::path(batch_dir) / "timings.csv");
+      const Scene scene = load_scene(mesh_path, dv_path, batch_opts.min_accumulated, verb);
+      rr::GlContext ctx;
+      rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, w, h, layers,
+                            batch_opts.style);
+      std::vector<rr::FrameTimings> timings;
+      const auto progress = tt::terminal_progress(verb, "render");
+      for (std::size_t i = 0; i < frames.size(); ++i) {
+        const rr::FrameResult res = r.render(frames[i]);
+        timings.push_back(res.timings);
+        terrain::write_png((std::filesystem::path(batch_dir) / fmt::format("frame_{:05d}.png", i)).string(), w, h, 4,
+                           res.rgba, prov + fmt::format(" [frame {}]", i));
+        terrain::report(progress, double(i + 1) / double(frames.size()));
+      }
+      terrain::AtomicFile af(std::filesystem::path(batch_dir) / "timings.csv");
+      std::ofstream(af.temp_path()) << rr::timings_csv(timings);
+      af.commit();
+      std::cout << "output: " << batch_dir << "\nframes: " << frames.size() << "\nsize: " << w << " x " << h << "\n";
+      print_device(ctx);
+      std::cout << rr::timing_tables(timings);
+      return 0;
+    }
+    throw CLI::ValidationError("terrain-render", "give a subcommand: frame, batch or path (or --device)");
+  });
+}
