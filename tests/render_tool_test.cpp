@@ -1,0 +1,124 @@
+// End-to-end: terrain-render frame / batch / path on a real mesh and drainage database,
+// bad frame lists, and a machine without a usable OpenGL.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "test_support.hpp"
+
+namespace {
+
+using terrain::test::data;
+using terrain::test::run;
+using terrain::test::tool;
+
+std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
+
+void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+// A 50 m Mount St. Helens mesh and its drainage at 25 m, made once per test.
+struct Inputs {
+  terrain::test::ScratchDir dir;
+  std::string mesh, dv;
+  Inputs() : mesh(dir.path("m.ply")), dv(dir.path("m.dv")) {
+    const auto a = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh + " --spacing 50 -q");
+    EXPECT_EQ(a.exit_code, 0) << a.err;
+    const auto b = run(tool("build-drainage") + " " + mesh + " " + dv + " --spacing 25 -q");
+    EXPECT_EQ(b.exit_code, 0) << b.err;
+  }
+};
+
+TEST(TerrainRender, BatchWritesFramesAndTimings) {
+  Inputs in;
+  const std::string csv = in.dir.path("frames.csv");
+  const auto p = run(tool("terrain-render") + " path --from 561500 5114000 2800 --to 563500 5116000 2700 --frames 3 -o " +
+                     csv);
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  const std::string out = in.dir.path("frames");
+  const auto b = run(tool("terrain-render") + " batch " + in.mesh + " " + in.dv + " " + csv + " -o " + out +
+                     " --size 160x120 -q");
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_TRUE(b.err.empty()) << b.err;
+  for (int i = 0; i < 3; ++i)
+    EXPECT_TRUE(std::filesystem::exists(out + "/frame_0000" + std::to_string(i) + ".png")) << i;
+  EXPECT_FALSE(std::filesystem::exists(out + "/frame_00003.png"));
+  std::ifstream t(out + "/timings.csv");
+  std::string header, row;
+  std::getline(t, header);
+  EXPECT_EQ(header.rfind("frame,TFT_ms,AFT_ms,DM_ms,SIL_ms,LAY_ms,", 0), 0u) << header;
+  int rows = 0;
+  while (std::getline(t, row)) {
+    std::stringstream ss(row);
+    std::string cell;
+    std::getline(ss, cell, ',');
+    EXPECT_EQ(cell, std::to_string(rows));
+    for (int k = 0; k < 10; ++k) {  // GPU-timer and wall ms of the five passes
+      ASSERT_TRUE(std::getline(ss, cell, ','));
+      EXPECT_GT(std::stod(cell), 0.0) << "row " << rows << " column " << k + 1;
+    }
+    ++rows;
+  }
+  EXPECT_EQ(rows, 3);
+  EXPECT_NE(b.out.find("Table 3"), std::string::npos);
+  EXPECT_NE(b.out.find("Table 4"), std::string::npos);
+
+  // A single frame with the default camera, with and without creases.
+  const auto f = run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + in.dir.path("f.png") +
+                     " --size 160x120");
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  EXPECT_NE(f.out.find("crease segments drawn: "), std::string::npos) << f.out;
+  const auto g = run(tool("terrain-render") + " frame " + in.mesh + " -o " + in.dir.path("g.png") +
+                     " --size 160x120 --layers shaded -q");
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  EXPECT_TRUE(std::filesystem::exists(in.dir.path("g.png")));
+}
+
+TEST(TerrainRender, BadFrameListsNameTheLine) {
+  Inputs in;
+  const std::string csv = in.dir.path("bad.csv"), out = in.dir.path("frames");
+  write(csv, "view_az,view_alt\n10,20\n30\n");
+  auto r = run(tool("terrain-render") + " batch " + in.mesh + " " + in.dv + " " + csv + " -o " + out + " --size 64x64");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("bad.csv:3: expected 2 fields, found 1"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out + "/frame_00000.png"));
+
+  write(csv, "view_az,zoom\n10,2\n");
+  r = run(tool("terrain-render") + " batch " + in.mesh + " " + csv + " -o " + out + " --size 64x64");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("bad.csv:1: unknown column 'zoom'"), std::string::npos) << r.err;
+}
+
+TEST(TerrainRender, BadInputGivesOneLine) {
+  Inputs in;
+  for (const std::string& args :
+       {std::string("frame ") + in.dir.path("missing.ply") + " -o " + in.dir.path("x.png"),
+        std::string("frame ") + in.mesh + " " + in.mesh + " -o " + in.dir.path("x.png"),  // not a .dv
+        std::string("frame ") + in.mesh + " -o " + in.dir.path("x.png") + " --layers shaded,pels",
+        std::string("frame ") + in.mesh + " -o " + in.dir.path("x.png") + " --size 10x10000000"}) {
+    const auto r = run(tool("terrain-render") + " " + args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_EQ(lines(r.err), 1u) << args << "\n" << r.err;
+    EXPECT_FALSE(std::filesystem::exists(in.dir.path("x.png"))) << args;
+  }
+}
+
+// No EGL vendor (glvnd finds no driver) and a driver with OpenGL 3.3 only (Mesa softpipe):
+// one clear error line and exit code 1, no crash and no output.
+TEST(TerrainRender, NoUsableOpenGlIsAClearError) {
+  Inputs in;
+  for (const std::string env : {"__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/vendor.json",
+                                "GALLIUM_DRIVER=softpipe"}) {
+    const auto r = run("env " + env + " " + tool("terrain-render") + " frame " + in.mesh + " -o " +
+                       in.dir.path("x.png") + " --size 64x64");
+    EXPECT_EQ(r.exit_code, 1) << env << "\n" << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << env << "\n" << r.err;
+    EXPECT_NE(r.err.find("no usable OpenGL 4.3"), std::string::npos) << env << "\n" << r.err;
+    EXPECT_FALSE(std::filesystem::exists(in.dir.path("x.png")));
+  }
+}
+
+}  // namespace

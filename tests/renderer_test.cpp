@@ -1,0 +1,436 @@
+// terrain-render's GL-free parts (camera, crease score, frame lists, fps) and, on the
+// machine's OpenGL through EGL (llvmpipe in CI), the renderer against CPU references and
+// synthetic scenes whose answers are known.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+
+#include "drainage/dv_file.hpp"
+#include "drainage/pipeline.hpp"
+#include "renderer/camera.hpp"
+#include "renderer/crease.hpp"
+#include "renderer/frames.hpp"
+#include "renderer/gl_context.hpp"
+#include "renderer/shader.hpp"
+#include "renderer/terrain_renderer.hpp"
+#include "renderer/timing.hpp"
+#include "terrain/dem_io.hpp"
+#include "terrain/error.hpp"
+#include "terrain/hillshade.hpp"
+#include "terrain/pn_surface.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using Eigen::Vector3d;
+using renderer::CreaseGeometry;
+using renderer::FrameParams;
+using renderer::TerrainRenderer;
+
+// ---------------------------------------------------------------- GL-free
+
+TEST(CreaseScore, HandComputedValues) {
+  renderer::CreaseScoreParams p;  // 0.1 0.3 0.6
+  p.min_score = 0.2;
+  p.falloff = 0.0;
+  p.far_distance = 1000;
+  const Vector3d up(0, 0, 1);
+  // Flat ground lit from straight above: sc = 0, ic = 0, raw = 0.6 * 0.6 / 1.0 = 0.36.
+  EXPECT_NEAR(renderer::crease_score(up, 0.6, up, 0, p), 0.16, 1e-12);
+  p.literal_divisor = true;  // 0.36 / 3
+  EXPECT_NEAR(renderer::crease_score(up, 0.6, up, 0, p), 0.12 - 0.2, 1e-12);
+  p.literal_divisor = false;
+  // A 60-degree slope facing away from a light at 45 degrees: n = (sin60, 0, cos60),
+  // l = (-cos45, 0, sin45): sc = 0.5, ic = 1 - (-0.6124 + 0.3536).
+  const Vector3d n(std::sin(std::numbers::pi / 3), 0, 0.5), l(-std::sqrt(0.5), 0, std::sqrt(0.5));
+  const double ic = 1 - n.dot(l);
+  EXPECT_NEAR(renderer::crease_score(n, 0.0, l, 0, p), (0.1 * 0.5 + 0.3 * ic) / 1.0 - 0.2, 1e-12);
+  // Distance law: rs_min(d) = 0.2 + 0.8 * k * clamp(d / far): k = 0.5 at d = far / 2 -> 0.4.
+  p.falloff = 0.5;
+  EXPECT_NEAR(renderer::crease_score(up, 0.6, up, 500, p), 0.36 - 0.4, 1e-12);
+  EXPECT_NEAR(renderer::crease_score(up, 0.6, up, 5000, p), 0.36 - 0.6, 1e-12);  // clamped at far
+}
+
+TEST(Timing, PaperFrameRates) {
+  // Creases paper, frames 4-99 on a GTX 780: TFT 3.76 AFT 6.07 DM 6.05 SIL 26.09 LAY 0.04.
+  const auto f = renderer::frame_fps({3.76, 6.07, 6.05, 26.09, 0.04});
+  EXPECT_NEAR(f.crease, 1000 / 9.85, 1e-9);
+  EXPECT_NEAR(f.silhouette, 1000 / 35.96, 1e-9);
+  EXPECT_NEAR(f.total, 1000 / 42.01, 1e-9);
+  std::vector<renderer::FrameTimings> t(5);
+  for (int i = 0; i < 5; ++i) t[i].gpu_ms = {double(i + 1), 1, 1, 1, 1};
+  const auto s = renderer::summarize(t, 3, 5, false);
+  EXPECT_EQ(s.frames, 2u);
+  EXPECT_DOUBLE_EQ(s.mean_ms[renderer::TFT], 4.5);
+  EXPECT_NE(renderer::timing_tables(t).find("frames 4-N"), std::string::npos);
+  const std::string csv = renderer::timings_csv(t);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 6);
+}
+
+TEST(Camera, ProjectionAndFraming) {
+  renderer::Box box{{0, -3000, 100}, {4000, 0, 900}};
+  for (double az : {0.0, 135.0, 225.0}) {
+    for (double alt : {5.0, 30.0, 90.0}) {
+      renderer::Camera cam;
+      cam.view_az = az;
+      cam.view_alt = alt;
+      const auto v = renderer::make_view(cam, Vector3d::Zero(), box, 640, 360);
+      // A point straight ahead projects to the image centre.
+      const auto c = renderer::project(v, v.eye + 500 * v.forward);
+      EXPECT_NEAR(c.u, 320, 1e-6);
+      EXPECT_NEAR(c.v, 180, 1e-6);
+      EXPECT_NEAR(c.depth, v.near / 500, 1e-12);  // reversed z
+      // Every corner of the framed box is in the image.
+      for (int i = 0; i < 8; ++i) {
+        const Vector3d p((i & 1) ? box.hi.x() : box.lo.x(), (i & 2) ? box.hi.y() : box.lo.y(),
+                         (i & 4) ? box.hi.z() : box.lo.z());
+        const auto q = renderer::project(v, p);
+        EXPECT_TRUE(q.in_front);
+        EXPECT_GE(q.u, -1e-6) << az << " " << alt;
+        EXPECT_LE(q.u, 640 + 1e-6);
+        EXPECT_GE(q.v, -1e-6);
+        EXPECT_LE(q.v, 360 + 1e-6);
+      }
+    }
+  }
+  // Up in the world is up in the image; east is right when looking north.
+  renderer::Camera north;
+  north.view_az = 0;
+  north.view_alt = 0;
+  north.eye = Vector3d(0, 0, 0);
+  const auto v = renderer::make_view(north, Vector3d::Zero(), box, 100, 100);
+  EXPECT_LT(renderer::project(v, {0, 100, 10}).v, 50);
+  EXPECT_GT(renderer::project(v, {10, 100, 0}).u, 50);
+}
+
+TEST(Frames, ParsesColumnsAndDefaults) {
+  FrameParams d;
+  d.camera.fov = 22;
+  const auto f = renderer::parse_frames_csv(
+      "# comment\neasting,northing,elevation,view_az\n1,2,3,45\n\n4,5,6,90\n", d, "f.csv");
+  ASSERT_EQ(f.size(), 2u);
+  EXPECT_EQ(*f[1].camera.eye, Vector3d(4, 5, 6));
+  EXPECT_EQ(f[1].camera.view_az, 90);
+  EXPECT_EQ(f[0].camera.fov, 22);  // missing column: the default
+  const auto g = renderer::parse_frames_csv("min_score\n0.3\n", d, "g.csv");
+  EXPECT_FALSE(g[0].camera.eye.has_value());
+  EXPECT_EQ(g[0].score.min_score, 0.3);
+}
+
+TEST(Frames, ErrorsNameTheLine) {
+  const FrameParams d;
+  auto message = [&](const std::string& text) {
+    try {
+      renderer::parse_frames_csv(text, d, "f.csv");
+    } catch (const terrain::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("view_az,foo\n1,2\n").find("f.csv:1: unknown column 'foo'"), std::string::npos);
+  EXPECT_NE(message("# c\nview_az,fov\n1,2\n3\n").find("f.csv:4: expected 2 fields, found 1"), std::string::npos);
+  EXPECT_NE(message("view_az,fov\n1,abc\n").find("f.csv:2: field 'fov': 'abc' is not a number"), std::string::npos);
+  EXPECT_NE(message("easting,northing\n1,2\n").find("f.csv:1:"), std::string::npos);
+  EXPECT_NE(message("view_az\n").find("f.csv:1: no frames"), std::string::npos);
+  EXPECT_NE(message("fov\n0\n").find("f.csv:2:"), std::string::npos);
+}
+
+TEST(Frames, StraightPath) {
+  renderer::FlightPath p{{0, 0, 100}, {300, 400, 200}, 3, {}};
+  p.params.camera.view_az = std::nan("");
+  const auto frames = renderer::parse_frames_csv(renderer::path_csv(p), FrameParams{}, "path");
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_EQ(*frames[1].camera.eye, Vector3d(150, 200, 150));
+  EXPECT_NEAR(frames[2].camera.view_az, std::atan2(300, 400) * 180 / std::numbers::pi, 1e-9);
+}
+
+TEST(Layers, Parse) {
+  const auto l = renderer::parse_layers("shaded, creases");
+  EXPECT_TRUE(l.shaded && l.creases && !l.mask && !l.silhouettes);
+  EXPECT_THROW(renderer::parse_layers("mask,pels"), terrain::Error);
+  EXPECT_THROW(renderer::parse_layers("shaded,mask"), terrain::Error);
+  EXPECT_EQ(renderer::parse_colour("#ff8000"), Eigen::Vector3f(1, 128 / 255.f, 0));
+  EXPECT_THROW(renderer::parse_colour("#zz0000"), terrain::Error);
+}
+
+TEST(Shader, LogLocationsNameTheFile) {
+  EXPECT_EQ(renderer::map_log_locations("1:12(3): error: x", {"a.glsl", "b.glsl"}), "a.glsl:12: error: x");
+  EXPECT_EQ(renderer::map_log_locations("2(7) : error C0000", {"a.glsl", "b.glsl"}), "b.glsl:7 : error C0000");
+}
+
+// ---------------------------------------------------------------- scenes
+
+// A mesh of z = f(x, y) on rows x cols samples `h` apart; local = world, sample (0, 0)
+// at (0, 0), x east, y north (rows go south, to negative y).
+terrain::GridMesh synthetic_mesh(std::size_t rows, std::size_t cols, double h,
+                                 const std::function<double(double, double)>& f) {
+  terrain::Georef geo;
+  geo.dx = geo.dy = h;
+  geo.x0 = -0.5 * h;
+  geo.y0 = 0.5 * h;
+  geo.crs_kind = terrain::CrsKind::Projected;
+  terrain::Grid g(rows, cols, geo);
+  for (std::size_t r = 0; r < rows; ++r)
+    for (std::size_t c = 0; c < cols; ++c) g.at(r, c) = float(f(double(c) * h, -double(r) * h));
+  return terrain::make_grid_mesh(g, terrain::NormalWeighting::Area);
+}
+
+renderer::Style test_style() {
+  renderer::Style s;
+  s.background = {1, 1, 1};
+  s.crease_colour = {1, 0, 0};
+  s.silhouette_colour = {0, 0, 0};
+  return s;
+}
+
+std::size_t count_colour(const renderer::FrameResult& r, std::uint8_t red, std::uint8_t green, std::uint8_t blue) {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < r.rgba.size(); i += 4)
+    n += r.rgba[i] == red && r.rgba[i + 1] == green && r.rgba[i + 2] == blue;
+  return n;
+}
+
+// A crop of the Mount St. Helens DEM (real data) as a mesh, and its drainage at 5 m.
+struct MshScene {
+  terrain::GridMesh mesh;
+  drainage::DrainageDb db;
+};
+const MshScene& msh_scene() {
+  static const MshScene scene = [] {
+    const terrain::Grid dem = terrain::read_dem(terrain::test::data("msh_2007_utm10n_10m.tif"));
+    const std::size_t r0 = 150, c0 = 100, n = 64;
+    terrain::Georef geo = dem.geo;
+    geo.x0 += double(c0) * geo.dx;
+    geo.y0 -= double(r0) * geo.dy;
+    terrain::Grid crop(n, n, geo);
+    for (std::size_t r = 0; r < n; ++r)
+      for (std::size_t c = 0; c < n; ++c) crop.at(r, c) = dem.at(r0 + r, c0 + c);
+    MshScene s;
+    s.mesh = terrain::make_grid_mesh(crop, terrain::NormalWeighting::Uniform);
+    const auto sampled = terrain::sample_pn_surface(s.mesh, 5.0);
+    const auto result = drainage::compute_drainage(sampled.grid, {});
+    terrain::test::ScratchDir dir;
+    const auto header = drainage::make_dv_header(result.surface, result.net, result.dv_flags, "test");
+    drainage::write_dv(dir.path("msh.dv"), header, result.surface, result.dirs, result.net);
+    s.db = drainage::read_dv(dir.path("msh.dv"));
+    return s;
+  }();
+  return scene;
+}
+
+// ---------------------------------------------------------------- on OpenGL
+
+TEST(RendererGl, GlslPnEvaluationMatchesCpu) {
+  const auto& mesh = msh_scene().mesh;
+  renderer::GlContext ctx;
+  TerrainRenderer r(ctx, mesh, nullptr, 64, 64, renderer::Layers{}, test_style());
+  std::vector<std::uint32_t> faces;
+  for (std::uint32_t f = 0; f < mesh.n_faces(); f += 37) faces.push_back(f);
+  const auto samples = r.capture_pn(faces, 3);
+  ASSERT_GT(samples.size(), faces.size() * 9 * 3);  // level 3: at least 9 triangles per patch
+  std::vector<int> per_face(mesh.n_faces());
+  for (const auto& s : samples) ++per_face.at(s.face);
+  for (const auto f : faces) EXPECT_EQ(per_face[f], int(samples.size() / faces.size()));
+  // Scale of the positions: the mesh's extent (local coordinates, metres).
+  double scale = 0;
+  for (std::size_t i = 0; i < mesh.n_vertices(); ++i) scale = std::max(scale, double(mesh.positions[i].norm()));
+  double max_pos = 0, max_nrm = 0;
+  for (const auto& s : samples) {
+    ASSERT_LT(s.face, mesh.n_faces());
+    ASSERT_NEAR(s.b1 + s.b2 + s.b3, 1.0, 1e-6);
+    const terrain::PnPatch patch = terrain::face_patch(mesh, s.face);
+    const Vector3d p = terrain::pn_position(patch, s.b1, s.b2, s.b3);
+    const Vector3d n = terrain::pn_normal(patch, s.b1, s.b2, s.b3);
+    max_pos = std::max(max_pos, (s.position.cast<double>() - p).norm() / scale);
+    max_nrm = std::max(max_nrm, (s.normal.cast<double>() - n).norm());
+  }
+  EXPECT_LT(max_pos, 1e-5);
+  EXPECT_LT(max_nrm, 1e-5);
+}
+
+// Ridge z = H exp(-(y - yr)^2 / 2 s^2) running east-west on a plain 4 km deep; the eye,
+// 900 m south of the crest, looks north, level. The Toward/Away silhouette must sit where
+// the tangent from the eye touches the ridge: image row = h/2 - f * max (z(y) - z_eye) /
+// (y - y_eye) over the ridge, f = (h/2) / tan(fov/2), the same in every column (the ridge
+// is uniform in x and the view is level). Below the crest that is the skyline; above it,
+// the ridge's occluding edge against the plain behind (seen above the ridge up to the
+// plain's far edge, which is no silhouette: no away surface there).
+struct RidgeCase {
+  double eye_z;
+};
+class RidgeSilhouette : public ::testing::TestWithParam<RidgeCase> {};
+
+TEST_P(RidgeSilhouette, WherProjectionPredicts) {
+  const double H = 200, s = 100, yr = -3000, h = 20;
+  auto z = [&](double, double y) { return H * std::exp(-0.5 * (y - yr) * (y - yr) / (s * s)); };
+  const auto mesh = synthetic_mesh(201, 101, h, z);  // x 0..2000, y -4000..0
+  renderer::GlContext ctx;
+  renderer::Layers layers{false, true, false, true};
+  TerrainRenderer r(ctx, mesh, nullptr, 320, 240, layers, test_style());
+  FrameParams fp;
+  const Vector3d eye(1000, -3900, GetParam().eye_z);
+  fp.camera.eye = eye;
+  fp.camera.view_az = 0;
+  fp.camera.view_alt = 0;
+  fp.camera.fov = 30;
+  r.render(fp);
+  const auto b = r.read_buffers();
+  double best = -1e9;
+  for (double y = yr - 4 * s; y <= yr + 4 * s; y += 0.25) best = std::max(best, (z(0, y) - eye.z()) / (y - eye.y()));
+  const double f = 120 / std::tan(15 * std::numbers::pi / 180);
+  const double row = 120 - f * best;  // in pixel units from the top edge
+  std::size_t near_line = 0, elsewhere = 0, columns_hit = 0;
+  for (int c = 0; c < 320; ++c) {
+    bool hit = false;
+    for (int rr = 0; rr < 240; ++rr) {
+      if (!b.silhouette[std::size_t(rr) * 320 + std::size_t(c)]) continue;
+      if (std::abs(rr + 0.5 - row) <= 1.5) {
+        ++near_line;
+        hit = true;
+      } else {
+        ++elsewhere;
+      }
+    }
+    columns_hit += hit;
+  }
+  // Tolerance: 1.5 pixels from the predicted row; every column has its pixel there.
+  EXPECT_EQ(columns_hit, 320u) << "predicted row " << row;
+  EXPECT_EQ(elsewhere, 0u);
+  EXPECT_LE(near_line, 2u * 320u);
+}
+INSTANTIATE_TEST_SUITE_P(SkylineAndOccludingEdge, RidgeSilhouette,
+                         ::testing::Values(RidgeCase{100.0},    // below the crest: the skyline
+                                           RidgeCase{400.0}));  // above: the ridge against the plain behind
+
+TEST(RendererGl, FlatPlaneFromAboveHasNoSilhouette) {
+  const auto mesh = synthetic_mesh(41, 41, 25, [](double, double) { return 100.0; });
+  renderer::GlContext ctx;
+  TerrainRenderer r(ctx, mesh, nullptr, 200, 200, renderer::Layers{false, true, false, true}, test_style());
+  FrameParams fp;
+  fp.camera.view_alt = 90;
+  const auto res = r.render(fp);
+  const auto b = r.read_buffers();
+  EXPECT_EQ(std::count(b.silhouette.begin(), b.silhouette.end(), 1), 0);
+  EXPECT_GT(count_colour(res, 255, 255, 255), 0u);
+  // The plane covers most of the image (framed) and is toward-facing everywhere.
+  std::size_t covered = 0;
+  for (float d : b.toward_depth) covered += d > 0.0f;
+  EXPECT_GT(covered, 200u * 200u / 3);
+}
+
+// A channel along the floor of an east-west valley; a higher ridge between the eye and
+// the valley hides it; without the ridge, or from above, it shows.
+TEST(RendererGl, RidgeHidesTheValleyCreases) {
+  auto terrain_fn = [](double ridge) {
+    return [ridge](double, double y) {
+      return ridge * std::exp(-0.5 * std::pow((y + 3000) / 100, 2)) - 50 * std::exp(-0.5 * std::pow((y + 2000) / 400, 2));
+    };
+  };
+  auto creases_on = [](const terrain::GridMesh& mesh) {
+    CreaseGeometry g;
+    for (double x = 300; x <= 1700; x += 20) {
+      const auto sp = terrain::pn_point_above(mesh, x, -2000);
+      g.positions.push_back(sp->position.cast<float>());
+      g.normals.push_back(sp->normal.cast<float>());
+      g.flow.push_back(float((x - 280) / 1420));
+    }
+    for (std::uint32_t i = 0; i + 1 < g.positions.size(); ++i) g.segments.insert(g.segments.end(), {i, i + 1});
+    return g;
+  };
+  FrameParams fp;
+  fp.camera.eye = Vector3d(1000, -3800, 250);
+  fp.camera.view_az = 0;
+  fp.camera.view_alt = 0;
+  fp.camera.fov = 40;
+  fp.score.min_score = 0;
+  fp.score.falloff = 0;
+  renderer::GlContext ctx;
+  const renderer::Layers layers{false, true, true, false};
+  std::size_t pixels[3] = {};
+  for (int k = 0; k < 3; ++k) {
+    const auto mesh = synthetic_mesh(201, 101, 20, terrain_fn(k == 0 ? 500.0 : 0.0));
+    const auto g = creases_on(mesh);
+    TerrainRenderer r(ctx, mesh, &g, 320, 240, layers, test_style());
+    FrameParams f = fp;
+    if (k == 2) {  // from above
+      f.camera.eye.reset();
+      f.camera.view_alt = 90;
+    }
+    const auto res = r.render(f);
+    EXPECT_EQ(res.crease_segments, g.n_segments());  // all drawn by DM ...
+    pixels[k] = count_colour(res, 255, 0, 0);        // ... but visible only where not hidden
+  }
+  EXPECT_EQ(pixels[0], 0u) << "creases behind the ridge are visible";
+  EXPECT_GT(pixels[1], 100u);
+  EXPECT_GT(pixels[2], 100u);
+}
+
+// On real data: the GPU's DM selection equals the CPU reference for every min score;
+// min score 1 draws nothing, 0 (no distance term) draws every segment, and the count
+// never grows with the min score.
+TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
+  const auto& sc = msh_scene();
+  const auto g = renderer::build_crease_geometry(sc.mesh, sc.db);
+  ASSERT_GT(g.n_segments(), 10000u);
+  renderer::GlContext ctx;
+  TerrainRenderer r(ctx, sc.mesh, &g, 160, 120, renderer::Layers{false, true, true, false}, test_style());
+  const Vector3d light = terrain::light_direction(315, 45);
+  for (double falloff : {0.0, 0.5}) {
+    std::size_t previous = g.n_segments() + 1;
+    for (int i = 0; i <= 10; ++i) {
+      FrameParams fp;
+      fp.score.sw = fp.score.iw = fp.score.fw = 1.0 / 3;
+      fp.score.min_score = i / 10.0;
+      fp.score.falloff = falloff;
+      fp.score.far_distance = 600;
+      const auto res = r.render(fp);
+      const std::size_t cpu = renderer::count_accepted_segments(g, res.view.eye, light, 1.0, fp.score);
+      const double tol = std::max(2.0, 1e-3 * double(g.n_segments()));
+      EXPECT_NEAR(double(res.crease_segments), double(cpu), tol) << "min " << fp.score.min_score << " falloff " << falloff;
+      EXPECT_LE(res.crease_segments, previous);
+      previous = res.crease_segments;
+      if (i == 0 && falloff == 0) EXPECT_EQ(res.crease_segments, g.n_segments());
+      if (i == 10) EXPECT_EQ(res.crease_segments, 0u);
+    }
+  }
+}
+
+// From straight above nothing is hidden: at min score 0 every drainage vertex that starts
+// a segment lies on a crease pixel of the composite (within 1 pixel of its projection,
+// lifted as the renderer lifts it).
+TEST(RendererGl, MinScoreZeroDrawsEveryVisibleVertex) {
+  const auto& sc = msh_scene();
+  const auto g = renderer::build_crease_geometry(sc.mesh, sc.db);
+  renderer::GlContext ctx;
+  renderer::Style style = test_style();
+  style.pixels_per_edge = 2;
+  TerrainRenderer r(ctx, sc.mesh, &g, 400, 400, renderer::Layers{false, true, true, false}, style);
+  FrameParams fp;
+  fp.camera.view_alt = 90;
+  fp.score.min_score = 0;
+  fp.score.falloff = 0;
+  const auto res = r.render(fp);
+  std::size_t missing = 0, checked = 0;
+  for (std::size_t s = 0; s < g.n_segments(); ++s) {
+    const std::uint32_t k = g.segments[2 * s];  // drawn lifted along its normal by 0.5 x spacing
+    const auto q = renderer::project(res.view, (g.positions[k] + 5.0f * g.normals[k]).cast<double>());
+    const int u = int(std::floor(q.u)), v = int(std::floor(q.v));
+    if (u < 1 || v < 1 || u >= 399 || v >= 399) continue;
+    bool found = false;
+    for (int dv = -1; dv <= 1 && !found; ++dv)
+      for (int du = -1; du <= 1 && !found; ++du) {
+        const std::size_t i = 4 * (std::size_t(v + dv) * 400 + std::size_t(u + du));
+        found = res.rgba[i] == 255 && res.rgba[i + 1] == 0;
+      }
+    if (!found) ADD_FAILURE() << "vertex " << g.segments[2 * s] << " at pixel " << q.u << " " << q.v << " flow "
+                              << g.flow[g.segments[2 * s]] << " pos " << g.positions[g.segments[2 * s]].transpose();
+    missing += !found;
+    ++checked;
+  }
+  EXPECT_GT(checked, 10000u);
+  EXPECT_EQ(missing, 0u);
+}
+
+}  // namespace
