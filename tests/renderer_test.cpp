@@ -32,7 +32,8 @@ using renderer::TerrainRenderer;
 // ---------------------------------------------------------------- GL-free
 
 TEST(CreaseScore, HandComputedValues) {
-  renderer::CreaseScoreParams p;  // 0.1 0.3 0.6
+  renderer::CreaseScoreParams p;
+  p.sw = 0.1, p.iw = 0.3, p.fw = 0.6;  // the paper's Table 5 weights
   p.min_score = 0.2;
   p.falloff = 0.0;
   p.far_distance = 1000;
@@ -262,7 +263,7 @@ struct RidgeCase {
 };
 class RidgeSilhouette : public ::testing::TestWithParam<RidgeCase> {};
 
-TEST_P(RidgeSilhouette, WherProjectionPredicts) {
+TEST_P(RidgeSilhouette, WhereProjectionPredicts) {
   const double H = 200, s = 100, yr = -3000, h = 20;
   auto z = [&](double, double y) { return H * std::exp(-0.5 * (y - yr) * (y - yr) / (s * s)); };
   const auto mesh = synthetic_mesh(201, 101, h, z);  // x 0..2000, y -4000..0
@@ -302,7 +303,8 @@ TEST_P(RidgeSilhouette, WherProjectionPredicts) {
 }
 INSTANTIATE_TEST_SUITE_P(SkylineAndOccludingEdge, RidgeSilhouette,
                          ::testing::Values(RidgeCase{100.0},    // below the crest: the skyline
-                                           RidgeCase{400.0}));  // above: the ridge against the plain behind
+                                           RidgeCase{400.0}),   // above: the ridge against the plain behind
+                         [](const auto& info) { return info.param.eye_z < 200 ? "Skyline" : "OccludingEdge"; });
 
 TEST(RendererGl, FlatPlaneFromAboveHasNoSilhouette) {
   const auto mesh = synthetic_mesh(41, 41, 25, [](double, double) { return 100.0; });

@@ -33,9 +33,9 @@ struct RenderOptions {
   rr::Style style;
   std::vector<double> eye;
   std::string size = "1280x720", layers = "mask,creases,silhouettes";
-  std::string background = "white", mask = "white", crease_colour = "blue", silhouette_colour = "black";
+  std::string background = "#dde4ec", mask = "white", crease_colour = "blue", silhouette_colour = "black";
   bool literal = false;
-  std::uint32_t min_accumulated = 20;
+  std::uint32_t min_accumulated = 100;
 };
 
 void add_render_options(CLI::App* app, RenderOptions& o) {

@@ -23,9 +23,9 @@ namespace renderer {
 //   rs_min(d) = min_score + (1 - min_score) * falloff * clamp(d / far_distance, 0, 1),
 //   d = distance from the eye to the vertex. A vertex is drawn when rs >= 0.
 struct CreaseScoreParams {
-  double sw = 0.1, iw = 0.3, fw = 0.6;  // the paper's Table 5 weights
-  double min_score = 0.5;               // rs_base
-  double falloff = 0.5;                 // k: how far rs_min rises towards 1 at far_distance
+  double sw = 1.0 / 3, iw = 1.0 / 3, fw = 1.0 / 3;  // equal weights (the paper's Figure 15)
+  double min_score = 0.15;              // rs_base
+  double falloff = 0.3;                 // k: how far rs_min rises towards 1 at far_distance
   double far_distance = 0;              // d_far in metres; 0: the terrain's diagonal
   bool literal_divisor = false;         // divide by 3 instead of the weight sum
 };
@@ -53,7 +53,7 @@ Layers parse_layers(const std::string& list);
 std::string to_string(const Layers& layers);
 
 struct Style {
-  Eigen::Vector3f background{1, 1, 1}, mask{1, 1, 1};
+  Eigen::Vector3f background{0xdd / 255.f, 0xe4 / 255.f, 0xec / 255.f}, mask{1, 1, 1};
   Eigen::Vector3f crease_colour{0.05f, 0.2f, 0.55f}, silhouette_colour{0, 0, 0};
   double crease_width = 1.0, crease_width_max = 3.0;  // pixels at normalized flow 0 and 1
   int silhouette_width = 1;                           // pixels
