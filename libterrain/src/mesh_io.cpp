@@ -28,22 +28,69 @@ using OM::IO::BaseImporter;
 constexpr int kFormatVersion = 1;
 constexpr std::size_t kWktChunk = 200;
 
-// Property container without connectivity: OpenMesh's PLY writer reads custom vertex and
-// face properties through it (none yet; later steps store per-vertex data here).
+// Property container without connectivity: OpenMesh's PLY writer and reader move custom
+// vertex and face properties (the Voronoi weights, the normal change) through it.
 class PropertyKernel : public OM::BaseKernel {
  public:
   PropertyKernel(std::size_t nv, std::size_t nf) : nv_(nv), nf_(nf) {}
   size_t n_vertices() const override { return nv_; }
   size_t n_faces() const override { return nf_; }
 
+  template <class Get>
+  void add_vertex_floats(const char* name, std::size_t n, Get get) {
+    OM::VPropHandleT<float> h;
+    add_property(h, name);
+    property(h).set_persistent(true);
+    for (std::size_t i = 0; i < n; ++i) property(h, OM::VertexHandle(int(i))) = get(i);
+  }
+  template <class Get>
+  void add_face_floats(const char* name, std::size_t n, Get get) {
+    OM::FPropHandleT<float> h;
+    add_property(h, name);
+    property(h).set_persistent(true);
+    for (std::size_t i = 0; i < n; ++i) property(h, OM::FaceHandle(int(i))) = get(i);
+  }
+  // Copies a float vertex (face) property into out[i][k] (or out[i] when k < 0); false when
+  // the file has no such property.
+  template <class Out>
+  bool vertex_floats(const char* name, Out&& set) {
+    OM::VPropHandleT<float> h;
+    if (!get_property_handle(h, name)) return false;
+    for (std::size_t i = 0; i < nv_; ++i) set(i, property(h, OM::VertexHandle(int(i))));
+    return true;
+  }
+  template <class Out>
+  bool face_floats(const char* name, Out&& set) {
+    OM::FPropHandleT<float> h;
+    if (!get_property_handle(h, name)) return false;
+    for (std::size_t i = 0; i < nf_; ++i) set(i, property(h, OM::FaceHandle(int(i))));
+    return true;
+  }
+
  private:
   std::size_t nv_, nf_;
 };
 
+// PLY property names of the optional data (docs/formats.md).
+constexpr const char* kTangent[3] = {"tangent_x", "tangent_y", "tangent_z"};
+constexpr const char* kCornerArea[3] = {"corner_area_0", "corner_area_1", "corner_area_2"};
+
 // Presents a GridMesh to OpenMesh's writers (PLY, OBJ) without building a half-edge mesh.
 class GridMeshExporter : public BaseExporter {
  public:
-  explicit GridMeshExporter(const GridMesh& m) : m_(m), kernel_(m.n_vertices(), m.n_faces()) {}
+  explicit GridMeshExporter(const GridMesh& m) : m_(m), kernel_(m.n_vertices(), m.n_faces()) {
+    const std::size_t nv = m.n_vertices(), nf = m.n_faces();
+    if (!m.voronoi.empty()) {
+      kernel_.add_vertex_floats("voronoi_area", nv, [&](std::size_t i) { return m.voronoi.vertex_areas[i]; });
+      for (int k = 0; k < 3; ++k)
+        kernel_.add_vertex_floats(kTangent[k], nv, [&](std::size_t i) { return m.voronoi.tangents[i][k]; });
+      for (int k = 0; k < 3; ++k)
+        kernel_.add_face_floats(kCornerArea[k], nf, [&](std::size_t i) { return m.voronoi.corner_areas[i][k]; });
+    }
+    if (m.normal_change.size() == nv)
+      kernel_.add_vertex_floats("normal_change", nv, [&](std::size_t i) { return m.normal_change[i]; });
+  }
+  bool has_custom() const { return !m_.voronoi.empty() || m_.normal_change.size() == m_.n_vertices(); }
 
   OM::Vec3f point(OM::VertexHandle v) const override {
     const auto& p = m_.positions[std::size_t(v.idx())];
@@ -144,6 +191,7 @@ class GridMeshImporter : public BaseImporter {
     return OM::FaceHandle(int(f));
   }
   OM::BaseKernel* kernel() override { return &kernel_; }
+  PropertyKernel& properties() { return kernel_; }
   bool is_triangle_mesh() const override { return true; }
   size_t n_vertices() const override { return m_.positions.size(); }
   size_t n_faces() const override { return faces_read; }
@@ -304,6 +352,7 @@ void write_with(const OM::IO::BaseWriter& writer, OM::IO::Options opt, const Gri
     CommentInjector injector(file.rdbuf(), comments, after);
     std::ostream stream(&injector);
     GridMeshExporter exporter(mesh);
+    if (exporter.has_custom() && dynamic_cast<const OM::IO::_PLYWriter_*>(&writer)) opt += OM::IO::Options::Custom;
     if (!writer.write(stream, exporter, opt, 9) || !stream)
       throw Error("cannot write '" + path + "': the mesh writer failed");
     stream.flush();
@@ -353,7 +402,7 @@ GridMesh read_mesh_ply(const std::string& path) {
     throw Error("cannot read '" + path + "': invalid grid comment");
 
   GridMeshImporter importer(m);
-  OM::IO::Options opt(OM::IO::Options::VertexNormal);
+  OM::IO::Options opt(OM::IO::Options::VertexNormal | OM::IO::Options::Custom);
   if (!OM::IO::PLYReader().read(path, importer, opt))
     throw Error("cannot read '" + path + "': OpenMesh's PLY reader failed (corrupt or truncated file)");
   if (!opt.vertex_has_normal()) throw Error("cannot read '" + path + "': it has no vertex normals");
@@ -366,6 +415,25 @@ GridMesh read_mesh_ply(const std::string& path) {
   for (const auto& n : m.normals)
     if (!(std::abs(n.squaredNorm() - 1.0f) < 1e-3f))
       throw Error("cannot read '" + path + "': a vertex normal is not unit length (corrupt file?)");
+
+  // Optional data: the Voronoi weights come as a set (all seven properties) or not at all.
+  auto& k = importer.properties();
+  auto& w = m.voronoi;
+  w.vertex_areas.resize(m.n_vertices());
+  w.tangents.resize(m.n_vertices());
+  w.corner_areas.resize(m.n_faces());
+  int found = k.vertex_floats("voronoi_area", [&](std::size_t i, float v) { w.vertex_areas[i] = v; });
+  for (int c = 0; c < 3; ++c) {
+    found += k.vertex_floats(kTangent[c], [&](std::size_t i, float v) { w.tangents[i][c] = v; });
+    found += k.face_floats(kCornerArea[c], [&](std::size_t i, float v) { w.corner_areas[i][c] = v; });
+  }
+  if (found != 0 && found != 7)
+    throw Error("cannot read '" + path + "': it has only some of the Voronoi weight properties (" +
+                std::to_string(found) + " of 7)");
+  if (found == 0) w = VoronoiWeights{};
+  m.normal_change.resize(m.n_vertices());
+  if (!k.vertex_floats("normal_change", [&](std::size_t i, float v) { m.normal_change[i] = v; }))
+    m.normal_change = BigVector<float>{};
   return m;
 }
 

@@ -39,6 +39,22 @@ struct GridTopology {
   std::size_t face_of_cell(std::size_t r, std::size_t c, int k) const {
     return 2 * (r * (cols - 1) + c) + std::size_t(k);
   }
+  // The faces around vertex v (at most 6) and v's corner (0..2) in each; returns the count.
+  // Cell (r-1,c-1): SE = corner 2 of face 0, corner 1 of face 1; cell (r-1,c): SW = corner
+  // 1 of face 0; cell (r,c-1): NE = corner 2 of face 1; cell (r,c): NW = corner 0 of both.
+  int vertex_faces(std::size_t v, std::array<std::uint32_t, 6>& faces, std::array<std::uint8_t, 6>& corners) const {
+    const std::size_t r = v / cols, c = v % cols;
+    int n = 0;
+    auto add = [&](std::size_t rr, std::size_t cc, int k, int corner) {
+      faces[std::size_t(n)] = std::uint32_t(face_of_cell(rr, cc, k));
+      corners[std::size_t(n++)] = std::uint8_t(corner);
+    };
+    if (r > 0 && c > 0) add(r - 1, c - 1, 0, 2), add(r - 1, c - 1, 1, 1);
+    if (r > 0 && c + 1 < cols) add(r - 1, c, 0, 1);
+    if (r + 1 < rows && c > 0) add(r, c - 1, 1, 2);
+    if (r + 1 < rows && c + 1 < cols) add(r, c, 0, 0), add(r, c, 1, 0);
+    return n;
+  }
 };
 
 // Where the mesh sits in the world and which grid it came from.
@@ -49,12 +65,22 @@ struct MeshGeoref {
   double dx = 1.0, dy = 1.0;                              // grid spacing, metres
 };
 
+// Precomputed inputs of photic extremum lines (voronoi.hpp), stored in the mesh file.
+struct VoronoiWeights {
+  BigVector<Eigen::Vector3f> corner_areas;  // #F: mixed Voronoi area of each corner, in face(f) order
+  BigVector<float> vertex_areas;            // #V: sum of the vertex's corner areas ("voronoi_area")
+  BigVector<Eigen::Vector3f> tangents;      // #V: unit t1 perpendicular to the normal; t2 = n x t1
+  bool empty() const { return vertex_areas.size() == 0; }
+};
+
 struct GridMesh {
   GridTopology topo;
   MeshGeoref geo;
   BigVector<Eigen::Vector3f> positions;  // #V, local coordinates
   BigVector<Eigen::Vector3f> normals;    // #V, unit vertex normals
   std::string provenance;                  // tool, version, command line (free text)
+  VoronoiWeights voronoi;                  // empty unless computed (voronoi_weights) or read
+  BigVector<float> normal_change;          // #V degrees, written by denoise-normals; else empty
 
   std::size_t n_vertices() const { return positions.size(); }
   std::size_t n_faces() const { return topo.n_faces(); }
