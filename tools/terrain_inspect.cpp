@@ -53,8 +53,26 @@ void info_mesh(const std::string& path) {
                            g.geo.x0 + double(g.cols) * g.geo.dx, g.geo.y0);
   print_stats(terrain::elevation_stats(g.z));
   std::cout << fmt::format("normal_tilt_mean_deg: {:.3f}\nnormal_tilt_max_deg: {:.3f}\n",
-                           tilt_sum / double(m.normals.size()), tilt_max)
-            << "provenance: " << (m.provenance.empty() ? "unknown" : m.provenance) << "\n";
+                           tilt_sum / double(m.normals.size()), tilt_max);
+  if (m.voronoi.empty()) {
+    std::cout << "voronoi_weights: no (add them: denoise-normals MESH OUT --iterations 0)\n";
+  } else {
+    double total = 0, lo = 1e300, hi = 0;
+    for (float a : m.voronoi.vertex_areas) total += a, lo = std::min(lo, double(a)), hi = std::max(hi, double(a));
+    std::cout << "voronoi_weights: yes (corner areas, voronoi_area, tangent frames)\n"
+              << fmt::format("voronoi_area_total: {:.1f}\nvoronoi_area_min: {:.3f}\nvoronoi_area_max: {:.3f}\n", total, lo,
+                             hi);
+  }
+  if (m.normal_change.size() == m.n_vertices()) {
+    double total = 0, hi = 0;
+    for (float a : m.normal_change) total += a, hi = std::max(hi, double(a));
+    std::cout << "denoised: yes\n"
+              << fmt::format("normal_change_mean_deg: {:.4f}\nnormal_change_max_deg: {:.4f}\n",
+                             total / double(m.n_vertices()), hi);
+  } else {
+    std::cout << "denoised: no\n";
+  }
+  std::cout << "provenance: " << (m.provenance.empty() ? "unknown" : m.provenance) << "\n";
 }
 
 void info_dem(const std::string& path) {
@@ -135,7 +153,7 @@ int main(int argc, char** argv) {
   tt::Verbosity verb;
   tt::add_verbosity_flags(app, verb);
 
-  std::string file, out, to;
+  std::string file, out, to, colour_by = "shade";
   double azimuth = 315.0, altitude = 45.0, zfactor = 1.0;
   CLI::App* info = app.add_subcommand("info", "What FILE is: size, CRS, extent, elevation statistics ('key: value' lines)");
   info->add_option("FILE", file, "DEM, mesh or .dv")->required();
@@ -146,6 +164,11 @@ int main(int argc, char** argv) {
   preview->add_option("--azimuth", azimuth, "Light azimuth, degrees clockwise from grid north")->capture_default_str();
   preview->add_option("--altitude", altitude, "Light altitude above the horizon, degrees")
       ->check(CLI::Range(0.0, 90.0))
+      ->capture_default_str();
+  preview->add_option("--colour-by", colour_by,
+                      "Meshes: shade (hillshade of the normals), voronoi (vertex Voronoi area) or normal-change "
+                      "(degrees, from denoise-normals)")
+      ->check(CLI::IsMember({"shade", "voronoi", "normal-change"}))
       ->capture_default_str();
   preview->add_option("--z-factor", zfactor, "Vertical exaggeration (DEMs only)")
       ->check(CLI::PositiveNumber)
@@ -177,7 +200,24 @@ int main(int argc, char** argv) {
         terrain::write_png(out, int(db.header.cols), int(db.header.rows), 3, drainage::dv_preview(db, min_flow), desc);
       } else if (is_mesh) {
         const terrain::GridMesh m = terrain::read_mesh_ply(file);
-        terrain::write_png(out, int(m.topo.cols), int(m.topo.rows), 1, terrain::hillshade(m.normals, azimuth, altitude), desc);
+        if (colour_by == "shade") {
+          terrain::write_png(out, int(m.topo.cols), int(m.topo.rows), 1, terrain::hillshade(m.normals, azimuth, altitude),
+                             desc);
+        } else {
+          const bool voronoi = colour_by == "voronoi";
+          if (voronoi ? m.voronoi.empty() : m.normal_change.size() != m.n_vertices())
+            throw terrain::Error("'" + file + "' has no " +
+                                 (voronoi ? "Voronoi weights (denoise-normals --iterations 0 adds them)"
+                                          : "normal change (it was not made by denoise-normals)"));
+          std::vector<float> v(voronoi ? m.voronoi.vertex_areas.begin() : m.normal_change.begin(),
+                               voronoi ? m.voronoi.vertex_areas.end() : m.normal_change.end());
+          std::vector<float> sorted = v;
+          std::sort(sorted.begin(), sorted.end());  // ramp from the 2nd to the 98th percentile
+          const double lo = voronoi ? sorted[sorted.size() / 50] : 0.0, hi = sorted[sorted.size() * 49 / 50];
+          terrain::write_png(out, int(m.topo.cols), int(m.topo.rows), 3, terrain::colour_ramp(v, lo, hi),
+                             desc + fmt::format(" [{} {:.4g} .. {:.4g}]", colour_by, lo, hi));
+          std::cout << fmt::format("ramp: {:.4g} .. {:.4g}\n", lo, hi);
+        }
       } else {
         const terrain::Grid g = terrain::read_dem(file);
         terrain::write_png(out, int(g.cols), int(g.rows), 2, dem_shade(g, azimuth, altitude, zfactor), desc);

@@ -117,7 +117,11 @@ BigVector<Vector3f> bilateral_filter_normals(const GridMesh& m, const BigVector<
 DenoiseStats denoise_normals(GridMesh& m, const DenoiseOptions& o, const Progress& progress) {
   if (o.iterations < 0 || o.vertex_iterations < 0) throw Error("iterations must be >= 0");
   DenoiseStats stats;
-  const BigVector<Vector3f> before = m.normals;
+  // The change is measured between vertex normals built by the same rule (area-weighted
+  // face normals) before and after filtering, so it shows the filter alone, not a change
+  // of weighting (dem2mesh's default is uniform weights).
+  const BigVector<Vector3f> before =
+      o.iterations > 0 ? vertex_normals(m.positions, m.topo, NormalWeighting::Area) : m.normals;
   const BigVector<Vector3f> filtered =
       bilateral_filter_normals(m, face_normals(m), o, stats.sigma_s, sub_progress(progress, 0, 0.8));
   const std::size_t nv = m.n_vertices(), rows = m.topo.rows, cols = m.topo.cols;

@@ -1,6 +1,7 @@
 #include "terrain/hillshade.hpp"
 
 #include <algorithm>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -20,6 +21,21 @@ std::vector<std::uint8_t> hillshade(std::span<const Eigen::Vector3f> normals, do
   std::transform(normals.begin(), normals.end(), out.begin(), [&](const Eigen::Vector3f& n) {
     return std::uint8_t(std::lround(255.0f * std::clamp(n.dot(l), 0.0f, 1.0f)));
   });
+  return out;
+}
+
+std::vector<std::uint8_t> colour_ramp(std::span<const float> values, double lo, double hi) {
+  // Five stops of viridis.
+  static const double stops[5][3] = {{68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
+  std::vector<std::uint8_t> out(3 * values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (std::isnan(values[i])) continue;
+    const double t = hi > lo ? std::clamp((double(values[i]) - lo) / (hi - lo), 0.0, 1.0) : 0.0;
+    const double x = t * 4;
+    const int k = std::min(int(x), 3);
+    const double f = x - k;
+    for (int c = 0; c < 3; ++c) out[3 * i + std::size_t(c)] = std::uint8_t(std::lround(stops[k][c] * (1 - f) + stops[k + 1][c] * f));
+  }
   return out;
 }
 

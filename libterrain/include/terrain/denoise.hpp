@@ -42,7 +42,9 @@ BigVector<Eigen::Vector3f> bilateral_filter_normals(const GridMesh& mesh, const 
 // (n_f . (c_f - x_i)), centroids recomputed each round, boundary vertices fixed), so the
 // mesh stays a regular grid that build-drainage and the renderer can use; then vertex
 // normals: area-weighted from the new positions (update) or normalize(sum A_f n_f) of the
-// filtered normals (no update). Fills mesh.normal_change (degrees) and returns statistics.
+// filtered normals (no update). Fills mesh.normal_change: the angle (degrees) between the
+// area-weighted vertex normals before filtering and the new ones (so a change of weighting
+// rule does not count); with iterations = 0 nothing changes. Returns statistics.
 DenoiseStats denoise_normals(GridMesh& mesh, const DenoiseOptions& options, const Progress& progress = {});
 
 }  // namespace terrain

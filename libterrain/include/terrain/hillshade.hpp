@@ -21,6 +21,10 @@ std::vector<std::uint8_t> hillshade(std::span<const Eigen::Vector3f> normals, do
 std::vector<std::uint8_t> hillshade_grid(const Grid& grid, double azimuth_deg = 315.0, double altitude_deg = 45.0,
                                          double z_factor = 1.0);
 
+// RGB (3 bytes per value) of `values` on a perceptual blue-green-yellow ramp from `lo`
+// (dark blue) to `hi` (yellow), clamped; NaN gives black.
+std::vector<std::uint8_t> colour_ramp(std::span<const float> values, double lo, double hi);
+
 // The unit vector towards the light of hillshade().
 Eigen::Vector3d light_direction(double azimuth_deg, double altitude_deg);
 
