@@ -20,6 +20,9 @@
 #include "terrain/error.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/pn_surface.hpp"
+#include "terrain/voronoi.hpp"
+#include "renderer/pel.hpp"
+#include <map>
 #include "test_support.hpp"
 
 namespace {
@@ -433,6 +436,47 @@ TEST(RendererGl, MinScoreZeroDrawsEveryVisibleVertex) {
   }
   EXPECT_GT(checked, 10000u);
   EXPECT_EQ(missing, 0u);
+}
+
+}  // namespace
+
+namespace {
+
+// The GPU PEL passes produce the CPU reference's segments: the same count (within 0.5%)
+// and, face by face, the same end points within 1e-4 of the mesh's extent.
+TEST(RendererGl, PelSegmentsMatchCpu) {
+  terrain::GridMesh mesh = msh_scene().mesh;
+  mesh.voronoi = terrain::voronoi_weights(mesh);
+  renderer::GlContext ctx;
+  renderer::Layers layers{false, true, false, false};
+  layers.pels = true;
+  TerrainRenderer r(ctx, mesh, nullptr, 160, 120, layers, test_style());
+  double scale = 0;
+  for (std::size_t i = 0; i < mesh.n_vertices(); ++i) scale = std::max(scale, double(mesh.positions[i].norm()));
+  for (double tau : {0.05, 0.2}) {
+    FrameParams fp;
+    fp.pel.headlight = false;
+    fp.light = {135, 40};
+    fp.pel.threshold = tau;
+    const auto res = r.render(fp);
+    const auto gpu = r.read_pels();
+    EXPECT_EQ(gpu.size(), res.pel_segments);
+    const auto fields = renderer::pel_fields(mesh, terrain::light_direction(135, 40));
+    const auto cpu = renderer::extract_pels(mesh, fields, tau);
+    ASSERT_GT(cpu.size(), 100u);
+    EXPECT_NEAR(double(gpu.size()), double(cpu.size()), 0.005 * double(cpu.size())) << "tau " << tau;
+    std::map<std::uint32_t, std::size_t> by_face;
+    for (std::size_t i = 0; i < cpu.size(); ++i) by_face[cpu.faces[i]] = i;
+    std::size_t matched = 0;
+    for (const auto& s : gpu) {
+      const auto it = by_face.find(s.face);
+      if (it == by_face.end()) continue;
+      const Eigen::Vector3f a = cpu.points[2 * it->second], b = cpu.points[2 * it->second + 1];
+      const double d = std::min(std::max((s.a - a).norm(), (s.b - b).norm()), std::max((s.a - b).norm(), (s.b - a).norm()));
+      matched += d <= 1e-4 * scale;
+    }
+    EXPECT_GE(double(matched), 0.995 * double(gpu.size())) << "tau " << tau;
+  }
 }
 
 }  // namespace

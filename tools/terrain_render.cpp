@@ -33,6 +33,7 @@ struct RenderOptions {
   rr::Style style;
   std::vector<double> eye;
   std::string size = "1280x720", layers = "mask,creases,silhouettes";
+  std::string pel_light = "headlight", pel_colour = "#8c1a1a";
   std::string background = "#dde4ec", mask = "white", crease_colour = "blue", silhouette_colour = "black";
   bool literal = false;
   std::uint32_t min_accumulated = 100;
@@ -79,7 +80,21 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
       ->capture_default_str();
   app->add_flag("--literal-score", o.literal,
                 "Divide the weighted sum by 3 (the paper's equation 6) instead of by the weight sum");
-  app->add_option("--layers", o.layers, "Layers to composite: shaded or mask, creases, silhouettes (comma list)")
+  app->add_option("--pel-threshold", f.pel.threshold,
+                  "PELs: keep lines where |grad f| / max |grad f| exceeds this (tau)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app->add_option("--pel-light", o.pel_light,
+                  "PELs: f = max(0, n . L) with L the headlight (towards the eye) or the scene light (--light-az/alt)")
+      ->check(CLI::IsMember({"headlight", "scene"}))
+      ->capture_default_str();
+  app->add_option("--pel-colour", o.pel_colour, "PEL colour")->capture_default_str();
+  app->add_option("--pel-width", o.style.pel_width, "PEL width in pixels")
+      ->check(CLI::Range(0.5, 20.0))
+      ->capture_default_str();
+  app->add_option("--layers", o.layers,
+                  "Layers to composite: shaded or mask, creases, silhouettes, pels (comma list; pels need a mesh "
+                  "from denoise-normals)")
       ->capture_default_str();
   app->add_option("--background", o.background, "Background colour (#rrggbb, r,g,b or a name)")->capture_default_str();
   app->add_option("--mask-colour", o.mask, "Surface colour of the mask layer")->capture_default_str();
@@ -122,6 +137,8 @@ std::pair<int, int> finish_options(RenderOptions& o, rr::Layers& layers) {
   o.style.mask = rr::parse_colour(o.mask);
   o.style.crease_colour = rr::parse_colour(o.crease_colour);
   o.style.silhouette_colour = rr::parse_colour(o.silhouette_colour);
+  o.style.pel_colour = rr::parse_colour(o.pel_colour);
+  o.frame.pel.headlight = o.pel_light == "headlight";
   return {w, h};
 }
 
@@ -163,6 +180,7 @@ int main(int argc, char** argv) {
       "  terrain-render frame out/msh_50m.ply out/msh.dv -o msh_shaded.png --layers shaded --view-az 180\n"
       "  terrain-render path --from 560000 5120000 2600 --to 563000 5117000 2600 --frames 99 -o path.csv\n"
       "  terrain-render batch out/msh_50m.ply out/msh.dv path.csv -o frames/\n"
+      "  terrain-render frame out/msh_10m_denoised.ply -o pels.png --layers mask,pels,silhouettes\n"
       "  terrain-render --device\n\n"
       "See docs/terrain-render.md for the passes, the crease score and the camera conventions.");
   app.set_version_flag("--version", tt::version());
@@ -263,7 +281,8 @@ int main(int argc, char** argv) {
                 << "size: " << w << " x " << h << "\n";
       print_device(ctx);
       std::cout << fmt::format("eye: {:.1f} {:.1f} {:.1f}\n", eye.x(), eye.y(), eye.z())
-                << "crease segments drawn: " << res.crease_segments << "\n";
+                << "crease segments drawn: " << res.crease_segments << "\n"
+                << "pel segments drawn: " << res.pel_segments << "\n";
       for (int p = 0; p < rr::kPassCount; ++p)
         std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p), res.timings.gpu_ms[p],
                                  res.timings.wall_ms[p]);

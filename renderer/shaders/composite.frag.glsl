@@ -1,6 +1,6 @@
 // LAY: the background, the surface (shaded or mask colour) where a toward surface is,
-// crease pixels whose depth is not behind that surface, silhouette pixels (dilated to
-// the silhouette width).
+// PEL and crease pixels whose depth is not behind that surface, silhouette pixels
+// (dilated to the silhouette width).
 layout(binding = 0) uniform sampler2D u_toward;
 layout(binding = 1) uniform sampler2D u_surface_colour;
 layout(binding = 2) uniform sampler2D u_crease;
@@ -12,6 +12,10 @@ layout(location = 2) uniform vec3 u_mask_colour;
 layout(location = 3) uniform vec3 u_crease_colour;
 layout(location = 4) uniform vec3 u_silhouette_colour;
 layout(location = 5) uniform int u_silhouette_width;
+layout(binding = 5) uniform sampler2D u_pel;
+layout(binding = 6) uniform sampler2D u_pel_depth;
+layout(location = 6) uniform vec3 u_pel_colour;
+layout(location = 7) uniform int u_pels;
 layout(location = 0) out vec4 o_colour;
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
@@ -21,6 +25,8 @@ void main() {
   vec3 c = u_background;
   if (surface && u_layers.x != 0) c = texelFetch(u_surface_colour, p, 0).rgb;
   else if (surface && u_layers.y != 0) c = u_mask_colour;
+  if (u_pels != 0 && texelFetch(u_pel, p, 0).r > 0.0 && far_of(texelFetch(u_pel_depth, p, 0).r) <= t)
+    c = u_pel_colour;
   if (u_layers.z != 0 && texelFetch(u_crease, p, 0).r > 0.0 && far_of(texelFetch(u_crease_depth, p, 0).r) <= t)
     c = u_crease_colour;
   if (u_layers.w != 0) {

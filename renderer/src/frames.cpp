@@ -48,10 +48,11 @@ Layers parse_layers(const std::string& list) {
     else if (name == "mask") l.mask = true;
     else if (name == "creases") l.creases = true;
     else if (name == "silhouettes") l.silhouettes = true;
-    else throw terrain::Error("unknown layer '" + name + "' (layers: shaded, mask, creases, silhouettes)");
+    else if (name == "pels") l.pels = true;
+    else throw terrain::Error("unknown layer '" + name + "' (layers: shaded, mask, creases, silhouettes, pels)");
     any = true;
   }
-  if (!any) throw terrain::Error("--layers is empty (layers: shaded, mask, creases, silhouettes)");
+  if (!any) throw terrain::Error("--layers is empty (layers: shaded, mask, creases, silhouettes, pels)");
   if (l.shaded && l.mask) throw terrain::Error("--layers: choose shaded or mask, not both");
   return l;
 }
@@ -59,7 +60,7 @@ Layers parse_layers(const std::string& list) {
 std::string to_string(const Layers& l) {
   std::string s;
   for (auto [on, name] : {std::pair{l.shaded, "shaded"}, {l.mask, "mask"}, {l.creases, "creases"},
-                          {l.silhouettes, "silhouettes"}})
+                          {l.silhouettes, "silhouettes"}, {l.pels, "pels"}})
     if (on) s += (s.empty() ? "" : ",") + std::string(name);
   return s;
 }
@@ -94,7 +95,7 @@ Eigen::Vector3f parse_colour(const std::string& text) {
 const std::vector<std::string>& frame_columns() {
   static const std::vector<std::string> cols = {"easting", "northing", "elevation", "view_az", "view_alt",
                                                 "fov",     "light_az", "light_alt", "sw",      "iw",
-                                                "fw",      "min_score", "falloff"};
+                                                "fw",      "min_score", "falloff", "pel_threshold"};
   return cols;
 }
 
@@ -114,6 +115,7 @@ double* field_of(FrameParams& f, Eigen::Vector3d& eye, const std::string& col) {
   if (col == "fw") return &f.score.fw;
   if (col == "min_score") return &f.score.min_score;
   if (col == "falloff") return &f.score.falloff;
+  if (col == "pel_threshold") return &f.pel.threshold;
   return nullptr;
 }
 
@@ -181,13 +183,13 @@ std::string path_csv(const FlightPath& p) {
     if (std::hypot(d.x(), d.y()) == 0) throw terrain::Error("--from and --to are vertically aligned: give --view-az");
     az = std::fmod(std::atan2(d.x(), d.y()) * 180.0 / std::numbers::pi + 360.0, 360.0);
   }
-  std::string out = fmt::format("{}\n", fmt::join(frame_columns(), ","));
+  std::string out = fmt::format("{}\n", fmt::join(frame_columns(), ","));  // all columns
   for (int i = 0; i < p.frames; ++i) {
     const Eigen::Vector3d e = p.from + d * (double(i) / double(p.frames - 1));
     const auto& s = p.params.score;
-    out += fmt::format("{:.3f},{:.3f},{:.3f},{},{},{},{},{},{},{},{},{},{}\n", e.x(), e.y(), e.z(), az,
+    out += fmt::format("{:.3f},{:.3f},{:.3f},{},{},{},{},{},{},{},{},{},{},{}\n", e.x(), e.y(), e.z(), az,
                        p.params.camera.view_alt, p.params.camera.fov, p.params.light.azimuth,
-                       p.params.light.altitude, s.sw, s.iw, s.fw, s.min_score, s.falloff);
+                       p.params.light.altitude, s.sw, s.iw, s.fw, s.min_score, s.falloff, p.params.pel.threshold);
   }
   return out;
 }

@@ -62,6 +62,11 @@ struct TerrainRenderer::Impl {
   std::size_t n_faces = 0;
 
   bool has_creases = false;
+  bool has_pels = false;
+  GlObject corner_buf, varea_buf, tangent_buf, field_buf, maxm_buf, pel_cmd_buf, pel_seg_buf;
+  GlObject pel_field_prog, pel_extract_prog, pel_draw_prog;
+  GlObject pel_colour, pel_depth, pel_fbo;
+  std::uint32_t rows = 0, cols = 0;
   std::size_t n_crease_vertices = 0, n_segments = 0;
   GlObject cv_buf, seg_buf, score_buf, cmd_buf, selected_buf;
 
@@ -109,6 +114,11 @@ TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMe
   m.width = width;
   m.height = height;
   m.layers = layers;
+  m.rows = std::uint32_t(mesh.topo.rows);
+  m.cols = std::uint32_t(mesh.topo.cols);
+  if (layers.pels && mesh.voronoi.empty())
+    throw terrain::Error("--layers pels needs the mesh's Voronoi weights: make it with denoise-normals "
+                         "(--iterations 0 only adds them)");
   m.style = style;
   m.reversed = context.has_clip_control();
   m.origin = {mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z};
@@ -170,6 +180,22 @@ TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMe
     m.cmd_buf = make_buffer(16, nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
   }
 
+  if (layers.pels) {
+    m.has_pels = true;
+    m.corner_buf = make_buffer(mesh.n_faces() * sizeof(Eigen::Vector3f), mesh.voronoi.corner_areas.data(), 0);
+    m.varea_buf = make_buffer(mesh.n_vertices() * sizeof(float), mesh.voronoi.vertex_areas.data(), 0);
+    m.tangent_buf = make_buffer(mesh.n_vertices() * sizeof(Eigen::Vector3f), mesh.voronoi.tangents.data(), 0);
+    m.field_buf = make_buffer(mesh.n_vertices() * 24, nullptr, 0);
+    m.maxm_buf = make_buffer(4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    m.pel_cmd_buf = make_buffer(16, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    m.pel_seg_buf = make_buffer(mesh.n_faces() * 48, nullptr, 0);
+    const std::string common = "common.glsl";
+    m.pel_field_prog = build_program({{GL_COMPUTE_SHADER, {common, "pel_common.glsl", "pel_fields.comp.glsl"}}});
+    m.pel_extract_prog = build_program({{GL_COMPUTE_SHADER, {common, "pel_common.glsl", "pel_extract.comp.glsl"}}});
+    m.pel_draw_prog = build_program({{GL_VERTEX_SHADER, {common, "pel.vert.glsl"}},
+                                     {GL_FRAGMENT_SHADER, {common, "crease.frag.glsl"}}});
+  }
+
   // Programs.
   m.surface_prog = build_program({{GL_VERTEX_SHADER, {"common.glsl", "surface.vert.glsl"}},
                                   {GL_TESS_CONTROL_SHADER, {"common.glsl", "surface.tesc.glsl"}},
@@ -195,6 +221,9 @@ TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMe
   m.dm_depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
   m.sil_tex = make_texture(GL_R8, width, height);
   m.lay_colour = make_texture(GL_RGBA8, width, height);
+  m.pel_colour = make_texture(GL_RGBA8, width, height);
+  m.pel_depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
+  m.attach(m.pel_fbo, &m.pel_colour, &m.pel_depth);
   m.attach(m.tft_fbo, &m.tft_colour, &m.toward_depth);
   m.attach(m.aft_fbo, nullptr, &m.away_depth);
   m.attach(m.dm_fbo, &m.dm_colour, &m.dm_depth);
@@ -309,6 +338,42 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, m.cmd_buf.id());
     glDrawArraysIndirect(GL_TRIANGLES, nullptr);
   });
+  timed(PEL, [&] {
+    glClearNamedFramebufferfv(m.pel_fbo.id(), GL_COLOR, 0, zero4);
+    glClearNamedFramebufferfv(m.pel_fbo.id(), GL_DEPTH, 0, &far_depth);
+    if (!m.has_pels) return;
+    const std::uint32_t zero = 0, cmd[4] = {0, 1, 0, 0};
+    glNamedBufferSubData(m.maxm_buf.id(), 0, 4, &zero);
+    glNamedBufferSubData(m.pel_cmd_buf.id(), 0, sizeof cmd, cmd);
+    const GLuint bufs[9] = {m.pos_buf.id(),   m.nrm_buf.id(),  m.corner_buf.id(),  m.varea_buf.id(),  m.tangent_buf.id(),
+                            m.field_buf.id(), m.maxm_buf.id(), m.pel_cmd_buf.id(), m.pel_seg_buf.id()};
+    for (GLuint b = 0; b < 9; ++b) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6 + b, bufs[b]);
+    // The light of f: the headlight (towards the eye) or the frame's light, in the mesh frame.
+    const Eigen::Vector3d pel_light = frame.pel.headlight ? Eigen::Vector3d(-v.forward) : light;
+    const std::size_t nv = std::size_t(m.rows) * m.cols, nf = 2 * std::size_t(m.rows - 1) * (m.cols - 1);
+    const GLuint fp = m.pel_field_prog.id();
+    glUseProgram(fp);
+    glProgramUniform2ui(fp, 10, m.rows, m.cols);
+    glProgramUniform3f(fp, 12, float(pel_light.x()), float(pel_light.y()), float(pel_light.z()));
+    for (int stage = 0; stage < 4; ++stage) {
+      glProgramUniform1i(fp, 11, stage);
+      glDispatchCompute(groups_x(nv), groups_y(nv), 1);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    }
+    const GLuint ep = m.pel_extract_prog.id();
+    glUseProgram(ep);
+    glProgramUniform2ui(ep, 10, m.rows, m.cols);
+    glProgramUniform1f(ep, 13, float(frame.pel.threshold));
+    glDispatchCompute(groups_x(nf), groups_y(nf), 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    glBindFramebuffer(GL_FRAMEBUFFER, m.pel_fbo.id());
+    m.depth_state();
+    glUseProgram(m.pel_draw_prog.id());
+    glProgramUniform1f(m.pel_draw_prog.id(), 14, float(m.style.pel_width));
+    glBindVertexArray(m.empty_vao.id());
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, m.pel_cmd_buf.id());
+    glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+  });
   timed(SIL, [&] {
     glClearNamedFramebufferfv(m.sil_fbo.id(), GL_COLOR, 0, zero4);
     if (!do_sil) return;
@@ -336,6 +401,10 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
     glBindTextureUnit(2, m.dm_colour.id());
     glBindTextureUnit(3, m.dm_depth.id());
     glBindTextureUnit(4, m.sil_tex.id());
+    glBindTextureUnit(5, m.pel_colour.id());
+    glBindTextureUnit(6, m.pel_depth.id());
+    glProgramUniform3fv(p, 6, 1, m.style.pel_colour.data());
+    glProgramUniform1i(p, 7, m.has_pels ? 1 : 0);
     glBindVertexArray(m.empty_vao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
   });
@@ -349,6 +418,11 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
     std::uint32_t cmd[4] = {};
     glGetNamedBufferSubData(m.cmd_buf.id(), 0, sizeof cmd, cmd);
     res.crease_segments = cmd[0] / 6;
+  }
+  if (m.has_pels) {
+    std::uint32_t cmd[4] = {};
+    glGetNamedBufferSubData(m.pel_cmd_buf.id(), 0, sizeof cmd, cmd);
+    res.pel_segments = cmd[0] / 6;
   }
   res.rgba.resize(std::size_t(m.width) * std::size_t(m.height) * 4);
   glGetTextureImage(m.lay_colour.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(res.rgba.size()), res.rgba.data());
@@ -379,6 +453,24 @@ FrameBuffers TerrainRenderer::read_buffers() const {
   red(m.sil_tex, b.silhouette);
   red(m.dm_colour, b.crease);
   return b;
+}
+
+std::vector<TerrainRenderer::PelSegmentOut> TerrainRenderer::read_pels() const {
+  const auto& m = *impl_;
+  if (!m.has_pels) return {};
+  std::uint32_t cmd[4] = {};
+  glGetNamedBufferSubData(m.pel_cmd_buf.id(), 0, sizeof cmd, cmd);
+  const std::size_t n = cmd[0] / 6;
+  std::vector<float> raw(12 * n);
+  if (n) glGetNamedBufferSubData(m.pel_seg_buf.id(), 0, GLsizeiptr(raw.size() * 4), raw.data());
+  std::vector<PelSegmentOut> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float* r = &raw[12 * i];
+    out[i].a = {r[0], r[1], r[2]};
+    std::memcpy(&out[i].face, &r[3], 4);
+    out[i].b = {r[4], r[5], r[6]};
+  }
+  return out;
 }
 
 std::vector<TerrainRenderer::PnSample> TerrainRenderer::capture_pn(const std::vector<std::uint32_t>& faces, int level) {

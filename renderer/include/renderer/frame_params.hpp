@@ -46,8 +46,9 @@ struct Layers {
   bool mask = true;          // the surface in the mask colour (hidden-line mask)
   bool creases = true;
   bool silhouettes = true;
+  bool pels = false;         // photic extremum lines (needs the mesh's Voronoi weights)
 };
-// Parses "shaded,creases,..." (names: shaded, mask, creases, silhouettes); Error on an
+// Parses "shaded,creases,..." (names: shaded, mask, creases, silhouettes, pels); Error on an
 // unknown name, an empty list, or both shaded and mask.
 Layers parse_layers(const std::string& list);
 std::string to_string(const Layers& layers);
@@ -60,12 +61,23 @@ struct Style {
   double exaggeration = 1.0;                          // vertical exaggeration
   double crease_lift = -1;        // metres along the normal; < 0: 0.5 x mesh spacing
   double pixels_per_edge = 6.0;   // tessellation target: screen length of a triangle edge
+  Eigen::Vector3f pel_colour{0.55f, 0.1f, 0.1f};
+  double pel_width = 1.0;         // pixels
+};
+
+// Photic extremum lines (pel.hpp): threshold tau on |grad f| / max |grad f|, and the
+// light that defines f = max(0, n . L): a headlight (L = the direction towards the eye,
+// -view direction) by default, or the frame's light.
+struct PelParams {
+  double threshold = 0.1;
+  bool headlight = true;
 };
 
 struct FrameParams {
   Camera camera;
   Light light;
   CreaseScoreParams score;
+  PelParams pel;
 };
 
 // Parses a colour "#rrggbb", "r,g,b" (0..255) or a name (white, black, grey, blue, ...).

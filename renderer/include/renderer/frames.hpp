@@ -7,6 +7,7 @@
 //                                framing camera of terrain-render frame)
 //   view_az view_alt fov light_az light_alt
 //   sw iw fw min_score falloff   crease score (frame_params.hpp)
+//   pel_threshold                PEL threshold tau
 // A missing column takes the value of `defaults` (the command line's options).
 #include <string>
 #include <vector>

@@ -11,8 +11,11 @@
 //        quads, lifted along the PN normal, wider where the flow is larger.
 //   SIL  Toward/Away (Mower 2015): a pixel with toward depth t < away depth a and an
 //        8-neighbour whose toward depth is beyond a.
-//   LAY  composite of the chosen layers: surface, then crease and silhouette pixels that
-//        are not behind the nearest toward surface.
+//   PEL  photic extremum lines (pel.hpp): compute passes for the per-vertex fields and the
+//        zero-crossing segments (appended with an indirect draw command), drawn like the
+//        creases, lifted along their face normal.
+//   LAY  composite of the chosen layers: surface, then PEL, crease and silhouette pixels
+//        that are not behind the nearest toward surface.
 // Depth is reversed (1 at the near plane, 0 at infinity) where glClipControl exists.
 #include <cstdint>
 #include <memory>
@@ -34,6 +37,7 @@ struct FrameResult {
   std::vector<std::uint8_t> rgba;   // width x height x 4, row 0 at the top
   FrameTimings timings;
   std::size_t crease_segments = 0;  // segments the DM pass drew (both ends accepted)
+  std::size_t pel_segments = 0;     // segments the PEL pass drew
   View view;                        // the view used (for projection by callers)
 };
 
@@ -70,6 +74,13 @@ class TerrainRenderer {
   };
   static_assert(sizeof(PnSample) == 40);
   std::vector<PnSample> capture_pn(const std::vector<std::uint32_t>& faces, int level);
+
+  // The PEL segments of the last frame: two points (mesh local frame) and the face each.
+  struct PelSegmentOut {
+    Eigen::Vector3f a, b;
+    std::uint32_t face;
+  };
+  std::vector<PelSegmentOut> read_pels() const;
 
  private:
   struct Impl;

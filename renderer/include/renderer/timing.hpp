@@ -1,7 +1,8 @@
 #pragma once
 // Per-pass timings of a frame and the paper's summaries (GL-free).
 // Passes, as in Mower's Creases paper (Appendix A): TFT toward-facing surface, AFT
-// away-facing surface, DM drainage creases, SIL silhouettes, LAY composite.
+// away-facing surface, DM drainage creases, SIL silhouettes, LAY composite; and PEL,
+// photic extremum lines (its own column; not part of the paper's frame rates).
 // Frame rates (the paper's equation 7, from per-frame times in ms):
 //   CREASEfps = 1000 / (TFT + DM + LAY), SILHfps = 1000 / (TFT + AFT + SIL + LAY),
 //   TOTALfps = 1000 / (TFT + AFT + DM + SIL + LAY), averaged over frames.
@@ -11,7 +12,7 @@
 
 namespace renderer {
 
-enum Pass { TFT, AFT, DM, SIL, LAY, kPassCount };
+enum Pass { TFT, AFT, DM, SIL, LAY, PEL, kPassCount };
 const char* pass_name(int pass);
 
 struct FrameTimings {
@@ -33,8 +34,9 @@ struct TimingSummary {
 };
 TimingSummary summarize(const std::vector<FrameTimings>& t, std::size_t begin, std::size_t end, bool wall);
 
-// timings.csv: frame, the five GPU-timer ms, the five wall ms, the three fps (from the GPU
-// timer times, as the paper) and the three fps from the wall times; one row per frame.
+// timings.csv: frame, the five GPU-timer ms, the five wall ms, PEL (GPU timer and wall
+// ms), the three fps (from the GPU timer times, as the paper) and the three fps from the
+// wall times; one row per frame.
 std::string timings_csv(const std::vector<FrameTimings>& t);
 
 // The human summary printed after a batch: Table 3 (ms per pass) and Table 4 (fps) for

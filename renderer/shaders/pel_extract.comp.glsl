@@ -1,0 +1,39 @@
+// PEL segments: per face, the zero crossings of s on its edges; a face with two gives a
+// segment, kept when c < 0 and m / max(m) > tau at both ends. Appended with the indirect
+// draw command (6 vertices per segment). Each record: two vec4 (point xyz, face index as
+// float bits) and the face normal.
+layout(local_size_x = 256) in;
+layout(location = 13) uniform float u_tau;
+layout(std430, binding = 13) buffer PelCommand { uint vertex_count; uint instance_count; uint first; uint base_instance; };
+struct PelSegment {
+  vec4 a, b, n;
+};
+layout(std430, binding = 14) writeonly buffer PelSegments { PelSegment segment[]; };
+void main() {
+  uint f = invocation_index();
+  if (f >= 2u * (u_grid.x - 1u) * (u_grid.y - 1u)) return;
+  uvec3 t = face_vertices(f);
+  uint ids[3] = uint[3](t.x, t.y, t.z);
+  float inv_max = uintBitsToFloat(max_m_bits) > 0.0 ? 1.0 / uintBitsToFloat(max_m_bits) : 0.0;
+  vec3 pts[2];
+  int n = 0;
+  bool keep = true;
+  for (int e = 0; e < 3; ++e) {
+    uint a = ids[e], b = ids[(e + 1) % 3];
+    float sa = field[a].s == 0.0 ? 1e-20 : field[a].s, sb = field[b].s == 0.0 ? 1e-20 : field[b].s;
+    if ((sa > 0.0) == (sb > 0.0)) continue;
+    float w = sa / (sa - sb);
+    if (n < 2) pts[n] = position(a) + w * (position(b) - position(a));
+    ++n;
+    float c = field[a].c + w * (field[b].c - field[a].c);
+    float mn = (field[a].m + w * (field[b].m - field[a].m)) * inv_max;
+    keep = keep && c < 0.0 && mn > u_tau;
+  }
+  if (n != 2 || !keep) return;
+  vec3 x0 = position(t.x), x1 = position(t.y), x2 = position(t.z);
+  vec3 fn = normalize(cross(x1 - x0, x2 - x0));
+  uint k = atomicAdd(vertex_count, 6u) / 6u;
+  segment[k].a = vec4(pts[0], uintBitsToFloat(f));
+  segment[k].b = vec4(pts[1], 0.0);
+  segment[k].n = vec4(fn, 0.0);
+}
