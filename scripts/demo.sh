@@ -51,6 +51,17 @@ run $bin/terrain-render frame "$out/logan_100m.ply" "$out/logan_filled.dv" -o "$
   --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2
 run $bin/terrain-render frame "$out/logan_100m.ply" "$out/logan_filled.dv" -o "$out/render_logan_shaded.png" \
   --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2 --layers shaded,creases,silhouettes
+# Photic extremum lines: denoised meshes carry the Voronoi weights PELs need.
+run $bin/denoise-normals "$out/msh_10m.ply" "$out/msh_10m_denoised.ply" -q
+run $bin/denoise-normals "$out/logan_100m.ply" "$out/logan_100m_denoised.ply" -q
+run $bin/terrain-inspect preview "$out/msh_10m_denoised.ply" --colour-by normal-change -o "$out/msh_10m_normal_change.png"
+run $bin/terrain-render frame "$out/msh_10m_denoised.ply" -o "$out/render_msh_pels.png" --layers mask,pels
+run $bin/terrain-render frame "$out/msh_10m_denoised.ply" "$out/msh_filled.dv" -o "$out/render_msh_pels_lines.png" \
+  --layers mask,pels,creases,silhouettes
+run $bin/terrain-render frame "$out/logan_100m_denoised.ply" -o "$out/render_logan_pels.png" --layers mask,pels \
+  --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2
+run $bin/terrain-render frame "$out/logan_100m_denoised.ply" "$out/logan_filled.dv" -o "$out/render_logan_pels_lines.png" \
+  --layers mask,pels,creases,silhouettes --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2
 # A short flight over the crater: frames, timings.csv and the paper's tables.
 run $bin/terrain-render path --from 561800 5113500 3300 --to 562900 5116000 3000 --frames 12 --view-alt 25 \
   -o "$out/msh_path.csv"

@@ -122,3 +122,40 @@ TEST(TerrainRender, NoUsableOpenGlIsAClearError) {
 }
 
 }  // namespace
+
+namespace {
+
+// denoise-normals adds the Voronoi weights (and, denoising, the normal change) that
+// terrain-inspect reports and the PEL layer needs; without them --layers pels is an error.
+TEST(TerrainRender, DenoisedMeshRendersPels) {
+  Inputs in;
+  const std::string dn = in.dir.path("dn.ply"), w = in.dir.path("w.ply");
+  const auto d = run(tool("denoise-normals") + " " + in.mesh + " " + dn + " --iterations 5 -q");
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  EXPECT_NE(d.out.find("normal_change_mean_deg: "), std::string::npos) << d.out;
+  const auto info = run(tool("terrain-inspect") + " info " + dn);
+  EXPECT_NE(info.out.find("voronoi_weights: yes"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("denoised: yes"), std::string::npos) << info.out;
+  const auto z = run(tool("denoise-normals") + " " + in.mesh + " " + w + " --iterations 0 -q");
+  ASSERT_EQ(z.exit_code, 0) << z.err;
+  EXPECT_NE(z.out.find("normal_change_max_deg: 0.0000"), std::string::npos) << z.out;
+  const auto pv = run(tool("terrain-inspect") + " preview " + dn + " --colour-by normal-change -o " + in.dir.path("nc.png"));
+  EXPECT_EQ(pv.exit_code, 0) << pv.err;
+  const auto pw = run(tool("terrain-inspect") + " preview " + in.mesh + " --colour-by voronoi -o " + in.dir.path("v.png"));
+  EXPECT_EQ(pw.exit_code, 1);  // the plain mesh has no weights
+  EXPECT_EQ(lines(pw.err), 1u) << pw.err;
+
+  const auto f = run(tool("terrain-render") + " frame " + dn + " " + in.dv + " -o " + in.dir.path("p.png") +
+                     " --size 160x120 --layers mask,pels,creases,silhouettes");
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  EXPECT_NE(f.out.find("pel segments drawn: "), std::string::npos) << f.out;
+  EXPECT_EQ(f.out.find("pel segments drawn: 0\n"), std::string::npos) << f.out;
+  const auto bad = run(tool("terrain-render") + " frame " + in.mesh + " -o " + in.dir.path("q.png") +
+                       " --size 160x120 --layers mask,pels");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_EQ(lines(bad.err), 1u) << bad.err;
+  EXPECT_NE(bad.err.find("Voronoi weights"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(in.dir.path("q.png")));
+}
+
+}  // namespace

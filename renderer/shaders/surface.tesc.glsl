@@ -7,6 +7,7 @@ out vec3 c_pos[];
 out vec3 c_nrm[];
 patch out vec3 p_b210, p_b120, p_b021, p_b012, p_b102, p_b201, p_b111;
 patch out vec3 p_n110, p_n011, p_n101;
+layout(location = 0) uniform int u_mode;  // 0: TFT (toward-facing fragments), 1: AFT (away-facing)
 
 // Point 1/3 along Pi -> Pj projected into the tangent plane of Pi.
 vec3 edge_point(vec3 pi, vec3 pj, vec3 ni) { return (2.0 * pi + pj - dot(pj - pi, ni) * ni) / 3.0; }
@@ -71,7 +72,21 @@ void main() {
                     all_out.z && c[i].y < -c[i].w, all_out.w && c[i].y > c[i].w);
     all_behind = all_behind && c[i].w <= 0.0;
   }
-  if (any(all_out) || all_behind) {
+  // Facing cull: on the patch, n(b) = sum_j B_j n_j and eye - p(b) = sum_k B_k (eye - b_k)
+  // with Bernstein weights B >= 0, so n . (eye - p) has the sign of every product
+  // n_j . (eye - b_k) when they all agree: a patch facing the eye everywhere has no
+  // away-facing fragment (skip it in AFT), one facing away everywhere none toward (TFT).
+  vec3 nc[6] = vec3[6](n1, n2, n3, p_n110, p_n011, p_n101);
+  vec3 bc[10] = vec3[10](p1, p2, p3, p_b210, p_b120, p_b021, p_b012, p_b102, p_b201, p_b111);
+  bool all_toward = true, all_away = true;
+  for (int j = 0; j < 6; ++j)
+    for (int k = 0; k < 10; ++k) {
+      float d = dot(nc[j], u_eye.xyz - bc[k]);
+      all_toward = all_toward && d > 0.0;
+      all_away = all_away && d < 0.0;
+    }
+  bool facing_cull = (u_mode == 1 && all_toward) || (u_mode == 0 && all_away);
+  if (any(all_out) || all_behind || facing_cull) {
     gl_TessLevelOuter[0] = gl_TessLevelOuter[1] = gl_TessLevelOuter[2] = 0.0;
     gl_TessLevelInner[0] = 0.0;
     return;
