@@ -97,7 +97,7 @@ TEST(TerrainRender, BadInputGivesOneLine) {
   for (const std::string& args :
        {std::string("frame ") + in.dir.path("missing.ply") + " -o " + in.dir.path("x.png"),
         std::string("frame ") + in.mesh + " " + in.mesh + " -o " + in.dir.path("x.png"),  // not a .dv
-        std::string("frame ") + in.mesh + " -o " + in.dir.path("x.png") + " --layers shaded,pels",
+        std::string("frame ") + in.mesh + " -o " + in.dir.path("x.png") + " --layers shaded,contours",
         std::string("frame ") + in.mesh + " -o " + in.dir.path("x.png") + " --size 10x10000000"}) {
     const auto r = run(tool("terrain-render") + " " + args);
     EXPECT_NE(r.exit_code, 0) << args;

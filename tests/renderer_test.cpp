@@ -153,7 +153,8 @@ TEST(Frames, StraightPath) {
 TEST(Layers, Parse) {
   const auto l = renderer::parse_layers("shaded, creases");
   EXPECT_TRUE(l.shaded && l.creases && !l.mask && !l.silhouettes);
-  EXPECT_THROW(renderer::parse_layers("mask,pels"), terrain::Error);
+  EXPECT_THROW(renderer::parse_layers("mask,contours"), terrain::Error);
+  EXPECT_TRUE(renderer::parse_layers("mask,pels").pels);
   EXPECT_THROW(renderer::parse_layers("shaded,mask"), terrain::Error);
   EXPECT_EQ(renderer::parse_colour("#ff8000"), Eigen::Vector3f(1, 128 / 255.f, 0));
   EXPECT_THROW(renderer::parse_colour("#zz0000"), terrain::Error);

@@ -18,3 +18,21 @@ vec3 exaggerate_normal(vec3 n) { return normalize(vec3(n.xy, n.z / u_eye.w)); }
 
 // Window depth to "distance order": larger is farther, 1 where nothing was drawn.
 float far_of(float depth) { return u_lines.w > 0.5 ? 1.0 - depth : depth; }
+
+// Vertex k (0..5) of the screen-space quad of the segment with clip positions c0, c1 and
+// widths w0, w1 (pixels) at its ends: two triangles, the ends extended by half a width.
+// A segment reaching the near plane is dropped (the vertex is put outside the view).
+vec4 segment_quad_vertex(vec4 c0, vec4 c1, float w0, float w1, uint k) {
+  const uint end_of[6] = uint[6](0u, 1u, 1u, 0u, 1u, 0u);
+  const float side_of[6] = float[6](-1.0, -1.0, 1.0, -1.0, 1.0, 1.0);
+  if (c0.w <= u_misc.x || c1.w <= u_misc.x) return vec4(2.0, 2.0, 2.0, 1.0);
+  vec2 half_vp = 0.5 * u_viewport.xy;
+  vec2 d = c1.xy / c1.w * half_vp - c0.xy / c0.w * half_vp;
+  vec2 dir = dot(d, d) > 0.0 ? normalize(d) : vec2(1.0, 0.0);
+  vec2 perp = vec2(-dir.y, dir.x);
+  uint j = end_of[k];
+  float w = 0.5 * (j == 0u ? w0 : w1);
+  vec4 c = j == 0u ? c0 : c1;
+  c.xy += (perp * side_of[k] * w + dir * (j == 0u ? -w : w)) / half_vp * c.w;
+  return c;
+}
