@@ -92,34 +92,48 @@ Eigen::Vector3f parse_colour(const std::string& text) {
   throw terrain::Error("bad colour '" + text + "' (use #rrggbb, r,g,b in 0..255, or white, black, grey, blue, red, brown)");
 }
 
-const std::vector<std::string>& frame_columns() {
-  static const std::vector<std::string> cols = {"easting", "northing", "elevation", "view_az", "view_alt",
-                                                "fov",     "light_az", "light_alt", "sw",      "iw",
-                                                "fw",      "min_score", "falloff", "pel_threshold"};
-  return cols;
-}
-
 namespace {
 
-double* field_of(FrameParams& f, Eigen::Vector3d& eye, const std::string& col) {
-  if (col == "easting") return &eye.x();
-  if (col == "northing") return &eye.y();
-  if (col == "elevation") return &eye.z();
-  if (col == "view_az") return &f.camera.view_az;
-  if (col == "view_alt") return &f.camera.view_alt;
-  if (col == "fov") return &f.camera.fov;
-  if (col == "light_az") return &f.light.azimuth;
-  if (col == "light_alt") return &f.light.altitude;
-  if (col == "sw") return &f.score.sw;
-  if (col == "iw") return &f.score.iw;
-  if (col == "fw") return &f.score.fw;
-  if (col == "min_score") return &f.score.min_score;
-  if (col == "falloff") return &f.score.falloff;
-  if (col == "pel_threshold") return &f.pel.threshold;
+// The columns of FRAMES.csv, in the order path_csv writes them, and the value each one
+// sets: the eye's coordinates (the first three) or a member of FrameParams.
+struct Column {
+  const char* name;
+  double* (*field)(FrameParams& f, Eigen::Vector3d& eye);
+};
+const Column kColumns[] = {
+    {"easting", [](FrameParams&, Eigen::Vector3d& e) { return &e.x(); }},
+    {"northing", [](FrameParams&, Eigen::Vector3d& e) { return &e.y(); }},
+    {"elevation", [](FrameParams&, Eigen::Vector3d& e) { return &e.z(); }},
+    {"view_az", [](FrameParams& f, Eigen::Vector3d&) { return &f.camera.view_az; }},
+    {"view_alt", [](FrameParams& f, Eigen::Vector3d&) { return &f.camera.view_alt; }},
+    {"fov", [](FrameParams& f, Eigen::Vector3d&) { return &f.camera.fov; }},
+    {"light_az", [](FrameParams& f, Eigen::Vector3d&) { return &f.light.azimuth; }},
+    {"light_alt", [](FrameParams& f, Eigen::Vector3d&) { return &f.light.altitude; }},
+    {"sw", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.sw; }},
+    {"iw", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.iw; }},
+    {"fw", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.fw; }},
+    {"min_score", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.min_score; }},
+    {"falloff", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.falloff; }},
+    {"pel_threshold", [](FrameParams& f, Eigen::Vector3d&) { return &f.pel.threshold; }},
+};
+constexpr std::size_t kEyeColumns = 3;
+
+const Column* column_named(const std::string& name) {
+  for (const auto& c : kColumns)
+    if (name == c.name) return &c;
   return nullptr;
 }
 
 }  // namespace
+
+const std::vector<std::string>& frame_columns() {
+  static const std::vector<std::string> cols = [] {
+    std::vector<std::string> v;
+    for (const auto& c : kColumns) v.emplace_back(c.name);
+    return v;
+  }();
+  return cols;
+}
 
 std::vector<FrameParams> parse_frames_csv(const std::string& text, const FrameParams& defaults,
                                           const std::string& name) {
@@ -127,6 +141,7 @@ std::vector<FrameParams> parse_frames_csv(const std::string& text, const FramePa
   std::string line;
   std::vector<std::string> header;
   std::vector<FrameParams> frames;
+  std::vector<const Column*> columns;
   int line_no = 0, header_line = 0, eye_columns = 0;
   auto fail = [&](int at, const std::string& what) { throw terrain::Error(fmt::format("{}:{}: {}", name, at, what)); };
   while (std::getline(in, line)) {
@@ -139,11 +154,13 @@ std::vector<FrameParams> parse_frames_csv(const std::string& text, const FramePa
       header = fields;
       header_line = line_no;
       for (std::size_t i = 0; i < header.size(); ++i) {
-        if (std::find(frame_columns().begin(), frame_columns().end(), header[i]) == frame_columns().end())
+        const Column* col = column_named(header[i]);
+        if (!col)
           fail(line_no, fmt::format("unknown column '{}' (columns: {})", header[i], fmt::join(frame_columns(), " ")));
         if (std::find(header.begin(), header.begin() + long(i), header[i]) != header.begin() + long(i))
           fail(line_no, fmt::format("column '{}' appears twice", header[i]));
-        if (header[i] == "easting" || header[i] == "northing" || header[i] == "elevation") ++eye_columns;
+        eye_columns += col < kColumns + kEyeColumns;
+        columns.push_back(col);
       }
       if (eye_columns != 0 && eye_columns != 3)
         fail(line_no, "columns easting, northing and elevation go together (all three or none)");
@@ -156,7 +173,7 @@ std::vector<FrameParams> parse_frames_csv(const std::string& text, const FramePa
     for (std::size_t i = 0; i < fields.size(); ++i) {
       double v = 0;
       if (!to_double(fields[i], v)) fail(line_no, fmt::format("field '{}': '{}' is not a number", header[i], fields[i]));
-      *field_of(f, eye, header[i]) = v;
+      *columns[i]->field(f, eye) = v;
     }
     if (eye_columns == 3) f.camera.eye = eye;
     if (!(f.camera.fov > 0 && f.camera.fov < 180)) fail(line_no, "fov must be in (0, 180) degrees");
@@ -184,12 +201,16 @@ std::string path_csv(const FlightPath& p) {
     az = std::fmod(std::atan2(d.x(), d.y()) * 180.0 / std::numbers::pi + 360.0, 360.0);
   }
   std::string out = fmt::format("{}\n", fmt::join(frame_columns(), ","));  // all columns
+  FrameParams f = p.params;
+  f.camera.view_az = az;
   for (int i = 0; i < p.frames; ++i) {
-    const Eigen::Vector3d e = p.from + d * (double(i) / double(p.frames - 1));
-    const auto& s = p.params.score;
-    out += fmt::format("{:.3f},{:.3f},{:.3f},{},{},{},{},{},{},{},{},{},{},{}\n", e.x(), e.y(), e.z(), az,
-                       p.params.camera.view_alt, p.params.camera.fov, p.params.light.azimuth,
-                       p.params.light.altitude, s.sw, s.iw, s.fw, s.min_score, s.falloff, p.params.pel.threshold);
+    Eigen::Vector3d eye = p.from + d * (double(i) / double(p.frames - 1));
+    for (std::size_t k = 0; k < std::size(kColumns); ++k) {
+      const double v = *kColumns[k].field(f, eye);
+      if (k) out += ',';
+      out += k < kEyeColumns ? fmt::format("{:.3f}", v) : fmt::format("{}", v);
+    }
+    out += "\n";
   }
   return out;
 }
