@@ -57,14 +57,6 @@ Layers parse_layers(const std::string& list) {
   return l;
 }
 
-std::string to_string(const Layers& l) {
-  std::string s;
-  for (auto [on, name] : {std::pair{l.shaded, "shaded"}, {l.mask, "mask"}, {l.creases, "creases"},
-                          {l.silhouettes, "silhouettes"}, {l.pels, "pels"}})
-    if (on) s += (s.empty() ? "" : ",") + std::string(name);
-  return s;
-}
-
 Eigen::Vector3f parse_colour(const std::string& text) {
   static const std::map<std::string, Eigen::Vector3f> names = {
       {"white", {1, 1, 1}},       {"black", {0, 0, 0}},         {"grey", {0.5f, 0.5f, 0.5f}},

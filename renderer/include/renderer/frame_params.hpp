@@ -51,7 +51,6 @@ struct Layers {
 // Parses "shaded,creases,..." (names: shaded, mask, creases, silhouettes, pels); Error on an
 // unknown name, an empty list, or both shaded and mask.
 Layers parse_layers(const std::string& list);
-std::string to_string(const Layers& layers);
 
 struct Style {
   Eigen::Vector3f background{0xdd / 255.f, 0xe4 / 255.f, 0xec / 255.f}, mask{1, 1, 1};
