@@ -54,19 +54,17 @@ struct TerrainRenderer::Impl {
   bool reversed = true;
   Box box;
   Eigen::Vector3d origin;
-  double spacing = 1, far_default = 1, lift = 0;
+  double far_default = 1, lift = 0;
   int max_level = 32;
 
   GlObject vao, pos_buf, nrm_buf, index_buf, ubo, empty_vao;
-  GLsizei n_indices = 0;
-  std::size_t n_faces = 0;
+  terrain::GridTopology topo;  // the mesh's grid: faces are implicit (grid_mesh.hpp)
 
   bool has_creases = false;
   bool has_pels = false;
   GlObject corner_buf, varea_buf, tangent_buf, field_buf, maxm_buf, pel_cmd_buf, pel_seg_buf;
   GlObject pel_field_prog, pel_extract_prog, pel_draw_prog;
   GlObject pel_colour, pel_depth, pel_fbo;
-  std::uint32_t rows = 0, cols = 0;
   std::size_t n_crease_vertices = 0, n_segments = 0;
   GlObject cv_buf, seg_buf, score_buf, cmd_buf, selected_buf;
 
@@ -96,7 +94,7 @@ struct TerrainRenderer::Impl {
     glProgramUniform1i(surface_prog.id(), 0, mode);
     glBindVertexArray(vao.id());
     glPatchParameteri(GL_PATCH_VERTICES, 3);
-    glDrawElements(GL_PATCHES, n_indices, GL_UNSIGNED_INT, nullptr);
+    glDrawElements(GL_PATCHES, GLsizei(3 * topo.n_faces()), GL_UNSIGNED_INT, nullptr);
   }
 };
 
@@ -114,17 +112,15 @@ TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMe
   m.width = width;
   m.height = height;
   m.layers = layers;
-  m.rows = std::uint32_t(mesh.topo.rows);
-  m.cols = std::uint32_t(mesh.topo.cols);
+  m.topo = mesh.topo;
   if (layers.pels && mesh.voronoi.empty())
     throw terrain::Error("--layers pels needs the mesh's Voronoi weights: make it with denoise-normals "
                          "(--iterations 0 only adds them)");
   m.style = style;
   m.reversed = context.has_clip_control();
   m.origin = {mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z};
-  m.spacing = std::min(mesh.geo.dx, mesh.geo.dy);
   m.far_default = default_far_distance(mesh);
-  m.lift = style.crease_lift >= 0 ? style.crease_lift : 0.5 * m.spacing;
+  m.lift = style.crease_lift >= 0 ? style.crease_lift : 0.5 * std::min(mesh.geo.dx, mesh.geo.dy);
   GLint max_gen = 64;
   glGetIntegerv(GL_MAX_TESS_GEN_LEVEL, &max_gen);
   m.max_level = std::min(32, int(max_gen));
@@ -141,15 +137,13 @@ TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMe
   // Surface geometry: positions and normals in two buffers, faces as patches of 3.
   m.pos_buf = make_buffer(mesh.n_vertices() * sizeof(Eigen::Vector3f), mesh.positions.data(), 0);
   m.nrm_buf = make_buffer(mesh.n_vertices() * sizeof(Eigen::Vector3f), mesh.normals.data(), 0);
-  m.n_faces = mesh.n_faces();
   {
-    std::vector<std::uint32_t> idx(m.n_faces * 3);
-    for (std::size_t f = 0; f < m.n_faces; ++f) {
+    std::vector<std::uint32_t> idx(mesh.n_faces() * 3);
+    for (std::size_t f = 0; f < mesh.n_faces(); ++f) {
       const auto t = mesh.topo.face(f);
       std::copy(t.begin(), t.end(), idx.begin() + long(3 * f));
     }
     m.index_buf = make_buffer(idx.size() * 4, idx.data(), 0);
-    m.n_indices = GLsizei(idx.size());
   }
   m.vao = GlObject(GlKind::VertexArray);
   for (GLuint a = 0; a < 2; ++a) {
@@ -350,10 +344,11 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
     for (GLuint b = 0; b < 9; ++b) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6 + b, bufs[b]);
     // The light of f: the headlight (towards the eye) or the frame's light, in the mesh frame.
     const Eigen::Vector3d pel_light = frame.pel.headlight ? Eigen::Vector3d(-v.forward) : light;
-    const std::size_t nv = std::size_t(m.rows) * m.cols, nf = 2 * std::size_t(m.rows - 1) * (m.cols - 1);
+    const std::size_t nv = m.topo.n_vertices(), nf = m.topo.n_faces();
+    const auto rows = GLuint(m.topo.rows), cols = GLuint(m.topo.cols);
     const GLuint fp = m.pel_field_prog.id();
     glUseProgram(fp);
-    glProgramUniform2ui(fp, 10, m.rows, m.cols);
+    glProgramUniform2ui(fp, 10, rows, cols);
     glProgramUniform3f(fp, 12, float(pel_light.x()), float(pel_light.y()), float(pel_light.z()));
     for (int stage = 0; stage < 4; ++stage) {
       glProgramUniform1i(fp, 11, stage);
@@ -362,7 +357,7 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
     }
     const GLuint ep = m.pel_extract_prog.id();
     glUseProgram(ep);
-    glProgramUniform2ui(ep, 10, m.rows, m.cols);
+    glProgramUniform2ui(ep, 10, rows, cols);
     glProgramUniform1f(ep, 13, float(frame.pel.threshold));
     glDispatchCompute(groups_x(nf), groups_y(nf), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
@@ -483,10 +478,9 @@ std::vector<TerrainRenderer::PnSample> TerrainRenderer::capture_pn(const std::ve
                                    {"tf_face", "tf_bary", "tf_pos", "tf_nrm"});
   std::vector<std::uint32_t> idx;
   for (const auto f : faces) {
-    if (f >= m.n_faces) throw terrain::Error("capture face out of range");
-    std::uint32_t t[3];
-    glGetNamedBufferSubData(m.index_buf.id(), GLintptr(3 * 4 * std::size_t(f)), 12, t);
-    idx.insert(idx.end(), t, t + 3);
+    if (f >= m.topo.n_faces()) throw terrain::Error("capture face out of range");
+    const auto t = m.topo.face(f);
+    idx.insert(idx.end(), t.begin(), t.end());
   }
   GlObject tmp_index = make_buffer(idx.size() * 4, idx.data(), 0);
   const std::size_t max_vertices = faces.size() * 3 * std::size_t(level + 2) * std::size_t(level + 2);
