@@ -45,7 +45,7 @@ VoronoiWeights voronoi_weights(const GridMesh& m) {
     std::array<std::uint8_t, 6> corners;
     const int k = m.topo.vertex_faces(v, faces, corners);
     double a = 0;
-    for (int i = 0; i < k; ++i) a += corners_of(m, faces[std::size_t(i)])[corners[std::size_t(i)]];
+    for (int i = 0; i < k; ++i) a += double(w.corner_areas[faces[std::size_t(i)]][corners[std::size_t(i)]]);
     w.vertex_areas[v] = float(a);
     const Vector3d n = m.normals[v].cast<double>();
     const std::size_t c = v % cols;
