@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "terrain/denoise.hpp"
+#include "test_support.hpp"
 
 namespace terrain {
 namespace {
@@ -19,15 +20,11 @@ double angle_deg(const Vector3f& a, const Vector3d& b) {
   return std::acos(std::clamp(a.cast<double>().dot(b.normalized()), -1.0, 1.0)) * 180 / std::numbers::pi;
 }
 
-// z = f(x, y) + Gaussian noise (seeded) on rows x cols samples 1 m apart.
+// z = f(x, y) + Gaussian noise (seeded) on n x n samples 1 m apart.
 GridMesh noisy_mesh(std::size_t n, const std::function<double(double, double)>& f, double noise, unsigned seed) {
-  Georef geo;
-  Grid g(n, n, geo);
   std::mt19937 rng(seed);
   std::normal_distribution<double> gauss(0.0, noise);
-  for (std::size_t r = 0; r < n; ++r)
-    for (std::size_t c = 0; c < n; ++c) g.at(r, c) = float(f(double(c), -double(r)) + gauss(rng));
-  return make_grid_mesh(g, NormalWeighting::Area);
+  return test::function_mesh(n, n, 1.0, [&](double x, double y) { return f(x, y) + gauss(rng); });
 }
 
 // One round of the filter equals a brute-force evaluation of ALGORITHMS.md 6.1 (every
@@ -122,7 +119,9 @@ TEST(Denoise, VertexUpdateKeepsTheGridAndItsBoundary) {
     EXPECT_EQ(m.positions[v].x(), original.positions[v].x());  // only z moves
     EXPECT_EQ(m.positions[v].y(), original.positions[v].y());
     const std::size_t r = v / 30, c = v % 30;
-    if (r == 0 || c == 0 || r == 29 || c == 29) EXPECT_EQ(m.positions[v].z(), original.positions[v].z());
+    if (r == 0 || c == 0 || r == 29 || c == 29) {
+      EXPECT_EQ(m.positions[v].z(), original.positions[v].z());
+    }
   }
   // The surface got smoother: its normals are closer to the plane's.
   const Vector3d truth(-0.2, 0, 1);

@@ -6,6 +6,7 @@
 
 #include "renderer/pel.hpp"
 #include "terrain/voronoi.hpp"
+#include "test_support.hpp"
 
 namespace {
 
@@ -14,16 +15,10 @@ using Eigen::Vector3d;
 // A radially symmetric Gaussian bump z = H exp(-r^2 / 2 sigma^2) on a grid h metres apart,
 // centred, with its Voronoi weights.
 terrain::GridMesh bump_mesh(std::size_t n, double h, double H, double sigma) {
-  terrain::Georef geo;
-  geo.dx = geo.dy = h;
-  terrain::Grid g(n, n, geo);
-  const double c0 = double(n - 1) / 2 * h;
-  for (std::size_t r = 0; r < n; ++r)
-    for (std::size_t c = 0; c < n; ++c) {
-      const double x = double(c) * h - c0, y = double(r) * h - c0;
-      g.at(r, c) = float(H * std::exp(-(x * x + y * y) / (2 * sigma * sigma)));
-    }
-  terrain::GridMesh m = terrain::make_grid_mesh(g, terrain::NormalWeighting::Area);
+  const double c0 = double(n - 1) / 2 * h;  // the centre is at local (c0, -c0)
+  terrain::GridMesh m = terrain::test::function_mesh(n, n, h, [=](double x, double y) {
+    return H * std::exp(-((x - c0) * (x - c0) + (y + c0) * (y + c0)) / (2 * sigma * sigma));
+  });
   m.voronoi = terrain::voronoi_weights(m);
   return m;
 }

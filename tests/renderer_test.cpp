@@ -167,21 +167,6 @@ TEST(Shader, LogLocationsNameTheFile) {
 
 // ---------------------------------------------------------------- scenes
 
-// A mesh of z = f(x, y) on rows x cols samples `h` apart; local = world, sample (0, 0)
-// at (0, 0), x east, y north (rows go south, to negative y).
-terrain::GridMesh synthetic_mesh(std::size_t rows, std::size_t cols, double h,
-                                 const std::function<double(double, double)>& f) {
-  terrain::Georef geo;
-  geo.dx = geo.dy = h;
-  geo.x0 = -0.5 * h;
-  geo.y0 = 0.5 * h;
-  geo.crs_kind = terrain::CrsKind::Projected;
-  terrain::Grid g(rows, cols, geo);
-  for (std::size_t r = 0; r < rows; ++r)
-    for (std::size_t c = 0; c < cols; ++c) g.at(r, c) = float(f(double(c) * h, -double(r) * h));
-  return terrain::make_grid_mesh(g, terrain::NormalWeighting::Area);
-}
-
 renderer::Style test_style() {
   renderer::Style s;
   s.background = {1, 1, 1};
@@ -270,7 +255,7 @@ class RidgeSilhouette : public ::testing::TestWithParam<RidgeCase> {};
 TEST_P(RidgeSilhouette, WhereProjectionPredicts) {
   const double H = 200, s = 100, yr = -3000, h = 20;
   auto z = [&](double, double y) { return H * std::exp(-0.5 * (y - yr) * (y - yr) / (s * s)); };
-  const auto mesh = synthetic_mesh(201, 101, h, z);  // x 0..2000, y -4000..0
+  const auto mesh = terrain::test::function_mesh(201, 101, h, z);  // x 0..2000, y -4000..0
   renderer::GlContext ctx;
   renderer::Layers layers{false, true, false, true};
   TerrainRenderer r(ctx, mesh, nullptr, 320, 240, layers, test_style());
@@ -311,7 +296,7 @@ INSTANTIATE_TEST_SUITE_P(SkylineAndOccludingEdge, RidgeSilhouette,
                          [](const auto& info) { return info.param.eye_z < 200 ? "Skyline" : "OccludingEdge"; });
 
 TEST(RendererGl, FlatPlaneFromAboveHasNoSilhouette) {
-  const auto mesh = synthetic_mesh(41, 41, 25, [](double, double) { return 100.0; });
+  const auto mesh = terrain::test::function_mesh(41, 41, 25, [](double, double) { return 100.0; });
   renderer::GlContext ctx;
   TerrainRenderer r(ctx, mesh, nullptr, 200, 200, renderer::Layers{false, true, false, true}, test_style());
   FrameParams fp;
@@ -356,7 +341,7 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
   const renderer::Layers layers{false, true, true, false};
   std::size_t pixels[3] = {};
   for (int k = 0; k < 3; ++k) {
-    const auto mesh = synthetic_mesh(201, 101, 20, terrain_fn(k == 0 ? 500.0 : 0.0));
+    const auto mesh = terrain::test::function_mesh(201, 101, 20, terrain_fn(k == 0 ? 500.0 : 0.0));
     const auto g = creases_on(mesh);
     TerrainRenderer r(ctx, mesh, &g, 320, 240, layers, test_style());
     FrameParams f = fp;
@@ -397,8 +382,12 @@ TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
       EXPECT_NEAR(double(res.crease_segments), double(cpu), tol) << "min " << fp.score.min_score << " falloff " << falloff;
       EXPECT_LE(res.crease_segments, previous);
       previous = res.crease_segments;
-      if (i == 0 && falloff == 0) EXPECT_EQ(res.crease_segments, g.n_segments());
-      if (i == 10) EXPECT_EQ(res.crease_segments, 0u);
+      if (i == 0 && falloff == 0) {
+        EXPECT_EQ(res.crease_segments, g.n_segments());
+      }
+      if (i == 10) {
+        EXPECT_EQ(res.crease_segments, 0u);
+      }
     }
   }
 }

@@ -26,6 +26,18 @@ std::size_t ScratchDir::n_entries() const {
   return std::size_t(std::distance(fs::directory_iterator(dir_), fs::directory_iterator{}));
 }
 
+GridMesh function_mesh(std::size_t rows, std::size_t cols, double h, const std::function<double(double, double)>& f) {
+  Georef geo;
+  geo.dx = geo.dy = h;
+  geo.x0 = -0.5 * h;  // sample (0, 0) at the world origin
+  geo.y0 = 0.5 * h;
+  geo.crs_kind = CrsKind::Projected;
+  Grid g(rows, cols, geo);
+  for (std::size_t r = 0; r < rows; ++r)
+    for (std::size_t c = 0; c < cols; ++c) g.at(r, c) = float(f(double(c) * h, -double(r) * h));
+  return make_grid_mesh(g, NormalWeighting::Area);
+}
+
 RunResult run(const std::string& command_line) {
   ScratchDir tmp;
   const std::string out = tmp.path("stdout"), err = tmp.path("stderr");

@@ -2,7 +2,10 @@
 // Shared helpers of the test suite: data paths (from CMake, never the working
 // directory), a scratch directory, and running a tool.
 #include <filesystem>
+#include <functional>
 #include <string>
+
+#include "terrain/grid_mesh.hpp"
 
 namespace terrain::test {
 
@@ -29,5 +32,10 @@ struct RunResult {
 
 // Runs a command line through /bin/sh and captures its exit code, stdout and stderr.
 RunResult run(const std::string& command_line);
+
+// The mesh (area-weighted normals) of z = f(x, y) on rows x cols samples h metres apart,
+// in its local frame: sample (r, c) at x = c h, y = -r h, the origin at sample (0, 0).
+// f is called row by row, west to east, so a seeded random term is reproducible.
+GridMesh function_mesh(std::size_t rows, std::size_t cols, double h, const std::function<double(double, double)>& f);
 
 }  // namespace terrain::test

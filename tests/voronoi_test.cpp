@@ -35,19 +35,15 @@ TEST(Voronoi, WorkedExamples) {
   EXPECT_EQ(mixed_voronoi_corners({0, 0, 0}, {1, 1, 1}, {2, 2, 2}), Vector3d::Zero());
 }
 
+// The plane z = sx x + sy y.
 GridMesh plane_mesh(std::size_t rows, std::size_t cols, double h, double sx, double sy) {
-  Georef geo;
-  geo.dx = geo.dy = h;
-  Grid g(rows, cols, geo);
-  for (std::size_t r = 0; r < rows; ++r)
-    for (std::size_t c = 0; c < cols; ++c) g.at(r, c) = float(sx * double(c) * h - sy * double(r) * h);
-  return make_grid_mesh(g, NormalWeighting::Area);
+  return test::function_mesh(rows, cols, h, [=](double x, double y) { return sx * x + sy * y; });
 }
 
 TEST(Voronoi, RegularPlanarGridInteriorVertexGetsOneCell) {
   // Flat and tilted planes: each interior vertex's area is one cell (h^2 times the slope
   // factor sqrt(1 + sx^2 + sy^2) of the tilted plane's area element).
-  for (const auto [sx, sy] : {std::pair{0.0, 0.0}, {0.3, -0.2}}) {
+  for (const auto& [sx, sy] : {std::pair{0.0, 0.0}, {0.3, -0.2}}) {
     const GridMesh m = plane_mesh(6, 7, 10.0, sx, sy);
     const VoronoiWeights w = voronoi_weights(m);
     const double cell = 100.0 * std::sqrt(1 + sx * sx + sy * sy);
