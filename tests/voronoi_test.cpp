@@ -17,18 +17,12 @@ using Eigen::Vector3d;
 TEST(Voronoi, WorkedExamples) {
   // ALGORITHMS.md 4.2: acute (0,0),(4,0),(1,3): (2.25, 1.75, 2.0); right angle at the
   // origin: (1.0, 0.5, 0.5); obtuse at (2,1), area 2: Meyer (0.5, 0.5, 1.0).
-  const auto a = mixed_voronoi_corners({0, 0, 0}, {4, 0, 0}, {1, 3, 0});
-  EXPECT_NEAR(a[0], 2.25, 1e-12);
-  EXPECT_NEAR(a[1], 1.75, 1e-12);
-  EXPECT_NEAR(a[2], 2.0, 1e-12);
-  const auto r = mixed_voronoi_corners({0, 0, 0}, {2, 0, 0}, {0, 2, 0});
-  EXPECT_NEAR(r[0], 1.0, 1e-12);
-  EXPECT_NEAR(r[1], 0.5, 1e-12);
-  EXPECT_NEAR(r[2], 0.5, 1e-12);
-  const auto o = mixed_voronoi_corners({0, 0, 0}, {4, 0, 0}, {2, 1, 0});
-  EXPECT_NEAR(o[0], 0.5, 1e-12);
-  EXPECT_NEAR(o[1], 0.5, 1e-12);
-  EXPECT_NEAR(o[2], 1.0, 1e-12);
+  auto expect_corners = [](const Vector3d& got, const Vector3d& want) {
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], want[k], 1e-12) << "corner " << k;
+  };
+  expect_corners(mixed_voronoi_corners({0, 0, 0}, {4, 0, 0}, {1, 3, 0}), {2.25, 1.75, 2.0});
+  expect_corners(mixed_voronoi_corners({0, 0, 0}, {2, 0, 0}, {0, 2, 0}), {1.0, 0.5, 0.5});
+  expect_corners(mixed_voronoi_corners({0, 0, 0}, {4, 0, 0}, {2, 1, 0}), {0.5, 0.5, 1.0});
   // Order of the corners follows the arguments; a degenerate triangle has no area.
   const auto o2 = mixed_voronoi_corners({2, 1, 0}, {0, 0, 0}, {4, 0, 0});
   EXPECT_NEAR(o2[0], 1.0, 1e-12);

@@ -50,7 +50,7 @@ class PropertyKernel : public OM::BaseKernel {
     property(h).set_persistent(true);
     for (std::size_t i = 0; i < n; ++i) property(h, OM::FaceHandle(int(i))) = get(i);
   }
-  // Copies a float vertex (face) property into out[i][k] (or out[i] when k < 0); false when
+  // Calls set(i, value) for every vertex (face) with the named float property; false when
   // the file has no such property.
   template <class Out>
   bool vertex_floats(const char* name, Out&& set) {
