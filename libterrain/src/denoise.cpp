@@ -130,8 +130,11 @@ DenoiseStats denoise_normals(GridMesh& m, const DenoiseOptions& o, const Progres
   const std::size_t nv = m.n_vertices(), rows = m.topo.rows, cols = m.topo.cols;
   if (o.update_vertices && o.iterations > 0) {
     const BigVector<Vector3f> original = m.positions;
-    BigVector<Vector3f> next = m.positions;
+    BigVector<Vector3f> next = m.positions;  // only interior z values change
+    std::vector<Vector3d> centroid(m.n_faces());
     for (int it = 0; it < o.vertex_iterations; ++it) {
+#pragma omp parallel for schedule(static)
+      for (std::size_t f = 0; f < centroid.size(); ++f) centroid[f] = face_geom(m, f).centroid;
 #pragma omp parallel for schedule(static)
       for (std::size_t v = 0; v < nv; ++v) {
         const std::size_t r = v / cols, c = v % cols;
@@ -144,12 +147,11 @@ DenoiseStats denoise_normals(GridMesh& m, const DenoiseOptions& o, const Progres
         for (int i = 0; i < k; ++i) {
           const std::size_t f = faces[std::size_t(i)];
           const Vector3d n = filtered[f].cast<double>();
-          step += n * n.dot(face_geom(m, f).centroid - x);
+          step += n * n.dot(centroid[f] - x);
         }
         next[v].z() = float(x.z() + step.z() / double(k));
       }
-      std::swap(m.positions, next);
-      next = m.positions;
+      std::swap(m.positions, next);  // both hold the same x, y and boundary z
     }
     for (std::size_t v = 0; v < nv; ++v)
       stats.max_vertex_shift = std::max(stats.max_vertex_shift, double((m.positions[v] - original[v]).norm()));
