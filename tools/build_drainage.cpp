@@ -111,7 +111,10 @@ int main(int argc, char** argv) {
       if (surface.geo.crs_kind == terrain::CrsKind::Geographic)
         throw terrain::Error("'" + raster + "' is geographic (degrees); D8 needs metres: reproject it first (dem2mesh --grid-out)");
     }
-    if (!surface_out.empty()) terrain::write_geotiff(surface, surface_out, prov);
+    // Every output lands together at the end, or none does.
+    terrain::OutputSet outputs;
+    if (!surface_out.empty())
+      outputs.write([&] { terrain::write_geotiff(surface, outputs.stage(surface_out), prov); });
 
     t0 = clock::now();
     drainage::DrainageResult result;
@@ -138,9 +141,15 @@ int main(int argc, char** argv) {
 
     t0 = clock::now();
     const drainage::DvHeader header = drainage::make_dv_header(result.surface, result.net, flags, prov);
-    drainage::write_dv(output, header, result.surface, result.dirs, result.net);
-    tt::step(verb, fmt::format("write {}: {:.2f} s", output, seconds()));
-    if (!rasters_dir.empty()) drainage::write_drainage_rasters(rasters_dir, result, enc, prov);
+    outputs.write([&] {
+      drainage::write_dv(outputs.stage(output), header, result.surface, result.dirs, result.net);
+      tt::step(verb, fmt::format("write {}: {:.2f} s", output, seconds()));
+      if (!rasters_dir.empty())
+        drainage::write_drainage_rasters(
+            [&](const std::string& name) { return outputs.stage(std::filesystem::path(rasters_dir) / name); }, result,
+            enc, prov);
+    });
+    outputs.commit();
 
     const drainage::Network& net = result.net;
     std::size_t counts[4] = {0, 0, 0, 0};

@@ -1,6 +1,7 @@
 #include "common.hpp"
 
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -73,6 +74,9 @@ void step(const Verbosity& v, const std::string& message) {
 
 int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
   const std::string name = app.get_name();
+  // A file-size limit (ulimit -f) must fail a write (EFBIG), not kill the tool with its
+  // temporary file left behind.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

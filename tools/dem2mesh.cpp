@@ -83,7 +83,9 @@ int main(int argc, char** argv) {
     if (prepared.filled > 0) tt::warn(verb, fmt::format("filled {} no-data samples by interpolation", prepared.filled));
     const terrain::Grid& grid = prepared.grid;
     tt::step(verb, fmt::format("grid {} x {} at {} m: {:.2f} s", grid.cols, grid.rows, grid.geo.dx, seconds()));
-    if (!grid_out.empty()) terrain::write_geotiff(grid, grid_out, tt::provenance(argc, argv));
+    terrain::OutputSet outputs;  // the mesh and the grid land together, or neither does
+    if (!grid_out.empty())
+      outputs.write([&] { terrain::write_geotiff(grid, outputs.stage(grid_out), tt::provenance(argc, argv)); });
 
     t0 = clock::now();
     terrain::GridMesh mesh = terrain::make_grid_mesh(grid, nw);
@@ -91,7 +93,8 @@ int main(int argc, char** argv) {
     tt::step(verb, fmt::format("mesh and normals: {:.2f} s", seconds()));
 
     t0 = clock::now();
-    terrain::write_mesh_ply(mesh, output);
+    outputs.write([&] { terrain::write_mesh_ply(mesh, outputs.stage(output)); });
+    outputs.commit();
     tt::step(verb, fmt::format("write {}: {:.2f} s", output, seconds()));
 
     const auto& g = grid.geo;

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <limits>
 
@@ -254,9 +253,7 @@ int main(int argc, char** argv) {
       rr::FlightPath p{Eigen::Vector3d(from[0], from[1], from[2]), Eigen::Vector3d(to[0], to[1], to[2]), n_frames,
                        path_params};
       const std::string text = "# " + prov + "\n" + rr::path_csv(p);
-      terrain::AtomicFile af(path_out);
-      std::ofstream(af.temp_path()) << text;
-      af.commit();
+      terrain::write_file_atomic(path_out, text);
       std::cout << "output: " << path_out << "\nframes: " << n_frames << "\n";
       return 0;
     }
@@ -312,9 +309,7 @@ int main(int argc, char** argv) {
                            res.rgba, prov + fmt::format(" [frame {}]", i));
         terrain::report(progress, double(i + 1) / double(frames.size()));
       }
-      terrain::AtomicFile af(std::filesystem::path(batch_dir) / "timings.csv");
-      std::ofstream(af.temp_path()) << rr::timings_csv(timings);
-      af.commit();
+      terrain::write_file_atomic(std::filesystem::path(batch_dir) / "timings.csv", rr::timings_csv(timings));
       std::cout << "output: " << batch_dir << "\nframes: " << frames.size() << "\nsize: " << w << " x " << h << "\n";
       print_device(ctx);
       std::cout << rr::timing_tables(timings);

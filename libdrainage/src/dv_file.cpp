@@ -63,7 +63,7 @@ std::vector<char> header_bytes(const DvHeader& h) {
 
 class CrcWriter {
  public:
-  CrcWriter(std::ofstream& out, const std::string& path) : out_(out), path_(path) {}
+  CrcWriter(std::ostream& out, const std::string& path) : out_(out), path_(path) {}
   void write(const void* p, std::size_t n) {
     crc_ = crc32_z(crc_, static_cast<const Bytef*>(p), n);
     out_.write(static_cast<const char*>(p), std::streamsize(n));
@@ -72,7 +72,7 @@ class CrcWriter {
   std::uint32_t crc() const { return std::uint32_t(crc_); }
 
  private:
-  std::ofstream& out_;
+  std::ostream& out_;
   const std::string& path_;
   uLong crc_ = crc32(0L, Z_NULL, 0);
 };
@@ -103,13 +103,7 @@ void write_dv(const std::string& path, const DvHeader& h, const terrain::Grid& z
   const std::size_t n = std::size_t(h.rows * h.cols);
   if (z.size() != n || dirs.size() != n || net.downstream.size() != n)
     throw terrain::Error("write_dv: grid, directions and network sizes disagree");
-  terrain::AtomicFile out(path);
-  {
-    std::vector<char> buffer(std::size_t(1) << 20);
-    std::ofstream file;
-    file.rdbuf()->pubsetbuf(buffer.data(), std::streamsize(buffer.size()));
-    file.open(out.temp_path(), std::ios::binary | std::ios::trunc);
-    if (!file) throw terrain::Error("cannot write '" + path + "': cannot create the file");
+  terrain::write_stream_atomic(path, [&](std::ostream& file) {
     CrcWriter w(file, path);
     const std::vector<char> head = header_bytes(h);
     w.write(head.data(), head.size());
@@ -146,10 +140,7 @@ void write_dv(const std::string& path, const DvHeader& h, const terrain::Grid& z
     const std::uint32_t crc = w.crc();
     file.seekp(std::streamoff(kCrcOffset));
     file.write(reinterpret_cast<const char*>(&crc), sizeof crc);
-    file.close();
-    if (!file) throw terrain::Error("cannot write '" + path + "': write failed (disk full?)");
-  }
-  out.commit();
+  });
 }
 
 bool is_dv_file(const std::string& path) {

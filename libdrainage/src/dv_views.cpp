@@ -8,6 +8,7 @@
 
 #include "drainage/d8.hpp"
 #include "terrain/atomic_file.hpp"
+#include "terrain/dem_io.hpp"
 #include "terrain/error.hpp"
 #include "terrain/hillshade.hpp"
 
@@ -81,7 +82,7 @@ std::vector<std::uint8_t> dv_preview(const DrainageDb& db, std::uint32_t min_acc
 }
 
 std::size_t export_branches_gpkg(const DrainageDb& db, const std::string& path, int min_order) {
-  GDALAllRegister();
+  terrain::ensure_gdal();
   terrain::AtomicFile out(path);
   const DvHeader& h = db.header;
   std::size_t written = 0;

@@ -9,11 +9,15 @@ namespace drainage {
 
 void write_drainage_rasters(const std::string& dir, const DrainageResult& r, D8Encoding encoding,
                             const std::string& provenance) {
-  namespace fs = std::filesystem;
+  write_drainage_rasters([&](const std::string& name) { return (std::filesystem::path(dir) / name).string(); }, r,
+                         encoding, provenance);
+}
+
+void write_drainage_rasters(const std::function<std::string(const std::string&)>& path, const DrainageResult& r,
+                            D8Encoding encoding, const std::string& provenance) {
   using terrain::RasterType;
   const terrain::Grid& g = r.surface;
   const Network& net = r.net;
-  auto path = [&](const char* name) { return (fs::path(dir) / name).string(); };
   terrain::write_geotiff(g, path("surface.tif"), provenance);
   std::vector<std::int16_t> d8(g.size());
   for (std::size_t i = 0; i < g.size(); ++i)

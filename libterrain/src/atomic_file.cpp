@@ -2,6 +2,9 @@
 
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
+#include <fstream>
 #include <string>
 #include <system_error>
 
@@ -16,19 +19,18 @@ void check_output_path(const fs::path& path) {
   if (dir.empty()) dir = ".";
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
-    throw Error("cannot write '" + path.string() + "': directory '" + dir.string() +
-                "' does not exist");
+    throw Error("cannot write '" + path.string() + "': directory '" + dir.string() + "' does not exist");
   if (::access(dir.c_str(), W_OK) != 0)
-    throw Error("cannot write '" + path.string() + "': directory '" + dir.string() +
-                "' is not writable");
-  if (fs::is_directory(path, ec))
-    throw Error("cannot write '" + path.string() + "': it is a directory");
+    throw Error("cannot write '" + path.string() + "': directory '" + dir.string() + "' is not writable");
+  const fs::file_status st = fs::status(path, ec);
+  if (fs::is_directory(st)) throw Error("cannot write '" + path.string() + "': it is a directory");
+  if (fs::exists(st) && !fs::is_regular_file(st))
+    throw Error("cannot write '" + path.string() +
+                "': it exists and is not a regular file (a device or pipe); give a file name");
 }
 
 AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
   check_output_path(target_);
-  // Hidden, unique per process, and with the target's extension (drivers such as GDAL's
-  // GPKG look at it).
   temp_ = target_.parent_path() / ("." + target_.stem().string() + ".tmp" + std::to_string(::getpid()) +
                                    target_.extension().string());
 }
@@ -42,9 +44,57 @@ AtomicFile::~AtomicFile() {
 
 void AtomicFile::commit() {
   std::error_code ec;
+  if (!fs::is_regular_file(temp_, ec)) throw Error("cannot write '" + target_.string() + "': nothing was written");
   fs::rename(temp_, target_, ec);
   if (ec) throw Error("cannot write '" + target_.string() + "': " + ec.message());
   committed_ = true;
+}
+
+void write_stream_atomic(const fs::path& path, const std::function<void(std::ostream&)>& write) {
+  AtomicFile out(path);
+  {
+    std::vector<char> buffer(std::size_t(1) << 20);
+    std::ofstream file;
+    file.rdbuf()->pubsetbuf(buffer.data(), std::streamsize(buffer.size()));
+    errno = 0;
+    file.open(out.temp_path(), std::ios::binary | std::ios::trunc);
+    if (!file) throw Error("cannot write '" + path.string() + "': cannot create the file (" + std::strerror(errno) + ")");
+    errno = 0;
+    write(file);
+    file.flush();
+    const bool written = bool(file);
+    file.close();
+    if (!written || !file)
+      throw Error("cannot write '" + path.string() + "': " +
+                  (errno != 0 ? std::string(std::strerror(errno)) : std::string("write failed (disk full?)")));
+  }
+  out.commit();
+}
+
+void write_file_atomic(const fs::path& path, std::string_view bytes) {
+  write_stream_atomic(path, [&](std::ostream& os) { os.write(bytes.data(), std::streamsize(bytes.size())); });
+}
+
+std::string OutputSet::stage(const fs::path& target) {
+  files_.push_back(std::make_unique<AtomicFile>(target));
+  return files_.back()->temp_path().string();
+}
+
+void OutputSet::write(const std::function<void()>& write) {
+  try {
+    write();
+  } catch (const Error& e) {
+    std::string msg = e.what();
+    for (const auto& f : files_) {
+      const std::string temp = f->temp_path().string(), target = f->target().string();
+      for (std::size_t at; (at = msg.find(temp)) != std::string::npos;) msg.replace(at, temp.size(), target);
+    }
+    throw Error(msg);
+  }
+}
+
+void OutputSet::commit() {
+  for (auto& f : files_) f->commit();
 }
 
 }  // namespace terrain

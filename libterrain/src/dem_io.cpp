@@ -15,10 +15,6 @@
 
 namespace terrain {
 
-namespace {
-
-constexpr double kGeoTiffNodata = -9999.0;
-
 void ensure_gdal() {
   static std::once_flag once;
   std::call_once(once, [] {
@@ -27,6 +23,10 @@ void ensure_gdal() {
     CPLSetErrorHandler(CPLQuietErrorHandler);
   });
 }
+
+namespace {
+
+constexpr double kGeoTiffNodata = -9999.0;
 
 std::string last_gdal_error() {
   std::string msg = CPLGetLastErrorMsg();

@@ -6,6 +6,7 @@
 #include <OpenMesh/Core/IO/writer/OBJWriter.hh>
 #include <OpenMesh/Core/IO/writer/PLYWriter.hh>
 #include <OpenMesh/Core/Mesh/BaseKernel.hh>
+#include <OpenMesh/Core/System/omstream.hh>
 #include <fmt/format.h>
 
 #include <cmath>
@@ -338,28 +339,31 @@ namespace {
 
 // Writes `mesh` with an OpenMesh writer into a temp file, `comments` inserted after the
 // `after`-th newline, then renames it onto `path`.
+// OpenMesh logs to stderr ("[OBJWriter] : write file"); our errors say what went wrong.
+void silence_openmesh() {
+  static const bool once = [] {
+    ::omlog().disable();
+    ::omout().disable();
+    ::omerr().disable();
+    return true;
+  }();
+  (void)once;
+}
+
 void write_with(const OM::IO::BaseWriter& writer, OM::IO::Options opt, const GridMesh& mesh,
                 const std::string& path, const std::string& comments, int after) {
   if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != mesh.positions.size())
     throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
-  AtomicFile out(path);
-  {
-    std::vector<char> buffer(std::size_t(1) << 20);
-    std::ofstream file;
-    file.rdbuf()->pubsetbuf(buffer.data(), std::streamsize(buffer.size()));
-    file.open(out.temp_path(), std::ios::binary | std::ios::trunc);
-    if (!file) throw Error("cannot write '" + path + "': cannot create the file");
+  silence_openmesh();
+  write_stream_atomic(path, [&](std::ostream& file) {
     CommentInjector injector(file.rdbuf(), comments, after);
     std::ostream stream(&injector);
     GridMeshExporter exporter(mesh);
     if (exporter.has_custom() && dynamic_cast<const OM::IO::_PLYWriter_*>(&writer)) opt += OM::IO::Options::Custom;
-    if (!writer.write(stream, exporter, opt, 9) || !stream)
-      throw Error("cannot write '" + path + "': the mesh writer failed");
-    stream.flush();
-    file.close();
-    if (!file) throw Error("cannot write '" + path + "': write failed (disk full?)");
-  }
-  out.commit();
+    const bool wrote = writer.write(stream, exporter, opt, 9);
+    stream.flush();  // a failed flush of the injector's buffer sets badbit
+    if (!wrote || !stream) throw Error("cannot write '" + path + "': write failed (disk full?)");
+  });
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #pragma once
 // GeoTIFF views of a drainage result, for QGIS and for checking against other tools.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,16 @@ namespace drainage {
 // 0 = no-data). Each atomically, with the grid's CRS and `provenance`.
 void write_drainage_rasters(const std::string& dir, const DrainageResult& r, D8Encoding encoding,
                             const std::string& provenance);
+
+// The file names above, in the order they are written.
+inline constexpr const char* kDrainageRasterNames[] = {"surface.tif",         "d8.tif",    "accumulation.tif",
+                                                       "normalized_flow.tif", "basin.tif", "class.tif",
+                                                       "order.tif"};
+
+// The same rasters, each written to path_of(name) (name from kDrainageRasterNames): a
+// tool stages them with terrain::OutputSet so that they land together with its other outputs.
+void write_drainage_rasters(const std::function<std::string(const std::string&)>& path_of, const DrainageResult& r,
+                            D8Encoding encoding, const std::string& provenance);
 
 // Reads a D8 direction raster in `encoding` into our codes (d8.hpp) with its grid (the
 // Grid's z holds the raw codes). Throws terrain::Error naming the first invalid code and

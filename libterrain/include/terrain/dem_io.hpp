@@ -7,6 +7,11 @@
 
 namespace terrain {
 
+// Registers GDAL's drivers and routes GDAL's messages into our Error texts instead of
+// stderr (once per process). Every function here calls it; call it before any other
+// direct use of GDAL.
+void ensure_gdal();
+
 // Reads band 1 of `path` as float elevations; the band's no-data value (and NaN) become
 // NaN. Requires a north-up geotransform (no rotation terms). The CRS is read as WKT and
 // classified (geographic / projected / none); `epsg` is filled when GDAL can identify it.
