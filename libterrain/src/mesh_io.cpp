@@ -10,6 +10,9 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -17,6 +20,7 @@
 
 #include "terrain/atomic_file.hpp"
 #include "terrain/error.hpp"
+#include "terrain/ply_header.hpp"
 
 namespace terrain {
 
@@ -291,39 +295,94 @@ class CommentInjector : public std::streambuf {
   bool ok_ = true;
 };
 
+// PLY header comments are kept ASCII (some PLY readers reject other bytes): bytes >= 0x80
+// and the backslash are written as \xHH and decoded on reading.
+std::string escape_ascii(const std::string& text) {
+  std::string out;
+  for (const char ch : text) {
+    const auto u = static_cast<unsigned char>(ch);
+    if (u >= 0x80 || ch == '\\' || ch == '\n' || ch == '\r') out += fmt::format("\\x{:02X}", u);
+    else out += ch;
+  }
+  return out;
+}
+
+std::string unescape_ascii(const std::string& text) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '\\' && i + 3 < text.size() && text[i + 1] == 'x' &&
+        std::isxdigit(static_cast<unsigned char>(text[i + 2])) && std::isxdigit(static_cast<unsigned char>(text[i + 3]))) {
+      out += char(std::stoi(text.substr(i + 2, 2), nullptr, 16));
+      i += 3;
+    } else {
+      out += text[i];
+    }
+  }
+  return out;
+}
+
 std::string header_comments(const GridMesh& m) {
   std::string out = fmt::format("comment terrain-mesh {}\n", kFormatVersion);
   out += fmt::format("comment grid {} {} {:.17g} {:.17g}\n", m.topo.rows, m.topo.cols, m.geo.dx, m.geo.dy);
   out += fmt::format("comment origin {:.17g} {:.17g} {:.17g}\n", m.geo.origin_x, m.geo.origin_y, m.geo.origin_z);
   out += fmt::format("comment crs_epsg {}\n", m.geo.epsg);
-  for (std::size_t i = 0; i < m.geo.crs_wkt.size(); i += kWktChunk)
-    out += "comment crs_wkt " + m.geo.crs_wkt.substr(i, kWktChunk) + "\n";
-  std::string prov = m.provenance;
-  for (char& c : prov)
-    if (c == '\n' || c == '\r') c = ' ';
-  if (!prov.empty()) out += "comment provenance " + prov + "\n";
+  const std::string wkt = escape_ascii(m.geo.crs_wkt);
+  for (std::size_t i = 0; i < wkt.size();) {
+    std::size_t n = std::min(kWktChunk, wkt.size() - i);
+    for (std::size_t k = 1; k <= 3 && k < n && i + n < wkt.size(); ++k)  // never split a \xHH escape
+      if (wkt[i + n - k] == '\\') {
+        n -= k;
+        break;
+      }
+    out += "comment crs_wkt " + wkt.substr(i, n) + "\n";
+    i += n;
+  }
+  if (!m.provenance.empty()) out += "comment provenance " + escape_ascii(m.provenance) + "\n";
   return out;
 }
 
-struct PlyHeader {
-  std::vector<std::string> comments;  // text after "comment "
-  bool binary_le = false;
-};
+std::uint64_t checked_mul(std::uint64_t a, std::uint64_t b) {
+  if (a != 0 && b > std::numeric_limits<std::uint64_t>::max() / a) return std::numeric_limits<std::uint64_t>::max();
+  return a * b;
+}
 
-PlyHeader read_ply_header(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read '" + path + "': no such file or not readable");
-  std::string line;
-  if (!std::getline(in, line) || (line != "ply" && line != "ply\r"))
-    throw Error("cannot read '" + path + "': not a PLY file");
-  PlyHeader h;
-  for (int n = 0; n < 100000 && std::getline(in, line); ++n) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line == "end_header") return h;
-    if (line.rfind("format ", 0) == 0) h.binary_le = line.rfind("format binary_little_endian", 0) == 0;
-    if (line.rfind("comment ", 0) == 0) h.comments.push_back(line.substr(8));
+// Checks that the PLY header describes a terrain mesh of `rows` x `cols` samples exactly
+// (binary little-endian; elements vertex and face only; float x y z nx ny nz; faces as one
+// list of 4-byte indices) and that the file's size is what those counts need, before
+// OpenMesh's reader sees the file.
+void check_terrain_ply(const PlyHeader& h, const GridTopology& topo, std::uint64_t file_size, const std::string& path) {
+  auto fail = [&](const std::string& why) { return Error("cannot read '" + path + "': " + why); };
+  if (h.format != "binary_little_endian")
+    throw fail("a PLY file in " + h.format + " format; terrain meshes are binary little-endian PLY (written by dem2mesh)");
+  for (const PlyElement& e : h.elements)
+    if (e.name != "vertex" && e.name != "face")
+      throw fail("unexpected PLY element '" + e.name + "' (a terrain mesh has only vertex and face)");
+  const PlyElement* v = h.find("vertex");
+  const PlyElement* f = h.find("face");
+  if (!v || !f || h.elements.front().name != "vertex") throw fail("the PLY header needs element vertex, then element face");
+  for (const char* name : {"x", "y", "z", "nx", "ny", "nz"}) {
+    const PlyProperty* p = v->find(name);
+    if (!p) throw fail(std::string("the vertices have no property '") + name + "'");
+    if (p->count_size || !p->is_float || p->size != 4) throw fail(std::string("vertex property '") + name + "' is not a float");
   }
-  throw Error("cannot read '" + path + "': PLY header has no end_header");
+  for (const PlyProperty& p : v->properties)
+    if (p.count_size) throw fail("vertex property '" + p.name + "' is a list");
+  const PlyProperty* idx = f->find("vertex_indices");
+  if (!idx) idx = f->find("vertex_index");
+  if (!idx || !idx->count_size || idx->is_float || idx->size != 4)
+    throw fail("the faces have no 'list uchar int vertex_indices' property");
+  for (const PlyProperty& p : f->properties)
+    if (p.count_size && &p != idx) throw fail("face property '" + p.name + "' is a second list");
+  if (v->count != topo.n_vertices())
+    throw fail(fmt::format("{} vertices, but its {} x {} grid needs {}", v->count, topo.rows, topo.cols, topo.n_vertices()));
+  if (f->count != topo.n_faces())
+    throw fail(fmt::format("{} faces, but its {} x {} grid has {}", f->count, topo.rows, topo.cols, topo.n_faces()));
+  const std::uint64_t body = checked_mul(v->count, v->record_bytes(3));
+  const std::uint64_t faces = checked_mul(f->count, f->record_bytes(3));
+  const std::uint64_t expected = h.header_bytes + body + faces;
+  if (expected < body || file_size < expected)
+    throw fail(fmt::format("truncated ({} bytes, its counts need {})", file_size, expected));
+  if (file_size > expected) throw fail(fmt::format("{} unexpected bytes after the faces", file_size - expected));
 }
 
 }  // namespace
@@ -382,7 +441,12 @@ void write_mesh_obj(const GridMesh& mesh, const std::string& path) {
 }
 
 GridMesh read_mesh_ply(const std::string& path) {
-  const PlyHeader header = read_ply_header(path);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot read '" + path + "': no such file or not readable");
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a directory");
+  const PlyHeader header = read_ply_header(in, path);
+  in.close();
   GridMesh m;
   int version = -1;
   bool has_grid = false, has_origin = false;
@@ -391,19 +455,28 @@ GridMesh read_mesh_ply(const std::string& path) {
     std::string key;
     ss >> key;
     if (key == "terrain-mesh") ss >> version;
-    else if (key == "grid") has_grid = bool(ss >> m.topo.rows >> m.topo.cols >> m.geo.dx >> m.geo.dy);
-    else if (key == "origin") has_origin = bool(ss >> m.geo.origin_x >> m.geo.origin_y >> m.geo.origin_z);
+    else if (key == "grid" || key == "origin") {
+      const bool ok = key == "grid" ? bool(ss >> m.topo.rows >> m.topo.cols >> m.geo.dx >> m.geo.dy)
+                                    : bool(ss >> m.geo.origin_x >> m.geo.origin_y >> m.geo.origin_z);
+      if (!ok) throw Error("cannot read '" + path + "': invalid '" + key + "' comment: '" + c + "'");
+      (key == "grid" ? has_grid : has_origin) = true;
+    }
     else if (key == "crs_epsg") ss >> m.geo.epsg;
     else if (key == "crs_wkt") m.geo.crs_wkt += c.substr(8);
-    else if (key == "provenance") m.provenance = c.substr(11);
+    else if (key == "provenance") m.provenance = unescape_ascii(c.substr(11));
   }
+  m.geo.crs_wkt = unescape_ascii(m.geo.crs_wkt);
   if (version < 0 || !has_grid || !has_origin)
     throw Error("cannot read '" + path + "': a PLY file but not a terrain mesh (no georeferencing comments; make it with dem2mesh)");
   if (version > kFormatVersion)
     throw Error(fmt::format("cannot read '{}': terrain-mesh version {} is newer than this tool's ({})", path, version,
                             kFormatVersion));
-  if (m.topo.rows < 2 || m.topo.cols < 2 || !(m.geo.dx > 0) || !(m.geo.dy > 0))
-    throw Error("cannot read '" + path + "': invalid grid comment");
+  if (m.topo.rows < 2 || m.topo.cols < 2 || m.topo.rows > (1u << 30) || m.topo.cols > (1u << 30) ||
+      !(m.geo.dx > 0) || !(m.geo.dy > 0) || !std::isfinite(m.geo.dx) || !std::isfinite(m.geo.dy) ||
+      !std::isfinite(m.geo.origin_x) || !std::isfinite(m.geo.origin_y) || !std::isfinite(m.geo.origin_z))
+    throw Error("cannot read '" + path + "': invalid grid or origin comment");
+  check_terrain_ply(header, m.topo, std::filesystem::file_size(path, ec), path);
+  silence_openmesh();
 
   GridMeshImporter importer(m);
   OM::IO::Options opt(OM::IO::Options::VertexNormal | OM::IO::Options::Custom);
@@ -416,9 +489,13 @@ GridMesh read_mesh_ply(const std::string& path) {
   if (importer.faces_read != m.topo.n_faces() || importer.bad_faces != 0)
     throw Error(fmt::format("cannot read '{}': its faces are not the {} x {} grid triangulation ({} faces, {} differ)",
                             path, m.topo.rows, m.topo.cols, importer.faces_read, importer.bad_faces));
-  for (const auto& n : m.normals)
-    if (!(std::abs(n.squaredNorm() - 1.0f) < 1e-3f))
-      throw Error("cannot read '" + path + "': a vertex normal is not unit length (corrupt file?)");
+  for (std::size_t i = 0; i < m.n_vertices(); ++i) {
+    if (!m.positions[i].allFinite())
+      throw Error(fmt::format("cannot read '{}': vertex {} (row {}, column {}) is not a finite number", path, i,
+                              i / m.topo.cols, i % m.topo.cols));
+    if (!(std::abs(m.normals[i].squaredNorm() - 1.0f) < 1e-3f))
+      throw Error(fmt::format("cannot read '{}': the normal of vertex {} is not unit length (corrupt file?)", path, i));
+  }
 
   // Optional data: the Voronoi weights come as a set (all seven properties) or not at all.
   auto& k = importer.properties();

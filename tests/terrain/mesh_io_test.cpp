@@ -2,7 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <cstring>
 #include <fstream>
+#include <limits>
+#include <sstream>
 
 #include "terrain/dem_io.hpp"
 #include "terrain/mesh_io.hpp"
@@ -90,6 +93,119 @@ TEST(MeshIo, ObjExportHasEveryVertexAndFace) {
   EXPECT_EQ(vn, m.n_vertices());
   EXPECT_EQ(f, m.n_faces());
   EXPECT_TRUE(has_origin);
+}
+
+// The file's bytes split at the end of the header: header lines and the body.
+struct PlyParts {
+  std::vector<std::string> header;  // lines without their newline, up to end_header
+  std::string body;
+};
+
+PlyParts split_ply(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t end = bytes.find("end_header\n") + 11;
+  PlyParts p;
+  std::istringstream lines(bytes.substr(0, end));
+  for (std::string line; std::getline(lines, line);) p.header.push_back(line);
+  p.body = bytes.substr(end);
+  return p;
+}
+
+void write_ply(const PlyParts& p, const std::string& path) {
+  std::ofstream out(path, std::ios::binary);
+  for (const auto& line : p.header) out << line << "\n";
+  out << p.body;
+}
+
+// The read error's message for `parts`, or "" when it reads.
+std::string read_error(const PlyParts& parts, const test::ScratchDir& dir) {
+  write_ply(parts, dir.path("bad.ply"));
+  try {
+    read_mesh_ply(dir.path("bad.ply"));
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Damaged headers found by probing and fuzzing the reader (each crashed, hung or
+// exhausted memory inside OpenMesh's PLY parser before the header was validated).
+TEST(MeshIo, DamagedHeadersAreOneClearError) {
+  test::ScratchDir dir;
+  write_mesh_ply(msh_mesh(), dir.path("m.ply"));
+  const PlyParts good = split_ply(dir.path("m.ply"));
+  ASSERT_EQ(read_error(good, dir), "");
+  auto edit = [&](const std::string& line, const std::vector<std::string>& replacement) {
+    PlyParts p = good;
+    auto it = std::find_if(p.header.begin(), p.header.end(), [&](const std::string& l) { return l.rfind(line, 0) == 0; });
+    EXPECT_NE(it, p.header.end()) << line;
+    it = p.header.erase(it);
+    p.header.insert(it, replacement.begin(), replacement.end());
+    return p;
+  };
+  const std::string vertex_line = [&] {
+    for (const auto& l : good.header)
+      if (l.rfind("element vertex", 0) == 0) return l;
+    return std::string();
+  }();
+  const std::string face_line = [&] {
+    for (const auto& l : good.header)
+      if (l.rfind("element face", 0) == 0) return l;
+    return std::string();
+  }();
+  const std::vector<std::pair<PlyParts, std::string>> cases = {
+      {edit("element vertex", {}), "property before any element"},
+      {edit("element vertex", {"element vertex @36"}), "element 'vertex' has no valid count ('@36')"},
+      {edit("element vertex", {"element vertex"}), "expected 'element NAME COUNT'"},
+      {edit("element vertex", {"element vertex 1099511627776"}), "element 'vertex' has no valid count"},
+      {edit("element vertex", {"element vertex 1099511627"}), "1099511627 vertices, but its"},
+      {edit("element face", {face_line, face_line}), "element 'face' appears twice"},
+      {edit("element face", {"element edge 0", face_line}), "unexpected PLY element 'edge'"},
+      {edit("format", {"format ascii 1.0"}), "in ascii format"},
+      {edit("format", {"format binary_little_endian 2.0"}), "unknown format"},
+      {edit("property float nz", {}), "the vertices have no property 'nz'"},
+      {edit("property float nz", {"property double nz"}), "vertex property 'nz' is not a float"},
+      {edit("property float nz", {"property float nz", "property float nz"}), "appears twice"},
+      {edit("property float nz", {"property flaot nz"}), "unknown property type 'flaot'"},
+      {edit("property list", {"property list uchar float vertex_indices"}), "vertex_indices"},
+      {edit("end_header", {"end_heder"}), "unknown keyword 'end_heder'"},
+      {edit("comment grid", {"comment grid 18446744073709551615 2 30 30"}), "invalid grid"},
+      {edit("comment grid", {"comment grid 4294967296 4294967296 30 30"}), "invalid grid"},
+      {edit("comment origin", {"comment origin nan 0 0"}), "invalid 'origin' comment"},
+  };
+  for (const auto& [parts, expected] : cases)
+    EXPECT_NE(read_error(parts, dir).find(expected), std::string::npos)
+        << "expected '" << expected << "', got '" << read_error(parts, dir) << "'";
+
+  PlyParts trailing = good;
+  trailing.body += "xx";
+  EXPECT_NE(read_error(trailing, dir).find("2 unexpected bytes after the faces"), std::string::npos);
+  PlyParts cut = good;
+  cut.body.resize(cut.body.size() - 1);
+  EXPECT_NE(read_error(cut, dir).find("truncated"), std::string::npos);
+  // A NaN coordinate (vertex 7's z) in an otherwise valid file.
+  PlyParts nan = good;
+  const float q = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(nan.body.data() + 7 * 24 + 8, &q, 4);
+  EXPECT_NE(read_error(nan, dir).find("vertex 7 (row 0, column 7) is not a finite number"), std::string::npos)
+      << read_error(nan, dir);
+  (void)vertex_line;
+}
+
+// Non-ASCII text (the degree signs in EPSG's WKT usage areas, a provenance path) is
+// escaped in the header, which stays 7-bit ASCII, and comes back unchanged.
+TEST(MeshIo, HeaderIsAsciiAndNonAsciiTextRoundTrips) {
+  test::ScratchDir dir;
+  GridMesh m = msh_mesh();
+  m.provenance = "dem2mesh /data/H\xC3\xB6he/dem.tif \\ 126\xC2\xB0W";
+  ASSERT_NE(m.geo.crs_wkt.find("\xC2\xB0"), std::string::npos);  // the WKT has degree signs
+  write_mesh_ply(m, dir.path("m.ply"));
+  for (const std::string& line : split_ply(dir.path("m.ply")).header)
+    for (const char c : line) EXPECT_LT(static_cast<unsigned char>(c), 0x80u) << line;
+  const GridMesh back = read_mesh_ply(dir.path("m.ply"));
+  EXPECT_EQ(back.provenance, m.provenance);
+  EXPECT_EQ(back.geo.crs_wkt, m.geo.crs_wkt);
 }
 
 }  // namespace
