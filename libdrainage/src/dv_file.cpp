@@ -77,6 +77,32 @@ class CrcWriter {
   uLong crc_ = crc32(0L, Z_NULL, 0);
 };
 
+// Every index and code of a database whose checksum matched (a file can be made to match):
+// what the readers of a DrainageDb index with must be in range.
+void check_indices(const DrainageDb& db, const std::string& path) {
+  const std::uint64_t n = db.vertices.size(), basins = db.header.basins, valid = db.branch_vertices.size();
+  auto bad = [&](const std::string& what, std::uint64_t i) {
+    return terrain::Error("cannot read '" + path + "': corrupt .dv (" + what + " " + std::to_string(i) + ")");
+  };
+  for (std::uint64_t i = 0; i < n; ++i) {
+    const DvVertex& v = db.vertices[i];
+    const bool nodata = v.point_class == std::uint8_t(PointClass::Nodata);
+    if (!(v.point_class <= std::uint8_t(PointClass::Pit) || nodata)) throw bad("class of vertex", i);
+    if (!(v.d8 <= kOutlet || v.d8 == kNodata)) throw bad("D8 code of vertex", i);
+    if (!(v.downstream < n || v.downstream == kNone)) throw bad("downstream index of vertex", i);
+    if (!(v.basin < basins || v.basin == kNone)) throw bad("basin of vertex", i);
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z) || !std::isfinite(v.normalized))
+      throw bad("coordinates or flow of vertex", i);
+  }
+  for (std::size_t b = 0; b < db.branches.size(); ++b) {
+    const DvBranch& br = db.branches[b];
+    if (br.count == 0 || std::uint64_t(br.first) + br.count > valid) throw bad("vertex range of branch", b);
+    if (!(br.drains_into < n || br.drains_into == kNone)) throw bad("outlet of branch", b);
+  }
+  for (std::uint64_t k = 0; k < valid; ++k)
+    if (db.branch_vertices[k] >= n) throw bad("branch vertex", k);
+}
+
 }  // namespace
 
 DvHeader make_dv_header(const terrain::Grid& grid, const Network& net, std::uint32_t flags,
@@ -143,6 +169,17 @@ void write_dv(const std::string& path, const DvHeader& h, const terrain::Grid& z
   });
 }
 
+std::uint32_t dv_checksum(const char* bytes, std::size_t size) {
+  uLong crc = crc32(0L, Z_NULL, 0);
+  const char zero[4] = {0, 0, 0, 0};
+  const std::size_t head = std::min(size, kCrcOffset);
+  crc = crc32_z(crc, reinterpret_cast<const Bytef*>(bytes), head);
+  if (size > kCrcOffset) crc = crc32_z(crc, reinterpret_cast<const Bytef*>(zero), std::min<std::size_t>(4, size - kCrcOffset));
+  if (size > kCrcOffset + 4)
+    crc = crc32_z(crc, reinterpret_cast<const Bytef*>(bytes + kCrcOffset + 4), size - kCrcOffset - 4);
+  return std::uint32_t(crc);
+}
+
 bool is_dv_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   char magic[8] = {};
@@ -161,6 +198,13 @@ DrainageDb read_dv(const std::string& path) {
   if (f.version > kDvVersion)
     throw terrain::Error("cannot read '" + path + "': .dv version " + std::to_string(f.version) +
                          " is newer than this tool's (" + std::to_string(kDvVersion) + ")");
+  // Vertex ids are u32 with kNone reserved: rows x cols < 2^32 (checked without overflow).
+  if (f.rows == 0 || f.cols == 0 || f.rows >= kNone || f.cols >= kNone || f.rows > (kNone - 1) / f.cols)
+    throw terrain::Error("cannot read '" + path + "': corrupt .dv header (grid " + std::to_string(f.cols) + " x " +
+                         std::to_string(f.rows) + ")");
+  if (!(f.dx > 0) || !(f.dy > 0) || !std::isfinite(f.dx) || !std::isfinite(f.dy) || !std::isfinite(f.origin_x) ||
+      !std::isfinite(f.origin_y) || !std::isfinite(f.origin_z) || f.basins > f.rows * f.cols)
+    throw terrain::Error("cannot read '" + path + "': corrupt .dv header (spacing, origin or basin count)");
   const std::uint64_t n = f.rows * f.cols;
   const std::uint64_t expected = std::uint64_t(f.header_bytes) + n * sizeof(DvVertex) + f.branches * sizeof(DvBranch) +
                                  f.valid * sizeof(std::uint32_t);
@@ -200,6 +244,7 @@ DrainageDb read_dv(const std::string& path) {
   crc = crc32_z(crc, reinterpret_cast<const Bytef*>(db.branch_vertices.data()),
                 db.branch_vertices.size() * sizeof(std::uint32_t));
   if (std::uint32_t(crc) != f.crc32) throw terrain::Error("cannot read '" + path + "': checksum mismatch (corrupt file)");
+  check_indices(db, path);
   return db;
 }
 

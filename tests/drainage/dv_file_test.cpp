@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <cstring>
 #include <fstream>
+#include <limits>
 
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
@@ -92,6 +94,46 @@ TEST(DvFile, RejectsDamagedFiles) {
   std::ofstream(dir.path("text.dv")) << "hello";
   expect_error(dir.path("text.dv"), "wrong magic");
   expect_error(dir.path("missing.dv"), "no such file");
+  std::ofstream(dir.path("empty.dv")).close();
+  expect_error(dir.path("empty.dv"), "wrong magic");
+}
+
+// Files whose checksum was made to match (as a fuzzer or a hostile file can): every count
+// and index is checked, so none reaches a reader out of bounds (each of these overflowed
+// a heap buffer in preview or export --to gpkg before).
+TEST(DvFile, RejectsBadIndicesBehindAValidChecksum) {
+  terrain::test::ScratchDir dir;
+  const DrainageResult r = logan_drainage();
+  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs, r.net);
+  std::ifstream in(dir.path("a.dv"), std::ios::binary);
+  const std::string good((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::uint32_t header_bytes = 0;
+  std::memcpy(&header_bytes, good.data() + 12, 4);
+  const std::size_t n = r.surface.size(), vertices = header_bytes, branches = vertices + 32 * n;
+  const std::size_t branch_vertices = branches + 16 * r.net.branches.size();
+  ASSERT_EQ(read_dv(dir.path("a.dv")).vertices.size(), n);
+  auto patched = [&](std::size_t offset, auto value) {
+    std::string bytes = good;
+    std::memcpy(bytes.data() + offset, &value, sizeof value);
+    const std::uint32_t crc = dv_checksum(bytes.data(), bytes.size());
+    std::memcpy(bytes.data() + 16, &crc, 4);
+    std::ofstream(dir.path("bad.dv"), std::ios::binary) << bytes;
+    return dir.path("bad.dv");
+  };
+  expect_error(patched(32, std::uint64_t(1) << 63), "corrupt .dv header (grid");   // cols near 2^63
+  expect_error(patched(24, std::uint64_t(0)), "corrupt .dv header (grid");         // rows 0
+  expect_error(patched(56, std::uint64_t(n + 1)), "corrupt .dv header");           // basins
+  expect_error(patched(vertices + 5 * 32 + 24, std::uint32_t(n)), "downstream index of vertex 5");
+  expect_error(patched(vertices + 6 * 32 + 20, std::uint32_t(r.net.pits.size())), "basin of vertex 6");
+  expect_error(patched(vertices + 7 * 32 + 28, std::uint8_t(7)), "class of vertex 7");
+  expect_error(patched(vertices + 8 * 32 + 30, std::uint8_t(10)), "D8 code of vertex 8");
+  expect_error(patched(vertices + 9 * 32 + 8, std::numeric_limits<float>::quiet_NaN()), "of vertex 9");
+  expect_error(patched(branches + 3 * 16, std::uint32_t(r.net.points)), "vertex range of branch 3");
+  expect_error(patched(branches + 4 * 16 + 4, std::uint32_t(0)), "vertex range of branch 4");
+  expect_error(patched(branches + 4 * 16 + 8, std::uint32_t(n)), "outlet of branch 4");
+  expect_error(patched(branch_vertices + 4 * 11, std::uint32_t(n)), "branch vertex 11");
+  // The untouched file still reads: the patching helper itself is right.
+  EXPECT_EQ(read_dv(patched(0, 'T')).vertices.size(), n);
 }
 
 TEST(DvViews, GeopackageHasOneLinePerBranch) {

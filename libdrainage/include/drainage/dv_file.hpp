@@ -70,9 +70,15 @@ DvHeader make_dv_header(const terrain::Grid& grid, const Network& net, std::uint
 void write_dv(const std::string& path, const DvHeader& header, const terrain::Grid& z,
               const D8Codes& dirs, const Network& net);
 
-// Reads and validates: wrong magic, a newer version, a truncated or oversized file and a
-// CRC mismatch are each a terrain::Error with a clear message.
+// Reads and validates: wrong magic, a newer version, a grid of 2^32 points or more, a
+// truncated or oversized file, a CRC mismatch, and (since a file can be made to match its
+// CRC) any class, D8 code, downstream, basin, branch or branch-vertex index out of range
+// are each a terrain::Error with a clear message.
 DrainageDb read_dv(const std::string& path);
+
+// The CRC-32 of a whole .dv file image (`size` bytes at `bytes`) with its CRC field taken
+// as 0: the value the file stores at byte 16. For tools and tests that patch a file.
+std::uint32_t dv_checksum(const char* bytes, std::size_t size);
 
 // True when the file starts with the .dv magic.
 bool is_dv_file(const std::string& path);
