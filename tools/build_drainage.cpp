@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
   app.add_option("--rasters", rasters_dir, "Also write GeoTIFFs of every layer into this directory");
   app.add_option("--surface", surface_out, "Also write the sampled surface as a GeoTIFF");
   app.add_option("--threads", threads, "Threads (default: all cores); the output does not depend on it")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, tt::kMaxThreads));
   tt::add_verbosity_flags(app, verb);
 
   return tt::run_main(app, argc, argv, [&]() {
@@ -82,6 +82,11 @@ int main(int argc, char** argv) {
     if (!output.ends_with(".dv")) throw terrain::Error("OUTPUT must be a .dv file: '" + output + "'");
     if (!d8_input.empty() && (fill || keep_flats))
       throw terrain::Error("--fill and --keep-flats do not apply to --d8-input (directions are given)");
+    std::vector<std::string> output_paths = {output, surface_out};
+    if (!rasters_dir.empty())
+      for (const char* name : drainage::kDrainageRasterNames)
+        output_paths.push_back((std::filesystem::path(rasters_dir) / name).string());
+    tt::check_distinct_paths({raster_mode ? "" : positional[0], raster, d8_input}, output_paths);
     terrain::check_output_path(output);
     if (!surface_out.empty()) terrain::check_output_path(surface_out);
     if (!rasters_dir.empty() && !std::filesystem::is_directory(rasters_dir))
@@ -108,6 +113,8 @@ int main(int argc, char** argv) {
       flags |= drainage::kDvFromPnSurface;
     } else if (!raster.empty()) {
       surface = terrain::read_dem(raster);
+      if (surface.count_nodata() == surface.size())
+        throw terrain::Error("'" + raster + "' has no valid sample (every cell is no-data)");
       if (surface.geo.crs_kind == terrain::CrsKind::Geographic)
         throw terrain::Error("'" + raster + "' is geographic (degrees); D8 needs metres: reproject it first (dem2mesh --grid-out)");
     }

@@ -1,6 +1,9 @@
 #include "common.hpp"
 
 #include <chrono>
+#include <cstdlib>
+#include <cmath>
+#include <filesystem>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -72,6 +75,43 @@ void step(const Verbosity& v, const std::string& message) {
   if (v.verbose && !v.quiet) std::cerr << message << "\n";
 }
 
+namespace {
+
+// Throws CLI::ValidationError for the first named option (of `app` or its subcommands)
+// whose value is a number that is not finite.
+void reject_non_finite(const CLI::App& app) {
+  for (const CLI::Option* opt : app.get_options()) {
+    if (opt->get_positional()) continue;
+    for (const std::string& value : opt->results()) {
+      char* end = nullptr;
+      const double v = std::strtod(value.c_str(), &end);
+      if (!value.empty() && end == value.c_str() + value.size() && !std::isfinite(v))
+        throw CLI::ValidationError(opt->get_name(), "'" + value + "' is not a finite number");
+    }
+  }
+  for (const CLI::App* sub : app.get_subcommands()) reject_non_finite(*sub);
+}
+
+}  // namespace
+
+void check_distinct_paths(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
+  namespace fs = std::filesystem;
+  auto same = [](const std::string& a, const std::string& b) {
+    std::error_code ec1, ec2;
+    if (fs::exists(a, ec1) && fs::exists(b, ec2)) return fs::equivalent(a, b, ec1);
+    return fs::weakly_canonical(a, ec1) == fs::weakly_canonical(b, ec2);
+  };
+  for (std::size_t o = 0; o < outputs.size(); ++o) {
+    if (outputs[o].empty()) continue;
+    for (const std::string& in : inputs)
+      if (!in.empty() && same(in, outputs[o]))
+        throw terrain::Error("the output '" + outputs[o] + "' is the input '" + in + "': give another output name");
+    for (std::size_t k = 0; k < o; ++k)
+      if (!outputs[k].empty() && same(outputs[k], outputs[o]))
+        throw terrain::Error("two outputs are the same file: '" + outputs[k] + "' and '" + outputs[o] + "'");
+  }
+}
+
 int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
   const std::string name = app.get_name();
   // A file-size limit (ulimit -f) must fail a write (EFBIG), not kill the tool with its
@@ -79,6 +119,7 @@ int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& b
   std::signal(SIGXFSZ, SIG_IGN);
   try {
     app.parse(argc, argv);
+    reject_non_finite(app);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "terrain/error.hpp"
 
@@ -35,7 +36,18 @@ double peak_rss_mib();
 // A per-step timing line on stderr at -v.
 void step(const Verbosity& v, const std::string& message);
 
-// Runs `body` after CLI11 parsing with the exit-code policy: CLI11 usage errors -> 2
+// Threads a tool may be asked for (--threads): 1 .. 1024 (OpenMP's runtime fails far
+// below 100000).
+inline constexpr int kMaxThreads = 1024;
+
+// Throws Error unless every output differs from every input and from every other output
+// (same resolved path, or the same file through another name: a hard or symbolic link).
+// Empty strings are skipped.
+void check_distinct_paths(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
+
+// Runs `body` after CLI11 parsing with the exit-code policy. A named option's value that
+// parses as a number but not a finite one (nan, inf, 1e999) is a usage error for every
+// option of every tool, so no option lets NaN into the arithmetic. CLI11 usage errors -> 2
 // (message and a hint to --help), terrain::Error and other exceptions -> 1 with one line
 // "TOOL: error: MESSAGE" on stderr, --help -> 0.
 int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& body);

@@ -60,6 +60,7 @@ int main(int argc, char** argv) {
   return tt::run_main(app, argc, argv, [&]() {
     using clock = std::chrono::steady_clock;
     if (!output.ends_with(".ply")) throw terrain::Error("OUTPUT must be a .ply file: '" + output + "'");
+    tt::check_distinct_paths({input}, {output, grid_out});
     terrain::check_output_path(output);
     if (!grid_out.empty()) terrain::check_output_path(grid_out);
     if (*spacing_opt) req.spacing = spacing;
@@ -74,11 +75,16 @@ int main(int argc, char** argv) {
 
     auto t0 = clock::now();
     auto seconds = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
-    const terrain::Grid dem = terrain::read_dem(input);
-    tt::step(verb, fmt::format("read {} x {} samples: {:.2f} s", dem.cols, dem.rows, seconds()));
+    // Only the source window the crop needs is read (plus the kernel's margin).
+    const terrain::DemInfo info = terrain::read_dem_info(input);
+    const terrain::GridPlan plan = terrain::plan_grid(info.geo, info.rows, info.cols, req);
+    const terrain::RasterWindow& win = plan.source_window;
+    const terrain::Grid dem = terrain::read_dem(input, tt::terminal_progress(verb, "read"), win);
+    tt::step(verb, fmt::format("read {} x {} of {} x {} samples: {:.2f} s", win.cols, win.rows, info.cols, info.rows,
+                               seconds()));
 
     t0 = clock::now();
-    terrain::PreparedGrid prepared = terrain::prepare_grid(dem, req, tt::terminal_progress(verb, "resample"));
+    terrain::PreparedGrid prepared = terrain::resample_to_plan(dem, plan, req, tt::terminal_progress(verb, "resample"));
     for (const auto& w : prepared.warnings) tt::warn(verb, w);
     if (prepared.filled > 0) tt::warn(verb, fmt::format("filled {} no-data samples by interpolation", prepared.filled));
     const terrain::Grid& grid = prepared.grid;

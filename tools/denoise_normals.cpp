@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
   app.add_option("OUTPUT", output, "Output mesh (.ply)")->required();
   app.add_option("--sigma-s", o.sigma_s,
                  "Spatial width in metres (face-centroid distance); default: the mean distance between the "
-                 "centroids of edge-adjacent faces");
+                 "centroids of edge-adjacent faces")
+      ->check(CLI::PositiveNumber);
   app.add_option("--sigma-r", o.sigma_r, "Range width on the normal difference |n_i - n_j| (0..2)")
       ->check(CLI::Range(0.01, 2.0))
       ->capture_default_str();
@@ -49,6 +50,7 @@ int main(int argc, char** argv) {
 
   return tt::run_main(app, argc, argv, [&]() {
     if (!output.ends_with(".ply")) throw terrain::Error("OUTPUT must be a .ply file: '" + output + "'");
+    tt::check_distinct_paths({input}, {output});
     terrain::check_output_path(output);
     using clock = std::chrono::steady_clock;
     auto t0 = clock::now();

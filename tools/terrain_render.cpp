@@ -262,6 +262,7 @@ int main(int argc, char** argv) {
       rr::Layers layers;
       const auto [w, h] = finish_options(frame_opts, layers);
       if (!frame_out.ends_with(".png")) throw terrain::Error("the output must be a .png file: '" + frame_out + "'");
+      tt::check_distinct_paths({frame_mesh, frame_dv}, {frame_out});
       terrain::check_output_path(frame_out);
       if (!frame_dv.empty() && !drainage::is_dv_file(frame_dv))
         throw terrain::Error("'" + frame_dv + "' is not a drainage database (.dv)");
@@ -294,6 +295,7 @@ int main(int argc, char** argv) {
       if (!dv_path.empty() && !drainage::is_dv_file(dv_path))
         throw terrain::Error("'" + dv_path + "' is not a drainage database (.dv)");
       const auto frames = rr::read_frames_csv(csv, batch_opts.frame);
+      tt::check_distinct_paths(batch_pos, {(std::filesystem::path(batch_dir) / "timings.csv").string()});
       std::filesystem::create_directories(batch_dir);
       terrain::check_output_path(std::filesystem::path(batch_dir) / "timings.csv");
       const Scene scene = load_scene(mesh_path, dv_path, batch_opts.min_accumulated, verb);

@@ -6,6 +6,10 @@
 #include <gdal_priv.h>
 #include <ogr_spatialref.h>
 
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -56,79 +60,152 @@ DatasetPtr wrap_in_mem_dataset(Grid& grid) {
 
 }  // namespace
 
-Grid read_dem(const std::string& path) {
+namespace {
+
+// An opened raster with its north-up georeferencing (a south-up raster's rows are read
+// in reverse), and the CRS read into `geo`.
+struct OpenRaster {
+  DatasetPtr ds;
+  std::size_t rows = 0, cols = 0;
+  Georef geo;
+  bool south_up = false;
+};
+
+// GDAL names that are not plain files (subdatasets such as NETCDF:f.nc:Band1,
+// GTIFF_DIR:1:f.tif, /vsicurl/...): GDAL opens them, we must not test them as files.
+bool is_gdal_special(const std::string& path) {
+  if (path.rfind("/vsi", 0) == 0) return true;
+  const auto colon = path.find(':');
+  return colon != std::string::npos && colon > 1 && path.find('/') > colon;
+}
+
+OpenRaster open_raster(const std::string& path) {
   ensure_gdal();
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec) && path.rfind("/vsi", 0) != 0)
-    throw Error("cannot read '" + path + "': no such file");
+  if (std::filesystem::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a directory");
   CPLErrorReset();
-  DatasetPtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-  if (!ds) throw Error("cannot read '" + path + "': not a raster GDAL can open (" +
-                       last_gdal_error() + ")");
-  if (ds->GetRasterCount() < 1) throw Error("cannot read '" + path + "': it has no raster band");
-
-  const int cols = ds->GetRasterXSize(), rows = ds->GetRasterYSize();
+  OpenRaster r;
+  r.ds.reset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  if (!r.ds) {
+    if (!is_gdal_special(path) && !std::filesystem::exists(path, ec))
+      throw Error("cannot read '" + path + "': no such file");
+    throw Error("cannot read '" + path + "': not a raster GDAL can open (" + last_gdal_error() + ")");
+  }
+  if (r.ds->GetRasterCount() < 1) throw Error("cannot read '" + path + "': it has no raster band");
+  const int cols = r.ds->GetRasterXSize(), rows = r.ds->GetRasterYSize();
   if (cols < 2 || rows < 2)
-    throw Error("cannot use '" + path + "': " + std::to_string(cols) + " x " +
-                std::to_string(rows) + " samples; a DEM needs at least 2 x 2");
-
+    throw Error("cannot use '" + path + "': " + std::to_string(cols) + " x " + std::to_string(rows) +
+                " samples; a DEM needs at least 2 x 2");
+  r.rows = std::size_t(rows);
+  r.cols = std::size_t(cols);
   double gt[6];
-  if (ds->GetGeoTransform(gt) != CE_None) {  // no georeferencing: pixel coordinates, row 0 at the top
+  if (r.ds->GetGeoTransform(gt) != CE_None) {  // no georeferencing: pixel coordinates, row 0 at the top
     const double pixel[6] = {0.0, 1.0, 0.0, double(rows), 0.0, -1.0};
     std::copy(pixel, pixel + 6, gt);
   }
   if (gt[2] != 0.0 || gt[4] != 0.0)
     throw Error("cannot use '" + path + "': rotated or sheared geotransform; warp it north-up first (gdalwarp)");
-  if (gt[1] <= 0.0) throw Error("cannot use '" + path + "': non-positive pixel width in the geotransform");
-
-  Grid grid;
-  grid.rows = std::size_t(rows);
-  grid.cols = std::size_t(cols);
-  grid.z.resize(grid.rows * grid.cols);
-  GDALRasterBand* band = ds->GetRasterBand(1);
-  if (band->RasterIO(GF_Read, 0, 0, cols, rows, grid.z.data(), cols, rows, GDT_Float32, 0, 0) !=
-      CE_None)
-    throw Error("cannot read '" + path + "': " + last_gdal_error());
-
-  // South-up rasters (positive pixel height) are flipped to the north-up convention.
+  if (!(gt[1] > 0.0) || gt[5] == 0.0 || !std::isfinite(gt[0]) || !std::isfinite(gt[3]) || !std::isfinite(gt[1]) ||
+      !std::isfinite(gt[5]))
+    throw Error("cannot use '" + path + "': invalid pixel size or origin in the geotransform");
+  // South-up rasters (positive pixel height) are read flipped to the north-up convention.
   if (gt[5] > 0.0) {
-    for (std::size_t r = 0; r < grid.rows / 2; ++r)
-      std::swap_ranges(grid.z.begin() + long(r * grid.cols), grid.z.begin() + long((r + 1) * grid.cols),
-                       grid.z.begin() + long((grid.rows - 1 - r) * grid.cols));
+    r.south_up = true;
     gt[3] += gt[5] * rows;
     gt[5] = -gt[5];
   }
-  grid.geo.x0 = gt[0];
-  grid.geo.y0 = gt[3];
-  grid.geo.dx = gt[1];
-  grid.geo.dy = -gt[5];
+  r.geo.x0 = gt[0];
+  r.geo.y0 = gt[3];
+  r.geo.dx = gt[1];
+  r.geo.dy = -gt[5];
 
-  int has_nodata = 0;
-  const double nodata = band->GetNoDataValue(&has_nodata);
-  if (has_nodata) {
-    const float nd = float(nodata);
-    for (float& v : grid.z)
-      if (v == nd || (std::isnan(nodata) && std::isnan(v))) v = std::numeric_limits<float>::quiet_NaN();
-  }
-
-  if (const OGRSpatialReference* srs = ds->GetSpatialRef()) {
+  if (const OGRSpatialReference* srs = r.ds->GetSpatialRef()) {
     char* wkt = nullptr;
     const char* opts[] = {"FORMAT=WKT2_2019", "MULTILINE=NO", nullptr};
-    if (srs->exportToWkt(&wkt, opts) == OGRERR_NONE && wkt) grid.geo.crs_wkt = wkt;
+    if (srs->exportToWkt(&wkt, opts) == OGRERR_NONE && wkt) r.geo.crs_wkt = wkt;
     CPLFree(wkt);
-    grid.geo.crs_kind = srs->IsGeographic() ? CrsKind::Geographic
-                        : srs->IsProjected() ? CrsKind::Projected
-                                             : CrsKind::None;
+    r.geo.crs_kind = srs->IsGeographic() ? CrsKind::Geographic
+                     : srs->IsProjected() ? CrsKind::Projected
+                                          : CrsKind::None;
     OGRSpatialReference copy(*srs);
     if (copy.GetAuthorityName(nullptr) == nullptr) copy.AutoIdentifyEPSG();
     const char* auth = copy.GetAuthorityName(nullptr);
     const char* code = copy.GetAuthorityCode(nullptr);
-    if (auth && code && std::string(auth) == "EPSG") grid.geo.epsg = std::atoi(code);
-    if (grid.geo.crs_kind == CrsKind::Projected && std::abs(copy.GetLinearUnits() - 1.0) > 1e-12)
+    if (auth && code && std::string(auth) == "EPSG") r.geo.epsg = std::atoi(code);
+    if (r.geo.crs_kind == CrsKind::Projected && std::abs(copy.GetLinearUnits() - 1.0) > 1e-12)
       throw Error("cannot use '" + path + "': its projected CRS is in " +
                   std::string(copy.GetAttrValue("UNIT") ? copy.GetAttrValue("UNIT") : "non-metre units") +
                   ", not metres; reproject it first (gdalwarp -t_srs EPSG:...)");
   }
+  return r;
+}
+
+int gdal_progress(double fraction, const char*, void* arg) {
+  const Progress& p = *static_cast<const Progress*>(arg);
+  return !p || p(fraction) ? TRUE : FALSE;
+}
+
+// Physical memory of this machine in bytes (0 when unknown).
+double physical_memory() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? double(pages) * double(page) : 0.0;
+}
+
+}  // namespace
+
+DemInfo read_dem_info(const std::string& path) {
+  const OpenRaster r = open_raster(path);
+  return {r.geo, r.rows, r.cols};
+}
+
+Grid read_dem(const std::string& path, const Progress& progress, std::optional<RasterWindow> window) {
+  OpenRaster r = open_raster(path);
+  RasterWindow w = window.value_or(RasterWindow{0, 0, r.rows, r.cols});
+  if (w.rows < 2 || w.cols < 2 || w.row0 > r.rows || w.col0 > r.cols || w.rows > r.rows - w.row0 ||
+      w.cols > r.cols - w.col0)
+    throw Error("cannot read '" + path + "': window outside the raster");
+  const double bytes = double(w.rows) * double(w.cols) * sizeof(float), memory = physical_memory();
+  if (memory > 0 && bytes > 0.8 * memory)
+    throw Error(fmt::format("cannot read '{}': {} x {} samples need {:.1f} GiB, more than this machine's memory "
+                            "({:.1f} GiB); crop it (dem2mesh --bbox reads only what it needs)",
+                            path, w.cols, w.rows, bytes / 1073741824.0, memory / 1073741824.0));
+  Grid grid;
+  grid.rows = w.rows;
+  grid.cols = w.cols;
+  grid.geo = r.geo;
+  grid.geo.x0 = r.geo.x_of_col(double(w.col0)) - r.geo.dx / 2;
+  grid.geo.y0 = r.geo.y_of_row(double(w.row0)) + r.geo.dy / 2;
+  grid.z.resize(grid.rows * grid.cols);
+  GDALRasterBand* band = r.ds->GetRasterBand(1);
+  GDALRasterIOExtraArg extra;
+  INIT_RASTERIO_EXTRA_ARG(extra);
+  extra.pfnProgress = gdal_progress;
+  extra.pProgressData = const_cast<Progress*>(&progress);
+  const std::size_t file_row0 = r.south_up ? r.rows - w.row0 - w.rows : w.row0;
+  CPLErrorReset();
+  if (band->RasterIO(GF_Read, int(w.col0), int(file_row0), int(w.cols), int(w.rows), grid.z.data(), int(w.cols),
+                     int(w.rows), GDT_Float32, 0, 0, &extra) != CE_None) {
+    report(progress, 0.0);  // a cancelled read throws Cancelled here
+    throw Error("cannot read '" + path + "': " + last_gdal_error());
+  }
+  if (r.south_up)
+    for (std::size_t row = 0; row < grid.rows / 2; ++row)
+      std::swap_ranges(grid.z.begin() + long(row * grid.cols), grid.z.begin() + long((row + 1) * grid.cols),
+                       grid.z.begin() + long((grid.rows - 1 - row) * grid.cols));
+
+  int has_nodata = 0;
+  const double nodata = band->GetNoDataValue(&has_nodata);
+  const float nd = float(nodata);
+  std::size_t infinite = 0, first_inf = 0;
+  for (std::size_t i = 0; i < grid.z.size(); ++i) {
+    float& v = grid.z[i];
+    if (has_nodata && (v == nd || (std::isnan(nodata) && std::isnan(v)))) v = std::numeric_limits<float>::quiet_NaN();
+    else if (std::isinf(v) && infinite++ == 0) first_inf = i;
+  }
+  if (infinite > 0)
+    throw Error(fmt::format("cannot use '{}': {} samples are infinite (the first at row {}, column {}); mark them as "
+                            "no-data (gdal_translate -a_nodata) or fix the DEM",
+                            path, infinite, w.row0 + first_inf / grid.cols, w.col0 + first_inf % grid.cols));
   return grid;
 }
 

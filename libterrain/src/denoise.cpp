@@ -119,6 +119,10 @@ BigVector<Vector3f> bilateral_filter_normals(const GridMesh& m, const BigVector<
 
 DenoiseStats denoise_normals(GridMesh& m, const DenoiseOptions& o, const Progress& progress) {
   if (o.iterations < 0 || o.vertex_iterations < 0) throw Error("iterations must be >= 0");
+  if (!(o.sigma_s >= 0) || !std::isfinite(o.sigma_s))
+    throw Error("sigma_s must be a finite width in metres > 0 (or 0 for the default), not " + std::to_string(o.sigma_s));
+  if (!(o.sigma_r >= 0) || !std::isfinite(o.sigma_r))
+    throw Error("sigma_r must be a finite width >= 0, not " + std::to_string(o.sigma_r));
   DenoiseStats stats;
   // The change is measured between vertex normals built by the same rule (area-weighted
   // face normals) before and after filtering, so it shows the filter alone, not a change

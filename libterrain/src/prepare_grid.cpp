@@ -21,8 +21,7 @@ struct Box {
   double x0, y0, x1, y1;  // xmin ymin xmax ymax
 };
 
-// Maps a target sample centre (x, y) to fractional source sample coordinates.
-using ToSource = std::function<void(double x, double y, double& row, double& col)>;
+using ToSource = GridPlan::ToSource;
 
 // Forward UTM projection into a fixed zone and hemisphere (continued across the equator).
 void utm_forward(UtmZone z, double lat, double lon, double& x, double& y) {
@@ -47,12 +46,10 @@ std::string fmt_box(const Box& b) {
 
 }  // namespace
 
-PreparedGrid prepare_grid(const Grid& src, const GridRequest& req, const Progress& progress) {
-  PreparedGrid out;
-  if (src.rows < 2 || src.cols < 2)
-    throw Error(fmt::format("the DEM has {} x {} samples; a mesh needs at least 2 x 2", src.cols, src.rows));
-  if (src.count_nodata() == src.size())
-    throw Error("the DEM has no valid elevation: every sample is no-data");
+GridPlan plan_grid(const Georef& sg, std::size_t src_rows, std::size_t src_cols, const GridRequest& req) {
+  GridPlan out;
+  if (src_rows < 2 || src_cols < 2)
+    throw Error(fmt::format("the DEM has {} x {} samples; a mesh needs at least 2 x 2", src_cols, src_rows));
   if (req.spacing && !(*req.spacing > 0.0 && std::isfinite(*req.spacing)))
     throw Error(fmt::format("spacing must be a positive number of metres (got {})", *req.spacing));
   if (req.bbox && (req.center || req.size))
@@ -64,22 +61,21 @@ PreparedGrid prepare_grid(const Grid& src, const GridRequest& req, const Progres
   if (req.bbox && !((*req.bbox)[2] > (*req.bbox)[0] && (*req.bbox)[3] > (*req.bbox)[1]))
     throw Error("the bbox must be xmin ymin xmax ymax with xmin < xmax and ymin < ymax");
 
-  const Georef& sg = src.geo;
   const bool geographic = sg.crs_kind == CrsKind::Geographic;
   if (!geographic && req.utm_zone)
     throw Error("--utm-zone applies to geographic DEMs only; this DEM is in " + crs_name(sg));
   if (sg.crs_kind == CrsKind::None)
     out.warnings.push_back("the DEM has no CRS: its coordinates are taken as metres");
 
-  Georef tg;
+  Georef& tg = out.target;
   double sx = 0, sy = 0;  // target spacing
   double ax = 0, ay = 0;  // lattice anchor (a target cell corner)
   Box valid{};            // where target sample centres may lie
-  ToSource to_source;
+  ToSource& to_source = out.to_source;
 
   if (geographic) {
-    const double lat_c = sg.y_of_row((double(src.rows) - 1) / 2);
-    const double lon_c = sg.x_of_col((double(src.cols) - 1) / 2);
+    const double lat_c = sg.y_of_row((double(src_rows) - 1) / 2);
+    const double lon_c = sg.x_of_col((double(src_cols) - 1) / 2);
     const UtmZone zone = req.utm_zone ? parse_utm_zone(*req.utm_zone, lat_c) : standard_utm_zone(lat_c, lon_c);
     tg.crs_wkt = utm_crs_wkt(sg.crs_wkt, zone, tg.epsg);
     tg.crs_kind = CrsKind::Projected;
@@ -92,18 +88,18 @@ PreparedGrid prepare_grid(const Grid& src, const GridRequest& req, const Progres
       sx = sy = req.spacing.value_or(ns);
       // Inner rectangle of the footprint of the source sample centres.
       valid = {-1e300, -1e300, 1e300, 1e300};
-      for (std::size_t r = 0; r < src.rows; ++r) {
+      for (std::size_t r = 0; r < src_rows; ++r) {
         double x, y;
         utm_forward(zone, sg.y_of_row(double(r)), sg.x_of_col(0), x, y);
         valid.x0 = std::max(valid.x0, x);
-        utm_forward(zone, sg.y_of_row(double(r)), sg.x_of_col(double(src.cols - 1)), x, y);
+        utm_forward(zone, sg.y_of_row(double(r)), sg.x_of_col(double(src_cols - 1)), x, y);
         valid.x1 = std::min(valid.x1, x);
       }
-      for (std::size_t c = 0; c < src.cols; ++c) {
+      for (std::size_t c = 0; c < src_cols; ++c) {
         double x, y;
         utm_forward(zone, sg.y_of_row(0), sg.x_of_col(double(c)), x, y);
         valid.y1 = std::min(valid.y1, y);
-        utm_forward(zone, sg.y_of_row(double(src.rows - 1)), sg.x_of_col(double(c)), x, y);
+        utm_forward(zone, sg.y_of_row(double(src_rows - 1)), sg.x_of_col(double(c)), x, y);
         valid.y0 = std::max(valid.y0, y);
       }
     } catch (const GeographicLib::GeographicErr& e) {
@@ -122,7 +118,7 @@ PreparedGrid prepare_grid(const Grid& src, const GridRequest& req, const Progres
     sy = req.spacing.value_or(sg.dy);
     ax = sg.x0;
     ay = sg.y0;
-    valid = {sg.x_of_col(0), sg.y_of_row(double(src.rows - 1)), sg.x_of_col(double(src.cols - 1)),
+    valid = {sg.x_of_col(0), sg.y_of_row(double(src_rows - 1)), sg.x_of_col(double(src_cols - 1)),
              sg.y_of_row(0)};
     to_source = [sg](double x, double y, double& row, double& col) {
       row = sg.row_of_y(y);
@@ -165,6 +161,42 @@ PreparedGrid prepare_grid(const Grid& src, const GridRequest& req, const Progres
   tg.dx = sx;
   tg.dy = sy;
 
+  out.rows = std::size_t(rows);
+  out.cols = std::size_t(cols);
+
+  // The source samples the kernel reads: the source coordinates of the target's boundary
+  // samples bound those of all (the map is smooth and one-to-one), plus the cubic kernel's
+  // reach (2) and one sample of rounding.
+  double rmin = 1e300, rmax = -1e300, cmin = 1e300, cmax = -1e300;
+  auto include = [&](long r, long c) {
+    double sr, sc;
+    to_source(tg.x_of_col(double(c)), tg.y_of_row(double(r)), sr, sc);
+    rmin = std::min(rmin, sr), rmax = std::max(rmax, sr), cmin = std::min(cmin, sc), cmax = std::max(cmax, sc);
+  };
+  for (long c = 0; c < cols; ++c) include(0, c), include(rows - 1, c);
+  for (long r = 0; r < rows; ++r) include(r, 0), include(r, cols - 1);
+  constexpr double margin = 3.0;
+  auto clamp = [](double v, std::size_t n) { return std::size_t(std::clamp(v, 0.0, double(n - 1))); };
+  const std::size_t wr0 = clamp(std::floor(rmin - margin), src_rows), wr1 = clamp(std::ceil(rmax + margin), src_rows);
+  const std::size_t wc0 = clamp(std::floor(cmin - margin), src_cols), wc1 = clamp(std::ceil(cmax + margin), src_cols);
+  // At least 2 x 2 samples (read_dem's minimum), inside the source.
+  const std::size_t wrows = std::max<std::size_t>(wr1 - wr0 + 1, 2), wcols = std::max<std::size_t>(wc1 - wc0 + 1, 2);
+  out.source_window = {std::min(wr0, src_rows - wrows), std::min(wc0, src_cols - wcols), wrows, wcols};
+  return out;
+}
+
+PreparedGrid resample_to_plan(const Grid& samples, const GridPlan& plan, const GridRequest& req,
+                              const Progress& progress) {
+  const RasterWindow& w = plan.source_window;
+  if (samples.rows != w.rows || samples.cols != w.cols)
+    throw Error("resample_to_plan: the samples are not the plan's source window");
+  if (samples.count_nodata() == samples.size())
+    throw Error("the DEM has no valid elevation: every sample is no-data");
+  PreparedGrid out;
+  out.warnings = plan.warnings;
+  const Georef& tg = plan.target;
+  const long rows = long(plan.rows), cols = long(plan.cols);
+  const double dr = double(w.row0), dc = double(w.col0);
   Grid& g = out.grid;
   g = Grid(std::size_t(rows), std::size_t(cols), tg);
   const long block = 64;
@@ -175,8 +207,8 @@ PreparedGrid prepare_grid(const Grid& src, const GridRequest& req, const Progres
       const double y = tg.y_of_row(double(r));
       for (long c = 0; c < cols; ++c) {
         double sr, sc;
-        to_source(tg.x_of_col(double(c)), y, sr, sc);
-        g.at(std::size_t(r), std::size_t(c)) = sample_grid(src, sr, sc, req.resampling);
+        plan.to_source(tg.x_of_col(double(c)), y, sr, sc);
+        g.at(std::size_t(r), std::size_t(c)) = sample_grid(samples, sr - dr, sc - dc, req.resampling);
       }
     }
     report(progress, double(re) / double(rows));
@@ -201,6 +233,12 @@ PreparedGrid prepare_grid(const Grid& src, const GridRequest& req, const Progres
     out.filled = fill_nodata(g);
   }
   return out;
+}
+
+PreparedGrid prepare_grid(const Grid& source, const GridRequest& request, const Progress& progress) {
+  GridPlan plan = plan_grid(source.geo, source.rows, source.cols, request);
+  plan.source_window = {0, 0, source.rows, source.cols};
+  return resample_to_plan(source, plan, request, progress);
 }
 
 }  // namespace terrain

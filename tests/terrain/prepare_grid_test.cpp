@@ -240,3 +240,78 @@ TEST(PrepareGrid, ImpossibleRequests) {
 
 }  // namespace
 }  // namespace terrain
+
+namespace terrain {
+namespace {
+
+// Reading only the plan's source window gives exactly the grid prepare_grid makes from
+// the whole DEM: projected and geographic sources, bilinear and cubic, with and without a
+// crop, at, above and below the source spacing.
+TEST(PrepareGrid, WindowedReadEqualsTheWholeSource) {
+  struct Case {
+    std::string file;
+    GridRequest req;
+  };
+  std::vector<Case> cases;
+  for (Resampling k : {Resampling::Bilinear, Resampling::Cubic}) {
+    GridRequest a;
+    a.resampling = k;
+    a.spacing = 30.0;
+    a.bbox = std::array<double, 4>{562000, 5116000, 563000, 5117500};
+    cases.push_back({"msh_2007_utm10n_10m.tif", a});
+    GridRequest b;
+    b.resampling = k;
+    b.spacing = 7.0;
+    b.center = std::array<double, 2>{451000, 4641000};
+    b.size = std::array<double, 2>{900, 700};
+    cases.push_back({"logan_utm12n_100m.tif", b});
+    GridRequest c;  // geographic, default area (the inner UTM rectangle)
+    c.resampling = k;
+    cases.push_back({"eno_nad83_geographic_crop.tif", c});
+  }
+  const Grid eno = read_dem(data("eno_nad83_geographic_crop.tif"));
+  GridRequest d;  // geographic with a crop in UTM: the centre of the default area
+  const PreparedGrid whole = prepare_grid(eno, d);
+  const auto& g = whole.grid.geo;
+  d.center = std::array<double, 2>{g.x_of_col(double(whole.grid.cols) / 2), g.y_of_row(double(whole.grid.rows) / 2)};
+  d.size = std::array<double, 2>{300, 200};
+  cases.push_back({"eno_nad83_geographic_crop.tif", d});
+
+  for (const Case& c : cases) {
+    const std::string path = data(c.file);
+    const Grid src = read_dem(path);
+    const PreparedGrid expected = prepare_grid(src, c.req);
+    const DemInfo info = read_dem_info(path);
+    const GridPlan plan = plan_grid(info.geo, info.rows, info.cols, c.req);
+    const RasterWindow& w = plan.source_window;
+    const Grid window = read_dem(path, {}, w);
+    if (c.req.bbox || c.req.center) EXPECT_LT(window.size(), src.size() / 4) << c.file;  // a crop reads a part
+    const PreparedGrid got = resample_to_plan(window, plan, c.req);
+    EXPECT_EQ(got.grid.z, expected.grid.z) << c.file;
+    EXPECT_EQ(got.grid.rows, expected.grid.rows);
+    EXPECT_EQ(got.grid.geo.x0, expected.grid.geo.x0);
+    EXPECT_EQ(got.grid.geo.y0, expected.grid.geo.y0);
+    EXPECT_EQ(got.grid.geo.crs_wkt, expected.grid.geo.crs_wkt);
+  }
+}
+
+// A window reads the same samples as the whole raster, and knows where it is.
+TEST(DemIo, WindowIsAPartOfTheWhole) {
+  const std::string path = data("logan_utm12n_100m.tif");
+  const Grid whole = read_dem(path);
+  const Grid part = read_dem(path, {}, RasterWindow{10, 20, 30, 40});
+  ASSERT_EQ(part.rows, 30u);
+  ASSERT_EQ(part.cols, 40u);
+  for (std::size_t r = 0; r < 30; ++r)
+    for (std::size_t c = 0; c < 40; ++c) ASSERT_EQ(part.at(r, c), whole.at(r + 10, c + 20));
+  EXPECT_DOUBLE_EQ(part.geo.x_of_col(0), whole.geo.x_of_col(20));
+  EXPECT_DOUBLE_EQ(part.geo.y_of_row(0), whole.geo.y_of_row(10));
+  EXPECT_THROW(read_dem(path, {}, RasterWindow{0, 0, whole.rows + 1, 10}), Error);
+  const DemInfo info = read_dem_info(path);
+  EXPECT_EQ(info.rows, whole.rows);
+  EXPECT_EQ(info.cols, whole.cols);
+  EXPECT_EQ(info.geo.epsg, whole.geo.epsg);
+}
+
+}  // namespace
+}  // namespace terrain

@@ -98,6 +98,29 @@ TEST(Dem2mesh, BadInputFailsCleanly) {
   EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
 }
 
+// A crop of a huge raster reads only its window: a VRT that claims 40000 x 40000 samples
+// (6.4 GB as float32) around the MSH DEM; an 80 m crop reads a few hundred samples. The
+// read shows GDAL-style progress.
+TEST(Dem2mesh, CropReadsOnlyItsWindow) {
+  test::ScratchDir dir;
+  std::ofstream(dir.path("big.vrt"))
+      << "<VRTDataset rasterXSize=\"40000\" rasterYSize=\"40000\">\n"
+         "  <GeoTransform>561190, 10, 0, 5119500, 0, -10</GeoTransform>\n"
+         "  <VRTRasterBand dataType=\"Float32\" band=\"1\"><NoDataValue>-9999</NoDataValue>\n"
+         "    <SimpleSource><SourceFilename relativeToVRT=\"0\">"
+      << data("msh_2007_utm10n_10m.tif")
+      << "</SourceFilename><SourceBand>1</SourceBand>\n"
+         "      <SrcRect xOff=\"0\" yOff=\"0\" xSize=\"303\" ySize=\"442\"/>"
+         "<DstRect xOff=\"0\" yOff=\"0\" xSize=\"303\" ySize=\"442\"/></SimpleSource>\n"
+         "  </VRTRasterBand>\n</VRTDataset>\n";
+  const auto r = run(tool("dem2mesh") + " " + dir.path("big.vrt") + " " + dir.path("crop.ply") +
+                     " --center 562500 5117000 --size 80 80 -v");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("read 14 x 14 of 40000 x 40000 samples"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("read: 0...10...20"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("grid: 8 x 8"), std::string::npos) << r.out;
+}
+
 TEST(Dem2mesh, HelpShowsAnExample) {
   const auto r = run(tool("dem2mesh") + " --help");
   EXPECT_EQ(r.exit_code, 0);

@@ -3,6 +3,7 @@
 #include <optional>
 #include <string>
 
+#include "terrain/error.hpp"
 #include "terrain/grid.hpp"
 
 namespace terrain {
@@ -12,11 +13,28 @@ namespace terrain {
 // direct use of GDAL.
 void ensure_gdal();
 
-// Reads band 1 of `path` as float elevations; the band's no-data value (and NaN) become
-// NaN. Requires a north-up geotransform (no rotation terms). The CRS is read as WKT and
-// classified (geographic / projected / none); `epsg` is filled when GDAL can identify it.
-// Throws Error: missing file, unreadable file, rotated raster, fewer than 2 x 2 samples.
-Grid read_dem(const std::string& path);
+// A window of a raster in north-up sample indices (row 0 = the northernmost row).
+struct RasterWindow {
+  std::size_t row0 = 0, col0 = 0, rows = 0, cols = 0;
+};
+
+// What a raster is without its samples: north-up georeferencing (cell corner x0, y0,
+// spacing, CRS as WKT, its kind, EPSG) and size. Opening only: cheap for any size.
+struct DemInfo {
+  Georef geo;
+  std::size_t rows = 0, cols = 0;
+};
+DemInfo read_dem_info(const std::string& path);
+
+// Reads band 1 of `path` (or only `window` of it) as float elevations; the band's no-data
+// value (and NaN) become NaN. `path` is anything GDAL opens, also names that are not files
+// (NETCDF:f.nc:Band1, GTIFF_DIR:1:f.tif, /vsizip/...). Requires a north-up geotransform
+// (south-up rasters are flipped). The CRS is read as WKT and classified (geographic /
+// projected / none); `epsg` is filled when GDAL can identify it. Progress comes from
+// GDAL's reader. Throws Error: missing or unreadable file, a directory, rotated raster,
+// fewer than 2 x 2 samples, a projected CRS not in metres, infinite samples, a window
+// outside the raster, or more samples than fit in 80% of the machine's memory.
+Grid read_dem(const std::string& path, const Progress& progress = {}, std::optional<RasterWindow> window = {});
 
 // Writes `grid` as a Float32 GeoTIFF (DEFLATE, tiled) with its CRS and geotransform;
 // NaN samples become the no-data value -9999. `metadata` is stored as the TIFF

@@ -11,9 +11,9 @@
 namespace terrain {
 
 struct DenoiseOptions {
-  double sigma_s = 0;        // spatial width (metres); <= 0: the mean distance between the
-                             // centroids of edge-adjacent faces
-  double sigma_r = 0.35;     // range width on |n_i - n_j| (in [0, 2]); <= 0: no range kernel
+  double sigma_s = 0;        // spatial width (metres); 0: the mean distance between the
+                             // centroids of edge-adjacent faces; negative or NaN: an Error
+  double sigma_r = 0.35;     // range width on |n_i - n_j| (in [0, 2]); 0: no range kernel
                              // (plain area- and distance-weighted averaging, the Laplacian-like
                              // baseline the tests compare against)
   int iterations = 20;       // normal filtering rounds

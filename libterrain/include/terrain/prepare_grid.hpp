@@ -2,10 +2,12 @@
 // From a DEM as read to the regular metric grid the mesh is built on: reprojection of a
 // geographic DEM onto UTM, cropping, resampling to a spacing, and the no-data policy.
 #include <array>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "terrain/dem_io.hpp"
 #include "terrain/error.hpp"
 #include "terrain/grid.hpp"
 #include "terrain/resample.hpp"
@@ -48,5 +50,24 @@ struct PreparedGrid {
 // more than 2^31 - 1 samples, all no-data).
 PreparedGrid prepare_grid(const Grid& source, const GridRequest& request,
                           const Progress& progress = {});
+
+// The same in two steps, for sources too large to read whole: plan_grid needs only the
+// source's georeferencing and size (read_dem_info) and gives the target grid and the
+// window of source samples the resampling kernel reads (the crop's footprint in the
+// source plus 3 samples); resample_to_plan resamples those samples (read_dem with that
+// window). The result is identical to prepare_grid on the whole source (tested).
+struct GridPlan {
+  // Maps a target sample centre (x, y) to fractional sample coordinates of the whole source.
+  using ToSource = std::function<void(double x, double y, double& row, double& col)>;
+  Georef target;
+  std::size_t rows = 0, cols = 0;
+  ToSource to_source;
+  RasterWindow source_window;
+  std::vector<std::string> warnings;
+};
+GridPlan plan_grid(const Georef& source, std::size_t source_rows, std::size_t source_cols,
+                   const GridRequest& request);
+PreparedGrid resample_to_plan(const Grid& window_samples, const GridPlan& plan, const GridRequest& request,
+                              const Progress& progress = {});
 
 }  // namespace terrain
