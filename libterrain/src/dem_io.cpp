@@ -188,6 +188,7 @@ Grid read_dem(const std::string& path, const Progress& progress, std::optional<R
     report(progress, 0.0);  // a cancelled read throws Cancelled here
     throw Error("cannot read '" + path + "': " + last_gdal_error());
   }
+  report(progress, 1.0);  // GDAL does not report every read (small VRT windows)
   if (r.south_up)
     for (std::size_t row = 0; row < grid.rows / 2; ++row)
       std::swap_ranges(grid.z.begin() + long(row * grid.cols), grid.z.begin() + long((row + 1) * grid.cols),
