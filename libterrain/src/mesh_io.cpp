@@ -122,39 +122,39 @@ class GridMeshExporter : public BaseExporter {
   bool has_vertex_normals() const override { return true; }
 
   // Attributes we do not have.
-  OM::Vec3uc color(OM::VertexHandle) const override { return {}; }
-  OM::Vec4uc colorA(OM::VertexHandle) const override { return {}; }
-  OM::Vec3ui colori(OM::VertexHandle) const override { return {}; }
-  OM::Vec4ui colorAi(OM::VertexHandle) const override { return {}; }
-  OM::Vec3f colorf(OM::VertexHandle) const override { return {}; }
-  OM::Vec4f colorAf(OM::VertexHandle) const override { return {}; }
-  OM::Vec2f texcoord(OM::VertexHandle) const override { return {}; }
-  OM::Vec2f texcoord(OM::HalfedgeHandle) const override { return {}; }
-  OM::Attributes::StatusInfo status(OM::VertexHandle) const override { return {}; }
-  OM::HalfedgeHandle getHeh(OM::FaceHandle, OM::VertexHandle) const override { return {}; }
+  OM::Vec3uc color(OM::VertexHandle) const override { return OM::Vec3uc(0); }
+  OM::Vec4uc colorA(OM::VertexHandle) const override { return OM::Vec4uc(0); }
+  OM::Vec3ui colori(OM::VertexHandle) const override { return OM::Vec3ui(0); }
+  OM::Vec4ui colorAi(OM::VertexHandle) const override { return OM::Vec4ui(0); }
+  OM::Vec3f colorf(OM::VertexHandle) const override { return OM::Vec3f(0); }
+  OM::Vec4f colorAf(OM::VertexHandle) const override { return OM::Vec4f(0); }
+  OM::Vec2f texcoord(OM::VertexHandle) const override { return OM::Vec2f(0); }
+  OM::Vec2f texcoord(OM::HalfedgeHandle) const override { return OM::Vec2f(0); }
+  OM::Attributes::StatusInfo status(OM::VertexHandle) const override { return OM::Attributes::StatusInfo(); }
+  OM::HalfedgeHandle getHeh(OM::FaceHandle, OM::VertexHandle) const override { return OM::HalfedgeHandle(); }
   unsigned int get_face_texcoords(std::vector<OM::Vec2f>&) const override { return 0; }
-  OM::Vec3f normal(OM::FaceHandle) const override { return {}; }
-  OM::Vec3d normald(OM::FaceHandle) const override { return {}; }
-  OM::Vec3uc color(OM::FaceHandle) const override { return {}; }
-  OM::Vec4uc colorA(OM::FaceHandle) const override { return {}; }
-  OM::Vec3ui colori(OM::FaceHandle) const override { return {}; }
-  OM::Vec4ui colorAi(OM::FaceHandle) const override { return {}; }
-  OM::Vec3f colorf(OM::FaceHandle) const override { return {}; }
-  OM::Vec4f colorAf(OM::FaceHandle) const override { return {}; }
-  OM::Attributes::StatusInfo status(OM::FaceHandle) const override { return {}; }
-  OM::Vec3uc color(OM::EdgeHandle) const override { return {}; }
-  OM::Vec4uc colorA(OM::EdgeHandle) const override { return {}; }
-  OM::Vec3ui colori(OM::EdgeHandle) const override { return {}; }
-  OM::Vec4ui colorAi(OM::EdgeHandle) const override { return {}; }
-  OM::Vec3f colorf(OM::EdgeHandle) const override { return {}; }
-  OM::Vec4f colorAf(OM::EdgeHandle) const override { return {}; }
-  OM::Attributes::StatusInfo status(OM::EdgeHandle) const override { return {}; }
+  OM::Vec3f normal(OM::FaceHandle) const override { return OM::Vec3f(0); }
+  OM::Vec3d normald(OM::FaceHandle) const override { return OM::Vec3d(0); }
+  OM::Vec3uc color(OM::FaceHandle) const override { return OM::Vec3uc(0); }
+  OM::Vec4uc colorA(OM::FaceHandle) const override { return OM::Vec4uc(0); }
+  OM::Vec3ui colori(OM::FaceHandle) const override { return OM::Vec3ui(0); }
+  OM::Vec4ui colorAi(OM::FaceHandle) const override { return OM::Vec4ui(0); }
+  OM::Vec3f colorf(OM::FaceHandle) const override { return OM::Vec3f(0); }
+  OM::Vec4f colorAf(OM::FaceHandle) const override { return OM::Vec4f(0); }
+  OM::Attributes::StatusInfo status(OM::FaceHandle) const override { return OM::Attributes::StatusInfo(); }
+  OM::Vec3uc color(OM::EdgeHandle) const override { return OM::Vec3uc(0); }
+  OM::Vec4uc colorA(OM::EdgeHandle) const override { return OM::Vec4uc(0); }
+  OM::Vec3ui colori(OM::EdgeHandle) const override { return OM::Vec3ui(0); }
+  OM::Vec4ui colorAi(OM::EdgeHandle) const override { return OM::Vec4ui(0); }
+  OM::Vec3f colorf(OM::EdgeHandle) const override { return OM::Vec3f(0); }
+  OM::Vec4f colorAf(OM::EdgeHandle) const override { return OM::Vec4f(0); }
+  OM::Attributes::StatusInfo status(OM::EdgeHandle) const override { return OM::Attributes::StatusInfo(); }
   int get_halfedge_id(OM::VertexHandle) override { return -1; }
   int get_halfedge_id(OM::FaceHandle) override { return -1; }
   int get_next_halfedge_id(OM::HalfedgeHandle) override { return -1; }
   int get_to_vertex_id(OM::HalfedgeHandle) override { return -1; }
   int get_face_id(OM::HalfedgeHandle) override { return -1; }
-  OM::Attributes::StatusInfo status(OM::HalfedgeHandle) const override { return {}; }
+  OM::Attributes::StatusInfo status(OM::HalfedgeHandle) const override { return OM::Attributes::StatusInfo(); }
 
  private:
   const GridMesh& m_;
@@ -203,8 +203,8 @@ class GridMeshImporter : public BaseImporter {
   size_t n_edges() const override { return 0; }
 
   // Data we do not keep.
-  OM::HalfedgeHandle add_edge(OM::VertexHandle, OM::VertexHandle) override { return {}; }
-  OM::FaceHandle add_face(OM::HalfedgeHandle) override { return {}; }
+  OM::HalfedgeHandle add_edge(OM::VertexHandle, OM::VertexHandle) override { return OM::HalfedgeHandle(); }
+  OM::FaceHandle add_face(OM::HalfedgeHandle) override { return OM::FaceHandle(); }
   void add_face_texcoords(OM::FaceHandle, OM::VertexHandle, const std::vector<OM::Vec2f>&) override {}
   void add_face_texcoords(OM::FaceHandle, OM::VertexHandle, const std::vector<OM::Vec3f>&) override {}
   void set_face_texindex(OM::FaceHandle, int) override {}
