@@ -155,6 +155,7 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, std::
   if (!dv_path.empty()) {
     t0 = Clock::now();
     const drainage::DrainageDb db = drainage::read_dv(dv_path);
+    if (const std::string w = rr::coverage_warning(s.mesh, db.header); !w.empty()) tt::warn(verb, "'" + dv_path + "': " + w);
     s.creases = rr::build_crease_geometry(s.mesh, db, min_accumulated);
     tt::step(verb, fmt::format("read {} and its PN normals: {} vertices, {} segments: {:.2f} s", dv_path,
                                s.creases->positions.size(), s.creases->n_segments(), since(t0)));
@@ -267,6 +268,8 @@ int main(int argc, char** argv) {
       if (!frame_dv.empty() && !drainage::is_dv_file(frame_dv))
         throw terrain::Error("'" + frame_dv + "' is not a drainage database (.dv)");
       const Scene scene = load_scene(frame_mesh, frame_dv, frame_opts.min_accumulated, verb);
+      if (frame_opts.frame.camera.eye)
+        rr::check_eye_above_terrain(scene.mesh, *frame_opts.frame.camera.eye, frame_opts.style.exaggeration);
       auto t0 = Clock::now();
       rr::GlContext ctx;
       rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, w, h, layers,
@@ -299,6 +302,14 @@ int main(int argc, char** argv) {
       std::filesystem::create_directories(batch_dir);
       terrain::check_output_path(std::filesystem::path(batch_dir) / "timings.csv");
       const Scene scene = load_scene(mesh_path, dv_path, batch_opts.min_accumulated, verb);
+      for (std::size_t i = 0; i < frames.size(); ++i) {
+        try {
+          if (frames[i].camera.eye)
+            rr::check_eye_above_terrain(scene.mesh, *frames[i].camera.eye, batch_opts.style.exaggeration);
+        } catch (const terrain::Error& e) {
+          throw terrain::Error(fmt::format("{}: frame {}: {}", csv, i + 1, e.what()));
+        }
+      }
       rr::GlContext ctx;
       rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, w, h, layers,
                             batch_opts.style);

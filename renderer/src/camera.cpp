@@ -1,4 +1,8 @@
 #include "renderer/camera.hpp"
+#include "terrain/error.hpp"
+#include "terrain/pn_surface.hpp"
+
+#include <fmt/format.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -114,6 +118,17 @@ Projected project(const View& view, const Eigen::Vector3d& p) {
   r.v = (1.0 - (y * 0.5 + 0.5)) * view.height;
   r.depth = view.reversed_z ? z : z * 0.5 + 0.5;
   return r;
+}
+
+void check_eye_above_terrain(const terrain::GridMesh& mesh, const Eigen::Vector3d& eye, double exaggeration) {
+  const auto& g = mesh.geo;
+  const auto p = terrain::pn_point_above(mesh, eye.x() - g.origin_x, eye.y() - g.origin_y);
+  if (!p) return;
+  const double surface = g.origin_z + exaggeration * p->position.z();
+  if (eye.z() < surface)
+    throw terrain::Error(fmt::format("the eye ({:.1f}, {:.1f}, {:.1f}) is inside the terrain: the surface is at {:.1f} "
+                                     "m there; raise it (--eye E N Z)",
+                                     eye.x(), eye.y(), eye.z(), surface));
 }
 
 }  // namespace renderer

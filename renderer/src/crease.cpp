@@ -1,5 +1,7 @@
 #include "renderer/crease.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -90,6 +92,22 @@ std::size_t count_accepted_segments(const CreaseGeometry& g, const Eigen::Vector
   std::size_t count = 0;
   for (std::size_t s = 0; s < g.n_segments(); ++s) count += ok[g.segments[2 * s]] && ok[g.segments[2 * s + 1]];
   return count;
+}
+
+std::string coverage_warning(const terrain::GridMesh& mesh, const drainage::DvHeader& h) {
+  const auto& g = mesh.geo;
+  // Sample extents in world coordinates: west, south, east, north.
+  const double m[4] = {g.origin_x, g.origin_y - double(mesh.topo.rows - 1) * g.dy,
+                       g.origin_x + double(mesh.topo.cols - 1) * g.dx, g.origin_y};
+  const double d[4] = {h.origin_x, h.origin_y - double(h.rows - 1) * h.dy, h.origin_x + double(h.cols - 1) * h.dx,
+                       h.origin_y};
+  const double tol = std::max(h.dx, h.dy);
+  for (int k = 0; k < 4; ++k)
+    if (std::abs(m[k] - d[k]) > tol)
+      return fmt::format("the drainage database covers x {:.1f}..{:.1f}, y {:.1f}..{:.1f}, the mesh x {:.1f}..{:.1f}, "
+                         "y {:.1f}..{:.1f}: it was not made from this mesh",
+                         d[0], d[2], d[1], d[3], m[0], m[2], m[1], m[3]);
+  return {};
 }
 
 }  // namespace renderer

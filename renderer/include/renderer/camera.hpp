@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include "renderer/frame_params.hpp"
+#include "terrain/grid_mesh.hpp"
 
 namespace renderer {
 
@@ -40,6 +41,11 @@ Eigen::Vector3d frame_box(const Box& box, double view_az, double view_alt, doubl
 // box, at least 1e-4 of the box diagonal.
 View make_view(const Camera& camera, const Eigen::Vector3d& origin, const Box& box, int width, int height,
                bool reversed_z = true);
+
+// Throws terrain::Error when `eye` (world coordinates) lies below the PN surface of `mesh`
+// (heights scaled by `exaggeration` about the mesh origin, as the renderer draws them):
+// the view from inside the terrain is blank. An eye outside the mesh's extent is fine.
+void check_eye_above_terrain(const terrain::GridMesh& mesh, const Eigen::Vector3d& eye, double exaggeration);
 
 struct Projected {
   double u = 0, v = 0;   // pixel coordinates: u right, v down, pixel centres at +0.5

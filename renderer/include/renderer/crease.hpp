@@ -3,6 +3,7 @@
 // the DM pass draws and the score that selects it. The renderer's compute shader
 // (crease_score.glsl) evaluates the same formula; these functions are its test reference.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -32,6 +33,11 @@ struct CreaseGeometry {
 // answer). Error when the database does not overlap the mesh or their CRSs differ.
 CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const drainage::DrainageDb& db,
                                      std::uint32_t min_accumulated = 0);
+
+// A warning (empty when none) when the database's sample extent differs from the mesh's
+// by more than one database spacing on any side: it was made from another mesh (or a
+// crop of it), so its creases will not follow this surface everywhere.
+std::string coverage_warning(const terrain::GridMesh& mesh, const drainage::DvHeader& header);
 
 // rs of one crease vertex (see CreaseScoreParams). `normal` and `light` are unit vectors in
 // the exaggerated frame, `distance` is from the eye in that frame.
