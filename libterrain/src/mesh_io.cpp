@@ -454,6 +454,7 @@ GridMesh read_mesh_ply(const std::string& path) {
     std::istringstream ss(c);
     std::string key;
     ss >> key;
+    const std::string rest = c.size() > key.size() + 1 ? c.substr(key.size() + 1) : std::string();  // after "key "
     if (key == "terrain-mesh") ss >> version;
     else if (key == "grid" || key == "origin") {
       const bool ok = key == "grid" ? bool(ss >> m.topo.rows >> m.topo.cols >> m.geo.dx >> m.geo.dy)
@@ -462,8 +463,8 @@ GridMesh read_mesh_ply(const std::string& path) {
       (key == "grid" ? has_grid : has_origin) = true;
     }
     else if (key == "crs_epsg") ss >> m.geo.epsg;
-    else if (key == "crs_wkt") m.geo.crs_wkt += c.substr(8);
-    else if (key == "provenance") m.provenance = unescape_ascii(c.substr(11));
+    else if (key == "crs_wkt") m.geo.crs_wkt += rest;
+    else if (key == "provenance") m.provenance = unescape_ascii(rest);
   }
   m.geo.crs_wkt = unescape_ascii(m.geo.crs_wkt);
   if (version < 0 || !has_grid || !has_origin)

@@ -1,0 +1,81 @@
+// Every input that crashed, hung or exhausted memory in a fuzz harness (scripts/fuzz.sh)
+// is kept in tests/fuzz/regressions/<harness>/ and read here by the same reader: each
+// must give a terrain::Error (or read), never another exception, a crash or a sanitizer
+// report (CI runs this under ASan + UBSan too). The seed corpora must read.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "drainage/dv_file.hpp"
+#include "drainage/dv_views.hpp"
+#include "drainage/rasters.hpp"
+#include "renderer/frames.hpp"
+#include "terrain/error.hpp"
+#include "terrain/mesh_io.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<fs::path> files(const std::string& dir) {
+  std::vector<fs::path> out;
+  for (const auto& e : fs::directory_iterator(std::string(TERRAIN_FUZZ_DIR) + "/" + dir)) out.push_back(e.path());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Runs `read` on every file of regressions/NAME; returns how many read without an Error.
+template <class Read>
+std::size_t read_all(const std::string& name, Read read) {
+  std::size_t ok = 0;
+  for (const fs::path& p : files("regressions/" + name)) {
+    try {
+      read(p.string());
+      ++ok;
+    } catch (const terrain::Error&) {
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << p << ": not a terrain::Error: " << e.what();
+    }
+  }
+  return ok;
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST(FuzzRegressions, MeshReader) {
+  read_all("ply", [](const std::string& p) { (void)terrain::read_mesh_ply(p); });
+  for (const fs::path& p : files("corpus/ply")) EXPECT_NO_THROW((void)terrain::read_mesh_ply(p.string())) << p;
+}
+
+TEST(FuzzRegressions, DvReader) {
+  read_all("dv", [](const std::string& p) {
+    const drainage::DrainageDb db = drainage::read_dv(p);
+    (void)drainage::summarize(db);
+    (void)drainage::dv_preview(db);
+  });
+  for (const fs::path& p : files("corpus/dv")) EXPECT_NO_THROW((void)drainage::read_dv(p.string())) << p;
+}
+
+TEST(FuzzRegressions, FrameListParser) {
+  read_all("frames", [](const std::string& p) { (void)renderer::parse_frames_csv(slurp(p), {}, p); });
+  for (const fs::path& p : files("corpus/frames"))
+    EXPECT_NO_THROW((void)renderer::parse_frames_csv(slurp(p.string()), {}, p.string())) << p;
+}
+
+TEST(FuzzRegressions, D8RasterReader) {
+  read_all("d8", [](const std::string& p) {
+    terrain::Grid g;
+    (void)drainage::read_d8_raster(p, drainage::D8Encoding::Taudem, g);
+  });
+  terrain::Grid g;
+  EXPECT_NO_THROW((void)drainage::read_d8_raster(files("corpus/d8")[0].string(), drainage::D8Encoding::Taudem, g));
+}
+
+}  // namespace
