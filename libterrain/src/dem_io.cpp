@@ -100,6 +100,12 @@ OpenRaster open_raster(const std::string& path) {
   r.cols = std::size_t(cols);
   double gt[6];
   if (r.ds->GetGeoTransform(gt) != CE_None) {  // no georeferencing: pixel coordinates, row 0 at the top
+    // Except for picture formats: a PNG or JPEG without a world file is a picture, not a DEM.
+    const std::string driver = r.ds->GetDriver() ? r.ds->GetDriver()->GetDescription() : "";
+    for (const char* image : {"PNG", "JPEG", "GIF", "BMP", "WEBP"})
+      if (driver == image)
+        throw Error("cannot use '" + path + "': an image without georeferencing (" + driver +
+                    "), not a DEM; give it a world file or georeference it (gdal_translate -a_ullr -a_srs)");
     const double pixel[6] = {0.0, 1.0, 0.0, double(rows), 0.0, -1.0};
     std::copy(pixel, pixel + 6, gt);
   }

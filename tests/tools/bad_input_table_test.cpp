@@ -1,0 +1,272 @@
+// One table of bad (and odd) inputs across every tool: each row is a command, the exit
+// code it must give and a substring of its one stderr line. Inputs are made by the test
+// (GDAL's API and gdal_translate/gdalbuildvrt). Every failing row must print exactly one
+// line, leave nothing in the output directory, and end within 60 s (run under
+// `timeout -s KILL 60`: a hang is exit 137). Rows that must work (formats nobody tuned
+// for, a 2 x 2 grid, a DEM across a UTM zone boundary) expect 0.
+#include <gdal_priv.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include "terrain/dem_io.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using terrain::test::data;
+using terrain::test::run;
+using terrain::test::tool;
+
+struct Row {
+  std::string command;  // IN/ = the inputs' directory, OUT/ = an empty output directory
+  int exit_code;
+  std::string message;  // substring of stderr (failures) or stdout (successes)
+};
+
+std::ostream& operator<<(std::ostream& os, const Row& r) { return os << r.command; }
+
+const char* kUtm10 = "EPSG:26910";
+
+// A Float32 GeoTIFF of rows x cols `values` with geotransform `gt`, CRS `srs` (none if
+// empty) and no-data `nodata` (none if NaN is not asked for).
+void make_tif(const std::string& path, int rows, int cols, const std::vector<float>& values,
+              const std::array<double, 6>& gt, const std::string& srs, std::optional<double> nodata = {}) {
+  terrain::ensure_gdal();
+  GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("GTiff");
+  std::unique_ptr<GDALDataset> ds(drv->Create(path.c_str(), cols, rows, 1, GDT_Float32, nullptr));
+  ASSERT_TRUE(ds);
+  double g[6] = {gt[0], gt[1], gt[2], gt[3], gt[4], gt[5]};
+  ds->SetGeoTransform(g);
+  if (!srs.empty()) {
+    OGRSpatialReference s;
+    s.SetFromUserInput(srs.c_str());
+    ds->SetSpatialRef(&s);
+  }
+  if (nodata) ds->GetRasterBand(1)->SetNoDataValue(*nodata);
+  ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, cols, rows, const_cast<float*>(values.data()), cols, rows,
+                                           GDT_Float32, 0, 0),
+            CE_None);
+}
+
+// A tilted plane of rows x cols samples, 10 m apart, in UTM 10N.
+std::vector<float> plane(int rows, int cols) {
+  std::vector<float> v(std::size_t(rows) * std::size_t(cols));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) v[std::size_t(r) * std::size_t(cols) + std::size_t(c)] = float(100 + 2 * r + c);
+  return v;
+}
+
+class BadInput : public ::testing::TestWithParam<Row> {
+ protected:
+  static void SetUpTestSuite() {
+    in_ = new terrain::test::ScratchDir;
+    auto in = [](const std::string& n) { return in_->path(n); };
+    const std::string msh = data("msh_2007_utm10n_10m.tif"), eno = data("eno_nad83_geographic_crop.tif");
+    const std::array<double, 6> gt = {500000, 10, 0, 4000000, 0, -10};
+    std::ofstream(in("empty.tif")).close();
+    fs::create_directories(in("a_directory"));
+    {  // the first 3000 bytes of a GeoTIFF
+      std::ifstream src(msh, std::ios::binary);
+      std::string head(3000, '\0');
+      src.read(head.data(), 3000);
+      std::ofstream(in("truncated.tif"), std::ios::binary) << head;
+    }
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    make_tif(in("all_nodata.tif"), 20, 20, std::vector<float>(400, -9999.0f), gt, kUtm10, -9999.0);
+    std::vector<float> v = plane(20, 20);
+    v[10 * 20 + 10] = nan;  // NaN cells without a no-data value
+    v[11 * 20 + 12] = nan;
+    make_tif(in("nan_cells.tif"), 20, 20, v, gt, kUtm10);
+    v = plane(20, 20);
+    for (int r = 8; r < 12; ++r)
+      for (int c = 8; c < 12; ++c) v[std::size_t(r * 20 + c)] = -9999.0f;  // a hole in the middle
+    make_tif(in("hole.tif"), 20, 20, v, gt, kUtm10, -9999.0);
+    v = plane(20, 20);
+    v[5] = std::numeric_limits<float>::infinity();
+    make_tif(in("inf_cell.tif"), 20, 20, v, gt, kUtm10);
+    make_tif(in("one_by_one.tif"), 1, 1, {100.0f}, gt, kUtm10);
+    make_tif(in("two_by_two.tif"), 2, 2, plane(2, 2), gt, kUtm10);
+    make_tif(in("one_by_n.tif"), 1, 50, plane(1, 50), gt, kUtm10);
+    make_tif(in("rotated.tif"), 20, 20, plane(20, 20), {500000, 10, 2, 4000000, 2, -10}, kUtm10);
+    make_tif(in("no_crs.tif"), 20, 20, plane(20, 20), gt, "");
+    make_tif(in("plane.tif"), 20, 20, plane(20, 20), gt, kUtm10);
+    std::ofstream(in("huge.vrt")) << "<VRTDataset rasterXSize=\"1000000\" rasterYSize=\"1000000\">"
+                                     "<GeoTransform>500000, 10, 0, 4000000, 0, -10</GeoTransform>"
+                                     "<VRTRasterBand dataType=\"Float32\" band=\"1\"/></VRTDataset>\n";
+    auto sh = [](const std::string& cmd) {
+      const auto r = run(cmd);
+      ASSERT_EQ(r.exit_code, 0) << cmd << "\n" << r.err;
+    };
+    // Geographic DEMs across the UTM 17/18 boundary (78 W), in the south, at 85 N.
+    sh("gdal_translate -q -a_ullr -78.01 36.01 -77.99 35.99 " + eno + " " + in("cross_zone.tif"));
+    sh("gdal_translate -q -a_ullr -78.01 -36.01 -77.99 -35.99 " + eno + " " + in("south.tif"));
+    sh("gdal_translate -q -a_ullr -78.01 85.01 -77.99 84.99 " + eno + " " + in("lat85.tif"));
+    // Formats nobody tuned for.
+    sh("gdal_translate -q -of ENVI " + msh + " " + in("m.envi"));
+    sh("gdal_translate -q -of HFA " + msh + " " + in("m.img"));
+    sh("gdal_translate -q -of netCDF " + msh + " " + in("m.nc"));
+    sh("gdal_translate -q -of XYZ " + msh + " " + in("m.xyz"));
+    sh("gdal_translate -q -of AAIGrid " + msh + " " + in("m.asc"));
+    sh("gdal_translate -q -of DTED -outsize 121 121 -a_ullr -78 37 -77 36 " + eno + " " + in("m.dt0") + " 2>/dev/null");
+    sh("gdal_translate -q -srcwin 0 0 150 442 " + msh + " " + in("west.tif"));
+    sh("gdal_translate -q -srcwin 150 0 153 442 " + msh + " " + in("east.tif"));
+    sh("gdalbuildvrt -q " + in("mosaic.vrt") + " " + in("west.tif") + " " + in("east.tif"));
+    // Meshes, drainage and frame lists, good and damaged.
+    sh(tool("dem2mesh") + " " + msh + " " + in("m.ply") + " --spacing 50 -q");
+    sh(tool("build-drainage") + " " + in("m.ply") + " " + in("m.dv") + " --spacing 25 -q");
+    sh(tool("terrain-inspect") + " preview " + in("m.ply") + " -o " + in("image.png"));
+    fs::copy_file(in("image.png"), in("png_renamed.tif"));
+    fs::copy_file(in("m.ply"), in("truncated.ply"));
+    fs::resize_file(in("truncated.ply"), fs::file_size(in("m.ply")) - 100);
+    std::ofstream(in("ascii.ply")) << "ply\nformat ascii 1.0\ncomment terrain-mesh 1\ncomment grid 2 2 10 10\n"
+                                      "comment origin 0 0 0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                      "property float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+                                      "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+                                      "0 0 0 0 0 1\n10 0 0 0 0 1\n0 -10 0 0 0 1\n10 -10 0 0 0 1\n3 0 2 3\n3 0 3 1\n";
+    {  // the mesh with an extra element another tool might add
+      std::ifstream src(in("m.ply"), std::ios::binary);
+      std::string bytes((std::istreambuf_iterator<char>(src)), std::istreambuf_iterator<char>());
+      bytes.replace(bytes.find("end_header\n"), 11, "element material 0\nproperty uchar red\nend_header\n");
+      std::ofstream(in("extra_element.ply"), std::ios::binary) << bytes;
+      bytes = std::string("ply\nformat binary_little_endian 1.0\nelement vertex\nend_header\n");
+      std::ofstream(in("wrong_header.ply"), std::ios::binary) << bytes;
+    }
+    std::ofstream(in("zero.dv")).close();
+    {
+      fs::copy_file(in("m.dv"), in("flipped.dv"));
+      std::fstream f(in("flipped.dv"), std::ios::in | std::ios::out | std::ios::binary);
+      f.seekp(std::streamoff(fs::file_size(in("m.dv")) / 2));
+      f.put('\x5a');
+    }
+    std::ofstream(in("nan.csv")) << "easting,northing,elevation\n562000,5117000,nan\n";
+    std::ofstream(in("inf.csv")) << "view_az,view_alt\n200,inf\n";
+    std::ofstream(in("inside.csv")) << "easting,northing,elevation\n562500,5117000,1000\n";
+  }
+  static void TearDownTestSuite() { delete in_; }
+  static terrain::test::ScratchDir* in_;
+};
+terrain::test::ScratchDir* BadInput::in_ = nullptr;
+
+std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
+
+TEST_P(BadInput, OneLineNoOutputNoHang) {
+  const Row& row = GetParam();
+  terrain::test::ScratchDir out;
+  std::string cmd = row.command;
+  for (std::size_t at; (at = cmd.find("IN/")) != std::string::npos;) cmd.replace(at, 3, in_->path(""));
+  for (std::size_t at; (at = cmd.find("OUT/")) != std::string::npos;) cmd.replace(at, 4, out.path(""));
+  const auto r = run("timeout -s KILL 60 " + cmd);
+  EXPECT_EQ(r.exit_code, row.exit_code) << cmd << "\nstderr: " << r.err;
+  if (row.exit_code == 0) {
+    EXPECT_NE(r.out.find(row.message), std::string::npos) << cmd << "\nstdout: " << r.out;
+    return;
+  }
+  EXPECT_EQ(lines(r.err), 1u) << cmd << "\nstderr: " << r.err;
+  EXPECT_NE(r.err.find(row.message), std::string::npos) << cmd << "\nstderr: " << r.err;
+  EXPECT_EQ(out.n_entries(), 0u) << cmd;
+}
+
+const std::string d2m = tool("dem2mesh") + " ", bd = tool("build-drainage") + " ", ti = tool("terrain-inspect") + " ",
+                  dn = tool("denoise-normals") + " ", tr = tool("terrain-render") + " ";
+const std::string msh = data("msh_2007_utm10n_10m.tif") + " ";
+
+INSTANTIATE_TEST_SUITE_P(
+    AllTools, BadInput,
+    ::testing::Values(
+        // dem2mesh: files that are not DEMs
+        Row{d2m + "IN/missing.tif OUT/o.ply -q", 1, "no such file"},
+        Row{d2m + "IN/empty.tif OUT/o.ply -q", 1, "not a raster GDAL can open"},
+        Row{d2m + "IN/a_directory OUT/o.ply -q", 1, "it is a directory"},
+        Row{d2m + "IN/truncated.tif OUT/o.ply -q", 1, "cannot read"},
+        Row{d2m + "IN/png_renamed.tif OUT/o.ply -q", 1, "an image without georeferencing"},
+        Row{d2m + "NETCDF:IN/missing.nc:Band1 OUT/o.ply -q", 1, "not a raster GDAL can open"},
+        // dem2mesh: DEMs with bad values or shapes
+        Row{d2m + "IN/all_nodata.tif OUT/o.ply -q", 1, "every sample is no-data"},
+        Row{d2m + "IN/nan_cells.tif OUT/o.ply -q", 1, "2 no-data samples inside the chosen area"},
+        Row{d2m + "IN/hole.tif OUT/o.ply -q", 1, "16 no-data samples inside the chosen area (rows 8-11"},
+        Row{d2m + "IN/inf_cell.tif OUT/o.ply -q", 1, "1 samples are infinite (the first at row 0, column 5)"},
+        Row{d2m + "IN/one_by_one.tif OUT/o.ply -q", 1, "a DEM needs at least 2 x 2"},
+        Row{d2m + "IN/one_by_n.tif OUT/o.ply -q", 1, "a DEM needs at least 2 x 2"},
+        Row{d2m + "IN/two_by_two.tif OUT/o.ply -q", 0, "vertices: 4\n"},
+        Row{d2m + "IN/huge.vrt OUT/o.ply -q", 1, "more than a mesh file can index"},
+        Row{ti + "info IN/huge.vrt", 1, "more than this machine's memory"},
+        Row{d2m + "IN/rotated.tif OUT/o.ply -q", 1, "rotated or sheared geotransform"},
+        Row{d2m + "IN/no_crs.tif OUT/o.ply", 0, "crs: none"},
+        // dem2mesh: requests
+        Row{d2m + msh + "OUT/o.ply --spacing 0", 2, "--spacing"},
+        Row{d2m + msh + "OUT/o.ply --spacing -5", 2, "--spacing"},
+        Row{d2m + msh + "OUT/o.ply --spacing nan", 2, "--spacing"},
+        Row{d2m + msh + "OUT/o.ply --spacing 100000 -q", 1, "a mesh needs at least 2 x 2"},
+        Row{d2m + msh + "OUT/o.ply --bbox 0 0 10 10 -q", 1, "lies outside the DEM"},
+        Row{d2m + msh + "OUT/o.ply --center 562500 nan --size 100 100", 2, "not a finite number"},
+        Row{d2m + msh + "OUT/o.ply --resample nearest", 2, "--resample"},
+        Row{d2m + msh + "OUT/o.ply --utm-zone 10N -q", 1, "--utm-zone applies to geographic DEMs only"},
+        // dem2mesh: geography
+        Row{d2m + "IN/cross_zone.tif OUT/o.ply -q", 0, "UTM zone 18N"},
+        Row{d2m + "IN/south.tif OUT/o.ply -q", 0, "UTM zone 18S"},
+        Row{d2m + "IN/lat85.tif OUT/o.ply -q", 1, "outside the UTM band"},
+        // dem2mesh: outputs
+        Row{d2m + msh + "OUT/no/such/dir/o.ply -q", 1, "does not exist"},
+        Row{d2m + msh + "/proc/o.ply --spacing 50 -q", 1, "cannot write '/proc/o.ply'"},
+        Row{d2m + "IN/plane.tif IN/plane.tif -q", 1, "OUTPUT must be a .ply file"},
+        Row{d2m + "IN/plane.tif OUT/o.ply --grid-out IN/plane.tif -q", 1, "is the input"},
+        Row{d2m + "IN/plane.tif OUT/o.ply --grid-out OUT/o.ply -q", 1, "two outputs are the same file"},
+        // formats nobody tuned for: dem2mesh and build-drainage --raster work on each
+        Row{d2m + "IN/m.envi OUT/o.ply --spacing 50 -q", 0, "vertices: 5368"},
+        Row{d2m + "IN/m.img OUT/o.ply --spacing 50 -q", 0, "vertices: 5368"},
+        Row{d2m + "IN/m.nc OUT/o.ply --spacing 50 -q", 0, "vertices: 5368"},
+        Row{d2m + "NETCDF:IN/m.nc:Band1 OUT/o.ply --spacing 50 -q", 0, "vertices: 5368"},
+        Row{d2m + "IN/m.xyz OUT/o.ply --spacing 50 -q", 0, "vertices: 5368"},
+        Row{d2m + "IN/m.asc OUT/o.ply --spacing 50 -q", 0, "vertices: 5368"},
+        Row{d2m + "IN/mosaic.vrt OUT/o.ply --spacing 50 -q", 0, "vertices: 5368"},
+        Row{d2m + "IN/m.dt0 OUT/o.ply -q", 0, "UTM zone 18N"},
+        Row{bd + "--raster IN/m.envi OUT/o.dv -q", 0, "points: 133926"},
+        Row{bd + "--raster IN/m.img OUT/o.dv -q", 0, "points: 133926"},
+        Row{bd + "--raster IN/m.nc OUT/o.dv -q", 0, "points: 133926"},
+        Row{bd + "--raster IN/m.xyz OUT/o.dv -q", 0, "points: 133926"},
+        Row{bd + "--raster IN/m.asc OUT/o.dv -q", 0, "points: 133926"},
+        Row{bd + "--raster IN/mosaic.vrt OUT/o.dv -q", 0, "points: 133926"},
+        Row{bd + "--raster IN/m.dt0 OUT/o.dv -q", 1, "is geographic (degrees)"},
+        // build-drainage
+        Row{bd + "--raster IN/all_nodata.tif OUT/o.dv -q", 1, "has no valid sample"},
+        Row{bd + "--raster IN/plane.tif OUT/o.dv --threads 100000", 2, "--threads"},
+        Row{bd + "IN/truncated.ply OUT/o.dv -q", 1, "truncated"},
+        Row{bd + "IN/wrong_header.ply OUT/o.dv -q", 1, "expected 'element NAME COUNT'"},
+        Row{bd + "IN/ascii.ply OUT/o.dv -q", 1, "in ascii format"},
+        Row{bd + "IN/extra_element.ply OUT/o.dv -q", 1, "unexpected PLY element 'material'"},
+        Row{bd + "IN/m.ply OUT/o.dv --surface IN/m.ply -q", 1, "is the input"},
+        Row{bd + "IN/m.ply OUT/o.dv --spacing inf", 2, "--spacing"},
+        // terrain-inspect
+        Row{ti + "info IN/zero.dv", 1, "not a raster GDAL can open"},
+        Row{ti + "info IN/flipped.dv", 1, "checksum mismatch"},
+        Row{ti + "preview IN/flipped.dv -o OUT/p.png", 1, "checksum mismatch"},
+        Row{ti + "preview IN/empty.tif -o OUT/p.png", 1, "not a raster GDAL can open"},
+        Row{ti + "export IN/m.ply --to tif -o IN/m.ply", 1, "is the input"},
+        Row{ti + "export IN/m.ply --to stl -o OUT/m.stl", 2, "--to"},
+        Row{ti + "preview IN/m.ply -o OUT/p.png --azimuth nan", 2, "not a finite number"},
+        // denoise-normals
+        Row{dn + "IN/m.ply OUT/d.ply --sigma-s -1", 2, "--sigma-s"},
+        Row{dn + "IN/m.ply OUT/d.ply --sigma-s 0", 2, "--sigma-s"},
+        Row{dn + "IN/m.ply OUT/d.ply --sigma-s nan", 2, "--sigma-s"},
+        Row{dn + "IN/truncated.ply OUT/d.ply -q", 1, "truncated"},
+        Row{dn + "IN/m.ply IN/m.ply -q", 1, "is the input"},
+        // terrain-render
+        Row{tr + "batch IN/m.ply IN/m.dv IN/nan.csv -o OUT/ -q", 1, "nan.csv:2: field 'elevation': 'nan' is not a number"},
+        Row{tr + "batch IN/m.ply IN/inf.csv -o OUT/ -q", 1, "inf.csv:2: field 'view_alt': 'inf' is not a number"},
+        Row{tr + "batch IN/m.ply IN/inside.csv -o OUT/ -q", 1, "frame 1: the eye (562500.0, 5117000.0, 1000.0) is inside"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --eye 562500 5117000 1000 -q", 1, "is inside the terrain"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --eye 562500 nan 3000", 2, "not a finite number"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --view-az nan", 2, "not a finite number"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --size 0x0", 2, "--size"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --size 100000x100000", 2, "--size"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --layers shaded,contours -q", 1, "unknown layer 'contours'"},
+        Row{tr + "frame IN/m.ply IN/zero.dv -o OUT/f.png -q", 1, "is not a drainage database"},
+        Row{tr + "path --from 0 0 nan --to 1 1 1 --frames 3 -o OUT/p.csv", 2, "not a finite number"},
+        Row{tr + "path --from 0 0 100 --to 1 1 100 --frames 3 -o /dev/null", 1, "not a regular file"}));
+
+}  // namespace
