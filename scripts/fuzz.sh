@@ -24,10 +24,10 @@ run_one() {
     build-fuzz/bin/fuzz_"$h" -max_total_time="$seconds" -rss_limit_mb=4096 -malloc_limit_mb=4096 \
     -timeout=30 -print_final_stats=1 -artifact_prefix="build-fuzz/crashes/$h-" "build-fuzz/corpus/$h" \
     >"build-fuzz/logs/$h.log" 2>&1 || true
-  local execs crashes
-  execs=$(grep -m1 "stat::number_of_executed_units" "build-fuzz/logs/$h.log" | awk "{print \$2}" || true)
+  local done_line crashes
+  done_line=$(grep -m1 "^Done [0-9]* runs in" "build-fuzz/logs/$h.log" || echo "stopped early: see the log")
   crashes=$(ls build-fuzz/crashes | grep -c "^$h-" || true)
-  echo "fuzz_$h: ${seconds} s, ${execs:-?} executions, ${crashes} crash/timeout/oom inputs (log build-fuzz/logs/$h.log)"
+  echo "fuzz_$h: $done_line; ${crashes} crash/timeout/oom inputs in build-fuzz/crashes (log build-fuzz/logs/$h.log)"
 }
 running=0
 for h in "${harnesses[@]}"; do

@@ -14,7 +14,7 @@ Vector3d normalized_or(const Vector3d& v, const Vector3d& fallback) {
   return len > 1e-12 ? Vector3d(v / len) : fallback;
 }
 
-// Mid-edge normal n110 for the edge Pi -> Pj (ALGORITHMS.md 1.3).
+// Mid-edge normal n110 for the edge Pi -> Pj (docs/algorithms.md 1.3).
 Vector3d mid_normal(const Vector3d& pi, const Vector3d& pj, const Vector3d& ni, const Vector3d& nj,
                     const Vector3d& face_n) {
   const Vector3d e = pj - pi;
@@ -75,7 +75,7 @@ Vector3d pn_normal(const PnPatch& p, double b1, double b2, double b3) {
 
 void pn_derivatives(const PnPatch& p, double b1, double b2, double b3, Vector3d& dpds, Vector3d& dpdt) {
   const auto& b = p.b;
-  // Partial derivatives of the homogeneous cubic (ALGORITHMS.md 2.2).
+  // Partial derivatives of the homogeneous cubic (docs/algorithms.md 2.2).
   const Vector3d d1 = 3.0 * (b[B300] * (b1 * b1) + b[B120] * (b2 * b2) + b[B102] * (b3 * b3) +
                              2.0 * (b[B210] * (b1 * b2) + b[B201] * (b1 * b3) + b[B111] * (b2 * b3)));
   const Vector3d d2 = 3.0 * (b[B210] * (b1 * b1) + b[B030] * (b2 * b2) + b[B012] * (b3 * b3) +

@@ -1,4 +1,4 @@
-// DM, step 1: the rendering score of every crease vertex (ALGORITHMS.md 9.1; CPU
+// DM, step 1: the rendering score of every crease vertex (docs/algorithms.md 9.1; CPU
 // reference: renderer::crease_score).
 //   rs = (sw*sc + iw*ic + fw*fc) / divisor - rs_min,  sc = 1 - n.z,  ic = 1 - n.l,
 //   rs_min = min + (1 - min) * falloff * clamp(d / d_far, 0, 1).

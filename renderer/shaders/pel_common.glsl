@@ -1,5 +1,5 @@
 // PEL compute passes: the grid topology (grid_mesh.hpp), the mesh data and the per-vertex
-// fields, and the Voronoi-weighted vertex gradient of ALGORITHMS.md 5.1-5.3 (CPU
+// fields, and the Voronoi-weighted vertex gradient of docs/algorithms.md 5.1-5.3 (CPU
 // reference: renderer/src/pel.cpp, same order of operations).
 layout(std430, binding = 6) readonly buffer MeshPositions { float pos[]; };
 layout(std430, binding = 7) readonly buffer MeshNormals { float nrm[]; };

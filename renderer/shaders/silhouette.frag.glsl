@@ -1,4 +1,4 @@
-// SIL: Toward/Away silhouettes (Mower 2015; ALGORITHMS.md 9.2). At pixel p with toward
+// SIL: Toward/Away silhouettes (Mower 2015; docs/algorithms.md 9.2). At pixel p with toward
 // depth t and away depth a: silhouette when t < a and some 8-neighbour's toward depth is
 // beyond a (a toward surface, an away surface behind it, a neighbour's toward surface
 // farther still). One pixel wide.

@@ -1,4 +1,4 @@
-// PN triangle control points (Vlachos et al. 2001; ALGORITHMS.md 1.1, 1.3; the CPU
+// PN triangle control points (Vlachos et al. 2001; docs/algorithms.md 1.1, 1.3; the CPU
 // reference is libterrain's make_pn_patch) and adaptive tessellation levels.
 layout(vertices = 3) out;
 in vec3 v_pos[];

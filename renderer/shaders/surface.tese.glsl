@@ -1,4 +1,4 @@
-// Evaluates the PN patch: cubic position and quadratic normal (ALGORITHMS.md 1.2, 1.3).
+// Evaluates the PN patch: cubic position and quadratic normal (docs/algorithms.md 1.2, 1.3).
 // gl_TessCoord = (b1, b2, b3), the weights of corners 0, 1, 2 (P1, P2, P3).
 layout(triangles, fractional_odd_spacing, ccw) in;
 in vec3 c_pos[];

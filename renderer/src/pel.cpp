@@ -30,7 +30,7 @@ Vector3f face_gradient(const terrain::GridMesh& m, std::size_t f, const std::vec
   return (val[t[0]] * nf.cross(e0) + val[t[1]] * nf.cross(e1) + val[t[2]] * nf.cross(e2)) / dbl_area;
 }
 
-// The Voronoi-weighted vertex gradient of `val` in the vertex frame (ALGORITHMS.md 5.2, 5.3).
+// The Voronoi-weighted vertex gradient of `val` in the vertex frame (docs/algorithms.md 5.2, 5.3).
 Vector2f vertex_gradient(const terrain::GridMesh& m, std::size_t v, const std::vector<float>& val) {
   std::array<std::uint32_t, 6> faces;
   std::array<std::uint8_t, 6> corners;

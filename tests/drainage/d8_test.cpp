@@ -1,4 +1,4 @@
-// D8 directions: the code table, the worked examples of ALGORITHMS.md 7, tie-breaking and
+// D8 directions: the code table, the worked examples of docs/algorithms.md 7, tie-breaking and
 // the boundary rule.
 #include <gtest/gtest.h>
 
@@ -34,7 +34,7 @@ TEST(D8Codes, TableIsLocked) {
   EXPECT_EQ(downstream(5, 2, 4), 1u);  // N of (1,1) in a 4-wide grid is (0,1)
 }
 
-// ALGORITHMS.md 7.1: centre 10; N 8, NE 7.5, E 9.2, others higher.
+// docs/algorithms.md 7.1: centre 10; N 8, NE 7.5, E 9.2, others higher.
 TEST(D8Directions, SteepestSlopeDependsOnCellShape) {
   auto centre_code = [](double dx, double dy) {
     terrain::Grid g = grid_of(3, 3, {20, 8, 7.5f, 20, 10, 9.2f, 20, 20, 20});
@@ -47,7 +47,7 @@ TEST(D8Directions, SteepestSlopeDependsOnCellShape) {
   EXPECT_STREQ(kName[centre_code(10, 30)], "E");
 }
 
-// ALGORITHMS.md 7.8 (dx = 30 m, dy = 20 m): interior cells.
+// docs/algorithms.md 7.8 (dx = 30 m, dy = 20 m): interior cells.
 TEST(D8Directions, WorkedExampleInteriorCells) {
   terrain::Grid g = grid_of(4, 4, {9, 8, 7, 6, 8, 6, 5, 5, 7, 5, 3, 4, 6, 4, 2, 1});
   g.geo.dx = 30;

@@ -13,7 +13,7 @@ namespace {
 
 using test::grid_of;
 
-// ALGORITHMS.md 8.7 (the filled DEM): the flat drains towards its low edge and converges
+// docs/algorithms.md 8.7 (the filled DEM): the flat drains towards its low edge and converges
 // on the centre column.
 TEST(ResolveFlats, WorkedExample) {
   const terrain::Grid g = grid_of(5, 5, {9, 9, 9, 9, 9, 9, 5, 5, 5, 9, 9, 5, 5, 5, 9, 9, 5, 5, 5, 9, 9, 9, 4, 9, 9});

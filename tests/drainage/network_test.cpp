@@ -20,7 +20,7 @@ D8Codes from_taudem(std::initializer_list<int> codes) {
   return d;
 }
 
-// ALGORITHMS.md 7.8: the directions given there (TauDEM codes, edge cells included).
+// docs/algorithms.md 7.8: the directions given there (TauDEM codes, edge cells included).
 TEST(AnalyzeNetwork, WorkedExample) {
   const D8Codes d = from_taudem({8, 7, 7, 7, 8, 8, 7, 6, 8, 8, 8, 7, 1, 1, 1, 0});
   const Network net = analyze_network(d, 4, 4);

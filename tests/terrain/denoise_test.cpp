@@ -1,4 +1,4 @@
-// Bilateral normal filtering (ALGORITHMS.md 6) on planes and a sharp ridge with noise.
+// Bilateral normal filtering (docs/algorithms.md 6) on planes and a sharp ridge with noise.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -27,7 +27,7 @@ GridMesh noisy_mesh(std::size_t n, const std::function<double(double, double)>& 
   return test::function_mesh(n, n, 1.0, [&](double x, double y) { return f(x, y) + gauss(rng); });
 }
 
-// One round of the filter equals a brute-force evaluation of ALGORITHMS.md 6.1 (every
+// One round of the filter equals a brute-force evaluation of docs/algorithms.md 6.1 (every
 // other face sharing a vertex, area x spatial x range weights), on a random mesh.
 TEST(Denoise, OneRoundMatchesBruteForce) {
   const GridMesh m = noisy_mesh(7, [](double x, double y) { return 0.5 * x - 0.2 * y; }, 0.3, 99);

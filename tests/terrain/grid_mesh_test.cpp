@@ -65,7 +65,7 @@ TEST(GridMesh, PlaneNormalsEqualThePlaneNormal) {
   }
 }
 
-// ALGORITHMS.md 3.2: z = 0.2x + 0.1y + 0.3x^2 + 0.4xy at the origin, h = 1, with the "/"
+// docs/algorithms.md 3.2: z = 0.2x + 0.1y + 0.3x^2 + 0.4xy at the origin, h = 1, with the "/"
 // diagonal. Our diagonal is NW-SE ("\"), the mirror image in y, so we mesh the mirrored
 // surface z(x, -y) and expect the mirrored normals (y component negated).
 TEST(GridMesh, WorkedExampleVertexNormals) {

@@ -1,4 +1,4 @@
-// PN triangles against the worked examples of ALGORITHMS.md 1.6 and 2.5 and their
+// PN triangles against the worked examples of docs/algorithms.md 1.6 and 2.5 and their
 // defining properties.
 #include <gtest/gtest.h>
 
@@ -100,7 +100,7 @@ TEST(PnPatch, NeighboursShareTheirEdgeCurve) {
   }
 }
 
-// ALGORITHMS.md 2.5.
+// docs/algorithms.md 2.5.
 TEST(PnSolveXy, WorkedExample) {
   const PnPatch p = example_patch();
   const PnXySolution a = pn_solve_xy(p, 1.0, 1.0);

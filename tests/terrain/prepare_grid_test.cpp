@@ -21,7 +21,7 @@ namespace {
 
 using test::data;
 
-// ALGORITHMS.md 10.3 worked numbers: 4 x 4 grid, sample at (row 1.25, col 1.5).
+// docs/algorithms.md 10.3 worked numbers: 4 x 4 grid, sample at (row 1.25, col 1.5).
 TEST(SampleGrid, WorkedExample) {
   Grid g(4, 4, Georef{});
   const float v[16] = {100, 102, 104, 106, 101, 104, 107, 110, 103, 107, 111, 115, 106, 111, 116, 121};
@@ -37,7 +37,7 @@ TEST(SampleGrid, WorkedExample) {
   EXPECT_EQ(sample_grid(g, 1.0, 1.0, Resampling::Bilinear), 104.0f);
 }
 
-// ALGORITHMS.md 10.5 (GeographicLib 2.1.2 values).
+// docs/algorithms.md 10.5 (GeographicLib 2.1.2 values).
 TEST(Utm, StandardZonesIncludingExceptions) {
   EXPECT_EQ(standard_utm_zone(46.5, 7.5).zone, 32);
   EXPECT_EQ(standard_utm_zone(60.0, 5.0).zone, 32);   // Norway exception (plain rule: 31)

@@ -1,4 +1,4 @@
-// Mixed Voronoi areas and tangent frames (ALGORITHMS.md 4), and their round trip through
+// Mixed Voronoi areas and tangent frames (docs/algorithms.md 4), and their round trip through
 // the mesh file.
 #include <gtest/gtest.h>
 
@@ -15,7 +15,7 @@ namespace {
 using Eigen::Vector3d;
 
 TEST(Voronoi, WorkedExamples) {
-  // ALGORITHMS.md 4.2: acute (0,0),(4,0),(1,3): (2.25, 1.75, 2.0); right angle at the
+  // docs/algorithms.md 4.2: acute (0,0),(4,0),(1,3): (2.25, 1.75, 2.0); right angle at the
   // origin: (1.0, 0.5, 0.5); obtuse at (2,1), area 2: Meyer (0.5, 0.5, 1.0).
   auto expect_corners = [](const Vector3d& got, const Vector3d& want) {
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], want[k], 1e-12) << "corner " << k;

@@ -1,5 +1,5 @@
 #pragma once
-// D8 steepest-descent flow directions (O'Callaghan & Mark 1984; ALGORITHMS.md 7).
+// D8 steepest-descent flow directions (O'Callaghan & Mark 1984; docs/algorithms.md 7).
 //
 // The one direction convention of the toolkit (locked by tests/drainage/d8_test.cpp):
 //   code k = 0..7 names the neighbour  E, NE, N, NW, W, SW, S, SE  (counter-clockwise

@@ -1,6 +1,6 @@
 #pragma once
 // Depression filling by Priority-Flood (Barnes, Lehman & Mulla 2014, "Priority-Flood: An
-// optimal depression-filling and watershed-labeling algorithm"; ALGORITHMS.md 8.1-8.2).
+// optimal depression-filling and watershed-labeling algorithm"; docs/algorithms.md 8.1-8.2).
 #include <cstddef>
 
 #include "terrain/grid.hpp"

@@ -1,6 +1,6 @@
 #pragma once
 // Flat resolution (Barnes, Lehman & Mulla 2014, "An efficient assignment of drainage
-// direction over flat surfaces in raster digital elevation models"; ALGORITHMS.md 8.5).
+// direction over flat surfaces in raster digital elevation models"; docs/algorithms.md 8.5).
 #include <cstdint>
 #include <vector>
 
@@ -21,7 +21,7 @@ struct FlatStats {
 // kTryOrder). An undrainable flat (a flat-bottomed pit) is not left as thousands of
 // one-sample pits: its sample farthest from higher ground (largest A, then lowest index)
 // stays the single pit and the rest of the flat drains to it the same way. Deterministic
-// and sequential (breadth-first searches). Tested on the worked example of ALGORITHMS.md
+// and sequential (breadth-first searches). Tested on the worked example of docs/algorithms.md
 // 8.7, a plateau with one outlet, and real DEMs (no kNoFlow left except one per flat).
 FlatStats resolve_flats(const terrain::Grid& z, D8Codes& dirs);
 

@@ -1,7 +1,7 @@
 #pragma once
 // The drainage network of a D8 direction grid: classes, basins, accumulated and
 // basin-normalized flow, Strahler order and branches (O'Callaghan & Mark 1984, as used by
-// Mower's Creases algorithm; ALGORITHMS.md 7.5-7.7).
+// Mower's Creases algorithm; docs/algorithms.md 7.5-7.7).
 #include <cstdint>
 #include <vector>
 

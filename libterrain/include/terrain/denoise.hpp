@@ -1,5 +1,5 @@
 #pragma once
-// Bilateral normal filtering (Zheng, Fu, Au & Tai 2011, IEEE TVCG 17(10); ALGORITHMS.md 6)
+// Bilateral normal filtering (Zheng, Fu, Au & Tai 2011, IEEE TVCG 17(10); docs/algorithms.md 6)
 // on a grid mesh: face normals are smoothed with a spatial Gaussian on face-centroid
 // distance, a range Gaussian on normal difference and face-area weights, over the faces
 // sharing a vertex with the face (not the face itself), all faces updated together
@@ -31,14 +31,14 @@ struct DenoiseStats {
 // Unit face normals (#F) of the mesh's positions; (0, 0, 1) for degenerate faces.
 BigVector<Eigen::Vector3f> face_normals(const GridMesh& mesh);
 
-// The filtered face normals (#F) of ALGORITHMS.md 6.1, starting from `normals` (#F, unit).
+// The filtered face normals (#F) of docs/algorithms.md 6.1, starting from `normals` (#F, unit).
 // Tested: worked example 6.4 (through a three-neighbour configuration), planes with noise.
 BigVector<Eigen::Vector3f> bilateral_filter_normals(const GridMesh& mesh, const BigVector<Eigen::Vector3f>& normals,
                                                     const DenoiseOptions& options, double& sigma_s_used,
                                                     const Progress& progress = {});
 
 // Denoises `mesh` in place: filtered face normals; with update_vertices, the vertex update
-// of ALGORITHMS.md 6.2 restricted to z (x_i.z += z component of (1/|F_i|) sum_f n_f
+// of docs/algorithms.md 6.2 restricted to z (x_i.z += z component of (1/|F_i|) sum_f n_f
 // (n_f . (c_f - x_i)), centroids recomputed each round, boundary vertices fixed), so the
 // mesh stays a regular grid that build-drainage and the renderer can use; then vertex
 // normals: area-weighted from the new positions (update) or normalize(sum A_f n_f) of the

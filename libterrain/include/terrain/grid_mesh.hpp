@@ -88,7 +88,7 @@ struct GridMesh {
 
 enum class NormalWeighting { Uniform, Angle, Area };
 
-// Vertex normals on grid topology (ALGORITHMS.md 3): the normalized sum of the incident
+// Vertex normals on grid topology (docs/algorithms.md 3): the normalized sum of the incident
 // unit face normals (Uniform: the Creases paper's rule), weighted by the corner angle
 // (Angle, Thurmer & Wuthrich 1998) or by face area (Area, exact for quadratics on a
 // regular grid). positions: #V local coordinates. Degenerate faces add nothing; a vertex

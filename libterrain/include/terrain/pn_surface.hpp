@@ -1,6 +1,6 @@
 #pragma once
 // The PN surface of a grid mesh: the patch of every face, the surface point above a given
-// (x, y) (ALGORITHMS.md 2.4), and sampling the surface on a regular grid.
+// (x, y) (docs/algorithms.md 2.4), and sampling the surface on a regular grid.
 #include <optional>
 
 #include "terrain/error.hpp"

@@ -1,6 +1,6 @@
 #pragma once
 // Curved point-normal (PN) triangles, Vlachos, Peters, Boyd & Mitchell 2001
-// (ALGORITHMS.md 1 and 2). This CPU code is the reference the renderer's shaders are
+// (docs/algorithms.md 1 and 2). This CPU code is the reference the renderer's shaders are
 // tested against.
 //
 // Barycentric convention (one place): (b1, b2, b3) are the weights of corners P1, P2, P3;
@@ -23,7 +23,7 @@ enum PnNormalIndex { N200, N020, N002, N110, N011, N101 };
 
 // Control points from corner positions P1..P3 and UNIT vertex normals N1..N3 (in this
 // order, counter-clockwise). Degenerate edges and cancelling normals fall back to the
-// face normal (ALGORITHMS.md 1.5).
+// face normal (docs/algorithms.md 1.5).
 PnPatch make_pn_patch(const Eigen::Vector3d& p1, const Eigen::Vector3d& p2, const Eigen::Vector3d& p3,
                       const Eigen::Vector3d& n1, const Eigen::Vector3d& n2, const Eigen::Vector3d& n3);
 
@@ -55,7 +55,7 @@ struct PnXySolution {
 };
 
 // Solves P.xy(b1, b2, b3) = (x, y) by Newton's method on (s, t) from the planar
-// barycentrics, with backtracking (ALGORITHMS.md 2.3). `tolerance` is in the units of
+// barycentrics, with backtracking (docs/algorithms.md 2.3). `tolerance` is in the units of
 // the positions. Tested: worked example 2.5, planar patches, random terrain patches.
 PnXySolution pn_solve_xy(const PnPatch& p, double x, double y, double tolerance = 1e-9);
 PnXySolution pn_solve_xy(const PnPolynomial& p, double x, double y, double tolerance = 1e-9);

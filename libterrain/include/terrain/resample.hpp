@@ -13,7 +13,7 @@ Resampling parse_resampling(std::string_view name);
 
 // Value of `grid` at fractional sample coordinates (row, col), where integer coordinates
 // are sample centres (see grid.hpp). Bilinear uses the 4 surrounding samples; cubic the
-// 4 x 4 Keys kernel with a = -0.5, as GDAL's "cubic" (ALGORITHMS.md 10.3). Indices beyond
+// 4 x 4 Keys kernel with a = -0.5, as GDAL's "cubic" (docs/algorithms.md 10.3). Indices beyond
 // the grid are clamped to the edge sample. Returns NaN when a sample with non-zero weight
 // is no-data. Tested against hand-worked values and against gdalwarp (tests/resample_test).
 float sample_grid(const Grid& grid, double row, double col, Resampling method);

@@ -1,7 +1,7 @@
 #pragma once
-// Mixed Voronoi areas (Meyer, Desbrun, Schroeder & Barr 2001/2003; ALGORITHMS.md 4) and
+// Mixed Voronoi areas (Meyer, Desbrun, Schroeder & Barr 2001/2003; docs/algorithms.md 4) and
 // vertex tangent frames: the per-vertex weights photic extremum lines need to move face
-// gradients to vertices (ALGORITHMS.md 5.3).
+// gradients to vertices (docs/algorithms.md 5.3).
 #include <Eigen/Core>
 
 #include "terrain/grid_mesh.hpp"
@@ -12,7 +12,7 @@ namespace terrain {
 //   no obtuse angle: A_P = (|P-R|^2 cot Q + |P-Q|^2 cot R) / 8 (the Voronoi region);
 //   obtuse at P: area / 2; obtuse elsewhere: area / 4.
 // The three sum to the triangle's area; each is >= 0; a degenerate triangle gives 0s.
-// Tested: ALGORITHMS.md 4.2 worked examples (acute, right, obtuse).
+// Tested: docs/algorithms.md 4.2 worked examples (acute, right, obtuse).
 Eigen::Vector3d mixed_voronoi_corners(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2);
 
 // Corner areas of every face (#F x 3, face(f) order), vertex totals (#V) and tangents

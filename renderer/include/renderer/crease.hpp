@@ -1,5 +1,5 @@
 #pragma once
-// Drainage creases (Mower's Creases algorithm, ALGORITHMS.md 9.1), GL-free: the geometry
+// Drainage creases (Mower's Creases algorithm, docs/algorithms.md 9.1), GL-free: the geometry
 // the DM pass draws and the score that selects it. The renderer's compute shader
 // (crease_score.glsl) evaluates the same formula; these functions are its test reference.
 #include <cstdint>

@@ -16,7 +16,7 @@
 
 namespace renderer {
 
-// The crease rendering score of a drainage vertex (ALGORITHMS.md 9.1):
+// The crease rendering score of a drainage vertex (docs/algorithms.md 9.1):
 //   rs = (sw*sc + iw*ic + fw*fc) / D - rs_min(d)
 //   sc = 1 - n.z (slope), ic = 1 - n.l (illumination), fc = normalized flow,
 //   D = sw + iw + fw (default) or 3 (literal: the paper's equation 6),

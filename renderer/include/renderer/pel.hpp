@@ -1,5 +1,5 @@
 #pragma once
-// Photic extremum lines (Xie et al. 2007; Zhang, He & Seah 2010; ALGORITHMS.md 5), GL-free:
+// Photic extremum lines (Xie et al. 2007; Zhang, He & Seah 2010; docs/algorithms.md 5), GL-free:
 // the CPU reference of the renderer's PEL compute passes (pel_*.comp.glsl), same math in
 // the same order. Needs the mesh's Voronoi weights (denoise-normals).
 //
