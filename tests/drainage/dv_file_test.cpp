@@ -136,23 +136,5 @@ TEST(DvFile, RejectsBadIndicesBehindAValidChecksum) {
   EXPECT_EQ(read_dv(patched(0, 'T')).vertices.size(), n);
 }
 
-TEST(DvViews, GeopackageHasOneLinePerBranch) {
-  terrain::test::ScratchDir dir;
-  const DrainageResult r = logan_drainage();
-  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs, r.net);
-  const DrainageDb db = read_dv(dir.path("a.dv"));
-  std::size_t lines = 0, lines_order3 = 0;
-  for (const DvBranch& b : db.branches) {
-    const std::size_t points = b.count + (b.drains_into != kNone ? 1 : 0);
-    lines += points >= 2;
-    lines_order3 += points >= 2 && b.order >= 3;
-  }
-  EXPECT_EQ(export_branches_gpkg(db, dir.path("all.gpkg")), lines);
-  EXPECT_EQ(export_branches_gpkg(db, dir.path("o3.gpkg"), 3), lines_order3);
-  EXPECT_EQ(dir.n_entries(), 3u);  // no temporary left
-  const auto rgb = dv_preview(db);
-  EXPECT_EQ(rgb.size(), 3 * db.vertices.size());
-}
-
 }  // namespace
 }  // namespace drainage

@@ -3,7 +3,10 @@
 
 #include <random>
 
+#include <omp.h>
+
 #include "terrain/dem_io.hpp"
+#include "terrain/prepare_grid.hpp"
 #include "terrain/pn_surface.hpp"
 #include "test_support.hpp"
 
@@ -65,6 +68,40 @@ TEST(PnPointAbove, MountStHelensXyMatchesTheRequest) {
   const auto v = pn_point_above(m, 100.0, -200.0);
   ASSERT_TRUE(v);
   EXPECT_NEAR(v->position.z(), m.positions[20 * m.topo.cols + 10].z(), 1e-4);
+}
+
+// sample_pn_surface: its samples are pn_point_above's heights (the cached monomial form
+// changes nothing beyond rounding), at the mesh spacing they are the vertices, its grid is
+// georeferenced on the mesh, and the thread count does not change it.
+TEST(SamplePnSurface, SamplesArePointsAboveAndVerticesAtTheMeshSpacing) {
+  GridRequest req;
+  req.spacing = 50.0;
+  req.bbox = std::array<double, 4>{561500, 5116000, 563500, 5118000};
+  const GridMesh m = make_grid_mesh(prepare_grid(read_dem(test::data("msh_2007_utm10n_10m.tif")), req).grid,
+                                    NormalWeighting::Uniform);
+  const SampledSurface fine = sample_pn_surface(m, 10.0);
+  EXPECT_EQ(fine.fallbacks, 0u);
+  ASSERT_EQ(fine.grid.cols, (m.topo.cols - 1) * 5 + 1);
+  ASSERT_EQ(fine.grid.rows, (m.topo.rows - 1) * 5 + 1);
+  EXPECT_DOUBLE_EQ(fine.grid.geo.x_of_col(0), m.geo.origin_x);
+  EXPECT_DOUBLE_EQ(fine.grid.geo.y_of_row(0), m.geo.origin_y);
+  EXPECT_EQ(fine.grid.geo.epsg, m.geo.epsg);
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<std::size_t> ur(0, fine.grid.rows - 1), uc(0, fine.grid.cols - 1);
+  for (int k = 0; k < 500; ++k) {
+    const std::size_t r = ur(rng), c = uc(rng);
+    const auto p = pn_point_above(m, double(c) * 10.0, -double(r) * 10.0);
+    ASSERT_TRUE(p);
+    EXPECT_NEAR(fine.grid.at(r, c), m.geo.origin_z + p->position.z(), 1e-3) << r << ", " << c;
+  }
+  const SampledSurface coarse = sample_pn_surface(m, 50.0);
+  for (std::size_t v = 0; v < m.n_vertices(); ++v)
+    ASSERT_NEAR(coarse.grid.z[v], m.geo.origin_z + m.positions[v].z(), 1e-3) << v;
+  omp_set_num_threads(1);
+  const SampledSurface one = sample_pn_surface(m, 10.0);
+  omp_set_num_threads(omp_get_num_procs());
+  EXPECT_EQ(one.grid.z, fine.grid.z);
+  EXPECT_THROW(sample_pn_surface(m, 0.0), Error);
 }
 
 }  // namespace

@@ -295,23 +295,5 @@ TEST(PrepareGrid, WindowedReadEqualsTheWholeSource) {
   }
 }
 
-// A window reads the same samples as the whole raster, and knows where it is.
-TEST(DemIo, WindowIsAPartOfTheWhole) {
-  const std::string path = data("logan_utm12n_100m.tif");
-  const Grid whole = read_dem(path);
-  const Grid part = read_dem(path, {}, RasterWindow{10, 20, 30, 40});
-  ASSERT_EQ(part.rows, 30u);
-  ASSERT_EQ(part.cols, 40u);
-  for (std::size_t r = 0; r < 30; ++r)
-    for (std::size_t c = 0; c < 40; ++c) ASSERT_EQ(part.at(r, c), whole.at(r + 10, c + 20));
-  EXPECT_DOUBLE_EQ(part.geo.x_of_col(0), whole.geo.x_of_col(20));
-  EXPECT_DOUBLE_EQ(part.geo.y_of_row(0), whole.geo.y_of_row(10));
-  EXPECT_THROW(read_dem(path, {}, RasterWindow{0, 0, whole.rows + 1, 10}), Error);
-  const DemInfo info = read_dem_info(path);
-  EXPECT_EQ(info.rows, whole.rows);
-  EXPECT_EQ(info.cols, whole.cols);
-  EXPECT_EQ(info.geo.epsg, whole.geo.epsg);
-}
-
 }  // namespace
 }  // namespace terrain

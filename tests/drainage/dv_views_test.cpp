@@ -1,0 +1,74 @@
+// Views of a drainage database: the summary counts the network, the elevations are the
+// surface, the preview marks channels, and the GeoPackage has one line per branch.
+#include <gtest/gtest.h>
+
+#include "drainage/dv_file.hpp"
+#include "drainage/dv_views.hpp"
+#include "drainage/pipeline.hpp"
+#include "terrain/dem_io.hpp"
+#include "test_support.hpp"
+
+namespace drainage {
+namespace {
+
+DrainageResult logan_drainage() {
+  return compute_drainage(terrain::read_dem(terrain::test::data("logan_utm12n_100m.tif")), {});
+}
+
+DrainageDb round_trip(const DrainageResult& r, const terrain::test::ScratchDir& dir) {
+  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs, r.net);
+  return read_dv(dir.path("a.dv"));
+}
+
+TEST(DvViews, SummaryElevationsAndPreview) {
+  terrain::test::ScratchDir dir;
+  const DrainageResult r = logan_drainage();
+  const DrainageDb db = round_trip(r, dir);
+  const DvSummary s = summarize(db);
+  std::size_t counts[4] = {0, 0, 0, 0};
+  for (std::uint8_t c : r.net.point_class)
+    if (c < 4) ++counts[c];
+  EXPECT_EQ(s.points, r.net.points);
+  EXPECT_EQ(s.ridges, counts[0]);
+  EXPECT_EQ(s.channels, counts[1]);
+  EXPECT_EQ(s.junctions, counts[2]);
+  EXPECT_EQ(s.pits, counts[3]);
+  std::size_t branches = 0;
+  for (const auto& [order, count] : s.branches_per_order) branches += count;
+  EXPECT_EQ(branches, r.net.branches.size());
+
+  const terrain::Grid z = dv_elevations(db);
+  ASSERT_EQ(z.size(), r.surface.size());
+  EXPECT_NEAR(z.geo.x0, r.surface.geo.x0, 1e-6);
+  EXPECT_NEAR(z.geo.y0, r.surface.geo.y0, 1e-6);
+  for (std::size_t i = 0; i < z.size(); ++i) ASSERT_NEAR(z.z[i], r.surface.z[i], 1e-3) << i;
+
+  // The preview draws the 4 % of points with the most flow in blue over a grey hillshade.
+  const auto rgb = dv_preview(db);
+  ASSERT_EQ(rgb.size(), 3 * z.size());
+  std::size_t blue = 0;
+  for (std::size_t i = 0; i < z.size(); ++i) blue += rgb[3 * i + 2] > rgb[3 * i] + 20;
+  EXPECT_GT(blue, z.size() / 40);
+  EXPECT_LT(blue, z.size() / 20);
+}
+
+TEST(DvViews, GeopackageHasOneLinePerBranch) {
+  terrain::test::ScratchDir dir;
+  const DrainageResult r = logan_drainage();
+  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs, r.net);
+  const DrainageDb db = read_dv(dir.path("a.dv"));
+  std::size_t lines = 0, lines_order3 = 0;
+  for (const DvBranch& b : db.branches) {
+    const std::size_t points = b.count + (b.drains_into != kNone ? 1 : 0);
+    lines += points >= 2;
+    lines_order3 += points >= 2 && b.order >= 3;
+  }
+  EXPECT_EQ(export_branches_gpkg(db, dir.path("all.gpkg")), lines);
+  EXPECT_EQ(export_branches_gpkg(db, dir.path("o3.gpkg"), 3), lines_order3);
+  EXPECT_EQ(dir.n_entries(), 3u);  // no temporary left
+  const auto rgb = dv_preview(db);
+  EXPECT_EQ(rgb.size(), 3 * db.vertices.size());
+}
+
+}  // namespace
+}  // namespace drainage
