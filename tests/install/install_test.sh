@@ -11,7 +11,9 @@ for f in bin/dem2mesh bin/build-drainage bin/terrain-render include/terrain/grid
          lib/cmake/terrain/terrainConfig.cmake; do
   [ -e "$prefix/usr/$f" ] || { echo "not installed: $f"; exit 1; }
 done
-"$prefix/usr/bin/dem2mesh" --version | grep -q "git " || { echo "dem2mesh --version has no git hash"; exit 1; }
+for t in dem2mesh build-drainage denoise-normals terrain-inspect terrain-render; do
+  "$prefix/usr/bin/$t" --version | grep -Eq '^[0-9]+\.[0-9]+\.[0-9]+ \(git [0-9a-f]+' || { echo "$t --version has no version and git hash"; exit 1; }
+done
 cmake -S "$src/tests/install/consumer" -B "$prefix/build" -DCMAKE_CXX_COMPILER="$cxx" \
   -DCMAKE_PREFIX_PATH="$prefix/usr" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$prefix/build" >/dev/null

@@ -241,6 +241,7 @@ INSTANTIATE_TEST_SUITE_P(
         Row{bd + "IN/extra_element.ply OUT/o.dv -q", 1, "unexpected PLY element 'material'"},
         Row{bd + "IN/m.ply OUT/o.dv --surface IN/m.ply -q", 1, "is the input"},
         Row{bd + "IN/m.ply OUT/o.dv --spacing inf", 2, "--spacing"},
+        Row{bd + "IN/m.ply OUT/o.dv --surface OUT/o.dv -q", 1, "two outputs are the same file"},
         // terrain-inspect
         Row{ti + "info IN/zero.dv", 1, "not a raster GDAL can open"},
         Row{ti + "info IN/flipped.dv", 1, "checksum mismatch"},

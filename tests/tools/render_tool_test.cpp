@@ -75,6 +75,29 @@ TEST(TerrainRender, BatchWritesFramesAndTimings) {
   EXPECT_TRUE(std::filesystem::exists(in.dir.path("g.png")));
 }
 
+// A .dv made from another mesh (here: a crop of it) renders, with one warning naming both
+// extents; -q silences it.
+TEST(TerrainRender, DrainageOfAnotherMeshIsAWarning) {
+  Inputs in;
+  const std::string crop = in.dir.path("crop.ply"), crop_dv = in.dir.path("crop.dv");
+  ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + crop +
+                " --spacing 50 --center 562500 5117000 --size 1000 1000 -q")
+                .exit_code,
+            0);
+  ASSERT_EQ(run(tool("build-drainage") + " " + crop + " " + crop_dv + " --spacing 25 -q").exit_code, 0);
+  const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + crop_dv + " -o " +
+                            in.dir.path("f.png") + " --size 64x48";
+  const auto r = run(frame);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("it was not made from this mesh"), std::string::npos) << r.err;
+  EXPECT_EQ(run(frame + " -q").err, "");
+  const auto same = run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + in.dir.path("g.png") +
+                        " --size 64x48");
+  EXPECT_EQ(same.exit_code, 0);
+  EXPECT_EQ(same.err.find("not made from this mesh"), std::string::npos) << same.err;
+}
+
 TEST(TerrainRender, BadFrameListsNameTheLine) {
   Inputs in;
   const std::string csv = in.dir.path("bad.csv"), out = in.dir.path("frames");
