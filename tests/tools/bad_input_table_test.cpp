@@ -6,6 +6,7 @@
 // for, a 2 x 2 grid, a DEM across a UTM zone boundary) expect 0.
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -63,9 +64,34 @@ std::vector<float> plane(int rows, int cols) {
 
 class BadInput : public ::testing::TestWithParam<Row> {
  protected:
+  // ctest runs every row in its own process: the inputs are made once per build of the
+  // tools (the directory's name holds the newest modification time of the binaries) in
+  // the build tree, in a scratch directory renamed into place, so parallel rows never see
+  // half-made inputs.
   static void SetUpTestSuite() {
-    in_ = new terrain::test::ScratchDir;
-    auto in = [](const std::string& n) { return in_->path(n); };
+    fs::file_time_type newest = fs::file_time_type::min();
+    for (const char* t : {"dem2mesh", "build-drainage", "terrain-inspect", "terrain_tests"})
+      newest = std::max(newest, fs::last_write_time(tool(t)));
+    const fs::path dir = fs::path(TERRAIN_BIN_DIR).parent_path() / "test-fixtures" /
+                         ("bad-input-" + std::to_string(newest.time_since_epoch().count()));
+    in_ = dir.string() + "/";
+    if (fs::exists(dir)) return;
+    fs::create_directories(dir.parent_path());
+    const fs::path scratch = dir.string() + ".tmp" + std::to_string(::getpid());
+    fs::create_directories(scratch);
+    if (!make_inputs(scratch.string() + "/")) {
+      fs::remove_all(scratch);
+      return;  // the rows fail on the missing inputs, after the setup's own failure
+    }
+    std::error_code ec;
+    fs::rename(scratch, dir, ec);  // fails when another row made them first: use those
+    if (ec) fs::remove_all(scratch);
+  }
+
+  // Returns false when a command that makes an input failed.
+  static bool make_inputs(const std::string& into) {
+    bool ok = true;
+    auto in = [&](const std::string& n) { return into + n; };
     const std::string msh = data("msh_2007_utm10n_10m.tif"), eno = data("eno_nad83_geographic_crop.tif");
     const std::array<double, 6> gt = {500000, 10, 0, 4000000, 0, -10};
     std::ofstream(in("empty.tif")).close();
@@ -98,9 +124,10 @@ class BadInput : public ::testing::TestWithParam<Row> {
     std::ofstream(in("huge.vrt")) << "<VRTDataset rasterXSize=\"1000000\" rasterYSize=\"1000000\">"
                                      "<GeoTransform>500000, 10, 0, 4000000, 0, -10</GeoTransform>"
                                      "<VRTRasterBand dataType=\"Float32\" band=\"1\"/></VRTDataset>\n";
-    auto sh = [](const std::string& cmd) {
+    auto sh = [&ok](const std::string& cmd) {
       const auto r = run(cmd);
-      ASSERT_EQ(r.exit_code, 0) << cmd << "\n" << r.err;
+      EXPECT_EQ(r.exit_code, 0) << cmd << "\n" << r.err;
+      ok = ok && r.exit_code == 0;
     };
     // Geographic DEMs across the UTM 17/18 boundary (78 W), in the south, at 85 N.
     sh("gdal_translate -q -a_ullr -78.01 36.01 -77.99 35.99 " + eno + " " + in("cross_zone.tif"));
@@ -146,11 +173,11 @@ class BadInput : public ::testing::TestWithParam<Row> {
     std::ofstream(in("nan.csv")) << "easting,northing,elevation\n562000,5117000,nan\n";
     std::ofstream(in("inf.csv")) << "view_az,view_alt\n200,inf\n";
     std::ofstream(in("inside.csv")) << "easting,northing,elevation\n562500,5117000,1000\n";
+    return ok;
   }
-  static void TearDownTestSuite() { delete in_; }
-  static terrain::test::ScratchDir* in_;
+  static std::string in_;  // the inputs' directory, with a trailing slash
 };
-terrain::test::ScratchDir* BadInput::in_ = nullptr;
+std::string BadInput::in_;
 
 std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
 
@@ -158,7 +185,7 @@ TEST_P(BadInput, OneLineNoOutputNoHang) {
   const Row& row = GetParam();
   terrain::test::ScratchDir out;
   std::string cmd = row.command;
-  for (std::size_t at; (at = cmd.find("IN/")) != std::string::npos;) cmd.replace(at, 3, in_->path(""));
+  for (std::size_t at; (at = cmd.find("IN/")) != std::string::npos;) cmd.replace(at, 3, in_);
   for (std::size_t at; (at = cmd.find("OUT/")) != std::string::npos;) cmd.replace(at, 4, out.path(""));
   const auto r = run("timeout -s KILL 60 " + cmd);
   EXPECT_EQ(r.exit_code, row.exit_code) << cmd << "\nstderr: " << r.err;
