@@ -1,16 +1,8 @@
-// Shared by every stage: the per-frame uniform block (std140; mirrored by FrameBlock in
-// terrain_renderer.cpp) and small helpers. Positions are in the mesh's local frame with
+// Shared by every stage: the per-frame uniform block (std140; its members are listed once,
+// in renderer/include/renderer/gl_contract.h, for GLSL and C++) and small helpers. Positions are in the mesh's local frame with
 // z multiplied by the vertical exaggeration (u_eye.w).
-layout(std140, binding = 0) uniform FrameBlock {
-  mat4 u_view_proj;
-  vec4 u_eye;       // xyz: eye; w: vertical exaggeration
-  vec4 u_light;     // xyz: unit vector towards the light
-  vec4 u_viewport;  // width, height, pixels per triangle edge, maximum tessellation level
-  vec4 u_weights;   // sw, iw, fw, divisor (sw + iw + fw, or 3)
-  vec4 u_score;     // min score, falloff, far distance, crease lift (metres)
-  vec4 u_lines;     // crease width at flow 0 and 1 (pixels), tessellation override, reversed z
-  vec4 u_misc;      // near plane distance, segment count, vertex count, 0
-};
+#define TR_GLSL_MEMBER(type, name) type name;
+layout(std140, binding = TR_UBO_FRAME) uniform FrameBlock { TR_FRAME_BLOCK(TR_GLSL_MEMBER) };
 
 // Exaggerated position and normal (normals transform by the inverse transpose).
 vec3 exaggerate_position(vec3 p) { return vec3(p.xy, p.z * u_eye.w); }

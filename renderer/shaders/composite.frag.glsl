@@ -1,21 +1,21 @@
 // LAY: the background, the surface (shaded or mask colour) where a toward surface is,
 // PEL and crease pixels whose depth is not behind that surface, silhouette pixels
 // (dilated to the silhouette width).
-layout(binding = 0) uniform sampler2D u_toward;
-layout(binding = 1) uniform sampler2D u_surface_colour;
-layout(binding = 2) uniform sampler2D u_crease;
-layout(binding = 3) uniform sampler2D u_crease_depth;
-layout(binding = 4) uniform sampler2D u_silhouette;
-layout(location = 0) uniform ivec4 u_layers;  // shaded, mask, creases, silhouettes
-layout(location = 1) uniform vec3 u_background;
-layout(location = 2) uniform vec3 u_mask_colour;
-layout(location = 3) uniform vec3 u_crease_colour;
-layout(location = 4) uniform vec3 u_silhouette_colour;
-layout(location = 5) uniform int u_silhouette_width;
-layout(binding = 5) uniform sampler2D u_pel;
-layout(binding = 6) uniform sampler2D u_pel_depth;
-layout(location = 6) uniform vec3 u_pel_colour;
-layout(location = 7) uniform int u_pels;
+layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
+layout(binding = TR_TEX_SURFACE_COLOUR) uniform sampler2D u_surface_colour;
+layout(binding = TR_TEX_CREASE_COLOUR) uniform sampler2D u_crease;
+layout(binding = TR_TEX_CREASE_DEPTH) uniform sampler2D u_crease_depth;
+layout(binding = TR_TEX_SILHOUETTE) uniform sampler2D u_silhouette;
+layout(location = TR_LOC_LAYERS) uniform ivec4 u_layers;  // shaded, mask, creases, silhouettes
+layout(location = TR_LOC_BACKGROUND) uniform vec3 u_background;
+layout(location = TR_LOC_MASK_COLOUR) uniform vec3 u_mask_colour;
+layout(location = TR_LOC_CREASE_COLOUR) uniform vec3 u_crease_colour;
+layout(location = TR_LOC_SILHOUETTE_COLOUR) uniform vec3 u_silhouette_colour;
+layout(location = TR_LOC_SILHOUETTE_WIDTH) uniform int u_silhouette_width;
+layout(binding = TR_TEX_PEL_COLOUR) uniform sampler2D u_pel;
+layout(binding = TR_TEX_PEL_DEPTH) uniform sampler2D u_pel_depth;
+layout(location = TR_LOC_PEL_COLOUR) uniform vec3 u_pel_colour;
+layout(location = TR_LOC_PELS) uniform int u_pels;
 layout(location = 0) out vec4 o_colour;
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);

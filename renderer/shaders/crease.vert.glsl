@@ -2,7 +2,7 @@
 // shader), its ends lifted along the PN normal and extended by half a width (round-ish
 // joins); the width grows from u_lines.x at flow 0 to u_lines.y at flow 1, so creases
 // thicken towards outlets.
-layout(std430, binding = 5) readonly buffer Selected { uint selected[]; };
+layout(std430, binding = TR_SSBO_CREASE_SELECTED) readonly buffer Selected { uint selected[]; };
 void main() {
   uint q = uint(gl_VertexID) / 6u, k = uint(gl_VertexID) % 6u;
   uvec2 e = seg[selected[q]];

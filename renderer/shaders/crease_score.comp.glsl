@@ -2,8 +2,8 @@
 // reference: renderer::crease_score).
 //   rs = (sw*sc + iw*ic + fw*fc) / divisor - rs_min,  sc = 1 - n.z,  ic = 1 - n.l,
 //   rs_min = min + (1 - min) * falloff * clamp(d / d_far, 0, 1).
-layout(local_size_x = 256) in;
-layout(std430, binding = 3) writeonly buffer Scores { float score[]; };
+layout(local_size_x = TR_LOCAL_SIZE) in;
+layout(std430, binding = TR_SSBO_CREASE_SCORES) writeonly buffer Scores { float score[]; };
 void main() {
   uint i = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
   if (i >= uint(u_misc.z)) return;

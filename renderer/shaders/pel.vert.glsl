@@ -2,8 +2,8 @@
 struct PelSegment {
   vec4 a, b, n;
 };
-layout(std430, binding = 14) readonly buffer PelSegments { PelSegment segment[]; };
-layout(location = 14) uniform float u_pel_width;
+layout(std430, binding = TR_SSBO_PEL_SEGMENTS) readonly buffer PelSegments { PelSegment segment[]; };
+layout(location = TR_LOC_PEL_WIDTH) uniform float u_pel_width;
 void main() {
   uint q = uint(gl_VertexID) / 6u, k = uint(gl_VertexID) % 6u;
   PelSegment sg = segment[q];

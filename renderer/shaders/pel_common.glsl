@@ -1,25 +1,25 @@
 // PEL compute passes: the grid topology (grid_mesh.hpp), the mesh data and the per-vertex
 // fields, and the Voronoi-weighted vertex gradient of docs/algorithms.md 5.1-5.3 (CPU
 // reference: renderer/src/pel.cpp, same order of operations).
-layout(std430, binding = 6) readonly buffer MeshPositions { float pos[]; };
-layout(std430, binding = 7) readonly buffer MeshNormals { float nrm[]; };
-layout(std430, binding = 8) readonly buffer CornerAreas { float corner_area[]; };
-layout(std430, binding = 9) readonly buffer VertexAreas { float vertex_area[]; };
-layout(std430, binding = 10) readonly buffer Tangents { float tangent[]; };
+layout(std430, binding = TR_SSBO_MESH_POSITIONS) readonly buffer MeshPositions { float pos[]; };
+layout(std430, binding = TR_SSBO_MESH_NORMALS) readonly buffer MeshNormals { float nrm[]; };
+layout(std430, binding = TR_SSBO_CORNER_AREAS) readonly buffer CornerAreas { float corner_area[]; };
+layout(std430, binding = TR_SSBO_VERTEX_AREAS) readonly buffer VertexAreas { float vertex_area[]; };
+layout(std430, binding = TR_SSBO_TANGENTS) readonly buffer Tangents { float tangent[]; };
 struct PelField {
   vec2 g;   // gradient of f in the vertex frame (t1, t2)
   float f, m, s, c;
 };
-layout(std430, binding = 11) buffer Fields { PelField field[]; };
-layout(std430, binding = 12) buffer MaxM { uint max_m_bits; };
+layout(std430, binding = TR_SSBO_PEL_FIELDS) buffer Fields { PelField field[]; };
+layout(std430, binding = TR_SSBO_PEL_MAX_M) buffer MaxM { uint max_m_bits; };
 
-layout(location = 10) uniform uvec2 u_grid;  // rows, cols
+layout(location = TR_LOC_PEL_GRID) uniform uvec2 u_grid;  // rows, cols
 
 vec3 position(uint v) { return vec3(pos[3u * v], pos[3u * v + 1u], pos[3u * v + 2u]); }
 vec3 normal_at(uint v) { return vec3(nrm[3u * v], nrm[3u * v + 1u], nrm[3u * v + 2u]); }
 
-// All PEL compute shaders use local_size_x = 256.
-uint invocation_index() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 256u + gl_GlobalInvocationID.x; }
+// All PEL compute shaders use local_size_x = TR_LOCAL_SIZE.
+uint invocation_index() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * uint(TR_LOCAL_SIZE) + gl_GlobalInvocationID.x; }
 
 // Vertices of face f, counter-clockwise: face 2*cell = (NW, SW, SE), 2*cell+1 = (NW, SE, NE).
 uvec3 face_vertices(uint f) {

@@ -2,13 +2,13 @@
 // segment, kept when c < 0 and m / max(m) > tau at both ends. Appended with the indirect
 // draw command (6 vertices per segment). Each record: two vec4 (point xyz, face index as
 // float bits) and the face normal.
-layout(local_size_x = 256) in;
-layout(location = 13) uniform float u_tau;
-layout(std430, binding = 13) buffer PelCommand { uint vertex_count; uint instance_count; uint first; uint base_instance; };
+layout(local_size_x = TR_LOCAL_SIZE) in;
+layout(location = TR_LOC_PEL_TAU) uniform float u_tau;
+layout(std430, binding = TR_SSBO_PEL_COMMAND) buffer PelCommand { uint vertex_count; uint instance_count; uint first; uint base_instance; };
 struct PelSegment {
   vec4 a, b, n;
 };
-layout(std430, binding = 14) writeonly buffer PelSegments { PelSegment segment[]; };
+layout(std430, binding = TR_SSBO_PEL_SEGMENTS) writeonly buffer PelSegments { PelSegment segment[]; };
 void main() {
   uint f = invocation_index();
   if (f >= 2u * (u_grid.x - 1u) * (u_grid.y - 1u)) return;

@@ -1,8 +1,8 @@
 // PEL fields, one stage per dispatch (u_stage): 0: f = max(0, N . L); 1: g = grad f, m = |g|
 // and the maximum of m; 2: s = grad(m) . w; 3: c = grad(s) . w, with w = g / m.
-layout(local_size_x = 256) in;
-layout(location = 11) uniform int u_stage;
-layout(location = 12) uniform vec3 u_pel_light;
+layout(local_size_x = TR_LOCAL_SIZE) in;
+layout(location = TR_LOC_PEL_STAGE) uniform int u_stage;
+layout(location = TR_LOC_PEL_LIGHT) uniform vec3 u_pel_light;
 void main() {
   uint v = invocation_index();
   if (v >= u_grid.x * u_grid.y) return;

@@ -2,8 +2,8 @@
 // depth t and away depth a: silhouette when t < a and some 8-neighbour's toward depth is
 // beyond a (a toward surface, an away surface behind it, a neighbour's toward surface
 // farther still). One pixel wide.
-layout(binding = 0) uniform sampler2D u_toward;
-layout(binding = 1) uniform sampler2D u_away;
+layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
+layout(binding = TR_TEX_AWAY_DEPTH) uniform sampler2D u_away;
 layout(location = 0) out vec4 o_mask;
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);

@@ -4,7 +4,7 @@
 in vec3 f_pos;
 in vec3 f_nrm;
 layout(location = 0) out vec4 o_colour;
-layout(location = 0) uniform int u_mode;
+layout(location = TR_LOC_SURFACE_MODE) uniform int u_mode;
 void main() {
   vec3 n = normalize(f_nrm);
   bool toward = dot(n, u_eye.xyz - f_pos) > 0.0;

@@ -7,7 +7,7 @@ out vec3 c_pos[];
 out vec3 c_nrm[];
 patch out vec3 p_b210, p_b120, p_b021, p_b012, p_b102, p_b201, p_b111;
 patch out vec3 p_n110, p_n011, p_n101;
-layout(location = 0) uniform int u_mode;  // 0: TFT (toward-facing fragments), 1: AFT (away-facing)
+layout(location = TR_LOC_SURFACE_MODE) uniform int u_mode;  // 0: TFT (toward-facing fragments), 1: AFT (away-facing)
 
 // Point 1/3 along Pi -> Pj projected into the tangent plane of Pi.
 vec3 edge_point(vec3 pi, vec3 pj, vec3 ni) { return (2.0 * pi + pj - dot(pj - pi, ni) * ni) / 3.0; }

@@ -1,6 +1,6 @@
 // Mesh vertices into the tessellation stages (exaggerated).
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
+layout(location = TR_ATTR_POSITION) in vec3 a_position;
+layout(location = TR_ATTR_NORMAL) in vec3 a_normal;
 out vec3 v_pos;
 out vec3 v_nrm;
 void main() {

@@ -42,7 +42,8 @@ std::string one_line(std::string s) {
 }
 
 GLuint compile(const StageSource& st) {
-  std::vector<std::string> parts{"#version 450 core\n"};
+  // String 0: the version and the C++/GLSL contract (renderer/gl_contract.h).
+  std::vector<std::string> parts{"#version 450 core\n" + shader_source("gl_contract.h") + "\n"};
   for (std::size_t i = 0; i < st.files.size(); ++i)
     parts.push_back("#line 1 " + std::to_string(i + 1) + "\n" + shader_source(st.files[i]) + "\n");
   std::vector<const char*> ptrs;

@@ -8,7 +8,9 @@
 
 #include <fmt/format.h>
 
+#include "renderer/gl_contract.hpp"
 #include "renderer/gl_objects.hpp"
+#include "renderer/programs.hpp"
 #include "renderer/shader.hpp"
 #include "terrain/error.hpp"
 #include "terrain/hillshade.hpp"
@@ -17,15 +19,8 @@ namespace renderer {
 
 namespace {
 
-// std140 mirror of FrameBlock in common.glsl.
-struct FrameBlock {
-  float view_proj[16];
-  float eye[4], light[4], viewport[4], weights[4], score[4], lines[4], misc[4];
-};
-static_assert(sizeof(FrameBlock) == 44 * 4);
-
-void set4(float* d, double a, double b, double c, double e) {
-  d[0] = float(a), d[1] = float(b), d[2] = float(c), d[3] = float(e);
+void set4(glsl::vec4& d, double a, double b, double c, double e) {
+  d = {float(a), float(b), float(c), float(e)};
 }
 
 using Clock = std::chrono::steady_clock;
@@ -39,11 +34,6 @@ void flip_rows(std::vector<T>& v, int width, int height, int channels) {
                      v.begin() + long(std::size_t(height - 1 - r) * row));
 }
 
-GLuint groups_x(std::size_t n) { return GLuint(std::min<std::size_t>((n + 255) / 256, 65535)); }
-GLuint groups_y(std::size_t n) {
-  const std::size_t g = (n + 255) / 256, gx = std::max<std::size_t>(groups_x(n), 1);
-  return GLuint((g + gx - 1) / gx);
-}
 
 }  // namespace
 
@@ -91,7 +81,7 @@ struct TerrainRenderer::Impl {
   }
   void draw_surface(int mode) {
     glUseProgram(surface_prog.id());
-    glProgramUniform1i(surface_prog.id(), 0, mode);
+    glProgramUniform1i(surface_prog.id(), TR_LOC_SURFACE_MODE, mode);
     glBindVertexArray(vao.id());
     glPatchParameteri(GL_PATCH_VERTICES, 3);
     glDrawElements(GL_PATCHES, GLsizei(3 * topo.n_faces()), GL_UNSIGNED_INT, nullptr);
@@ -146,8 +136,8 @@ TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMe
     m.index_buf = make_buffer(idx.size() * 4, idx.data(), 0);
   }
   m.vao = GlObject(GlKind::VertexArray);
-  for (GLuint a = 0; a < 2; ++a) {
-    glVertexArrayVertexBuffer(m.vao.id(), a, a == 0 ? m.pos_buf.id() : m.nrm_buf.id(), 0, sizeof(Eigen::Vector3f));
+  for (const auto& [a, buf] : {std::pair<GLuint, const GlObject*>{TR_ATTR_POSITION, &m.pos_buf}, {TR_ATTR_NORMAL, &m.nrm_buf}}) {
+    glVertexArrayVertexBuffer(m.vao.id(), a, buf->id(), 0, sizeof(Eigen::Vector3f));
     glVertexArrayAttribFormat(m.vao.id(), a, 3, GL_FLOAT, GL_FALSE, 0);
     glVertexArrayAttribBinding(m.vao.id(), a, a);
     glEnableVertexArrayAttrib(m.vao.id(), a);
@@ -183,29 +173,20 @@ TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMe
     m.maxm_buf = make_buffer(4, nullptr, GL_DYNAMIC_STORAGE_BIT);
     m.pel_cmd_buf = make_buffer(16, nullptr, GL_DYNAMIC_STORAGE_BIT);
     m.pel_seg_buf = make_buffer(mesh.n_faces() * 48, nullptr, 0);
-    const std::string common = "common.glsl";
-    m.pel_field_prog = build_program({{GL_COMPUTE_SHADER, {common, "pel_common.glsl", "pel_fields.comp.glsl"}}});
-    m.pel_extract_prog = build_program({{GL_COMPUTE_SHADER, {common, "pel_common.glsl", "pel_extract.comp.glsl"}}});
-    m.pel_draw_prog = build_program({{GL_VERTEX_SHADER, {common, "pel.vert.glsl"}},
-                                     {GL_FRAGMENT_SHADER, {common, "crease.frag.glsl"}}});
+    m.pel_field_prog = build_program(ProgramId::PelFields);
+    m.pel_extract_prog = build_program(ProgramId::PelExtract);
+    m.pel_draw_prog = build_program(ProgramId::PelDraw);
   }
 
   // Programs.
-  m.surface_prog = build_program({{GL_VERTEX_SHADER, {"common.glsl", "surface.vert.glsl"}},
-                                  {GL_TESS_CONTROL_SHADER, {"common.glsl", "surface.tesc.glsl"}},
-                                  {GL_TESS_EVALUATION_SHADER, {"common.glsl", "surface.tese.glsl"}},
-                                  {GL_FRAGMENT_SHADER, {"common.glsl", "surface.frag.glsl"}}});
+  m.surface_prog = build_program(ProgramId::Surface);
   if (m.has_creases) {
-    m.score_prog = build_program({{GL_COMPUTE_SHADER, {"common.glsl", "crease_data.glsl", "crease_score.comp.glsl"}}});
-    m.select_prog =
-        build_program({{GL_COMPUTE_SHADER, {"common.glsl", "crease_data.glsl", "crease_select.comp.glsl"}}});
-    m.crease_prog = build_program({{GL_VERTEX_SHADER, {"common.glsl", "crease_data.glsl", "crease.vert.glsl"}},
-                                   {GL_FRAGMENT_SHADER, {"common.glsl", "crease.frag.glsl"}}});
+    m.score_prog = build_program(ProgramId::CreaseScore);
+    m.select_prog = build_program(ProgramId::CreaseSelect);
+    m.crease_prog = build_program(ProgramId::CreaseDraw);
   }
-  m.sil_prog = build_program({{GL_VERTEX_SHADER, {"common.glsl", "fullscreen.vert.glsl"}},
-                              {GL_FRAGMENT_SHADER, {"common.glsl", "silhouette.frag.glsl"}}});
-  m.lay_prog = build_program({{GL_VERTEX_SHADER, {"common.glsl", "fullscreen.vert.glsl"}},
-                              {GL_FRAGMENT_SHADER, {"common.glsl", "composite.frag.glsl"}}});
+  m.sil_prog = build_program(ProgramId::Silhouette);
+  m.lay_prog = build_program(ProgramId::Composite);
 
   // Targets.
   m.tft_colour = make_texture(GL_RGBA8, width, height);
@@ -237,9 +218,9 @@ TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMe
     glBeginQuery(GL_TIME_ELAPSED, q.id());
     glClearNamedFramebufferfv(m.sil_fbo.id(), GL_COLOR, 0, zero4);
     glBindFramebuffer(GL_FRAMEBUFFER, m.sil_fbo.id());
-    glBindBufferBase(GL_UNIFORM_BUFFER, 0, m.ubo.id());
-    glBindTextureUnit(0, m.toward_depth.id());
-    glBindTextureUnit(1, m.away_depth.id());
+    glBindBufferBase(GL_UNIFORM_BUFFER, TR_UBO_FRAME, m.ubo.id());
+    glBindTextureUnit(TR_TEX_TOWARD_DEPTH, m.toward_depth.id());
+    glBindTextureUnit(TR_TEX_AWAY_DEPTH, m.away_depth.id());
     glUseProgram(m.sil_prog.id());
     glBindVertexArray(m.empty_vao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -267,16 +248,16 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
 
   FrameBlock fb{};
   const Eigen::Matrix4f vp = v.view_projection().cast<float>();
-  std::memcpy(fb.view_proj, vp.data(), sizeof fb.view_proj);  // column-major, as GLSL
-  set4(fb.eye, v.eye.x(), v.eye.y(), v.eye.z(), m.style.exaggeration);
-  set4(fb.light, light.x(), light.y(), light.z(), 0);
-  set4(fb.viewport, m.width, m.height, m.style.pixels_per_edge, m.max_level);
-  set4(fb.weights, sp.sw, sp.iw, sp.fw, sp.literal_divisor ? 3.0 : sp.sw + sp.iw + sp.fw);
-  set4(fb.score, sp.min_score, sp.falloff, sp.far_distance > 0 ? sp.far_distance : m.far_default, m.lift);
-  set4(fb.lines, m.style.crease_width, m.style.crease_width_max, 0, m.reversed ? 1 : 0);
-  set4(fb.misc, v.near, double(m.n_segments), double(m.n_crease_vertices), 0);
+  std::memcpy(fb.u_view_proj.data(), vp.data(), sizeof fb.u_view_proj);  // column-major, as GLSL
+  set4(fb.u_eye, v.eye.x(), v.eye.y(), v.eye.z(), m.style.exaggeration);
+  set4(fb.u_light, light.x(), light.y(), light.z(), 0);
+  set4(fb.u_viewport, m.width, m.height, m.style.pixels_per_edge, m.max_level);
+  set4(fb.u_weights, sp.sw, sp.iw, sp.fw, sp.literal_divisor ? 3.0 : sp.sw + sp.iw + sp.fw);
+  set4(fb.u_score, sp.min_score, sp.falloff, sp.far_distance > 0 ? sp.far_distance : m.far_default, m.lift);
+  set4(fb.u_lines, m.style.crease_width, m.style.crease_width_max, 0, m.reversed ? 1 : 0);
+  set4(fb.u_misc, v.near, double(m.n_segments), double(m.n_crease_vertices), 0);
   glNamedBufferSubData(m.ubo.id(), 0, sizeof fb, &fb);
-  glBindBufferBase(GL_UNIFORM_BUFFER, 0, m.ubo.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, TR_UBO_FRAME, m.ubo.id());
 
   const float zero4[4] = {0, 0, 0, 0};
   const float far_depth = m.clear_depth();
@@ -314,16 +295,16 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
     if (!do_dm) return;
     const std::uint32_t cmd[4] = {0, 1, 0, 0};
     glNamedBufferSubData(m.cmd_buf.id(), 0, sizeof cmd, cmd);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m.cv_buf.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m.seg_buf.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, m.score_buf.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, m.cmd_buf.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, m.selected_buf.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_VERTICES, m.cv_buf.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SEGMENTS, m.seg_buf.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SCORES, m.score_buf.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_COMMAND, m.cmd_buf.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SELECTED, m.selected_buf.id());
     glUseProgram(m.score_prog.id());
-    glDispatchCompute(groups_x(m.n_crease_vertices), groups_y(m.n_crease_vertices), 1);
+    glDispatchCompute(dispatch_groups_x(m.n_crease_vertices), dispatch_groups_y(m.n_crease_vertices), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     glUseProgram(m.select_prog.id());
-    glDispatchCompute(groups_x(m.n_segments), groups_y(m.n_segments), 1);
+    glDispatchCompute(dispatch_groups_x(m.n_segments), dispatch_groups_y(m.n_segments), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     glBindFramebuffer(GL_FRAMEBUFFER, m.dm_fbo.id());
     m.depth_state();
@@ -339,32 +320,36 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
     const std::uint32_t zero = 0, cmd[4] = {0, 1, 0, 0};
     glNamedBufferSubData(m.maxm_buf.id(), 0, 4, &zero);
     glNamedBufferSubData(m.pel_cmd_buf.id(), 0, sizeof cmd, cmd);
-    const GLuint bufs[9] = {m.pos_buf.id(),   m.nrm_buf.id(),  m.corner_buf.id(),  m.varea_buf.id(),  m.tangent_buf.id(),
-                            m.field_buf.id(), m.maxm_buf.id(), m.pel_cmd_buf.id(), m.pel_seg_buf.id()};
-    for (GLuint b = 0; b < 9; ++b) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6 + b, bufs[b]);
+    const std::pair<GLuint, const GlObject*> bufs[] = {
+        {TR_SSBO_MESH_POSITIONS, &m.pos_buf},    {TR_SSBO_MESH_NORMALS, &m.nrm_buf},
+        {TR_SSBO_CORNER_AREAS, &m.corner_buf},   {TR_SSBO_VERTEX_AREAS, &m.varea_buf},
+        {TR_SSBO_TANGENTS, &m.tangent_buf},      {TR_SSBO_PEL_FIELDS, &m.field_buf},
+        {TR_SSBO_PEL_MAX_M, &m.maxm_buf},        {TR_SSBO_PEL_COMMAND, &m.pel_cmd_buf},
+        {TR_SSBO_PEL_SEGMENTS, &m.pel_seg_buf}};
+    for (const auto& [binding, buf] : bufs) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buf->id());
     // The light of f: the headlight (towards the eye) or the frame's light, in the mesh frame.
     const Eigen::Vector3d pel_light = frame.pel.headlight ? Eigen::Vector3d(-v.forward) : light;
     const std::size_t nv = m.topo.n_vertices(), nf = m.topo.n_faces();
     const auto rows = GLuint(m.topo.rows), cols = GLuint(m.topo.cols);
     const GLuint fp = m.pel_field_prog.id();
     glUseProgram(fp);
-    glProgramUniform2ui(fp, 10, rows, cols);
-    glProgramUniform3f(fp, 12, float(pel_light.x()), float(pel_light.y()), float(pel_light.z()));
+    glProgramUniform2ui(fp, TR_LOC_PEL_GRID, rows, cols);
+    glProgramUniform3f(fp, TR_LOC_PEL_LIGHT, float(pel_light.x()), float(pel_light.y()), float(pel_light.z()));
     for (int stage = 0; stage < 4; ++stage) {
-      glProgramUniform1i(fp, 11, stage);
-      glDispatchCompute(groups_x(nv), groups_y(nv), 1);
+      glProgramUniform1i(fp, TR_LOC_PEL_STAGE, stage);
+      glDispatchCompute(dispatch_groups_x(nv), dispatch_groups_y(nv), 1);
       glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
     }
     const GLuint ep = m.pel_extract_prog.id();
     glUseProgram(ep);
-    glProgramUniform2ui(ep, 10, rows, cols);
-    glProgramUniform1f(ep, 13, float(frame.pel.threshold));
-    glDispatchCompute(groups_x(nf), groups_y(nf), 1);
+    glProgramUniform2ui(ep, TR_LOC_PEL_GRID, rows, cols);
+    glProgramUniform1f(ep, TR_LOC_PEL_TAU, float(frame.pel.threshold));
+    glDispatchCompute(dispatch_groups_x(nf), dispatch_groups_y(nf), 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
     glBindFramebuffer(GL_FRAMEBUFFER, m.pel_fbo.id());
     m.depth_state();
     glUseProgram(m.pel_draw_prog.id());
-    glProgramUniform1f(m.pel_draw_prog.id(), 14, float(m.style.pel_width));
+    glProgramUniform1f(m.pel_draw_prog.id(), TR_LOC_PEL_WIDTH, float(m.style.pel_width));
     glBindVertexArray(m.empty_vao.id());
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, m.pel_cmd_buf.id());
     glDrawArraysIndirect(GL_TRIANGLES, nullptr);
@@ -375,8 +360,8 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
     glBindFramebuffer(GL_FRAMEBUFFER, m.sil_fbo.id());
     glDisable(GL_DEPTH_TEST);
     glUseProgram(m.sil_prog.id());
-    glBindTextureUnit(0, m.toward_depth.id());
-    glBindTextureUnit(1, m.away_depth.id());
+    glBindTextureUnit(TR_TEX_TOWARD_DEPTH, m.toward_depth.id());
+    glBindTextureUnit(TR_TEX_AWAY_DEPTH, m.away_depth.id());
     glBindVertexArray(m.empty_vao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
   });
@@ -385,21 +370,21 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
     glDisable(GL_DEPTH_TEST);
     const GLuint p = m.lay_prog.id();
     glUseProgram(p);
-    glProgramUniform4i(p, 0, m.layers.shaded, m.layers.mask, m.layers.creases, m.layers.silhouettes);
-    glProgramUniform3fv(p, 1, 1, m.style.background.data());
-    glProgramUniform3fv(p, 2, 1, m.style.mask.data());
-    glProgramUniform3fv(p, 3, 1, m.style.crease_colour.data());
-    glProgramUniform3fv(p, 4, 1, m.style.silhouette_colour.data());
-    glProgramUniform1i(p, 5, std::max(1, m.style.silhouette_width));
-    glBindTextureUnit(0, m.toward_depth.id());
-    glBindTextureUnit(1, m.tft_colour.id());
-    glBindTextureUnit(2, m.dm_colour.id());
-    glBindTextureUnit(3, m.dm_depth.id());
-    glBindTextureUnit(4, m.sil_tex.id());
-    glBindTextureUnit(5, m.pel_colour.id());
-    glBindTextureUnit(6, m.pel_depth.id());
-    glProgramUniform3fv(p, 6, 1, m.style.pel_colour.data());
-    glProgramUniform1i(p, 7, m.has_pels ? 1 : 0);
+    glProgramUniform4i(p, TR_LOC_LAYERS, m.layers.shaded, m.layers.mask, m.layers.creases, m.layers.silhouettes);
+    glProgramUniform3fv(p, TR_LOC_BACKGROUND, 1, m.style.background.data());
+    glProgramUniform3fv(p, TR_LOC_MASK_COLOUR, 1, m.style.mask.data());
+    glProgramUniform3fv(p, TR_LOC_CREASE_COLOUR, 1, m.style.crease_colour.data());
+    glProgramUniform3fv(p, TR_LOC_SILHOUETTE_COLOUR, 1, m.style.silhouette_colour.data());
+    glProgramUniform1i(p, TR_LOC_SILHOUETTE_WIDTH, std::max(1, m.style.silhouette_width));
+    glBindTextureUnit(TR_TEX_TOWARD_DEPTH, m.toward_depth.id());
+    glBindTextureUnit(TR_TEX_SURFACE_COLOUR, m.tft_colour.id());
+    glBindTextureUnit(TR_TEX_CREASE_COLOUR, m.dm_colour.id());
+    glBindTextureUnit(TR_TEX_CREASE_DEPTH, m.dm_depth.id());
+    glBindTextureUnit(TR_TEX_SILHOUETTE, m.sil_tex.id());
+    glBindTextureUnit(TR_TEX_PEL_COLOUR, m.pel_colour.id());
+    glBindTextureUnit(TR_TEX_PEL_DEPTH, m.pel_depth.id());
+    glProgramUniform3fv(p, TR_LOC_PEL_COLOUR, 1, m.style.pel_colour.data());
+    glProgramUniform1i(p, TR_LOC_PELS, m.has_pels ? 1 : 0);
     glBindVertexArray(m.empty_vao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
   });
@@ -472,10 +457,7 @@ std::vector<TerrainRenderer::PnSample> TerrainRenderer::capture_pn(const std::ve
   auto& m = *impl_;
   if (level < 1 || level > m.max_level) throw terrain::Error("capture level out of range");
   if (!m.capture_prog.id())
-    m.capture_prog = build_program({{GL_VERTEX_SHADER, {"common.glsl", "surface.vert.glsl"}},
-                                    {GL_TESS_CONTROL_SHADER, {"common.glsl", "surface.tesc.glsl"}},
-                                    {GL_TESS_EVALUATION_SHADER, {"common.glsl", "surface.tese.glsl"}}},
-                                   {"tf_face", "tf_bary", "tf_pos", "tf_nrm"});
+    m.capture_prog = build_program(ProgramId::PnCapture);
   std::vector<std::uint32_t> idx;
   for (const auto f : faces) {
     if (f >= m.topo.n_faces()) throw terrain::Error("capture face out of range");
@@ -488,12 +470,12 @@ std::vector<TerrainRenderer::PnSample> TerrainRenderer::capture_pn(const std::ve
 
   FrameBlock fb{};
   const Eigen::Matrix4f id = Eigen::Matrix4f::Identity();
-  std::memcpy(fb.view_proj, id.data(), sizeof fb.view_proj);
-  set4(fb.eye, 0, 0, 0, 1.0);
-  set4(fb.viewport, m.width, m.height, m.style.pixels_per_edge, m.max_level);
-  set4(fb.lines, 0, 0, level, m.reversed ? 1 : 0);
+  std::memcpy(fb.u_view_proj.data(), id.data(), sizeof fb.u_view_proj);
+  set4(fb.u_eye, 0, 0, 0, 1.0);
+  set4(fb.u_viewport, m.width, m.height, m.style.pixels_per_edge, m.max_level);
+  set4(fb.u_lines, 0, 0, level, m.reversed ? 1 : 0);
   GlObject ubo = make_buffer(sizeof fb, &fb, 0);
-  glBindBufferBase(GL_UNIFORM_BUFFER, 0, ubo.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, TR_UBO_FRAME, ubo.id());
 
   glVertexArrayElementBuffer(m.vao.id(), tmp_index.id());
   GlObject written(GlKind::Query, GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);

@@ -1,0 +1,81 @@
+/* The contract between the renderer's C++ and its GLSL, defined once: binding points of
+   the uniform block and the storage buffers, texture units, explicit uniform and
+   attribute locations, the members of the per-frame uniform block, and the compute
+   work-group size. Only #define lines and comments, so the same file is C++ and GLSL:
+   C++ includes it (renderer/gl_contract.hpp) and build_program() inserts it after the
+   #version line of every shader stage. tests/renderer/gl_contract_test.cpp checks every
+   program's interface against it by introspection (glGetProgramResource*). */
+#ifndef TERRAIN_RENDERER_GL_CONTRACT_H
+#define TERRAIN_RENDERER_GL_CONTRACT_H
+
+/* Work-group size of every compute shader (x; y and z are 1). */
+#define TR_LOCAL_SIZE 256
+
+/* Uniform block: the per-frame block, std140. Members in order (type, name); comments:
+   u_eye      xyz eye, w vertical exaggeration
+   u_light    xyz unit vector towards the light
+   u_viewport width, height, pixels per triangle edge, maximum tessellation level
+   u_weights  sw, iw, fw, divisor (sw + iw + fw, or 3)
+   u_score    min score, falloff, far distance, crease lift (metres)
+   u_lines    crease width at flow 0 and 1 (pixels), tessellation override, reversed z
+   u_misc     near plane distance, segment count, vertex count, 0 */
+#define TR_UBO_FRAME 0
+#define TR_FRAME_BLOCK(M) \
+  M(mat4, u_view_proj)    \
+  M(vec4, u_eye)          \
+  M(vec4, u_light)        \
+  M(vec4, u_viewport)     \
+  M(vec4, u_weights)      \
+  M(vec4, u_score)        \
+  M(vec4, u_lines)        \
+  M(vec4, u_misc)
+
+/* Shader storage buffers. */
+#define TR_SSBO_CREASE_VERTICES 1
+#define TR_SSBO_CREASE_SEGMENTS 2
+#define TR_SSBO_CREASE_SCORES 3
+#define TR_SSBO_CREASE_COMMAND 4
+#define TR_SSBO_CREASE_SELECTED 5
+#define TR_SSBO_MESH_POSITIONS 6
+#define TR_SSBO_MESH_NORMALS 7
+#define TR_SSBO_CORNER_AREAS 8
+#define TR_SSBO_VERTEX_AREAS 9
+#define TR_SSBO_TANGENTS 10
+#define TR_SSBO_PEL_FIELDS 11
+#define TR_SSBO_PEL_MAX_M 12
+#define TR_SSBO_PEL_COMMAND 13
+#define TR_SSBO_PEL_SEGMENTS 14
+
+/* Texture units. */
+#define TR_TEX_TOWARD_DEPTH 0
+#define TR_TEX_AWAY_DEPTH 1
+#define TR_TEX_SURFACE_COLOUR 1
+#define TR_TEX_CREASE_COLOUR 2
+#define TR_TEX_CREASE_DEPTH 3
+#define TR_TEX_SILHOUETTE 4
+#define TR_TEX_PEL_COLOUR 5
+#define TR_TEX_PEL_DEPTH 6
+
+/* Vertex attributes of the surface. */
+#define TR_ATTR_POSITION 0
+#define TR_ATTR_NORMAL 1
+
+/* Uniform locations. Surface: */
+#define TR_LOC_SURFACE_MODE 0
+/* Composite: */
+#define TR_LOC_LAYERS 0
+#define TR_LOC_BACKGROUND 1
+#define TR_LOC_MASK_COLOUR 2
+#define TR_LOC_CREASE_COLOUR 3
+#define TR_LOC_SILHOUETTE_COLOUR 4
+#define TR_LOC_SILHOUETTE_WIDTH 5
+#define TR_LOC_PEL_COLOUR 6
+#define TR_LOC_PELS 7
+/* PEL passes: */
+#define TR_LOC_PEL_GRID 10
+#define TR_LOC_PEL_STAGE 11
+#define TR_LOC_PEL_LIGHT 12
+#define TR_LOC_PEL_TAU 13
+#define TR_LOC_PEL_WIDTH 14
+
+#endif

@@ -1,0 +1,40 @@
+#pragma once
+// Every GLSL program of the renderer, named: which embedded files make each stage. The
+// renderer builds its programs from this table, and tests/renderer/gl_contract_test.cpp
+// checks the interface of every program in it against renderer/gl_contract.h.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "renderer/shader.hpp"
+
+namespace renderer {
+
+enum class ProgramId {
+  Surface,       // TFT/AFT: PN patches, tessellated (surface.*)
+  PnCapture,     // the same without rasterization, captured by transform feedback (tests)
+  CreaseScore,   // DM: score of every crease vertex
+  CreaseSelect,  // DM: segments whose two ends pass, indirect draw command
+  CreaseDraw,    // DM: the selected segments as screen-space quads
+  Silhouette,    // SIL: Toward/Away
+  Composite,     // LAY
+  PelFields,     // PEL: per-vertex fields
+  PelExtract,    // PEL: zero-crossing segments, indirect draw command
+  PelDraw,       // PEL: the segments as quads
+};
+inline constexpr std::array kAllPrograms = {ProgramId::Surface,     ProgramId::PnCapture,    ProgramId::CreaseScore,
+                                            ProgramId::CreaseSelect, ProgramId::CreaseDraw,  ProgramId::Silhouette,
+                                            ProgramId::Composite,    ProgramId::PelFields,   ProgramId::PelExtract,
+                                            ProgramId::PelDraw};
+
+struct ProgramSpec {
+  const char* name;
+  std::vector<StageSource> stages;
+  std::vector<std::string> feedback;  // transform-feedback varyings
+};
+const ProgramSpec& program_spec(ProgramId id);
+
+// build_program() of the program's spec.
+GlObject build_program(ProgramId id);
+
+}  // namespace renderer

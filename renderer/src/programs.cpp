@@ -1,0 +1,47 @@
+#include "renderer/programs.hpp"
+
+namespace renderer {
+
+const ProgramSpec& program_spec(ProgramId id) {
+  static const std::vector<ProgramSpec> specs = [] {
+    const std::string c = "common.glsl";
+    const std::vector<StageSource> surface_geometry = {{GL_VERTEX_SHADER, {c, "surface.vert.glsl"}},
+                                                       {GL_TESS_CONTROL_SHADER, {c, "surface.tesc.glsl"}},
+                                                       {GL_TESS_EVALUATION_SHADER, {c, "surface.tese.glsl"}}};
+    auto with = [](std::vector<StageSource> stages, StageSource more) {
+      stages.push_back(std::move(more));
+      return stages;
+    };
+    auto fullscreen = [&](const char* fragment) {
+      return std::vector<StageSource>{{GL_VERTEX_SHADER, {c, "fullscreen.vert.glsl"}},
+                                      {GL_FRAGMENT_SHADER, {c, fragment}}};
+    };
+    auto compute = [&](std::vector<std::string> files) {
+      files.insert(files.begin(), c);
+      return std::vector<StageSource>{{GL_COMPUTE_SHADER, std::move(files)}};
+    };
+    // In ProgramId order.
+    return std::vector<ProgramSpec>{
+        {"surface", with(surface_geometry, {GL_FRAGMENT_SHADER, {c, "surface.frag.glsl"}}), {}},
+        {"pn_capture", surface_geometry, {"tf_face", "tf_bary", "tf_pos", "tf_nrm"}},
+        {"crease_score", compute({"crease_data.glsl", "crease_score.comp.glsl"}), {}},
+        {"crease_select", compute({"crease_data.glsl", "crease_select.comp.glsl"}), {}},
+        {"crease_draw",
+         {{GL_VERTEX_SHADER, {c, "crease_data.glsl", "crease.vert.glsl"}}, {GL_FRAGMENT_SHADER, {c, "crease.frag.glsl"}}},
+         {}},
+        {"silhouette", fullscreen("silhouette.frag.glsl"), {}},
+        {"composite", fullscreen("composite.frag.glsl"), {}},
+        {"pel_fields", compute({"pel_common.glsl", "pel_fields.comp.glsl"}), {}},
+        {"pel_extract", compute({"pel_common.glsl", "pel_extract.comp.glsl"}), {}},
+        {"pel_draw", {{GL_VERTEX_SHADER, {c, "pel.vert.glsl"}}, {GL_FRAGMENT_SHADER, {c, "crease.frag.glsl"}}}, {}},
+    };
+  }();
+  return specs.at(std::size_t(id));
+}
+
+GlObject build_program(ProgramId id) {
+  const ProgramSpec& spec = program_spec(id);
+  return build_program(spec.stages, spec.feedback);
+}
+
+}  // namespace renderer
