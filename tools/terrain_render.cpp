@@ -10,6 +10,7 @@
 
 #include "common.hpp"
 #include "drainage/dv_file.hpp"
+#include "drainage/dv_views.hpp"
 #include "renderer/crease.hpp"
 #include "renderer/frames.hpp"
 #include "renderer/gl_context.hpp"
@@ -154,9 +155,9 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, std::
                              s.mesh.n_faces(), since(t0)));
   if (!dv_path.empty()) {
     t0 = Clock::now();
-    const drainage::DrainageDb db = drainage::read_dv(dv_path);
-    if (const std::string w = rr::coverage_warning(s.mesh, db.header); !w.empty()) tt::warn(verb, "'" + dv_path + "': " + w);
-    s.creases = rr::build_crease_geometry(s.mesh, db, min_accumulated);
+    const terrain::DrainageLinks links = drainage::drainage_links(drainage::read_dv(dv_path));
+    if (const std::string w = rr::coverage_warning(s.mesh, links); !w.empty()) tt::warn(verb, "'" + dv_path + "': " + w);
+    s.creases = rr::build_crease_geometry(s.mesh, links, min_accumulated);
     tt::step(verb, fmt::format("read {} and its PN normals: {} vertices, {} segments: {:.2f} s", dv_path,
                                s.creases->positions.size(), s.creases->n_segments(), since(t0)));
   }

@@ -7,6 +7,8 @@
 #include <cmath>
 
 #include "drainage/d8.hpp"
+
+static_assert(drainage::kNone == terrain::DrainageLinks::kNone);
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/error.hpp"
@@ -34,6 +36,32 @@ DvSummary summarize(const DrainageDb& db) {
   if (s.points) s.mean_normalized = sum / double(s.points);
   for (const DvBranch& b : db.branches) ++s.branches_per_order[b.order];
   return s;
+}
+
+terrain::DrainageLinks drainage_links(const DrainageDb& db) {
+  const DvHeader& h = db.header;
+  terrain::DrainageLinks l;
+  l.epsg = h.epsg;
+  l.rows = h.rows;
+  l.cols = h.cols;
+  l.dx = h.dx;
+  l.dy = h.dy;
+  l.origin = {h.origin_x, h.origin_y, h.origin_z};
+  const std::size_t n = db.vertices.size();
+  l.positions.resize(n);
+  l.valid.resize(n);
+  l.flow.resize(n);
+  l.accumulated.resize(n);
+  l.downstream.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const DvVertex& v = db.vertices[i];
+    l.positions[i] = {v.x, v.y, v.z};
+    l.valid[i] = PointClass(v.point_class) != PointClass::Nodata;
+    l.flow[i] = v.normalized;
+    l.accumulated[i] = v.accumulated;
+    l.downstream[i] = v.downstream;  // kNone is the same value in both
+  }
+  return l;
 }
 
 terrain::Grid dv_elevations(const DrainageDb& db) {

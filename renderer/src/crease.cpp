@@ -5,37 +5,35 @@
 #include <algorithm>
 #include <cmath>
 
-#include "drainage/d8.hpp"
 #include "terrain/error.hpp"
 #include "terrain/pn_surface.hpp"
 
 namespace renderer {
 
-CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const drainage::DrainageDb& db,
+CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
                                      std::uint32_t min_accumulated) {
-  const auto& h = db.header;
+  using terrain::DrainageLinks;
   const auto& g = mesh.geo;
-  if (h.epsg != 0 && g.epsg != 0 && h.epsg != g.epsg)
-    throw terrain::Error("the drainage database (EPSG:" + std::to_string(h.epsg) + ") and the mesh (EPSG:" +
+  if (links.epsg != 0 && g.epsg != 0 && links.epsg != g.epsg)
+    throw terrain::Error("the drainage database (EPSG:" + std::to_string(links.epsg) + ") and the mesh (EPSG:" +
                          std::to_string(g.epsg) + ") are in different CRSs");
-  const Eigen::Vector3d shift(h.origin_x - g.origin_x, h.origin_y - g.origin_y, h.origin_z - g.origin_z);
-  const std::size_t n = db.vertices.size();
+  const Eigen::Vector3d shift = links.origin - Eigen::Vector3d(g.origin_x, g.origin_y, g.origin_z);
+  const std::size_t n = links.size();
 
-  // Compact index of every valid vertex.
-  std::vector<std::uint32_t> compact(n, drainage::kNone);
+  // Compact index of every valid point.
+  std::vector<std::uint32_t> compact(n, DrainageLinks::kNone);
   CreaseGeometry out;
   for (std::size_t i = 0; i < n; ++i) {
-    const auto& v = db.vertices[i];
-    if (v.point_class == std::uint8_t(drainage::PointClass::Nodata)) continue;
+    if (!links.valid[i]) continue;
     compact[i] = std::uint32_t(out.positions.size());
-    out.positions.emplace_back((Eigen::Vector3d(v.x, v.y, v.z) + shift).cast<float>());
-    out.flow.push_back(v.normalized);
+    out.positions.emplace_back((links.positions[i].cast<double>() + shift).cast<float>());
+    out.flow.push_back(links.flow[i]);
   }
   const std::size_t m = out.positions.size();
   for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t d = db.vertices[i].downstream;
-    if (compact[i] == drainage::kNone || d == drainage::kNone || d >= n || compact[d] == drainage::kNone ||
-        db.vertices[i].accumulated < min_accumulated)
+    const std::uint32_t d = links.downstream[i];
+    if (compact[i] == DrainageLinks::kNone || d == DrainageLinks::kNone || d >= n || compact[d] == DrainageLinks::kNone ||
+        links.accumulated[i] < min_accumulated)
       continue;
     out.segments.push_back(compact[i]);
     out.segments.push_back(compact[d]);
@@ -94,13 +92,13 @@ std::size_t count_accepted_segments(const CreaseGeometry& g, const Eigen::Vector
   return count;
 }
 
-std::string coverage_warning(const terrain::GridMesh& mesh, const drainage::DvHeader& h) {
+std::string coverage_warning(const terrain::GridMesh& mesh, const terrain::DrainageLinks& h) {
   const auto& g = mesh.geo;
   // Sample extents in world coordinates: west, south, east, north.
   const double m[4] = {g.origin_x, g.origin_y - double(mesh.topo.rows - 1) * g.dy,
                        g.origin_x + double(mesh.topo.cols - 1) * g.dx, g.origin_y};
-  const double d[4] = {h.origin_x, h.origin_y - double(h.rows - 1) * h.dy, h.origin_x + double(h.cols - 1) * h.dx,
-                       h.origin_y};
+  const double d[4] = {h.origin.x(), h.origin.y() - double(h.rows - 1) * h.dy,
+                       h.origin.x() + double(h.cols - 1) * h.dx, h.origin.y()};
   const double tol = std::max(h.dx, h.dy);
   for (int k = 0; k < 4; ++k)
     if (std::abs(m[k] - d[k]) > tol)

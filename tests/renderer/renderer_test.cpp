@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "drainage/dv_file.hpp"
+#include "drainage/dv_views.hpp"
 #include "drainage/pipeline.hpp"
 #include "renderer/camera.hpp"
 #include "renderer/crease.hpp"
@@ -185,7 +186,7 @@ std::size_t count_colour(const renderer::FrameResult& r, std::uint8_t red, std::
 // A crop of the Mount St. Helens DEM (real data) as a mesh, and its drainage at 5 m.
 struct MshScene {
   terrain::GridMesh mesh;
-  drainage::DrainageDb db;
+  terrain::DrainageLinks links;  // of the .dv written and read back
 };
 const MshScene& msh_scene() {
   static const MshScene scene = [] {
@@ -204,7 +205,7 @@ const MshScene& msh_scene() {
     terrain::test::ScratchDir dir;
     const auto header = drainage::make_dv_header(result.surface, result.net, result.dv_flags, "test");
     drainage::write_dv(dir.path("msh.dv"), header, result.surface, result.dirs, result.net);
-    s.db = drainage::read_dv(dir.path("msh.dv"));
+    s.links = drainage::drainage_links(drainage::read_dv(dir.path("msh.dv")));
     return s;
   }();
   return scene;
@@ -363,7 +364,7 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
 // never grows with the min score.
 TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
   const auto& sc = msh_scene();
-  const auto g = renderer::build_crease_geometry(sc.mesh, sc.db);
+  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links);
   ASSERT_GT(g.n_segments(), 10000u);
   renderer::GlContext ctx;
   TerrainRenderer r(ctx, sc.mesh, &g, 160, 120, renderer::Layers{false, true, true, false}, test_style());
@@ -397,7 +398,7 @@ TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
 // lifted as the renderer lifts it).
 TEST(RendererGl, MinScoreZeroDrawsEveryVisibleVertex) {
   const auto& sc = msh_scene();
-  const auto g = renderer::build_crease_geometry(sc.mesh, sc.db);
+  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links);
   renderer::GlContext ctx;
   renderer::Style style = test_style();
   style.pixels_per_edge = 2;

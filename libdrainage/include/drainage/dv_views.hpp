@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "drainage/dv_file.hpp"
+#include "terrain/drainage_links.hpp"
 #include "terrain/grid.hpp"
 
 namespace drainage {
@@ -19,6 +20,9 @@ struct DvSummary {
   std::size_t basins_over_1pct = 0;  // basins holding more than 1 % of the points
 };
 DvSummary summarize(const DrainageDb& db);
+
+// The database's points as plain arrays (terrain/drainage_links.hpp), for the renderer.
+terrain::DrainageLinks drainage_links(const DrainageDb& db);
 
 // The database's elevations as a grid (no-data where a vertex is not a point).
 terrain::Grid dv_elevations(const DrainageDb& db);

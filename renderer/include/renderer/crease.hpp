@@ -8,13 +8,13 @@
 
 #include <Eigen/Core>
 
-#include "drainage/dv_file.hpp"
+#include "terrain/drainage_links.hpp"
 #include "renderer/frame_params.hpp"
 #include "terrain/grid_mesh.hpp"
 
 namespace renderer {
 
-// The drainage network of a .dv database in a mesh's local frame.
+// A drainage network (terrain::DrainageLinks, e.g. from a .dv) in a mesh's local frame.
 struct CreaseGeometry {
   std::vector<Eigen::Vector3f> positions;  // #C crease vertices, on the PN surface (local)
   std::vector<Eigen::Vector3f> normals;    // #C unit PN normals of the mesh's surface there
@@ -23,21 +23,21 @@ struct CreaseGeometry {
   std::size_t n_segments() const { return segments.size() / 2; }
 };
 
-// Every valid .dv vertex with its D8 link to its downstream vertex as one segment (the
-// branches of the database are exactly these links grouped by order), for vertices whose
+// Every valid drainage point with its D8 link to its downstream point as one segment (the
+// branches of a .dv are exactly these links grouped by order), for points whose
 // accumulated flow is at least `min_accumulated` points (a channel-initiation threshold:
 // 0 keeps every link, as the paper; hillslope links and the tiny basins along the mesh
 // boundary, whose normalized flow is high, go with a small threshold). Positions are moved
 // from the database's frame to the mesh's; normals are the PN normals of `mesh` above each
 // vertex (pn_point_above; the vertex normal of the nearest mesh vertex where it has no
 // answer). Error when the database does not overlap the mesh or their CRSs differ.
-CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const drainage::DrainageDb& db,
+CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
                                      std::uint32_t min_accumulated = 0);
 
-// A warning (empty when none) when the database's sample extent differs from the mesh's
-// by more than one database spacing on any side: it was made from another mesh (or a
+// A warning (empty when none) when the network's sample extent differs from the mesh's
+// by more than one network spacing on any side: it was made from another mesh (or a
 // crop of it), so its creases will not follow this surface everywhere.
-std::string coverage_warning(const terrain::GridMesh& mesh, const drainage::DvHeader& header);
+std::string coverage_warning(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links);
 
 // rs of one crease vertex (see CreaseScoreParams). `normal` and `light` are unit vectors in
 // the exaggerated frame, `distance` is from the eye in that frame.

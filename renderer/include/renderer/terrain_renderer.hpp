@@ -22,7 +22,6 @@
 #include <optional>
 #include <vector>
 
-#include "drainage/dv_file.hpp"
 #include "renderer/camera.hpp"
 #include "renderer/crease.hpp"
 #include "renderer/frame_params.hpp"

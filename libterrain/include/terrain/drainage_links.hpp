@@ -1,0 +1,28 @@
+#pragma once
+// A drainage network as plain arrays, independent of how it is stored: every point of a
+// regular grid with its position, flow and downstream link. libdrainage makes it from a
+// .dv (drainage::drainage_links in dv_views.hpp); the renderer draws creases from it, so
+// the renderer does not depend on libdrainage.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace terrain {
+
+struct DrainageLinks {
+  static constexpr std::uint32_t kNone = 0xFFFFFFFFu;  // no downstream point
+  int epsg = 0;                                         // CRS of the positions, 0 when unknown
+  std::size_t rows = 0, cols = 0;                       // point i = row * cols + col, row 0 north
+  double dx = 1, dy = 1;                                // grid spacing (metres)
+  Eigen::Vector3d origin{0, 0, 0};                      // world = origin + position; point 0 at x = y = 0
+  std::vector<Eigen::Vector3f> positions;               // #P, relative to origin
+  std::vector<std::uint8_t> valid;                      // #P: 0 for a no-data point
+  std::vector<float> flow;                              // #P: basin-normalized flow in (0, 1]
+  std::vector<std::uint32_t> accumulated;               // #P: points draining through (itself included)
+  std::vector<std::uint32_t> downstream;                // #P: downstream point or kNone
+  std::size_t size() const { return positions.size(); }
+};
+
+}  // namespace terrain

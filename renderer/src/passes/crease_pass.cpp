@@ -1,0 +1,72 @@
+// DM: Mower's drainage creases. A compute pass scores every crease vertex
+// (crease_score.comp.glsl), a second keeps the segments whose two ends score >= 0 and
+// writes an indirect draw command (crease_select.comp.glsl); the segments are drawn as
+// screen-space quads lifted along the PN normal (crease.vert.glsl).
+#include <cstring>
+
+#include "passes.hpp"
+#include "renderer/gl_contract.hpp"
+#include "renderer/programs.hpp"
+
+namespace renderer::passes {
+
+CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled)
+    : PassBase(DM), s_(scene), enabled_(enabled) {
+  if (creases && creases->n_segments() > 0) {
+    n_vertices_ = creases->positions.size();
+    n_segments_ = creases->n_segments();
+    std::vector<float> cv(8 * n_vertices_);  // position, flow, normal, 0
+    for (std::size_t i = 0; i < n_vertices_; ++i) {
+      const auto& p = creases->positions[i];
+      const auto& n = creases->normals[i];
+      const float v[8] = {p.x(), p.y(), p.z(), creases->flow[i], n.x(), n.y(), n.z(), 0.0f};
+      std::memcpy(&cv[8 * i], v, sizeof v);
+    }
+    cv_buf_ = make_buffer(cv.size() * 4, cv.data(), 0);
+    seg_buf_ = make_buffer(creases->segments.size() * 4, creases->segments.data(), 0);
+    score_buf_ = make_buffer(n_vertices_ * 4, nullptr, 0);
+    selected_buf_ = make_buffer(n_segments_ * 4, nullptr, 0);
+    cmd_buf_ = make_buffer(16, nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
+    score_prog_ = build_program(ProgramId::CreaseScore);
+    select_prog_ = build_program(ProgramId::CreaseSelect);
+    draw_prog_ = build_program(ProgramId::CreaseDraw);
+  }
+  colour_ = make_texture(GL_RGBA8, scene.width, scene.height);
+  depth_ = make_texture(GL_DEPTH_COMPONENT32F, scene.width, scene.height);
+  fbo_ = make_framebuffer(&colour_, &depth_);
+}
+
+void CreasePass::execute(const FrameInputs&) {
+  const float zero4[4] = {0, 0, 0, 0}, far_depth = s_.clear_depth();
+  glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero4);
+  glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &far_depth);
+  if (!active()) return;
+  const std::uint32_t cmd[4] = {0, 1, 0, 0};
+  glNamedBufferSubData(cmd_buf_.id(), 0, sizeof cmd, cmd);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_VERTICES, cv_buf_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SEGMENTS, seg_buf_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SCORES, score_buf_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_COMMAND, cmd_buf_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SELECTED, selected_buf_.id());
+  glUseProgram(score_prog_.id());
+  glDispatchCompute(dispatch_groups_x(n_vertices_), dispatch_groups_y(n_vertices_), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  glUseProgram(select_prog_.id());
+  glDispatchCompute(dispatch_groups_x(n_segments_), dispatch_groups_y(n_segments_), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  s_.depth_state();
+  glUseProgram(draw_prog_.id());
+  glBindVertexArray(s_.empty_vao.id());
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, cmd_buf_.id());
+  glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+}
+
+std::size_t CreasePass::segments_drawn() const {
+  if (!active()) return 0;
+  std::uint32_t cmd[4] = {};
+  glGetNamedBufferSubData(cmd_buf_.id(), 0, sizeof cmd, cmd);
+  return cmd[0] / 6;  // two triangles per segment
+}
+
+}  // namespace renderer::passes

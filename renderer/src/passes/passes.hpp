@@ -1,0 +1,167 @@
+#pragma once
+// The passes of a frame (docs/terrain-render.md), one object each, owning its GL objects
+// and its GL timer; TerrainRenderer (terrain_renderer.cpp) builds them and runs them in
+// order: TFT, AFT, DM, PEL, SIL, LAY. Internal to the renderer library.
+#include <Eigen/Core>
+
+#include "renderer/camera.hpp"
+#include "renderer/crease.hpp"
+#include "renderer/frame_params.hpp"
+#include "renderer/gl_objects.hpp"
+#include "renderer/timing.hpp"
+#include "terrain/grid_mesh.hpp"
+
+namespace renderer::passes {
+
+// What the passes share: the mesh on the GPU (positions, normals, patches), the surface
+// program, the frame's uniform buffer, the image size and depth convention, and the
+// surface targets later passes read (toward colour and depth, away depth).
+struct SceneGpu {
+  SceneGpu(const terrain::GridMesh& mesh, int width, int height, bool reversed);
+  int width, height;
+  bool reversed;  // depth 1 at the near plane, 0 at infinity (glClipControl)
+  terrain::GridTopology topo;
+  GlObject pos_buf, nrm_buf, index_buf, vao, empty_vao, ubo, surface_prog;
+  GlObject surface_colour, toward_depth, away_depth;
+
+  float clear_depth() const { return reversed ? 0.0f : 1.0f; }
+  void depth_state() const;
+  // The PN patches of the mesh with the surface program; mode 0 toward-facing fragments
+  // (TFT), 1 away-facing (AFT).
+  void draw_surface(int mode) const;
+};
+
+// A framebuffer over the given colour and depth textures (either may be null).
+GlObject make_framebuffer(const GlObject* colour, const GlObject* depth);
+
+// The inputs of one frame.
+struct FrameInputs {
+  const FrameParams& frame;
+  const View& view;
+  Eigen::Vector3d light;  // unit vector towards the light, mesh frame
+};
+
+class PassBase {
+ public:
+  explicit PassBase(Pass id) : id_(id), query_(GlKind::Query, GL_TIME_ELAPSED) {}
+  virtual ~PassBase() = default;
+  PassBase(const PassBase&) = delete;
+  PassBase& operator=(const PassBase&) = delete;
+  Pass id() const { return id_; }
+  // Runs the pass inside its GL timer query and waits for it (glFinish): the wall time
+  // goes to t.wall_ms.
+  void run(const FrameInputs& in, FrameTimings& t);
+  // The GL timer of the last run into t.gpu_ms (after every pass of the frame ran).
+  void read_timer(FrameTimings& t) const;
+
+ protected:
+  virtual void execute(const FrameInputs& in) = 0;
+
+ private:
+  Pass id_;
+  GlObject query_;
+};
+
+// TFT: surface colour and toward depth.
+class TowardPass : public PassBase {
+ public:
+  explicit TowardPass(const SceneGpu& scene);
+
+ private:
+  void execute(const FrameInputs&) override;
+  const SceneGpu& s_;
+  GlObject fbo_;
+};
+
+// AFT: away depth (only when silhouettes are drawn; cleared always).
+class AwayPass : public PassBase {
+ public:
+  AwayPass(const SceneGpu& scene, bool enabled);
+
+ private:
+  void execute(const FrameInputs&) override;
+  const SceneGpu& s_;
+  bool enabled_;
+  GlObject fbo_;
+};
+
+// DM: crease vertices scored, segments selected (indirect draw), drawn as quads.
+class CreasePass : public PassBase {
+ public:
+  // `creases` may be null or empty: the pass then only clears its targets.
+  CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled);
+  bool active() const { return enabled_ && n_segments_ > 0; }
+  std::size_t segments_drawn() const;  // of the last frame
+  std::size_t n_segments() const { return n_segments_; }
+  std::size_t n_vertices() const { return n_vertices_; }
+  const GlObject& colour() const { return colour_; }
+  const GlObject& depth() const { return depth_; }
+
+ private:
+  void execute(const FrameInputs&) override;
+  const SceneGpu& s_;
+  bool enabled_;
+  std::size_t n_vertices_ = 0, n_segments_ = 0;
+  GlObject cv_buf_, seg_buf_, score_buf_, cmd_buf_, selected_buf_;
+  GlObject score_prog_, select_prog_, draw_prog_;
+  GlObject colour_, depth_, fbo_;
+};
+
+// PEL: per-vertex fields, zero-crossing segments (indirect draw), drawn as quads.
+class PelPass : public PassBase {
+ public:
+  // Enabled: the mesh must carry its Voronoi weights.
+  PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width);
+  bool active() const { return enabled_; }
+  std::size_t segments_drawn() const;
+  // The segments of the last frame: 12 floats each (a xyz, face bits, b xyz, 5 unused).
+  std::vector<float> read_segments() const;
+  const GlObject& colour() const { return colour_; }
+  const GlObject& depth() const { return depth_; }
+
+ private:
+  void execute(const FrameInputs&) override;
+  const SceneGpu& s_;
+  bool enabled_;
+  double width_;
+  GlObject corner_buf_, varea_buf_, tangent_buf_, field_buf_, maxm_buf_, cmd_buf_, seg_buf_;
+  GlObject field_prog_, extract_prog_, draw_prog_;
+  GlObject colour_, depth_, fbo_;
+};
+
+// SIL: Toward/Away silhouettes from the toward and away depths.
+class SilhouettePass : public PassBase {
+ public:
+  SilhouettePass(const SceneGpu& scene, bool enabled);
+  const GlObject& mask() const { return mask_; }
+  // Mesa llvmpipe reports a meaningless time for the first GL_TIME_ELAPSED query of a
+  // context that has drawn nothing yet: one small timed draw first.
+  void warm_up_timer() const;
+
+ private:
+  void execute(const FrameInputs&) override;
+  void draw() const;
+  const SceneGpu& s_;
+  bool enabled_;
+  GlObject mask_, fbo_, prog_;
+};
+
+// LAY: the composite of the chosen layers, surface first, lines not behind the surface.
+class CompositePass : public PassBase {
+ public:
+  CompositePass(const SceneGpu& scene, const Layers& layers, const Style& style, const CreasePass& creases,
+                const PelPass& pels, const SilhouettePass& silhouettes);
+  const GlObject& colour() const { return colour_; }
+
+ private:
+  void execute(const FrameInputs&) override;
+  const SceneGpu& s_;
+  Layers layers_;
+  Style style_;
+  const CreasePass& creases_;
+  const PelPass& pels_;
+  const SilhouettePass& silhouettes_;
+  GlObject colour_, fbo_, prog_;
+};
+
+}  // namespace renderer::passes

@@ -1,0 +1,85 @@
+// PEL: photic extremum lines (pel.hpp is the CPU reference). Four compute stages over the
+// vertices (pel_fields.comp.glsl: f, grad f and m, s, c), one over the faces that appends
+// the zero-crossing segments and writes an indirect draw command (pel_extract.comp.glsl);
+// the segments are drawn like creases (pel.vert.glsl).
+#include "passes.hpp"
+#include "renderer/gl_contract.hpp"
+#include "renderer/programs.hpp"
+
+namespace renderer::passes {
+
+PelPass::PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width)
+    : PassBase(PEL), s_(scene), enabled_(enabled), width_(width) {
+  if (enabled_) {
+    corner_buf_ = make_buffer(mesh.n_faces() * sizeof(Eigen::Vector3f), mesh.voronoi.corner_areas.data(), 0);
+    varea_buf_ = make_buffer(mesh.n_vertices() * sizeof(float), mesh.voronoi.vertex_areas.data(), 0);
+    tangent_buf_ = make_buffer(mesh.n_vertices() * sizeof(Eigen::Vector3f), mesh.voronoi.tangents.data(), 0);
+    field_buf_ = make_buffer(mesh.n_vertices() * 24, nullptr, 0);
+    maxm_buf_ = make_buffer(4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    cmd_buf_ = make_buffer(16, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    seg_buf_ = make_buffer(mesh.n_faces() * 48, nullptr, 0);
+    field_prog_ = build_program(ProgramId::PelFields);
+    extract_prog_ = build_program(ProgramId::PelExtract);
+    draw_prog_ = build_program(ProgramId::PelDraw);
+  }
+  colour_ = make_texture(GL_RGBA8, scene.width, scene.height);
+  depth_ = make_texture(GL_DEPTH_COMPONENT32F, scene.width, scene.height);
+  fbo_ = make_framebuffer(&colour_, &depth_);
+}
+
+void PelPass::execute(const FrameInputs& in) {
+  const float zero4[4] = {0, 0, 0, 0}, far_depth = s_.clear_depth();
+  glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero4);
+  glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &far_depth);
+  if (!enabled_) return;
+  const std::uint32_t zero = 0, cmd[4] = {0, 1, 0, 0};
+  glNamedBufferSubData(maxm_buf_.id(), 0, 4, &zero);
+  glNamedBufferSubData(cmd_buf_.id(), 0, sizeof cmd, cmd);
+  const std::pair<GLuint, const GlObject*> bufs[] = {
+      {TR_SSBO_MESH_POSITIONS, &s_.pos_buf}, {TR_SSBO_MESH_NORMALS, &s_.nrm_buf}, {TR_SSBO_CORNER_AREAS, &corner_buf_},
+      {TR_SSBO_VERTEX_AREAS, &varea_buf_},   {TR_SSBO_TANGENTS, &tangent_buf_},   {TR_SSBO_PEL_FIELDS, &field_buf_},
+      {TR_SSBO_PEL_MAX_M, &maxm_buf_},       {TR_SSBO_PEL_COMMAND, &cmd_buf_},    {TR_SSBO_PEL_SEGMENTS, &seg_buf_}};
+  for (const auto& [binding, buf] : bufs) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buf->id());
+  // The light of f: the headlight (towards the eye) or the frame's light, in the mesh frame.
+  const Eigen::Vector3d light = in.frame.pel.headlight ? Eigen::Vector3d(-in.view.forward) : in.light;
+  const std::size_t nv = s_.topo.n_vertices(), nf = s_.topo.n_faces();
+  const auto rows = GLuint(s_.topo.rows), cols = GLuint(s_.topo.cols);
+  const GLuint fp = field_prog_.id();
+  glUseProgram(fp);
+  glProgramUniform2ui(fp, TR_LOC_PEL_GRID, rows, cols);
+  glProgramUniform3f(fp, TR_LOC_PEL_LIGHT, float(light.x()), float(light.y()), float(light.z()));
+  for (int stage = 0; stage < 4; ++stage) {
+    glProgramUniform1i(fp, TR_LOC_PEL_STAGE, stage);
+    glDispatchCompute(dispatch_groups_x(nv), dispatch_groups_y(nv), 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  }
+  const GLuint ep = extract_prog_.id();
+  glUseProgram(ep);
+  glProgramUniform2ui(ep, TR_LOC_PEL_GRID, rows, cols);
+  glProgramUniform1f(ep, TR_LOC_PEL_TAU, float(in.frame.pel.threshold));
+  glDispatchCompute(dispatch_groups_x(nf), dispatch_groups_y(nf), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  s_.depth_state();
+  glUseProgram(draw_prog_.id());
+  glProgramUniform1f(draw_prog_.id(), TR_LOC_PEL_WIDTH, float(width_));
+  glBindVertexArray(s_.empty_vao.id());
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, cmd_buf_.id());
+  glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+}
+
+std::size_t PelPass::segments_drawn() const {
+  if (!enabled_) return 0;
+  std::uint32_t cmd[4] = {};
+  glGetNamedBufferSubData(cmd_buf_.id(), 0, sizeof cmd, cmd);
+  return cmd[0] / 6;
+}
+
+std::vector<float> PelPass::read_segments() const {
+  const std::size_t n = segments_drawn();
+  std::vector<float> raw(12 * n);
+  if (n) glGetNamedBufferSubData(seg_buf_.id(), 0, GLsizeiptr(raw.size() * 4), raw.data());
+  return raw;
+}
+
+}  // namespace renderer::passes

@@ -1,0 +1,79 @@
+#include <chrono>
+#include <vector>
+
+#include "passes.hpp"
+#include "renderer/gl_contract.hpp"
+#include "renderer/programs.hpp"
+#include "terrain/error.hpp"
+
+namespace renderer::passes {
+
+SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev)
+    : width(w), height(h), reversed(rev), topo(mesh.topo) {
+  // Positions and normals in two buffers, faces as patches of 3.
+  pos_buf = make_buffer(mesh.n_vertices() * sizeof(Eigen::Vector3f), mesh.positions.data(), 0);
+  nrm_buf = make_buffer(mesh.n_vertices() * sizeof(Eigen::Vector3f), mesh.normals.data(), 0);
+  std::vector<std::uint32_t> idx(mesh.n_faces() * 3);
+  for (std::size_t f = 0; f < mesh.n_faces(); ++f) {
+    const auto t = mesh.topo.face(f);
+    std::copy(t.begin(), t.end(), idx.begin() + long(3 * f));
+  }
+  index_buf = make_buffer(idx.size() * 4, idx.data(), 0);
+  vao = GlObject(GlKind::VertexArray);
+  for (const auto& [a, buf] :
+       {std::pair<GLuint, const GlObject*>{TR_ATTR_POSITION, &pos_buf}, {TR_ATTR_NORMAL, &nrm_buf}}) {
+    glVertexArrayVertexBuffer(vao.id(), a, buf->id(), 0, sizeof(Eigen::Vector3f));
+    glVertexArrayAttribFormat(vao.id(), a, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(vao.id(), a, a);
+    glEnableVertexArrayAttrib(vao.id(), a);
+  }
+  glVertexArrayElementBuffer(vao.id(), index_buf.id());
+  empty_vao = GlObject(GlKind::VertexArray);
+  ubo = make_buffer(sizeof(FrameBlock), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  surface_prog = build_program(ProgramId::Surface);
+  surface_colour = make_texture(GL_RGBA8, width, height);
+  toward_depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
+  away_depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
+}
+
+void SceneGpu::depth_state() const {
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(reversed ? GL_GREATER : GL_LESS);
+  glDepthMask(GL_TRUE);
+}
+
+void SceneGpu::draw_surface(int mode) const {
+  glUseProgram(surface_prog.id());
+  glProgramUniform1i(surface_prog.id(), TR_LOC_SURFACE_MODE, mode);
+  glBindVertexArray(vao.id());
+  glPatchParameteri(GL_PATCH_VERTICES, 3);
+  glDrawElements(GL_PATCHES, GLsizei(3 * topo.n_faces()), GL_UNSIGNED_INT, nullptr);
+}
+
+GlObject make_framebuffer(const GlObject* colour, const GlObject* depth) {
+  GlObject fbo(GlKind::Framebuffer);
+  if (colour) glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT0, colour->id(), 0);
+  if (depth) glNamedFramebufferTexture(fbo.id(), GL_DEPTH_ATTACHMENT, depth->id(), 0);
+  glNamedFramebufferDrawBuffer(fbo.id(), colour ? GL_COLOR_ATTACHMENT0 : GL_NONE);
+  if (glCheckNamedFramebufferStatus(fbo.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw terrain::Error("internal: incomplete framebuffer");
+  return fbo;
+}
+
+void PassBase::run(const FrameInputs& in, FrameTimings& t) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  glBeginQuery(GL_TIME_ELAPSED, query_.id());
+  execute(in);
+  glEndQuery(GL_TIME_ELAPSED);
+  glFinish();
+  t.wall_ms[id_] = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+void PassBase::read_timer(FrameTimings& t) const {
+  GLuint64 ns = 0;
+  glGetQueryObjectui64v(query_.id(), GL_QUERY_RESULT, &ns);
+  t.gpu_ms[id_] = double(ns) * 1e-6;
+}
+
+}  // namespace renderer::passes
