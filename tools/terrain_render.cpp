@@ -169,6 +169,110 @@ void print_device(const rr::GlContext& ctx) {
             << ")\n";
 }
 
+// Arguments of each subcommand, as CLI11 fills them.
+struct FrameArgs {
+  std::string mesh, dv, out;
+  RenderOptions opts;
+};
+struct BatchArgs {
+  std::vector<std::string> inputs;  // MESH [DV] FRAMES
+  std::string dir;
+  RenderOptions opts;
+};
+struct PathArgs {
+  std::vector<double> from, to;
+  int frames = 0;
+  std::string out;
+  rr::FrameParams params;
+};
+
+int list_devices() {
+  for (const auto& d : rr::list_gl_devices())
+    std::cout << d.platform << ": " << d.renderer << (d.version.empty() ? "" : " | OpenGL " + d.version)
+              << (d.software ? " | software" : "") << (d.usable ? " | usable" : "")
+              << (d.detail.empty() ? "" : " | " + d.detail) << "\n";
+  rr::GlContext ctx;
+  std::cout << "selected: " << ctx.info().platform << " (" << ctx.info().renderer << ")\n";
+  return 0;
+}
+
+int run_path(const PathArgs& a, const std::string& prov) {
+  terrain::check_output_path(a.out);
+  rr::FlightPath p{Eigen::Vector3d(a.from[0], a.from[1], a.from[2]), Eigen::Vector3d(a.to[0], a.to[1], a.to[2]),
+                   a.frames, a.params};
+  terrain::write_file_atomic(a.out, "# " + prov + "\n" + rr::path_csv(p));
+  std::cout << "output: " << a.out << "\nframes: " << a.frames << "\n";
+  return 0;
+}
+
+int run_frame(FrameArgs& a, const std::string& prov, const tt::Verbosity& verb) {
+  rr::Layers layers;
+  const auto [w, h] = finish_options(a.opts, layers);
+  if (!a.out.ends_with(".png")) throw terrain::Error("the output must be a .png file: '" + a.out + "'");
+  tt::check_distinct_paths({a.mesh, a.dv}, {a.out});
+  terrain::check_output_path(a.out);
+  if (!a.dv.empty() && !drainage::is_dv_file(a.dv))
+    throw terrain::Error("'" + a.dv + "' is not a drainage database (.dv)");
+  const Scene scene = load_scene(a.mesh, a.dv, a.opts.min_accumulated, verb);
+  if (a.opts.frame.camera.eye)
+    rr::check_eye_above_terrain(scene.mesh, *a.opts.frame.camera.eye, a.opts.style.exaggeration);
+  auto t0 = Clock::now();
+  rr::GlContext ctx;
+  rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, w, h, layers, a.opts.style);
+  tt::step(verb, fmt::format("OpenGL set-up ({}): {:.2f} s", ctx.info().renderer, since(t0)));
+  const rr::FrameResult res = r.render(a.opts.frame);
+  terrain::write_png(a.out, w, h, 4, res.rgba, prov);
+  const Eigen::Vector3d eye = res.view.eye + r.origin();
+  std::cout << "output: " << a.out << "\n"
+            << "size: " << w << " x " << h << "\n";
+  print_device(ctx);
+  std::cout << fmt::format("eye: {:.1f} {:.1f} {:.1f}\n", eye.x(), eye.y(), eye.z())
+            << "crease segments drawn: " << res.crease_segments << "\n"
+            << "pel segments drawn: " << res.pel_segments << "\n";
+  for (int p = 0; p < rr::kPassCount; ++p)
+    std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p), res.timings.gpu_ms[p],
+                             res.timings.wall_ms[p]);
+  return 0;
+}
+
+int run_batch(BatchArgs& a, const std::string& prov, const tt::Verbosity& verb) {
+  rr::Layers layers;
+  const auto [w, h] = finish_options(a.opts, layers);
+  const std::string mesh_path = a.inputs[0], csv = a.inputs.back();
+  const std::string dv_path = a.inputs.size() == 3 ? a.inputs[1] : "";
+  if (!dv_path.empty() && !drainage::is_dv_file(dv_path))
+    throw terrain::Error("'" + dv_path + "' is not a drainage database (.dv)");
+  const auto frames = rr::read_frames_csv(csv, a.opts.frame);
+  const std::filesystem::path dir(a.dir);
+  tt::check_distinct_paths(a.inputs, {(dir / "timings.csv").string()});
+  std::filesystem::create_directories(dir);
+  terrain::check_output_path(dir / "timings.csv");
+  const Scene scene = load_scene(mesh_path, dv_path, a.opts.min_accumulated, verb);
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    try {
+      if (frames[i].camera.eye) rr::check_eye_above_terrain(scene.mesh, *frames[i].camera.eye, a.opts.style.exaggeration);
+    } catch (const terrain::Error& e) {
+      throw terrain::Error(fmt::format("{}: frame {}: {}", csv, i + 1, e.what()));
+    }
+  }
+  rr::GlContext ctx;
+  rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, w, h, layers, a.opts.style);
+  std::vector<rr::FrameTimings> timings;
+  const auto progress = tt::terminal_progress(verb, "render");
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const rr::FrameResult res = r.render(frames[i]);
+    timings.push_back(res.timings);
+    terrain::write_png((dir / fmt::format("frame_{:05d}.png", i)).string(), w, h, 4, res.rgba,
+                       prov + fmt::format(" [frame {}]", i));
+    terrain::report(progress, double(i + 1) / double(frames.size()));
+  }
+  terrain::write_file_atomic(dir / "timings.csv", rr::timings_csv(timings));
+  std::cout << "output: " << a.dir << "\nframes: " << frames.size() << "\nsize: " << w << " x " << h << "\n";
+  print_device(ctx);
+  std::cout << rr::timing_tables(timings);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -187,42 +291,37 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", tt::version());
   app.require_subcommand(0, 1);
   app.fallthrough();  // -q / -v after the subcommand
-  bool list_devices = false;
-  app.add_flag("--device", list_devices, "List the EGL devices and OpenGL renderers found, then exit");
+  bool list_devices_flag = false;
+  app.add_flag("--device", list_devices_flag, "List the EGL devices and OpenGL renderers found, then exit");
   tt::Verbosity verb;
   tt::add_verbosity_flags(app, verb);
 
   // frame
   auto* frame_cmd = app.add_subcommand("frame", "Render one frame to a PNG");
-  std::string frame_mesh, frame_dv, frame_out;
-  RenderOptions frame_opts;
-  frame_cmd->add_option("MESH", frame_mesh, "Mesh (.ply from dem2mesh)")->required();
-  frame_cmd->add_option("DV", frame_dv, "Drainage database (.dv from build-drainage); no creases without it");
-  frame_cmd->add_option("-o,--output", frame_out, "Output PNG")->required();
-  add_render_options(frame_cmd, frame_opts);
+  FrameArgs fa;
+  frame_cmd->add_option("MESH", fa.mesh, "Mesh (.ply from dem2mesh)")->required();
+  frame_cmd->add_option("DV", fa.dv, "Drainage database (.dv from build-drainage); no creases without it");
+  frame_cmd->add_option("-o,--output", fa.out, "Output PNG")->required();
+  add_render_options(frame_cmd, fa.opts);
 
   // batch
   auto* batch_cmd = app.add_subcommand("batch", "Render every frame of a CSV list; write PNGs and timings.csv");
-  std::vector<std::string> batch_pos;
-  std::string batch_dir;
-  RenderOptions batch_opts;
-  batch_cmd->add_option("MESH [DV] FRAMES", batch_pos, "Mesh, optional drainage database, frame list (CSV)")
+  BatchArgs ba;
+  batch_cmd->add_option("MESH [DV] FRAMES", ba.inputs, "Mesh, optional drainage database, frame list (CSV)")
       ->required()
       ->expected(2, 3);
-  batch_cmd->add_option("-o,--output", batch_dir, "Output directory (created if missing)")->required();
-  add_render_options(batch_cmd, batch_opts);
+  batch_cmd->add_option("-o,--output", ba.dir, "Output directory (created if missing)")->required();
+  add_render_options(batch_cmd, ba.opts);
 
   // path
   auto* path_cmd = app.add_subcommand("path", "Write a straight flight path as a frame list (CSV)");
-  std::vector<double> from, to;
-  int n_frames = 0;
-  std::string path_out;
-  rr::FrameParams path_params;
+  PathArgs pa;
+  rr::FrameParams& path_params = pa.params;
   path_params.camera.view_az = std::numeric_limits<double>::quiet_NaN();
   path_params.camera.view_alt = 10.0;
-  path_cmd->add_option("--from", from, "Start viewpoint E N Z (metres)")->expected(3)->required();
-  path_cmd->add_option("--to", to, "End viewpoint E N Z (metres)")->expected(3)->required();
-  path_cmd->add_option("--frames", n_frames, "Number of frames (>= 2)")->check(CLI::Range(2, 1000000))->required();
+  path_cmd->add_option("--from", pa.from, "Start viewpoint E N Z (metres)")->expected(3)->required();
+  path_cmd->add_option("--to", pa.to, "End viewpoint E N Z (metres)")->expected(3)->required();
+  path_cmd->add_option("--frames", pa.frames, "Number of frames (>= 2)")->check(CLI::Range(2, 1000000))->required();
   path_cmd->add_option("--view-az", path_params.camera.view_az, "Bearing of the line of sight; default: along the path");
   path_cmd->add_option("--view-alt", path_params.camera.view_alt, "Angle of the line of sight below the horizon")
       ->check(CLI::Range(-90.0, 90.0))
@@ -235,100 +334,14 @@ int main(int argc, char** argv) {
   path_cmd->add_option("--min-score", path_params.score.min_score, "Crease minimum score")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
-  path_cmd->add_option("-o,--output", path_out, "Output CSV")->required();
+  path_cmd->add_option("-o,--output", pa.out, "Output CSV")->required();
 
   return tt::run_main(app, argc, argv, [&]() -> int {
-    if (list_devices) {
-      const auto devices = rr::list_gl_devices();
-      for (const auto& d : devices)
-        std::cout << d.platform << ": " << d.renderer << (d.version.empty() ? "" : " | OpenGL " + d.version)
-                  << (d.software ? " | software" : "") << (d.usable ? " | usable" : "")
-                  << (d.detail.empty() ? "" : " | " + d.detail) << "\n";
-      rr::GlContext ctx;
-      std::cout << "selected: " << ctx.info().platform << " (" << ctx.info().renderer << ")\n";
-      return 0;
-    }
+    if (list_devices_flag) return list_devices();
     const std::string prov = tt::provenance(argc, argv);
-
-    if (path_cmd->parsed()) {
-      terrain::check_output_path(path_out);
-      rr::FlightPath p{Eigen::Vector3d(from[0], from[1], from[2]), Eigen::Vector3d(to[0], to[1], to[2]), n_frames,
-                       path_params};
-      const std::string text = "# " + prov + "\n" + rr::path_csv(p);
-      terrain::write_file_atomic(path_out, text);
-      std::cout << "output: " << path_out << "\nframes: " << n_frames << "\n";
-      return 0;
-    }
-
-    if (frame_cmd->parsed()) {
-      rr::Layers layers;
-      const auto [w, h] = finish_options(frame_opts, layers);
-      if (!frame_out.ends_with(".png")) throw terrain::Error("the output must be a .png file: '" + frame_out + "'");
-      tt::check_distinct_paths({frame_mesh, frame_dv}, {frame_out});
-      terrain::check_output_path(frame_out);
-      if (!frame_dv.empty() && !drainage::is_dv_file(frame_dv))
-        throw terrain::Error("'" + frame_dv + "' is not a drainage database (.dv)");
-      const Scene scene = load_scene(frame_mesh, frame_dv, frame_opts.min_accumulated, verb);
-      if (frame_opts.frame.camera.eye)
-        rr::check_eye_above_terrain(scene.mesh, *frame_opts.frame.camera.eye, frame_opts.style.exaggeration);
-      auto t0 = Clock::now();
-      rr::GlContext ctx;
-      rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, w, h, layers,
-                            frame_opts.style);
-      tt::step(verb, fmt::format("OpenGL set-up ({}): {:.2f} s", ctx.info().renderer, since(t0)));
-      const rr::FrameResult res = r.render(frame_opts.frame);
-      terrain::write_png(frame_out, w, h, 4, res.rgba, prov);
-      const Eigen::Vector3d eye = res.view.eye + r.origin();
-      std::cout << "output: " << frame_out << "\n"
-                << "size: " << w << " x " << h << "\n";
-      print_device(ctx);
-      std::cout << fmt::format("eye: {:.1f} {:.1f} {:.1f}\n", eye.x(), eye.y(), eye.z())
-                << "crease segments drawn: " << res.crease_segments << "\n"
-                << "pel segments drawn: " << res.pel_segments << "\n";
-      for (int p = 0; p < rr::kPassCount; ++p)
-        std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p), res.timings.gpu_ms[p],
-                                 res.timings.wall_ms[p]);
-      return 0;
-    }
-
-    if (batch_cmd->parsed()) {
-      rr::Layers layers;
-      const auto [w, h] = finish_options(batch_opts, layers);
-      const std::string mesh_path = batch_pos[0], csv = batch_pos.back();
-      const std::string dv_path = batch_pos.size() == 3 ? batch_pos[1] : "";
-      if (!dv_path.empty() && !drainage::is_dv_file(dv_path))
-        throw terrain::Error("'" + dv_path + "' is not a drainage database (.dv)");
-      const auto frames = rr::read_frames_csv(csv, batch_opts.frame);
-      tt::check_distinct_paths(batch_pos, {(std::filesystem::path(batch_dir) / "timings.csv").string()});
-      std::filesystem::create_directories(batch_dir);
-      terrain::check_output_path(std::filesystem::path(batch_dir) / "timings.csv");
-      const Scene scene = load_scene(mesh_path, dv_path, batch_opts.min_accumulated, verb);
-      for (std::size_t i = 0; i < frames.size(); ++i) {
-        try {
-          if (frames[i].camera.eye)
-            rr::check_eye_above_terrain(scene.mesh, *frames[i].camera.eye, batch_opts.style.exaggeration);
-        } catch (const terrain::Error& e) {
-          throw terrain::Error(fmt::format("{}: frame {}: {}", csv, i + 1, e.what()));
-        }
-      }
-      rr::GlContext ctx;
-      rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, w, h, layers,
-                            batch_opts.style);
-      std::vector<rr::FrameTimings> timings;
-      const auto progress = tt::terminal_progress(verb, "render");
-      for (std::size_t i = 0; i < frames.size(); ++i) {
-        const rr::FrameResult res = r.render(frames[i]);
-        timings.push_back(res.timings);
-        terrain::write_png((std::filesystem::path(batch_dir) / fmt::format("frame_{:05d}.png", i)).string(), w, h, 4,
-                           res.rgba, prov + fmt::format(" [frame {}]", i));
-        terrain::report(progress, double(i + 1) / double(frames.size()));
-      }
-      terrain::write_file_atomic(std::filesystem::path(batch_dir) / "timings.csv", rr::timings_csv(timings));
-      std::cout << "output: " << batch_dir << "\nframes: " << frames.size() << "\nsize: " << w << " x " << h << "\n";
-      print_device(ctx);
-      std::cout << rr::timing_tables(timings);
-      return 0;
-    }
+    if (path_cmd->parsed()) return run_path(pa, prov);
+    if (frame_cmd->parsed()) return run_frame(fa, prov, verb);
+    if (batch_cmd->parsed()) return run_batch(ba, prov, verb);
     throw CLI::ValidationError("terrain-render", "give a subcommand: frame, batch or path (or --device)");
   });
 }
