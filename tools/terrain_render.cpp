@@ -93,8 +93,8 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
       ->check(CLI::Range(0.5, 20.0))
       ->capture_default_str();
   app->add_option("--layers", o.layers,
-                  "Layers to composite: shaded or mask, creases, silhouettes, pels (comma list; pels need a mesh "
-                  "from denoise-normals)")
+                  "Layers to composite: shaded or mask, creases, silhouettes (Toward/Away) or silhouettes-adjacency "
+                  "(the Adjacency method), pels (comma list; pels need a mesh from denoise-normals)")
       ->capture_default_str();
   app->add_option("--background", o.background, "Background colour (#rrggbb, r,g,b or a name)")->capture_default_str();
   app->add_option("--mask-colour", o.mask, "Surface colour of the mask layer")->capture_default_str();

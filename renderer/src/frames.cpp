@@ -48,12 +48,19 @@ Layers parse_layers(const std::string& list) {
     else if (name == "mask") l.mask = true;
     else if (name == "creases") l.creases = true;
     else if (name == "silhouettes") l.silhouettes = true;
+    else if (name == "silhouettes-adjacency") l.adjacency = true;
     else if (name == "pels") l.pels = true;
-    else throw terrain::Error("unknown layer '" + name + "' (layers: shaded, mask, creases, silhouettes, pels)");
+    else
+      throw terrain::Error("unknown layer '" + name +
+                           "' (layers: shaded, mask, creases, silhouettes, silhouettes-adjacency, pels)");
     any = true;
   }
-  if (!any) throw terrain::Error("--layers is empty (layers: shaded, mask, creases, silhouettes, pels)");
+  if (!any)
+    throw terrain::Error("--layers is empty (layers: shaded, mask, creases, silhouettes, silhouettes-adjacency, pels)");
   if (l.shaded && l.mask) throw terrain::Error("--layers: choose shaded or mask, not both");
+  if (l.silhouettes && l.adjacency)
+    throw terrain::Error("--layers: choose silhouettes (Toward/Away) or silhouettes-adjacency, not both");
+  if (l.adjacency) l.silhouettes = true;  // the silhouette layer, found by the Adjacency method
   return l;
 }
 

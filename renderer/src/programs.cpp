@@ -34,6 +34,11 @@ const ProgramSpec& program_spec(ProgramId id) {
         {"pel_fields", compute({"pel_common.glsl", "pel_fields.comp.glsl"}), {}},
         {"pel_extract", compute({"pel_common.glsl", "pel_extract.comp.glsl"}), {}},
         {"pel_draw", {{GL_VERTEX_SHADER, {c, "pel.vert.glsl"}}, {GL_FRAGMENT_SHADER, {c, "crease.frag.glsl"}}}, {}},
+        {"surface_id",
+         with(with(surface_geometry, {GL_GEOMETRY_SHADER, {c, "surface_id.geom.glsl"}}),
+              {GL_FRAGMENT_SHADER, {c, "surface_id.frag.glsl"}}),
+         {}},
+        {"adjacency", fullscreen("adjacency.frag.glsl"), {}},
     };
   }();
   return specs.at(std::size_t(id));

@@ -42,6 +42,12 @@ void check_inputs(const terrain::GridMesh& mesh, int width, int height, const La
                          "(--iterations 0 only adds them)");
 }
 
+// Triangles the Adjacency ID pass can list: 4 per pixel (more are sub-pixel triangles),
+// at least 1 M, at most 8 M (48 bytes each).
+std::size_t id_capacity(int width, int height) {
+  return std::clamp<std::size_t>(4 * std::size_t(width) * std::size_t(height), 1u << 20, 8u << 20);
+}
+
 // The mesh's bounding box with z exaggerated.
 Box exaggerated_box(const terrain::GridMesh& mesh, double exaggeration) {
   Box box{Eigen::Vector3d::Constant(std::numeric_limits<double>::max()),
@@ -68,10 +74,14 @@ struct TerrainRenderer::Impl {
         lift(style.crease_lift >= 0 ? style.crease_lift : 0.5 * std::min(mesh.geo.dx, mesh.geo.dy)),
         scene(mesh, width, height, context.has_clip_control()),
         toward(scene),
-        away(scene, layers.silhouettes),
+        away(scene, layers.silhouettes && !layers.adjacency),
+        ids(scene, layers.adjacency, id_capacity(width, height)),
         creases(scene, creases, layers.creases),
         pels(scene, mesh, layers.pels, style.pel_width),
-        silhouettes(scene, layers.silhouettes),
+        silhouettes(scene, layers.silhouettes, layers.adjacency ? &ids : nullptr,
+                    1e-3 * std::min(mesh.geo.dx, mesh.geo.dy),
+                    Eigen::Vector4f(0, -float(double(mesh.topo.rows - 1) * mesh.geo.dy),
+                                    float(double(mesh.topo.cols - 1) * mesh.geo.dx), 0)),
         composite(scene, layers, style, this->creases, pels, silhouettes) {
     GLint max_gen = 64;
     glGetIntegerv(GL_MAX_TESS_GEN_LEVEL, &max_gen);
@@ -87,6 +97,7 @@ struct TerrainRenderer::Impl {
   passes::SceneGpu scene;
   passes::TowardPass toward;
   passes::AwayPass away;
+  passes::TriangleIdPass ids;  // replaces AFT in the sequence for Adjacency silhouettes
   passes::CreasePass creases;
   passes::PelPass pels;
   passes::SilhouettePass silhouettes;
@@ -95,7 +106,8 @@ struct TerrainRenderer::Impl {
 
   // In the order they run.
   std::array<passes::PassBase*, kPassCount> sequence() {
-    return {&toward, &away, &creases, &pels, &silhouettes, &composite};
+    passes::PassBase* second = layers.adjacency ? static_cast<passes::PassBase*>(&ids) : &away;
+    return {&toward, second, &creases, &pels, &silhouettes, &composite};
   }
   FrameBlock frame_block(const FrameParams& frame, const View& v, const Eigen::Vector3d& light) const;
 };
@@ -181,6 +193,16 @@ FrameBuffers TerrainRenderer::read_buffers() const {
   depth(m.creases.depth(), b.crease_depth);
   red(m.silhouettes.mask(), b.silhouette);
   red(m.creases.colour(), b.crease);
+  if (m.layers.adjacency) {
+    b.triangle_id.resize(n);
+    glGetTextureImage(m.ids.ids().id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(n * 4), b.triangle_id.data());
+    flip_rows(b.triangle_id, w, h, 1);
+    const std::size_t k = std::min(m.ids.triangles_drawn(), m.ids.capacity());
+    std::vector<float> raw(12 * k);
+    if (k) glGetNamedBufferSubData(m.ids.triangles().id(), 16, GLsizeiptr(raw.size() * 4), raw.data());
+    b.triangles.resize(9 * k);
+    for (std::size_t t = 0; t < 3 * k; ++t) std::copy_n(&raw[4 * t], 3, &b.triangles[3 * t]);
+  }
   return b;
 }
 

@@ -24,12 +24,14 @@ const std::map<std::string, int> kStorageBlocks = {
     {"MeshNormals", TR_SSBO_MESH_NORMALS},       {"CornerAreas", TR_SSBO_CORNER_AREAS},
     {"VertexAreas", TR_SSBO_VERTEX_AREAS},       {"Tangents", TR_SSBO_TANGENTS},
     {"Fields", TR_SSBO_PEL_FIELDS},              {"MaxM", TR_SSBO_PEL_MAX_M},
-    {"PelCommand", TR_SSBO_PEL_COMMAND},         {"PelSegments", TR_SSBO_PEL_SEGMENTS}};
+    {"PelCommand", TR_SSBO_PEL_COMMAND},         {"PelSegments", TR_SSBO_PEL_SEGMENTS},
+    {"IdTriangles", TR_SSBO_ID_TRIANGLES}};
 const std::map<std::string, int> kSamplers = {
     {"u_toward", TR_TEX_TOWARD_DEPTH},       {"u_away", TR_TEX_AWAY_DEPTH},
     {"u_surface_colour", TR_TEX_SURFACE_COLOUR}, {"u_crease", TR_TEX_CREASE_COLOUR},
     {"u_crease_depth", TR_TEX_CREASE_DEPTH}, {"u_silhouette", TR_TEX_SILHOUETTE},
-    {"u_pel", TR_TEX_PEL_COLOUR},            {"u_pel_depth", TR_TEX_PEL_DEPTH}};
+    {"u_pel", TR_TEX_PEL_COLOUR},            {"u_pel_depth", TR_TEX_PEL_DEPTH},
+    {"u_ids", TR_TEX_TRIANGLE_ID},           {"u_id_depth", TR_TEX_ID_DEPTH}};
 const std::map<std::string, int> kUniformLocations = {
     {"u_mode", TR_LOC_SURFACE_MODE},
     {"u_layers", TR_LOC_LAYERS},
@@ -44,7 +46,10 @@ const std::map<std::string, int> kUniformLocations = {
     {"u_stage", TR_LOC_PEL_STAGE},
     {"u_pel_light", TR_LOC_PEL_LIGHT},
     {"u_tau", TR_LOC_PEL_TAU},
-    {"u_pel_width", TR_LOC_PEL_WIDTH}};
+    {"u_pel_width", TR_LOC_PEL_WIDTH},
+    {"u_capacity", TR_LOC_ID_CAPACITY},
+    {"u_tolerance", TR_LOC_ADJ_TOLERANCE},
+    {"u_extent", TR_LOC_ADJ_EXTENT}};
 const std::map<std::string, int> kAttributes = {{"a_position", TR_ATTR_POSITION}, {"a_normal", TR_ATTR_NORMAL}};
 
 #define TR_OFFSET(type, name) {#name, offsetof(FrameBlock, name)},
@@ -70,7 +75,7 @@ GLint active(GLuint program, GLenum interface) {
   return n;
 }
 
-bool is_sampler(GLint type) { return type == GL_SAMPLER_2D; }
+bool is_sampler(GLint type) { return type == GL_SAMPLER_2D || type == GL_UNSIGNED_INT_SAMPLER_2D; }
 
 TEST(GlContract, EveryProgramMatchesTheContract) {
   GlContext ctx;
@@ -133,7 +138,7 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
   EXPECT_EQ(computes, 4u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 9u);  // silhouette 2, composite 7
+  EXPECT_EQ(samplers, 11u);  // silhouette 2, composite 7, adjacency 2
   EXPECT_GE(locations, 14u);
 }
 

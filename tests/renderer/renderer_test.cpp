@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <numbers>
 
@@ -21,6 +22,7 @@
 #include "terrain/error.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/pn_surface.hpp"
+#include "terrain/prepare_grid.hpp"
 #include "terrain/voronoi.hpp"
 #include "renderer/pel.hpp"
 #include <map>
@@ -250,15 +252,20 @@ TEST(RendererGl, GlslPnEvaluationMatchesCpu) {
 // plain's far edge, which is no silhouette: no away surface there).
 struct RidgeCase {
   double eye_z;
+  bool adjacency;  // the Adjacency method instead of Toward/Away
 };
 class RidgeSilhouette : public ::testing::TestWithParam<RidgeCase> {};
 
+// The ridge's silhouette lies where the tangent from the eye predicts: every image column
+// has its silhouette pixel within 1.5 px (Toward/Away) or 2 px (Adjacency) of that row;
+// Toward/Away has none elsewhere, Adjacency at most one per column on average.
 TEST_P(RidgeSilhouette, WhereProjectionPredicts) {
   const double H = 200, s = 100, yr = -3000, h = 20;
   auto z = [&](double, double y) { return H * std::exp(-0.5 * (y - yr) * (y - yr) / (s * s)); };
   const auto mesh = terrain::test::function_mesh(201, 101, h, z);  // x 0..2000, y -4000..0
   renderer::GlContext ctx;
   renderer::Layers layers{false, true, false, true};
+  layers.adjacency = GetParam().adjacency;
   TerrainRenderer r(ctx, mesh, nullptr, 320, 240, layers, test_style());
   FrameParams fp;
   const Vector3d eye(1000, -3900, GetParam().eye_z);
@@ -272,12 +279,13 @@ TEST_P(RidgeSilhouette, WhereProjectionPredicts) {
   for (double y = yr - 4 * s; y <= yr + 4 * s; y += 0.25) best = std::max(best, (z(0, y) - eye.z()) / (y - eye.y()));
   const double f = 120 / std::tan(15 * std::numbers::pi / 180);
   const double row = 120 - f * best;  // in pixel units from the top edge
+  const double tolerance = GetParam().adjacency ? 2.0 : 1.5;
   std::size_t near_line = 0, elsewhere = 0, columns_hit = 0;
   for (int c = 0; c < 320; ++c) {
     bool hit = false;
     for (int rr = 0; rr < 240; ++rr) {
       if (!b.silhouette[std::size_t(rr) * 320 + std::size_t(c)]) continue;
-      if (std::abs(rr + 0.5 - row) <= 1.5) {
+      if (std::abs(rr + 0.5 - row) <= tolerance) {
         ++near_line;
         hit = true;
       } else {
@@ -286,19 +294,39 @@ TEST_P(RidgeSilhouette, WhereProjectionPredicts) {
     }
     columns_hit += hit;
   }
-  // Tolerance: 1.5 pixels from the predicted row; every column has its pixel there.
   EXPECT_EQ(columns_hit, 320u) << "predicted row " << row;
-  EXPECT_EQ(elsewhere, 0u);
+  if (GetParam().adjacency) {
+    // Spurious pixels where pixel neighbours skip thin tessellated triangles (the method's
+    // known failure; docs/terrain-render.md): counted, bounded.
+    std::printf("adjacency: %zu silhouette pixels off the predicted row\n", elsewhere);
+    EXPECT_LE(elsewhere, 320u);
+  } else {
+    EXPECT_EQ(elsewhere, 0u);
+  }
   EXPECT_LE(near_line, 2u * 320u);
 }
 INSTANTIATE_TEST_SUITE_P(SkylineAndOccludingEdge, RidgeSilhouette,
-                         ::testing::Values(RidgeCase{100.0},    // below the crest: the skyline
-                                           RidgeCase{400.0}),   // above: the ridge against the plain behind
-                         [](const auto& info) { return info.param.eye_z < 200 ? "Skyline" : "OccludingEdge"; });
+                         ::testing::Values(RidgeCase{100.0, false},   // below the crest: the skyline
+                                           RidgeCase{400.0, false},   // above: the ridge against the plain behind
+                                           RidgeCase{100.0, true}, RidgeCase{400.0, true}),
+                         [](const auto& info) {
+                           return std::string(info.param.eye_z < 200 ? "Skyline" : "OccludingEdge") +
+                                  (info.param.adjacency ? "Adjacency" : "TowardAway");
+                         });
 
 TEST(RendererGl, FlatPlaneFromAboveHasNoSilhouette) {
   const auto mesh = terrain::test::function_mesh(41, 41, 25, [](double, double) { return 100.0; });
   renderer::GlContext ctx;
+  for (const bool adjacency : {true, false}) {  // the Adjacency method first; then the checks below
+    renderer::Layers layers{false, true, false, true};
+    layers.adjacency = adjacency;
+    TerrainRenderer adj(ctx, mesh, nullptr, 200, 200, layers, test_style());
+    FrameParams top;
+    top.camera.view_alt = 90;
+    adj.render(top);
+    const auto ab = adj.read_buffers();
+    EXPECT_EQ(std::count(ab.silhouette.begin(), ab.silhouette.end(), 1), 0) << "adjacency " << adjacency;
+  }
   TerrainRenderer r(ctx, mesh, nullptr, 200, 200, renderer::Layers{false, true, false, true}, test_style());
   FrameParams fp;
   fp.camera.view_alt = 90;
@@ -471,3 +499,58 @@ TEST(RendererGl, PelSegmentsMatchCpu) {
 }
 
 }  // namespace
+
+namespace {
+
+// Share of the pixels of mask `a` that have a pixel of mask `b` within 1 px (8-neighbourhood).
+double covered_within_one(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b, int w, int h,
+                          std::size_t& uncovered) {
+  std::size_t total = 0, covered = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (!a[std::size_t(y) * std::size_t(w) + std::size_t(x)]) continue;
+      ++total;
+      bool hit = false;
+      for (int dy = -1; dy <= 1 && !hit; ++dy)
+        for (int dx = -1; dx <= 1 && !hit; ++dx) {
+          const int xx = x + dx, yy = y + dy;
+          hit = xx >= 0 && yy >= 0 && xx < w && yy < h && b[std::size_t(yy) * std::size_t(w) + std::size_t(xx)];
+        }
+      covered += hit;
+    }
+  uncovered = total - covered;
+  return total ? double(covered) / double(total) : 1.0;
+}
+
+}  // namespace
+
+// Real terrain (Mount St. Helens at 50 m, the default view): the Adjacency method finds
+// >= 90 % of the Toward/Away silhouette pixels within 1 px; its pixels that Toward/Away does
+// not have (spurious: pixel neighbours across thin triangles near patch borders) are
+// counted and reported.
+TEST(RendererGl, AdjacencyAgreesWithTowardAwayOnRealTerrain) {
+  terrain::GridRequest req;
+  req.spacing = 50.0;
+  const terrain::GridMesh mesh = terrain::make_grid_mesh(
+      terrain::prepare_grid(terrain::read_dem(terrain::test::data("msh_2007_utm10n_10m.tif")), req).grid,
+      terrain::NormalWeighting::Uniform);
+  renderer::GlContext ctx;
+  const int w = 640, h = 360;
+  auto mask = [&](bool adjacency) {
+    renderer::Layers layers{false, true, false, true};
+    layers.adjacency = adjacency;
+    TerrainRenderer r(ctx, mesh, nullptr, w, h, layers, test_style());
+    r.render(FrameParams{});
+    return r.read_buffers().silhouette;
+  };
+  const auto toward_away = mask(false), adjacency = mask(true);
+  std::size_t missed = 0, spurious = 0;
+  const double found = covered_within_one(toward_away, adjacency, w, h, missed);
+  covered_within_one(adjacency, toward_away, w, h, spurious);
+  const auto n_ta = std::count(toward_away.begin(), toward_away.end(), 1);
+  const auto n_adj = std::count(adjacency.begin(), adjacency.end(), 1);
+  std::printf("Toward/Away %ld px, Adjacency %ld px; found %.1f %% of Toward/Away within 1 px; spurious %zu px\n",
+              long(n_ta), long(n_adj), 100 * found, spurious);
+  EXPECT_GT(n_ta, 500);
+  EXPECT_GE(found, 0.90);
+}

@@ -294,6 +294,8 @@ INSTANTIATE_TEST_SUITE_P(
         Row{tr + "frame IN/m.ply -o OUT/f.png --size 100000x100000", 2, "--size"},
         Row{tr + "frame IN/m.ply -o OUT/f.png --layers shaded,contours -q", 1, "unknown layer 'contours'"},
         Row{tr + "frame IN/m.ply IN/zero.dv -o OUT/f.png -q", 1, "is not a drainage database"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --layers mask,silhouettes,silhouettes-adjacency -q", 1,
+            "choose silhouettes (Toward/Away) or silhouettes-adjacency"},
         Row{tr + "path --from 0 0 nan --to 1 1 1 --frames 3 -o OUT/p.csv", 2, "not a finite number"},
         Row{tr + "path --from 0 0 100 --to 1 1 100 --frames 3 -o /dev/null", 1, "not a regular file"}));
 

@@ -47,9 +47,14 @@ struct Layers {
   bool creases = true;
   bool silhouettes = true;
   bool pels = false;         // photic extremum lines (needs the mesh's Voronoi weights)
+  // How the silhouettes are found: Toward/Away depths, or the Adjacency method (triangle
+  // IDs; Mower 2014, Algorithm 1). Both are Mower's; layer names silhouettes and
+  // silhouettes-adjacency.
+  bool adjacency = false;
 };
-// Parses "shaded,creases,..." (names: shaded, mask, creases, silhouettes, pels); Error on an
-// unknown name, an empty list, or both shaded and mask.
+// Parses "shaded,creases,..." (names: shaded, mask, creases, silhouettes,
+// silhouettes-adjacency, pels); Error on an unknown name, an empty list, both shaded and
+// mask, or both silhouette methods.
 Layers parse_layers(const std::string& list);
 
 struct Style {

@@ -45,6 +45,7 @@
 #define TR_SSBO_PEL_MAX_M 12
 #define TR_SSBO_PEL_COMMAND 13
 #define TR_SSBO_PEL_SEGMENTS 14
+#define TR_SSBO_ID_TRIANGLES 15
 
 /* Texture units. */
 #define TR_TEX_TOWARD_DEPTH 0
@@ -55,6 +56,8 @@
 #define TR_TEX_SILHOUETTE 4
 #define TR_TEX_PEL_COLOUR 5
 #define TR_TEX_PEL_DEPTH 6
+#define TR_TEX_TRIANGLE_ID 2
+#define TR_TEX_ID_DEPTH 3
 
 /* Vertex attributes of the surface. */
 #define TR_ATTR_POSITION 0
@@ -77,5 +80,9 @@
 #define TR_LOC_PEL_LIGHT 12
 #define TR_LOC_PEL_TAU 13
 #define TR_LOC_PEL_WIDTH 14
+/* Adjacency silhouettes: */
+#define TR_LOC_ADJ_TOLERANCE 15
+#define TR_LOC_ID_CAPACITY 16
+#define TR_LOC_ADJ_EXTENT 17
 
 #endif

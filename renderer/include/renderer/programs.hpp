@@ -21,11 +21,13 @@ enum class ProgramId {
   PelFields,     // PEL: per-vertex fields
   PelExtract,    // PEL: zero-crossing segments, indirect draw command
   PelDraw,       // PEL: the segments as quads
+  SurfaceId,     // Adjacency silhouettes: triangle IDs and the triangle list
+  Adjacency,     // Adjacency silhouettes: the full-screen pass
 };
 inline constexpr std::array kAllPrograms = {ProgramId::Surface,     ProgramId::PnCapture,    ProgramId::CreaseScore,
                                             ProgramId::CreaseSelect, ProgramId::CreaseDraw,  ProgramId::Silhouette,
                                             ProgramId::Composite,    ProgramId::PelFields,   ProgramId::PelExtract,
-                                            ProgramId::PelDraw};
+                                            ProgramId::PelDraw,     ProgramId::SurfaceId,    ProgramId::Adjacency};
 
 struct ProgramSpec {
   const char* name;

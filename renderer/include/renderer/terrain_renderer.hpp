@@ -44,6 +44,10 @@ struct FrameResult {
 struct FrameBuffers {
   std::vector<float> toward_depth, away_depth, crease_depth;  // window depth (clear: far)
   std::vector<std::uint8_t> silhouette, crease;                // 0/1 masks before compositing
+  // Adjacency silhouettes only: the triangle ID per pixel (0 none, 0xFFFFFFFF unknown) and
+  // the triangle list (9 floats per ID from 1: three vertices, exaggerated mesh frame).
+  std::vector<std::uint32_t> triangle_id;
+  std::vector<float> triangles;
 };
 
 class TerrainRenderer {

@@ -1,5 +1,7 @@
 // SIL and LAY: full-screen passes over the other passes' images.
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 
 #include "passes.hpp"
 #include "renderer/gl_contract.hpp"
@@ -7,30 +9,77 @@
 
 namespace renderer::passes {
 
-SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled)
+TriangleIdPass::TriangleIdPass(const SceneGpu& scene, bool enabled, std::size_t capacity)
+    : PassBase(AFT), s_(scene), enabled_(enabled), capacity_(enabled ? capacity : 0) {
+  if (!enabled_) return;
+  ids_ = make_texture(GL_R32UI, scene.width, scene.height);
+  depth_ = make_texture(GL_DEPTH_COMPONENT32F, scene.width, scene.height);
+  fbo_ = make_framebuffer(&ids_, &depth_);
+  triangles_ = make_buffer(16 + capacity_ * 3 * 16, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  prog_ = build_program(ProgramId::SurfaceId);
+  glProgramUniform1ui(prog_.id(), TR_LOC_ID_CAPACITY, GLuint(capacity_));
+}
+
+void TriangleIdPass::execute(const FrameInputs&) {
+  if (!enabled_) return;
+  const GLuint zero_id[4] = {0, 0, 0, 0};
+  const float far_depth = s_.clear_depth();
+  const std::uint32_t zero = 0;
+  glNamedBufferSubData(triangles_.id(), 0, 4, &zero);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  glClearNamedFramebufferuiv(fbo_.id(), GL_COLOR, 0, zero_id);
+  glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &far_depth);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_ID_TRIANGLES, triangles_.id());
+  s_.depth_state();
+  s_.draw_patches(prog_, 2);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+}
+
+std::size_t TriangleIdPass::triangles_drawn() const {
+  if (!enabled_) return 0;
+  std::uint32_t n = 0;
+  glGetNamedBufferSubData(triangles_.id(), 0, 4, &n);
+  return n;
+}
+
+SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, const TriangleIdPass* ids, double tolerance,
+                               const Eigen::Vector4f& extent)
     : PassBase(SIL),
       s_(scene),
       enabled_(enabled),
+      ids_(ids),
+      tolerance_(tolerance),
+      extent_(extent),
       mask_(make_texture(GL_R8, scene.width, scene.height)),
       fbo_(make_framebuffer(&mask_, nullptr)),
-      prog_(build_program(ProgramId::Silhouette)) {}
+      prog_(build_program(ids ? ProgramId::Adjacency : ProgramId::Silhouette)) {
+}
 
-void SilhouettePass::draw() const {
+void SilhouettePass::draw(double pixel_angle) const {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glUseProgram(prog_.id());
-  glBindTextureUnit(TR_TEX_TOWARD_DEPTH, s_.toward_depth.id());
-  glBindTextureUnit(TR_TEX_AWAY_DEPTH, s_.away_depth.id());
+  if (ids_) {
+    glProgramUniform2f(prog_.id(), TR_LOC_ADJ_TOLERANCE, float(tolerance_), float(pixel_angle));
+    glProgramUniform4fv(prog_.id(), TR_LOC_ADJ_EXTENT, 1, extent_.data());
+    glBindTextureUnit(TR_TEX_TRIANGLE_ID, ids_->ids().id());
+    glBindTextureUnit(TR_TEX_ID_DEPTH, ids_->depth().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_ID_TRIANGLES, ids_->triangles().id());
+  } else {
+    glBindTextureUnit(TR_TEX_TOWARD_DEPTH, s_.toward_depth.id());
+    glBindTextureUnit(TR_TEX_AWAY_DEPTH, s_.away_depth.id());
+  }
   glBindVertexArray(s_.empty_vao.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
-void SilhouettePass::execute(const FrameInputs&) {
+void SilhouettePass::execute(const FrameInputs& in) {
   const float zero4[4] = {0, 0, 0, 0};
   glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero4);
   if (!enabled_) return;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glDisable(GL_DEPTH_TEST);
-  draw();
+  // The angle one pixel spans at the image centre (vertical field of view over the height).
+  draw(2.0 * std::tan(in.view.fov_deg * std::numbers::pi / 360.0) / double(s_.height));
 }
 
 void SilhouettePass::warm_up_timer() const {
@@ -39,7 +88,7 @@ void SilhouettePass::warm_up_timer() const {
   glBeginQuery(GL_TIME_ELAPSED, q.id());
   glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero4);
   glBindBufferBase(GL_UNIFORM_BUFFER, TR_UBO_FRAME, s_.ubo.id());
-  draw();
+  draw(0.0);
   glEndQuery(GL_TIME_ELAPSED);
   GLuint64 ns = 0;
   glGetQueryObjectui64v(q.id(), GL_QUERY_RESULT, &ns);

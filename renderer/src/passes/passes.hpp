@@ -29,6 +29,8 @@ struct SceneGpu {
   // The PN patches of the mesh with the surface program; mode 0 toward-facing fragments
   // (TFT), 1 away-facing (AFT).
   void draw_surface(int mode) const;
+  // The same patches with another program (mode 2: no facing cull).
+  void draw_patches(const GlObject& program, int mode) const;
 };
 
 // A framebuffer over the given colour and depth textures (either may be null).
@@ -129,10 +131,31 @@ class PelPass : public PassBase {
   GlObject colour_, depth_, fbo_;
 };
 
-// SIL: Toward/Away silhouettes from the toward and away depths.
+// Adjacency silhouettes, first pass (in the AFT slot, which the Adjacency method does not
+// need): the nearest tessellated triangle's ID per pixel and the list of triangles.
+class TriangleIdPass : public PassBase {
+ public:
+  TriangleIdPass(const SceneGpu& scene, bool enabled, std::size_t capacity);
+  const GlObject& ids() const { return ids_; }
+  const GlObject& depth() const { return depth_; }
+  const GlObject& triangles() const { return triangles_; }
+  std::size_t triangles_drawn() const;  // of the last frame (may exceed the capacity)
+  std::size_t capacity() const { return capacity_; }
+
+ private:
+  void execute(const FrameInputs&) override;
+  const SceneGpu& s_;
+  bool enabled_;
+  std::size_t capacity_;
+  GlObject ids_, depth_, fbo_, triangles_, prog_;
+};
+
+// SIL: Toward/Away silhouettes from the toward and away depths, or, given `ids`, the
+// Adjacency method over the triangle IDs (vertices closer than `tolerance` are one).
 class SilhouettePass : public PassBase {
  public:
-  SilhouettePass(const SceneGpu& scene, bool enabled);
+  SilhouettePass(const SceneGpu& scene, bool enabled, const TriangleIdPass* ids = nullptr, double tolerance = 0,
+                 const Eigen::Vector4f& extent = Eigen::Vector4f::Zero());
   const GlObject& mask() const { return mask_; }
   // Mesa llvmpipe reports a meaningless time for the first GL_TIME_ELAPSED query of a
   // context that has drawn nothing yet: one small timed draw first.
@@ -140,9 +163,12 @@ class SilhouettePass : public PassBase {
 
  private:
   void execute(const FrameInputs&) override;
-  void draw() const;
+  void draw(double pixel_angle) const;
   const SceneGpu& s_;
   bool enabled_;
+  const TriangleIdPass* ids_;
+  double tolerance_;
+  Eigen::Vector4f extent_;  // the mesh's local extent: xmin, ymin, xmax, ymax
   GlObject mask_, fbo_, prog_;
 };
 

@@ -42,9 +42,11 @@ void SceneGpu::depth_state() const {
   glDepthMask(GL_TRUE);
 }
 
-void SceneGpu::draw_surface(int mode) const {
-  glUseProgram(surface_prog.id());
-  glProgramUniform1i(surface_prog.id(), TR_LOC_SURFACE_MODE, mode);
+void SceneGpu::draw_surface(int mode) const { draw_patches(surface_prog, mode); }
+
+void SceneGpu::draw_patches(const GlObject& program, int mode) const {
+  glUseProgram(program.id());
+  glProgramUniform1i(program.id(), TR_LOC_SURFACE_MODE, mode);
   glBindVertexArray(vao.id());
   glPatchParameteri(GL_PATCH_VERTICES, 3);
   glDrawElements(GL_PATCHES, GLsizei(3 * topo.n_faces()), GL_UNSIGNED_INT, nullptr);
