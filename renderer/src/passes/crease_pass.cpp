@@ -11,7 +11,7 @@
 namespace renderer::passes {
 
 CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled)
-    : PassBase(DM), s_(scene), enabled_(enabled) {
+    : PassBase(DM), s_(scene), enabled_(enabled), target_(scene) {
   if (creases && creases->n_segments() > 0) {
     n_vertices_ = creases->positions.size();
     n_segments_ = creases->n_segments();
@@ -31,15 +31,10 @@ CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, boo
     select_prog_ = build_program(ProgramId::CreaseSelect);
     draw_prog_ = build_program(ProgramId::CreaseDraw);
   }
-  colour_ = make_texture(GL_RGBA8, scene.width, scene.height);
-  depth_ = make_texture(GL_DEPTH_COMPONENT32F, scene.width, scene.height);
-  fbo_ = make_framebuffer(&colour_, &depth_);
 }
 
 void CreasePass::execute(const FrameInputs&) {
-  const float zero4[4] = {0, 0, 0, 0}, far_depth = s_.clear_depth();
-  glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero4);
-  glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &far_depth);
+  target_.clear(s_);
   if (!active()) return;
   const std::uint32_t cmd[4] = {0, 1, 0, 0};
   glNamedBufferSubData(cmd_buf_.id(), 0, sizeof cmd, cmd);
@@ -54,7 +49,7 @@ void CreasePass::execute(const FrameInputs&) {
   glUseProgram(select_prog_.id());
   glDispatchCompute(dispatch_groups_x(n_segments_), dispatch_groups_y(n_segments_), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  glBindFramebuffer(GL_FRAMEBUFFER, target_.fbo.id());
   s_.depth_state();
   glUseProgram(draw_prog_.id());
   glBindVertexArray(s_.empty_vao.id());
@@ -63,10 +58,7 @@ void CreasePass::execute(const FrameInputs&) {
 }
 
 std::size_t CreasePass::segments_drawn() const {
-  if (!active()) return 0;
-  std::uint32_t cmd[4] = {};
-  glGetNamedBufferSubData(cmd_buf_.id(), 0, sizeof cmd, cmd);
-  return cmd[0] / 6;  // two triangles per segment
+  return active() ? indirect_segments(cmd_buf_) : 0;
 }
 
 }  // namespace renderer::passes

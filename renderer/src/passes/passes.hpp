@@ -36,6 +36,18 @@ struct SceneGpu {
 // A framebuffer over the given colour and depth textures (either may be null).
 GlObject make_framebuffer(const GlObject* colour, const GlObject* depth);
 
+// The colour and depth targets of a line layer (creases, PELs) and their framebuffer;
+// clear() empties them (colour 0, depth far).
+struct LineTarget {
+  explicit LineTarget(const SceneGpu& scene);
+  void clear(const SceneGpu& scene) const;
+  GlObject colour, depth, fbo;
+};
+
+// Segments an indirect draw command (vertex count, instances, first, base) draws: two
+// triangles, 6 vertices, per segment.
+std::size_t indirect_segments(const GlObject& command);
+
 // The inputs of one frame.
 struct FrameInputs {
   const FrameParams& frame;
@@ -96,8 +108,8 @@ class CreasePass : public PassBase {
   std::size_t segments_drawn() const;  // of the last frame
   std::size_t n_segments() const { return n_segments_; }
   std::size_t n_vertices() const { return n_vertices_; }
-  const GlObject& colour() const { return colour_; }
-  const GlObject& depth() const { return depth_; }
+  const GlObject& colour() const { return target_.colour; }
+  const GlObject& depth() const { return target_.depth; }
 
  private:
   void execute(const FrameInputs&) override;
@@ -106,7 +118,7 @@ class CreasePass : public PassBase {
   std::size_t n_vertices_ = 0, n_segments_ = 0;
   GlObject cv_buf_, seg_buf_, score_buf_, cmd_buf_, selected_buf_;
   GlObject score_prog_, select_prog_, draw_prog_;
-  GlObject colour_, depth_, fbo_;
+  LineTarget target_;
 };
 
 // PEL: per-vertex fields, zero-crossing segments (indirect draw), drawn as quads.
@@ -118,8 +130,8 @@ class PelPass : public PassBase {
   std::size_t segments_drawn() const;
   // The segments of the last frame: 12 floats each (a xyz, face bits, b xyz, 5 unused).
   std::vector<float> read_segments() const;
-  const GlObject& colour() const { return colour_; }
-  const GlObject& depth() const { return depth_; }
+  const GlObject& colour() const { return target_.colour; }
+  const GlObject& depth() const { return target_.depth; }
 
  private:
   void execute(const FrameInputs&) override;
@@ -128,7 +140,7 @@ class PelPass : public PassBase {
   double width_;
   GlObject corner_buf_, varea_buf_, tangent_buf_, field_buf_, maxm_buf_, cmd_buf_, seg_buf_;
   GlObject field_prog_, extract_prog_, draw_prog_;
-  GlObject colour_, depth_, fbo_;
+  LineTarget target_;
 };
 
 // Adjacency silhouettes, first pass (in the AFT slot, which the Adjacency method does not

@@ -9,7 +9,7 @@
 namespace renderer::passes {
 
 PelPass::PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width)
-    : PassBase(PEL), s_(scene), enabled_(enabled), width_(width) {
+    : PassBase(PEL), s_(scene), enabled_(enabled), width_(width), target_(scene) {
   if (enabled_) {
     corner_buf_ = make_buffer(mesh.n_faces() * sizeof(Eigen::Vector3f), mesh.voronoi.corner_areas.data(), 0);
     varea_buf_ = make_buffer(mesh.n_vertices() * sizeof(float), mesh.voronoi.vertex_areas.data(), 0);
@@ -22,15 +22,10 @@ PelPass::PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enab
     extract_prog_ = build_program(ProgramId::PelExtract);
     draw_prog_ = build_program(ProgramId::PelDraw);
   }
-  colour_ = make_texture(GL_RGBA8, scene.width, scene.height);
-  depth_ = make_texture(GL_DEPTH_COMPONENT32F, scene.width, scene.height);
-  fbo_ = make_framebuffer(&colour_, &depth_);
 }
 
 void PelPass::execute(const FrameInputs& in) {
-  const float zero4[4] = {0, 0, 0, 0}, far_depth = s_.clear_depth();
-  glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero4);
-  glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &far_depth);
+  target_.clear(s_);
   if (!enabled_) return;
   const std::uint32_t zero = 0, cmd[4] = {0, 1, 0, 0};
   glNamedBufferSubData(maxm_buf_.id(), 0, 4, &zero);
@@ -59,7 +54,7 @@ void PelPass::execute(const FrameInputs& in) {
   glProgramUniform1f(ep, TR_LOC_PEL_TAU, float(in.frame.pel.threshold));
   glDispatchCompute(dispatch_groups_x(nf), dispatch_groups_y(nf), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  glBindFramebuffer(GL_FRAMEBUFFER, target_.fbo.id());
   s_.depth_state();
   glUseProgram(draw_prog_.id());
   glProgramUniform1f(draw_prog_.id(), TR_LOC_PEL_WIDTH, float(width_));
@@ -69,10 +64,7 @@ void PelPass::execute(const FrameInputs& in) {
 }
 
 std::size_t PelPass::segments_drawn() const {
-  if (!enabled_) return 0;
-  std::uint32_t cmd[4] = {};
-  glGetNamedBufferSubData(cmd_buf_.id(), 0, sizeof cmd, cmd);
-  return cmd[0] / 6;
+  return enabled_ ? indirect_segments(cmd_buf_) : 0;
 }
 
 std::vector<float> PelPass::read_segments() const {

@@ -62,6 +62,23 @@ GlObject make_framebuffer(const GlObject* colour, const GlObject* depth) {
   return fbo;
 }
 
+LineTarget::LineTarget(const SceneGpu& scene)
+    : colour(make_texture(GL_RGBA8, scene.width, scene.height)),
+      depth(make_texture(GL_DEPTH_COMPONENT32F, scene.width, scene.height)),
+      fbo(make_framebuffer(&colour, &depth)) {}
+
+void LineTarget::clear(const SceneGpu& scene) const {
+  const float zero4[4] = {0, 0, 0, 0}, far_depth = scene.clear_depth();
+  glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, zero4);
+  glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &far_depth);
+}
+
+std::size_t indirect_segments(const GlObject& command) {
+  std::uint32_t cmd[4] = {};
+  glGetNamedBufferSubData(command.id(), 0, sizeof cmd, cmd);
+  return cmd[0] / 6;
+}
+
 void PassBase::run(const FrameInputs& in, FrameTimings& t) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
