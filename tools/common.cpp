@@ -11,7 +11,7 @@
 
 namespace terrain::tools {
 
-std::string version() { return std::string(TERRAIN_VERSION) + " (git " + TERRAIN_GIT_HASH + ")"; }
+std::string version() { return std::string(TERRAIN_VERSION) + " (git " + git_hash() + ")"; }
 
 std::string provenance(int argc, char** argv) {
   std::string out = std::string(argc > 0 ? argv[0] : "?");

@@ -12,6 +12,8 @@ namespace terrain::tools {
 
 // "0.1.0 (git abc1234)"
 std::string version();
+// `git describe --always --dirty` of the source tree at build time (generated source).
+const char* git_hash();
 
 // "TOOL VERSION: ARGV..." recorded in every output file's header or metadata, without the
 // options that cannot change an output (-q, -v, --threads).
