@@ -146,9 +146,15 @@ OpenRaster open_raster(const std::string& path) {
   return r;
 }
 
+// GDAL's progress callback over ours; remembers a request to cancel.
+struct GdalProgress {
+  const Progress& progress;
+  bool cancelled = false;
+};
 int gdal_progress(double fraction, const char*, void* arg) {
-  const Progress& p = *static_cast<const Progress*>(arg);
-  return !p || p(fraction) ? TRUE : FALSE;
+  auto& g = *static_cast<GdalProgress*>(arg);
+  g.cancelled = g.progress && !g.progress(fraction);
+  return g.cancelled ? FALSE : TRUE;
 }
 
 // Physical memory of this machine in bytes (0 when unknown).
@@ -185,13 +191,14 @@ Grid read_dem(const std::string& path, const Progress& progress, std::optional<R
   GDALRasterBand* band = r.ds->GetRasterBand(1);
   GDALRasterIOExtraArg extra;
   INIT_RASTERIO_EXTRA_ARG(extra);
+  GdalProgress gdal_progress_data{progress};
   extra.pfnProgress = gdal_progress;
-  extra.pProgressData = const_cast<Progress*>(&progress);
+  extra.pProgressData = &gdal_progress_data;
   const std::size_t file_row0 = r.south_up ? r.rows - w.row0 - w.rows : w.row0;
   CPLErrorReset();
   if (band->RasterIO(GF_Read, int(w.col0), int(file_row0), int(w.cols), int(w.rows), grid.z.data(), int(w.cols),
                      int(w.rows), GDT_Float32, 0, 0, &extra) != CE_None) {
-    report(progress, 0.0);  // a cancelled read throws Cancelled here
+    if (gdal_progress_data.cancelled) throw Cancelled();
     throw Error("cannot read '" + path + "': " + last_gdal_error());
   }
   report(progress, 1.0);  // GDAL does not report every read (small VRT windows)

@@ -144,11 +144,6 @@ TEST(MeshIo, DamagedHeadersAreOneClearError) {
     p.header.insert(it, replacement.begin(), replacement.end());
     return p;
   };
-  const std::string vertex_line = [&] {
-    for (const auto& l : good.header)
-      if (l.rfind("element vertex", 0) == 0) return l;
-    return std::string();
-  }();
   const std::string face_line = [&] {
     for (const auto& l : good.header)
       if (l.rfind("element face", 0) == 0) return l;
@@ -190,7 +185,6 @@ TEST(MeshIo, DamagedHeadersAreOneClearError) {
   std::memcpy(nan.body.data() + 7 * 24 + 8, &q, 4);
   EXPECT_NE(read_error(nan, dir).find("vertex 7 (row 0, column 7) is not a finite number"), std::string::npos)
       << read_error(nan, dir);
-  (void)vertex_line;
 }
 
 // Non-ASCII text (the degree signs in EPSG's WKT usage areas, a provenance path) is
