@@ -145,3 +145,22 @@ TEST(DemIo, FillNodataFillsOnlyTheHoles) {
 
 }  // namespace
 }  // namespace terrain
+
+namespace terrain {
+namespace {
+
+// A progress callback that asks to stop cancels the read; one that goes on sees the end.
+TEST(DemIo, ProgressReportsAndCancels) {
+  const std::string path = test::data("msh_2007_utm10n_10m.tif");
+  EXPECT_THROW(read_dem(path, [](double) { return false; }), Cancelled);
+  double last = -1;
+  read_dem(path, [&](double f) {
+    EXPECT_GE(f, last);
+    last = f;
+    return true;
+  });
+  EXPECT_EQ(last, 1.0);
+}
+
+}  // namespace
+}  // namespace terrain
