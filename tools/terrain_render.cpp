@@ -34,6 +34,7 @@ struct RenderOptions {
   std::vector<double> eye;
   std::string size = "1280x720", layers = "mask,creases,silhouettes";
   std::string pel_light = "headlight", pel_colour = "#8c1a1a";
+  std::string edges = "contour,boundary,crease", edge_caps = "exact", edge_colour = "#262626";
   std::string background = "#dde4ec", mask = "white", crease_colour = "blue", silhouette_colour = "black";
   bool literal = false;
   std::uint32_t min_accumulated = 100;
@@ -94,8 +95,24 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
       ->capture_default_str();
   app->add_option("--layers", o.layers,
                   "Layers to composite: shaded or mask, creases, silhouettes (Toward/Away) or silhouettes-adjacency "
-                  "(the Adjacency method), pels (comma list; pels need a mesh from denoise-normals)")
+                  "(the Adjacency method), pels, edges (comma list; pels need a mesh from denoise-normals)")
       ->capture_default_str();
+  app->add_option("--edges", o.edges, "Edges layer: which object-space edges of the mesh facets (comma list of "
+                                      "contour, boundary, crease)")
+      ->capture_default_str();
+  app->add_option("--crease-angle", o.style.crease_angle,
+                  "Edges layer: an edge is a crease where its two face normals differ by more than this, degrees")
+      ->check(CLI::Range(0.0, 180.0))
+      ->capture_default_str();
+  app->add_option("--edge-caps", o.edge_caps,
+                  "Edges layer: joins of consecutive edges: exact (mitred from the vertex's edges, no gap, no "
+                  "overlap), cheap (square caps, no adjacency read) or none")
+      ->check(CLI::IsMember({"exact", "cheap", "none"}))
+      ->capture_default_str();
+  app->add_option("--edge-width", o.style.edge_width, "Edges layer: width in pixels")
+      ->check(CLI::Range(0.5, 20.0))
+      ->capture_default_str();
+  app->add_option("--edge-colour", o.edge_colour, "Edges layer: colour")->capture_default_str();
   app->add_option("--background", o.background, "Background colour (#rrggbb, r,g,b or a name)")->capture_default_str();
   app->add_option("--mask-colour", o.mask, "Surface colour of the mask layer")->capture_default_str();
   app->add_option("--crease-colour", o.crease_colour, "Crease colour")->capture_default_str();
@@ -139,6 +156,11 @@ std::pair<int, int> finish_options(RenderOptions& o, rr::Layers& layers) {
   o.style.silhouette_colour = rr::parse_colour(o.silhouette_colour);
   o.style.pel_colour = rr::parse_colour(o.pel_colour);
   o.frame.pel.headlight = o.pel_light == "headlight";
+  o.style.edge_kinds = rr::parse_edge_kinds(o.edges);
+  o.style.edge_caps = o.edge_caps == "exact" ? rr::EdgeCaps::Exact
+                      : o.edge_caps == "cheap" ? rr::EdgeCaps::Cheap
+                                               : rr::EdgeCaps::None;
+  o.style.edge_colour = rr::parse_colour(o.edge_colour);
   return {w, h};
 }
 
@@ -228,7 +250,8 @@ int run_frame(FrameArgs& a, const std::string& prov, const tt::Verbosity& verb) 
   print_device(ctx);
   std::cout << fmt::format("eye: {:.1f} {:.1f} {:.1f}\n", eye.x(), eye.y(), eye.z())
             << "crease segments drawn: " << res.crease_segments << "\n"
-            << "pel segments drawn: " << res.pel_segments << "\n";
+            << "pel segments drawn: " << res.pel_segments << "\n"
+            << "edges drawn: " << res.edges << "\n";
   for (int p = 0; p < rr::kPassCount; ++p)
     std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p), res.timings.gpu_ms[p],
                              res.timings.wall_ms[p]);
@@ -286,6 +309,7 @@ int main(int argc, char** argv) {
       "  terrain-render path --from 560000 5120000 2600 --to 563000 5117000 2600 --frames 99 -o path.csv\n"
       "  terrain-render batch out/msh_50m.ply out/msh.dv path.csv -o frames/\n"
       "  terrain-render frame out/msh_10m_denoised.ply -o pels.png --layers mask,pels,silhouettes\n"
+      "  terrain-render frame out/msh_50m.ply -o edges.png --layers mask,edges --edges contour,crease --crease-angle 20\n"
       "  terrain-render --device\n\n"
       "See docs/terrain-render.md for the passes, the crease score and the camera conventions.");
   app.set_version_flag("--version", tt::version());

@@ -1,6 +1,6 @@
 // LAY: the background, the surface (shaded or mask colour) where a toward surface is,
-// PEL and crease pixels whose depth is not behind that surface, silhouette pixels
-// (dilated to the silhouette width).
+// PEL, crease and object-space edge pixels whose depth is not behind that surface,
+// silhouette pixels (dilated to the silhouette width).
 layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
 layout(binding = TR_TEX_SURFACE_COLOUR) uniform sampler2D u_surface_colour;
 layout(binding = TR_TEX_CREASE_COLOUR) uniform sampler2D u_crease;
@@ -16,6 +16,10 @@ layout(binding = TR_TEX_PEL_COLOUR) uniform sampler2D u_pel;
 layout(binding = TR_TEX_PEL_DEPTH) uniform sampler2D u_pel_depth;
 layout(location = TR_LOC_PEL_COLOUR) uniform vec3 u_pel_colour;
 layout(location = TR_LOC_PELS) uniform int u_pels;
+layout(binding = TR_TEX_EDGE_COLOUR) uniform sampler2D u_edge;
+layout(binding = TR_TEX_EDGE_DEPTH) uniform sampler2D u_edge_depth;
+layout(location = TR_LOC_EDGE_COLOUR) uniform vec3 u_edge_colour;
+layout(location = TR_LOC_EDGES) uniform int u_edges;
 layout(location = 0) out vec4 o_colour;
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
@@ -29,6 +33,8 @@ void main() {
     c = u_pel_colour;
   if (u_layers.z != 0 && texelFetch(u_crease, p, 0).r > 0.0 && far_of(texelFetch(u_crease_depth, p, 0).r) <= t)
     c = u_crease_colour;
+  if (u_edges != 0 && texelFetch(u_edge, p, 0).r > 0.0 && far_of(texelFetch(u_edge_depth, p, 0).r) <= t)
+    c = u_edge_colour;
   if (u_layers.w != 0) {
     int r0 = -(u_silhouette_width - 1) / 2, r1 = u_silhouette_width / 2;
     bool sil = false;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <unordered_map>
 
 #include <Eigen/Geometry>
@@ -32,18 +33,32 @@ std::vector<std::uint8_t> classify_edges(std::span<const MeshEdge> edges, std::s
   std::vector<std::uint8_t> kinds(edges.size(), 0);
   for (std::size_t i = 0; i < edges.size(); ++i) {
     const MeshEdge& e = edges[i];
-    if (e.boundary()) {
-      kinds[i] = kBoundaryEdge;
-      continue;
-    }
     const Eigen::Vector3d p0 = positions[e.v0].cast<double>(), p1 = positions[e.v1].cast<double>();
     const Eigen::Vector3d na = (p1 - p0).cross(positions[e.v2].cast<double>() - p0).normalized();
-    const Eigen::Vector3d nb = (p0 - p1).cross(positions[e.v3].cast<double>() - p1).normalized();
     const Eigen::Vector3d to_eye = eye - p0;
-    if (na.dot(to_eye) * nb.dot(to_eye) < 0) kinds[i] |= kContourEdge;
+    const double fa = na.dot(to_eye);
+    if (e.boundary()) {
+      kinds[i] = std::uint8_t(kBoundaryEdge | (fa > 0 ? kFacingEye : 0));
+      continue;
+    }
+    const Eigen::Vector3d nb = (p0 - p1).cross(positions[e.v3].cast<double>() - p1).normalized();
+    const double fb = nb.dot(to_eye);
+    if (fa * fb < 0) kinds[i] |= kContourEdge;
     if (na.dot(nb) < cos_crease) kinds[i] |= kCreaseEdge;
+    if (fa > 0 || fb > 0) kinds[i] |= kFacingEye;
   }
   return kinds;
+}
+
+std::vector<std::uint32_t> vertex_edges(std::span<const MeshEdge> edges, std::size_t n_vertices) {
+  std::vector<std::uint32_t> slots(n_vertices * kVertexEdgeSlots, MeshEdge::kNoVertex);
+  std::vector<std::uint8_t> used(n_vertices, 0);
+  for (std::size_t i = 0; i < edges.size(); ++i)
+    for (const std::uint32_t v : {edges[i].v0, edges[i].v1}) {
+      if (used[v] == kVertexEdgeSlots) throw std::logic_error("a vertex with more than 6 edges");
+      slots[v * kVertexEdgeSlots + used[v]++] = std::uint32_t(i);
+    }
+  return slots;
 }
 
 }  // namespace renderer

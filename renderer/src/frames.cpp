@@ -50,18 +50,34 @@ Layers parse_layers(const std::string& list) {
     else if (name == "silhouettes") l.silhouettes = true;
     else if (name == "silhouettes-adjacency") l.adjacency = true;
     else if (name == "pels") l.pels = true;
+    else if (name == "edges") l.edges = true;
     else
       throw terrain::Error("unknown layer '" + name +
-                           "' (layers: shaded, mask, creases, silhouettes, silhouettes-adjacency, pels)");
+                           "' (layers: shaded, mask, creases, silhouettes, silhouettes-adjacency, pels, edges)");
     any = true;
   }
   if (!any)
-    throw terrain::Error("--layers is empty (layers: shaded, mask, creases, silhouettes, silhouettes-adjacency, pels)");
+    throw terrain::Error(
+        "--layers is empty (layers: shaded, mask, creases, silhouettes, silhouettes-adjacency, pels, edges)");
   if (l.shaded && l.mask) throw terrain::Error("--layers: choose shaded or mask, not both");
   if (l.silhouettes && l.adjacency)
     throw terrain::Error("--layers: choose silhouettes (Toward/Away) or silhouettes-adjacency, not both");
   if (l.adjacency) l.silhouettes = true;  // the silhouette layer, found by the Adjacency method
   return l;
+}
+
+std::uint8_t parse_edge_kinds(const std::string& list) {
+  std::uint8_t kinds = 0;
+  for (const auto& raw : split(list, ',')) {
+    const std::string name = trim(raw);
+    if (name.empty()) continue;
+    if (name == "contour") kinds |= 1;
+    else if (name == "boundary") kinds |= 2;
+    else if (name == "crease") kinds |= 4;
+    else throw terrain::Error("unknown edge kind '" + name + "' (kinds: contour, boundary, crease)");
+  }
+  if (!kinds) throw terrain::Error("--edges is empty (kinds: contour, boundary, crease)");
+  return kinds;
 }
 
 Eigen::Vector3f parse_colour(const std::string& text) {

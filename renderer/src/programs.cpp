@@ -39,6 +39,10 @@ const ProgramSpec& program_spec(ProgramId id) {
               {GL_FRAGMENT_SHADER, {c, "surface_id.frag.glsl"}}),
          {}},
         {"adjacency", fullscreen("adjacency.frag.glsl"), {}},
+        {"edge_classify", compute({"edge_common.glsl", "edge_classify.comp.glsl"}), {}},
+        {"edge_draw",
+         {{GL_VERTEX_SHADER, {c, "edge_common.glsl", "edge.vert.glsl"}}, {GL_FRAGMENT_SHADER, {c, "crease.frag.glsl"}}},
+         {}},
     };
   }();
   return specs.at(std::size_t(id));

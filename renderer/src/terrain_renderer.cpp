@@ -37,6 +37,9 @@ void check_inputs(const terrain::GridMesh& mesh, int width, int height, const La
   if (mesh.n_faces() * 3 > std::size_t(std::numeric_limits<GLsizei>::max()))
     throw terrain::Error("the mesh has too many faces for one draw call");
   if (!(style.exaggeration > 0)) throw terrain::Error("vertical exaggeration must be > 0");
+  if (!(style.edge_width > 0 && style.edge_width <= 64)) throw terrain::Error("edge width must be in (0, 64] pixels");
+  if (!(style.crease_angle >= 0 && style.crease_angle <= 180))
+    throw terrain::Error("crease angle must be in [0, 180] degrees");
   if (layers.pels && mesh.voronoi.empty())
     throw terrain::Error("--layers pels needs the mesh's Voronoi weights: make it with denoise-normals "
                          "(--iterations 0 only adds them)");
@@ -78,11 +81,12 @@ struct TerrainRenderer::Impl {
         ids(scene, layers.adjacency, id_capacity(width, height)),
         creases(scene, creases, layers.creases),
         pels(scene, mesh, layers.pels, style.pel_width),
+        edges(scene, layers.edges, style),
         silhouettes(scene, layers.silhouettes, layers.adjacency ? &ids : nullptr,
                     1e-3 * std::min(mesh.geo.dx, mesh.geo.dy),
                     Eigen::Vector4f(0, -float(double(mesh.topo.rows - 1) * mesh.geo.dy),
                                     float(double(mesh.topo.cols - 1) * mesh.geo.dx), 0)),
-        composite(scene, layers, style, this->creases, pels, silhouettes) {
+        composite(scene, layers, style, this->creases, pels, edges, silhouettes) {
     GLint max_gen = 64;
     glGetIntegerv(GL_MAX_TESS_GEN_LEVEL, &max_gen);
     max_level = std::min(32, int(max_gen));
@@ -100,6 +104,7 @@ struct TerrainRenderer::Impl {
   passes::TriangleIdPass ids;  // replaces AFT in the sequence for Adjacency silhouettes
   passes::CreasePass creases;
   passes::PelPass pels;
+  passes::EdgePass edges;
   passes::SilhouettePass silhouettes;
   passes::CompositePass composite;
   GlObject capture_prog;  // built on the first capture_pn
@@ -107,7 +112,7 @@ struct TerrainRenderer::Impl {
   // In the order they run.
   std::array<passes::PassBase*, kPassCount> sequence() {
     passes::PassBase* second = layers.adjacency ? static_cast<passes::PassBase*>(&ids) : &away;
-    return {&toward, second, &creases, &pels, &silhouettes, &composite};
+    return {&toward, second, &creases, &pels, &edges, &silhouettes, &composite};
   }
   FrameBlock frame_block(const FrameParams& frame, const View& v, const Eigen::Vector3d& light) const;
 };
@@ -163,6 +168,7 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
   for (passes::PassBase* pass : m.sequence()) pass->read_timer(res.timings);
   res.crease_segments = m.creases.segments_drawn();
   res.pel_segments = m.pels.segments_drawn();
+  res.edges = m.edges.edges_drawn();
   res.rgba.resize(std::size_t(res.width) * std::size_t(res.height) * 4);
   glGetTextureImage(m.composite.colour().id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(res.rgba.size()),
                     res.rgba.data());
@@ -193,6 +199,7 @@ FrameBuffers TerrainRenderer::read_buffers() const {
   depth(m.creases.depth(), b.crease_depth);
   red(m.silhouettes.mask(), b.silhouette);
   red(m.creases.colour(), b.crease);
+  red(m.edges.colour(), b.edge);
   if (m.layers.adjacency) {
     b.triangle_id.resize(n);
     glGetTextureImage(m.ids.ids().id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(n * 4), b.triangle_id.data());
@@ -216,6 +223,10 @@ std::vector<TerrainRenderer::PelSegmentOut> TerrainRenderer::read_pels() const {
     out[i].b = {r[4], r[5], r[6]};
   }
   return out;
+}
+
+TerrainRenderer::EdgesOut TerrainRenderer::read_edges() const {
+  return {impl_->edges.read_kinds(), impl_->edges.read_drawn()};
 }
 
 std::vector<TerrainRenderer::PnSample> TerrainRenderer::capture_pn(const std::vector<std::uint32_t>& faces, int level) {

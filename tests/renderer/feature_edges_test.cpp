@@ -74,6 +74,41 @@ TEST(FeatureEdges, TentRidgeIsCreaseAndContour) {
       ++contours;
     }
   EXPECT_EQ(contours, ridge_edges);
+  // From there the east slope faces away: its edges are not drawn, whatever their kind;
+  // every edge with a vertex west of the ridge faces the eye.
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const std::size_t c0 = edges[i].v0 % cols, c1 = edges[i].v1 % cols;
+    if (c0 > 5 || c1 > 5) {
+      if (c0 >= 5 && c1 >= 5 && !on_ridge(edges[i])) EXPECT_FALSE(side[i] & kFacingEye) << i;
+    } else {
+      EXPECT_TRUE(side[i] & kFacingEye) << i;
+    }
+  }
+}
+
+// The edges of each vertex: every edge is listed at both its vertices, corners have 2 or 3
+// edges, other boundary vertices 3 or 4, interior vertices 6.
+TEST(FeatureEdges, VertexEdgeSlots) {
+  const terrain::GridTopology topo{5, 6};
+  const auto edges = mesh_edges(topo);
+  const auto slots = vertex_edges(edges, topo.n_vertices());
+  std::size_t listed = 0;
+  for (std::size_t v = 0; v < topo.n_vertices(); ++v) {
+    std::size_t degree = 0;
+    for (std::size_t k = 0; k < kVertexEdgeSlots; ++k) {
+      const std::uint32_t e = slots[v * kVertexEdgeSlots + k];
+      if (e == MeshEdge::kNoVertex) continue;
+      EXPECT_TRUE(edges[e].v0 == v || edges[e].v1 == v);
+      ++degree;
+    }
+    listed += degree;
+    const std::size_t r = v / topo.cols, c = v % topo.cols;
+    const bool edge_r = r == 0 || r == topo.rows - 1, edge_c = c == 0 || c == topo.cols - 1;
+    if (edge_r && edge_c) EXPECT_TRUE(degree == 2 || degree == 3) << v;
+    else if (edge_r || edge_c) EXPECT_TRUE(degree == 3 || degree == 4) << v;
+    else EXPECT_EQ(degree, 6u) << v;
+  }
+  EXPECT_EQ(listed, 2 * edges.size());
 }
 
 // On real terrain, a larger crease angle never adds crease edges, and every interior

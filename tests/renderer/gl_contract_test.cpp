@@ -25,13 +25,16 @@ const std::map<std::string, int> kStorageBlocks = {
     {"VertexAreas", TR_SSBO_VERTEX_AREAS},       {"Tangents", TR_SSBO_TANGENTS},
     {"Fields", TR_SSBO_PEL_FIELDS},              {"MaxM", TR_SSBO_PEL_MAX_M},
     {"PelCommand", TR_SSBO_PEL_COMMAND},         {"PelSegments", TR_SSBO_PEL_SEGMENTS},
-    {"IdTriangles", TR_SSBO_ID_TRIANGLES}};
+    {"IdTriangles", TR_SSBO_ID_TRIANGLES},       {"Edges", TR_SSBO_EDGES},
+    {"EdgeKinds", TR_SSBO_EDGE_KINDS},           {"EdgeCommand", TR_SSBO_EDGE_COMMAND},
+    {"EdgeList", TR_SSBO_EDGE_LIST},             {"VertexEdges", TR_SSBO_VERTEX_EDGES}};
 const std::map<std::string, int> kSamplers = {
     {"u_toward", TR_TEX_TOWARD_DEPTH},       {"u_away", TR_TEX_AWAY_DEPTH},
     {"u_surface_colour", TR_TEX_SURFACE_COLOUR}, {"u_crease", TR_TEX_CREASE_COLOUR},
     {"u_crease_depth", TR_TEX_CREASE_DEPTH}, {"u_silhouette", TR_TEX_SILHOUETTE},
     {"u_pel", TR_TEX_PEL_COLOUR},            {"u_pel_depth", TR_TEX_PEL_DEPTH},
-    {"u_ids", TR_TEX_TRIANGLE_ID},           {"u_id_depth", TR_TEX_ID_DEPTH}};
+    {"u_ids", TR_TEX_TRIANGLE_ID},           {"u_id_depth", TR_TEX_ID_DEPTH},
+    {"u_edge", TR_TEX_EDGE_COLOUR},          {"u_edge_depth", TR_TEX_EDGE_DEPTH}};
 const std::map<std::string, int> kUniformLocations = {
     {"u_mode", TR_LOC_SURFACE_MODE},
     {"u_layers", TR_LOC_LAYERS},
@@ -49,7 +52,15 @@ const std::map<std::string, int> kUniformLocations = {
     {"u_pel_width", TR_LOC_PEL_WIDTH},
     {"u_capacity", TR_LOC_ID_CAPACITY},
     {"u_tolerance", TR_LOC_ADJ_TOLERANCE},
-    {"u_extent", TR_LOC_ADJ_EXTENT}};
+    {"u_extent", TR_LOC_ADJ_EXTENT},
+    {"u_edge_stage", TR_LOC_EDGE_STAGE},
+    {"u_edge_mask", TR_LOC_EDGE_MASK},
+    {"u_edge_count", TR_LOC_EDGE_COUNT},
+    {"u_edge_cos", TR_LOC_EDGE_COS},
+    {"u_edge_caps", TR_LOC_EDGE_CAPS},
+    {"u_edge_width", TR_LOC_EDGE_WIDTH},
+    {"u_edge_colour", TR_LOC_EDGE_COLOUR},
+    {"u_edges", TR_LOC_EDGES}};
 const std::map<std::string, int> kAttributes = {{"a_position", TR_ATTR_POSITION}, {"a_normal", TR_ATTR_NORMAL}};
 
 #define TR_OFFSET(type, name) {#name, offsetof(FrameBlock, name)},
@@ -135,10 +146,10 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
     }
   }
   // The checks ran on the interfaces there are (a program could lose them silently).
-  EXPECT_EQ(computes, 4u);
+  EXPECT_EQ(computes, 5u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 11u);  // silhouette 2, composite 7, adjacency 2
+  EXPECT_EQ(samplers, 13u);  // silhouette 2, composite 9, adjacency 2
   EXPECT_GE(locations, 14u);
 }
 

@@ -9,6 +9,7 @@
 //   fov       vertical field of view, degrees
 //   light_az, light_alt  direction towards the light: bearing from grid north and angle
 //             above the horizon, as in hillshading
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -51,11 +52,23 @@ struct Layers {
   // IDs; Mower 2014, Algorithm 1). Both are Mower's; layer names silhouettes and
   // silhouettes-adjacency.
   bool adjacency = false;
+  // Object-space feature edges of the mesh (McGuire & Hughes 2004): contour, boundary and
+  // crease edges (Style::edge_kinds), drawn as screen-space quads with caps.
+  bool edges = false;
 };
 // Parses "shaded,creases,..." (names: shaded, mask, creases, silhouettes,
-// silhouettes-adjacency, pels); Error on an unknown name, an empty list, both shaded and
-// mask, or both silhouette methods.
+// silhouettes-adjacency, pels, edges); Error on an unknown name, an empty list, both shaded
+// and mask, or both silhouette methods.
 Layers parse_layers(const std::string& list);
+
+// How the quads of consecutive object-space edges join (docs/terrain-render.md):
+//   None   quads end at the vertices (gaps on the outside of every turn; for comparison)
+//   Cheap  each quad extended by half its width at both ends (square caps; no adjacency
+//          read, never a gap, overshoots outside sharp turns)
+//   Exact  where exactly two drawn edges meet at a vertex, both quads end on the same
+//          mitre line (read from the vertex's edges): no gap and no overlap; square caps
+//          at line ends, junctions and turns sharper than the mitre limit
+enum class EdgeCaps { None, Cheap, Exact };
 
 struct Style {
   Eigen::Vector3f background{0xdd / 255.f, 0xe4 / 255.f, 0xec / 255.f}, mask{1, 1, 1};
@@ -67,7 +80,17 @@ struct Style {
   double pixels_per_edge = 6.0;   // tessellation target: screen length of a triangle edge
   Eigen::Vector3f pel_colour{0.55f, 0.1f, 0.1f};
   double pel_width = 1.0;         // pixels
+  // Object-space edges: which kinds (EdgeKind bits of feature_edges.hpp), the crease angle
+  // (degrees between the two face normals; 0 = every bend), the joins, width and colour.
+  std::uint8_t edge_kinds = 7;    // contour | boundary | crease
+  double crease_angle = 30.0;
+  EdgeCaps edge_caps = EdgeCaps::Exact;
+  double edge_width = 1.5;        // pixels
+  Eigen::Vector3f edge_colour{0.15f, 0.15f, 0.15f};
 };
+
+// Parses "contour,boundary,crease" into EdgeKind bits; Error on an unknown or empty list.
+std::uint8_t parse_edge_kinds(const std::string& list);
 
 // Photic extremum lines (pel.hpp): threshold tau on |grad f| / max |grad f|, and the
 // light that defines f = max(0, n . L): a headlight (L = the direction towards the eye,

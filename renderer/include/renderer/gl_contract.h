@@ -46,6 +46,25 @@
 #define TR_SSBO_PEL_COMMAND 13
 #define TR_SSBO_PEL_SEGMENTS 14
 #define TR_SSBO_ID_TRIANGLES 15
+#define TR_SSBO_EDGES 16
+#define TR_SSBO_EDGE_KINDS 17
+#define TR_SSBO_EDGE_COMMAND 18
+#define TR_SSBO_EDGE_LIST 19
+#define TR_SSBO_VERTEX_EDGES 20
+
+/* Object-space edges: kinds (bit flags, as renderer::EdgeKind), the edges of a vertex
+   (slots per vertex; a grid vertex has at most 6), "no vertex / no edge", cap styles, and
+   the smallest cos(half the turn) a mitred join keeps (SVG's miter limit 4). */
+#define TR_EDGE_CONTOUR 1u
+#define TR_EDGE_BOUNDARY 2u
+#define TR_EDGE_CREASE 4u
+#define TR_EDGE_FACING 8u
+#define TR_EDGE_SLOTS 6u
+#define TR_EDGE_NONE 0xFFFFFFFFu
+#define TR_CAPS_NONE 0
+#define TR_CAPS_CHEAP 1
+#define TR_CAPS_EXACT 2
+#define TR_MITER_MIN_COS 0.25
 
 /* Texture units. */
 #define TR_TEX_TOWARD_DEPTH 0
@@ -58,6 +77,8 @@
 #define TR_TEX_PEL_DEPTH 6
 #define TR_TEX_TRIANGLE_ID 2
 #define TR_TEX_ID_DEPTH 3
+#define TR_TEX_EDGE_COLOUR 7
+#define TR_TEX_EDGE_DEPTH 8
 
 /* Vertex attributes of the surface. */
 #define TR_ATTR_POSITION 0
@@ -84,5 +105,15 @@
 #define TR_LOC_ADJ_TOLERANCE 15
 #define TR_LOC_ID_CAPACITY 16
 #define TR_LOC_ADJ_EXTENT 17
+/* Object-space edges: */
+#define TR_LOC_EDGE_STAGE 18
+#define TR_LOC_EDGE_MASK 19
+#define TR_LOC_EDGE_COUNT 20
+#define TR_LOC_EDGE_COS 21
+#define TR_LOC_EDGE_CAPS 22
+#define TR_LOC_EDGE_WIDTH 23
+/* Composite, edges: */
+#define TR_LOC_EDGE_COLOUR 24
+#define TR_LOC_EDGES 25
 
 #endif

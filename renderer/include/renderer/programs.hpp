@@ -23,11 +23,14 @@ enum class ProgramId {
   PelDraw,       // PEL: the segments as quads
   SurfaceId,     // Adjacency silhouettes: triangle IDs and the triangle list
   Adjacency,     // Adjacency silhouettes: the full-screen pass
+  EdgeClassify,  // EDGE: classify the edges, find the joins, append (indirect draw command)
+  EdgeDraw,      // EDGE: the drawn edges as quads with caps
 };
 inline constexpr std::array kAllPrograms = {ProgramId::Surface,     ProgramId::PnCapture,    ProgramId::CreaseScore,
                                             ProgramId::CreaseSelect, ProgramId::CreaseDraw,  ProgramId::Silhouette,
                                             ProgramId::Composite,    ProgramId::PelFields,   ProgramId::PelExtract,
-                                            ProgramId::PelDraw,     ProgramId::SurfaceId,    ProgramId::Adjacency};
+                                            ProgramId::PelDraw,     ProgramId::SurfaceId,    ProgramId::Adjacency,
+                                            ProgramId::EdgeClassify, ProgramId::EdgeDraw};
 
 struct ProgramSpec {
   const char* name;

@@ -14,9 +14,14 @@
 //   PEL  photic extremum lines (pel.hpp): compute passes for the per-vertex fields and the
 //        zero-crossing segments (appended with an indirect draw command), drawn like the
 //        creases, lifted along their face normal.
-//   LAY  composite of the chosen layers: surface, then PEL, crease and silhouette pixels
-//        that are not behind the nearest toward surface.
+//   EDGE object-space contour, boundary and crease edges of the mesh facets (McGuire &
+//        Hughes 2004): a compute pass classifies every edge for the eye and appends the
+//        drawn ones (indirect draw command); they are drawn as screen-space quads with
+//        cheap or exact caps (Style::edge_caps), lifted along the vertex normals.
+//   LAY  composite of the chosen layers: surface, then PEL, crease, edge and silhouette
+//        pixels that are not behind the nearest toward surface.
 // Depth is reversed (1 at the near plane, 0 at infinity) where glClipControl exists.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -37,13 +42,14 @@ struct FrameResult {
   FrameTimings timings;
   std::size_t crease_segments = 0;  // segments the DM pass drew (both ends accepted)
   std::size_t pel_segments = 0;     // segments the PEL pass drew
+  std::size_t edges = 0;            // object-space edges the EDGE pass drew
   View view;                        // the view used (for projection by callers)
 };
 
 // Per-pixel buffers of the last frame, for tests and diagnostics (row 0 at the top).
 struct FrameBuffers {
   std::vector<float> toward_depth, away_depth, crease_depth;  // window depth (clear: far)
-  std::vector<std::uint8_t> silhouette, crease;                // 0/1 masks before compositing
+  std::vector<std::uint8_t> silhouette, crease, edge;          // 0/1 masks before compositing
   // Adjacency silhouettes only: the triangle ID per pixel (0 none, 0xFFFFFFFF unknown) and
   // the triangle list (9 floats per ID from 1: three vertices, exaggerated mesh frame).
   std::vector<std::uint32_t> triangle_id;
@@ -84,6 +90,15 @@ class TerrainRenderer {
     std::uint32_t face;
   };
   std::vector<PelSegmentOut> read_pels() const;
+
+  // The object-space edges of the last frame: the kinds of every edge of mesh_edges()
+  // (EdgeKind bits, feature_edges.hpp) and the drawn edges (v0, v1, and the join vertex at
+  // each end, MeshEdge::kNoVertex where there is none).
+  struct EdgesOut {
+    std::vector<std::uint32_t> kinds;
+    std::vector<std::array<std::uint32_t, 4>> drawn;
+  };
+  EdgesOut read_edges() const;
 
  private:
   struct Impl;

@@ -2,7 +2,8 @@
 // Per-pass timings of a frame and the paper's summaries (GL-free).
 // Passes, as in Mower's Creases paper (Appendix A): TFT toward-facing surface, AFT
 // away-facing surface, DM drainage creases, SIL silhouettes, LAY composite; and PEL,
-// photic extremum lines (its own column; not part of the paper's frame rates).
+// photic extremum lines, and EDGE, object-space edges (their own columns; not part of
+// the paper's frame rates).
 // Frame rates (the paper's equation 7, from per-frame times in ms):
 //   CREASEfps = 1000 / (TFT + DM + LAY), SILHfps = 1000 / (TFT + AFT + SIL + LAY),
 //   TOTALfps = 1000 / (TFT + AFT + DM + SIL + LAY), averaged over frames.
@@ -12,7 +13,7 @@
 
 namespace renderer {
 
-enum Pass { TFT, AFT, DM, SIL, LAY, PEL, kPassCount };
+enum Pass { TFT, AFT, DM, SIL, LAY, PEL, EDGE, kPassCount };
 const char* pass_name(int pass);
 
 struct FrameTimings {
@@ -35,7 +36,7 @@ struct TimingSummary {
 TimingSummary summarize(const std::vector<FrameTimings>& t, std::size_t begin, std::size_t end, bool wall);
 
 // timings.csv: frame, the five GPU-timer ms, the five wall ms, PEL (GPU timer and wall
-// ms), the three fps (from the GPU timer times, as the paper) and the three fps from the
+// ms), EDGE (GPU timer and wall ms), the three fps (from the GPU timer times, as the paper) and the three fps from the
 // wall times; one row per frame.
 std::string timings_csv(const std::vector<FrameTimings>& t);
 

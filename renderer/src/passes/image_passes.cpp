@@ -95,13 +95,15 @@ void SilhouettePass::warm_up_timer() const {
 }
 
 CompositePass::CompositePass(const SceneGpu& scene, const Layers& layers, const Style& style,
-                             const CreasePass& creases, const PelPass& pels, const SilhouettePass& silhouettes)
+                             const CreasePass& creases, const PelPass& pels, const EdgePass& edges,
+                             const SilhouettePass& silhouettes)
     : PassBase(LAY),
       s_(scene),
       layers_(layers),
       style_(style),
       creases_(creases),
       pels_(pels),
+      edges_(edges),
       silhouettes_(silhouettes),
       colour_(make_texture(GL_RGBA8, scene.width, scene.height)),
       fbo_(make_framebuffer(&colour_, nullptr)),
@@ -127,6 +129,10 @@ void CompositePass::execute(const FrameInputs&) {
   glBindTextureUnit(TR_TEX_PEL_DEPTH, pels_.depth().id());
   glProgramUniform3fv(p, TR_LOC_PEL_COLOUR, 1, style_.pel_colour.data());
   glProgramUniform1i(p, TR_LOC_PELS, pels_.active() ? 1 : 0);
+  glBindTextureUnit(TR_TEX_EDGE_COLOUR, edges_.colour().id());
+  glBindTextureUnit(TR_TEX_EDGE_DEPTH, edges_.depth().id());
+  glProgramUniform3fv(p, TR_LOC_EDGE_COLOUR, 1, style_.edge_colour.data());
+  glProgramUniform1i(p, TR_LOC_EDGES, edges_.active() ? 1 : 0);
   glBindVertexArray(s_.empty_vao.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }

@@ -1,7 +1,11 @@
 #pragma once
 // The passes of a frame (docs/terrain-render.md), one object each, owning its GL objects
 // and its GL timer; TerrainRenderer (terrain_renderer.cpp) builds them and runs them in
-// order: TFT, AFT, DM, PEL, SIL, LAY. Internal to the renderer library.
+// order: TFT, AFT, DM, PEL, EDGE, SIL, LAY. Internal to the renderer library.
+#include <array>
+#include <cstdint>
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "renderer/camera.hpp"
@@ -143,6 +147,30 @@ class PelPass : public PassBase {
   LineTarget target_;
 };
 
+// EDGE: object-space contour, boundary and crease edges of the mesh (classified per frame
+// in a compute pass, appended, one indirect draw of quads with the chosen caps).
+class EdgePass : public PassBase {
+ public:
+  EdgePass(const SceneGpu& scene, bool enabled, const Style& style);
+  bool active() const { return enabled_; }
+  std::size_t edges_drawn() const;  // of the last frame
+  // Of the last frame: the kinds of every edge (mesh_edges() order; EdgeKind bits), and the
+  // drawn edges (v0, v1, join vertex at v0, at v1).
+  std::vector<std::uint32_t> read_kinds() const;
+  std::vector<std::array<std::uint32_t, 4>> read_drawn() const;
+  const GlObject& colour() const { return target_.colour; }
+  const GlObject& depth() const { return target_.depth; }
+
+ private:
+  void execute(const FrameInputs&) override;
+  const SceneGpu& s_;
+  bool enabled_;
+  Style style_;
+  std::size_t n_edges_ = 0;
+  GlObject edge_buf_, kinds_buf_, slots_buf_, cmd_buf_, list_buf_, classify_prog_, draw_prog_;
+  LineTarget target_;
+};
+
 // Adjacency silhouettes, first pass (in the AFT slot, which the Adjacency method does not
 // need): the nearest tessellated triangle's ID per pixel and the list of triangles.
 class TriangleIdPass : public PassBase {
@@ -188,7 +216,7 @@ class SilhouettePass : public PassBase {
 class CompositePass : public PassBase {
  public:
   CompositePass(const SceneGpu& scene, const Layers& layers, const Style& style, const CreasePass& creases,
-                const PelPass& pels, const SilhouettePass& silhouettes);
+                const PelPass& pels, const EdgePass& edges, const SilhouettePass& silhouettes);
   const GlObject& colour() const { return colour_; }
 
  private:
@@ -198,6 +226,7 @@ class CompositePass : public PassBase {
   Style style_;
   const CreasePass& creases_;
   const PelPass& pels_;
+  const EdgePass& edges_;
   const SilhouettePass& silhouettes_;
   GlObject colour_, fbo_, prog_;
 };
