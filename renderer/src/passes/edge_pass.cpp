@@ -1,9 +1,9 @@
 // EDGE: object-space feature edges (McGuire & Hughes 2004; feature_edges.hpp is the CPU
 // reference). The edge buffer and the edges of each vertex are built once; per frame, one
-// compute dispatch classifies every edge (edge_classify.comp.glsl, stage 0) and, for exact
-// caps, a second one finds the joins and appends the drawn edges (stage 1); with cheap caps
-// or none, stage 0 appends them itself. One indirect draw then draws them as quads
-// (edge.vert.glsl) into the edge layer, which the composite hides behind the PN surface.
+// compute dispatch classifies every edge and appends the drawn ones (edge_classify.comp.glsl,
+// stage 0) and, for exact caps, an indirect dispatch over the drawn edges only finds their
+// joins (stage 1). One indirect draw then draws them as quads (edge.vert.glsl) into the
+// edge layer, which the composite hides behind the PN surface.
 #include <cmath>
 #include <numbers>
 
@@ -34,7 +34,7 @@ EdgePass::EdgePass(const SceneGpu& scene, bool enabled, const Style& style)
   } else {
     slots_buf_ = make_buffer(4, nullptr, 0);  // bound, never read
   }
-  cmd_buf_ = make_buffer(16, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  cmd_buf_ = make_buffer(28, nullptr, GL_DYNAMIC_STORAGE_BIT);  // draw command, then dispatch command
   list_buf_ = make_buffer(n_edges_ * 16, nullptr, 0);
   classify_prog_ = build_program(ProgramId::EdgeClassify);
   draw_prog_ = build_program(ProgramId::EdgeDraw);
@@ -50,7 +50,7 @@ EdgePass::EdgePass(const SceneGpu& scene, bool enabled, const Style& style)
 void EdgePass::execute(const FrameInputs&) {
   target_.clear(s_);
   if (!enabled_) return;
-  const std::uint32_t cmd[4] = {0, 1, 0, 0};
+  const std::uint32_t cmd[7] = {0, 1, 0, 0, 0, 1, 1};
   glNamedBufferSubData(cmd_buf_.id(), 0, sizeof cmd, cmd);
   const std::pair<GLuint, const GlObject*> bufs[] = {
       {TR_SSBO_MESH_POSITIONS, &s_.pos_buf}, {TR_SSBO_MESH_NORMALS, &s_.nrm_buf}, {TR_SSBO_EDGES, &edge_buf_},
@@ -59,11 +59,14 @@ void EdgePass::execute(const FrameInputs&) {
   for (const auto& [binding, buf] : bufs) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buf->id());
   const GLuint cp = classify_prog_.id();
   glUseProgram(cp);
-  const int stages = style_.edge_caps == EdgeCaps::Exact ? 2 : 1;
-  for (int stage = 0; stage < stages; ++stage) {
-    glProgramUniform1i(cp, TR_LOC_EDGE_STAGE, stage);
-    glDispatchCompute(dispatch_groups_x(n_edges_), dispatch_groups_y(n_edges_), 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  glProgramUniform1i(cp, TR_LOC_EDGE_STAGE, 0);
+  glDispatchCompute(dispatch_groups_x(n_edges_), dispatch_groups_y(n_edges_), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  if (style_.edge_caps == EdgeCaps::Exact) {
+    glProgramUniform1i(cp, TR_LOC_EDGE_STAGE, 1);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, cmd_buf_.id());
+    glDispatchComputeIndirect(16);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   }
   glBindFramebuffer(GL_FRAMEBUFFER, target_.fbo.id());
   s_.depth_state();
