@@ -51,6 +51,9 @@ run $bin/terrain-render frame "$out/logan_100m.ply" "$out/logan_filled.dv" -o "$
   --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2
 run $bin/terrain-render frame "$out/logan_100m.ply" "$out/logan_filled.dv" -o "$out/render_logan_shaded.png" \
   --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2 --layers shaded,creases,silhouettes
+# Object-space edges of the mesh facets (contours, boundary, creases sharper than 25 deg).
+run $bin/terrain-render frame "$out/msh_50m.ply" -o "$out/render_msh_edges.png" --layers mask,edges --crease-angle 25 \
+  --view-az 160 --view-alt 35
 # Photic extremum lines: denoised meshes carry the Voronoi weights PELs need.
 run $bin/denoise-normals "$out/msh_10m.ply" "$out/msh_10m_denoised.ply" -q
 run $bin/denoise-normals "$out/logan_100m.ply" "$out/logan_100m_denoised.ply" -q
