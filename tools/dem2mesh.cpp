@@ -1,4 +1,5 @@
-// dem2mesh: a DEM GDAL reads -> a regular metric (UTM) grid -> the terrain mesh (PLY).
+// dem2mesh: a DEM GDAL reads, or scattered points (OGR point layer, XYZ text) -> a regular
+// metric (UTM) grid -> the terrain mesh (PLY).
 #include <fmt/format.h>
 
 #include <chrono>
@@ -10,31 +11,105 @@
 #include "terrain/grid_mesh.hpp"
 #include "terrain/mesh_io.hpp"
 #include "terrain/prepare_grid.hpp"
+#include "terrain/scattered.hpp"
 
 namespace tt = terrain::tools;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// A raster DEM: only the source window the crop needs is read (plus the kernel's margin),
+// then resampled onto the grid.
+terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& req, const tt::Verbosity& verb) {
+  auto t0 = Clock::now();
+  const terrain::DemInfo info = terrain::read_dem_info(input);
+  const terrain::GridPlan plan = terrain::plan_grid(info.geo, info.rows, info.cols, req);
+  const terrain::RasterWindow& win = plan.source_window;
+  const terrain::Grid dem = terrain::read_dem(input, tt::terminal_progress(verb, "read"), win);
+  tt::step(verb, fmt::format("read {} x {} of {} x {} samples: {:.2f} s", win.cols, win.rows, info.cols, info.rows,
+                             since(t0)));
+  t0 = Clock::now();
+  terrain::PreparedGrid prepared = terrain::resample_to_plan(dem, plan, req, tt::terminal_progress(verb, "resample"));
+  for (const auto& w : prepared.warnings) tt::warn(verb, w);
+  if (prepared.filled > 0) tt::warn(verb, fmt::format("filled {} no-data samples by interpolation", prepared.filled));
+  tt::step(verb, fmt::format("grid {} x {} at {} m: {:.2f} s", prepared.grid.cols, prepared.grid.rows,
+                             prepared.grid.geo.dx, since(t0)));
+  return std::move(prepared.grid);
+}
+
+struct PointOptions {
+  terrain::PointInterpolation interpolation;
+  double max_edge;
+  std::string src_crs;
+};
+
+// Scattered points: read, projected to UTM if geographic, triangulated and interpolated
+// onto the grid; no-data samples (outside the hull, long triangles) are an error unless
+// --fill-nodata, as for rasters.
+terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& req, const PointOptions& o,
+                          const tt::Verbosity& verb) {
+  if (!req.spacing) throw terrain::Error("scattered points need --spacing (the grid spacing in metres)");
+  auto t0 = Clock::now();
+  terrain::PointCloud points = terrain::read_points(input, tt::terminal_progress(verb, "read"));
+  terrain::project_points(points, o.src_crs, req.utm_zone);
+  tt::step(verb, fmt::format("read {} points ({}): {:.2f} s", points.size(), points.format, since(t0)));
+  terrain::PointGridRequest pr;
+  pr.spacing = *req.spacing;
+  pr.interpolation = o.interpolation;
+  pr.max_edge = o.max_edge;
+  if (req.bbox) pr.bbox = req.bbox;
+  if (req.center && req.size)
+    pr.bbox = std::array<double, 4>{(*req.center)[0] - 0.5 * (*req.size)[0], (*req.center)[1] - 0.5 * (*req.size)[1],
+                                    (*req.center)[0] + 0.5 * (*req.size)[0], (*req.center)[1] + 0.5 * (*req.size)[1]};
+  t0 = Clock::now();
+  terrain::PointGridResult r = terrain::points_to_grid(points, pr, tt::terminal_progress(verb, "interpolate"));
+  if (r.duplicates) tt::warn(verb, fmt::format("{} points repeat an earlier x, y: their z is averaged", r.duplicates));
+  tt::step(verb, fmt::format("Delaunay triangulation of {} points, grid {} x {} at {} m ({}): {:.2f} s", r.vertices,
+                             r.grid.cols, r.grid.rows, pr.spacing,
+                             o.interpolation == terrain::PointInterpolation::Natural ? "natural neighbour" : "linear",
+                             since(t0)));
+  if (r.nodata) {
+    if (!req.fill_nodata)
+      throw terrain::Error(fmt::format("{} of {} grid samples lie outside the points' convex hull{}; crop with --bbox "
+                                       "or pass --fill-nodata",
+                                       r.nodata, r.grid.size(), o.max_edge > 0 ? " or in triangles over --max-edge" : ""));
+    tt::warn(verb, fmt::format("filled {} no-data samples by interpolation", terrain::fill_nodata(r.grid)));
+  }
+  return std::move(r.grid);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"Turn a DEM into a terrain mesh: reproject a geographic DEM onto UTM, crop, resample,\n"
                "triangulate (2 triangles per cell) and write a binary PLY with vertex normals and\n"
-               "its georeferencing.",
+               "its georeferencing. Scattered points (an OGR point layer: GeoPackage, Shapefile, CSV\n"
+               "with X/Y/Z columns; or XYZ text) are recognised by content, triangulated (Delaunay)\n"
+               "and interpolated onto the grid first.",
                "dem2mesh"};
   app.footer(
       "Examples:\n"
       "  dem2mesh data/msh_2007_utm10n_10m.tif msh_50m.ply --spacing 50\n"
       "  dem2mesh eno_geographic.tif eno.ply --spacing 10 --utm-zone 17N\n"
-      "  dem2mesh dem.tif crater.ply --center 562500 5116500 --size 2000 2000\n\n"
+      "  dem2mesh dem.tif crater.ply --center 562500 5116500 --size 2000 2000\n"
+      "  dem2mesh lidar_ground.gpkg site.ply --spacing 10 --interpolation natural --max-edge 200 --fill-nodata\n"
+      "  dem2mesh survey.xyz site.ply --spacing 5 --src-crs EPSG:32610 --bbox 561000 5113000 564000 5116000\n\n"
       "Output: stdout gets 'key: value' lines describing the mesh; progress and warnings go to stderr.\n"
       "See docs/dem2mesh.md for the grid, triangulation and file conventions.");
   app.set_version_flag("--version", tt::version());
 
   std::string input, output, resample = "bilinear", weighting = "uniform", grid_out;
+  std::string interpolation = "natural", src_crs;
+  double max_edge = 0.0;
   terrain::GridRequest req;
   std::array<double, 4> bbox{};
   std::array<double, 2> center{}, size{};
   std::string utm_zone;
   double spacing = 0.0;
   tt::Verbosity verb;
-  app.add_option("INPUT", input, "DEM in any raster format GDAL reads (band 1)")->required();
+  app.add_option("INPUT", input, "DEM in any raster format GDAL reads (band 1), or scattered points")->required();
   app.add_option("OUTPUT", output, "Mesh file to write (.ply)")->required();
   auto* spacing_opt = app.add_option("--spacing", spacing, "Grid spacing in metres (default: the DEM's own spacing)")
                           ->check(CLI::PositiveNumber);
@@ -55,10 +130,21 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"uniform", "angle", "area"}))
       ->capture_default_str();
   app.add_option("--grid-out", grid_out, "Also write the resampled grid as a GeoTIFF");
+  auto* interp_opt = app.add_option("--interpolation", interpolation,
+                                    "Scattered points: natural (natural-neighbour coordinates) or linear (barycentric "
+                                    "in the Delaunay triangle)")
+                         ->check(CLI::IsMember({"natural", "linear"}))
+                         ->capture_default_str();
+  auto* max_edge_opt = app.add_option("--max-edge", max_edge,
+                                      "Scattered points: samples in Delaunay triangles with an edge longer than this "
+                                      "(metres) are no-data, like those outside the convex hull")
+                           ->check(CLI::PositiveNumber);
+  auto* src_crs_opt = app.add_option("--src-crs", src_crs,
+                                     "Scattered points: their CRS (EPSG:32610, WKT, PROJ string) where the file has "
+                                     "none (XYZ text, CSV), or instead of the file's");
   tt::add_verbosity_flags(app, verb);
 
   return tt::run_main(app, argc, argv, [&]() {
-    using clock = std::chrono::steady_clock;
     if (!output.ends_with(".ply")) throw terrain::Error("OUTPUT must be a .ply file: '" + output + "'");
     tt::check_distinct_paths({input}, {output, grid_out});
     terrain::check_output_path(output);
@@ -73,35 +159,27 @@ int main(int argc, char** argv) {
     req.resampling = terrain::parse_resampling(resample);
     const terrain::NormalWeighting nw = terrain::parse_normal_weighting(weighting);
 
-    auto t0 = clock::now();
-    auto seconds = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
-    // Only the source window the crop needs is read (plus the kernel's margin).
-    const terrain::DemInfo info = terrain::read_dem_info(input);
-    const terrain::GridPlan plan = terrain::plan_grid(info.geo, info.rows, info.cols, req);
-    const terrain::RasterWindow& win = plan.source_window;
-    const terrain::Grid dem = terrain::read_dem(input, tt::terminal_progress(verb, "read"), win);
-    tt::step(verb, fmt::format("read {} x {} of {} x {} samples: {:.2f} s", win.cols, win.rows, info.cols, info.rows,
-                               seconds()));
-
-    t0 = clock::now();
-    terrain::PreparedGrid prepared = terrain::resample_to_plan(dem, plan, req, tt::terminal_progress(verb, "resample"));
-    for (const auto& w : prepared.warnings) tt::warn(verb, w);
-    if (prepared.filled > 0) tt::warn(verb, fmt::format("filled {} no-data samples by interpolation", prepared.filled));
-    const terrain::Grid& grid = prepared.grid;
-    tt::step(verb, fmt::format("grid {} x {} at {} m: {:.2f} s", grid.cols, grid.rows, grid.geo.dx, seconds()));
+    terrain::Grid grid;
+    if (terrain::is_point_input(input)) {
+      grid = points_grid(input, req, {terrain::parse_point_interpolation(interpolation), max_edge, src_crs}, verb);
+    } else {
+      for (const CLI::Option* o : {interp_opt, max_edge_opt, src_crs_opt})
+        if (*o) throw terrain::Error(o->get_name() + " applies to scattered points; '" + input + "' is a raster");
+      grid = raster_grid(input, req, verb);
+    }
     terrain::OutputSet outputs;  // the mesh and the grid land together, or neither does
     if (!grid_out.empty())
       outputs.write([&] { terrain::write_geotiff(grid, outputs.stage(grid_out), tt::provenance(argc, argv)); });
 
-    t0 = clock::now();
+    auto t0 = Clock::now();
     terrain::GridMesh mesh = terrain::make_grid_mesh(grid, nw);
     mesh.provenance = tt::provenance(argc, argv);
-    tt::step(verb, fmt::format("mesh and normals: {:.2f} s", seconds()));
+    tt::step(verb, fmt::format("mesh and normals: {:.2f} s", since(t0)));
 
-    t0 = clock::now();
+    t0 = Clock::now();
     outputs.write([&] { terrain::write_mesh_ply(mesh, outputs.stage(output)); });
     outputs.commit();
-    tt::step(verb, fmt::format("write {}: {:.2f} s", output, seconds()));
+    tt::step(verb, fmt::format("write {}: {:.2f} s", output, since(t0)));
 
     const auto& g = grid.geo;
     std::cout << "output: " << output << "\n"

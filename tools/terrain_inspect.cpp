@@ -15,6 +15,7 @@
 #include "terrain/hillshade.hpp"
 #include "terrain/image_io.hpp"
 #include "terrain/mesh_io.hpp"
+#include "terrain/scattered.hpp"
 
 namespace tt = terrain::tools;
 
@@ -93,6 +94,23 @@ void info_dem(const std::string& path) {
   if (s.count > 0) print_stats(s);
 }
 
+void info_points(const std::string& path) {
+  const terrain::PointCloud p = terrain::read_points(path);
+  const terrain::PointCloudSummary s = terrain::summarize_points(p);
+  const char* kind = p.crs_kind == terrain::CrsKind::Geographic  ? "geographic"
+                     : p.crs_kind == terrain::CrsKind::Projected ? "projected"
+                                                                 : "none";
+  std::cout << "file: " << path << "\n"
+            << "type: scattered points\n"
+            << "format: " << p.format << "\n"
+            << "points: " << s.count << "\n"
+            << "duplicate_xy: " << s.duplicates << "\n"
+            << "crs: " << crs_line(p.crs_wkt, p.epsg) << "\n"
+            << "crs_kind: " << kind << "\n"
+            << fmt::format("extent: {:.3f} {:.3f} {:.3f} {:.3f}\n", s.xmin, s.ymin, s.xmax, s.ymax)
+            << fmt::format("z_min: {:.3f}\nz_max: {:.3f}\n", s.zmin, s.zmax);
+}
+
 void info_dv(const std::string& path) {
   const drainage::DrainageDb db = drainage::read_dv(path);
   const drainage::DvHeader& h = db.header;
@@ -156,7 +174,7 @@ int main(int argc, char** argv) {
   std::string file, out, to, colour_by = "shade";
   double azimuth = 315.0, altitude = 45.0, zfactor = 1.0;
   CLI::App* info = app.add_subcommand("info", "What FILE is: size, CRS, extent, elevation statistics ('key: value' lines)");
-  info->add_option("FILE", file, "DEM, mesh or .dv")->required();
+  info->add_option("FILE", file, "DEM, mesh, .dv or scattered points")->required();
   CLI::App* preview = app.add_subcommand(
       "preview", "Hillshade PNG of a DEM or a mesh (meshes: shaded with their vertex normals); drainage over a hillshade for a .dv");
   preview->add_option("FILE", file, "DEM, mesh or .dv")->required();
@@ -191,6 +209,7 @@ int main(int argc, char** argv) {
     if (*info) {
       if (is_dv) info_dv(file);
       else if (is_mesh) info_mesh(file);
+      else if (terrain::is_point_input(file)) info_points(file);
       else info_dem(file);
     } else if (*preview) {
       tt::check_distinct_paths({file}, {out});
