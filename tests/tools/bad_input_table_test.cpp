@@ -173,6 +173,11 @@ class BadInput : public ::testing::TestWithParam<Row> {
     std::ofstream(in("nan.csv")) << "easting,northing,elevation\n562000,5117000,nan\n";
     std::ofstream(in("inf.csv")) << "view_az,view_alt\n200,inf\n";
     std::ofstream(in("inside.csv")) << "easting,northing,elevation\n562500,5117000,1000\n";
+    std::ofstream(in("pts_two.xyz")) << "0 0 1\n10 5 2\n";
+    std::ofstream(in("pts_line.xyz")) << "0 0 1\n10 10 2\n20 20 3\n30 30 4\n";
+    std::ofstream(in("pts_nan.xyz")) << "0 0 1\nx y z\n";
+    std::ofstream(in("pts_nan2.xyz")) << "0 0 1\n10 0 nan\n0 10 3\n";
+    std::ofstream(in("pts.xyz")) << "0 0 1\n100 0 2\n0 100 3\n70 80 4\n";  // irregular: not an XYZ raster
     return ok;
   }
   static std::string in_;  // the inputs' directory, with a trailing slash
@@ -207,6 +212,13 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         // dem2mesh: files that are not DEMs
         Row{d2m + "IN/missing.tif OUT/o.ply -q", 1, "no such file"},
+        Row{d2m + "IN/pts_two.xyz OUT/o.ply --spacing 10 --src-crs EPSG:32610 -q", 1, "a surface needs at least 3"},
+        Row{d2m + "IN/pts_line.xyz OUT/o.ply --spacing 10 --src-crs EPSG:32610 -q", 1, "collinear"},
+        Row{d2m + "IN/pts_nan2.xyz OUT/o.ply --spacing 10 --src-crs EPSG:32610 -q", 1, "point 2 has a non-finite"},
+        Row{d2m + "IN/pts.xyz OUT/o.ply --spacing 10 -q", 1, "no CRS: give it with --src-crs"},
+        Row{d2m + "IN/pts.xyz OUT/o.ply --src-crs EPSG:32610 -q", 1, "need --spacing"},
+        Row{d2m + "IN/pts.xyz OUT/o.ply --spacing 10 --src-crs EPSG:32610 --bbox 500 500 600 600 -q", 1,
+            "outside the points' convex hull"},
         Row{d2m + "IN/empty.tif OUT/o.ply -q", 1, "not a raster GDAL can open"},
         Row{d2m + "IN/a_directory OUT/o.ply -q", 1, "it is a directory"},
         Row{d2m + "IN/truncated.tif OUT/o.ply -q", 1, "cannot read"},
