@@ -16,6 +16,7 @@
 
 #include "terrain/atomic_file.hpp"
 #include "terrain/error.hpp"
+#include "crs_info.hpp"
 
 namespace terrain {
 
@@ -59,6 +60,23 @@ DatasetPtr wrap_in_mem_dataset(Grid& grid) {
 }
 
 }  // namespace
+
+CrsInfo crs_info(const OGRSpatialReference& srs) {
+  CrsInfo c;
+  char* wkt = nullptr;
+  const char* opts[] = {"FORMAT=WKT2_2019", "MULTILINE=NO", nullptr};
+  if (srs.exportToWkt(&wkt, opts) == OGRERR_NONE && wkt) c.wkt = wkt;
+  CPLFree(wkt);
+  c.kind = srs.IsGeographic() ? CrsKind::Geographic : srs.IsProjected() ? CrsKind::Projected : CrsKind::None;
+  OGRSpatialReference copy(srs);
+  if (copy.GetAuthorityName(nullptr) == nullptr) copy.AutoIdentifyEPSG();
+  const char* auth = copy.GetAuthorityName(nullptr);
+  const char* code = copy.GetAuthorityCode(nullptr);
+  if (auth && code && std::string(auth) == "EPSG") c.epsg = std::atoi(code);
+  if (c.kind == CrsKind::Projected && std::abs(copy.GetLinearUnits() - 1.0) > 1e-12)
+    c.non_metre_unit = copy.GetAttrValue("UNIT") ? copy.GetAttrValue("UNIT") : "non-metre units";
+  return c;
+}
 
 namespace {
 
@@ -126,21 +144,12 @@ OpenRaster open_raster(const std::string& path) {
   r.geo.dy = -gt[5];
 
   if (const OGRSpatialReference* srs = r.ds->GetSpatialRef()) {
-    char* wkt = nullptr;
-    const char* opts[] = {"FORMAT=WKT2_2019", "MULTILINE=NO", nullptr};
-    if (srs->exportToWkt(&wkt, opts) == OGRERR_NONE && wkt) r.geo.crs_wkt = wkt;
-    CPLFree(wkt);
-    r.geo.crs_kind = srs->IsGeographic() ? CrsKind::Geographic
-                     : srs->IsProjected() ? CrsKind::Projected
-                                          : CrsKind::None;
-    OGRSpatialReference copy(*srs);
-    if (copy.GetAuthorityName(nullptr) == nullptr) copy.AutoIdentifyEPSG();
-    const char* auth = copy.GetAuthorityName(nullptr);
-    const char* code = copy.GetAuthorityCode(nullptr);
-    if (auth && code && std::string(auth) == "EPSG") r.geo.epsg = std::atoi(code);
-    if (r.geo.crs_kind == CrsKind::Projected && std::abs(copy.GetLinearUnits() - 1.0) > 1e-12)
-      throw Error("cannot use '" + path + "': its projected CRS is in " +
-                  std::string(copy.GetAttrValue("UNIT") ? copy.GetAttrValue("UNIT") : "non-metre units") +
+    const CrsInfo crs = crs_info(*srs);
+    r.geo.crs_wkt = crs.wkt;
+    r.geo.epsg = crs.epsg;
+    r.geo.crs_kind = crs.kind;
+    if (!crs.non_metre_unit.empty())
+      throw Error("cannot use '" + path + "': its projected CRS is in " + crs.non_metre_unit +
                   ", not metres; reproject it first (gdalwarp -t_srs EPSG:...)");
   }
   return r;

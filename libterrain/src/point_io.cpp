@@ -3,8 +3,6 @@
 #include <gdal_priv.h>
 #include <ogrsf_frmts.h>
 
-#include <GeographicLib/UTMUPS.hpp>
-
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -15,6 +13,7 @@
 #include "terrain/error.hpp"
 #include "terrain/scattered.hpp"
 #include "terrain/utm.hpp"
+#include "crs_info.hpp"
 
 namespace terrain {
 
@@ -108,18 +107,13 @@ void check_finite(const PointCloud& p, std::size_t i) {
 
 void set_crs(PointCloud& p, const OGRSpatialReference* srs) {
   if (!srs) return;
-  char* wkt = nullptr;
-  const char* opts[] = {"FORMAT=WKT2_2019", "MULTILINE=NO", nullptr};
-  if (srs->exportToWkt(&wkt, opts) == OGRERR_NONE && wkt) p.crs_wkt = wkt;
-  CPLFree(wkt);
-  p.crs_kind = srs->IsGeographic() ? CrsKind::Geographic : srs->IsProjected() ? CrsKind::Projected : CrsKind::None;
-  OGRSpatialReference copy(*srs);
-  if (copy.GetAuthorityName(nullptr) == nullptr) copy.AutoIdentifyEPSG();
-  const char* auth = copy.GetAuthorityName(nullptr);
-  const char* code = copy.GetAuthorityCode(nullptr);
-  if (auth && code && std::string(auth) == "EPSG") p.epsg = std::atoi(code);
-  if (p.crs_kind == CrsKind::Projected && std::abs(copy.GetLinearUnits() - 1.0) > 1e-12)
-    throw Error("the points' projected CRS is not in metres; reproject them first (ogr2ogr -t_srs EPSG:...)");
+  const CrsInfo crs = crs_info(*srs);
+  p.crs_wkt = crs.wkt;
+  p.epsg = crs.epsg;
+  p.crs_kind = crs.kind;
+  if (!crs.non_metre_unit.empty())
+    throw Error("the points' projected CRS is in " + crs.non_metre_unit +
+                ", not metres; reproject them first (ogr2ogr -t_srs EPSG:...)");
 }
 
 PointCloud read_ogr(GDALDataset& ds, OGRLayer& layer, const std::string& path, const Progress& progress) {
@@ -220,8 +214,6 @@ void project_points(PointCloud& p, const std::string& src_crs, const std::option
     ensure_gdal();
     OGRSpatialReference srs;
     if (srs.SetFromUserInput(src_crs.c_str()) != OGRERR_NONE) throw Error("cannot understand the CRS '" + src_crs + "'");
-    p.crs_wkt.clear();
-    p.epsg = 0;
     set_crs(p, &srs);
   }
   if (p.crs_kind == CrsKind::None)
@@ -234,15 +226,7 @@ void project_points(PointCloud& p, const std::string& src_crs, const std::option
     throw Error("geographic points outside latitude -90..90 / longitude -180..360: is the CRS right?");
   const double lat_c = 0.5 * (*lo_lat + *hi_lat), lon_c = 0.5 * (*lo_lon + *hi_lon);
   const UtmZone zone = utm_zone ? parse_utm_zone(*utm_zone, lat_c) : standard_utm_zone(lat_c, lon_c);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    int zone_out = 0;
-    bool northp = true;
-    double x = 0, y = 0;
-    GeographicLib::UTMUPS::Forward(p.y[i], p.x[i], zone_out, northp, x, y, zone.zone);
-    if (northp != zone.north) y += northp ? 10e6 : -10e6;
-    p.x[i] = x;
-    p.y[i] = y;
-  }
+  for (std::size_t i = 0; i < p.size(); ++i) utm_forward(zone, p.y[i], p.x[i], p.x[i], p.y[i]);
   p.crs_wkt = utm_crs_wkt(p.crs_wkt, zone, p.epsg);
   p.crs_kind = CrsKind::Projected;
 }

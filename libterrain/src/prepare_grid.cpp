@@ -23,14 +23,6 @@ struct Box {
 
 using ToSource = GridPlan::ToSource;
 
-// Forward UTM projection into a fixed zone and hemisphere (continued across the equator).
-void utm_forward(UtmZone z, double lat, double lon, double& x, double& y) {
-  int zone_out = 0;
-  bool northp = true;
-  UTMUPS::Forward(lat, lon, zone_out, northp, x, y, z.zone);
-  if (northp != z.north) y += northp ? 10e6 : -10e6;
-}
-
 // Indices k of lattice cells [anchor + k*step, anchor + (k+1)*step] whose centres lie
 // in [lo, hi]; returns false when there is none.
 bool lattice_range(double anchor, double step, double lo, double hi, long& kmin, long& kmax) {

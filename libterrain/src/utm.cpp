@@ -16,6 +16,13 @@ UtmZone standard_utm_zone(double lat, double lon) {
   return UtmZone{GeographicLib::UTMUPS::StandardZone(lat, lon), lat >= 0.0};
 }
 
+void utm_forward(UtmZone z, double lat, double lon, double& x, double& y) {
+  int zone_out = 0;
+  bool northp = true;
+  GeographicLib::UTMUPS::Forward(lat, lon, zone_out, northp, x, y, z.zone);
+  if (northp != z.north) y += northp ? 10e6 : -10e6;
+}
+
 UtmZone parse_utm_zone(std::string_view text, double lat_hint) {
   UtmZone z{0, lat_hint >= 0.0};
   const char* end = text.data() + text.size();

@@ -21,6 +21,12 @@ layout(binding = TR_TEX_EDGE_DEPTH) uniform sampler2D u_edge_depth;
 layout(location = TR_LOC_EDGE_COLOUR) uniform vec3 u_edge_colour;
 layout(location = TR_LOC_EDGES) uniform int u_edges;
 layout(location = 0) out vec4 o_colour;
+
+// A line layer's pixel p is drawn when it is covered and not behind the surface (distance t).
+bool line_visible(sampler2D colour, sampler2D depth, ivec2 p, float t) {
+  return texelFetch(colour, p, 0).r > 0.0 && far_of(texelFetch(depth, p, 0).r) <= t;
+}
+
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   ivec2 size = textureSize(u_toward, 0);
@@ -29,12 +35,9 @@ void main() {
   vec3 c = u_background;
   if (surface && u_layers.x != 0) c = texelFetch(u_surface_colour, p, 0).rgb;
   else if (surface && u_layers.y != 0) c = u_mask_colour;
-  if (u_pels != 0 && texelFetch(u_pel, p, 0).r > 0.0 && far_of(texelFetch(u_pel_depth, p, 0).r) <= t)
-    c = u_pel_colour;
-  if (u_layers.z != 0 && texelFetch(u_crease, p, 0).r > 0.0 && far_of(texelFetch(u_crease_depth, p, 0).r) <= t)
-    c = u_crease_colour;
-  if (u_edges != 0 && texelFetch(u_edge, p, 0).r > 0.0 && far_of(texelFetch(u_edge_depth, p, 0).r) <= t)
-    c = u_edge_colour;
+  if (u_pels != 0 && line_visible(u_pel, u_pel_depth, p, t)) c = u_pel_colour;
+  if (u_layers.z != 0 && line_visible(u_crease, u_crease_depth, p, t)) c = u_crease_colour;
+  if (u_edges != 0 && line_visible(u_edge, u_edge_depth, p, t)) c = u_edge_colour;
   if (u_layers.w != 0) {
     int r0 = -(u_silhouette_width - 1) / 2, r1 = u_silhouette_width / 2;
     bool sil = false;

@@ -18,6 +18,10 @@ UtmZone standard_utm_zone(double lat, double lon);
 // Throws Error for anything else or a zone outside 1..60.
 UtmZone parse_utm_zone(std::string_view text, double lat_hint);
 
+// Forward UTM projection into the fixed zone and hemisphere `z` (GeographicLib), continued
+// across the equator (false northing of the other hemisphere undone).
+void utm_forward(UtmZone z, double lat, double lon, double& x, double& y);
+
 // The UTM zone CRS on the datum of `geographic_wkt` (for example NAD83 -> "NAD83 / UTM
 // zone 17N", EPSG:26917) as WKT; `epsg` receives the EPSG code when GDAL identifies one.
 std::string utm_crs_wkt(const std::string& geographic_wkt, UtmZone zone, int& epsg);

@@ -49,12 +49,7 @@ void CreasePass::execute(const FrameInputs&) {
   glUseProgram(select_prog_.id());
   glDispatchCompute(dispatch_groups_x(n_segments_), dispatch_groups_y(n_segments_), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-  glBindFramebuffer(GL_FRAMEBUFFER, target_.fbo.id());
-  s_.depth_state();
-  glUseProgram(draw_prog_.id());
-  glBindVertexArray(s_.empty_vao.id());
-  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, cmd_buf_.id());
-  glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+  target_.draw_indirect(s_, draw_prog_, cmd_buf_);
 }
 
 std::size_t CreasePass::segments_drawn() const {

@@ -68,12 +68,7 @@ void EdgePass::execute(const FrameInputs&) {
     glDispatchComputeIndirect(16);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   }
-  glBindFramebuffer(GL_FRAMEBUFFER, target_.fbo.id());
-  s_.depth_state();
-  glUseProgram(draw_prog_.id());
-  glBindVertexArray(s_.empty_vao.id());
-  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, cmd_buf_.id());
-  glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+  target_.draw_indirect(s_, draw_prog_, cmd_buf_);
 }
 
 std::size_t EdgePass::edges_drawn() const { return enabled_ ? indirect_segments(cmd_buf_) : 0; }

@@ -45,6 +45,9 @@ GlObject make_framebuffer(const GlObject* colour, const GlObject* depth);
 struct LineTarget {
   explicit LineTarget(const SceneGpu& scene);
   void clear(const SceneGpu& scene) const;
+  // The segments of an indirect draw command (6 vertices each, no vertex attributes) drawn
+  // with `program` into the target, depth-tested.
+  void draw_indirect(const SceneGpu& scene, const GlObject& program, const GlObject& command) const;
   GlObject colour, depth, fbo;
 };
 

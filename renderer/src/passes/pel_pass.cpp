@@ -54,13 +54,8 @@ void PelPass::execute(const FrameInputs& in) {
   glProgramUniform1f(ep, TR_LOC_PEL_TAU, float(in.frame.pel.threshold));
   glDispatchCompute(dispatch_groups_x(nf), dispatch_groups_y(nf), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-  glBindFramebuffer(GL_FRAMEBUFFER, target_.fbo.id());
-  s_.depth_state();
-  glUseProgram(draw_prog_.id());
   glProgramUniform1f(draw_prog_.id(), TR_LOC_PEL_WIDTH, float(width_));
-  glBindVertexArray(s_.empty_vao.id());
-  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, cmd_buf_.id());
-  glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+  target_.draw_indirect(s_, draw_prog_, cmd_buf_);
 }
 
 std::size_t PelPass::segments_drawn() const {

@@ -73,6 +73,15 @@ void LineTarget::clear(const SceneGpu& scene) const {
   glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &far_depth);
 }
 
+void LineTarget::draw_indirect(const SceneGpu& scene, const GlObject& program, const GlObject& command) const {
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+  scene.depth_state();
+  glUseProgram(program.id());
+  glBindVertexArray(scene.empty_vao.id());
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, command.id());
+  glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+}
+
 std::size_t indirect_segments(const GlObject& command) {
   std::uint32_t cmd[4] = {};
   glGetNamedBufferSubData(command.id(), 0, sizeof cmd, cmd);
