@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Benchmark: scattered points -> 10 m grid, dem2mesh (CGAL Delaunay; linear and natural
+# Benchmark: scattered points -> 10 m grid, dem2mesh (CGAL Delaunay; linear, natural (C1) and C0 natural
 # neighbour) beside gdal_grid -a linear (qhull Delaunay) on the same points and grid, in
 # the same run. N random points (fixed seed) over a 10 x 10 km square of a smooth analytic
 # terrain (EPSG:32610), as XYZ text. Prints wall time and peak memory of each
@@ -22,7 +22,7 @@ for n in "${@:-1000000}"; do
 </OGRVRTLayer></OGRVRTDataSource>
 VRT
   echo "== $n points, 10 m grid over 560000..570000 x 5110000..5120000"
-  for method in linear natural; do
+  for method in linear natural natural-c0; do
     /usr/bin/time -f "dem2mesh $method: %e s wall, %M KiB peak" $bin/dem2mesh "$tmp/pts.xyz" "$tmp/o.ply" --spacing 10 \
       --src-crs EPSG:32610 --interpolation "$method" --bbox 560005 5110005 569995 5119995 --fill-nodata \
       -v 2>&1 | grep -E "Delaunay|points \(|peak" || true

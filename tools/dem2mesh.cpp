@@ -40,7 +40,7 @@ terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& 
 }
 
 struct PointOptions {
-  terrain::PointInterpolation interpolation;
+  std::string interpolation;  // linear, natural, natural-c0
   double max_edge;
   std::string src_crs;
 };
@@ -57,7 +57,7 @@ terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& 
   tt::step(verb, fmt::format("read {} points ({}): {:.2f} s", points.size(), points.format, since(t0)));
   terrain::PointGridRequest pr;
   pr.spacing = *req.spacing;
-  pr.interpolation = o.interpolation;
+  pr.interpolation = terrain::parse_point_interpolation(o.interpolation);
   pr.max_edge = o.max_edge;
   if (req.bbox) pr.bbox = req.bbox;
   if (req.center && req.size)
@@ -67,9 +67,7 @@ terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& 
   terrain::PointGridResult r = terrain::points_to_grid(points, pr, tt::terminal_progress(verb, "interpolate"));
   if (r.duplicates) tt::warn(verb, fmt::format("{} points repeat an earlier x, y: their z is averaged", r.duplicates));
   tt::step(verb, fmt::format("Delaunay triangulation of {} points, grid {} x {} at {} m ({}): {:.2f} s", r.vertices,
-                             r.grid.cols, r.grid.rows, pr.spacing,
-                             o.interpolation == terrain::PointInterpolation::Natural ? "natural neighbour" : "linear",
-                             since(t0)));
+                             r.grid.cols, r.grid.rows, pr.spacing, o.interpolation, since(t0)));
   if (r.nodata) {
     if (!req.fill_nodata)
       throw terrain::Error(fmt::format("{} of {} grid samples lie outside the points' convex hull{}; crop with --bbox "
@@ -131,9 +129,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--grid-out", grid_out, "Also write the resampled grid as a GeoTIFF");
   auto* interp_opt = app.add_option("--interpolation", interpolation,
-                                    "Scattered points: natural (natural-neighbour coordinates) or linear (barycentric "
-                                    "in the Delaunay triangle)")
-                         ->check(CLI::IsMember({"natural", "linear"}))
+                                    "Scattered points: natural (Sibson's C1 natural-neighbour interpolant, gradients "
+                                    "fitted at the points), natural-c0 (natural-neighbour weighted mean) or linear "
+                                    "(barycentric in the Delaunay triangle)")
+                         ->check(CLI::IsMember({"natural", "natural-c0", "linear"}))
                          ->capture_default_str();
   auto* max_edge_opt = app.add_option("--max-edge", max_edge,
                                       "Scattered points: samples in Delaunay triangles with an edge longer than this "
@@ -161,7 +160,7 @@ int main(int argc, char** argv) {
 
     terrain::Grid grid;
     if (terrain::is_point_input(input)) {
-      grid = points_grid(input, req, {terrain::parse_point_interpolation(interpolation), max_edge, src_crs}, verb);
+      grid = points_grid(input, req, {interpolation, max_edge, src_crs}, verb);
     } else {
       for (const CLI::Option* o : {interp_opt, max_edge_opt, src_crs_opt})
         if (*o) throw terrain::Error(o->get_name() + " applies to scattered points; '" + input + "' is a raster");

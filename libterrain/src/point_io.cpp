@@ -234,7 +234,8 @@ void project_points(PointCloud& p, const std::string& src_crs, const std::option
 PointInterpolation parse_point_interpolation(const std::string& name) {
   if (name == "linear") return PointInterpolation::Linear;
   if (name == "natural") return PointInterpolation::Natural;
-  throw Error("unknown interpolation '" + name + "' (linear, natural)");
+  if (name == "natural-c0") return PointInterpolation::NaturalC0;
+  throw Error("unknown interpolation '" + name + "' (linear, natural, natural-c0)");
 }
 
 PointCloudSummary summarize_points(const PointCloud& p) {

@@ -11,6 +11,7 @@
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
 #include "drainage/rasters.hpp"
+#include "points_target.hpp"
 #include "renderer/frames.hpp"
 #include "terrain/error.hpp"
 #include "terrain/mesh_io.hpp"
@@ -76,6 +77,15 @@ TEST(FuzzRegressions, D8RasterReader) {
   });
   terrain::Grid g;
   EXPECT_NO_THROW((void)drainage::read_d8_raster(files("corpus/d8")[0].string(), drainage::D8Encoding::Taudem, g));
+}
+
+TEST(FuzzRegressions, PointReader) {
+  const auto run = [](const std::string& p) {
+    const std::string bytes = slurp(p);
+    terrain::fuzz::points_target(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+  };
+  read_all("points", run);
+  for (const fs::path& p : files("corpus/points")) EXPECT_NO_THROW(run(p.string())) << p;
 }
 
 }  // namespace

@@ -4,8 +4,10 @@
 //   read_points     any OGR point layer (GeoPackage, Shapefile, CSV with X/Y/Z columns
 //                   through GDAL's CSV driver, ...) or XYZ text; recognised by content
 //   points_to_grid  2D Delaunay triangulation of x, y (CGAL), then the grid's samples
-//                   interpolated linearly (barycentric in the Delaunay triangle) or with
-//                   natural-neighbour (Sibson) coordinates (CGAL natural_neighbor_coordinates_2).
+//                   interpolated linearly (barycentric in the Delaunay triangle), with
+//                   Sibson's C1 natural-neighbour interpolant (gradients fitted at the points:
+//                   CGAL sibson_gradient_fitting, sibson_c1_interpolation) or with Sibson's C0
+//                   one (natural-neighbour coordinates, CGAL natural_neighbor_coordinates_2).
 // Samples outside the convex hull, and with max_edge > 0 samples in a Delaunay triangle
 // with an edge longer than max_edge, are no-data.
 #include <array>
@@ -46,7 +48,9 @@ PointCloud read_points(const std::string& path, const Progress& progress = {});
 // gives the CRS of points that have none, and replaces theirs. Throws Error without a CRS.
 void project_points(PointCloud& points, const std::string& src_crs, const std::optional<std::string>& utm_zone);
 
-enum class PointInterpolation { Linear, Natural };
+// Natural: Sibson's C1 interpolant; it reproduces spherical quadratics, and falls back to
+// NaturalC0 where a natural neighbour lies on the convex hull (no gradient fitted there).
+enum class PointInterpolation { Linear, Natural, NaturalC0 };
 PointInterpolation parse_point_interpolation(const std::string& name);
 
 // The Delaunay triangulation of the points' x, y with their z. Duplicate x, y: one vertex
@@ -64,6 +68,8 @@ class PointSurface {
   // an edge longer than max_edge. Each query starts its walk where the last one ended:
   // fast for neighbouring queries, not thread-safe.
   double z_at(double x, double y, PointInterpolation method, double max_edge = 0) const;
+  // z at every sample of g (its georeferencing), as z_at, on all threads.
+  void sample(Grid& g, PointInterpolation method, double max_edge, const Progress& progress = {}) const;
 
  private:
   struct Impl;
