@@ -8,6 +8,7 @@
 #include "common.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
+#include "terrain/fit_normals.hpp"
 #include "terrain/grid_mesh.hpp"
 #include "terrain/mesh_io.hpp"
 #include "terrain/prepare_grid.hpp"
@@ -22,7 +23,9 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 
 // A raster DEM: only the source window the crop needs is read (plus the kernel's margin),
 // then resampled onto the grid.
-terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& req, const tt::Verbosity& verb) {
+// `source` (optional) receives the source samples read, in the grid's CRS, for --fit-normals.
+terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& req, const tt::Verbosity& verb,
+                          terrain::Grid* source) {
   auto t0 = Clock::now();
   const terrain::DemInfo info = terrain::read_dem_info(input);
   const terrain::GridPlan plan = terrain::plan_grid(info.geo, info.rows, info.cols, req);
@@ -36,6 +39,7 @@ terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& 
   if (prepared.filled > 0) tt::warn(verb, fmt::format("filled {} no-data samples by interpolation", prepared.filled));
   tt::step(verb, fmt::format("grid {} x {} at {} m: {:.2f} s", prepared.grid.cols, prepared.grid.rows,
                              prepared.grid.geo.dx, since(t0)));
+  if (source) *source = dem;
   return std::move(prepared.grid);
 }
 
@@ -49,12 +53,13 @@ struct PointOptions {
 // onto the grid; no-data samples (outside the hull, long triangles) are an error unless
 // --fill-nodata, as for rasters.
 terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& req, const PointOptions& o,
-                          const tt::Verbosity& verb) {
+                          const tt::Verbosity& verb, terrain::SourceSamples* source) {
   if (!req.spacing) throw terrain::Error("scattered points need --spacing (the grid spacing in metres)");
   auto t0 = Clock::now();
   terrain::PointCloud points = terrain::read_points(input, tt::terminal_progress(verb, "read"));
   terrain::project_points(points, o.src_crs, req.utm_zone);
   tt::step(verb, fmt::format("read {} points ({}): {:.2f} s", points.size(), points.format, since(t0)));
+  if (source) *source = {points.x, points.y, points.z};
   terrain::PointGridRequest pr;
   pr.spacing = *req.spacing;
   pr.interpolation = terrain::parse_point_interpolation(o.interpolation);
@@ -93,7 +98,8 @@ int main(int argc, char** argv) {
       "  dem2mesh eno_geographic.tif eno.ply --spacing 10 --utm-zone 17N\n"
       "  dem2mesh dem.tif crater.ply --center 562500 5116500 --size 2000 2000\n"
       "  dem2mesh lidar_ground.gpkg site.ply --spacing 10 --interpolation natural --max-edge 200 --fill-nodata\n"
-      "  dem2mesh survey.xyz site.ply --spacing 5 --src-crs EPSG:32610 --bbox 561000 5113000 564000 5116000\n\n"
+      "  dem2mesh survey.xyz site.ply --spacing 5 --src-crs EPSG:32610 --bbox 561000 5113000 564000 5116000\n"
+      "  dem2mesh data/msh_2007_utm10n_10m.tif msh_50m_fit.ply --spacing 50 --fit-normals\n\n"
       "Output: stdout gets 'key: value' lines describing the mesh; progress and warnings go to stderr.\n"
       "See docs/dem2mesh.md for the grid, triangulation and file conventions.");
   app.set_version_flag("--version", tt::version());
@@ -141,6 +147,22 @@ int main(int argc, char** argv) {
   auto* src_crs_opt = app.add_option("--src-crs", src_crs,
                                      "Scattered points: their CRS (EPSG:32610, WKT, PROJ string) where the file has "
                                      "none (XYZ text, CSV), or instead of the file's");
+  bool fit = false;
+  terrain::NormalFitOptions fit_opt;
+  app.add_flag("--fit-normals", fit,
+               "Fit the vertex normals (Ceres) so that the PN surface between the vertices reproduces the source "
+               "DEM's samples (or the scattered points); see docs/dem2mesh.md");
+  auto* fit_it_opt = app.add_option("--fit-iterations", fit_opt.max_iterations,
+                                    "--fit-normals: Levenberg-Marquardt iterations per round")
+                         ->check(CLI::Range(1, 10000))
+                         ->capture_default_str();
+  auto* fit_reg_opt = app.add_option("--fit-regularization", fit_opt.regularization,
+                                     "--fit-normals: weight of the pull toward the starting normals (residual "
+                                     "weight * spacing * |n - n0|, metres)")
+                          ->check(CLI::Range(0.0, 1e6))
+                          ->capture_default_str();
+  fit_it_opt->needs("--fit-normals");
+  fit_reg_opt->needs("--fit-normals");
   tt::add_verbosity_flags(app, verb);
 
   return tt::run_main(app, argc, argv, [&]() {
@@ -158,13 +180,15 @@ int main(int argc, char** argv) {
     req.resampling = terrain::parse_resampling(resample);
     const terrain::NormalWeighting nw = terrain::parse_normal_weighting(weighting);
 
-    terrain::Grid grid;
-    if (terrain::is_point_input(input)) {
-      grid = points_grid(input, req, {interpolation, max_edge, src_crs}, verb);
+    terrain::Grid grid, source_dem;
+    terrain::SourceSamples source_points;
+    const bool points = terrain::is_point_input(input);
+    if (points) {
+      grid = points_grid(input, req, {interpolation, max_edge, src_crs}, verb, fit ? &source_points : nullptr);
     } else {
       for (const CLI::Option* o : {interp_opt, max_edge_opt, src_crs_opt})
         if (*o) throw terrain::Error(o->get_name() + " applies to scattered points; '" + input + "' is a raster");
-      grid = raster_grid(input, req, verb);
+      grid = raster_grid(input, req, verb, fit ? &source_dem : nullptr);
     }
     terrain::OutputSet outputs;  // the mesh and the grid land together, or neither does
     if (!grid_out.empty())
@@ -174,6 +198,17 @@ int main(int argc, char** argv) {
     terrain::GridMesh mesh = terrain::make_grid_mesh(grid, nw);
     mesh.provenance = tt::provenance(argc, argv);
     tt::step(verb, fmt::format("mesh and normals: {:.2f} s", since(t0)));
+    terrain::NormalFitReport fit_rep;
+    if (fit) {
+      t0 = Clock::now();
+      const terrain::SourceSamples samples = points ? terrain::samples_inside_mesh(source_points, mesh)
+                                                    : terrain::dem_samples_for_mesh(source_dem, mesh);
+      fit_rep = terrain::fit_pn_normals(mesh, samples, fit_opt, tt::terminal_progress(verb, "fit normals"));
+      tt::step(verb, fmt::format("fit normals to {} samples ({} blocks, {} iterations): RMSE {:.3f} -> {:.3f} m, "
+                                 "max {:.3f} -> {:.3f} m: {:.2f} s",
+                                 fit_rep.after.samples, fit_rep.blocks, fit_rep.iterations, fit_rep.before.rmse,
+                                 fit_rep.after.rmse, fit_rep.before.max_abs, fit_rep.after.max_abs, since(t0)));
+    }
 
     t0 = Clock::now();
     outputs.write([&] { terrain::write_mesh_ply(mesh, outputs.stage(output)); });
@@ -190,6 +225,11 @@ int main(int argc, char** argv) {
               << "vertices: " << mesh.n_vertices() << "\n"
               << "faces: " << mesh.n_faces() << "\n"
               << "normal_weighting: " << terrain::to_string(nw) << "\n";
+    if (fit)
+      std::cout << fmt::format("normals: fitted\nfit_samples: {}\nfit_rmse_before: {:.4f}\nfit_rmse_after: {:.4f}\n"
+                               "fit_max_before: {:.4f}\nfit_max_after: {:.4f}\nfit_seconds: {:.2f}\n",
+                               fit_rep.after.samples, fit_rep.before.rmse, fit_rep.after.rmse,
+                               fit_rep.before.max_abs, fit_rep.after.max_abs, fit_rep.seconds);
     return 0;
   });
 }

@@ -173,6 +173,7 @@ DenoiseStats denoise_normals(GridMesh& m, const DenoiseOptions& o, const Progres
     }
   }
   m.normal_change.resize(nv);
+  m.normal_fit = {};  // the normals are no longer the fitted ones
   double total = 0;
   for (std::size_t v = 0; v < nv; ++v) {
     const double a = angle_deg(before[v], m.normals[v]);

@@ -337,6 +337,9 @@ std::string header_comments(const GridMesh& m) {
     out += "comment crs_wkt " + wkt.substr(i, n) + "\n";
     i += n;
   }
+  if (m.normal_fit.fitted)
+    out += fmt::format("comment normals_fitted {:.6g} {:.6g} {:.6g} {:.6g} {}\n", m.normal_fit.rmse_before,
+                       m.normal_fit.max_before, m.normal_fit.rmse_after, m.normal_fit.max_after, m.normal_fit.samples);
   if (!m.provenance.empty()) out += "comment provenance " + escape_ascii(m.provenance) + "\n";
   return out;
 }
@@ -465,6 +468,12 @@ GridMesh read_mesh_ply(const std::string& path) {
     else if (key == "crs_epsg") ss >> m.geo.epsg;
     else if (key == "crs_wkt") m.geo.crs_wkt += rest;
     else if (key == "provenance") m.provenance = unescape_ascii(rest);
+    else if (key == "normals_fitted") {
+      NormalFitInfo& f = m.normal_fit;
+      if (!(ss >> f.rmse_before >> f.max_before >> f.rmse_after >> f.max_after >> f.samples))
+        throw Error("cannot read '" + path + "': invalid 'normals_fitted' comment: '" + c + "'");
+      f.fitted = true;
+    }
   }
   m.geo.crs_wkt = unescape_ascii(m.geo.crs_wkt);
   if (version < 0 || !has_grid || !has_origin)

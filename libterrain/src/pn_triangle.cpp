@@ -28,24 +28,7 @@ Vector3d mid_normal(const Vector3d& pi, const Vector3d& pj, const Vector3d& ni, 
 PnPatch make_pn_patch(const Vector3d& p1, const Vector3d& p2, const Vector3d& p3, const Vector3d& n1,
                       const Vector3d& n2, const Vector3d& n3) {
   PnPatch p;
-  auto& b = p.b;
-  b[B300] = p1;
-  b[B030] = p2;
-  b[B003] = p3;
-  // Edge point 1/3 from Pi towards Pj, projected into the tangent plane of Pi:
-  // (2 Pi + Pj - w_ij Ni) / 3 with w_ij = (Pj - Pi) . Ni.
-  auto edge = [](const Vector3d& pi, const Vector3d& pj, const Vector3d& ni) {
-    return Vector3d((2.0 * pi + pj - (pj - pi).dot(ni) * ni) / 3.0);
-  };
-  b[B210] = edge(p1, p2, n1);
-  b[B120] = edge(p2, p1, n2);
-  b[B021] = edge(p2, p3, n2);
-  b[B012] = edge(p3, p2, n3);
-  b[B102] = edge(p3, p1, n3);
-  b[B201] = edge(p1, p3, n1);
-  const Vector3d e = (b[B210] + b[B120] + b[B021] + b[B012] + b[B102] + b[B201]) / 6.0;
-  const Vector3d v = (p1 + p2 + p3) / 3.0;
-  b[B111] = e + (e - v) / 2.0;
+  p.b = pn_control_points<double>(p1, p2, p3, n1, n2, n3);
 
   Vector3d face_n = (p2 - p1).cross(p3 - p1);
   face_n = normalized_or(face_n, Vector3d(0, 0, 1));
@@ -58,13 +41,7 @@ PnPatch make_pn_patch(const Vector3d& p1, const Vector3d& p2, const Vector3d& p3
   return p;
 }
 
-Vector3d pn_position(const PnPatch& p, double b1, double b2, double b3) {
-  const auto& b = p.b;
-  return b[B300] * (b1 * b1 * b1) + b[B030] * (b2 * b2 * b2) + b[B003] * (b3 * b3 * b3) +
-         3.0 * (b[B210] * (b1 * b1 * b2) + b[B120] * (b1 * b2 * b2) + b[B201] * (b1 * b1 * b3) +
-                b[B102] * (b1 * b3 * b3) + b[B021] * (b2 * b2 * b3) + b[B012] * (b2 * b3 * b3)) +
-         6.0 * b[B111] * (b1 * b2 * b3);
-}
+Vector3d pn_position(const PnPatch& p, double b1, double b2, double b3) { return pn_cubic<double>(p.b, b1, b2, b3); }
 
 Vector3d pn_normal(const PnPatch& p, double b1, double b2, double b3) {
   const auto& n = p.n;

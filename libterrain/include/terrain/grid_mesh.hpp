@@ -73,6 +73,14 @@ struct VoronoiWeights {
   bool empty() const { return vertex_areas.size() == 0; }
 };
 
+// Set when the normals were fitted to a source DEM (fit_normals.hpp): the PN surface's
+// error against the source samples before and after, metres.
+struct NormalFitInfo {
+  bool fitted = false;
+  double rmse_before = 0, max_before = 0, rmse_after = 0, max_after = 0;
+  std::size_t samples = 0;
+};
+
 struct GridMesh {
   GridTopology topo;
   MeshGeoref geo;
@@ -81,6 +89,7 @@ struct GridMesh {
   std::string provenance;                  // tool, version, command line (free text)
   VoronoiWeights voronoi;                  // empty unless computed (voronoi_weights) or read
   BigVector<float> normal_change;          // #V degrees, written by denoise-normals; else empty
+  NormalFitInfo normal_fit;                // fitted normals (not after denoise-normals)
 
   std::size_t n_vertices() const { return positions.size(); }
   std::size_t n_faces() const { return topo.n_faces(); }

@@ -9,6 +9,8 @@
 //     comment origin <x> <y> <z>                  world = origin + local (CRS units)
 //     comment crs_epsg <code>                     0 when unknown
 //     comment crs_wkt <text>                      WKT2, split over lines of <= 200 chars
+//     comment normals_fitted <rmse_before> <max_before> <rmse_after> <max_after> <samples>
+//                                                 only for fitted normals (fit_normals.hpp)
 //     comment provenance <text>                   tool, version and command line
 // The PLY body is written and read by OpenMesh's PLY codec through an exporter and an
 // importer over our arrays (no half-edge mesh is built); the comment lines are added to

@@ -21,9 +21,45 @@ struct PnPatch {
 enum PnIndex { B300, B030, B003, B210, B120, B021, B012, B102, B201, B111 };
 enum PnNormalIndex { N200, N020, N002, N110, N011, N101 };
 
+// The ten geometry control points (PnPatch::b order) from corner positions P1..P3 and UNIT
+// vertex normals N1..N3, for any scalar type (double; Ceres' Jet when fitting normals):
+// edge points (2 Pi + Pj - ((Pj - Pi) . Ni) Ni) / 3, centre E + (E - V) / 2.
+template <class T>
+using Vec3 = Eigen::Matrix<T, 3, 1>;
+template <class T>
+std::array<Vec3<T>, 10> pn_control_points(const Vec3<T>& p1, const Vec3<T>& p2, const Vec3<T>& p3,
+                                          const Vec3<T>& n1, const Vec3<T>& n2, const Vec3<T>& n3) {
+  const auto edge = [](const Vec3<T>& pi, const Vec3<T>& pj, const Vec3<T>& ni) -> Vec3<T> {
+    return (T(2.0) * pi + pj - (pj - pi).dot(ni) * ni) / T(3.0);
+  };
+  std::array<Vec3<T>, 10> b;
+  b[0] = p1;  // B300
+  b[1] = p2;  // B030
+  b[2] = p3;  // B003
+  b[3] = edge(p1, p2, n1);  // B210
+  b[4] = edge(p2, p1, n2);  // B120
+  b[5] = edge(p2, p3, n2);  // B021
+  b[6] = edge(p3, p2, n3);  // B012
+  b[7] = edge(p3, p1, n3);  // B102
+  b[8] = edge(p1, p3, n1);  // B201
+  const Vec3<T> e = (b[3] + b[4] + b[5] + b[6] + b[7] + b[8]) / T(6.0);
+  const Vec3<T> v = (p1 + p2 + p3) / T(3.0);
+  b[9] = e + (e - v) / T(2.0);  // B111
+  return b;
+}
+
+// The cubic P(b1, b2, b3) of control points b (PnPatch::b order), for any scalar type.
+template <class T>
+Vec3<T> pn_cubic(const std::array<Vec3<T>, 10>& b, const T& b1, const T& b2, const T& b3) {
+  return b[0] * (b1 * b1 * b1) + b[1] * (b2 * b2 * b2) + b[2] * (b3 * b3 * b3) +
+         T(3.0) * (b[3] * (b1 * b1 * b2) + b[4] * (b1 * b2 * b2) + b[8] * (b1 * b1 * b3) + b[7] * (b1 * b3 * b3) +
+                   b[5] * (b2 * b2 * b3) + b[6] * (b2 * b3 * b3)) +
+         T(6.0) * b[9] * (b1 * b2 * b3);
+}
+
 // Control points from corner positions P1..P3 and UNIT vertex normals N1..N3 (in this
-// order, counter-clockwise). Degenerate edges and cancelling normals fall back to the
-// face normal (docs/algorithms.md 1.5).
+// order, counter-clockwise): pn_control_points, and the quadratic normal field.
+// Degenerate edges and cancelling normals fall back to the face normal (docs/algorithms.md 1.5).
 PnPatch make_pn_patch(const Eigen::Vector3d& p1, const Eigen::Vector3d& p2, const Eigen::Vector3d& p3,
                       const Eigen::Vector3d& n1, const Eigen::Vector3d& n2, const Eigen::Vector3d& n3);
 

@@ -1,0 +1,77 @@
+#pragma once
+// Fitted vertex normals: the normals that make the PN surface of a grid mesh reproduce the
+// source DEM between the vertices (docs/dem2mesh.md, "Fitted normals").
+//
+// PN triangles bulge between the vertices according to the vertex normals; with normals
+// from face averages the surface departs from the DEM it was made from. Here the normals
+// are the unknowns of a non-linear least-squares problem (Ceres):
+//   * one unit 3-vector per vertex, on Ceres' SphereManifold;
+//   * one residual per source sample inside the mesh: the height of the PN surface exactly
+//     above the sample (the inverse evaluation of pn_surface.hpp) minus the sample's z,
+//     in metres; each sample belongs to the patch that holds it;
+//   * one 3-vector residual per vertex pulling it toward its starting normal:
+//     regularization * spacing * (n - n0), in metres too (a 0.1 rad turn at a 50 m
+//     spacing with the default 0.05 costs like a 0.25 m height error).
+// Samples are assigned to patches with the starting normals, and again after each round
+// (a fitted normal moves the patch boundaries a little). Large meshes are solved in
+// overlapping square blocks of vertices, one after another; each block's outside vertices
+// are held fixed and only its core is kept.
+#include <cstddef>
+#include <vector>
+
+#include "terrain/error.hpp"
+#include "terrain/grid.hpp"
+#include "terrain/grid_mesh.hpp"
+
+namespace terrain {
+
+// Source samples in the mesh's CRS (world coordinates, metres).
+struct SourceSamples {
+  std::vector<double> x, y, z;
+  std::size_t size() const { return x.size(); }
+};
+
+// The valid samples of `dem` whose centres lie inside the mesh's extent, in the mesh's
+// CRS: as they are when the DEM is in the mesh's CRS, projected (OGR) when the DEM is
+// geographic. Throws Error when the CRSs cannot be related.
+SourceSamples dem_samples_for_mesh(const Grid& dem, const GridMesh& mesh);
+
+// Only the samples inside the mesh's extent (for scattered points).
+SourceSamples samples_inside_mesh(const SourceSamples& all, const GridMesh& mesh);
+
+// The PN surface versus the samples: RMSE and max |error| of z (metres) over the samples
+// the surface is above (pn_point_above).
+struct SurfaceError {
+  double rmse = 0, max_abs = 0;
+  std::size_t samples = 0;
+};
+SurfaceError pn_surface_error(const GridMesh& mesh, const SourceSamples& samples);
+
+struct NormalFitOptions {
+  double regularization = 0.05;   // weight of the pull toward the starting normals (see above)
+  int max_iterations = 50;        // Levenberg-Marquardt iterations per round and block
+  int rounds = 2;                 // patch assignment, solve; repeated
+  std::size_t face_samples = 24;  // at most this many samples per face enter the problem (evenly
+                                  // strided); the errors reported use all
+  std::size_t block = 400;        // block side in vertices; meshes within one block: one problem
+  std::size_t overlap = 8;        // vertices of overlap around each block's core
+  int threads = 0;                // 0: all (OpenMP's count)
+  bool record_costs = false;      // NormalFitReport::costs (one more evaluation per iteration)
+};
+
+struct NormalFitReport {
+  SurfaceError before, after;
+  std::size_t blocks = 0, iterations = 0;  // iterations summed over rounds and blocks
+  // With record_costs, for a one-block problem: the cost (half the sum of squared residuals,
+  // the pull included) of the iterate at the start and after every iteration, round after
+  // round (each round starts from a new patch assignment).
+  std::vector<double> costs;
+  double seconds = 0;
+};
+
+// Fits mesh.normals to the samples (local = world - mesh origin is taken care of). Throws
+// Error without samples inside the mesh. Sets mesh.normal_fit.
+NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, const NormalFitOptions& options = {},
+                               const Progress& progress = {});
+
+}  // namespace terrain

@@ -1,0 +1,302 @@
+// Fitted vertex normals (fit_normals.hpp): Ceres over the PN patches' inverse evaluation.
+#include "terrain/fit_normals.hpp"
+
+#include <ceres/ceres.h>
+#include <ceres/manifold.h>
+#include <ogr_spatialref.h>
+#include <omp.h>
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+
+#include "terrain/pn_surface.hpp"
+#include "terrain/pn_triangle.hpp"
+
+namespace terrain {
+
+namespace {
+
+using Eigen::Vector3d;
+
+double value_of(double v) { return v; }
+template <int N>
+double value_of(const ceres::Jet<double, N>& j) {
+  return j.a;
+}
+
+// The residuals of the samples in one face: the PN surface's height above each sample
+// minus the sample's z. Parameters: the unit normals of the face's three corners.
+// The inverse evaluation (x, y) -> (s, t) runs in double; one Newton step from that
+// solution in T then carries the derivatives of the implicit function: at a solution
+// F(s0, t0) = P.xy - (x, y) = 0, so d(s, t)/dn = -J^-1 dF/dn, which is what
+// (s, t) = (s0, t0) - J^-1 F gives to first order with J in double.
+struct FaceCost {
+  std::array<Vector3d, 3> corner;
+  std::vector<Vector3d> samples;  // local x, y, z
+
+  template <class T>
+  bool operator()(const T* n1, const T* n2, const T* n3, T* residuals) const {
+    const Vec3<T> p1 = corner[0].cast<T>(), p2 = corner[1].cast<T>(), p3 = corner[2].cast<T>();
+    const auto b = pn_control_points<T>(p1, p2, p3, Eigen::Map<const Vec3<T>>(n1), Eigen::Map<const Vec3<T>>(n2),
+                                        Eigen::Map<const Vec3<T>>(n3));
+    PnPatch pd;
+    for (std::size_t k = 0; k < 10; ++k)
+      pd.b[k] = Vector3d(value_of(b[k].x()), value_of(b[k].y()), value_of(b[k].z()));
+    const PnPolynomial poly = to_polynomial(pd);
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const Vector3d& q = samples[i];
+      const PnXySolution sol = pn_solve_xy(poly, q.x(), q.y(), 1e-7);
+      double s0 = sol.b2, t0 = sol.b3;
+      if (!sol.converged && !pn_planar_st(poly, q.x(), q.y(), s0, t0)) s0 = t0 = 1.0 / 3.0;
+      Vector3d dpds, dpdt;
+      pn_derivatives(pd, 1.0 - s0 - t0, s0, t0, dpds, dpdt);
+      Eigen::Matrix2d jac;
+      jac << dpds.x(), dpdt.x(), dpds.y(), dpdt.y();
+      const Eigen::Matrix2d inv = jac.inverse();
+      const Vec3<T> p = pn_cubic<T>(b, T(1.0 - s0 - t0), T(s0), T(t0));
+      const T fx = p.x() - q.x(), fy = p.y() - q.y();
+      const T s = s0 - (inv(0, 0) * fx + inv(0, 1) * fy), t = t0 - (inv(1, 0) * fx + inv(1, 1) * fy);
+      residuals[i] = pn_cubic<T>(b, T(1.0) - s - t, s, t).z() - q.z();
+    }
+    return true;
+  }
+};
+
+// weight * (n - n0): the pull toward the starting normal.
+struct PullCost {
+  Vector3d n0;
+  double weight;
+  template <class T>
+  bool operator()(const T* n, T* residuals) const {
+    for (int k = 0; k < 3; ++k) residuals[k] = weight * (n[k] - n0[k]);
+    return true;
+  }
+};
+
+// The cost of the current iterate after every iteration. Ceres' own IterationSummary::cost
+// is not that (it can be a trial's cost, or differ from the state after an accepted step),
+// so the problem is evaluated at the state (update_state_every_iteration).
+struct CostLog : ceres::IterationCallback {
+  std::vector<double>* costs = nullptr;
+  ceres::Problem* problem = nullptr;
+  int threads = 1;
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+    double cost = 0;
+    ceres::Problem::EvaluateOptions eo;
+    eo.num_threads = threads;
+    problem->Evaluate(eo, &cost, nullptr, nullptr, nullptr);
+    costs->push_back(cost);
+    return ceres::SOLVER_CONTINUE;
+  }
+};
+
+// The face each sample lies in under the current normals (kNone: none), as lists per face.
+struct Assignment {
+  std::vector<std::size_t> offset;  // #F + 1
+  std::vector<std::uint32_t> sample;
+};
+
+Assignment assign(const GridMesh& mesh, const std::vector<Vector3d>& local) {
+  constexpr std::uint32_t kNone = std::uint32_t(-1);
+  std::vector<std::uint32_t> face(local.size(), kNone);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(local.size()); ++i) {
+    const auto p = pn_point_above(mesh, local[std::size_t(i)].x(), local[std::size_t(i)].y());
+    if (p) face[std::size_t(i)] = std::uint32_t(p->face);
+  }
+  Assignment a;
+  a.offset.assign(mesh.n_faces() + 1, 0);
+  for (const std::uint32_t f : face)
+    if (f != kNone) ++a.offset[f + 1];
+  for (std::size_t f = 0; f < mesh.n_faces(); ++f) a.offset[f + 1] += a.offset[f];
+  a.sample.resize(a.offset.back());
+  std::vector<std::size_t> fill(a.offset.begin(), a.offset.end() - 1);
+  for (std::size_t i = 0; i < face.size(); ++i)
+    if (face[i] != kNone) a.sample[fill[face[i]]++] = std::uint32_t(i);
+  return a;
+}
+
+std::vector<Vector3d> to_local(const GridMesh& mesh, const SourceSamples& s) {
+  std::vector<Vector3d> out(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i)
+    out[i] = Vector3d(s.x[i] - mesh.geo.origin_x, s.y[i] - mesh.geo.origin_y, s.z[i] - mesh.geo.origin_z);
+  return out;
+}
+
+bool inside(const GridMesh& mesh, double wx, double wy) {
+  const double x = wx - mesh.geo.origin_x, y = wy - mesh.geo.origin_y;
+  return x >= 0 && x <= double(mesh.topo.cols - 1) * mesh.geo.dx && y <= 0 &&
+         y >= -double(mesh.topo.rows - 1) * mesh.geo.dy;
+}
+
+}  // namespace
+
+SourceSamples dem_samples_for_mesh(const Grid& dem, const GridMesh& mesh) {
+  std::unique_ptr<OGRCoordinateTransformation> ct;
+  if (dem.geo.crs_kind == CrsKind::Geographic) {
+    if (mesh.geo.crs_wkt.empty()) throw Error("the DEM is geographic but the mesh has no CRS: cannot relate them");
+    OGRSpatialReference src, dst;
+    if (src.importFromWkt(dem.geo.crs_wkt.c_str()) != OGRERR_NONE ||
+        dst.importFromWkt(mesh.geo.crs_wkt.c_str()) != OGRERR_NONE)
+      throw Error("cannot read the DEM's or the mesh's CRS");
+    src.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    dst.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    ct.reset(OGRCreateCoordinateTransformation(&src, &dst));
+    if (!ct) throw Error("no transformation from the DEM's CRS to the mesh's");
+  }
+  SourceSamples out;
+  std::vector<double> xs(dem.cols), ys(dem.cols);
+  for (std::size_t r = 0; r < dem.rows; ++r) {
+    for (std::size_t c = 0; c < dem.cols; ++c) {
+      xs[c] = dem.geo.x_of_col(double(c));
+      ys[c] = dem.geo.y_of_row(double(r));
+    }
+    if (ct && !ct->Transform(dem.cols, xs.data(), ys.data())) throw Error("cannot project the DEM's samples");
+    for (std::size_t c = 0; c < dem.cols; ++c) {
+      const float z = dem.at(r, c);
+      if (std::isnan(z) || !inside(mesh, xs[c], ys[c])) continue;
+      out.x.push_back(xs[c]);
+      out.y.push_back(ys[c]);
+      out.z.push_back(double(z));
+    }
+  }
+  return out;
+}
+
+SourceSamples samples_inside_mesh(const SourceSamples& all, const GridMesh& mesh) {
+  SourceSamples out;
+  for (std::size_t i = 0; i < all.size(); ++i)
+    if (inside(mesh, all.x[i], all.y[i])) {
+      out.x.push_back(all.x[i]);
+      out.y.push_back(all.y[i]);
+      out.z.push_back(all.z[i]);
+    }
+  return out;
+}
+
+SurfaceError pn_surface_error(const GridMesh& mesh, const SourceSamples& samples) {
+  const std::vector<Vector3d> local = to_local(mesh, samples);
+  double se = 0, mx = 0;
+  std::size_t n = 0;
+#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : se, n) reduction(max : mx)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(local.size()); ++i) {
+    const Vector3d& q = local[std::size_t(i)];
+    const auto p = pn_point_above(mesh, q.x(), q.y());
+    if (!p) continue;
+    const double e = p->position.z() - q.z();
+    se += e * e;
+    mx = std::max(mx, std::abs(e));
+    ++n;
+  }
+  return {n ? std::sqrt(se / double(n)) : 0.0, mx, n};
+}
+
+NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, const NormalFitOptions& opt,
+                               const Progress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!(opt.regularization >= 0) || opt.max_iterations < 1 || opt.rounds < 1 || opt.block < 2)
+    throw Error("fit_pn_normals: regularization >= 0, iterations, rounds >= 1 and a block of >= 2 vertices");
+  NormalFitReport rep;
+  rep.before = pn_surface_error(mesh, samples);
+  if (rep.before.samples == 0) throw Error("no source sample lies under the mesh: nothing to fit the normals to");
+  const std::vector<Vector3d> local = to_local(mesh, samples);
+  const GridTopology& topo = mesh.topo;
+  const std::size_t nv = mesh.n_vertices();
+  std::vector<Vector3d> normal(nv), start(nv);
+  for (std::size_t v = 0; v < nv; ++v) normal[v] = start[v] = mesh.normals[v].cast<double>().normalized();
+  const double pull = opt.regularization * mesh.geo.dx;
+
+  // Blocks of vertices: cores tile the grid.
+  const std::size_t block = opt.block;
+  const std::size_t nbr = (topo.rows + block - 1) / block, nbc = (topo.cols + block - 1) / block;
+  rep.blocks = nbr * nbc;
+  ceres::SphereManifold<3> sphere;
+  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+  for (int round = 0; round < opt.rounds; ++round) {
+    const Assignment a = assign(mesh, local);
+    for (std::size_t b = 0; b < rep.blocks; ++b) {
+      const std::size_t r0 = (b / nbc) * block, c0 = (b % nbc) * block;
+      const std::size_t r1 = std::min(topo.rows, r0 + block), c1 = std::min(topo.cols, c0 + block);
+      const std::size_t er0 = r0 > opt.overlap ? r0 - opt.overlap : 0, ec0 = c0 > opt.overlap ? c0 - opt.overlap : 0;
+      const std::size_t er1 = std::min(topo.rows, r1 + opt.overlap), ec1 = std::min(topo.cols, c1 + opt.overlap);
+      const auto in_ext = [&](std::size_t v) {
+        const std::size_t r = v / topo.cols, c = v % topo.cols;
+        return r >= er0 && r < er1 && c >= ec0 && c < ec1;
+      };
+      ceres::Problem::Options po;
+      po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+      ceres::Problem problem(po);
+      // Faces with a corner in the extended block; their other corners are held fixed.
+      const std::size_t fr0 = er0 > 0 ? er0 - 1 : 0, fc0 = ec0 > 0 ? ec0 - 1 : 0;
+      const std::size_t fr1 = std::min(topo.rows - 1, er1), fc1 = std::min(topo.cols - 1, ec1);
+      for (std::size_t r = fr0; r < fr1; ++r)
+        for (std::size_t c = fc0; c < fc1; ++c)
+          for (int k = 0; k < 2; ++k) {
+            const std::size_t f = topo.face_of_cell(r, c, k);
+            if (a.offset[f] == a.offset[f + 1]) continue;
+            const auto fv = topo.face(f);
+            auto* cost = new FaceCost;
+            for (int j = 0; j < 3; ++j) cost->corner[std::size_t(j)] = mesh.positions[fv[std::size_t(j)]].cast<double>();
+            const std::size_t count = a.offset[f + 1] - a.offset[f];
+            const std::size_t take = opt.face_samples ? std::min(count, opt.face_samples) : count;
+            for (std::size_t j = 0; j < take; ++j)  // evenly strided over the face's samples
+              cost->samples.push_back(local[a.sample[a.offset[f] + j * count / take]]);
+            const int m = int(cost->samples.size());
+            problem.AddResidualBlock(new ceres::AutoDiffCostFunction<FaceCost, ceres::DYNAMIC, 3, 3, 3>(cost, m),
+                                     nullptr, normal[fv[0]].data(), normal[fv[1]].data(), normal[fv[2]].data());
+          }
+      std::vector<Vector3d> saved;
+      for (std::size_t r = er0; r < er1; ++r)
+        for (std::size_t c = ec0; c < ec1; ++c) {
+          const std::size_t v = r * topo.cols + c;
+          saved.push_back(normal[v]);
+          if (pull > 0)
+            problem.AddResidualBlock(
+                new ceres::AutoDiffCostFunction<PullCost, 3, 3>(new PullCost{start[v], pull}), nullptr,
+                normal[v].data());
+        }
+      std::vector<double*> blocks;
+      problem.GetParameterBlocks(&blocks);
+      for (double* p : blocks) {
+        const std::size_t v = std::size_t((reinterpret_cast<Vector3d*>(p)) - normal.data());
+        if (in_ext(v)) problem.SetManifold(p, &sphere);
+        else problem.SetParameterBlockConstant(p);
+      }
+      ceres::Solver::Options so;
+      so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+      so.max_num_iterations = opt.max_iterations;
+      so.num_threads = threads;
+      so.logging_type = ceres::SILENT;
+      CostLog log;
+      if (opt.record_costs && rep.blocks == 1) {
+        log.costs = &rep.costs;
+        log.problem = &problem;
+        log.threads = threads;
+        so.update_state_every_iteration = true;
+        so.callbacks.push_back(&log);
+      }
+      ceres::Solver::Summary summary;
+      ceres::Solve(so, &problem, &summary);
+      rep.iterations += summary.iterations.size() > 0 ? summary.iterations.size() - 1 : 0;
+      // Keep the core; the overlap is solved again by the block whose core it is.
+      std::size_t k = 0;
+      for (std::size_t r = er0; r < er1; ++r)
+        for (std::size_t c = ec0; c < ec1; ++c, ++k) {
+          const std::size_t v = r * topo.cols + c;
+          if (r < r0 || r >= r1 || c < c0 || c >= c1) normal[v] = saved[k];
+        }
+      report(progress, (double(round) + double(b + 1) / double(rep.blocks)) / double(opt.rounds));
+    }
+    for (std::size_t v = 0; v < nv; ++v) mesh.normals[v] = normal[v].normalized().cast<float>();
+  }
+  rep.after = pn_surface_error(mesh, samples);
+  mesh.normal_fit = {true, rep.before.rmse, rep.before.max_abs, rep.after.rmse, rep.after.max_abs, rep.after.samples};
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return rep;
+}
+
+}  // namespace terrain
