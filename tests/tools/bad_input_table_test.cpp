@@ -174,6 +174,7 @@ class BadInput : public ::testing::TestWithParam<Row> {
     std::ofstream(in("inf.csv")) << "view_az,view_alt\n200,inf\n";
     std::ofstream(in("inside.csv")) << "easting,northing,elevation\n562500,5117000,1000\n";
     std::ofstream(in("pts_two.xyz")) << "0 0 1\n10 5 2\n";
+    std::ofstream(in("pts_case.csv")) << "X,x,y,z\n1,0,0,1\n17,100,0,2\n3.3,0,100,3\n40,70,80,4\n";  // not a grid
     std::ofstream(in("pts_line.xyz")) << "0 0 1\n10 10 2\n20 20 3\n30 30 4\n";
     std::ofstream(in("pts_nan.xyz")) << "0 0 1\nx y z\n";
     std::ofstream(in("pts_nan2.xyz")) << "0 0 1\n10 0 nan\n0 10 3\n";
@@ -219,6 +220,10 @@ INSTANTIATE_TEST_SUITE_P(
         Row{d2m + "IN/pts.xyz OUT/o.ply --src-crs EPSG:32610 -q", 1, "need --spacing"},
         Row{d2m + "IN/pts.xyz OUT/o.ply --spacing 10 --src-crs EPSG:32610 --bbox 500 500 600 600 -q", 1,
             "outside the points' convex hull"},
+        Row{d2m + "IN/pts_case.csv OUT/o.ply --spacing 10 --src-crs EPSG:32610 -q", 1,
+            "CSV columns 'X' and 'x' have the same name"},
+        Row{d2m + msh + "OUT/o.ply --spacing 50 --fit-iterations 5 -q", 2, "--fit-iterations requires --fit-normals"},
+        Row{d2m + msh + "OUT/o.ply --spacing 50 --fit-normals --fit-regularization -1 -q", 2, "--fit-regularization"},
         Row{d2m + "IN/empty.tif OUT/o.ply -q", 1, "not a raster GDAL can open"},
         Row{d2m + "IN/a_directory OUT/o.ply -q", 1, "it is a directory"},
         Row{d2m + "IN/truncated.tif OUT/o.ply -q", 1, "cannot read"},
