@@ -73,6 +73,13 @@ void info_mesh(const std::string& path) {
   } else {
     std::cout << "denoised: no\n";
   }
+  const terrain::NormalFitInfo& fit = m.normal_fit;
+  if (fit.fitted)
+    std::cout << fmt::format("normals_fitted: yes ({} source samples)\nfit_rmse_m: {:.4g} (before {:.4g})\n"
+                             "fit_max_m: {:.4g} (before {:.4g})\n",
+                             fit.samples, fit.rmse_after, fit.rmse_before, fit.max_after, fit.max_before);
+  else
+    std::cout << "normals_fitted: no\n";
   std::cout << "provenance: " << (m.provenance.empty() ? "unknown" : m.provenance) << "\n";
 }
 

@@ -58,6 +58,24 @@ TEST(Dem2mesh, MeshesMountStHelensAt50m) {
 }
 
 // Every bad input: non-zero exit, one line on stderr, no output file.
+// --fit-normals on a crop of the crater: the fit is reported on stdout, kept in the mesh
+// and shown by terrain-inspect info; the mesh's PN surface is closer to the DEM.
+TEST(Dem2mesh, FitNormalsIsReportedAndRecorded) {
+  test::ScratchDir dir;
+  const auto r = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + dir.path("m.ply") +
+                     " --spacing 50 --center 562700 5117000 --size 1000 1000 --fit-normals -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("normals: fitted\n"), std::string::npos) << r.out;
+  const GridMesh m = read_mesh_ply(dir.path("m.ply"));
+  ASSERT_TRUE(m.normal_fit.fitted);
+  EXPECT_LT(m.normal_fit.rmse_after, 0.8 * m.normal_fit.rmse_before);
+  EXPECT_GT(m.normal_fit.samples, 9000u);
+  const auto i = run(tool("terrain-inspect") + " info " + dir.path("m.ply"));
+  ASSERT_EQ(i.exit_code, 0) << i.err;
+  EXPECT_NE(i.out.find("normals_fitted: yes"), std::string::npos) << i.out;
+  EXPECT_NE(i.out.find("fit_rmse_m: "), std::string::npos) << i.out;
+}
+
 TEST(Dem2mesh, BadInputFailsCleanly) {
   test::ScratchDir dir;
   std::ofstream(dir.path("garbage.tif")) << "this is not a raster\n";
