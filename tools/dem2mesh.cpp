@@ -30,7 +30,7 @@ terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& 
   const terrain::DemInfo info = terrain::read_dem_info(input);
   const terrain::GridPlan plan = terrain::plan_grid(info.geo, info.rows, info.cols, req);
   const terrain::RasterWindow& win = plan.source_window;
-  const terrain::Grid dem = terrain::read_dem(input, tt::terminal_progress(verb, "read"), win);
+  terrain::Grid dem = terrain::read_dem(input, tt::terminal_progress(verb, "read"), win);
   tt::step(verb, fmt::format("read {} x {} of {} x {} samples: {:.2f} s", win.cols, win.rows, info.cols, info.rows,
                              since(t0)));
   t0 = Clock::now();
@@ -39,7 +39,7 @@ terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& 
   if (prepared.filled > 0) tt::warn(verb, fmt::format("filled {} no-data samples by interpolation", prepared.filled));
   tt::step(verb, fmt::format("grid {} x {} at {} m: {:.2f} s", prepared.grid.cols, prepared.grid.rows,
                              prepared.grid.geo.dx, since(t0)));
-  if (source) *source = dem;
+  if (source) *source = std::move(dem);
   return std::move(prepared.grid);
 }
 

@@ -94,30 +94,40 @@ struct CostLog : ceres::IterationCallback {
   }
 };
 
-// The face each sample lies in under the current normals (kNone: none), as lists per face.
+// The samples on the PN surface under the current normals, in one pass: the surface's error
+// at them and the face each lies in, as lists per face (samples with no point above: none).
 struct Assignment {
   std::vector<std::size_t> offset;  // #F + 1
   std::vector<std::uint32_t> sample;
 };
 
-Assignment assign(const GridMesh& mesh, const std::vector<Vector3d>& local) {
+SurfaceError locate(const GridMesh& mesh, const std::vector<Vector3d>& local, Assignment* a) {
   constexpr std::uint32_t kNone = std::uint32_t(-1);
-  std::vector<std::uint32_t> face(local.size(), kNone);
-#pragma omp parallel for schedule(dynamic, 1024)
+  std::vector<std::uint32_t> face(a ? local.size() : 0, kNone);
+  double se = 0, mx = 0;
+  std::size_t n = 0;
+#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : se, n) reduction(max : mx)
   for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(local.size()); ++i) {
-    const auto p = pn_point_above(mesh, local[std::size_t(i)].x(), local[std::size_t(i)].y());
-    if (p) face[std::size_t(i)] = std::uint32_t(p->face);
+    const Vector3d& q = local[std::size_t(i)];
+    const auto p = pn_point_above(mesh, q.x(), q.y());
+    if (!p) continue;
+    if (a) face[std::size_t(i)] = std::uint32_t(p->face);
+    const double e = p->position.z() - q.z();
+    se += e * e;
+    mx = std::max(mx, std::abs(e));
+    ++n;
   }
-  Assignment a;
-  a.offset.assign(mesh.n_faces() + 1, 0);
-  for (const std::uint32_t f : face)
-    if (f != kNone) ++a.offset[f + 1];
-  for (std::size_t f = 0; f < mesh.n_faces(); ++f) a.offset[f + 1] += a.offset[f];
-  a.sample.resize(a.offset.back());
-  std::vector<std::size_t> fill(a.offset.begin(), a.offset.end() - 1);
-  for (std::size_t i = 0; i < face.size(); ++i)
-    if (face[i] != kNone) a.sample[fill[face[i]]++] = std::uint32_t(i);
-  return a;
+  if (a) {
+    a->offset.assign(mesh.n_faces() + 1, 0);
+    for (const std::uint32_t f : face)
+      if (f != kNone) ++a->offset[f + 1];
+    for (std::size_t f = 0; f < mesh.n_faces(); ++f) a->offset[f + 1] += a->offset[f];
+    a->sample.resize(a->offset.back());
+    std::vector<std::size_t> fill(a->offset.begin(), a->offset.end() - 1);
+    for (std::size_t i = 0; i < face.size(); ++i)
+      if (face[i] != kNone) a->sample[fill[face[i]]++] = std::uint32_t(i);
+  }
+  return {n ? std::sqrt(se / double(n)) : 0.0, mx, n};
 }
 
 std::vector<Vector3d> to_local(const GridMesh& mesh, const SourceSamples& s) {
@@ -179,20 +189,7 @@ SourceSamples samples_inside_mesh(const SourceSamples& all, const GridMesh& mesh
 }
 
 SurfaceError pn_surface_error(const GridMesh& mesh, const SourceSamples& samples) {
-  const std::vector<Vector3d> local = to_local(mesh, samples);
-  double se = 0, mx = 0;
-  std::size_t n = 0;
-#pragma omp parallel for schedule(dynamic, 1024) reduction(+ : se, n) reduction(max : mx)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(local.size()); ++i) {
-    const Vector3d& q = local[std::size_t(i)];
-    const auto p = pn_point_above(mesh, q.x(), q.y());
-    if (!p) continue;
-    const double e = p->position.z() - q.z();
-    se += e * e;
-    mx = std::max(mx, std::abs(e));
-    ++n;
-  }
-  return {n ? std::sqrt(se / double(n)) : 0.0, mx, n};
+  return locate(mesh, to_local(mesh, samples), nullptr);
 }
 
 NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, const NormalFitOptions& opt,
@@ -201,9 +198,10 @@ NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, con
   if (!(opt.regularization >= 0) || opt.max_iterations < 1 || opt.rounds < 1 || opt.block < 2)
     throw Error("fit_pn_normals: regularization >= 0, iterations, rounds >= 1 and a block of >= 2 vertices");
   NormalFitReport rep;
-  rep.before = pn_surface_error(mesh, samples);
-  if (rep.before.samples == 0) throw Error("no source sample lies under the mesh: nothing to fit the normals to");
   const std::vector<Vector3d> local = to_local(mesh, samples);
+  Assignment a;
+  rep.before = locate(mesh, local, &a);  // and the first round's assignment
+  if (rep.before.samples == 0) throw Error("no source sample lies under the mesh: nothing to fit the normals to");
   const GridTopology& topo = mesh.topo;
   const std::size_t nv = mesh.n_vertices();
   std::vector<Vector3d> normal(nv), start(nv);
@@ -217,7 +215,7 @@ NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, con
   ceres::SphereManifold<3> sphere;
   const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
   for (int round = 0; round < opt.rounds; ++round) {
-    const Assignment a = assign(mesh, local);
+    if (round > 0) (void)locate(mesh, local, &a);
     for (std::size_t b = 0; b < rep.blocks; ++b) {
       const std::size_t r0 = (b / nbc) * block, c0 = (b % nbc) * block;
       const std::size_t r1 = std::min(topo.rows, r0 + block), c1 = std::min(topo.cols, c0 + block);
@@ -293,7 +291,7 @@ NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, con
     }
     for (std::size_t v = 0; v < nv; ++v) mesh.normals[v] = normal[v].normalized().cast<float>();
   }
-  rep.after = pn_surface_error(mesh, samples);
+  rep.after = locate(mesh, local, nullptr);
   mesh.normal_fit = {true, rep.before.rmse, rep.before.max_abs, rep.after.rmse, rep.after.max_abs, rep.after.samples};
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;

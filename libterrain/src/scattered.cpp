@@ -39,6 +39,9 @@ using Point = K::Point_2;
 using GradientTraits = CGAL::Interpolation_gradient_fitting_traits_2<K>;
 using Neighbour = std::pair<Dt::Vertex_handle, K::FT>;  // natural neighbour, its coordinate
 
+// CGAL's value functor: a vertex's z (always known).
+std::pair<double, bool> vertex_z(const Dt::Vertex_handle& v) { return {v->info().z, true}; }
+
 // The points with duplicate x, y merged (mean z), ready for Dt::insert.
 std::vector<std::pair<Point, VertexData>> unique_points(const PointCloud& p, std::size_t& duplicates) {
   std::vector<std::size_t> order(p.size());
@@ -104,7 +107,6 @@ struct PointSurface::Impl {
     inner.reserve(dt.number_of_vertices());
     for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v)
       if (!dt.is_edge(v, dt.infinite_vertex())) inner.push_back(v);
-    const auto value = [](const Dt::Vertex_handle& v) { return std::make_pair(v->info().z, true); };
 #pragma omp parallel
     {
       std::vector<Neighbour> coords;
@@ -116,7 +118,7 @@ struct PointSurface::Impl {
                                                              CGAL::Identity<Neighbour>());
         if (!nn.third || !(nn.second > 0)) continue;
         fitted[v->info().index] = CGAL::sibson_gradient_fitting(coords.begin(), coords.end(), nn.second,
-                                                                v->point(), v->info().z, value, GradientTraits());
+                                                                v->point(), v->info().z, vertex_z, GradientTraits());
       }
     }
     gradients = std::move(fitted);
@@ -141,12 +143,11 @@ double PointSurface::Impl::z_at(const Point& p, PointInterpolation method, doubl
                                                        CGAL::Identity<Neighbour>(), f);
   if (!nn.third || !(nn.second > 0)) return linear_z(f, p);  // on the hull: natural reduces to linear
   if (method == PointInterpolation::Natural) {
-    const auto value = [](const Dt::Vertex_handle& v) { return std::make_pair(v->info().z, true); };
     const auto gradient = [this](const Dt::Vertex_handle& v) {
       const K::Vector_2& g = gradients[v->info().index];
       return std::make_pair(g, !std::isnan(g.x()));
     };
-    const auto c1 = CGAL::sibson_c1_interpolation(coords.begin(), coords.end(), nn.second, p, value, gradient,
+    const auto c1 = CGAL::sibson_c1_interpolation(coords.begin(), coords.end(), nn.second, p, vertex_z, gradient,
                                                   GradientTraits());
     if (c1.second) return c1.first;
     // A natural neighbour on the convex hull has no fitted gradient: Sibson's C0 below.
