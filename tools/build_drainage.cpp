@@ -19,20 +19,6 @@
 
 namespace tt = terrain::tools;
 
-namespace {
-
-void check_same_grid(const terrain::Grid& a, const terrain::Grid& b, const std::string& an, const std::string& bn) {
-  const double tol = 1e-6 * std::max(a.geo.dx, a.geo.dy);
-  if (a.rows != b.rows || a.cols != b.cols || std::abs(a.geo.x0 - b.geo.x0) > tol ||
-      std::abs(a.geo.y0 - b.geo.y0) > tol || std::abs(a.geo.dx - b.geo.dx) > tol || std::abs(a.geo.dy - b.geo.dy) > tol)
-    throw terrain::Error(fmt::format("mismatched grids: '{}' is {} x {} at ({}, {}) step {}, '{}' is {} x {} at ({}, {}) "
-                                     "step {}",
-                                     an, a.cols, a.rows, a.geo.x0, a.geo.y0, a.geo.dx, bn, b.cols, b.rows, b.geo.x0,
-                                     b.geo.y0, b.geo.dx));
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   CLI::App app{"Build the drainage vertex database (.dv): sample the PN surface of a mesh on a fine grid,\n"
                "D8 steepest descent, flats, pits/ridges/channels/junctions, basins, flow accumulation\n"
@@ -56,7 +42,10 @@ int main(int argc, char** argv) {
   app.add_option("MESH_OR_OUTPUT", positional, "MESH.ply OUTPUT.dv, or only OUTPUT.dv with --raster / --d8-input")
       ->required()
       ->expected(1, 2);
-  app.add_option("--spacing", spacing, "Sampling spacing of the PN surface in metres")
+  app.add_option("--spacing", spacing,
+                 "Mesh mode: spacing in metres of the grid on which the PN surface is sampled (not the\n"
+                 "mesh's own spacing; finer than it, typically 1/5). Not with --raster: a raster is used\n"
+                 "on its own grid")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app.add_option("--raster", raster, "Raster mode: run on this DEM's own grid (no PN surface)");
@@ -78,6 +67,9 @@ int main(int argc, char** argv) {
     if (raster_mode && positional.size() != 1)
       throw terrain::Error("with --raster or --d8-input give only OUTPUT.dv (no mesh)");
     if (!raster_mode && positional.size() != 2) throw terrain::Error("give MESH.ply and OUTPUT.dv (or use --raster)");
+    if (raster_mode && app.get_option("--spacing")->count() > 0)
+      throw terrain::Error("--spacing applies to mesh mode only: --raster runs on the raster's own grid (resample it "
+                           "first, e.g. with gdalwarp -tr)");
     const std::string output = positional.back();
     if (!output.ends_with(".dv")) throw terrain::Error("OUTPUT must be a .dv file: '" + output + "'");
     if (!d8_input.empty() && (fill || keep_flats))
@@ -97,7 +89,7 @@ int main(int argc, char** argv) {
 
     auto t0 = clock::now();
     auto seconds = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
-    terrain::Grid surface;
+    drainage::RasterInput input;  // mesh mode fills only .surface
     std::uint32_t flags = 0;
     if (!raster_mode) {
       const terrain::GridMesh mesh = terrain::read_mesh_ply(positional[0]);
@@ -109,39 +101,20 @@ int main(int argc, char** argv) {
                                  s.grid.size(), dt, double(s.grid.size()) / dt * 1e-6, tt::peak_rss_mib()));
       if (s.fallbacks > 0)
         tt::warn(verb, fmt::format("{} samples used the flat triangle (PN patch folds over)", s.fallbacks));
-      surface = std::move(s.grid);
+      input.surface = std::move(s.grid);
       flags |= drainage::kDvFromPnSurface;
-    } else if (!raster.empty()) {
-      surface = terrain::read_dem(raster);
-      if (surface.count_nodata() == surface.size())
-        throw terrain::Error("'" + raster + "' has no valid sample (every cell is no-data)");
-      if (surface.geo.crs_kind == terrain::CrsKind::Geographic)
-        throw terrain::Error("'" + raster + "' is geographic (degrees); D8 needs metres: reproject it first (dem2mesh --grid-out)");
+    } else {
+      input = drainage::read_raster_input(raster, d8_input, enc);
+      tt::step(verb, fmt::format("read {} x {}: {:.2f} s", input.surface.cols, input.surface.rows, seconds()));
     }
     // Every output lands together at the end, or none does.
     terrain::OutputSet outputs;
     if (!surface_out.empty())
-      outputs.write([&] { terrain::write_geotiff(surface, outputs.stage(surface_out), prov); });
+      outputs.write([&] { terrain::write_geotiff(input.surface, outputs.stage(surface_out), prov); });
 
     t0 = clock::now();
-    drainage::DrainageResult result;
-    if (!d8_input.empty()) {
-      terrain::Grid dir_grid;
-      drainage::D8Codes dirs = drainage::read_d8_raster(d8_input, enc, dir_grid);
-      if (!raster.empty()) {
-        check_same_grid(surface, dir_grid, raster, d8_input);
-        for (std::size_t i = 0; i < surface.size(); ++i)  // no elevation: not a point
-          if (std::isnan(surface.z[i])) dirs[i] = drainage::kNodata;
-        flags |= drainage::kDvHasElevations;
-      } else {
-        surface = dir_grid;
-        for (std::size_t i = 0; i < surface.size(); ++i) surface.z[i] = dirs[i] == drainage::kNodata ? NAN : 0.0f;
-      }
-      result = drainage::drainage_from_directions(std::move(surface), std::move(dirs),
-                                                  tt::terminal_progress(verb, "drainage"));
-    } else {
-      result = drainage::compute_drainage(std::move(surface), {fill, !keep_flats}, tt::terminal_progress(verb, "drainage"));
-    }
+    drainage::DrainageResult result =
+        drainage::run_drainage(std::move(input), {fill, !keep_flats}, tt::terminal_progress(verb, "drainage"));
     flags |= result.dv_flags;
     for (const auto& [name, secs] : result.timings) tt::step(verb, fmt::format("  {}: {:.3f} s", name, secs));
     tt::step(verb, fmt::format("drainage (steps 2-6): {:.2f} s, peak RSS so far {:.0f} MiB", seconds(), tt::peak_rss_mib()));

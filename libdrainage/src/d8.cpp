@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "terrain/error.hpp"
+#include "terrain/utm.hpp"
 
 namespace drainage {
 
@@ -33,10 +34,12 @@ int to_foreign_code(std::uint8_t code, D8Encoding enc) {
 D8Codes d8_directions(const terrain::Grid& g) {
   const long rows = long(g.rows), cols = long(g.cols);
   D8Codes dirs(g.size());
-  double inv_dist[8];
-  for (int k = 0; k < 8; ++k) inv_dist[k] = 1.0 / std::hypot(kDCol[k] * g.geo.dx, kDRow[k] * g.geo.dy);
+  const std::vector<terrain::MetricCellSize> cell = terrain::metric_cell_sizes(g.geo, 0, g.rows);
 #pragma omp parallel for schedule(static)
   for (long r = 0; r < rows; ++r) {
+    double inv_dist[8];
+    for (int k = 0; k < 8; ++k)
+      inv_dist[k] = 1.0 / std::hypot(kDCol[k] * cell[std::size_t(r)].dx, kDRow[k] * cell[std::size_t(r)].dy);
     for (long c = 0; c < cols; ++c) {
       const float zc = g.z[std::size_t(r * cols + c)];
       if (std::isnan(zc)) {

@@ -1,5 +1,6 @@
 #include "terrain/utm.hpp"
 
+#include <GeographicLib/Geodesic.hpp>
 #include <GeographicLib/UTMUPS.hpp>
 #include <ogr_spatialref.h>
 
@@ -71,6 +72,30 @@ std::string utm_crs_wkt(const std::string& geographic_wkt, UtmZone zone, int& ep
   utm.exportToWkt(&wkt, opts);
   std::string out = wkt ? wkt : "";
   CPLFree(wkt);
+  return out;
+}
+
+std::vector<MetricCellSize> metric_cell_sizes(const Georef& geo, std::size_t row0, std::size_t rows) {
+  if (geo.crs_kind != CrsKind::Geographic) return std::vector<MetricCellSize>(rows, MetricCellSize{geo.dx, geo.dy});
+  double a = GeographicLib::Constants::WGS84_a(), f = GeographicLib::Constants::WGS84_f();
+  OGRSpatialReference srs;
+  if (!geo.crs_wkt.empty() && srs.importFromWkt(geo.crs_wkt.c_str()) == OGRERR_NONE) {
+    OGRErr e1 = OGRERR_NONE, e2 = OGRERR_NONE;
+    const double sa = srs.GetSemiMajor(&e1), inv_f = srs.GetInvFlattening(&e2);
+    if (e1 == OGRERR_NONE && e2 == OGRERR_NONE && sa > 0.0) {
+      a = sa;
+      f = inv_f > 0.0 ? 1.0 / inv_f : 0.0;
+    }
+  }
+  const GeographicLib::Geodesic geod(a, f);
+  std::vector<MetricCellSize> out(rows);
+  for (std::size_t k = 0; k < rows; ++k) {
+    const double lat = geo.y_of_row(double(row0 + k));
+    double sx = 0.0, sy = 0.0;
+    geod.Inverse(lat, 0.0, lat, geo.dx, sx);
+    geod.Inverse(lat - 0.5 * geo.dy, 0.0, lat + 0.5 * geo.dy, 0.0, sy);
+    out[k] = {sx, sy};
+  }
   return out;
 }
 

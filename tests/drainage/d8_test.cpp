@@ -5,6 +5,7 @@
 #include "drainage/d8.hpp"
 #include "drainage_test_support.hpp"
 #include "terrain/error.hpp"
+#include "terrain/utm.hpp"
 
 namespace drainage {
 namespace {
@@ -45,6 +46,28 @@ TEST(D8Directions, SteepestSlopeDependsOnCellShape) {
   EXPECT_STREQ(kName[centre_code(10, 10)], "N");
   EXPECT_STREQ(kName[centre_code(30, 10)], "N");
   EXPECT_STREQ(kName[centre_code(10, 30)], "E");
+}
+
+// A geographic grid at 60 N: a degree of longitude there is half a degree of latitude in
+// metres (55.8 km vs 111.4 km on WGS84), and D8 uses those metres, as TauDEM does.
+TEST(D8Directions, GeographicGridsUseMetricCellSizesPerRow) {
+  terrain::Georef geo;
+  geo.crs_kind = terrain::CrsKind::Geographic;  // no WKT: WGS84
+  geo.dx = geo.dy = 1.0 / 3600.0;               // 1 arc-second
+  geo.x0 = 10.0;
+  geo.y0 = 60.0 + 1.5 / 3600.0;  // row 1 at 60 N
+  const auto sizes = terrain::metric_cell_sizes(geo, 1, 1);
+  EXPECT_NEAR(sizes[0].dx * 3600.0, 55'800.0, 20.0);   // 1 degree of longitude at 60 N
+  EXPECT_NEAR(sizes[0].dy * 3600.0, 111'412.0, 20.0);  // 1 degree of latitude at 60 N
+  // Drops of 1 m per cell eastwards and 1.2 m per cell northwards: in metres east is the
+  // steepest (2.0 vs 1.2 vs 1.97 per N-S cell length); with cells taken as square it
+  // would be NE (1.56 vs 1.0 vs 1.2).
+  terrain::Grid g(3, 3, geo);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) g.at(std::size_t(r), std::size_t(c)) = float(100.0 - 1.0 * c + 1.2 * r);
+  EXPECT_STREQ(kName[d8_directions(g)[4]], "E");
+  g.geo.crs_kind = terrain::CrsKind::Projected;  // the same numbers as a projected grid
+  EXPECT_STREQ(kName[d8_directions(g)[4]], "NE");
 }
 
 // docs/algorithms.md 7.8 (dx = 30 m, dy = 20 m): interior cells.

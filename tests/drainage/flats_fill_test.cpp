@@ -96,5 +96,30 @@ TEST(PriorityFlood, MatchesTaudemPitremove) {
   RecordProperty("cells_within_1mm", std::to_string(close) + "/" + std::to_string(compared));
 }
 
+// A geographic DEM (the bundled Eno crop, NAD83 lat/lon) fills like any grid: filling
+// compares elevations only, so the result is the one of the same array on a projected
+// grid, and TauDEM's pitremove gives that array too (MatchesTaudemPitremove above; TauDEM's
+// geographic reference enogeofel.tif is not in ../shared/data). Every filled cell then
+// has no strict pit left: every interior cell has a neighbour at or below it.
+TEST(PriorityFlood, GeographicDemFillsLikeTheSameArrayProjected) {
+  terrain::Grid geo = terrain::read_dem(terrain::test::data("eno_nad83_geographic_crop.tif"));
+  ASSERT_EQ(geo.geo.crs_kind, terrain::CrsKind::Geographic);
+  terrain::Grid proj = geo;
+  proj.geo.crs_kind = terrain::CrsKind::Projected;
+  proj.geo.crs_wkt.clear();
+  proj.geo.dx = proj.geo.dy = 10.0;
+  const std::size_t raised = priority_flood_fill(geo);
+  EXPECT_GT(raised, 0u);
+  EXPECT_EQ(priority_flood_fill(proj), raised);
+  for (std::size_t i = 0; i < geo.size(); ++i) ASSERT_EQ(geo.z[i], proj.z[i]) << i;
+  const long R = long(geo.rows), C = long(geo.cols);
+  for (long r = 1; r + 1 < R; ++r)
+    for (long c = 1; c + 1 < C; ++c) {
+      float low = INFINITY;  // lowest neighbour: a strict pit would be below all eight
+      for (int k = 0; k < 8; ++k) low = std::min(low, geo.at(std::size_t(r + kDRow[k]), std::size_t(c + kDCol[k])));
+      ASSERT_LE(low, geo.at(std::size_t(r), std::size_t(c))) << "pit left at row " << r << ", column " << c;
+    }
+}
+
 }  // namespace
 }  // namespace drainage

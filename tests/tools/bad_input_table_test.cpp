@@ -275,7 +275,8 @@ INSTANTIATE_TEST_SUITE_P(
         Row{bd + "--raster IN/m.xyz OUT/o.dv -q", 0, "points: 133926"},
         Row{bd + "--raster IN/m.asc OUT/o.dv -q", 0, "points: 133926"},
         Row{bd + "--raster IN/mosaic.vrt OUT/o.dv -q", 0, "points: 133926"},
-        Row{bd + "--raster IN/m.dt0 OUT/o.dv -q", 1, "is geographic (degrees)"},
+        Row{bd + "--raster IN/m.dt0 OUT/o.dv -q", 0, "points: 14641"},  // geographic: per-row metric cells
+        Row{bd + "--raster IN/plane.tif OUT/o.dv --spacing 5 -q", 1, "--spacing applies to mesh mode only"},
         // build-drainage
         Row{bd + "--raster IN/all_nodata.tif OUT/o.dv -q", 1, "has no valid sample"},
         Row{bd + "--raster IN/plane.tif OUT/o.dv --threads 100000", 2, "--threads"},

@@ -100,7 +100,8 @@ TEST(BuildDrainage, BadInputFailsCleanly) {
       {tool("build-drainage") + " --raster " + data("msh_2007_utm10n_10m.tif") + " --d8-input " + dir.path("good_d8.tif") +
            " " + out,
        "mismatched grids", 1},
-      {tool("build-drainage") + " --raster " + data("eno_nad83_geographic_crop.tif") + " " + out, "geographic", 1},
+      {tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + out + " --spacing 5",
+       "--spacing applies to mesh mode only", 1},
       {tool("build-drainage") + " --raster " + data("missing.tif") + " " + out, "no such file", 1},
       {tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + out + " --spacing 0", "--spacing", 2},
       {tool("terrain-inspect") + " info " + dir.path("ok.dv"), "truncated", 1},

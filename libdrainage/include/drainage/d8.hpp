@@ -45,7 +45,8 @@ std::uint8_t from_foreign_code(double value, D8Encoding enc, bool is_nodata);
 int to_foreign_code(std::uint8_t code, D8Encoding enc);
 
 // Steepest-descent direction of every sample of `z` (rows x cols, NaN = no-data):
-// slope_k = (z_c - z_k) / dist_k with dist = dx, dy or hypot(dx, dy); the steepest strictly
+// slope_k = (z_c - z_k) / dist_k with dist = dx, dy or hypot(dx, dy) in metres (a
+// geographic grid's per-row geodesic cell sizes, terrain::metric_cell_sizes); the steepest strictly
 // positive slope wins, ties by kTryOrder. Boundary rule: a neighbour off the grid or in
 // no-data is extrapolated linearly, z = 2 z_c - z_opposite (z_c when the opposite sample is
 // missing too); if such a virtual neighbour is the steepest, or a boundary sample has no

@@ -1,9 +1,12 @@
 #pragma once
 // Steps 2-6 of build-drainage on a surface grid: (fill), D8, (flats), network.
 #include <cstdint>
+#include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
+#include "drainage/d8.hpp"
 #include "drainage/flats.hpp"
 #include "drainage/network.hpp"
 #include "terrain/error.hpp"
@@ -33,5 +36,25 @@ DrainageResult compute_drainage(terrain::Grid surface, const DrainageOptions& op
 // The network of given directions on `surface`'s grid (--d8-input): skips D8 and flats.
 DrainageResult drainage_from_directions(terrain::Grid surface, D8Codes dirs,
                                         const terrain::Progress& progress = {});
+
+// The inputs of raster mode (build-drainage --raster DEM and/or --d8-input DIRS).
+struct RasterInput {
+  terrain::Grid surface;          // the DEM; with directions only, their grid with z = 0 (NaN at no-data)
+  std::optional<D8Codes> dirs;    // given directions (--d8-input), masked by the DEM's no-data
+  std::uint32_t dv_flags = 0;     // kDvHasElevations when a DEM was given
+};
+
+// Reads a DEM (any GDAL raster, projected or geographic: D8 then uses per-row metric cell
+// sizes), directions in `encoding`, or both. Errors (terrain::Error): neither given, a DEM
+// with no valid sample, a direction raster on a different grid than the DEM.
+RasterInput read_raster_input(const std::string& dem_path, const std::string& d8_path, D8Encoding encoding);
+
+// compute_drainage, or drainage_from_directions when `in` carries directions (then
+// `options` must be the defaults' fill = false).
+DrainageResult run_drainage(RasterInput in, const DrainageOptions& options, const terrain::Progress& progress = {});
+
+// Throws terrain::Error naming both files when `a` and `b` differ in size, origin or step.
+void check_same_grid(const terrain::Grid& a, const terrain::Grid& b, const std::string& a_name,
+                     const std::string& b_name);
 
 }  // namespace drainage

@@ -2,6 +2,9 @@
 // UTM zones and CRSs through GeographicLib (zone rules) and GDAL/OGR (CRS definitions).
 #include <string>
 #include <string_view>
+#include <vector>
+
+#include "terrain/grid.hpp"
 
 namespace terrain {
 
@@ -25,5 +28,14 @@ void utm_forward(UtmZone z, double lat, double lon, double& x, double& y);
 // The UTM zone CRS on the datum of `geographic_wkt` (for example NAD83 -> "NAD83 / UTM
 // zone 17N", EPSG:26917) as WKT; `epsg` receives the EPSG code when GDAL identifies one.
 std::string utm_crs_wkt(const std::string& geographic_wkt, UtmZone zone, int& epsg);
+
+// Cell sizes in metres of rows row0 .. row0 + rows - 1 of a grid. Projected grids (and
+// grids without a CRS) have the same {dx, dy} on every row. A geographic grid's sizes are
+// geodesic lengths on its CRS's ellipsoid (GeographicLib): dx along the row's parallel
+// across one cell, dy along the meridian across the cell (centred on the row's latitude).
+struct MetricCellSize {
+  double dx = 0.0, dy = 0.0;
+};
+std::vector<MetricCellSize> metric_cell_sizes(const Georef& geo, std::size_t row0, std::size_t rows);
 
 }  // namespace terrain
