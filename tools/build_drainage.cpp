@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
   double spacing = 10.0;
   bool keep_flats = false, fill = false;
   int threads = 0;
+  std::uint32_t dv_version = drainage::kDvVersion;
   tt::Verbosity verb;
   app.add_option("MESH_OR_OUTPUT", positional, "MESH.ply OUTPUT.dv, or only OUTPUT.dv with --raster / --d8-input")
       ->required()
@@ -57,6 +58,11 @@ int main(int argc, char** argv) {
   app.add_flag("--fill", fill, "Fill depressions first (Priority-Flood); off by default: every pit is a basin");
   app.add_option("--rasters", rasters_dir, "Also write GeoTIFFs of every layer into this directory");
   app.add_option("--surface", surface_out, "Also write the sampled surface as a GeoTIFF");
+  app.add_option("--dv-version", dv_version,
+                 "Format version of OUTPUT.dv: 2 (compact, compressed blocks) or 1 (32 bytes per point, for readers "
+                 "older than 2026-11)")
+      ->check(CLI::IsMember({1, 2}))
+      ->capture_default_str();
   app.add_option("--threads", threads, "Threads (default: all cores); the output does not depend on it")
       ->check(CLI::Range(1, tt::kMaxThreads));
   tt::add_verbosity_flags(app, verb);
@@ -120,7 +126,8 @@ int main(int argc, char** argv) {
     tt::step(verb, fmt::format("drainage (steps 2-6): {:.2f} s, peak RSS so far {:.0f} MiB", seconds(), tt::peak_rss_mib()));
 
     t0 = clock::now();
-    const drainage::DvHeader header = drainage::make_dv_header(result.surface, result.net, flags, prov);
+    drainage::DvHeader header = drainage::make_dv_header(result.surface, result.net, flags, prov);
+    header.version = dv_version;
     outputs.write([&] {
       drainage::write_dv(outputs.stage(output), header, result.surface, result.dirs, result.net);
       tt::step(verb, fmt::format("write {}: {:.2f} s", output, seconds()));

@@ -127,29 +127,12 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
   }
   terrain::report(progress, 0.7);
 
-  // Branches. A point continues the branch of an upstream neighbour exactly when one
-  // inflow carried its final order, i.e. max_count == 1 (two or more raised the order,
-  // none means a ridge); every other point heads a branch.
   topo.clear();
   net.branch_vertices.swap(topo);  // reuse the buffer
-  for (std::size_t i = 0; i < n; ++i) {
-    if (dirs[i] == kNodata || max_count[i] == 1) continue;
-    Branch b;
-    b.first = std::uint32_t(net.branch_vertices.size());
-    b.order = net.order[i];
-    std::uint32_t v = std::uint32_t(i);
-    while (true) {
-      net.branch_vertices.push_back(v);
-      const std::uint32_t d = net.downstream[v];
-      if (d == kNone || net.order[d] != b.order) {
-        b.drains_into = d;
-        break;
-      }
-      v = d;
-    }
-    b.count = std::uint32_t(net.branch_vertices.size()) - b.first;
-    net.branches.push_back(b);
-  }
+  network_branches(
+      rows, cols, [&](std::size_t i) { return dirs[i] != kNodata; }, [&](std::size_t i) { return net.downstream[i]; },
+      [&](std::size_t i) { return net.order[i]; }, [&](const Branch& b) { net.branches.push_back(b); },
+      net.branch_vertices);
   terrain::report(progress, 1.0);
   return net;
 }

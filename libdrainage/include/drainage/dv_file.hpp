@@ -1,15 +1,11 @@
 #pragma once
 // The drainage vertex database (.dv): a versioned little-endian binary file.
-// Full specification: docs/dv-format.md. In short:
-//   fixed header (128 bytes): magic "TRNDRAIN", version, header size, CRC-32, flags,
-//     rows, cols, valid points, branches, basins, origin x y z, dx, dy, EPSG, lengths of
-//     the CRS WKT and provenance strings; then those strings, padded to 8 bytes;
-//   vertex records, rows * cols x 32 bytes, vertex id = row * cols + col:
-//     f32 x y z (relative to the origin), u32 accumulated flow, f32 normalized flow,
-//     u32 basin, u32 downstream vertex, u8 class, u8 Strahler order, u8 D8 code, u8 0;
-//   branch records, #branches x 16 bytes: u32 first, u32 count, u32 drains_into, u8 order, 3 x u8 0;
-//   branch vertex list, #valid points x u32.
-// The CRC-32 (zlib) covers the whole file with the CRC field set to 0.
+// Full specification: docs/dv-format.md. Version 2 (written by default) stores per point
+// only what the grid does not imply - elevation, D8 code, accumulated flow, basin, Strahler
+// order - in zstd-compressed blocks of block_rows x block_cols points, each with its own
+// CRC-32, followed by a block index and the basins' pits; positions, downstream links,
+// classes, normalized flow and branches are derived on reading. Version 1 (32 bytes per
+// point, every field stored) is still read, and written on request.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -19,7 +15,8 @@
 
 namespace drainage {
 
-inline constexpr std::uint32_t kDvVersion = 1;
+inline constexpr std::uint32_t kDvVersion = 2;     // the newest version, written by default
+inline constexpr std::uint32_t kDvBlockSide = 256;  // default block: 256 x 256 points
 
 enum DvFlags : std::uint32_t {
   kDvHasElevations = 1u << 0,  // z is meaningful (not a --d8-input run without a DEM)
@@ -36,6 +33,7 @@ struct DvHeader {
   double dx = 1, dy = 1;
   std::int32_t epsg = 0;
   std::string crs_wkt, provenance;
+  std::uint32_t block_rows = 0, block_cols = 0;  // version 2: the block shape (0 in version 1)
 };
 
 #pragma pack(push, 1)
@@ -65,16 +63,68 @@ struct DrainageDb {
 DvHeader make_dv_header(const terrain::Grid& grid, const Network& net, std::uint32_t flags,
                         const std::string& provenance);
 
-// Writes atomically (temp + rename), streaming the records from the arrays (no copy of
-// the database in memory). `z` gives elevations (NaN/no-data points keep class Nodata).
+// Writes atomically (temp + rename) in header.version (2 by default, blocks of
+// header.block_rows x block_cols, kDvBlockSide when 0; or 1), streaming from the arrays
+// (no copy of the database in memory). `z` gives elevations (NaN/no-data points keep
+// class Nodata).
 void write_dv(const std::string& path, const DvHeader& header, const terrain::Grid& z,
               const D8Codes& dirs, const Network& net);
+
+// Version 2, block by block (the tiled build writes tiles as they finish): the stored
+// fields of one block, row-major within the block, compressed and checksummed.
+struct DvBlockFields {
+  std::vector<float> z;                   // relative to the header's origin z; 0 at no-data
+  std::vector<std::uint8_t> d8;           // D8 codes (d8.hpp)
+  std::vector<std::uint8_t> cut;          // 1 where d8 < 8 but the flow ends (enters no-data)
+  std::vector<std::uint32_t> accumulated;
+  std::vector<std::uint32_t> basin;
+  std::vector<std::uint8_t> order;
+};
+std::vector<char> encode_dv_block(const DvBlockFields& fields);
+
+class DvBlockWriter {
+ public:
+  // Writes the header (counts are patched by finish) to `out`, a seekable stream.
+  DvBlockWriter(std::ostream& out, std::string path, DvHeader header);
+  std::size_t block_count() const { return index_.size(); }
+  const DvHeader& header() const { return header_; }  // with the block shape filled in
+  // Block b (row-major over the grid of blocks), once each, in any order.
+  void put_block(std::size_t b, const std::vector<char>& encoded);
+  // The basins' pits and their accumulated flow, the final counts; writes the trailer and
+  // the header checksum.
+  void finish(std::uint64_t valid, std::uint64_t branches, const std::vector<std::uint32_t>& pits,
+              const std::vector<std::uint32_t>& pit_accumulated);
+
+ private:
+  struct Entry {
+    std::uint64_t offset = 0;
+    std::uint32_t bytes = 0, crc = 0;
+  };
+  std::ostream& out_;
+  std::string path_;
+  DvHeader header_;
+  std::vector<Entry> index_;
+  std::uint64_t end_ = 0;
+};
 
 // Reads and validates: wrong magic, a newer version, a grid of 2^32 points or more, a
 // truncated or oversized file, a CRC mismatch, and (since a file can be made to match its
 // CRC) any class, D8 code, downstream, basin, branch or branch-vertex index out of range
 // are each a terrain::Error with a clear message.
 DrainageDb read_dv(const std::string& path);
+
+// Only the header (version 1 or 2), checked as read_dv checks it.
+DvHeader read_dv_header(const std::string& path);
+
+// The points of rows row0 .. row0 + rows - 1 and columns col0 .. col0 + cols - 1 (clamped to
+// the grid) as a database of their own: its header's rows, cols and origin are the
+// window's, x and y are relative to that origin, downstream links are window indices
+// (kNone where the flow leaves the window), basins keep their global ids and classes,
+// accumulated and normalized flow their global values; branches are those of the window.
+// A version 2 file is read block by block: only the blocks under the window (and a
+// one-point margin, for the classes) are read.
+DrainageDb read_dv_window(const std::string& path, std::size_t row0, std::size_t col0, std::size_t rows,
+                          std::size_t cols);
 
 // The CRC-32 of a whole .dv file image (`size` bytes at `bytes`) with its CRC field taken
 // as 0: the value the file stores at byte 16. For tools and tests that patch a file.

@@ -47,4 +47,56 @@ struct Network {
 Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
                         const terrain::Progress& progress = {});
 
+// The branches of a network from its downstream links and Strahler orders (the last step
+// of analyze_network; the .dv reader derives them the same way): a point heads a branch
+// unless exactly one inflow has its order; heads in ascending point order. valid(i),
+// down(i) (kNone: none) and order(i) read point i of a rows x cols grid; emit(branch) takes
+// each branch in turn; `vertices` receives the branches' vertices.
+template <class Valid, class Down, class Order, class Emit>
+void network_branches(std::size_t rows, std::size_t cols, Valid&& valid, Down&& down, Order&& order, Emit&& emit,
+                      terrain::BigVector<std::uint32_t>& vertices) {
+  const std::size_t n = rows * cols;
+  const long R = long(rows), C = long(cols);
+  terrain::BigVector<std::uint8_t> head(n);
+  std::size_t points = 0;
+#pragma omp parallel for schedule(static) reduction(+ : points)
+  for (long r = 0; r < R; ++r)
+    for (long c = 0; c < C; ++c) {
+      const std::size_t i = std::size_t(r * C + c);
+      head[i] = 0;
+      if (!valid(i)) continue;
+      ++points;
+      int same = 0;
+      for (int k = 0; k < 8; ++k) {
+        const long rr = r - kDRow[std::size_t(k)], cc = c - kDCol[std::size_t(k)];  // would flow in along k
+        if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;
+        const std::size_t j = std::size_t(rr * C + cc);
+        same += down(j) == i && order(j) == order(i);
+      }
+      head[i] = same != 1;
+    }
+  vertices.clear();
+  vertices.reserve(points);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!head[i]) continue;
+    Branch b;
+    b.first = std::uint32_t(vertices.size());
+    b.order = order(i);
+    std::uint32_t v = std::uint32_t(i);
+    while (true) {
+      vertices.push_back(v);
+      const std::uint32_t d = down(v);
+      // A chain ends where the order changes; at another head only in a corrupt network
+      // (a cycle), which this guard keeps finite.
+      if (d == kNone || order(d) != b.order || head[d]) {
+        b.drains_into = d;
+        break;
+      }
+      v = d;
+    }
+    b.count = std::uint32_t(vertices.size()) - b.first;
+    emit(b);
+  }
+}
+
 }  // namespace drainage
