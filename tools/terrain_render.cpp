@@ -177,7 +177,11 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, std::
                              s.mesh.n_faces(), since(t0)));
   if (!dv_path.empty()) {
     t0 = Clock::now();
-    const terrain::DrainageLinks links = drainage::drainage_links(drainage::read_dv(dv_path));
+    // Only the database's points under the mesh: a large (tiled) .dv is read block by block.
+    const auto& g = s.mesh.geo;
+    const terrain::DrainageLinks links = drainage::drainage_links_in(
+        dv_path, g.origin_x, g.origin_y - double(s.mesh.topo.rows - 1) * g.dy,
+        g.origin_x + double(s.mesh.topo.cols - 1) * g.dx, g.origin_y);
     if (const std::string w = rr::coverage_warning(s.mesh, links); !w.empty()) tt::warn(verb, "'" + dv_path + "': " + w);
     s.creases = rr::build_crease_geometry(s.mesh, links, min_accumulated);
     tt::step(verb, fmt::format("read {} and its PN normals: {} vertices, {} segments: {:.2f} s", dv_path,

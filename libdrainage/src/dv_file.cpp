@@ -532,6 +532,35 @@ DrainageDb crop(const DrainageDb& db, std::size_t r0, std::size_t c0, std::size_
 
 }  // namespace
 
+void dv_fix_checksums(char* bytes, std::size_t size) {
+  FixedHeader f{};
+  if (size < sizeof f) return;
+  std::memcpy(&f, bytes, sizeof f);
+  std::uint32_t crc = 0;
+  if (f.version < 2) {
+    crc = dv_checksum(bytes, size);
+  } else {
+    if (f.block_rows == 0 || f.block_cols == 0 || f.header_bytes > size) return;
+    const std::uint64_t nb = std::uint64_t(blocks_along(f.rows, f.block_rows)) * blocks_along(f.cols, f.block_cols);
+    if (nb > size || f.basins > size) return;
+    const std::uint64_t trailer = nb * kIndexEntry + f.basins * kBasinEntry + kEndRecord;
+    if (trailer > size - f.header_bytes) return;
+    char* index = bytes + (size - trailer);
+    for (std::uint64_t b = 0; b < nb; ++b) {
+      std::uint64_t offset = 0;
+      std::uint32_t n = 0;
+      std::memcpy(&offset, index + b * kIndexEntry, 8);
+      std::memcpy(&n, index + b * kIndexEntry + 8, 4);
+      if (offset > size || n > size - offset) continue;
+      const std::uint32_t c = crc_of(bytes + offset, n);
+      std::memcpy(index + b * kIndexEntry + 12, &c, 4);
+    }
+    std::memset(bytes + kCrcOffset, 0, 4);
+    crc = crc_of(index, trailer, crc_of(bytes, f.header_bytes));
+  }
+  std::memcpy(bytes + kCrcOffset, &crc, 4);
+}
+
 DvHeader read_dv_header(const std::string& path) {
   OpenDv d;
   open_dv(path, d);

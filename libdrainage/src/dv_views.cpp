@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "drainage/d8.hpp"
 
 static_assert(drainage::kNone == terrain::DrainageLinks::kNone);
@@ -62,6 +64,21 @@ terrain::DrainageLinks drainage_links(const DrainageDb& db) {
     l.downstream[i] = v.downstream;  // kNone is the same value in both
   }
   return l;
+}
+
+terrain::DrainageLinks drainage_links_in(const std::string& path, double west, double south, double east,
+                                         double north) {
+  const DvHeader h = read_dv_header(path);
+  const double eps = 1e-6;
+  const double c0 = std::max(0.0, std::ceil((west - h.origin_x) / h.dx - eps));
+  const double c1 = std::min(double(h.cols) - 1.0, std::floor((east - h.origin_x) / h.dx + eps));
+  const double r0 = std::max(0.0, std::ceil((h.origin_y - north) / h.dy - eps));
+  const double r1 = std::min(double(h.rows) - 1.0, std::floor((h.origin_y - south) / h.dy + eps));
+  if (!(c0 <= c1) || !(r0 <= r1))
+    throw terrain::Error(fmt::format("'{}' does not overlap x {:.1f}..{:.1f}, y {:.1f}..{:.1f}", path, west, east, south,
+                                     north));
+  return drainage_links(read_dv_window(path, std::size_t(r0), std::size_t(c0), std::size_t(r1 - r0 + 1),
+                                       std::size_t(c1 - c0 + 1)));
 }
 
 terrain::Grid dv_elevations(const DrainageDb& db) {

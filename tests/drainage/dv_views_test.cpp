@@ -70,5 +70,36 @@ TEST(DvViews, GeopackageHasOneLinePerBranch) {
   EXPECT_EQ(rgb.size(), 3 * db.vertices.size());
 }
 
+// The links of a world rectangle (a small mesh over a large database) are the points
+// under it, with the full database's positions and flow; a rectangle over the whole grid
+// gives the whole grid, one outside it an error.
+TEST(DvViews, LinksOfAnExtentAreThePointsUnderIt) {
+  terrain::test::ScratchDir dir;
+  const DrainageResult r = logan_drainage();
+  const DrainageDb db = round_trip(r, dir);
+  const terrain::DrainageLinks full = drainage_links(db);
+  const DvHeader& h = db.header;
+  const std::size_t r0 = 120, c0 = 40, rows = 101, cols = 77;  // sample rows 120..220, columns 40..116
+  const double west = h.origin_x + double(c0) * h.dx - 0.3 * h.dx, east = h.origin_x + double(c0 + cols - 1) * h.dx;
+  const double north = h.origin_y - double(r0) * h.dy, south = h.origin_y - double(r0 + rows - 1) * h.dy + 0.2 * h.dy;
+  const terrain::DrainageLinks part = drainage_links_in(dir.path("a.dv"), west, south, east, north);
+  ASSERT_EQ(part.rows, rows - 1);  // the southern row lies 0.2 cell outside
+  ASSERT_EQ(part.cols, cols);
+  EXPECT_DOUBLE_EQ(part.origin.x(), h.origin_x + double(c0) * h.dx);
+  EXPECT_DOUBLE_EQ(part.origin.y(), h.origin_y - double(r0) * h.dy);
+  for (std::size_t rr = 0; rr < part.rows; ++rr)
+    for (std::size_t cc = 0; cc < part.cols; ++cc) {
+      const std::size_t i = rr * part.cols + cc, j = (r0 + rr) * full.cols + c0 + cc;
+      ASSERT_EQ(part.flow[i], full.flow[j]);
+      ASSERT_EQ(part.accumulated[i], full.accumulated[j]);
+      ASSERT_EQ(part.valid[i], full.valid[j]);
+      ASSERT_EQ(part.positions[i].z(), full.positions[j].z());
+      ASSERT_NEAR(part.positions[i].x() + part.origin.x(), full.positions[j].x() + full.origin.x(), 1e-3);
+    }
+  const terrain::DrainageLinks all = drainage_links_in(dir.path("a.dv"), -1e9, -1e9, 1e9, 1e9);
+  EXPECT_EQ(all.size(), full.size());
+  EXPECT_THROW(drainage_links_in(dir.path("a.dv"), 0, 0, 10, 10), terrain::Error);
+}
+
 }  // namespace
 }  // namespace drainage

@@ -1,7 +1,7 @@
 // libFuzzer harness: the .dv reader and what reads a database (summary, elevations,
-// preview). The CRC field is recomputed for every input, so the fuzzer reaches the checks
-// behind the checksum (a hostile file can match its CRC too). Format version 1 only: it
-// is the only version there is.
+// preview, a window). Every checksum is recomputed for every input (dv_fix_checksums), so
+// the fuzzer reaches the checks behind them (a hostile file can match its CRCs too).
+// Versions 1 and 2 (the corpus holds both).
 #include <cstring>
 #include <string>
 #include <vector>
@@ -13,15 +13,13 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::vector<std::uint8_t> bytes(data, data + size);
-  if (bytes.size() >= 20) {
-    const std::uint32_t crc = drainage::dv_checksum(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    std::memcpy(bytes.data() + 16, &crc, 4);
-  }
+  drainage::dv_fix_checksums(reinterpret_cast<char*>(bytes.data()), bytes.size());
   const std::string path = terrain::fuzz::input_file(bytes.data(), bytes.size(), ".dv");
   try {
     const drainage::DrainageDb db = drainage::read_dv(path);
     (void)drainage::summarize(db);
     if (db.vertices.size() <= (1u << 20)) (void)drainage::dv_preview(db);
+    (void)drainage::read_dv_window(path, db.header.rows / 3, db.header.cols / 4, 7, 5);
   } catch (const terrain::Error&) {
   }
   return 0;

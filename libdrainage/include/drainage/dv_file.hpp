@@ -130,6 +130,12 @@ DrainageDb read_dv_window(const std::string& path, std::size_t row0, std::size_t
 // as 0: the value the file stores at byte 16. For tools and tests that patch a file.
 std::uint32_t dv_checksum(const char* bytes, std::size_t size);
 
+// Sets every checksum of a .dv image to match its bytes: version 1 the file's CRC; version
+// 2 each block's CRC in the index (where the index lies inside the image) and then the
+// header's. For fuzzing and tests that patch a file; an image too short to hold a header
+// is left as it is.
+void dv_fix_checksums(char* bytes, std::size_t size);
+
 // True when the file starts with the .dv magic.
 bool is_dv_file(const std::string& path);
 

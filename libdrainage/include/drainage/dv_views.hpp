@@ -24,6 +24,13 @@ DvSummary summarize(const DrainageDb& db);
 // The database's points as plain arrays (terrain/drainage_links.hpp), for the renderer.
 terrain::DrainageLinks drainage_links(const DrainageDb& db);
 
+// The points of the .dv at `path` that lie in the world rectangle [west, east] x [south,
+// north] (sample centres, with a tolerance of 1e-6 cell), read with read_dv_window: a
+// renderer given a large database and a small mesh loads only the mesh's extent. The
+// whole grid when the rectangle covers it; an Error when they do not overlap.
+terrain::DrainageLinks drainage_links_in(const std::string& path, double west, double south, double east,
+                                         double north);
+
 // The database's elevations as a grid (no-data where a vertex is not a point).
 terrain::Grid dv_elevations(const DrainageDb& db);
 
