@@ -78,17 +78,18 @@ void network_branches(std::size_t rows, std::size_t cols, Valid&& valid, Down&& 
   vertices.clear();
   vertices.reserve(points);
   for (std::size_t i = 0; i < n; ++i) {
-    if (!head[i]) continue;
+    if (head[i] != 1) continue;
     Branch b;
     b.first = std::uint32_t(vertices.size());
     b.order = order(i);
     std::uint32_t v = std::uint32_t(i);
     while (true) {
       vertices.push_back(v);
+      head[v] = 2;  // listed
       const std::uint32_t d = down(v);
-      // A chain ends where the order changes; at another head only in a corrupt network
-      // (a cycle), which this guard keeps finite.
-      if (d == kNone || order(d) != b.order || head[d]) {
+      // A chain ends where the order changes. It meets a head or a listed point only in a
+      // corrupt network (a cycle, a link that is no neighbour): the guard keeps it finite.
+      if (d == kNone || d >= n || order(d) != b.order || head[d]) {
         b.drains_into = d;
         break;
       }
