@@ -1,6 +1,7 @@
 #include "drainage/tiled.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <queue>
@@ -244,6 +245,347 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
     done(t, out);
   }
   return raised;
+}
+
+// ---- the network, tile by tile ----
+
+namespace {
+
+constexpr int kMaxOrder = 63;  // a Strahler order needs 2^(order-1) points: 33 at most here
+using OrderTable = std::array<std::uint8_t, kMaxOrder + 1>;  // f(o), o = 1..kMaxOrder
+
+// Strahler order from the largest order m of the inflows and how many (k) carry it.
+inline std::uint8_t strahler(std::uint8_t m, int k) { return k == 0 ? 1 : std::uint8_t(m + (k >= 2 ? 1 : 0)); }
+inline void add_inflow(std::uint8_t& m, std::uint8_t& k, std::uint8_t o) {
+  if (o > m) m = o, k = 1;
+  else if (o == m) ++k;
+}
+// The order of a point with local inflows (m, k) and one more inflow of order o.
+inline std::uint8_t with_inflow(std::uint8_t m, std::uint8_t k, std::uint8_t o) {
+  add_inflow(m, k, o);
+  return strahler(m, k);
+}
+
+OrderTable identity_table() {
+  OrderTable t{};
+  for (int o = 0; o <= kMaxOrder; ++o) t[std::size_t(o)] = std::uint8_t(o);
+  return t;
+}
+
+// What one tile knows alone (both passes compute it the same way).
+struct LocalNetwork {
+  terrain::RasterWindow w;
+  std::size_t nr = 0, nc = 0;
+  D8Codes dirs;
+  terrain::BigVector<std::uint8_t> cut, leaves, entry, influenced, node, m, k, order, pit;
+  terrain::BigVector<std::uint32_t> down, acc;  // acc: 1 + inflows not influenced (final where not influenced)
+  std::vector<std::uint32_t> topo;              // upstream before downstream
+  std::vector<std::uint64_t> target;            // of each leaving cell, in cell order: global index downstream
+};
+
+LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReader& read) {
+  LocalNetwork L;
+  L.w = tiles.window(t);
+  const terrain::RasterWindow& w = L.w;
+  terrain::RasterWindow h = w;
+  if (h.row0 > 0) --h.row0, ++h.rows;
+  if (h.col0 > 0) --h.col0, ++h.cols;
+  h.rows = std::min(h.rows + 1, tiles.rows - h.row0);
+  h.cols = std::min(h.cols + 1, tiles.cols - h.col0);
+  const D8Codes halo = read(h);
+  if (halo.size() != h.rows * h.cols) throw terrain::Error("tiled network: the reader returned a wrong window");
+  const long dr = long(w.row0 - h.row0), dc = long(w.col0 - h.col0), HC = long(h.cols), HR = long(h.rows);
+  L.nr = w.rows, L.nc = w.cols;
+  const long nr = long(L.nr), nc = long(L.nc);
+  const std::size_t n = L.nr * L.nc;
+  L.dirs.resize(n);
+  L.cut.assign(n, 0), L.leaves.assign(n, 0), L.entry.assign(n, 0), L.influenced.assign(n, 0), L.node.assign(n, 0);
+  L.m.assign(n, 0), L.k.assign(n, 0), L.order.assign(n, 0), L.pit.assign(n, 0);
+  L.down.assign(n, kNone), L.acc.assign(n, 0);
+  std::vector<std::uint8_t> indeg(n, 0);
+  auto code_at = [&](long hr, long hc) { return halo[std::size_t(hr * HC + hc)]; };
+  for (long r = 0; r < nr; ++r)
+    for (long c = 0; c < nc; ++c) {
+      const std::size_t i = std::size_t(r * nc + c);
+      const std::uint8_t d = code_at(r + dr, c + dc);
+      L.dirs[i] = d;
+      if (d == kNodata) continue;
+      L.acc[i] = 1;
+      // Entered from outside the tile: a halo neighbour whose direction points here.
+      for (int q = 0; q < 8; ++q) {
+        const long rr = r - kDRow[std::size_t(q)], cc = c - kDCol[std::size_t(q)];  // flows in along q
+        if (rr >= 0 && cc >= 0 && rr < nr && cc < nc) continue;
+        const long hr = rr + dr, hc = cc + dc;
+        if (hr < 0 || hc < 0 || hr >= HR || hc >= HC) continue;
+        if (code_at(hr, hc) == std::uint8_t(q)) L.entry[i] = 1;
+      }
+      if (d >= 8) {
+        L.pit[i] = 1;
+        continue;
+      }
+      const long gr = long(w.row0) + r + kDRow[d], gc = long(w.col0) + c + kDCol[d];
+      if (gr < 0 || gc < 0 || gr >= long(tiles.rows) || gc >= long(tiles.cols) ||
+          code_at(r + dr + kDRow[d], c + dc + kDCol[d]) == kNodata) {
+        L.cut[i] = L.pit[i] = 1;
+        continue;
+      }
+      const long rr = r + kDRow[d], cc = c + kDCol[d];
+      if (rr < 0 || cc < 0 || rr >= nr || cc >= nc) {
+        L.leaves[i] = 1;
+        L.target.push_back(std::uint64_t(gr) * tiles.cols + std::uint64_t(gc));
+      } else {
+        L.down[i] = std::uint32_t(rr * nc + cc);
+        ++indeg[L.down[i]];
+      }
+    }
+  // Kahn within the tile, chain by chain as analyze_network walks.
+  L.topo.reserve(n);
+  for (std::size_t src = 0; src < n; ++src) {
+    if (L.dirs[src] == kNodata || indeg[src] != 0) continue;
+    std::uint32_t i = std::uint32_t(src);
+    while (true) {
+      L.topo.push_back(i);
+      indeg[i] = 0xFF;
+      const std::uint32_t d = L.down[i];
+      if (d == kNone || --indeg[d] != 0) break;
+      i = d;
+    }
+  }
+  if (L.topo.size() != std::size_t(std::count_if(L.dirs.begin(), L.dirs.end(), [](std::uint8_t d) { return d != kNodata; })))
+    throw terrain::Error("the D8 directions contain a cycle (in tile " + std::to_string(t) + ")");
+  // Influenced cells (downstream of an entry), local accumulation and orders.
+  std::vector<std::uint8_t> inflows_influenced(n, 0);
+  for (const std::uint32_t i : L.topo) {
+    if (L.entry[i]) L.influenced[i] = 1;
+    const std::uint32_t d = L.down[i];
+    if (!L.influenced[i]) L.order[i] = strahler(L.m[i], L.k[i]);
+    if (d == kNone) continue;
+    if (L.influenced[i]) {
+      L.influenced[d] = 1;
+      ++inflows_influenced[d];
+    } else {
+      L.acc[d] += L.acc[i];
+      add_inflow(L.m[d], L.k[d], L.order[i]);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    L.node[i] = L.dirs[i] != kNodata &&
+                (L.leaves[i] || (L.influenced[i] && (L.entry[i] || L.pit[i] || inflows_influenced[i] >= 2)));
+  return L;
+}
+
+struct Node {
+  std::uint64_t cell = 0;        // global index
+  std::uint32_t acc_local = 0;   // 1 + inflows from outside the graph
+  std::uint8_t m = 0, k = 0;     // their largest order and its count
+  bool pit = false;
+  std::uint32_t next = kNone;    // the node it drains into
+  std::uint32_t add = 0;         // accumulation added on the way to next
+  OrderTable table{};            // order arriving at next, by this node's order
+  std::uint64_t pit_id = 0;      // pit nodes: the basin id (after pass 1)
+};
+
+}  // namespace
+
+NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
+                            const std::function<void(std::size_t, const NetworkTile&)>& done) {
+  if (tiles.side == 0 || tiles.rows == 0 || tiles.cols == 0) throw terrain::Error("tiled network: empty grid or tile size 0");
+  if (tiles.rows * tiles.cols >= kNone) throw terrain::Error("tiled network: more than 2^32 - 1 points");
+  const std::size_t nt = tiles.count(), ntc = tiles.tile_cols();
+  std::vector<Node> nodes;
+  std::vector<std::uint32_t> first_node(nt + 1, 0);
+  std::vector<std::uint32_t> pits_in_row(tiles.rows * ntc, 0);  // pits of global row r in tile column tc
+  std::vector<std::uint64_t> leave_target_cells;                // node -> target cell, for leaving nodes
+  std::vector<std::uint32_t> leave_node;
+  const OrderTable identity = identity_table();
+
+  // Pass 1: each tile's graph nodes and edges.
+  for (std::size_t t = 0; t < nt; ++t) {
+    const LocalNetwork L = local_network(tiles, t, read);
+    first_node[t] = std::uint32_t(nodes.size());
+    std::vector<std::uint32_t> id(L.nr * L.nc, kNone);
+    std::size_t leaving = 0;
+    for (std::size_t i = 0; i < id.size(); ++i) {
+      const std::size_t r = i / L.nc, c = i % L.nc, gr = L.w.row0 + r, tc = t % ntc;
+      if (L.pit[i]) ++pits_in_row[gr * ntc + tc];
+      if (!L.node[i]) {
+        leaving += L.leaves[i];
+        continue;
+      }
+      Node v;
+      v.cell = std::uint64_t(gr) * tiles.cols + L.w.col0 + c;
+      v.acc_local = L.acc[i], v.m = L.m[i], v.k = L.k[i], v.pit = L.pit[i];
+      if (v.pit) v.pit_id = pits_in_row[gr * ntc + tc] - 1;  // rank in its row within the tile, for now
+      id[i] = std::uint32_t(nodes.size());
+      if (L.leaves[i]) {
+        leave_node.push_back(id[i]);
+        leave_target_cells.push_back(L.target[leaving++]);
+        v.table = identity;
+      }
+      nodes.push_back(v);
+    }
+    // In-tile edges: from each node that is neither a pit nor leaving, down its path.
+    for (std::size_t i = 0; i < id.size(); ++i) {
+      if (id[i] == kNone || L.pit[i] || L.leaves[i]) continue;
+      Node& v = nodes[id[i]];
+      v.table = identity;
+      std::uint32_t c = L.down[i];
+      std::uint64_t add = 0;
+      while (!L.node[c]) {
+        add += L.acc[c];
+        for (int o = 1; o <= kMaxOrder; ++o) v.table[std::size_t(o)] = with_inflow(L.m[c], L.k[c], v.table[std::size_t(o)]);
+        c = L.down[c];
+      }
+      v.add = std::uint32_t(add);
+      v.next = id[c];
+    }
+  }
+  first_node[nt] = std::uint32_t(nodes.size());
+  {  // leaving nodes drain into the node of their target cell, in another tile
+    std::unordered_map<std::uint64_t, std::uint32_t> of_cell;
+    of_cell.reserve(nodes.size());
+    for (std::uint32_t v = 0; v < nodes.size(); ++v) of_cell.emplace(nodes[v].cell, v);
+    for (std::size_t q = 0; q < leave_node.size(); ++q) {
+      const auto it = of_cell.find(leave_target_cells[q]);
+      if (it == of_cell.end()) throw terrain::Error("tiled network: a flow leaves a tile into a cell that is not entered");
+      nodes[leave_node[q]].next = it->second;
+    }
+  }
+  // Basin ids: pits numbered by ascending global index = row by row, tile column by tile column.
+  std::vector<std::uint64_t> pit_base(tiles.rows * ntc + 1, 0);
+  for (std::size_t q = 0; q < tiles.rows * ntc; ++q) pit_base[q + 1] = pit_base[q] + pits_in_row[q];
+  const std::uint64_t n_pits = pit_base.back();
+  if (n_pits >= kNone) throw terrain::Error("tiled network: too many basins");
+  for (Node& v : nodes)
+    if (v.pit) v.pit_id += pit_base[(v.cell / tiles.cols) * ntc + (v.cell % tiles.cols) / tiles.side];
+
+  // Solve the graph in topological order: accumulation, order, and the pit each node reaches.
+  const std::size_t nn = nodes.size();
+  std::vector<std::uint32_t> indeg(nn, 0), A(nn), topo;
+  std::vector<std::uint8_t> M(nn), K(nn), O(nn);
+  for (const Node& v : nodes)
+    if (v.next != kNone) ++indeg[v.next];
+  for (std::uint32_t v = 0; v < nn; ++v) A[v] = nodes[v].acc_local, M[v] = nodes[v].m, K[v] = nodes[v].k;
+  topo.reserve(nn);
+  for (std::uint32_t s = 0; s < nn; ++s) {
+    if (indeg[s] != 0) continue;
+    std::uint32_t v = s;
+    while (true) {
+      topo.push_back(v);
+      indeg[v] = kNone;
+      O[v] = strahler(M[v], K[v]);
+      const Node& x = nodes[v];
+      if (x.next == kNone) break;
+      A[x.next] += A[v] + x.add;
+      add_inflow(M[x.next], K[x.next], x.table[O[v]]);
+      if (--indeg[x.next] != 0) break;
+      v = x.next;
+    }
+  }
+  if (topo.size() != nn) throw terrain::Error("the D8 directions contain a cycle across tiles");
+  std::vector<std::uint64_t> reach(nn);  // basin id of the pit each node drains to
+  for (auto it = topo.rbegin(); it != topo.rend(); ++it)
+    reach[*it] = nodes[*it].pit ? nodes[*it].pit_id : reach[nodes[*it].next];
+
+  // Pass 2: complete every tile.
+  NetworkTotals totals;
+  totals.pits.assign(n_pits, kNone);
+  totals.pit_accumulated.assign(n_pits, 0);
+  struct RingCell {
+    std::uint8_t order = 0, same = 0, valid = 0;
+    std::uint64_t target = ~std::uint64_t(0);  // where a leaving cell flows
+  };
+  std::vector<std::vector<RingCell>> rings(nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    LocalNetwork L = local_network(tiles, t, read);
+    const std::size_t n = L.nr * L.nc, tc = t % ntc;
+    NetworkTile out;
+    out.window = L.w;
+    out.accumulated.assign(n, 0);
+    out.basin.assign(n, kNone);
+    out.order.assign(n, 0);
+    std::uint32_t next_id = first_node[t];
+    std::vector<std::uint32_t> id(n, kNone);
+    for (std::size_t i = 0; i < n; ++i)
+      if (L.node[i]) id[i] = next_id++;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (L.dirs[i] == kNodata) continue;
+      totals.points += 1;
+      if (id[i] != kNone) {
+        out.accumulated[i] = A[id[i]], out.order[i] = O[id[i]];
+      } else if (!L.influenced[i]) {
+        out.accumulated[i] = L.acc[i], out.order[i] = L.order[i];
+      }
+    }
+    // Path cells, from the node above them.
+    for (std::size_t i = 0; i < n; ++i) {
+      if (id[i] == kNone || L.pit[i] || L.leaves[i]) continue;
+      std::uint32_t a = out.accumulated[i];
+      std::uint8_t o = out.order[i];
+      for (std::uint32_t c = L.down[i]; !L.node[c]; c = L.down[c]) {
+        a = out.accumulated[c] = L.acc[c] + a;
+        o = out.order[c] = with_inflow(L.m[c], L.k[c], o);
+      }
+    }
+    // Basins, downstream first.
+    std::vector<std::uint32_t> rank_in_row(L.nr, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      if (L.pit[i]) {
+        const std::size_t r = i / L.nc, gr = L.w.row0 + r;
+        const std::uint64_t b = pit_base[gr * ntc + tc] + rank_in_row[r]++;
+        out.basin[i] = std::uint32_t(b);
+        totals.pits[b] = std::uint32_t(gr * tiles.cols + L.w.col0 + i % L.nc);
+        totals.pit_accumulated[b] = out.accumulated[i];
+      }
+    for (auto it = L.topo.rbegin(); it != L.topo.rend(); ++it) {
+      const std::uint32_t i = *it;
+      if (L.pit[i]) continue;
+      out.basin[i] = L.leaves[i] ? std::uint32_t(reach[id[i]]) : out.basin[L.down[i]];
+    }
+    // Branch heads (a point heads a branch unless exactly one inflow has its order):
+    // inflows from inside the tile now, from other tiles through the rings below.
+    const long nr = long(L.nr), nc = long(L.nc);
+    std::vector<RingCell>& ring = rings[t];
+    ring.assign(ring_size(L.nr, L.nc), RingCell{});
+    std::size_t leaving = 0;
+    for (long r = 0; r < nr; ++r)
+      for (long c = 0; c < nc; ++c) {
+        const std::size_t i = std::size_t(r * nc + c);
+        const std::uint64_t target = L.leaves[i] ? L.target[leaving++] : ~std::uint64_t(0);
+        if (L.dirs[i] == kNodata) continue;
+        int same = 0;
+        for (int q = 0; q < 8; ++q) {
+          const long rr = r - kDRow[std::size_t(q)], cc = c - kDCol[std::size_t(q)];
+          if (rr < 0 || cc < 0 || rr >= nr || cc >= nc) continue;
+          const std::size_t j = std::size_t(rr * nc + cc);
+          same += L.down[j] == i && out.order[j] == out.order[i];
+        }
+        if (on_ring(std::size_t(r), std::size_t(c), L.nr, L.nc))
+          ring[ring_position(std::size_t(r), std::size_t(c), L.nr, L.nc)] =
+              RingCell{out.order[i], std::uint8_t(same), 1, target};
+        else
+          totals.branches += same != 1;
+      }
+    out.dirs = std::move(L.dirs);
+    out.cut = std::move(L.cut);
+    done(t, out);
+  }
+  // Inflows across tile edges into ring cells, then the ring cells' heads.
+  auto ring_cell = [&](std::uint64_t cell) -> RingCell& {
+    const std::size_t gr = std::size_t(cell / tiles.cols), gc = std::size_t(cell % tiles.cols);
+    const std::size_t u = gr / tiles.side * ntc + gc / tiles.side;
+    const terrain::RasterWindow wu = tiles.window(u);
+    return rings[u][ring_position(gr - wu.row0, gc - wu.col0, wu.rows, wu.cols)];
+  };
+  for (const auto& ring : rings)
+    for (const RingCell& x : ring)
+      if (x.valid && x.target != ~std::uint64_t(0)) {
+        RingCell& y = ring_cell(x.target);
+        y.same += x.order == y.order;
+      }
+  for (const auto& ring : rings)
+    for (const RingCell& x : ring) totals.branches += x.valid && x.same != 1;
+  return totals;
 }
 
 }  // namespace drainage

@@ -7,6 +7,10 @@
 #include <cstddef>
 #include <functional>
 
+#include <vector>
+
+#include "drainage/d8.hpp"
+#include "terrain/big_vector.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/grid.hpp"
 
@@ -37,5 +41,36 @@ using WindowReader = std::function<terrain::Grid(const terrain::RasterWindow&)>;
 // Returns the number of samples raised, as priority_flood_fill does.
 std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader& read,
                                       const std::function<void(std::size_t, terrain::Grid&)>& done);
+
+// Reads the D8 codes (d8.hpp) of a window.
+using CodeReader = std::function<D8Codes(const terrain::RasterWindow&)>;
+
+// One tile of a tiled network, final: the fields a .dv version 2 block stores.
+struct NetworkTile {
+  terrain::RasterWindow window;
+  D8Codes dirs;                                  // the tile's codes
+  terrain::BigVector<std::uint8_t> cut;          // 1 where dirs < 8 but the flow ends (enters no-data or leaves the grid)
+  terrain::BigVector<std::uint32_t> accumulated; // as Network::accumulated
+  terrain::BigVector<std::uint32_t> basin;       // as Network::basin (global ids)
+  terrain::BigVector<std::uint8_t> order;        // as Network::order
+};
+
+// What the whole network has that no tile has alone.
+struct NetworkTotals {
+  std::size_t points = 0, branches = 0;
+  std::vector<std::uint32_t> pits, pit_accumulated;  // by basin id: as Network::pits, and their flow
+};
+
+// analyze_network (network.hpp) tile by tile, with identical results (Barnes 2017,
+// "Parallel non-divergent flow accumulation for trillion cell digital elevation models",
+// extended to Strahler order and basins). Pass 1 reads each tile's codes with a one-sample
+// halo and reduces the cells whose flow comes from outside the tile to a small graph:
+// nodes are cells entered from outside, cells where two such flows merge, and cells whose
+// flow leaves the tile or ends; an edge carries the accumulation added along its path and
+// the path's Strahler order as a table of the incoming order. The graph of all tiles is
+// solved in topological order (accumulation, order, the pit each node drains to); pass 2
+// reads each tile again, completes it and hands it to `done(t, tile)` in tile order.
+NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
+                            const std::function<void(std::size_t, const NetworkTile&)>& done);
 
 }  // namespace drainage
