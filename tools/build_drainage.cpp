@@ -12,6 +12,7 @@
 #include "drainage/dv_file.hpp"
 #include "drainage/pipeline.hpp"
 #include "drainage/rasters.hpp"
+#include "drainage/tiled.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/mesh_io.hpp"
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
   bool keep_flats = false, fill = false;
   int threads = 0;
   std::uint32_t dv_version = drainage::kDvVersion;
+  std::size_t tile_size = 0;
   tt::Verbosity verb;
   app.add_option("MESH_OR_OUTPUT", positional, "MESH.ply OUTPUT.dv, or only OUTPUT.dv with --raster / --d8-input")
       ->required()
@@ -63,6 +65,11 @@ int main(int argc, char** argv) {
                  "older than 2026-11)")
       ->check(CLI::IsMember({1, 2}))
       ->capture_default_str();
+  app.add_option("--tile-size", tile_size,
+                 "Raster mode tile by tile, for rasters larger than memory: tiles of N x N samples read\n"
+                 "through GDAL windows, results identical to the untiled run (docs/build-drainage.md);\n"
+                 "flats are not resolved across tiles yet (needs --keep-flats with a DEM)")
+      ->check(CLI::Range(1, 16384));
   app.add_option("--threads", threads, "Threads (default: all cores); the output does not depend on it")
       ->check(CLI::Range(1, tt::kMaxThreads));
   tt::add_verbosity_flags(app, verb);
@@ -90,6 +97,29 @@ int main(int argc, char** argv) {
     if (!rasters_dir.empty() && !std::filesystem::is_directory(rasters_dir))
       throw terrain::Error("--rasters: directory '" + rasters_dir + "' does not exist");
     if (threads > 0) omp_set_num_threads(threads);
+    if (tile_size > 0) {
+      if (!raster_mode) throw terrain::Error("--tile-size applies to --raster and --d8-input runs");
+      if (!rasters_dir.empty() || !surface_out.empty())
+        throw terrain::Error("--rasters and --surface are not written in tiled runs (yet)");
+      if (dv_version != 2) throw terrain::Error("tiled runs write .dv version 2");
+      using clock = std::chrono::steady_clock;
+      const auto t0 = clock::now();
+      drainage::TiledRun run;
+      run.dem = raster, run.d8 = d8_input, run.encoding = drainage::parse_d8_encoding(encoding);
+      run.tile = tile_size, run.fill = fill, run.resolve_flats = !keep_flats;
+      run.provenance = tt::provenance(argc, argv);
+      const drainage::TiledSummary r = drainage::run_tiled_drainage(run, output, tt::terminal_progress(verb, "tiles"));
+      tt::step(verb, fmt::format("tiled run ({} tiles): {:.2f} s, peak RSS {:.0f} MiB", r.tiles,
+                                 std::chrono::duration<double>(clock::now() - t0).count(), tt::peak_rss_mib()));
+      std::cout << "output: " << output << "\n"
+                << "grid: " << r.cols << " x " << r.rows << " (columns x rows)\n"
+                << fmt::format("spacing: {} {}\n", r.dx, r.dy) << "tiles: " << r.tiles << "\n"
+                << "points: " << r.totals.points << "\n"
+                << "basins: " << r.totals.pits.size() << "\n"
+                << "branches: " << r.totals.branches << "\n"
+                << "filled: " << r.filled << "\n";
+      return 0;
+    }
     const drainage::D8Encoding enc = drainage::parse_d8_encoding(encoding);
     const std::string prov = tt::provenance(argc, argv);
 

@@ -6,12 +6,14 @@
 // The results equal the single-grid functions exactly (tests/drainage/tiled_test.cpp).
 #include <cstddef>
 #include <functional>
+#include <string>
 
 #include <vector>
 
 #include "drainage/d8.hpp"
 #include "terrain/big_vector.hpp"
 #include "terrain/dem_io.hpp"
+#include "terrain/error.hpp"
 #include "terrain/grid.hpp"
 
 namespace drainage {
@@ -72,5 +74,24 @@ struct NetworkTotals {
 // reads each tile again, completes it and hands it to `done(t, tile)` in tile order.
 NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
                             const std::function<void(std::size_t, const NetworkTile&)>& done);
+
+// build-drainage --raster / --d8-input with --tile-size: the whole raster mode tile by
+// tile, from GDAL windows of the input to a .dv version 2 with one block per tile (so
+// that a window of it reads whole tiles). With `fill`, the filled surface is kept in a
+// temporary GeoTIFF next to the output (removed at the end). Flat resolution across tiles
+// is not there yet: DEM input requires resolve_flats = false (--keep-flats).
+struct TiledRun {
+  std::string dem, d8;                  // inputs: a DEM, or D8 codes in `encoding`, not both
+  D8Encoding encoding = D8Encoding::Taudem;
+  std::size_t tile = 0;                 // tile side in samples (>= 1, <= 16384)
+  bool fill = false, resolve_flats = false;
+  std::string provenance;
+};
+struct TiledSummary {
+  std::size_t rows = 0, cols = 0, tiles = 0, filled = 0;
+  double dx = 0, dy = 0;
+  NetworkTotals totals;
+};
+TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress = {});
 
 }  // namespace drainage
