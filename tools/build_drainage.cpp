@@ -67,8 +67,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--tile-size", tile_size,
                  "Raster mode tile by tile, for rasters larger than memory: tiles of N x N samples read\n"
-                 "through GDAL windows, results identical to the untiled run (docs/build-drainage.md);\n"
-                 "flats are not resolved across tiles yet (needs --keep-flats with a DEM)")
+                 "through GDAL windows, results identical to the untiled run (docs/build-drainage.md)")
       ->check(CLI::Range(1, 16384));
   app.add_option("--threads", threads, "Threads (default: all cores); the output does not depend on it")
       ->check(CLI::Range(1, tt::kMaxThreads));

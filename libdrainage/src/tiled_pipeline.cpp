@@ -3,11 +3,14 @@
 
 #include <cmath>
 #include <filesystem>
+#include <numeric>
+#include <unordered_map>
 
 #include <fmt/format.h>
 
 #include "drainage/d8.hpp"
 #include "drainage/dv_file.hpp"
+#include "drainage/flats.hpp"
 #include "drainage/tiled.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
@@ -19,13 +22,14 @@ namespace {
 // A temporary Float32 GeoTIFF written window by window, then read window by window.
 class ScratchRaster {
  public:
-  ScratchRaster(const std::string& path, const terrain::DemInfo& info) : path_(path) {
+  ScratchRaster(const std::string& path, const terrain::DemInfo& info, GDALDataType type = GDT_Float32)
+      : path_(path) {
     terrain::ensure_gdal();
     CPLStringList opts;
     opts.SetNameValue("TILED", "YES");
     opts.SetNameValue("BIGTIFF", "YES");
     GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
-    ds_ = gtiff->Create(path.c_str(), int(info.cols), int(info.rows), 1, GDT_Float32, opts.List());
+    ds_ = gtiff->Create(path.c_str(), int(info.cols), int(info.rows), 1, type, opts.List());
     if (!ds_) throw terrain::Error("cannot create the temporary raster '" + path + "'");
     double gt[6] = {info.geo.x0, info.geo.dx, 0.0, info.geo.y0, 0.0, -info.geo.dy};
     ds_->SetGeoTransform(gt);
@@ -33,7 +37,7 @@ class ScratchRaster {
       OGRSpatialReference srs;
       if (srs.importFromWkt(info.geo.crs_wkt.c_str()) == OGRERR_NONE) ds_->SetSpatialRef(&srs);
     }
-    ds_->GetRasterBand(1)->SetNoDataValue(-9999.0);
+    if (type == GDT_Float32) ds_->GetRasterBand(1)->SetNoDataValue(-9999.0);
   }
   ~ScratchRaster() {
     if (ds_) GDALClose(ds_);
@@ -48,6 +52,20 @@ class ScratchRaster {
                                         int(w.cols), int(w.rows), GDT_Float32, 0, 0) != CE_None)
       throw terrain::Error("cannot write the temporary raster '" + path_ + "' (disk full?)");
   }
+  // Byte rasters: codes of a window, written and read back while open.
+  void write_codes(const terrain::RasterWindow& w, const D8Codes& codes) {
+    if (ds_->GetRasterBand(1)->RasterIO(GF_Write, int(w.col0), int(w.row0), int(w.cols), int(w.rows),
+                                        const_cast<std::uint8_t*>(codes.data()), int(w.cols), int(w.rows), GDT_Byte, 0,
+                                        0) != CE_None)
+      throw terrain::Error("cannot write the temporary raster '" + path_ + "' (disk full?)");
+  }
+  D8Codes read_codes(const terrain::RasterWindow& w) {
+    D8Codes codes(w.rows * w.cols);
+    if (ds_->GetRasterBand(1)->RasterIO(GF_Read, int(w.col0), int(w.row0), int(w.cols), int(w.rows), codes.data(),
+                                        int(w.cols), int(w.rows), GDT_Byte, 0, 0) != CE_None)
+      throw terrain::Error("cannot read the temporary raster '" + path_ + "'");
+    return codes;
+  }
   void close() {
     GDALClose(ds_);
     ds_ = nullptr;
@@ -59,6 +77,10 @@ class ScratchRaster {
   GDALDataset* ds_ = nullptr;
 };
 
+bool on_ring(std::size_t r, std::size_t c, std::size_t nr, std::size_t nc) {
+  return r == 0 || c == 0 || r == nr - 1 || c == nc - 1;
+}
+
 terrain::RasterWindow expanded(const terrain::RasterWindow& w, std::size_t rows, std::size_t cols) {
   terrain::RasterWindow h = w;
   if (h.row0 > 0) --h.row0, ++h.rows;
@@ -68,13 +90,175 @@ terrain::RasterWindow expanded(const terrain::RasterWindow& w, std::size_t rows,
   return h;
 }
 
+using SurfaceReader = std::function<terrain::Grid(const terrain::RasterWindow&)>;
+
+// D8 codes of window w, from the surface of w with one more sample around it.
+D8Codes window_codes(const SurfaceReader& surface, const terrain::RasterWindow& w, std::size_t rows, std::size_t cols) {
+  const terrain::RasterWindow h = expanded(w, rows, cols);
+  const D8Codes all = d8_directions(surface(h));
+  D8Codes out(w.rows * w.cols);
+  for (std::size_t r = 0; r < w.rows; ++r)
+    for (std::size_t c = 0; c < w.cols; ++c) out[r * w.cols + c] = all[(r + w.row0 - h.row0) * h.cols + c + w.col0 - h.col0];
+  return out;
+}
+
+// The flats of a window as resolve_flats sees them: no-flow cells and their equal-elevation
+// neighbours with a direction (low edges), joined into components through equal
+// elevations (8-connected). Returns each cell's component (kNone outside flats).
+std::vector<std::uint32_t> flat_components(const terrain::Grid& z, const D8Codes& raw, std::uint32_t& count) {
+  const long R = long(z.rows), C = long(z.cols);
+  const std::size_t n = z.size();
+  auto involved = [&](long r, long c) {
+    const std::size_t i = std::size_t(r * C + c);
+    if (raw[i] == kNoFlow) return true;
+    if (raw[i] == kNodata) return false;
+    for (int k = 0; k < 8; ++k) {
+      const long rr = r + kDRow[std::size_t(k)], cc = c + kDCol[std::size_t(k)];
+      if (rr >= 0 && cc >= 0 && rr < R && cc < C && raw[std::size_t(rr * C + cc)] == kNoFlow &&
+          z.z[std::size_t(rr * C + cc)] == z.z[i])
+        return true;
+    }
+    return false;
+  };
+  std::vector<std::uint32_t> label(n, kNone);
+  std::vector<std::uint32_t> stack;
+  count = 0;
+  for (std::size_t s = 0; s < n; ++s) {
+    // Every component, also one of low edges only: in a window it may be a piece of a flat
+    // whose no-flow cells lie outside the window.
+    if (label[s] != kNone || !involved(long(s) / C, long(s) % C)) continue;
+    label[s] = count;
+    stack.assign(1, std::uint32_t(s));
+    while (!stack.empty()) {
+      const std::uint32_t i = stack.back();
+      stack.pop_back();
+      const long r = long(i) / C, c = long(i) % C;
+      for (int k = 0; k < 8; ++k) {
+        const long rr = r + kDRow[std::size_t(k)], cc = c + kDCol[std::size_t(k)];
+        if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;
+        const std::size_t j = std::size_t(rr * C + cc);
+        if (label[j] != kNone || z.z[j] != z.z[i] || !involved(rr, cc)) continue;
+        label[j] = count;
+        stack.push_back(std::uint32_t(j));
+      }
+    }
+    ++count;
+  }
+  return label;
+}
+
+struct Box {
+  std::size_t r0 = ~std::size_t(0), c0 = ~std::size_t(0), r1 = 0, c1 = 0;  // inclusive
+  void add(std::size_t r, std::size_t c) { r0 = std::min(r0, r), c0 = std::min(c0, c), r1 = std::max(r1, r), c1 = std::max(c1, c); }
+  void add(const Box& b) { add(b.r0, b.c0), add(b.r1, b.c1); }
+};
+
+// Codes with flats resolved, tile by tile, into `out` (a Byte scratch raster): a flat inside
+// one tile is resolved with its tile (and a halo); a flat that crosses tile edges is joined
+// across tiles and resolved in a window of its bounding box. Each flat's directions depend
+// on that flat alone, so both equal resolve_flats on the whole grid.
+void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, ScratchRaster& out) {
+  std::vector<Box> boxes;                                 // crossing flats, one per (tile, component)
+  std::vector<std::uint64_t> seeds;                       // a member of each
+  std::unordered_map<std::uint64_t, std::uint32_t> ring;  // members on their tile's ring -> crossing flat
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> contacts;  // members outside the tile -> crossing flat
+  const std::size_t R = tiles.rows, C = tiles.cols;
+  for (std::size_t t = 0; t < tiles.count(); ++t) {
+    // Two samples of halo: whether a cell one sample outside the tile is a low edge
+    // depends on its own neighbours.
+    const terrain::RasterWindow w = tiles.window(t), h = expanded(expanded(w, R, C), R, C);
+    const terrain::Grid zh = surface(h);
+    const D8Codes raw = window_codes(surface, h, R, C);
+    D8Codes resolved = raw;
+    resolve_flats(zh, resolved);
+    std::uint32_t count = 0;
+    const std::vector<std::uint32_t> comp = flat_components(zh, raw, count);
+    std::vector<std::uint32_t> crossing(count, kNone);
+    auto inside = [&](std::size_t gr, std::size_t gc) {
+      return gr >= w.row0 && gr < w.row0 + w.rows && gc >= w.col0 && gc < w.col0 + w.cols;
+    };
+    std::vector<std::uint8_t> where(count, 0);  // bit 1: a member inside the tile, bit 2: outside
+    for (std::size_t i = 0; i < comp.size(); ++i)
+      if (comp[i] != kNone) where[comp[i]] |= inside(h.row0 + i / h.cols, h.col0 + i % h.cols) ? 1 : 2;
+    for (std::uint32_t k = 0; k < count; ++k)
+      if (where[k] == 3) {
+        crossing[k] = std::uint32_t(boxes.size());
+        boxes.emplace_back();
+        seeds.push_back(~std::uint64_t(0));
+      }
+    D8Codes codes(w.rows * w.cols);
+    for (std::size_t r = 0; r < h.rows; ++r)
+      for (std::size_t c = 0; c < h.cols; ++c) {
+        const std::size_t i = r * h.cols + c, gr = h.row0 + r, gc = h.col0 + c;
+        const std::uint64_t cell = std::uint64_t(gr) * C + gc;
+        const std::uint32_t k = comp[i];
+        const bool in = inside(gr, gc);
+        if (in) codes[(gr - w.row0) * w.cols + gc - w.col0] = k != kNone && crossing[k] == kNone ? resolved[i] : raw[i];
+        if (k == kNone || crossing[k] == kNone) continue;
+        const std::uint32_t x = crossing[k];
+        if (!in) {  // a member in a neighbouring tile, on its ring: the same flat there
+          if (gr + 1 >= w.row0 && gr <= w.row0 + w.rows && gc + 1 >= w.col0 && gc <= w.col0 + w.cols)
+            contacts.emplace_back(cell, x);
+          continue;
+        }
+        boxes[x].add(gr, gc);
+        if (seeds[x] == ~std::uint64_t(0)) seeds[x] = cell;
+        if (on_ring(gr - w.row0, gc - w.col0, w.rows, w.cols)) ring.emplace(cell, x);
+      }
+    out.write_codes(w, codes);
+  }
+  // Join the pieces of each crossing flat.
+  std::vector<std::uint32_t> parent(boxes.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& [cell, x] : contacts) {
+    const auto it = ring.find(cell);
+    if (it == ring.end())
+      throw terrain::Error(fmt::format("tiled flats: a flat crosses into a tile that does not see it (row {}, column {})", cell / C, cell % C));
+    const std::uint32_t a = find(x), b = find(it->second);
+    if (a != b) parent[a] = b;
+  }
+  for (std::uint32_t x = 0; x < boxes.size(); ++x)
+    if (find(x) != x) boxes[find(x)].add(boxes[x]);
+  // Resolve each in a window of its bounding box (and a halo), keep its no-flow cells.
+  std::unordered_map<std::uint64_t, std::uint8_t> fixes;
+  for (std::uint32_t x = 0; x < boxes.size(); ++x) {
+    if (find(x) != x) continue;
+    const terrain::RasterWindow box{boxes[x].r0, boxes[x].c0, boxes[x].r1 - boxes[x].r0 + 1, boxes[x].c1 - boxes[x].c0 + 1};
+    const terrain::RasterWindow W = expanded(box, R, C);
+    const terrain::Grid zw = surface(W);
+    const D8Codes raw = window_codes(surface, W, R, C);
+    D8Codes resolved = raw;
+    resolve_flats(zw, resolved);
+    std::uint32_t count = 0;
+    const std::vector<std::uint32_t> comp = flat_components(zw, raw, count);
+    const std::uint64_t seed = seeds[x];
+    const std::uint32_t mine = comp[(seed / C - W.row0) * W.cols + seed % C - W.col0];
+    for (std::size_t i = 0; i < comp.size(); ++i)
+      if (comp[i] == mine && raw[i] == kNoFlow)
+        fixes.emplace(std::uint64_t(W.row0 + i / W.cols) * C + W.col0 + i % W.cols, resolved[i]);
+  }
+  // Patch the tiles.
+  std::vector<std::vector<std::pair<std::uint64_t, std::uint8_t>>> by_tile(tiles.count());
+  for (const auto& [cell, code] : fixes)
+    by_tile[(cell / C) / tiles.side * tiles.tile_cols() + (cell % C) / tiles.side].emplace_back(cell, code);
+  for (std::size_t t = 0; t < tiles.count(); ++t) {
+    if (by_tile[t].empty()) continue;
+    const terrain::RasterWindow w = tiles.window(t);
+    D8Codes codes = out.read_codes(w);
+    for (const auto& [cell, code] : by_tile[t]) codes[(cell / C - w.row0) * w.cols + cell % C - w.col0] = code;
+    out.write_codes(w, codes);
+  }
+}
+
 }  // namespace
 
 TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress) {
   if (run.tile == 0 || run.tile > 16384) throw terrain::Error("--tile-size must be between 1 and 16384");
   if (run.dem.empty() == run.d8.empty()) throw terrain::Error("tiled mode takes a DEM or a D8 raster (not both yet)");
-  if (!run.dem.empty() && run.resolve_flats)
-    throw terrain::Error("--tile-size resolves no flats yet: add --keep-flats (flats that cross tiles are the next step)");
   const std::string input = run.dem.empty() ? run.d8 : run.dem;
   const terrain::DemInfo info = terrain::read_dem_info(input);
   TiledSummary summary;
@@ -97,17 +281,15 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
     flags |= kDvFilled;
   }
   CodeReader codes;
-  if (!run.dem.empty()) {
+  std::unique_ptr<ScratchRaster> resolved;
+  if (!run.dem.empty() && run.resolve_flats) {
+    flags |= kDvHasElevations | kDvFlatsResolved;
+    resolved = std::make_unique<ScratchRaster>(output_path + ".d8.tmp.tif", info, GDT_Byte);
+    tiled_resolved_codes(tiles, surface, *resolved);
+    codes = [&](const terrain::RasterWindow& w) { return resolved->read_codes(w); };
+  } else if (!run.dem.empty()) {
     flags |= kDvHasElevations;
-    codes = [&](const terrain::RasterWindow& w) {  // D8 of the window, from the window with one more sample
-      const terrain::RasterWindow h = expanded(w, info.rows, info.cols);
-      const D8Codes all = d8_directions(surface(h));
-      D8Codes out(w.rows * w.cols);
-      for (std::size_t r = 0; r < w.rows; ++r)
-        for (std::size_t c = 0; c < w.cols; ++c)
-          out[r * w.cols + c] = all[(r + w.row0 - h.row0) * h.cols + c + w.col0 - h.col0];
-      return out;
-    };
+    codes = [&](const terrain::RasterWindow& w) { return window_codes(surface, w, info.rows, info.cols); };
   } else {
     codes = [&](const terrain::RasterWindow& w) {
       const terrain::Grid g = terrain::read_dem(run.d8, {}, w);

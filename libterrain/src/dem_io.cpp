@@ -182,7 +182,7 @@ DemInfo read_dem_info(const std::string& path) {
 Grid read_dem(const std::string& path, const Progress& progress, std::optional<RasterWindow> window) {
   OpenRaster r = open_raster(path);
   RasterWindow w = window.value_or(RasterWindow{0, 0, r.rows, r.cols});
-  if (w.rows < 2 || w.cols < 2 || w.row0 > r.rows || w.col0 > r.cols || w.rows > r.rows - w.row0 ||
+  if (w.rows < 1 || w.cols < 1 || w.row0 > r.rows || w.col0 > r.cols || w.rows > r.rows - w.row0 ||
       w.cols > r.cols - w.col0)
     throw Error("cannot read '" + path + "': window outside the raster");
   const double bytes = double(w.rows) * double(w.cols) * sizeof(float), memory = physical_memory();
