@@ -6,6 +6,20 @@
 
 namespace drainage {
 
+namespace {
+
+// v = n copies of `value`, written by all threads: a fresh array's pages are zeroed by the
+// kernel on first touch, and a serial fill would leave that (a quarter of the run) to one core.
+template <class T, class V>
+void parallel_assign(terrain::BigVector<T>& v, std::size_t n, V value) {
+  v.clear();
+  v.resize(n);  // default-initialized: not touched
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < long(n); ++i) v[std::size_t(i)] = T(value);
+}
+
+}  // namespace
+
 const char* to_string(PointClass c) {
   switch (c) {
     case PointClass::Ridge: return "ridge";
@@ -26,7 +40,7 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
   const long R = long(rows), C = long(cols);
 
   // Downstream links: in-grid, valid targets only.
-  net.downstream.assign(n, kNone);
+  parallel_assign(net.downstream, n, kNone);
 #pragma omp parallel for schedule(static)
   for (long r = 0; r < R; ++r)
     for (long c = 0; c < C; ++c) {
@@ -41,8 +55,9 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
   terrain::report(progress, 0.1);
 
   // In-degrees (gathered per point: no write conflicts) and classes.
-  terrain::BigVector<std::uint8_t> indeg(n, 0);
-  net.point_class.assign(n, std::uint8_t(PointClass::Nodata));
+  terrain::BigVector<std::uint8_t> indeg;
+  parallel_assign(indeg, n, 0);
+  parallel_assign(net.point_class, n, std::uint8_t(PointClass::Nodata));
   std::size_t points = 0;
 #pragma omp parallel for schedule(static) reduction(+ : points)
   for (long r = 0; r < R; ++r)
@@ -70,9 +85,10 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
   // Kahn's topological order, walked chain by chain: from each source (in index order)
   // follow the flow downstream for as long as the next point has received all its
   // inflows. Accumulate flow and Strahler order on the way.
-  net.accumulated.assign(n, 0);
-  net.order.assign(n, 0);
-  terrain::BigVector<std::uint8_t> max_count(n, 0);  // inflows carrying the maximum order so far
+  parallel_assign(net.accumulated, n, 0);
+  parallel_assign(net.order, n, 0);
+  terrain::BigVector<std::uint8_t> max_count;  // inflows carrying the maximum order so far
+  parallel_assign(max_count, n, 0);
   terrain::BigVector<std::uint32_t> topo;
   topo.reserve(net.points);
   for (std::size_t src = 0; src < n; ++src) {
@@ -106,8 +122,8 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
 
   // Basins, numbered by ascending pit index, and normalized flow: pits first, then one
   // pass in reverse topological order (each point after the point it drains into).
-  net.basin.resize(n);
-  net.normalized.resize(n);
+  parallel_assign(net.basin, n, kNone);
+  parallel_assign(net.normalized, n, 0.0f);
   for (std::size_t i = 0; i < n; ++i) {
     if (dirs[i] == kNodata) {
       net.basin[i] = kNone;
