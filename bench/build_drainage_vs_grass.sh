@@ -1,14 +1,19 @@
 #!/usr/bin/env bash
-# Benchmark: build-drainage on the Logan DEM at 10 m (14.4 M points) against GRASS
-# r.watershed -s on the same grid, in one run; and the mesh pipeline (Logan mesh sampled
-# at 10 m through the PN surface). Prints wall times, peak memory per point, the ratio.
-# Needs a built tree (scripts/build.sh) and, for the GRASS figure, the Debian package
-# grass-core (installed here when missing and we are root).
+# Benchmark: build-drainage on the Logan DEM resampled to RES metres (default: 10 and 5, i.e.
+# 14.4 M and 57.6 M points; cubic) against GRASS r.watershed -s on the same grid, untiled
+# and tiled (--tile-size TILE, default 2048); and at 10 m the mesh pipeline (the Logan mesh
+# sampled at 10 m through the PN surface). Prints wall times, peak memory, bytes per point,
+# the ratios. Needs a built tree (scripts/build.sh) and, for the GRASS figures, the Debian
+# package grass-core (installed here when missing and we are root).
+# Usage: bench/build_drainage_vs_grass.sh [RES ...]     e.g. bench/build_drainage_vs_grass.sh 10
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 bin=build/bin
+TILE=${TILE:-2048}
+resolutions=("$@")
+[ ${#resolutions[@]} -gt 0 ] || resolutions=(10 5)
 if ! command -v grass >/dev/null; then
   if [ "$(id -u)" -eq 0 ]; then
     echo "installing grass-core for the comparison ..." >&2
@@ -20,35 +25,50 @@ measure() {  # prints "wall_s peak_kb"; the command's stdout/stderr go to $tmp/o
   /usr/bin/time -f "%e %M" -o "$tmp/time" "$@" >"$tmp/out" 2>"$tmp/err"
   cat "$tmp/time"
 }
+row() {  # label wall kb points
+  awk -v l="$1" -v w="$2" -v k="$3" -v n="$4" 'BEGIN { printf "  %-46s %7.2f s  peak %8.1f MB  %5.1f bytes/point\n", l, w, k/1024, k*1024/n }'
+}
 
-gdalwarp -q -r cubic -tr 10 10 data/logan_utm12n_100m.tif "$tmp/logan10.tif"
-read -r rw rkb < <(measure $bin/build-drainage --raster "$tmp/logan10.tif" "$tmp/raster.dv" -v)
-points=$(awk '/^points:/ {print $2}' "$tmp/out")
-raster_steps=$(grep -E '^  [a-z0-9]+: |^drainage \(|^write ' "$tmp/err" | tr '\n' ';')
-
-$bin/dem2mesh data/logan_utm12n_100m.tif "$tmp/logan.ply" -q >/dev/null
-read -r mw mkb < <(measure $bin/build-drainage "$tmp/logan.ply" "$tmp/mesh.dv" --spacing 10 -v)
-mpoints=$(awk '/^points:/ {print $2}' "$tmp/out")
-mesh_steps=$(grep -E '^sampled |^  [a-z0-9]+: |^drainage \(|^write ' "$tmp/err" | tr '\n' ';')
-
-gw="n/a"
-if command -v grass >/dev/null; then
-  cat >"$tmp/ws.sh" <<'GRASS'
+echo "build-drainage vs GRASS r.watershed -s on Logan ($(nproc) cores)"
+first_wall=""
+for res in "${resolutions[@]}"; do
+  dem=$tmp/logan$res.tif
+  gdalwarp -q -r cubic -tr "$res" "$res" data/logan_utm12n_100m.tif "$dem"
+  read -r rw rkb < <(measure $bin/build-drainage --raster "$dem" "$tmp/raster.dv" -v)
+  points=$(awk '/^points:/ {print $2}' "$tmp/out")
+  steps=$(grep -E '^  [a-z0-9]+: |^drainage \(|^write ' "$tmp/err" | tr '\n' ';')
+  read -r tw tkb < <(measure $bin/build-drainage --raster "$dem" "$tmp/tiled.dv" --tile-size "$TILE" -q)
+  echo "Logan at $res m: $points points"
+  row "build-drainage --raster (read, steps 2-7, write)" "$rw" "$rkb" "$points"
+  echo "    steps: $steps"
+  row "build-drainage --raster --tile-size $TILE" "$tw" "$tkb" "$points"
+  if [ -z "$first_wall" ]; then
+    first_wall=$rw first_points=$points
+  else
+    awk -v a="$rw" -v b="$first_wall" -v n="$points" -v m="$first_points" \
+      'BEGIN { printf "  time ratio to the first size: %.2f for %.2f x the points\n", a / b, n / m }'
+  fi
+  if command -v grass >/dev/null; then
+    cat >"$tmp/ws.sh" <<'GRASS'
 r.in.gdal --quiet -o input="$1" output=dem
 g.region raster=dem
-/usr/bin/time -f "%e %M" -o "$2" r.watershed -s --quiet memory=4000 elevation=dem accumulation=acc drainage=dir
+/usr/bin/time -f "%e %M" -o "$2" r.watershed -s --quiet memory=8000 elevation=dem accumulation=acc drainage=dir
 GRASS
-  grass --tmp-location EPSG:26912 --exec bash "$tmp/ws.sh" "$tmp/logan10.tif" "$tmp/grass_time" >/dev/null 2>&1 \
-    && read -r gw gkb <"$tmp/grass_time"
-fi
+    gw="n/a"
+    grass --tmp-location EPSG:26912 --exec bash "$tmp/ws.sh" "$dem" "$tmp/grass_time" >/dev/null 2>&1 \
+      && read -r gw gkb <"$tmp/grass_time"
+    if [ "$gw" != "n/a" ]; then
+      row "GRASS r.watershed -s (memory=8000)" "$gw" "$gkb" "$points"
+      awk -v g="$gw" -v w="$rw" 'BEGIN { printf "  ratio r.watershed / build-drainage --raster: %.2f\n", g / w }'
+    fi
+  fi
+  rm -f "$dem" "$tmp/raster.dv" "$tmp/tiled.dv"
+done
 
-echo "build-drainage vs GRASS r.watershed -s: Logan at 10 m ($points points, $(nproc) cores)"
-awk -v w="$rw" -v k="$rkb" -v n="$points" 'BEGIN { printf "  build-drainage --raster (read, steps 2-7, write)  %6.2f s  peak %7.1f MB  %5.1f bytes/point\n", w, k/1024, k*1024/n }'
-echo "    steps: $raster_steps"
-awk -v w="$mw" -v k="$mkb" -v n="$mpoints" 'BEGIN { printf "  build-drainage MESH (sample at 10 m, steps 2-7) %6.2f s  peak %7.1f MB  %5.1f bytes/point (%d points)\n", w, k/1024, k*1024/n, n }'
-echo "    steps: $mesh_steps"
-if [ "$gw" != "n/a" ]; then
-  awk -v g="$gw" -v k="$gkb" -v w="$rw" 'BEGIN { printf "  GRASS r.watershed -s (memory=4000)               %6.2f s  peak %7.1f MB\n  ratio r.watershed / build-drainage --raster      %6.2f\n", g, k/1024, g / w }'
-else
-  echo "  GRASS r.watershed -s: not available (install grass-core)"
+if [[ " ${resolutions[*]} " == *" 10 "* ]]; then
+  $bin/dem2mesh data/logan_utm12n_100m.tif "$tmp/logan.ply" -q >/dev/null
+  read -r mw mkb < <(measure $bin/build-drainage "$tmp/logan.ply" "$tmp/mesh.dv" --spacing 10 -v)
+  mpoints=$(awk '/^points:/ {print $2}' "$tmp/out")
+  row "build-drainage MESH (sample at 10 m, steps 2-7)" "$mw" "$mkb" "$mpoints"
+  echo "    steps: $(grep -E '^sampled |^  [a-z0-9]+: |^drainage \(|^write ' "$tmp/err" | tr '\n' ';')"
 fi

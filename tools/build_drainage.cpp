@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   int threads = 0;
   std::uint32_t dv_version = drainage::kDvVersion;
   std::size_t tile_size = 0;
+  double memory_mib = 0;
   tt::Verbosity verb;
   app.add_option("MESH_OR_OUTPUT", positional, "MESH.ply OUTPUT.dv, or only OUTPUT.dv with --raster / --d8-input")
       ->required()
@@ -69,6 +70,11 @@ int main(int argc, char** argv) {
                  "Raster mode tile by tile, for rasters larger than memory: tiles of N x N samples read\n"
                  "through GDAL windows, results identical to the untiled run (docs/build-drainage.md)")
       ->check(CLI::Range(1, 16384));
+  app.add_option("--memory", memory_mib,
+                 "Raster mode within about this much memory (MiB): untiled when the grid fits (40 bytes per\n"
+                 "point), else tiled with the largest tiles that fit (100 bytes per tile point + 64 MiB)")
+      ->check(CLI::Range(64.0, 1e9))
+      ->excludes("--tile-size");
   app.add_option("--threads", threads, "Threads (default: all cores); the output does not depend on it")
       ->check(CLI::Range(1, tt::kMaxThreads));
   tt::add_verbosity_flags(app, verb);
@@ -96,6 +102,12 @@ int main(int argc, char** argv) {
     if (!rasters_dir.empty() && !std::filesystem::is_directory(rasters_dir))
       throw terrain::Error("--rasters: directory '" + rasters_dir + "' does not exist");
     if (threads > 0) omp_set_num_threads(threads);
+    if (memory_mib > 0) {
+      if (!raster_mode) throw terrain::Error("--memory applies to --raster and --d8-input runs");
+      tile_size = drainage::tile_size_for_memory(terrain::read_dem_info(raster.empty() ? d8_input : raster),
+                                                 memory_mib * 1024.0 * 1024.0);
+      if (tile_size > 0) tt::step(verb, fmt::format("--memory {:.0f} MiB: tiles of {} x {}", memory_mib, tile_size, tile_size));
+    }
     if (tile_size > 0) {
       if (!raster_mode) throw terrain::Error("--tile-size applies to --raster and --d8-input runs");
       if (!rasters_dir.empty() || !surface_out.empty())

@@ -618,19 +618,27 @@ std::vector<char> encode_dv_block(const DvBlockFields& f) {
   thread_local std::vector<std::uint8_t> raw;  // reused: see the reader
   thread_local std::unique_ptr<ZSTD_CCtx, std::size_t (*)(ZSTD_CCtx*)> ctx(ZSTD_createCCtx(), ZSTD_freeCCtx);
   raw.resize(kBytesPerPoint * m);
-  auto shuffle = [&](std::size_t at, std::size_t q, std::uint32_t v) {
-    for (std::size_t k = 0; k < 4; ++k) raw[at + k * m + q] = std::uint8_t(v >> (8 * k));
-  };
+  // Plain pointers (restrict): byte stores could alias the vectors' own pointers, which
+  // the compiler would then reload on every store.
+  std::uint8_t* __restrict const o = raw.data();
+  const float* __restrict const zs = f.z.data();
+  const std::uint8_t* __restrict const d8 = f.d8.data();
+  const std::uint8_t* __restrict const cut = f.cut.data();
+  const std::uint32_t* __restrict const acc = f.accumulated.data();
+  const std::uint32_t* __restrict const basin = f.basin.data();
+  const std::uint8_t* __restrict const order = f.order.data();
   std::uint32_t zprev = 0, bprev = 0;
   for (std::size_t q = 0; q < m; ++q) {
-    const std::uint32_t zb = std::bit_cast<std::uint32_t>(f.z[q]);
-    shuffle(0, q, zb - zprev);  // deltas of the bit patterns: neighbours share their high bits
-    zprev = zb;
-    raw[4 * m + q] = f.cut[q] && f.d8[q] < 8 ? std::uint8_t(kCutFlag | f.d8[q]) : f.d8[q];
-    shuffle(5 * m, q, f.accumulated[q]);
-    shuffle(9 * m, q, f.basin[q] - bprev);
-    bprev = f.basin[q];
-    raw[13 * m + q] = f.order[q];
+    const std::uint32_t zb = std::bit_cast<std::uint32_t>(zs[q]);
+    const std::uint32_t dz = zb - zprev, db = basin[q] - bprev, a = acc[q];  // deltas: neighbours share high bits
+    zprev = zb, bprev = basin[q];
+    for (std::size_t k = 0; k < 4; ++k) {
+      o[k * m + q] = std::uint8_t(dz >> (8 * k));
+      o[(5 + k) * m + q] = std::uint8_t(a >> (8 * k));
+      o[(9 + k) * m + q] = std::uint8_t(db >> (8 * k));
+    }
+    o[4 * m + q] = cut[q] && d8[q] < 8 ? std::uint8_t(kCutFlag | d8[q]) : d8[q];
+    o[13 * m + q] = order[q];
   }
   std::vector<char> out(ZSTD_compressBound(raw.size()));
   const std::size_t n = ZSTD_compressCCtx(ctx.get(), out.data(), out.size(), raw.data(), raw.size(), 1);
@@ -705,17 +713,18 @@ void write_dv(const std::string& path, const DvHeader& h, const terrain::Grid& z
       for (long bc = 0; bc < long(nbc); ++bc) {
         const std::size_t r0 = br * BR, c0 = std::size_t(bc) * BC;
         const std::size_t rows_b = std::min(BR, R - r0), cols_b = std::min(BC, C - c0), m = rows_b * cols_b;
-        DvBlockFields f;
+        thread_local DvBlockFields fields;  // reused: fresh buffers per block cost the kernel's page zeroing
+        DvBlockFields& f = fields;          // one thread-local lookup, not one per access
         f.z.resize(m), f.d8.resize(m), f.cut.resize(m), f.accumulated.resize(m), f.basin.resize(m), f.order.resize(m);
-        for (std::size_t q = 0; q < m; ++q) {
-          const std::size_t i = (r0 + q / cols_b) * C + c0 + q % cols_b;
-          f.z[q] = std::isnan(z.z[i]) ? 0.0f : float(double(z.z[i]) - h.origin_z);
-          f.d8[q] = dirs[i];
-          f.cut[q] = dirs[i] < 8 && net.downstream[i] == kNone;
-          f.accumulated[q] = net.accumulated[i];
-          f.basin[q] = net.basin[i];
-          f.order[q] = net.order[i];
-        }
+        for (std::size_t r = 0, q = 0; r < rows_b; ++r)
+          for (std::size_t c = 0, i = (r0 + r) * C + c0; c < cols_b; ++c, ++q, ++i) {
+            f.z[q] = std::isnan(z.z[i]) ? 0.0f : float(double(z.z[i]) - h.origin_z);
+            f.d8[q] = dirs[i];
+            f.cut[q] = dirs[i] < 8 && net.downstream[i] == kNone;
+            f.accumulated[q] = net.accumulated[i];
+            f.basin[q] = net.basin[i];
+            f.order[q] = net.order[i];
+          }
         band[std::size_t(bc)] = encode_dv_block(f);
       }
       for (std::size_t bc = 0; bc < nbc; ++bc) w.put_block(br * nbc + bc, band[bc]);

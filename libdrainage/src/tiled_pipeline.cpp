@@ -1,6 +1,7 @@
 // build-drainage's raster mode tile by tile (tiled.hpp): GDAL windows in, .dv blocks out.
 #include <gdal_priv.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numeric>
@@ -256,11 +257,25 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
 
 }  // namespace
 
+std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes) {
+  if (double(info.rows) * double(info.cols) * 40.0 <= bytes) return 0;
+  const double per_tile = std::max(0.0, bytes - double(64 << 20));  // the process and GDAL's cache
+  const std::size_t side = std::size_t(std::sqrt(per_tile / 100.0)) / 256 * 256;
+  return std::clamp<std::size_t>(side, 256, 16384);
+}
+
 TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress) {
   if (run.tile == 0 || run.tile > 16384) throw terrain::Error("--tile-size must be between 1 and 16384");
   if (run.dem.empty() == run.d8.empty()) throw terrain::Error("tiled mode takes a DEM or a D8 raster (not both yet)");
   const std::string input = run.dem.empty() ? run.d8 : run.dem;
   const terrain::DemInfo info = terrain::read_dem_info(input);
+  // GDAL's block cache (5 % of the machine's memory by default) would grow with the
+  // windows read; a tiled run keeps its memory to the tiles.
+  struct CacheLimit {
+    GIntBig before = GDALGetCacheMax64();
+    CacheLimit() { GDALSetCacheMax64(GIntBig(64) << 20); }
+    ~CacheLimit() { GDALSetCacheMax64(before); }
+  } cache_limit;
   TiledSummary summary;
   summary.rows = info.rows, summary.cols = info.cols, summary.dx = info.geo.dx, summary.dy = info.geo.dy;
   const TileGrid tiles{info.rows, info.cols, run.tile};
@@ -333,6 +348,8 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
       writer.put_block(t, encode_dv_block(f));
       terrain::report(progress, 0.3 + 0.7 * double(t + 1) / double(tiles.count()));
     });
+    if (summary.totals.points == 0)  // thrown inside the write: no output is left
+      throw terrain::Error("'" + input + "' has no valid sample (every cell is no-data)");
     writer.finish(summary.totals.points, summary.totals.branches, summary.totals.pits, summary.totals.pit_accumulated);
   });
   return summary;

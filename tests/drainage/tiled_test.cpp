@@ -191,5 +191,16 @@ TEST(TiledNetwork, BasinWhoseOutletIsThreeTilesAway) {
   for (const std::size_t side : {std::size_t(8), std::size_t(11), std::size_t(16)}) expect_same_network(dirs, n, n, side);
 }
 
+// --memory: untiled while the grid fits at 40 bytes per point, else the largest multiple
+// of 256 whose tiles fit at 100 bytes per point besides 64 MiB, at least 256.
+TEST(TiledRun, TileSizeForMemory) {
+  terrain::DemInfo info;
+  info.rows = 4000, info.cols = 5000;  // 20 M points: 800 MB untiled
+  EXPECT_EQ(tile_size_for_memory(info, 800e6), 0u);
+  EXPECT_EQ(tile_size_for_memory(info, 799e6), 2560u);  // sqrt((799e6 - 64 MiB) / 100) = 2705
+  EXPECT_EQ(tile_size_for_memory(info, 200.0 * (1 << 20)), 1024u);
+  EXPECT_EQ(tile_size_for_memory(info, 1e6), 256u);
+}
+
 }  // namespace
 }  // namespace drainage

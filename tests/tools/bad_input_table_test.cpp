@@ -279,6 +279,8 @@ INSTANTIATE_TEST_SUITE_P(
         Row{bd + "--raster IN/plane.tif OUT/o.dv --spacing 5 -q", 1, "--spacing applies to mesh mode only"},
         // build-drainage
         Row{bd + "--raster IN/all_nodata.tif OUT/o.dv -q", 1, "has no valid sample"},
+        Row{bd + "--raster IN/all_nodata.tif OUT/o.dv --tile-size 64 -q", 1, "has no valid sample"},
+        Row{bd + "IN/truncated.ply OUT/o.dv --memory 100 -q", 1, "--memory applies to --raster"},
         Row{bd + "--raster IN/plane.tif OUT/o.dv --threads 100000", 2, "--threads"},
         Row{bd + "IN/truncated.ply OUT/o.dv -q", 1, "truncated"},
         Row{bd + "IN/wrong_header.ply OUT/o.dv -q", 1, "expected 'element NAME COUNT'"},

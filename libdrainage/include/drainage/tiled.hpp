@@ -95,6 +95,12 @@ struct TiledSummary {
   double dx = 0, dy = 0;
   NetworkTotals totals;
 };
+// The tile side for a raster mode run within `bytes` of memory: 0 (untiled) when the whole
+// grid fits at 40 bytes per point, else the largest multiple of 256 whose tiles fit at 100
+// bytes per tile point besides 64 MiB for the process and GDAL's cache (measured on Logan
+// 10 m: 163 MiB peak for tiles of 1024, 427 MiB for 2048); at least 256.
+std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes);
+
 TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress = {});
 
 }  // namespace drainage
