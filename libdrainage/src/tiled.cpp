@@ -23,6 +23,15 @@ terrain::RasterWindow TileGrid::window(std::size_t t) const {
   return w;
 }
 
+terrain::RasterWindow TileGrid::halo(const terrain::RasterWindow& w) const {
+  terrain::RasterWindow h = w;
+  if (h.row0 > 0) --h.row0, ++h.rows;
+  if (h.col0 > 0) --h.col0, ++h.cols;
+  h.rows = std::min(h.rows + 1, rows - h.row0);
+  h.cols = std::min(h.cols + 1, cols - h.col0);
+  return h;
+}
+
 namespace {
 
 constexpr std::uint32_t kOutside = 0;  // the label of cells that drain off the grid (Barnes' "ocean")
@@ -35,9 +44,6 @@ std::size_t ring_position(std::size_t r, std::size_t c, std::size_t nr, std::siz
   return 2 * nc + nr + (r - 1);
 }
 std::size_t ring_size(std::size_t nr, std::size_t nc) { return 2 * nc + 2 * nr; }
-bool on_ring(std::size_t r, std::size_t c, std::size_t nr, std::size_t nc) {
-  return r == 0 || c == 0 || r == nr - 1 || c == nc - 1;
-}
 
 // One tile, with the halo that tells which of its cells are the grid's own seeds.
 struct TileFlood {
@@ -55,11 +61,7 @@ template <class Edge>
 TileFlood flood_tile(const TileGrid& tiles, std::size_t t, const WindowReader& read, std::uint32_t first_label,
                      Edge&& edge) {
   const terrain::RasterWindow w = tiles.window(t);
-  terrain::RasterWindow h = w;  // one sample of halo, inside the grid
-  if (h.row0 > 0) --h.row0, ++h.rows;
-  if (h.col0 > 0) --h.col0, ++h.cols;
-  h.rows = std::min(h.rows + 1, tiles.rows - h.row0);
-  h.cols = std::min(h.cols + 1, tiles.cols - h.col0);
+  const terrain::RasterWindow h = tiles.halo(w);
   const terrain::Grid halo = read(h);
   if (halo.rows != h.rows || halo.cols != h.cols) throw terrain::Error("tiled fill: the reader returned a wrong window");
   const std::size_t dr = w.row0 - h.row0, dc = w.col0 - h.col0;
@@ -94,7 +96,7 @@ TileFlood flood_tile(const TileGrid& tiles, std::size_t t, const WindowReader& r
         seed = std::isnan(halo.at(std::size_t(long(r + long(dr)) + kDRow[k]), std::size_t(long(c + long(dc)) + kDCol[k])));
       if (seed) {
         f.label[i] = kOutside;
-      } else if (on_ring(std::size_t(r), std::size_t(c), f.nr, f.nc)) {
+      } else if (on_tile_edge(std::size_t(r), std::size_t(c), f.nr, f.nc)) {
         f.label[i] = first_label + std::uint32_t(ring_position(std::size_t(r), std::size_t(c), f.nr, f.nc));
       } else {
         continue;
@@ -170,7 +172,7 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
     ring.z.assign(ring.label.size(), NAN);
     for (std::size_t r = 0; r < f.nr; ++r)
       for (std::size_t c = 0; c < f.nc; ++c)
-        if (on_ring(r, c, f.nr, f.nc)) {
+        if (on_tile_edge(r, c, f.nr, f.nc)) {
           const std::size_t p = ring_position(r, c, f.nr, f.nc);
           ring.label[p] = f.label[r * f.nc + c];
           ring.z[p] = f.original[r * f.nc + c];  // perimeter cells are seeds: never raised
@@ -182,7 +184,7 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
     const Ring& ring = rings[t];
     for (std::size_t r = 0; r < w.rows; ++r)
       for (std::size_t c = 0; c < w.cols; ++c) {
-        if (!on_ring(r, c, w.rows, w.cols)) continue;
+        if (!on_tile_edge(r, c, w.rows, w.cols)) continue;
         const std::size_t p = ring_position(r, c, w.rows, w.cols);
         if (ring.label[p] == kNone) continue;
         for (int k = 0; k < 8; ++k) {
@@ -287,11 +289,7 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
   LocalNetwork L;
   L.w = tiles.window(t);
   const terrain::RasterWindow& w = L.w;
-  terrain::RasterWindow h = w;
-  if (h.row0 > 0) --h.row0, ++h.rows;
-  if (h.col0 > 0) --h.col0, ++h.cols;
-  h.rows = std::min(h.rows + 1, tiles.rows - h.row0);
-  h.cols = std::min(h.cols + 1, tiles.cols - h.col0);
+  const terrain::RasterWindow h = tiles.halo(w);
   const D8Codes halo = read(h);
   if (halo.size() != h.rows * h.cols) throw terrain::Error("tiled network: the reader returned a wrong window");
   const long dr = long(w.row0 - h.row0), dc = long(w.col0 - h.col0), HC = long(h.cols), HR = long(h.rows);
@@ -560,7 +558,7 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
           const std::size_t j = std::size_t(rr * nc + cc);
           same += L.down[j] == i && out.order[j] == out.order[i];
         }
-        if (on_ring(std::size_t(r), std::size_t(c), L.nr, L.nc))
+        if (on_tile_edge(std::size_t(r), std::size_t(c), L.nr, L.nc))
           ring[ring_position(std::size_t(r), std::size_t(c), L.nr, L.nc)] =
               RingCell{out.order[i], std::uint8_t(same), 1, target};
         else

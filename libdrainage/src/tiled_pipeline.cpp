@@ -38,7 +38,7 @@ class ScratchRaster {
       OGRSpatialReference srs;
       if (srs.importFromWkt(info.geo.crs_wkt.c_str()) == OGRERR_NONE) ds_->SetSpatialRef(&srs);
     }
-    if (type == GDT_Float32) ds_->GetRasterBand(1)->SetNoDataValue(-9999.0);
+    if (type == GDT_Float32) ds_->GetRasterBand(1)->SetNoDataValue(std::nan(""));  // no valid elevation is NaN
   }
   ~ScratchRaster() {
     if (ds_) GDALClose(ds_);
@@ -46,10 +46,8 @@ class ScratchRaster {
     std::filesystem::remove(path_, ec);
   }
   void write(const terrain::RasterWindow& w, const terrain::Grid& g) {
-    std::vector<float> v(g.z.begin(), g.z.end());
-    for (float& x : v)
-      if (std::isnan(x)) x = -9999.0f;
-    if (ds_->GetRasterBand(1)->RasterIO(GF_Write, int(w.col0), int(w.row0), int(w.cols), int(w.rows), v.data(),
+    if (ds_->GetRasterBand(1)->RasterIO(GF_Write, int(w.col0), int(w.row0), int(w.cols), int(w.rows),
+                                        const_cast<float*>(g.z.data()),
                                         int(w.cols), int(w.rows), GDT_Float32, 0, 0) != CE_None)
       throw terrain::Error("cannot write the temporary raster '" + path_ + "' (disk full?)");
   }
@@ -78,24 +76,11 @@ class ScratchRaster {
   GDALDataset* ds_ = nullptr;
 };
 
-bool on_ring(std::size_t r, std::size_t c, std::size_t nr, std::size_t nc) {
-  return r == 0 || c == 0 || r == nr - 1 || c == nc - 1;
-}
-
-terrain::RasterWindow expanded(const terrain::RasterWindow& w, std::size_t rows, std::size_t cols) {
-  terrain::RasterWindow h = w;
-  if (h.row0 > 0) --h.row0, ++h.rows;
-  if (h.col0 > 0) --h.col0, ++h.cols;
-  h.rows = std::min(h.rows + 1, rows - h.row0);
-  h.cols = std::min(h.cols + 1, cols - h.col0);
-  return h;
-}
-
 using SurfaceReader = std::function<terrain::Grid(const terrain::RasterWindow&)>;
 
 // D8 codes of window w, from the surface of w with one more sample around it.
-D8Codes window_codes(const SurfaceReader& surface, const terrain::RasterWindow& w, std::size_t rows, std::size_t cols) {
-  const terrain::RasterWindow h = expanded(w, rows, cols);
+D8Codes window_codes(const SurfaceReader& surface, const terrain::RasterWindow& w, const TileGrid& tiles) {
+  const terrain::RasterWindow h = tiles.halo(w);
   const D8Codes all = d8_directions(surface(h));
   D8Codes out(w.rows * w.cols);
   for (std::size_t r = 0; r < w.rows; ++r)
@@ -167,9 +152,9 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
   for (std::size_t t = 0; t < tiles.count(); ++t) {
     // Two samples of halo: whether a cell one sample outside the tile is a low edge
     // depends on its own neighbours.
-    const terrain::RasterWindow w = tiles.window(t), h = expanded(expanded(w, R, C), R, C);
+    const terrain::RasterWindow w = tiles.window(t), h = tiles.halo(tiles.halo(w));
     const terrain::Grid zh = surface(h);
-    const D8Codes raw = window_codes(surface, h, R, C);
+    const D8Codes raw = window_codes(surface, h, tiles);
     D8Codes resolved = raw;
     resolve_flats(zh, resolved);
     std::uint32_t count = 0;
@@ -204,7 +189,7 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
         }
         boxes[x].add(gr, gc);
         if (seeds[x] == ~std::uint64_t(0)) seeds[x] = cell;
-        if (on_ring(gr - w.row0, gc - w.col0, w.rows, w.cols)) ring.emplace(cell, x);
+        if (on_tile_edge(gr - w.row0, gc - w.col0, w.rows, w.cols)) ring.emplace(cell, x);
       }
     out.write_codes(w, codes);
   }
@@ -229,9 +214,9 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
   for (std::uint32_t x = 0; x < boxes.size(); ++x) {
     if (find(x) != x) continue;
     const terrain::RasterWindow box{boxes[x].r0, boxes[x].c0, boxes[x].r1 - boxes[x].r0 + 1, boxes[x].c1 - boxes[x].c0 + 1};
-    const terrain::RasterWindow W = expanded(box, R, C);
+    const terrain::RasterWindow W = tiles.halo(box);
     const terrain::Grid zw = surface(W);
-    const D8Codes raw = window_codes(surface, W, R, C);
+    const D8Codes raw = window_codes(surface, W, tiles);
     D8Codes resolved = raw;
     resolve_flats(zw, resolved);
     std::uint32_t count = 0;
@@ -304,7 +289,7 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
     codes = [&](const terrain::RasterWindow& w) { return resolved->read_codes(w); };
   } else if (!run.dem.empty()) {
     flags |= kDvHasElevations;
-    codes = [&](const terrain::RasterWindow& w) { return window_codes(surface, w, info.rows, info.cols); };
+    codes = [&](const terrain::RasterWindow& w) { return window_codes(surface, w, tiles); };
   } else {
     codes = [&](const terrain::RasterWindow& w) {
       const terrain::Grid g = terrain::read_dem(run.d8, {}, w);

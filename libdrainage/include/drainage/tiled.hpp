@@ -26,7 +26,14 @@ struct TileGrid {
   std::size_t tile_cols() const { return (cols + side - 1) / side; }
   std::size_t count() const { return tile_rows() * tile_cols(); }
   terrain::RasterWindow window(std::size_t t) const;
+  // `w` grown by one sample on each side, within the grid.
+  terrain::RasterWindow halo(const terrain::RasterWindow& w) const;
 };
+
+// Whether cell (r, c) of an nr x nc tile lies on the tile's edge (its perimeter ring).
+inline bool on_tile_edge(std::size_t r, std::size_t c, std::size_t nr, std::size_t nc) {
+  return r == 0 || c == 0 || r == nr - 1 || c == nc - 1;
+}
 
 // Reads a window of the elevations (NaN = no-data): GDAL windowed reads of a raster
 // (terrain::read_dem with a window), or a grid in memory in tests.
