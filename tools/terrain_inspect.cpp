@@ -119,9 +119,9 @@ void info_points(const std::string& path) {
 }
 
 void info_dv(const std::string& path) {
-  const drainage::DrainageDb db = drainage::read_dv(path);
-  const drainage::DvHeader& h = db.header;
-  const drainage::DvSummary s = drainage::summarize(db);
+  // Header and a summary streamed in bands: a database larger than memory is fine.
+  const drainage::DvHeader h = drainage::read_dv_header(path);
+  const drainage::DvSummary s = drainage::summarize_dv_file(path);
   std::cout << "file: " << path << "\n"
             << "type: drainage vertex database (.dv version " << h.version << ")\n"
             << "grid: " << h.cols << " x " << h.rows << " (columns x rows)\n"

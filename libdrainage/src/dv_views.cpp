@@ -40,6 +40,49 @@ DvSummary summarize(const DrainageDb& db) {
   return s;
 }
 
+DvSummary summarize_dv_file(const std::string& path) {
+  const DvHeader h = read_dv_header(path);
+  if (h.version < 2) return summarize(read_dv(path));
+  const std::size_t rows = std::size_t(h.rows), cols = std::size_t(h.cols);
+  const std::size_t band = std::max<std::size_t>(
+      1, std::min<std::size_t>(h.block_rows, (std::size_t(256) << 20) / (cols * sizeof(DvVertex))));
+  DvSummary s;
+  double sum = 0.0;
+  for (std::size_t r0 = 0; r0 < rows; r0 += band) {
+    // The band with one row above and below: every point counted sees all its inflows.
+    const std::size_t w0 = r0 > 0 ? r0 - 1 : 0, w1 = std::min(rows, r0 + band + 1);
+    const DrainageDb w = read_dv_window(path, w0, 0, w1 - w0, cols);
+    const long C = long(cols), R = long(w1 - w0);
+    for (long r = long(r0 - w0); r < long(std::min(rows, r0 + band) - w0); ++r)
+      for (long c = 0; c < C; ++c) {
+        const std::size_t i = std::size_t(r * C + c);
+        const DvVertex& v = w.vertices[i];
+        switch (PointClass(v.point_class)) {
+          case PointClass::Pit: ++s.pits; break;
+          case PointClass::Ridge: ++s.ridges; break;
+          case PointClass::Channel: ++s.channels; break;
+          case PointClass::Junction: ++s.junctions; break;
+          case PointClass::Nodata: continue;
+        }
+        ++s.points;
+        sum += v.normalized;
+        s.max_accumulated = std::max(s.max_accumulated, v.accumulated);
+        if (PointClass(v.point_class) == PointClass::Pit && double(v.accumulated) > 0.01 * double(h.valid))
+          ++s.basins_over_1pct;
+        int same = 0;  // a branch head: not exactly one inflow of its own order (network_branches)
+        for (int k = 0; k < 8; ++k) {
+          const long rr = r - kDRow[std::size_t(k)], cc = c - kDCol[std::size_t(k)];
+          if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;
+          const DvVertex& u = w.vertices[std::size_t(rr * C + cc)];
+          same += u.downstream == i && u.order == v.order;
+        }
+        if (same != 1) ++s.branches_per_order[v.order];
+      }
+  }
+  if (s.points) s.mean_normalized = sum / double(s.points);
+  return s;
+}
+
 terrain::DrainageLinks drainage_links(const DrainageDb& db) {
   const DvHeader& h = db.header;
   terrain::DrainageLinks l;

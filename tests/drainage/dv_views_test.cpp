@@ -101,5 +101,28 @@ TEST(DvViews, LinksOfAnExtentAreThePointsUnderIt) {
   EXPECT_THROW(drainage_links_in(dir.path("a.dv"), 0, 0, 10, 10), terrain::Error);
 }
 
+// The streamed summary equals the summary of the whole database: version 1, version 2
+// in one band, and version 2 with blocks of 37 rows (14 bands on Logan's 498 rows).
+TEST(DvViews, StreamedSummaryEqualsTheWholeOne) {
+  terrain::test::ScratchDir dir;
+  const DrainageResult r = logan_drainage();
+  for (const auto& [version, block] : {std::pair{1u, 0u}, std::pair{2u, 0u}, std::pair{2u, 37u}}) {
+    DvHeader h = make_dv_header(r.surface, r.net, r.dv_flags, "");
+    h.version = version, h.block_rows = h.block_cols = block;
+    write_dv(dir.path("a.dv"), h, r.surface, r.dirs, r.net);
+    const DvSummary a = summarize(read_dv(dir.path("a.dv"))), b = summarize_dv_file(dir.path("a.dv"));
+    SCOPED_TRACE("version " + std::to_string(version) + ", blocks " + std::to_string(block));
+    EXPECT_EQ(b.points, a.points);
+    EXPECT_EQ(b.pits, a.pits);
+    EXPECT_EQ(b.ridges, a.ridges);
+    EXPECT_EQ(b.channels, a.channels);
+    EXPECT_EQ(b.junctions, a.junctions);
+    EXPECT_EQ(b.branches_per_order, a.branches_per_order);
+    EXPECT_EQ(b.max_accumulated, a.max_accumulated);
+    EXPECT_EQ(b.basins_over_1pct, a.basins_over_1pct);
+    EXPECT_NEAR(b.mean_normalized, a.mean_normalized, 1e-12);
+  }
+}
+
 }  // namespace
 }  // namespace drainage

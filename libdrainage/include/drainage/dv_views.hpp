@@ -21,6 +21,11 @@ struct DvSummary {
 };
 DvSummary summarize(const DrainageDb& db);
 
+// summarize() of the .dv at `path` without holding the database: a version 2 file is read
+// in bands of rows (read_dv_window, at most about 256 MiB each), so terrain-inspect can
+// summarize a database larger than memory. Version 1 files are read whole.
+DvSummary summarize_dv_file(const std::string& path);
+
 // The database's points as plain arrays (terrain/drainage_links.hpp), for the renderer.
 terrain::DrainageLinks drainage_links(const DrainageDb& db);
 
