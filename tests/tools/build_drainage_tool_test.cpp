@@ -98,12 +98,12 @@ void expect_same_db(const DrainageDb& a, const DrainageDb& b, const std::string&
 }
 
 // --tile-size gives the untiled run's database exactly (every field), with tile sizes that
-// do and do not divide the grid, filled or not, from a DEM or from D8 codes; and the
-// window reader reads such a file.
+// do and do not divide the grid, filled or not, from a DEM or from D8 codes.
 TEST(BuildDrainage, TiledRunsEqualTheUntiledRun) {
   terrain::test::ScratchDir dir;
   const std::string bd = tool("build-drainage") + " ";
-  for (const char* name : {"msh_2007_utm10n_10m.tif", "med_01_01_10m.tif"}) {
+  // MSH and MED (projected), the Eno crop (geographic: per-row metric cells in every window).
+  for (const char* name : {"msh_2007_utm10n_10m.tif", "med_01_01_10m.tif", "eno_nad83_geographic_crop.tif"}) {
     for (const std::string opts : {"", " --fill", " --keep-flats", " --keep-flats --fill"}) {
       const auto u = run(bd + "--raster " + data(name) + " " + dir.path("u.dv") + opts + " -q");
       ASSERT_EQ(u.exit_code, 0) << u.err;
