@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "drainage/d8.hpp"
+#include "drainage/fill.hpp"
 #include "terrain/error.hpp"
 
 namespace drainage {
@@ -78,14 +79,7 @@ TileFlood flood_tile(const TileGrid& tiles, std::size_t t, const WindowReader& r
   f.original = f.z;
   f.label.assign(f.z.size(), kNone);
 
-  struct Item {
-    float z;
-    std::uint32_t i;
-    bool operator>(const Item& o) const { return z > o.z || (z == o.z && i > o.i); }
-  };
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
-  std::vector<std::uint32_t> pit;
-  std::size_t pit_head = 0;
+  std::vector<std::uint32_t> seeds;
   for (long r = 0; r < nr; ++r)
     for (long c = 0; c < nc; ++c) {
       const std::size_t i = std::size_t(r * nc + c);
@@ -101,36 +95,17 @@ TileFlood flood_tile(const TileGrid& tiles, std::size_t t, const WindowReader& r
       } else {
         continue;
       }
-      open.push({f.z[i], std::uint32_t(i)});
+      seeds.push_back(std::uint32_t(i));
     }
-  while (!open.empty() || pit_head < pit.size()) {
-    std::uint32_t i;
-    if (pit_head < pit.size()) {
-      i = pit[pit_head++];
-      if (pit_head == pit.size()) pit.clear(), pit_head = 0;
-    } else {
-      i = open.top().i;
-      open.pop();
+  priority_flood(f.z, nr, nc, seeds, [&](std::uint32_t i, std::uint32_t j) {
+    if (std::isnan(f.z[j])) return false;
+    if (f.label[j] != kNone) {  // taken: where two labels meet, record the elevation
+      if (f.label[j] != f.label[i]) edge(f.label[i], f.label[j], std::max(f.z[i], f.z[j]));
+      return false;
     }
-    const long r = long(i) / nc, c = long(i) % nc;
-    for (int k = 0; k < 8; ++k) {
-      const long rr = r + kDRow[k], cc = c + kDCol[k];
-      if (rr < 0 || cc < 0 || rr >= nr || cc >= nc) continue;
-      const std::size_t j = std::size_t(rr * nc + cc);
-      if (std::isnan(f.z[j])) continue;
-      if (f.label[j] != kNone) {
-        if (f.label[j] != f.label[i]) edge(f.label[i], f.label[j], std::max(f.z[i], f.z[j]));
-        continue;
-      }
-      f.label[j] = f.label[i];
-      if (f.z[j] <= f.z[i]) {
-        f.z[j] = f.z[i];
-        pit.push_back(std::uint32_t(j));
-      } else {
-        open.push({f.z[j], std::uint32_t(j)});
-      }
-    }
-  }
+    f.label[j] = f.label[i];
+    return true;
+  });
   return f;
 }
 

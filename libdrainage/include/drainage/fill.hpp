@@ -2,6 +2,11 @@
 // Depression filling by Priority-Flood (Barnes, Lehman & Mulla 2014, "Priority-Flood: An
 // optimal depression-filling and watershed-labeling algorithm"; docs/algorithms.md 8.1-8.2).
 #include <cstddef>
+#include <cstdint>
+#include <queue>
+#include <vector>
+
+#include "drainage/d8.hpp"
 
 #include "terrain/grid.hpp"
 
@@ -14,5 +19,49 @@ namespace drainage {
 // were raised. O(n log n) in the samples that go through the heap; depression interiors
 // use a FIFO (the "improved" variant). Tested against TauDEM pitremove on a real DEM.
 std::size_t priority_flood_fill(terrain::Grid& z);
+
+// The Priority-Flood loop itself, shared by priority_flood_fill and the tiled fill: floods
+// the rows x cols array `z` from `seeds` (ascending cell indices, already claimed) by
+// elevation, ties by cell index, depression interiors first-in first-out. claim(i, j) is
+// asked for each in-grid neighbour j of a cell i taken from the queue and says whether j
+// is to be flooded from i now (the caller then marks j as taken); a flooded j lower than
+// i is raised to i. Returns how many cells were raised.
+template <class Z, class Claim>
+std::size_t priority_flood(Z& z, long rows, long cols, const std::vector<std::uint32_t>& seeds, Claim&& claim) {
+  struct Item {
+    float z;
+    std::uint32_t i;
+    bool operator>(const Item& o) const { return z > o.z || (z == o.z && i > o.i); }
+  };
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  for (const std::uint32_t i : seeds) open.push({z[i], i});
+  std::vector<std::uint32_t> pit;  // FIFO of depression cells, with a head index
+  std::size_t pit_head = 0, raised = 0;
+  while (!open.empty() || pit_head < pit.size()) {
+    std::uint32_t i;
+    if (pit_head < pit.size()) {
+      i = pit[pit_head++];
+      if (pit_head == pit.size()) pit.clear(), pit_head = 0;
+    } else {
+      i = open.top().i;
+      open.pop();
+    }
+    const long r = long(i) / cols, c = long(i) % cols;
+    for (int k = 0; k < 8; ++k) {
+      const long rr = r + kDRow[std::size_t(k)], cc = c + kDCol[std::size_t(k)];
+      if (rr < 0 || cc < 0 || rr >= rows || cc >= cols) continue;
+      const std::uint32_t j = std::uint32_t(rr * cols + cc);
+      if (!claim(i, j)) continue;
+      if (z[j] <= z[i]) {
+        if (z[j] < z[i]) ++raised;
+        z[j] = z[i];
+        pit.push_back(j);
+      } else {
+        open.push({z[j], j});
+      }
+    }
+  }
+  return raised;
+}
 
 }  // namespace drainage
