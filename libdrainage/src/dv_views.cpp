@@ -18,23 +18,30 @@ static_assert(drainage::kNone == terrain::DrainageLinks::kNone);
 
 namespace drainage {
 
+namespace {
+
+// Adds vertex v to the summary's counts (and its flow to `sum`); false for no-data.
+bool count_point(DvSummary& s, const DvVertex& v, std::uint64_t valid, double& sum) {
+  switch (PointClass(v.point_class)) {
+    case PointClass::Pit: ++s.pits; break;
+    case PointClass::Ridge: ++s.ridges; break;
+    case PointClass::Channel: ++s.channels; break;
+    case PointClass::Junction: ++s.junctions; break;
+    case PointClass::Nodata: return false;
+  }
+  ++s.points;
+  sum += v.normalized;
+  s.max_accumulated = std::max(s.max_accumulated, v.accumulated);
+  if (PointClass(v.point_class) == PointClass::Pit && double(v.accumulated) > 0.01 * double(valid)) ++s.basins_over_1pct;
+  return true;
+}
+
+}  // namespace
+
 DvSummary summarize(const DrainageDb& db) {
   DvSummary s;
   double sum = 0.0;
-  for (const DvVertex& v : db.vertices) {
-    switch (PointClass(v.point_class)) {
-      case PointClass::Pit: ++s.pits; break;
-      case PointClass::Ridge: ++s.ridges; break;
-      case PointClass::Channel: ++s.channels; break;
-      case PointClass::Junction: ++s.junctions; break;
-      case PointClass::Nodata: continue;
-    }
-    ++s.points;
-    sum += v.normalized;
-    s.max_accumulated = std::max(s.max_accumulated, v.accumulated);
-    if (PointClass(v.point_class) == PointClass::Pit && double(v.accumulated) > 0.01 * double(db.header.valid))
-      ++s.basins_over_1pct;
-  }
+  for (const DvVertex& v : db.vertices) count_point(s, v, db.header.valid, sum);
   if (s.points) s.mean_normalized = sum / double(s.points);
   for (const DvBranch& b : db.branches) ++s.branches_per_order[b.order];
   return s;
@@ -57,18 +64,7 @@ DvSummary summarize_dv_file(const std::string& path) {
       for (long c = 0; c < C; ++c) {
         const std::size_t i = std::size_t(r * C + c);
         const DvVertex& v = w.vertices[i];
-        switch (PointClass(v.point_class)) {
-          case PointClass::Pit: ++s.pits; break;
-          case PointClass::Ridge: ++s.ridges; break;
-          case PointClass::Channel: ++s.channels; break;
-          case PointClass::Junction: ++s.junctions; break;
-          case PointClass::Nodata: continue;
-        }
-        ++s.points;
-        sum += v.normalized;
-        s.max_accumulated = std::max(s.max_accumulated, v.accumulated);
-        if (PointClass(v.point_class) == PointClass::Pit && double(v.accumulated) > 0.01 * double(h.valid))
-          ++s.basins_over_1pct;
+        if (!count_point(s, v, h.valid, sum)) continue;
         int same = 0;  // a branch head: not exactly one inflow of its own order (network_branches)
         for (int k = 0; k < 8; ++k) {
           const long rr = r - kDRow[std::size_t(k)], cc = c - kDCol[std::size_t(k)];
