@@ -78,13 +78,25 @@ class ScratchRaster {
 
 using SurfaceReader = std::function<terrain::Grid(const terrain::RasterWindow&)>;
 
-// D8 codes of window w, from the surface of w with one more sample around it.
-D8Codes window_codes(const SurfaceReader& surface, const terrain::RasterWindow& w, const TileGrid& tiles) {
+// D8 codes of window w, from the surface of w with one more sample around it (read once;
+// `z`, when given, receives the surface of w itself).
+D8Codes window_codes(const SurfaceReader& surface, const terrain::RasterWindow& w, const TileGrid& tiles,
+                     terrain::Grid* z = nullptr) {
   const terrain::RasterWindow h = tiles.halo(w);
-  const D8Codes all = d8_directions(surface(h));
+  const terrain::Grid zh = surface(h);
+  const D8Codes all = d8_directions(zh);
+  const std::size_t dr = w.row0 - h.row0, dc = w.col0 - h.col0;
   D8Codes out(w.rows * w.cols);
   for (std::size_t r = 0; r < w.rows; ++r)
-    for (std::size_t c = 0; c < w.cols; ++c) out[r * w.cols + c] = all[(r + w.row0 - h.row0) * h.cols + c + w.col0 - h.col0];
+    for (std::size_t c = 0; c < w.cols; ++c) out[r * w.cols + c] = all[(r + dr) * h.cols + c + dc];
+  if (z) {
+    terrain::Georef geo = zh.geo;
+    geo.x0 += double(dc) * geo.dx;
+    geo.y0 -= double(dr) * geo.dy;
+    *z = terrain::Grid(w.rows, w.cols, geo);
+    for (std::size_t r = 0; r < w.rows; ++r)
+      for (std::size_t c = 0; c < w.cols; ++c) z->at(r, c) = zh.at(r + dr, c + dc);
+  }
   return out;
 }
 
@@ -133,6 +145,23 @@ std::vector<std::uint32_t> flat_components(const terrain::Grid& z, const D8Codes
   return label;
 }
 
+// The flats of window w: D8 codes before and after resolve_flats on the window alone, and
+// the flat components (flat_components).
+struct WindowFlats {
+  D8Codes raw, resolved;
+  std::vector<std::uint32_t> comp;
+  std::uint32_t count = 0;
+};
+WindowFlats window_flats(const SurfaceReader& surface, const terrain::RasterWindow& w, const TileGrid& tiles) {
+  WindowFlats f;
+  terrain::Grid z;
+  f.raw = window_codes(surface, w, tiles, &z);
+  f.resolved = f.raw;
+  resolve_flats(z, f.resolved);
+  f.comp = flat_components(z, f.raw, f.count);
+  return f;
+}
+
 struct Box {
   std::size_t r0 = ~std::size_t(0), c0 = ~std::size_t(0), r1 = 0, c1 = 0;  // inclusive
   void add(std::size_t r, std::size_t c) { r0 = std::min(r0, r), c0 = std::min(c0, c), r1 = std::max(r1, r), c1 = std::max(c1, c); }
@@ -148,17 +177,12 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
   std::vector<std::uint64_t> seeds;                       // a member of each
   std::unordered_map<std::uint64_t, std::uint32_t> ring;  // members on their tile's ring -> crossing flat
   std::vector<std::pair<std::uint64_t, std::uint32_t>> contacts;  // members outside the tile -> crossing flat
-  const std::size_t R = tiles.rows, C = tiles.cols;
+  const std::size_t C = tiles.cols;
   for (std::size_t t = 0; t < tiles.count(); ++t) {
     // Two samples of halo: whether a cell one sample outside the tile is a low edge
     // depends on its own neighbours.
     const terrain::RasterWindow w = tiles.window(t), h = tiles.halo(tiles.halo(w));
-    const terrain::Grid zh = surface(h);
-    const D8Codes raw = window_codes(surface, h, tiles);
-    D8Codes resolved = raw;
-    resolve_flats(zh, resolved);
-    std::uint32_t count = 0;
-    const std::vector<std::uint32_t> comp = flat_components(zh, raw, count);
+    const auto [raw, resolved, comp, count] = window_flats(surface, h, tiles);
     std::vector<std::uint32_t> crossing(count, kNone);
     auto inside = [&](std::size_t gr, std::size_t gc) {
       return gr >= w.row0 && gr < w.row0 + w.rows && gc >= w.col0 && gc < w.col0 + w.cols;
@@ -215,12 +239,7 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
     if (find(x) != x) continue;
     const terrain::RasterWindow box{boxes[x].r0, boxes[x].c0, boxes[x].r1 - boxes[x].r0 + 1, boxes[x].c1 - boxes[x].c0 + 1};
     const terrain::RasterWindow W = tiles.halo(box);
-    const terrain::Grid zw = surface(W);
-    const D8Codes raw = window_codes(surface, W, tiles);
-    D8Codes resolved = raw;
-    resolve_flats(zw, resolved);
-    std::uint32_t count = 0;
-    const std::vector<std::uint32_t> comp = flat_components(zw, raw, count);
+    const auto [raw, resolved, comp, count] = window_flats(surface, W, tiles);
     const std::uint64_t seed = seeds[x];
     const std::uint32_t mine = comp[(seed / C - W.row0) * W.cols + seed % C - W.col0];
     for (std::size_t i = 0; i < comp.size(); ++i)
