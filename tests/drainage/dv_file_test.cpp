@@ -95,17 +95,23 @@ DvHeader v1_header(const DrainageResult& r) {
   return h;
 }
 
+// A copy of dir/source named `name` with `bytes` written at `offset`; its path.
+std::string patched_copy(const terrain::test::ScratchDir& dir, const std::string& source, const std::string& name,
+                         std::size_t offset, const std::string& bytes) {
+  fs::copy_file(dir.path(source), dir.path(name));
+  std::fstream f(dir.path(name), std::ios::in | std::ios::out | std::ios::binary);
+  f.seekp(std::streamoff(offset));
+  f.write(bytes.data(), std::streamsize(bytes.size()));
+  return dir.path(name);
+}
+
 TEST(DvFile, RejectsDamagedVersion1Files) {
   terrain::test::ScratchDir dir;
   const DrainageResult r = logan_drainage();
   write_dv(dir.path("a.dv"), v1_header(r), r.surface, r.dirs, r.net);
   const auto size = fs::file_size(dir.path("a.dv"));
   auto patched = [&](const std::string& name, std::size_t offset, const std::string& bytes) {
-    fs::copy_file(dir.path("a.dv"), dir.path(name));
-    std::fstream f(dir.path(name), std::ios::in | std::ios::out | std::ios::binary);
-    f.seekp(std::streamoff(offset));
-    f.write(bytes.data(), std::streamsize(bytes.size()));
-    return dir.path(name);
+    return patched_copy(dir, "a.dv", name, offset, bytes);
   };
   expect_error(patched("magic.dv", 0, "NOTADV!!"), "wrong magic");
   expect_error(patched("version.dv", 8, std::string("\x03\x00\x00\x00", 4)), "newer");
@@ -164,11 +170,7 @@ TEST(DvFile, RejectsDamagedVersion2Files) {
   write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs, r.net);
   const auto size = fs::file_size(dir.path("a.dv"));
   auto patched = [&](const std::string& name, std::size_t offset, const std::string& bytes) {
-    fs::copy_file(dir.path("a.dv"), dir.path(name));
-    std::fstream f(dir.path(name), std::ios::in | std::ios::out | std::ios::binary);
-    f.seekp(std::streamoff(offset));
-    f.write(bytes.data(), std::streamsize(bytes.size()));
-    return dir.path(name);
+    return patched_copy(dir, "a.dv", name, offset, bytes);
   };
   std::uint32_t header_bytes = 0;
   {
