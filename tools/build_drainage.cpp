@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "common.hpp"
 #include "drainage/d8.hpp"
@@ -17,10 +18,18 @@
 #include "terrain/dem_io.hpp"
 #include "terrain/mesh_io.hpp"
 #include "terrain/pn_surface.hpp"
+#ifdef TERRAIN_HAVE_MPI
+#include "mpi_comm.hpp"
+#endif
 
 namespace tt = terrain::tools;
 
-int main(int argc, char** argv) {
+namespace {
+
+// Tiles of a run under several MPI ranks that gives neither --tile-size nor --memory.
+constexpr std::size_t kMpiDefaultTile = 1024;
+
+int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
   CLI::App app{"Build the drainage vertex database (.dv): sample the PN surface of a mesh on a fine grid,\n"
                "D8 steepest descent, flats, pits/ridges/channels/junctions, basins, flow accumulation\n"
                "normalized per basin, Strahler order and branches.",
@@ -29,7 +38,9 @@ int main(int argc, char** argv) {
       "Examples:\n"
       "  build-drainage out/msh_50m.ply out/msh.dv --spacing 10 --rasters out/msh_rasters\n"
       "  build-drainage --raster data/logan_utm12n_100m.tif logan.dv --fill\n"
-      "  build-drainage --raster dem.tif --d8-input dirs.tif --d8-encoding taudem acc.dv\n\n"
+      "  build-drainage --raster dem.tif --d8-input dirs.tif --d8-encoding taudem acc.dv\n"
+      "  build-drainage --raster big.vrt big.dv --fill --memory 4096\n"
+      "  mpirun -np 8 build-drainage --raster big.vrt big.dv --fill --tile-size 4096\n\n"
       "Output: stdout gets 'key: value' lines (points, pits, basins, classes, branches); see\n"
       "docs/build-drainage.md for the rules and docs/dv-format.md for the file.");
   app.set_version_flag("--version", tt::version());
@@ -68,7 +79,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--tile-size", tile_size,
                  "Raster mode tile by tile, for rasters larger than memory: tiles of N x N samples read\n"
-                 "through GDAL windows, results identical to the untiled run (docs/build-drainage.md)")
+                 "through GDAL windows, results identical to the untiled run (docs/build-drainage.md).\n"
+                 "Under mpirun the ranks share the tiles (default 1024 there)")
       ->check(CLI::Range(1, 16384));
   app.add_option("--memory", memory_mib,
                  "Raster mode within about this much memory (MiB): untiled when the grid fits (40 bytes per\n"
@@ -81,6 +93,7 @@ int main(int argc, char** argv) {
 
   return tt::run_main(app, argc, argv, [&]() {
     using clock = std::chrono::steady_clock;
+    if (!comm.root()) verb.quiet = true, verb.verbose = false;  // rank 0 speaks for the job
     const bool raster_mode = !raster.empty() || !d8_input.empty();
     if (raster_mode && positional.size() != 1)
       throw terrain::Error("with --raster or --d8-input give only OUTPUT.dv (no mesh)");
@@ -108,6 +121,10 @@ int main(int argc, char** argv) {
                                                  memory_mib * 1024.0 * 1024.0);
       if (tile_size > 0) tt::step(verb, fmt::format("--memory {:.0f} MiB: tiles of {} x {}", memory_mib, tile_size, tile_size));
     }
+    if (comm.size() > 1) {
+      if (!raster_mode) throw terrain::Error("mesh mode runs on one process: start it without mpirun, or use --raster");
+      if (tile_size == 0) tile_size = kMpiDefaultTile;
+    }
     if (tile_size > 0) {
       if (!raster_mode) throw terrain::Error("--tile-size applies to --raster and --d8-input runs");
       if (!rasters_dir.empty() || !surface_out.empty())
@@ -119,9 +136,12 @@ int main(int argc, char** argv) {
       run.dem = raster, run.d8 = d8_input, run.encoding = drainage::parse_d8_encoding(encoding);
       run.tile = tile_size, run.fill = fill, run.resolve_flats = !keep_flats;
       run.provenance = tt::provenance(argc, argv);
-      const drainage::TiledSummary r = drainage::run_tiled_drainage(run, output, tt::terminal_progress(verb, "tiles"));
-      tt::step(verb, fmt::format("tiled run ({} tiles): {:.2f} s, peak RSS {:.0f} MiB", r.tiles,
+      const drainage::TiledSummary r =
+          drainage::run_tiled_drainage(run, output, tt::terminal_progress(verb, "tiles"), comm);
+      tt::step(verb, fmt::format("tiled run ({} tiles, {} process{}): {:.2f} s, peak RSS {:.0f} MiB (rank 0)", r.tiles,
+                                 comm.size(), comm.size() > 1 ? "es" : "",
                                  std::chrono::duration<double>(clock::now() - t0).count(), tt::peak_rss_mib()));
+      if (!comm.root()) return 0;
       std::cout << "output: " << output << "\n"
                 << "grid: " << r.cols << " x " << r.rows << " (columns x rows)\n"
                 << fmt::format("spacing: {} {}\n", r.dx, r.dy) << "tiles: " << r.tiles << "\n"
@@ -197,4 +217,23 @@ int main(int argc, char** argv) {
               << "filled: " << result.filled << "\n";
     return 0;
   });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+#ifdef TERRAIN_HAVE_MPI
+  std::optional<tt::MpiSession> mpi;
+  if (tt::mpi_launcher_size() > 0) mpi.emplace(argc, argv);
+  const int code = build_drainage(argc, argv, mpi ? *mpi : drainage::single_process());
+  if (code != 0 && mpi && mpi->size() > 1) mpi->abort(code);  // the other ranks may wait for this one
+  return code;
+#else
+  if (tt::mpi_launcher_size() > 1) {
+    std::cerr << "build-drainage: error: started by an MPI launcher on " << tt::mpi_launcher_size()
+              << " ranks, but built without MPI (install libopenmpi-dev and rebuild)\n";
+    return 1;
+  }
+  return build_drainage(argc, argv, drainage::single_process());
+#endif
 }

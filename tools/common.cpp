@@ -112,6 +112,12 @@ void check_distinct_paths(const std::vector<std::string>& inputs, const std::vec
   }
 }
 
+int mpi_launcher_size() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (const char* v = std::getenv(name)) return std::max(1, std::atoi(v));
+  return std::getenv("PMIX_RANK") ? 1 : 0;
+}
+
 int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& body) {
   const std::string name = app.get_name();
   // A file-size limit (ulimit -f) must fail a write (EFBIG), not kill the tool with its

@@ -35,6 +35,10 @@ void warn(const Verbosity& v, const std::string& message);
 // Peak resident memory of this process so far, in MiB (Linux VmHWM; 0 when unknown).
 double peak_rss_mib();
 
+// The number of ranks an MPI launcher (mpirun, mpiexec, srun) started this process among,
+// from its environment (OMPI_COMM_WORLD_SIZE, PMI_SIZE); 0 when no launcher started it.
+int mpi_launcher_size();
+
 // A per-step timing line on stderr at -v.
 void step(const Verbosity& v, const std::string& message);
 

@@ -35,6 +35,14 @@ terrain::RasterWindow TileGrid::halo(const terrain::RasterWindow& w) const {
 
 namespace {
 
+// The sum of every rank's `n`, on every rank.
+std::uint64_t sum_over_ranks(const TileComm& comm, std::uint64_t n) {
+  if (comm.size() == 1) return n;
+  std::uint64_t sum = 0;
+  for (const std::string& bytes : comm.all_gather(Packer().put(n).take())) sum += Unpacker(bytes).get<std::uint64_t>();
+  return sum;
+}
+
 constexpr std::uint32_t kOutside = 0;  // the label of cells that drain off the grid (Barnes' "ocean")
 
 // Position of tile cell (r, c) on the tile's perimeter ring (r or c on the tile's edge).
@@ -112,7 +120,8 @@ TileFlood flood_tile(const TileGrid& tiles, std::size_t t, const WindowReader& r
 }  // namespace
 
 std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader& read,
-                                      const std::function<void(std::size_t, terrain::Grid&)>& done) {
+                                      const std::function<void(std::size_t, terrain::Grid&)>& done,
+                                      const TileComm& comm) {
   if (tiles.side == 0 || tiles.rows == 0 || tiles.cols == 0) throw terrain::Error("tiled fill: empty grid or tile size 0");
   const std::size_t nt = tiles.count();
   // Labels: 0 = outside, then each tile's ring positions.
@@ -139,7 +148,9 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
     std::vector<float> z;
   };
   std::vector<Ring> rings(nt);
+  Packer mine;  // this rank's tiles: their rings
   for (std::size_t t = 0; t < nt; ++t) {
+    if (!comm.owns(t)) continue;
     const TileFlood f = flood_tile(tiles, t, read, first[t], edge);
     Ring& ring = rings[t];
     ring.nr = f.nr, ring.nc = f.nc;
@@ -152,6 +163,29 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
           ring.label[p] = f.label[r * f.nc + c];
           ring.z[p] = f.original[r * f.nc + c];  // perimeter cells are seeds: never raised
         }
+    if (comm.size() > 1) mine.put(std::uint64_t(t)).put_vector(ring.label).put_vector(ring.z);
+  }
+  if (comm.size() > 1) {  // every rank gets every ring and every spill edge
+    struct WeightEntry {
+      std::uint64_t key;
+      float z;
+    };
+    std::vector<WeightEntry> local;
+    local.reserve(weight.size());
+    for (const auto& [key, z] : weight) local.push_back({key, z});
+    mine.put(~std::uint64_t(0)).put_vector(local);
+    for (const std::string& bytes : comm.all_gather(mine.take())) {
+      Unpacker in(bytes);
+      for (auto t = in.get<std::uint64_t>(); t != ~std::uint64_t(0); t = in.get<std::uint64_t>()) {
+        if (t >= nt) throw terrain::Error("tiled fill: a rank sent a tile out of range");
+        const terrain::RasterWindow w = tiles.window(t);
+        Ring& ring = rings[t];
+        ring.nr = w.rows, ring.nc = w.cols;
+        ring.label = in.get_vector<std::uint32_t>();
+        ring.z = in.get_vector<float>();
+      }
+      for (const WeightEntry& e : in.get_vector<WeightEntry>()) edge(std::uint32_t(e.key >> 32), std::uint32_t(e.key), e.z);
+    }
   }
   // Edges across tile edges: each perimeter cell with its 8 neighbours in other tiles.
   for (std::size_t t = 0; t < nt; ++t) {
@@ -209,6 +243,7 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
   // Pass 2: flood each tile again and raise it to its labels' spill elevations.
   std::size_t raised = 0;
   for (std::size_t t = 0; t < nt; ++t) {
+    if (!comm.owns(t)) continue;
     TileFlood f = flood_tile(tiles, t, read, first[t], [](std::uint32_t, std::uint32_t, float) {});
     const terrain::RasterWindow w = tiles.window(t);
     terrain::Grid out(w.rows, w.cols, f.geo, NAN);
@@ -221,7 +256,7 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
     }
     done(t, out);
   }
-  return raised;
+  return sum_over_ranks(comm, raised);
 }
 
 // ---- the network, tile by tile ----
@@ -358,60 +393,111 @@ struct Node {
   std::uint64_t pit_id = 0;      // pit nodes: the basin id (after pass 1)
 };
 
+// Pass 1 of tiled_network for one tile: its graph nodes (`next` counted from the tile's
+// first node), its pits per row and its leaving nodes with the cell each flows into.
+struct TileNodes {
+  std::vector<Node> nodes;
+  std::vector<std::uint32_t> pits_in_row;  // by row of the tile
+  std::vector<std::uint32_t> leave_node;   // tile node index
+  std::vector<std::uint64_t> leave_target; // global cell
+};
+
+TileNodes tile_nodes(const TileGrid& tiles, std::size_t t, const CodeReader& read) {
+  const LocalNetwork L = local_network(tiles, t, read);
+  const OrderTable identity = identity_table();
+  TileNodes T;
+  T.pits_in_row.assign(L.nr, 0);
+  std::vector<std::uint32_t> id(L.nr * L.nc, kNone);
+  std::size_t leaving = 0;
+  for (std::size_t i = 0; i < id.size(); ++i) {
+    const std::size_t r = i / L.nc, c = i % L.nc;
+    if (L.pit[i]) ++T.pits_in_row[r];
+    if (!L.node[i]) {
+      leaving += L.leaves[i];
+      continue;
+    }
+    Node v;
+    v.cell = std::uint64_t(L.w.row0 + r) * tiles.cols + L.w.col0 + c;
+    v.acc_local = L.acc[i], v.m = L.m[i], v.k = L.k[i], v.pit = L.pit[i];
+    if (v.pit) v.pit_id = T.pits_in_row[r] - 1;  // rank in its row within the tile, for now
+    id[i] = std::uint32_t(T.nodes.size());
+    if (L.leaves[i]) {
+      T.leave_node.push_back(id[i]);
+      T.leave_target.push_back(L.target[leaving++]);
+      v.table = identity;
+    }
+    T.nodes.push_back(v);
+  }
+  // In-tile edges: from each node that is neither a pit nor leaving, down its path.
+  for (std::size_t i = 0; i < id.size(); ++i) {
+    if (id[i] == kNone || L.pit[i] || L.leaves[i]) continue;
+    Node& v = T.nodes[id[i]];
+    v.table = identity;
+    std::uint32_t c = L.down[i];
+    std::uint64_t add = 0;
+    while (!L.node[c]) {
+      add += L.acc[c];
+      for (int o = 1; o <= kMaxOrder; ++o) v.table[std::size_t(o)] = with_inflow(L.m[c], L.k[c], v.table[std::size_t(o)]);
+      c = L.down[c];
+    }
+    v.add = std::uint32_t(add);
+    v.next = id[c];
+  }
+  return T;
+}
+
 }  // namespace
 
 NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
-                            const std::function<void(std::size_t, const NetworkTile&)>& done) {
+                            const std::function<void(std::size_t, const NetworkTile&)>& done, const TileComm& comm) {
   if (tiles.side == 0 || tiles.rows == 0 || tiles.cols == 0) throw terrain::Error("tiled network: empty grid or tile size 0");
   if (tiles.rows * tiles.cols >= kNone) throw terrain::Error("tiled network: more than 2^32 - 1 points");
   const std::size_t nt = tiles.count(), ntc = tiles.tile_cols();
+
+  // Pass 1: each tile's graph nodes and edges, by the ranks that own them; then every
+  // rank joins them in tile order.
+  std::vector<TileNodes> per_tile(nt);
+  Packer mine;
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (!comm.owns(t)) continue;
+    per_tile[t] = tile_nodes(tiles, t, read);
+    const TileNodes& T = per_tile[t];
+    if (comm.size() > 1)
+      mine.put(std::uint64_t(t)).put_vector(T.nodes).put_vector(T.pits_in_row).put_vector(T.leave_node).put_vector(T.leave_target);
+  }
+  if (comm.size() > 1)
+    for (const std::string& bytes : comm.all_gather(mine.take())) {
+      Unpacker in(bytes);
+      while (!in.done()) {
+        const auto t = in.get<std::uint64_t>();
+        if (t >= nt) throw terrain::Error("tiled network: a rank sent a tile out of range");
+        TileNodes& T = per_tile[t];
+        T.nodes = in.get_vector<Node>();
+        T.pits_in_row = in.get_vector<std::uint32_t>();
+        T.leave_node = in.get_vector<std::uint32_t>();
+        T.leave_target = in.get_vector<std::uint64_t>();
+        if (T.pits_in_row.size() != tiles.window(t).rows) throw terrain::Error("tiled network: a rank sent a wrong tile");
+      }
+    }
   std::vector<Node> nodes;
   std::vector<std::uint32_t> first_node(nt + 1, 0);
   std::vector<std::uint32_t> pits_in_row(tiles.rows * ntc, 0);  // pits of global row r in tile column tc
   std::vector<std::uint64_t> leave_target_cells;                // node -> target cell, for leaving nodes
   std::vector<std::uint32_t> leave_node;
-  const OrderTable identity = identity_table();
-
-  // Pass 1: each tile's graph nodes and edges.
   for (std::size_t t = 0; t < nt; ++t) {
-    const LocalNetwork L = local_network(tiles, t, read);
-    first_node[t] = std::uint32_t(nodes.size());
-    std::vector<std::uint32_t> id(L.nr * L.nc, kNone);
-    std::size_t leaving = 0;
-    for (std::size_t i = 0; i < id.size(); ++i) {
-      const std::size_t r = i / L.nc, c = i % L.nc, gr = L.w.row0 + r, tc = t % ntc;
-      if (L.pit[i]) ++pits_in_row[gr * ntc + tc];
-      if (!L.node[i]) {
-        leaving += L.leaves[i];
-        continue;
-      }
-      Node v;
-      v.cell = std::uint64_t(gr) * tiles.cols + L.w.col0 + c;
-      v.acc_local = L.acc[i], v.m = L.m[i], v.k = L.k[i], v.pit = L.pit[i];
-      if (v.pit) v.pit_id = pits_in_row[gr * ntc + tc] - 1;  // rank in its row within the tile, for now
-      id[i] = std::uint32_t(nodes.size());
-      if (L.leaves[i]) {
-        leave_node.push_back(id[i]);
-        leave_target_cells.push_back(L.target[leaving++]);
-        v.table = identity;
-      }
+    TileNodes& T = per_tile[t];
+    const std::uint32_t base = std::uint32_t(nodes.size());
+    if (nodes.size() + T.nodes.size() >= kNone) throw terrain::Error("tiled network: too many graph nodes");
+    first_node[t] = base;
+    for (Node& v : T.nodes) {
+      if (v.next != kNone) v.next += base;
       nodes.push_back(v);
     }
-    // In-tile edges: from each node that is neither a pit nor leaving, down its path.
-    for (std::size_t i = 0; i < id.size(); ++i) {
-      if (id[i] == kNone || L.pit[i] || L.leaves[i]) continue;
-      Node& v = nodes[id[i]];
-      v.table = identity;
-      std::uint32_t c = L.down[i];
-      std::uint64_t add = 0;
-      while (!L.node[c]) {
-        add += L.acc[c];
-        for (int o = 1; o <= kMaxOrder; ++o) v.table[std::size_t(o)] = with_inflow(L.m[c], L.k[c], v.table[std::size_t(o)]);
-        c = L.down[c];
-      }
-      v.add = std::uint32_t(add);
-      v.next = id[c];
-    }
+    const terrain::RasterWindow w = tiles.window(t);
+    for (std::size_t r = 0; r < w.rows; ++r) pits_in_row[(w.row0 + r) * ntc + t % ntc] = T.pits_in_row[r];
+    for (const std::uint32_t v : T.leave_node) leave_node.push_back(base + v);
+    leave_target_cells.insert(leave_target_cells.end(), T.leave_target.begin(), T.leave_target.end());
+    T = TileNodes();  // freed as it goes
   }
   first_node[nt] = std::uint32_t(nodes.size());
   {  // leaving nodes drain into the node of their target cell, in another tile
@@ -470,6 +556,7 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
   };
   std::vector<std::vector<RingCell>> rings(nt);
   for (std::size_t t = 0; t < nt; ++t) {
+    if (!comm.owns(t)) continue;
     LocalNetwork L = local_network(tiles, t, read);
     const std::size_t n = L.nr * L.nc, tc = t % ntc;
     NetworkTile out;
@@ -542,6 +629,34 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
     out.dirs = std::move(L.dirs);
     out.cut = std::move(L.cut);
     done(t, out);
+  }
+  if (comm.size() > 1) {  // every rank gets every ring, pit and count
+    struct PitEntry {
+      std::uint32_t basin, pit, accumulated;
+    };
+    Packer mine2;
+    mine2.put(std::uint64_t(totals.points)).put(std::uint64_t(totals.branches));
+    std::vector<PitEntry> pits;
+    for (std::uint32_t b = 0; b < n_pits; ++b)
+      if (totals.pits[b] != kNone) pits.push_back({b, totals.pits[b], totals.pit_accumulated[b]});
+    mine2.put_vector(pits);
+    for (std::size_t t = 0; t < nt; ++t)
+      if (comm.owns(t)) mine2.put(std::uint64_t(t)).put_vector(rings[t]);
+    totals.points = totals.branches = 0;
+    for (const std::string& bytes : comm.all_gather(mine2.take())) {
+      Unpacker in(bytes);
+      totals.points += in.get<std::uint64_t>();
+      totals.branches += in.get<std::uint64_t>();
+      for (const PitEntry& e : in.get_vector<PitEntry>()) {
+        if (e.basin >= n_pits) throw terrain::Error("tiled network: a rank sent a basin out of range");
+        totals.pits[e.basin] = e.pit, totals.pit_accumulated[e.basin] = e.accumulated;
+      }
+      while (!in.done()) {
+        const auto t = in.get<std::uint64_t>();
+        if (t >= nt) throw terrain::Error("tiled network: a rank sent a tile out of range");
+        rings[t] = in.get_vector<RingCell>();
+      }
+    }
   }
   // Inflows across tile edges into ring cells, then the ring cells' heads.
   auto ring_cell = [&](std::uint64_t cell) -> RingCell& {

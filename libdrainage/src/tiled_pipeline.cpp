@@ -1,9 +1,14 @@
 // build-drainage's raster mode tile by tile (tiled.hpp): GDAL windows in, .dv blocks out.
+#include <fcntl.h>
 #include <gdal_priv.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <numeric>
 #include <unordered_map>
 
@@ -20,60 +25,53 @@ namespace drainage {
 
 namespace {
 
-// A temporary Float32 GeoTIFF written window by window, then read window by window.
-class ScratchRaster {
+// A temporary raw array of rows x cols values of T (row-major) in a file next to the
+// output, written and read by windows and runs with pwrite / pread, so that several
+// processes (the ranks of an MPI job, on a file system they share) write disjoint parts of
+// it at once. Rank 0 creates it and removes it; the other ranks open it after a barrier.
+template <class T>
+class ScratchArray {
  public:
-  ScratchRaster(const std::string& path, const terrain::DemInfo& info, GDALDataType type = GDT_Float32)
-      : path_(path) {
-    terrain::ensure_gdal();
-    CPLStringList opts;
-    opts.SetNameValue("TILED", "YES");
-    opts.SetNameValue("BIGTIFF", "YES");
-    GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
-    ds_ = gtiff->Create(path.c_str(), int(info.cols), int(info.rows), 1, type, opts.List());
-    if (!ds_) throw terrain::Error("cannot create the temporary raster '" + path + "'");
-    double gt[6] = {info.geo.x0, info.geo.dx, 0.0, info.geo.y0, 0.0, -info.geo.dy};
-    ds_->SetGeoTransform(gt);
-    if (!info.geo.crs_wkt.empty()) {
-      OGRSpatialReference srs;
-      if (srs.importFromWkt(info.geo.crs_wkt.c_str()) == OGRERR_NONE) ds_->SetSpatialRef(&srs);
+  ScratchArray(std::string path, std::size_t rows, std::size_t cols, const TileComm& comm)
+      : path_(std::move(path)), cols_(cols), root_(comm.root()) {
+    if (root_) {
+      fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+      if (fd_ < 0 || ::ftruncate(fd_, off_t(rows * cols * sizeof(T))) != 0)
+        fail("cannot create the temporary raster");
     }
-    if (type == GDT_Float32) ds_->GetRasterBand(1)->SetNoDataValue(std::nan(""));  // no valid elevation is NaN
+    comm.barrier();
+    if (!root_ && (fd_ = ::open(path_.c_str(), O_RDWR | O_CLOEXEC)) < 0) fail("cannot open the temporary raster");
   }
-  ~ScratchRaster() {
-    if (ds_) GDALClose(ds_);
-    std::error_code ec;
-    std::filesystem::remove(path_, ec);
+  ~ScratchArray() {
+    if (fd_ >= 0) ::close(fd_);
+    if (root_) ::unlink(path_.c_str());
   }
-  void write(const terrain::RasterWindow& w, const terrain::Grid& g) {
-    if (ds_->GetRasterBand(1)->RasterIO(GF_Write, int(w.col0), int(w.row0), int(w.cols), int(w.rows),
-                                        const_cast<float*>(g.z.data()),
-                                        int(w.cols), int(w.rows), GDT_Float32, 0, 0) != CE_None)
-      throw terrain::Error("cannot write the temporary raster '" + path_ + "' (disk full?)");
+  ScratchArray(const ScratchArray&) = delete;
+  ScratchArray& operator=(const ScratchArray&) = delete;
+
+  void write(const terrain::RasterWindow& w, const T* values) {
+    for (std::size_t r = 0; r < w.rows; ++r) write_run(std::uint64_t(w.row0 + r) * cols_ + w.col0, values + r * w.cols, w.cols);
   }
-  // Byte rasters: codes of a window, written and read back while open.
-  void write_codes(const terrain::RasterWindow& w, const D8Codes& codes) {
-    if (ds_->GetRasterBand(1)->RasterIO(GF_Write, int(w.col0), int(w.row0), int(w.cols), int(w.rows),
-                                        const_cast<std::uint8_t*>(codes.data()), int(w.cols), int(w.rows), GDT_Byte, 0,
-                                        0) != CE_None)
-      throw terrain::Error("cannot write the temporary raster '" + path_ + "' (disk full?)");
+  void write_run(std::uint64_t cell, const T* values, std::size_t n) {
+    if (::pwrite(fd_, values, n * sizeof(T), off_t(cell * sizeof(T))) != ssize_t(n * sizeof(T)))
+      fail("cannot write the temporary raster (disk full?)");
   }
-  D8Codes read_codes(const terrain::RasterWindow& w) {
-    D8Codes codes(w.rows * w.cols);
-    if (ds_->GetRasterBand(1)->RasterIO(GF_Read, int(w.col0), int(w.row0), int(w.cols), int(w.rows), codes.data(),
-                                        int(w.cols), int(w.rows), GDT_Byte, 0, 0) != CE_None)
-      throw terrain::Error("cannot read the temporary raster '" + path_ + "'");
-    return codes;
+  void read(const terrain::RasterWindow& w, T* values) const {
+    for (std::size_t r = 0; r < w.rows; ++r) {
+      const std::size_t n = w.cols * sizeof(T);
+      if (::pread(fd_, values + r * w.cols, n, off_t((std::uint64_t(w.row0 + r) * cols_ + w.col0) * sizeof(T))) != ssize_t(n))
+        fail("cannot read the temporary raster");
+    }
   }
-  void close() {
-    GDALClose(ds_);
-    ds_ = nullptr;
-  }
-  const std::string& path() const { return path_; }
 
  private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw terrain::Error(what + " '" + path_ + "': " + std::strerror(errno));
+  }
   std::string path_;
-  GDALDataset* ds_ = nullptr;
+  std::size_t cols_ = 0;
+  bool root_ = false;
+  int fd_ = -1;
 };
 
 using SurfaceReader = std::function<terrain::Grid(const terrain::RasterWindow&)>;
@@ -168,17 +166,27 @@ struct Box {
   void add(const Box& b) { add(b.r0, b.c0), add(b.r1, b.c1); }
 };
 
-// Codes with flats resolved, tile by tile, into `out` (a Byte scratch raster): a flat inside
-// one tile is resolved with its tile (and a halo); a flat that crosses tile edges is joined
-// across tiles and resolved in a window of its bounding box. Each flat's directions depend
-// on that flat alone, so both equal resolve_flats on the whole grid.
-void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, ScratchRaster& out) {
-  std::vector<Box> boxes;                                 // crossing flats, one per (tile, component)
-  std::vector<std::uint64_t> seeds;                       // a member of each
-  std::unordered_map<std::uint64_t, std::uint32_t> ring;  // members on their tile's ring -> crossing flat
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> contacts;  // members outside the tile -> crossing flat
+// A cell of a crossing flat and the flat's piece (index into the pieces' boxes).
+struct CellPiece {
+  std::uint64_t cell;
+  std::uint32_t piece;
+};
+
+// Codes with flats resolved, tile by tile, into `out`: a flat inside one tile is resolved
+// with its tile (and a halo); a flat that crosses tile edges is joined across tiles and
+// resolved in a window of its bounding box. Each flat's directions depend on that flat
+// alone, so both equal resolve_flats on the whole grid. With several ranks each rank does
+// its own tiles, every rank joins the crossing pieces, and the joined flats are shared out
+// among the ranks, which write only the cells of their flats.
+void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, ScratchArray<std::uint8_t>& out,
+                          const TileComm& comm) {
+  std::vector<Box> boxes;            // crossing flats, one per (tile, component)
+  std::vector<std::uint64_t> seeds;  // a member of each
+  std::vector<CellPiece> ring;       // members on their tile's ring
+  std::vector<CellPiece> contacts;   // members outside the tile
   const std::size_t C = tiles.cols;
   for (std::size_t t = 0; t < tiles.count(); ++t) {
+    if (!comm.owns(t)) continue;
     // Two samples of halo: whether a cell one sample outside the tile is a low edge
     // depends on its own neighbours.
     const terrain::RasterWindow w = tiles.window(t), h = tiles.halo(tiles.halo(w));
@@ -208,16 +216,32 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
         const std::uint32_t x = crossing[k];
         if (!in) {  // a member in a neighbouring tile, on its ring: the same flat there
           if (gr + 1 >= w.row0 && gr <= w.row0 + w.rows && gc + 1 >= w.col0 && gc <= w.col0 + w.cols)
-            contacts.emplace_back(cell, x);
+            contacts.push_back({cell, x});
           continue;
         }
         boxes[x].add(gr, gc);
         if (seeds[x] == ~std::uint64_t(0)) seeds[x] = cell;
-        if (on_tile_edge(gr - w.row0, gc - w.col0, w.rows, w.cols)) ring.emplace(cell, x);
+        if (on_tile_edge(gr - w.row0, gc - w.col0, w.rows, w.cols)) ring.push_back({cell, x});
       }
-    out.write_codes(w, codes);
+    out.write(w, codes.data());
+  }
+  if (comm.size() > 1) {  // every rank gets every rank's pieces, numbered rank after rank
+    Packer mine;
+    mine.put_vector(boxes).put_vector(seeds).put_vector(ring).put_vector(contacts);
+    boxes.clear(), seeds.clear(), ring.clear(), contacts.clear();
+    for (const std::string& bytes : comm.all_gather(mine.take())) {
+      Unpacker in(bytes);
+      const auto base = std::uint32_t(boxes.size());
+      for (const Box& b : in.get_vector<Box>()) boxes.push_back(b);
+      for (const std::uint64_t c : in.get_vector<std::uint64_t>()) seeds.push_back(c);
+      for (CellPiece x : in.get_vector<CellPiece>()) ring.push_back({x.cell, x.piece + base});
+      for (CellPiece x : in.get_vector<CellPiece>()) contacts.push_back({x.cell, x.piece + base});
+      if (seeds.size() != boxes.size()) throw terrain::Error("tiled flats: a rank sent a wrong message");
+    }
   }
   // Join the pieces of each crossing flat.
+  std::unordered_map<std::uint64_t, std::uint32_t> ring_piece;
+  for (const CellPiece& x : ring) ring_piece.emplace(x.cell, x.piece);
   std::vector<std::uint32_t> parent(boxes.size());
   std::iota(parent.begin(), parent.end(), 0u);
   auto find = [&](std::uint32_t x) {
@@ -225,38 +249,38 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
     return x;
   };
   for (const auto& [cell, x] : contacts) {
-    const auto it = ring.find(cell);
-    if (it == ring.end())
+    const auto it = ring_piece.find(cell);
+    if (it == ring_piece.end() || x >= boxes.size() || it->second >= boxes.size())
       throw terrain::Error(fmt::format("tiled flats: a flat crosses into a tile that does not see it (row {}, column {})", cell / C, cell % C));
     const std::uint32_t a = find(x), b = find(it->second);
     if (a != b) parent[a] = b;
   }
   for (std::uint32_t x = 0; x < boxes.size(); ++x)
     if (find(x) != x) boxes[find(x)].add(boxes[x]);
-  // Resolve each in a window of its bounding box (and a halo), keep its no-flow cells.
-  std::unordered_map<std::uint64_t, std::uint8_t> fixes;
+  // Resolve each in a window of its bounding box (and a halo), the joined flats shared out
+  // among the ranks; write its no-flow cells, row run by row run.
+  std::size_t joined = 0;
   for (std::uint32_t x = 0; x < boxes.size(); ++x) {
-    if (find(x) != x) continue;
+    if (find(x) != x || !comm.owns(joined++)) continue;
     const terrain::RasterWindow box{boxes[x].r0, boxes[x].c0, boxes[x].r1 - boxes[x].r0 + 1, boxes[x].c1 - boxes[x].c0 + 1};
     const terrain::RasterWindow W = tiles.halo(box);
     const auto [raw, resolved, comp, count] = window_flats(surface, W, tiles);
     const std::uint64_t seed = seeds[x];
     const std::uint32_t mine = comp[(seed / C - W.row0) * W.cols + seed % C - W.col0];
-    for (std::size_t i = 0; i < comp.size(); ++i)
-      if (comp[i] == mine && raw[i] == kNoFlow)
-        fixes.emplace(std::uint64_t(W.row0 + i / W.cols) * C + W.col0 + i % W.cols, resolved[i]);
+    auto fixed = [&](std::size_t i) { return comp[i] == mine && raw[i] == kNoFlow; };
+    for (std::size_t r = 0; r < W.rows; ++r)
+      for (std::size_t c = 0; c < W.cols;) {
+        if (!fixed(r * W.cols + c)) {
+          ++c;
+          continue;
+        }
+        std::size_t e = c;
+        while (e < W.cols && fixed(r * W.cols + e)) ++e;
+        out.write_run(std::uint64_t(W.row0 + r) * C + W.col0 + c, resolved.data() + r * W.cols + c, e - c);
+        c = e;
+      }
   }
-  // Patch the tiles.
-  std::vector<std::vector<std::pair<std::uint64_t, std::uint8_t>>> by_tile(tiles.count());
-  for (const auto& [cell, code] : fixes)
-    by_tile[(cell / C) / tiles.side * tiles.tile_cols() + (cell % C) / tiles.side].emplace_back(cell, code);
-  for (std::size_t t = 0; t < tiles.count(); ++t) {
-    if (by_tile[t].empty()) continue;
-    const terrain::RasterWindow w = tiles.window(t);
-    D8Codes codes = out.read_codes(w);
-    for (const auto& [cell, code] : by_tile[t]) codes[(cell / C - w.row0) * w.cols + cell % C - w.col0] = code;
-    out.write_codes(w, codes);
-  }
+  comm.barrier();  // every flat written before any rank reads the codes
 }
 
 }  // namespace
@@ -268,7 +292,8 @@ std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes) {
   return std::clamp<std::size_t>(side, 256, 16384);
 }
 
-TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress) {
+TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress,
+                                const TileComm& comm) {
   if (run.tile == 0 || run.tile > 16384) throw terrain::Error("--tile-size must be between 1 and 16384");
   if (run.dem.empty() == run.d8.empty()) throw terrain::Error("tiled mode takes a DEM or a D8 raster (not both yet)");
   const std::string input = run.dem.empty() ? run.d8 : run.dem;
@@ -288,24 +313,42 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
   std::uint32_t flags = 0;
   std::function<terrain::Grid(const terrain::RasterWindow&)> surface = read_z;
 
-  std::unique_ptr<ScratchRaster> scratch;
+  // The window of the grid's georeferencing (as read_dem gives it).
+  auto window_geo = [&](const terrain::RasterWindow& w) {
+    terrain::Georef geo = info.geo;
+    geo.x0 += double(w.col0) * geo.dx;
+    geo.y0 -= double(w.row0) * geo.dy;
+    return geo;
+  };
+  std::unique_ptr<ScratchArray<float>> filled;
   if (!run.dem.empty() && run.fill) {
-    scratch = std::make_unique<ScratchRaster>(output_path + ".filled.tmp.tif", info);
-    summary.filled = tiled_priority_flood_fill(tiles, read_z, [&](std::size_t t, terrain::Grid& g) {
-      scratch->write(tiles.window(t), g);
-      terrain::report(progress, 0.3 * double(t + 1) / double(tiles.count()));
-    });
-    scratch->close();
-    surface = [path = scratch->path()](const terrain::RasterWindow& w) { return terrain::read_dem(path, {}, w); };
+    filled = std::make_unique<ScratchArray<float>>(output_path + ".filled.tmp", info.rows, info.cols, comm);
+    summary.filled = tiled_priority_flood_fill(
+        tiles, read_z,
+        [&](std::size_t t, terrain::Grid& g) {
+          filled->write(tiles.window(t), g.z.data());
+          terrain::report(progress, 0.3 * double(t + 1) / double(tiles.count()));
+        },
+        comm);
+    comm.barrier();  // every tile filled before any rank reads the surface
+    surface = [&](const terrain::RasterWindow& w) {
+      terrain::Grid g(w.rows, w.cols, window_geo(w));
+      filled->read(w, g.z.data());
+      return g;
+    };
     flags |= kDvFilled;
   }
   CodeReader codes;
-  std::unique_ptr<ScratchRaster> resolved;
+  std::unique_ptr<ScratchArray<std::uint8_t>> resolved;
   if (!run.dem.empty() && run.resolve_flats) {
     flags |= kDvHasElevations | kDvFlatsResolved;
-    resolved = std::make_unique<ScratchRaster>(output_path + ".d8.tmp.tif", info, GDT_Byte);
-    tiled_resolved_codes(tiles, surface, *resolved);
-    codes = [&](const terrain::RasterWindow& w) { return resolved->read_codes(w); };
+    resolved = std::make_unique<ScratchArray<std::uint8_t>>(output_path + ".d8.tmp", info.rows, info.cols, comm);
+    tiled_resolved_codes(tiles, surface, *resolved, comm);
+    codes = [&](const terrain::RasterWindow& w) {
+      D8Codes out(w.rows * w.cols);
+      resolved->read(w, out.data());
+      return out;
+    };
   } else if (!run.dem.empty()) {
     flags |= kDvHasElevations;
     codes = [&](const terrain::RasterWindow& w) { return window_codes(surface, w, tiles); };
@@ -334,28 +377,82 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
   h.crs_wkt = info.geo.crs_wkt;
   h.provenance = run.provenance;
   h.block_rows = h.block_cols = std::uint32_t(run.tile);  // one block per tile
-  terrain::write_stream_atomic(output_path, [&](std::ostream& file) {
-    DvBlockWriter writer(file, output_path, h);
-    summary.totals = tiled_network(tiles, codes, [&](std::size_t t, const NetworkTile& tile) {
-      const std::size_t m = tile.dirs.size();
-      DvBlockFields f;
-      f.z.resize(m);
-      if (flags & kDvHasElevations) {
-        const terrain::Grid g = surface(tile.window);
-        for (std::size_t q = 0; q < m; ++q) f.z[q] = std::isnan(g.z[q]) ? 0.0f : g.z[q];
-      }
-      f.d8.assign(tile.dirs.begin(), tile.dirs.end());
-      f.cut.assign(tile.cut.begin(), tile.cut.end());
-      f.accumulated.assign(tile.accumulated.begin(), tile.accumulated.end());
-      f.basin.assign(tile.basin.begin(), tile.basin.end());
-      f.order.assign(tile.order.begin(), tile.order.end());
-      writer.put_block(t, encode_dv_block(f));
-      terrain::report(progress, 0.3 + 0.7 * double(t + 1) / double(tiles.count()));
-    });
+  // One process writes its blocks as they come. Several ranks leave theirs in per-rank
+  // temporary files; rank 0 gathers their indexes and copies the blocks into the .dv in
+  // tile order (so the file is the same byte for byte whatever the number of ranks).
+  struct BlockRef {
+    std::uint64_t tile, offset, bytes;
+  };
+  auto blocks_path = [&](int rank) { return fmt::format("{}.rank{}.tmp", output_path, rank); };
+  struct RemoveAtEnd {
+    std::string path;
+    ~RemoveAtEnd() { ::unlink(path.c_str()); }
+  } remove_rank_blocks{comm.size() > 1 ? blocks_path(comm.rank()) : std::string()};
+  auto network = [&](DvBlockWriter* writer) {
+    std::ofstream blocks;
+    std::vector<BlockRef> index;
+    if (comm.size() > 1) {
+      blocks.open(blocks_path(comm.rank()), std::ios::binary | std::ios::trunc);
+      if (!blocks) throw terrain::Error("cannot create the temporary file '" + blocks_path(comm.rank()) + "'");
+    }
+    summary.totals = tiled_network(
+        tiles, codes,
+        [&](std::size_t t, const NetworkTile& tile) {
+          const std::size_t m = tile.dirs.size();
+          DvBlockFields f;
+          f.z.resize(m);
+          if (flags & kDvHasElevations) {
+            const terrain::Grid g = surface(tile.window);
+            for (std::size_t q = 0; q < m; ++q) f.z[q] = std::isnan(g.z[q]) ? 0.0f : g.z[q];
+          }
+          f.d8.assign(tile.dirs.begin(), tile.dirs.end());
+          f.cut.assign(tile.cut.begin(), tile.cut.end());
+          f.accumulated.assign(tile.accumulated.begin(), tile.accumulated.end());
+          f.basin.assign(tile.basin.begin(), tile.basin.end());
+          f.order.assign(tile.order.begin(), tile.order.end());
+          const std::vector<char> block = encode_dv_block(f);
+          if (comm.size() == 1) {
+            writer->put_block(t, block);
+          } else {
+            index.push_back({t, std::uint64_t(blocks.tellp()), block.size()});
+            blocks.write(block.data(), std::streamsize(block.size()));
+          }
+          terrain::report(progress, 0.3 + 0.7 * double(t + 1) / double(tiles.count()));
+        },
+        comm);
     if (summary.totals.points == 0)  // thrown inside the write: no output is left
       throw terrain::Error("'" + input + "' has no valid sample (every cell is no-data)");
-    writer.finish(summary.totals.points, summary.totals.branches, summary.totals.pits, summary.totals.pit_accumulated);
-  });
+    if (comm.size() == 1) return;
+    if (!blocks.flush()) throw terrain::Error("cannot write the temporary file '" + blocks_path(comm.rank()) + "' (disk full?)");
+    blocks.close();
+    const std::vector<std::string> indexes = comm.all_gather(Packer().put_vector(index).take());
+    if (!writer) return;
+    std::vector<std::pair<int, BlockRef>> where(tiles.count(), {-1, {}});
+    for (int r = 0; r < comm.size(); ++r)
+      for (const BlockRef& b : Unpacker(indexes[std::size_t(r)]).get_vector<BlockRef>())
+        if (b.tile < tiles.count()) where[b.tile] = {r, b};
+    std::vector<std::ifstream> files(std::size_t(comm.size()));
+    for (std::size_t t = 0; t < tiles.count(); ++t) {
+      const auto& [r, b] = where[t];
+      if (r < 0) throw terrain::Error("tiled run: no rank wrote tile " + std::to_string(t));
+      std::ifstream& in = files[std::size_t(r)];
+      if (!in.is_open()) in.open(blocks_path(r), std::ios::binary);
+      std::vector<char> block(b.bytes);
+      if (!in.seekg(std::streamoff(b.offset)) || !in.read(block.data(), std::streamsize(b.bytes)))
+        throw terrain::Error("cannot read rank " + std::to_string(r) + "'s blocks in '" + blocks_path(r) + "'");
+      writer->put_block(t, block);
+    }
+  };
+  if (comm.root()) {
+    terrain::write_stream_atomic(output_path, [&](std::ostream& file) {
+      DvBlockWriter writer(file, output_path, h);
+      network(&writer);
+      writer.finish(summary.totals.points, summary.totals.branches, summary.totals.pits, summary.totals.pit_accumulated);
+    });
+  } else {
+    network(nullptr);
+  }
+  comm.barrier();  // rank 0 has read every rank's blocks
   return summary;
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "drainage/d8.hpp"
+#include "drainage/tile_comm.hpp"
 #include "terrain/big_vector.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/error.hpp"
@@ -48,8 +49,11 @@ using WindowReader = std::function<terrain::Grid(const terrain::RasterWindow&)>;
 // graph; pass 2 floods each tile again and raises each cell to its label's spill.
 // `done(t, tile)` receives each tile's filled elevations (tile t's window, in order).
 // Returns the number of samples raised, as priority_flood_fill does.
+// With several ranks (tile_comm.hpp), each rank floods its own tiles, the perimeter graph
+// is gathered and solved on every rank, and `done` is called on each tile's owner only.
 std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader& read,
-                                      const std::function<void(std::size_t, terrain::Grid&)>& done);
+                                      const std::function<void(std::size_t, terrain::Grid&)>& done,
+                                      const TileComm& comm = single_process());
 
 // Reads the D8 codes (d8.hpp) of a window.
 using CodeReader = std::function<D8Codes(const terrain::RasterWindow&)>;
@@ -79,8 +83,11 @@ struct NetworkTotals {
 // the path's Strahler order as a table of the incoming order. The graph of all tiles is
 // solved in topological order (accumulation, order, the pit each node drains to); pass 2
 // reads each tile again, completes it and hands it to `done(t, tile)` in tile order.
+// With several ranks, as tiled_priority_flood_fill: `done` runs on each tile's owner, in
+// tile order there, and every rank returns the same totals.
 NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
-                            const std::function<void(std::size_t, const NetworkTile&)>& done);
+                            const std::function<void(std::size_t, const NetworkTile&)>& done,
+                            const TileComm& comm = single_process());
 
 // build-drainage --raster / --d8-input with --tile-size: the whole raster mode tile by
 // tile, from GDAL windows of the input to a .dv version 2 with one block per tile (so
@@ -108,6 +115,11 @@ struct TiledSummary {
 // 10 m: 163 MiB peak for tiles of 1024, 427 MiB for 2048); at least 256.
 std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes);
 
-TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress = {});
+// With several ranks (tile_comm.hpp, e.g. under mpirun) every rank calls it with the same
+// arguments; the ranks share the tiles, the temporary rasters (raw files next to the
+// output, so on a file system every rank sees) and the .dv, which rank 0 writes from the
+// blocks the others leave in per-rank temporary files. Every rank returns the summary.
+TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress = {},
+                                const TileComm& comm = single_process());
 
 }  // namespace drainage
