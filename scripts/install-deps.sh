@@ -12,6 +12,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libegl-dev libgl-dev libepoxy-dev libglm-dev libtbb-dev
   time
+  libopenmpi-dev openmpi-bin   # build-drainage under mpirun (optional at build time; its tests need it)
   clang libclang-rt-14-dev libomp-14-dev   # the sanitizer build of CI, fuzzing (scripts/fuzz.sh)
 )
 

@@ -153,6 +153,116 @@ TEST(BuildDrainage, TiledLogan10mEqualsTheUntiledRun) {
   }
 }
 
+// A plane sloping west (1 m per column, 10 m samples) with a terrace (a flat that drains
+// over its west edge) and a square depression (flat once filled), each across the corner of
+// four 16 x 16 tiles, the depression with its outlet three tiles away.
+terrain::Grid terrace_and_depression() {
+  terrain::Georef geo = terrain::read_dem_info(data("logan_utm12n_100m.tif")).geo;
+  geo.dx = geo.dy = 10.0;
+  terrain::Grid g(80, 80, geo);
+  for (std::size_t r = 0; r < 80; ++r)
+    for (std::size_t c = 0; c < 80; ++c) {
+      float z = 10.0f + float(c);
+      if (r >= 8 && r < 24 && c >= 9 && c < 24) z = 19.0f;     // terrace over tiles (0,0) (0,1) (1,0) (1,1)
+      if (r >= 40 && r < 56 && c >= 56 && c < 72) z = 20.0f;   // depression over tiles (2,3) (2,4) (3,3) (3,4)
+      g.at(r, c) = z;
+    }
+  return g;
+}
+
+// The flat and the depression across four tiles: tiled runs (tiles of 16 and 13) equal
+// the untiled run in every field, filled or not.
+TEST(BuildDrainage, TiledFlatAndDepressionAcrossFourTiles) {
+  terrain::test::ScratchDir dir;
+  terrain::write_geotiff(terrace_and_depression(), dir.path("t.tif"));
+  const std::string bd = tool("build-drainage") + " --raster " + dir.path("t.tif") + " ";
+  for (const std::string opts : {"", " --fill"}) {
+    const auto u = run(bd + dir.path("u.dv") + opts + " -q");
+    ASSERT_EQ(u.exit_code, 0) << u.err;
+    const DrainageDb whole = read_dv(dir.path("u.dv"));
+    // The terrace's 15 x 16 cells are one flat that drains west: no pit on it.
+    for (std::size_t r = 8; r < 24; ++r)
+      for (std::size_t c = 9; c < 24; ++c) ASSERT_NE(whole.vertices[r * 80 + c].downstream, kNone) << r << " " << c;
+    // Filled, the depression drains too: every basin is one whose pit is on the west edge.
+    if (!opts.empty())
+      for (const DvVertex& v : whole.vertices)
+        if (v.downstream == kNone) ASSERT_LT(v.x, whole.vertices[1].x);
+    for (const int side : {16, 13}) {
+      const auto t = run(bd + dir.path("t.dv") + opts + " --tile-size " + std::to_string(side) + " -q");
+      ASSERT_EQ(t.exit_code, 0) << t.err;
+      expect_same_db(whole, read_dv(dir.path("t.dv")), "terrace" + opts + " tiles " + std::to_string(side));
+    }
+  }
+}
+
+#ifdef TERRAIN_MPIEXEC
+// mpirun with the settings a root user in a container needs (Open MPI refuses root
+// otherwise; no cross-memory attach there), as many ranks as asked on 2 cores.
+std::string mpirun(int ranks) {
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl_vader_single_copy_mechanism=none "
+         "OMPI_MCA_btl=self,vader " TERRAIN_MPIEXEC " --oversubscribe -np " + std::to_string(ranks) + " ";
+}
+
+// The tiled run on 1 and 3 MPI ranks equals the untiled run in every field, and the
+// single-process tiled run byte for byte (the same command line, so the same header):
+// MSH, MED, the geographic Eno crop, the terrace and depression across four tiles, tiles
+// that do and do not divide the grid, filled or not, and from D8 codes.
+TEST(BuildDrainage, MpiRanksEqualTheSingleProcessRun) {
+  terrain::test::ScratchDir dir;
+  terrain::write_geotiff(terrace_and_depression(), dir.path("terrace.tif"));
+  const std::string bd = tool("build-drainage") + " ";
+  auto check = [&](const std::string& input, const std::string& opts, int side) {
+    SCOPED_TRACE(input + opts + " tiles " + std::to_string(side));
+    const auto u = run(bd + input + " " + dir.path("u.dv") + opts + " -q");
+    ASSERT_EQ(u.exit_code, 0) << u.err;
+    const std::string tiled = input + " " + dir.path("t.dv") + opts + " --tile-size " + std::to_string(side) + " -q";
+    const auto s = run(bd + tiled);
+    ASSERT_EQ(s.exit_code, 0) << s.err;
+    const std::string single = slurp(dir.path("t.dv"));
+    for (const int ranks : {1, 3}) {
+      std::filesystem::remove(dir.path("t.dv"));
+      const auto m = run(mpirun(ranks) + bd + tiled);
+      ASSERT_EQ(m.exit_code, 0) << m.err;
+      EXPECT_EQ(m.out, s.out) << ranks << " ranks";
+      expect_same_db(read_dv(dir.path("u.dv")), read_dv(dir.path("t.dv")), std::to_string(ranks) + " ranks");
+      EXPECT_TRUE(slurp(dir.path("t.dv")) == single) << ranks << " ranks: not the single-process file";
+    }
+  };
+  for (const char* name : {"msh_2007_utm10n_10m.tif", "med_01_01_10m.tif", "eno_nad83_geographic_crop.tif"})
+    for (const std::string opts : {"", " --fill"})
+      for (const int side : {64, 100}) check("--raster " + data(name), opts, side);
+  check("--raster " + dir.path("terrace.tif"), " --fill", 16);
+  check("--raster " + dir.path("terrace.tif"), "", 13);
+  // From D8 codes.
+  std::filesystem::create_directory(dir.path("r"));
+  const auto a = run(bd + "--raster " + data("logan_utm12n_100m.tif") + " " + dir.path("a.dv") + " --rasters " +
+                     dir.path("r") + " -q");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  check("--d8-input " + dir.path("r/d8.tif"), "", 77);
+  // Nothing left behind: no scratch array, no rank's block file.
+  for (const auto& e : std::filesystem::directory_iterator(dir.path("")))
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+  // Mesh mode does not run on several ranks: a clear error, every rank ended.
+  const auto mesh = run(mpirun(3) + bd + data("logan_utm12n_100m.tif") + " " + dir.path("f.dv") + " -q");
+  EXPECT_NE(mesh.exit_code, 0);
+  EXPECT_NE(mesh.err.find("mesh mode runs on one process"), std::string::npos) << mesh.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.path("f.dv")));
+}
+
+// Logan at 10 m on 3 ranks (tiles of 1000, which do not divide 2890 x 4980), filled.
+TEST(BuildDrainage, MpiLogan10mEqualsTheUntiledRun) {
+  terrain::test::ScratchDir dir;
+  const std::string tif = dir.path("logan10.tif");
+  ASSERT_EQ(std::system(("gdalwarp -q -r cubic -tr 10 10 " + data("logan_utm12n_100m.tif") + " " + tif).c_str()), 0);
+  const std::string args = "--raster " + tif + " --fill ";
+  const auto u = run(tool("build-drainage") + " " + args + dir.path("u.dv") + " -q");
+  ASSERT_EQ(u.exit_code, 0) << u.err;
+  const auto m = run(mpirun(3) + tool("build-drainage") + " " + args + dir.path("t.dv") + " --tile-size 1000 -q");
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  expect_same_db(read_dv(dir.path("u.dv")), read_dv(dir.path("t.dv")), "logan 10 m, 3 ranks");
+}
+#endif
+
 TEST(BuildDrainage, BadInputFailsCleanly) {
   terrain::test::ScratchDir dir;
   // A D8 raster with an invalid TauDEM code (9), and a truncated .dv.
