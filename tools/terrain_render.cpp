@@ -14,8 +14,10 @@
 #include "renderer/crease.hpp"
 #include "renderer/frames.hpp"
 #include "renderer/gl_context.hpp"
+#include "renderer/line_stats.hpp"
 #include "renderer/terrain_renderer.hpp"
 #include "terrain/atomic_file.hpp"
+#include "terrain/hillshade.hpp"
 #include "terrain/image_io.hpp"
 #include "terrain/mesh_io.hpp"
 
@@ -36,8 +38,8 @@ struct RenderOptions {
   std::string pel_light = "headlight", pel_colour = "#8c1a1a";
   std::string edges = "contour,boundary,crease", edge_caps = "exact", edge_colour = "#262626";
   std::string background = "#dde4ec", mask = "white", crease_colour = "blue", silhouette_colour = "black";
-  bool literal = false;
-  std::uint32_t min_accumulated = 100;
+  bool literal = false, seed_rules = false, line_stats = false;
+  rr::CreaseRules rules{.min_accumulated = 100};
 };
 
 void add_render_options(CLI::App* app, RenderOptions& o) {
@@ -75,10 +77,21 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
                   "Crease score: distance (m) at which rs_min stops rising; 0 = the terrain's diagonal")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app->add_option("--min-accumulation", o.min_accumulated,
+  app->add_option("--min-accumulation", o.rules.min_accumulated,
                   "Creases start where at least this many drainage points drain (channel initiation; 0: every "
                   "D8 link, as the paper)")
       ->capture_default_str();
+  app->add_flag("--seed-rules", o.seed_rules,
+                "Creases as the paper draws them: every basin normalized by its own total (also the small "
+                "ones that drain off the grid edge) and every D8 path across flats (docs/terrain-render.md)");
+  app->add_option("--edge-basin-share", o.rules.edge_basin_min_share,
+                  "Basins that drain off the grid edge are normalized by at least this share of the largest basin's "
+                  "points (0: by their own, as the paper)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app->add_flag("--line-stats", o.line_stats,
+                "Also measure the drawn creases: length in pixels, shares near the grid boundary, on flat ground "
+                "and in valleys, strokes; batch: per frame in line_stats.csv, and the flicker between frames");
   app->add_flag("--literal-score", o.literal,
                 "Divide the weighted sum by 3 (the paper's equation 6) instead of by the weight sum");
   app->add_option("--pel-threshold", f.pel.threshold,
@@ -147,6 +160,7 @@ std::pair<int, int> finish_options(RenderOptions& o, rr::Layers& layers) {
     throw CLI::ValidationError("--size", "width and height must be in 16 .. 16384");
   if (!o.eye.empty()) o.frame.camera.eye = Eigen::Vector3d(o.eye[0], o.eye[1], o.eye[2]);
   o.frame.score.literal_divisor = o.literal;
+  if (o.seed_rules) o.rules.edge_basin_min_share = 0, o.rules.one_line_per_flat = false;
   if (o.frame.score.sw + o.frame.score.iw + o.frame.score.fw <= 0)
     throw CLI::ValidationError("--sw/--iw/--fw", "at least one weight must be > 0");
   layers = rr::parse_layers(o.layers);
@@ -167,12 +181,13 @@ std::pair<int, int> finish_options(RenderOptions& o, rr::Layers& layers) {
 struct Scene {
   terrain::GridMesh mesh;
   std::optional<rr::CreaseGeometry> creases;
+  rr::SegmentTraits traits;  // of the creases' segments
 };
 
-Scene load_scene(const std::string& mesh_path, const std::string& dv_path, std::uint32_t min_accumulated,
+Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const rr::CreaseRules& rules,
                  const tt::Verbosity& verb) {
   auto t0 = Clock::now();
-  Scene s{terrain::read_mesh_ply(mesh_path), std::nullopt};
+  Scene s{terrain::read_mesh_ply(mesh_path), std::nullopt, {}};
   tt::step(verb, fmt::format("read mesh {} x {} ({} patches): {:.2f} s", s.mesh.topo.cols, s.mesh.topo.rows,
                              s.mesh.n_faces(), since(t0)));
   if (!dv_path.empty()) {
@@ -183,11 +198,38 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, std::
         dv_path, g.origin_x, g.origin_y - double(s.mesh.topo.rows - 1) * g.dy,
         g.origin_x + double(s.mesh.topo.cols - 1) * g.dx, g.origin_y);
     if (const std::string w = rr::coverage_warning(s.mesh, links); !w.empty()) tt::warn(verb, "'" + dv_path + "': " + w);
-    s.creases = rr::build_crease_geometry(s.mesh, links, min_accumulated);
+    s.creases = rr::build_crease_geometry(s.mesh, links, rules);
+    s.traits = rr::segment_traits(s.mesh, links, *s.creases);
     tt::step(verb, fmt::format("read {} and its PN normals: {} vertices, {} segments: {:.2f} s", dv_path,
                                s.creases->positions.size(), s.creases->n_segments(), since(t0)));
   }
   return s;
+}
+
+// --line-stats: the creases one frame draws (what the DM pass accepts, as the GL-free
+// score gives it), with each segment's pixels left after hidden-line removal.
+struct FrameLines {
+  std::vector<float> drawn;
+  std::vector<double> pixels;
+};
+FrameLines frame_lines(const Scene& scene, const rr::TerrainRenderer& r, const rr::FrameResult& res,
+                       const rr::FrameParams& fp, const rr::Style& style) {
+  const double exaggeration = style.exaggeration;
+  const double lift = style.crease_lift >= 0 ? style.crease_lift : 0.5 * std::min(scene.mesh.geo.dx, scene.mesh.geo.dy);
+  const rr::CreaseGeometry& g = *scene.creases;
+  rr::CreaseScoreParams score = fp.score;
+  if (!(score.far_distance > 0)) score.far_distance = rr::default_far_distance(scene.mesh);
+  const auto accepted = rr::accepted_segments(g, res.view.eye, terrain::light_direction(fp.light.azimuth, fp.light.altitude),
+                                              exaggeration, score);
+  FrameLines lines{std::vector<float>(accepted.begin(), accepted.end()), rr::segment_pixels(g, res.view, exaggeration, lift)};
+  const auto visible = rr::visible_fraction(g, res.view, exaggeration, lift, r.read_buffers().crease);
+  for (std::size_t s = 0; s < visible.size(); ++s) lines.pixels[s] *= visible[s];
+  return lines;
+}
+
+void check_line_stats(const RenderOptions& o, const rr::Layers& layers, const std::string& dv) {
+  if (o.line_stats && (dv.empty() || !layers.creases))
+    throw CLI::ValidationError("--line-stats", "measures creases: give a .dv and keep the creases layer");
 }
 
 void print_device(const rr::GlContext& ctx) {
@@ -239,7 +281,8 @@ int run_frame(FrameArgs& a, const std::string& prov, const tt::Verbosity& verb) 
   terrain::check_output_path(a.out);
   if (!a.dv.empty() && !drainage::is_dv_file(a.dv))
     throw terrain::Error("'" + a.dv + "' is not a drainage database (.dv)");
-  const Scene scene = load_scene(a.mesh, a.dv, a.opts.min_accumulated, verb);
+  check_line_stats(a.opts, layers, a.dv);
+  const Scene scene = load_scene(a.mesh, a.dv, a.opts.rules, verb);
   if (a.opts.frame.camera.eye)
     rr::check_eye_above_terrain(scene.mesh, *a.opts.frame.camera.eye, a.opts.style.exaggeration);
   auto t0 = Clock::now();
@@ -259,6 +302,13 @@ int run_frame(FrameArgs& a, const std::string& prov, const tt::Verbosity& verb) 
   for (int p = 0; p < rr::kPassCount; ++p)
     std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p), res.timings.gpu_ms[p],
                              res.timings.wall_ms[p]);
+  if (a.opts.line_stats) {
+    const FrameLines lines = frame_lines(scene, r, res, a.opts.frame, a.opts.style);
+    const rr::LineStats st = rr::line_stats(*scene.creases, scene.traits, lines.drawn, lines.pixels);
+    std::cout << fmt::format("crease length px: {:.0f}\ncrease boundary share: {:.4f}\ncrease flat share: {:.4f}\n"
+                             "crease valley share: {:.4f}\ncrease strokes: {}\ncrease mean stroke px: {:.1f}\n",
+                             st.length_px, st.boundary, st.flat, st.valley, st.strokes, st.mean_stroke_px);
+  }
   return 0;
 }
 
@@ -274,7 +324,8 @@ int run_batch(BatchArgs& a, const std::string& prov, const tt::Verbosity& verb) 
   tt::check_distinct_paths(a.inputs, {(dir / "timings.csv").string()});
   std::filesystem::create_directories(dir);
   terrain::check_output_path(dir / "timings.csv");
-  const Scene scene = load_scene(mesh_path, dv_path, a.opts.min_accumulated, verb);
+  check_line_stats(a.opts, layers, dv_path);
+  const Scene scene = load_scene(mesh_path, dv_path, a.opts.rules, verb);
   for (std::size_t i = 0; i < frames.size(); ++i) {
     try {
       if (frames[i].camera.eye) rr::check_eye_above_terrain(scene.mesh, *frames[i].camera.eye, a.opts.style.exaggeration);
@@ -285,18 +336,31 @@ int run_batch(BatchArgs& a, const std::string& prov, const tt::Verbosity& verb) 
   rr::GlContext ctx;
   rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, w, h, layers, a.opts.style);
   std::vector<rr::FrameTimings> timings;
+  std::string stats_csv = "frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px\n";
+  std::vector<std::vector<float>> drawn;
+  std::vector<std::vector<double>> pixels;
   const auto progress = tt::terminal_progress(verb, "render");
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const rr::FrameResult res = r.render(frames[i]);
     timings.push_back(res.timings);
+    if (a.opts.line_stats) {
+      FrameLines lines = frame_lines(scene, r, res, frames[i], a.opts.style);
+      const rr::LineStats st = rr::line_stats(*scene.creases, scene.traits, lines.drawn, lines.pixels);
+      stats_csv += fmt::format("{},{:.1f},{:.5f},{:.5f},{:.5f},{},{:.2f}\n", i, st.length_px, st.boundary, st.flat,
+                               st.valley, st.strokes, st.mean_stroke_px);
+      drawn.push_back(std::move(lines.drawn));
+      pixels.push_back(std::move(lines.pixels));
+    }
     terrain::write_png((dir / fmt::format("frame_{:05d}.png", i)).string(), w, h, 4, res.rgba,
                        prov + fmt::format(" [frame {}]", i));
     terrain::report(progress, double(i + 1) / double(frames.size()));
   }
   terrain::write_file_atomic(dir / "timings.csv", rr::timings_csv(timings));
+  if (a.opts.line_stats) terrain::write_file_atomic(dir / "line_stats.csv", stats_csv);
   std::cout << "output: " << a.dir << "\nframes: " << frames.size() << "\nsize: " << w << " x " << h << "\n";
   print_device(ctx);
   std::cout << rr::timing_tables(timings);
+  if (a.opts.line_stats) std::cout << fmt::format("crease flicker: {:.4f}\n", rr::flicker(drawn, pixels));
   return 0;
 }
 

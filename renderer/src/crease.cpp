@@ -10,8 +10,88 @@
 
 namespace renderer {
 
+std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_basin_min_share) {
+  using terrain::DrainageLinks;
+  const std::size_t n = links.size();
+  if (!(edge_basin_min_share > 0)) return links.flow;
+  // The pit each point drains to (memoized walks downstream).
+  std::vector<std::uint32_t> pit(n, DrainageLinks::kNone), path;
+  for (std::size_t s = 0; s < n; ++s) {
+    if (!links.valid[s] || pit[s] != DrainageLinks::kNone) continue;
+    std::uint32_t i = std::uint32_t(s);
+    path.clear();
+    while (pit[i] == DrainageLinks::kNone) {
+      path.push_back(i);
+      const std::uint32_t d = links.downstream[i];
+      if (d == DrainageLinks::kNone || d >= n || !links.valid[d] || path.size() > n) {
+        pit[i] = i;
+        break;
+      }
+      i = d;
+    }
+    for (const std::uint32_t j : path) pit[j] = pit[i];
+  }
+  // Basins that drain off the grid: their pit on the grid's edge or beside no-data.
+  const long R = long(links.rows), C = long(links.cols);
+  auto drains_off = [&](std::uint32_t p) {
+    const long r = long(p) / C, c = long(p) % C;
+    if (r == 0 || c == 0 || r == R - 1 || c == C - 1) return true;
+    for (long dr = -1; dr <= 1; ++dr)
+      for (long dc = -1; dc <= 1; ++dc)
+        if (!links.valid[std::size_t((r + dr) * C + c + dc)]) return true;
+    return false;
+  };
+  double largest = 1;
+  for (std::size_t i = 0; i < n; ++i)
+    if (links.valid[i] && pit[i] == i) largest = std::max(largest, double(links.accumulated[i]));
+  std::vector<float> flow(n, 0.0f);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!links.valid[i]) continue;
+    const std::uint32_t p = pit[i];
+    const double total = std::max(1.0, double(links.accumulated[p]));
+    flow[i] = float(double(links.accumulated[i]) / (drains_off(p) ? std::max(total, edge_basin_min_share * largest) : total));
+  }
+  return flow;
+}
+
+std::vector<std::uint8_t> off_main_flat_path(const terrain::DrainageLinks& links) {
+  using terrain::DrainageLinks;
+  const std::size_t n = links.size();
+  auto flat = [&](std::size_t i) {  // a link that does not descend
+    const std::uint32_t d = links.downstream[i];
+    return links.valid[i] && d != DrainageLinks::kNone && d < n && links.valid[d] &&
+           links.positions[d].z() >= links.positions[i].z();
+  };
+  // Flat inflows of every point (compressed rows).
+  std::vector<std::uint32_t> first(n + 1, 0), from;
+  for (std::size_t i = 0; i < n; ++i)
+    if (flat(i)) ++first[links.downstream[i] + 1];
+  for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
+  from.resize(first[n]);
+  {
+    std::vector<std::uint32_t> at(first.begin(), first.end() - 1);
+    for (std::size_t i = 0; i < n; ++i)
+      if (flat(i)) from[at[links.downstream[i]]++] = std::uint32_t(i);
+  }
+  std::vector<std::uint8_t> off(n, 0);
+  for (std::size_t i = 0; i < n; ++i) off[i] = flat(i);
+  // From each point where flow leaves a flat, upstream along the largest flat inflow.
+  for (std::size_t v = 0; v < n; ++v) {
+    if (first[v] == first[v + 1] || flat(v)) continue;
+    std::uint32_t cur = std::uint32_t(v);
+    while (first[cur] != first[cur + 1]) {
+      std::uint32_t best = from[first[cur]];
+      for (std::uint32_t k = first[cur] + 1; k < first[cur + 1]; ++k)
+        if (links.accumulated[from[k]] > links.accumulated[best]) best = from[k];
+      off[best] = 0;
+      cur = best;
+    }
+  }
+  return off;
+}
+
 CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
-                                     std::uint32_t min_accumulated) {
+                                     const CreaseRules& rules) {
   using terrain::DrainageLinks;
   const auto& g = mesh.geo;
   if (links.epsg != 0 && g.epsg != 0 && links.epsg != g.epsg)
@@ -19,6 +99,9 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
                          std::to_string(g.epsg) + ") are in different CRSs");
   const Eigen::Vector3d shift = links.origin - Eigen::Vector3d(g.origin_x, g.origin_y, g.origin_z);
   const std::size_t n = links.size();
+  const std::vector<float> flow = crease_flow(links, rules.edge_basin_min_share);
+  const std::vector<std::uint8_t> off_flat =
+      rules.one_line_per_flat ? off_main_flat_path(links) : std::vector<std::uint8_t>(n, 0);
 
   // Compact index of every valid point.
   std::vector<std::uint32_t> compact(n, DrainageLinks::kNone);
@@ -27,13 +110,14 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
     if (!links.valid[i]) continue;
     compact[i] = std::uint32_t(out.positions.size());
     out.positions.emplace_back((links.positions[i].cast<double>() + shift).cast<float>());
-    out.flow.push_back(links.flow[i]);
+    out.source.push_back(std::uint32_t(i));
+    out.flow.push_back(flow[i]);
   }
   const std::size_t m = out.positions.size();
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t d = links.downstream[i];
     if (compact[i] == DrainageLinks::kNone || d == DrainageLinks::kNone || d >= n || compact[d] == DrainageLinks::kNone ||
-        links.accumulated[i] < min_accumulated)
+        links.accumulated[i] < rules.min_accumulated || off_flat[i])
       continue;
     out.segments.push_back(compact[i]);
     out.segments.push_back(compact[d]);
@@ -78,8 +162,8 @@ double default_far_distance(const terrain::GridMesh& mesh) {
   return std::hypot(double(mesh.topo.cols - 1) * mesh.geo.dx, double(mesh.topo.rows - 1) * mesh.geo.dy);
 }
 
-std::size_t count_accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
-                                    double e, const CreaseScoreParams& params) {
+std::vector<std::uint8_t> accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye,
+                                            const Eigen::Vector3d& light, double e, const CreaseScoreParams& params) {
   std::vector<char> ok(g.positions.size());
   for (std::size_t i = 0; i < ok.size(); ++i) {
     const Eigen::Vector3d p = g.positions[i].cast<double>();
@@ -87,9 +171,15 @@ std::size_t count_accepted_segments(const CreaseGeometry& g, const Eigen::Vector
     ok[i] = crease_score(exaggerate_normal(g.normals[i].cast<double>(), e), g.flow[i], light, (pe - eye).norm(),
                          params) >= 0.0;
   }
-  std::size_t count = 0;
-  for (std::size_t s = 0; s < g.n_segments(); ++s) count += ok[g.segments[2 * s]] && ok[g.segments[2 * s + 1]];
-  return count;
+  std::vector<std::uint8_t> accepted(g.n_segments());
+  for (std::size_t s = 0; s < g.n_segments(); ++s) accepted[s] = ok[g.segments[2 * s]] && ok[g.segments[2 * s + 1]];
+  return accepted;
+}
+
+std::size_t count_accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
+                                    double e, const CreaseScoreParams& params) {
+  const auto a = accepted_segments(g, eye, light, e, params);
+  return std::size_t(std::count(a.begin(), a.end(), 1));
 }
 
 std::string coverage_warning(const terrain::GridMesh& mesh, const terrain::DrainageLinks& h) {

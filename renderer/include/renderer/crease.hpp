@@ -17,22 +17,50 @@ namespace renderer {
 // A drainage network (terrain::DrainageLinks, e.g. from a .dv) in a mesh's local frame.
 struct CreaseGeometry {
   std::vector<Eigen::Vector3f> positions;  // #C crease vertices, on the PN surface (local)
+  std::vector<std::uint32_t> source;       // #C the vertex's point in the network (row * cols + col)
   std::vector<Eigen::Vector3f> normals;    // #C unit PN normals of the mesh's surface there
   std::vector<float> flow;                 // #C basin-normalized flow (fc), in (0, 1]
   std::vector<std::uint32_t> segments;     // 2 x #S: (vertex, its downstream vertex)
   std::size_t n_segments() const { return segments.size() / 2; }
 };
 
+// Which drainage links become crease segments, and how their flow is normalized
+// (docs/terrain-render.md, "Where creases are drawn").
+struct CreaseRules {
+  // A channel-initiation threshold: links whose point has fewer accumulated points are
+  // left out (0 keeps every link, as the paper).
+  std::uint32_t min_accumulated = 0;
+  // Basins that drain off the grid (their pit on the grid's edge or beside no-data) are
+  // pieces of larger basins the grid cannot see: their flow is normalized by at least
+  // this share of the largest basin total in the network, not by their own small total
+  // (large edge basins keep their own). 0: every basin by its own total, as the paper
+  // (fc = accumulation / basin total).
+  double edge_basin_min_share = 0.1;
+  // On flat ground (a link that does not descend: resolved flats, filled depressions)
+  // only the main path of each flat is kept: from where the flow leaves the flat,
+  // upstream along the inflow of largest accumulation; the other parallel D8 paths across
+  // the flat are left out. Off: every link, as the paper.
+  bool one_line_per_flat = true;
+};
+
 // Every valid drainage point with its D8 link to its downstream point as one segment (the
-// branches of a .dv are exactly these links grouped by order), for points whose
-// accumulated flow is at least `min_accumulated` points (a channel-initiation threshold:
-// 0 keeps every link, as the paper; hillslope links and the tiny basins along the mesh
-// boundary, whose normalized flow is high, go with a small threshold). Positions are moved
-// from the database's frame to the mesh's; normals are the PN normals of `mesh` above each
-// vertex (pn_point_above; the vertex normal of the nearest mesh vertex where it has no
-// answer). Error when the database does not overlap the mesh or their CRSs differ.
+// branches of a .dv are exactly these links grouped by order), selected and normalized by
+// `rules`. Positions are moved from the database's frame to the mesh's; normals are the PN
+// normals of `mesh` above each vertex (pn_point_above; the vertex normal of the nearest
+// mesh vertex where it has no answer). Error when the database does not overlap the mesh
+// or their CRSs differ.
 CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
-                                     std::uint32_t min_accumulated = 0);
+                                     const CreaseRules& rules = {});
+
+// The basin-normalized flow of every point of `links` under `edge_basin_min_share`
+// (CreaseRules): accumulated / its basin's total, or / max(total, share x the largest
+// total) for a basin that drains off the grid; links.flow when the share is 0. #P values,
+// 0 at invalid points.
+std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_basin_min_share);
+
+// Whether each point's link is on flat ground (its downstream point is not lower) and is
+// not the main path of its flat (CreaseRules::one_line_per_flat): #P flags, 1 = left out.
+std::vector<std::uint8_t> off_main_flat_path(const terrain::DrainageLinks& links);
 
 // A warning (empty when none) when the network's sample extent differs from the mesh's
 // by more than one network spacing on any side: it was made from another mesh (or a
@@ -50,8 +78,12 @@ Eigen::Vector3d exaggerate_normal(const Eigen::Vector3d& n, double exaggeration)
 // Far distance used by the score when params.far_distance is 0.
 double default_far_distance(const terrain::GridMesh& mesh);
 
-// Number of segments whose two ends both score >= 0 for the eye `eye` (exaggerated local
-// frame) and light direction `light`: what the DM pass draws.
+// Per segment, whether its two ends both score >= 0 for the eye `eye` (exaggerated local
+// frame) and light direction `light`: what the DM pass draws (#S flags).
+std::vector<std::uint8_t> accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye,
+                                            const Eigen::Vector3d& light, double exaggeration,
+                                            const CreaseScoreParams& params);
+// How many (accepted_segments).
 std::size_t count_accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
                                     double exaggeration, const CreaseScoreParams& params);
 

@@ -1,0 +1,68 @@
+#pragma once
+// Where the creases of a frame lie and how they read (issue 13), GL-free: the shares of
+// their length near the grid boundary, on flat ground and in valleys; how they join into
+// strokes; how much of them appears or vanishes between the frames of a flight.
+// terrain-render frame / batch --line-stats print them (docs/terrain-render.md, "Line
+// statistics"); tests/renderer/line_stats_test.cpp checks them on analytic surfaces.
+#include <cstdint>
+#include <vector>
+
+#include "renderer/camera.hpp"
+#include "renderer/crease.hpp"
+#include "terrain/drainage_links.hpp"
+#include "terrain/grid_mesh.hpp"
+
+namespace renderer {
+
+// Plan (contour) curvature of the mesh's surface at each vertex, 1/m, from central
+// differences of the vertex heights on the grid (Zevenbergen & Thorne 1987):
+//   kp = (q^2 r - 2 p q s + p^2 t) / (p^2 + q^2)^(3/2),
+// p = dz/dx, q = dz/dy (x east, y north), r = d2z/dx2, s = d2z/dxdy, t = d2z/dy2.
+// > 0 where the surface is concave across the slope (valleys, hollows), < 0 on spurs and
+// ridges, 0 on planes; 0 on the mesh's boundary and where the slope is below 1e-6. #V.
+std::vector<float> plan_curvature(const terrain::GridMesh& mesh);
+
+// What each crease segment (i -> its downstream point) lies on, #S flags each.
+struct SegmentTraits {
+  std::vector<std::uint8_t> boundary;  // i within `margin` samples of the network grid's edge
+  std::vector<std::uint8_t> flat;      // the segment does not descend (flat or filled ground)
+  std::vector<std::uint8_t> valley;    // plan curvature at its midpoint > 0 (bilinear between mesh vertices)
+};
+SegmentTraits segment_traits(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
+                             const CreaseGeometry& g, int margin = 3);
+
+// Screen length in pixels of each segment in `view` as the DM pass draws it (heights
+// scaled by `exaggeration`, ends lifted `lift` metres along the exaggerated normal),
+// clipped to the image; 0 where an end lies behind the near plane. #S.
+std::vector<double> segment_pixels(const CreaseGeometry& g, const View& view, double exaggeration, double lift = 0);
+
+// The fraction of each segment's pixels that `mask` (width x height, row 0 at the top,
+// e.g. the crease layer after hidden-line removal) covers within one pixel; segments with
+// no pixel get 0. #S.
+std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, double exaggeration, double lift,
+                                     const std::vector<std::uint8_t>& mask);
+
+// The strokes drawn: chains of drawn segments (drawn[s] > 0), each drawn segment
+// continuing the stroke of the drawn inflow of largest flow at its upstream vertex (ties:
+// the lower segment index); others start a stroke. Each stroke lists its segments from
+// upstream down.
+std::vector<std::vector<std::uint32_t>> crease_strokes(const CreaseGeometry& g, const std::vector<float>& drawn);
+
+struct LineStats {
+  double length_px = 0;                       // drawn crease length (opacity-weighted)
+  double boundary = 0, flat = 0, valley = 0;  // shares of length_px
+  std::size_t strokes = 0;
+  double mean_stroke_px = 0;                  // length_px / strokes
+};
+// `drawn`: #S opacity in [0, 1] (accepted_segments as 0 / 1); `pixels`: #S drawn length
+// (segment_pixels, times visible_fraction for the lines left after hidden-line removal).
+LineStats line_stats(const CreaseGeometry& g, const SegmentTraits& traits, const std::vector<float>& drawn,
+                     const std::vector<double>& pixels);
+
+// Flicker over a flight: the share of line pixels that appear or vanish between
+// consecutive frames, sum_k sum_s |a_k(s) - a_k+1(s)| L / sum_k sum_s max(a_k(s), a_k+1(s)) L
+// with a the opacity and L the mean of the segment's pixel lengths in the two frames.
+// 0 for fewer than two frames or no line.
+double flicker(const std::vector<std::vector<float>>& drawn, const std::vector<std::vector<double>>& pixels);
+
+}  // namespace renderer

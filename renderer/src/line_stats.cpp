@@ -1,0 +1,174 @@
+#include "renderer/line_stats.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+namespace renderer {
+
+std::vector<float> plan_curvature(const terrain::GridMesh& mesh) {
+  const long R = long(mesh.topo.rows), C = long(mesh.topo.cols);
+  const double dx = mesh.geo.dx, dy = mesh.geo.dy;
+  std::vector<float> k(mesh.n_vertices(), 0.0f);
+  auto z = [&](long r, long c) { return double(mesh.positions[std::size_t(r * C + c)].z()); };
+  for (long r = 1; r + 1 < R; ++r)
+    for (long c = 1; c + 1 < C; ++c) {
+      // Row r - 1 is north (+y).
+      const double p = (z(r, c + 1) - z(r, c - 1)) / (2 * dx), q = (z(r - 1, c) - z(r + 1, c)) / (2 * dy);
+      const double rr = (z(r, c + 1) - 2 * z(r, c) + z(r, c - 1)) / (dx * dx);
+      const double tt = (z(r - 1, c) - 2 * z(r, c) + z(r + 1, c)) / (dy * dy);
+      const double ss = (z(r - 1, c + 1) - z(r - 1, c - 1) - z(r + 1, c + 1) + z(r + 1, c - 1)) / (4 * dx * dy);
+      const double g2 = p * p + q * q;
+      if (g2 < 1e-12) continue;
+      k[std::size_t(r * C + c)] = float((q * q * rr - 2 * p * q * ss + p * p * tt) / std::pow(g2, 1.5));
+    }
+  return k;
+}
+
+SegmentTraits segment_traits(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
+                             const CreaseGeometry& g, int margin) {
+  const std::vector<float> kp = plan_curvature(mesh);
+  const long R = long(mesh.topo.rows), C = long(mesh.topo.cols);
+  auto curvature_at = [&](double x, double y) {  // bilinear, local frame
+    const double fc = std::clamp(x / mesh.geo.dx, 0.0, double(C - 1)), fr = std::clamp(-y / mesh.geo.dy, 0.0, double(R - 1));
+    const long c0 = std::min(long(fc), C - 2), r0 = std::min(long(fr), R - 2);
+    const double u = fc - double(c0), v = fr - double(r0);
+    auto at = [&](long r, long c) { return double(kp[std::size_t(r * C + c)]); };
+    return (1 - v) * ((1 - u) * at(r0, c0) + u * at(r0, c0 + 1)) + v * ((1 - u) * at(r0 + 1, c0) + u * at(r0 + 1, c0 + 1));
+  };
+  const std::size_t ns = g.n_segments();
+  SegmentTraits t;
+  t.boundary.resize(ns), t.flat.resize(ns), t.valley.resize(ns);
+  const long LR = long(links.rows), LC = long(links.cols), m = margin;
+  for (std::size_t s = 0; s < ns; ++s) {
+    const std::uint32_t a = g.segments[2 * s], b = g.segments[2 * s + 1];
+    const long r = long(g.source[a]) / LC, c = long(g.source[a]) % LC;
+    t.boundary[s] = r < m || c < m || r >= LR - m || c >= LC - m;
+    t.flat[s] = links.positions[g.source[b]].z() >= links.positions[g.source[a]].z();
+    const Eigen::Vector3f mid = 0.5f * (g.positions[a] + g.positions[b]);
+    t.valley[s] = curvature_at(mid.x(), mid.y()) > 0;
+  }
+  return t;
+}
+
+namespace {
+
+// The part of segment (a, b) inside [0, w] x [0, h] (Liang-Barsky); none when outside.
+std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> clip(Eigen::Vector2d a, Eigen::Vector2d b, double w, double h) {
+  double t0 = 0, t1 = 1;
+  const Eigen::Vector2d d = b - a;
+  const double p[4] = {-d.x(), d.x(), -d.y(), d.y()}, q[4] = {a.x(), w - a.x(), a.y(), h - a.y()};
+  for (int k = 0; k < 4; ++k) {
+    if (p[k] == 0) {
+      if (q[k] < 0) return std::nullopt;
+      continue;
+    }
+    const double r = q[k] / p[k];
+    if (p[k] < 0) t0 = std::max(t0, r);
+    else t1 = std::min(t1, r);
+    if (t0 > t1) return std::nullopt;
+  }
+  return std::make_pair(Eigen::Vector2d(a + t0 * d), Eigen::Vector2d(a + t1 * d));
+}
+
+std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> screen_segment(const CreaseGeometry& g, std::size_t s,
+                                                                          const View& view, double e, double lift) {
+  auto at = [&](std::uint32_t i) {
+    const Eigen::Vector3d p = g.positions[i].cast<double>();
+    return project(view, Eigen::Vector3d(p.x(), p.y(), p.z() * e) + lift * exaggerate_normal(g.normals[i].cast<double>(), e));
+  };
+  const Projected a = at(g.segments[2 * s]), b = at(g.segments[2 * s + 1]);
+  if (!a.in_front || !b.in_front) return std::nullopt;
+  return clip({a.u, a.v}, {b.u, b.v}, view.width, view.height);
+}
+
+}  // namespace
+
+std::vector<double> segment_pixels(const CreaseGeometry& g, const View& view, double exaggeration, double lift) {
+  std::vector<double> px(g.n_segments(), 0.0);
+  for (std::size_t s = 0; s < px.size(); ++s)
+    if (const auto seg = screen_segment(g, s, view, exaggeration, lift)) px[s] = (seg->second - seg->first).norm();
+  return px;
+}
+
+std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, double exaggeration, double lift,
+                                     const std::vector<std::uint8_t>& mask) {
+  const long W = view.width, H = view.height;
+  std::vector<double> f(g.n_segments(), 0.0);
+  auto covered = [&](double u, double v) {
+    const long x = long(std::floor(u)), y = long(std::floor(v));
+    for (long dy = -1; dy <= 1; ++dy)
+      for (long dx = -1; dx <= 1; ++dx) {
+        const long xx = x + dx, yy = y + dy;
+        if (xx >= 0 && yy >= 0 && xx < W && yy < H && mask[std::size_t(yy * W + xx)]) return true;
+      }
+    return false;
+  };
+  for (std::size_t s = 0; s < f.size(); ++s) {
+    const auto seg = screen_segment(g, s, view, exaggeration, lift);
+    if (!seg) continue;
+    const double len = (seg->second - seg->first).norm();
+    const int n = std::max(1, int(std::ceil(len)));
+    int hit = 0;
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector2d p = seg->first + (seg->second - seg->first) * ((k + 0.5) / n);
+      hit += covered(p.x(), p.y());
+    }
+    f[s] = double(hit) / n;
+  }
+  return f;
+}
+
+std::vector<std::vector<std::uint32_t>> crease_strokes(const CreaseGeometry& g, const std::vector<float>& drawn) {
+  const std::size_t ns = g.n_segments(), nv = g.positions.size();
+  constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+  // The drawn segment leaving each vertex (a D8 point has one link) and the drawn inflow
+  // that continues through it.
+  std::vector<std::uint32_t> out(nv, kNone), main_in(nv, kNone);
+  for (std::uint32_t s = 0; s < ns; ++s) {
+    if (!(drawn[s] > 0)) continue;
+    out[g.segments[2 * s]] = s;
+    std::uint32_t& m = main_in[g.segments[2 * s + 1]];
+    if (m == kNone || g.flow[g.segments[2 * s]] > g.flow[g.segments[2 * m]]) m = s;
+  }
+  std::vector<std::vector<std::uint32_t>> strokes;
+  for (std::uint32_t s = 0; s < ns; ++s) {
+    if (!(drawn[s] > 0) || main_in[g.segments[2 * s]] != kNone) continue;  // continues a stroke
+    std::vector<std::uint32_t> stroke{s};
+    for (std::uint32_t v = g.segments[2 * s + 1]; out[v] != kNone && main_in[v] == stroke.back(); v = g.segments[2 * out[v] + 1])
+      stroke.push_back(out[v]);
+    strokes.push_back(std::move(stroke));
+  }
+  return strokes;
+}
+
+LineStats line_stats(const CreaseGeometry& g, const SegmentTraits& traits, const std::vector<float>& drawn,
+                     const std::vector<double>& pixels) {
+  LineStats st;
+  double boundary = 0, flat = 0, valley = 0;
+  for (std::size_t s = 0; s < g.n_segments(); ++s) {
+    const double l = double(drawn[s]) * pixels[s];
+    st.length_px += l;
+    boundary += traits.boundary[s] * l, flat += traits.flat[s] * l, valley += traits.valley[s] * l;
+  }
+  // Strokes that show: at least one of their segments has pixels.
+  std::vector<float> shown(drawn.size());
+  for (std::size_t s = 0; s < shown.size(); ++s) shown[s] = pixels[s] > 0 ? drawn[s] : 0.0f;
+  st.strokes = crease_strokes(g, shown).size();
+  if (st.length_px > 0) st.boundary = boundary / st.length_px, st.flat = flat / st.length_px, st.valley = valley / st.length_px;
+  if (st.strokes > 0) st.mean_stroke_px = st.length_px / double(st.strokes);
+  return st;
+}
+
+double flicker(const std::vector<std::vector<float>>& drawn, const std::vector<std::vector<double>>& pixels) {
+  double changed = 0, total = 0;
+  for (std::size_t k = 0; k + 1 < drawn.size(); ++k)
+    for (std::size_t s = 0; s < drawn[k].size(); ++s) {
+      const double l = 0.5 * (pixels[k][s] + pixels[k + 1][s]);
+      changed += std::abs(double(drawn[k][s]) - double(drawn[k + 1][s])) * l;
+      total += std::max(drawn[k][s], drawn[k + 1][s]) * l;
+    }
+  return total > 0 ? changed / total : 0.0;
+}
+
+}  // namespace renderer
