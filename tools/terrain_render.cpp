@@ -85,7 +85,7 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
                 "Creases as the paper draws them: every basin normalized by its own total (also the small "
                 "ones that drain off the grid edge) and every D8 path across flats (docs/terrain-render.md)");
   app->add_option("--edge-basin-share", o.rules.edge_basin_min_share,
-                  "Basins that drain off the grid edge are normalized by at least this share of the largest basin's "
+                  "Basins that drain off the grid edge are normalized by at least this share of the network's "
                   "points (0: by their own, as the paper)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();

@@ -41,15 +41,14 @@ std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_
         if (!links.valid[std::size_t((r + dr) * C + c + dc)]) return true;
     return false;
   };
-  double largest = 1;
-  for (std::size_t i = 0; i < n; ++i)
-    if (links.valid[i] && pit[i] == i) largest = std::max(largest, double(links.accumulated[i]));
+  double points = 0;
+  for (std::size_t i = 0; i < n; ++i) points += links.valid[i];
   std::vector<float> flow(n, 0.0f);
   for (std::size_t i = 0; i < n; ++i) {
     if (!links.valid[i]) continue;
     const std::uint32_t p = pit[i];
     const double total = std::max(1.0, double(links.accumulated[p]));
-    flow[i] = float(double(links.accumulated[i]) / (drains_off(p) ? std::max(total, edge_basin_min_share * largest) : total));
+    flow[i] = float(double(links.accumulated[i]) / (drains_off(p) ? std::max(total, edge_basin_min_share * points) : total));
   }
   return flow;
 }

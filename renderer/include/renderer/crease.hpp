@@ -32,10 +32,10 @@ struct CreaseRules {
   std::uint32_t min_accumulated = 0;
   // Basins that drain off the grid (their pit on the grid's edge or beside no-data) are
   // pieces of larger basins the grid cannot see: their flow is normalized by at least
-  // this share of the largest basin total in the network, not by their own small total
-  // (large edge basins keep their own). 0: every basin by its own total, as the paper
-  // (fc = accumulation / basin total).
-  double edge_basin_min_share = 0.1;
+  // this share of the network's points, not by their own small total (edge basins larger
+  // than that keep their own). 0: every basin by its own total, as the paper (fc =
+  // accumulation / basin total).
+  double edge_basin_min_share = 0.05;
   // On flat ground (a link that does not descend: resolved flats, filled depressions)
   // only the main path of each flat is kept: from where the flow leaves the flat,
   // upstream along the inflow of largest accumulation; the other parallel D8 paths across
@@ -53,8 +53,8 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
                                      const CreaseRules& rules = {});
 
 // The basin-normalized flow of every point of `links` under `edge_basin_min_share`
-// (CreaseRules): accumulated / its basin's total, or / max(total, share x the largest
-// total) for a basin that drains off the grid; links.flow when the share is 0. #P values,
+// (CreaseRules): accumulated / its basin's total, or / max(total, share x the network's
+// valid points) for a basin that drains off the grid; links.flow when the share is 0. #P values,
 // 0 at invalid points.
 std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_basin_min_share);
 

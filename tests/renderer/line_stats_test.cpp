@@ -1,0 +1,190 @@
+// Line statistics and crease rules (renderer/line_stats.hpp, renderer/crease.hpp), GL-free:
+// plan curvature of analytic surfaces, stroke joining, flicker, and the crease rules on a
+// V-shaped valley, a plane draining off one edge and a filled square depression.
+#include "renderer/line_stats.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "drainage/dv_file.hpp"
+#include "drainage/dv_views.hpp"
+#include "drainage/pipeline.hpp"
+#include "terrain/grid_mesh.hpp"
+#include "terrain/hillshade.hpp"
+#include "test_support.hpp"
+
+namespace renderer {
+namespace {
+
+// z = f(x, y) on n x n samples h metres apart, x east and y north, (0, 0) at the centre sample.
+terrain::Grid surface(std::size_t n, double h, const std::function<double(double, double)>& f) {
+  terrain::Georef geo;
+  geo.dx = geo.dy = h;
+  geo.x0 = -double(n) * h / 2;
+  geo.y0 = double(n) * h / 2;
+  terrain::Grid g(n, n, geo);
+  for (std::size_t r = 0; r < n; ++r)
+    for (std::size_t c = 0; c < n; ++c) g.at(r, c) = float(f(geo.x_of_col(double(c)), geo.y_of_row(double(r))));
+  return g;
+}
+
+// The mesh of `g` and the drainage of the same grid (raster mode), as terrain-render sees them.
+struct Scene {
+  terrain::GridMesh mesh;
+  terrain::DrainageLinks links;
+};
+Scene scene_of(const terrain::Grid& g, bool fill) {
+  Scene s;
+  s.mesh = terrain::make_grid_mesh(g, terrain::NormalWeighting::Uniform);
+  const auto result = drainage::compute_drainage(g, {fill, true});
+  terrain::test::ScratchDir dir;
+  drainage::write_dv(dir.path("s.dv"), drainage::make_dv_header(result.surface, result.net, result.dv_flags, "test"),
+                     result.surface, result.dirs, result.net);
+  s.links = drainage::drainage_links(drainage::read_dv(dir.path("s.dv")));
+  return s;
+}
+
+TEST(PlanCurvature, ValleysArePositiveRidgesNegativePlanesZero) {
+  const std::size_t n = 21;
+  const auto vk = plan_curvature(terrain::make_grid_mesh(surface(n, 10, [](double x, double y) { return 0.5 * std::abs(x) + 0.1 * y; }),
+                                                        terrain::NormalWeighting::Uniform));
+  const auto rk = plan_curvature(terrain::make_grid_mesh(surface(n, 10, [](double x, double y) { return -0.5 * std::abs(x) + 0.1 * y; }),
+                                                        terrain::NormalWeighting::Uniform));
+  const auto pk = plan_curvature(terrain::make_grid_mesh(surface(n, 10, [](double x, double y) { return 0.3 * x + 0.1 * y; }),
+                                                        terrain::NormalWeighting::Uniform));
+  for (std::size_t r = 1; r + 1 < n; ++r)
+    for (std::size_t c = 1; c + 1 < n; ++c) {
+      const std::size_t i = r * n + c;
+      if (c == n / 2) {  // the axis: z_xx = 2 * 0.5 / h, p = 0, q = 0.1: kp = z_xx / q = 1
+        EXPECT_NEAR(vk[i], 1.0, 1e-4);
+        EXPECT_NEAR(rk[i], -1.0, 1e-4);
+      } else {
+        EXPECT_NEAR(vk[i], 0.0, 1e-6) << r << " " << c;  // planar sides
+        EXPECT_NEAR(rk[i], 0.0, 1e-6);
+      }
+      EXPECT_NEAR(pk[i], 0.0, 1e-6);
+    }
+}
+
+// A chain of vertices 0 -> 1 -> ... -> n along x, every segment drawn.
+CreaseGeometry chain(std::size_t n) {
+  CreaseGeometry g;
+  for (std::size_t i = 0; i <= n; ++i) {
+    g.positions.emplace_back(float(i), 0.0f, 0.0f);
+    g.normals.emplace_back(0.0f, 0.0f, 1.0f);
+    g.flow.push_back(float(i + 1) / float(n + 1));
+    g.source.push_back(std::uint32_t(i));
+  }
+  for (std::uint32_t i = 0; i < n; ++i) g.segments.insert(g.segments.end(), {i, i + 1});
+  return g;
+}
+
+TEST(CreaseStrokes, APolylineIsOneStrokeAndJunctionsContinueTheLargerInflow) {
+  CreaseGeometry g = chain(9);
+  auto strokes = crease_strokes(g, std::vector<float>(9, 1.0f));
+  ASSERT_EQ(strokes.size(), 1u);
+  EXPECT_EQ(strokes[0].size(), 9u);
+  for (std::uint32_t s = 0; s < 9; ++s) EXPECT_EQ(strokes[0][s], s);  // from upstream down
+  // A gap: segment 4 not drawn.
+  std::vector<float> gap(9, 1.0f);
+  gap[4] = 0;
+  EXPECT_EQ(crease_strokes(g, gap).size(), 2u);
+  // A small tributary joins at vertex 5: the main stem runs on, the tributary is a stroke of its own.
+  g.positions.emplace_back(5.0f, 1.0f, 0.0f), g.normals.emplace_back(0.0f, 0.0f, 1.0f);
+  g.positions.emplace_back(5.0f, 2.0f, 0.0f), g.normals.emplace_back(0.0f, 0.0f, 1.0f);
+  g.flow.push_back(0.01f), g.flow.push_back(0.02f);
+  g.source.push_back(10), g.source.push_back(11);
+  g.segments.insert(g.segments.end(), {11u, 10u, 10u, 5u});
+  strokes = crease_strokes(g, std::vector<float>(11, 1.0f));
+  ASSERT_EQ(strokes.size(), 2u);
+  EXPECT_EQ(strokes[0].size(), 9u);
+  EXPECT_EQ(strokes[1].size(), 2u);
+}
+
+TEST(LineStats, FlickerCountsWhatAppearsOrVanishes) {
+  const std::vector<double> px = {10, 20, 30, 40};
+  EXPECT_EQ(flicker({{1, 1, 0, 1}, {1, 1, 0, 1}}, {px, px}), 0.0);
+  // Segment 3 (40 px) vanishes, segment 2 (30 px) fades to half: (40 + 15) / (10 + 20 + 30 + 40).
+  EXPECT_NEAR(flicker({{1, 1, 1, 1}, {1, 1, 0.5f, 0}}, {px, px}), 55.0 / 100.0, 1e-12);
+  EXPECT_EQ(flicker({{1, 1, 1, 1}}, {px}), 0.0);
+}
+
+// A V-shaped valley with a sloping floor (z = 0.3 |x| + 0.05 y, 10 m samples): its creases
+// (every link draining at least 30 points, every segment accepted) lie on the valley axis,
+// all of them in concave ground: valley share 1; none on the planar sides.
+TEST(CreaseRules, VValleyCreasesLieOnTheAxis) {
+  const std::size_t n = 41;
+  const Scene s = scene_of(surface(n, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
+  const CreaseGeometry g = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 30});
+  ASSERT_GT(g.n_segments(), 30u);
+  const SegmentTraits t = segment_traits(s.mesh, s.links, g);
+  const double axis_x = double(n / 2) * 10.0;  // local frame: x = column * h
+  for (std::size_t k = 0; k < g.n_segments(); ++k)
+    for (int e = 0; e < 2; ++e) ASSERT_NEAR(g.positions[g.segments[2 * k + std::size_t(e)]].x(), axis_x, 1e-3) << k;
+  const LineStats st = line_stats(g, t, std::vector<float>(g.n_segments(), 1.0f), std::vector<double>(g.n_segments(), 1.0));
+  EXPECT_EQ(st.valley, 1.0);
+  EXPECT_EQ(st.flat, 0.0);
+  EXPECT_EQ(st.strokes, 1u);  // one channel down the axis
+}
+
+// A plane draining south off the grid: every column is its own small basin cut by the
+// edge. As the paper normalizes them, flow reaches 1 on the south edge of every column
+// (a band of creases along it); as pieces of larger basins (edge_basin_min_share), flow
+// stays below rows / (share x points) and the accepted creases do not gather at the edge.
+TEST(CreaseRules, APlaneDrainingOffAnEdgeGathersNoCreasesThere) {
+  const std::size_t n = 64;
+  const Scene s = scene_of(surface(n, 10, [](double, double y) { return 0.05 * y; }), false);
+  const CreaseGeometry paper = build_crease_geometry(s.mesh, s.links, {.edge_basin_min_share = 0, .one_line_per_flat = false});
+  const CreaseGeometry ours = build_crease_geometry(s.mesh, s.links, {});
+  EXPECT_EQ(*std::max_element(paper.flow.begin(), paper.flow.end()), 1.0f);
+  EXPECT_LE(*std::max_element(ours.flow.begin(), ours.flow.end()), float(n) / (0.05f * float(n * n)) + 1e-6f);
+  // Scored from above with the default parameters, the light from the north-west.
+  CreaseScoreParams p;
+  p.far_distance = 1000;
+  const Eigen::Vector3d eye(320, -320, 2000), light = terrain::light_direction(315, 45);
+  auto edge_share = [&](const CreaseGeometry& g) {
+    const auto a = accepted_segments(g, eye, light, 1.0, p);
+    const SegmentTraits t = segment_traits(s.mesh, s.links, g);
+    std::size_t all = 0, edge = 0;
+    for (std::size_t k = 0; k < a.size(); ++k) all += a[k], edge += a[k] && t.boundary[k];
+    return std::make_pair(all, edge);
+  };
+  const auto [paper_all, paper_edge] = edge_share(paper);
+  const auto [ours_all, ours_edge] = edge_share(ours);
+  EXPECT_GT(paper_edge, 0u);                               // the paper's rule: creases along the edge
+  EXPECT_GT(double(paper_edge), 0.25 * double(paper_all));  // ... many of them there (the band is 3 / 64 of the grid)
+  EXPECT_EQ(ours_edge, 0u) << ours_all;
+}
+
+// A square depression (12 x 12 samples, about 5 m deep) in a plane sloping south and a
+// little west, filled: its floor is one flat that spills at one rim point, and its
+// resolved D8 paths run in parallel towards it. One line crosses it: the flat links kept
+// form a single chain.
+TEST(CreaseRules, AFilledSquareDepressionGetsOneLine) {
+  const std::size_t n = 40;
+  const Scene s = scene_of(surface(n, 10,
+                                   [](double x, double y) {
+                                     const double z = 0.05 * y + 0.01 * x + 20;
+                                     return std::abs(x) < 60 && std::abs(y) < 60 ? z - 5 - 0.01 * (60 - std::abs(y)) : z;
+                                   }),
+                           true);
+  const CreaseGeometry all = build_crease_geometry(s.mesh, s.links, {.one_line_per_flat = false});
+  const CreaseGeometry one = build_crease_geometry(s.mesh, s.links, {});
+  auto flat_strokes = [&](const CreaseGeometry& g) {
+    const SegmentTraits t = segment_traits(s.mesh, s.links, g);
+    std::vector<float> drawn(t.flat.begin(), t.flat.end());
+    return std::make_pair(crease_strokes(g, drawn).size(), std::size_t(std::count(t.flat.begin(), t.flat.end(), 1)));
+  };
+  const auto [all_strokes, all_flat] = flat_strokes(all);
+  const auto [one_strokes, one_flat] = flat_strokes(one);
+  EXPECT_GT(all_strokes, 3u) << "parallel D8 paths across the flat";
+  EXPECT_GE(all_flat, 100u);
+  EXPECT_EQ(one_strokes, 1u);
+  EXPECT_GE(one_flat, 11u);  // it crosses the flat
+  EXPECT_LT(3 * one_flat, all_flat);
+}
+
+}  // namespace
+}  // namespace renderer
