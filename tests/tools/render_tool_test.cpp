@@ -75,6 +75,53 @@ TEST(TerrainRender, BatchWritesFramesAndTimings) {
   EXPECT_TRUE(std::filesystem::exists(in.dir.path("g.png")));
 }
 
+// --line-stats: every key with a value in range, no more strokes than segments the DM pass
+// drew; the seed rules draw more of their length near the boundary;
+// batch writes line_stats.csv (a row per frame) and the flicker; no .dv is a usage error.
+TEST(TerrainRender, LineStats) {
+  Inputs in;
+  auto value = [](const std::string& out, const std::string& key) {
+    const auto at = out.find(key + ": ");
+    EXPECT_NE(at, std::string::npos) << key << " in\n" << out;
+    return at == std::string::npos ? -1.0 : std::stod(out.substr(at + key.size() + 2));
+  };
+  const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + in.dir.path("f.png") +
+                            " --size 320x240 --line-stats";
+  const auto ours = run(frame), seed = run(frame + " --seed-rules");
+  ASSERT_EQ(ours.exit_code, 0) << ours.err;
+  ASSERT_EQ(seed.exit_code, 0) << seed.err;
+  for (const auto* r : {&ours, &seed}) {
+    EXPECT_GT(value(r->out, "crease length px"), 0.0);
+    for (const char* share : {"crease boundary share", "crease flat share", "crease valley share"}) {
+      EXPECT_GE(value(r->out, share), 0.0);
+      EXPECT_LE(value(r->out, share), 1.0);
+    }
+    EXPECT_GE(value(r->out, "crease strokes"), 1.0);
+    EXPECT_LE(value(r->out, "crease strokes"), value(r->out, "crease segments drawn"));  // a stroke has a segment
+  }
+  EXPECT_GT(value(seed.out, "crease boundary share"), value(ours.out, "crease boundary share"));
+
+  const std::string csv = in.dir.path("frames.csv"), out = in.dir.path("frames");
+  ASSERT_EQ(run(tool("terrain-render") + " path --from 561500 5114000 2800 --to 563500 5116000 2700 --frames 3 -o " + csv)
+                .exit_code,
+            0);
+  const auto b = run(tool("terrain-render") + " batch " + in.mesh + " " + in.dv + " " + csv + " -o " + out +
+                     " --size 160x120 -q --line-stats");
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  std::ifstream t(out + "/line_stats.csv");
+  std::stringstream all;
+  all << t.rdbuf();
+  EXPECT_EQ(lines(all.str()), 4u) << all.str();
+  EXPECT_EQ(all.str().rfind("frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px\n", 0), 0u);
+  const double f = value(b.out, "crease flicker");
+  EXPECT_GE(f, 0.0);
+  EXPECT_LE(f, 1.0);
+
+  const auto bad = run(tool("terrain-render") + " frame " + in.mesh + " -o " + in.dir.path("g.png") + " --line-stats");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--line-stats"), std::string::npos) << bad.err;
+}
+
 // A .dv made from another mesh (here: a crop of it) renders, with one warning naming both
 // extents; -q silences it.
 TEST(TerrainRender, DrainageOfAnotherMeshIsAWarning) {
