@@ -6,11 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <functional>
 
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
 #include "drainage/pipeline.hpp"
+#include "drainage_test_support.hpp"
 #include "terrain/grid_mesh.hpp"
 #include "terrain/hillshade.hpp"
 #include "test_support.hpp"
@@ -18,17 +18,7 @@
 namespace renderer {
 namespace {
 
-// z = f(x, y) on n x n samples h metres apart, x east and y north, (0, 0) at the centre sample.
-terrain::Grid surface(std::size_t n, double h, const std::function<double(double, double)>& f) {
-  terrain::Georef geo;
-  geo.dx = geo.dy = h;
-  geo.x0 = -double(n) * h / 2;
-  geo.y0 = double(n) * h / 2;
-  terrain::Grid g(n, n, geo);
-  for (std::size_t r = 0; r < n; ++r)
-    for (std::size_t c = 0; c < n; ++c) g.at(r, c) = float(f(geo.x_of_col(double(c)), geo.y_of_row(double(r))));
-  return g;
-}
+using drainage::test::analytic;
 
 // The mesh of `g` and the drainage of the same grid (raster mode), as terrain-render sees them.
 struct Scene {
@@ -48,11 +38,11 @@ Scene scene_of(const terrain::Grid& g, bool fill) {
 
 TEST(PlanCurvature, ValleysArePositiveRidgesNegativePlanesZero) {
   const std::size_t n = 21;
-  const auto vk = plan_curvature(terrain::make_grid_mesh(surface(n, 10, [](double x, double y) { return 0.5 * std::abs(x) + 0.1 * y; }),
+  const auto vk = plan_curvature(terrain::make_grid_mesh(analytic(n, 10, [](double x, double y) { return 0.5 * std::abs(x) + 0.1 * y; }),
                                                         terrain::NormalWeighting::Uniform));
-  const auto rk = plan_curvature(terrain::make_grid_mesh(surface(n, 10, [](double x, double y) { return -0.5 * std::abs(x) + 0.1 * y; }),
+  const auto rk = plan_curvature(terrain::make_grid_mesh(analytic(n, 10, [](double x, double y) { return -0.5 * std::abs(x) + 0.1 * y; }),
                                                         terrain::NormalWeighting::Uniform));
-  const auto pk = plan_curvature(terrain::make_grid_mesh(surface(n, 10, [](double x, double y) { return 0.3 * x + 0.1 * y; }),
+  const auto pk = plan_curvature(terrain::make_grid_mesh(analytic(n, 10, [](double x, double y) { return 0.3 * x + 0.1 * y; }),
                                                         terrain::NormalWeighting::Uniform));
   for (std::size_t r = 1; r + 1 < n; ++r)
     for (std::size_t c = 1; c + 1 < n; ++c) {
@@ -116,7 +106,7 @@ TEST(LineStats, FlickerCountsWhatAppearsOrVanishes) {
 // all of them in concave ground: valley share 1; none on the planar sides.
 TEST(CreaseRules, VValleyCreasesLieOnTheAxis) {
   const std::size_t n = 41;
-  const Scene s = scene_of(surface(n, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
+  const Scene s = scene_of(analytic(n, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
   const CreaseGeometry g = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 30});
   ASSERT_GT(g.n_segments(), 30u);
   const SegmentTraits t = segment_traits(s.mesh, s.links, g);
@@ -135,7 +125,7 @@ TEST(CreaseRules, VValleyCreasesLieOnTheAxis) {
 // stays below rows / (share x points) and the accepted creases do not gather at the edge.
 TEST(CreaseRules, APlaneDrainingOffAnEdgeGathersNoCreasesThere) {
   const std::size_t n = 64;
-  const Scene s = scene_of(surface(n, 10, [](double, double y) { return 0.05 * y; }), false);
+  const Scene s = scene_of(analytic(n, 10, [](double, double y) { return 0.05 * y; }), false);
   const CreaseGeometry paper = build_crease_geometry(s.mesh, s.links, {.edge_basin_min_share = 0, .one_line_per_flat = false});
   const CreaseGeometry ours = build_crease_geometry(s.mesh, s.links, {});
   EXPECT_EQ(*std::max_element(paper.flow.begin(), paper.flow.end()), 1.0f);
@@ -164,7 +154,7 @@ TEST(CreaseRules, APlaneDrainingOffAnEdgeGathersNoCreasesThere) {
 // form a single chain.
 TEST(CreaseRules, AFilledSquareDepressionGetsOneLine) {
   const std::size_t n = 40;
-  const Scene s = scene_of(surface(n, 10,
+  const Scene s = scene_of(analytic(n, 10,
                                    [](double x, double y) {
                                      const double z = 0.05 * y + 0.01 * x + 20;
                                      return std::abs(x) < 60 && std::abs(y) < 60 ? z - 5 - 0.01 * (60 - std::abs(y)) : z;
