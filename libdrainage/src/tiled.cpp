@@ -77,9 +77,7 @@ TileFlood flood_tile(const TileGrid& tiles, std::size_t t, const WindowReader& r
 
   TileFlood f;
   f.nr = w.rows, f.nc = w.cols;
-  f.geo = halo.geo;
-  f.geo.x0 += double(dc) * halo.geo.dx;
-  f.geo.y0 -= double(dr) * halo.geo.dy;
+  f.geo = halo.geo.window(dr, dc);
   const long nr = long(f.nr), nc = long(f.nc);
   f.z.resize(f.nr * f.nc);
   for (std::size_t r = 0; r < f.nr; ++r)

@@ -88,10 +88,7 @@ D8Codes window_codes(const SurfaceReader& surface, const terrain::RasterWindow& 
   for (std::size_t r = 0; r < w.rows; ++r)
     for (std::size_t c = 0; c < w.cols; ++c) out[r * w.cols + c] = all[(r + dr) * h.cols + c + dc];
   if (z) {
-    terrain::Georef geo = zh.geo;
-    geo.x0 += double(dc) * geo.dx;
-    geo.y0 -= double(dr) * geo.dy;
-    *z = terrain::Grid(w.rows, w.cols, geo);
+    *z = terrain::Grid(w.rows, w.cols, zh.geo.window(dr, dc));
     for (std::size_t r = 0; r < w.rows; ++r)
       for (std::size_t c = 0; c < w.cols; ++c) z->at(r, c) = zh.at(r + dr, c + dc);
   }
@@ -313,13 +310,6 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
   std::uint32_t flags = 0;
   std::function<terrain::Grid(const terrain::RasterWindow&)> surface = read_z;
 
-  // The window of the grid's georeferencing (as read_dem gives it).
-  auto window_geo = [&](const terrain::RasterWindow& w) {
-    terrain::Georef geo = info.geo;
-    geo.x0 += double(w.col0) * geo.dx;
-    geo.y0 -= double(w.row0) * geo.dy;
-    return geo;
-  };
   std::unique_ptr<ScratchArray<float>> filled;
   if (!run.dem.empty() && run.fill) {
     filled = std::make_unique<ScratchArray<float>>(output_path + ".filled.tmp", info.rows, info.cols, comm);
@@ -332,7 +322,7 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
         comm);
     comm.barrier();  // every tile filled before any rank reads the surface
     surface = [&](const terrain::RasterWindow& w) {
-      terrain::Grid g(w.rows, w.cols, window_geo(w));
+      terrain::Grid g(w.rows, w.cols, info.geo.window(w.row0, w.col0));  // as read_dem gives it
       filled->read(w, g.z.data());
       return g;
     };

@@ -35,6 +35,13 @@ struct Georef {
   double y_of_row(double r) const { return y0 - (r + 0.5) * dy; }
   double col_of_x(double x) const { return (x - x0) / dx - 0.5; }
   double row_of_y(double y) const { return (y0 - y) / dy - 0.5; }
+  // The georeferencing of a window whose first sample is this grid's (row, col).
+  Georef window(std::size_t row, std::size_t col) const {
+    Georef g = *this;
+    g.x0 += double(col) * dx;
+    g.y0 -= double(row) * dy;
+    return g;
+  }
 };
 
 struct Grid {
