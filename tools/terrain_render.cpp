@@ -215,7 +215,7 @@ struct FrameLines {
 FrameLines frame_lines(const Scene& scene, const rr::TerrainRenderer& r, const rr::FrameResult& res,
                        const rr::FrameParams& fp, const rr::Style& style) {
   const double exaggeration = style.exaggeration;
-  const double lift = style.crease_lift >= 0 ? style.crease_lift : 0.5 * std::min(scene.mesh.geo.dx, scene.mesh.geo.dy);
+  const double lift = rr::crease_lift(style, scene.mesh);
   const rr::CreaseGeometry& g = *scene.creases;
   rr::CreaseScoreParams score = fp.score;
   if (!(score.far_distance > 0)) score.far_distance = rr::default_far_distance(scene.mesh);

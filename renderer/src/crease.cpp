@@ -157,6 +157,10 @@ double crease_score(const Eigen::Vector3d& n, double flow, const Eigen::Vector3d
   return raw - rs_min;
 }
 
+double crease_lift(const Style& style, const terrain::GridMesh& mesh) {
+  return style.crease_lift >= 0 ? style.crease_lift : 0.5 * std::min(mesh.geo.dx, mesh.geo.dy);
+}
+
 double default_far_distance(const terrain::GridMesh& mesh) {
   return std::hypot(double(mesh.topo.cols - 1) * mesh.geo.dx, double(mesh.topo.rows - 1) * mesh.geo.dy);
 }

@@ -74,7 +74,7 @@ struct TerrainRenderer::Impl {
         box(exaggerated_box(mesh, style.exaggeration)),
         origin(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z),
         far_default(default_far_distance(mesh)),
-        lift(style.crease_lift >= 0 ? style.crease_lift : 0.5 * std::min(mesh.geo.dx, mesh.geo.dy)),
+        lift(crease_lift(style, mesh)),
         scene(mesh, width, height, context.has_clip_control()),
         toward(scene),
         away(scene, layers.silhouettes && !layers.adjacency),

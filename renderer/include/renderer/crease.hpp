@@ -75,6 +75,10 @@ double crease_score(const Eigen::Vector3d& normal, double flow, const Eigen::Vec
 // The unit normal after scaling z by `exaggeration`: (nx, ny, nz / e) normalized.
 Eigen::Vector3d exaggerate_normal(const Eigen::Vector3d& n, double exaggeration);
 
+// How far the DM pass lifts crease vertices along the (exaggerated) normal, metres:
+// style.crease_lift, or half the mesh spacing when it is negative (the default).
+double crease_lift(const Style& style, const terrain::GridMesh& mesh);
+
 // Far distance used by the score when params.far_distance is 0.
 double default_far_distance(const terrain::GridMesh& mesh);
 
