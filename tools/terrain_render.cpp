@@ -40,15 +40,18 @@ struct RenderOptions {
   std::string background = "#dde4ec", mask = "white", crease_colour = "blue", silhouette_colour = "black";
   bool literal = false, seed_rules = false, line_stats = false;
   rr::CreaseRules rules{.min_accumulated = 100};
+  // Given on the command line (frame: without them, the default view, rr::relief_view).
+  CLI::Option *view_az = nullptr, *light_az = nullptr, *light_alt = nullptr;
 };
 
 void add_render_options(CLI::App* app, RenderOptions& o) {
   auto& f = o.frame;
   app->add_option("--size", o.size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
   app->add_option("--eye", o.eye, "Viewpoint E N Z: easting, northing (mesh CRS) and elevation in metres; "
-                                  "default: an oblique view framing the whole terrain")
+                                  "default (frame): the part of highest relief, seen from its open side and "
+                                  "side-lit; with --view-az: the whole terrain framed along that bearing")
       ->expected(3);
-  app->add_option("--view-az", f.camera.view_az, "Bearing of the line of sight, degrees clockwise from grid north")
+  o.view_az = app->add_option("--view-az", f.camera.view_az, "Bearing of the line of sight, degrees clockwise from grid north")
       ->capture_default_str();
   app->add_option("--view-alt", f.camera.view_alt, "Angle of the line of sight below the horizon, degrees")
       ->check(CLI::Range(-90.0, 90.0))
@@ -56,8 +59,10 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
   app->add_option("--fov", f.camera.fov, "Vertical field of view, degrees")
       ->check(CLI::Range(1.0, 170.0))
       ->capture_default_str();
-  app->add_option("--light-az", f.light.azimuth, "Light azimuth, degrees clockwise from north")->capture_default_str();
-  app->add_option("--light-alt", f.light.altitude, "Light altitude above the horizon, degrees")
+  o.light_az = app->add_option("--light-az", f.light.azimuth,
+                               "Light azimuth, degrees clockwise from north (frame's default view: from its left)")
+      ->capture_default_str();
+  o.light_alt = app->add_option("--light-alt", f.light.altitude, "Light altitude above the horizon, degrees")
       ->check(CLI::Range(-90.0, 90.0))
       ->capture_default_str();
   app->add_option("--sw", f.score.sw, "Crease score: slope weight")->check(CLI::Range(0.0, 1.0))->capture_default_str();
@@ -74,7 +79,7 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   app->add_option("--far-distance", f.score.far_distance,
-                  "Crease score: distance (m) at which rs_min stops rising; 0 = the terrain's diagonal")
+                  "Crease score: distance (m) at which rs_min stops rising; 0 = across the scene, from its nearest to its farthest point")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app->add_option("--min-accumulation", o.rules.min_accumulated,
@@ -135,6 +140,14 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
       ->capture_default_str();
   app->add_option("--crease-width-max", o.style.crease_width_max, "Crease width in pixels at normalized flow 1")
       ->check(CLI::Range(0.5, 20.0))
+      ->capture_default_str();
+  app->add_flag("!--aliased", o.style.antialias,
+                "Pixel-exact lines: every crease and PEL pixel is the line colour or not (no coverage, no fade, "
+                "no silhouette softening); for comparisons by pixel count");
+  app->add_option("--crease-fade", o.style.crease_fade,
+                  "Creases fade in over this band of the rendering score above the threshold instead of popping "
+                  "in (0: cut at the threshold)")
+      ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   app->add_option("--silhouette-width", o.style.silhouette_width, "Silhouette width in pixels")
       ->check(CLI::Range(1, 9))
@@ -217,11 +230,11 @@ FrameLines frame_lines(const Scene& scene, const rr::TerrainRenderer& r, const r
   const double exaggeration = style.exaggeration;
   const double lift = rr::crease_lift(style, scene.mesh);
   const rr::CreaseGeometry& g = *scene.creases;
-  rr::CreaseScoreParams score = fp.score;
-  if (!(score.far_distance > 0)) score.far_distance = rr::default_far_distance(scene.mesh);
-  const auto accepted = rr::accepted_segments(g, res.view.eye, terrain::light_direction(fp.light.azimuth, fp.light.altitude),
-                                              exaggeration, score);
-  FrameLines lines{std::vector<float>(accepted.begin(), accepted.end()), rr::segment_pixels(g, res.view, exaggeration, lift)};
+  const rr::CreaseScoreParams score = rr::resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.eye);
+  const double fade = style.antialias ? style.crease_fade : 0.0;
+  FrameLines lines{rr::segment_opacity(g, res.view.eye, terrain::light_direction(fp.light.azimuth, fp.light.altitude),
+                                       exaggeration, score, fade),
+                   rr::segment_pixels(g, res.view, exaggeration, lift)};
   const auto visible = rr::visible_fraction(g, res.view, exaggeration, lift, r.read_buffers().crease);
   for (std::size_t s = 0; s < visible.size(); ++s) lines.pixels[s] *= visible[s];
   return lines;
@@ -283,8 +296,16 @@ int run_frame(FrameArgs& a, const std::string& prov, const tt::Verbosity& verb) 
     throw terrain::Error("'" + a.dv + "' is not a drainage database (.dv)");
   check_line_stats(a.opts, layers, a.dv);
   const Scene scene = load_scene(a.mesh, a.dv, a.opts.rules, verb);
-  if (a.opts.frame.camera.eye)
-    rr::check_eye_above_terrain(scene.mesh, *a.opts.frame.camera.eye, a.opts.style.exaggeration);
+  rr::FrameParams& fp = a.opts.frame;
+  if (!fp.camera.eye && !*a.opts.view_az) {  // the default view
+    const auto rv = rr::relief_view(scene.mesh, a.opts.style.exaggeration, fp.camera.fov, double(w) / double(h),
+                                    fp.camera.view_alt);
+    fp.camera = rv.camera;
+    if (!*a.opts.light_az && !*a.opts.light_alt) fp.light = rv.light;
+    tt::step(verb, fmt::format("default view: the relief around {:.0f} {:.0f} ({:.0f} m), seen from bearing {:.0f}",
+                               rv.centre.x(), rv.centre.y(), rv.relief, std::fmod(rv.camera.view_az + 180, 360.0)));
+  }
+  if (fp.camera.eye) rr::check_eye_above_terrain(scene.mesh, *fp.camera.eye, a.opts.style.exaggeration);
   auto t0 = Clock::now();
   rr::GlContext ctx;
   rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, w, h, layers, a.opts.style);
@@ -296,6 +317,8 @@ int run_frame(FrameArgs& a, const std::string& prov, const tt::Verbosity& verb) 
             << "size: " << w << " x " << h << "\n";
   print_device(ctx);
   std::cout << fmt::format("eye: {:.1f} {:.1f} {:.1f}\n", eye.x(), eye.y(), eye.z())
+            << fmt::format("view: az {:g} alt {:g} fov {:g}\n", fp.camera.view_az, fp.camera.view_alt, fp.camera.fov)
+            << fmt::format("light: az {:g} alt {:g}\n", fp.light.azimuth, fp.light.altitude)
             << "crease segments drawn: " << res.crease_segments << "\n"
             << "pel segments drawn: " << res.pel_segments << "\n"
             << "edges drawn: " << res.edges << "\n";

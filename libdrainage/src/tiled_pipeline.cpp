@@ -261,10 +261,10 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
     if (find(x) != x || !comm.owns(joined++)) continue;
     const terrain::RasterWindow box{boxes[x].r0, boxes[x].c0, boxes[x].r1 - boxes[x].r0 + 1, boxes[x].c1 - boxes[x].c0 + 1};
     const terrain::RasterWindow W = tiles.halo(box);
-    const auto [raw, resolved, comp, count] = window_flats(surface, W, tiles);
+    const WindowFlats f = window_flats(surface, W, tiles);
     const std::uint64_t seed = seeds[x];
-    const std::uint32_t mine = comp[(seed / C - W.row0) * W.cols + seed % C - W.col0];
-    auto fixed = [&](std::size_t i) { return comp[i] == mine && raw[i] == kNoFlow; };
+    const std::uint32_t mine = f.comp[(seed / C - W.row0) * W.cols + seed % C - W.col0];
+    auto fixed = [&](std::size_t i) { return f.comp[i] == mine && f.raw[i] == kNoFlow; };
     for (std::size_t r = 0; r < W.rows; ++r)
       for (std::size_t c = 0; c < W.cols;) {
         if (!fixed(r * W.cols + c)) {
@@ -273,7 +273,7 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
         }
         std::size_t e = c;
         while (e < W.cols && fixed(r * W.cols + e)) ++e;
-        out.write_run(std::uint64_t(W.row0 + r) * C + W.col0 + c, resolved.data() + r * W.cols + c, e - c);
+        out.write_run(std::uint64_t(W.row0 + r) * C + W.col0 + c, f.resolved.data() + r * W.cols + c, e - c);
         c = e;
       }
   }

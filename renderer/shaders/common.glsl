@@ -28,3 +28,19 @@ vec4 segment_quad_vertex(vec4 c0, vec4 c1, float w0, float w1, uint k) {
   c.xy += (perp * side_of[k] * w + dir * (j == 0u ? -w : w)) / half_vp * c.w;
   return c;
 }
+
+// Anti-aliased lines (u_style.x != 0): the window-pixel position of clip position c.
+vec2 window_of(vec4 c) { return (c.xy / c.w * 0.5 + 0.5) * u_viewport.xy; }
+
+// Coverage of the pixel centred at x by the capsule from a to b (window pixels) whose
+// radius goes linearly from r0 to r1: a one-pixel ramp across its border, so that a
+// line's coverage summed across it equals its width (2r); below a pixel's width the ramp
+// keeps one pixel and the coverage scales by 2r. Round caps; overlapping capsules of a
+// polyline, blended with MAX, join round.
+float capsule_coverage(vec2 x, vec2 a, vec2 b, float r0, float r1) {
+  vec2 d = b - a;
+  float len2 = dot(d, d);
+  float t = len2 > 0.0 ? clamp(dot(x - a, d) / len2, 0.0, 1.0) : 0.0;
+  float r = mix(r0, r1, t);
+  return clamp(max(r, 0.5) + 0.5 - distance(x, a + t * d), 0.0, 1.0) * min(1.0, 2.0 * r);
+}

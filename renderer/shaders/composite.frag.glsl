@@ -1,6 +1,8 @@
 // LAY: the background, the surface (shaded or mask colour) where a toward surface is,
 // PEL, crease and object-space edge pixels whose depth is not behind that surface,
-// silhouette pixels (dilated to the silhouette width).
+// silhouette pixels (dilated to the silhouette width). Anti-aliased (u_style.x != 0):
+// PELs and creases blend by their coverage (hidden lines were removed when they were
+// drawn); silhouettes, found per pixel, are softened by a ring one pixel wide at 40 %.
 layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
 layout(binding = TR_TEX_SURFACE_COLOUR) uniform sampler2D u_surface_colour;
 layout(binding = TR_TEX_CREASE_COLOUR) uniform sampler2D u_crease;
@@ -27,6 +29,13 @@ bool line_visible(sampler2D colour, sampler2D depth, ivec2 p, float t) {
   return texelFetch(colour, p, 0).r > 0.0 && far_of(texelFetch(depth, p, 0).r) <= t;
 }
 
+// A line layer's coverage of pixel p: anti-aliased, the layer's value; pixel-exact, 1
+// where line_visible.
+float line_cover(sampler2D colour, sampler2D depth, ivec2 p, float t) {
+  if (u_style.x != 0.0) return texelFetch(colour, p, 0).r;
+  return line_visible(colour, depth, p, t) ? 1.0 : 0.0;
+}
+
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   ivec2 size = textureSize(u_toward, 0);
@@ -35,18 +44,21 @@ void main() {
   vec3 c = u_background;
   if (surface && u_layers.x != 0) c = texelFetch(u_surface_colour, p, 0).rgb;
   else if (surface && u_layers.y != 0) c = u_mask_colour;
-  if (u_pels != 0 && line_visible(u_pel, u_pel_depth, p, t)) c = u_pel_colour;
-  if (u_layers.z != 0 && line_visible(u_crease, u_crease_depth, p, t)) c = u_crease_colour;
+  if (u_pels != 0) c = mix(c, u_pel_colour, line_cover(u_pel, u_pel_depth, p, t));
+  if (u_layers.z != 0) c = mix(c, u_crease_colour, line_cover(u_crease, u_crease_depth, p, t));
   if (u_edges != 0 && line_visible(u_edge, u_edge_depth, p, t)) c = u_edge_colour;
   if (u_layers.w != 0) {
+    // The dilation window [r0, r1]^2; anti-aliased, one more pixel around it at 40 %.
     int r0 = -(u_silhouette_width - 1) / 2, r1 = u_silhouette_width / 2;
-    bool sil = false;
-    for (int dy = r0; dy <= r1; ++dy)
-      for (int dx = r0; dx <= r1; ++dx) {
+    int ring = u_style.x != 0.0 ? 1 : 0;
+    float sil = 0.0;
+    for (int dy = r0 - ring; dy <= r1 + ring; ++dy)
+      for (int dx = r0 - ring; dx <= r1 + ring; ++dx) {
         ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
-        sil = sil || texelFetch(u_silhouette, q, 0).r > 0.0;
+        bool core = dx >= r0 && dx <= r1 && dy >= r0 && dy <= r1;
+        if (texelFetch(u_silhouette, q, 0).r > 0.0) sil = max(sil, core ? 1.0 : 0.4);
       }
-    if (sil) c = u_silhouette_colour;
+    c = mix(c, u_silhouette_colour, sil);
   }
   o_colour = vec4(c, 1.0);
 }

@@ -1,8 +1,13 @@
 // DM, step 3: each selected segment as a screen-space quad (6 vertices, no geometry
-// shader), its ends lifted along the PN normal and extended by half a width (round-ish
-// joins); the width grows from u_lines.x at flow 0 to u_lines.y at flow 1, so creases
-// thicken towards outlets.
+// shader), its ends lifted along the PN normal; the width grows from u_lines.x at flow 0
+// to u_lines.y at flow 1, so creases thicken towards outlets. Pixel-exact: the quad's
+// ends are extended by half a width. Anti-aliased: the quad holds the segment's capsule
+// and a one-pixel fringe, and the segment's opacity rises from 0 at the score threshold
+// to 1 at u_style.y above it (fade instead of cut; 1 when u_style.y is 0).
 layout(std430, binding = TR_SSBO_CREASE_SELECTED) readonly buffer Selected { uint selected[]; };
+layout(std430, binding = TR_SSBO_CREASE_SCORES) readonly buffer Scores { float score[]; };
+flat out vec4 v_ends;
+flat out vec3 v_shape;
 void main() {
   uint q = uint(gl_VertexID) / 6u, k = uint(gl_VertexID) % 6u;
   uvec2 e = seg[selected[q]];
@@ -15,5 +20,9 @@ void main() {
     clip[j] = u_view_proj * vec4(p, 1.0);
     width[j] = mix(u_lines.x, u_lines.y, clamp(pf.w, 0.0, 1.0));
   }
-  gl_Position = segment_quad_vertex(clip[0], clip[1], width[0], width[1], k);
+  float fringe = u_style.x != 0.0 ? 2.0 : 0.0;
+  gl_Position = segment_quad_vertex(clip[0], clip[1], width[0] + fringe, width[1] + fringe, k);
+  float lowest = min(score[e.x], score[e.y]);
+  v_ends = vec4(window_of(clip[0]), window_of(clip[1]));
+  v_shape = vec3(0.5 * width[0], 0.5 * width[1], u_style.y > 0.0 ? clamp(lowest / u_style.y, 0.0, 1.0) : 1.0);
 }

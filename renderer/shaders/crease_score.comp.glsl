@@ -1,7 +1,7 @@
 // DM, step 1: the rendering score of every crease vertex (docs/algorithms.md 9.1; CPU
 // reference: renderer::crease_score).
 //   rs = (sw*sc + iw*ic + fw*fc) / divisor - rs_min,  sc = 1 - n.z,  ic = 1 - n.l,
-//   rs_min = min + (1 - min) * falloff * clamp(d / d_far, 0, 1).
+//   rs_min = min + (1 - min) * falloff * clamp((d - d_near) / (d_far - d_near), 0, 1).
 layout(local_size_x = TR_LOCAL_SIZE) in;
 layout(std430, binding = TR_SSBO_CREASE_SCORES) writeonly buffer Scores { float score[]; };
 void main() {
@@ -13,6 +13,7 @@ void main() {
   float sc = 1.0 - n.z;
   float ic = 1.0 - dot(n, u_light.xyz);
   float raw = (u_weights.x * sc + u_weights.y * ic + u_weights.z * pf.w) / u_weights.w;
-  float rs_min = u_score.x + (1.0 - u_score.x) * u_score.y * clamp(distance(p, u_eye.xyz) / u_score.z, 0.0, 1.0);
+  float rs_min = u_score.x + (1.0 - u_score.x) * u_score.y *
+                 clamp((distance(p, u_eye.xyz) - u_style.z) / (u_score.z - u_style.z), 0.0, 1.0);
   score[i] = raw - rs_min;
 }

@@ -1,14 +1,20 @@
-// PEL segments as screen-space quads, lifted along their face normal like the creases.
+// PEL segments as screen-space quads, lifted along their face normal like the creases
+// (anti-aliased: with a one-pixel fringe for the capsule's coverage, line.frag.glsl).
 struct PelSegment {
   vec4 a, b, n;
 };
 layout(std430, binding = TR_SSBO_PEL_SEGMENTS) readonly buffer PelSegments { PelSegment segment[]; };
 layout(location = TR_LOC_PEL_WIDTH) uniform float u_pel_width;
+flat out vec4 v_ends;
+flat out vec3 v_shape;
 void main() {
   uint q = uint(gl_VertexID) / 6u, k = uint(gl_VertexID) % 6u;
   PelSegment sg = segment[q];
   vec3 lift = u_score.w * exaggerate_normal(sg.n.xyz);
   vec4 c0 = u_view_proj * vec4(exaggerate_position(sg.a.xyz) + lift, 1.0);
   vec4 c1 = u_view_proj * vec4(exaggerate_position(sg.b.xyz) + lift, 1.0);
-  gl_Position = segment_quad_vertex(c0, c1, u_pel_width, u_pel_width, k);
+  float w = u_pel_width + (u_style.x != 0.0 ? 2.0 : 0.0);
+  gl_Position = segment_quad_vertex(c0, c1, w, w, k);
+  v_ends = vec4(window_of(c0), window_of(c1));
+  v_shape = vec3(0.5 * u_pel_width, 0.5 * u_pel_width, 1.0);
 }

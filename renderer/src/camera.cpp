@@ -92,6 +92,69 @@ Eigen::Vector3d frame_box(const Box& box, double az, double alt, double fov_deg,
   return target - d * f;
 }
 
+ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, double aspect, double view_alt) {
+  const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
+  if (rows < 2 || cols < 2) throw terrain::Error("the mesh has no faces");
+  const auto z = [&](std::size_t r, std::size_t c) { return double(mesh.positions[r * cols + c].z()); };
+  // Coarse cells of f x f vertices: their lowest and highest heights.
+  const std::size_t f = (std::max(rows, cols) + 95) / 96, R = (rows + f - 1) / f, C = (cols + f - 1) / f;
+  std::vector<double> lo(R * C, 1e300), hi(R * C, -1e300);
+  for (std::size_t r = 0; r < rows; ++r)
+    for (std::size_t c = 0; c < cols; ++c) {
+      const std::size_t k = (r / f) * C + c / f;
+      lo[k] = std::min(lo[k], z(r, c));
+      hi[k] = std::max(hi[k], z(r, c));
+    }
+  // The window of k x k cells of largest relief (ties: the one nearest the centre).
+  const std::size_t k = std::max<std::size_t>(1, (std::min(R, C) + 1) / 3);
+  double best = -1, best_off = 0, wlo = 0, whi = 0;
+  std::size_t bi = 0, bj = 0;
+  for (std::size_t i = 0; i + k <= R; ++i)
+    for (std::size_t j = 0; j + k <= C; ++j) {
+      double a = 1e300, b = -1e300;
+      for (std::size_t u = i; u < i + k; ++u)
+        for (std::size_t v = j; v < j + k; ++v) a = std::min(a, lo[u * C + v]), b = std::max(b, hi[u * C + v]);
+      const double off = std::hypot(double(2 * i + k) - double(R), double(2 * j + k) - double(C));
+      if (b - a > best || (b - a == best && off < best_off)) best = b - a, best_off = off, bi = i, bj = j, wlo = a, whi = b;
+    }
+  const auto& g = mesh.geo;
+  const std::size_t r0 = bi * f, r1 = std::min((bi + k) * f, rows) - 1, c0 = bj * f, c1 = std::min((bj + k) * f, cols) - 1;
+  const Eigen::Vector2d centre(0.5 * double(c0 + c1) * g.dx, -0.5 * double(r0 + r1) * g.dy);  // local
+  const double w = std::max(double(c1 - c0) * g.dx, double(r1 - r0) * g.dy);
+  // The open side: the eye's bearing from the centre is the view's bearing + 180.
+  double view_az = 225, lowest = 1e300;
+  for (int a = 0; a < 360; a += 15) {
+    const Eigen::Vector2d towards_eye = -Eigen::Vector2d(std::sin(a * kDeg), std::cos(a * kDeg));
+    double sum = 0;
+    for (int s = 0; s <= 8; ++s) {
+      const Eigen::Vector2d p = centre + w * (0.5 + 0.125 * s) * towards_eye;
+      const double c = std::round(p.x() / g.dx), r = std::round(-p.y() / g.dy);
+      sum += (c >= 0 && r >= 0 && c < double(cols) && r < double(rows)) ? z(std::size_t(r), std::size_t(c)) : wlo;
+    }
+    if (sum < lowest - 1e-9 * std::abs(lowest)) lowest = sum, view_az = a;
+  }
+  // The eye looks at the window's centre at its mean height, from 2.5 times the distance
+  // that frames the window's box: the window fills about the middle 40 % of the frame.
+  double mean = 0;
+  for (std::size_t r = r0; r <= r1; ++r)
+    for (std::size_t c = c0; c <= c1; ++c) mean += z(r, c);
+  mean /= double((r1 - r0 + 1) * (c1 - c0 + 1));
+  const Box box{{double(c0) * g.dx, -double(r1) * g.dy, wlo * e}, {double(c1) * g.dx, -double(r0) * g.dy, whi * e}};
+  const double framed = (0.5 * (box.lo + box.hi) - frame_box(box, view_az, view_alt, fov_deg, aspect)).norm();
+  const Eigen::Vector3d target(centre.x(), centre.y(), mean * e);
+  ReliefView rv;
+  rv.camera.view_az = view_az;
+  rv.camera.view_alt = view_alt;
+  rv.camera.fov = fov_deg;
+  const Eigen::Vector3d origin(g.origin_x, g.origin_y, g.origin_z);
+  rv.camera.eye = origin + target - 2.5 * framed * view_direction(view_az, view_alt);
+  rv.light.azimuth = std::fmod(view_az + 270.0, 360.0);
+  rv.light.altitude = 35;
+  rv.centre = centre + origin.head<2>();
+  rv.relief = best;
+  return rv;
+}
+
 View make_view(const Camera& cam, const Eigen::Vector3d& origin, const Box& box, int width, int height,
                bool reversed_z) {
   View v;

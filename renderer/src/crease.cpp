@@ -152,8 +152,8 @@ double crease_score(const Eigen::Vector3d& n, double flow, const Eigen::Vector3d
   const double sc = 1.0 - n.z(), ic = 1.0 - n.dot(light);
   const double divisor = p.literal_divisor ? 3.0 : (p.sw + p.iw + p.fw);
   const double raw = (p.sw * sc + p.iw * ic + p.fw * flow) / divisor;
-  const double rs_min =
-      p.min_score + (1.0 - p.min_score) * p.falloff * std::clamp(distance / p.far_distance, 0.0, 1.0);
+  const double rs_min = p.min_score + (1.0 - p.min_score) * p.falloff *
+                                          std::clamp((distance - p.near_distance) / (p.far_distance - p.near_distance), 0.0, 1.0);
   return raw - rs_min;
 }
 
@@ -161,22 +161,49 @@ double crease_lift(const Style& style, const terrain::GridMesh& mesh) {
   return style.crease_lift >= 0 ? style.crease_lift : 0.5 * std::min(mesh.geo.dx, mesh.geo.dy);
 }
 
-double default_far_distance(const terrain::GridMesh& mesh) {
-  return std::hypot(double(mesh.topo.cols - 1) * mesh.geo.dx, double(mesh.topo.rows - 1) * mesh.geo.dy);
+CreaseScoreParams resolve_distances(const CreaseScoreParams& params, const Eigen::Vector3d& lo,
+                                    const Eigen::Vector3d& hi, const Eigen::Vector3d& eye) {
+  if (params.far_distance > 0) return params;
+  CreaseScoreParams p = params;
+  const Eigen::Vector3d far = (eye - lo).cwiseAbs().cwiseMax((eye - hi).cwiseAbs());
+  p.near_distance = (eye - eye.cwiseMax(lo).cwiseMin(hi)).norm();
+  p.far_distance = std::max(far.norm(), p.near_distance + 1e-6 * (1.0 + far.norm()));
+  return p;
 }
+
+namespace {
+// The lower score of each segment's two ends.
+std::vector<double> segment_scores(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
+                                   double e, const CreaseScoreParams& params) {
+  std::vector<double> score(g.positions.size());
+  for (std::size_t i = 0; i < score.size(); ++i) {
+    const Eigen::Vector3d p = g.positions[i].cast<double>();
+    const Eigen::Vector3d pe(p.x(), p.y(), p.z() * e);
+    score[i] = crease_score(exaggerate_normal(g.normals[i].cast<double>(), e), g.flow[i], light, (pe - eye).norm(),
+                            params);
+  }
+  std::vector<double> lowest(g.n_segments());
+  for (std::size_t s = 0; s < g.n_segments(); ++s)
+    lowest[s] = std::min(score[g.segments[2 * s]], score[g.segments[2 * s + 1]]);
+  return lowest;
+}
+}  // namespace
 
 std::vector<std::uint8_t> accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye,
                                             const Eigen::Vector3d& light, double e, const CreaseScoreParams& params) {
-  std::vector<char> ok(g.positions.size());
-  for (std::size_t i = 0; i < ok.size(); ++i) {
-    const Eigen::Vector3d p = g.positions[i].cast<double>();
-    const Eigen::Vector3d pe(p.x(), p.y(), p.z() * e);
-    ok[i] = crease_score(exaggerate_normal(g.normals[i].cast<double>(), e), g.flow[i], light, (pe - eye).norm(),
-                         params) >= 0.0;
-  }
-  std::vector<std::uint8_t> accepted(g.n_segments());
-  for (std::size_t s = 0; s < g.n_segments(); ++s) accepted[s] = ok[g.segments[2 * s]] && ok[g.segments[2 * s + 1]];
+  const auto lowest = segment_scores(g, eye, light, e, params);
+  std::vector<std::uint8_t> accepted(lowest.size());
+  for (std::size_t s = 0; s < lowest.size(); ++s) accepted[s] = lowest[s] >= 0.0;
   return accepted;
+}
+
+std::vector<float> segment_opacity(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
+                                   double e, const CreaseScoreParams& params, double fade) {
+  const auto lowest = segment_scores(g, eye, light, e, params);
+  std::vector<float> opacity(lowest.size());
+  for (std::size_t s = 0; s < lowest.size(); ++s)
+    opacity[s] = lowest[s] < 0.0 ? 0.0f : fade > 0 ? float(std::min(1.0, lowest[s] / fade)) : 1.0f;
+  return opacity;
 }
 
 std::size_t count_accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,

@@ -38,6 +38,7 @@ void check_inputs(const terrain::GridMesh& mesh, int width, int height, const La
     throw terrain::Error("the mesh has too many faces for one draw call");
   if (!(style.exaggeration > 0)) throw terrain::Error("vertical exaggeration must be > 0");
   if (!(style.edge_width > 0 && style.edge_width <= 64)) throw terrain::Error("edge width must be in (0, 64] pixels");
+  if (!(style.crease_fade >= 0 && style.crease_fade <= 1)) throw terrain::Error("crease fade must be in [0, 1]");
   if (!(style.crease_angle >= 0 && style.crease_angle <= 180))
     throw terrain::Error("crease angle must be in [0, 180] degrees");
   if (layers.pels && mesh.voronoi.empty())
@@ -73,14 +74,13 @@ struct TerrainRenderer::Impl {
         style(style),
         box(exaggerated_box(mesh, style.exaggeration)),
         origin(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z),
-        far_default(default_far_distance(mesh)),
         lift(crease_lift(style, mesh)),
         scene(mesh, width, height, context.has_clip_control()),
         toward(scene),
         away(scene, layers.silhouettes && !layers.adjacency),
         ids(scene, layers.adjacency, id_capacity(width, height)),
-        creases(scene, creases, layers.creases),
-        pels(scene, mesh, layers.pels, style.pel_width),
+        creases(scene, creases, layers.creases, style.antialias),
+        pels(scene, mesh, layers.pels, style.pel_width, style.antialias),
         edges(scene, layers.edges, style),
         silhouettes(scene, layers.silhouettes, layers.adjacency ? &ids : nullptr,
                     1e-3 * std::min(mesh.geo.dx, mesh.geo.dy),
@@ -96,7 +96,7 @@ struct TerrainRenderer::Impl {
   Style style;
   Box box;
   Eigen::Vector3d origin;
-  double far_default = 1, lift = 0;
+  double lift = 0;
   int max_level = 32;
   passes::SceneGpu scene;
   passes::TowardPass toward;
@@ -119,7 +119,7 @@ struct TerrainRenderer::Impl {
 
 FrameBlock TerrainRenderer::Impl::frame_block(const FrameParams& frame, const View& v,
                                               const Eigen::Vector3d& light) const {
-  const auto& sp = frame.score;
+  const CreaseScoreParams sp = resolve_distances(frame.score, box.lo, box.hi, v.eye);
   FrameBlock fb{};
   const Eigen::Matrix4f vp = v.view_projection().cast<float>();
   std::memcpy(fb.u_view_proj.data(), vp.data(), sizeof fb.u_view_proj);  // column-major, as GLSL
@@ -127,9 +127,10 @@ FrameBlock TerrainRenderer::Impl::frame_block(const FrameParams& frame, const Vi
   set4(fb.u_light, light.x(), light.y(), light.z(), 0);
   set4(fb.u_viewport, scene.width, scene.height, style.pixels_per_edge, max_level);
   set4(fb.u_weights, sp.sw, sp.iw, sp.fw, sp.literal_divisor ? 3.0 : sp.sw + sp.iw + sp.fw);
-  set4(fb.u_score, sp.min_score, sp.falloff, sp.far_distance > 0 ? sp.far_distance : far_default, lift);
+  set4(fb.u_score, sp.min_score, sp.falloff, sp.far_distance, lift);
   set4(fb.u_lines, style.crease_width, style.crease_width_max, 0, scene.reversed ? 1 : 0);
   set4(fb.u_misc, v.near, double(creases.n_segments()), double(creases.n_vertices()), 0);
+  set4(fb.u_style, style.antialias ? 1 : 0, style.antialias ? style.crease_fade : 0, sp.near_distance, 0);
   return fb;
 }
 

@@ -149,7 +149,7 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
   EXPECT_EQ(computes, 5u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 13u);  // silhouette 2, composite 9, adjacency 2
+  EXPECT_EQ(samplers, 15u);  // silhouette 2, composite 9, adjacency 2, crease and PEL draws 1 each
   EXPECT_GE(locations, 14u);
 }
 

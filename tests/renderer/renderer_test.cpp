@@ -170,8 +170,10 @@ TEST(Shader, LogLocationsNameTheFile) {
 
 // ---------------------------------------------------------------- scenes
 
+// Pixel-exact lines: the tests below count pixels of exactly the line colour.
 renderer::Style test_style() {
   renderer::Style s;
+  s.antialias = false;
   s.background = {1, 1, 1};
   s.crease_colour = {1, 0, 0};
   s.silhouette_colour = {0, 0, 0};

@@ -35,6 +35,26 @@ Eigen::Vector3d view_direction(double view_az_deg, double view_alt_deg);
 // margin), moved sideways so that the box's image is centred.
 Eigen::Vector3d frame_box(const Box& box, double view_az, double view_alt, double fov_deg, double aspect);
 
+// The default view of a terrain (terrain-render with no camera options;
+// docs/terrain-render.md, "The default view"). The part of highest relief: the square
+// window, a third of the grid's shorter side, whose max - min height is largest (on the
+// grid coarsened to at most 96 cells a side). It is seen from the side where the terrain
+// around it is lowest: the bearing, in 15 degree steps, along which the mean height
+// between a half and one and a half windows beyond its centre is least (outside the grid
+// counts as the window's lowest height), so the view looks into the open side of a crater
+// or up a valley. From view_alt above the horizon, the eye frames the window and a window
+// of terrain around it on every side (the window fills about the middle third of the
+// image). The light comes from the left of the line of sight (bearing - 90), 35 degrees
+// high, so that the slopes facing the eye are side-lit.
+struct ReliefView {
+  Camera camera;             // eye set, world coordinates
+  Light light;
+  Eigen::Vector2d centre;    // of the relief window, world x y
+  double relief = 0;         // its max - min height, metres
+};
+ReliefView relief_view(const terrain::GridMesh& mesh, double exaggeration, double fov_deg, double aspect,
+                       double view_alt = 30.0);
+
 // The view of `camera` over a scene whose local frame has world origin `origin` and whose
 // (exaggerated) bounding box is `box`: the eye is camera.eye - origin, or framed on `box`
 // (frame_box) when camera.eye is unset. `near` is half the distance from the eye to the

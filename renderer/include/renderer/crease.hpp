@@ -79,14 +79,24 @@ Eigen::Vector3d exaggerate_normal(const Eigen::Vector3d& n, double exaggeration)
 // style.crease_lift, or half the mesh spacing when it is negative (the default).
 double crease_lift(const Style& style, const terrain::GridMesh& mesh);
 
-// Far distance used by the score when params.far_distance is 0.
-double default_far_distance(const terrain::GridMesh& mesh);
+// The score's distances for an eye: params as given when params.far_distance > 0 (near
+// distance as given, 0 by default: the paper's rule); else near_distance from the eye to
+// the nearest point of the scene's box lo..hi and far_distance to its farthest corner (all
+// in the exaggerated local frame), so that rs_min rises across the scene, from its
+// nearest to its farthest point, wherever the eye is.
+CreaseScoreParams resolve_distances(const CreaseScoreParams& params, const Eigen::Vector3d& lo,
+                                    const Eigen::Vector3d& hi, const Eigen::Vector3d& eye);
 
 // Per segment, whether its two ends both score >= 0 for the eye `eye` (exaggerated local
 // frame) and light direction `light`: what the DM pass draws (#S flags).
 std::vector<std::uint8_t> accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye,
                                             const Eigen::Vector3d& light, double exaggeration,
                                             const CreaseScoreParams& params);
+// Per segment, its opacity as the anti-aliased DM pass draws it (#S): 0 where it is not
+// accepted; else min(score of its two ends) / fade clamped to 1, or 1 when fade is 0
+// (Style::crease_fade).
+std::vector<float> segment_opacity(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
+                                   double exaggeration, const CreaseScoreParams& params, double fade);
 // How many (accepted_segments).
 std::size_t count_accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
                                     double exaggeration, const CreaseScoreParams& params);

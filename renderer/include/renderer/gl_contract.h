@@ -18,7 +18,9 @@
    u_weights  sw, iw, fw, divisor (sw + iw + fw, or 3)
    u_score    min score, falloff, far distance, crease lift (metres)
    u_lines    crease width at flow 0 and 1 (pixels), tessellation override, reversed z
-   u_misc     near plane distance, segment count, vertex count, 0 */
+   u_misc     near plane distance, segment count, vertex count, 0
+   u_style    anti-aliased lines (1) or pixel-exact (0), crease fade band (score units;
+              0: cut), score near distance, 0 */
 #define TR_UBO_FRAME 0
 #define TR_FRAME_BLOCK(M) \
   M(mat4, u_view_proj)    \
@@ -28,7 +30,8 @@
   M(vec4, u_weights)      \
   M(vec4, u_score)        \
   M(vec4, u_lines)        \
-  M(vec4, u_misc)
+  M(vec4, u_misc)         \
+  M(vec4, u_style)
 
 /* Shader storage buffers. */
 #define TR_SSBO_CREASE_VERTICES 1

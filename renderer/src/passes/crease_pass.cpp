@@ -10,8 +10,8 @@
 
 namespace renderer::passes {
 
-CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled)
-    : PassBase(DM), s_(scene), enabled_(enabled), target_(scene) {
+CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled, bool antialias)
+    : PassBase(DM), s_(scene), enabled_(enabled), target_(scene, antialias) {
   if (creases && creases->n_segments() > 0) {
     n_vertices_ = creases->positions.size();
     n_segments_ = creases->n_segments();

@@ -40,15 +40,17 @@ struct SceneGpu {
 // A framebuffer over the given colour and depth textures (either may be null).
 GlObject make_framebuffer(const GlObject* colour, const GlObject* depth);
 
-// The colour and depth targets of a line layer (creases, PELs) and their framebuffer;
-// clear() empties them (colour 0, depth far).
+// The colour and depth targets of a line layer (creases, PELs, edges) and their
+// framebuffer; clear() empties them (colour 0, depth far).
 struct LineTarget {
-  explicit LineTarget(const SceneGpu& scene);
+  explicit LineTarget(const SceneGpu& scene, bool antialias = false);
   void clear(const SceneGpu& scene) const;
   // The segments of an indirect draw command (6 vertices each, no vertex attributes) drawn
-  // with `program` into the target, depth-tested.
+  // with `program` into the target: pixel-exact, depth-tested; anti-aliased, coverage
+  // blended with MAX and no depth test (the program reads the toward depth, bound here).
   void draw_indirect(const SceneGpu& scene, const GlObject& program, const GlObject& command) const;
   GlObject colour, depth, fbo;
+  bool antialias;
 };
 
 // Segments an indirect draw command (vertex count, instances, first, base) draws: two
@@ -110,7 +112,7 @@ class AwayPass : public PassBase {
 class CreasePass : public PassBase {
  public:
   // `creases` may be null or empty: the pass then only clears its targets.
-  CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled);
+  CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled, bool antialias);
   bool active() const { return enabled_ && n_segments_ > 0; }
   std::size_t segments_drawn() const;  // of the last frame
   std::size_t n_segments() const { return n_segments_; }
@@ -132,7 +134,7 @@ class CreasePass : public PassBase {
 class PelPass : public PassBase {
  public:
   // Enabled: the mesh must carry its Voronoi weights.
-  PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width);
+  PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width, bool antialias);
   bool active() const { return enabled_; }
   std::size_t segments_drawn() const;
   // The segments of the last frame: 12 floats each (a xyz, face bits, b xyz, 5 unused).

@@ -8,8 +8,8 @@
 
 namespace renderer::passes {
 
-PelPass::PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width)
-    : PassBase(PEL), s_(scene), enabled_(enabled), width_(width), target_(scene) {
+PelPass::PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width, bool antialias)
+    : PassBase(PEL), s_(scene), enabled_(enabled), width_(width), target_(scene, antialias) {
   if (enabled_) {
     corner_buf_ = make_buffer(mesh.n_faces() * sizeof(Eigen::Vector3f), mesh.voronoi.corner_areas.data(), 0);
     varea_buf_ = make_buffer(mesh.n_vertices() * sizeof(float), mesh.voronoi.vertex_areas.data(), 0);

@@ -62,10 +62,11 @@ GlObject make_framebuffer(const GlObject* colour, const GlObject* depth) {
   return fbo;
 }
 
-LineTarget::LineTarget(const SceneGpu& scene)
+LineTarget::LineTarget(const SceneGpu& scene, bool antialias)
     : colour(make_texture(GL_RGBA8, scene.width, scene.height)),
       depth(make_texture(GL_DEPTH_COMPONENT32F, scene.width, scene.height)),
-      fbo(make_framebuffer(&colour, &depth)) {}
+      fbo(make_framebuffer(&colour, &depth)),
+      antialias(antialias) {}
 
 void LineTarget::clear(const SceneGpu& scene) const {
   const float zero4[4] = {0, 0, 0, 0}, far_depth = scene.clear_depth();
@@ -75,11 +76,20 @@ void LineTarget::clear(const SceneGpu& scene) const {
 
 void LineTarget::draw_indirect(const SceneGpu& scene, const GlObject& program, const GlObject& command) const {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
-  scene.depth_state();
+  if (antialias) {
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_MAX);
+    glBindTextureUnit(TR_TEX_TOWARD_DEPTH, scene.toward_depth.id());
+  } else {
+    scene.depth_state();
+  }
   glUseProgram(program.id());
   glBindVertexArray(scene.empty_vao.id());
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, command.id());
   glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+  glDisable(GL_BLEND);
+  glBlendEquation(GL_FUNC_ADD);
 }
 
 std::size_t indirect_segments(const GlObject& command) {

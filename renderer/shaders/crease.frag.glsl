@@ -1,3 +1,0 @@
-// DM: crease coverage (the colour is applied in LAY).
-layout(location = 0) out vec4 o_colour;
-void main() { o_colour = vec4(1.0); }
