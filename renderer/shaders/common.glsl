@@ -32,15 +32,30 @@ vec4 segment_quad_vertex(vec4 c0, vec4 c1, float w0, float w1, uint k) {
 // Anti-aliased lines (u_style.x != 0): the window-pixel position of clip position c.
 vec2 window_of(vec4 c) { return (c.xy / c.w * 0.5 + 0.5) * u_viewport.xy; }
 
+// The share of a pixel (a unit square about its centre) whose offset o from the centre has
+// n.o < t, n a unit vector: n.o is the sum of two uniform variables of widths |nx| and
+// |ny|, whose distribution function is quadratic in its tails and linear between.
+float pixel_share_below(float t, vec2 n) {
+  float a = max(abs(n.x), abs(n.y)), b = min(abs(n.x), abs(n.y));
+  float h = 0.5 * (a + b), m = 0.5 * (a - b), u = abs(t);
+  float tail = u >= h ? 0.0 : (u > m ? (h - u) * (h - u) / (2.0 * a * b) : 0.5 - u / a);
+  return t < 0.0 ? tail : 1.0 - tail;
+}
+
 // Coverage of the pixel centred at x by the capsule from a to b (window pixels) whose
-// radius goes linearly from r0 to r1: a one-pixel ramp across its border, so that a
-// line's coverage summed across it equals its width (2r); below a pixel's width the ramp
-// keeps one pixel and the coverage scales by 2r. Round caps; overlapping capsules of a
-// polyline, blended with MAX, join round.
+// radius goes linearly from r0 to r1. Beside the segment: the exact area of the pixel
+// inside the band of half-width r (a box filter, any direction and any width). Beyond
+// its ends: round caps, a one-pixel ramp across the circle's border (scaled by 2r below a
+// pixel's width). Overlapping capsules of a polyline, blended with MAX, join round.
 float capsule_coverage(vec2 x, vec2 a, vec2 b, float r0, float r1) {
   vec2 d = b - a;
   float len2 = dot(d, d);
-  float t = len2 > 0.0 ? clamp(dot(x - a, d) / len2, 0.0, 1.0) : 0.0;
-  float r = mix(r0, r1, t);
-  return clamp(max(r, 0.5) + 0.5 - distance(x, a + t * d), 0.0, 1.0) * min(1.0, 2.0 * r);
+  float t = len2 > 0.0 ? dot(x - a, d) / len2 : -1.0;
+  if (t >= 0.0 && t <= 1.0) {
+    vec2 dir = d * inversesqrt(len2), n = vec2(-dir.y, dir.x);
+    float r = mix(r0, r1, t), s = dot(x - a, n);
+    return pixel_share_below(r - s, n) - pixel_share_below(-r - s, n);
+  }
+  float tc = clamp(t, 0.0, 1.0), r = mix(r0, r1, tc);
+  return clamp(max(r, 0.5) + 0.5 - distance(x, a + tc * d), 0.0, 1.0) * min(1.0, 2.0 * r);
 }

@@ -96,29 +96,46 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
   if (rows < 2 || cols < 2) throw terrain::Error("the mesh has no faces");
   const auto z = [&](std::size_t r, std::size_t c) { return double(mesh.positions[r * cols + c].z()); };
-  // Coarse cells of f x f vertices: their lowest and highest heights.
-  const std::size_t f = (std::max(rows, cols) + 95) / 96, R = (rows + f - 1) / f, C = (cols + f - 1) / f;
+  // Coarse cells of f x f mesh cells (their corner vertices included): their lowest and
+  // highest heights.
+  const std::size_t f = (std::max(rows, cols) + 94) / 95, R = (rows - 2) / f + 1, C = (cols - 2) / f + 1;
   std::vector<double> lo(R * C, 1e300), hi(R * C, -1e300);
-  for (std::size_t r = 0; r < rows; ++r)
-    for (std::size_t c = 0; c < cols; ++c) {
-      const std::size_t k = (r / f) * C + c / f;
-      lo[k] = std::min(lo[k], z(r, c));
-      hi[k] = std::max(hi[k], z(r, c));
+  for (std::size_t i = 0; i < R; ++i)
+    for (std::size_t j = 0; j < C; ++j)
+      for (std::size_t r = i * f; r <= std::min((i + 1) * f, rows - 1); ++r)
+        for (std::size_t c = j * f; c <= std::min((j + 1) * f, cols - 1); ++c) {
+          lo[i * C + j] = std::min(lo[i * C + j], z(r, c));
+          hi[i * C + j] = std::max(hi[i * C + j], z(r, c));
+        }
+  // Windows of k x k cells: their relief (max - min) and ruggedness (the sum of their
+  // cells' reliefs). The chosen one: among those within 0.5 % of the largest relief, the most
+  // rugged (ties: the one nearest the centre).
+  const std::size_t k = std::max<std::size_t>(1, (std::min(R, C) + 1) / 3), nw = (R - k + 1) * (C - k + 1);
+  std::vector<double> relief(nw), rugged(nw, 0.0);
+  for (std::size_t i = 0; i + k <= R; ++i)
+    for (std::size_t j = 0; j + k <= C; ++j) {
+      double a = 1e300, b = -1e300, sum = 0;
+      for (std::size_t u = i; u < i + k; ++u)
+        for (std::size_t v = j; v < j + k; ++v)
+          a = std::min(a, lo[u * C + v]), b = std::max(b, hi[u * C + v]), sum += hi[u * C + v] - lo[u * C + v];
+      relief[i * (C - k + 1) + j] = b - a;
+      rugged[i * (C - k + 1) + j] = sum;
     }
-  // The window of k x k cells of largest relief (ties: the one nearest the centre).
-  const std::size_t k = std::max<std::size_t>(1, (std::min(R, C) + 1) / 3);
-  double best = -1, best_off = 0, wlo = 0, whi = 0;
+  const double top = *std::max_element(relief.begin(), relief.end());
+  double best = -1, best_off = 0;
   std::size_t bi = 0, bj = 0;
   for (std::size_t i = 0; i + k <= R; ++i)
     for (std::size_t j = 0; j + k <= C; ++j) {
-      double a = 1e300, b = -1e300;
-      for (std::size_t u = i; u < i + k; ++u)
-        for (std::size_t v = j; v < j + k; ++v) a = std::min(a, lo[u * C + v]), b = std::max(b, hi[u * C + v]);
+      const std::size_t w = i * (C - k + 1) + j;
+      if (relief[w] < 0.995 * top) continue;
       const double off = std::hypot(double(2 * i + k) - double(R), double(2 * j + k) - double(C));
-      if (b - a > best || (b - a == best && off < best_off)) best = b - a, best_off = off, bi = i, bj = j, wlo = a, whi = b;
+      if (rugged[w] > best || (rugged[w] == best && off < best_off)) best = rugged[w], best_off = off, bi = i, bj = j;
     }
+  double wlo = 1e300, whi = -1e300;
+  for (std::size_t u = bi; u < bi + k; ++u)
+    for (std::size_t v = bj; v < bj + k; ++v) wlo = std::min(wlo, lo[u * C + v]), whi = std::max(whi, hi[u * C + v]);
   const auto& g = mesh.geo;
-  const std::size_t r0 = bi * f, r1 = std::min((bi + k) * f, rows) - 1, c0 = bj * f, c1 = std::min((bj + k) * f, cols) - 1;
+  const std::size_t r0 = bi * f, r1 = std::min((bi + k) * f, rows - 1), c0 = bj * f, c1 = std::min((bj + k) * f, cols - 1);
   const Eigen::Vector2d centre(0.5 * double(c0 + c1) * g.dx, -0.5 * double(r0 + r1) * g.dy);  // local
   const double w = std::max(double(c1 - c0) * g.dx, double(r1 - r0) * g.dy);
   // The open side: the eye's bearing from the centre is the view's bearing + 180.
@@ -133,8 +150,8 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
     }
     if (sum < lowest - 1e-9 * std::abs(lowest)) lowest = sum, view_az = a;
   }
-  // The eye looks at the window's centre at its mean height, from 2.5 times the distance
-  // that frames the window's box: the window fills about the middle 40 % of the frame.
+  // The eye looks at the window's centre at its mean height, from 1.8 times the distance
+  // that frames the window's box: the window fills about the middle half of the frame.
   double mean = 0;
   for (std::size_t r = r0; r <= r1; ++r)
     for (std::size_t c = c0; c <= c1; ++c) mean += z(r, c);
@@ -147,11 +164,11 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
   rv.camera.view_alt = view_alt;
   rv.camera.fov = fov_deg;
   const Eigen::Vector3d origin(g.origin_x, g.origin_y, g.origin_z);
-  rv.camera.eye = origin + target - 2.5 * framed * view_direction(view_az, view_alt);
+  rv.camera.eye = origin + target - 1.8 * framed * view_direction(view_az, view_alt);
   rv.light.azimuth = std::fmod(view_az + 270.0, 360.0);
   rv.light.altitude = 35;
   rv.centre = centre + origin.head<2>();
-  rv.relief = best;
+  rv.relief = whi - wlo;
   return rv;
 }
 

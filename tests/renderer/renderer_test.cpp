@@ -76,6 +76,84 @@ TEST(Timing, PaperFrameRates) {
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 6);
 }
 
+// The scene's distances: the near distance is the eye's distance to the box (0 inside it),
+// the far one to its farthest corner; rs_min then rises from min at the nearest point to
+// min + (1 - min) k at the farthest. A given far distance is kept (near 0: the paper's law).
+TEST(CreaseScore, DistancesAcrossTheScene) {
+  renderer::CreaseScoreParams p;
+  p.min_score = 0.2;
+  p.falloff = 0.5;
+  const Vector3d lo(0, 0, 0), hi(100, 200, 50);
+  const auto outside = renderer::resolve_distances(p, lo, hi, Vector3d(300, 100, 25));
+  EXPECT_NEAR(outside.near_distance, 200, 1e-9);
+  EXPECT_NEAR(outside.far_distance, std::sqrt(300.0 * 300 + 100 * 100 + 25 * 25), 1e-9);
+  const Vector3d up(0, 0, 1);  // raw score 0.6 * 1/3 = 0.2 with flow 0.6 and equal weights
+  EXPECT_NEAR(renderer::crease_score(up, 0.6, up, outside.near_distance, outside), 0.2 - 0.2, 1e-12);
+  EXPECT_NEAR(renderer::crease_score(up, 0.6, up, outside.far_distance, outside), 0.2 - 0.6, 1e-12);
+  const auto inside = renderer::resolve_distances(p, lo, hi, Vector3d(50, 50, 25));
+  EXPECT_EQ(inside.near_distance, 0.0);
+  EXPECT_NEAR(inside.far_distance, std::sqrt(50.0 * 50 + 150 * 150 + 25 * 25), 1e-9);
+  p.far_distance = 1000;
+  const auto given = renderer::resolve_distances(p, lo, hi, Vector3d(300, 100, 25));
+  EXPECT_EQ(given.far_distance, 1000.0);
+  EXPECT_EQ(given.near_distance, 0.0);
+}
+
+// Fading: a segment's opacity is the lower score of its ends over the fade band, clamped
+// to 1; 0 below the threshold; 1 above it when the band is 0.
+TEST(CreaseScore, OpacityFadesInOverTheBand) {
+  CreaseGeometry g;
+  const Vector3d up(0, 0, 1);
+  for (float flow : {0.3f, 0.45f, 0.9f, 0.1f}) {  // scores flow / 3 - 0.1: 0, 0.05, 0.2, -0.0667
+    g.positions.push_back(Eigen::Vector3f(0, 0, 0));
+    g.normals.push_back(Eigen::Vector3f(0, 0, 1));
+    g.flow.push_back(flow);
+  }
+  g.segments = {0, 1, 1, 2, 2, 2, 2, 3};
+  renderer::CreaseScoreParams p;
+  p.min_score = 0.1;
+  p.falloff = 0;
+  p.far_distance = 1;
+  const auto a = renderer::segment_opacity(g, Vector3d(0, 0, 10), up, 1.0, p, 0.1);
+  ASSERT_EQ(a.size(), 4u);
+  EXPECT_NEAR(a[0], 0.0, 1e-6);  // the lower end scores 0: at the threshold, invisible
+  EXPECT_NEAR(a[1], 0.5, 1e-6);  // 0.05 / 0.1
+  EXPECT_NEAR(a[2], 1.0, 1e-6);  // 0.2 / 0.1, clamped
+  EXPECT_EQ(a[3], 0.0f);         // below the threshold
+  const auto cut = renderer::segment_opacity(g, Vector3d(0, 0, 10), up, 1.0, p, 0.0);
+  EXPECT_EQ(cut, (std::vector<float>{1, 1, 1, 0}));
+}
+
+// The default view on an analytic volcano: a cone in the north-east of a plain with a
+// crater breached to the north. The relief window holds the cone, the eye looks into the
+// breach (from the north, bearing 180), the cone's centre falls in the middle third of the
+// image and the eye is above the terrain; the light comes from the left of the view.
+TEST(Camera, DefaultViewFramesTheReliefFromItsOpenSide) {
+  const double cx = 6000, cy = -3000;  // local frame: x east, y north (rows go south)
+  const auto mesh = terrain::test::function_mesh(161, 201, 50, [&](double x, double y) {
+    const double r = std::hypot(x - cx, y - cy);
+    const double cone = std::max(0.0, 1200.0 * (1 - r / 2500));
+    const double crater = r < 800 ? 600.0 * (1 - r * r / (800.0 * 800.0)) : 0.0;
+    // The breach: a trench north from the crater through the rim, 80 % of the cone deep.
+    const double breach = (y > cy && std::abs(x - cx) < 400) ? 0.8 * cone * (1 - std::abs(x - cx) / 400) : 0.0;
+    return cone - crater - breach;
+  });
+  const auto rv = renderer::relief_view(mesh, 1.0, 35, 16.0 / 9.0);
+  EXPECT_LT(std::hypot(rv.centre.x() - cx, rv.centre.y() - cy), 1500) << rv.centre.transpose();
+  EXPECT_EQ(rv.camera.view_az, 180.0);
+  EXPECT_EQ(rv.light.azimuth, 90.0);  // from the left of a view towards the south: east
+  ASSERT_TRUE(rv.camera.eye.has_value());
+  EXPECT_GT(rv.camera.eye->y(), cy);  // north of the cone
+  EXPECT_NO_THROW(renderer::check_eye_above_terrain(mesh, *rv.camera.eye, 1.0));
+  renderer::Box box{Vector3d(0, -8000, 0), Vector3d(10000, 0, 1200)};
+  const auto v = renderer::make_view(rv.camera, Vector3d::Zero(), box, 1280, 720);
+  const auto c = renderer::project(v, Vector3d(cx, cy, 800));
+  EXPECT_GT(c.u, 1280 / 3.0);
+  EXPECT_LT(c.u, 2 * 1280 / 3.0);
+  EXPECT_GT(c.v, 720 / 3.0);
+  EXPECT_LT(c.v, 2 * 720 / 3.0);
+}
+
 TEST(Camera, ProjectionAndFraming) {
   renderer::Box box{{0, -3000, 100}, {4000, 0, 900}};
   for (double az : {0.0, 135.0, 225.0}) {
@@ -387,6 +465,60 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
   EXPECT_EQ(pixels[0], 0u) << "creases behind the ridge are visible";
   EXPECT_GT(pixels[1], 100u);
   EXPECT_GT(pixels[2], 100u);
+}
+
+// Anti-aliased creases: on a plane seen from straight above, a segment's coverage (black
+// on white, summed over the image) equals the ideal area of its capsule, L w + pi w^2 / 4,
+// within 5 %, for widths of 1 and 3 pixels and any direction; a faded segment covers its
+// opacity times that; consecutive segments of a polyline join without overlap (MAX blend).
+TEST(RendererGl, AntialiasedCoverageEqualsTheLineArea) {
+  const auto mesh = terrain::test::function_mesh(101, 101, 10, [](double, double) { return 100.0; });
+  renderer::GlContext ctx;
+  renderer::Style style;
+  style.background = {1, 1, 1};
+  style.mask = {1, 1, 1};
+  style.crease_colour = {0, 0, 0};
+  style.crease_lift = 1;
+  style.crease_fade = 0.2;
+  FrameParams fp;
+  fp.camera.view_alt = 90;
+  fp.score.sw = 0, fp.score.iw = 0, fp.score.fw = 1;  // the score is the flow ...
+  fp.score.falloff = 0;
+  const Eigen::Vector3f up(0, 0, 1);
+  // A polyline of n segments from a to b at height 100 (flow 1: full width and opacity).
+  auto polyline = [&](Eigen::Vector2f a, Eigen::Vector2f b, int n, float flow) {
+    CreaseGeometry g;
+    for (int i = 0; i <= n; ++i) {
+      const Eigen::Vector2f p = a + (b - a) * float(i) / float(n);
+      g.positions.push_back(Eigen::Vector3f(p.x(), p.y(), 100));
+      g.normals.push_back(up);
+      g.flow.push_back(flow);
+    }
+    for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) g.segments.insert(g.segments.end(), {i, i + 1});
+    return g;
+  };
+  for (double width : {1.0, 3.0}) {
+    style.crease_width = style.crease_width_max = width;
+    for (const auto& [a, b, n] : {std::tuple{Eigen::Vector2f(200, -500), Eigen::Vector2f(800, -500), 1},
+                                  std::tuple{Eigen::Vector2f(200, -200), Eigen::Vector2f(750, -700), 1},
+                                  std::tuple{Eigen::Vector2f(200, -200), Eigen::Vector2f(750, -700), 7}}) {
+      for (double opacity : {1.0, 0.5}) {
+        fp.score.min_score = 1.0 - 0.2 * opacity;  // ... so the opacity is (1 - min) / fade
+        const auto g = polyline(a, b, n, 1.0f);
+        TerrainRenderer r(ctx, mesh, &g, 400, 400, renderer::Layers{false, true, true, false}, style);
+        const auto res = r.render(fp);
+        double covered = 0;
+        for (std::size_t i = 0; i < res.rgba.size(); i += 4) covered += 1.0 - res.rgba[i] / 255.0;
+        const Eigen::Vector3d lift(0, 0, 1);
+        const auto p0 = renderer::project(res.view, g.positions.front().cast<double>() + lift);
+        const auto p1 = renderer::project(res.view, g.positions.back().cast<double>() + lift);
+        const double length = std::hypot(p1.u - p0.u, p1.v - p0.v);
+        const double ideal = opacity * (length * width + std::numbers::pi * width * width / 4);
+        EXPECT_NEAR(covered, ideal, 0.05 * ideal) << "width " << width << " segments " << n << " opacity " << opacity
+                                                   << " length " << length;
+      }
+    }
+  }
 }
 
 // On real data: the GPU's DM selection equals the CPU reference for every min score;

@@ -36,9 +36,10 @@ Eigen::Vector3d view_direction(double view_az_deg, double view_alt_deg);
 Eigen::Vector3d frame_box(const Box& box, double view_az, double view_alt, double fov_deg, double aspect);
 
 // The default view of a terrain (terrain-render with no camera options;
-// docs/terrain-render.md, "The default view"). The part of highest relief: the square
-// window, a third of the grid's shorter side, whose max - min height is largest (on the
-// grid coarsened to at most 96 cells a side). It is seen from the side where the terrain
+// docs/terrain-render.md, "The default view"). The part of highest relief: on the grid
+// coarsened to at most 95 cells a side, among the square windows a third of its shorter
+// side whose relief (max - min height) is within 0.5 % of the largest, the most rugged one
+// (whose cells' reliefs sum highest). It is seen from the side where the terrain
 // around it is lowest: the bearing, in 15 degree steps, along which the mean height
 // between a half and one and a half windows beyond its centre is least (outside the grid
 // counts as the window's lowest height), so the view looks into the open side of a crater
