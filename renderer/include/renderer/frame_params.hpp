@@ -21,7 +21,7 @@ namespace renderer {
 //   rs = (sw*sc + iw*ic + fw*fc) / D - rs_min(d)
 //   sc = 1 - n.z (slope), ic = 1 - n.l (illumination), fc = normalized flow,
 //   D = sw + iw + fw (default) or 3 (literal: the paper's equation 6),
-//   rs_min(d) = min_score + (1 - min_score) * falloff * clamp(d / far_distance, 0, 1),
+//   rs_min(d) = min_score + (1 - min_score) * falloff * clamp((d - near) / (far - near), 0, 1),
 //   d = distance from the eye to the vertex. A vertex is drawn when rs >= 0.
 struct CreaseScoreParams {
   double sw = 1.0 / 3, iw = 1.0 / 3, fw = 1.0 / 3;  // equal weights (the paper's Figure 15)
@@ -82,7 +82,7 @@ struct Style {
   // Creases fade in over this band of the rendering score above the threshold (opacity
   // min(score) / fade, clamped to 1) instead of appearing at full strength; 0 cuts.
   // Anti-aliased lines only.
-  double crease_fade = 0.1;
+  double crease_fade = 0.03;
   int silhouette_width = 1;                           // pixels
   double exaggeration = 1.0;                          // vertical exaggeration
   double crease_lift = -1;        // metres along the normal; < 0: 0.5 x mesh spacing
