@@ -111,29 +111,27 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
   // cells' reliefs). The chosen one: among those within 0.5 % of the largest relief, the most
   // rugged (ties: the one nearest the centre).
   const std::size_t k = std::max<std::size_t>(1, (std::min(R, C) + 1) / 3), nw = (R - k + 1) * (C - k + 1);
-  std::vector<double> relief(nw), rugged(nw, 0.0);
+  std::vector<double> low(nw, 1e300), high(nw, -1e300), rugged(nw, 0.0);
+  double top = 0;
   for (std::size_t i = 0; i + k <= R; ++i)
     for (std::size_t j = 0; j + k <= C; ++j) {
-      double a = 1e300, b = -1e300, sum = 0;
+      const std::size_t w = i * (C - k + 1) + j;
       for (std::size_t u = i; u < i + k; ++u)
         for (std::size_t v = j; v < j + k; ++v)
-          a = std::min(a, lo[u * C + v]), b = std::max(b, hi[u * C + v]), sum += hi[u * C + v] - lo[u * C + v];
-      relief[i * (C - k + 1) + j] = b - a;
-      rugged[i * (C - k + 1) + j] = sum;
+          low[w] = std::min(low[w], lo[u * C + v]), high[w] = std::max(high[w], hi[u * C + v]),
+          rugged[w] += hi[u * C + v] - lo[u * C + v];
+      top = std::max(top, high[w] - low[w]);
     }
-  const double top = *std::max_element(relief.begin(), relief.end());
   double best = -1, best_off = 0;
   std::size_t bi = 0, bj = 0;
   for (std::size_t i = 0; i + k <= R; ++i)
     for (std::size_t j = 0; j + k <= C; ++j) {
       const std::size_t w = i * (C - k + 1) + j;
-      if (relief[w] < 0.995 * top) continue;
+      if (high[w] - low[w] < 0.995 * top) continue;
       const double off = std::hypot(double(2 * i + k) - double(R), double(2 * j + k) - double(C));
       if (rugged[w] > best || (rugged[w] == best && off < best_off)) best = rugged[w], best_off = off, bi = i, bj = j;
     }
-  double wlo = 1e300, whi = -1e300;
-  for (std::size_t u = bi; u < bi + k; ++u)
-    for (std::size_t v = bj; v < bj + k; ++v) wlo = std::min(wlo, lo[u * C + v]), whi = std::max(whi, hi[u * C + v]);
+  const double wlo = low[bi * (C - k + 1) + bj], whi = high[bi * (C - k + 1) + bj];
   const auto& g = mesh.geo;
   const std::size_t r0 = bi * f, r1 = std::min((bi + k) * f, rows - 1), c0 = bj * f, c1 = std::min((bj + k) * f, cols - 1);
   const Eigen::Vector2d centre(0.5 * double(c0 + c1) * g.dx, -0.5 * double(r0 + r1) * g.dy);  // local

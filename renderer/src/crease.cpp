@@ -171,10 +171,8 @@ CreaseScoreParams resolve_distances(const CreaseScoreParams& params, const Eigen
   return p;
 }
 
-namespace {
-// The lower score of each segment's two ends.
-std::vector<double> segment_scores(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
-                                   double e, const CreaseScoreParams& params) {
+std::vector<float> segment_opacity(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
+                                   double e, const CreaseScoreParams& params, double fade) {
   std::vector<double> score(g.positions.size());
   for (std::size_t i = 0; i < score.size(); ++i) {
     const Eigen::Vector3d p = g.positions[i].cast<double>();
@@ -182,28 +180,18 @@ std::vector<double> segment_scores(const CreaseGeometry& g, const Eigen::Vector3
     score[i] = crease_score(exaggerate_normal(g.normals[i].cast<double>(), e), g.flow[i], light, (pe - eye).norm(),
                             params);
   }
-  std::vector<double> lowest(g.n_segments());
-  for (std::size_t s = 0; s < g.n_segments(); ++s)
-    lowest[s] = std::min(score[g.segments[2 * s]], score[g.segments[2 * s + 1]]);
-  return lowest;
+  std::vector<float> opacity(g.n_segments());
+  for (std::size_t s = 0; s < opacity.size(); ++s) {
+    const double lowest = std::min(score[g.segments[2 * s]], score[g.segments[2 * s + 1]]);
+    opacity[s] = lowest < 0.0 ? 0.0f : fade > 0 ? float(std::min(1.0, lowest / fade)) : 1.0f;
+  }
+  return opacity;
 }
-}  // namespace
 
 std::vector<std::uint8_t> accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye,
                                             const Eigen::Vector3d& light, double e, const CreaseScoreParams& params) {
-  const auto lowest = segment_scores(g, eye, light, e, params);
-  std::vector<std::uint8_t> accepted(lowest.size());
-  for (std::size_t s = 0; s < lowest.size(); ++s) accepted[s] = lowest[s] >= 0.0;
-  return accepted;
-}
-
-std::vector<float> segment_opacity(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
-                                   double e, const CreaseScoreParams& params, double fade) {
-  const auto lowest = segment_scores(g, eye, light, e, params);
-  std::vector<float> opacity(lowest.size());
-  for (std::size_t s = 0; s < lowest.size(); ++s)
-    opacity[s] = lowest[s] < 0.0 ? 0.0f : fade > 0 ? float(std::min(1.0, lowest[s] / fade)) : 1.0f;
-  return opacity;
+  const auto opacity = segment_opacity(g, eye, light, e, params, 0.0);
+  return std::vector<std::uint8_t>(opacity.begin(), opacity.end());
 }
 
 std::size_t count_accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
