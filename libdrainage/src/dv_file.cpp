@@ -10,6 +10,7 @@
 #include <fstream>
 #include <memory>
 
+#include "branches.hpp"
 #include "drainage/d8.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/error.hpp"

@@ -65,7 +65,7 @@ DvSummary summarize_dv_file(const std::string& path) {
         const std::size_t i = std::size_t(r * C + c);
         const DvVertex& v = w.vertices[i];
         if (!count_point(s, v, h.valid, sum)) continue;
-        int same = 0;  // a branch head: not exactly one inflow of its own order (network_branches)
+        int same = 0;  // a branch head: not exactly one inflow of its own order (network_branches, branches.hpp)
         for (int k = 0; k < 8; ++k) {
           const long rr = r - kDRow[std::size_t(k)], cc = c - kDCol[std::size_t(k)];
           if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;

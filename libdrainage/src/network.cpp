@@ -1,7 +1,9 @@
 #include "drainage/network.hpp"
 
+#include <cstddef>
 #include <string>
 
+#include "branches.hpp"
 #include "drainage/d8.hpp"
 
 namespace drainage {
@@ -54,9 +56,11 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
     }
   terrain::report(progress, 0.1);
 
-  // In-degrees (gathered per point: no write conflicts) and classes.
-  terrain::BigVector<std::uint8_t> indeg;
-  parallel_assign(indeg, n, 0);
+  // Inflow masks (bit k: the neighbour at (r - kDRow[k], c - kDCol[k]) drains in; gathered
+  // per point, so no write conflicts), in-degrees still pending, and classes.
+  terrain::BigVector<std::uint8_t> inflow, pending;
+  parallel_assign(inflow, n, 0);
+  parallel_assign(pending, n, 0);
   parallel_assign(net.point_class, n, std::uint8_t(PointClass::Nodata));
   std::size_t points = 0;
 #pragma omp parallel for schedule(static) reduction(+ : points)
@@ -65,14 +69,14 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
       const std::size_t i = std::size_t(r * C + c);
       if (dirs[i] == kNodata) continue;
       ++points;
-      std::uint8_t in = 0;
+      std::uint8_t mask = 0, in = 0;
       for (int k = 0; k < 8; ++k) {
-        const long rr = r - kDRow[k], cc = c - kDCol[k];  // the neighbour that would flow in along k
+        const long rr = r - kDRow[k], cc = c - kDCol[k];
         if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;
-        const std::size_t j = std::size_t(rr * C + cc);
-        if (net.downstream[j] == i) ++in;
+        if (net.downstream[std::size_t(rr * C + cc)] == i) mask |= std::uint8_t(1u << k), ++in;
       }
-      indeg[i] = in;
+      inflow[i] = mask;
+      pending[i] = in;
       const PointClass cls = net.downstream[i] == kNone ? PointClass::Pit
                              : in == 0                  ? PointClass::Ridge
                              : in == 1                  ? PointClass::Channel
@@ -82,71 +86,91 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
   net.points = points;
   terrain::report(progress, 0.2);
 
-  // Kahn's topological order, walked chain by chain: from each source (in index order)
-  // follow the flow downstream for as long as the next point has received all its
-  // inflows. Accumulate flow and Strahler order on the way.
+  // Flow and Strahler order in topological order, on all threads: from each source walk
+  // downstream; a point is computed from its inflows (1 + their flow; their largest order,
+  // plus one where two or more carry it) by the walk that delivers its last inflow (the
+  // acquire-release count makes the other walks' results visible). Sums and maxima do not
+  // depend on the order of arrival, so neither do the results.
+  std::ptrdiff_t offset[8];
+  for (int k = 0; k < 8; ++k) offset[k] = -(kDRow[k] * C + kDCol[k]);
   parallel_assign(net.accumulated, n, 0);
   parallel_assign(net.order, n, 0);
-  terrain::BigVector<std::uint8_t> max_count;  // inflows carrying the maximum order so far
-  parallel_assign(max_count, n, 0);
-  terrain::BigVector<std::uint32_t> topo;
-  topo.reserve(net.points);
-  for (std::size_t src = 0; src < n; ++src) {
-    if (dirs[src] == kNodata || indeg[src] != 0) continue;
-    std::uint32_t i = std::uint32_t(src);
-    while (true) {
-      topo.push_back(i);
-      indeg[i] = 0xFF;  // done: not a source for the outer loop any more
-      net.accumulated[i] += 1;
-      // order[i] holds the largest incoming order so far (0: none).
-      const std::uint8_t ord = net.order[i] == 0 ? 1 : std::uint8_t(net.order[i] + (max_count[i] >= 2 ? 1 : 0));
-      net.order[i] = ord;
-      const std::uint32_t d = net.downstream[i];
-      if (d == kNone) break;
-      net.accumulated[d] += net.accumulated[i];
-      if (ord > net.order[d]) {
-        net.order[d] = ord;
-        max_count[d] = 1;
-      } else if (ord == net.order[d]) {
-        ++max_count[d];
+  std::size_t done = 0;
+#pragma omp parallel for schedule(dynamic, 16) reduction(+ : done)
+  for (long r = 0; r < R; ++r)
+    for (long c = 0; c < C; ++c) {
+      std::size_t i = std::size_t(r * C + c);
+      if (dirs[i] == kNodata || inflow[i] != 0) continue;
+      while (true) {
+        std::uint32_t acc = 1;
+        std::uint8_t top = 0, count = 0;
+        for (unsigned mask = inflow[i]; mask != 0; mask &= mask - 1) {
+          const std::size_t j = std::size_t(std::ptrdiff_t(i) + offset[__builtin_ctz(mask)]);
+          acc += net.accumulated[j];
+          const std::uint8_t o = net.order[j];
+          if (o > top) top = o, count = 1;
+          else if (o == top) ++count;
+        }
+        net.accumulated[i] = acc;
+        net.order[i] = top == 0 ? 1 : std::uint8_t(top + (count >= 2 ? 1 : 0));
+        // A branch head unless exactly one inflow has its order (network_branches in branches.hpp). All of
+        // i's inflows have arrived, so its pending count is free to hold the mark.
+        pending[i] = top == 0 || count != 1;
+        ++done;
+        const std::uint32_t d = net.downstream[i];
+        if (d == kNone) break;
+        // A point with one inflow is this walk's to compute; others wait for their last.
+        if ((inflow[d] & (inflow[d] - 1)) != 0 && __atomic_sub_fetch(&pending[d], std::uint8_t(1), __ATOMIC_ACQ_REL) != 0)
+          break;
+        i = d;
       }
-      if (--indeg[d] != 0) break;
-      i = d;
     }
-  }
-  if (topo.size() != net.points)
-    throw terrain::Error("the D8 directions contain a cycle: " + std::to_string(net.points - topo.size()) +
+  if (done != net.points)
+    throw terrain::Error("the D8 directions contain a cycle: " + std::to_string(net.points - done) +
                          " points never reach a pit or outlet");
-  terrain::BigVector<std::uint8_t>().swap(indeg);
+  terrain::BigVector<std::uint8_t>().swap(inflow);
   terrain::report(progress, 0.5);
 
-  // Basins, numbered by ascending pit index, and normalized flow: pits first, then one
-  // pass in reverse topological order (each point after the point it drains into).
+  // Basins, numbered by ascending pit index. Every other point takes its pit's basin: walk
+  // downstream to a point whose basin is known and give it to the points on the way (two
+  // threads may write the same value to a point: relaxed atomics).
   parallel_assign(net.basin, n, kNone);
-  parallel_assign(net.normalized, n, 0.0f);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (dirs[i] == kNodata) {
-      net.basin[i] = kNone;
-      net.normalized[i] = 0.0f;
-    } else if (net.downstream[i] == kNone) {
+  for (std::size_t i = 0; i < n; ++i)
+    if (dirs[i] != kNodata && net.downstream[i] == kNone) {
       net.basin[i] = std::uint32_t(net.pits.size());
-      net.normalized[i] = 1.0f;
       net.pits.push_back(std::uint32_t(i));
     }
+#pragma omp parallel
+  {
+    std::vector<std::uint32_t> path;
+#pragma omp for schedule(dynamic, 16)
+    for (long r = 0; r < R; ++r)
+      for (long c = 0; c < C; ++c) {
+        const std::size_t i = std::size_t(r * C + c);
+        if (dirs[i] == kNodata || __atomic_load_n(&net.basin[i], __ATOMIC_RELAXED) != kNone) continue;
+        path.clear();
+        std::uint32_t v = std::uint32_t(i), b;
+        while ((b = __atomic_load_n(&net.basin[v], __ATOMIC_RELAXED)) == kNone) {
+          path.push_back(v);
+          v = net.downstream[v];
+        }
+        for (const std::uint32_t p : path) __atomic_store_n(&net.basin[p], b, __ATOMIC_RELAXED);
+      }
   }
-  for (auto it = topo.rbegin(); it != topo.rend(); ++it) {
-    const std::uint32_t i = *it, d = net.downstream[i];
-    if (d == kNone) continue;
-    const std::uint32_t b = net.basin[d];
-    net.basin[i] = b;
-    net.normalized[i] = float(double(net.accumulated[i]) / double(net.accumulated[net.pits[b]]));
+  // Normalized flow: each point's flow over its pit's (1 at the pits).
+  parallel_assign(net.normalized, n, 0.0f);
+#pragma omp parallel for schedule(static)
+  for (long i = 0; i < long(n); ++i) {
+    const std::uint32_t b = net.basin[std::size_t(i)];
+    if (b != kNone)
+      net.normalized[std::size_t(i)] =
+          float(double(net.accumulated[std::size_t(i)]) / double(net.accumulated[net.pits[b]]));
   }
   terrain::report(progress, 0.7);
 
-  topo.clear();
-  net.branch_vertices.swap(topo);  // reuse the buffer
-  network_branches(
-      rows, cols, [&](std::size_t i) { return dirs[i] != kNodata; }, [&](std::size_t i) { return net.downstream[i]; },
+  terrain::BigVector<std::uint8_t>& head = pending;  // marked by the flow walk
+  branches_from_heads(
+      rows, cols, net.points, head, [&](std::size_t i) { return net.downstream[i]; },
       [&](std::size_t i) { return net.order[i]; }, [&](const Branch& b) { net.branches.push_back(b); },
       net.branch_vertices);
   terrain::report(progress, 1.0);
