@@ -149,6 +149,16 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
                   "in (0: cut at the threshold)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  app->add_option("--crease-bridge", o.style.crease_bridge,
+                  "Draw a gap in a channel's crease up to this long (mesh spacings), where the score dips "
+                  "between two drawn parts (0: no bridging)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  app->add_option("--crease-min-stroke", o.style.crease_min_stroke,
+                  "Leave out crease strokes shorter than this (mesh spacings): dashes below the source mesh's "
+                  "resolution (0: keep every stroke)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
   app->add_option("--silhouette-width", o.style.silhouette_width, "Silhouette width in pixels")
       ->check(CLI::Range(1, 9))
       ->capture_default_str();
@@ -233,7 +243,7 @@ FrameLines frame_lines(const Scene& scene, const rr::TerrainRenderer& r, const r
   const rr::CreaseScoreParams score = rr::resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.eye);
   const double fade = style.antialias ? style.crease_fade : 0.0;
   FrameLines lines{rr::segment_opacity(g, res.view.eye, terrain::light_direction(fp.light.azimuth, fp.light.altitude),
-                                       exaggeration, score, fade),
+                                       exaggeration, score, fade, rr::stroke_rule(style, scene.mesh)),
                    rr::segment_pixels(g, res.view, exaggeration, lift)};
   const auto visible = rr::visible_fraction(g, res.view, exaggeration, lift, r.read_buffers().crease);
   for (std::size_t s = 0; s < visible.size(); ++s) lines.pixels[s] *= visible[s];

@@ -2,10 +2,10 @@
 // shader), its ends lifted along the PN normal; the width grows from u_lines.x at flow 0
 // to u_lines.y at flow 1, so creases thicken towards outlets. Pixel-exact: the quad's
 // ends are extended by half a width. Anti-aliased: the quad holds the segment's capsule
-// and a one-pixel fringe, and the segment's opacity rises from 0 at the score threshold
-// to 1 at u_style.y above it (fade instead of cut; 1 when u_style.y is 0).
+// and a one-pixel fringe, and the segment has its opacity (crease_bridge.comp: fade
+// instead of cut, gaps bridged).
 layout(std430, binding = TR_SSBO_CREASE_SELECTED) readonly buffer Selected { uint selected[]; };
-layout(std430, binding = TR_SSBO_CREASE_SCORES) readonly buffer Scores { float score[]; };
+layout(std430, binding = TR_SSBO_CREASE_OPACITY) readonly buffer Opacity { float opacity[]; };
 flat out vec4 v_ends;
 flat out vec3 v_shape;
 void main() {
@@ -22,7 +22,6 @@ void main() {
   }
   float fringe = u_style.x != 0.0 ? 2.0 : 0.0;
   gl_Position = segment_quad_vertex(clip[0], clip[1], width[0] + fringe, width[1] + fringe, k);
-  float lowest = min(score[e.x], score[e.y]);
   v_ends = vec4(window_of(clip[0]), window_of(clip[1]));
-  v_shape = vec3(0.5 * width[0], 0.5 * width[1], u_style.y > 0.0 ? clamp(lowest / u_style.y, 0.0, 1.0) : 1.0);
+  v_shape = vec3(0.5 * width[0], 0.5 * width[1], opacity[selected[q]]);
 }

@@ -2,3 +2,9 @@
 // cv[2i] = (position xyz in the local frame, basin-normalized flow), cv[2i+1] = (unit PN normal, 0).
 layout(std430, binding = TR_SSBO_CREASE_VERTICES) readonly buffer CreaseVertices { vec4 cv[]; };
 layout(std430, binding = TR_SSBO_CREASE_SEGMENTS) readonly buffer CreaseSegments { uvec2 seg[]; };
+// chain[s] = (prev, next): the segment a stroke continues from, the one it flows into
+// (renderer::segment_chains; TR_SEGMENT_NONE where none).
+layout(std430, binding = TR_SSBO_CREASE_CHAINS) readonly buffer CreaseChains { uvec2 chain[]; };
+
+// Length of segment s in metres (local frame, before exaggeration).
+float segment_metres(uint s) { return distance(cv[2u * seg[s].x].xyz, cv[2u * seg[s].y].xyz); }

@@ -171,8 +171,69 @@ CreaseScoreParams resolve_distances(const CreaseScoreParams& params, const Eigen
   return p;
 }
 
+SegmentChains segment_chains(const CreaseGeometry& g) {
+  const std::size_t ns = g.n_segments();
+  SegmentChains ch{std::vector<std::uint32_t>(ns, kNoSegment), std::vector<std::uint32_t>(ns, kNoSegment)};
+  std::vector<std::uint32_t> leaving(g.positions.size(), kNoSegment), entering(g.positions.size(), kNoSegment);
+  for (std::uint32_t s = 0; s < ns; ++s) {
+    leaving[g.segments[2 * s]] = s;
+    std::uint32_t& m = entering[g.segments[2 * s + 1]];
+    if (m == kNoSegment || g.flow[g.segments[2 * s]] > g.flow[g.segments[2 * m]]) m = s;
+  }
+  for (std::uint32_t s = 0; s < ns; ++s) {
+    ch.next[s] = leaving[g.segments[2 * s + 1]];
+    ch.prev[s] = entering[g.segments[2 * s]];
+  }
+  return ch;
+}
+
+std::vector<float> apply_stroke_rule(const SegmentChains& ch, const std::vector<float>& opacity,
+                                     const std::vector<double>& length, const StrokeRule& rule) {
+  const std::size_t ns = opacity.size();
+  std::vector<float> bridged = opacity;
+  // The opacity of the first drawn segment within rule.bridge along a chain, 0 when none.
+  auto nearest_drawn = [&](std::uint32_t t, const std::vector<std::uint32_t>& step) {
+    double gap = 0;
+    for (int k = 0; t != kNoSegment && k < kStrokeReach && gap <= rule.bridge; ++k, t = step[t]) {
+      if (opacity[t] > 0) return opacity[t];
+      gap += length[t];
+    }
+    return 0.0f;
+  };
+  if (rule.bridge > 0)
+    for (std::size_t s = 0; s < ns; ++s)
+      if (!(opacity[s] > 0)) bridged[s] = std::min(nearest_drawn(ch.prev[s], ch.prev), nearest_drawn(ch.next[s], ch.next));
+  if (!(rule.min_length > 0)) return bridged;
+  std::vector<float> out = bridged;
+  for (std::size_t s = 0; s < ns; ++s) {
+    if (!(bridged[s] > 0)) continue;
+    double run = length[s];
+    int k = 0;
+    for (std::uint32_t t = ch.prev[s]; t != kNoSegment && k < kStrokeReach && bridged[t] > 0; t = ch.prev[t], ++k)
+      run += length[t];
+    k = 0;
+    for (std::uint32_t c = std::uint32_t(s), t = ch.next[s];
+         t != kNoSegment && k < kStrokeReach && bridged[t] > 0 && ch.prev[t] == c; c = t, t = ch.next[t], ++k)
+      run += length[t];
+    if (run < rule.min_length) out[s] = 0;
+  }
+  return out;
+}
+
+StrokeRule stroke_rule(const Style& style, const terrain::GridMesh& mesh) {
+  const double spacing = std::min(mesh.geo.dx, mesh.geo.dy);
+  return StrokeRule{style.crease_bridge * spacing, style.crease_min_stroke * spacing};
+}
+
+std::vector<double> segment_metres(const CreaseGeometry& g) {
+  std::vector<double> m(g.n_segments());
+  for (std::size_t s = 0; s < m.size(); ++s)
+    m[s] = (g.positions[g.segments[2 * s]] - g.positions[g.segments[2 * s + 1]]).norm();
+  return m;
+}
+
 std::vector<float> segment_opacity(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
-                                   double e, const CreaseScoreParams& params, double fade) {
+                                   double e, const CreaseScoreParams& params, double fade, const StrokeRule& rule) {
   std::vector<double> score(g.positions.size());
   for (std::size_t i = 0; i < score.size(); ++i) {
     const Eigen::Vector3d p = g.positions[i].cast<double>();
@@ -185,7 +246,8 @@ std::vector<float> segment_opacity(const CreaseGeometry& g, const Eigen::Vector3
     const double lowest = std::min(score[g.segments[2 * s]], score[g.segments[2 * s + 1]]);
     opacity[s] = lowest < 0.0 ? 0.0f : fade > 0 ? float(std::min(1.0, lowest / fade)) : 1.0f;
   }
-  return opacity;
+  if (!(rule.bridge > 0) && !(rule.min_length > 0)) return opacity;
+  return apply_stroke_rule(segment_chains(g), opacity, segment_metres(g), rule);
 }
 
 std::vector<std::uint8_t> accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye,

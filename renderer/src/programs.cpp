@@ -25,6 +25,7 @@ const ProgramSpec& program_spec(ProgramId id) {
         {"surface", with(surface_geometry, {GL_FRAGMENT_SHADER, {c, "surface.frag.glsl"}}), {}},
         {"pn_capture", surface_geometry, {"tf_face", "tf_bary", "tf_pos", "tf_nrm"}},
         {"crease_score", compute({"crease_data.glsl", "crease_score.comp.glsl"}), {}},
+        {"crease_bridge", compute({"crease_data.glsl", "crease_bridge.comp.glsl"}), {}},
         {"crease_select", compute({"crease_data.glsl", "crease_select.comp.glsl"}), {}},
         {"crease_draw",
          {{GL_VERTEX_SHADER, {c, "crease_data.glsl", "crease.vert.glsl"}}, {GL_FRAGMENT_SHADER, {c, "line.frag.glsl"}}},

@@ -39,6 +39,10 @@ void check_inputs(const terrain::GridMesh& mesh, int width, int height, const La
   if (!(style.exaggeration > 0)) throw terrain::Error("vertical exaggeration must be > 0");
   if (!(style.edge_width > 0 && style.edge_width <= 64)) throw terrain::Error("edge width must be in (0, 64] pixels");
   if (!(style.crease_fade >= 0 && style.crease_fade <= 1)) throw terrain::Error("crease fade must be in [0, 1]");
+  if (!(style.crease_bridge >= 0 && style.crease_bridge <= 100))
+    throw terrain::Error("crease bridge must be in [0, 100] mesh spacings");
+  if (!(style.crease_min_stroke >= 0 && style.crease_min_stroke <= 100))
+    throw terrain::Error("shortest crease stroke must be in [0, 100] mesh spacings");
   if (!(style.crease_angle >= 0 && style.crease_angle <= 180))
     throw terrain::Error("crease angle must be in [0, 180] degrees");
   if (layers.pels && mesh.voronoi.empty())
@@ -75,6 +79,7 @@ struct TerrainRenderer::Impl {
         box(exaggerated_box(mesh, style.exaggeration)),
         origin(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z),
         lift(crease_lift(style, mesh)),
+        strokes(stroke_rule(style, mesh)),
         scene(mesh, width, height, context.has_clip_control()),
         toward(scene),
         away(scene, layers.silhouettes && !layers.adjacency),
@@ -97,6 +102,7 @@ struct TerrainRenderer::Impl {
   Box box;
   Eigen::Vector3d origin;
   double lift = 0;
+  StrokeRule strokes;
   int max_level = 32;
   passes::SceneGpu scene;
   passes::TowardPass toward;
@@ -129,8 +135,8 @@ FrameBlock TerrainRenderer::Impl::frame_block(const FrameParams& frame, const Vi
   set4(fb.u_weights, sp.sw, sp.iw, sp.fw, sp.literal_divisor ? 3.0 : sp.sw + sp.iw + sp.fw);
   set4(fb.u_score, sp.min_score, sp.falloff, sp.far_distance, lift);
   set4(fb.u_lines, style.crease_width, style.crease_width_max, 0, scene.reversed ? 1 : 0);
-  set4(fb.u_misc, v.near, double(creases.n_segments()), double(creases.n_vertices()), 0);
-  set4(fb.u_style, style.antialias ? 1 : 0, style.antialias ? style.crease_fade : 0, sp.near_distance, 0);
+  set4(fb.u_misc, v.near, double(creases.n_segments()), double(creases.n_vertices()), strokes.min_length);
+  set4(fb.u_style, style.antialias ? 1 : 0, style.antialias ? style.crease_fade : 0, sp.near_distance, strokes.bridge);
   return fb;
 }
 

@@ -27,7 +27,8 @@ const std::map<std::string, int> kStorageBlocks = {
     {"PelCommand", TR_SSBO_PEL_COMMAND},         {"PelSegments", TR_SSBO_PEL_SEGMENTS},
     {"IdTriangles", TR_SSBO_ID_TRIANGLES},       {"Edges", TR_SSBO_EDGES},
     {"EdgeKinds", TR_SSBO_EDGE_KINDS},           {"EdgeCommand", TR_SSBO_EDGE_COMMAND},
-    {"EdgeList", TR_SSBO_EDGE_LIST},             {"VertexEdges", TR_SSBO_VERTEX_EDGES}};
+    {"EdgeList", TR_SSBO_EDGE_LIST},             {"VertexEdges", TR_SSBO_VERTEX_EDGES},
+    {"CreaseChains", TR_SSBO_CREASE_CHAINS},     {"Opacity", TR_SSBO_CREASE_OPACITY}};
 const std::map<std::string, int> kSamplers = {
     {"u_toward", TR_TEX_TOWARD_DEPTH},       {"u_away", TR_TEX_AWAY_DEPTH},
     {"u_surface_colour", TR_TEX_SURFACE_COLOUR}, {"u_crease", TR_TEX_CREASE_COLOUR},
@@ -146,7 +147,7 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
     }
   }
   // The checks ran on the interfaces there are (a program could lose them silently).
-  EXPECT_EQ(computes, 5u);
+  EXPECT_EQ(computes, 6u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
   EXPECT_EQ(samplers, 15u);  // silhouette 2, composite 9, adjacency 2, crease and PEL draws 1 each

@@ -93,6 +93,61 @@ TEST(CreaseStrokes, APolylineIsOneStrokeAndJunctionsContinueTheLargerInflow) {
   EXPECT_EQ(strokes[1].size(), 2u);
 }
 
+// The stroke rule (crease.hpp) on chains of 1 m segments.
+TEST(CreaseStrokes, GapsWithinTheBridgeAreDrawnAtTheLowerOpacity) {
+  const CreaseGeometry g = chain(10);
+  const SegmentChains ch = segment_chains(g);
+  ASSERT_EQ(ch.prev[0], kNoSegment);
+  ASSERT_EQ(ch.next[9], kNoSegment);
+  for (std::uint32_t s = 1; s < 10; ++s) {
+    EXPECT_EQ(ch.prev[s], s - 1);
+    EXPECT_EQ(ch.next[s - 1], s);
+  }
+  const std::vector<double> metres = segment_metres(g);
+  EXPECT_EQ(metres, std::vector<double>(10, 1.0));
+  // Segments 4 and 5 dip below the threshold between drawn parts of opacity 0.8 and 0.5.
+  const std::vector<float> o = {1, 1, 1, 0.8f, 0, 0, 0.5f, 1, 1, 1};
+  std::vector<float> want = o;
+  want[4] = want[5] = 0.5f;
+  // From segment 4, one left-out segment (1 m) lies before the drawn part downstream.
+  EXPECT_EQ(apply_stroke_rule(ch, o, metres, {1.0, 0}), want);
+  EXPECT_EQ(crease_strokes(g, apply_stroke_rule(ch, o, metres, {1.0, 0})).size(), 1u);
+  EXPECT_EQ(apply_stroke_rule(ch, o, metres, {0.5, 0}), o);
+  EXPECT_EQ(crease_strokes(g, o).size(), 2u);
+  // No bridge to the chain's open ends: a part drawn on one side only stays a gap.
+  const std::vector<float> end = {0, 0, 1, 1, 1, 1, 1, 1, 0, 0};
+  EXPECT_EQ(apply_stroke_rule(ch, end, metres, {5.0, 0}), end);
+}
+
+TEST(CreaseStrokes, StrokesShorterThanTheMinimumAreLeftOut) {
+  CreaseGeometry g = chain(10);
+  const std::vector<double> metres = segment_metres(g);
+  // Runs of 3 m (segments 0-2) and 6 m (4-9).
+  const std::vector<float> o = {1, 1, 1, 0, 1, 1, 1, 1, 1, 1};
+  EXPECT_EQ(apply_stroke_rule(segment_chains(g), o, metres, {0, 3.0}), o);
+  std::vector<float> want = o;
+  want[0] = want[1] = want[2] = 0;
+  EXPECT_EQ(apply_stroke_rule(segment_chains(g), o, metres, {0, 3.5}), want);
+  EXPECT_EQ(apply_stroke_rule(segment_chains(g), o, metres, {0, 7.0}), std::vector<float>(10, 0.0f));
+  // Bridged first, then measured: the gap joins both runs into one stroke of 10 m.
+  EXPECT_EQ(apply_stroke_rule(segment_chains(g), o, metres, {1.0, 7.0}), std::vector<float>(10, 1.0f));
+  // A tributary of two 1 m segments joins the drawn stem at vertex 5: its stroke ends
+  // there (the stem continues from the larger inflow), so it is 2 m long.
+  g.positions.emplace_back(5.0f, 1.0f, 0.0f), g.normals.emplace_back(0.0f, 0.0f, 1.0f);
+  g.positions.emplace_back(5.0f, 2.0f, 0.0f), g.normals.emplace_back(0.0f, 0.0f, 1.0f);
+  g.flow.push_back(0.01f), g.flow.push_back(0.02f);
+  g.source.push_back(11), g.source.push_back(12);
+  g.segments.insert(g.segments.end(), {12u, 11u, 11u, 5u});
+  const SegmentChains ch = segment_chains(g);
+  EXPECT_EQ(ch.prev[5], 4u);  // the stem, of larger flow
+  EXPECT_EQ(ch.next[11], 5u);
+  const std::vector<float> all(12, 1.0f);
+  std::vector<float> stem = all;
+  stem[10] = stem[11] = 0;
+  EXPECT_EQ(apply_stroke_rule(ch, all, segment_metres(g), {0, 2.5}), stem);
+  EXPECT_EQ(apply_stroke_rule(ch, all, segment_metres(g), {0, 2.0}), all);
+}
+
 TEST(LineStats, FlickerCountsWhatAppearsOrVanishes) {
   const std::vector<double> px = {10, 20, 30, 40};
   EXPECT_EQ(flicker({{1, 1, 0, 1}, {1, 1, 0, 1}}, {px, px}), 0.0);

@@ -252,6 +252,10 @@ TEST(Shader, LogLocationsNameTheFile) {
 renderer::Style test_style() {
   renderer::Style s;
   s.antialias = false;
+  // The score law alone: these tests count the segments the score accepts (the stroke
+  // rule has its own tests below).
+  s.crease_bridge = 0;
+  s.crease_min_stroke = 0;
   s.background = {1, 1, 1};
   s.crease_colour = {1, 0, 0};
   s.silhouette_colour = {0, 0, 0};
@@ -553,6 +557,35 @@ TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
       }
     }
   }
+}
+
+// The stroke rule on the GPU (crease_bridge, crease_select) equals its CPU reference
+// (segment_opacity with the style's rule) on real data, and it changes the selection:
+// gaps bridged, short strokes left out.
+TEST(RendererGl, StrokeRuleMatchesCpu) {
+  const auto& sc = msh_scene();
+  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links);
+  renderer::GlContext ctx;
+  renderer::Style style = test_style();
+  style.crease_bridge = 1.0;
+  style.crease_min_stroke = 4.0;
+  const renderer::StrokeRule rule = renderer::stroke_rule(style, sc.mesh);
+  EXPECT_DOUBLE_EQ(rule.min_length, 4.0 * std::min(sc.mesh.geo.dx, sc.mesh.geo.dy));
+  TerrainRenderer r(ctx, sc.mesh, &g, 160, 120, renderer::Layers{false, true, true, false}, style);
+  const Vector3d light = terrain::light_direction(315, 45);
+  std::size_t changed = 0;
+  for (double min_score : {0.2, 0.3, 0.4, 0.5}) {
+    FrameParams fp;
+    fp.score.min_score = min_score;
+    fp.score.far_distance = 600;
+    const auto res = r.render(fp);
+    const auto opacity = renderer::segment_opacity(g, res.view.eye, light, 1.0, fp.score, 0.0, rule);
+    const auto cpu = std::size_t(std::count_if(opacity.begin(), opacity.end(), [](float o) { return o > 0; }));
+    const double tol = std::max(2.0, 1e-3 * double(g.n_segments()));
+    EXPECT_NEAR(double(res.crease_segments), double(cpu), tol) << "min score " << min_score;
+    changed += cpu != renderer::count_accepted_segments(g, res.view.eye, light, 1.0, fp.score);
+  }
+  EXPECT_GT(changed, 0u);
 }
 
 // From straight above nothing is hidden: at min score 0 every drainage vertex that starts

@@ -92,11 +92,44 @@ CreaseScoreParams resolve_distances(const CreaseScoreParams& params, const Eigen
 std::vector<std::uint8_t> accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye,
                                             const Eigen::Vector3d& light, double exaggeration,
                                             const CreaseScoreParams& params);
-// Per segment, its opacity as the anti-aliased DM pass draws it (#S): 0 where it is not
-// accepted; else min(score of its two ends) / fade clamped to 1, or 1 when fade is 0
-// (Style::crease_fade).
+// The chains that strokes follow (#S each, kNoSegment where none): next[s] is the segment
+// leaving s's downstream vertex; prev[s] the segment entering s's upstream vertex from the
+// largest flow (ties: the lower index), the one a stroke continues from.
+inline constexpr std::uint32_t kNoSegment = 0xFFFFFFFFu;
+struct SegmentChains {
+  std::vector<std::uint32_t> prev, next;
+};
+SegmentChains segment_chains(const CreaseGeometry& g);
+
+// Strokes, not dashes (Style::crease_bridge, crease_min_stroke; docs/terrain-render.md,
+// "Strokes"), with `length` the segments' lengths (#S, metres): a segment left out whose
+// chain has a drawn segment upstream (along prev) and downstream (along next), each
+// within `bridge` of left-out segments, is drawn at the lower opacity of those two. Then
+// a drawn run shorter than `min_length` is left out; the run of a segment is followed
+// upstream along prev, and downstream along next while the next segment continues from
+// this one, at most kStrokeReach segments each way. 0 turns a rule off. The DM pass runs
+// the same rule (crease_bridge.comp.glsl, crease_select.comp.glsl).
+inline constexpr int kStrokeReach = 64;  // TR_STROKE_REACH
+struct StrokeRule {
+  double bridge = 0;      // metres
+  double min_length = 0;  // metres
+};
+std::vector<float> apply_stroke_rule(const SegmentChains& chains, const std::vector<float>& opacity,
+                                     const std::vector<double>& length, const StrokeRule& rule);
+
+// The stroke rule of a style in metres: Style::crease_bridge and crease_min_stroke times
+// the mesh's spacing (the smaller of dx, dy).
+StrokeRule stroke_rule(const Style& style, const terrain::GridMesh& mesh);
+
+// Each segment's length in metres (local frame, before exaggeration). #S.
+std::vector<double> segment_metres(const CreaseGeometry& g);
+
+// Per segment, its opacity as the DM pass draws it (#S): 0 where it is not accepted; else
+// min(score of its two ends) / fade clamped to 1, or 1 when fade is 0 (Style::crease_fade);
+// then `rule` (in metres) along segment_chains.
 std::vector<float> segment_opacity(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
-                                   double exaggeration, const CreaseScoreParams& params, double fade);
+                                   double exaggeration, const CreaseScoreParams& params, double fade,
+                                   const StrokeRule& rule = {});
 // How many (accepted_segments).
 std::size_t count_accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
                                     double exaggeration, const CreaseScoreParams& params);

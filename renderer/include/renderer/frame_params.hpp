@@ -83,6 +83,10 @@ struct Style {
   // min(score) / fade, clamped to 1) instead of appearing at full strength; 0 cuts.
   // Anti-aliased lines only.
   double crease_fade = 0.03;
+  // Strokes, not dashes (renderer::StrokeRule), in mesh spacings: a gap in a channel's
+  // line up to crease_bridge long is drawn; a stroke shorter than crease_min_stroke (below
+  // the source mesh's resolution) is not. 0 turns a rule off.
+  double crease_bridge = 1.0, crease_min_stroke = 4.0;
   int silhouette_width = 1;                           // pixels
   double exaggeration = 1.0;                          // vertical exaggeration
   double crease_lift = -1;        // metres along the normal; < 0: 0.5 x mesh spacing

@@ -18,9 +18,10 @@
    u_weights  sw, iw, fw, divisor (sw + iw + fw, or 3)
    u_score    min score, falloff, far distance, crease lift (metres)
    u_lines    crease width at flow 0 and 1 (pixels), tessellation override, reversed z
-   u_misc     near plane distance, segment count, vertex count, 0
+   u_misc     near plane distance, segment count, vertex count, shortest crease stroke
+              (metres; 0: any)
    u_style    anti-aliased lines (1) or pixel-exact (0), crease fade band (score units;
-              0: cut), score near distance, 0 */
+              0: cut), score near distance, crease gap bridged (metres; 0: none) */
 #define TR_UBO_FRAME 0
 #define TR_FRAME_BLOCK(M) \
   M(mat4, u_view_proj)    \
@@ -54,6 +55,13 @@
 #define TR_SSBO_EDGE_COMMAND 18
 #define TR_SSBO_EDGE_LIST 19
 #define TR_SSBO_VERTEX_EDGES 20
+#define TR_SSBO_CREASE_CHAINS 21
+#define TR_SSBO_CREASE_OPACITY 22
+
+/* Crease strokes: "no segment" in the chains (renderer::kNoSegment), and how many
+   segments a stroke's run is followed each way (renderer::kStrokeReach). */
+#define TR_SEGMENT_NONE 0xFFFFFFFFu
+#define TR_STROKE_REACH 64
 
 /* Object-space edges: kinds (bit flags, as renderer::EdgeKind), the edges of a vertex
    (slots per vertex; a grid vertex has at most 6), "no vertex / no edge", cap styles, and

@@ -14,7 +14,8 @@ enum class ProgramId {
   Surface,       // TFT/AFT: PN patches, tessellated (surface.*)
   PnCapture,     // the same without rasterization, captured by transform feedback (tests)
   CreaseScore,   // DM: score of every crease vertex
-  CreaseSelect,  // DM: segments whose two ends pass, indirect draw command
+  CreaseBridge,  // DM: opacity of every segment (fade, gaps bridged)
+  CreaseSelect,  // DM: segments drawn (strokes long enough), indirect draw command
   CreaseDraw,    // DM: the selected segments as screen-space quads
   Silhouette,    // SIL: Toward/Away
   Composite,     // LAY
@@ -27,7 +28,8 @@ enum class ProgramId {
   EdgeDraw,      // EDGE: the drawn edges as quads with caps
 };
 inline constexpr std::array kAllPrograms = {ProgramId::Surface,     ProgramId::PnCapture,    ProgramId::CreaseScore,
-                                            ProgramId::CreaseSelect, ProgramId::CreaseDraw,  ProgramId::Silhouette,
+                                            ProgramId::CreaseBridge, ProgramId::CreaseSelect, ProgramId::CreaseDraw,
+                                            ProgramId::Silhouette,
                                             ProgramId::Composite,    ProgramId::PelFields,   ProgramId::PelExtract,
                                             ProgramId::PelDraw,     ProgramId::SurfaceId,    ProgramId::Adjacency,
                                             ProgramId::EdgeClassify, ProgramId::EdgeDraw};

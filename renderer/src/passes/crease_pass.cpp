@@ -1,7 +1,9 @@
 // DM: Mower's drainage creases. A compute pass scores every crease vertex
-// (crease_score.comp.glsl), a second keeps the segments whose two ends score >= 0 and
-// writes an indirect draw command (crease_select.comp.glsl); the segments are drawn as
-// screen-space quads lifted along the PN normal (crease.vert.glsl).
+// (crease_score.comp.glsl), a second gives every segment its opacity from the scores of
+// its ends, bridging short gaps along its chain (crease_bridge.comp.glsl), a third keeps
+// the segments of strokes long enough and writes an indirect draw command
+// (crease_select.comp.glsl); the segments are drawn as screen-space quads lifted along
+// the PN normal (crease.vert.glsl).
 #include <cstring>
 
 #include "passes.hpp"
@@ -24,10 +26,16 @@ CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, boo
     }
     cv_buf_ = make_buffer(cv.size() * 4, cv.data(), 0);
     seg_buf_ = make_buffer(creases->segments.size() * 4, creases->segments.data(), 0);
+    const SegmentChains chains = segment_chains(*creases);
+    std::vector<std::uint32_t> chain(2 * n_segments_);
+    for (std::size_t s = 0; s < n_segments_; ++s) chain[2 * s] = chains.prev[s], chain[2 * s + 1] = chains.next[s];
+    chain_buf_ = make_buffer(chain.size() * 4, chain.data(), 0);
     score_buf_ = make_buffer(n_vertices_ * 4, nullptr, 0);
+    opacity_buf_ = make_buffer(n_segments_ * 4, nullptr, 0);
     selected_buf_ = make_buffer(n_segments_ * 4, nullptr, 0);
     cmd_buf_ = make_buffer(16, nullptr, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
     score_prog_ = build_program(ProgramId::CreaseScore);
+    bridge_prog_ = build_program(ProgramId::CreaseBridge);
     select_prog_ = build_program(ProgramId::CreaseSelect);
     draw_prog_ = build_program(ProgramId::CreaseDraw);
   }
@@ -40,11 +48,16 @@ void CreasePass::execute(const FrameInputs&) {
   glNamedBufferSubData(cmd_buf_.id(), 0, sizeof cmd, cmd);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_VERTICES, cv_buf_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SEGMENTS, seg_buf_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_CHAINS, chain_buf_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SCORES, score_buf_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_OPACITY, opacity_buf_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_COMMAND, cmd_buf_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SELECTED, selected_buf_.id());
   glUseProgram(score_prog_.id());
   glDispatchCompute(dispatch_groups_x(n_vertices_), dispatch_groups_y(n_vertices_), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  glUseProgram(bridge_prog_.id());
+  glDispatchCompute(dispatch_groups_x(n_segments_), dispatch_groups_y(n_segments_), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   glUseProgram(select_prog_.id());
   glDispatchCompute(dispatch_groups_x(n_segments_), dispatch_groups_y(n_segments_), 1);

@@ -125,8 +125,8 @@ class CreasePass : public PassBase {
   const SceneGpu& s_;
   bool enabled_;
   std::size_t n_vertices_ = 0, n_segments_ = 0;
-  GlObject cv_buf_, seg_buf_, score_buf_, cmd_buf_, selected_buf_;
-  GlObject score_prog_, select_prog_, draw_prog_;
+  GlObject cv_buf_, seg_buf_, chain_buf_, score_buf_, opacity_buf_, cmd_buf_, selected_buf_;
+  GlObject score_prog_, bridge_prog_, select_prog_, draw_prog_;
   LineTarget target_;
 };
 
