@@ -113,8 +113,8 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
         }
         net.accumulated[i] = acc;
         net.order[i] = top == 0 ? 1 : std::uint8_t(top + (count >= 2 ? 1 : 0));
-        // A branch head unless exactly one inflow has its order (network_branches in branches.hpp). All of
-        // i's inflows have arrived, so its pending count is free to hold the mark.
+        // A branch head unless exactly one inflow has its order (network_branches, in
+        // branches.hpp). All of i's inflows have arrived: its pending count can hold the mark.
         pending[i] = top == 0 || count != 1;
         ++done;
         const std::uint32_t d = net.downstream[i];
