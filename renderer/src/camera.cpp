@@ -107,54 +107,74 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
           lo[i * C + j] = std::min(lo[i * C + j], z(r, c));
           hi[i * C + j] = std::max(hi[i * C + j], z(r, c));
         }
-  // Windows of k x k cells: their relief (max - min) and ruggedness (the sum of their
-  // cells' reliefs). The chosen one: among those within 0.5 % of the largest relief, the most
-  // rugged (ties: the one nearest the centre).
-  const std::size_t k = std::max<std::size_t>(1, (std::min(R, C) + 1) / 3), nw = (R - k + 1) * (C - k + 1);
-  std::vector<double> low(nw, 1e300), high(nw, -1e300), rugged(nw, 0.0);
+  // Local relief of every coarse cell: max - min over the h x h cells centred on it (h
+  // about a sixth of the shorter side).
+  const long hh = std::max<long>(1, long(std::min(R, C)) / 6) / 2;
+  std::vector<double> relief(R * C, 0.0);
   double top = 0;
-  for (std::size_t i = 0; i + k <= R; ++i)
-    for (std::size_t j = 0; j + k <= C; ++j) {
-      const std::size_t w = i * (C - k + 1) + j;
-      for (std::size_t u = i; u < i + k; ++u)
-        for (std::size_t v = j; v < j + k; ++v)
-          low[w] = std::min(low[w], lo[u * C + v]), high[w] = std::max(high[w], hi[u * C + v]),
-          rugged[w] += hi[u * C + v] - lo[u * C + v];
-      top = std::max(top, high[w] - low[w]);
+  for (long i = 0; i < long(R); ++i)
+    for (long j = 0; j < long(C); ++j) {
+      double a = 1e300, b = -1e300;
+      for (long u = std::max(0L, i - hh); u <= std::min(long(R) - 1, i + hh); ++u)
+        for (long v = std::max(0L, j - hh); v <= std::min(long(C) - 1, j + hh); ++v)
+          a = std::min(a, lo[std::size_t(u) * C + std::size_t(v)]), b = std::max(b, hi[std::size_t(u) * C + std::size_t(v)]);
+      relief[std::size_t(i) * C + std::size_t(j)] = b - a;
+      top = std::max(top, b - a);
     }
-  double best = -1, best_off = 0;
-  std::size_t bi = 0, bj = 0;
-  for (std::size_t i = 0; i + k <= R; ++i)
-    for (std::size_t j = 0; j + k <= C; ++j) {
-      const std::size_t w = i * (C - k + 1) + j;
-      if (high[w] - low[w] < 0.995 * top) continue;
-      const double off = std::hypot(double(2 * i + k) - double(R), double(2 * j + k) - double(C));
-      if (rugged[w] > best || (rugged[w] == best && off < best_off)) best = rugged[w], best_off = off, bi = i, bj = j;
-    }
-  const double wlo = low[bi * (C - k + 1) + bj], whi = high[bi * (C - k + 1) + bj];
+  // The subject: the cells of at least 3/4 of the largest local relief (the walls of a
+  // crater, the front of a range) around the one of largest relief: its centre is their
+  // relief-weighted mean within half the grid's shorter side, moved there until it stays
+  // (mean shift). Its half-width is 1.5 times their weighted standard deviation, at least
+  // the local-relief window and at most a quarter of the shorter side.
+  const double reach = 0.5 * double(std::min(R, C)), big = 0.75 * top;
+  std::size_t peak = 0;
+  for (std::size_t k = 0; k < R * C; ++k)
+    if (relief[k] > relief[peak]) peak = k;
+  double ci = double(peak / C), cj = double(peak % C), si2 = 0, sj2 = 0;
+  for (int it = 0; it < 50; ++it) {
+    double si = 0, sj = 0, sw = 0;
+    si2 = 0, sj2 = 0;
+    for (std::size_t i = 0; i < R; ++i)
+      for (std::size_t j = 0; j < C; ++j) {
+        const double r = relief[i * C + j], di = double(i) - ci, dj = double(j) - cj;
+        if (r < big || di * di + dj * dj > reach * reach) continue;
+        si += r * double(i), sj += r * double(j), sw += r, si2 += r * di * di, sj2 += r * dj * dj;
+      }
+    si2 /= sw, sj2 /= sw;
+    const double ni = si / sw, nj = sj / sw, moved = std::hypot(ni - ci, nj - cj);
+    ci = ni, cj = nj;
+    if (moved < 0.25) break;
+  }
+  const double spread = std::clamp(1.5 * std::sqrt(std::max(si2, sj2)), double(hh) + 0.5, 0.25 * double(std::min(R, C)));
   const auto& g = mesh.geo;
-  const std::size_t r0 = bi * f, r1 = std::min((bi + k) * f, rows - 1), c0 = bj * f, c1 = std::min((bj + k) * f, cols - 1);
-  const Eigen::Vector2d centre(0.5 * double(c0 + c1) * g.dx, -0.5 * double(r0 + r1) * g.dy);  // local
-  const double w = std::max(double(c1 - c0) * g.dx, double(r1 - r0) * g.dy);
+  const double fdx = double(f) * g.dx, fdy = double(f) * g.dy;
+  const Eigen::Vector2d centre((cj + 0.5) * fdx, -(ci + 0.5) * fdy);  // local
+  const Eigen::Vector2d half(spread * fdx, spread * fdy);
+  // Heights within the subject's extent.
+  const auto clamp_c = [&](double x) { return std::size_t(std::clamp(std::round(x / g.dx), 0.0, double(cols - 1))); };
+  const auto clamp_r = [&](double y) { return std::size_t(std::clamp(std::round(-y / g.dy), 0.0, double(rows - 1))); };
+  const std::size_t c0 = clamp_c(centre.x() - half.x()), c1 = clamp_c(centre.x() + half.x());
+  const std::size_t r0 = clamp_r(centre.y() + half.y()), r1 = clamp_r(centre.y() - half.y());
+  double wlo = 1e300, whi = -1e300, mean = 0;
+  for (std::size_t r = r0; r <= r1; ++r)
+    for (std::size_t c = c0; c <= c1; ++c) wlo = std::min(wlo, z(r, c)), whi = std::max(whi, z(r, c)), mean += z(r, c);
+  mean /= double((r1 - r0 + 1) * (c1 - c0 + 1));
+  const double w = std::max(half.x(), half.y());
   // The open side: the eye's bearing from the centre is the view's bearing + 180.
   double view_az = 225, lowest = 1e300;
   for (int a = 0; a < 360; a += 15) {
     const Eigen::Vector2d towards_eye = -Eigen::Vector2d(std::sin(a * kDeg), std::cos(a * kDeg));
     double sum = 0;
     for (int s = 0; s <= 8; ++s) {
-      const Eigen::Vector2d p = centre + w * (0.5 + 0.125 * s) * towards_eye;
+      const Eigen::Vector2d p = centre + w * (0.25 + 0.125 * s) * towards_eye;
       const double c = std::round(p.x() / g.dx), r = std::round(-p.y() / g.dy);
       sum += (c >= 0 && r >= 0 && c < double(cols) && r < double(rows)) ? z(std::size_t(r), std::size_t(c)) : wlo;
     }
     if (sum < lowest - 1e-9 * std::abs(lowest)) lowest = sum, view_az = a;
   }
-  // The eye looks at the window's centre at its mean height, from 1.8 times the distance
-  // that frames the window's box: the window fills about the middle half of the frame.
-  double mean = 0;
-  for (std::size_t r = r0; r <= r1; ++r)
-    for (std::size_t c = c0; c <= c1; ++c) mean += z(r, c);
-  mean /= double((r1 - r0 + 1) * (c1 - c0 + 1));
-  const Box box{{double(c0) * g.dx, -double(r1) * g.dy, wlo * e}, {double(c1) * g.dx, -double(r0) * g.dy, whi * e}};
+  // The eye looks at the subject's centre at its mean height, from 1.5 times the distance
+  // that frames its box: the subject fills about the middle two thirds of the frame.
+  const Box box{{centre.x() - half.x(), centre.y() - half.y(), wlo * e}, {centre.x() + half.x(), centre.y() + half.y(), whi * e}};
   const double framed = (0.5 * (box.lo + box.hi) - frame_box(box, view_az, view_alt, fov_deg, aspect)).norm();
   const Eigen::Vector3d target(centre.x(), centre.y(), mean * e);
   ReliefView rv;
@@ -162,8 +182,8 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
   rv.camera.view_alt = view_alt;
   rv.camera.fov = fov_deg;
   const Eigen::Vector3d origin(g.origin_x, g.origin_y, g.origin_z);
-  rv.camera.eye = origin + target - 1.8 * framed * view_direction(view_az, view_alt);
-  rv.light.azimuth = std::fmod(view_az + 270.0, 360.0);
+  rv.camera.eye = origin + target - 1.5 * framed * view_direction(view_az, view_alt);
+  rv.light.azimuth = std::fmod(view_az + 90.0, 360.0);
   rv.light.altitude = 35;
   rv.centre = centre + origin.head<2>();
   rv.relief = whi - wlo;

@@ -141,7 +141,7 @@ TEST(Camera, DefaultViewFramesTheReliefFromItsOpenSide) {
   const auto rv = renderer::relief_view(mesh, 1.0, 35, 16.0 / 9.0);
   EXPECT_LT(std::hypot(rv.centre.x() - cx, rv.centre.y() - cy), 1500) << rv.centre.transpose();
   EXPECT_EQ(rv.camera.view_az, 180.0);
-  EXPECT_EQ(rv.light.azimuth, 90.0);  // from the left of a view towards the south: east
+  EXPECT_EQ(rv.light.azimuth, 270.0);  // from the right of a view towards the south: west
   ASSERT_TRUE(rv.camera.eye.has_value());
   EXPECT_GT(rv.camera.eye->y(), cy);  // north of the cone
   EXPECT_NO_THROW(renderer::check_eye_above_terrain(mesh, *rv.camera.eye, 1.0));
@@ -152,6 +152,42 @@ TEST(Camera, DefaultViewFramesTheReliefFromItsOpenSide) {
   EXPECT_LT(c.u, 2 * 1280 / 3.0);
   EXPECT_GT(c.v, 720 / 3.0);
   EXPECT_LT(c.v, 2 * 720 / 3.0);
+}
+
+// The default view on Mount St. Helens (the bundled 2007 DEM as the demo's 50 m mesh):
+// it looks into the crater through its breach to the north, the lava dome (summit 2310 m
+// at 562490 E 5116070 N in the DEM) in the middle third across and in the upper two thirds
+// of the image, the highest point of the crater rim (2538 m, 562060 E 5115640 N) in the
+// image beyond it, and the eye above the terrain.
+TEST(Camera, DefaultViewOfMountStHelensShowsTheCraterAndTheDome) {
+  terrain::GridRequest req;
+  req.spacing = 50.0;
+  const terrain::GridMesh mesh = terrain::make_grid_mesh(
+      terrain::prepare_grid(terrain::read_dem(terrain::test::data("msh_2007_utm10n_10m.tif")), req).grid,
+      terrain::NormalWeighting::Uniform);
+  const int w = 1280, h = 720;
+  const auto rv = renderer::relief_view(mesh, 1.0, 35, double(w) / h);
+  EXPECT_GE(rv.camera.view_az, 150.0);  // towards the south, through the breach
+  EXPECT_LE(rv.camera.view_az, 210.0);
+  ASSERT_TRUE(rv.camera.eye.has_value());
+  EXPECT_NO_THROW(renderer::check_eye_above_terrain(mesh, *rv.camera.eye, 1.0));
+  const auto& g = mesh.geo;
+  const Vector3d origin(g.origin_x, g.origin_y, g.origin_z);
+  const renderer::Box box{Vector3d(0, -double(mesh.topo.rows - 1) * g.dy, 1300),
+                          Vector3d(double(mesh.topo.cols - 1) * g.dx, 0, 2600)};
+  const auto v = renderer::make_view(rv.camera, origin, box, w, h);
+  const auto dome = renderer::project(v, Vector3d(562490, 5116070, 2310) - origin);
+  const auto rim = renderer::project(v, Vector3d(562060, 5115640, 2538) - origin);
+  EXPECT_TRUE(dome.in_front);
+  EXPECT_GT(dome.u, w / 3.0);
+  EXPECT_LT(dome.u, 2 * w / 3.0);
+  EXPECT_GT(dome.v, 0.0);
+  EXPECT_LT(dome.v, 2 * h / 3.0);
+  EXPECT_TRUE(rim.in_front);
+  EXPECT_GT(rim.u, 0.0);
+  EXPECT_LT(rim.u, double(w));
+  EXPECT_GT(rim.v, 0.0);
+  EXPECT_LT(rim.v, dome.v);  // the rim beyond the dome
 }
 
 TEST(Camera, ProjectionAndFraming) {

@@ -36,22 +36,24 @@ Eigen::Vector3d view_direction(double view_az_deg, double view_alt_deg);
 Eigen::Vector3d frame_box(const Box& box, double view_az, double view_alt, double fov_deg, double aspect);
 
 // The default view of a terrain (terrain-render with no camera options;
-// docs/terrain-render.md, "The default view"). The part of highest relief: on the grid
-// coarsened to at most 95 cells a side, among the square windows a third of its shorter
-// side whose relief (max - min height) is within 0.5 % of the largest, the most rugged one
-// (whose cells' reliefs sum highest). It is seen from the side where the terrain
-// around it is lowest: the bearing, in 15 degree steps, along which the mean height
-// between a half and one and a half windows beyond its centre is least (outside the grid
-// counts as the window's lowest height), so the view looks into the open side of a crater
-// or up a valley. From view_alt above the horizon, the eye frames the window and a window
-// of terrain around it on every side (the window fills about the middle third of the
-// image). The light comes from the left of the line of sight (bearing - 90), 35 degrees
-// high, so that the slopes facing the eye are side-lit.
+// docs/terrain-render.md, "The default view"). On the grid coarsened to at most 95 cells a
+// side, each cell's local relief is the max - min height over a window a sixth of the
+// shorter side. The subject is the cells of at least 3/4 of the largest local relief (the
+// walls of a crater, the front of a range) near the one of largest relief: its centre is
+// their relief-weighted mean within half the shorter side, iterated until it stays (mean
+// shift), its half-width 1.5 times their weighted standard deviation (at least the relief
+// window, at most a quarter of the shorter side). It is seen from its open side: the
+// bearing, in 15 degree steps, along which the mean height from a quarter to one and a
+// quarter half-widths from the centre is least (outside the grid counts as the subject's
+// lowest height), so the view looks into a breached crater or up a valley. From view_alt
+// above the horizon, the eye looks at the centre from 1.5 times the distance that frames
+// the subject's box. The light comes from the right of the line of sight (bearing + 90),
+// 35 degrees high, side-lighting the slopes that face the eye.
 struct ReliefView {
   Camera camera;             // eye set, world coordinates
   Light light;
-  Eigen::Vector2d centre;    // of the relief window, world x y
-  double relief = 0;         // its max - min height, metres
+  Eigen::Vector2d centre;    // of the subject, world x y
+  double relief = 0;         // the max - min height within its box, metres
 };
 ReliefView relief_view(const terrain::GridMesh& mesh, double exaggeration, double fov_deg, double aspect,
                        double view_alt = 30.0);
