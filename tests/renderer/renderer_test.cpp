@@ -757,3 +757,45 @@ TEST(RendererGl, AdjacencyAgreesWithTowardAwayOnRealTerrain) {
   EXPECT_GT(n_ta, 500);
   EXPECT_GE(found, 0.90);
 }
+
+// Anti-aliased Toward/Away silhouettes drop specks: on Mount St. Helens at 50 m the mask is
+// the pixel-exact one less exactly its pixels with fewer than 3 silhouette pixels (itself
+// included) in their 5 x 5 window; there are some, and the lines stay.
+TEST(RendererGl, AntialiasedSilhouettesDropSpecks) {
+  terrain::GridRequest req;
+  req.spacing = 50.0;
+  const terrain::GridMesh mesh = terrain::make_grid_mesh(
+      terrain::prepare_grid(terrain::read_dem(terrain::test::data("msh_2007_utm10n_10m.tif")), req).grid,
+      terrain::NormalWeighting::Uniform);
+  renderer::GlContext ctx;
+  const int w = 640, h = 360;
+  auto mask = [&](bool antialias) {
+    renderer::Style style = test_style();
+    style.antialias = antialias;
+    TerrainRenderer r(ctx, mesh, nullptr, w, h, renderer::Layers{false, true, false, true}, style);
+    FrameParams fp;
+    fp.camera.view_az = 200;
+    fp.camera.view_alt = 15;
+    r.render(fp);
+    return r.read_buffers().silhouette;
+  };
+  const auto exact = mask(false), soft = mask(true);
+  std::size_t specks = 0, kept = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = std::size_t(y * w + x);
+      if (!exact[i]) {
+        EXPECT_EQ(soft[i], 0) << x << " " << y;
+        continue;
+      }
+      int n = 0;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx)
+          n += x + dx >= 0 && y + dy >= 0 && x + dx < w && y + dy < h && exact[std::size_t((y + dy) * w + x + dx)];
+      EXPECT_EQ(soft[i], n >= 3 ? 1 : 0) << x << " " << y;
+      specks += n < 3, kept += n >= 3;
+    }
+  std::printf("silhouette pixels %zu, specks dropped %zu\n", kept + specks, specks);
+  EXPECT_GT(specks, 0u);
+  EXPECT_GT(kept, 20 * specks);
+}
