@@ -145,7 +145,8 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
     ci = ni, cj = nj;
     if (moved < 0.25) break;
   }
-  const double spread = std::clamp(1.5 * std::sqrt(std::max(si2, sj2)), double(hh) + 0.5, 0.25 * double(std::min(R, C)));
+  const double least = double(hh) + 0.5, most = std::max(least, 0.25 * double(std::min(R, C)));
+  const double spread = std::clamp(1.5 * std::sqrt(std::max(si2, sj2)), least, most);
   const auto& g = mesh.geo;
   const double fdx = double(f) * g.dx, fdy = double(f) * g.dy;
   const Eigen::Vector2d centre((cj + 0.5) * fdx, -(ci + 0.5) * fdy);  // local
