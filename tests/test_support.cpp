@@ -1,5 +1,8 @@
 #include "test_support.hpp"
 
+#include "terrain/dem_io.hpp"
+#include "terrain/prepare_grid.hpp"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -53,6 +56,15 @@ RunResult run(const std::string& command_line) {
   r.out = slurp(out);
   r.err = slurp(err);
   return r;
+}
+
+const GridMesh& msh_50m_mesh() {
+  static const GridMesh mesh = [] {
+    GridRequest req;
+    req.spacing = 50.0;
+    return make_grid_mesh(prepare_grid(read_dem(data("msh_2007_utm10n_10m.tif")), req).grid, NormalWeighting::Uniform);
+  }();
+  return mesh;
 }
 
 }  // namespace terrain::test

@@ -38,4 +38,8 @@ RunResult run(const std::string& command_line);
 // f is called row by row, west to east, so a seeded random term is reproducible.
 GridMesh function_mesh(std::size_t rows, std::size_t cols, double h, const std::function<double(double, double)>& f);
 
+// The demo's Mount St. Helens mesh: the bundled 2007 DEM resampled to 50 m (dem2mesh
+// --spacing 50), uniform vertex normals. Built once.
+const GridMesh& msh_50m_mesh();
+
 }  // namespace terrain::test

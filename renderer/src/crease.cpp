@@ -171,11 +171,12 @@ CreaseScoreParams resolve_distances(const CreaseScoreParams& params, const Eigen
   return p;
 }
 
-SegmentChains segment_chains(const CreaseGeometry& g) {
+SegmentChains segment_chains(const CreaseGeometry& g, const std::vector<float>& drawn) {
   const std::size_t ns = g.n_segments();
   SegmentChains ch{std::vector<std::uint32_t>(ns, kNoSegment), std::vector<std::uint32_t>(ns, kNoSegment)};
   std::vector<std::uint32_t> leaving(g.positions.size(), kNoSegment), entering(g.positions.size(), kNoSegment);
   for (std::uint32_t s = 0; s < ns; ++s) {
+    if (!drawn.empty() && !(drawn[s] > 0)) continue;
     leaving[g.segments[2 * s]] = s;
     std::uint32_t& m = entering[g.segments[2 * s + 1]];
     if (m == kNoSegment || g.flow[g.segments[2 * s]] > g.flow[g.segments[2 * m]]) m = s;

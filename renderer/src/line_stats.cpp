@@ -120,23 +120,12 @@ std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, 
 }
 
 std::vector<std::vector<std::uint32_t>> crease_strokes(const CreaseGeometry& g, const std::vector<float>& drawn) {
-  const std::size_t ns = g.n_segments(), nv = g.positions.size();
-  constexpr std::uint32_t kNone = 0xFFFFFFFFu;
-  // The drawn segment leaving each vertex (a D8 point has one link) and the drawn inflow
-  // that continues through it.
-  std::vector<std::uint32_t> out(nv, kNone), main_in(nv, kNone);
-  for (std::uint32_t s = 0; s < ns; ++s) {
-    if (!(drawn[s] > 0)) continue;
-    out[g.segments[2 * s]] = s;
-    std::uint32_t& m = main_in[g.segments[2 * s + 1]];
-    if (m == kNone || g.flow[g.segments[2 * s]] > g.flow[g.segments[2 * m]]) m = s;
-  }
+  const SegmentChains ch = segment_chains(g, drawn);
   std::vector<std::vector<std::uint32_t>> strokes;
-  for (std::uint32_t s = 0; s < ns; ++s) {
-    if (!(drawn[s] > 0) || main_in[g.segments[2 * s]] != kNone) continue;  // continues a stroke
+  for (std::uint32_t s = 0; s < g.n_segments(); ++s) {
+    if (!(drawn[s] > 0) || ch.prev[s] != kNoSegment) continue;  // continues a stroke
     std::vector<std::uint32_t> stroke{s};
-    for (std::uint32_t v = g.segments[2 * s + 1]; out[v] != kNone && main_in[v] == stroke.back(); v = g.segments[2 * out[v] + 1])
-      stroke.push_back(out[v]);
+    for (std::uint32_t t = ch.next[s]; t != kNoSegment && ch.prev[t] == stroke.back(); t = ch.next[t]) stroke.push_back(t);
     strokes.push_back(std::move(stroke));
   }
   return strokes;

@@ -8,7 +8,6 @@
 #include "drainage_test_support.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/pn_surface.hpp"
-#include "terrain/prepare_grid.hpp"
 #include "test_support.hpp"
 
 namespace drainage {
@@ -99,11 +98,7 @@ TEST(ComputeDrainage, InclinedPlaneAccumulatesUpslopePoints) {
 // Invariants on real data: the PN surface of the Mount St. Helens mesh sampled at 10 m,
 // and the Logan DEM on its own grid, with and without flat resolution and filling.
 TEST(ComputeDrainage, RealDataInvariants) {
-  terrain::GridRequest req;
-  req.spacing = 50.0;
-  const terrain::GridMesh msh = terrain::make_grid_mesh(
-      terrain::prepare_grid(terrain::read_dem(terrain::test::data("msh_2007_utm10n_10m.tif")), req).grid,
-      terrain::NormalWeighting::Uniform);
+  const terrain::GridMesh& msh = terrain::test::msh_50m_mesh();
   const terrain::SampledSurface s = terrain::sample_pn_surface(msh, 10.0);
   EXPECT_EQ(s.fallbacks, 0u);
   EXPECT_EQ(s.grid.count_nodata(), 0u);

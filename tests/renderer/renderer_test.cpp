@@ -22,7 +22,6 @@
 #include "terrain/error.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/pn_surface.hpp"
-#include "terrain/prepare_grid.hpp"
 #include "terrain/voronoi.hpp"
 #include "renderer/pel.hpp"
 #include <map>
@@ -160,11 +159,7 @@ TEST(Camera, DefaultViewFramesTheReliefFromItsOpenSide) {
 // of the image, the highest point of the crater rim (2538 m, 562060 E 5115640 N) in the
 // image beyond it, and the eye above the terrain.
 TEST(Camera, DefaultViewOfMountStHelensShowsTheCraterAndTheDome) {
-  terrain::GridRequest req;
-  req.spacing = 50.0;
-  const terrain::GridMesh mesh = terrain::make_grid_mesh(
-      terrain::prepare_grid(terrain::read_dem(terrain::test::data("msh_2007_utm10n_10m.tif")), req).grid,
-      terrain::NormalWeighting::Uniform);
+  const terrain::GridMesh& mesh = terrain::test::msh_50m_mesh();
   const int w = 1280, h = 720;
   const auto rv = renderer::relief_view(mesh, 1.0, 35, double(w) / h);
   EXPECT_GE(rv.camera.view_az, 150.0);  // towards the south, through the breach
@@ -732,11 +727,7 @@ double covered_within_one(const std::vector<std::uint8_t>& a, const std::vector<
 // not have (spurious: pixel neighbours across thin triangles near patch borders) are
 // counted and reported.
 TEST(RendererGl, AdjacencyAgreesWithTowardAwayOnRealTerrain) {
-  terrain::GridRequest req;
-  req.spacing = 50.0;
-  const terrain::GridMesh mesh = terrain::make_grid_mesh(
-      terrain::prepare_grid(terrain::read_dem(terrain::test::data("msh_2007_utm10n_10m.tif")), req).grid,
-      terrain::NormalWeighting::Uniform);
+  const terrain::GridMesh& mesh = terrain::test::msh_50m_mesh();
   renderer::GlContext ctx;
   const int w = 640, h = 360;
   auto mask = [&](bool adjacency) {
@@ -762,11 +753,7 @@ TEST(RendererGl, AdjacencyAgreesWithTowardAwayOnRealTerrain) {
 // the pixel-exact one less exactly its pixels with fewer than 3 silhouette pixels (itself
 // included) in their 5 x 5 window; there are some, and the lines stay.
 TEST(RendererGl, AntialiasedSilhouettesDropSpecks) {
-  terrain::GridRequest req;
-  req.spacing = 50.0;
-  const terrain::GridMesh mesh = terrain::make_grid_mesh(
-      terrain::prepare_grid(terrain::read_dem(terrain::test::data("msh_2007_utm10n_10m.tif")), req).grid,
-      terrain::NormalWeighting::Uniform);
+  const terrain::GridMesh& mesh = terrain::test::msh_50m_mesh();
   renderer::GlContext ctx;
   const int w = 640, h = 360;
   auto mask = [&](bool antialias) {

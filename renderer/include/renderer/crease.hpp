@@ -99,7 +99,9 @@ inline constexpr std::uint32_t kNoSegment = 0xFFFFFFFFu;
 struct SegmentChains {
   std::vector<std::uint32_t> prev, next;
 };
-SegmentChains segment_chains(const CreaseGeometry& g);
+// With `drawn` (#S), only the segments with drawn[s] > 0 take part (the strokes a frame
+// shows: crease_strokes); empty: every segment.
+SegmentChains segment_chains(const CreaseGeometry& g, const std::vector<float>& drawn = {});
 
 // Strokes, not dashes (Style::crease_bridge, crease_min_stroke; docs/terrain-render.md,
 // "Strokes"), with `length` the segments' lengths (#S, metres): a segment left out whose
