@@ -36,20 +36,21 @@ done
 run $bin/terrain-inspect export "$out/msh.dv" --to gpkg -o "$out/msh_branches.gpkg"
 
 echo "== Renderings (terrain-render: OpenGL through EGL; llvmpipe without a GPU)"
-# Depressions filled, so that channels run on to their outlets.
-run $bin/build-drainage "$out/msh_50m.ply" "$out/msh_filled.dv" --spacing 10 --fill -q
-run $bin/build-drainage "$out/logan_100m.ply" "$out/logan_filled.dv" --spacing 30 --fill -q
+# Depressions breached (cut up to 10 m deep, filled below that), so that channels run on
+# to their outlets along the valleys instead of across flat filled reaches.
+run $bin/build-drainage "$out/msh_50m.ply" "$out/msh_breached.dv" --spacing 10 --breach 10 -q
+run $bin/build-drainage "$out/logan_100m.ply" "$out/logan_breached.dv" --spacing 30 --breach 10 -q
 $bin/terrain-render --device > "$out/render_device.txt"
 # Mount St. Helens crater: the pen-and-ink mask with creases and silhouettes (default
 # camera), the shaded relief, and the crater seen from the north.
-run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_filled.dv" -o "$out/render_msh_lines.png"
-run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_filled.dv" -o "$out/render_msh_shaded.png" \
+run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_breached.dv" -o "$out/render_msh_lines.png"
+run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_breached.dv" -o "$out/render_msh_shaded.png" \
   --layers shaded,creases,silhouettes --view-az 160 --view-alt 35
 run $bin/terrain-render frame "$out/msh_50m.ply" -o "$out/render_msh_relief.png" --layers shaded --view-az 160 --view-alt 35
 # Logan: the mountains east of Cache Valley, 2x vertical exaggeration.
-run $bin/terrain-render frame "$out/logan_100m.ply" "$out/logan_filled.dv" -o "$out/render_logan_lines.png" \
+run $bin/terrain-render frame "$out/logan_100m.ply" "$out/logan_breached.dv" -o "$out/render_logan_lines.png" \
   --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2
-run $bin/terrain-render frame "$out/logan_100m.ply" "$out/logan_filled.dv" -o "$out/render_logan_shaded.png" \
+run $bin/terrain-render frame "$out/logan_100m.ply" "$out/logan_breached.dv" -o "$out/render_logan_shaded.png" \
   --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2 --layers shaded,creases,silhouettes
 # Object-space edges of the mesh facets (contours, boundary, creases sharper than 25 deg).
 run $bin/terrain-render frame "$out/msh_50m.ply" -o "$out/render_msh_edges.png" --layers mask,edges --crease-angle 25 \
@@ -59,17 +60,17 @@ run $bin/denoise-normals "$out/msh_10m.ply" "$out/msh_10m_denoised.ply" -q
 run $bin/denoise-normals "$out/logan_100m.ply" "$out/logan_100m_denoised.ply" -q
 run $bin/terrain-inspect preview "$out/msh_10m_denoised.ply" --colour-by normal-change -o "$out/msh_10m_normal_change.png"
 run $bin/terrain-render frame "$out/msh_10m_denoised.ply" -o "$out/render_msh_pels.png" --layers mask,pels
-run $bin/terrain-render frame "$out/msh_10m_denoised.ply" "$out/msh_filled.dv" -o "$out/render_msh_pels_lines.png" \
+run $bin/terrain-render frame "$out/msh_10m_denoised.ply" "$out/msh_breached.dv" -o "$out/render_msh_pels_lines.png" \
   --layers mask,pels,creases,silhouettes
 run $bin/terrain-render frame "$out/logan_100m_denoised.ply" -o "$out/render_logan_pels.png" --layers mask,pels \
   --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2
-run $bin/terrain-render frame "$out/logan_100m_denoised.ply" "$out/logan_filled.dv" -o "$out/render_logan_pels_lines.png" \
+run $bin/terrain-render frame "$out/logan_100m_denoised.ply" "$out/logan_breached.dv" -o "$out/render_logan_pels_lines.png" \
   --layers mask,pels,creases,silhouettes --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2
 # A short flight over the crater: frames, timings.csv and the paper's tables.
 run $bin/terrain-render path --from 561800 5113500 3300 --to 562900 5116000 3000 --frames 12 --view-alt 25 \
   -o "$out/msh_path.csv"
 mkdir -p "$out/msh_flight"
-run $bin/terrain-render batch "$out/msh_50m.ply" "$out/msh_filled.dv" "$out/msh_path.csv" -o "$out/msh_flight" \
+run $bin/terrain-render batch "$out/msh_50m.ply" "$out/msh_breached.dv" "$out/msh_path.csv" -o "$out/msh_flight" \
   --size 960x540 -q | tee "$out/msh_flight/summary.txt"
 
 echo

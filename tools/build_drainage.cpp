@@ -53,6 +53,7 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
   std::uint32_t dv_version = drainage::kDvVersion;
   std::size_t tile_size = 0;
   double memory_mib = 0;
+  std::optional<double> breach;
   tt::Verbosity verb;
   app.add_option("MESH_OR_OUTPUT", positional, "MESH.ply OUTPUT.dv, or only OUTPUT.dv with --raster / --d8-input")
       ->required()
@@ -69,7 +70,15 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
       ->check(CLI::IsMember({"taudem", "esri"}))
       ->capture_default_str();
   app.add_flag("--keep-flats", keep_flats, "Keep flat areas as one-point pits (the paper's literal behaviour)");
-  app.add_flag("--fill", fill, "Fill depressions first (Priority-Flood); off by default: every pit is a basin");
+  auto* fill_flag =
+      app.add_flag("--fill", fill, "Fill depressions first (Priority-Flood); off by default: every pit is a basin");
+  app.add_option("--breach", breach,
+                 "Breach depressions first instead: cut a channel through each one's rim, at most DEPTH\n"
+                 "metres deep, and fill what remains below that (Lindsay 2016). Keeps rivers running\n"
+                 "through small pits of the surface instead of across flat filled reaches. Untiled runs")
+      ->check(CLI::NonNegativeNumber)
+      ->type_name("DEPTH")
+      ->excludes(fill_flag);
   app.add_option("--rasters", rasters_dir, "Also write GeoTIFFs of every layer into this directory");
   app.add_option("--surface", surface_out, "Also write the sampled surface as a GeoTIFF");
   app.add_option("--dv-version", dv_version,
@@ -103,8 +112,8 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
                            "first, e.g. with gdalwarp -tr)");
     const std::string output = positional.back();
     if (!output.ends_with(".dv")) throw terrain::Error("OUTPUT must be a .dv file: '" + output + "'");
-    if (!d8_input.empty() && (fill || keep_flats))
-      throw terrain::Error("--fill and --keep-flats do not apply to --d8-input (directions are given)");
+    if (!d8_input.empty() && (fill || breach || keep_flats))
+      throw terrain::Error("--fill, --breach and --keep-flats do not apply to --d8-input (directions are given)");
     std::vector<std::string> output_paths = {output, surface_out};
     if (!rasters_dir.empty())
       for (const char* name : drainage::kDrainageRasterNames)
@@ -130,6 +139,7 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
       if (!rasters_dir.empty() || !surface_out.empty())
         throw terrain::Error("--rasters and --surface are not written in tiled runs (yet)");
       if (dv_version != 2) throw terrain::Error("tiled runs write .dv version 2");
+      if (breach) throw terrain::Error("--breach runs untiled only (use --fill in tiled and MPI runs)");
       using clock = std::chrono::steady_clock;
       const auto t0 = clock::now();
       drainage::TiledRun run;
@@ -181,7 +191,7 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
 
     t0 = clock::now();
     drainage::DrainageResult result =
-        drainage::run_drainage(std::move(input), {fill, !keep_flats}, tt::terminal_progress(verb, "drainage"));
+        drainage::run_drainage(std::move(input), {fill, !keep_flats, breach}, tt::terminal_progress(verb, "drainage"));
     flags |= result.dv_flags;
     for (const auto& [name, secs] : result.timings) tt::step(verb, fmt::format("  {}: {:.3f} s", name, secs));
     tt::step(verb, fmt::format("drainage (steps 2-6): {:.2f} s, peak RSS so far {:.0f} MiB", seconds(), tt::peak_rss_mib()));
@@ -215,6 +225,7 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
               << "branches: " << net.branches.size() << "\n"
               << "flats: " << result.flats.flats << " (" << result.flats.undrainable << " undrainable)\n"
               << "filled: " << result.filled << "\n";
+    if (breach) std::cout << fmt::format("carved: {} (deepest {:.2f} m)\n", result.carved, result.max_carve);
     return 0;
   });
 }

@@ -131,6 +131,7 @@ void info_dv(const std::string& path) {
             << "source: " << ((h.flags & drainage::kDvFromPnSurface) ? "PN surface of a mesh" : "raster grid") << "\n"
             << "flats_resolved: " << ((h.flags & drainage::kDvFlatsResolved) ? "yes" : "no") << "\n"
             << "filled: " << ((h.flags & drainage::kDvFilled) ? "yes" : "no") << "\n"
+            << "breached: " << ((h.flags & drainage::kDvBreached) ? "yes" : "no") << "\n"
             << "points: " << s.points << "\n"
             << "basins: " << h.basins << "\n"
             << "basins_over_1pct: " << s.basins_over_1pct << "\n"

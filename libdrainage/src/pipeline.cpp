@@ -37,10 +37,16 @@ DrainageResult compute_drainage(terrain::Grid surface, const DrainageOptions& op
   DrainageResult out;
   StepClock clock(out);
   out.dv_flags = kDvHasElevations;
+  if (options.fill && options.breach_depth) throw terrain::Error("fill and breach are alternatives: choose one");
   if (options.fill) {
     out.filled = priority_flood_fill(surface);
     out.dv_flags |= kDvFilled;
     clock.lap("fill");
+  } else if (options.breach_depth) {
+    const BreachStats b = breach_depressions(surface, *options.breach_depth);
+    out.filled = b.raised, out.carved = b.carved, out.max_carve = b.max_carve;
+    out.dv_flags |= kDvBreached;
+    clock.lap("breach");
   }
   terrain::report(progress, 0.15);
   out.dirs = d8_directions(surface);

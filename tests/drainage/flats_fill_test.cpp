@@ -48,7 +48,7 @@ TEST(ResolveFlats, PlateauDrainsToItsOneOutlet) {
   for (std::uint32_t p : resolved.net.pits) interior_pits += g.at(p / n, p % n) == 50.0f;
   EXPECT_EQ(interior_pits, 0u);
 
-  const DrainageResult literal = compute_drainage(g, {.fill = false, .resolve_flats = false});
+  const DrainageResult literal = compute_drainage(g, {.fill = false, .resolve_flats = false, .breach_depth = {}});
   test::check_network_properties(literal.net, literal.dirs);
   interior_pits = 0;
   for (std::uint32_t p : literal.net.pits) interior_pits += g.at(p / n, p % n) == 50.0f;

@@ -33,8 +33,8 @@ TEST(Pipeline, FillingLeavesOnlyOutlets) {
   const terrain::Grid g = analytic(n, 10.0, [](double x, double y) {
     return 0.1 * x + std::min(0.0, std::hypot(x, y) - 60.0);
   });
-  const DrainageResult raw = compute_drainage(g, {false, true});
-  const DrainageResult filled = compute_drainage(g, {true, true});
+  const DrainageResult raw = compute_drainage(g, {false, true, {}});
+  const DrainageResult filled = compute_drainage(g, {true, true, {}});
   check_network_properties(raw.net, raw.dirs);
   check_network_properties(filled.net, filled.dirs);
   EXPECT_GT(filled.filled, 0u);

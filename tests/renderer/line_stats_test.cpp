@@ -28,7 +28,7 @@ struct Scene {
 Scene scene_of(const terrain::Grid& g, bool fill) {
   Scene s;
   s.mesh = terrain::make_grid_mesh(g, terrain::NormalWeighting::Uniform);
-  const auto result = drainage::compute_drainage(g, {fill, true});
+  const auto result = drainage::compute_drainage(g, {fill, true, {}});
   terrain::test::ScratchDir dir;
   drainage::write_dv(dir.path("s.dv"), drainage::make_dv_header(result.surface, result.net, result.dv_flags, "test"),
                      result.surface, result.dirs, result.net);

@@ -288,6 +288,9 @@ INSTANTIATE_TEST_SUITE_P(
         Row{bd + "IN/extra_element.ply OUT/o.dv -q", 1, "unexpected PLY element 'material'"},
         Row{bd + "IN/m.ply OUT/o.dv --surface IN/m.ply -q", 1, "is the input"},
         Row{bd + "IN/m.ply OUT/o.dv --spacing inf", 2, "--spacing"},
+        Row{bd + "IN/m.ply OUT/o.dv --breach 5 --fill", 2, "--fill excludes --breach"},
+        Row{bd + "IN/m.ply OUT/o.dv --breach -1", 2, "--breach"},
+        Row{bd + "--raster IN/plane.tif OUT/o.dv --breach 5 --tile-size 64 -q", 1, "--breach runs untiled only"},
         Row{bd + "IN/m.ply OUT/o.dv --surface OUT/o.dv -q", 1, "two outputs are the same file"},
         // terrain-inspect
         Row{ti + "info IN/zero.dv", 1, "not a raster GDAL can open"},

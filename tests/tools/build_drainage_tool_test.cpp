@@ -276,6 +276,27 @@ TEST(BuildDrainage, MpiLogan10mEqualsTheUntiledRun) {
 }
 #endif
 
+// --breach: the counts on stdout, the flag in the file (terrain-inspect info), and the
+// surface written with --rasters is the breached one (its elevations are the .dv's).
+TEST(BuildDrainage, BreachIsReportedAndRecorded) {
+  terrain::test::ScratchDir dir;
+  const std::string dem = data("logan_utm12n_100m.tif");
+  const auto r = run(tool("build-drainage") + " --raster " + dem + " " + dir.path("b.dv") + " --breach 5 -q --rasters " +
+                     dir.path(""));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("carved: "), std::string::npos) << r.out;
+  const auto info = run(tool("terrain-inspect") + " info " + dir.path("b.dv"));
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_NE(info.out.find("breached: yes"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("filled: no"), std::string::npos) << info.out;
+  const terrain::Grid original = terrain::read_dem(dem), surface = terrain::read_dem(dir.path("surface.tif"));
+  std::size_t lowered = 0;
+  for (std::size_t i = 0; i < original.size(); ++i)
+    if (original.valid(i)) lowered += surface.z[i] < original.z[i];
+  EXPECT_NE(r.out.find("carved: " + std::to_string(lowered) + " "), std::string::npos) << r.out;
+  EXPECT_GT(lowered, 0u);
+}
+
 TEST(BuildDrainage, BadInputFailsCleanly) {
   terrain::test::ScratchDir dir;
   // A D8 raster with an invalid TauDEM code (9), and a truncated .dv.

@@ -23,6 +23,7 @@ enum DvFlags : std::uint32_t {
   kDvFlatsResolved = 1u << 1,
   kDvFilled = 1u << 2,
   kDvFromPnSurface = 1u << 3,  // sampled from a mesh's PN surface (else: a raster's own grid)
+  kDvBreached = 1u << 4,       // depressions breached (fill.hpp breach_depressions)
 };
 
 struct DvHeader {

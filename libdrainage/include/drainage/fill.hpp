@@ -20,6 +20,25 @@ namespace drainage {
 // use a FIFO (the "improved" variant). Tested against TauDEM pitremove on a real DEM.
 std::size_t priority_flood_fill(terrain::Grid& z);
 
+struct BreachStats {
+  std::size_t carved = 0;  // samples lowered
+  std::size_t raised = 0;  // samples raised (depressions deeper than max_depth, filled)
+  double max_carve = 0;    // the deepest lowering, metres
+};
+
+// Depression breaching (Lindsay 2016, "Efficient hybrid breaching-filling sink removal
+// methods for flow path enforcement in digital elevation models"; docs/algorithms.md 8.4):
+// a Priority-Flood from the same seeds as priority_flood_fill, remembering from which
+// sample each one was reached. When it reaches a sample j below the flood level, instead
+// of raising j it lowers the path by which the flood came - back to the first sample
+// already below j - so that j drains along it: the path gets a uniform gradient from j
+// down to that sample (a few float steps below j where the path leaves the grid). A path
+// that would have to be lowered more than `max_depth` below any of its original
+// elevations is left alone and j is raised instead (filled), so deep depressions become
+// lakes whose rims are cut by at most max_depth. After it every sample has a path to a
+// seed that never rises, and only filled lakes are flat. Deterministic (ties by index).
+BreachStats breach_depressions(terrain::Grid& z, double max_depth);
+
 // The Priority-Flood loop itself, shared by priority_flood_fill and the tiled fill: floods
 // the rows x cols array `z` from `seeds` (ascending cell indices, already claimed) by
 // elevation, ties by cell index, depression interiors first-in first-out. claim(i, j) is

@@ -15,8 +15,9 @@
 namespace drainage {
 
 struct DrainageOptions {
-  bool fill = false;           // Priority-Flood depression filling first (--fill)
-  bool resolve_flats = true;   // Barnes flat resolution (off: --keep-flats)
+  bool fill = false;                   // Priority-Flood depression filling first (--fill)
+  bool resolve_flats = true;           // Barnes flat resolution (off: --keep-flats)
+  std::optional<double> breach_depth;  // breaching instead of fill, cutting at most this deep (--breach)
 };
 
 struct DrainageResult {
@@ -24,12 +25,14 @@ struct DrainageResult {
   D8Codes dirs;                        // D8 codes (d8.hpp)
   Network net;
   FlatStats flats;
-  std::size_t filled = 0;              // samples raised by filling
+  std::size_t filled = 0;              // samples raised by filling (or by breaching, where too deep)
+  std::size_t carved = 0;              // samples lowered by breaching
+  double max_carve = 0;                // the deepest of those lowerings, metres
   std::uint32_t dv_flags = 0;          // DvFlags describing how it was made
   std::vector<std::pair<const char*, double>> timings;  // wall seconds per step, for -v
 };
 
-// Fill (optional), D8 directions, flat resolution (optional), then the network.
+// Fill or breach (optional), D8 directions, flat resolution (optional), then the network.
 DrainageResult compute_drainage(terrain::Grid surface, const DrainageOptions& options,
                                 const terrain::Progress& progress = {});
 
