@@ -25,7 +25,7 @@ std::vector<std::uint32_t> flood_seeds(const terrain::Grid& g, terrain::BigVecto
         continue;
       }
       bool seed = r == 0 || c == 0 || r == rows - 1 || c == cols - 1;
-      for (int k = 0; k < 8 && !seed; ++k) seed = std::isnan(g.z[std::size_t((r + kDRow[std::size_t(k)]) * cols + c + kDCol[std::size_t(k)])]);
+      for (std::size_t k = 0; k < 8 && !seed; ++k) seed = std::isnan(g.z[std::size_t((r + kDRow[k]) * cols + c + kDCol[k])]);
       if (seed) {
         closed[i] = 1;
         seeds.push_back(std::uint32_t(i));
@@ -48,7 +48,6 @@ std::size_t priority_flood_fill(terrain::Grid& g) {
   });
 }
 
-
 BreachStats breach_depressions(terrain::Grid& g, double max_depth) {
   const long rows = long(g.rows), cols = long(g.cols);
   auto& z = g.z;
@@ -62,7 +61,7 @@ BreachStats breach_depressions(terrain::Grid& g, double max_depth) {
   };
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
   for (const std::uint32_t i : flood_seeds(g, closed)) open.push({z[i], i});
-  constexpr float kDown = -std::numeric_limits<float>::infinity();
+  constexpr float kUp = std::numeric_limits<float>::infinity(), kDown = -kUp;
   std::vector<std::pair<std::uint32_t, float>> cut;  // the path to lower and its new elevations
   while (!open.empty()) {
     const std::uint32_t i = open.top().i;
@@ -83,7 +82,7 @@ BreachStats breach_depressions(terrain::Grid& g, double max_depth) {
         float prev = z[j];
         const double drop = e != kNone ? double(z[j]) - double(z[e]) : 0.0;
         for (std::size_t n = 0; n < cut.size(); ++n) {
-          const float even = e != kNone ? float(double(z[j]) - drop * double(n + 1) / double(cut.size() + 1)) : -kDown;
+          const float even = e != kNone ? float(double(z[j]) - drop * double(n + 1) / double(cut.size() + 1)) : kUp;
           prev = cut[n].second = std::min(even, std::nextafter(prev, kDown));
         }
         // Float rounding can leave e no lower than the path's end: go on lowering.
