@@ -37,6 +37,7 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
   app.footer(
       "Examples:\n"
       "  build-drainage out/msh_50m.ply out/msh.dv --spacing 10 --rasters out/msh_rasters\n"
+      "  build-drainage out/logan_100m.ply out/logan_breached.dv --spacing 30 --breach 10\n"
       "  build-drainage --raster data/logan_utm12n_100m.tif logan.dv --fill\n"
       "  build-drainage --raster dem.tif --d8-input dirs.tif --d8-encoding taudem acc.dv\n"
       "  build-drainage --raster big.vrt big.dv --fill --memory 4096\n"
