@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <queue>
 #include <utility>
 #include <vector>
 
@@ -54,12 +53,7 @@ BreachStats breach_depressions(terrain::Grid& g, double max_depth) {
   const terrain::BigVector<float> original = z;
   terrain::BigVector<std::uint8_t> closed(g.size(), 0);
   terrain::BigVector<std::uint32_t> from(g.size(), kNone);  // the sample each was reached from
-  struct Item {
-    float z;
-    std::uint32_t i;
-    bool operator>(const Item& o) const { return z > o.z || (z == o.z && i > o.i); }
-  };
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  FloodQueue open;
   for (const std::uint32_t i : flood_seeds(g, closed)) open.push({z[i], i});
   constexpr float kUp = std::numeric_limits<float>::infinity(), kDown = -kUp;
   std::vector<std::pair<std::uint32_t, float>> cut;  // the path to lower and its new elevations

@@ -3,6 +3,7 @@
 // optimal depression-filling and watershed-labeling algorithm"; docs/algorithms.md 8.1-8.2).
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <queue>
 #include <vector>
 
@@ -39,6 +40,14 @@ struct BreachStats {
 // seed that never rises, and only filled lakes are flat. Deterministic (ties by index).
 BreachStats breach_depressions(terrain::Grid& z, double max_depth);
 
+// The queue of the floods below: lowest elevation first, ties by cell index.
+struct FloodItem {
+  float z;
+  std::uint32_t i;
+  bool operator>(const FloodItem& o) const { return z > o.z || (z == o.z && i > o.i); }
+};
+using FloodQueue = std::priority_queue<FloodItem, std::vector<FloodItem>, std::greater<FloodItem>>;
+
 // The Priority-Flood loop itself, shared by priority_flood_fill and the tiled fill: floods
 // the rows x cols array `z` from `seeds` (ascending cell indices, already claimed) by
 // elevation, ties by cell index, depression interiors first-in first-out. claim(i, j) is
@@ -47,12 +56,7 @@ BreachStats breach_depressions(terrain::Grid& z, double max_depth);
 // i is raised to i. Returns how many cells were raised.
 template <class Z, class Claim>
 std::size_t priority_flood(Z& z, long rows, long cols, const std::vector<std::uint32_t>& seeds, Claim&& claim) {
-  struct Item {
-    float z;
-    std::uint32_t i;
-    bool operator>(const Item& o) const { return z > o.z || (z == o.z && i > o.i); }
-  };
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
+  FloodQueue open;
   for (const std::uint32_t i : seeds) open.push({z[i], i});
   std::vector<std::uint32_t> pit;  // FIFO of depression cells, with a head index
   std::size_t pit_head = 0, raised = 0;
