@@ -191,8 +191,11 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
       outputs.write([&] { terrain::write_geotiff(input.surface, outputs.stage(surface_out), prov); });
 
     t0 = clock::now();
-    drainage::DrainageResult result =
-        drainage::run_drainage(std::move(input), {fill, !keep_flats, breach}, tt::terminal_progress(verb, "drainage"));
+    // A version-2 .dv stores neither normalized flow nor branches: list them only for
+    // version 1 and --rasters.
+    const auto detail = dv_version == 1 || !rasters_dir.empty() ? drainage::NetworkDetail::Full : drainage::NetworkDetail::Lean;
+    drainage::DrainageResult result = drainage::run_drainage(std::move(input), {fill, !keep_flats, breach, detail},
+                                                             tt::terminal_progress(verb, "drainage"));
     flags |= result.dv_flags;
     for (const auto& [name, secs] : result.timings) tt::step(verb, fmt::format("  {}: {:.3f} s", name, secs));
     tt::step(verb, fmt::format("drainage (steps 2-6): {:.2f} s, peak RSS so far {:.0f} MiB", seconds(), tt::peak_rss_mib()));
@@ -223,7 +226,7 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
               << "ridges: " << counts[0] << "\n"
               << "channels: " << counts[1] << "\n"
               << "junctions: " << counts[2] << "\n"
-              << "branches: " << net.branches.size() << "\n"
+              << "branches: " << net.branch_count << "\n"
               << "flats: " << result.flats.flats << " (" << result.flats.undrainable << " undrainable)\n"
               << "filled: " << result.filled << "\n";
     if (breach) std::cout << fmt::format("carved: {} (deepest {:.2f} m)\n", result.carved, result.max_carve);

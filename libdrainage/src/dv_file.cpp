@@ -121,7 +121,7 @@ DvHeader make_dv_header(const terrain::Grid& grid, const Network& net, std::uint
   h.rows = grid.rows;
   h.cols = grid.cols;
   h.valid = net.points;
-  h.branches = net.branches.size();
+  h.branches = net.branch_count;
   h.basins = net.pits.size();
   h.origin_x = grid.geo.x_of_col(0);
   h.origin_y = grid.geo.y_of_row(0);
@@ -140,6 +140,8 @@ void write_dv_v1(const std::string& path, const DvHeader& h, const terrain::Grid
   const std::size_t n = std::size_t(h.rows * h.cols);
   if (z.size() != n || dirs.size() != n || net.downstream.size() != n)
     throw terrain::Error("write_dv: grid, directions and network sizes disagree");
+  if (net.normalized.size() != n || net.branches.size() != net.branch_count)
+    throw terrain::Error("write_dv: version 1 stores the whole network (NetworkDetail::Full)");
   terrain::write_stream_atomic(path, [&](std::ostream& file) {
     CrcWriter w(file, path);
     const std::vector<char> head = header_bytes(h);
@@ -732,7 +734,7 @@ void write_dv(const std::string& path, const DvHeader& h, const terrain::Grid& z
     }
     std::vector<std::uint32_t> pit_acc(net.pits.size());
     for (std::size_t k = 0; k < pit_acc.size(); ++k) pit_acc[k] = net.accumulated[net.pits[k]];
-    w.finish(net.points, net.branches.size(), net.pits, pit_acc);
+    w.finish(net.points, net.branch_count, net.pits, pit_acc);
   });
 }
 

@@ -34,7 +34,7 @@ const char* to_string(PointClass c) {
 }
 
 Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
-                        const terrain::Progress& progress) {
+                        const terrain::Progress& progress, NetworkDetail detail) {
   const std::size_t n = rows * cols;
   if (dirs.size() != n) throw terrain::Error("analyze_network: direction grid does not match rows x cols");
   if (n >= std::size_t(kNone)) throw terrain::Error("analyze_network: more than 2^32 - 1 points");
@@ -95,8 +95,8 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
   for (int k = 0; k < 8; ++k) offset[k] = -(kDRow[k] * C + kDCol[k]);
   parallel_assign(net.accumulated, n, 0);
   parallel_assign(net.order, n, 0);
-  std::size_t done = 0;
-#pragma omp parallel for schedule(dynamic, 16) reduction(+ : done)
+  std::size_t done = 0, heads = 0;
+#pragma omp parallel for schedule(dynamic, 16) reduction(+ : done, heads)
   for (long r = 0; r < R; ++r)
     for (long c = 0; c < C; ++c) {
       std::size_t i = std::size_t(r * C + c);
@@ -116,6 +116,7 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
         // A branch head unless exactly one inflow has its order (network_branches, in
         // branches.hpp). All of i's inflows have arrived: its pending count can hold the mark.
         pending[i] = top == 0 || count != 1;
+        heads += pending[i];
         ++done;
         const std::uint32_t d = net.downstream[i];
         if (d == kNone) break;
@@ -129,6 +130,7 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
     throw terrain::Error("the D8 directions contain a cycle: " + std::to_string(net.points - done) +
                          " points never reach a pit or outlet");
   terrain::BigVector<std::uint8_t>().swap(inflow);
+  net.branch_count = heads;
   terrain::report(progress, 0.5);
 
   // Basins, numbered by ascending pit index. Every other point takes its pit's basin: walk
@@ -156,6 +158,10 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
         }
         for (const std::uint32_t p : path) __atomic_store_n(&net.basin[p], b, __ATOMIC_RELAXED);
       }
+  }
+  if (detail == NetworkDetail::Lean) {
+    terrain::report(progress, 1.0);
+    return net;
   }
   // Normalized flow: each point's flow over its pit's (1 at the pits).
   parallel_assign(net.normalized, n, 0.0f);

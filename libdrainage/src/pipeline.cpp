@@ -58,17 +58,18 @@ DrainageResult compute_drainage(terrain::Grid surface, const DrainageOptions& op
     clock.lap("flats");
   }
   terrain::report(progress, 0.45);
-  out.net = analyze_network(out.dirs, surface.rows, surface.cols, terrain::sub_progress(progress, 0.45, 1.0));
+  out.net = analyze_network(out.dirs, surface.rows, surface.cols, terrain::sub_progress(progress, 0.45, 1.0),
+                            options.network);
   clock.lap("network");
   out.surface = std::move(surface);
   return out;
 }
 
-DrainageResult drainage_from_directions(terrain::Grid surface, D8Codes dirs,
-                                        const terrain::Progress& progress) {
+DrainageResult drainage_from_directions(terrain::Grid surface, D8Codes dirs, const terrain::Progress& progress,
+                                        NetworkDetail detail) {
   if (dirs.size() != surface.size()) throw terrain::Error("the direction grid and the surface differ in size");
   DrainageResult out;
-  out.net = analyze_network(dirs, surface.rows, surface.cols, progress);
+  out.net = analyze_network(dirs, surface.rows, surface.cols, progress, detail);
   out.dirs = std::move(dirs);
   out.surface = std::move(surface);
   return out;
@@ -112,7 +113,7 @@ DrainageResult run_drainage(RasterInput in, const DrainageOptions& options, cons
   DrainageResult r;
   if (in.dirs) {
     if (options.fill) throw terrain::Error("--fill does not apply to given directions");
-    r = drainage_from_directions(std::move(in.surface), std::move(*in.dirs), progress);
+    r = drainage_from_directions(std::move(in.surface), std::move(*in.dirs), progress, options.network);
   } else {
     r = compute_drainage(std::move(in.surface), options, progress);
   }

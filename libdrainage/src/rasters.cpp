@@ -18,6 +18,8 @@ void write_drainage_rasters(const std::function<std::string(const std::string&)>
   using terrain::RasterType;
   const terrain::Grid& g = r.surface;
   const Network& net = r.net;
+  if (net.normalized.size() != g.size())
+    throw terrain::Error("write_drainage_rasters: the normalized flow was not listed (NetworkDetail::Full)");
   terrain::write_geotiff(g, path("surface.tif"), provenance);
   std::vector<std::int16_t> d8(g.size());
   for (std::size_t i = 0; i < g.size(); ++i)

@@ -10,6 +10,7 @@
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
 #include "drainage/pipeline.hpp"
+#include "drainage/rasters.hpp"
 #include "drainage_test_support.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
@@ -294,6 +295,35 @@ TEST(DvFile, Version2IsCompact) {
   RecordProperty("bytes_per_point_v1", std::to_string(v1));
   RecordProperty("bytes_per_point_v2", std::to_string(v2));
   std::cout << "bytes per point: version 1 " << v1 << ", version 2 " << v2 << "\n";
+}
+
+// A lean network (NetworkDetail::Lean: no normalized flow, no branch lists) writes the
+// same version-2 file as the full one, byte for byte; version 1, which stores them, and
+// --rasters refuse it.
+TEST(DvFile, LeanNetworkWritesTheSameVersion2File) {
+  terrain::test::ScratchDir dir;
+  const terrain::Grid logan = terrain::read_dem(terrain::test::data("logan_utm12n_100m.tif"));
+  const DrainageResult full = compute_drainage(logan, {});
+  const DrainageResult lean = compute_drainage(logan, {.network = NetworkDetail::Lean});
+  EXPECT_TRUE(lean.net.normalized.empty());
+  EXPECT_TRUE(lean.net.branches.empty());
+  EXPECT_TRUE(lean.net.branch_vertices.empty());
+  EXPECT_EQ(lean.net.branch_count, full.net.branches.size());
+  EXPECT_EQ(full.net.branch_count, full.net.branches.size());
+  auto bytes = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  write_dv(dir.path("full.dv"), make_dv_header(full.surface, full.net, full.dv_flags, "p"), full.surface, full.dirs,
+           full.net);
+  write_dv(dir.path("lean.dv"), make_dv_header(lean.surface, lean.net, lean.dv_flags, "p"), lean.surface, lean.dirs,
+           lean.net);
+  EXPECT_EQ(bytes(dir.path("full.dv")), bytes(dir.path("lean.dv")));
+  DvHeader v1 = make_dv_header(lean.surface, lean.net, lean.dv_flags, "p");
+  v1.version = 1;
+  EXPECT_THROW(write_dv(dir.path("v1.dv"), v1, lean.surface, lean.dirs, lean.net), terrain::Error);
+  EXPECT_FALSE(fs::exists(dir.path("v1.dv")));
+  EXPECT_THROW(write_drainage_rasters(dir.path("rasters"), lean, D8Encoding::Taudem, "p"), terrain::Error);
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 // worked example, TauDEM's reference output, analytic surfaces and real DEMs.
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 #include "drainage/network.hpp"
 #include "drainage/pipeline.hpp"
 #include "drainage/rasters.hpp"
@@ -114,6 +116,30 @@ TEST(ComputeDrainage, RealDataInvariants) {
   const terrain::Grid logan = terrain::read_dem(terrain::test::data("logan_utm12n_100m.tif"));
   const DrainageResult r = compute_drainage(logan, {});
   test::check_network_properties(r.net, r.dirs);
+}
+
+// NetworkDetail::Lean lists every field but the normalized flow and the branches, with the
+// same values, and counts the branches the full walk lists (MSH PN surface at 10 m and
+// TauDEM's Logan 30 m directions).
+TEST(AnalyzeNetwork, LeanEqualsFullWhereItLists) {
+  const terrain::SampledSurface s = terrain::sample_pn_surface(terrain::test::msh_50m_mesh(), 10.0);
+  const D8Codes msh = compute_drainage(s.grid, {}).dirs;
+  terrain::Grid g;
+  const D8Codes logan = read_d8_raster(terrain::test::data("logan_30m_taudem_d8dir.tif"), D8Encoding::Taudem, g);
+  for (const auto& [d, rows, cols] : {std::tuple{&msh, s.grid.rows, s.grid.cols}, std::tuple{&logan, g.rows, g.cols}}) {
+    const Network full = analyze_network(*d, rows, cols), lean = analyze_network(*d, rows, cols, {}, NetworkDetail::Lean);
+    EXPECT_EQ(lean.points, full.points);
+    EXPECT_EQ(lean.downstream, full.downstream);
+    EXPECT_EQ(lean.accumulated, full.accumulated);
+    EXPECT_EQ(lean.basin, full.basin);
+    EXPECT_EQ(lean.point_class, full.point_class);
+    EXPECT_EQ(lean.order, full.order);
+    EXPECT_EQ(lean.pits, full.pits);
+    EXPECT_GT(full.branches.size(), 1000u);
+    EXPECT_EQ(full.branch_count, full.branches.size());
+    EXPECT_EQ(lean.branch_count, full.branches.size());
+    EXPECT_TRUE(lean.normalized.empty() && lean.branches.empty() && lean.branch_vertices.empty());
+  }
 }
 
 }  // namespace

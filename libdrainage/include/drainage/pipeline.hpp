@@ -18,6 +18,7 @@ struct DrainageOptions {
   bool fill = false;                   // Priority-Flood depression filling first (--fill)
   bool resolve_flats = true;           // Barnes flat resolution (off: --keep-flats)
   std::optional<double> breach_depth;  // breaching instead of fill, cutting at most this deep (--breach)
+  NetworkDetail network = NetworkDetail::Full;  // Lean: enough for a version-2 .dv (network.hpp)
 };
 
 struct DrainageResult {
@@ -37,8 +38,8 @@ DrainageResult compute_drainage(terrain::Grid surface, const DrainageOptions& op
                                 const terrain::Progress& progress = {});
 
 // The network of given directions on `surface`'s grid (--d8-input): skips D8 and flats.
-DrainageResult drainage_from_directions(terrain::Grid surface, D8Codes dirs,
-                                        const terrain::Progress& progress = {});
+DrainageResult drainage_from_directions(terrain::Grid surface, D8Codes dirs, const terrain::Progress& progress = {},
+                                        NetworkDetail detail = NetworkDetail::Full);
 
 // The inputs of raster mode (build-drainage --raster DEM and/or --d8-input DIRS).
 struct RasterInput {

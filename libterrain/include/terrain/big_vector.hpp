@@ -1,16 +1,18 @@
 #pragma once
 // BigVector: std::vector for grid-sized arrays (one element per sample or vertex).
 //
-// Two differences from std::vector, both for speed on 10-100 M element arrays:
-//  * allocations of 4 MiB and more are 2 MiB aligned and advised as transparent huge
-//    pages (madvise MADV_HUGEPAGE), which cuts the page faults of first touch ~500x (on
-//    this kind of machine they cost more than the algorithms that fill the arrays);
-//  * resize(n) default-initializes (leaves trivial elements uninitialized): use
-//    assign(n, value) when the values matter, resize when every element is written next.
-#include <sys/mman.h>
-
+// resize(n) default-initializes (leaves trivial elements uninitialized): use assign(n,
+// value) when the values matter, resize when every element is written next. Zeroing a
+// 10-100 M element array that is written next anyway costs as much as the algorithms
+// that fill it, and first touch is the only touch.
+//
+// No transparent huge pages: on this project's machines (Firecracker VMs with free page
+// reporting) a cold 2 MiB page costs 5x more per byte than 4 KiB pages (256 MiB touched:
+// 0.64 s against 0.13 s), and the first run of build-drainage after a pause paid for it
+// (Logan 10 m, steps 2-6: 1.10-1.21 s with MADV_HUGEPAGE, 0.65 s without; on warm memory
+// 0.61 against 0.64 s). docs/build-drainage.md, "Speed against GRASS r.watershed".
 #include <cstddef>
-#include <cstdlib>
+#include <memory>
 #include <new>
 #include <utility>
 #include <vector>
@@ -20,26 +22,13 @@ namespace terrain {
 template <class T>
 struct BigAllocator {
   using value_type = T;
-  static constexpr std::size_t kHuge = std::size_t(2) << 20;
-  static constexpr std::size_t kThreshold = std::size_t(4) << 20;
 
   BigAllocator() = default;
   template <class U>
   BigAllocator(const BigAllocator<U>&) noexcept {}
 
-  T* allocate(std::size_t n) {
-    const std::size_t bytes = n * sizeof(T);
-    if (bytes < kThreshold) return static_cast<T*>(::operator new(bytes));
-    const std::size_t rounded = (bytes + kHuge - 1) / kHuge * kHuge;
-    void* p = std::aligned_alloc(kHuge, rounded);
-    if (!p) throw std::bad_alloc();
-    ::madvise(p, rounded, MADV_HUGEPAGE);  // advice only: failure is harmless
-    return static_cast<T*>(p);
-  }
-  void deallocate(T* p, std::size_t n) noexcept {
-    if (n * sizeof(T) < kThreshold) ::operator delete(p);
-    else std::free(p);
-  }
+  T* allocate(std::size_t n) { return std::allocator<T>().allocate(n); }
+  void deallocate(T* p, std::size_t n) noexcept { std::allocator<T>().deallocate(p, n); }
   template <class U>
   void construct(U* p) noexcept(noexcept(::new(static_cast<void*>(p)) U)) {
     ::new (static_cast<void*>(p)) U;  // default-initialization: no zeroing
