@@ -1,5 +1,6 @@
 #include "drainage/network.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <string>
 
@@ -57,32 +58,40 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
   terrain::report(progress, 0.1);
 
   // Inflow masks (bit k: the neighbour at (r - kDRow[k], c - kDCol[k]) drains in; gathered
-  // per point, so no write conflicts), in-degrees still pending, and classes.
+  // per point, so no write conflicts), in-degrees still pending, classes and the pits.
   terrain::BigVector<std::uint8_t> inflow, pending;
   parallel_assign(inflow, n, 0);
   parallel_assign(pending, n, 0);
   parallel_assign(net.point_class, n, std::uint8_t(PointClass::Nodata));
   std::size_t points = 0;
-#pragma omp parallel for schedule(static) reduction(+ : points)
-  for (long r = 0; r < R; ++r)
-    for (long c = 0; c < C; ++c) {
-      const std::size_t i = std::size_t(r * C + c);
-      if (dirs[i] == kNodata) continue;
-      ++points;
-      std::uint8_t mask = 0, in = 0;
-      for (int k = 0; k < 8; ++k) {
-        const long rr = r - kDRow[k], cc = c - kDCol[k];
-        if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;
-        if (net.downstream[std::size_t(rr * C + cc)] == i) mask |= std::uint8_t(1u << k), ++in;
+#pragma omp parallel reduction(+ : points)
+  {
+    std::vector<std::uint32_t> pits;  // this thread's, ascending
+#pragma omp for schedule(static) nowait
+    for (long r = 0; r < R; ++r)
+      for (long c = 0; c < C; ++c) {
+        const std::size_t i = std::size_t(r * C + c);
+        if (dirs[i] == kNodata) continue;
+        ++points;
+        std::uint8_t mask = 0, in = 0;
+        for (int k = 0; k < 8; ++k) {
+          const long rr = r - kDRow[k], cc = c - kDCol[k];
+          if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;
+          if (net.downstream[std::size_t(rr * C + cc)] == i) mask |= std::uint8_t(1u << k), ++in;
+        }
+        inflow[i] = mask;
+        pending[i] = in;
+        const PointClass cls = net.downstream[i] == kNone ? PointClass::Pit
+                               : in == 0                  ? PointClass::Ridge
+                               : in == 1                  ? PointClass::Channel
+                                                          : PointClass::Junction;
+        net.point_class[i] = std::uint8_t(cls);
+        if (cls == PointClass::Pit) pits.push_back(std::uint32_t(i));
       }
-      inflow[i] = mask;
-      pending[i] = in;
-      const PointClass cls = net.downstream[i] == kNone ? PointClass::Pit
-                             : in == 0                  ? PointClass::Ridge
-                             : in == 1                  ? PointClass::Channel
-                                                        : PointClass::Junction;
-      net.point_class[i] = std::uint8_t(cls);
-    }
+#pragma omp critical
+    net.pits.insert(net.pits.end(), pits.begin(), pits.end());
+  }
+  std::sort(net.pits.begin(), net.pits.end());
   net.points = points;
   terrain::report(progress, 0.2);
 
@@ -137,11 +146,8 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
   // downstream to a point whose basin is known and give it to the points on the way (two
   // threads may write the same value to a point: relaxed atomics).
   parallel_assign(net.basin, n, kNone);
-  for (std::size_t i = 0; i < n; ++i)
-    if (dirs[i] != kNodata && net.downstream[i] == kNone) {
-      net.basin[i] = std::uint32_t(net.pits.size());
-      net.pits.push_back(std::uint32_t(i));
-    }
+#pragma omp parallel for schedule(static)
+  for (long k = 0; k < long(net.pits.size()); ++k) net.basin[net.pits[std::size_t(k)]] = std::uint32_t(k);
 #pragma omp parallel
   {
     std::vector<std::uint32_t> path;
