@@ -2,7 +2,9 @@
 // Shared helpers of the test suite: data paths (from CMake, never the working
 // directory), a scratch directory, and running a tool.
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <string>
 
 #include "terrain/grid_mesh.hpp"
@@ -11,6 +13,11 @@ namespace terrain::test {
 
 inline std::string data(const std::string& name) { return std::string(TERRAIN_DATA_DIR) + "/" + name; }
 inline std::string tool(const std::string& name) { return std::string(TERRAIN_BIN_DIR) + "/" + name; }
+// A file's whole contents, bytes as they are ("" when it cannot be read).
+inline std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
 
 // A fresh directory under the system temp dir, removed at destruction.
 class ScratchDir {

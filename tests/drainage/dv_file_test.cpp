@@ -134,8 +134,7 @@ TEST(DvFile, RejectsBadIndicesBehindAValidChecksumVersion1) {
   terrain::test::ScratchDir dir;
   const DrainageResult r = logan_drainage();
   write_dv(dir.path("a.dv"), v1_header(r), r.surface, r.dirs, r.net);
-  std::ifstream in(dir.path("a.dv"), std::ios::binary);
-  const std::string good((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string good = terrain::test::file_bytes(dir.path("a.dv"));
   std::uint32_t header_bytes = 0;
   std::memcpy(&header_bytes, good.data() + 12, 4);
   const std::size_t n = r.surface.size(), vertices = header_bytes, branches = vertices + 32 * n;
@@ -310,15 +309,11 @@ TEST(DvFile, LeanNetworkWritesTheSameVersion2File) {
   EXPECT_TRUE(lean.net.branch_vertices.empty());
   EXPECT_EQ(lean.net.branch_count, full.net.branches.size());
   EXPECT_EQ(full.net.branch_count, full.net.branches.size());
-  auto bytes = [](const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  };
   write_dv(dir.path("full.dv"), make_dv_header(full.surface, full.net, full.dv_flags, "p"), full.surface, full.dirs,
            full.net);
   write_dv(dir.path("lean.dv"), make_dv_header(lean.surface, lean.net, lean.dv_flags, "p"), lean.surface, lean.dirs,
            lean.net);
-  EXPECT_EQ(bytes(dir.path("full.dv")), bytes(dir.path("lean.dv")));
+  EXPECT_EQ(terrain::test::file_bytes(dir.path("full.dv")), terrain::test::file_bytes(dir.path("lean.dv")));
   DvHeader v1 = make_dv_header(lean.surface, lean.net, lean.dv_flags, "p");
   v1.version = 1;
   EXPECT_THROW(write_dv(dir.path("v1.dv"), v1, lean.surface, lean.dirs, lean.net), terrain::Error);

@@ -14,15 +14,11 @@ namespace drainage {
 namespace {
 
 using terrain::test::data;
+using terrain::test::file_bytes;
 using terrain::test::run;
 using terrain::test::tool;
 
 std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 TEST(BuildDrainage, MeshPipelineIsDeterministicAcrossThreadCounts) {
   terrain::test::ScratchDir dir;
@@ -35,7 +31,7 @@ TEST(BuildDrainage, MeshPipelineIsDeterministicAcrossThreadCounts) {
   const auto b = run(tool("build-drainage") + " " + dir.path("m.ply") + " " + dir.path("a.dv") + " --threads 2 -q");
   ASSERT_EQ(b.exit_code, 0) << b.err;
   EXPECT_EQ(a.out, b.out);
-  EXPECT_TRUE(slurp(dir.path("first.dv")) == slurp(dir.path("a.dv"))) << "the .dv differs between 1 and 2 threads";
+  EXPECT_TRUE(file_bytes(dir.path("first.dv")) == file_bytes(dir.path("a.dv"))) << "the .dv differs between 1 and 2 threads";
   EXPECT_NE(a.out.find("points: 131236\n"), std::string::npos) << a.out;  // 301 x 436 samples at 10 m
 
   const auto i = run(tool("terrain-inspect") + " info " + dir.path("a.dv"));
@@ -230,14 +226,14 @@ TEST(BuildDrainage, MpiRanksEqualTheSingleProcessRun) {
     const std::string tiled = input + " " + dir.path("t.dv") + opts + " --tile-size " + std::to_string(side) + " -q";
     const auto s = run(bd + tiled);
     ASSERT_EQ(s.exit_code, 0) << s.err;
-    const std::string single = slurp(dir.path("t.dv"));
+    const std::string single = file_bytes(dir.path("t.dv"));
     for (const int ranks : {1, 3}) {
       std::filesystem::remove(dir.path("t.dv"));
       const auto m = run(mpirun(ranks) + bd + tiled);
       ASSERT_EQ(m.exit_code, 0) << m.err;
       EXPECT_EQ(m.out, s.out) << ranks << " ranks";
       expect_same_db(read_dv(dir.path("u.dv")), read_dv(dir.path("t.dv")), std::to_string(ranks) + " ranks");
-      EXPECT_TRUE(slurp(dir.path("t.dv")) == single) << ranks << " ranks: not the single-process file";
+      EXPECT_TRUE(file_bytes(dir.path("t.dv")) == single) << ranks << " ranks: not the single-process file";
     }
   };
   for (const char* name : {"msh_2007_utm10n_10m.tif", "med_01_01_10m.tif", "eno_nad83_geographic_crop.tif"})
