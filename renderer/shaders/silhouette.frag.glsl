@@ -1,9 +1,13 @@
 // SIL: Toward/Away silhouettes (Mower 2015; docs/algorithms.md 9.2). At pixel p with toward
 // depth t and away depth a: silhouette when t < a and some 8-neighbour's toward depth is
 // beyond a (a toward surface, an away surface behind it, a neighbour's toward surface
-// farther still). One pixel wide. Anti-aliased (u_style.x != 0): specks are dropped, a
-// silhouette pixel with fewer than 3 silhouette pixels (itself included) in its 5 x 5
-// window: one or two pixels where the surface only grazes the eye's rays.
+// farther still). One pixel wide. Anti-aliased (u_style.x != 0), two changes so that lines
+// read as strokes (renderer/silhouette.hpp has the CPU reference):
+// - gaps closed: a is the nearest away depth in p's 3 x 3 window. An away-facing band
+//   narrower than a pixel is rasterized only at some pixels along its ridge, and the
+//   paper's test draws that ridge as dashes;
+// - specks dropped: a silhouette pixel with fewer than 3 silhouette pixels (itself
+//   included) in its 5 x 5 window, where the surface only grazes the eye's rays.
 layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
 layout(binding = TR_TEX_AWAY_DEPTH) uniform sampler2D u_away;
 layout(location = 0) out vec4 o_mask;
@@ -11,6 +15,12 @@ bool inside(ivec2 q, ivec2 size) { return all(greaterThanEqual(q, ivec2(0))) && 
 bool silhouette(ivec2 p, ivec2 size) {
   float t = far_of(texelFetch(u_toward, p, 0).r);
   float a = far_of(texelFetch(u_away, p, 0).r);
+  if (u_style.x != 0.0)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        ivec2 q = p + ivec2(dx, dy);
+        if (inside(q, size)) a = min(a, far_of(texelFetch(u_away, q, 0).r));
+      }
   if (!(t < a)) return false;
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {

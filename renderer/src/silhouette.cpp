@@ -1,0 +1,43 @@
+#include "renderer/silhouette.hpp"
+
+#include <algorithm>
+#include <cstddef>
+
+namespace renderer {
+
+std::vector<std::uint8_t> toward_away_silhouettes(const std::vector<float>& toward, const std::vector<float>& away,
+                                                  int w, int h, bool reversed_z, bool antialias) {
+  // As far_of in common.glsl: float arithmetic, so that the comparisons match the GPU's.
+  auto far_of = [&](float d) { return reversed_z ? 1.0f - d : d; };
+  auto inside = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h; };
+  auto at = [&](int x, int y) { return std::size_t(y) * std::size_t(w) + std::size_t(x); };
+  auto raw = [&](int x, int y) {
+    const float t = far_of(toward[at(x, y)]);
+    float a = far_of(away[at(x, y)]);
+    if (antialias)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+          if (inside(x + dx, y + dy)) a = std::min(a, far_of(away[at(x + dx, y + dy)]));
+    if (!(t < a)) return false;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if ((dx != 0 || dy != 0) && inside(x + dx, y + dy) && far_of(toward[at(x + dx, y + dy)]) > a) return true;
+    return false;
+  };
+  std::vector<std::uint8_t> s(std::size_t(w) * std::size_t(h));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) s[at(x, y)] = raw(x, y);
+  if (!antialias) return s;
+  std::vector<std::uint8_t> kept(s.size());
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (!s[at(x, y)]) continue;
+      int n = 0;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) n += inside(x + dx, y + dy) && s[at(x + dx, y + dy)];
+      kept[at(x, y)] = n >= 3;
+    }
+  return kept;
+}
+
+}  // namespace renderer
