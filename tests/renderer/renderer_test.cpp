@@ -819,6 +819,7 @@ TEST(RendererGl, SilhouettesFollowTheCpuRuleAndCloseGaps) {
               long(n_soft), p_exact, p_soft, 100 * beside);
   EXPECT_GT(n_exact, 500);
   EXPECT_GT(n_soft, n_exact);
-  EXPECT_LT(double(p_soft), 0.8 * double(p_exact));
+  // 61 -> 20 pieces; dropping the specks alone (the rule before the gaps were closed) left 39.
+  EXPECT_LT(double(p_soft), 0.5 * double(p_exact));
   EXPECT_GE(beside, 0.95);
 }
