@@ -90,8 +90,7 @@ TEST(DemIo, GdalNamesAndRefusedInputs) {
   test::ScratchDir dir;
   const Grid logan = read_dem(data("logan_utm12n_100m.tif"));
   {  // a name that is not a file: the DEM's bytes in GDAL's memory file system
-    std::ifstream in(data("logan_utm12n_100m.tif"), std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string bytes = test::file_bytes(data("logan_utm12n_100m.tif"));
     ensure_gdal();
     VSILFILE* f = VSIFileFromMemBuffer("/vsimem/dem_io_test.tif", reinterpret_cast<GByte*>(bytes.data()),
                                        vsi_l_offset(bytes.size()), FALSE);

@@ -102,8 +102,7 @@ struct PlyParts {
 };
 
 PlyParts split_ply(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = test::file_bytes(path);
   const std::size_t end = bytes.find("end_header\n") + 11;
   PlyParts p;
   std::istringstream lines(bytes.substr(0, end));

@@ -156,8 +156,7 @@ class BadInput : public ::testing::TestWithParam<Row> {
                                       "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
                                       "0 0 0 0 0 1\n10 0 0 0 0 1\n0 -10 0 0 0 1\n10 -10 0 0 0 1\n3 0 2 3\n3 0 3 1\n";
     {  // the mesh with an extra element another tool might add
-      std::ifstream src(in("m.ply"), std::ios::binary);
-      std::string bytes((std::istreambuf_iterator<char>(src)), std::istreambuf_iterator<char>());
+      std::string bytes = terrain::test::file_bytes(in("m.ply"));
       bytes.replace(bytes.find("end_header\n"), 11, "element material 0\nproperty uchar red\nend_header\n");
       std::ofstream(in("extra_element.ply"), std::ios::binary) << bytes;
       bytes = std::string("ply\nformat binary_little_endian 1.0\nelement vertex\nend_header\n");
