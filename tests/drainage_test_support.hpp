@@ -88,12 +88,16 @@ inline void check_network_properties(const Network& net, const D8Codes& dirs) {
       ASSERT_EQ(seen[v], 0) << "vertex in two branches";
       seen[v] = 1;
       ASSERT_EQ(net.order[v], b.order);
-      if (k + 1 < b.count) ASSERT_EQ(net.downstream[v], net.branch_vertices[b.first + k + 1]) << "D8-linked chain";
+      if (k + 1 < b.count) {
+        ASSERT_EQ(net.downstream[v], net.branch_vertices[b.first + k + 1]) << "D8-linked chain";
+      }
     }
     covered += b.count;
     const std::uint32_t last = net.branch_vertices[b.first + b.count - 1];
     ASSERT_EQ(b.drains_into, net.downstream[last]);
-    if (b.drains_into != kNone) ASSERT_GT(net.order[b.drains_into], b.order);
+    if (b.drains_into != kNone) {
+      ASSERT_GT(net.order[b.drains_into], b.order);
+    }
   }
   EXPECT_EQ(covered, points);
 }

@@ -31,8 +31,12 @@ void check_output_path(const fs::path& path) {
 
 AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
   check_output_path(target_);
-  temp_ = target_.parent_path() / ("." + target_.stem().string() + ".tmp" + std::to_string(::getpid()) +
-                                   target_.extension().string());
+  // Appended piece by piece: `"." + std::string` trips GCC 12's -Wrestrict false positive (PR 105329).
+  std::string name(".");
+  name += target_.stem().string();
+  name += ".tmp" + std::to_string(::getpid());
+  name += target_.extension().string();
+  temp_ = target_.parent_path() / name;
 }
 
 AtomicFile::~AtomicFile() {

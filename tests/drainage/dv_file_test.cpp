@@ -303,7 +303,9 @@ TEST(DvFile, LeanNetworkWritesTheSameVersion2File) {
   terrain::test::ScratchDir dir;
   const terrain::Grid logan = terrain::read_dem(terrain::test::data("logan_utm12n_100m.tif"));
   const DrainageResult full = compute_drainage(logan, {});
-  const DrainageResult lean = compute_drainage(logan, {.network = NetworkDetail::Lean});
+  DrainageOptions lean_options;
+  lean_options.network = NetworkDetail::Lean;
+  const DrainageResult lean = compute_drainage(logan, lean_options);
   EXPECT_TRUE(lean.net.normalized.empty());
   EXPECT_TRUE(lean.net.branches.empty());
   EXPECT_TRUE(lean.net.branch_vertices.empty());

@@ -104,8 +104,10 @@ TEST(ComputeDrainage, RealDataInvariants) {
   const terrain::SampledSurface s = terrain::sample_pn_surface(msh, 10.0);
   EXPECT_EQ(s.fallbacks, 0u);
   EXPECT_EQ(s.grid.count_nodata(), 0u);
-  for (const DrainageOptions opt : {DrainageOptions{}, DrainageOptions{.fill = false, .resolve_flats = false},
-                                    DrainageOptions{.fill = true, .resolve_flats = true}}) {
+  DrainageOptions keep_flats, fill;
+  keep_flats.resolve_flats = false;
+  fill.fill = true;
+  for (const DrainageOptions& opt : {DrainageOptions{}, keep_flats, fill}) {
     const DrainageResult r = compute_drainage(s.grid, opt);
     SCOPED_TRACE(std::string("msh fill=") + (opt.fill ? "1" : "0") + " flats=" + (opt.resolve_flats ? "1" : "0"));
     test::check_network_properties(r.net, r.dirs);

@@ -110,7 +110,9 @@ TEST(EdgesGl, ClassificationEqualsCpuReference) {
           EXPECT_EQ(drawn_set(gpu.drawn), expected);
           EXPECT_EQ(res.edges, expected.size());
           EXPECT_EQ(gpu.drawn.size(), expected.size());  // each once
-          if (angle == 5.0 && mask == kAllEdgeKinds) EXPECT_TRUE(kinds_seen & kCreaseEdge);  // not vacuous
+          if (angle == 5.0 && mask == kAllEdgeKinds) {
+            EXPECT_TRUE(kinds_seen & kCreaseEdge);  // not vacuous
+          }
         }
       }
   }

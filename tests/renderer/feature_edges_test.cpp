@@ -79,7 +79,9 @@ TEST(FeatureEdges, TentRidgeIsCreaseAndContour) {
   for (std::size_t i = 0; i < edges.size(); ++i) {
     const std::size_t c0 = edges[i].v0 % cols, c1 = edges[i].v1 % cols;
     if (c0 > 5 || c1 > 5) {
-      if (c0 >= 5 && c1 >= 5 && !on_ridge(edges[i])) EXPECT_FALSE(side[i] & kFacingEye) << i;
+      if (c0 >= 5 && c1 >= 5 && !on_ridge(edges[i])) {
+        EXPECT_FALSE(side[i] & kFacingEye) << i;
+      }
     } else {
       EXPECT_TRUE(side[i] & kFacingEye) << i;
     }
@@ -104,9 +106,13 @@ TEST(FeatureEdges, VertexEdgeSlots) {
     listed += degree;
     const std::size_t r = v / topo.cols, c = v % topo.cols;
     const bool edge_r = r == 0 || r == topo.rows - 1, edge_c = c == 0 || c == topo.cols - 1;
-    if (edge_r && edge_c) EXPECT_TRUE(degree == 2 || degree == 3) << v;
-    else if (edge_r || edge_c) EXPECT_TRUE(degree == 3 || degree == 4) << v;
-    else EXPECT_EQ(degree, 6u) << v;
+    if (edge_r && edge_c) {
+      EXPECT_TRUE(degree == 2 || degree == 3) << v;
+    } else if (edge_r || edge_c) {
+      EXPECT_TRUE(degree == 3 || degree == 4) << v;
+    } else {
+      EXPECT_EQ(degree, 6u) << v;
+    }
   }
   EXPECT_EQ(listed, 2 * edges.size());
 }

@@ -81,7 +81,9 @@ TEST(DemIo, RasterTypesRoundTrip) {
   EXPECT_EQ(back.count_nodata(), 1u);
   EXPECT_EQ(back.geo.epsg, logan.geo.epsg);
   for (std::size_t i = 0; i < n; ++i)
-    if (!std::isnan(holes.z[i])) ASSERT_EQ(back.z[i], holes.z[i]);
+    if (!std::isnan(holes.z[i])) {
+      ASSERT_EQ(back.z[i], holes.z[i]);
+    }
   EXPECT_EQ(dir.n_entries(), 4u);  // no temporary files
 }
 

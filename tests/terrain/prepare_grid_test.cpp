@@ -285,7 +285,9 @@ TEST(PrepareGrid, WindowedReadEqualsTheWholeSource) {
     const GridPlan plan = plan_grid(info.geo, info.rows, info.cols, c.req);
     const RasterWindow& w = plan.source_window;
     const Grid window = read_dem(path, {}, w);
-    if (c.req.bbox || c.req.center) EXPECT_LT(window.size(), src.size() / 4) << c.file;  // a crop reads a part
+    if (c.req.bbox || c.req.center) {
+      EXPECT_LT(window.size(), src.size() / 4) << c.file;  // a crop reads a part
+    }
     const PreparedGrid got = resample_to_plan(window, plan, c.req);
     EXPECT_EQ(got.grid.z, expected.grid.z) << c.file;
     EXPECT_EQ(got.grid.rows, expected.grid.rows);

@@ -180,9 +180,13 @@ TEST(BuildDrainage, TiledFlatAndDepressionAcrossFourTiles) {
     for (std::size_t r = 8; r < 24; ++r)
       for (std::size_t c = 9; c < 24; ++c) ASSERT_NE(whole.vertices[r * 80 + c].downstream, kNone) << r << " " << c;
     // Filled, the depression drains too: every basin is one whose pit is on the west edge.
-    if (!opts.empty())
-      for (const DvVertex& v : whole.vertices)
-        if (v.downstream == kNone) ASSERT_LT(v.x, whole.vertices[1].x);
+    if (!opts.empty()) {
+      for (const DvVertex& v : whole.vertices) {
+        if (v.downstream == kNone) {
+          ASSERT_LT(v.x, whole.vertices[1].x);
+        }
+      }
+    }
     for (const int side : {16, 13}) {
       const auto t = run(bd + dir.path("t.dv") + opts + " --tile-size " + std::to_string(side) + " -q");
       ASSERT_EQ(t.exit_code, 0) << t.err;
