@@ -39,7 +39,7 @@ struct RenderOptions {
   std::string edges = "contour,boundary,crease", edge_caps = "exact", edge_colour = "#262626";
   std::string background = "#dde4ec", mask = "white", crease_colour = "blue", silhouette_colour = "black";
   bool literal = false, seed_rules = false, line_stats = false;
-  rr::CreaseRules rules{.min_accumulated = 100};
+  rr::CreaseRules rules{.min_accumulated = 100, .smooth_spacings = 0.5};
   // Given on the command line (frame: without them, the default view, rr::relief_view).
   CLI::Option *view_az = nullptr, *light_az = nullptr, *light_alt = nullptr;
 };
@@ -88,11 +88,17 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
       ->capture_default_str();
   app->add_flag("--seed-rules", o.seed_rules,
                 "Creases as the paper draws them: every basin normalized by its own total (also the small "
-                "ones that drain off the grid edge) and every D8 path across flats (docs/terrain-render.md)");
+                "ones that drain off the grid edge), every D8 path across flats, and D8 polylines unsmoothed "
+                "(docs/terrain-render.md)");
   app->add_option("--edge-basin-share", o.rules.edge_basin_min_share,
                   "Basins that drain off the grid edge are normalized by at least this share of the network's "
                   "points (0: by their own, as the paper)")
       ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app->add_option("--crease-smooth", o.rules.smooth_spacings,
+                  "Smooth the D8 staircase of crease lines: Gaussian sigma along the line, in mesh spacings "
+                  "(0: the D8 polyline as it is)")
+      ->check(CLI::Range(0.0, 4.0))
       ->capture_default_str();
   app->add_flag("--line-stats", o.line_stats,
                 "Also measure the drawn creases: length in pixels, shares near the grid boundary, on flat ground "
@@ -183,7 +189,7 @@ std::pair<int, int> finish_options(RenderOptions& o, rr::Layers& layers) {
     throw CLI::ValidationError("--size", "width and height must be in 16 .. 16384");
   if (!o.eye.empty()) o.frame.camera.eye = Eigen::Vector3d(o.eye[0], o.eye[1], o.eye[2]);
   o.frame.score.literal_divisor = o.literal;
-  if (o.seed_rules) o.rules.edge_basin_min_share = 0, o.rules.one_line_per_flat = false;
+  if (o.seed_rules) o.rules.edge_basin_min_share = 0, o.rules.one_line_per_flat = false, o.rules.smooth_spacings = 0;
   if (o.frame.score.sw + o.frame.score.iw + o.frame.score.fw <= 0)
     throw CLI::ValidationError("--sw/--iw/--fw", "at least one weight must be > 0");
   layers = rr::parse_layers(o.layers);

@@ -140,7 +140,54 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
   }
   if (m > 0 && inside == 0)
     throw terrain::Error("the drainage database does not overlap the mesh (no drainage vertex lies on it)");
+  if (rules.smooth_spacings > 0)
+    smooth_crease_lines(out, mesh, rules.smooth_spacings * std::min(g.dx, g.dy) / std::min(links.dx, links.dy));
   return out;
+}
+
+void smooth_crease_lines(CreaseGeometry& g, const terrain::GridMesh& mesh, double sigma_samples) {
+  if (!(sigma_samples > 0)) return;
+  const std::size_t m = g.positions.size();
+  constexpr std::uint32_t kNone = kNoSegment;
+  // Along each line: the vertex downstream, and upstream the one of largest flow.
+  std::vector<std::uint32_t> down(m, kNone), up(m, kNone);
+  for (std::size_t s = 0; s < g.n_segments(); ++s) {
+    const std::uint32_t a = g.segments[2 * s], b = g.segments[2 * s + 1];
+    down[a] = b;
+    if (up[b] == kNone || g.flow[a] > g.flow[up[b]]) up[b] = a;
+  }
+  const int reach = int(std::ceil(2 * sigma_samples));
+  std::vector<double> weight(std::size_t(reach) + 1);
+  for (int k = 0; k <= reach; ++k) weight[std::size_t(k)] = std::exp(-0.5 * k * k / (sigma_samples * sigma_samples));
+  std::vector<Eigen::Vector3f> positions = g.positions, normals = g.normals;
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (std::size_t i = 0; i < m; ++i) {
+    if (down[i] == kNone && up[i] == kNone) continue;
+    std::uint32_t ups[64], downs[64];  // reach <= 64 (sigma <= 32 samples)
+    int nu = 0, nd = 0;
+    for (std::uint32_t v = up[i]; v != kNone && nu < reach && nu < 64; v = up[v]) ups[nu++] = v;
+    for (std::uint32_t v = down[i]; v != kNone && nd < reach && nd < 64; v = down[v]) downs[nd++] = v;
+    const int r = std::min(nu, nd);
+    if (r == 0) continue;
+    Eigen::Vector2d sum = weight[0] * g.positions[i].head<2>().cast<double>();
+    double total = weight[0];
+    for (int k = 1; k <= r; ++k) {
+      const double w = weight[std::size_t(k)];
+      sum += w * (g.positions[ups[k - 1]].head<2>().cast<double>() + g.positions[downs[k - 1]].head<2>().cast<double>());
+      total += 2 * w;
+    }
+    const Eigen::Vector2d xy = sum / total;
+    const Eigen::Vector3f& p = g.positions[i];
+    if ((xy - p.head<2>().cast<double>()).norm() < 1e-6) continue;
+    const auto before = terrain::pn_point_above(mesh, p.x(), p.y());
+    const auto after = terrain::pn_point_above(mesh, xy.x(), xy.y());
+    if (!before || !after) continue;
+    positions[i] = Eigen::Vector3f(float(xy.x()), float(xy.y()),
+                                   float(double(p.z()) + after->position.z() - before->position.z()));
+    normals[i] = after->normal.cast<float>();
+  }
+  g.positions = std::move(positions);
+  g.normals = std::move(normals);
 }
 
 Eigen::Vector3d exaggerate_normal(const Eigen::Vector3d& n, double e) {

@@ -1,11 +1,13 @@
 // Line statistics and crease rules (renderer/line_stats.hpp, renderer/crease.hpp), GL-free:
 // plan curvature of analytic surfaces, stroke joining, flicker, and the crease rules on a
-// V-shaped valley, a plane draining off one edge and a filled square depression.
+// V-shaped valley, a plane draining off one edge and a filled square depression; smoothed
+// crease lines on a straight and an oblique V valley.
 #include "renderer/line_stats.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
@@ -13,6 +15,7 @@
 #include "drainage_test_support.hpp"
 #include "terrain/grid_mesh.hpp"
 #include "terrain/hillshade.hpp"
+#include "terrain/pn_surface.hpp"
 #include "test_support.hpp"
 
 namespace renderer {
@@ -229,6 +232,78 @@ TEST(CreaseRules, AFilledSquareDepressionGetsOneLine) {
   EXPECT_EQ(one_strokes, 1u);
   EXPECT_GE(one_flat, 11u);  // it crosses the flat
   EXPECT_LT(3 * one_flat, all_flat);
+}
+
+// Smoothed crease lines (smooth_crease_lines). A straight channel (the V valley's axis,
+// along a column) does not move.
+TEST(CreaseLines, SmoothingLeavesAStraightChannelWhereItIs) {
+  const std::size_t n = 41;
+  const Scene s = scene_of(analytic(n, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
+  const CreaseGeometry d8 = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 30});
+  const CreaseGeometry smooth = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 30, .smooth_spacings = 1});
+  ASSERT_EQ(smooth.positions.size(), d8.positions.size());
+  EXPECT_EQ(smooth.segments, d8.segments);
+  for (std::size_t k = 0; k < d8.segments.size(); ++k) {
+    const std::uint32_t v = d8.segments[k];
+    EXPECT_NEAR((smooth.positions[v] - d8.positions[v]).norm(), 0.0f, 1e-3f) << v;
+  }
+}
+
+// A V valley (sides 0.3, floor 0.2) whose axis runs 18.4 degrees (atan 1/3) off the
+// columns: its D8 channel is a staircase of straight and diagonal links. Smoothed over one mesh spacing (10 m,
+// the drainage samples' spacing here), the channel lies closer to the axis, its ends stay,
+// and every vertex keeps its height above the PN surface.
+TEST(CreaseLines, SmoothingStraightensAnObliqueD8Staircase) {
+  const std::size_t n = 61;
+  const double h = 10, ca = 3 / std::sqrt(10.0), sa = 1 / std::sqrt(10.0);
+  const Scene s = scene_of(analytic(n, h,
+                                    [&](double x, double y) {
+                                      return 0.3 * std::abs(x * ca - y * sa) + 0.2 * (x * sa + y * ca);
+                                    }),
+                           false);
+  const CreaseGeometry d8 = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 30});
+  const CreaseGeometry smooth = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 30, .smooth_spacings = 1});
+  ASSERT_GT(d8.n_segments(), 40u);
+  // The analytic origin in the mesh's local frame (x = column * h, y = -row * h).
+  const double x0 = double(n / 2) * h, y0 = -double(n / 2) * h;
+  auto off_axis = [&](const Eigen::Vector3f& p) { return std::abs((p.x() - x0) * ca - (p.y() - y0) * sa); };
+  // The main channel: the longest line from an outlet upstream along the inflow of largest
+  // flow (segment_chains' rule).
+  const std::size_t nv = d8.positions.size();
+  std::vector<std::uint32_t> up(nv, kNoSegment);
+  std::vector<std::uint8_t> has_out(nv, 0);
+  for (std::size_t k = 0; k < d8.n_segments(); ++k) {
+    const std::uint32_t a = d8.segments[2 * k], b = d8.segments[2 * k + 1];
+    has_out[a] = 1;
+    if (up[b] == kNoSegment || d8.flow[a] > d8.flow[up[b]]) up[b] = a;
+  }
+  std::vector<std::uint32_t> stem;
+  for (std::uint32_t o = 0; o < nv; ++o) {
+    if (up[o] == kNoSegment || has_out[o]) continue;  // not an outlet
+    std::vector<std::uint32_t> line;
+    for (std::uint32_t v = o; v != kNoSegment; v = up[v]) line.push_back(v);
+    if (line.size() > stem.size()) stem = line;
+  }
+  ASSERT_GT(stem.size(), 40u);
+  EXPECT_EQ(smooth.positions[stem.front()], d8.positions[stem.front()]);  // the outlet
+  EXPECT_EQ(smooth.positions[stem.back()], d8.positions[stem.back()]);    // the channel head
+  double before = 0, after = 0, before_max = 0, after_max = 0;
+  for (const std::uint32_t v : stem) {
+    before += off_axis(d8.positions[v]), after += off_axis(smooth.positions[v]);
+    before_max = std::max(before_max, off_axis(d8.positions[v]));
+    after_max = std::max(after_max, off_axis(smooth.positions[v]));
+    const auto a = terrain::pn_point_above(s.mesh, d8.positions[v].x(), d8.positions[v].y());
+    const auto b = terrain::pn_point_above(s.mesh, smooth.positions[v].x(), smooth.positions[v].y());
+    ASSERT_TRUE(a && b);
+    EXPECT_NEAR(smooth.positions[v].z() - b->position.z(), d8.positions[v].z() - a->position.z(), 1e-3) << v;
+  }
+  const std::size_t count = stem.size();
+  before /= double(count), after /= double(count);
+  std::cout << "mean distance from the axis: D8 " << before << " m, smoothed " << after << " m (max " << before_max
+            << " -> " << after_max << " m, " << count << " vertices)\n";
+  EXPECT_GT(before, 1.0);  // a staircase (about 2.1 m; 0.22 m smoothed)
+  EXPECT_LT(after, 0.25 * before);
+  EXPECT_LT(after_max, 0.25 * before_max);  // 3.16 m (a diagonal link's offset) -> 0.56 m
 }
 
 }  // namespace

@@ -41,16 +41,33 @@ struct CreaseRules {
   // upstream along the inflow of largest accumulation; the other parallel D8 paths across
   // the flat are left out. Off: every link, as the paper.
   bool one_line_per_flat = true;
+  // Lines as a cartographer draws rivers, not D8 staircases: each crease vertex moves to the
+  // Gaussian-weighted mean of the vertices along its line (smooth_crease_lines), sigma this
+  // many mesh spacings. 0: the D8 polyline as it is (the paper).
+  double smooth_spacings = 0;
 };
 
 // Every valid drainage point with its D8 link to its downstream point as one segment (the
 // branches of a .dv are exactly these links grouped by order), selected and normalized by
 // `rules`. Positions are moved from the database's frame to the mesh's; normals are the PN
 // normals of `mesh` above each vertex (pn_point_above; the vertex normal of the nearest
-// mesh vertex where it has no answer). Error when the database does not overlap the mesh
-// or their CRSs differ.
+// mesh vertex where it has no answer); then the lines are smoothed (rules.smooth_spacings,
+// smooth_crease_lines). Error when the database does not overlap the mesh or their CRSs
+// differ.
 CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
                                      const CreaseRules& rules = {});
+
+// D8 paths run in steps of 45 degrees: a channel across the grid at any other bearing is
+// a staircase of straight and diagonal links. This moves x, y of every vertex on a
+// segment to the Gaussian-weighted mean (sigma `sigma_samples` vertices) of the vertices
+// along its line: downstream along its segment, upstream along the inflow of largest flow
+// (segment_chains' rule), up to 2 sigma each way and the same number each way, so channel
+// heads, outlets and the ends of lines stay where they are. z keeps the vertex's height
+// above the PN surface of `mesh` (pn_point_above at the old and the new x, y) and the
+// normal becomes the PN normal at the new point; a vertex whose new point is off the
+// surface keeps its old one. Straight lines (along a row, a column or a diagonal) do not
+// move. Segments, sources and flow are unchanged.
+void smooth_crease_lines(CreaseGeometry& g, const terrain::GridMesh& mesh, double sigma_samples);
 
 // The basin-normalized flow of every point of `links` under `edge_basin_min_share`
 // (CreaseRules): accumulated / its basin's total, or / max(total, share x the network's
