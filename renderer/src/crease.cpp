@@ -140,13 +140,14 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
   }
   if (m > 0 && inside == 0)
     throw terrain::Error("the drainage database does not overlap the mesh (no drainage vertex lies on it)");
-  if (rules.smooth_spacings > 0)
+  if (rules.smooth_spacings > 0 && std::min(links.dx, links.dy) > 0)
     smooth_crease_lines(out, mesh, rules.smooth_spacings * std::min(g.dx, g.dy) / std::min(links.dx, links.dy));
   return out;
 }
 
 void smooth_crease_lines(CreaseGeometry& g, const terrain::GridMesh& mesh, double sigma_samples) {
   if (!(sigma_samples > 0)) return;
+  sigma_samples = std::min(sigma_samples, double(kMaxSmoothSigma));
   const std::size_t m = g.positions.size();
   constexpr std::uint32_t kNone = kNoSegment;
   // Along each line: the vertex downstream, and upstream the one of largest flow.
@@ -156,17 +157,17 @@ void smooth_crease_lines(CreaseGeometry& g, const terrain::GridMesh& mesh, doubl
     down[a] = b;
     if (up[b] == kNone || g.flow[a] > g.flow[up[b]]) up[b] = a;
   }
-  const int reach = int(std::ceil(2 * sigma_samples));
+  const int reach = int(std::ceil(2 * sigma_samples));  // <= 2 kMaxSmoothSigma
   std::vector<double> weight(std::size_t(reach) + 1);
   for (int k = 0; k <= reach; ++k) weight[std::size_t(k)] = std::exp(-0.5 * k * k / (sigma_samples * sigma_samples));
   std::vector<Eigen::Vector3f> positions = g.positions, normals = g.normals;
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::size_t i = 0; i < m; ++i) {
     if (down[i] == kNone && up[i] == kNone) continue;
-    std::uint32_t ups[64], downs[64];  // reach <= 64 (sigma <= 32 samples)
+    std::uint32_t ups[2 * kMaxSmoothSigma], downs[2 * kMaxSmoothSigma];
     int nu = 0, nd = 0;
-    for (std::uint32_t v = up[i]; v != kNone && nu < reach && nu < 64; v = up[v]) ups[nu++] = v;
-    for (std::uint32_t v = down[i]; v != kNone && nd < reach && nd < 64; v = down[v]) downs[nd++] = v;
+    for (std::uint32_t v = up[i]; v != kNone && nu < reach; v = up[v]) ups[nu++] = v;
+    for (std::uint32_t v = down[i]; v != kNone && nd < reach; v = down[v]) downs[nd++] = v;
     const int r = std::min(nu, nd);
     if (r == 0) continue;
     Eigen::Vector2d sum = weight[0] * g.positions[i].head<2>().cast<double>();

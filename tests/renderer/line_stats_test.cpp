@@ -243,9 +243,12 @@ TEST(CreaseLines, SmoothingLeavesAStraightChannelWhereItIs) {
   const CreaseGeometry smooth = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 30, .smooth_spacings = 1});
   ASSERT_EQ(smooth.positions.size(), d8.positions.size());
   EXPECT_EQ(smooth.segments, d8.segments);
+  CreaseGeometry widest = d8;  // sigma capped (kMaxSmoothSigma): no overflow of the window
+  smooth_crease_lines(widest, s.mesh, 1e12);
   for (std::size_t k = 0; k < d8.segments.size(); ++k) {
     const std::uint32_t v = d8.segments[k];
     EXPECT_NEAR((smooth.positions[v] - d8.positions[v]).norm(), 0.0f, 1e-3f) << v;
+    EXPECT_NEAR((widest.positions[v] - d8.positions[v]).norm(), 0.0f, 1e-3f) << v;
   }
 }
 

@@ -67,6 +67,8 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
 // normal becomes the PN normal at the new point; a vertex whose new point is off the
 // surface keeps its old one. Straight lines (along a row, a column or a diagonal) do not
 // move. Segments, sources and flow are unchanged.
+// sigma_samples is capped at kMaxSmoothSigma.
+inline constexpr int kMaxSmoothSigma = 32;
 void smooth_crease_lines(CreaseGeometry& g, const terrain::GridMesh& mesh, double sigma_samples);
 
 // The basin-normalized flow of every point of `links` under `edge_basin_min_share`
