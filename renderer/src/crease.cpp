@@ -89,6 +89,28 @@ std::vector<std::uint8_t> off_main_flat_path(const terrain::DrainageLinks& links
   return off;
 }
 
+namespace {
+
+// Per vertex, the segment leaving it and the one entering it from the largest flow (ties:
+// the lower index), kNoSegment where none; only segments with drawn[s] > 0 when `drawn`
+// is given. The rule strokes follow (segment_chains) and lines are smoothed along.
+struct VertexSegments {
+  std::vector<std::uint32_t> leaving, entering;
+};
+VertexSegments vertex_segments(const CreaseGeometry& g, const std::vector<float>& drawn = {}) {
+  VertexSegments v{std::vector<std::uint32_t>(g.positions.size(), kNoSegment),
+                   std::vector<std::uint32_t>(g.positions.size(), kNoSegment)};
+  for (std::uint32_t s = 0; s < g.n_segments(); ++s) {
+    if (!drawn.empty() && !(drawn[s] > 0)) continue;
+    v.leaving[g.segments[2 * s]] = s;
+    std::uint32_t& m = v.entering[g.segments[2 * s + 1]];
+    if (m == kNoSegment || g.flow[g.segments[2 * s]] > g.flow[g.segments[2 * m]]) m = s;
+  }
+  return v;
+}
+
+}  // namespace
+
 CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
                                      const CreaseRules& rules) {
   using terrain::DrainageLinks;
@@ -151,11 +173,11 @@ void smooth_crease_lines(CreaseGeometry& g, const terrain::GridMesh& mesh, doubl
   const std::size_t m = g.positions.size();
   constexpr std::uint32_t kNone = kNoSegment;
   // Along each line: the vertex downstream, and upstream the one of largest flow.
+  const VertexSegments links = vertex_segments(g);
   std::vector<std::uint32_t> down(m, kNone), up(m, kNone);
-  for (std::size_t s = 0; s < g.n_segments(); ++s) {
-    const std::uint32_t a = g.segments[2 * s], b = g.segments[2 * s + 1];
-    down[a] = b;
-    if (up[b] == kNone || g.flow[a] > g.flow[up[b]]) up[b] = a;
+  for (std::size_t i = 0; i < m; ++i) {
+    if (links.leaving[i] != kNone) down[i] = g.segments[2 * links.leaving[i] + 1];
+    if (links.entering[i] != kNone) up[i] = g.segments[2 * links.entering[i]];
   }
   const int reach = int(std::ceil(2 * sigma_samples));  // <= 2 kMaxSmoothSigma
   std::vector<double> weight(std::size_t(reach) + 1);
@@ -222,16 +244,10 @@ CreaseScoreParams resolve_distances(const CreaseScoreParams& params, const Eigen
 SegmentChains segment_chains(const CreaseGeometry& g, const std::vector<float>& drawn) {
   const std::size_t ns = g.n_segments();
   SegmentChains ch{std::vector<std::uint32_t>(ns, kNoSegment), std::vector<std::uint32_t>(ns, kNoSegment)};
-  std::vector<std::uint32_t> leaving(g.positions.size(), kNoSegment), entering(g.positions.size(), kNoSegment);
+  const VertexSegments v = vertex_segments(g, drawn);
   for (std::uint32_t s = 0; s < ns; ++s) {
-    if (!drawn.empty() && !(drawn[s] > 0)) continue;
-    leaving[g.segments[2 * s]] = s;
-    std::uint32_t& m = entering[g.segments[2 * s + 1]];
-    if (m == kNoSegment || g.flow[g.segments[2 * s]] > g.flow[g.segments[2 * m]]) m = s;
-  }
-  for (std::uint32_t s = 0; s < ns; ++s) {
-    ch.next[s] = leaving[g.segments[2 * s + 1]];
-    ch.prev[s] = entering[g.segments[2 * s]];
+    ch.next[s] = v.leaving[g.segments[2 * s + 1]];
+    ch.prev[s] = v.entering[g.segments[2 * s]];
   }
   return ch;
 }

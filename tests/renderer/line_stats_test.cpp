@@ -272,19 +272,12 @@ TEST(CreaseLines, SmoothingStraightensAnObliqueD8Staircase) {
   auto off_axis = [&](const Eigen::Vector3f& p) { return std::abs((p.x() - x0) * ca - (p.y() - y0) * sa); };
   // The main channel: the longest line from an outlet upstream along the inflow of largest
   // flow (segment_chains' rule).
-  const std::size_t nv = d8.positions.size();
-  std::vector<std::uint32_t> up(nv, kNoSegment);
-  std::vector<std::uint8_t> has_out(nv, 0);
-  for (std::size_t k = 0; k < d8.n_segments(); ++k) {
-    const std::uint32_t a = d8.segments[2 * k], b = d8.segments[2 * k + 1];
-    has_out[a] = 1;
-    if (up[b] == kNoSegment || d8.flow[a] > d8.flow[up[b]]) up[b] = a;
-  }
-  std::vector<std::uint32_t> stem;
-  for (std::uint32_t o = 0; o < nv; ++o) {
-    if (up[o] == kNoSegment || has_out[o]) continue;  // not an outlet
-    std::vector<std::uint32_t> line;
-    for (std::uint32_t v = o; v != kNoSegment; v = up[v]) line.push_back(v);
+  const SegmentChains ch = segment_chains(d8);
+  std::vector<std::uint32_t> stem;  // vertices from the outlet up
+  for (std::uint32_t last = 0; last < d8.n_segments(); ++last) {
+    if (ch.next[last] != kNoSegment) continue;  // not the segment into an outlet
+    std::vector<std::uint32_t> line{d8.segments[2 * last + 1]};
+    for (std::uint32_t t = last; t != kNoSegment; t = ch.prev[t]) line.push_back(d8.segments[2 * t]);
     if (line.size() > stem.size()) stem = line;
   }
   ASSERT_GT(stem.size(), 40u);
