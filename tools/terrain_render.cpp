@@ -102,7 +102,8 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
       ->capture_default_str();
   app->add_flag("--line-stats", o.line_stats,
                 "Also measure the drawn creases: length in pixels, shares near the grid boundary, on flat ground "
-                "and in valleys, strokes; batch: per frame in line_stats.csv, and the flicker between frames");
+                "and in valleys, strokes; and the drawn silhouettes: pixels, pieces; batch: per frame in "
+                "line_stats.csv, and the crease flicker between frames");
   app->add_flag("--literal-score", o.literal,
                 "Divide the weighted sum by 3 (the paper's equation 6) instead of by the weight sum");
   app->add_option("--pel-threshold", f.pel.threshold,
@@ -167,6 +168,12 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
       ->capture_default_str();
   app->add_option("--silhouette-width", o.style.silhouette_width, "Silhouette width in pixels")
       ->check(CLI::Range(1, 9))
+      ->capture_default_str();
+  app->add_option("--silhouette-min-length", o.style.silhouette_min_length,
+                  "Silhouette pieces (connected pixels) shorter than this share of the frame's height fade out, "
+                  "to nothing at half of it: the scattered dashes of rolling ground seen from above (0: keep "
+                  "every piece; anti-aliased lines only)")
+      ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   app->add_option("--exaggeration", o.style.exaggeration, "Vertical exaggeration")
       ->check(CLI::Range(0.01, 100.0))
@@ -347,6 +354,11 @@ int run_frame(FrameArgs& a, const std::string& prov, const tt::Verbosity& verb) 
     std::cout << fmt::format("crease length px: {:.0f}\ncrease boundary share: {:.4f}\ncrease flat share: {:.4f}\n"
                              "crease valley share: {:.4f}\ncrease strokes: {}\ncrease mean stroke px: {:.1f}\n",
                              st.length_px, st.boundary, st.flat, st.valley, st.strokes, st.mean_stroke_px);
+    if (layers.silhouettes) {
+      const rr::SilhouetteStats ss = rr::silhouette_stats(r.read_buffers().silhouette_opacity, w, h);
+      std::cout << fmt::format("silhouette px: {:.0f}\nsilhouette pieces: {}\nsilhouette mean piece px: {:.1f}\n",
+                               ss.pixels, ss.pieces, ss.mean_piece_px);
+    }
   }
   return 0;
 }
@@ -375,7 +387,8 @@ int run_batch(BatchArgs& a, const std::string& prov, const tt::Verbosity& verb) 
   rr::GlContext ctx;
   rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, w, h, layers, a.opts.style);
   std::vector<rr::FrameTimings> timings;
-  std::string stats_csv = "frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px\n";
+  std::string stats_csv =
+      "frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px,silhouette_px,silhouette_pieces\n";
   std::vector<std::vector<float>> drawn;
   std::vector<std::vector<double>> pixels;
   const auto progress = tt::terminal_progress(verb, "render");
@@ -385,8 +398,10 @@ int run_batch(BatchArgs& a, const std::string& prov, const tt::Verbosity& verb) 
     if (a.opts.line_stats) {
       FrameLines lines = frame_lines(scene, r, res, frames[i], a.opts.style);
       const rr::LineStats st = rr::line_stats(*scene.creases, scene.traits, lines.drawn, lines.pixels);
-      stats_csv += fmt::format("{},{:.1f},{:.5f},{:.5f},{:.5f},{},{:.2f}\n", i, st.length_px, st.boundary, st.flat,
-                               st.valley, st.strokes, st.mean_stroke_px);
+      rr::SilhouetteStats ss;
+      if (layers.silhouettes) ss = rr::silhouette_stats(r.read_buffers().silhouette_opacity, w, h);
+      stats_csv += fmt::format("{},{:.1f},{:.5f},{:.5f},{:.5f},{},{:.2f},{:.0f},{}\n", i, st.length_px, st.boundary,
+                               st.flat, st.valley, st.strokes, st.mean_stroke_px, ss.pixels, ss.pieces);
       drawn.push_back(std::move(lines.drawn));
       pixels.push_back(std::move(lines.pixels));
     }

@@ -1,6 +1,7 @@
 // LAY: the background, the surface (shaded or mask colour) where a toward surface is,
 // PEL, crease and object-space edge pixels whose depth is not behind that surface,
-// silhouette pixels (dilated to the silhouette width). Anti-aliased (u_style.x != 0):
+// silhouette pixels (dilated to the silhouette width, at their opacity: the piece rule
+// lowers it on short pieces). Anti-aliased (u_style.x != 0):
 // PELs and creases blend by their coverage (hidden lines were removed when they were
 // drawn); silhouettes, found per pixel, are softened by a ring one pixel wide at 40 %.
 layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
@@ -56,7 +57,7 @@ void main() {
       for (int dx = r0 - ring; dx <= r1 + ring; ++dx) {
         ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
         bool core = dx >= r0 && dx <= r1 && dy >= r0 && dy <= r1;
-        if (texelFetch(u_silhouette, q, 0).r > 0.0) sil = max(sil, core ? 1.0 : 0.4);
+        sil = max(sil, texelFetch(u_silhouette, q, 0).r * (core ? 1.0 : 0.4));
       }
     c = mix(c, u_silhouette_colour, sil);
   }

@@ -8,6 +8,7 @@
 //   paper's test draws that ridge as dashes;
 // - specks dropped: a silhouette pixel with fewer than 3 silhouette pixels (itself
 //   included) in its 5 x 5 window, where the surface only grazes the eye's rays.
+// Each silhouette pixel is listed for the piece rule (silhouette_list.glsl).
 layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
 layout(binding = TR_TEX_AWAY_DEPTH) uniform sampler2D u_away;
 layout(location = 0) out vec4 o_mask;
@@ -42,5 +43,6 @@ void main() {
       }
     s = n >= 3;
   }
+  if (s) list_silhouette_pixel(p, size);
   o_mask = vec4(s ? 1.0 : 0.0);
 }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <optional>
 
+#include "renderer/silhouette.hpp"
+
 namespace renderer {
 
 std::vector<float> plan_curvature(const terrain::GridMesh& mesh) {
@@ -146,6 +148,14 @@ LineStats line_stats(const CreaseGeometry& g, const SegmentTraits& traits, const
   st.strokes = crease_strokes(g, shown).size();
   if (st.length_px > 0) st.boundary = boundary / st.length_px, st.flat = flat / st.length_px, st.valley = valley / st.length_px;
   if (st.strokes > 0) st.mean_stroke_px = st.length_px / double(st.strokes);
+  return st;
+}
+
+SilhouetteStats silhouette_stats(const std::vector<std::uint8_t>& opacity, int w, int h) {
+  SilhouetteStats st;
+  st.pieces = mask_pieces(opacity, w, h).size.size();
+  for (const std::uint8_t o : opacity) st.pixels += double(o) / 255.0;
+  if (st.pieces > 0) st.mean_piece_px = st.pixels / double(st.pieces);
   return st;
 }
 

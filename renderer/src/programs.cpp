@@ -12,9 +12,10 @@ const ProgramSpec& program_spec(ProgramId id) {
       stages.push_back(std::move(more));
       return stages;
     };
-    auto fullscreen = [&](const char* fragment) {
+    auto fullscreen = [&](std::vector<std::string> fragment) {
+      fragment.insert(fragment.begin(), c);
       return std::vector<StageSource>{{GL_VERTEX_SHADER, {c, "fullscreen.vert.glsl"}},
-                                      {GL_FRAGMENT_SHADER, {c, fragment}}};
+                                      {GL_FRAGMENT_SHADER, std::move(fragment)}};
     };
     auto compute = [&](std::vector<std::string> files) {
       files.insert(files.begin(), c);
@@ -30,8 +31,8 @@ const ProgramSpec& program_spec(ProgramId id) {
         {"crease_draw",
          {{GL_VERTEX_SHADER, {c, "crease_data.glsl", "crease.vert.glsl"}}, {GL_FRAGMENT_SHADER, {c, "line.frag.glsl"}}},
          {}},
-        {"silhouette", fullscreen("silhouette.frag.glsl"), {}},
-        {"composite", fullscreen("composite.frag.glsl"), {}},
+        {"silhouette", fullscreen({"silhouette_list.glsl", "silhouette.frag.glsl"}), {}},
+        {"composite", fullscreen({"composite.frag.glsl"}), {}},
         {"pel_fields", compute({"pel_common.glsl", "pel_fields.comp.glsl"}), {}},
         {"pel_extract", compute({"pel_common.glsl", "pel_extract.comp.glsl"}), {}},
         {"pel_draw", {{GL_VERTEX_SHADER, {c, "pel.vert.glsl"}}, {GL_FRAGMENT_SHADER, {c, "line.frag.glsl"}}}, {}},
@@ -39,11 +40,12 @@ const ProgramSpec& program_spec(ProgramId id) {
          with(with(surface_geometry, {GL_GEOMETRY_SHADER, {c, "surface_id.geom.glsl"}}),
               {GL_FRAGMENT_SHADER, {c, "surface_id.frag.glsl"}}),
          {}},
-        {"adjacency", fullscreen("adjacency.frag.glsl"), {}},
+        {"adjacency", fullscreen({"silhouette_list.glsl", "adjacency.frag.glsl"}), {}},
         {"edge_classify", compute({"edge_common.glsl", "edge_classify.comp.glsl"}), {}},
         {"edge_draw",
          {{GL_VERTEX_SHADER, {c, "edge_common.glsl", "edge.vert.glsl"}}, {GL_FRAGMENT_SHADER, {c, "edge.frag.glsl"}}},
          {}},
+        {"silhouette_pieces", compute({"silhouette_list.glsl", "silhouette_pieces.comp.glsl"}), {}},
     };
   }();
   return specs.at(std::size_t(id));

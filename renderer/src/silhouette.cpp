@@ -40,4 +40,40 @@ std::vector<std::uint8_t> toward_away_silhouettes(const std::vector<float>& towa
   return kept;
 }
 
+MaskPieces mask_pieces(const std::vector<std::uint8_t>& mask, int w, int h) {
+  const std::size_t n = std::size_t(w) * std::size_t(h);
+  MaskPieces m;
+  m.piece.assign(n, 0);
+  std::vector<std::size_t> stack;
+  for (std::size_t start = 0; start < n; ++start) {
+    if (!mask[start] || m.piece[start]) continue;
+    m.size.push_back(0);
+    const auto id = std::uint32_t(m.size.size());
+    stack.assign(1, start);
+    m.piece[start] = id;
+    while (!stack.empty()) {
+      const std::size_t i = stack.back();
+      stack.pop_back();
+      ++m.size.back();
+      const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = x + dx, yy = y + dy;
+          if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+          const std::size_t j = std::size_t(yy) * std::size_t(w) + std::size_t(xx);
+          if (mask[j] && !m.piece[j]) m.piece[j] = id, stack.push_back(j);
+        }
+    }
+  }
+  return m;
+}
+
+std::vector<float> silhouette_piece_opacity(const std::vector<std::uint8_t>& mask, int w, int h, double min_pixels) {
+  const MaskPieces m = mask_pieces(mask, w, h);
+  std::vector<float> opacity(m.piece.size(), 0.0f);
+  for (std::size_t i = 0; i < opacity.size(); ++i)
+    if (m.piece[i]) opacity[i] = piece_opacity(m.size[m.piece[i] - 1], min_pixels);
+  return opacity;
+}
+
 }  // namespace renderer

@@ -87,7 +87,8 @@ struct TerrainRenderer::Impl {
         creases(scene, creases, layers.creases, style.antialias),
         pels(scene, mesh, layers.pels, style.pel_width, style.antialias),
         edges(scene, layers.edges, style),
-        silhouettes(scene, layers.silhouettes, layers.adjacency ? &ids : nullptr,
+        silhouettes(scene, layers.silhouettes, style.antialias ? style.silhouette_min_length * height : 0.0,
+                    layers.adjacency ? &ids : nullptr,
                     1e-3 * std::min(mesh.geo.dx, mesh.geo.dy),
                     Eigen::Vector4f(0, -float(double(mesh.topo.rows - 1) * mesh.geo.dy),
                                     float(double(mesh.topo.cols - 1) * mesh.geo.dx), 0)),
@@ -205,6 +206,9 @@ FrameBuffers TerrainRenderer::read_buffers() const {
   depth(m.scene.away_depth, b.away_depth);
   depth(m.creases.depth(), b.crease_depth);
   red(m.silhouettes.mask(), b.silhouette);
+  b.silhouette_opacity.resize(n);
+  glGetTextureImage(m.silhouettes.opacity().id(), 0, GL_RED, GL_UNSIGNED_BYTE, GLsizei(n), b.silhouette_opacity.data());
+  flip_rows(b.silhouette_opacity, w, h, 1);
   red(m.creases.colour(), b.crease);
   red(m.edges.colour(), b.edge);
   if (m.layers.adjacency) {

@@ -1,7 +1,7 @@
 // Every program of the renderer (renderer/programs.hpp) against the C++/GLSL contract
 // (renderer/gl_contract.h), by introspection of the linked programs: the uniform block's
 // binding, size and member offsets equal the C++ FrameBlock's; every storage block,
-// sampler, uniform and vertex input is named in the contract with the binding, unit or
+// sampler, image, uniform and vertex input is named in the contract with the binding, unit or
 // location the driver reports; compute work groups are TR_LOCAL_SIZE wide.
 #include <gtest/gtest.h>
 
@@ -28,7 +28,9 @@ const std::map<std::string, int> kStorageBlocks = {
     {"IdTriangles", TR_SSBO_ID_TRIANGLES},       {"Edges", TR_SSBO_EDGES},
     {"EdgeKinds", TR_SSBO_EDGE_KINDS},           {"EdgeCommand", TR_SSBO_EDGE_COMMAND},
     {"EdgeList", TR_SSBO_EDGE_LIST},             {"VertexEdges", TR_SSBO_VERTEX_EDGES},
-    {"CreaseChains", TR_SSBO_CREASE_CHAINS},     {"Opacity", TR_SSBO_CREASE_OPACITY}};
+    {"CreaseChains", TR_SSBO_CREASE_CHAINS},     {"Opacity", TR_SSBO_CREASE_OPACITY},
+    {"PieceLabels", TR_SSBO_PIECE_LABELS},       {"PieceSizes", TR_SSBO_PIECE_SIZES},
+    {"PieceList", TR_SSBO_PIECE_LIST}};
 const std::map<std::string, int> kSamplers = {
     {"u_toward", TR_TEX_TOWARD_DEPTH},       {"u_away", TR_TEX_AWAY_DEPTH},
     {"u_surface_colour", TR_TEX_SURFACE_COLOUR}, {"u_crease", TR_TEX_CREASE_COLOUR},
@@ -36,6 +38,7 @@ const std::map<std::string, int> kSamplers = {
     {"u_pel", TR_TEX_PEL_COLOUR},            {"u_pel_depth", TR_TEX_PEL_DEPTH},
     {"u_ids", TR_TEX_TRIANGLE_ID},           {"u_id_depth", TR_TEX_ID_DEPTH},
     {"u_edge", TR_TEX_EDGE_COLOUR},          {"u_edge_depth", TR_TEX_EDGE_DEPTH}};
+const std::map<std::string, int> kImages = {{"u_opacity", TR_IMG_SILHOUETTE_OPACITY}};
 const std::map<std::string, int> kUniformLocations = {
     {"u_mode", TR_LOC_SURFACE_MODE},
     {"u_layers", TR_LOC_LAYERS},
@@ -61,7 +64,9 @@ const std::map<std::string, int> kUniformLocations = {
     {"u_edge_caps", TR_LOC_EDGE_CAPS},
     {"u_edge_width", TR_LOC_EDGE_WIDTH},
     {"u_edge_colour", TR_LOC_EDGE_COLOUR},
-    {"u_edges", TR_LOC_EDGES}};
+    {"u_edges", TR_LOC_EDGES},
+    {"u_piece_stage", TR_LOC_PIECE_STAGE},
+    {"u_piece_min", TR_LOC_PIECE_MIN}};
 const std::map<std::string, int> kAttributes = {{"a_position", TR_ATTR_POSITION}, {"a_normal", TR_ATTR_NORMAL}};
 
 #define TR_OFFSET(type, name) {#name, offsetof(FrameBlock, name)},
@@ -88,10 +93,11 @@ GLint active(GLuint program, GLenum interface) {
 }
 
 bool is_sampler(GLint type) { return type == GL_SAMPLER_2D || type == GL_UNSIGNED_INT_SAMPLER_2D; }
+bool is_image(GLint type) { return type == GL_IMAGE_2D; }
 
 TEST(GlContract, EveryProgramMatchesTheContract) {
   GlContext ctx;
-  std::size_t blocks = 0, samplers = 0, locations = 0, computes = 0, frames = 0;
+  std::size_t blocks = 0, samplers = 0, images = 0, locations = 0, computes = 0, frames = 0;
   for (const ProgramId id : kAllPrograms) {
     const char* name = program_spec(id).name;
     const GlObject program = build_program(id);
@@ -119,7 +125,14 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
         continue;
       }
       const GLint location = resource_property(p, GL_UNIFORM, GLuint(i), GL_LOCATION);
-      if (is_sampler(resource_property(p, GL_UNIFORM, GLuint(i), GL_TYPE))) {
+      const GLint type = resource_property(p, GL_UNIFORM, GLuint(i), GL_TYPE);
+      if (is_image(type)) {
+        ASSERT_TRUE(kImages.count(u)) << "image '" << u << "' is not in the contract";
+        GLint unit = -1;
+        glGetUniformiv(p, location, &unit);
+        EXPECT_EQ(unit, kImages.at(u)) << u;
+        ++images;
+      } else if (is_sampler(type)) {
         ASSERT_TRUE(kSamplers.count(u)) << "sampler '" << u << "' is not in the contract";
         GLint unit = -1;
         glGetUniformiv(p, location, &unit);
@@ -147,10 +160,11 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
     }
   }
   // The checks ran on the interfaces there are (a program could lose them silently).
-  EXPECT_EQ(computes, 6u);
+  EXPECT_EQ(computes, 7u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 15u);  // silhouette 2, composite 9, adjacency 2, crease and PEL draws 1 each
+  EXPECT_EQ(samplers, 16u);  // silhouette 2, composite 9, adjacency 2, crease and PEL draws 1 each, pieces 1
+  EXPECT_EQ(images, 1u);     // pieces
   EXPECT_GE(locations, 14u);
 }
 

@@ -759,29 +759,7 @@ TEST(RendererGl, AdjacencyAgreesWithTowardAwayOnRealTerrain) {
 namespace {
 
 // 8-connected pieces of a 0/1 mask.
-std::size_t pieces(const std::vector<std::uint8_t>& m, int w, int h) {
-  std::vector<std::uint8_t> seen(m.size());
-  std::vector<int> stack;
-  std::size_t n = 0;
-  for (int i = 0; i < w * h; ++i) {
-    if (!m[std::size_t(i)] || seen[std::size_t(i)]) continue;
-    ++n;
-    seen[std::size_t(i)] = 1;
-    stack.push_back(i);
-    while (!stack.empty()) {
-      const int x = stack.back() % w, y = stack.back() / w;
-      stack.pop_back();
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int xx = x + dx, yy = y + dy, j = yy * w + xx;
-          if (xx < 0 || yy < 0 || xx >= w || yy >= h || !m[std::size_t(j)] || seen[std::size_t(j)]) continue;
-          seen[std::size_t(j)] = 1;
-          stack.push_back(j);
-        }
-    }
-  }
-  return n;
-}
+std::size_t pieces(const std::vector<std::uint8_t>& m, int w, int h) { return renderer::mask_pieces(m, w, h).size.size(); }
 
 }  // namespace
 
@@ -822,4 +800,70 @@ TEST(RendererGl, SilhouettesFollowTheCpuRuleAndCloseGaps) {
   // 61 -> 20 pieces; dropping the specks alone (the rule before the gaps were closed) left 39.
   EXPECT_LT(double(p_soft), 0.5 * double(p_exact));
   EXPECT_GE(beside, 0.95);
+}
+
+// The piece rule on a mask whose pieces are known: 8-neighbours join (a diagonal line is
+// one piece, two pieces touching at a corner are one), and a piece of n pixels gets
+// clamp((n - m/2) / (m/2), 0, 1).
+TEST(SilhouettePieces, OpacityFromThePieceSize) {
+  const int w = 40, h = 12;
+  std::vector<std::uint8_t> m(std::size_t(w * h), 0);
+  auto set = [&](int x, int y) { m[std::size_t(y * w + x)] = 1; };
+  for (int x = 0; x < 30; ++x) set(x, 1);       // 30 px: in full
+  for (int k = 0; k < 8; ++k) set(2 + k, 3 + k);  // diagonal, 8 px...
+  for (int k = 0; k < 7; ++k) set(10 + k, 10);    // ...and 7 px from its corner: 15 px
+  set(35, 5), set(36, 5), set(35, 6);             // 3 px: gone
+  const std::vector<float> o = renderer::silhouette_piece_opacity(m, w, h, 20.0);
+  auto at = [&](int x, int y) { return o[std::size_t(y * w + x)]; };
+  EXPECT_FLOAT_EQ(at(0, 1), 1.0f);
+  EXPECT_FLOAT_EQ(at(29, 1), 1.0f);
+  EXPECT_FLOAT_EQ(at(2, 3), 0.5f);  // (15 - 10) / 10
+  EXPECT_FLOAT_EQ(at(16, 10), 0.5f);
+  EXPECT_FLOAT_EQ(at(35, 6), 0.0f);
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    if (!m[i]) {
+      EXPECT_EQ(o[i], 0.0f) << i;
+    }
+  }
+  // Off: every silhouette pixel in full.
+  const std::vector<float> all = renderer::silhouette_piece_opacity(m, w, h, 0.0);
+  for (std::size_t i = 0; i < m.size(); ++i) EXPECT_EQ(all[i], float(m[i])) << i;
+  EXPECT_FLOAT_EQ(renderer::piece_opacity(10, 20.0), 0.0f);
+  EXPECT_FLOAT_EQ(renderer::piece_opacity(20, 20.0), 1.0f);
+  EXPECT_FLOAT_EQ(renderer::piece_opacity(1, 1.0), 1.0f);
+}
+
+// The SIL pass's piece rule (union-find on the GPU over the listed silhouette pixels)
+// gives the CPU rule applied to the pass's own mask, to the 8-bit step, for both
+// silhouette methods; on this view some pieces are dropped, some fade and some stay.
+TEST(RendererGl, SilhouettePiecesFollowTheCpuRule) {
+  const terrain::GridMesh& mesh = terrain::test::msh_50m_mesh();
+  renderer::GlContext ctx;
+  const int w = 640, h = 360;
+  for (const bool adjacency : {false, true}) {
+    SCOPED_TRACE(adjacency ? "Adjacency" : "Toward/Away");
+    renderer::Style style = test_style();
+    style.antialias = true;
+    style.silhouette_min_length = 0.1;  // 36 px in full, gone below 18
+    renderer::Layers layers{false, true, false, true};
+    layers.adjacency = adjacency;
+    TerrainRenderer r(ctx, mesh, nullptr, w, h, layers, style);
+    FrameParams fp;
+    fp.camera.view_az = 200;
+    fp.camera.view_alt = 15;
+    r.render(fp);
+    const auto b = r.read_buffers();
+    const std::vector<float> cpu = renderer::silhouette_piece_opacity(b.silhouette, w, h, 0.1 * h);
+    std::size_t differ = 0, dropped = 0, faded = 0, full = 0;
+    for (std::size_t i = 0; i < cpu.size(); ++i) {
+      const int gpu = b.silhouette_opacity[i], want = int(std::lround(255.0 * cpu[i]));
+      differ += std::abs(gpu - want) > 1;
+      if (b.silhouette[i]) (gpu == 0 ? dropped : gpu == 255 ? full : faded) += 1;
+    }
+    std::printf("silhouette pixels: %zu in full, %zu faded, %zu dropped\n", full, faded, dropped);
+    EXPECT_EQ(differ, 0u);
+    EXPECT_GT(full, 300u);
+    EXPECT_GT(faded, 0u);
+    EXPECT_GT(dropped, 0u);
+  }
 }

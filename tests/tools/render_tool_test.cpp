@@ -76,7 +76,8 @@ TEST(TerrainRender, BatchWritesFramesAndTimings) {
 }
 
 // --line-stats: every key with a value in range, no more strokes than segments the DM pass
-// drew; the seed rules draw more of their length near the boundary;
+// drew; the seed rules draw more of their length near the boundary; no more silhouette
+// pieces or pixels than without the piece rule;
 // batch writes line_stats.csv (a row per frame) and the flicker; no .dv is a usage error.
 TEST(TerrainRender, LineStats) {
   Inputs in;
@@ -100,6 +101,14 @@ TEST(TerrainRender, LineStats) {
     EXPECT_LE(value(r->out, "crease strokes"), value(r->out, "crease segments drawn"));  // a stroke has a segment
   }
   EXPECT_GT(value(seed.out, "crease boundary share"), value(ours.out, "crease boundary share"));
+  // Silhouettes: the piece rule only removes or fades pieces.
+  const auto every = run(frame + " --silhouette-min-length 0");
+  ASSERT_EQ(every.exit_code, 0) << every.err;
+  EXPECT_GE(value(ours.out, "silhouette pieces"), 1.0);
+  EXPECT_NEAR(value(ours.out, "silhouette mean piece px"),
+              value(ours.out, "silhouette px") / value(ours.out, "silhouette pieces"), 0.1);
+  EXPECT_LE(value(ours.out, "silhouette pieces"), value(every.out, "silhouette pieces"));
+  EXPECT_LE(value(ours.out, "silhouette px"), value(every.out, "silhouette px"));
 
   const std::string csv = in.dir.path("frames.csv"), out = in.dir.path("frames");
   ASSERT_EQ(run(tool("terrain-render") + " path --from 561500 5114000 2800 --to 563500 5116000 2700 --frames 3 -o " + csv)
@@ -112,7 +121,10 @@ TEST(TerrainRender, LineStats) {
   std::stringstream all;
   all << t.rdbuf();
   EXPECT_EQ(lines(all.str()), 4u) << all.str();
-  EXPECT_EQ(all.str().rfind("frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px\n", 0), 0u);
+  EXPECT_EQ(all.str().rfind("frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px,"
+                            "silhouette_px,silhouette_pieces\n",
+                            0),
+            0u);
   const double f = value(b.out, "crease flicker");
   EXPECT_GE(f, 0.0);
   EXPECT_LE(f, 1.0);

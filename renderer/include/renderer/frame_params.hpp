@@ -88,6 +88,10 @@ struct Style {
   // the source mesh's resolution) is not. 0 turns a rule off.
   double crease_bridge = 1.0, crease_min_stroke = 4.0;
   int silhouette_width = 1;                           // pixels
+  // Silhouette pieces (anti-aliased lines only; renderer::silhouette_piece_opacity): a
+  // piece of silhouette pixels shorter than this share of the frame's height fades out,
+  // to nothing at half of it (18 pixels in full at 720 rows, 9 gone); 0 keeps every piece.
+  double silhouette_min_length = 0.025;
   double exaggeration = 1.0;                          // vertical exaggeration
   double crease_lift = -1;        // metres along the normal; < 0: 0.5 x mesh spacing
   double pixels_per_edge = 6.0;   // tessellation target: screen length of a triangle edge

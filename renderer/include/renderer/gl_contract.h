@@ -57,11 +57,17 @@
 #define TR_SSBO_VERTEX_EDGES 20
 #define TR_SSBO_CREASE_CHAINS 21
 #define TR_SSBO_CREASE_OPACITY 22
+#define TR_SSBO_PIECE_LABELS 23
+#define TR_SSBO_PIECE_SIZES 24
+#define TR_SSBO_PIECE_LIST 25
 
 /* Crease strokes: "no segment" in the chains (renderer::kNoSegment), and how many
    segments a stroke's run is followed each way (renderer::kStrokeReach). */
 #define TR_SEGMENT_NONE 0xFFFFFFFFu
 #define TR_STROKE_REACH 64
+
+/* Silhouette pieces: the label of a root pixel (renderer's silhouette_pieces.comp.glsl). */
+#define TR_PIECE_ROOT 0xFFFFFFFFu
 
 /* Object-space edges: kinds (bit flags, as renderer::EdgeKind), the edges of a vertex
    (slots per vertex; a grid vertex has at most 6), "no vertex / no edge", cap styles, and
@@ -90,6 +96,9 @@
 #define TR_TEX_ID_DEPTH 3
 #define TR_TEX_EDGE_COLOUR 7
 #define TR_TEX_EDGE_DEPTH 8
+
+/* Image units: the silhouette opacity the piece rule writes (r8). */
+#define TR_IMG_SILHOUETTE_OPACITY 0
 
 /* Vertex attributes of the surface. */
 #define TR_ATTR_POSITION 0
@@ -126,5 +135,8 @@
 /* Composite, edges: */
 #define TR_LOC_EDGE_COLOUR 24
 #define TR_LOC_EDGES 25
+/* Silhouette pieces: */
+#define TR_LOC_PIECE_STAGE 26
+#define TR_LOC_PIECE_MIN 27
 
 #endif

@@ -59,6 +59,15 @@ struct LineStats {
 LineStats line_stats(const CreaseGeometry& g, const SegmentTraits& traits, const std::vector<float>& drawn,
                      const std::vector<double>& pixels);
 
+// The silhouettes a frame draws: `opacity` (w x h, 0..255, FrameBuffers::silhouette_opacity)
+// in pieces of drawn pixels joined by their 8-neighbours (mask_pieces of silhouette.hpp).
+struct SilhouetteStats {
+  double pixels = 0;          // opacity-weighted
+  std::size_t pieces = 0;
+  double mean_piece_px = 0;   // pixels / pieces
+};
+SilhouetteStats silhouette_stats(const std::vector<std::uint8_t>& opacity, int w, int h);
+
 // Flicker over a flight: the share of line pixels that appear or vanish between
 // consecutive frames, sum_k sum_s |a_k(s) - a_k+1(s)| L / sum_k sum_s max(a_k(s), a_k+1(s)) L
 // with a the opacity and L the mean of the segment's pixel lengths in the two frames.

@@ -26,13 +26,14 @@ enum class ProgramId {
   Adjacency,     // Adjacency silhouettes: the full-screen pass
   EdgeClassify,  // EDGE: classify the edges, find the joins, append (indirect draw command)
   EdgeDraw,      // EDGE: the drawn edges as quads with caps
+  SilhouettePieces,  // SIL: silhouette pieces and their opacity (anti-aliased)
 };
 inline constexpr std::array kAllPrograms = {ProgramId::Surface,     ProgramId::PnCapture,    ProgramId::CreaseScore,
                                             ProgramId::CreaseBridge, ProgramId::CreaseSelect, ProgramId::CreaseDraw,
                                             ProgramId::Silhouette,
                                             ProgramId::Composite,    ProgramId::PelFields,   ProgramId::PelExtract,
                                             ProgramId::PelDraw,     ProgramId::SurfaceId,    ProgramId::Adjacency,
-                                            ProgramId::EdgeClassify, ProgramId::EdgeDraw};
+                                            ProgramId::EdgeClassify, ProgramId::EdgeDraw,    ProgramId::SilhouettePieces};
 
 struct ProgramSpec {
   const char* name;

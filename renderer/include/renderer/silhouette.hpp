@@ -2,6 +2,7 @@
 // Toward/Away silhouettes (Mower 2015; docs/algorithms.md 9.2), GL-free: the rule the SIL
 // pass (silhouette.frag.glsl) applies to the TFT and AFT depth buffers, as its test
 // reference.
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -20,5 +21,30 @@ namespace renderer {
 //   included) in its 5 x 5 window is left out, where the surface only grazes the rays.
 std::vector<std::uint8_t> toward_away_silhouettes(const std::vector<float>& toward, const std::vector<float>& away,
                                                   int w, int h, bool reversed_z, bool antialias);
+
+// The pieces of a mask (w x h, non-zero: on): its on pixels joined by their 8-neighbours.
+// piece: per pixel, 0 off, else 1 + the index of its piece; size: pixels per piece.
+struct MaskPieces {
+  std::vector<std::uint32_t> piece;
+  std::vector<std::size_t> size;
+};
+MaskPieces mask_pieces(const std::vector<std::uint8_t>& mask, int w, int h);
+
+// Pieces, the rule the SIL pass applies after either silhouette method when lines are
+// anti-aliased: the silhouette pixels of `mask` (w x h, non-zero: silhouette) joined by
+// their 8-neighbours. A piece of n pixels is drawn with opacity clamp((n - m/2) / (m/2),
+// 0, 1), m = min_pixels: in full from m pixels, fading out to nothing at m/2 (a piece
+// that grows or shrinks from frame to frame fades instead of popping). Where a surface
+// only grazes the eye's rays (rolling ridges seen from above) the away-facing ground is
+// patchy and its silhouette a scatter of short dashes; a pen draws the long lines only.
+// min_pixels <= 0: every silhouette pixel 1. Non-silhouette pixels 0.
+std::vector<float> silhouette_piece_opacity(const std::vector<std::uint8_t>& mask, int w, int h, double min_pixels);
+
+// The piece rule's opacity of a piece of n pixels (above).
+inline float piece_opacity(std::size_t n, double min_pixels) {
+  if (!(min_pixels > 0)) return 1.0f;
+  const double half = 0.5 * min_pixels, o = (double(n) - half) / half;
+  return float(o < 0 ? 0 : o > 1 ? 1 : o);
+}
 
 }  // namespace renderer

@@ -10,7 +10,8 @@
 //        score >= 0 (a rejected vertex breaks the strip); they are drawn as screen-space
 //        quads, lifted along the PN normal, wider where the flow is larger.
 //   SIL  Toward/Away (Mower 2015): a pixel with toward depth t < away depth a and an
-//        8-neighbour whose toward depth is beyond a.
+//        8-neighbour whose toward depth is beyond a; anti-aliased, then the piece rule
+//        (silhouette.hpp): pieces shorter than Style::silhouette_min_length fade out.
 //   PEL  photic extremum lines (pel.hpp): compute passes for the per-vertex fields and the
 //        zero-crossing segments (appended with an indirect draw command), drawn like the
 //        creases, lifted along their face normal.
@@ -50,6 +51,7 @@ struct FrameResult {
 struct FrameBuffers {
   std::vector<float> toward_depth, away_depth, crease_depth;  // window depth (clear: far)
   std::vector<std::uint8_t> silhouette, crease, edge;          // 0/1 masks before compositing
+  std::vector<std::uint8_t> silhouette_opacity;  // what LAY draws of the silhouettes (0..255; the piece rule)
   // Adjacency silhouettes only: the triangle ID per pixel (0 none, 0xFFFFFFFF unknown) and
   // the triangle list (9 floats per ID from 1: three vertices, exaggerated mesh frame).
   std::vector<std::uint32_t> triangle_id;

@@ -42,22 +42,62 @@ std::size_t TriangleIdPass::triangles_drawn() const {
   return n;
 }
 
-SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, const TriangleIdPass* ids, double tolerance,
-                               const Eigen::Vector4f& extent)
+SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece_min_px, const TriangleIdPass* ids,
+                               double tolerance, const Eigen::Vector4f& extent)
     : PassBase(SIL),
       s_(scene),
       enabled_(enabled),
+      piece_min_px_(enabled ? std::max(0.0, piece_min_px) : 0.0),
       ids_(ids),
       tolerance_(tolerance),
       extent_(extent),
       mask_(make_texture(GL_R8, scene.width, scene.height)),
       fbo_(make_framebuffer(&mask_, nullptr)),
       prog_(build_program(ids ? ProgramId::Adjacency : ProgramId::Silhouette)) {
+  glProgramUniform1f(prog_.id(), TR_LOC_PIECE_MIN, float(piece_min_px_));
+  if (piece_min_px_ <= 0) return;
+  const std::size_t n = std::size_t(scene.width) * std::size_t(scene.height);
+  opacity_ = make_texture(GL_R8, scene.width, scene.height);
+  labels_ = make_buffer(4 * n, nullptr, 0);
+  sizes_ = make_buffer(4 * n, nullptr, 0);
+  list_ = make_buffer(16 + 4 * n, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  pieces_prog_ = build_program(ProgramId::SilhouettePieces);
+  glProgramUniform1f(pieces_prog_.id(), TR_LOC_PIECE_MIN, float(piece_min_px_));
+  clear_pieces();  // the list's count bounds what warm_up_timer's draw appends
+}
+
+void SilhouettePass::clear_pieces() const {
+  const GLuint root = TR_PIECE_ROOT, zero = 0, header[4] = {0, 0, 1, 1};
+  glClearNamedBufferData(labels_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &root);
+  glClearNamedBufferData(sizes_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glNamedBufferSubData(list_.id(), 0, sizeof header, header);
+  glClearTexImage(opacity_.id(), 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
+}
+
+void SilhouettePass::pieces() const {
+  const GLuint p = pieces_prog_.id();
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  glUseProgram(p);
+  glBindTextureUnit(TR_TEX_SILHOUETTE, mask_.id());
+  glBindImageTexture(TR_IMG_SILHOUETTE_OPACITY, opacity_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, list_.id());
+  for (int stage = 1; stage <= 3; ++stage) {
+    glProgramUniform1i(p, TR_LOC_PIECE_STAGE, stage);
+    glDispatchComputeIndirect(4);
+    glMemoryBarrier(stage < 3 ? GL_SHADER_STORAGE_BARRIER_BIT
+                              : GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  }
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
 }
 
 void SilhouettePass::draw(double pixel_angle) const {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glUseProgram(prog_.id());
+  if (piece_min_px_ > 0) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_LABELS, labels_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_SIZES, sizes_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_LIST, list_.id());
+  }
   if (ids_) {
     glProgramUniform2f(prog_.id(), TR_LOC_ADJ_TOLERANCE, float(tolerance_), float(pixel_angle));
     glProgramUniform4fv(prog_.id(), TR_LOC_ADJ_EXTENT, 1, extent_.data());
@@ -78,8 +118,10 @@ void SilhouettePass::execute(const FrameInputs& in) {
   if (!enabled_) return;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glDisable(GL_DEPTH_TEST);
+  if (piece_min_px_ > 0) clear_pieces();
   // The angle one pixel spans at the image centre (vertical field of view over the height).
   draw(2.0 * std::tan(in.view.fov_deg * std::numbers::pi / 360.0) / double(s_.height));
+  if (piece_min_px_ > 0) pieces();
 }
 
 void SilhouettePass::warm_up_timer() const {
@@ -88,6 +130,7 @@ void SilhouettePass::warm_up_timer() const {
   glBeginQuery(GL_TIME_ELAPSED, q.id());
   glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero4);
   glBindBufferBase(GL_UNIFORM_BUFFER, TR_UBO_FRAME, s_.ubo.id());
+  if (piece_min_px_ > 0) clear_pieces();
   draw(0.0);
   glEndQuery(GL_TIME_ELAPSED);
   GLuint64 ns = 0;
@@ -124,7 +167,7 @@ void CompositePass::execute(const FrameInputs&) {
   glBindTextureUnit(TR_TEX_SURFACE_COLOUR, s_.surface_colour.id());
   glBindTextureUnit(TR_TEX_CREASE_COLOUR, creases_.colour().id());
   glBindTextureUnit(TR_TEX_CREASE_DEPTH, creases_.depth().id());
-  glBindTextureUnit(TR_TEX_SILHOUETTE, silhouettes_.mask().id());
+  glBindTextureUnit(TR_TEX_SILHOUETTE, silhouettes_.opacity().id());
   glBindTextureUnit(TR_TEX_PEL_COLOUR, pels_.colour().id());
   glBindTextureUnit(TR_TEX_PEL_DEPTH, pels_.depth().id());
   glProgramUniform3fv(p, TR_LOC_PEL_COLOUR, 1, style_.pel_colour.data());

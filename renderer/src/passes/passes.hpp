@@ -196,12 +196,17 @@ class TriangleIdPass : public PassBase {
 };
 
 // SIL: Toward/Away silhouettes from the toward and away depths, or, given `ids`, the
-// Adjacency method over the triangle IDs (vertices closer than `tolerance` are one).
+// Adjacency method over the triangle IDs (vertices closer than `tolerance` are one). With
+// piece_min_px > 0 (anti-aliased lines), then the piece rule (silhouette_pieces.comp.glsl,
+// renderer::silhouette_piece_opacity): each pixel's opacity from the size of its piece.
 class SilhouettePass : public PassBase {
  public:
-  SilhouettePass(const SceneGpu& scene, bool enabled, const TriangleIdPass* ids = nullptr, double tolerance = 0,
-                 const Eigen::Vector4f& extent = Eigen::Vector4f::Zero());
+  SilhouettePass(const SceneGpu& scene, bool enabled, double piece_min_px, const TriangleIdPass* ids = nullptr,
+                 double tolerance = 0, const Eigen::Vector4f& extent = Eigen::Vector4f::Zero());
+  // The silhouette pixels (0/1), before the piece rule.
   const GlObject& mask() const { return mask_; }
+  // What LAY draws: each pixel's opacity (the mask itself without the piece rule).
+  const GlObject& opacity() const { return piece_min_px_ > 0 ? opacity_ : mask_; }
   // Mesa llvmpipe reports a meaningless time for the first GL_TIME_ELAPSED query of a
   // context that has drawn nothing yet: one small timed draw first.
   void warm_up_timer() const;
@@ -209,12 +214,16 @@ class SilhouettePass : public PassBase {
  private:
   void execute(const FrameInputs&) override;
   void draw(double pixel_angle) const;
+  void clear_pieces() const;
+  void pieces() const;
   const SceneGpu& s_;
   bool enabled_;
+  double piece_min_px_;
   const TriangleIdPass* ids_;
   double tolerance_;
   Eigen::Vector4f extent_;  // the mesh's local extent: xmin, ymin, xmax, ymax
   GlObject mask_, fbo_, prog_;
+  GlObject opacity_, labels_, sizes_, list_, pieces_prog_;  // the piece rule (piece_min_px > 0)
 };
 
 // LAY: the composite of the chosen layers, surface first, lines not behind the surface.

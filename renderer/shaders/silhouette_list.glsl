@@ -1,0 +1,17 @@
+// SIL: the silhouette pixels of a frame, listed for the piece rule (silhouette_pieces.comp.glsl)
+// by the pass that finds them (silhouette.frag.glsl, adjacency.frag.glsl) when
+// u_piece_min > 0. The header is also the indirect dispatch of the rule's stages: one
+// work group per TR_LOCAL_SIZE listed pixels, at most 65535 (the stages loop over the list).
+layout(std430, binding = TR_SSBO_PIECE_LIST) buffer PieceList {
+  uint piece_count;
+  uint piece_groups_x, piece_groups_y, piece_groups_z;
+  uint piece_pixel[];  // pixel index y * width + x, window rows (0 at the bottom)
+};
+layout(location = TR_LOC_PIECE_MIN) uniform float u_piece_min;
+
+void list_silhouette_pixel(ivec2 p, ivec2 size) {
+  if (!(u_piece_min > 0.0)) return;
+  uint k = atomicAdd(piece_count, 1u);
+  piece_pixel[k] = uint(p.y) * uint(size.x) + uint(p.x);
+  atomicMax(piece_groups_x, min(k / uint(TR_LOCAL_SIZE) + 1u, 65535u));
+}
