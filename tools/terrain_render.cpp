@@ -243,13 +243,14 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
 }
 
 // --line-stats: the creases one frame draws (what the DM pass accepts, as the GL-free
-// score gives it), with each segment's pixels left after hidden-line removal.
+// score gives it), with each segment's pixels left after hidden-line removal (in the crease
+// layer of `buffers`, the frame's read_buffers(), read once per frame).
 struct FrameLines {
   std::vector<float> drawn;
   std::vector<double> pixels;
 };
 FrameLines frame_lines(const Scene& scene, const rr::TerrainRenderer& r, const rr::FrameResult& res,
-                       const rr::FrameParams& fp, const rr::Style& style) {
+                       const rr::FrameBuffers& buffers, const rr::FrameParams& fp, const rr::Style& style) {
   const double exaggeration = style.exaggeration;
   const double lift = rr::crease_lift(style, scene.mesh);
   const rr::CreaseGeometry& g = *scene.creases;
@@ -258,7 +259,7 @@ FrameLines frame_lines(const Scene& scene, const rr::TerrainRenderer& r, const r
   FrameLines lines{rr::segment_opacity(g, res.view.eye, terrain::light_direction(fp.light.azimuth, fp.light.altitude),
                                        exaggeration, score, fade, rr::stroke_rule(style, scene.mesh)),
                    rr::segment_pixels(g, res.view, exaggeration, lift)};
-  const auto visible = rr::visible_fraction(g, res.view, exaggeration, lift, r.read_buffers().crease);
+  const auto visible = rr::visible_fraction(g, res.view, exaggeration, lift, buffers.crease);
   for (std::size_t s = 0; s < visible.size(); ++s) lines.pixels[s] *= visible[s];
   return lines;
 }
@@ -349,13 +350,14 @@ int run_frame(FrameArgs& a, const std::string& prov, const tt::Verbosity& verb) 
     std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p), res.timings.gpu_ms[p],
                              res.timings.wall_ms[p]);
   if (a.opts.line_stats) {
-    const FrameLines lines = frame_lines(scene, r, res, a.opts.frame, a.opts.style);
+    const rr::FrameBuffers buffers = r.read_buffers();
+    const FrameLines lines = frame_lines(scene, r, res, buffers, a.opts.frame, a.opts.style);
     const rr::LineStats st = rr::line_stats(*scene.creases, scene.traits, lines.drawn, lines.pixels);
     std::cout << fmt::format("crease length px: {:.0f}\ncrease boundary share: {:.4f}\ncrease flat share: {:.4f}\n"
                              "crease valley share: {:.4f}\ncrease strokes: {}\ncrease mean stroke px: {:.1f}\n",
                              st.length_px, st.boundary, st.flat, st.valley, st.strokes, st.mean_stroke_px);
     if (layers.silhouettes) {
-      const rr::SilhouetteStats ss = rr::silhouette_stats(r.read_buffers().silhouette_opacity, w, h);
+      const rr::SilhouetteStats ss = rr::silhouette_stats(buffers.silhouette_opacity, w, h);
       std::cout << fmt::format("silhouette px: {:.0f}\nsilhouette pieces: {}\nsilhouette mean piece px: {:.1f}\n",
                                ss.pixels, ss.pieces, ss.mean_piece_px);
     }
@@ -396,10 +398,11 @@ int run_batch(BatchArgs& a, const std::string& prov, const tt::Verbosity& verb) 
     const rr::FrameResult res = r.render(frames[i]);
     timings.push_back(res.timings);
     if (a.opts.line_stats) {
-      FrameLines lines = frame_lines(scene, r, res, frames[i], a.opts.style);
+      const rr::FrameBuffers buffers = r.read_buffers();
+      FrameLines lines = frame_lines(scene, r, res, buffers, frames[i], a.opts.style);
       const rr::LineStats st = rr::line_stats(*scene.creases, scene.traits, lines.drawn, lines.pixels);
       rr::SilhouetteStats ss;
-      if (layers.silhouettes) ss = rr::silhouette_stats(r.read_buffers().silhouette_opacity, w, h);
+      if (layers.silhouettes) ss = rr::silhouette_stats(buffers.silhouette_opacity, w, h);
       stats_csv += fmt::format("{},{:.1f},{:.5f},{:.5f},{:.5f},{},{:.2f},{:.0f},{}\n", i, st.length_px, st.boundary,
                                st.flat, st.valley, st.strokes, st.mean_stroke_px, ss.pixels, ss.pieces);
       drawn.push_back(std::move(lines.drawn));
