@@ -118,6 +118,12 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
   app->add_option("--pel-width", o.style.pel_width, "PEL width in pixels")
       ->check(CLI::Range(0.5, 20.0))
       ->capture_default_str();
+  app->add_option("--pel-min-length", o.style.pel_min_length,
+                  "PELs: lines shorter than this many mesh spacings on the mesh fade out, to nothing at half of "
+                  "it: where the fields' noise crosses zero over a few faces (0: keep every line; anti-aliased "
+                  "lines only)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
   app->add_option("--layers", o.layers,
                   "Layers to composite: shaded or mask, creases, silhouettes (Toward/Away) or silhouettes-adjacency "
                   "(the Adjacency method), pels, edges (comma list; pels need a mesh from denoise-normals)")

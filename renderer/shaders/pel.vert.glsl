@@ -1,5 +1,6 @@
 // PEL segments as screen-space quads, lifted along their face normal like the creases
-// (anti-aliased: with a one-pixel fringe for the capsule's coverage, line.frag.glsl).
+// (anti-aliased: with a one-pixel fringe for the capsule's coverage, line.frag.glsl, and
+// the segment's opacity from the piece rule, pel_pieces.comp.glsl).
 struct PelSegment {
   vec4 a, b, n;
 };
@@ -16,5 +17,5 @@ void main() {
   float w = u_pel_width + (u_style.x != 0.0 ? 2.0 : 0.0);
   gl_Position = segment_quad_vertex(c0, c1, w, w, k);
   v_ends = vec4(window_of(c0), window_of(c1));
-  v_shape = vec3(0.5 * u_pel_width, 0.5 * u_pel_width, 1.0);
+  v_shape = vec3(0.5 * u_pel_width, 0.5 * u_pel_width, sg.b.w);
 }

@@ -1,42 +1,18 @@
 // SIL, pieces (anti-aliased lines; renderer::silhouette_piece_opacity is the CPU
 // reference): the silhouette pixels joined by their 8-neighbours into pieces, and each
 // pixel's opacity from its piece's size n: clamp((n - m/2) / (m/2), 0, 1), m = u_piece_min
-// pixels. Connected components by union-find over pixel indices (Playne & Hawick 2018,
-// "A new algorithm for parallel connected-component labelling on GPUs") on the pixels the
-// silhouette pass listed (silhouette_list.glsl), one listed pixel per invocation.
-// label[i] is the parent of pixel i, TR_PIECE_ROOT for a root (the buffer is cleared to it,
-// the sizes to 0 and the opacity to 0 before the silhouette pass); a parent is always a
-// smaller index of the same piece, so the root is the piece's least index. Stages
+// pixels. Union-find (union_find.glsl) over pixel indices on the pixels the silhouette
+// pass listed (silhouette_list.glsl), one listed pixel per invocation (the labels are
+// cleared, the sizes and the opacity set to 0 before the silhouette pass). Stages
 // (u_piece_stage), an indirect dispatch each:
 //   1 each silhouette pixel joined to its silhouette neighbours west, south-west, south and
 //     south-east (every 8-neighbour pair once), by atomicMin on the larger root's label;
 //   2 each silhouette pixel's label set to its root, the root's size counted;
 //   3 the opacity written.
-// (Included after silhouette_list.glsl.)
+// (Included after silhouette_list.glsl and union_find.glsl.)
 layout(local_size_x = TR_LOCAL_SIZE) in;
 layout(binding = TR_TEX_SILHOUETTE) uniform sampler2D u_silhouette;
 layout(binding = TR_IMG_SILHOUETTE_OPACITY, r8) uniform writeonly image2D u_opacity;
-layout(std430, binding = TR_SSBO_PIECE_LABELS) coherent buffer PieceLabels { uint label[]; };
-layout(std430, binding = TR_SSBO_PIECE_SIZES) buffer PieceSizes { uint piece_size[]; };
-layout(location = TR_LOC_PIECE_STAGE) uniform int u_piece_stage;
-
-uint find_root(uint x) {
-  for (uint y = label[x]; y != TR_PIECE_ROOT; y = label[x]) x = y;
-  return x;
-}
-
-void unite(uint a, uint b) {
-  a = find_root(a);
-  b = find_root(b);
-  while (a != b) {
-    uint hi = max(a, b), lo = min(a, b);
-    uint old = atomicMin(label[hi], lo);
-    if (old == TR_PIECE_ROOT) return;
-    // hi was joined to a smaller root meanwhile: join that piece to lo instead.
-    a = find_root(old);
-    b = find_root(lo);
-  }
-}
 
 void piece_stage(uint i, ivec2 size) {
   ivec2 p = ivec2(int(i % uint(size.x)), int(i / uint(size.x)));
@@ -48,11 +24,9 @@ void piece_stage(uint i, ivec2 size) {
       if (texelFetch(u_silhouette, q, 0).r > 0.0) unite(i, uint(q.y) * uint(size.x) + uint(q.x));
     }
   } else if (u_piece_stage == 2) {
-    uint r = find_root(i);
-    if (r != i) label[i] = r;
-    atomicAdd(piece_size[r], 1u);
+    atomicAdd(piece_size[compress_label(i)], 1u);
   } else {
-    uint r = label[i] == TR_PIECE_ROOT ? i : label[i];
+    uint r = root_of(i);
     float half_min = 0.5 * u_piece_min;
     imageStore(u_opacity, p, vec4(clamp((float(piece_size[r]) - half_min) / half_min, 0.0, 1.0)));
   }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "renderer/silhouette.hpp"
 #include "terrain/error.hpp"
 
 namespace renderer {
@@ -110,6 +111,67 @@ PelSegments extract_pels(const terrain::GridMesh& m, const PelFields& p, double 
     out.faces.push_back(std::uint32_t(f));
   }
   return out;
+}
+
+namespace {
+
+// s as extract_pels reads it: an exact zero counts as +1e-20.
+bool s_positive(const PelFields& p, std::uint32_t v) { return (p.s[v] == 0.0f ? 1e-20f : p.s[v]) > 0; }
+
+}  // namespace
+
+PelPieces pel_pieces(const terrain::GridTopology& topo, const PelFields& p, const PelSegments& segments) {
+  const std::size_t nf = topo.n_faces(), cells_per_row = topo.cols - 1;
+  constexpr std::uint32_t none = 0xFFFFFFFFu;
+  std::vector<std::uint32_t> seg_of_face(nf, none), parent(segments.size());
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    seg_of_face[segments.faces[k]] = std::uint32_t(k);
+    parent[k] = std::uint32_t(k);
+  }
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    const std::size_t f = segments.faces[k], cell = f / 2, r = cell / cells_per_row, c = cell % cells_per_row;
+    const auto t = topo.face(f);
+    // The face across edge e = (t[e], t[e + 1]): face 0 (NW, SW, SE): west, south, diagonal;
+    // face 1 (NW, SE, NE): diagonal, east, north (grid_mesh.hpp).
+    std::size_t across[3];
+    if (f % 2 == 0) {
+      across[0] = c > 0 ? topo.face_of_cell(r, c - 1, 1) : nf;
+      across[1] = r + 2 < topo.rows ? topo.face_of_cell(r + 1, c, 1) : nf;
+      across[2] = f + 1;
+    } else {
+      across[0] = f - 1;
+      across[1] = c + 2 < topo.cols ? topo.face_of_cell(r, c + 1, 0) : nf;
+      across[2] = r > 0 ? topo.face_of_cell(r - 1, c, 0) : nf;
+    }
+    for (int e = 0; e < 3; ++e) {
+      const std::size_t g = across[e];
+      if (g == nf || seg_of_face[g] == none) continue;
+      if (s_positive(p, t[std::size_t(e)]) == s_positive(p, t[std::size_t((e + 1) % 3)])) continue;
+      const std::uint32_t a = find(std::uint32_t(k)), b = find(seg_of_face[g]);
+      parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  PelPieces out;
+  out.piece.resize(segments.size());
+  std::vector<std::uint32_t> id_of_root(segments.size(), none);
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    const std::uint32_t root = find(std::uint32_t(k));
+    if (id_of_root[root] == none) id_of_root[root] = std::uint32_t(out.length.size()), out.length.push_back(0.0);
+    out.piece[k] = id_of_root[root];
+    out.length[out.piece[k]] += double((segments.points[2 * k + 1] - segments.points[2 * k]).norm());
+  }
+  return out;
+}
+
+std::vector<float> pel_piece_opacity(const PelPieces& pieces, double min_length) {
+  std::vector<float> opacity(pieces.piece.size());
+  for (std::size_t k = 0; k < opacity.size(); ++k)
+    opacity[k] = piece_opacity(pieces.length[pieces.piece[k]], min_length);
+  return opacity;
 }
 
 }  // namespace renderer

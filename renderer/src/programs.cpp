@@ -45,7 +45,8 @@ const ProgramSpec& program_spec(ProgramId id) {
         {"edge_draw",
          {{GL_VERTEX_SHADER, {c, "edge_common.glsl", "edge.vert.glsl"}}, {GL_FRAGMENT_SHADER, {c, "edge.frag.glsl"}}},
          {}},
-        {"silhouette_pieces", compute({"silhouette_list.glsl", "silhouette_pieces.comp.glsl"}), {}},
+        {"silhouette_pieces", compute({"silhouette_list.glsl", "union_find.glsl", "silhouette_pieces.comp.glsl"}), {}},
+        {"pel_pieces", compute({"pel_common.glsl", "union_find.glsl", "pel_pieces.comp.glsl"}), {}},
     };
   }();
   return specs.at(std::size_t(id));

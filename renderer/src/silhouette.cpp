@@ -72,7 +72,7 @@ std::vector<float> silhouette_piece_opacity(const std::vector<std::uint8_t>& mas
   const MaskPieces m = mask_pieces(mask, w, h);
   std::vector<float> opacity(m.piece.size(), 0.0f);
   for (std::size_t i = 0; i < opacity.size(); ++i)
-    if (m.piece[i]) opacity[i] = piece_opacity(m.size[m.piece[i] - 1], min_pixels);
+    if (m.piece[i]) opacity[i] = piece_opacity(double(m.size[m.piece[i] - 1]), min_pixels);
   return opacity;
 }
 

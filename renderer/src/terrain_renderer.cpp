@@ -43,6 +43,8 @@ void check_inputs(const terrain::GridMesh& mesh, int width, int height, const La
     throw terrain::Error("crease bridge must be in [0, 100] mesh spacings");
   if (!(style.crease_min_stroke >= 0 && style.crease_min_stroke <= 100))
     throw terrain::Error("shortest crease stroke must be in [0, 100] mesh spacings");
+  if (!(style.pel_min_length >= 0 && style.pel_min_length <= 100))
+    throw terrain::Error("shortest PEL piece must be in [0, 100] mesh spacings");
   if (!(style.crease_angle >= 0 && style.crease_angle <= 180))
     throw terrain::Error("crease angle must be in [0, 180] degrees");
   if (layers.pels && mesh.voronoi.empty())
@@ -85,7 +87,8 @@ struct TerrainRenderer::Impl {
         away(scene, layers.silhouettes && !layers.adjacency),
         ids(scene, layers.adjacency, id_capacity(width, height)),
         creases(scene, creases, layers.creases, style.antialias),
-        pels(scene, mesh, layers.pels, style.pel_width, style.antialias),
+        pels(scene, mesh, layers.pels, style.pel_width, style.antialias,
+             style.pel_min_length * std::min(mesh.geo.dx, mesh.geo.dy)),
         edges(scene, layers.edges, style),
         silhouettes(scene, layers.silhouettes, style.antialias ? style.silhouette_min_length * height : 0.0,
                     layers.adjacency ? &ids : nullptr,
@@ -232,6 +235,7 @@ std::vector<TerrainRenderer::PelSegmentOut> TerrainRenderer::read_pels() const {
     out[i].a = {r[0], r[1], r[2]};
     std::memcpy(&out[i].face, &r[3], 4);
     out[i].b = {r[4], r[5], r[6]};
+    out[i].opacity = r[7];
   }
   return out;
 }

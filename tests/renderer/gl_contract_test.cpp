@@ -30,7 +30,7 @@ const std::map<std::string, int> kStorageBlocks = {
     {"EdgeList", TR_SSBO_EDGE_LIST},             {"VertexEdges", TR_SSBO_VERTEX_EDGES},
     {"CreaseChains", TR_SSBO_CREASE_CHAINS},     {"Opacity", TR_SSBO_CREASE_OPACITY},
     {"PieceLabels", TR_SSBO_PIECE_LABELS},       {"PieceSizes", TR_SSBO_PIECE_SIZES},
-    {"PieceList", TR_SSBO_PIECE_LIST}};
+    {"PieceList", TR_SSBO_PIECE_LIST},           {"FaceSegments", TR_SSBO_PEL_FACE_SEGMENTS}};
 const std::map<std::string, int> kSamplers = {
     {"u_toward", TR_TEX_TOWARD_DEPTH},       {"u_away", TR_TEX_AWAY_DEPTH},
     {"u_surface_colour", TR_TEX_SURFACE_COLOUR}, {"u_crease", TR_TEX_CREASE_COLOUR},
@@ -160,7 +160,7 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
     }
   }
   // The checks ran on the interfaces there are (a program could lose them silently).
-  EXPECT_EQ(computes, 7u);
+  EXPECT_EQ(computes, 8u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
   EXPECT_EQ(samplers, 16u);  // silhouette 2, composite 9, adjacency 2, crease and PEL draws 1 each, pieces 1

@@ -2,7 +2,9 @@
 // the threshold, and the GPU passes against the CPU reference.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "renderer/pel.hpp"
 #include "terrain/voronoi.hpp"
@@ -76,6 +78,86 @@ TEST(Pel, LargerThresholdNeverAddsSegments) {
     previous = pels.size();
   }
   EXPECT_EQ(previous, 0u);  // tau = 1: nothing exceeds the maximum
+}
+
+// Each PEL circle of the bump is a closed line on the mesh: one piece, its length the
+// circle's perimeter (the polyline through the faces, within 1 %).
+TEST(PelPieces, BumpCirclesAreOnePieceEach) {
+  const double h = 2, H = 60, sigma = 80;
+  const terrain::GridMesh m = bump_mesh(201, h, H, sigma);
+  const auto radii = derived_pel_radii(H, sigma);
+  ASSERT_EQ(radii.size(), 2u);
+  const auto fields = renderer::pel_fields(m, Vector3d(0, 0, 1));
+  const auto pels = renderer::extract_pels(m, fields, 0.1);
+  const auto pieces = renderer::pel_pieces(m.topo, fields, pels);
+  ASSERT_EQ(pieces.piece.size(), pels.size());
+  ASSERT_EQ(pieces.length.size(), 2u);
+  std::vector<double> lengths = pieces.length;
+  std::sort(lengths.begin(), lengths.end());
+  for (int k = 0; k < 2; ++k)
+    EXPECT_NEAR(lengths[std::size_t(k)], 2 * std::numbers::pi * radii[std::size_t(k)],
+                0.01 * 2 * std::numbers::pi * radii[std::size_t(k)]);
+  // The rule keeps both in full up to their lengths, and fades the short one beyond.
+  for (float o : renderer::pel_piece_opacity(pieces, lengths[0])) EXPECT_EQ(o, 1.0f);
+  std::size_t faded = 0;
+  for (float o : renderer::pel_piece_opacity(pieces, 1.5 * lengths[0])) faded += o > 0.0f && o < 1.0f;
+  EXPECT_GT(faded, 50u);
+}
+
+// Lines of known length on a flat 1 m grid, with fields set by hand: s = col - 2.5 -
+// slope row crosses every row; c = 0.5 - |row - 5| (linear in each cell row, so the
+// extraction's interpolation is exact) is a maximum (c < 0) except within half a row of
+// row 5. A face's segment is kept when c < 0 at both its crossings, so the line is cut into
+// two pieces: from row 0 to its last edge crossing before row 4.5, and from its first after
+// row 5.5 to row 11. The crossings: rows (y = k), columns (x = j) and cell diagonals
+// (x - y = d), x = 2.5 + slope y.
+TEST(PelPieces, LinesCutWhereTheMaximumEnds) {
+  const std::size_t rows = 12, cols = 8;
+  const terrain::GridMesh m = terrain::test::function_mesh(rows, cols, 1.0, [](double, double) { return 0.0; });
+  for (double slope : {0.0, 0.37}) {
+    SCOPED_TRACE(slope);
+    renderer::PelFields f;
+    const std::size_t nv = m.n_vertices();
+    f.f.assign(nv, 0.5f);
+    f.m.assign(nv, 1.0f);
+    f.s.assign(nv, 0.0f);
+    f.c.assign(nv, 0.0f);
+    f.g.assign(nv, Eigen::Vector2f(1, 0));
+    f.m_max = 1;
+    for (std::size_t v = 0; v < nv; ++v) {
+      const double r = double(v / cols), c = double(v % cols);
+      f.s[v] = float(c - (2.5 + slope * r));
+      f.c[v] = float(0.5 - std::abs(r - 5));
+    }
+    std::vector<double> ys;
+    for (int k = 0; k < int(rows); ++k) ys.push_back(k);
+    if (slope > 0)
+      for (int j = 0; j < int(cols); ++j) ys.push_back((j - 2.5) / slope);
+    for (int d = -int(rows); d < int(cols); ++d) ys.push_back((2.5 - d) / (1 - slope));
+    double end0 = 0, start1 = double(rows - 1);
+    for (double y : ys) {
+      if (y >= 0 && y < 4.5) end0 = std::max(end0, y);
+      if (y > 5.5 && y <= double(rows - 1)) start1 = std::min(start1, y);
+    }
+    const double per_row = std::sqrt(1 + slope * slope);
+    const auto pels = renderer::extract_pels(m, f, 0.1);
+    const auto pieces = renderer::pel_pieces(m.topo, f, pels);
+    ASSERT_EQ(pieces.length.size(), 2u);
+    EXPECT_NEAR(pieces.length[0], end0 * per_row, 1e-4);
+    EXPECT_NEAR(pieces.length[1], (double(rows - 1) - start1) * per_row, 1e-4);
+    // Opacity: clamp((L - m/2) / (m/2), 0, 1) for each segment's piece.
+    const double min = 1.6 * pieces.length[1];
+    const auto o = renderer::pel_piece_opacity(pieces, min);
+    std::size_t in_piece[2] = {0, 0};
+    for (std::size_t k = 0; k < pels.size(); ++k) {
+      const std::size_t p = pieces.piece[k];
+      ++in_piece[p];
+      EXPECT_NEAR(o[k], std::clamp(2 * pieces.length[p] / min - 1, 0.0, 1.0), 1e-6) << k;
+    }
+    EXPECT_GT(in_piece[0], 6u);
+    EXPECT_GT(in_piece[1], 8u);
+    for (float x : renderer::pel_piece_opacity(pieces, 0.0)) EXPECT_EQ(x, 1.0f);
+  }
 }
 
 }  // namespace

@@ -700,7 +700,50 @@ TEST(RendererGl, PelSegmentsMatchCpu) {
       matched += d <= 1e-4 * scale;
     }
     EXPECT_GE(double(matched), 0.995 * double(gpu.size())) << "tau " << tau;
+    for (const auto& sg : gpu) EXPECT_EQ(sg.opacity, 1.0f);  // pixel-exact lines: no piece rule
   }
+}
+
+// With anti-aliased lines the GPU's PEL pieces give each segment the opacity of the CPU
+// rule (pel_pieces, pel_piece_opacity) on the CPU's segments, face by face.
+TEST(RendererGl, PelPiecesFollowTheCpuRule) {
+  terrain::GridMesh mesh = msh_scene().mesh;
+  mesh.voronoi = terrain::voronoi_weights(mesh);
+  renderer::GlContext ctx;
+  renderer::Layers layers{false, true, false, false};
+  layers.pels = true;
+  renderer::Style style = test_style();
+  style.antialias = true;
+  style.pel_min_length = 8;
+  TerrainRenderer r(ctx, mesh, nullptr, 160, 120, layers, style);
+  FrameParams fp;
+  fp.pel.headlight = false;
+  fp.light = {135, 40};
+  r.render(fp);
+  const auto gpu = r.read_pels();
+  const auto fields = renderer::pel_fields(mesh, terrain::light_direction(135, 40));
+  const auto cpu = renderer::extract_pels(mesh, fields, fp.pel.threshold);
+  const auto cpu_opacity = renderer::pel_piece_opacity(renderer::pel_pieces(mesh.topo, fields, cpu),
+                                                       8 * std::min(mesh.geo.dx, mesh.geo.dy));
+  std::map<std::uint32_t, float> by_face;
+  std::size_t dropped = 0, faded = 0, full = 0;
+  for (std::size_t i = 0; i < cpu.size(); ++i) {
+    by_face[cpu.faces[i]] = cpu_opacity[i];
+    dropped += cpu_opacity[i] == 0.0f, full += cpu_opacity[i] == 1.0f;
+  }
+  faded = cpu.size() - dropped - full;
+  std::size_t matched = 0, same = 0;
+  for (const auto& sg : gpu) {
+    const auto it = by_face.find(sg.face);
+    if (it == by_face.end()) continue;
+    ++matched;
+    same += std::abs(sg.opacity - it->second) <= 0.01f;
+  }
+  EXPECT_GE(double(matched), 0.995 * double(gpu.size()));
+  EXPECT_GE(double(same), 0.99 * double(matched)) << "dropped " << dropped << " faded " << faded << " full " << full;
+  EXPECT_GT(dropped, 20u);
+  EXPECT_GT(faded, 20u);
+  EXPECT_GT(full, cpu.size() / 2);
 }
 
 }  // namespace

@@ -97,6 +97,10 @@ struct Style {
   double pixels_per_edge = 6.0;   // tessellation target: screen length of a triangle edge
   Eigen::Vector3f pel_colour{0.55f, 0.1f, 0.1f};
   double pel_width = 1.0;         // pixels
+  // PEL pieces (anti-aliased lines only; renderer::pel_piece_opacity), in mesh spacings: a
+  // PEL piece shorter than this on the mesh fades out, to nothing at half of it; 0 keeps
+  // every piece.
+  double pel_min_length = 4.0;
   // Object-space edges: which kinds (EdgeKind bits of feature_edges.hpp), the crease angle
   // (degrees between the two face normals; 0 = every bend), the joins, width and colour.
   std::uint8_t edge_kinds = 7;    // contour | boundary | crease

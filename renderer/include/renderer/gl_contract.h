@@ -60,13 +60,14 @@
 #define TR_SSBO_PIECE_LABELS 23
 #define TR_SSBO_PIECE_SIZES 24
 #define TR_SSBO_PIECE_LIST 25
+#define TR_SSBO_PEL_FACE_SEGMENTS 26
 
 /* Crease strokes: "no segment" in the chains (renderer::kNoSegment), and how many
    segments a stroke's run is followed each way (renderer::kStrokeReach). */
 #define TR_SEGMENT_NONE 0xFFFFFFFFu
 #define TR_STROKE_REACH 64
 
-/* Silhouette pieces: the label of a root pixel (renderer's silhouette_pieces.comp.glsl). */
+/* Piece rules (union_find.glsl): the label of a root. */
 #define TR_PIECE_ROOT 0xFFFFFFFFu
 
 /* Object-space edges: kinds (bit flags, as renderer::EdgeKind), the edges of a vertex
@@ -135,7 +136,7 @@
 /* Composite, edges: */
 #define TR_LOC_EDGE_COLOUR 24
 #define TR_LOC_EDGES 25
-/* Silhouette pieces: */
+/* Pieces (silhouettes: pixels; PELs: metres): */
 #define TR_LOC_PIECE_STAGE 26
 #define TR_LOC_PIECE_MIN 27
 

@@ -40,4 +40,20 @@ struct PelSegments {
 // The PEL segments of `fields` with normalized strength above `tau`.
 PelSegments extract_pels(const terrain::GridMesh& mesh, const PelFields& fields, double tau);
 
+// Pieces of PEL: segments in faces that share an edge which s crosses join (each carries
+// the line across that edge), so every piece is a polyline or a closed loop on the mesh.
+// piece: #S, the piece of each segment (0 .. #pieces - 1, numbered in face order);
+// length: #pieces, the summed 3-D length of its segments (mesh units, metres).
+struct PelPieces {
+  std::vector<std::uint32_t> piece;
+  std::vector<double> length;
+};
+PelPieces pel_pieces(const terrain::GridTopology& topo, const PelFields& fields, const PelSegments& segments);
+
+// The piece rule the PEL pass applies with anti-aliased lines: each segment is drawn at
+// piece_opacity(length of its piece, min_length) (silhouette.hpp: in full from min_length,
+// fading out to nothing at half of it). Short pieces are where the fields' noise crosses
+// zero over a few faces, below what the mesh resolves. min_length <= 0: every segment 1.
+std::vector<float> pel_piece_opacity(const PelPieces& pieces, double min_length);
+
 }  // namespace renderer

@@ -27,13 +27,15 @@ enum class ProgramId {
   EdgeClassify,  // EDGE: classify the edges, find the joins, append (indirect draw command)
   EdgeDraw,      // EDGE: the drawn edges as quads with caps
   SilhouettePieces,  // SIL: silhouette pieces and their opacity (anti-aliased)
+  PelPieces,         // PEL: PEL pieces and their segments' opacity (anti-aliased)
 };
 inline constexpr std::array kAllPrograms = {ProgramId::Surface,     ProgramId::PnCapture,    ProgramId::CreaseScore,
                                             ProgramId::CreaseBridge, ProgramId::CreaseSelect, ProgramId::CreaseDraw,
                                             ProgramId::Silhouette,
                                             ProgramId::Composite,    ProgramId::PelFields,   ProgramId::PelExtract,
                                             ProgramId::PelDraw,     ProgramId::SurfaceId,    ProgramId::Adjacency,
-                                            ProgramId::EdgeClassify, ProgramId::EdgeDraw,    ProgramId::SilhouettePieces};
+                                            ProgramId::EdgeClassify, ProgramId::EdgeDraw,    ProgramId::SilhouettePieces,
+                                            ProgramId::PelPieces};
 
 struct ProgramSpec {
   const char* name;

@@ -40,10 +40,10 @@ MaskPieces mask_pieces(const std::vector<std::uint8_t>& mask, int w, int h);
 // min_pixels <= 0: every silhouette pixel 1. Non-silhouette pixels 0.
 std::vector<float> silhouette_piece_opacity(const std::vector<std::uint8_t>& mask, int w, int h, double min_pixels);
 
-// The piece rule's opacity of a piece of n pixels (above).
-inline float piece_opacity(std::size_t n, double min_pixels) {
-  if (!(min_pixels > 0)) return 1.0f;
-  const double half = 0.5 * min_pixels, o = (double(n) - half) / half;
+// The piece rule's opacity of a piece of size n (pixels here; metres for PELs, pel.hpp).
+inline float piece_opacity(double n, double min_size) {
+  if (!(min_size > 0)) return 1.0f;
+  const double half = 0.5 * min_size, o = (n - half) / half;
   return float(o < 0 ? 0 : o > 1 ? 1 : o);
 }
 

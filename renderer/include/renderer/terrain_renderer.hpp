@@ -90,6 +90,7 @@ class TerrainRenderer {
   struct PelSegmentOut {
     Eigen::Vector3f a, b;
     std::uint32_t face;
+    float opacity;  // the piece rule's (1 without it)
   };
   std::vector<PelSegmentOut> read_pels() const;
 

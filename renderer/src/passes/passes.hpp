@@ -133,22 +133,28 @@ class CreasePass : public PassBase {
 // PEL: per-vertex fields, zero-crossing segments (indirect draw), drawn as quads.
 class PelPass : public PassBase {
  public:
-  // Enabled: the mesh must carry its Voronoi weights.
-  PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width, bool antialias);
+  // Enabled: the mesh must carry its Voronoi weights. piece_min_m > 0 (anti-aliased
+  // lines): the piece rule (pel_pieces.comp.glsl, renderer::pel_piece_opacity) gives each
+  // segment the opacity of its piece's length against it.
+  PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width, bool antialias,
+          double piece_min_m);
   bool active() const { return enabled_; }
   std::size_t segments_drawn() const;
-  // The segments of the last frame: 12 floats each (a xyz, face bits, b xyz, 5 unused).
+  // The segments of the last frame: 12 floats each (a xyz, face bits, b xyz, opacity,
+  // 4 unused).
   std::vector<float> read_segments() const;
   const GlObject& colour() const { return target_.colour; }
   const GlObject& depth() const { return target_.depth; }
 
  private:
   void execute(const FrameInputs&) override;
+  void pieces() const;
   const SceneGpu& s_;
   bool enabled_;
-  double width_;
+  double width_, piece_min_m_;
   GlObject corner_buf_, varea_buf_, tangent_buf_, field_buf_, maxm_buf_, cmd_buf_, seg_buf_;
-  GlObject field_prog_, extract_prog_, draw_prog_;
+  GlObject face_seg_buf_, labels_buf_, sizes_buf_;  // the piece rule's
+  GlObject field_prog_, extract_prog_, draw_prog_, pieces_prog_;
   LineTarget target_;
 };
 

@@ -1,33 +1,50 @@
 // PEL: photic extremum lines (pel.hpp is the CPU reference). Four compute stages over the
 // vertices (pel_fields.comp.glsl: f, grad f and m, s, c), one over the faces that appends
-// the zero-crossing segments and writes an indirect draw command (pel_extract.comp.glsl);
-// the segments are drawn like creases (pel.vert.glsl).
+// the zero-crossing segments and writes an indirect draw command (pel_extract.comp.glsl),
+// with anti-aliased lines four over the segments that find their pieces and opacity
+// (pel_pieces.comp.glsl); the segments are drawn like creases (pel.vert.glsl).
+#include <algorithm>
+
 #include "passes.hpp"
 #include "renderer/gl_contract.hpp"
 #include "renderer/programs.hpp"
 
 namespace renderer::passes {
 
-PelPass::PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width, bool antialias)
-    : PassBase(PEL), s_(scene), enabled_(enabled), width_(width), target_(scene, antialias) {
+PelPass::PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width, bool antialias,
+                 double piece_min_m)
+    : PassBase(PEL),
+      s_(scene),
+      enabled_(enabled),
+      width_(width),
+      piece_min_m_(enabled && antialias ? std::max(0.0, piece_min_m) : 0.0),
+      target_(scene, antialias) {
   if (enabled_) {
     corner_buf_ = make_buffer(mesh.n_faces() * sizeof(Eigen::Vector3f), mesh.voronoi.corner_areas.data(), 0);
     varea_buf_ = make_buffer(mesh.n_vertices() * sizeof(float), mesh.voronoi.vertex_areas.data(), 0);
     tangent_buf_ = make_buffer(mesh.n_vertices() * sizeof(Eigen::Vector3f), mesh.voronoi.tangents.data(), 0);
     field_buf_ = make_buffer(mesh.n_vertices() * 24, nullptr, 0);
     maxm_buf_ = make_buffer(4, nullptr, GL_DYNAMIC_STORAGE_BIT);
-    cmd_buf_ = make_buffer(16, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    cmd_buf_ = make_buffer(28, nullptr, GL_DYNAMIC_STORAGE_BIT);  // draw command, pieces dispatch
     seg_buf_ = make_buffer(mesh.n_faces() * 48, nullptr, 0);
     field_prog_ = build_program(ProgramId::PelFields);
     extract_prog_ = build_program(ProgramId::PelExtract);
     draw_prog_ = build_program(ProgramId::PelDraw);
+  }
+  if (piece_min_m_ > 0) {
+    face_seg_buf_ = make_buffer(mesh.n_faces() * 4, nullptr, 0);
+    labels_buf_ = make_buffer(mesh.n_faces() * 4, nullptr, 0);
+    sizes_buf_ = make_buffer(mesh.n_faces() * 4, nullptr, 0);
+    pieces_prog_ = build_program(ProgramId::PelPieces);
+    glProgramUniform2ui(pieces_prog_.id(), TR_LOC_PEL_GRID, GLuint(mesh.topo.rows), GLuint(mesh.topo.cols));
+    glProgramUniform1f(pieces_prog_.id(), TR_LOC_PIECE_MIN, float(piece_min_m_));
   }
 }
 
 void PelPass::execute(const FrameInputs& in) {
   target_.clear(s_);
   if (!enabled_) return;
-  const std::uint32_t zero = 0, cmd[4] = {0, 1, 0, 0};
+  const std::uint32_t zero = 0, cmd[7] = {0, 1, 0, 0, 0, 1, 1};
   glNamedBufferSubData(maxm_buf_.id(), 0, 4, &zero);
   glNamedBufferSubData(cmd_buf_.id(), 0, sizeof cmd, cmd);
   const std::pair<GLuint, const GlObject*> bufs[] = {
@@ -54,8 +71,28 @@ void PelPass::execute(const FrameInputs& in) {
   glProgramUniform1f(ep, TR_LOC_PEL_TAU, float(in.frame.pel.threshold));
   glDispatchCompute(dispatch_groups_x(nf), dispatch_groups_y(nf), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  if (piece_min_m_ > 0) pieces();
   glProgramUniform1f(draw_prog_.id(), TR_LOC_PEL_WIDTH, float(width_));
   target_.draw_indirect(s_, draw_prog_, cmd_buf_);
+}
+
+void PelPass::pieces() const {
+  const GLuint none = TR_SEGMENT_NONE, root = TR_PIECE_ROOT, zero = 0;
+  glClearNamedBufferData(face_seg_buf_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+  glClearNamedBufferData(labels_buf_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &root);
+  glClearNamedBufferData(sizes_buf_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PEL_FACE_SEGMENTS, face_seg_buf_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_LABELS, labels_buf_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_SIZES, sizes_buf_.id());
+  const GLuint p = pieces_prog_.id();
+  glUseProgram(p);
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, cmd_buf_.id());
+  for (int stage = 0; stage <= 3; ++stage) {
+    glProgramUniform1i(p, TR_LOC_PIECE_STAGE, stage);
+    glDispatchComputeIndirect(16);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  }
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
 }
 
 std::size_t PelPass::segments_drawn() const {
