@@ -60,7 +60,10 @@ run $bin/denoise-normals "$out/msh_10m.ply" "$out/msh_10m_denoised.ply" -q
 run $bin/denoise-normals "$out/logan_100m.ply" "$out/logan_100m_denoised.ply" -q
 run $bin/terrain-inspect preview "$out/msh_10m_denoised.ply" --colour-by normal-change -o "$out/msh_10m_normal_change.png"
 run $bin/terrain-render frame "$out/msh_10m_denoised.ply" -o "$out/render_msh_pels.png" --layers mask,pels
-run $bin/terrain-render frame "$out/msh_10m_denoised.ply" "$out/msh_breached.dv" -o "$out/render_msh_pels_lines.png" \
+# Creases drawn on the 10 m mesh come from its own drainage: the 50 m mesh's channels do
+# not follow this finer surface's valleys (terrain-render warns when they are mixed).
+run $bin/build-drainage "$out/msh_10m_denoised.ply" "$out/msh_10m_breached.dv" --spacing 10 --breach 10 -q
+run $bin/terrain-render frame "$out/msh_10m_denoised.ply" "$out/msh_10m_breached.dv" -o "$out/render_msh_pels_lines.png" \
   --layers mask,pels,creases,silhouettes
 run $bin/terrain-render frame "$out/logan_100m_denoised.ply" -o "$out/render_logan_pels.png" --layers mask,pels \
   --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2

@@ -239,8 +239,10 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
     const terrain::DrainageLinks links = drainage::drainage_links_in(
         dv_path, g.origin_x, g.origin_y - double(s.mesh.topo.rows - 1) * g.dy,
         g.origin_x + double(s.mesh.topo.cols - 1) * g.dx, g.origin_y);
-    if (const std::string w = rr::coverage_warning(s.mesh, links); !w.empty()) tt::warn(verb, "'" + dv_path + "': " + w);
     s.creases = rr::build_crease_geometry(s.mesh, links, rules);
+    std::string w = rr::coverage_warning(s.mesh, links);
+    if (w.empty()) w = rr::surface_warning(s.mesh, *s.creases);  // one warning: the extent says it already
+    if (!w.empty()) tt::warn(verb, "'" + dv_path + "': " + w);
     s.traits = rr::segment_traits(s.mesh, links, *s.creases);
     tt::step(verb, fmt::format("read {} and its PN normals: {} vertices, {} segments: {:.2f} s", dv_path,
                                s.creases->positions.size(), s.creases->n_segments(), since(t0)));

@@ -146,6 +146,7 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
 
   // PN normals above each vertex.
   out.normals.resize(m);
+  std::vector<float> offset(m, -1.0f);  // |z - PN z| where above the mesh
   std::size_t inside = 0;
 #pragma omp parallel for schedule(dynamic, 4096) reduction(+ : inside)
   for (std::size_t i = 0; i < m; ++i) {
@@ -153,6 +154,7 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
     const auto sp = terrain::pn_point_above(mesh, p.x(), p.y());
     if (sp) {
       out.normals[i] = sp->normal.cast<float>();
+      offset[i] = float(std::abs(double(p.z()) - sp->position.z()));
       ++inside;
     } else {
       const double c = std::clamp(std::round(p.x() / g.dx), 0.0, double(mesh.topo.cols - 1));
@@ -162,6 +164,12 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
   }
   if (m > 0 && inside == 0)
     throw terrain::Error("the drainage database does not overlap the mesh (no drainage vertex lies on it)");
+  std::erase(offset, -1.0f);
+  if (!offset.empty()) {
+    const auto mid = offset.begin() + long(offset.size() / 2);
+    std::nth_element(offset.begin(), mid, offset.end());
+    out.median_surface_offset = *mid;
+  }
   if (rules.smooth_spacings > 0 && std::min(links.dx, links.dy) > 0)
     smooth_crease_lines(out, mesh, rules.smooth_spacings * std::min(g.dx, g.dy) / std::min(links.dx, links.dy));
   return out;
@@ -341,6 +349,15 @@ std::string coverage_warning(const terrain::GridMesh& mesh, const terrain::Drain
                          "y {:.1f}..{:.1f}: it was not made from this mesh",
                          d[0], d[2], d[1], d[3], m[0], m[2], m[1], m[3]);
   return {};
+}
+
+std::string surface_warning(const terrain::GridMesh& mesh, const CreaseGeometry& g) {
+  const double spacing = std::min(mesh.geo.dx, mesh.geo.dy);
+  if (!(g.median_surface_offset > kSurfaceOffsetShare * spacing)) return {};
+  return fmt::format("its points lie a median {:.2f} m off this mesh's PN surface ({:.0f} % of its {:g} m spacing): "
+                     "it was sampled from another surface, so its creases will not follow this one's valleys "
+                     "(build it from this mesh)",
+                     g.median_surface_offset, 100 * g.median_surface_offset / spacing, spacing);
 }
 
 }  // namespace renderer

@@ -177,6 +177,28 @@ TEST(CreaseRules, VValleyCreasesLieOnTheAxis) {
   EXPECT_EQ(st.strokes, 1u);  // one channel down the axis
 }
 
+// A network sampled from this mesh lies on its PN surface (median offset 0 up to float
+// rounding, no warning); the same network 3 m higher is 3 m off (a warning), 0.1 m higher
+// (1 % of the 10 m spacing, under kSurfaceOffsetShare) is not worth one.
+TEST(CreaseGeometry, MedianSurfaceOffsetTellsAnotherSurface) {
+  const Scene s = scene_of(analytic(41, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
+  const CreaseGeometry own = build_crease_geometry(s.mesh, s.links);
+  EXPECT_LT(own.median_surface_offset, 1e-3);
+  EXPECT_EQ(surface_warning(s.mesh, own), "");
+  for (const double dz : {3.0, 0.1}) {
+    terrain::DrainageLinks higher = s.links;
+    for (auto& p : higher.positions) p.z() += float(dz);
+    const CreaseGeometry g = build_crease_geometry(s.mesh, higher);
+    EXPECT_NEAR(g.median_surface_offset, dz, 1e-3);
+    const std::string w = surface_warning(s.mesh, g);
+    if (dz > kSurfaceOffsetShare * 10) {
+      EXPECT_NE(w.find("median 3.00 m off this mesh's PN surface (30 % of its 10 m spacing)"), std::string::npos) << w;
+    } else {
+      EXPECT_EQ(w, "");
+    }
+  }
+}
+
 // A plane draining south off the grid: every column is its own small basin cut by the
 // edge. As the paper normalizes them, flow reaches 1 on the south edge of every column
 // (a band of creases along it); as pieces of larger basins (edge_basin_min_share), flow

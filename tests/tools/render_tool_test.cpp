@@ -157,6 +157,21 @@ TEST(TerrainRender, DrainageOfAnotherMeshIsAWarning) {
   EXPECT_EQ(same.err.find("not made from this mesh"), std::string::npos) << same.err;
 }
 
+// A .dv sampled from another surface of the same extent (the terrain meshed at 50 m,
+// drawn on it meshed at 30 m) renders, with one warning: its points lie off this mesh's PN
+// surface, so its creases do not follow this surface's valleys.
+TEST(TerrainRender, DrainageOfAnotherSurfaceIsAWarning) {
+  Inputs in;
+  const std::string m30 = in.dir.path("m30.ply");
+  ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + m30 + " --spacing 30 -q").exit_code, 0);
+  const auto r = run(tool("terrain-render") + " frame " + m30 + " " + in.dv + " -o " + in.dir.path("f.png") +
+                     " --size 64x48");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("off this mesh's PN surface"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("sampled from another surface"), std::string::npos) << r.err;
+}
+
 TEST(TerrainRender, BadFrameListsNameTheLine) {
   Inputs in;
   const std::string csv = in.dir.path("bad.csv"), out = in.dir.path("frames");

@@ -21,6 +21,9 @@ struct CreaseGeometry {
   std::vector<Eigen::Vector3f> normals;    // #C unit PN normals of the mesh's surface there
   std::vector<float> flow;                 // #C basin-normalized flow (fc), in (0, 1]
   std::vector<std::uint32_t> segments;     // 2 x #S: (vertex, its downstream vertex)
+  // The median |z - PN surface z| over the vertices above the mesh, metres (as read,
+  // before smoothing): 0 up to float rounding for a network sampled from this mesh.
+  double median_surface_offset = 0;
   std::size_t n_segments() const { return segments.size() / 2; }
 };
 
@@ -85,6 +88,14 @@ std::vector<std::uint8_t> off_main_flat_path(const terrain::DrainageLinks& links
 // by more than one network spacing on any side: it was made from another mesh (or a
 // crop of it), so its creases will not follow this surface everywhere.
 std::string coverage_warning(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links);
+
+// A warning (empty when none) when the crease vertices lie a median of more than
+// kSurfaceOffsetShare of the mesh spacing off the mesh's PN surface
+// (CreaseGeometry::median_surface_offset): the network was sampled from another surface
+// (the terrain at another spacing, say), so its creases do not follow this surface's
+// valleys, and sink into it or hover above it.
+inline constexpr double kSurfaceOffsetShare = 0.02;
+std::string surface_warning(const terrain::GridMesh& mesh, const CreaseGeometry& g);
 
 // rs of one crease vertex (see CreaseScoreParams). `normal` and `light` are unit vectors in
 // the exaggerated frame, `distance` is from the eye in that frame.
