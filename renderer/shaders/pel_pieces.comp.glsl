@@ -2,7 +2,7 @@
 // reference): segments in faces that share an edge which s crosses join into pieces
 // (union-find over segment indices, union_find.glsl), and each segment's opacity
 // (PelSegment.b.w) comes from its piece's length L: clamp((L - m/2) / (m/2), 0, 1), m =
-// u_piece_min metres. Lengths are summed in fixed point, kUnits per m; a segment adds at
+// u_piece_min metres. Lengths are summed in fixed point, kUnits to m; a segment adds at
 // most m and a root's sum stops growing once it reaches m, so it cannot overflow. An
 // indirect dispatch each (written by pel_extract.comp.glsl), looping over the segments.
 // Before the stages face_segment is cleared to TR_SEGMENT_NONE, the labels and sizes as
