@@ -17,26 +17,7 @@ PnPatch face_patch(const GridMesh& mesh, std::size_t f) {
 
 namespace {
 
-constexpr std::size_t kNoFace = std::size_t(-1);
-
-// The face across the edge opposite corner k of face f (grid_mesh.hpp convention), or
-// kNoFace on the mesh boundary. Face 0 = (NW, SW, SE): opposite NW is the south edge (cell
-// below, face 1), opposite SW the diagonal (face 1), opposite SE the west edge (cell to
-// the west, face 1). Face 1 = (NW, SE, NE): opposite NW is the east edge (cell to the
-// east, face 0), opposite SE the north edge (cell above, face 0), opposite NE the
-// diagonal (face 0).
-std::size_t neighbour(const GridTopology& topo, std::size_t f, int k) {
-  const std::size_t cell = f / 2, r = cell / (topo.cols - 1), c = cell % (topo.cols - 1);
-  const std::size_t last_r = topo.rows - 2, last_c = topo.cols - 2;
-  if (f % 2 == 0) {
-    if (k == 0) return r < last_r ? topo.face_of_cell(r + 1, c, 1) : kNoFace;
-    if (k == 1) return f + 1;
-    return c > 0 ? topo.face_of_cell(r, c - 1, 1) : kNoFace;
-  }
-  if (k == 0) return c < last_c ? topo.face_of_cell(r, c + 1, 0) : kNoFace;
-  if (k == 1) return r > 0 ? topo.face_of_cell(r - 1, c, 0) : kNoFace;
-  return f - 1;
-}
+constexpr std::size_t kNoFace = GridTopology::kNoFace;
 
 // The face of the flat grid under local (x, y), or kNoFace outside the grid's extent
 // (with half a cell of slack).
@@ -83,7 +64,7 @@ WalkResult walk(const GridMesh& mesh, double x, double y, PolyOf&& poly, Hint& h
     hint = {f, s.b2 - ps, s.b3 - pt};
     const double bary[3] = {s.b1, s.b2, s.b3};
     const int k = int(std::min_element(bary, bary + 3) - bary);
-    const std::size_t next = neighbour(mesh.topo, f, k);
+    const std::size_t next = mesh.topo.face_across(f, k);
     if (bary[k] >= -1e-9 || (next == kNoFace && bary[k] >= -0.5)) return {f, s};
     if (bary[k] > best_min) {
       best_min = bary[k];

@@ -27,8 +27,9 @@ const float kUnits = 4096.0;
 bool s_positive(uint v) { return (field[v].s == 0.0 ? 1e-20 : field[v].s) > 0.0; }
 
 // The face across edge e = (t[e], t[e + 1]) of face f (face_vertices order), or
-// TR_SEGMENT_NONE at the grid's edge. Face 0 of a cell (NW, SW, SE): west, south,
-// diagonal; face 1 (NW, SE, NE): diagonal, east, north.
+// TR_SEGMENT_NONE at the grid's edge: terrain::GridTopology::face_across(f, (e + 2) % 3).
+// Face 0 of a cell (NW, SW, SE): west, south, diagonal; face 1 (NW, SE, NE): diagonal,
+// east, north.
 uint face_across(uint f, int e) {
   uint cell = f / 2u, r = cell / (u_grid.y - 1u), c = cell % (u_grid.y - 1u);
   if (f % 2u == 0u) {

@@ -121,7 +121,7 @@ bool s_positive(const PelFields& p, std::uint32_t v) { return (p.s[v] == 0.0f ? 
 }  // namespace
 
 PelPieces pel_pieces(const terrain::GridTopology& topo, const PelFields& p, const PelSegments& segments) {
-  const std::size_t nf = topo.n_faces(), cells_per_row = topo.cols - 1;
+  const std::size_t nf = topo.n_faces();
   constexpr std::uint32_t none = 0xFFFFFFFFu;
   std::vector<std::uint32_t> seg_of_face(nf, none), parent(segments.size());
   for (std::size_t k = 0; k < segments.size(); ++k) {
@@ -133,23 +133,11 @@ PelPieces pel_pieces(const terrain::GridTopology& topo, const PelFields& p, cons
     return x;
   };
   for (std::size_t k = 0; k < segments.size(); ++k) {
-    const std::size_t f = segments.faces[k], cell = f / 2, r = cell / cells_per_row, c = cell % cells_per_row;
+    const std::size_t f = segments.faces[k];
     const auto t = topo.face(f);
-    // The face across edge e = (t[e], t[e + 1]): face 0 (NW, SW, SE): west, south, diagonal;
-    // face 1 (NW, SE, NE): diagonal, east, north (grid_mesh.hpp).
-    std::size_t across[3];
-    if (f % 2 == 0) {
-      across[0] = c > 0 ? topo.face_of_cell(r, c - 1, 1) : nf;
-      across[1] = r + 2 < topo.rows ? topo.face_of_cell(r + 1, c, 1) : nf;
-      across[2] = f + 1;
-    } else {
-      across[0] = f - 1;
-      across[1] = c + 2 < topo.cols ? topo.face_of_cell(r, c + 1, 0) : nf;
-      across[2] = r > 0 ? topo.face_of_cell(r - 1, c, 0) : nf;
-    }
     for (int e = 0; e < 3; ++e) {
-      const std::size_t g = across[e];
-      if (g == nf || seg_of_face[g] == none) continue;
+      const std::size_t g = topo.face_across(f, (e + 2) % 3);  // edge (t[e], t[e + 1])
+      if (g == terrain::GridTopology::kNoFace || seg_of_face[g] == none) continue;
       if (s_positive(p, t[std::size_t(e)]) == s_positive(p, t[std::size_t((e + 1) % 3)])) continue;
       const std::uint32_t a = find(std::uint32_t(k)), b = find(seg_of_face[g]);
       parent[std::max(a, b)] = std::min(a, b);

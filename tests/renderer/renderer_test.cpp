@@ -666,15 +666,24 @@ TEST(RendererGl, MinScoreZeroDrawsEveryVisibleVertex) {
 
 namespace {
 
+// The MSH test mesh with its Voronoi weights, and the layers that draw its PELs alone.
+terrain::GridMesh msh_pel_mesh() {
+  terrain::GridMesh mesh = msh_scene().mesh;
+  mesh.voronoi = terrain::voronoi_weights(mesh);
+  return mesh;
+}
+renderer::Layers pel_layers() {
+  renderer::Layers layers{false, true, false, false};
+  layers.pels = true;
+  return layers;
+}
+
 // The GPU PEL passes produce the CPU reference's segments: the same count (within 0.5%)
 // and, face by face, the same end points within 1e-4 of the mesh's extent.
 TEST(RendererGl, PelSegmentsMatchCpu) {
-  terrain::GridMesh mesh = msh_scene().mesh;
-  mesh.voronoi = terrain::voronoi_weights(mesh);
+  const terrain::GridMesh mesh = msh_pel_mesh();
   renderer::GlContext ctx;
-  renderer::Layers layers{false, true, false, false};
-  layers.pels = true;
-  TerrainRenderer r(ctx, mesh, nullptr, 160, 120, layers, test_style());
+  TerrainRenderer r(ctx, mesh, nullptr, 160, 120, pel_layers(), test_style());
   double scale = 0;
   for (std::size_t i = 0; i < mesh.n_vertices(); ++i) scale = std::max(scale, double(mesh.positions[i].norm()));
   for (double tau : {0.05, 0.2}) {
@@ -707,15 +716,12 @@ TEST(RendererGl, PelSegmentsMatchCpu) {
 // With anti-aliased lines the GPU's PEL pieces give each segment the opacity of the CPU
 // rule (pel_pieces, pel_piece_opacity) on the CPU's segments, face by face.
 TEST(RendererGl, PelPiecesFollowTheCpuRule) {
-  terrain::GridMesh mesh = msh_scene().mesh;
-  mesh.voronoi = terrain::voronoi_weights(mesh);
+  const terrain::GridMesh mesh = msh_pel_mesh();
   renderer::GlContext ctx;
-  renderer::Layers layers{false, true, false, false};
-  layers.pels = true;
   renderer::Style style = test_style();
   style.antialias = true;
   style.pel_min_length = 8;
-  TerrainRenderer r(ctx, mesh, nullptr, 160, 120, layers, style);
+  TerrainRenderer r(ctx, mesh, nullptr, 160, 120, pel_layers(), style);
   FrameParams fp;
   fp.pel.headlight = false;
   fp.light = {135, 40};

@@ -39,6 +39,23 @@ struct GridTopology {
   std::size_t face_of_cell(std::size_t r, std::size_t c, int k) const {
     return 2 * (r * (cols - 1) + c) + std::size_t(k);
   }
+  // The face across the edge opposite corner k of face f, or kNoFace on the mesh boundary.
+  // Face 0 = (NW, SW, SE): opposite NW is the south edge (cell below, face 1), opposite SW
+  // the diagonal (face 1), opposite SE the west edge (cell to the west, face 1). Face 1 =
+  // (NW, SE, NE): opposite NW is the east edge (cell to the east, face 0), opposite SE the
+  // north edge (cell above, face 0), opposite NE the diagonal (face 0).
+  static constexpr std::size_t kNoFace = std::size_t(-1);
+  std::size_t face_across(std::size_t f, int k) const {
+    const std::size_t cell = f / 2, r = cell / (cols - 1), c = cell % (cols - 1);
+    if (f % 2 == 0) {
+      if (k == 0) return r + 2 < rows ? face_of_cell(r + 1, c, 1) : kNoFace;
+      if (k == 1) return f + 1;
+      return c > 0 ? face_of_cell(r, c - 1, 1) : kNoFace;
+    }
+    if (k == 0) return c + 2 < cols ? face_of_cell(r, c + 1, 0) : kNoFace;
+    if (k == 1) return r > 0 ? face_of_cell(r - 1, c, 0) : kNoFace;
+    return f - 1;
+  }
   // The faces around vertex v (at most 6) and v's corner (0..2) in each; returns the count.
   // Cell (r-1,c-1): SE = corner 2 of face 0, corner 1 of face 1; cell (r-1,c): SW = corner
   // 1 of face 0; cell (r,c-1): NE = corner 2 of face 1; cell (r,c): NW = corner 0 of both.
