@@ -172,7 +172,9 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
                   "resolution (0: keep every stroke)")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
-  app->add_option("--silhouette-width", o.style.silhouette_width, "Silhouette width in pixels")
+  app->add_option("--silhouette-width", o.style.silhouette_width,
+                  "Silhouette width in pixels (anti-aliased: a band 0.8 px wider about the line of the silhouette "
+                  "pixels)")
       ->check(CLI::Range(1, 9))
       ->capture_default_str();
   app->add_option("--silhouette-min-length", o.style.silhouette_min_length,

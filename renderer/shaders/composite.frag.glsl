@@ -1,9 +1,11 @@
 // LAY: the background, the surface (shaded or mask colour) where a toward surface is,
 // PEL, crease and object-space edge pixels whose depth is not behind that surface,
-// silhouette pixels (dilated to the silhouette width, at their opacity: the piece rule
-// lowers it on short pieces). Anti-aliased (u_style.x != 0):
-// PELs and creases blend by their coverage (hidden lines were removed when they were
-// drawn); silhouettes, found per pixel, are softened by a ring one pixel wide at 40 %.
+// silhouettes at their pixels' opacity (the piece rule lowers it on short pieces).
+// Pixel-exact: the silhouette pixels dilated to the silhouette width. Anti-aliased
+// (u_style.x != 0): PELs and creases blend by their coverage (hidden lines were removed
+// when they were drawn); silhouettes, found per pixel, are drawn as a band 0.8 px wider
+// than the silhouette width about the line fitted to the silhouette pixels around each
+// pixel (silhouette_band).
 layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
 layout(binding = TR_TEX_SURFACE_COLOUR) uniform sampler2D u_surface_colour;
 layout(binding = TR_TEX_CREASE_COLOUR) uniform sampler2D u_crease;
@@ -37,6 +39,64 @@ float line_cover(sampler2D colour, sampler2D depth, ivec2 p, float t) {
   return line_visible(colour, depth, p, t) ? 1.0 : 0.0;
 }
 
+// Anti-aliased silhouette coverage of pixel p: the silhouette pixels q within the window,
+// weighted by their opacity and a Gaussian of their distance (sigma 1.5 px), give a centre
+// and a principal direction (the weighted covariance); where they lie along a line (minor
+// eigenvalue under 0.3 of the major), the coverage is the exact share of p inside the band
+// of half-width r about that line (pixel_share_below), otherwise a disc of radius r about
+// the nearest silhouette pixel. It goes at most r + 1.5 px beyond the nearest silhouette
+// pixel (line ends), at that pixel's opacity. The window is 3 px, or r + 1.5 if wider.
+float silhouette_band(ivec2 p, ivec2 size, float r) {
+  // No coverage beyond r + 1.5 px of every silhouette pixel: look there first.
+  int reach = int(r + 1.5);
+  bool any_near = false;
+  for (int dy = -reach; dy <= reach && !any_near; ++dy)
+    for (int dx = -reach; dx <= reach; ++dx) {
+      ivec2 q = p + ivec2(dx, dy);
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+      if (texelFetch(u_silhouette, q, 0).r > 0.0 && float(dx * dx + dy * dy) < (r + 1.5) * (r + 1.5)) {
+        any_near = true;
+        break;
+      }
+    }
+  if (!any_near) return 0.0;
+  int win = max(3, reach);
+  float sw = 0.0, near2 = 1e9, near_o = 0.0;
+  vec2 m = vec2(0.0);
+  vec3 mom = vec3(0.0);
+  for (int dy = -win; dy <= win; ++dy)
+    for (int dx = -win; dx <= win; ++dx) {
+      ivec2 q = p + ivec2(dx, dy);
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+      float o = texelFetch(u_silhouette, q, 0).r;
+      if (!(o > 0.0)) continue;
+      vec2 v = vec2(dx, dy);
+      float d2 = dot(v, v), w = o * exp(-d2 / 4.5);
+      sw += w;
+      m += w * v;
+      mom += w * vec3(v.x * v.x, v.x * v.y, v.y * v.y);
+      if (d2 < near2 || (d2 == near2 && o > near_o)) {
+        near2 = d2;
+        near_o = o;
+      }
+    }
+  if (!(sw > 0.0)) return 0.0;
+  m /= sw;
+  float cxx = mom.x / sw - m.x * m.x, cxy = mom.y / sw - m.x * m.y, cyy = mom.z / sw - m.y * m.y;
+  float disc = sqrt((cxx - cyy) * (cxx - cyy) + 4.0 * cxy * cxy);
+  float l1 = 0.5 * (cxx + cyy + disc), l2 = 0.5 * (cxx + cyy - disc);
+  float near_d = sqrt(near2), cover;
+  if (l1 > 0.0 && l2 < 0.3 * l1) {
+    float th = 0.5 * atan(2.0 * cxy, cxx - cyy);
+    vec2 n = vec2(-sin(th), cos(th));
+    float s = -dot(m, n);  // p's signed distance from the line
+    cover = pixel_share_below(r - s, n) - pixel_share_below(-r - s, n);
+  } else {
+    cover = clamp(r + 0.5 - near_d, 0.0, 1.0);
+  }
+  return min(cover, clamp(r + 1.5 - near_d, 0.0, 1.0)) * near_o;
+}
+
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   ivec2 size = textureSize(u_toward, 0);
@@ -49,16 +109,16 @@ void main() {
   if (u_layers.z != 0) c = mix(c, u_crease_colour, line_cover(u_crease, u_crease_depth, p, t));
   if (u_edges != 0 && line_visible(u_edge, u_edge_depth, p, t)) c = u_edge_colour;
   if (u_layers.w != 0) {
-    // The dilation window [r0, r1]^2; anti-aliased, one more pixel around it at 40 %.
-    int r0 = -(u_silhouette_width - 1) / 2, r1 = u_silhouette_width / 2;
-    int ring = u_style.x != 0.0 ? 1 : 0;
     float sil = 0.0;
-    for (int dy = r0 - ring; dy <= r1 + ring; ++dy)
-      for (int dx = r0 - ring; dx <= r1 + ring; ++dx) {
-        ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), size - 1);
-        bool core = dx >= r0 && dx <= r1 && dy >= r0 && dy <= r1;
-        sil = max(sil, texelFetch(u_silhouette, q, 0).r * (core ? 1.0 : 0.4));
-      }
+    if (u_style.x != 0.0) {
+      sil = silhouette_band(p, size, 0.5 * (float(u_silhouette_width) + 0.8));
+    } else {
+      // The dilation window [r0, r1]^2.
+      int r0 = -(u_silhouette_width - 1) / 2, r1 = u_silhouette_width / 2;
+      for (int dy = r0; dy <= r1; ++dy)
+        for (int dx = r0; dx <= r1; ++dx)
+          sil = max(sil, texelFetch(u_silhouette, clamp(p + ivec2(dx, dy), ivec2(0), size - 1), 0).r);
+    }
     c = mix(c, u_silhouette_colour, sil);
   }
   o_colour = vec4(c, 1.0);
