@@ -39,18 +39,19 @@ camera_of() {  # the camera a frame's output names, as options
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 printf '%-34s %28s %28s %6s\n' view "before: px / strokes / mean" "now: px / strokes / mean" ratio
+print_row() {  # NAME, then px strokes mean before and now
+  printf '%-34s %12s / %5s / %5s %12s / %5s / %5s %5.2fx\n' "$@" "$(echo "$7 $4" | awk '{print $1 / $2}')"
+}
 row() {  # NAME MESH OLD_DV NEW_DV CAMERA...
   local name=$1 mesh=$2 odv=$3 ndv=$4
   shift 4
   $old/build/bin/terrain-render frame "$mesh" "$odv" -o "$tmp/o.png" "$@" --seed-rules --line-stats > "$tmp/o.txt"
   $new/terrain-render frame "$mesh" "$ndv" -o "$tmp/n.png" "$@" --line-stats > "$tmp/n.txt"
-  local ol os om nl ns nm
-  ol=$(stat "crease length px" < "$tmp/o.txt"); os=$(stat "crease strokes" < "$tmp/o.txt")
-  om=$(stat "crease mean stroke px" < "$tmp/o.txt")
-  nl=$(stat "crease length px" < "$tmp/n.txt"); ns=$(stat "crease strokes" < "$tmp/n.txt")
-  nm=$(stat "crease mean stroke px" < "$tmp/n.txt")
-  printf '%-34s %12s / %5s / %5s %12s / %5s / %5s %5.2fx\n' "$name" "$ol" "$os" "$om" "$nl" "$ns" "$nm" \
-    "$(echo "$nm $om" | awk '{print $1 / $2}')"
+  local f k figures=()
+  for f in o n; do
+    for k in "crease length px" "crease strokes" "crease mean stroke px"; do figures+=("$(stat "$k" < "$tmp/$f.txt")"); done
+  done
+  print_row "$name" "${figures[@]}"
 }
 m_old=(out/msh_50m.ply "$old/msh_filled.dv" out/msh_breached.dv)
 l_old=(out/logan_100m.ply "$old/logan_filled.dv" out/logan_breached.dv)
@@ -75,6 +76,5 @@ $new/terrain-render batch out/msh_50m.ply out/msh_breached.dv out/msh_path.csv -
 sums() { awk -F, 'NR > 1 {l += $2; s += $6} END {printf "%.0f %d %.1f", l, s, l / s}' "$1"; }
 read -r ol os om <<< "$(sums "$tmp/fo/line_stats.csv")"
 read -r nl ns nm <<< "$(sums "$tmp/fn/line_stats.csv")"
-printf '%-34s %12s / %5s / %5s %12s / %5s / %5s %5.2fx\n' "MSH flight, 12 frames" "$ol" "$os" "$om" "$nl" "$ns" "$nm" \
-  "$(echo "$nm $om" | awk '{print $1 / $2}')"
+print_row "MSH flight, 12 frames" "$ol" "$os" "$om" "$nl" "$ns" "$nm"
 echo "crease flicker over the flight: before $(stat "crease flicker" < "$tmp/fo.txt"), now $(stat "crease flicker" < "$tmp/fn.txt")"

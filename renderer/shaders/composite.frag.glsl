@@ -46,19 +46,18 @@ float line_cover(sampler2D colour, sampler2D depth, ivec2 p, float t) {
 // of half-width r about that line (pixel_share_below), otherwise a disc of radius r about
 // the nearest silhouette pixel. It goes at most r + 1.5 px beyond the nearest silhouette
 // pixel (line ends), at that pixel's opacity. The window is 3 px, or r + 1.5 if wider.
+// The silhouette opacity at q, 0 outside the image.
+float silhouette_at(ivec2 q, ivec2 size) {
+  return any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)) ? 0.0 : texelFetch(u_silhouette, q, 0).r;
+}
+
 float silhouette_band(ivec2 p, ivec2 size, float r) {
   // No coverage beyond r + 1.5 px of every silhouette pixel: look there first.
   int reach = int(r + 1.5);
   bool any_near = false;
   for (int dy = -reach; dy <= reach && !any_near; ++dy)
-    for (int dx = -reach; dx <= reach; ++dx) {
-      ivec2 q = p + ivec2(dx, dy);
-      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
-      if (texelFetch(u_silhouette, q, 0).r > 0.0 && float(dx * dx + dy * dy) < (r + 1.5) * (r + 1.5)) {
-        any_near = true;
-        break;
-      }
-    }
+    for (int dx = -reach; dx <= reach && !any_near; ++dx)
+      any_near = float(dx * dx + dy * dy) < (r + 1.5) * (r + 1.5) && silhouette_at(p + ivec2(dx, dy), size) > 0.0;
   if (!any_near) return 0.0;
   int win = max(3, reach);
   float sw = 0.0, near2 = 1e9, near_o = 0.0;
@@ -66,9 +65,7 @@ float silhouette_band(ivec2 p, ivec2 size, float r) {
   vec3 mom = vec3(0.0);
   for (int dy = -win; dy <= win; ++dy)
     for (int dx = -win; dx <= win; ++dx) {
-      ivec2 q = p + ivec2(dx, dy);
-      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
-      float o = texelFetch(u_silhouette, q, 0).r;
+      float o = silhouette_at(p + ivec2(dx, dy), size);
       if (!(o > 0.0)) continue;
       vec2 v = vec2(dx, dy);
       float d2 = dot(v, v), w = o * exp(-d2 / 4.5);

@@ -199,19 +199,20 @@ FrameBuffers TerrainRenderer::read_buffers() const {
     glGetTextureImage(t.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, GLsizei(n * 4), out.data());
     flip_rows(out, w, h, 1);
   };
-  auto red = [&](const GlObject& t, std::vector<std::uint8_t>& out) {
+  auto bytes = [&](const GlObject& t, std::vector<std::uint8_t>& out) {
     out.resize(n);
     glGetTextureImage(t.id(), 0, GL_RED, GL_UNSIGNED_BYTE, GLsizei(n), out.data());
     flip_rows(out, w, h, 1);
+  };
+  auto red = [&](const GlObject& t, std::vector<std::uint8_t>& out) {
+    bytes(t, out);
     for (auto& x : out) x = x > 0;
   };
   depth(m.scene.toward_depth, b.toward_depth);
   depth(m.scene.away_depth, b.away_depth);
   depth(m.creases.depth(), b.crease_depth);
   red(m.silhouettes.mask(), b.silhouette);
-  b.silhouette_opacity.resize(n);
-  glGetTextureImage(m.silhouettes.opacity().id(), 0, GL_RED, GL_UNSIGNED_BYTE, GLsizei(n), b.silhouette_opacity.data());
-  flip_rows(b.silhouette_opacity, w, h, 1);
+  bytes(m.silhouettes.opacity(), b.silhouette_opacity);
   red(m.creases.colour(), b.crease);
   red(m.edges.colour(), b.edge);
   if (m.layers.adjacency) {
