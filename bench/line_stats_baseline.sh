@@ -68,8 +68,12 @@ row "MSH, default camera then" "${m_old[@]}" "${msh_then[@]}"
 row "Logan, demo camera" "${l_old[@]}" "${logan_demo[@]}"
 row "Logan, default view now" "${l_old[@]}" "${logan_now[@]}"
 
-# The demo's flight: sums over its frames' line_stats.csv.
-$old/build/bin/terrain-render batch out/msh_50m.ply "$old/msh_filled.dv" out/msh_path.csv -o "$tmp/fo" --size 960x540 \
+# The demo's flight: sums over its frames' line_stats.csv. The old binary flies the same
+# path written by its own path command (the demo's arguments, from the file's first line),
+# so each version scores with its own defaults.
+read -ra path_args <<< "$(sed -n '1s/^.*: path \(.*\) -o [^ ]*$/\1/p' out/msh_path.csv)"
+$old/build/bin/terrain-render path "${path_args[@]}" -o "$tmp/path_old.csv" > /dev/null
+$old/build/bin/terrain-render batch out/msh_50m.ply "$old/msh_filled.dv" "$tmp/path_old.csv" -o "$tmp/fo" --size 960x540 \
   --seed-rules --line-stats -q > "$tmp/fo.txt"
 $new/terrain-render batch out/msh_50m.ply out/msh_breached.dv out/msh_path.csv -o "$tmp/fn" --size 960x540 \
   --line-stats -q > "$tmp/fn.txt"

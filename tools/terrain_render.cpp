@@ -37,6 +37,7 @@ struct RenderOptions {
   std::string size = "1280x720", layers = "mask,creases,silhouettes";
   std::string pel_light = "headlight", pel_colour = "#8c1a1a";
   std::string edges = "contour,boundary,crease", edge_caps = "exact", edge_colour = "#262626";
+  std::string flow_scale = "log";
   std::string background = "#dde4ec", mask = "white", crease_colour = "blue", silhouette_colour = "black";
   bool literal = false, seed_rules = false, line_stats = false;
   rr::CreaseRules rules{.min_accumulated = 100, .smooth_spacings = 0.5};
@@ -88,12 +89,18 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
       ->capture_default_str();
   app->add_flag("--seed-rules", o.seed_rules,
                 "Creases as the paper draws them: every basin normalized by its own total (also the small "
-                "ones that drain off the grid edge), every D8 path across flats, and D8 polylines unsmoothed "
+                "ones that drain off the grid edge) on a linear scale, every D8 path across flats, and D8 "
+                "polylines unsmoothed "
                 "(docs/terrain-render.md)");
   app->add_option("--edge-basin-share", o.rules.edge_basin_min_share,
                   "Basins that drain off the grid edge are normalized by at least this share of the network's "
                   "points (0: by their own, as the paper)")
       ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app->add_option("--flow-scale", o.flow_scale,
+                  "Flow term of the crease score: log = ln(accumulated) / ln(basin total), a tributary by its "
+                  "order of magnitude in its basin; linear = accumulated / basin total (the paper)")
+      ->check(CLI::IsMember({"log", "linear"}))
       ->capture_default_str();
   app->add_option("--crease-smooth", o.rules.smooth_spacings,
                   "Smooth the D8 staircase of crease lines: Gaussian sigma along the line, in mesh spacings "
@@ -148,10 +155,12 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
   app->add_option("--mask-colour", o.mask, "Surface colour of the mask layer")->capture_default_str();
   app->add_option("--crease-colour", o.crease_colour, "Crease colour")->capture_default_str();
   app->add_option("--silhouette-colour", o.silhouette_colour, "Silhouette colour")->capture_default_str();
-  app->add_option("--crease-width", o.style.crease_width, "Crease width in pixels at normalized flow 0")
+  app->add_option("--crease-width", o.style.crease_width,
+                  "Crease width in pixels where little drains (basin share 0); it grows with the square root "
+                  "of the share of the basin that drains there")
       ->check(CLI::Range(0.5, 20.0))
       ->capture_default_str();
-  app->add_option("--crease-width-max", o.style.crease_width_max, "Crease width in pixels at normalized flow 1")
+  app->add_option("--crease-width-max", o.style.crease_width_max, "Crease width in pixels at a basin's outlet (share 1)")
       ->check(CLI::Range(0.5, 20.0))
       ->capture_default_str();
   app->add_flag("!--aliased", o.style.antialias,
@@ -204,7 +213,10 @@ std::pair<int, int> finish_options(RenderOptions& o, rr::Layers& layers) {
     throw CLI::ValidationError("--size", "width and height must be in 16 .. 16384");
   if (!o.eye.empty()) o.frame.camera.eye = Eigen::Vector3d(o.eye[0], o.eye[1], o.eye[2]);
   o.frame.score.literal_divisor = o.literal;
-  if (o.seed_rules) o.rules.edge_basin_min_share = 0, o.rules.one_line_per_flat = false, o.rules.smooth_spacings = 0;
+  o.rules.log_flow = o.flow_scale == "log";
+  if (o.seed_rules)
+    o.rules.edge_basin_min_share = 0, o.rules.log_flow = false, o.rules.one_line_per_flat = false,
+    o.rules.smooth_spacings = 0;
   if (o.frame.score.sw + o.frame.score.iw + o.frame.score.fw <= 0)
     throw CLI::ValidationError("--sw/--iw/--fw", "at least one weight must be > 0");
   layers = rr::parse_layers(o.layers);

@@ -1,6 +1,7 @@
 // DM, step 3: each selected segment as a screen-space quad (6 vertices, no geometry
-// shader), its ends lifted along the PN normal; the width grows from u_lines.x at flow 0
-// to u_lines.y at flow 1, so creases thicken towards outlets. Pixel-exact: the quad's
+// shader), its ends lifted along the PN normal; the width grows from u_lines.x to u_lines.y
+// with the square root of the basin share (as a river's width with its discharge), so
+// creases thicken towards outlets. Pixel-exact: the quad's
 // ends are extended by half a width. Anti-aliased: the quad holds the segment's capsule
 // and a one-pixel fringe, and the segment has its opacity (crease_bridge.comp: fade
 // instead of cut, gaps bridged).
@@ -15,10 +16,10 @@ void main() {
   float width[2];
   for (int j = 0; j < 2; ++j) {
     uint v = j == 0 ? e.x : e.y;
-    vec4 pf = cv[2u * v];
-    vec3 p = exaggerate_position(pf.xyz) + u_score.w * exaggerate_normal(cv[2u * v + 1u].xyz);
+    vec4 nf = cv[2u * v + 1u];
+    vec3 p = exaggerate_position(cv[2u * v].xyz) + u_score.w * exaggerate_normal(nf.xyz);
     clip[j] = u_view_proj * vec4(p, 1.0);
-    width[j] = mix(u_lines.x, u_lines.y, clamp(pf.w, 0.0, 1.0));
+    width[j] = mix(u_lines.x, u_lines.y, sqrt(clamp(nf.w, 0.0, 1.0)));
   }
   float fringe = u_style.x != 0.0 ? 2.0 : 0.0;
   gl_Position = segment_quad_vertex(clip[0], clip[1], width[0] + fringe, width[1] + fringe, k);

@@ -1,5 +1,6 @@
 // Crease buffers shared by the DM compute and draw stages.
-// cv[2i] = (position xyz in the local frame, basin-normalized flow), cv[2i+1] = (unit PN normal, 0).
+// cv[2i] = (position xyz in the local frame, basin-normalized flow fc), cv[2i+1] = (unit PN
+// normal, the basin share a / T that line widths follow).
 layout(std430, binding = TR_SSBO_CREASE_VERTICES) readonly buffer CreaseVertices { vec4 cv[]; };
 layout(std430, binding = TR_SSBO_CREASE_SEGMENTS) readonly buffer CreaseSegments { uvec2 seg[]; };
 // chain[s] = (prev, next): the segment a stroke continues from, the one it flows into

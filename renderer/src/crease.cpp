@@ -10,10 +10,11 @@
 
 namespace renderer {
 
-std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_basin_min_share) {
+std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_basin_min_share, bool log_flow) {
   using terrain::DrainageLinks;
   const std::size_t n = links.size();
-  if (!(edge_basin_min_share > 0)) return links.flow;
+  const bool edge_rule = edge_basin_min_share > 0;
+  if (!edge_rule && !log_flow) return links.flow;
   // The pit each point drains to (memoized walks downstream).
   std::vector<std::uint32_t> pit(n, DrainageLinks::kNone), path;
   for (std::size_t s = 0; s < n; ++s) {
@@ -47,8 +48,10 @@ std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_
   for (std::size_t i = 0; i < n; ++i) {
     if (!links.valid[i]) continue;
     const std::uint32_t p = pit[i];
-    const double total = std::max(1.0, double(links.accumulated[p]));
-    flow[i] = float(double(links.accumulated[i]) / (drains_off(p) ? std::max(total, edge_basin_min_share * points) : total));
+    double total = std::max(1.0, double(links.accumulated[p]));
+    if (edge_rule && drains_off(p)) total = std::max(total, edge_basin_min_share * points);
+    const double a = std::clamp(double(links.accumulated[i]), 1.0, total);
+    flow[i] = float(!log_flow ? a / total : total > 1 ? std::log(a) / std::log(total) : 1.0);
   }
   return flow;
 }
@@ -120,7 +123,8 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
                          std::to_string(g.epsg) + ") are in different CRSs");
   const Eigen::Vector3d shift = links.origin - Eigen::Vector3d(g.origin_x, g.origin_y, g.origin_z);
   const std::size_t n = links.size();
-  const std::vector<float> flow = crease_flow(links, rules.edge_basin_min_share);
+  const std::vector<float> flow = crease_flow(links, rules.edge_basin_min_share, rules.log_flow);
+  const std::vector<float> share = rules.log_flow ? crease_flow(links, rules.edge_basin_min_share, false) : flow;
   const std::vector<std::uint8_t> off_flat =
       rules.one_line_per_flat ? off_main_flat_path(links) : std::vector<std::uint8_t>(n, 0);
 
@@ -133,6 +137,7 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
     out.positions.emplace_back((links.positions[i].cast<double>() + shift).cast<float>());
     out.source.push_back(std::uint32_t(i));
     out.flow.push_back(flow[i]);
+    out.share.push_back(share[i]);
   }
   const std::size_t m = out.positions.size();
   for (std::size_t i = 0; i < n; ++i) {

@@ -202,17 +202,24 @@ TEST(CreaseGeometry, MedianSurfaceOffsetTellsAnotherSurface) {
 // A plane draining south off the grid: every column is its own small basin cut by the
 // edge. As the paper normalizes them, flow reaches 1 on the south edge of every column
 // (a band of creases along it); as pieces of larger basins (edge_basin_min_share), flow
-// stays below rows / (share x points) and the accepted creases do not gather at the edge.
+// stays below rows / (share x points), or ln(rows) / ln(share x points) on the log scale,
+// and no crease is drawn: a plane has no channel.
 TEST(CreaseRules, APlaneDrainingOffAnEdgeGathersNoCreasesThere) {
   const std::size_t n = 64;
   const Scene s = scene_of(analytic(n, 10, [](double, double y) { return 0.05 * y; }), false);
-  const CreaseGeometry paper = build_crease_geometry(s.mesh, s.links, {.edge_basin_min_share = 0, .one_line_per_flat = false});
+  const CreaseGeometry paper =
+      build_crease_geometry(s.mesh, s.links, {.edge_basin_min_share = 0, .log_flow = false, .one_line_per_flat = false});
+  const CreaseGeometry linear = build_crease_geometry(s.mesh, s.links, {.log_flow = false});
   const CreaseGeometry ours = build_crease_geometry(s.mesh, s.links, {});
+  const float floor = 0.05f * float(n * n);
   EXPECT_EQ(*std::max_element(paper.flow.begin(), paper.flow.end()), 1.0f);
-  EXPECT_LE(*std::max_element(ours.flow.begin(), ours.flow.end()), float(n) / (0.05f * float(n * n)) + 1e-6f);
-  // Scored from above with the default parameters, the light from the north-west.
+  EXPECT_LE(*std::max_element(linear.flow.begin(), linear.flow.end()), float(n) / floor + 1e-6f);
+  EXPECT_NEAR(*std::max_element(ours.flow.begin(), ours.flow.end()), std::log(float(n)) / std::log(floor), 1e-5f);
+  // Scored from above, the light from the north-west, with the lowest score of the paper's
+  // Figure 15 range that draws the paper's band (0.15; its flow is 1 there).
   CreaseScoreParams p;
   p.far_distance = 1000;
+  p.min_score = 0.15;
   const Eigen::Vector3d eye(320, -320, 2000), light = terrain::light_direction(315, 45);
   auto edge_share = [&](const CreaseGeometry& g) {
     const auto a = accepted_segments(g, eye, light, 1.0, p);
@@ -222,10 +229,40 @@ TEST(CreaseRules, APlaneDrainingOffAnEdgeGathersNoCreasesThere) {
     return std::make_pair(all, edge);
   };
   const auto [paper_all, paper_edge] = edge_share(paper);
-  const auto [ours_all, ours_edge] = edge_share(ours);
   EXPECT_GT(paper_edge, 0u);                               // the paper's rule: creases along the edge
   EXPECT_GT(double(paper_edge), 0.25 * double(paper_all));  // ... many of them there (the band is 3 / 64 of the grid)
-  EXPECT_EQ(ours_edge, 0u) << ours_all;
+  EXPECT_EQ(edge_share(linear).first, 0u);
+  EXPECT_EQ(edge_share(ours).first, 0u);
+}
+
+// A cone-shaped bowl (z = 0.1 r, 10 m samples): one closed basin with its pit at the
+// centre. On the log scale fc = ln(a) / ln(T), a a point's accumulated points and T the
+// pit's: 0 where a point drains only itself, 1 at the pit, never lower downstream than
+// upstream; it is the linear share's logarithm shifted and scaled, fc_log = 1 + ln(fc_lin) / ln(T).
+TEST(CreaseRules, LogFlowRanksPointsByOrderOfMagnitude) {
+  const std::size_t n = 41;
+  const Scene s = scene_of(analytic(n, 10, [](double x, double y) { return 0.1 * std::hypot(x, y); }), false);
+  const terrain::DrainageLinks& l = s.links;
+  const std::vector<float> lin = crease_flow(l, 0.05, false), lg = crease_flow(l, 0.05, true);
+  const std::size_t pit = (n / 2) * n + n / 2;
+  const double T = double(l.accumulated[pit]);
+  ASSERT_EQ(l.downstream[pit], terrain::DrainageLinks::kNone);
+  ASSERT_EQ(T, double(n * n));  // every point drains to the centre
+  EXPECT_EQ(lg[pit], 1.0f);
+  std::size_t heads = 0;
+  for (std::size_t i = 0; i < l.size(); ++i) {
+    const double a = double(l.accumulated[i]);
+    EXPECT_NEAR(lg[i], std::log(a) / std::log(T), 1e-6) << i;
+    EXPECT_NEAR(lg[i], 1.0 + std::log(double(lin[i])) / std::log(T), 1e-5) << i;
+    if (a == 1) {
+      EXPECT_EQ(lg[i], 0.0f);
+      ++heads;
+    }
+    if (l.downstream[i] != terrain::DrainageLinks::kNone) {
+      EXPECT_GE(lg[l.downstream[i]], lg[i]) << i;
+    }
+  }
+  EXPECT_GT(heads, n);  // the rim and the ridges between the D8 paths
 }
 
 // A square depression (12 x 12 samples, about 5 m deep) in a plane sloping south and a

@@ -537,6 +537,7 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
       g.positions.push_back(sp->position.cast<float>());
       g.normals.push_back(sp->normal.cast<float>());
       g.flow.push_back(float((x - 280) / 1420));
+      g.share.push_back(g.flow.back());
     }
     for (std::uint32_t i = 0; i + 1 < g.positions.size(); ++i) g.segments.insert(g.segments.end(), {i, i + 1});
     return g;
@@ -587,26 +588,30 @@ TEST(RendererGl, AntialiasedCoverageEqualsTheLineArea) {
   fp.score.sw = 0, fp.score.iw = 0, fp.score.fw = 1;  // the score is the flow ...
   fp.score.falloff = 0;
   const Eigen::Vector3f up(0, 0, 1);
-  // A polyline of n segments from a to b at height 100 (flow 1: full width and opacity).
-  auto polyline = [&](Eigen::Vector2f a, Eigen::Vector2f b, int n, float flow) {
+  // A polyline of n segments from a to b at height 100 (flow 1: full opacity), its basin
+  // share `share`.
+  auto polyline = [&](Eigen::Vector2f a, Eigen::Vector2f b, int n, float share) {
     CreaseGeometry g;
     for (int i = 0; i <= n; ++i) {
       const Eigen::Vector2f p = a + (b - a) * float(i) / float(n);
       g.positions.push_back(Eigen::Vector3f(p.x(), p.y(), 100));
       g.normals.push_back(up);
-      g.flow.push_back(flow);
+      g.flow.push_back(1.0f);
+      g.share.push_back(share);
     }
     for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) g.segments.insert(g.segments.end(), {i, i + 1});
     return g;
   };
-  for (double width : {1.0, 3.0}) {
-    style.crease_width = style.crease_width_max = width;
+  // Widths 1 and 3, and 1 + (3 - 1) sqrt(0.25) = 2 from the basin share.
+  for (const auto& [w0, w1, share] : {std::tuple{1.0, 1.0, 1.0f}, std::tuple{3.0, 3.0, 1.0f}, std::tuple{1.0, 3.0, 0.25f}}) {
+    style.crease_width = w0, style.crease_width_max = w1;
+    const double width = w0 + (w1 - w0) * std::sqrt(double(share));
     for (const auto& [a, b, n] : {std::tuple{Eigen::Vector2f(200, -500), Eigen::Vector2f(800, -500), 1},
                                   std::tuple{Eigen::Vector2f(200, -200), Eigen::Vector2f(750, -700), 1},
                                   std::tuple{Eigen::Vector2f(200, -200), Eigen::Vector2f(750, -700), 7}}) {
       for (double opacity : {1.0, 0.5}) {
         fp.score.min_score = 1.0 - 0.2 * opacity;  // ... so the opacity is (1 - min) / fade
-        const auto g = polyline(a, b, n, 1.0f);
+        const auto g = polyline(a, b, n, share);
         TerrainRenderer r(ctx, mesh, &g, 400, 400, renderer::Layers{false, true, true, false}, style);
         const auto res = r.render(fp);
         double covered = 0;

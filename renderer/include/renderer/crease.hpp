@@ -19,7 +19,11 @@ struct CreaseGeometry {
   std::vector<Eigen::Vector3f> positions;  // #C crease vertices, on the PN surface (local)
   std::vector<std::uint32_t> source;       // #C the vertex's point in the network (row * cols + col)
   std::vector<Eigen::Vector3f> normals;    // #C unit PN normals of the mesh's surface there
-  std::vector<float> flow;                 // #C basin-normalized flow (fc), in (0, 1]
+  std::vector<float> flow;                 // #C basin-normalized flow (fc), in [0, 1]
+  // #C the share of its basin that drains through the vertex, a / T (crease_flow on the
+  // linear scale, whatever the score's): the line's width grows with its square root, as a
+  // river's width with the square root of its discharge (Leopold & Maddock 1953).
+  std::vector<float> share;
   std::vector<std::uint32_t> segments;     // 2 x #S: (vertex, its downstream vertex)
   // The median |z - PN surface z| over the vertices above the mesh, metres (as read,
   // before smoothing): 0 up to float rounding for a network sampled from this mesh.
@@ -39,6 +43,13 @@ struct CreaseRules {
   // than that keep their own). 0: every basin by its own total, as the paper (fc =
   // accumulation / basin total).
   double edge_basin_min_share = 0.05;
+  // fc on a log scale: ln(accumulated) / ln(the basin total above), 0 at a ridge point, 1 at
+  // the pit. In a basin of a million points a tributary of a thousand has fc = 0.001 as a
+  // share, so the score selects it by slope and light alone and draws pieces of it; on the
+  // log scale it has 0.5, its line grows steadily downstream and joins its trunk, and a
+  // network reads by orders of magnitude, as rivers are ranked on maps. Off: the share,
+  // accumulated / total (the paper).
+  bool log_flow = true;
   // On flat ground (a link that does not descend: resolved flats, filled depressions)
   // only the main path of each flat is kept: from where the flow leaves the flat,
   // upstream along the inflow of largest accumulation; the other parallel D8 paths across
@@ -74,11 +85,12 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
 inline constexpr int kMaxSmoothSigma = 32;
 void smooth_crease_lines(CreaseGeometry& g, const terrain::GridMesh& mesh, double sigma_samples);
 
-// The basin-normalized flow of every point of `links` under `edge_basin_min_share`
-// (CreaseRules): accumulated / its basin's total, or / max(total, share x the network's
-// valid points) for a basin that drains off the grid; links.flow when the share is 0. #P values,
-// 0 at invalid points.
-std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_basin_min_share);
+// The basin-normalized flow of every point of `links` under `edge_basin_min_share` and
+// `log_flow` (CreaseRules): a / T with a its accumulated points and T its basin's total, or
+// max(T, share x the network's valid points) for a basin that drains off the grid; with
+// log_flow ln(a) / ln(T) instead (1 where T is 1). links.flow when the share is 0 and the
+// scale linear. #P values, 0 at invalid points.
+std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_basin_min_share, bool log_flow = false);
 
 // Whether each point's link is on flat ground (its downstream point is not lower) and is
 // not the main path of its flat (CreaseRules::one_line_per_flat): #P flags, 1 = left out.

@@ -25,7 +25,7 @@ namespace renderer {
 //   d = distance from the eye to the vertex. A vertex is drawn when rs >= 0.
 struct CreaseScoreParams {
   double sw = 1.0 / 3, iw = 1.0 / 3, fw = 1.0 / 3;  // equal weights (the paper's Figure 15)
-  double min_score = 0.15;              // rs_base
+  double min_score = 0.25;              // rs_base
   double falloff = 0.3;                 // k: how far rs_min rises towards 1 at far_distance
   double far_distance = 0;              // d_far in metres; 0: across the scene (resolve_distances)
   double near_distance = 0;             // d_near: where rs_min starts rising (< far_distance)
@@ -74,7 +74,7 @@ enum class EdgeCaps { None, Cheap, Exact };
 struct Style {
   Eigen::Vector3f background{0xdd / 255.f, 0xe4 / 255.f, 0xec / 255.f}, mask{1, 1, 1};
   Eigen::Vector3f crease_colour{0.05f, 0.2f, 0.55f}, silhouette_colour{0, 0, 0};
-  double crease_width = 1.0, crease_width_max = 3.0;  // pixels at normalized flow 0 and 1
+  double crease_width = 1.0, crease_width_max = 3.0;  // pixels at basin share 0 and 1 (by its square root)
   // Creases and PELs as anti-aliased capsules (coverage in the fragment shader, round
   // caps and joins, silhouettes softened) or as pixel-exact quads (false: every line
   // pixel has exactly the line colour; the tests that count pixels use it).

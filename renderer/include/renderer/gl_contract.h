@@ -17,7 +17,7 @@
    u_viewport width, height, pixels per triangle edge, maximum tessellation level
    u_weights  sw, iw, fw, divisor (sw + iw + fw, or 3)
    u_score    min score, falloff, far distance, crease lift (metres)
-   u_lines    crease width at flow 0 and 1 (pixels), tessellation override, reversed z
+   u_lines    crease width at basin share 0 and 1 (pixels), tessellation override, reversed z
    u_misc     near plane distance, segment count, vertex count, shortest crease stroke
               (metres; 0: any)
    u_style    anti-aliased lines (1) or pixel-exact (0), crease fade band (score units;

@@ -9,6 +9,7 @@
 #include "passes.hpp"
 #include "renderer/gl_contract.hpp"
 #include "renderer/programs.hpp"
+#include "terrain/error.hpp"
 
 namespace renderer::passes {
 
@@ -17,11 +18,12 @@ CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, boo
   if (creases && creases->n_segments() > 0) {
     n_vertices_ = creases->positions.size();
     n_segments_ = creases->n_segments();
-    std::vector<float> cv(8 * n_vertices_);  // position, flow, normal, 0
+    if (creases->share.size() != n_vertices_) throw terrain::Error("crease geometry: one share per vertex expected");
+    std::vector<float> cv(8 * n_vertices_);  // position, flow, normal, share
     for (std::size_t i = 0; i < n_vertices_; ++i) {
       const auto& p = creases->positions[i];
       const auto& n = creases->normals[i];
-      const float v[8] = {p.x(), p.y(), p.z(), creases->flow[i], n.x(), n.y(), n.z(), 0.0f};
+      const float v[8] = {p.x(), p.y(), p.z(), creases->flow[i], n.x(), n.y(), n.z(), creases->share[i]};
       std::memcpy(&cv[8 * i], v, sizeof v);
     }
     cv_buf_ = make_buffer(cv.size() * 4, cv.data(), 0);
