@@ -1,10 +1,9 @@
 // DM, step 3: each selected segment as a screen-space quad (6 vertices, no geometry
 // shader), its ends lifted along the PN normal; the width grows from u_lines.x to u_lines.y
 // with the square root of the basin share (as a river's width with its discharge), so
-// creases thicken towards outlets. Pixel-exact: the quad's
-// ends are extended by half a width. Anti-aliased: the quad holds the segment's capsule
-// and a one-pixel fringe, and the segment has its opacity (crease_bridge.comp: fade
-// instead of cut, gaps bridged).
+// creases thicken towards outlets. Pixel-exact: the quad's ends are extended by half a
+// width. Anti-aliased: the quad holds the segment's capsule and a one-pixel fringe, and the
+// segment has its opacity (crease_bridge.comp: fade instead of cut, gaps bridged).
 layout(std430, binding = TR_SSBO_CREASE_SELECTED) readonly buffer Selected { uint selected[]; };
 layout(std430, binding = TR_SSBO_CREASE_OPACITY) readonly buffer Opacity { float opacity[]; };
 flat out vec4 v_ends;
