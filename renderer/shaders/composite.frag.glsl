@@ -32,11 +32,12 @@ bool line_visible(sampler2D colour, sampler2D depth, ivec2 p, float t) {
   return texelFetch(colour, p, 0).r > 0.0 && far_of(texelFetch(depth, p, 0).r) <= t;
 }
 
-// A line layer's coverage of pixel p: anti-aliased, the layer's value; pixel-exact, 1
-// where line_visible.
+// A crease or PEL layer's coverage of pixel p: anti-aliased, the layer's value (line.frag
+// kept it to the surface); pixel-exact, 1 where line_visible on the surface (t < 1: these
+// lines lie on it, lifted, and past a skyline or a mesh edge they would float in the sky).
 float line_cover(sampler2D colour, sampler2D depth, ivec2 p, float t) {
   if (u_style.x != 0.0) return texelFetch(colour, p, 0).r;
-  return line_visible(colour, depth, p, t) ? 1.0 : 0.0;
+  return t < 1.0 && line_visible(colour, depth, p, t) ? 1.0 : 0.0;
 }
 
 // Anti-aliased silhouette coverage of pixel p: the silhouette pixels q within the window,

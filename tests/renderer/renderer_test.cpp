@@ -570,6 +570,58 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
   EXPECT_GT(pixels[2], 100u);
 }
 
+// Creases are lifted off the surface (crease_lift) so that they clear it; where no surface
+// lies behind them (past a skyline or a mesh edge) they would float in the sky. A level
+// plane seen from its south, two lines across it: lifted 1 m they lie on the surface and
+// are drawn; lifted 150 m every one of their pixels falls past the plane's far edge, and
+// none is drawn, pixel-exact or anti-aliased. No pixel off the surface changes either way.
+TEST(RendererGl, CreasesAreNotDrawnOffTheSurface) {
+  const auto mesh = terrain::test::function_mesh(201, 101, 20, [](double, double) { return 0.0; });
+  CreaseGeometry g;
+  for (const double y : {-1000.0, -20.0})
+    for (double x = 300; x <= 1700; x += 20) {
+      g.positions.emplace_back(float(x), float(y), 0.0f);
+      g.normals.emplace_back(0.0f, 0.0f, 1.0f);
+      g.flow.push_back(1.0f);
+      g.share.push_back(1.0f);
+    }
+  const std::uint32_t per_line = std::uint32_t(g.positions.size() / 2);
+  for (std::uint32_t i = 0; i + 1 < g.positions.size(); ++i)
+    if ((i + 1) % per_line != 0) g.segments.insert(g.segments.end(), {i, i + 1});
+  FrameParams fp;
+  fp.camera.eye = Vector3d(1000, -3800, 250);
+  fp.camera.view_az = 0;
+  fp.camera.view_alt = 0;
+  fp.camera.fov = 40;
+  fp.score.min_score = 0;
+  fp.score.falloff = 0;
+  renderer::GlContext ctx;
+  for (const bool antialias : {false, true}) {
+    renderer::Style style = test_style();
+    style.antialias = antialias;
+    style.mask = {0.5f, 0.5f, 0.5f};
+    const auto bare = TerrainRenderer(ctx, mesh, nullptr, 320, 240, renderer::Layers{false, true, false, false}, style)
+                          .render(fp);
+    for (const double lift : {1.0, 150.0}) {
+      style.crease_lift = lift;
+      TerrainRenderer r(ctx, mesh, &g, 320, 240, renderer::Layers{false, true, true, false}, style);
+      const auto res = r.render(fp);
+      EXPECT_EQ(res.crease_segments, g.n_segments());  // all selected by DM
+      std::size_t sky_changed = 0, surface_changed = 0;
+      for (std::size_t i = 0; i < res.rgba.size(); i += 4) {
+        const bool sky = bare.rgba[i] == 255, changed = res.rgba[i + 1] != bare.rgba[i + 1];
+        (sky ? sky_changed : surface_changed) += changed;
+      }
+      EXPECT_EQ(sky_changed, 0u) << "antialias " << antialias << " lift " << lift;
+      if (lift == 1.0) {
+        EXPECT_GT(surface_changed, 100u) << "antialias " << antialias;
+      } else {
+        EXPECT_EQ(surface_changed, 0u) << "antialias " << antialias;
+      }
+    }
+  }
+}
+
 // Anti-aliased creases: on a plane seen from straight above, a segment's coverage (black
 // on white, summed over the image) equals the ideal area of its capsule, L w + pi w^2 / 4,
 // within 5 %, for widths of 1 and 3 pixels and any direction; a faded segment covers its
@@ -693,7 +745,9 @@ TEST(RendererGl, StrokeRuleMatchesCpu) {
 
 // From straight above nothing is hidden: at min score 0 every drainage vertex that starts
 // a segment lies on a crease pixel of the composite (within 1 pixel of its projection,
-// lifted as the renderer lifts it).
+// lifted as the renderer lifts it), unless the lift carries it past the mesh's edge or to
+// within 1.5 pixels of it, where no surface may lie under its pixels and creases are not
+// drawn (CreasesAreNotDrawnOffTheSurface).
 TEST(RendererGl, MinScoreZeroDrawsEveryVisibleVertex) {
   const auto& sc = msh_scene();
   const auto g = renderer::build_crease_geometry(sc.mesh, sc.links);
@@ -707,9 +761,15 @@ TEST(RendererGl, MinScoreZeroDrawsEveryVisibleVertex) {
   fp.score.falloff = 0;
   const auto res = r.render(fp);
   std::size_t missing = 0, checked = 0;
+  const auto p0 = renderer::project(res.view, Vector3d(0, 0, 1800)), p1 = renderer::project(res.view, Vector3d(100, 0, 1800));
+  const double margin = 1.5 * 100 / std::hypot(p1.u - p0.u, p1.v - p0.v);  // metres
+  const double east = double(sc.mesh.topo.cols - 1) * sc.mesh.geo.dx, south = -double(sc.mesh.topo.rows - 1) * sc.mesh.geo.dy;
   for (std::size_t s = 0; s < g.n_segments(); ++s) {
     const std::uint32_t k = g.segments[2 * s];  // drawn lifted along its normal by 0.5 x spacing
-    const auto q = renderer::project(res.view, (g.positions[k] + 5.0f * g.normals[k]).cast<double>());
+    const Eigen::Vector3f lifted = g.positions[k] + 5.0f * g.normals[k];
+    if (lifted.x() < margin || lifted.y() > -margin || lifted.x() > east - margin || lifted.y() < south + margin)
+      continue;  // at or past the edge: no surface under some of its pixels
+    const auto q = renderer::project(res.view, lifted.cast<double>());
     const int u = int(std::floor(q.u)), v = int(std::floor(q.v));
     if (u < 1 || v < 1 || u >= 399 || v >= 399) continue;
     bool found = false;
