@@ -75,6 +75,28 @@ TEST(TerrainRender, BatchWritesFramesAndTimings) {
   EXPECT_TRUE(std::filesystem::exists(in.dir.path("g.png")));
 }
 
+// --flow-scale: on the log scale fc = ln a / ln T is at least the linear a / T wherever a
+// >= 2 points drain (and T >= 4), so at the same minimum score the default draws at least
+// the segments the linear scale draws; an unknown scale is a usage error.
+TEST(TerrainRender, FlowScale) {
+  Inputs in;
+  const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + in.dir.path("f.png") +
+                            " --size 160x120 --min-score 0.25";
+  auto drawn = [](const std::string& out) {
+    const auto at = out.find("crease segments drawn: ");
+    EXPECT_NE(at, std::string::npos) << out;
+    return at == std::string::npos ? -1.0 : std::stod(out.substr(at + 23));
+  };
+  const auto log = run(frame), linear = run(frame + " --flow-scale linear");
+  ASSERT_EQ(log.exit_code, 0) << log.err;
+  ASSERT_EQ(linear.exit_code, 0) << linear.err;
+  EXPECT_GT(drawn(log.out), drawn(linear.out));
+  EXPECT_GT(drawn(linear.out), 0.0);
+  const auto bad = run(frame + " --flow-scale cubic");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--flow-scale: cubic not in {log,linear}"), std::string::npos) << bad.err;
+}
+
 // --line-stats: every key with a value in range, no more strokes than segments the DM pass
 // drew; the seed rules draw more of their length near the boundary; no more silhouette
 // pieces or pixels than without the piece rule;
