@@ -10,11 +10,18 @@
 
 namespace renderer {
 
-std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_basin_min_share, bool log_flow) {
+namespace {
+
+// crease_flow on both scales from one walk to the pits: fc on the scale asked for, and the
+// linear share a / T (CreaseGeometry::share; the same vector when the scale is linear).
+struct BasinFlow {
+  std::vector<float> fc, share;
+};
+BasinFlow basin_flow(const terrain::DrainageLinks& links, double edge_basin_min_share, bool log_flow) {
   using terrain::DrainageLinks;
   const std::size_t n = links.size();
   const bool edge_rule = edge_basin_min_share > 0;
-  if (!edge_rule && !log_flow) return links.flow;
+  if (!edge_rule && !log_flow) return {links.flow, links.flow};
   // The pit each point drains to (memoized walks downstream).
   std::vector<std::uint32_t> pit(n, DrainageLinks::kNone), path;
   for (std::size_t s = 0; s < n; ++s) {
@@ -44,16 +51,23 @@ std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_
   };
   double points = 0;
   for (std::size_t i = 0; i < n; ++i) points += links.valid[i];
-  std::vector<float> flow(n, 0.0f);
+  BasinFlow out{std::vector<float>(n, 0.0f), std::vector<float>(n, 0.0f)};
   for (std::size_t i = 0; i < n; ++i) {
     if (!links.valid[i]) continue;
     const std::uint32_t p = pit[i];
     double total = std::max(1.0, double(links.accumulated[p]));
     if (edge_rule && drains_off(p)) total = std::max(total, edge_basin_min_share * points);
     const double a = std::clamp(double(links.accumulated[i]), 1.0, total);
-    flow[i] = float(!log_flow ? a / total : total > 1 ? std::log(a) / std::log(total) : 1.0);
+    out.share[i] = float(a / total);
+    out.fc[i] = !log_flow ? out.share[i] : float(total > 1 ? std::log(a) / std::log(total) : 1.0);
   }
-  return flow;
+  return out;
+}
+
+}  // namespace
+
+std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_basin_min_share, bool log_flow) {
+  return basin_flow(links, edge_basin_min_share, log_flow).fc;
 }
 
 std::vector<std::uint8_t> off_main_flat_path(const terrain::DrainageLinks& links) {
@@ -123,8 +137,7 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
                          std::to_string(g.epsg) + ") are in different CRSs");
   const Eigen::Vector3d shift = links.origin - Eigen::Vector3d(g.origin_x, g.origin_y, g.origin_z);
   const std::size_t n = links.size();
-  const std::vector<float> flow = crease_flow(links, rules.edge_basin_min_share, rules.log_flow);
-  const std::vector<float> share = rules.log_flow ? crease_flow(links, rules.edge_basin_min_share, false) : flow;
+  const BasinFlow flow = basin_flow(links, rules.edge_basin_min_share, rules.log_flow);
   const std::vector<std::uint8_t> off_flat =
       rules.one_line_per_flat ? off_main_flat_path(links) : std::vector<std::uint8_t>(n, 0);
 
@@ -136,8 +149,8 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
     compact[i] = std::uint32_t(out.positions.size());
     out.positions.emplace_back((links.positions[i].cast<double>() + shift).cast<float>());
     out.source.push_back(std::uint32_t(i));
-    out.flow.push_back(flow[i]);
-    out.share.push_back(share[i]);
+    out.flow.push_back(flow.fc[i]);
+    out.share.push_back(flow.share[i]);
   }
   const std::size_t m = out.positions.size();
   for (std::size_t i = 0; i < n; ++i) {

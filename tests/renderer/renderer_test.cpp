@@ -522,6 +522,19 @@ TEST(RendererGl, FlatPlaneFromAboveHasNoSilhouette) {
   EXPECT_GT(covered, 200u * 200u / 3);
 }
 
+// Level from the south of a 201 x 101 mesh at 20 m (function_mesh: x 0..4000, y -2000..0),
+// 250 m up, every crease accepted (min score 0, no distance term).
+FrameParams level_view_from_the_south() {
+  FrameParams fp;
+  fp.camera.eye = Vector3d(1000, -3800, 250);
+  fp.camera.view_az = 0;
+  fp.camera.view_alt = 0;
+  fp.camera.fov = 40;
+  fp.score.min_score = 0;
+  fp.score.falloff = 0;
+  return fp;
+}
+
 // A channel along the floor of an east-west valley; a higher ridge between the eye and
 // the valley hides it; without the ridge, or from above, it shows.
 TEST(RendererGl, RidgeHidesTheValleyCreases) {
@@ -542,13 +555,7 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
     for (std::uint32_t i = 0; i + 1 < g.positions.size(); ++i) g.segments.insert(g.segments.end(), {i, i + 1});
     return g;
   };
-  FrameParams fp;
-  fp.camera.eye = Vector3d(1000, -3800, 250);
-  fp.camera.view_az = 0;
-  fp.camera.view_alt = 0;
-  fp.camera.fov = 40;
-  fp.score.min_score = 0;
-  fp.score.falloff = 0;
+  const FrameParams fp = level_view_from_the_south();
   renderer::GlContext ctx;
   const renderer::Layers layers{false, true, true, false};
   std::size_t pixels[3] = {};
@@ -588,13 +595,7 @@ TEST(RendererGl, CreasesAreNotDrawnOffTheSurface) {
   const std::uint32_t per_line = std::uint32_t(g.positions.size() / 2);
   for (std::uint32_t i = 0; i + 1 < g.positions.size(); ++i)
     if ((i + 1) % per_line != 0) g.segments.insert(g.segments.end(), {i, i + 1});
-  FrameParams fp;
-  fp.camera.eye = Vector3d(1000, -3800, 250);
-  fp.camera.view_az = 0;
-  fp.camera.view_alt = 0;
-  fp.camera.fov = 40;
-  fp.score.min_score = 0;
-  fp.score.falloff = 0;
+  const FrameParams fp = level_view_from_the_south();
   renderer::GlContext ctx;
   for (const bool antialias : {false, true}) {
     renderer::Style style = test_style();
