@@ -40,16 +40,38 @@ float line_cover(sampler2D colour, sampler2D depth, ivec2 p, float t) {
   return t < 1.0 && line_visible(colour, depth, p, t) ? 1.0 : 0.0;
 }
 
-// Anti-aliased silhouette coverage of pixel p: the silhouette pixels q within the window,
-// weighted by their opacity and a Gaussian of their distance (sigma 1.5 px), give a centre
-// and a principal direction (the weighted covariance); where they lie along a line (minor
-// eigenvalue under 0.3 of the major), the coverage is the exact share of p inside the band
-// of half-width r about that line (pixel_share_below), otherwise a disc of radius r about
-// the nearest silhouette pixel. It goes at most r + 1.5 px beyond the nearest silhouette
-// pixel (line ends), at that pixel's opacity. The window is 3 px, or r + 1.5 if wider.
+// Anti-aliased silhouette coverage of pixel p, from the silhouette pixels q of its window
+// (3 px, or r + 1.5 if wider), taken one line at a time: a line is the pixels of the window
+// 8-connected to its nearest pixel (two silhouettes a few pixels apart are two lines, not
+// one knot). A line's pixels, weighted by their opacity and a Gaussian of their distance
+// (sigma 1.5 px), give a centre and a principal direction (the weighted covariance); where
+// they lie along a line (minor eigenvalue under 0.3 of the major), p's coverage is the
+// exact share of p inside the band of half-width r about it (pixel_share_below), otherwise
+// a disc of radius r about the nearest pixel; at most r + 1.5 px beyond the nearest pixel
+// (line ends), at that pixel's opacity. The lines' coverages add up (to 1 at most): two
+// lines are at least 2 px apart, so at the default width their bands do not overlap. The
+// nearest three lines at most.
+const int SIL_MAX_WIN = 6;  // r + 1.5 for --silhouette-width 9
+const int SIL_ROWS = 2 * SIL_MAX_WIN + 1;
+
 // The silhouette opacity at q, 0 outside the image.
 float silhouette_at(ivec2 q, ivec2 size) {
   return any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)) ? 0.0 : texelFetch(u_silhouette, q, 0).r;
+}
+
+// The coverage of the window's centre by a band of half-width r about the line that pixels
+// of total weight sw, first moment m and second moments mom (xx, xy, yy) follow; a disc
+// about their nearest pixel (near_d away) where they follow no line.
+float band_cover(float sw, vec2 m, vec3 mom, float near_d, float r) {
+  m /= sw;
+  float cxx = mom.x / sw - m.x * m.x, cxy = mom.y / sw - m.x * m.y, cyy = mom.z / sw - m.y * m.y;
+  float disc = sqrt((cxx - cyy) * (cxx - cyy) + 4.0 * cxy * cxy);
+  float l1 = 0.5 * (cxx + cyy + disc), l2 = 0.5 * (cxx + cyy - disc);
+  if (!(l1 > 0.0 && l2 < 0.3 * l1)) return clamp(r + 0.5 - near_d, 0.0, 1.0);
+  float th = 0.5 * atan(2.0 * cxy, cxx - cyy);
+  vec2 n = vec2(-sin(th), cos(th));
+  float s = -dot(m, n);  // the centre's signed distance from the line
+  return pixel_share_below(r - s, n) - pixel_share_below(-r - s, n);
 }
 
 float silhouette_band(ivec2 p, ivec2 size, float r) {
@@ -60,14 +82,20 @@ float silhouette_band(ivec2 p, ivec2 size, float r) {
     for (int dx = -reach; dx <= reach && !any_near; ++dx)
       any_near = float(dx * dx + dy * dy) < (r + 1.5) * (r + 1.5) && silhouette_at(p + ivec2(dx, dy), size) > 0.0;
   if (!any_near) return 0.0;
-  int win = max(3, reach);
+  int win = min(max(3, reach), SIL_MAX_WIN), n = 2 * win + 1;
+  // The window's silhouette pixels: a bit mask per row (bit dx + win of row dy + win), the
+  // moments of them all, and the nearest.
+  uint rows[SIL_ROWS];
   float sw = 0.0, near2 = 1e9, near_o = 0.0;
   vec2 m = vec2(0.0);
   vec3 mom = vec3(0.0);
-  for (int dy = -win; dy <= win; ++dy)
+  ivec2 seed = ivec2(0);
+  for (int dy = -win; dy <= win; ++dy) {
+    uint bits = 0u;
     for (int dx = -win; dx <= win; ++dx) {
       float o = silhouette_at(p + ivec2(dx, dy), size);
       if (!(o > 0.0)) continue;
+      bits |= 1u << uint(dx + win);
       vec2 v = vec2(dx, dy);
       float d2 = dot(v, v), w = o * exp(-d2 / 4.5);
       sw += w;
@@ -76,23 +104,69 @@ float silhouette_band(ivec2 p, ivec2 size, float r) {
       if (d2 < near2 || (d2 == near2 && o > near_o)) {
         near2 = d2;
         near_o = o;
+        seed = ivec2(dx, dy) + win;
       }
     }
-  if (!(sw > 0.0)) return 0.0;
-  m /= sw;
-  float cxx = mom.x / sw - m.x * m.x, cxy = mom.y / sw - m.x * m.y, cyy = mom.z / sw - m.y * m.y;
-  float disc = sqrt((cxx - cyy) * (cxx - cyy) + 4.0 * cxy * cxy);
-  float l1 = 0.5 * (cxx + cyy + disc), l2 = 0.5 * (cxx + cyy - disc);
-  float near_d = sqrt(near2), cover;
-  if (l1 > 0.0 && l2 < 0.3 * l1) {
-    float th = 0.5 * atan(2.0 * cxy, cxx - cyy);
-    vec2 n = vec2(-sin(th), cos(th));
-    float s = -dot(m, n);  // p's signed distance from the line
-    cover = pixel_share_below(r - s, n) - pixel_share_below(-r - s, n);
-  } else {
-    cover = clamp(r + 0.5 - near_d, 0.0, 1.0);
+    rows[dy + win] = bits;
   }
-  return min(cover, clamp(r + 1.5 - near_d, 0.0, 1.0)) * near_o;
+  float sum = 0.0;
+  for (int line = 0; line < 3; ++line) {
+    if (line > 0) {  // the nearest pixel not yet taken
+      near2 = 1e9;
+      for (int dy = -win; dy <= win; ++dy)
+        for (int dx = -win; dx <= win; ++dx) {
+          float d2 = float(dx * dx + dy * dy);
+          if ((rows[dy + win] & (1u << uint(dx + win))) == 0u || d2 > near2) continue;
+          float o = silhouette_at(p + ivec2(dx, dy), size);
+          if (d2 < near2 || o > near_o) {
+            near2 = d2;
+            near_o = o;
+            seed = ivec2(dx, dy) + win;
+          }
+        }
+    }
+    float near_d = sqrt(near2);
+    if (near_d >= r + 1.5) break;  // none left within reach
+    // Its line: the pixels 8-connected to it within the window (a flood fill of the masks).
+    uint comp[SIL_ROWS];
+    for (int j = 0; j < n; ++j) comp[j] = 0u;
+    comp[seed.y] = 1u << uint(seed.x);
+    for (bool grew = true; grew;) {
+      grew = false;
+      for (int j = 0; j < n; ++j) {
+        uint c = comp[j], nb = c | (c << 1) | (c >> 1);
+        if (j > 0) nb |= comp[j - 1] | (comp[j - 1] << 1) | (comp[j - 1] >> 1);
+        if (j + 1 < n) nb |= comp[j + 1] | (comp[j + 1] << 1) | (comp[j + 1] >> 1);
+        uint g = nb & rows[j];
+        if (g != c) {
+          comp[j] = g;
+          grew = true;
+        }
+      }
+    }
+    bool whole = true;  // the line is every pixel left: its moments are those summed above
+    for (int j = 0; j < n; ++j) {
+      whole = whole && comp[j] == rows[j];
+      rows[j] &= ~comp[j];
+    }
+    if (!whole || line > 0) {
+      sw = 0.0;
+      m = vec2(0.0);
+      mom = vec3(0.0);
+      for (int dy = -win; dy <= win; ++dy)
+        for (int dx = -win; dx <= win; ++dx) {
+          if ((comp[dy + win] & (1u << uint(dx + win))) == 0u) continue;
+          vec2 v = vec2(dx, dy);
+          float w = silhouette_at(p + ivec2(dx, dy), size) * exp(-dot(v, v) / 4.5);
+          sw += w;
+          m += w * v;
+          mom += w * vec3(v.x * v.x, v.x * v.y, v.y * v.y);
+        }
+    }
+    sum += min(band_cover(sw, m, mom, near_d, r), clamp(r + 1.5 - near_d, 0.0, 1.0)) * near_o;
+    if (whole) break;
+  }
+  return min(sum, 1.0);
 }
 
 void main() {
