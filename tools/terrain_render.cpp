@@ -103,8 +103,8 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
       ->check(CLI::IsMember({"log", "linear"}))
       ->capture_default_str();
   app->add_option("--crease-smooth", o.rules.smooth_spacings,
-                  "Smooth the D8 staircase of crease lines: Gaussian sigma along the line, in mesh spacings "
-                  "(0: the D8 polyline as it is)")
+                  "Smooth the D8 staircase of crease lines: Gaussian sigma along the line, in mesh spacings, and "
+                  "at least 1.5 drainage samples (0: the D8 polyline as it is)")
       ->check(CLI::Range(0.0, 4.0))
       ->capture_default_str();
   app->add_flag("--line-stats", o.line_stats,

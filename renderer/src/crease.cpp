@@ -189,7 +189,9 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
     out.median_surface_offset = *mid;
   }
   if (rules.smooth_spacings > 0 && std::min(links.dx, links.dy) > 0)
-    smooth_crease_lines(out, mesh, rules.smooth_spacings * std::min(g.dx, g.dy) / std::min(links.dx, links.dy));
+    smooth_crease_lines(out, mesh,
+                        std::max(rules.smooth_spacings * std::min(g.dx, g.dy) / std::min(links.dx, links.dy),
+                                 rules.smooth_min_samples));
   return out;
 }
 

@@ -59,6 +59,10 @@ struct CreaseRules {
   // Gaussian-weighted mean of the vertices along its line (smooth_crease_lines), sigma this
   // many mesh spacings. 0: the D8 polyline as it is (the paper).
   double smooth_spacings = 0;
+  // ... and at least this many drainage samples: the staircase is the network's, one sample
+  // sideways per jog, and a network as fine as the mesh (10 m on a 10 m mesh) smoothed over
+  // half a mesh spacing keeps it.
+  double smooth_min_samples = 1.5;
 };
 
 // Every valid drainage point with its D8 link to its downstream point as one segment (the
