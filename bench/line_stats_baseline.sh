@@ -38,9 +38,14 @@ camera_of() {  # the camera a frame's output names, as options
 }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-printf '%-34s %28s %28s %6s\n' view "before: px / strokes / mean" "now: px / strokes / mean" ratio
-print_row() {  # NAME, then px strokes mean before and now
-  printf '%-34s %12s / %5s / %5s %12s / %5s / %5s %5.2fx\n' "$@" "$(echo "$7 $4" | awk '{print $1 / $2}')"
+# The last two columns: now, strokes weighted by their mean opacity as their length is
+# (docs/terrain-render.md, "Line statistics"; the old binary draws opacities 0 or 1, where
+# both counts agree), and its ratio to before.
+printf '%-34s %28s %28s %6s %14s %6s\n' view "before: px / strokes / mean" "now: px / strokes / mean" ratio \
+  "now: weighted" ratio
+print_row() {  # NAME, then px strokes mean before and now, then now's opacity-weighted strokes and mean
+  printf '%-34s %12s / %5s / %5s %12s / %5s / %5s %5.2fx %6s / %5s %5.2fx\n' "${@:1:7}" \
+    "$(echo "$7 $4" | awk '{print $1 / $2}')" "$8" "$9" "$(echo "$9 $4" | awk '{print $1 / $2}')"
 }
 row() {  # NAME MESH OLD_DV NEW_DV CAMERA...
   local name=$1 mesh=$2 odv=$3 ndv=$4
@@ -50,6 +55,9 @@ row() {  # NAME MESH OLD_DV NEW_DV CAMERA...
   local f k figures=()
   for f in o n; do
     for k in "crease length px" "crease strokes" "crease mean stroke px"; do figures+=("$(stat "$k" < "$tmp/$f.txt")"); done
+  done
+  for k in "crease strokes, opacity-weighted" "crease mean stroke px, opacity-weighted"; do
+    figures+=("$(stat "$k" < "$tmp/n.txt")")
   done
   print_row "$name" "${figures[@]}"
 }
@@ -77,8 +85,8 @@ $old/build/bin/terrain-render batch out/msh_50m.ply "$old/msh_filled.dv" "$tmp/p
   --seed-rules --line-stats -q > "$tmp/fo.txt"
 $new/terrain-render batch out/msh_50m.ply out/msh_breached.dv out/msh_path.csv -o "$tmp/fn" --size 960x540 \
   --line-stats -q > "$tmp/fn.txt"
-sums() { awk -F, 'NR > 1 {l += $2; s += $6} END {printf "%.0f %d %.1f", l, s, l / s}' "$1"; }
-read -r ol os om <<< "$(sums "$tmp/fo/line_stats.csv")"
-read -r nl ns nm <<< "$(sums "$tmp/fn/line_stats.csv")"
-print_row "MSH flight, 12 frames" "$ol" "$os" "$om" "$nl" "$ns" "$nm"
+sums() { awk -F, 'NR > 1 {l += $2; s += $6; w += $10} END {printf "%.0f %d %.1f %.1f %.1f", l, s, l / s, w, (w > 0 ? l / w : 0)}' "$1"; }
+read -r ol os om _ <<< "$(sums "$tmp/fo/line_stats.csv")"
+read -r nl ns nm nw nwm <<< "$(sums "$tmp/fn/line_stats.csv")"
+print_row "MSH flight, 12 frames" "$ol" "$os" "$om" "$nl" "$ns" "$nm" "$nw" "$nwm"
 echo "crease flicker over the flight: before $(stat "crease flicker" < "$tmp/fo.txt"), now $(stat "crease flicker" < "$tmp/fn.txt")"

@@ -376,8 +376,10 @@ int run_frame(FrameArgs& a, const std::string& prov, const tt::Verbosity& verb) 
     const FrameLines lines = frame_lines(scene, r, res, buffers, a.opts.frame, a.opts.style);
     const rr::LineStats st = rr::line_stats(*scene.creases, scene.traits, lines.drawn, lines.pixels);
     std::cout << fmt::format("crease length px: {:.0f}\ncrease boundary share: {:.4f}\ncrease flat share: {:.4f}\n"
-                             "crease valley share: {:.4f}\ncrease strokes: {}\ncrease mean stroke px: {:.1f}\n",
-                             st.length_px, st.boundary, st.flat, st.valley, st.strokes, st.mean_stroke_px);
+                             "crease valley share: {:.4f}\ncrease strokes: {}\ncrease mean stroke px: {:.1f}\n"
+                             "crease strokes, opacity-weighted: {:.1f}\ncrease mean stroke px, opacity-weighted: {:.1f}\n",
+                             st.length_px, st.boundary, st.flat, st.valley, st.strokes, st.mean_stroke_px,
+                             st.weighted_strokes, st.weighted_mean_stroke_px);
     if (layers.silhouettes) {
       const rr::SilhouetteStats ss = rr::silhouette_stats(buffers.silhouette_opacity, w, h);
       std::cout << fmt::format("silhouette px: {:.0f}\nsilhouette pieces: {}\nsilhouette mean piece px: {:.1f}\n",
@@ -412,7 +414,8 @@ int run_batch(BatchArgs& a, const std::string& prov, const tt::Verbosity& verb) 
   rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, w, h, layers, a.opts.style);
   std::vector<rr::FrameTimings> timings;
   std::string stats_csv =
-      "frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px,silhouette_px,silhouette_pieces\n";
+      "frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px,silhouette_px,silhouette_pieces,"
+      "weighted_strokes,weighted_mean_stroke_px\n";
   std::vector<std::vector<float>> drawn;
   std::vector<std::vector<double>> pixels;
   const auto progress = tt::terminal_progress(verb, "render");
@@ -425,8 +428,9 @@ int run_batch(BatchArgs& a, const std::string& prov, const tt::Verbosity& verb) 
       const rr::LineStats st = rr::line_stats(*scene.creases, scene.traits, lines.drawn, lines.pixels);
       rr::SilhouetteStats ss;
       if (layers.silhouettes) ss = rr::silhouette_stats(buffers.silhouette_opacity, w, h);
-      stats_csv += fmt::format("{},{:.1f},{:.5f},{:.5f},{:.5f},{},{:.2f},{:.0f},{}\n", i, st.length_px, st.boundary,
-                               st.flat, st.valley, st.strokes, st.mean_stroke_px, ss.pixels, ss.pieces);
+      stats_csv += fmt::format("{},{:.1f},{:.5f},{:.5f},{:.5f},{},{:.2f},{:.0f},{},{:.2f},{:.2f}\n", i, st.length_px,
+                               st.boundary, st.flat, st.valley, st.strokes, st.mean_stroke_px, ss.pixels, ss.pieces,
+                               st.weighted_strokes, st.weighted_mean_stroke_px);
       drawn.push_back(std::move(lines.drawn));
       pixels.push_back(std::move(lines.pixels));
     }

@@ -145,9 +145,16 @@ LineStats line_stats(const CreaseGeometry& g, const SegmentTraits& traits, const
   // Strokes that show: at least one of their segments has pixels.
   std::vector<float> shown(drawn.size());
   for (std::size_t s = 0; s < shown.size(); ++s) shown[s] = pixels[s] > 0 ? drawn[s] : 0.0f;
-  st.strokes = crease_strokes(g, shown).size();
+  const auto strokes = crease_strokes(g, shown);
+  st.strokes = strokes.size();
+  for (const auto& stroke : strokes) {
+    double ink = 0, px = 0;
+    for (const std::uint32_t s : stroke) ink += double(drawn[s]) * pixels[s], px += pixels[s];
+    st.weighted_strokes += ink / px;  // px > 0: every segment of a shown stroke has pixels
+  }
   if (st.length_px > 0) st.boundary = boundary / st.length_px, st.flat = flat / st.length_px, st.valley = valley / st.length_px;
   if (st.strokes > 0) st.mean_stroke_px = st.length_px / double(st.strokes);
+  if (st.weighted_strokes > 0) st.weighted_mean_stroke_px = st.length_px / st.weighted_strokes;
   return st;
 }
 

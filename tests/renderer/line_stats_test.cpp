@@ -159,6 +159,32 @@ TEST(LineStats, FlickerCountsWhatAppearsOrVanishes) {
   EXPECT_EQ(flicker({{1, 1, 1, 1}}, {px}), 0.0);
 }
 
+// Strokes counted as their length is, by opacity: a chain of nine 10 px segments with
+// segment 4 left out is two strokes of 40 px; the second fades in, its upper half at half
+// opacity. Length 40 + 30 = 70 px in 2 strokes (35 px); weighted, 1 + 0.75 strokes of
+// 40 px, as a fully drawn copy of the same picture would give.
+TEST(LineStats, StrokesWeightedByOpacityAsTheirLengthIs) {
+  const CreaseGeometry g = chain(9);
+  const SegmentTraits t{std::vector<std::uint8_t>(9, 0), std::vector<std::uint8_t>(9, 0), std::vector<std::uint8_t>(9, 1)};
+  const std::vector<double> px(9, 10.0);
+  const LineStats st = line_stats(g, t, {1, 1, 1, 1, 0, 0.5f, 0.5f, 1, 1}, px);
+  EXPECT_DOUBLE_EQ(st.length_px, 70.0);
+  EXPECT_EQ(st.strokes, 2u);
+  EXPECT_DOUBLE_EQ(st.mean_stroke_px, 35.0);
+  EXPECT_DOUBLE_EQ(st.weighted_strokes, 1.75);
+  EXPECT_DOUBLE_EQ(st.weighted_mean_stroke_px, 40.0);
+  // Opacities 0 or 1: the same as the plain count.
+  const LineStats full = line_stats(g, t, {1, 1, 1, 1, 0, 1, 1, 1, 1}, px);
+  EXPECT_DOUBLE_EQ(full.weighted_strokes, 2.0);
+  EXPECT_DOUBLE_EQ(full.weighted_mean_stroke_px, full.mean_stroke_px);
+  // A hidden segment (no pixels) splits a stroke, and no stroke of it is counted.
+  std::vector<double> hidden = px;
+  hidden[1] = 0;
+  const LineStats split = line_stats(g, t, {1, 1, 1, 1, 0, 1, 1, 1, 1}, hidden);
+  EXPECT_EQ(split.strokes, 3u);
+  EXPECT_DOUBLE_EQ(split.weighted_strokes, 3.0);
+}
+
 // A V-shaped valley with a sloping floor (z = 0.3 |x| + 0.05 y, 10 m samples): its creases
 // (every link draining at least 30 points, every segment accepted) lie on the valley axis,
 // all of them in concave ground: valley share 1; none on the planar sides.

@@ -121,6 +121,10 @@ TEST(TerrainRender, LineStats) {
     }
     EXPECT_GE(value(r->out, "crease strokes"), 1.0);
     EXPECT_LE(value(r->out, "crease strokes"), value(r->out, "crease segments drawn"));  // a stroke has a segment
+    // Each stroke weighs its mean opacity, in (0, 1].
+    EXPECT_GT(value(r->out, "crease strokes, opacity-weighted"), 0.0);
+    EXPECT_LE(value(r->out, "crease strokes, opacity-weighted"), value(r->out, "crease strokes") + 0.05);
+    EXPECT_GE(value(r->out, "crease mean stroke px, opacity-weighted"), value(r->out, "crease mean stroke px") - 0.1);
   }
   EXPECT_GT(value(seed.out, "crease boundary share"), value(ours.out, "crease boundary share"));
   // Silhouettes: the piece rule only removes or fades pieces.
@@ -144,7 +148,7 @@ TEST(TerrainRender, LineStats) {
   all << t.rdbuf();
   EXPECT_EQ(lines(all.str()), 4u) << all.str();
   EXPECT_EQ(all.str().rfind("frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px,"
-                            "silhouette_px,silhouette_pieces\n",
+                            "silhouette_px,silhouette_pieces,weighted_strokes,weighted_mean_stroke_px\n",
                             0),
             0u);
   const double f = value(b.out, "crease flicker");

@@ -53,6 +53,11 @@ struct LineStats {
   double boundary = 0, flat = 0, valley = 0;  // shares of length_px
   std::size_t strokes = 0;
   double mean_stroke_px = 0;                  // length_px / strokes
+  // The strokes counted as their length is, by opacity: each stroke by the mean opacity
+  // of its pixels (sum of opacity x pixels over its pixels), so a stroke fading in at
+  // half opacity is half a stroke of half its ink; with opacities 0 or 1, strokes.
+  double weighted_strokes = 0;
+  double weighted_mean_stroke_px = 0;  // length_px / weighted_strokes
 };
 // `drawn`: #S opacity in [0, 1] (accepted_segments as 0 / 1); `pixels`: #S drawn length
 // (segment_pixels, times visible_fraction for the lines left after hidden-line removal).
