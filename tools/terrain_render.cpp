@@ -131,6 +131,11 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
                   "lines only)")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
+  app->add_option("--pel-smooth", o.style.pel_smooth,
+                  "PELs: smooth the lines, whose crossings of the mesh zigzag from face to face, with this many "
+                  "Laplacian steps along them (0: as extracted; anti-aliased lines only)")
+      ->check(CLI::Range(0, 16))
+      ->capture_default_str();
   app->add_option("--layers", o.layers,
                   "Layers to composite: shaded or mask, creases, silhouettes (Toward/Away) or silhouettes-adjacency "
                   "(the Adjacency method), pels, edges (comma list; pels need a mesh from denoise-normals)")

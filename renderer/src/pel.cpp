@@ -120,6 +120,54 @@ bool s_positive(const PelFields& p, std::uint32_t v) { return (p.s[v] == 0.0f ? 
 
 }  // namespace
 
+void smooth_pels(const terrain::GridTopology& topo, const PelFields& p, PelSegments& segments, int iterations) {
+  constexpr std::uint32_t none = 0xFFFFFFFFu;
+  std::vector<std::uint32_t> seg_of_face(topo.n_faces(), none);
+  for (std::size_t k = 0; k < segments.size(); ++k) seg_of_face[segments.faces[k]] = std::uint32_t(k);
+  // The index among face g's crossings (0, 1) of the crossing on edge {u, v}; -1: none.
+  auto crossing_index = [&](std::size_t g, std::uint32_t u, std::uint32_t v) {
+    const auto t = topo.face(g);
+    int n = 0;
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = t[std::size_t(e)], b = t[std::size_t((e + 1) % 3)];
+      if (s_positive(p, a) == s_positive(p, b)) continue;
+      if ((a == u && b == v) || (a == v && b == u)) return n;
+      ++n;
+    }
+    return -1;
+  };
+  // The end of the line beyond each segment end: 2 x #S indices into points, or none.
+  std::vector<std::uint32_t> beyond(segments.points.size(), none);
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    const std::size_t f = segments.faces[k];
+    const auto t = topo.face(f);
+    int j = 0;
+    for (int e = 0; e < 3 && j < 2; ++e) {
+      const std::uint32_t a = t[std::size_t(e)], b = t[std::size_t((e + 1) % 3)];
+      if (s_positive(p, a) == s_positive(p, b)) continue;
+      const std::size_t g = topo.face_across(f, (e + 2) % 3);  // across edge (t[e], t[e + 1])
+      if (g != terrain::GridTopology::kNoFace && seg_of_face[g] != none) {
+        const int i = crossing_index(g, a, b);
+        if (i >= 0) beyond[2 * k + std::size_t(j)] = 2 * seg_of_face[g] + std::uint32_t(1 - i);
+      }
+      ++j;
+    }
+  }
+  std::vector<Eigen::Vector3f> next(segments.points.size());
+  for (int it = 0; it < iterations; ++it) {
+    const auto& pts = segments.points;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      if (beyond[i] == none) {
+        next[i] = pts[i];
+        continue;
+      }
+      const Eigen::Vector3f mid = 0.5f * (pts[i ^ 1u] + pts[beyond[i]]);
+      next[i] = pts[i] + 0.5f * (mid - pts[i]);
+    }
+    segments.points.swap(next);
+  }
+}
+
 PelPieces pel_pieces(const terrain::GridTopology& topo, const PelFields& p, const PelSegments& segments) {
   const std::size_t nf = topo.n_faces();
   constexpr std::uint32_t none = 0xFFFFFFFFu;

@@ -45,6 +45,7 @@ void check_inputs(const terrain::GridMesh& mesh, int width, int height, const La
     throw terrain::Error("shortest crease stroke must be in [0, 100] mesh spacings");
   if (!(style.pel_min_length >= 0 && style.pel_min_length <= 100))
     throw terrain::Error("shortest PEL piece must be in [0, 100] mesh spacings");
+  if (!(style.pel_smooth >= 0 && style.pel_smooth <= 16)) throw terrain::Error("PEL smoothing must be 0 to 16 iterations");
   if (!(style.crease_angle >= 0 && style.crease_angle <= 180))
     throw terrain::Error("crease angle must be in [0, 180] degrees");
   if (layers.pels && mesh.voronoi.empty())
@@ -88,7 +89,7 @@ struct TerrainRenderer::Impl {
         ids(scene, layers.adjacency, id_capacity(width, height)),
         creases(scene, creases, layers.creases, style.antialias),
         pels(scene, mesh, layers.pels, style.pel_width, style.antialias,
-             style.pel_min_length * std::min(mesh.geo.dx, mesh.geo.dy)),
+             style.pel_min_length * std::min(mesh.geo.dx, mesh.geo.dy), style.pel_smooth),
         edges(scene, layers.edges, style),
         silhouettes(scene, layers.silhouettes, style.antialias ? style.silhouette_min_length * height : 0.0,
                     layers.adjacency ? &ids : nullptr,

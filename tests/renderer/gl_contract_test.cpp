@@ -30,7 +30,8 @@ const std::map<std::string, int> kStorageBlocks = {
     {"EdgeList", TR_SSBO_EDGE_LIST},             {"VertexEdges", TR_SSBO_VERTEX_EDGES},
     {"CreaseChains", TR_SSBO_CREASE_CHAINS},     {"Opacity", TR_SSBO_CREASE_OPACITY},
     {"PieceLabels", TR_SSBO_PIECE_LABELS},       {"PieceSizes", TR_SSBO_PIECE_SIZES},
-    {"PieceList", TR_SSBO_PIECE_LIST},           {"FaceSegments", TR_SSBO_PEL_FACE_SEGMENTS}};
+    {"PieceList", TR_SSBO_PIECE_LIST},           {"FaceSegments", TR_SSBO_PEL_FACE_SEGMENTS},
+    {"PelSmoothed", TR_SSBO_PEL_SMOOTHED}};
 const std::map<std::string, int> kSamplers = {
     {"u_toward", TR_TEX_TOWARD_DEPTH},       {"u_away", TR_TEX_AWAY_DEPTH},
     {"u_surface_colour", TR_TEX_SURFACE_COLOUR}, {"u_crease", TR_TEX_CREASE_COLOUR},

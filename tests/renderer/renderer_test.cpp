@@ -923,8 +923,10 @@ TEST(RendererGl, PelSegmentsMatchCpu) {
   }
 }
 
-// With anti-aliased lines the GPU's PEL pieces give each segment the opacity of the CPU
-// rule (pel_pieces, pel_piece_opacity) on the CPU's segments, face by face.
+// With anti-aliased lines the GPU smooths the PELs (smooth_pels, 3 iterations) and its
+// pieces give each segment the opacity of the CPU rule (pel_pieces, pel_piece_opacity) on
+// the CPU's smoothed segments, face by face; the smoothed ends are the CPU's within 1e-4 of
+// the mesh's extent, and they moved (the zigzag is gone).
 TEST(RendererGl, PelPiecesFollowTheCpuRule) {
   const terrain::GridMesh mesh = msh_pel_mesh();
   renderer::GlContext ctx;
@@ -938,24 +940,34 @@ TEST(RendererGl, PelPiecesFollowTheCpuRule) {
   r.render(fp);
   const auto gpu = r.read_pels();
   const auto fields = renderer::pel_fields(mesh, terrain::light_direction(135, 40));
-  const auto cpu = renderer::extract_pels(mesh, fields, fp.pel.threshold);
+  const auto raw = renderer::extract_pels(mesh, fields, fp.pel.threshold);
+  auto cpu = raw;
+  ASSERT_EQ(style.pel_smooth, 3);
+  renderer::smooth_pels(mesh.topo, fields, cpu, style.pel_smooth);
   const auto cpu_opacity = renderer::pel_piece_opacity(renderer::pel_pieces(mesh.topo, fields, cpu),
                                                        8 * std::min(mesh.geo.dx, mesh.geo.dy));
-  std::map<std::uint32_t, float> by_face;
+  double scale = 0;
+  for (std::size_t i = 0; i < mesh.n_vertices(); ++i) scale = std::max(scale, double(mesh.positions[i].norm()));
+  std::map<std::uint32_t, std::size_t> by_face;
   std::size_t dropped = 0, faded = 0, full = 0;
   for (std::size_t i = 0; i < cpu.size(); ++i) {
-    by_face[cpu.faces[i]] = cpu_opacity[i];
+    by_face[cpu.faces[i]] = i;
     dropped += cpu_opacity[i] == 0.0f, full += cpu_opacity[i] == 1.0f;
   }
   faded = cpu.size() - dropped - full;
-  std::size_t matched = 0, same = 0;
+  std::size_t matched = 0, same = 0, at = 0, moved = 0;
   for (const auto& sg : gpu) {
     const auto it = by_face.find(sg.face);
     if (it == by_face.end()) continue;
+    const std::size_t i = it->second;
     ++matched;
-    same += std::abs(sg.opacity - it->second) <= 0.01f;
+    same += std::abs(sg.opacity - cpu_opacity[i]) <= 0.01f;
+    at += std::max((sg.a - cpu.points[2 * i]).norm(), (sg.b - cpu.points[2 * i + 1]).norm()) <= 1e-4 * scale;
+    moved += std::max((sg.a - raw.points[2 * i]).norm(), (sg.b - raw.points[2 * i + 1]).norm()) > 1e-3 * scale;
   }
   EXPECT_GE(double(matched), 0.995 * double(gpu.size()));
+  EXPECT_GE(double(at), 0.995 * double(matched));
+  EXPECT_GT(double(moved), 0.5 * double(matched));
   EXPECT_GE(double(same), 0.99 * double(matched)) << "dropped " << dropped << " faded " << faded << " full " << full;
   EXPECT_GT(dropped, 20u);
   EXPECT_GT(faded, 20u);

@@ -101,6 +101,10 @@ struct Style {
   // PEL piece shorter than this on the mesh fades out, to nothing at half of it; 0 keeps
   // every piece.
   double pel_min_length = 4.0;
+  // PEL smoothing (anti-aliased lines only; renderer::smooth_pels): iterations of a
+  // Laplacian step along the lines, whose crossings zigzag from face to face; 0: as
+  // extracted.
+  int pel_smooth = 3;
   // Object-space edges: which kinds (EdgeKind bits of feature_edges.hpp), the crease angle
   // (degrees between the two face normals; 0 = every bend), the joins, width and colour.
   std::uint8_t edge_kinds = 7;    // contour | boundary | crease

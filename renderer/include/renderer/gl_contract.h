@@ -61,6 +61,7 @@
 #define TR_SSBO_PIECE_SIZES 24
 #define TR_SSBO_PIECE_LIST 25
 #define TR_SSBO_PEL_FACE_SEGMENTS 26
+#define TR_SSBO_PEL_SMOOTHED 27
 
 /* Crease strokes: "no segment" in the chains (renderer::kNoSegment), and how many
    segments a stroke's run is followed each way (renderer::kStrokeReach). */

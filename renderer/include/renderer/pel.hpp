@@ -40,6 +40,18 @@ struct PelSegments {
 // The PEL segments of `fields` with normalized strength above `tau`.
 PelSegments extract_pels(const terrain::GridMesh& mesh, const PelFields& fields, double tau);
 
+// Smoothed PEL lines (anti-aliased lines; Style::pel_smooth). The crossings of s with the
+// mesh's edges follow the noise of the fields, and the lines zigzag from face to face (MSH
+// 10 m: 25 degrees between consecutive segments on average). Per iteration, each end of
+// a segment that continues into the face across its edge (the edge of its crossing, where
+// that face has a segment) moves halfway to the midpoint of its two neighbours on the line:
+// the segment's other end and the far end of the segment across (a Laplacian step with
+// lambda 1/2, which cancels a zigzag of period two at once). Ends of lines stay, and both
+// copies of a shared point (one per face) move alike, so lines stay joined. End j of a
+// segment lies on its face's j-th edge (t[e], t[e + 1]) that s crosses, in e order, as
+// extract_pels writes them. The GPU runs the same steps (pel_pieces.comp.glsl).
+void smooth_pels(const terrain::GridTopology& topo, const PelFields& fields, PelSegments& segments, int iterations);
+
 // Pieces of PEL: segments in faces that share an edge which s crosses join (each carries
 // the line across that edge), so every piece is a polyline or a closed loop on the mesh.
 // piece: #S, the piece of each segment (0 .. #pieces - 1, numbered in face order);

@@ -133,11 +133,12 @@ class CreasePass : public PassBase {
 // PEL: per-vertex fields, zero-crossing segments (indirect draw), drawn as quads.
 class PelPass : public PassBase {
  public:
-  // Enabled: the mesh must carry its Voronoi weights. piece_min_m > 0 (anti-aliased
-  // lines): the piece rule (pel_pieces.comp.glsl, renderer::pel_piece_opacity) gives each
-  // segment the opacity of its piece's length against it.
+  // Enabled: the mesh must carry its Voronoi weights. With anti-aliased lines, `smooth`
+  // iterations smooth the lines (renderer::smooth_pels), then, piece_min_m > 0, the piece
+  // rule (pel_pieces.comp.glsl, renderer::pel_piece_opacity) gives each segment the
+  // opacity of its piece's length against it.
   PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width, bool antialias,
-          double piece_min_m);
+          double piece_min_m, int smooth);
   bool active() const { return enabled_; }
   std::size_t segments_drawn() const;
   // The segments of the last frame: 12 floats each (a xyz, face bits, b xyz, opacity,
@@ -152,8 +153,9 @@ class PelPass : public PassBase {
   const SceneGpu& s_;
   bool enabled_;
   double width_, piece_min_m_;
+  int smooth_;
   GlObject corner_buf_, varea_buf_, tangent_buf_, field_buf_, maxm_buf_, cmd_buf_, seg_buf_;
-  GlObject face_seg_buf_, labels_buf_, sizes_buf_;  // the piece rule's
+  GlObject face_seg_buf_, labels_buf_, sizes_buf_, smoothed_buf_;  // the piece rule's and the smoothing's
   GlObject field_prog_, extract_prog_, draw_prog_, pieces_prog_;
   LineTarget target_;
 };

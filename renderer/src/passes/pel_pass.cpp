@@ -1,8 +1,9 @@
 // PEL: photic extremum lines (pel.hpp is the CPU reference). Four compute stages over the
 // vertices (pel_fields.comp.glsl: f, grad f and m, s, c), one over the faces that appends
 // the zero-crossing segments and writes an indirect draw command (pel_extract.comp.glsl),
-// with anti-aliased lines four over the segments that find their pieces and opacity
-// (pel_pieces.comp.glsl); the segments are drawn like creases (pel.vert.glsl).
+// with anti-aliased lines stages over the segments that smooth the lines and find their
+// pieces and opacity (pel_pieces.comp.glsl); the segments are drawn like creases
+// (pel.vert.glsl).
 #include <algorithm>
 
 #include "passes.hpp"
@@ -12,12 +13,13 @@
 namespace renderer::passes {
 
 PelPass::PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width, bool antialias,
-                 double piece_min_m)
+                 double piece_min_m, int smooth)
     : PassBase(PEL),
       s_(scene),
       enabled_(enabled),
       width_(width),
       piece_min_m_(enabled && antialias ? std::max(0.0, piece_min_m) : 0.0),
+      smooth_(enabled && antialias ? std::max(0, smooth) : 0),
       target_(scene, antialias) {
   if (enabled_) {
     corner_buf_ = make_buffer(mesh.n_faces() * sizeof(Eigen::Vector3f), mesh.voronoi.corner_areas.data(), 0);
@@ -31,7 +33,8 @@ PelPass::PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enab
     extract_prog_ = build_program(ProgramId::PelExtract);
     draw_prog_ = build_program(ProgramId::PelDraw);
   }
-  if (piece_min_m_ > 0) {
+  if (smooth_ > 0) smoothed_buf_ = make_buffer(mesh.n_faces() * 32, nullptr, 0);
+  if (piece_min_m_ > 0 || smooth_ > 0) {
     face_seg_buf_ = make_buffer(mesh.n_faces() * 4, nullptr, 0);
     labels_buf_ = make_buffer(mesh.n_faces() * 4, nullptr, 0);
     sizes_buf_ = make_buffer(mesh.n_faces() * 4, nullptr, 0);
@@ -71,7 +74,7 @@ void PelPass::execute(const FrameInputs& in) {
   glProgramUniform1f(ep, TR_LOC_PEL_TAU, float(in.frame.pel.threshold));
   glDispatchCompute(dispatch_groups_x(nf), dispatch_groups_y(nf), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
-  if (piece_min_m_ > 0) pieces();
+  if (piece_min_m_ > 0 || smooth_ > 0) pieces();
   glProgramUniform1f(draw_prog_.id(), TR_LOC_PEL_WIDTH, float(width_));
   target_.draw_indirect(s_, draw_prog_, cmd_buf_);
 }
@@ -84,14 +87,19 @@ void PelPass::pieces() const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PEL_FACE_SEGMENTS, face_seg_buf_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_LABELS, labels_buf_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_SIZES, sizes_buf_.id());
+  if (smooth_ > 0) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PEL_SMOOTHED, smoothed_buf_.id());
   const GLuint p = pieces_prog_.id();
   glUseProgram(p);
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, cmd_buf_.id());
-  for (int stage = 0; stage <= 3; ++stage) {
-    glProgramUniform1i(p, TR_LOC_PIECE_STAGE, stage);
+  auto stage = [p](int s) {
+    glProgramUniform1i(p, TR_LOC_PIECE_STAGE, s);
     glDispatchComputeIndirect(16);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-  }
+  };
+  stage(0);  // the segment of each face
+  for (int i = 0; i < smooth_; ++i) stage(4), stage(5);
+  if (piece_min_m_ > 0)
+    for (int s = 1; s <= 3; ++s) stage(s);
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
 }
 
