@@ -71,6 +71,6 @@ void main() {
         if (da < far_of(texelFetch(u_id_depth, q, 0).r) && !share_a_vertex(a, b)) s = 1.0;
       }
   }
-  if (s > 0.0) list_silhouette_pixel(p, size);
+  if (s > 0.0) list_silhouette_pixel(p, size), mark_silhouette_tile(p);
   o_mask = vec4(s);
 }

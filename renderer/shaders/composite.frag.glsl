@@ -11,6 +11,7 @@ layout(binding = TR_TEX_SURFACE_COLOUR) uniform sampler2D u_surface_colour;
 layout(binding = TR_TEX_CREASE_COLOUR) uniform sampler2D u_crease;
 layout(binding = TR_TEX_CREASE_DEPTH) uniform sampler2D u_crease_depth;
 layout(binding = TR_TEX_SILHOUETTE) uniform sampler2D u_silhouette;
+layout(binding = TR_TEX_SILHOUETTE_TILES) uniform sampler2D u_silhouette_tiles;
 layout(location = TR_LOC_LAYERS) uniform ivec4 u_layers;  // shaded, mask, creases, silhouettes
 layout(location = TR_LOC_BACKGROUND) uniform vec3 u_background;
 layout(location = TR_LOC_MASK_COLOUR) uniform vec3 u_mask_colour;
@@ -75,8 +76,14 @@ float band_cover(float sw, vec2 m, vec3 mom, float near_d, float r) {
 }
 
 float silhouette_band(ivec2 p, ivec2 size, float r) {
-  // No coverage beyond r + 1.5 px of every silhouette pixel: look there first.
+  // No coverage beyond r + 1.5 px of every silhouette pixel: look there first, in the
+  // tiles that SIL marked, then in the pixels.
   int reach = int(r + 1.5);
+  ivec2 t0 = max(p - reach, ivec2(0)) / TR_SILHOUETTE_TILE, t1 = min(p + reach, size - 1) / TR_SILHOUETTE_TILE;
+  bool any_tile = false;
+  for (int ty = t0.y; ty <= t1.y && !any_tile; ++ty)
+    for (int tx = t0.x; tx <= t1.x && !any_tile; ++tx) any_tile = texelFetch(u_silhouette_tiles, ivec2(tx, ty), 0).r > 0.0;
+  if (!any_tile) return 0.0;
   bool any_near = false;
   for (int dy = -reach; dy <= reach && !any_near; ++dy)
     for (int dx = -reach; dx <= reach && !any_near; ++dx)

@@ -43,6 +43,6 @@ void main() {
       }
     s = n >= 3;
   }
-  if (s) list_silhouette_pixel(p, size);
+  if (s) list_silhouette_pixel(p, size), mark_silhouette_tile(p);
   o_mask = vec4(s ? 1.0 : 0.0);
 }

@@ -8,6 +8,10 @@ layout(std430, binding = TR_SSBO_PIECE_LIST) buffer PieceList {
   uint piece_pixel[];  // pixel index y * width + x, window rows (0 at the bottom)
 };
 layout(location = TR_LOC_PIECE_MIN) uniform float u_piece_min;
+layout(binding = TR_IMG_SILHOUETTE_TILES, r8) uniform writeonly image2D u_tiles;
+
+// Marks the tile of silhouette pixel p (LAY's search for silhouettes near a pixel).
+void mark_silhouette_tile(ivec2 p) { imageStore(u_tiles, p / TR_SILHOUETTE_TILE, vec4(1.0)); }
 
 void list_silhouette_pixel(ivec2 p, ivec2 size) {
   if (!(u_piece_min > 0.0)) return;

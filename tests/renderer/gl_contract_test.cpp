@@ -38,8 +38,10 @@ const std::map<std::string, int> kSamplers = {
     {"u_crease_depth", TR_TEX_CREASE_DEPTH}, {"u_silhouette", TR_TEX_SILHOUETTE},
     {"u_pel", TR_TEX_PEL_COLOUR},            {"u_pel_depth", TR_TEX_PEL_DEPTH},
     {"u_ids", TR_TEX_TRIANGLE_ID},           {"u_id_depth", TR_TEX_ID_DEPTH},
-    {"u_edge", TR_TEX_EDGE_COLOUR},          {"u_edge_depth", TR_TEX_EDGE_DEPTH}};
-const std::map<std::string, int> kImages = {{"u_opacity", TR_IMG_SILHOUETTE_OPACITY}};
+    {"u_edge", TR_TEX_EDGE_COLOUR},          {"u_edge_depth", TR_TEX_EDGE_DEPTH},
+    {"u_silhouette_tiles", TR_TEX_SILHOUETTE_TILES}};
+const std::map<std::string, int> kImages = {{"u_opacity", TR_IMG_SILHOUETTE_OPACITY},
+                                            {"u_tiles", TR_IMG_SILHOUETTE_TILES}};
 const std::map<std::string, int> kUniformLocations = {
     {"u_mode", TR_LOC_SURFACE_MODE},
     {"u_layers", TR_LOC_LAYERS},
@@ -164,8 +166,8 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
   EXPECT_EQ(computes, 8u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 16u);  // silhouette 2, composite 9, adjacency 2, crease and PEL draws 1 each, pieces 1
-  EXPECT_EQ(images, 1u);     // pieces
+  EXPECT_EQ(samplers, 17u);  // silhouette 2, composite 10, adjacency 2, crease and PEL draws 1 each, pieces 1
+  EXPECT_EQ(images, 3u);     // pieces (opacity), silhouette and adjacency (tiles)
   EXPECT_GE(locations, 14u);
 }
 

@@ -53,7 +53,9 @@ SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece
       extent_(extent),
       mask_(make_texture(GL_R8, scene.width, scene.height)),
       fbo_(make_framebuffer(&mask_, nullptr)),
-      prog_(build_program(ids ? ProgramId::Adjacency : ProgramId::Silhouette)) {
+      prog_(build_program(ids ? ProgramId::Adjacency : ProgramId::Silhouette)),
+      tiles_(make_texture(GL_R8, (scene.width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE,
+                          (scene.height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE)) {
   glProgramUniform1f(prog_.id(), TR_LOC_PIECE_MIN, float(piece_min_px_));
   if (piece_min_px_ <= 0) return;
   const std::size_t n = std::size_t(scene.width) * std::size_t(scene.height);
@@ -93,6 +95,8 @@ void SilhouettePass::pieces() const {
 void SilhouettePass::draw(double pixel_angle) const {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glUseProgram(prog_.id());
+  glClearTexImage(tiles_.id(), 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
+  glBindImageTexture(TR_IMG_SILHOUETTE_TILES, tiles_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
   if (piece_min_px_ > 0) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_LABELS, labels_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_SIZES, sizes_.id());
@@ -110,6 +114,7 @@ void SilhouettePass::draw(double pixel_angle) const {
   }
   glBindVertexArray(s_.empty_vao.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }
 
 void SilhouettePass::execute(const FrameInputs& in) {
@@ -168,6 +173,7 @@ void CompositePass::execute(const FrameInputs&) {
   glBindTextureUnit(TR_TEX_CREASE_COLOUR, creases_.colour().id());
   glBindTextureUnit(TR_TEX_CREASE_DEPTH, creases_.depth().id());
   glBindTextureUnit(TR_TEX_SILHOUETTE, silhouettes_.opacity().id());
+  glBindTextureUnit(TR_TEX_SILHOUETTE_TILES, silhouettes_.tiles().id());
   glBindTextureUnit(TR_TEX_PEL_COLOUR, pels_.colour().id());
   glBindTextureUnit(TR_TEX_PEL_DEPTH, pels_.depth().id());
   glProgramUniform3fv(p, TR_LOC_PEL_COLOUR, 1, style_.pel_colour.data());

@@ -215,6 +215,8 @@ class SilhouettePass : public PassBase {
   const GlObject& mask() const { return mask_; }
   // What LAY draws: each pixel's opacity (the mask itself without the piece rule).
   const GlObject& opacity() const { return piece_min_px_ > 0 ? opacity_ : mask_; }
+  // 1 in each tile of TR_SILHOUETTE_TILE^2 pixels that holds a silhouette pixel.
+  const GlObject& tiles() const { return tiles_; }
   // Mesa llvmpipe reports a meaningless time for the first GL_TIME_ELAPSED query of a
   // context that has drawn nothing yet: one small timed draw first.
   void warm_up_timer() const;
@@ -230,7 +232,7 @@ class SilhouettePass : public PassBase {
   const TriangleIdPass* ids_;
   double tolerance_;
   Eigen::Vector4f extent_;  // the mesh's local extent: xmin, ymin, xmax, ymax
-  GlObject mask_, fbo_, prog_;
+  GlObject mask_, fbo_, prog_, tiles_;
   GlObject opacity_, labels_, sizes_, list_, pieces_prog_;  // the piece rule (piece_min_px > 0)
 };
 
