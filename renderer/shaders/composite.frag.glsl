@@ -60,12 +60,27 @@ float silhouette_at(ivec2 q, ivec2 size) {
   return any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)) ? 0.0 : texelFetch(u_silhouette, q, 0).r;
 }
 
+// The weighted moments of window pixels: total weight, first moment, second moments (xx,
+// xy, yy); each pixel v (offset from the centre) weighs its opacity o times a Gaussian of
+// its distance (sigma 1.5 px).
+struct Moments {
+  float sw;
+  vec2 m;
+  vec3 mom;
+};
+void add_pixel(inout Moments a, vec2 v, float o) {
+  float w = o * exp(-dot(v, v) / 4.5);
+  a.sw += w;
+  a.m += w * v;
+  a.mom += w * vec3(v.x * v.x, v.x * v.y, v.y * v.y);
+}
+
 // The coverage of the window's centre by a band of half-width r about the line that pixels
-// of total weight sw, first moment m and second moments mom (xx, xy, yy) follow; a disc
-// about their nearest pixel (near_d away) where they follow no line.
-float band_cover(float sw, vec2 m, vec3 mom, float near_d, float r) {
-  m /= sw;
-  float cxx = mom.x / sw - m.x * m.x, cxy = mom.y / sw - m.x * m.y, cyy = mom.z / sw - m.y * m.y;
+// of moments a follow; a disc about their nearest pixel (near_d away) where they follow no
+// line.
+float band_cover(Moments a, float near_d, float r) {
+  vec2 m = a.m / a.sw;
+  float cxx = a.mom.x / a.sw - m.x * m.x, cxy = a.mom.y / a.sw - m.x * m.y, cyy = a.mom.z / a.sw - m.y * m.y;
   float disc = sqrt((cxx - cyy) * (cxx - cyy) + 4.0 * cxy * cxy);
   float l1 = 0.5 * (cxx + cyy + disc), l2 = 0.5 * (cxx + cyy - disc);
   if (!(l1 > 0.0 && l2 < 0.3 * l1)) return clamp(r + 0.5 - near_d, 0.0, 1.0);
@@ -73,6 +88,17 @@ float band_cover(float sw, vec2 m, vec3 mom, float near_d, float r) {
   vec2 n = vec2(-sin(th), cos(th));
   float s = -dot(m, n);  // the centre's signed distance from the line
   return pixel_share_below(r - s, n) - pixel_share_below(-r - s, n);
+}
+
+// The nearest window pixel so far (squared distance, opacity, bit position dx + win, dy +
+// win): pixel d with opacity o replaces it when nearer, or as near and more opaque.
+struct Nearest {
+  float d2, o;
+  ivec2 seed;
+};
+void take_nearer(inout Nearest a, ivec2 d, float o, int win) {
+  float d2 = float(d.x * d.x + d.y * d.y);
+  if (d2 < a.d2 || (d2 == a.d2 && o > a.o)) a = Nearest(d2, o, d + win);
 }
 
 float silhouette_band(ivec2 p, ivec2 size, float r) {
@@ -90,49 +116,33 @@ float silhouette_band(ivec2 p, ivec2 size, float r) {
       any_near = float(dx * dx + dy * dy) < (r + 1.5) * (r + 1.5) && silhouette_at(p + ivec2(dx, dy), size) > 0.0;
   if (!any_near) return 0.0;
   int win = min(max(3, reach), SIL_MAX_WIN), n = 2 * win + 1;
-  // The window's silhouette pixels: a bit mask per row (bit dx + win of row dy + win), the
+  // The window's silhouette pixels, a bit mask per row (bit dx + win of row dy + win), the
   // moments of them all, and the nearest.
   uint rows[SIL_ROWS];
-  float sw = 0.0, near2 = 1e9, near_o = 0.0;
-  vec2 m = vec2(0.0);
-  vec3 mom = vec3(0.0);
-  ivec2 seed = ivec2(0);
+  Moments all = Moments(0.0, vec2(0.0), vec3(0.0));
+  Nearest near = Nearest(1e9, 0.0, ivec2(0));
   for (int dy = -win; dy <= win; ++dy) {
     uint bits = 0u;
     for (int dx = -win; dx <= win; ++dx) {
       float o = silhouette_at(p + ivec2(dx, dy), size);
       if (!(o > 0.0)) continue;
       bits |= 1u << uint(dx + win);
-      vec2 v = vec2(dx, dy);
-      float d2 = dot(v, v), w = o * exp(-d2 / 4.5);
-      sw += w;
-      m += w * v;
-      mom += w * vec3(v.x * v.x, v.x * v.y, v.y * v.y);
-      if (d2 < near2 || (d2 == near2 && o > near_o)) {
-        near2 = d2;
-        near_o = o;
-        seed = ivec2(dx, dy) + win;
-      }
+      add_pixel(all, vec2(dx, dy), o);
+      take_nearer(near, ivec2(dx, dy), o, win);
     }
     rows[dy + win] = bits;
   }
   float sum = 0.0;
   for (int line = 0; line < 3; ++line) {
     if (line > 0) {  // the nearest pixel not yet taken
-      near2 = 1e9;
+      near = Nearest(1e9, 0.0, ivec2(0));
       for (int dy = -win; dy <= win; ++dy)
-        for (int dx = -win; dx <= win; ++dx) {
-          float d2 = float(dx * dx + dy * dy);
-          if ((rows[dy + win] & (1u << uint(dx + win))) == 0u || d2 > near2) continue;
-          float o = silhouette_at(p + ivec2(dx, dy), size);
-          if (d2 < near2 || o > near_o) {
-            near2 = d2;
-            near_o = o;
-            seed = ivec2(dx, dy) + win;
-          }
-        }
+        for (int dx = -win; dx <= win; ++dx)
+          if ((rows[dy + win] & (1u << uint(dx + win))) != 0u && float(dx * dx + dy * dy) <= near.d2)
+            take_nearer(near, ivec2(dx, dy), silhouette_at(p + ivec2(dx, dy), size), win);
     }
-    float near_d = sqrt(near2);
+    float near_d = sqrt(near.d2), near_o = near.o;
+    ivec2 seed = near.seed;
     if (near_d >= r + 1.5) break;  // none left within reach
     // Its line: the pixels 8-connected to it within the window (a flood fill of the masks).
     uint comp[SIL_ROWS];
@@ -151,26 +161,19 @@ float silhouette_band(ivec2 p, ivec2 size, float r) {
         }
       }
     }
-    bool whole = true;  // the line is every pixel left: its moments are those summed above
+    bool whole = true;  // the line is every pixel left: its moments are those of them all
     for (int j = 0; j < n; ++j) {
       whole = whole && comp[j] == rows[j];
       rows[j] &= ~comp[j];
     }
+    Moments own = all;
     if (!whole || line > 0) {
-      sw = 0.0;
-      m = vec2(0.0);
-      mom = vec3(0.0);
+      own = Moments(0.0, vec2(0.0), vec3(0.0));
       for (int dy = -win; dy <= win; ++dy)
-        for (int dx = -win; dx <= win; ++dx) {
-          if ((comp[dy + win] & (1u << uint(dx + win))) == 0u) continue;
-          vec2 v = vec2(dx, dy);
-          float w = silhouette_at(p + ivec2(dx, dy), size) * exp(-dot(v, v) / 4.5);
-          sw += w;
-          m += w * v;
-          mom += w * vec3(v.x * v.x, v.x * v.y, v.y * v.y);
-        }
+        for (int dx = -win; dx <= win; ++dx)
+          if ((comp[dy + win] & (1u << uint(dx + win))) != 0u) add_pixel(own, vec2(dx, dy), silhouette_at(p + ivec2(dx, dy), size));
     }
-    sum += min(band_cover(sw, m, mom, near_d, r), clamp(r + 1.5 - near_d, 0.0, 1.0)) * near_o;
+    sum += min(band_cover(own, near_d, r), clamp(r + 1.5 - near_d, 0.0, 1.0)) * near_o;
     if (whole) break;
   }
   return min(sum, 1.0);
