@@ -436,6 +436,52 @@ INSTANTIATE_TEST_SUITE_P(SkylineAndOccludingEdge, RidgeSilhouette,
                                   (info.param.antialias ? "Antialiased" : "");
                          });
 
+// The anti-aliased silhouette tests' terrain and view: ridges z = height exp(-(y - yr -
+// k (x - 1000))^2 / 2 s^2), s = 100 m, k = 0.15 (crests about 8.5 degrees off the image's
+// rows), summed, sampled every 20 m (x 0..2000, y -4000..0), seen level looking north from
+// (1000, -3900, 100), fov 30, 320 x 240, silhouettes anti-aliased, black on white.
+struct SlantedRidges {
+  static constexpr int W = 320, H = 240;
+  std::vector<std::pair<double, double>> ridges;  // (yr, height) of each
+  const Vector3d eye{1000, -3900, 100};
+  const double f = 120 / std::tan(15 * std::numbers::pi / 180);  // pixels per unit of slope
+
+  renderer::Style style() const {
+    renderer::Style st = test_style();
+    st.antialias = true;
+    return st;
+  }
+  double z(double x, double y) const {
+    double sum = 0;
+    for (const auto& [yr, height] : ridges) {
+      const double d = y - yr - 0.15 * (x - 1000);
+      sum += height * std::exp(-0.5 * d * d / (100.0 * 100.0));
+    }
+    return sum;
+  }
+  // The row (from the top) of the tangent from the eye to the terrain in image column c,
+  // over distances 100 m to t1 along the column's ray.
+  double tangent_row(double c, double t1) const {
+    const double a = (c + 0.5 - W / 2.0) / f;
+    double best = -1e9;
+    for (double t = 100; t <= t1; t += 0.25) best = std::max(best, (z(eye.x() + a * t, eye.y() + t) - eye.z()) / t);
+    return H / 2.0 - f * best;
+  }
+  // The frame (RGBA) and its silhouette mask.
+  std::pair<renderer::FrameResult, std::vector<std::uint8_t>> render() const {
+    const auto mesh = terrain::test::function_mesh(201, 101, 20, [this](double x, double y) { return z(x, y); });
+    renderer::GlContext ctx;
+    TerrainRenderer r(ctx, mesh, nullptr, W, H, renderer::Layers{false, true, false, true}, style());
+    FrameParams fp;
+    fp.camera.eye = eye;
+    fp.camera.view_az = 0;
+    fp.camera.view_alt = 0;
+    fp.camera.fov = 30;
+    auto res = r.render(fp);
+    return {std::move(res), r.read_buffers().silhouette};
+  }
+};
+
 // Anti-aliased silhouettes are drawn as a band of even width, not as the pixel staircase
 // of the mask: a ridge whose crest runs about 8.5 degrees off the image's rows (z = H
 // exp(-(y - yr - k (x - 1000))^2 / 2 s^2), k = 0.15), seen level from the south below its
@@ -447,31 +493,11 @@ INSTANTIATE_TEST_SUITE_P(SkylineAndOccludingEdge, RidgeSilhouette,
 // every column (the dilation and ring drawn before gave 2.8 px in the columns where the
 // mask steps, 1.85 px on average).
 TEST(RendererGl, AntialiasedSilhouetteIsABandOfEvenWidth) {
-  const double H = 200, s = 100, yr = -3000, k = 0.15, h = 20;
-  auto z = [&](double x, double y) {
-    const double d = y - yr - k * (x - 1000);
-    return H * std::exp(-0.5 * d * d / (s * s));
-  };
-  const auto mesh = terrain::test::function_mesh(201, 101, h, z);  // x 0..2000, y -4000..0
-  renderer::GlContext ctx;
-  renderer::Style style = test_style();
-  style.antialias = true;
-  const int W = 320, Hh = 240;
-  TerrainRenderer r(ctx, mesh, nullptr, W, Hh, renderer::Layers{false, true, false, true}, style);
-  FrameParams fp;
-  const Vector3d eye(1000, -3900, 100);
-  fp.camera.eye = eye;
-  fp.camera.view_az = 0;
-  fp.camera.view_alt = 0;
-  fp.camera.fov = 30;
-  const auto res = r.render(fp);
-  const double f = 120 / std::tan(15 * std::numbers::pi / 180);
-  auto predicted_row = [&](double c) {
-    const double a = (c + 0.5 - W / 2.0) / f;
-    double best = -1e9;
-    for (double t = 100; t <= 3000; t += 0.25) best = std::max(best, (z(eye.x() + a * t, eye.y() + t) - eye.z()) / t);
-    return Hh / 2.0 - f * best;
-  };
+  const SlantedRidges view{.ridges = {{-3000, 200}}};
+  const renderer::FrameResult res = view.render().first;
+  const int W = view.W, Hh = view.H;
+  auto predicted_row = [&](double c) { return view.tangent_row(c, 3000); };
+  const renderer::Style style = view.style();
   const double width = style.silhouette_width + 0.8;
   double sum_ratio = 0, worst = 0;
   int n = 0;
@@ -508,40 +534,16 @@ TEST(RendererGl, AntialiasedSilhouetteIsABandOfEvenWidth) {
 // between got a disc about the nearest pixel, or a band about a line through both, and the
 // columns carried 0.87 of the ink on average, 27 % off at worst (the sliver dotted).
 TEST(RendererGl, AntialiasedSilhouettesCloseTogetherAreTwoBands) {
-  const double H = 200, HB = 323, s = 100, ya = -3000, yb = -2000, k = 0.15, h = 20;
-  auto ridge = [&](double x, double y, double yr, double height) {
-    const double d = y - yr - k * (x - 1000);
-    return height * std::exp(-0.5 * d * d / (s * s));
-  };
-  auto z = [&](double x, double y) { return ridge(x, y, ya, H) + ridge(x, y, yb, HB); };
-  const auto mesh = terrain::test::function_mesh(201, 101, h, z);  // x 0..2000, y -4000..0
-  renderer::GlContext ctx;
-  renderer::Style style = test_style();
-  style.antialias = true;
-  const int W = 320, Hh = 240;
-  TerrainRenderer r(ctx, mesh, nullptr, W, Hh, renderer::Layers{false, true, false, true}, style);
-  FrameParams fp;
-  const Vector3d eye(1000, -3900, 100);
-  fp.camera.eye = eye;
-  fp.camera.view_az = 0;
-  fp.camera.view_alt = 0;
-  fp.camera.fov = 30;
-  const auto res = r.render(fp);
-  const auto mask = r.read_buffers().silhouette;
-  const double f = 120 / std::tan(15 * std::numbers::pi / 180);
-  // The row of the tangent from the eye over distances up to t1 along the column's ray: A's
-  // occluding edge in front of the saddle between the ridges (t < 1400), the skyline over all.
-  auto predicted_row = [&](double c, double t1) {
-    const double a = (c + 0.5 - W / 2.0) / f;
-    double best = -1e9;
-    for (double t = 100; t <= t1; t += 0.25) best = std::max(best, (z(eye.x() + a * t, eye.y() + t) - eye.z()) / t);
-    return Hh / 2.0 - f * best;
-  };
+  const SlantedRidges view{.ridges = {{-3000, 200}, {-2000, 323}}};  // A, and B behind it
+  const auto [res, mask] = view.render();
+  const int W = view.W, Hh = view.H;
+  const renderer::Style style = view.style();
   const double width = style.silhouette_width + 0.8;
   double sum_ratio = 0, worst = 0;
   int n = 0;
   for (int c = 20; c < W - 20; ++c) {
-    const double row_a = predicted_row(c, 1400), row_b = predicted_row(c, 3000);
+    // A's occluding edge in front of the saddle between the ridges (t < 1400), the skyline over all.
+    const double row_a = view.tangent_row(c, 1400), row_b = view.tangent_row(c, 3000);
     ASSERT_GT(row_a - row_b, 2.5) << "column " << c;
     ASSERT_LT(row_a - row_b, 3.5) << "column " << c;
     std::vector<int> rows;
@@ -556,7 +558,7 @@ TEST(RendererGl, AntialiasedSilhouettesCloseTogetherAreTwoBands) {
     for (std::size_t i = 0; i < rows.size(); ++i)
       EXPECT_NEAR(rows[i] + 0.5, i < split ? row_b : row_a, 2.0) << "column " << c << " row " << rows[i];
     const double mid = 0.5 * (rows[split - 1] + rows[split]);  // the gap's middle, a row or a border
-    const double slope = (predicted_row(c + 1, 1400) - predicted_row(c - 1, 1400)) / 2;
+    const double slope = (view.tangent_row(c + 1, 1400) - view.tangent_row(c - 1, 1400)) / 2;
     // The column's ink against two bands' ideal area; each line's ink-weighted centre (the
     // gap's middle row, shared, left out) within 2 px of its predicted row.
     double ink = 0, cover[2] = {0, 0}, moment[2] = {0, 0};
