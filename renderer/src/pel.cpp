@@ -118,12 +118,19 @@ namespace {
 // s as extract_pels reads it: an exact zero counts as +1e-20.
 bool s_positive(const PelFields& p, std::uint32_t v) { return (p.s[v] == 0.0f ? 1e-20f : p.s[v]) > 0; }
 
+constexpr std::uint32_t kNone = 0xFFFFFFFFu;  // no segment, no point, no piece
+
+// The segment of each face (#F), kNone where it has none.
+std::vector<std::uint32_t> segment_of_face(const terrain::GridTopology& topo, const PelSegments& segments) {
+  std::vector<std::uint32_t> seg(topo.n_faces(), kNone);
+  for (std::size_t k = 0; k < segments.size(); ++k) seg[segments.faces[k]] = std::uint32_t(k);
+  return seg;
+}
+
 }  // namespace
 
 void smooth_pels(const terrain::GridTopology& topo, const PelFields& p, PelSegments& segments, int iterations) {
-  constexpr std::uint32_t none = 0xFFFFFFFFu;
-  std::vector<std::uint32_t> seg_of_face(topo.n_faces(), none);
-  for (std::size_t k = 0; k < segments.size(); ++k) seg_of_face[segments.faces[k]] = std::uint32_t(k);
+  const std::vector<std::uint32_t> seg_of_face = segment_of_face(topo, segments);
   // The index among face g's crossings (0, 1) of the crossing on edge {u, v}; -1: none.
   auto crossing_index = [&](std::size_t g, std::uint32_t u, std::uint32_t v) {
     const auto t = topo.face(g);
@@ -137,7 +144,7 @@ void smooth_pels(const terrain::GridTopology& topo, const PelFields& p, PelSegme
     return -1;
   };
   // The end of the line beyond each segment end: 2 x #S indices into points, or none.
-  std::vector<std::uint32_t> beyond(segments.points.size(), none);
+  std::vector<std::uint32_t> beyond(segments.points.size(), kNone);
   for (std::size_t k = 0; k < segments.size(); ++k) {
     const std::size_t f = segments.faces[k];
     const auto t = topo.face(f);
@@ -146,7 +153,7 @@ void smooth_pels(const terrain::GridTopology& topo, const PelFields& p, PelSegme
       const std::uint32_t a = t[std::size_t(e)], b = t[std::size_t((e + 1) % 3)];
       if (s_positive(p, a) == s_positive(p, b)) continue;
       const std::size_t g = topo.face_across(f, (e + 2) % 3);  // across edge (t[e], t[e + 1])
-      if (g != terrain::GridTopology::kNoFace && seg_of_face[g] != none) {
+      if (g != terrain::GridTopology::kNoFace && seg_of_face[g] != kNone) {
         const int i = crossing_index(g, a, b);
         if (i >= 0) beyond[2 * k + std::size_t(j)] = 2 * seg_of_face[g] + std::uint32_t(1 - i);
       }
@@ -157,7 +164,7 @@ void smooth_pels(const terrain::GridTopology& topo, const PelFields& p, PelSegme
   for (int it = 0; it < iterations; ++it) {
     const auto& pts = segments.points;
     for (std::size_t i = 0; i < pts.size(); ++i) {
-      if (beyond[i] == none) {
+      if (beyond[i] == kNone) {
         next[i] = pts[i];
         continue;
       }
@@ -169,13 +176,9 @@ void smooth_pels(const terrain::GridTopology& topo, const PelFields& p, PelSegme
 }
 
 PelPieces pel_pieces(const terrain::GridTopology& topo, const PelFields& p, const PelSegments& segments) {
-  const std::size_t nf = topo.n_faces();
-  constexpr std::uint32_t none = 0xFFFFFFFFu;
-  std::vector<std::uint32_t> seg_of_face(nf, none), parent(segments.size());
-  for (std::size_t k = 0; k < segments.size(); ++k) {
-    seg_of_face[segments.faces[k]] = std::uint32_t(k);
-    parent[k] = std::uint32_t(k);
-  }
+  const std::vector<std::uint32_t> seg_of_face = segment_of_face(topo, segments);
+  std::vector<std::uint32_t> parent(segments.size());
+  for (std::size_t k = 0; k < segments.size(); ++k) parent[k] = std::uint32_t(k);
   auto find = [&](std::uint32_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
@@ -185,7 +188,7 @@ PelPieces pel_pieces(const terrain::GridTopology& topo, const PelFields& p, cons
     const auto t = topo.face(f);
     for (int e = 0; e < 3; ++e) {
       const std::size_t g = topo.face_across(f, (e + 2) % 3);  // edge (t[e], t[e + 1])
-      if (g == terrain::GridTopology::kNoFace || seg_of_face[g] == none) continue;
+      if (g == terrain::GridTopology::kNoFace || seg_of_face[g] == kNone) continue;
       if (s_positive(p, t[std::size_t(e)]) == s_positive(p, t[std::size_t((e + 1) % 3)])) continue;
       const std::uint32_t a = find(std::uint32_t(k)), b = find(seg_of_face[g]);
       parent[std::max(a, b)] = std::min(a, b);
@@ -193,10 +196,10 @@ PelPieces pel_pieces(const terrain::GridTopology& topo, const PelFields& p, cons
   }
   PelPieces out;
   out.piece.resize(segments.size());
-  std::vector<std::uint32_t> id_of_root(segments.size(), none);
+  std::vector<std::uint32_t> id_of_root(segments.size(), kNone);
   for (std::size_t k = 0; k < segments.size(); ++k) {
     const std::uint32_t root = find(std::uint32_t(k));
-    if (id_of_root[root] == none) id_of_root[root] = std::uint32_t(out.length.size()), out.length.push_back(0.0);
+    if (id_of_root[root] == kNone) id_of_root[root] = std::uint32_t(out.length.size()), out.length.push_back(0.0);
     out.piece[k] = id_of_root[root];
     out.length[out.piece[k]] += double((segments.points[2 * k + 1] - segments.points[2 * k]).norm());
   }
