@@ -201,7 +201,7 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
       ->check(CLI::Range(0.01, 100.0))
       ->capture_default_str();
   app->add_option("--crease-lift", o.style.crease_lift,
-                  "Creases are lifted this far (m) along the surface normal; default 0.5 x mesh spacing");
+                  "Lines (creases, PELs, edges) are drawn where they lie on the surface, at the depth of their points lifted this far (m) along the surface normal, so the tessellated surface does not hide them in their valleys; default 0.5 x mesh spacing");
   app->add_option("--pixels-per-edge", o.style.pixels_per_edge,
                   "Adaptive tessellation target: screen length of a tessellated edge, pixels")
       ->check(CLI::Range(1.0, 100.0))
@@ -279,14 +279,13 @@ struct FrameLines {
 FrameLines frame_lines(const Scene& scene, const rr::TerrainRenderer& r, const rr::FrameResult& res,
                        const rr::FrameBuffers& buffers, const rr::FrameParams& fp, const rr::Style& style) {
   const double exaggeration = style.exaggeration;
-  const double lift = rr::crease_lift(style, scene.mesh);
   const rr::CreaseGeometry& g = *scene.creases;
   const rr::CreaseScoreParams score = rr::resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.eye);
   const double fade = style.antialias ? style.crease_fade : 0.0;
   FrameLines lines{rr::segment_opacity(g, res.view.eye, terrain::light_direction(fp.light.azimuth, fp.light.altitude),
                                        exaggeration, score, fade, rr::stroke_rule(style, scene.mesh)),
-                   rr::segment_pixels(g, res.view, exaggeration, lift)};
-  const auto visible = rr::visible_fraction(g, res.view, exaggeration, lift, buffers.crease);
+                   rr::segment_pixels(g, res.view, exaggeration)};
+  const auto visible = rr::visible_fraction(g, res.view, exaggeration, buffers.crease);
   for (std::size_t s = 0; s < visible.size(); ++s) lines.pixels[s] *= visible[s];
   return lines;
 }

@@ -1,8 +1,8 @@
 // DM and PEL: line coverage. Pixel-exact lines (u_style.x == 0) cover their quad with 1
 // (the composite removes hidden ones with this layer's depth). Anti-aliased lines write
 // the capsule's coverage (capsule_coverage) times the segment's opacity where the
-// fragment is on the toward surface and not behind it (hidden-line removal here, since
-// coverage blends with MAX and keeps no depth).
+// segment's spine is on the toward surface and not behind it (hidden-line removal here,
+// since coverage blends with MAX and keeps no depth).
 layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
 flat in vec4 v_ends;   // the segment's ends, window pixels
 flat in vec3 v_shape;  // radius at each end (pixels), opacity
@@ -12,9 +12,25 @@ void main() {
     o_colour = vec4(1.0);
     return;
   }
-  // Not behind the surface, and on it: where no surface is, a line lifted off it would
-  // float in the sky past a skyline or a mesh edge.
-  float t = far_of(texelFetch(u_toward, ivec2(gl_FragCoord.xy), 0).r);
-  if (!(t < 1.0) || far_of(gl_FragCoord.z) > t) discard;
+  // Visible where its spine is: the fragment takes the depth test of the segment's point
+  // nearest to it (the quad's depth is constant across its width), not of its own pixel,
+  // where on ground seen at a grazing angle the surface in front of the line would hide the
+  // line's near half and move it off its place by half a width. The spine point lies
+  // anywhere in its pixel, whose surface depth at the centre differs from the point's by
+  // up to half a pixel's depth gradient, large at a grazing angle; so the line is behind
+  // only when behind the farthest surface of the spine pixel and its 8 neighbours (Cole &
+  // Finkelstein 2010 test line visibility against a neighbourhood too). Where no surface
+  // is at the spine (past a skyline or a mesh edge) nothing is drawn.
+  vec2 d = v_ends.zw - v_ends.xy;
+  float along = dot(d, d) > 0.0 ? clamp(dot(gl_FragCoord.xy - v_ends.xy, d) / dot(d, d), 0.0, 1.0) : 0.0;
+  ivec2 last = ivec2(u_viewport.xy) - 1, spine = clamp(ivec2(floor(v_ends.xy + along * d)), ivec2(0), last);
+  if (!(far_of(texelFetch(u_toward, spine, 0).r) < 1.0)) discard;
+  float t = 0.0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      float s = far_of(texelFetch(u_toward, clamp(spine + ivec2(dx, dy), ivec2(0), last), 0).r);
+      if (s < 1.0) t = max(t, s);
+    }
+  if (far_of(gl_FragCoord.z) > t) discard;
   o_colour = vec4(v_shape.z * capsule_coverage(gl_FragCoord.xy, v_ends.xy, v_ends.zw, v_shape.x, v_shape.y));
 }

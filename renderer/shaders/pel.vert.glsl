@@ -1,4 +1,5 @@
-// PEL segments as screen-space quads, lifted along their face normal like the creases
+// PEL segments as screen-space quads, at the depth of their ends lifted along their face
+// normal like the creases (line_clip)
 // (anti-aliased: with a one-pixel fringe for the capsule's coverage, line.frag.glsl, and
 // the segment's opacity from the piece rule, pel_pieces.comp.glsl).
 struct PelSegment {
@@ -12,8 +13,8 @@ void main() {
   uint q = uint(gl_VertexID) / 6u, k = uint(gl_VertexID) % 6u;
   PelSegment sg = segment[q];
   vec3 lift = u_score.w * exaggerate_normal(sg.n.xyz);
-  vec4 c0 = u_view_proj * vec4(exaggerate_position(sg.a.xyz) + lift, 1.0);
-  vec4 c1 = u_view_proj * vec4(exaggerate_position(sg.b.xyz) + lift, 1.0);
+  vec4 c0 = line_clip(exaggerate_position(sg.a.xyz), lift);
+  vec4 c1 = line_clip(exaggerate_position(sg.b.xyz), lift);
   float w = u_pel_width + (u_style.x != 0.0 ? 2.0 : 0.0);
   gl_Position = segment_quad_vertex(c0, c1, w, w, k);
   v_ends = vec4(window_of(c0), window_of(c1));

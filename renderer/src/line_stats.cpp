@@ -74,10 +74,10 @@ std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> clip(Eigen::Vector2d 
 }
 
 std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> screen_segment(const CreaseGeometry& g, std::size_t s,
-                                                                          const View& view, double e, double lift) {
+                                                                          const View& view, double e) {
   auto at = [&](std::uint32_t i) {
     const Eigen::Vector3d p = g.positions[i].cast<double>();
-    return project(view, Eigen::Vector3d(p.x(), p.y(), p.z() * e) + lift * exaggerate_normal(g.normals[i].cast<double>(), e));
+    return project(view, Eigen::Vector3d(p.x(), p.y(), p.z() * e));
   };
   const Projected a = at(g.segments[2 * s]), b = at(g.segments[2 * s + 1]);
   if (!a.in_front || !b.in_front) return std::nullopt;
@@ -86,14 +86,14 @@ std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> screen_segment(const 
 
 }  // namespace
 
-std::vector<double> segment_pixels(const CreaseGeometry& g, const View& view, double exaggeration, double lift) {
+std::vector<double> segment_pixels(const CreaseGeometry& g, const View& view, double exaggeration) {
   std::vector<double> px(g.n_segments(), 0.0);
   for (std::size_t s = 0; s < px.size(); ++s)
-    if (const auto seg = screen_segment(g, s, view, exaggeration, lift)) px[s] = (seg->second - seg->first).norm();
+    if (const auto seg = screen_segment(g, s, view, exaggeration)) px[s] = (seg->second - seg->first).norm();
   return px;
 }
 
-std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, double exaggeration, double lift,
+std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, double exaggeration,
                                      const std::vector<std::uint8_t>& mask) {
   const long W = view.width, H = view.height;
   std::vector<double> f(g.n_segments(), 0.0);
@@ -107,7 +107,7 @@ std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, 
     return false;
   };
   for (std::size_t s = 0; s < f.size(); ++s) {
-    const auto seg = screen_segment(g, s, view, exaggeration, lift);
+    const auto seg = screen_segment(g, s, view, exaggeration);
     if (!seg) continue;
     const double len = (seg->second - seg->first).norm();
     const int n = std::max(1, int(std::ceil(len)));

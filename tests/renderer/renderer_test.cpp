@@ -663,35 +663,44 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
   EXPECT_GT(pixels[2], 100u);
 }
 
-// Creases are lifted off the surface (crease_lift) so that they clear it; where no surface
-// lies behind them (past a skyline or a mesh edge) they would float in the sky. A level
-// plane seen from its south, two lines across it: lifted 1 m they lie on the surface and
-// are drawn; lifted 150 m every one of their pixels falls past the plane's far edge, and
-// none is drawn, pixel-exact or anti-aliased. No pixel off the surface changes either way.
-TEST(RendererGl, CreasesAreNotDrawnOffTheSurface) {
+// Lines are drawn where they lie on the surface: the lift (crease_lift) moves only their
+// depth, so that the tessellated surface does not hide them, not where they show. A level
+// plane seen from its south with two lines across it: lifted 1 m or 150 m, the frames are
+// the same (within 2 of 255 on every channel), and the ink of the far line lies on the
+// projection of its points (row centroid within 0.6 px in every column; before the
+// anti-aliased lines took their depth test at their spine, the surface in front hid their
+// near half on this grazing view, 0.94 px off, as it still does for pixel-exact lines,
+// which take it per pixel: within 1 px). Lifted along the normal as before, 150 m carried
+// every pixel of both lines past the plane's far edge into the sky. Where no surface lies
+// behind a line (a third line past the far edge) nothing is drawn: no pixel off the
+// surface changes.
+TEST(RendererGl, CreasesAreDrawnWhereTheyLieOnTheSurface) {
   const auto mesh = terrain::test::function_mesh(201, 101, 20, [](double, double) { return 0.0; });
   CreaseGeometry g;
-  for (const double y : {-1000.0, -20.0})
+  const double far_y = -1000;
+  for (const double y : {far_y, -20.0, 400.0})  // the last past the far edge (y = 0)
     for (double x = 300; x <= 1700; x += 20) {
       g.positions.emplace_back(float(x), float(y), 0.0f);
       g.normals.emplace_back(0.0f, 0.0f, 1.0f);
       g.flow.push_back(1.0f);
       g.share.push_back(1.0f);
     }
-  const std::uint32_t per_line = std::uint32_t(g.positions.size() / 2);
+  const std::uint32_t per_line = std::uint32_t(g.positions.size() / 3);
   for (std::uint32_t i = 0; i + 1 < g.positions.size(); ++i)
     if ((i + 1) % per_line != 0) g.segments.insert(g.segments.end(), {i, i + 1});
   const FrameParams fp = level_view_from_the_south();
+  const int W = 320, H = 240;
   renderer::GlContext ctx;
   for (const bool antialias : {false, true}) {
     renderer::Style style = test_style();
     style.antialias = antialias;
     style.mask = {0.5f, 0.5f, 0.5f};
-    const auto bare = TerrainRenderer(ctx, mesh, nullptr, 320, 240, renderer::Layers{false, true, false, false}, style)
+    const auto bare = TerrainRenderer(ctx, mesh, nullptr, W, H, renderer::Layers{false, true, false, false}, style)
                           .render(fp);
+    std::vector<std::uint8_t> first;
     for (const double lift : {1.0, 150.0}) {
       style.crease_lift = lift;
-      TerrainRenderer r(ctx, mesh, &g, 320, 240, renderer::Layers{false, true, true, false}, style);
+      TerrainRenderer r(ctx, mesh, &g, W, H, renderer::Layers{false, true, true, false}, style);
       const auto res = r.render(fp);
       EXPECT_EQ(res.crease_segments, g.n_segments());  // all selected by DM
       std::size_t sky_changed = 0, surface_changed = 0;
@@ -700,11 +709,31 @@ TEST(RendererGl, CreasesAreNotDrawnOffTheSurface) {
         (sky ? sky_changed : surface_changed) += changed;
       }
       EXPECT_EQ(sky_changed, 0u) << "antialias " << antialias << " lift " << lift;
-      if (lift == 1.0) {
-        EXPECT_GT(surface_changed, 100u) << "antialias " << antialias;
-      } else {
-        EXPECT_EQ(surface_changed, 0u) << "antialias " << antialias;
+      EXPECT_GT(surface_changed, 100u) << "antialias " << antialias << " lift " << lift;
+      // The far line's ink, column by column, about the projection of its points.
+      const auto p0 = renderer::project(res.view, Vector3d(300, far_y, 0));
+      const auto p1 = renderer::project(res.view, Vector3d(1700, far_y, 0));
+      int columns = 0;
+      for (int u = int(std::ceil(p0.u)) + 2; u + 2 < int(p1.u); ++u) {
+        const double row = p0.v + (p1.v - p0.v) * (u + 0.5 - p0.u) / (p1.u - p0.u);
+        double ink = 0, moment = 0;
+        for (int v = int(row) - 8; v <= int(row) + 8; ++v) {
+          const std::size_t i = 4 * (std::size_t(v) * W + std::size_t(u));
+          const double a = std::abs(double(res.rgba[i + 1]) - double(bare.rgba[i + 1]));
+          ink += a, moment += a * (v + 0.5);
+        }
+        ASSERT_GT(ink, 0) << "column " << u << " antialias " << antialias << " lift " << lift;
+        EXPECT_NEAR(moment / ink, row, antialias ? 0.6 : 1.0) << "column " << u << " antialias " << antialias << " lift " << lift;
+        ++columns;
       }
+      EXPECT_GT(columns, 50);
+      if (first.empty()) {
+        first = res.rgba;
+        continue;
+      }
+      std::size_t differ = 0;
+      for (std::size_t i = 0; i < first.size(); ++i) differ += std::abs(int(first[i]) - int(res.rgba[i])) > 2;
+      EXPECT_EQ(differ, 0u) << "antialias " << antialias;
     }
   }
 }
@@ -755,9 +784,8 @@ TEST(RendererGl, AntialiasedCoverageEqualsTheLineArea) {
         const auto res = r.render(fp);
         double covered = 0;
         for (std::size_t i = 0; i < res.rgba.size(); i += 4) covered += 1.0 - res.rgba[i] / 255.0;
-        const Eigen::Vector3d lift(0, 0, 1);
-        const auto p0 = renderer::project(res.view, g.positions.front().cast<double>() + lift);
-        const auto p1 = renderer::project(res.view, g.positions.back().cast<double>() + lift);
+        const auto p0 = renderer::project(res.view, g.positions.front().cast<double>());
+        const auto p1 = renderer::project(res.view, g.positions.back().cast<double>());
         const double length = std::hypot(p1.u - p0.u, p1.v - p0.v);
         const double ideal = opacity * (length * width + std::numbers::pi * width * width / 4);
         EXPECT_NEAR(covered, ideal, 0.05 * ideal) << "width " << width << " segments " << n << " opacity " << opacity
@@ -831,10 +859,10 @@ TEST(RendererGl, StrokeRuleMatchesCpu) {
 }
 
 // From straight above nothing is hidden: at min score 0 every drainage vertex that starts
-// a segment lies on a crease pixel of the composite (within 1 pixel of its projection,
-// lifted as the renderer lifts it), unless the lift carries it past the mesh's edge or to
-// within 1.5 pixels of it, where no surface may lie under its pixels and creases are not
-// drawn (CreasesAreNotDrawnOffTheSurface).
+// a segment lies on a crease pixel of the composite (within 1 pixel of its projection; the
+// lift moves only the depth), unless it lies within 1.5 pixels of the mesh's edge, where
+// no surface may lie under its pixels and creases are not drawn
+// (CreasesAreDrawnWhereTheyLieOnTheSurface).
 TEST(RendererGl, MinScoreZeroDrawsEveryVisibleVertex) {
   const auto& sc = msh_scene();
   const auto g = renderer::build_crease_geometry(sc.mesh, sc.links);
@@ -852,11 +880,10 @@ TEST(RendererGl, MinScoreZeroDrawsEveryVisibleVertex) {
   const double margin = 1.5 * 100 / std::hypot(p1.u - p0.u, p1.v - p0.v);  // metres
   const double east = double(sc.mesh.topo.cols - 1) * sc.mesh.geo.dx, south = -double(sc.mesh.topo.rows - 1) * sc.mesh.geo.dy;
   for (std::size_t s = 0; s < g.n_segments(); ++s) {
-    const std::uint32_t k = g.segments[2 * s];  // drawn lifted along its normal by 0.5 x spacing
-    const Eigen::Vector3f lifted = g.positions[k] + 5.0f * g.normals[k];
-    if (lifted.x() < margin || lifted.y() > -margin || lifted.x() > east - margin || lifted.y() < south + margin)
-      continue;  // at or past the edge: no surface under some of its pixels
-    const auto q = renderer::project(res.view, lifted.cast<double>());
+    const Eigen::Vector3f p = g.positions[g.segments[2 * s]];
+    if (p.x() < margin || p.y() > -margin || p.x() > east - margin || p.y() < south + margin)
+      continue;  // at the edge: no surface under some of its pixels
+    const auto q = renderer::project(res.view, p.cast<double>());
     const int u = int(std::floor(q.u)), v = int(std::floor(q.v));
     if (u < 1 || v < 1 || u >= 399 || v >= 399) continue;
     bool found = false;

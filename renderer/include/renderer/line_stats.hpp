@@ -32,14 +32,14 @@ SegmentTraits segment_traits(const terrain::GridMesh& mesh, const terrain::Drain
                              const CreaseGeometry& g, int margin = 3);
 
 // Screen length in pixels of each segment in `view` as the DM pass draws it (heights
-// scaled by `exaggeration`, ends lifted `lift` metres along the exaggerated normal),
-// clipped to the image; 0 where an end lies behind the near plane. #S.
-std::vector<double> segment_pixels(const CreaseGeometry& g, const View& view, double exaggeration, double lift = 0);
+// scaled by `exaggeration`; drawn where its ends lie on the surface, the lift moves only
+// their depth), clipped to the image; 0 where an end lies behind the near plane. #S.
+std::vector<double> segment_pixels(const CreaseGeometry& g, const View& view, double exaggeration);
 
 // The fraction of each segment's pixels that `mask` (width x height, row 0 at the top,
 // e.g. the crease layer after hidden-line removal) covers within one pixel; segments with
 // no pixel get 0. #S.
-std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, double exaggeration, double lift,
+std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, double exaggeration,
                                      const std::vector<std::uint8_t>& mask);
 
 // The strokes drawn: chains of drawn segments (drawn[s] > 0), each drawn segment
