@@ -20,17 +20,17 @@ void main() {
   // up to half a pixel's depth gradient, large at a grazing angle; so the line is behind
   // only when behind the farthest surface of the spine pixel and its 8 neighbours (Cole &
   // Finkelstein 2010 test line visibility against a neighbourhood too). Where no surface
-  // is at the spine (past a skyline or a mesh edge) nothing is drawn.
+  // is about the spine (past a skyline or a mesh edge) nothing is drawn; a line along the
+  // mesh's edge, whose spine pixels fall on either side of it, stays whole.
   vec2 d = v_ends.zw - v_ends.xy;
   float along = dot(d, d) > 0.0 ? clamp(dot(gl_FragCoord.xy - v_ends.xy, d) / dot(d, d), 0.0, 1.0) : 0.0;
   ivec2 last = ivec2(u_viewport.xy) - 1, spine = clamp(ivec2(floor(v_ends.xy + along * d)), ivec2(0), last);
-  if (!(far_of(texelFetch(u_toward, spine, 0).r) < 1.0)) discard;
-  float t = 0.0;
+  float t = -1.0;
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
       float s = far_of(texelFetch(u_toward, clamp(spine + ivec2(dx, dy), ivec2(0), last), 0).r);
       if (s < 1.0) t = max(t, s);
     }
-  if (far_of(gl_FragCoord.z) > t) discard;
+  if (t < 0.0 || far_of(gl_FragCoord.z) > t) discard;
   o_colour = vec4(v_shape.z * capsule_coverage(gl_FragCoord.xy, v_ends.xy, v_ends.zw, v_shape.x, v_shape.y));
 }
