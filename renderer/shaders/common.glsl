@@ -59,10 +59,17 @@ float pixel_share_below(float t, vec2 n) {
 // inside the band of half-width r (a box filter, any direction and any width). Beyond
 // its ends: round caps, a one-pixel ramp across the circle's border (scaled by 2r below a
 // pixel's width). Overlapping capsules of a polyline, blended with MAX, join round.
+// Where x projects onto segment a-b: 0 at a, 1 at b (unclamped); -1 when a == b.
+float segment_param(vec2 x, vec2 a, vec2 b) {
+  vec2 d = b - a;
+  float len2 = dot(d, d);
+  return len2 > 0.0 ? dot(x - a, d) / len2 : -1.0;
+}
+
 float capsule_coverage(vec2 x, vec2 a, vec2 b, float r0, float r1) {
   vec2 d = b - a;
   float len2 = dot(d, d);
-  float t = len2 > 0.0 ? dot(x - a, d) / len2 : -1.0;
+  float t = segment_param(x, a, b);
   if (t >= 0.0 && t <= 1.0) {
     vec2 dir = d * inversesqrt(len2), n = vec2(-dir.y, dir.x);
     float r = mix(r0, r1, t), s = dot(x - a, n);

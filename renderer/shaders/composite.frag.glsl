@@ -35,7 +35,7 @@ bool line_visible(sampler2D colour, sampler2D depth, ivec2 p, float t) {
 
 // A crease or PEL layer's coverage of pixel p: anti-aliased, the layer's value (line.frag
 // kept it to the surface); pixel-exact, 1 where line_visible on the surface (t < 1: these
-// lines lie on it, lifted, and past a skyline or a mesh edge they would float in the sky).
+// lines lie on it; a segment spanning a skyline would otherwise reach into the sky).
 float line_cover(sampler2D colour, sampler2D depth, ivec2 p, float t) {
   if (u_style.x != 0.0) return texelFetch(colour, p, 0).r;
   return t < 1.0 && line_visible(colour, depth, p, t) ? 1.0 : 0.0;

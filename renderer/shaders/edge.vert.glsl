@@ -1,9 +1,10 @@
 // Object-space edges, draw: each drawn edge as a screen-space quad (6 vertices) of width
 // u_edge_width pixels between its vertices, at the depth of the vertices lifted along their
-// normals like the creases (line_clip). The ends: none (butt), cheap (square caps: extended by half a width), or exact
-// (docs/terrain-render.md): where the edge has a join vertex, the end is cut on the mitre
-// line of the two edges, computed from the three vertices in one canonical order (lower
-// vertex index first) so that both quads get bit-identical corners and the rasterizer's
+// normals like the creases (line_clip). The ends: none (butt), cheap (square caps:
+// extended by half a width), or exact (docs/terrain-render.md): where the edge has a join
+// vertex, the end is cut on the mitre line of the two edges, computed from the three
+// vertices in one canonical order (lower vertex index first) so that both quads get
+// bit-identical corners and the rasterizer's
 // shared-edge rule leaves neither a gap nor an overlap; turns sharper than the mitre limit
 // and ends without a join get square caps.
 layout(std430, binding = TR_SSBO_EDGE_LIST) readonly buffer EdgeList { DrawnEdge drawn[]; };

@@ -22,9 +22,9 @@ void main() {
   // Finkelstein 2010 test line visibility against a neighbourhood too). Where no surface
   // is about the spine (past a skyline or a mesh edge) nothing is drawn; a line along the
   // mesh's edge, whose spine pixels fall on either side of it, stays whole.
-  vec2 d = v_ends.zw - v_ends.xy;
-  float along = dot(d, d) > 0.0 ? clamp(dot(gl_FragCoord.xy - v_ends.xy, d) / dot(d, d), 0.0, 1.0) : 0.0;
-  ivec2 last = ivec2(u_viewport.xy) - 1, spine = clamp(ivec2(floor(v_ends.xy + along * d)), ivec2(0), last);
+  float along = clamp(segment_param(gl_FragCoord.xy, v_ends.xy, v_ends.zw), 0.0, 1.0);
+  vec2 point = mix(v_ends.xy, v_ends.zw, along);
+  ivec2 last = ivec2(u_viewport.xy) - 1, spine = clamp(ivec2(floor(point)), ivec2(0), last);
   float t = -1.0;
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
