@@ -201,7 +201,7 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
       ->check(CLI::Range(0.01, 100.0))
       ->capture_default_str();
   app->add_option("--crease-lift", o.style.crease_lift,
-                  "Lines (creases, PELs, edges) are drawn where they lie on the surface, at the depth of their points lifted this far (m) along the surface normal, so the tessellated surface does not hide them in their valleys; default 0.5 x mesh spacing");
+                  "Lines (creases, PELs, edges) are drawn where they lie on the surface, at the depth of their points moved this far (m) towards the eye, so the tessellated surface does not hide them in their valleys; default 0.5 x mesh spacing");
   app->add_option("--pixels-per-edge", o.style.pixels_per_edge,
                   "Adaptive tessellation target: screen length of a tessellated edge, pixels")
       ->check(CLI::Range(1.0, 100.0))

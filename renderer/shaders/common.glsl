@@ -11,16 +11,19 @@ vec3 exaggerate_normal(vec3 n) { return normalize(vec3(n.xy, n.z / u_eye.w)); }
 // Window depth to "distance order": larger is farther, 1 where nothing was drawn.
 float far_of(float depth) { return u_lines.w > 0.5 ? 1.0 - depth : depth; }
 
-// The clip position a line point p on the surface (exaggerated) is drawn at: where p is on
-// screen, at the depth of p lifted by `lift` (u_score.w along the normal), so the
-// tessellated surface, whose chords lie above the PN surface in valleys, does not hide the
-// line, and the line stays on its valley instead of moving up the slope behind it
-// (docs/terrain-render.md, "Lines stay on the surface"). Behind the near plane: w <=
-// u_misc.x, and segment_quad_vertex drops the segment.
-vec4 line_clip(vec3 p, vec3 lift) {
-  vec4 s = u_view_proj * vec4(p, 1.0), l = u_view_proj * vec4(p + lift, 1.0);
-  if (s.w <= u_misc.x || l.w <= u_misc.x) return vec4(s.xyz, min(s.w, l.w));
-  return vec4(s.xy * (l.w / s.w), l.z, l.w);
+// The clip position a line point p on the surface (exaggerated) is drawn at: the point
+// `lift` metres (u_score.w; at most half way) from p towards the eye. It lies on p's line
+// of sight, so the line is drawn where p is on screen (on its valley, not up the slope
+// behind it), only nearer in depth, so the tessellated surface, whose chords lie above the
+// PN surface in valleys, does not hide it (docs/terrain-render.md, "Lines stay on the
+// surface"). Towards the eye, not along the normal: seen at a grazing angle g a lift along
+// the normal brings the depth nearer by lift x sin(g) only, and a chord a fraction of a
+// metre high hid the line. Behind the near plane: w <= u_misc.x, and segment_quad_vertex
+// drops the segment.
+vec4 line_clip(vec3 p, float lift) {
+  vec3 to_eye = u_eye.xyz - p;
+  float d = length(to_eye);
+  return u_view_proj * vec4(p + (d > 0.0 ? min(lift, 0.5 * d) / d : 0.0) * to_eye, 1.0);
 }
 
 // Vertex k (0..5) of the screen-space quad of the segment with clip positions c0, c1 and

@@ -1,6 +1,6 @@
 // DM, step 3: each selected segment as a screen-space quad (6 vertices, no geometry
-// shader), its ends where they lie on the PN surface, at the depth of the ends lifted along
-// the PN normal (line_clip); the width grows from u_lines.x to u_lines.y
+// shader), its ends where they lie on the PN surface, at the depth of the ends lifted
+// towards the eye (line_clip); the width grows from u_lines.x to u_lines.y
 // with the square root of the basin share (as a river's width with its discharge), so
 // creases thicken towards outlets. Pixel-exact: the quad's ends are extended by half a
 // width. Anti-aliased: the quad holds the segment's capsule and a one-pixel fringe, and the
@@ -17,7 +17,7 @@ void main() {
   for (int j = 0; j < 2; ++j) {
     uint v = j == 0 ? e.x : e.y;
     vec4 nf = cv[2u * v + 1u];
-    clip[j] = line_clip(exaggerate_position(cv[2u * v].xyz), u_score.w * exaggerate_normal(nf.xyz));
+    clip[j] = line_clip(exaggerate_position(cv[2u * v].xyz), u_score.w);
     width[j] = mix(u_lines.x, u_lines.y, sqrt(clamp(nf.w, 0.0, 1.0)));
   }
   float fringe = u_style.x != 0.0 ? 2.0 : 0.0;

@@ -1,6 +1,6 @@
 // Object-space edges, draw: each drawn edge as a screen-space quad (6 vertices) of width
-// u_edge_width pixels between its vertices, at the depth of the vertices lifted along their
-// normals like the creases (line_clip). The ends: none (butt), cheap (square caps:
+// u_edge_width pixels between its vertices, at the depth of the vertices lifted towards the
+// eye like the creases (line_clip). The ends: none (butt), cheap (square caps:
 // extended by half a width), or exact (docs/terrain-render.md): where the edge has a join
 // vertex, the end is cut on the mitre line of the two edges, computed from the three
 // vertices in one canonical order (lower vertex index first) so that both quads get
@@ -12,7 +12,7 @@ layout(location = TR_LOC_EDGE_CAPS) uniform int u_edge_caps;
 layout(location = TR_LOC_EDGE_WIDTH) uniform float u_edge_width;
 
 vec4 clip_of(uint v) {
-  return line_clip(exaggerate_position(position(v)), u_score.w * exaggerate_normal(normal_at(v)));
+  return line_clip(exaggerate_position(position(v)), u_score.w);
 }
 vec2 screen_of(vec4 c) { return c.xy / c.w * (0.5 * u_viewport.xy); }
 

@@ -2,7 +2,7 @@
 // segment, kept when c < 0 and m / max(m) > tau at both ends. Appended with the indirect
 // draw command (6 vertices per segment). Each record: two vec4 (point xyz, then the face
 // index as float bits or the segment's opacity: 1 here, pel_pieces.comp.glsl may lower
-// it) and the face normal.
+// it).
 layout(local_size_x = TR_LOCAL_SIZE) in;
 layout(location = TR_LOC_PEL_TAU) uniform float u_tau;
 // The draw command, then the indirect dispatch of the piece rule (pel_pieces.comp.glsl):
@@ -12,7 +12,7 @@ layout(std430, binding = TR_SSBO_PEL_COMMAND) buffer PelCommand {
   uint groups_x, groups_y, groups_z;
 };
 struct PelSegment {
-  vec4 a, b, n;
+  vec4 a, b;
 };
 layout(std430, binding = TR_SSBO_PEL_SEGMENTS) writeonly buffer PelSegments { PelSegment segment[]; };
 void main() {
@@ -36,11 +36,8 @@ void main() {
     keep = keep && c < 0.0 && mn > u_tau;
   }
   if (n != 2 || !keep) return;
-  vec3 x0 = position(t.x), x1 = position(t.y), x2 = position(t.z);
-  vec3 fn = normalize(cross(x1 - x0, x2 - x0));
   uint k = atomicAdd(vertex_count, 6u) / 6u;
   atomicMax(groups_x, min(k / uint(TR_LOCAL_SIZE) + 1u, 65535u));
   segment[k].a = vec4(pts[0], uintBitsToFloat(f));
   segment[k].b = vec4(pts[1], 1.0);
-  segment[k].n = vec4(fn, 0.0);
 }

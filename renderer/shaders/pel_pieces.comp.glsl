@@ -20,7 +20,7 @@ layout(local_size_x = TR_LOCAL_SIZE) in;
 layout(location = TR_LOC_PIECE_MIN) uniform float u_piece_min;
 layout(std430, binding = TR_SSBO_PEL_COMMAND) readonly buffer PelCommand { uint vertex_count; };
 struct PelSegment {
-  vec4 a, b, n;
+  vec4 a, b;
 };
 layout(std430, binding = TR_SSBO_PEL_SEGMENTS) buffer PelSegments { PelSegment segment[]; };
 layout(std430, binding = TR_SSBO_PEL_FACE_SEGMENTS) buffer FaceSegments { uint face_segment[]; };

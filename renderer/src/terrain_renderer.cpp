@@ -231,9 +231,9 @@ FrameBuffers TerrainRenderer::read_buffers() const {
 
 std::vector<TerrainRenderer::PelSegmentOut> TerrainRenderer::read_pels() const {
   const std::vector<float> raw = impl_->pels.read_segments();
-  std::vector<PelSegmentOut> out(raw.size() / 12);
+  std::vector<PelSegmentOut> out(raw.size() / 8);
   for (std::size_t i = 0; i < out.size(); ++i) {
-    const float* r = &raw[12 * i];
+    const float* r = &raw[8 * i];
     out[i].a = {r[0], r[1], r[2]};
     std::memcpy(&out[i].face, &r[3], 4);
     out[i].b = {r[4], r[5], r[6]};

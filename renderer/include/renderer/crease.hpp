@@ -121,8 +121,8 @@ double crease_score(const Eigen::Vector3d& normal, double flow, const Eigen::Vec
 // The unit normal after scaling z by `exaggeration`: (nx, ny, nz / e) normalized.
 Eigen::Vector3d exaggerate_normal(const Eigen::Vector3d& n, double exaggeration);
 
-// How far the DM pass lifts crease vertices along the (exaggerated) normal for their depth
-// test, metres (they are drawn where they lie; line_clip in common.glsl):
+// How far the DM pass lifts crease vertices towards the eye for their depth test, metres
+// (they are drawn where they lie; line_clip in common.glsl):
 // style.crease_lift, or half the mesh spacing when it is negative (the default).
 double crease_lift(const Style& style, const terrain::GridMesh& mesh);
 

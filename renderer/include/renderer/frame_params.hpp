@@ -93,7 +93,7 @@ struct Style {
   // to nothing at half of it (18 pixels in full at 720 rows, 9 gone); 0 keeps every piece.
   double silhouette_min_length = 0.025;
   double exaggeration = 1.0;                          // vertical exaggeration
-  double crease_lift = -1;        // metres along the normal, for the depth test only; < 0: 0.5 x mesh spacing
+  double crease_lift = -1;        // metres towards the eye, for the depth test only; < 0: 0.5 x mesh spacing
   double pixels_per_edge = 6.0;   // tessellation target: screen length of a triangle edge
   Eigen::Vector3f pel_colour{0.55f, 0.1f, 0.1f};
   double pel_width = 1.0;         // pixels

@@ -8,17 +8,18 @@
 //   AFT  the same surface, away-facing fragments, AWAY depth only.
 //   DM   a compute pass scores every crease vertex and keeps the segments whose two ends
 //        score >= 0 (a rejected vertex breaks the strip); they are drawn as screen-space
-//        quads, lifted along the PN normal, wider where the flow is larger.
+//        quads where they lie, their depth lifted towards the eye, wider where the flow is
+//        larger.
 //   SIL  Toward/Away (Mower 2015): a pixel with toward depth t < away depth a and an
 //        8-neighbour whose toward depth is beyond a; anti-aliased, then the piece rule
 //        (silhouette.hpp): pieces shorter than Style::silhouette_min_length fade out.
 //   PEL  photic extremum lines (pel.hpp): compute passes for the per-vertex fields and the
 //        zero-crossing segments (appended with an indirect draw command), drawn like the
-//        creases, lifted along their face normal.
+//        creases.
 //   EDGE object-space contour, boundary and crease edges of the mesh facets (McGuire &
 //        Hughes 2004): a compute pass classifies every edge for the eye and appends the
 //        drawn ones (indirect draw command); they are drawn as screen-space quads with
-//        cheap or exact caps (Style::edge_caps), lifted along the vertex normals.
+//        cheap or exact caps (Style::edge_caps), their depth lifted like the creases'.
 //   LAY  composite of the chosen layers: surface, then PEL, crease, edge and silhouette
 //        pixels that are not behind the nearest toward surface.
 // Depth is reversed (1 at the near plane, 0 at infinity) where glClipControl exists.

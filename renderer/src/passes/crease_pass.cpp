@@ -2,8 +2,8 @@
 // (crease_score.comp.glsl), a second gives every segment its opacity from the scores of
 // its ends, bridging short gaps along its chain (crease_bridge.comp.glsl), a third keeps
 // the segments of strokes long enough and writes an indirect draw command
-// (crease_select.comp.glsl); the segments are drawn as screen-space quads lifted along
-// the PN normal (crease.vert.glsl).
+// (crease_select.comp.glsl); the segments are drawn as screen-space quads where they lie,
+// at the depth of their ends lifted towards the eye (crease.vert.glsl).
 #include <cstring>
 
 #include "passes.hpp"

@@ -141,8 +141,7 @@ class PelPass : public PassBase {
           double piece_min_m, int smooth);
   bool active() const { return enabled_; }
   std::size_t segments_drawn() const;
-  // The segments of the last frame: 12 floats each (a xyz, face bits, b xyz, opacity,
-  // 4 unused).
+  // The segments of the last frame: 8 floats each (a xyz, face bits, b xyz, opacity).
   std::vector<float> read_segments() const;
   const GlObject& colour() const { return target_.colour; }
   const GlObject& depth() const { return target_.depth; }

@@ -28,7 +28,7 @@ PelPass::PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enab
     field_buf_ = make_buffer(mesh.n_vertices() * 24, nullptr, 0);
     maxm_buf_ = make_buffer(4, nullptr, GL_DYNAMIC_STORAGE_BIT);
     cmd_buf_ = make_buffer(28, nullptr, GL_DYNAMIC_STORAGE_BIT);  // draw command, pieces dispatch
-    seg_buf_ = make_buffer(mesh.n_faces() * 48, nullptr, 0);
+    seg_buf_ = make_buffer(mesh.n_faces() * 32, nullptr, 0);  // two vec4 a segment
     field_prog_ = build_program(ProgramId::PelFields);
     extract_prog_ = build_program(ProgramId::PelExtract);
     draw_prog_ = build_program(ProgramId::PelDraw);
@@ -109,7 +109,7 @@ std::size_t PelPass::segments_drawn() const {
 
 std::vector<float> PelPass::read_segments() const {
   const std::size_t n = segments_drawn();
-  std::vector<float> raw(12 * n);
+  std::vector<float> raw(8 * n);
   if (n) glGetNamedBufferSubData(seg_buf_.id(), 0, GLsizeiptr(raw.size() * 4), raw.data());
   return raw;
 }
