@@ -57,11 +57,6 @@ float pixel_share_below(float t, vec2 n) {
   return t < 0.0 ? tail : 1.0 - tail;
 }
 
-// Coverage of the pixel centred at x by the capsule from a to b (window pixels) whose
-// radius goes linearly from r0 to r1. Beside the segment: the exact area of the pixel
-// inside the band of half-width r (a box filter, any direction and any width). Beyond
-// its ends: round caps, a one-pixel ramp across the circle's border (scaled by 2r below a
-// pixel's width). Overlapping capsules of a polyline, blended with MAX, join round.
 // Where x projects onto segment a-b: 0 at a, 1 at b (unclamped); -1 when a == b.
 float segment_param(vec2 x, vec2 a, vec2 b) {
   vec2 d = b - a;
@@ -69,6 +64,11 @@ float segment_param(vec2 x, vec2 a, vec2 b) {
   return len2 > 0.0 ? dot(x - a, d) / len2 : -1.0;
 }
 
+// Coverage of the pixel centred at x by the capsule from a to b (window pixels) whose
+// radius goes linearly from r0 to r1. Beside the segment: the exact area of the pixel
+// inside the band of half-width r (a box filter, any direction and any width). Beyond
+// its ends: round caps, a one-pixel ramp across the circle's border (scaled by 2r below a
+// pixel's width). Overlapping capsules of a polyline, blended with MAX, join round.
 float capsule_coverage(vec2 x, vec2 a, vec2 b, float r0, float r1) {
   vec2 d = b - a;
   float len2 = dot(d, d);

@@ -610,6 +610,13 @@ TEST(RendererGl, FlatPlaneFromAboveHasNoSilhouette) {
 
 // Level from the south of a 201 x 101 mesh at 20 m (function_mesh: x 0..4000, y -2000..0),
 // 250 m up, every crease accepted (min score 0, no distance term).
+// A line's ink at pixel (u, v) of a W-wide frame: how far the line moved the green channel
+// from the frame drawn without it.
+double ink_at(const renderer::FrameResult& res, const renderer::FrameResult& bare, int W, int u, int v) {
+  const std::size_t i = 4 * (std::size_t(v) * std::size_t(W) + std::size_t(u));
+  return std::abs(double(res.rgba[i + 1]) - double(bare.rgba[i + 1]));
+}
+
 FrameParams level_view_from_the_south() {
   FrameParams fp;
   fp.camera.eye = Vector3d(1000, -3800, 250);
@@ -720,10 +727,9 @@ TEST(RendererGl, CreasesAreDrawnWhereTheyLieOnTheSurface) {
         const double row = p0.v + (p1.v - p0.v) * (u + 0.5 - p0.u) / (p1.u - p0.u);
         double ink = 0, moment = 0;
         for (int v = int(row) - 8; v <= int(row) + 8; ++v) {
-          const std::size_t i = 4 * (std::size_t(v) * W + std::size_t(u));
-          const double a = std::abs(double(res.rgba[i + 1]) - double(bare.rgba[i + 1]));
+          const double a = ink_at(res, bare, W, u, v);
           ink += a, moment += a * (v + 0.5);
-          if (antialias) window.push_back(res.rgba[i + 1]);
+          if (antialias) window.push_back(res.rgba[4 * (std::size_t(v) * W + std::size_t(u)) + 1]);
         }
         ASSERT_GT(ink, 0) << "column " << u << " antialias " << antialias << " lift " << lift;
         EXPECT_NEAR(moment / ink, row, antialias ? 0.6 : 1.0) << "column " << u << " antialias " << antialias << " lift " << lift;
@@ -796,8 +802,7 @@ TEST(RendererGl, ALineOnAValleyFloorSeenAtAGrazingAngleIsNotHiddenByTheChords) {
       const double column = far.u + (near.u - far.u) * (v + 0.5 - far.v) / (near.v - far.v);
       double ink = 0, moment = 0;
       for (int u = int(column) - 5; u <= int(column) + 5; ++u) {
-        const std::size_t i = 4 * (std::size_t(v) * W + std::size_t(u));
-        const double a = std::abs(double(res.rgba[i + 1]) - double(bare.rgba[i + 1]));
+        const double a = ink_at(res, bare, W, u, v);
         ink += a, moment += a * (u + 0.5);
       }
       if (ink == 0) continue;
