@@ -270,8 +270,9 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
 }
 
 // --line-stats: the creases one frame draws (what the DM pass accepts, as the GL-free
-// score gives it), with each segment's pixels left after hidden-line removal (in the crease
-// layer of `buffers`, the frame's read_buffers(), read once per frame).
+// score gives it), with each segment's pixels left after hidden-line removal (the crease
+// pixels shown, drawn_crease_mask of `buffers`, the frame's read_buffers(), read once per
+// frame).
 struct FrameLines {
   std::vector<float> drawn;
   std::vector<double> pixels;
@@ -285,7 +286,9 @@ FrameLines frame_lines(const Scene& scene, const rr::TerrainRenderer& r, const r
   FrameLines lines{rr::segment_opacity(g, res.view.eye, terrain::light_direction(fp.light.azimuth, fp.light.altitude),
                                        exaggeration, score, fade, rr::stroke_rule(style, scene.mesh)),
                    rr::segment_pixels(g, res.view, exaggeration)};
-  const auto visible = rr::visible_fraction(g, res.view, exaggeration, buffers.crease);
+  const auto shown = rr::drawn_crease_mask(buffers.crease, buffers.crease_depth, buffers.toward_depth,
+                                           res.view.reversed_z, style.antialias);
+  const auto visible = rr::visible_fraction(g, res.view, exaggeration, shown);
   for (std::size_t s = 0; s < visible.size(); ++s) lines.pixels[s] *= visible[s];
   return lines;
 }

@@ -93,6 +93,17 @@ std::vector<double> segment_pixels(const CreaseGeometry& g, const View& view, do
   return px;
 }
 
+std::vector<std::uint8_t> drawn_crease_mask(const std::vector<std::uint8_t>& crease, const std::vector<float>& crease_depth,
+                                            const std::vector<float>& toward_depth, bool reversed_z, bool antialias) {
+  std::vector<std::uint8_t> shown(crease.size());
+  auto far_of = [reversed_z](float d) { return reversed_z ? 1.0f - d : d; };
+  for (std::size_t i = 0; i < shown.size(); ++i) {
+    const float t = far_of(toward_depth[i]);
+    shown[i] = crease[i] && (antialias || (t < 1.0f && far_of(crease_depth[i]) <= t));
+  }
+  return shown;
+}
+
 std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, double exaggeration,
                                      const std::vector<std::uint8_t>& mask) {
   const long W = view.width, H = view.height;

@@ -151,6 +151,21 @@ TEST(CreaseStrokes, StrokesShorterThanTheMinimumAreLeftOut) {
   EXPECT_EQ(apply_stroke_rule(ch, all, segment_metres(g), {0, 2.0}), all);
 }
 
+// The crease pixels shown (drawn_crease_mask), four pixels: a line in front of the surface,
+// a line behind it, a line where no surface is, no line. Pixel-exact, only the first, as
+// the composite draws them; anti-aliased, the layer as it is (line.frag kept only what
+// shows). With either depth convention.
+TEST(LineStats, OnlyTheCreasePixelsShownCount) {
+  for (const bool reversed : {false, true}) {
+    auto window = [reversed](float distance) { return reversed ? 1.0f - distance : distance; };  // 1: far, clear
+    const std::vector<std::uint8_t> layer{1, 1, 1, 0};
+    const std::vector<float> line{window(0.4f), window(0.6f), window(0.4f), window(1.0f)};
+    const std::vector<float> surface{window(0.5f), window(0.5f), window(1.0f), window(0.5f)};
+    EXPECT_EQ(drawn_crease_mask(layer, line, surface, reversed, false), (std::vector<std::uint8_t>{1, 0, 0, 0}));
+    EXPECT_EQ(drawn_crease_mask(layer, line, surface, reversed, true), layer);
+  }
+}
+
 TEST(LineStats, FlickerCountsWhatAppearsOrVanishes) {
   const std::vector<double> px = {10, 20, 30, 40};
   EXPECT_EQ(flicker({{1, 1, 0, 1}, {1, 1, 0, 1}}, {px, px}), 0.0);

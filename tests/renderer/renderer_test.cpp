@@ -16,6 +16,7 @@
 #include "renderer/crease.hpp"
 #include "renderer/frames.hpp"
 #include "renderer/gl_context.hpp"
+#include "renderer/line_stats.hpp"
 #include "renderer/shader.hpp"
 #include "renderer/silhouette.hpp"
 #include "renderer/terrain_renderer.hpp"
@@ -629,7 +630,11 @@ FrameParams level_view_from_the_south() {
 }
 
 // A channel along the floor of an east-west valley; a higher ridge between the eye and
-// the valley hides it; without the ridge, or from above, it shows.
+// the valley hides it; without the ridge, or from above, it shows. The line statistics
+// count none of the hidden channel's pixels, pixel-exact or anti-aliased: they measure the
+// crease pixels shown (drawn_crease_mask). The pixel-exact layer itself holds the hidden
+// channel whole (its depth test is against other lines; the composite removes the hidden
+// ones), and the renderer before issue 13 measured that layer, hidden lines and all.
 TEST(RendererGl, RidgeHidesTheValleyCreases) {
   auto terrain_fn = [](double ridge) {
     return [ridge](double, double y) {
@@ -648,26 +653,49 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
     for (std::uint32_t i = 0; i + 1 < g.positions.size(); ++i) g.segments.insert(g.segments.end(), {i, i + 1});
     return g;
   };
+  // The share of the channel's pixels that `mask` covers (visible_fraction, weighted by length).
+  auto covered = [](const CreaseGeometry& g, const renderer::View& view, const std::vector<std::uint8_t>& mask) {
+    const auto px = renderer::segment_pixels(g, view, 1.0), f = renderer::visible_fraction(g, view, 1.0, mask);
+    double all = 0, seen = 0;
+    for (std::size_t s = 0; s < px.size(); ++s) all += px[s], seen += px[s] * f[s];
+    return all > 0 ? seen / all : -1.0;
+  };
   const FrameParams fp = level_view_from_the_south();
   renderer::GlContext ctx;
   const renderer::Layers layers{false, true, true, false};
-  std::size_t pixels[3] = {};
-  for (int k = 0; k < 3; ++k) {
-    const auto mesh = terrain::test::function_mesh(201, 101, 20, terrain_fn(k == 0 ? 500.0 : 0.0));
-    const auto g = creases_on(mesh);
-    TerrainRenderer r(ctx, mesh, &g, 320, 240, layers, test_style());
-    FrameParams f = fp;
-    if (k == 2) {  // from above
-      f.camera.eye.reset();
-      f.camera.view_alt = 90;
+  for (const bool antialias : {false, true}) {
+    renderer::Style style = test_style();
+    style.antialias = antialias;
+    std::size_t pixels[3] = {};
+    for (int k = 0; k < 3; ++k) {
+      const auto mesh = terrain::test::function_mesh(201, 101, 20, terrain_fn(k == 0 ? 500.0 : 0.0));
+      const auto g = creases_on(mesh);
+      TerrainRenderer r(ctx, mesh, &g, 320, 240, layers, style);
+      FrameParams f = fp;
+      if (k == 2) {  // from above
+        f.camera.eye.reset();
+        f.camera.view_alt = 90;
+      }
+      const auto res = r.render(f);
+      EXPECT_EQ(res.crease_segments, g.n_segments());  // all drawn by DM ...
+      pixels[k] = count_colour(res, 255, 0, 0);        // ... but visible only where not hidden
+      const auto b = r.read_buffers();
+      const double shown = covered(g, res.view, renderer::drawn_crease_mask(b.crease, b.crease_depth, b.toward_depth,
+                                                                          res.view.reversed_z, antialias));
+      if (k == 0) {
+        EXPECT_EQ(shown, 0.0) << "antialias " << antialias << ": hidden creases measured as drawn";
+        if (!antialias) {
+          EXPECT_GT(covered(g, res.view, b.crease), 0.95);  // the layer holds them
+        }
+      } else {
+        EXPECT_GT(shown, 0.95) << "antialias " << antialias << " view " << k;
+      }
     }
-    const auto res = r.render(f);
-    EXPECT_EQ(res.crease_segments, g.n_segments());  // all drawn by DM ...
-    pixels[k] = count_colour(res, 255, 0, 0);        // ... but visible only where not hidden
+    if (antialias) continue;  // the pixel counts below are of exactly the line colour
+    EXPECT_EQ(pixels[0], 0u) << "creases behind the ridge are visible";
+    EXPECT_GT(pixels[1], 100u);
+    EXPECT_GT(pixels[2], 100u);
   }
-  EXPECT_EQ(pixels[0], 0u) << "creases behind the ridge are visible";
-  EXPECT_GT(pixels[1], 100u);
-  EXPECT_GT(pixels[2], 100u);
 }
 
 // Lines are drawn where they lie on the surface: the lift (crease_lift) moves a line's
