@@ -11,10 +11,11 @@
 # The old binary measured its raw crease layer, which for its pixel-exact lines holds every
 # line it drew, hidden or not: its depth test there is against the other lines, and the
 # composite removed the hidden ones. So its --line-stats counted the creases behind ridges
-# as drawn. The build below patches that one expression so that it measures the pixels its
-# composite shows, by the composite's own rule (the layer's depth not behind the toward
-# surface), as today's binary does (renderer::drawn_crease_mask; docs/terrain-render.md,
-# "Line statistics"). Nothing else of the old renderer changes.
+# as drawn. The build below applies bench/line_stats_baseline.patch, which makes it test
+# each segment's own line against the toward surface by its composite's rule (the line's
+# depth not behind the surface's), as today's binary tests its own lines
+# (renderer::visible_fraction; docs/terrain-render.md, "Line statistics"). Nothing else of
+# the old renderer changes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 base_commit=bd698b9
@@ -24,14 +25,12 @@ for f in out/msh_50m.ply out/logan_100m.ply out/msh_breached.dv out/logan_breach
   [ -e "$f" ] || { echo "line_stats_baseline: $f is missing: run scripts/demo.sh first" >&2; exit 1; }
 done
 if [ ! -x "$old/build/bin/terrain-render" ] || [ ! -x "$old/build/bin/build-drainage" ] ||
-   ! grep -q toward_depth "$old/src/tools/terrain_render.cpp"; then
+   ! grep -q shown_fraction "$old/src/tools/terrain_render.cpp"; then
   echo "== building $base_commit into $old/ (terrain-render, build-drainage)"
   rm -rf "$old" && mkdir -p "$old/src"
   git archive "$base_commit" | tar -x -C "$old/src"
-  # The crease pixels shown, as its composite.frag.glsl line_visible keeps them.
-  perl -pi -e 's#r\.read_buffers\(\)\.crease\)#[&] { auto b = r.read_buffers(); for (std::size_t i = 0; i < b.crease.size(); ++i) b.crease[i] = b.crease[i] && (res.view.reversed_z ? 1 - b.crease_depth[i] <= 1 - b.toward_depth[i] : b.crease_depth[i] <= b.toward_depth[i]); return b.crease; }())#' \
-    "$old/src/tools/terrain_render.cpp"
-  grep -q toward_depth "$old/src/tools/terrain_render.cpp" || { echo "line_stats_baseline: patching $base_commit failed" >&2; exit 1; }
+  git apply --directory="$old/src" bench/line_stats_baseline.patch
+  grep -q shown_fraction "$old/src/tools/terrain_render.cpp" || { echo "line_stats_baseline: patching $base_commit failed" >&2; exit 1; }
   cmake -S "$old/src" -B "$old/build" -DCMAKE_BUILD_TYPE=Release > "$old/cmake.log"
   cmake --build "$old/build" --parallel 2 --target terrain-render build-drainage > "$old/build.log" 2>&1
 fi

@@ -270,8 +270,8 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
 }
 
 // --line-stats: the creases one frame draws (what the DM pass accepts, as the GL-free
-// score gives it), with each segment's pixels left after hidden-line removal (the crease
-// pixels shown, drawn_crease_mask of `buffers`, the frame's read_buffers(), read once per
+// score gives it), with each segment's pixels left after hidden-line removal (its own
+// line against the toward depth of `buffers`, the frame's read_buffers(), read once per
 // frame).
 struct FrameLines {
   std::vector<float> drawn;
@@ -286,9 +286,8 @@ FrameLines frame_lines(const Scene& scene, const rr::TerrainRenderer& r, const r
   FrameLines lines{rr::segment_opacity(g, res.view.eye, terrain::light_direction(fp.light.azimuth, fp.light.altitude),
                                        exaggeration, score, fade, rr::stroke_rule(style, scene.mesh)),
                    rr::segment_pixels(g, res.view, exaggeration)};
-  const auto shown = rr::drawn_crease_mask(buffers.crease, buffers.crease_depth, buffers.toward_depth,
-                                           res.view.reversed_z, style.antialias);
-  const auto visible = rr::visible_fraction(g, res.view, exaggeration, shown);
+  const auto visible = rr::visible_fraction(g, res.view, exaggeration, rr::crease_lift(style, scene.mesh),
+                                            buffers.toward_depth, style.antialias);
   for (std::size_t s = 0; s < visible.size(); ++s) lines.pixels[s] *= visible[s];
   return lines;
 }

@@ -93,39 +93,48 @@ std::vector<double> segment_pixels(const CreaseGeometry& g, const View& view, do
   return px;
 }
 
-std::vector<std::uint8_t> drawn_crease_mask(const std::vector<std::uint8_t>& crease, const std::vector<float>& crease_depth,
-                                            const std::vector<float>& toward_depth, bool reversed_z, bool antialias) {
-  std::vector<std::uint8_t> shown(crease.size());
-  auto far_of = [reversed_z](float d) { return reversed_z ? 1.0f - d : d; };
-  for (std::size_t i = 0; i < shown.size(); ++i) {
-    const float t = far_of(toward_depth[i]);
-    shown[i] = crease[i] && (antialias || (t < 1.0f && far_of(crease_depth[i]) <= t));
-  }
-  return shown;
-}
-
-std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, double exaggeration,
-                                     const std::vector<std::uint8_t>& mask) {
+std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, double exaggeration, double lift,
+                                     const std::vector<float>& toward_depth, bool antialias) {
   const long W = view.width, H = view.height;
-  std::vector<double> f(g.n_segments(), 0.0);
-  auto covered = [&](double u, double v) {
-    const long x = long(std::floor(u)), y = long(std::floor(v));
-    for (long dy = -1; dy <= 1; ++dy)
-      for (long dx = -1; dx <= 1; ++dx) {
-        const long xx = x + dx, yy = y + dy;
-        if (xx >= 0 && yy >= 0 && xx < W && yy < H && mask[std::size_t(yy * W + xx)]) return true;
-      }
-    return false;
+  auto far_of = [&](double d) { return view.reversed_z ? 1.0 - d : d; };
+  auto surface_at = [&](long x, long y) {  // distance order, 1: no surface
+    return far_of(toward_depth[std::size_t(std::clamp(y, 0L, H - 1) * W + std::clamp(x, 0L, W - 1))]);
   };
+  // An end on screen and the window depth it is drawn at (line_clip).
+  auto end_of = [&](std::uint32_t i, Projected& at, double& depth) {
+    const Eigen::Vector3d q = g.positions[i].cast<double>(), p(q.x(), q.y(), q.z() * exaggeration);
+    at = project(view, p);
+    const Eigen::Vector3d to_eye = view.eye - p;
+    const double d = to_eye.norm();
+    depth = d > 0 ? project(view, p + std::min(lift, 0.5 * d) / d * to_eye).depth : at.depth;
+  };
+  std::vector<double> f(g.n_segments(), 0.0);
   for (std::size_t s = 0; s < f.size(); ++s) {
-    const auto seg = screen_segment(g, s, view, exaggeration);
+    Projected a, b;
+    double da = 0, db = 0;
+    end_of(g.segments[2 * s], a, da);
+    end_of(g.segments[2 * s + 1], b, db);
+    if (!a.in_front || !b.in_front) continue;
+    const Eigen::Vector2d A(a.u, a.v), B(b.u, b.v);
+    const auto seg = clip(A, B, double(W), double(H));
     if (!seg) continue;
-    const double len = (seg->second - seg->first).norm();
-    const int n = std::max(1, int(std::ceil(len)));
+    const double full = (B - A).norm();
+    const int n = std::max(1, int(std::ceil((seg->second - seg->first).norm())));
     int hit = 0;
     for (int k = 0; k < n; ++k) {
-      const Eigen::Vector2d p = seg->first + (seg->second - seg->first) * ((k + 0.5) / n);
-      hit += covered(p.x(), p.y());
+      const Eigen::Vector2d q = seg->first + (seg->second - seg->first) * ((k + 0.5) / n);
+      // Window depth is affine along the segment on screen, as the rasterizer interpolates it.
+      const double line = far_of(da + (db - da) * (full > 0 ? (q - A).norm() / full : 0.0));
+      const long x = long(std::floor(q.x())), y = long(std::floor(q.y()));
+      double t = -1;
+      if (antialias) {
+        for (long dy = -1; dy <= 1; ++dy)
+          for (long dx = -1; dx <= 1; ++dx)
+            if (const double d = surface_at(x + dx, y + dy); d < 1.0) t = std::max(t, d);
+      } else if (const double d = surface_at(x, y); d < 1.0) {
+        t = d;
+      }
+      hit += t >= 0 && line <= t;
     }
     f[s] = double(hit) / n;
   }

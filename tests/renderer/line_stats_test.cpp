@@ -151,18 +151,29 @@ TEST(CreaseStrokes, StrokesShorterThanTheMinimumAreLeftOut) {
   EXPECT_EQ(apply_stroke_rule(ch, all, segment_metres(g), {0, 2.0}), all);
 }
 
-// The crease pixels shown (drawn_crease_mask), four pixels: a line in front of the surface,
-// a line behind it, a line where no surface is, no line. Pixel-exact, only the first, as
-// the composite draws them; anti-aliased, the layer as it is (line.frag kept only what
-// shows). With either depth convention.
-TEST(LineStats, OnlyTheCreasePixelsShownCount) {
+// A line across a 40 x 40 view from straight above, its own depth against the surface:
+// nearer than the line in the left third (u < 13), behind it in the middle (13 <= u < 27),
+// none on the right. Pixel-exact, its pixels show in the middle only: 14 of 40. Anti-
+// aliased (line.frag), also where the farthest surface of the 3 x 3 pixels about the
+// sample is behind the line: one column more on each side, 16 of 40. Either depth
+// convention.
+TEST(LineStats, VisibleFractionTestsEachSegmentsOwnDepth) {
   for (const bool reversed : {false, true}) {
-    auto window = [reversed](float distance) { return reversed ? 1.0f - distance : distance; };  // 1: far, clear
-    const std::vector<std::uint8_t> layer{1, 1, 1, 0};
-    const std::vector<float> line{window(0.4f), window(0.6f), window(0.4f), window(1.0f)};
-    const std::vector<float> surface{window(0.5f), window(0.5f), window(1.0f), window(0.5f)};
-    EXPECT_EQ(drawn_crease_mask(layer, line, surface, reversed, false), (std::vector<std::uint8_t>{1, 0, 0, 0}));
-    EXPECT_EQ(drawn_crease_mask(layer, line, surface, reversed, true), layer);
+    Camera camera;
+    camera.eye = Eigen::Vector3d(0, 0, 100);
+    camera.view_az = 0;
+    camera.view_alt = 90;
+    const View view = make_view(camera, Eigen::Vector3d::Zero(), Box{{-30, -30, -60}, {30, 30, 60}}, 40, 40, reversed);
+    CreaseGeometry g;
+    g.positions = {{-500, 0, 0}, {500, 0, 0}};
+    g.segments = {0, 1};
+    const float front = float(project(view, Eigen::Vector3d(0, 0, 50)).depth);
+    const float behind = float(project(view, Eigen::Vector3d(0, 0, -50)).depth);
+    std::vector<float> toward(40 * 40);
+    for (int v = 0; v < 40; ++v)
+      for (int u = 0; u < 40; ++u) toward[std::size_t(v * 40 + u)] = u < 13 ? front : u < 27 ? behind : (reversed ? 0.0f : 1.0f);
+    EXPECT_NEAR(visible_fraction(g, view, 1.0, 0.0, toward, false)[0], 14.0 / 40, 1e-9) << reversed;
+    EXPECT_NEAR(visible_fraction(g, view, 1.0, 0.0, toward, true)[0], 16.0 / 40, 1e-9) << reversed;
   }
 }
 

@@ -631,33 +631,46 @@ FrameParams level_view_from_the_south() {
 
 // A channel along the floor of an east-west valley; a higher ridge between the eye and
 // the valley hides it; without the ridge, or from above, it shows. The line statistics
-// count none of the hidden channel's pixels, pixel-exact or anti-aliased: they measure the
-// crease pixels shown (drawn_crease_mask). The pixel-exact layer itself holds the hidden
-// channel whole (its depth test is against other lines; the composite removes the hidden
-// ones), and the renderer before issue 13 measured that layer, hidden lines and all.
+// count none of the hidden channel's pixels, pixel-exact or anti-aliased: each segment is
+// tested by its own depth (visible_fraction). With a line drawn up the ridge's face across
+// where the hidden channel projects (k = 3), the channel still counts nothing, although
+// that line's ink covers the channel's pixels there: the rule before stop 34 counted a
+// segment's pixels wherever crease ink lay within a pixel of them, and for pixel-exact
+// lines that ink was the whole layer, hidden lines and all (the composite removes them),
+// which the renderer before issue 13 measured.
 TEST(RendererGl, RidgeHidesTheValleyCreases) {
   auto terrain_fn = [](double ridge) {
     return [ridge](double, double y) {
       return ridge * std::exp(-0.5 * std::pow((y + 3000) / 100, 2)) - 50 * std::exp(-0.5 * std::pow((y + 2000) / 400, 2));
     };
   };
-  auto creases_on = [](const terrain::GridMesh& mesh) {
+  // The channel (x from 300 to 1700 along y = -2000), and with `crossing` a line up the
+  // ridge's face at x = 1000 after it.
+  auto creases_on = [](const terrain::GridMesh& mesh, bool crossing) {
     CreaseGeometry g;
-    for (double x = 300; x <= 1700; x += 20) {
-      const auto sp = terrain::pn_point_above(mesh, x, -2000);
-      g.positions.push_back(sp->position.cast<float>());
-      g.normals.push_back(sp->normal.cast<float>());
-      g.flow.push_back(float((x - 280) / 1420));
-      g.share.push_back(g.flow.back());
-    }
-    for (std::uint32_t i = 0; i + 1 < g.positions.size(); ++i) g.segments.insert(g.segments.end(), {i, i + 1});
+    auto line = [&](Vector3d from, Vector3d step, int n) {
+      const std::uint32_t first = std::uint32_t(g.positions.size());
+      for (int i = 0; i < n; ++i) {
+        const Vector3d q = from + double(i) * step;
+        const auto sp = terrain::pn_point_above(mesh, q.x(), q.y());
+        g.positions.push_back(sp->position.cast<float>());
+        g.normals.push_back(sp->normal.cast<float>());
+        g.flow.push_back(float(i + 1) / float(n));
+        g.share.push_back(g.flow.back());
+        if (i > 0) g.segments.insert(g.segments.end(), {first + std::uint32_t(i) - 1, first + std::uint32_t(i)});
+      }
+    };
+    line(Vector3d(300, -2000, 0), Vector3d(20, 0, 0), 71);
+    if (crossing) line(Vector3d(1000, -3400, 0), Vector3d(0, 10, 0), 41);
     return g;
   };
-  // The share of the channel's pixels that `mask` covers (visible_fraction, weighted by length).
-  auto covered = [](const CreaseGeometry& g, const renderer::View& view, const std::vector<std::uint8_t>& mask) {
-    const auto px = renderer::segment_pixels(g, view, 1.0), f = renderer::visible_fraction(g, view, 1.0, mask);
+  constexpr std::size_t kChannel = 70;  // its segments come first
+  // The share of the pixels of segments [first, last) that show, weighted by length.
+  auto shown = [](const CreaseGeometry& g, const renderer::View& view, const std::vector<double>& f, std::size_t first,
+                  std::size_t last) {
+    const auto px = renderer::segment_pixels(g, view, 1.0);
     double all = 0, seen = 0;
-    for (std::size_t s = 0; s < px.size(); ++s) all += px[s], seen += px[s] * f[s];
+    for (std::size_t s = first; s < last; ++s) all += px[s], seen += px[s] * f[s];
     return all > 0 ? seen / all : -1.0;
   };
   const FrameParams fp = level_view_from_the_south();
@@ -667,9 +680,9 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
     renderer::Style style = test_style();
     style.antialias = antialias;
     std::size_t pixels[3] = {};
-    for (int k = 0; k < 3; ++k) {
-      const auto mesh = terrain::test::function_mesh(201, 101, 20, terrain_fn(k == 0 ? 500.0 : 0.0));
-      const auto g = creases_on(mesh);
+    for (int k = 0; k < 4; ++k) {
+      const auto mesh = terrain::test::function_mesh(201, 101, 20, terrain_fn(k == 0 || k == 3 ? 500.0 : 0.0));
+      const auto g = creases_on(mesh, k == 3);
       TerrainRenderer r(ctx, mesh, &g, 320, 240, layers, style);
       FrameParams f = fp;
       if (k == 2) {  // from above
@@ -678,18 +691,23 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
       }
       const auto res = r.render(f);
       EXPECT_EQ(res.crease_segments, g.n_segments());  // all drawn by DM ...
-      pixels[k] = count_colour(res, 255, 0, 0);        // ... but visible only where not hidden
-      const auto b = r.read_buffers();
-      const double shown = covered(g, res.view, renderer::drawn_crease_mask(b.crease, b.crease_depth, b.toward_depth,
-                                                                          res.view.reversed_z, antialias));
-      if (k == 0) {
-        EXPECT_EQ(shown, 0.0) << "antialias " << antialias << ": hidden creases measured as drawn";
-        if (!antialias) {
-          EXPECT_GT(covered(g, res.view, b.crease), 0.95);  // the layer holds them
-        }
+      if (k < 3) pixels[k] = count_colour(res, 255, 0, 0);  // ... but visible only where not hidden
+      const auto fraction = renderer::visible_fraction(g, res.view, 1.0, renderer::crease_lift(style, mesh),
+                                                       r.read_buffers().toward_depth, antialias);
+      const double channel = shown(g, res.view, fraction, 0, kChannel);
+      if (k == 0 || k == 3) {
+        EXPECT_EQ(channel, 0.0) << "antialias " << antialias << " view " << k << ": hidden creases measured as drawn";
       } else {
-        EXPECT_GT(shown, 0.95) << "antialias " << antialias << " view " << k;
+        EXPECT_GT(channel, 0.95) << "antialias " << antialias << " view " << k;
       }
+      if (k != 3) continue;
+      EXPECT_GT(shown(g, res.view, fraction, kChannel, g.n_segments()), 0.95) << "antialias " << antialias;
+      // The crossing line's ink lies on the hidden channel's projection.
+      const auto q = renderer::project(res.view, g.positions[35].cast<double>());  // x = 1000
+      int ink = 0;  // the most, of the pixel and its neighbours in the row
+      for (int du = -1; du <= 1; ++du)
+        ink = std::max(ink, 255 - int(res.rgba[4 * (std::size_t(q.v) * 320 + std::size_t(int(q.u) + du)) + 1]));
+      EXPECT_GT(ink, 200) << "antialias " << antialias << ": no crease ink where the channel projects";
     }
     if (antialias) continue;  // the pixel counts below are of exactly the line colour
     EXPECT_EQ(pixels[0], 0u) << "creases behind the ridge are visible";

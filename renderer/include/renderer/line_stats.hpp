@@ -36,21 +36,17 @@ SegmentTraits segment_traits(const terrain::GridMesh& mesh, const terrain::Drain
 // their depth), clipped to the image; 0 where an end lies behind the near plane. #S.
 std::vector<double> segment_pixels(const CreaseGeometry& g, const View& view, double exaggeration);
 
-// The crease pixels a frame shows (FrameBuffers' layers, row 0 at the top; 0 / 1 each).
-// Anti-aliased lines: the crease layer as it is, since line.frag draws only the fragments
-// its hidden-line test leaves, on the surface. Pixel-exact lines: their layer holds every
-// line, hidden or not (its depth test is against the other lines only), and the composite
-// removes the hidden ones; so the layer's pixels on the surface (toward depth not the clear
-// depth) whose depth is not behind it (no farther than the toward depth), as the composite
-// keeps them (composite.frag.glsl, line_cover).
-std::vector<std::uint8_t> drawn_crease_mask(const std::vector<std::uint8_t>& crease, const std::vector<float>& crease_depth,
-                                            const std::vector<float>& toward_depth, bool reversed_z, bool antialias);
-
-// The fraction of each segment's pixels that `mask` (width x height, row 0 at the top,
-// the crease pixels shown: drawn_crease_mask) covers within one pixel; segments with no
-// pixel get 0. #S.
-std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, double exaggeration,
-                                     const std::vector<std::uint8_t>& mask);
+// The fraction of each segment's pixels that show, by the test the renderer applies to
+// that segment's own line, not to whatever else is drawn at its pixels: sampled at each
+// pixel along the segment on screen (clipped to the image), the line's depth there (its
+// ends moved `lift` towards the eye, as line_clip in common.glsl does) against
+// `toward_depth` (view.width x view.height window depths, row 0 at the top, the clear
+// depth where no surface is; FrameBuffers::toward_depth). Anti-aliased (line.frag.glsl):
+// not behind the farthest surface of the sample's pixel and its 8 neighbours, one of which
+// shows surface. Pixel-exact (the composite): its own pixel shows surface and the line is
+// not behind it. Segments with no pixel get 0. #S.
+std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, double exaggeration, double lift,
+                                     const std::vector<float>& toward_depth, bool antialias);
 
 // The strokes drawn: chains of drawn segments (drawn[s] > 0), each drawn segment
 // continuing the stroke of the drawn inflow of largest flow at its upstream vertex (ties:
@@ -70,8 +66,7 @@ struct LineStats {
   double weighted_mean_stroke_px = 0;  // length_px / weighted_strokes
 };
 // `drawn`: #S opacity in [0, 1] (accepted_segments as 0 / 1); `pixels`: #S drawn length
-// (segment_pixels, times visible_fraction of drawn_crease_mask: the lines left after
-// hidden-line removal).
+// (segment_pixels, times visible_fraction: the lines left after hidden-line removal).
 LineStats line_stats(const CreaseGeometry& g, const SegmentTraits& traits, const std::vector<float>& drawn,
                      const std::vector<double>& pixels);
 
