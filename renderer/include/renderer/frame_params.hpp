@@ -26,7 +26,7 @@ namespace renderer {
 struct CreaseScoreParams {
   double sw = 1.0 / 3, iw = 1.0 / 3, fw = 1.0 / 3;  // equal weights (the paper's Figure 15)
   double min_score = 0.25;              // rs_base
-  double falloff = 0.3;                 // k: how far rs_min rises towards 1 at far_distance
+  double falloff = 0.2;                 // k: how far rs_min rises towards 1 at far_distance
   double far_distance = 0;              // d_far in metres; 0: across the scene (resolve_distances)
   double near_distance = 0;             // d_near: where rs_min starts rising (< far_distance)
   bool literal_divisor = false;         // divide by 3 instead of the weight sum
