@@ -15,6 +15,7 @@
 #include "renderer/frames.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/line_stats.hpp"
+#include "renderer/stroke_visibility.hpp"
 #include "renderer/terrain_renderer.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/hillshade.hpp"
@@ -186,6 +187,21 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
                   "resolution (0: keep every stroke)")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
+  app->add_option("--crease-hidden-gap", o.style.crease_hidden_gap,
+                  "Draw a hidden run of a crease stroke up to this long (pixels) between its shown parts, when none "
+                  "of it is more than --crease-hidden-depth behind the surface: a gully's floor, not dashes "
+                  "(0: draw none)")
+      ->check(CLI::Range(0.0, 256.0))
+      ->capture_default_str();
+  app->add_option("--crease-hidden-depth", o.style.crease_hidden_depth,
+                  "How far behind the surface a hidden run drawn by --crease-hidden-gap may lie (mesh spacings)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  app->add_option("--crease-min-peek", o.style.crease_min_peek,
+                  "Leave out a shown run of a crease stroke up to this long (pixels) beside a hidden part: a dot "
+                  "where a channel peeks out between ridges (0: keep every run)")
+      ->check(CLI::Range(0.0, 256.0))
+      ->capture_default_str();
   app->add_option("--silhouette-width", o.style.silhouette_width,
                   "Silhouette width in pixels (anti-aliased: a band 0.8 px wider about the line of the silhouette "
                   "pixels)")
@@ -243,12 +259,13 @@ struct Scene {
   terrain::GridMesh mesh;
   std::optional<rr::CreaseGeometry> creases;
   rr::SegmentTraits traits;  // of the creases' segments
+  rr::SegmentChains chains;  // the strokes they follow, as the DM pass holds them
 };
 
 Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const rr::CreaseRules& rules,
                  const tt::Verbosity& verb) {
   auto t0 = Clock::now();
-  Scene s{terrain::read_mesh_ply(mesh_path), std::nullopt, {}};
+  Scene s{terrain::read_mesh_ply(mesh_path), std::nullopt, {}, {}};
   tt::step(verb, fmt::format("read mesh {} x {} ({} patches): {:.2f} s", s.mesh.topo.cols, s.mesh.topo.rows,
                              s.mesh.n_faces(), since(t0)));
   if (!dv_path.empty()) {
@@ -263,6 +280,7 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
     if (w.empty()) w = rr::surface_warning(s.mesh, *s.creases);  // one warning: the extent says it already
     if (!w.empty()) tt::warn(verb, "'" + dv_path + "': " + w);
     s.traits = rr::segment_traits(s.mesh, links, *s.creases);
+    s.chains = rr::segment_chains(*s.creases);
     tt::step(verb, fmt::format("read {} and its PN normals: {} vertices, {} segments: {:.2f} s", dv_path,
                                s.creases->positions.size(), s.creases->n_segments(), since(t0)));
   }
@@ -285,9 +303,16 @@ FrameLines frame_lines(const Scene& scene, const rr::TerrainRenderer& r, const r
   const double fade = style.antialias ? style.crease_fade : 0.0;
   FrameLines lines{rr::segment_opacity(g, res.view.eye, terrain::light_direction(fp.light.azimuth, fp.light.altitude),
                                        exaggeration, score, fade, rr::stroke_rule(style, scene.mesh)),
-                   rr::segment_pixels(g, res.view, exaggeration)};
-  const auto visible = rr::visible_fraction(g, res.view, exaggeration, rr::crease_lift(style, scene.mesh),
-                                            buffers.toward_depth, style.antialias);
+                   {}};
+  const double lift = rr::crease_lift(style, scene.mesh);
+  if (style.antialias) {
+    lines.pixels = rr::shown_pixels(rr::stroke_visibility(g, scene.chains, lines.drawn, res.view, exaggeration, lift,
+                                                          buffers.toward_depth,
+                                                          rr::stroke_visibility_rule(style, scene.mesh)));
+    return lines;
+  }
+  lines.pixels = rr::segment_pixels(g, res.view, exaggeration);
+  const auto visible = rr::visible_fraction(g, res.view, exaggeration, lift, buffers.toward_depth, false);
   for (std::size_t s = 0; s < visible.size(); ++s) lines.pixels[s] *= visible[s];
   return lines;
 }

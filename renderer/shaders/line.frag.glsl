@@ -6,6 +6,9 @@
 layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
 flat in vec4 v_ends;   // the segment's ends, window pixels
 flat in vec3 v_shape;  // radius at each end (pixels), opacity
+#ifdef TR_CREASE_SAMPLES
+flat in uint v_segment;
+#endif
 layout(location = 0) out vec4 o_colour;
 void main() {
   if (u_style.x == 0.0) {
@@ -23,6 +26,13 @@ void main() {
   // is about the spine (past a skyline or a mesh edge) nothing is drawn; a line along the
   // mesh's edge, whose spine pixels fall on either side of it, stays whole.
   float along = clamp(segment_param(gl_FragCoord.xy, v_ends.xy, v_ends.zw), 0.0, 1.0);
+#ifdef TR_CREASE_SAMPLES
+  // Creases: the same test, made once per sample of the segment and smoothed along its
+  // stroke (crease_visibility.comp.glsl: short hidden runs drawn, peeks left out); the
+  // fragment takes its spine point's sample.
+  uint n = samples[v_segment].n;
+  if (n == 0u || ((samples[v_segment].shown >> min(n - 1u, uint(along * float(n)))) & 1u) == 0u) discard;
+#else
   vec2 point = mix(v_ends.xy, v_ends.zw, along);
   ivec2 last = ivec2(u_viewport.xy) - 1, spine = clamp(ivec2(floor(point)), ivec2(0), last);
   float t = -1.0;
@@ -32,5 +42,6 @@ void main() {
       if (s < 1.0) t = max(t, s);
     }
   if (t < 0.0 || far_of(gl_FragCoord.z) > t) discard;
+#endif
   o_colour = vec4(v_shape.z * capsule_coverage(gl_FragCoord.xy, v_ends.xy, v_ends.zw, v_shape.x, v_shape.y));
 }

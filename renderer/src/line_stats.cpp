@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "renderer/silhouette.hpp"
+#include "renderer/stroke_visibility.hpp"
 
 namespace renderer {
 
@@ -73,15 +74,9 @@ std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> clip(Eigen::Vector2d 
   return std::make_pair(Eigen::Vector2d(a + t0 * d), Eigen::Vector2d(a + t1 * d));
 }
 
-// Crease vertex i as drawn: its height scaled by the exaggeration e.
-Eigen::Vector3d exaggerated(const CreaseGeometry& g, std::uint32_t i, double e) {
-  const Eigen::Vector3d p = g.positions[i].cast<double>();
-  return {p.x(), p.y(), p.z() * e};
-}
-
 std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> screen_segment(const CreaseGeometry& g, std::size_t s,
                                                                           const View& view, double e) {
-  auto at = [&](std::uint32_t i) { return project(view, exaggerated(g, i, e)); };
+  auto at = [&](std::uint32_t i) { return project(view, drawn_position(g, i, e)); };
   const Projected a = at(g.segments[2 * s]), b = at(g.segments[2 * s + 1]);
   if (!a.in_front || !b.in_front) return std::nullopt;
   return clip({a.u, a.v}, {b.u, b.v}, view.width, view.height);
@@ -105,7 +100,7 @@ std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, 
   };
   // An end on screen and the window depth it is drawn at (line_clip).
   auto end_of = [&](std::uint32_t i, Projected& at, double& depth) {
-    const Eigen::Vector3d p = exaggerated(g, i, exaggeration);
+    const Eigen::Vector3d p = drawn_position(g, i, exaggeration);
     at = project(view, p);
     const Eigen::Vector3d to_eye = view.eye - p;
     const double d = to_eye.norm();

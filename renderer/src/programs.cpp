@@ -29,7 +29,8 @@ const ProgramSpec& program_spec(ProgramId id) {
         {"crease_bridge", compute({"crease_data.glsl", "crease_bridge.comp.glsl"}), {}},
         {"crease_select", compute({"crease_data.glsl", "crease_select.comp.glsl"}), {}},
         {"crease_draw",
-         {{GL_VERTEX_SHADER, {c, "crease_data.glsl", "crease.vert.glsl"}}, {GL_FRAGMENT_SHADER, {c, "line.frag.glsl"}}},
+         {{GL_VERTEX_SHADER, {c, "crease_data.glsl", "crease.vert.glsl"}},
+          {GL_FRAGMENT_SHADER, {c, "crease_samples.glsl", "line.frag.glsl"}}},
          {}},
         {"silhouette", fullscreen({"silhouette_list.glsl", "silhouette.frag.glsl"}), {}},
         {"composite", fullscreen({"composite.frag.glsl"}), {}},
@@ -47,6 +48,7 @@ const ProgramSpec& program_spec(ProgramId id) {
          {}},
         {"silhouette_pieces", compute({"silhouette_list.glsl", "union_find.glsl", "silhouette_pieces.comp.glsl"}), {}},
         {"pel_pieces", compute({"pel_common.glsl", "union_find.glsl", "pel_pieces.comp.glsl"}), {}},
+        {"crease_visibility", compute({"crease_data.glsl", "crease_samples.glsl", "crease_visibility.comp.glsl"}), {}},
     };
   }();
   return specs.at(std::size_t(id));

@@ -11,6 +11,7 @@
 #include "passes/passes.hpp"
 #include "renderer/gl_contract.hpp"
 #include "renderer/programs.hpp"
+#include "renderer/stroke_visibility.hpp"
 #include "terrain/error.hpp"
 #include "terrain/hillshade.hpp"
 
@@ -43,6 +44,12 @@ void check_inputs(const terrain::GridMesh& mesh, int width, int height, const La
     throw terrain::Error("crease bridge must be in [0, 100] mesh spacings");
   if (!(style.crease_min_stroke >= 0 && style.crease_min_stroke <= 100))
     throw terrain::Error("shortest crease stroke must be in [0, 100] mesh spacings");
+  if (!(style.crease_hidden_gap >= 0 && style.crease_hidden_gap <= 256))
+    throw terrain::Error("crease hidden gap must be in [0, 256] pixels");
+  if (!(style.crease_hidden_depth >= 0 && style.crease_hidden_depth <= 100))
+    throw terrain::Error("crease hidden depth must be in [0, 100] mesh spacings");
+  if (!(style.crease_min_peek >= 0 && style.crease_min_peek <= 256))
+    throw terrain::Error("shortest crease peek must be in [0, 256] pixels");
   if (!(style.pel_min_length >= 0 && style.pel_min_length <= 100))
     throw terrain::Error("shortest PEL piece must be in [0, 100] mesh spacings");
   if (!(style.pel_smooth >= 0 && style.pel_smooth <= 16)) throw terrain::Error("PEL smoothing must be 0 to 16 iterations");
@@ -83,6 +90,7 @@ struct TerrainRenderer::Impl {
         origin(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z),
         lift(crease_lift(style, mesh)),
         strokes(stroke_rule(style, mesh)),
+        visibility(stroke_visibility_rule(style, mesh)),
         scene(mesh, width, height, context.has_clip_control()),
         toward(scene),
         away(scene, layers.silhouettes && !layers.adjacency),
@@ -108,6 +116,7 @@ struct TerrainRenderer::Impl {
   Eigen::Vector3d origin;
   double lift = 0;
   StrokeRule strokes;
+  StrokeVisibilityRule visibility;
   int max_level = 32;
   passes::SceneGpu scene;
   passes::TowardPass toward;
@@ -142,6 +151,7 @@ FrameBlock TerrainRenderer::Impl::frame_block(const FrameParams& frame, const Vi
   set4(fb.u_lines, style.crease_width, style.crease_width_max, 0, scene.reversed ? 1 : 0);
   set4(fb.u_misc, v.near, double(creases.n_segments()), double(creases.n_vertices()), strokes.min_length);
   set4(fb.u_style, style.antialias ? 1 : 0, style.antialias ? style.crease_fade : 0, sp.near_distance, strokes.bridge);
+  if (style.antialias) set4(fb.u_strokes, visibility.gap_px, visibility.gap_depth, visibility.min_peek_px, 0);
   return fb;
 }
 
@@ -245,6 +255,8 @@ std::vector<TerrainRenderer::PelSegmentOut> TerrainRenderer::read_pels() const {
 TerrainRenderer::EdgesOut TerrainRenderer::read_edges() const {
   return {impl_->edges.read_kinds(), impl_->edges.read_drawn()};
 }
+
+std::vector<SegmentSamples> TerrainRenderer::read_crease_samples() const { return impl_->creases.read_samples(); }
 
 std::vector<TerrainRenderer::PnSample> TerrainRenderer::capture_pn(const std::vector<std::uint32_t>& faces, int level) {
   auto& m = *impl_;

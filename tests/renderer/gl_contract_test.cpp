@@ -31,7 +31,7 @@ const std::map<std::string, int> kStorageBlocks = {
     {"CreaseChains", TR_SSBO_CREASE_CHAINS},     {"Opacity", TR_SSBO_CREASE_OPACITY},
     {"PieceLabels", TR_SSBO_PIECE_LABELS},       {"PieceSizes", TR_SSBO_PIECE_SIZES},
     {"PieceList", TR_SSBO_PIECE_LIST},           {"FaceSegments", TR_SSBO_PEL_FACE_SEGMENTS},
-    {"PelSmoothed", TR_SSBO_PEL_SMOOTHED}};
+    {"PelSmoothed", TR_SSBO_PEL_SMOOTHED},       {"CreaseSamples", TR_SSBO_CREASE_SAMPLES}};
 const std::map<std::string, int> kSamplers = {
     {"u_toward", TR_TEX_TOWARD_DEPTH},       {"u_away", TR_TEX_AWAY_DEPTH},
     {"u_surface_colour", TR_TEX_SURFACE_COLOUR}, {"u_crease", TR_TEX_CREASE_COLOUR},
@@ -69,7 +69,8 @@ const std::map<std::string, int> kUniformLocations = {
     {"u_edge_colour", TR_LOC_EDGE_COLOUR},
     {"u_edges", TR_LOC_EDGES},
     {"u_piece_stage", TR_LOC_PIECE_STAGE},
-    {"u_piece_min", TR_LOC_PIECE_MIN}};
+    {"u_piece_min", TR_LOC_PIECE_MIN},
+    {"u_crease_stage", TR_LOC_CREASE_STAGE}};
 const std::map<std::string, int> kAttributes = {{"a_position", TR_ATTR_POSITION}, {"a_normal", TR_ATTR_NORMAL}};
 
 #define TR_OFFSET(type, name) {#name, offsetof(FrameBlock, name)},
@@ -163,10 +164,10 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
     }
   }
   // The checks ran on the interfaces there are (a program could lose them silently).
-  EXPECT_EQ(computes, 8u);
+  EXPECT_EQ(computes, 9u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 17u);  // silhouette 2, composite 10, adjacency 2, crease and PEL draws 1 each, pieces 1
+  EXPECT_EQ(samplers, 17u);  // silhouette 2, composite 10, adjacency 2, crease visibility and PEL draw 1 each, pieces 1
   EXPECT_EQ(images, 3u);     // pieces (opacity), silhouette and adjacency (tiles)
   EXPECT_GE(locations, 14u);
 }

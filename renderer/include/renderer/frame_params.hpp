@@ -87,6 +87,11 @@ struct Style {
   // line up to crease_bridge long is drawn; a stroke shorter than crease_min_stroke (below
   // the source mesh's resolution) is not. 0 turns a rule off.
   double crease_bridge = 1.0, crease_min_stroke = 4.0;
+  // Hidden runs and peeks (anti-aliased lines only; renderer::StrokeVisibilityRule): a
+  // hidden run of a stroke up to crease_hidden_gap pixels long between shown parts, none of
+  // it more than crease_hidden_depth mesh spacings behind the surface, is drawn; a shown run
+  // up to crease_min_peek pixels long beside a hidden part is not. 0 turns a rule off.
+  double crease_hidden_gap = 8.0, crease_hidden_depth = 1.5, crease_min_peek = 6.0;
   int silhouette_width = 1;                           // pixels
   // Silhouette pieces (anti-aliased lines only; renderer::silhouette_piece_opacity): a
   // piece of silhouette pixels shorter than this share of the frame's height fades out,

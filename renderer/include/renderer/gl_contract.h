@@ -21,7 +21,9 @@
    u_misc     near plane distance, segment count, vertex count, shortest crease stroke
               (metres; 0: any)
    u_style    anti-aliased lines (1) or pixel-exact (0), crease fade band (score units;
-              0: cut), score near distance, crease gap bridged (metres; 0: none) */
+              0: cut), score near distance, crease gap bridged (metres; 0: none)
+   u_strokes  hidden run drawn (pixels; 0: none), how far behind the surface (metres),
+              shortest peek drawn (pixels; 0: any), unused */
 #define TR_UBO_FRAME 0
 #define TR_FRAME_BLOCK(M) \
   M(mat4, u_view_proj)    \
@@ -32,7 +34,8 @@
   M(vec4, u_score)        \
   M(vec4, u_lines)        \
   M(vec4, u_misc)         \
-  M(vec4, u_style)
+  M(vec4, u_style)        \
+  M(vec4, u_strokes)
 
 /* Shader storage buffers. */
 #define TR_SSBO_CREASE_VERTICES 1
@@ -62,11 +65,15 @@
 #define TR_SSBO_PIECE_LIST 25
 #define TR_SSBO_PEL_FACE_SEGMENTS 26
 #define TR_SSBO_PEL_SMOOTHED 27
+#define TR_SSBO_CREASE_SAMPLES 28
 
 /* Crease strokes: "no segment" in the chains (renderer::kNoSegment), and how many
    segments a stroke's run is followed each way (renderer::kStrokeReach). */
 #define TR_SEGMENT_NONE 0xFFFFFFFFu
 #define TR_STROKE_REACH 64
+/* Samples per crease segment for hidden-line removal along strokes, the bits of a mask
+   (renderer::kStrokeSamples). */
+#define TR_STROKE_SAMPLES 32
 
 /* Piece rules (union_find.glsl): the label of a root. */
 #define TR_PIECE_ROOT 0xFFFFFFFFu
@@ -145,5 +152,7 @@
 /* Pieces (silhouettes: pixels; PELs: metres): */
 #define TR_LOC_PIECE_STAGE 26
 #define TR_LOC_PIECE_MIN 27
+/* Crease visibility along strokes: */
+#define TR_LOC_CREASE_STAGE 28
 
 #endif

@@ -28,6 +28,7 @@ enum class ProgramId {
   EdgeDraw,      // EDGE: the drawn edges as quads with caps
   SilhouettePieces,  // SIL: silhouette pieces and their opacity (anti-aliased)
   PelPieces,         // PEL: PEL pieces and their segments' opacity (anti-aliased)
+  CreaseVisibility,  // DM: crease samples' visibility along strokes (anti-aliased)
 };
 inline constexpr std::array kAllPrograms = {ProgramId::Surface,     ProgramId::PnCapture,    ProgramId::CreaseScore,
                                             ProgramId::CreaseBridge, ProgramId::CreaseSelect, ProgramId::CreaseDraw,
@@ -35,7 +36,7 @@ inline constexpr std::array kAllPrograms = {ProgramId::Surface,     ProgramId::P
                                             ProgramId::Composite,    ProgramId::PelFields,   ProgramId::PelExtract,
                                             ProgramId::PelDraw,     ProgramId::SurfaceId,    ProgramId::Adjacency,
                                             ProgramId::EdgeClassify, ProgramId::EdgeDraw,    ProgramId::SilhouettePieces,
-                                            ProgramId::PelPieces};
+                                            ProgramId::PelPieces,   ProgramId::CreaseVisibility};
 
 struct ProgramSpec {
   const char* name;

@@ -9,7 +9,8 @@
 //   DM   a compute pass scores every crease vertex and keeps the segments whose two ends
 //        score >= 0 (a rejected vertex breaks the strip); they are drawn as screen-space
 //        quads where they lie, their depth lifted towards the eye, wider where the flow is
-//        larger.
+//        larger; anti-aliased, hidden by samples smoothed along their strokes
+//        (stroke_visibility.hpp).
 //   SIL  Toward/Away (Mower 2015): a pixel with toward depth t < away depth a and an
 //        8-neighbour whose toward depth is beyond a; anti-aliased, then the piece rule
 //        (silhouette.hpp): pieces shorter than Style::silhouette_min_length fade out.
@@ -33,6 +34,7 @@
 #include "renderer/crease.hpp"
 #include "renderer/frame_params.hpp"
 #include "renderer/gl_context.hpp"
+#include "renderer/stroke_visibility.hpp"
 #include "renderer/timing.hpp"
 #include "terrain/grid_mesh.hpp"
 
@@ -103,6 +105,10 @@ class TerrainRenderer {
     std::vector<std::array<std::uint32_t, 4>> drawn;
   };
   EdgesOut read_edges() const;
+  // Anti-aliased creases: every segment's samples of the last frame, as the DM pass found
+  // which of them show (stroke_visibility.hpp; n = 0 where it was not drawn). Empty with
+  // pixel-exact lines or without creases.
+  std::vector<SegmentSamples> read_crease_samples() const;
 
  private:
   struct Impl;

@@ -2,8 +2,10 @@
 // (crease_score.comp.glsl), a second gives every segment its opacity from the scores of
 // its ends, bridging short gaps along its chain (crease_bridge.comp.glsl), a third keeps
 // the segments of strokes long enough and writes an indirect draw command
-// (crease_select.comp.glsl); the segments are drawn as screen-space quads where they lie,
-// at the depth of their ends lifted towards the eye (crease.vert.glsl).
+// (crease_select.comp.glsl); with anti-aliased lines three more find which samples of
+// them show, along their strokes (crease_visibility.comp.glsl); the segments are drawn as
+// screen-space quads where they lie, at the depth of their ends lifted towards the eye
+// (crease.vert.glsl).
 #include <cstring>
 
 #include "passes.hpp"
@@ -14,7 +16,7 @@
 namespace renderer::passes {
 
 CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled, bool antialias)
-    : PassBase(DM), s_(scene), enabled_(enabled), target_(scene, antialias) {
+    : PassBase(DM), s_(scene), enabled_(enabled), antialias_(antialias), target_(scene, antialias) {
   if (creases && creases->n_segments() > 0) {
     n_vertices_ = creases->positions.size();
     n_segments_ = creases->n_segments();
@@ -40,6 +42,11 @@ CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, boo
     bridge_prog_ = build_program(ProgramId::CreaseBridge);
     select_prog_ = build_program(ProgramId::CreaseSelect);
     draw_prog_ = build_program(ProgramId::CreaseDraw);
+    if (antialias_) {
+      static_assert(sizeof(SegmentSamples) == 24, "std430 layout of crease_samples.glsl");
+      samples_buf_ = make_buffer(n_segments_ * sizeof(SegmentSamples), nullptr, 0);
+      visibility_prog_ = build_program(ProgramId::CreaseVisibility);
+    }
   }
 }
 
@@ -64,7 +71,27 @@ void CreasePass::execute(const FrameInputs&) {
   glUseProgram(select_prog_.id());
   glDispatchCompute(dispatch_groups_x(n_segments_), dispatch_groups_y(n_segments_), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  if (antialias_) {
+    glClearNamedBufferData(samples_buf_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SAMPLES, samples_buf_.id());
+    glBindTextureUnit(TR_TEX_TOWARD_DEPTH, s_.toward_depth.id());
+    glUseProgram(visibility_prog_.id());
+    for (int stage = 0; stage < 3; ++stage) {
+      glProgramUniform1i(visibility_prog_.id(), TR_LOC_CREASE_STAGE, stage);
+      glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+      glDispatchCompute(dispatch_groups_x(n_segments_), dispatch_groups_y(n_segments_), 1);
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  }
   target_.draw_indirect(s_, draw_prog_, cmd_buf_);
+}
+
+std::vector<SegmentSamples> CreasePass::read_samples() const {
+  std::vector<SegmentSamples> m;
+  if (!active() || !antialias_) return m;
+  m.resize(n_segments_);
+  glGetNamedBufferSubData(samples_buf_.id(), 0, GLsizeiptr(m.size() * sizeof(SegmentSamples)), m.data());
+  return m;
 }
 
 std::size_t CreasePass::segments_drawn() const {

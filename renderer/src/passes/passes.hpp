@@ -12,6 +12,7 @@
 #include "renderer/crease.hpp"
 #include "renderer/frame_params.hpp"
 #include "renderer/gl_objects.hpp"
+#include "renderer/stroke_visibility.hpp"
 #include "renderer/timing.hpp"
 #include "terrain/grid_mesh.hpp"
 
@@ -119,14 +120,17 @@ class CreasePass : public PassBase {
   std::size_t n_vertices() const { return n_vertices_; }
   const GlObject& colour() const { return target_.colour; }
   const GlObject& depth() const { return target_.depth; }
+  // Anti-aliased lines: every segment's samples of the last frame (stroke_visibility.hpp;
+  // n = 0 where it was not drawn). Empty otherwise.
+  std::vector<SegmentSamples> read_samples() const;
 
  private:
   void execute(const FrameInputs&) override;
   const SceneGpu& s_;
-  bool enabled_;
+  bool enabled_, antialias_;
   std::size_t n_vertices_ = 0, n_segments_ = 0;
-  GlObject cv_buf_, seg_buf_, chain_buf_, score_buf_, opacity_buf_, cmd_buf_, selected_buf_;
-  GlObject score_prog_, bridge_prog_, select_prog_, draw_prog_;
+  GlObject cv_buf_, seg_buf_, chain_buf_, score_buf_, opacity_buf_, cmd_buf_, selected_buf_, samples_buf_;
+  GlObject score_prog_, bridge_prog_, select_prog_, draw_prog_, visibility_prog_;
   LineTarget target_;
 };
 

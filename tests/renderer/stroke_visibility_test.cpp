@@ -1,0 +1,136 @@
+// Hidden-line removal along strokes (renderer/stroke_visibility.hpp), GL-free, on a line
+// seen from straight above across toward depths laid out by hand.
+#include "renderer/stroke_visibility.hpp"
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <string>
+
+namespace renderer {
+namespace {
+
+constexpr int kW = 64, kH = 16;
+
+// A camera 100 m above the origin looking straight down; kW x kH pixels.
+View top_view(bool reversed) {
+  Camera camera;
+  camera.eye = Eigen::Vector3d(0, 0, 100);
+  camera.view_az = 0;
+  camera.view_alt = 90;
+  return make_view(camera, Eigen::Vector3d::Zero(), Box{{-30, -30, -60}, {30, 30, 60}}, kW, kH, reversed);
+}
+
+// A stroke along the image's middle row (y = 0, z = 0): `n` segments of 1.98 px from
+// u = 0.2, so that its two samples a segment (0.99 px each) fall in columns 2j and 2j + 1.
+CreaseGeometry row_stroke(const View& view, int n) {
+  const Projected a = project(view, Eigen::Vector3d(0, 0, 0)), b = project(view, Eigen::Vector3d(1, 0, 0));
+  const double per_px = 1.0 / (b.u - a.u);  // metres per pixel along x
+  CreaseGeometry g;
+  for (int i = 0; i <= n; ++i) {
+    g.positions.emplace_back(float((0.2 + 1.98 * i - a.u) * per_px), 0.0f, 0.0f);
+    g.normals.emplace_back(0.0f, 0.0f, 1.0f);
+    g.flow.push_back(float(i + 1) / float(n + 1));
+    g.source.push_back(std::uint32_t(i));
+  }
+  for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) g.segments.insert(g.segments.end(), {i, i + 1});
+  return g;
+}
+
+// Toward depths by column: 'G' ground (z = 0, the line's height), 'N' a near wall 10 m
+// above it, 'R' a ridge 50 m above it, '.' no surface.
+std::vector<float> toward_of(const View& view, const std::string& columns) {
+  auto depth_at = [&](double z) { return float(project(view, Eigen::Vector3d(0, 0, z)).depth); };
+  std::vector<float> t(std::size_t(kW * kH));
+  for (int v = 0; v < kH; ++v)
+    for (int u = 0; u < kW; ++u) {
+      const char c = columns[std::size_t(u)];
+      t[std::size_t(v * kW + u)] =
+          c == 'G' ? depth_at(0) : c == 'N' ? depth_at(10) : c == 'R' ? depth_at(50) : (view.reversed_z ? 0.0f : 1.0f);
+    }
+  return t;
+}
+
+// Sample i of the stroke (segment i / 2, bit i % 2) as '1' when `mask` of it is set.
+std::string bits(const std::vector<SegmentSamples>& m, std::uint32_t SegmentSamples::*mask) {
+  std::string s;
+  for (const SegmentSamples& x : m)
+    for (std::uint32_t k = 0; k < x.n; ++k) s += ((x.*mask >> k) & 1u) ? '1' : '0';
+  return s;
+}
+
+// Line.frag's test sees the farthest surface of a sample's 3 x 3 pixels, so a wall hides
+// the samples of its columns but the first and last. With a 8 px gap, walls within 20 m and
+// peeks up to 6 px:
+//   columns 10-14, a near wall: samples 11-13 hidden, 3 px between visible ones: drawn;
+//   20-24, a ridge 50 m above the line: 21-23 stay hidden;
+//   30-43, a near wall 14 columns wide: 31-42 hidden, 12 px, more than the gap: hidden;
+//   44-46, ground between that wall and a ridge: 43-47 show, a 5 px peek: left out;
+//   47-54, a ridge: 48-53 hidden.
+TEST(StrokeVisibility, ShortHiddenRunsNearTheSurfaceAreDrawnAndPeeksLeftOut) {
+  const std::string columns = "GGGGGGGGGGNNNNNGGGGGRRRRRGGGGGNNNNNNNNNNNNNNGGGRRRRRRRRGGGGGGGGG";
+  ASSERT_EQ(columns.size(), std::size_t(kW));
+  for (const bool reversed : {false, true}) {
+    const View view = top_view(reversed);
+    const CreaseGeometry g = row_stroke(view, kW / 2);
+    const std::vector<float> toward = toward_of(view, columns);
+    const std::vector<float> drawn(g.n_segments(), 1.0f);
+    const StrokeVisibilityRule rule{8.0, 20.0, 6.0};
+    // Lifted 1 m towards the eye, the line is in front of the ground it lies on.
+    const auto m = stroke_visibility(g, segment_chains(g), drawn, view, 1.0, 1.0, toward, rule);
+    ASSERT_EQ(m.size(), g.n_segments());
+    for (const SegmentSamples& x : m) {
+      ASSERT_EQ(x.n, 2u);
+      EXPECT_NEAR(x.step, 0.99, 1e-6);
+    }
+    // clang-format off
+    EXPECT_EQ(bits(m, &SegmentSamples::visible),
+              "1111111111100011111110001111111000000000000111110000001111111111") << reversed;
+    EXPECT_EQ(bits(m, &SegmentSamples::bridgeable),
+              "0000000000011100000000000000000111111111111000000000000000000000") << reversed;
+    EXPECT_EQ(bits(m, &SegmentSamples::closed),
+              "1111111111111111111110001111111000000000000111110000001111111111") << reversed;
+    EXPECT_EQ(bits(m, &SegmentSamples::shown),
+              "1111111111111111111110001111111000000000000000000000001111111111") << reversed;
+    // clang-format on
+    double px = 0;
+    for (const double p : shown_pixels(m)) px += p;
+    EXPECT_NEAR(px, 38 * 0.99, 1e-4);
+    // The rules off: what is shown is line.frag's own test.
+    const auto off = stroke_visibility(g, segment_chains(g), drawn, view, 1.0, 1.0, toward, {});
+    EXPECT_EQ(bits(off, &SegmentSamples::shown), bits(m, &SegmentSamples::visible));
+    // Walls up to 5 m behind the surface only: the near wall's run is not drawn either.
+    const auto shallow = stroke_visibility(g, segment_chains(g), drawn, view, 1.0, 1.0, toward, {8.0, 5.0, 0.0});
+    EXPECT_EQ(bits(shallow, &SegmentSamples::shown), bits(m, &SegmentSamples::visible));
+  }
+}
+
+// A short stroke that shows whole is not a peek, however short (its length is the stroke
+// rule's business, in metres); one that leaves the image is cut where it leaves, and what
+// shows of it beside the edge is a peek. Segments not drawn have no samples.
+TEST(StrokeVisibility, StrokeEndsAndTheImagesEdge) {
+  const View view = top_view(true);
+  const CreaseGeometry g = row_stroke(view, kW / 2);
+  const std::vector<float> ground = toward_of(view, std::string(kW, 'G'));
+  std::vector<float> drawn(g.n_segments(), 0.0f);
+  drawn[10] = drawn[11] = 1.0f;  // 4 samples, 3.96 px
+  const StrokeVisibilityRule rule{8.0, 20.0, 6.0};
+  auto m = stroke_visibility(g, segment_chains(g), drawn, view, 1.0, 1.0, ground, rule);
+  EXPECT_EQ(m[9].n, 0u);
+  EXPECT_EQ(m[12].n, 0u);
+  EXPECT_EQ(m[10].shown, 3u);
+  EXPECT_EQ(m[11].shown, 3u);
+  // Moved 23 px to the left, its samples lie at u = -2.5, -1.5, -0.5 and 0.5: the last one
+  // alone is on the image, a 1 px piece beside its edge, left out.
+  CreaseGeometry shifted = g;
+  const double per_px = double(g.positions[1].x() - g.positions[0].x()) / 1.98;  // metres per pixel
+  for (auto& p : shifted.positions) p.x() -= float(23.0 * per_px);
+  m = stroke_visibility(shifted, segment_chains(shifted), drawn, view, 1.0, 1.0, ground, rule);
+  EXPECT_EQ(std::popcount(m[10].visible) + std::popcount(m[11].visible), 1);
+  EXPECT_EQ(m[10].shown | m[11].shown, 0u);
+  m = stroke_visibility(shifted, segment_chains(shifted), drawn, view, 1.0, 1.0, ground, {8.0, 20.0, 0.0});
+  EXPECT_EQ(std::popcount(m[10].shown) + std::popcount(m[11].shown), 1);
+}
+
+}  // namespace
+}  // namespace renderer
