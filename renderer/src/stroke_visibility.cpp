@@ -21,7 +21,7 @@ struct Walk {
 // From sample k of segment s, one way along the stroke (up: towards chains.prev), over the
 // samples `classify` passes (0), until one it finds (1) or that blocks (2), the stroke's end
 // (a segment without samples, or kStrokeReach segments on), or more than `limit` pixels.
-// crease_data.glsl's stroke_walk is the same walk.
+// crease_visibility.comp.glsl's stroke_walk is the same walk.
 template <class Classify>
 Walk walk(const std::vector<SegmentSamples>& m, const SegmentChains& chains, std::uint32_t s, int k, bool up,
           double limit, Classify classify) {

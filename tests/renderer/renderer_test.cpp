@@ -697,6 +697,10 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
       const auto fraction = renderer::visible_fraction(g, res.view, 1.0, renderer::crease_lift(style, mesh),
                                                        r.read_buffers().toward_depth, antialias);
       const double channel = shown(g, res.view, fraction, 0, kChannel);
+      if (antialias && (k == 0 || k == 3)) {  // nor drawn by the samples along its stroke
+        const auto samples = r.read_crease_samples();
+        for (std::size_t s = 0; s < kChannel; ++s) EXPECT_EQ(samples[s].shown, 0u) << "view " << k << " segment " << s;
+      }
       if (k == 0 || k == 3) {
         EXPECT_EQ(channel, 0.0) << "antialias " << antialias << " view " << k << ": hidden creases measured as drawn";
       } else {

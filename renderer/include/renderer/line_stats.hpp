@@ -41,7 +41,8 @@ std::vector<double> segment_pixels(const CreaseGeometry& g, const View& view, do
 // pixel along the segment on screen (clipped to the image), the line's depth there (its
 // ends moved `lift` towards the eye, as line_clip in common.glsl does) against
 // `toward_depth` (view.width x view.height window depths, row 0 at the top, the clear
-// depth where no surface is; FrameBuffers::toward_depth). Anti-aliased (line.frag.glsl):
+// depth where no surface is; FrameBuffers::toward_depth). Anti-aliased (line.frag.glsl's
+// test, as PELs take it; creases smooth it along their strokes, stroke_visibility.hpp):
 // not behind the farthest surface of the sample's pixel and its 8 neighbours, one of which
 // shows surface. Pixel-exact (the composite): its own pixel shows surface and the line is
 // not behind it. Segments with no pixel get 0. #S.

@@ -1,8 +1,7 @@
 #pragma once
 // Hidden-line removal of anti-aliased creases along their strokes (docs/terrain-render.md,
-// "Hidden runs and peeks"), GL-free: the CPU reference of the DM pass's visibility stages
-// (crease_visibility.comp.glsl, crease_close.comp.glsl, crease_peek.comp.glsl) and what
-// --line-stats measures.
+// "Hidden runs and peeks"), GL-free: the CPU reference of the DM pass's three visibility
+// stages (crease_visibility.comp.glsl) and what --line-stats measures.
 //
 // Each drawn segment is sampled at n = ceil(its screen length) points, 1 to
 // kStrokeSamples, at (k + 0.5) / n along it. A sample is visible by line.frag's test: not
@@ -13,7 +12,7 @@
 //     seen at a grazing angle, whose near wall hides it a pixel or two at a time, becomes
 //     a line, not dashes; a ridge in front of the line (far more than gap_depth) still
 //     cuts it;
-//   - then a drawn run shorter than min_peek_px beside a hidden sample (a channel peeking
+//   - then a drawn run at most min_peek_px long beside a hidden sample (a channel peeking
 //     out for a few pixels between ridges, or at the image's edge) is left out: a dot, not
 //     a line.
 // Strokes are followed upstream along SegmentChains::prev and downstream along next, over
@@ -33,7 +32,7 @@ inline constexpr int kStrokeSamples = 32;  // TR_STROKE_SAMPLES: the bits of a m
 struct StrokeVisibilityRule {
   double gap_px = 0;       // longest hidden run drawn (pixels)
   double gap_depth = 0;    // ... when none of it is more than this behind the surface (metres)
-  double min_peek_px = 0;  // shortest drawn run beside a hidden sample (pixels)
+  double min_peek_px = 0;  // longest drawn run left out beside a hidden sample (pixels)
 };
 // Style::crease_hidden_gap and crease_min_peek (pixels), crease_hidden_depth times the
 // mesh's spacing (the smaller of dx, dy).
