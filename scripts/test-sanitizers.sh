@@ -13,4 +13,19 @@ export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:strict_string_checks=1:detec
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS=suppressions=$PWD/scripts/lsan.supp:print_suppressions=0
 cd build-asan
-ctest --output-on-failure --parallel "$(nproc)" "$@"
+# LeakSanitizer's own stop-the-world tracer now and then segfaults at a process's exit,
+# after the test has passed ("Tracer caught signal 11", then "LeakSanitizer has encountered
+# a fatal error"; google/sanitizers#1353; seen here about once in 150 runs of the GL tests,
+# whose processes hold llvmpipe's threads). That is not a leak report: when every failed
+# test's output carries it, those tests, and only those, run once more.
+log=Testing/Temporary/sanitizers.log
+mkdir -p Testing/Temporary
+if ctest --output-on-failure --parallel "$(nproc)" "$@" 2>&1 | tee "$log"; then exit 0; fi
+failed=$(grep -c . Testing/Temporary/LastTestsFailed.log || true)
+tracer=$(grep -c "LeakSanitizer has encountered a fatal error" "$log" || true)
+if [ "$failed" -gt 0 ] && [ "$failed" -eq "$tracer" ]; then
+  echo "== $failed test(s) failed only by LeakSanitizer's tracer crash at exit: running them again"
+  ctest --output-on-failure --rerun-failed
+else
+  exit 1
+fi
