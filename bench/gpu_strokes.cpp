@@ -6,8 +6,6 @@
 // It links only the renderer, epoxy and fmt (no GDAL), so it can be carried to a machine
 // with a GPU but without the project's dependencies: build/bin/gpu-strokes with
 // libepoxy.so.0, libfmt.so.9 and libgomp.so.1 beside it, run with LD_LIBRARY_PATH there.
-#include <bit>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -76,26 +74,16 @@ int main() {
   const auto drawn = segment_opacity(g, res.view.eye, light, 1.0, score, style.crease_fade, stroke_rule(style, mesh));
   const auto cpu = stroke_visibility(g, segment_chains(g), drawn, res.view, 1.0, crease_lift(style, mesh),
                                      buffers.toward_depth, stroke_visibility_rule(style, mesh));
-  std::size_t segs = 0, other_n = 0, samples = 0, differ[4] = {}, bridged = 0, peeks = 0;
-  for (std::size_t s = 0; s < g.n_segments(); ++s) {
-    if (cpu[s].n == 0 && gpu[s].n == 0) continue;
-    ++segs;
-    if (cpu[s].n != gpu[s].n) { ++other_n; continue; }
-    samples += gpu[s].n;
-    const std::uint32_t a[4] = {cpu[s].visible, cpu[s].bridgeable, cpu[s].closed, cpu[s].shown};
-    const std::uint32_t b[4] = {gpu[s].visible, gpu[s].bridgeable, gpu[s].closed, gpu[s].shown};
-    for (int j = 0; j < 4; ++j) differ[j] += std::size_t(std::popcount(a[j] ^ b[j]));
-    bridged += std::size_t(std::popcount(gpu[s].shown & ~gpu[s].visible));
-    peeks += std::size_t(std::popcount(gpu[s].closed & ~gpu[s].shown));
-  }
+  const SampleComparison c = compare_samples(cpu, gpu);
   std::printf("%zu segments drawn, %zu with another sample count; of %zu samples: %zu / %zu / %zu / %zu differ "
               "(visible, bridgeable, closed, shown); %zu hidden drawn, %zu peek samples left out\n",
-              segs, other_n, samples, differ[0], differ[1], differ[2], differ[3], bridged, peeks);
+              c.segments, c.other_count, c.samples, c.differ[0], c.differ[1], c.differ[2], c.differ[3],
+              c.hidden_drawn, c.peeks);
   Style aliased = style;
   aliased.antialias = false;
   TerrainRenderer ra(ctx, mesh, &g, w, hgt, Layers{false, true, true, false}, aliased);
   for (int k = 0; k < 3; ++k) std::printf("pixel-exact, frame %d: DM %.3f ms (GL timer)\n", k, ra.render(fp).timings.gpu_ms[DM]);
-  bool agree = segs > 0 && double(other_n) <= 0.005 * double(segs);
-  for (int j = 0; j < 4; ++j) agree = agree && double(differ[j]) <= 0.01 * double(samples);
+  bool agree = c.segments > 0 && double(c.other_count) <= 0.005 * double(c.segments);
+  for (int j = 0; j < 4; ++j) agree = agree && double(c.differ[j]) <= 0.01 * double(c.samples);
   return agree ? 0 : 1;
 }

@@ -95,16 +95,11 @@ std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, 
                                      const std::vector<float>& toward_depth, bool antialias) {
   const long W = view.width, H = view.height;
   auto far_of = [&](double d) { return view.reversed_z ? 1.0 - d : d; };
-  auto surface_at = [&](long x, long y) {  // distance order, 1: no surface
-    return far_of(toward_depth[std::size_t(std::clamp(y, 0L, H - 1) * W + std::clamp(x, 0L, W - 1))]);
-  };
   // An end on screen and the window depth it is drawn at (line_clip).
   auto end_of = [&](std::uint32_t i, Projected& at, double& depth) {
     const Eigen::Vector3d p = drawn_position(g, i, exaggeration);
     at = project(view, p);
-    const Eigen::Vector3d to_eye = view.eye - p;
-    const double d = to_eye.norm();
-    depth = d > 0 ? project(view, p + std::min(lift, 0.5 * d) / d * to_eye).depth : at.depth;
+    depth = lifted_projection(view, p, lift).depth;
   };
   std::vector<double> f(g.n_segments(), 0.0);
   for (std::size_t s = 0; s < f.size(); ++s) {
@@ -124,15 +119,12 @@ std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, 
       // Window depth is affine along the segment on screen, as the rasterizer interpolates it.
       const double line = far_of(da + (db - da) * (full > 0 ? (q - A).norm() / full : 0.0));
       const long x = long(std::floor(q.x())), y = long(std::floor(q.y()));
-      double t = -1;
-      if (antialias) {
-        for (long dy = -1; dy <= 1; ++dy)
-          for (long dx = -1; dx <= 1; ++dx)
-            if (const double d = surface_at(x + dx, y + dy); d < 1.0) t = std::max(t, d);
-      } else if (const double d = surface_at(x, y); d < 1.0) {
-        t = d;
-      }
-      hit += t >= 0 && line <= t;
+      std::optional<double> surface;  // window depth
+      if (antialias) surface = farthest_surface(view, toward_depth, x, y);
+      else if (const double d = toward_depth[std::size_t(std::clamp(y, 0L, H - 1) * W + std::clamp(x, 0L, W - 1))];
+               far_of(d) < 1.0)
+        surface = d;
+      hit += surface && line <= far_of(*surface);
     }
     f[s] = double(hit) / n;
   }

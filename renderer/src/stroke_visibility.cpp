@@ -54,6 +54,24 @@ Eigen::Vector3d drawn_position(const CreaseGeometry& g, std::uint32_t i, double 
   return {p.x(), p.y(), p.z() * e};
 }
 
+Projected lifted_projection(const View& view, const Eigen::Vector3d& p, double lift) {
+  const Eigen::Vector3d to_eye = view.eye - p;
+  const double d = to_eye.norm();
+  return project(view, d > 0 ? Eigen::Vector3d(p + std::min(lift, 0.5 * d) / d * to_eye) : p);
+}
+
+std::optional<double> farthest_surface(const View& view, const std::vector<float>& toward_depth, long x, long y) {
+  const long W = view.width, H = view.height;
+  auto far_of = [&](double d) { return view.reversed_z ? 1.0 - d : d; };
+  std::optional<double> farthest;
+  for (long dy = -1; dy <= 1; ++dy)
+    for (long dx = -1; dx <= 1; ++dx) {
+      const double d = toward_depth[std::size_t(std::clamp(y + dy, 0L, H - 1) * W + std::clamp(x + dx, 0L, W - 1))];
+      if (far_of(d) < 1.0 && (!farthest || far_of(d) > far_of(*farthest))) farthest = d;
+    }
+  return farthest;
+}
+
 std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const SegmentChains& chains,
                                               const std::vector<float>& drawn, const View& view, double exaggeration,
                                               double lift, const std::vector<float>& toward_depth,
@@ -70,9 +88,7 @@ std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const Seg
     for (int j = 0; j < 2; ++j) {
       const Eigen::Vector3d p = drawn_position(g, g.segments[2 * s + j], exaggeration);
       end[j] = project(view, p);
-      const Eigen::Vector3d to_eye = view.eye - p;
-      const double d = to_eye.norm();
-      lifted[j] = d > 0 ? project(view, p + std::min(lift, 0.5 * d) / d * to_eye) : end[j];
+      lifted[j] = lifted_projection(view, p, lift);
     }
     if (!lifted[0].in_front || !lifted[1].in_front) continue;  // as segment_quad_vertex drops it
     const double depth[2] = {lifted[0].depth, lifted[1].depth};
@@ -87,16 +103,10 @@ std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const Seg
       if (!(q.x() >= 0 && q.x() < double(W) && q.y() >= 0 && q.y() < double(H))) continue;  // off the image
       // Window depth is affine along the segment on screen, as the rasterizer interpolates it.
       const double line = depth[0] + t * (depth[1] - depth[0]);
-      const long x = long(std::floor(q.x())), y = long(std::floor(q.y()));
-      double farthest = -1, farthest_depth = 0;  // distance order; the window depth there
-      for (long dy = -1; dy <= 1; ++dy)
-        for (long dx = -1; dx <= 1; ++dx) {
-          const double d = toward_depth[std::size_t(std::clamp(y + dy, 0L, H - 1) * W + std::clamp(x + dx, 0L, W - 1))];
-          if (far_of(d) < 1.0 && far_of(d) > farthest) farthest = far_of(d), farthest_depth = d;
-        }
-      if (farthest < 0) continue;  // no surface about the sample
-      if (far_of(line) <= farthest) ms.visible |= 1u << k;
-      else if (eye_distance(line) - eye_distance(farthest_depth) <= rule.gap_depth) ms.bridgeable |= 1u << k;
+      const auto surface = farthest_surface(view, toward_depth, long(std::floor(q.x())), long(std::floor(q.y())));
+      if (!surface) continue;  // no surface about the sample
+      if (far_of(line) <= far_of(*surface)) ms.visible |= 1u << k;
+      else if (eye_distance(line) - eye_distance(*surface) <= rule.gap_depth) ms.bridgeable |= 1u << k;
     }
   }
   // Hidden runs drawn.
@@ -137,6 +147,25 @@ std::vector<double> shown_pixels(const std::vector<SegmentSamples>& samples) {
   for (std::size_t s = 0; s < px.size(); ++s)
     px[s] = double(samples[s].step) * double(std::popcount(samples[s].shown));
   return px;
+}
+
+SampleComparison compare_samples(const std::vector<SegmentSamples>& a, const std::vector<SegmentSamples>& b) {
+  SampleComparison c;
+  for (std::size_t s = 0; s < a.size() && s < b.size(); ++s) {
+    if (a[s].n == 0 && b[s].n == 0) continue;
+    ++c.segments;
+    if (a[s].n != b[s].n) {
+      ++c.other_count;
+      continue;
+    }
+    c.samples += b[s].n;
+    const std::uint32_t x[4] = {a[s].visible, a[s].bridgeable, a[s].closed, a[s].shown};
+    const std::uint32_t y[4] = {b[s].visible, b[s].bridgeable, b[s].closed, b[s].shown};
+    for (int j = 0; j < 4; ++j) c.differ[j] += std::size_t(std::popcount(x[j] ^ y[j]));
+    c.hidden_drawn += std::size_t(std::popcount(b[s].shown & ~b[s].visible));
+    c.peeks += std::size_t(std::popcount(b[s].closed & ~b[s].shown));
+  }
+  return c;
 }
 
 }  // namespace renderer

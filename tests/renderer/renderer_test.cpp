@@ -1016,40 +1016,30 @@ TEST(RendererGl, StrokeVisibilityMatchesCpu) {
   EXPECT_DOUBLE_EQ(rule.gap_depth, 1.5 * 10.0);
   const auto cpu = renderer::stroke_visibility(g, renderer::segment_chains(g), drawn, res.view, 1.0,
                                                renderer::crease_lift(style, sc.mesh), buffers.toward_depth, rule);
-  std::size_t segments = 0, other_n = 0, samples = 0, bridged = 0, peeks = 0, inked = 0;
-  std::size_t differ[4] = {};
+  const renderer::SampleComparison c = renderer::compare_samples(cpu, gpu);
+  // Where the GPU draws a hidden sample, the crease layer has ink.
+  std::size_t inked = 0;
   for (std::size_t s = 0; s < g.n_segments(); ++s) {
-    if (cpu[s].n == 0 && gpu[s].n == 0) continue;
-    ++segments;
-    if (cpu[s].n != gpu[s].n) {
-      ++other_n;
-      continue;
-    }
-    samples += gpu[s].n;
-    const std::uint32_t a[4] = {cpu[s].visible, cpu[s].bridgeable, cpu[s].closed, cpu[s].shown};
-    const std::uint32_t b[4] = {gpu[s].visible, gpu[s].bridgeable, gpu[s].closed, gpu[s].shown};
-    for (int j = 0; j < 4; ++j) differ[j] += std::size_t(std::popcount(a[j] ^ b[j]));
-    bridged += std::size_t(std::popcount(gpu[s].shown & ~gpu[s].visible));
-    peeks += std::size_t(std::popcount(gpu[s].closed & ~gpu[s].shown));
-    // Where the GPU draws a hidden sample, the crease layer has ink.
+    const std::uint32_t hidden_drawn = gpu[s].shown & ~gpu[s].visible;
+    if (!hidden_drawn) continue;
     const auto p0 = renderer::project(res.view, g.positions[g.segments[2 * s]].cast<double>());
     const auto p1 = renderer::project(res.view, g.positions[g.segments[2 * s + 1]].cast<double>());
     for (std::uint32_t k = 0; k < gpu[s].n; ++k) {
-      if (!((gpu[s].shown & ~gpu[s].visible) >> k & 1u)) continue;
+      if (!(hidden_drawn >> k & 1u)) continue;
       const double t = (k + 0.5) / gpu[s].n;
       const int u = int(std::floor(p0.u + t * (p1.u - p0.u))), v = int(std::floor(p0.v + t * (p1.v - p0.v)));
       inked += u >= 0 && v >= 0 && u < w && v < h && buffers.crease[std::size_t(v * w + u)];
     }
   }
-  EXPECT_GT(segments, 1000u);
-  EXPECT_LE(double(other_n), 0.005 * double(segments));
-  for (int j = 0; j < 4; ++j) EXPECT_LE(double(differ[j]), 0.01 * double(samples)) << "mask " << j << " of " << samples;
-  EXPECT_GT(bridged, 20u);
-  EXPECT_GT(peeks, 5u);
-  EXPECT_GE(double(inked), 0.95 * double(bridged));
-  std::cout << segments << " segments drawn, " << other_n << " with another sample count; of " << samples
-            << " samples: " << differ[0] << " / " << differ[1] << " / " << differ[2] << " / " << differ[3]
-            << " differ (visible, bridgeable, closed, shown); " << bridged << " hidden drawn, " << peeks
+  EXPECT_GT(c.segments, 1000u);
+  EXPECT_LE(double(c.other_count), 0.005 * double(c.segments));
+  for (int j = 0; j < 4; ++j) EXPECT_LE(double(c.differ[j]), 0.01 * double(c.samples)) << "mask " << j << " of " << c.samples;
+  EXPECT_GT(c.hidden_drawn, 20u);
+  EXPECT_GT(c.peeks, 5u);
+  EXPECT_GE(double(inked), 0.95 * double(c.hidden_drawn));
+  std::cout << c.segments << " segments drawn, " << c.other_count << " with another sample count; of " << c.samples
+            << " samples: " << c.differ[0] << " / " << c.differ[1] << " / " << c.differ[2] << " / " << c.differ[3]
+            << " differ (visible, bridgeable, closed, shown); " << c.hidden_drawn << " hidden drawn, " << c.peeks
             << " peek samples left out, " << inked << " of the first inked\n";
 }
 

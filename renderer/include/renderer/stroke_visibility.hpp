@@ -18,6 +18,7 @@
 // Strokes are followed upstream along SegmentChains::prev and downstream along next, over
 // segments with samples, at most kStrokeReach segments each way. 0 turns a rule off.
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "renderer/camera.hpp"
@@ -51,6 +52,15 @@ struct SegmentSamples {
 // Crease vertex i as drawn: its height scaled by the exaggeration e (local frame).
 Eigen::Vector3d drawn_position(const CreaseGeometry& g, std::uint32_t i, double e);
 
+// Point p (drawn, local frame) moved `lift` metres towards the eye (at most half way),
+// projected: where a line takes its depth (line_clip in common.glsl).
+Projected lifted_projection(const View& view, const Eigen::Vector3d& p, double lift);
+
+// The window depth of the farthest toward surface among pixel (x, y) and its 8 neighbours
+// (clamped to the image; `toward_depth` row 0 at the top), none where none of them shows
+// surface: what line.frag tests a line sample against.
+std::optional<double> farthest_surface(const View& view, const std::vector<float>& toward_depth, long x, long y);
+
 // The samples of every segment with drawn[s] > 0 (#S), in `view` with heights scaled by
 // `exaggeration`, each end's depth taken `lift` metres towards the eye (line_clip), against
 // `toward_depth` (view.width x view.height window depths, row 0 at the top;
@@ -63,5 +73,16 @@ std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const Seg
 // Screen length each segment shows (#S): its shown samples times their step, off-screen
 // samples never shown.
 std::vector<double> shown_pixels(const std::vector<SegmentSamples>& samples);
+
+// Two sets of samples of the same segments compared (the DM pass's against the CPU
+// reference): segments with samples in either, those whose sample counts differ, the
+// samples of the others, and how many of those differ in each mask; and of `b`, its
+// hidden samples drawn and its peek samples left out.
+struct SampleComparison {
+  std::size_t segments = 0, other_count = 0, samples = 0;
+  std::size_t differ[4] = {};  // visible, bridgeable, closed, shown
+  std::size_t hidden_drawn = 0, peeks = 0;
+};
+SampleComparison compare_samples(const std::vector<SegmentSamples>& a, const std::vector<SegmentSamples>& b);
 
 }  // namespace renderer
