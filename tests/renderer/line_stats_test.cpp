@@ -269,7 +269,7 @@ TEST(CreaseRules, APlaneDrainingOffAnEdgeGathersNoCreasesThere) {
   EXPECT_NEAR(*std::max_element(ours.flow.begin(), ours.flow.end()), std::log(float(n)) / std::log(floor), 1e-5f);
   // Scored from above, the light from the north-west, with the lowest score of the paper's
   // Figure 15 range that draws the paper's band (0.15; its flow is 1 there) and the
-  // distance term this test was set up with (falloff 0.3, the default until stop 34; with
+  // distance term this test was set up with (falloff 0.3, the default until stop 33; with
   // 0.2 so low a minimum passes 2112 segments of the plane under our rule too).
   CreaseScoreParams p;
   p.far_distance = 1000;

@@ -636,7 +636,7 @@ FrameParams level_view_from_the_south() {
 // count none of the hidden channel's pixels, pixel-exact or anti-aliased: each segment is
 // tested by its own depth (visible_fraction). With a line drawn up the ridge's face across
 // where the hidden channel projects (k = 3), the channel still counts nothing, although
-// that line's ink covers the channel's pixels there: the rule before stop 34 counted a
+// that line's ink covers the channel's pixels there: the rule before stop 33 counted a
 // segment's pixels wherever crease ink lay within a pixel of them, and for pixel-exact
 // lines that ink was the whole layer, hidden lines and all (the composite removes them),
 // which the renderer before issue 13 measured.
