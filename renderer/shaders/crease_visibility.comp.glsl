@@ -16,15 +16,19 @@ const int FOUND = 0, BLOCKED = 1, END = 2, LONG = 3;
 // From sample k of segment s one way along the stroke (up: towards chain[].x), over the
 // samples passed (stage 1: bridgeable, found at a visible one; stage 2: closed), until the
 // stroke's end (a segment without samples, or TR_STROKE_REACH segments on) or more than
-// `limit` pixels. Returns (how it ended, screen length passed over).
+// `limit` pixels; in stage 2, past a junction downstream where the stroke does not continue
+// (the next segment's prev is another), more than `limit` pixels is the stroke's end.
+// Returns (how it ended, screen length passed over).
 vec2 stroke_walk(uint s, int k, bool up, float limit) {
   float len = 0.0;
   int hops = 0;
+  bool joined = false;
   for (int guard = 0; guard < (TR_STROKE_REACH + 1) * TR_STROKE_SAMPLES; ++guard) {
     k += up ? -1 : 1;
     if (k < 0 || k >= int(samples[s].n)) {
       uint t = up ? chain[s].x : chain[s].y;
       if (t == TR_SEGMENT_NONE || samples[t].n == 0u || ++hops > TR_STROKE_REACH) return vec2(END, len);
+      joined = joined || (u_crease_stage == 2 && !up && chain[t].x != s);
       s = t;
       k = up ? int(samples[s].n) - 1 : 0;
     }
@@ -36,7 +40,7 @@ vec2 stroke_walk(uint s, int k, bool up, float limit) {
       return vec2(BLOCKED, len);
     }
     len += samples[s].step;
-    if (len > limit) return vec2(LONG, len);
+    if (len > limit) return vec2(joined ? END : LONG, len);
   }
   return vec2(END, len);
 }

@@ -21,16 +21,21 @@ struct Walk {
 // From sample k of segment s, one way along the stroke (up: towards chains.prev), over the
 // samples `classify` passes (0), until one it finds (1) or that blocks (2), the stroke's end
 // (a segment without samples, or kStrokeReach segments on), or more than `limit` pixels.
-// crease_visibility.comp.glsl's stroke_walk is the same walk.
+// With `junctions_end`, past a junction downstream where the stroke does not continue (the
+// next segment's prev is another), more than `limit` pixels is the stroke's end: the run
+// of a tributary ends where it joins a line that goes on. crease_visibility.comp.glsl's
+// stroke_walk is the same walk.
 template <class Classify>
 Walk walk(const std::vector<SegmentSamples>& m, const SegmentChains& chains, std::uint32_t s, int k, bool up,
-          double limit, Classify classify) {
+          double limit, Classify classify, bool junctions_end) {
   double length = 0;
+  bool joined = false;
   for (int hops = 0;;) {
     k += up ? -1 : 1;
     if (k < 0 || k >= int(m[s].n)) {
       const std::uint32_t t = up ? chains.prev[s] : chains.next[s];
       if (t == kNoSegment || m[t].n == 0 || ++hops > kStrokeReach) return {Stop::End, length};
+      joined = joined || (junctions_end && !up && chains.prev[t] != s);
       s = t;
       k = up ? int(m[s].n) - 1 : 0;
     }
@@ -38,7 +43,7 @@ Walk walk(const std::vector<SegmentSamples>& m, const SegmentChains& chains, std
     if (c == 1) return {Stop::Found, length};
     if (c == 2) return {Stop::Blocked, length};
     length += m[s].step;
-    if (length > limit) return {Stop::Long, length};
+    if (length > limit) return {joined ? Stop::End : Stop::Long, length};
   }
 }
 
@@ -118,12 +123,13 @@ std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const Seg
     auto classify = [](const SegmentSamples& o, int j) { return bit(o.visible, j) ? 1 : bit(o.bridgeable, j) ? 0 : 2; };
     for (int k = 0; k < int(ms.n); ++k) {
       if (!bit(ms.bridgeable, k)) continue;
-      const Walk up = walk(m, chains, s, k, true, limit, classify);
+      const Walk up = walk(m, chains, s, k, true, limit, classify, false);
       if (up.stop != Stop::Found) continue;
-      if (walk(m, chains, s, k, false, limit - up.length, classify).stop == Stop::Found) ms.closed |= 1u << k;
+      if (walk(m, chains, s, k, false, limit - up.length, classify, false).stop == Stop::Found) ms.closed |= 1u << k;
     }
   }
-  // Peeks left out.
+  // Peeks left out; a tributary's run ends where it joins a line that goes on, as its
+  // stroke does (crease_strokes), so a stub of it hidden upstream is a peek there too.
   for (std::uint32_t s = 0; s < ns; ++s) {
     SegmentSamples& ms = m[s];
     ms.shown = ms.closed;
@@ -132,9 +138,9 @@ std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const Seg
     auto classify = [](const SegmentSamples& o, int j) { return bit(o.closed, j) ? 0 : 2; };
     for (int k = 0; k < int(ms.n); ++k) {
       if (!bit(ms.closed, k)) continue;
-      const Walk up = walk(m, chains, s, k, true, limit, classify);
+      const Walk up = walk(m, chains, s, k, true, limit, classify, true);
       if (up.stop == Stop::Long) continue;
-      const Walk down = walk(m, chains, s, k, false, limit - up.length, classify);
+      const Walk down = walk(m, chains, s, k, false, limit - up.length, classify, true);
       if (down.stop == Stop::Long) continue;
       if (up.stop == Stop::Blocked || down.stop == Stop::Blocked) ms.shown &= ~(1u << k);
     }

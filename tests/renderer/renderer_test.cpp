@@ -989,9 +989,11 @@ TEST(RendererGl, StrokeRuleMatchesCpu) {
 // Hidden-line removal along strokes (stroke_visibility.hpp): the DM pass's samples are
 // the CPU reference's, on real terrain seen at a grazing angle, where gullies' near walls
 // hide their floors a few pixels at a time. Every drawn segment has the same sample count
-// (within 0.5 %: a screen length at a whole pixel rounds either way in floats), and at
-// least 99 % of the samples of those agree on each mask. Both rules do something here,
-// and a hidden sample the GPU draws has crease ink at its pixel.
+// (within 0.5 %: a screen length at a whole pixel rounds either way in floats), and all
+// but 0.01 % of the samples of those agree on each mask (none differs on llvmpipe or on an
+// H100; a rule left out of the shader flips more: the peek rule's junctions, 15 of 32405).
+// Both rules do something here, and a hidden sample the GPU draws has crease ink at its
+// pixel.
 TEST(RendererGl, StrokeVisibilityMatchesCpu) {
   const auto& sc = msh_scene();
   const auto g = renderer::build_crease_geometry(sc.mesh, sc.links);
@@ -1033,7 +1035,7 @@ TEST(RendererGl, StrokeVisibilityMatchesCpu) {
   }
   EXPECT_GT(c.segments, 1000u);
   EXPECT_LE(double(c.other_count), 0.005 * double(c.segments));
-  for (int j = 0; j < 4; ++j) EXPECT_LE(double(c.differ[j]), 0.01 * double(c.samples)) << "mask " << j << " of " << c.samples;
+  for (int j = 0; j < 4; ++j) EXPECT_LE(double(c.differ[j]), 1e-4 * double(c.samples)) << "mask " << j << " of " << c.samples;
   EXPECT_GT(c.hidden_drawn, 20u);
   EXPECT_GT(c.peeks, 5u);
   EXPECT_GE(double(inked), 0.95 * double(c.hidden_drawn));

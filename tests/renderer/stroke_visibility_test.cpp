@@ -132,5 +132,75 @@ TEST(StrokeVisibility, StrokeEndsAndTheImagesEdge) {
   EXPECT_EQ(std::popcount(m[10].shown) + std::popcount(m[11].shown), 1);
 }
 
+// A tributary joins the stroke from the north at its vertex 20 (u = 39.8), in 4 segments
+// of 1.98 px (rows 0 to 7, column 39). Its run ends at the junction, as its stroke does
+// (crease_strokes), beside a hidden sample where the stroke it joins is hidden there:
+//   - under a ridge 50 m above it in rows 0 to 3, its samples in rows 0 to 2 are hidden and
+//     those in rows 3 to 7 (5 px) show: a peek, left out; the stroke it joins stays;
+//   - where it is the larger inflow the stroke goes on up it, and the stub is the stroke's
+//     own upper end: shown;
+//   - its lower 2 segments alone drawn (4 px, whole): shown, a whole stroke; with a ridge
+//     over the stroke it joins from the junction on (rows 7 to 9, columns 39 on), a peek.
+TEST(StrokeVisibility, ATributaryStubHiddenUpstreamIsAPeek) {
+  for (const bool reversed : {false, true}) {
+    const View view = top_view(reversed);
+    CreaseGeometry g = row_stroke(view, kW / 2);
+    const std::uint32_t junction = 20, trunk_in = junction - 1, trunk_out = junction;  // segments
+    const Projected o = project(view, Eigen::Vector3d(0, 0, 0)), n = project(view, Eigen::Vector3d(0, 1, 0));
+    const double per_px = 1.0 / (n.v - o.v);  // metres per pixel down the image (negative: north is up)
+    const auto first = std::uint32_t(g.positions.size());
+    for (int k = 4; k >= 1; --k) {  // upstream first
+      g.positions.emplace_back(g.positions[junction].x(), float(-1.98 * k * per_px), 0.0f);
+      g.normals.emplace_back(0.0f, 0.0f, 1.0f);
+      g.flow.push_back(0.01f * float(5 - k));
+      g.source.push_back(std::uint32_t(1000 + k));
+    }
+    for (std::uint32_t i = first; i + 1 < first + 4; ++i) g.segments.insert(g.segments.end(), {i, i + 1});
+    g.segments.insert(g.segments.end(), {first + 3, junction});
+    const std::uint32_t stub = std::uint32_t(g.n_segments()) - 1;
+    const float ridge = float(project(view, Eigen::Vector3d(0, 0, 50)).depth);
+    auto with_ridge = [&](int v0, int v1, int u0, int u1) {
+      std::vector<float> t = toward_of(view, std::string(kW, 'G'));
+      for (int v = v0; v <= v1; ++v)
+        for (int u = u0; u <= u1; ++u) t[std::size_t(v * kW + u)] = ridge;
+      return t;
+    };
+    const std::vector<float> head_hidden = with_ridge(0, 3, 37, 41), trunk_hidden = with_ridge(7, 9, 39, kW - 1);
+    const std::vector<float> ground = toward_of(view, std::string(kW, 'G'));
+    std::vector<float> drawn(g.n_segments(), 1.0f);
+    const StrokeVisibilityRule rule{8.0, 20.0, 6.0};
+    auto tributary = [&](const std::vector<SegmentSamples>& m, std::uint32_t SegmentSamples::*mask) {
+      std::string b;
+      for (std::uint32_t s = stub - 3; s <= stub; ++s)
+        for (std::uint32_t k = 0; k < m[s].n; ++k) b += ((m[s].*mask >> k) & 1u) ? '1' : '0';
+      return b;
+    };
+    const SegmentChains chains = segment_chains(g);
+    ASSERT_EQ(chains.prev[trunk_out], trunk_in);
+    auto m = stroke_visibility(g, chains, drawn, view, 1.0, 1.0, head_hidden, rule);
+    EXPECT_EQ(tributary(m, &SegmentSamples::visible), "00011111") << reversed;
+    EXPECT_EQ(tributary(m, &SegmentSamples::shown), "00000000") << reversed;
+    for (std::uint32_t s = 0; s < kW / 2; ++s) EXPECT_EQ(m[s].shown, 3u) << "trunk segment " << s << " " << reversed;
+    // The peek rule off: the stub shows.
+    m = stroke_visibility(g, chains, drawn, view, 1.0, 1.0, head_hidden, {8.0, 20.0, 0.0});
+    EXPECT_EQ(tributary(m, &SegmentSamples::shown), "00011111") << reversed;
+    // Its lower 2 segments alone: a whole stroke, unless the stroke it joins is hidden there.
+    drawn[stub - 3] = drawn[stub - 2] = 0.0f;
+    m = stroke_visibility(g, chains, drawn, view, 1.0, 1.0, ground, rule);
+    EXPECT_EQ(tributary(m, &SegmentSamples::shown), "1111") << reversed;
+    m = stroke_visibility(g, chains, drawn, view, 1.0, 1.0, trunk_hidden, rule);
+    EXPECT_EQ(tributary(m, &SegmentSamples::visible), "1111") << reversed;
+    EXPECT_EQ(m[trunk_out].visible, 0u) << reversed;
+    EXPECT_EQ(tributary(m, &SegmentSamples::shown), "0000") << reversed;
+    // The tributary the larger inflow: the stroke goes on up it.
+    drawn.assign(g.n_segments(), 1.0f);
+    for (std::uint32_t i = first; i < first + 4; ++i) g.flow[i] += 1.0f;
+    const SegmentChains up_the_tributary = segment_chains(g);
+    ASSERT_EQ(up_the_tributary.prev[trunk_out], stub);
+    m = stroke_visibility(g, up_the_tributary, drawn, view, 1.0, 1.0, head_hidden, rule);
+    EXPECT_EQ(tributary(m, &SegmentSamples::shown), "00011111") << reversed;
+  }
+}
+
 }  // namespace
 }  // namespace renderer

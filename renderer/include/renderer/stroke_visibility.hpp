@@ -14,7 +14,9 @@
 //     cuts it;
 //   - then a drawn run at most min_peek_px long beside a hidden sample (a channel peeking
 //     out for a few pixels between ridges, or at the image's edge) is left out: a dot, not
-//     a line.
+//     a line. Here a tributary's run ends where it joins a line that goes on past
+//     min_peek_px, as its stroke does (crease_strokes): the last pixels of a tributary
+//     hidden upstream are a tick on the trunk, not a line.
 // Strokes are followed upstream along SegmentChains::prev and downstream along next, over
 // segments with samples, at most kStrokeReach segments each way. 0 turns a rule off.
 #include <cstdint>
