@@ -990,8 +990,9 @@ TEST(RendererGl, StrokeRuleMatchesCpu) {
 // the CPU reference's, on real terrain seen at a grazing angle, where gullies' near walls
 // hide their floors a few pixels at a time. Every drawn segment has the same sample count
 // (within 0.5 %: a screen length at a whole pixel rounds either way in floats), and all
-// but 0.01 % of the samples of those agree on each mask (none differs on llvmpipe or on an
-// H100; a rule left out of the shader flips more: the peek rule's junctions, 15 of 32405).
+// but 0.01 % of the samples of those agree on each mask (none differs here on llvmpipe, nor
+// in bench/gpu_strokes on an H100 and an H200; a rule left out of the shader flips more:
+// the peek rule's junctions, 15 of 32405).
 // Both rules do something here, and a hidden sample the GPU draws has crease ink at its
 // pixel.
 TEST(RendererGl, StrokeVisibilityMatchesCpu) {
