@@ -133,8 +133,8 @@ TEST(StrokeVisibility, StrokeEndsAndTheImagesEdge) {
 }
 
 // A tributary joins the stroke from the north at its vertex 20 (u = 39.8), in 4 segments
-// of 1.98 px (rows 0 to 7, column 39). Its run ends at the junction, as its stroke does
-// (crease_strokes), beside a hidden sample where the stroke it joins is hidden there:
+// of 1.98 px (rows 0 to 7, column 39). Its run ends where it joins a line that goes on past
+// the peek length, as its stroke does (crease_strokes):
 //   - under a ridge 50 m above it in rows 0 to 3, its samples in rows 0 to 2 are hidden and
 //     those in rows 3 to 7 (5 px) show: a peek, left out; the stroke it joins stays;
 //   - where it is the larger inflow the stroke goes on up it, and the stub is the stroke's
@@ -159,21 +159,18 @@ TEST(StrokeVisibility, ATributaryStubHiddenUpstreamIsAPeek) {
     g.segments.insert(g.segments.end(), {first + 3, junction});
     const std::uint32_t stub = std::uint32_t(g.n_segments()) - 1;
     const float ridge = float(project(view, Eigen::Vector3d(0, 0, 50)).depth);
+    const std::vector<float> ground = toward_of(view, std::string(kW, 'G'));
     auto with_ridge = [&](int v0, int v1, int u0, int u1) {
-      std::vector<float> t = toward_of(view, std::string(kW, 'G'));
+      std::vector<float> t = ground;
       for (int v = v0; v <= v1; ++v)
         for (int u = u0; u <= u1; ++u) t[std::size_t(v * kW + u)] = ridge;
       return t;
     };
     const std::vector<float> head_hidden = with_ridge(0, 3, 37, 41), trunk_hidden = with_ridge(7, 9, 39, kW - 1);
-    const std::vector<float> ground = toward_of(view, std::string(kW, 'G'));
     std::vector<float> drawn(g.n_segments(), 1.0f);
     const StrokeVisibilityRule rule{8.0, 20.0, 6.0};
     auto tributary = [&](const std::vector<SegmentSamples>& m, std::uint32_t SegmentSamples::*mask) {
-      std::string b;
-      for (std::uint32_t s = stub - 3; s <= stub; ++s)
-        for (std::uint32_t k = 0; k < m[s].n; ++k) b += ((m[s].*mask >> k) & 1u) ? '1' : '0';
-      return b;
+      return bits({m.begin() + stub - 3, m.begin() + stub + 1}, mask);
     };
     const SegmentChains chains = segment_chains(g);
     ASSERT_EQ(chains.prev[trunk_out], trunk_in);
