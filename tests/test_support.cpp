@@ -6,6 +6,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <csignal>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -57,6 +59,44 @@ RunResult run(const std::string& command_line) {
   r.err = slurp(err);
   return r;
 }
+
+Background::Background(const std::string& command_line) {
+  const std::string sh = "exec env " + command_line + " >" + logs_.path("stdout") + " 2>" + logs_.path("stderr");
+  pid_ = ::fork();
+  if (pid_ == 0) {
+    ::execl("/bin/sh", "sh", "-c", sh.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+}
+
+Background::~Background() {
+  if (pid_ > 0 && status_ < 0) {
+    ::kill(pid_, SIGKILL);
+    wait();
+  }
+}
+
+void Background::signal(int sig) const { ::kill(pid_, sig); }
+
+int Background::wait() {
+  if (status_ < 0) {
+    int st = 0;
+    while (::waitpid(pid_, &st, 0) < 0 && errno == EINTR) {
+    }
+    status_ = WIFEXITED(st) ? WEXITSTATUS(st) : WIFSIGNALED(st) ? 128 + WTERMSIG(st) : 255;
+  }
+  return status_;
+}
+
+std::string Background::err() const { return file_bytes(logs_.path("stderr")); }
+
+#ifdef TERRAIN_MPIEXEC
+std::string mpirun(int ranks) {
+  return "ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" "
+         "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl_vader_single_copy_mechanism=none "
+         "OMPI_MCA_btl=self,vader " TERRAIN_MPIEXEC " --oversubscribe -np " + std::to_string(ranks) + " ";
+}
+#endif
 
 const GridMesh& msh_50m_mesh() {
   static const GridMesh mesh = [] {

@@ -40,6 +40,34 @@ struct RunResult {
 // Runs a command line through /bin/sh and captures its exit code, stdout and stderr.
 RunResult run(const std::string& command_line);
 
+// A command started in the background (`/bin/sh -c "exec COMMAND"`, so the process is the
+// command itself and a signal sent to it reaches the tool), stdout and stderr to files.
+class Background {
+ public:
+  explicit Background(const std::string& command_line);
+  ~Background();  // kills and reaps the process if wait() was not called
+  Background(const Background&) = delete;
+  Background& operator=(const Background&) = delete;
+  void signal(int sig) const;
+  // Waits for the process: the exit code, or 128 + the signal that ended it.
+  int wait();
+  std::string err() const;
+
+ private:
+  int pid_ = -1;
+  int status_ = -1;
+  ScratchDir logs_;
+};
+
+#ifdef TERRAIN_MPIEXEC
+// mpirun with the settings a root user in a container needs (Open MPI refuses root
+// otherwise; no cross-memory attach there), as many ranks as asked on 2 cores. Under
+// AddressSanitizer the ranks skip the leak check: Open MPI keeps allocations until exit in
+// components it unloads, whose stacks no suppression can name (the same code paths run
+// leak-checked in one process in the other tests).
+std::string mpirun(int ranks);
+#endif
+
 // The mesh (area-weighted normals) of z = f(x, y) on rows x cols samples h metres apart,
 // in its local frame: sample (r, c) at x = c h, y = -r h, the origin at sample (0, 0).
 // f is called row by row, west to east, so a seeded random term is reproducible.

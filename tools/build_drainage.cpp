@@ -120,6 +120,7 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
       for (const char* name : drainage::kDrainageRasterNames)
         output_paths.push_back((std::filesystem::path(rasters_dir) / name).string());
     tt::check_distinct_paths({raster_mode ? "" : positional[0], raster, d8_input}, output_paths);
+    tt::warn_stale_temporaries(verb, output_paths);
     terrain::check_output_path(output);
     if (!surface_out.empty()) terrain::check_output_path(surface_out);
     if (!rasters_dir.empty() && !std::filesystem::is_directory(rasters_dir))

@@ -9,6 +9,8 @@
 #include <iostream>
 #include <memory>
 
+#include "terrain/temp_files.hpp"
+
 namespace terrain::tools {
 
 std::string version() { return std::string(TERRAIN_VERSION) + " (git " + git_hash() + ")"; }
@@ -112,6 +114,14 @@ void check_distinct_paths(const std::vector<std::string>& inputs, const std::vec
   }
 }
 
+void warn_stale_temporaries(const Verbosity& v, const std::vector<std::string>& outputs) {
+  for (const std::string& out : outputs) {
+    if (out.empty()) continue;
+    for (const std::filesystem::path& p : terrain::stale_temporaries(out))
+      warn(v, "stale temporary '" + p.string() + "' of a run that was killed; remove it (rm -r '" + p.string() + "')");
+  }
+}
+
 int mpi_launcher_size() {
   for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
     if (const char* v = std::getenv(name)) return std::max(1, std::atoi(v));
@@ -123,6 +133,8 @@ int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& b
   // A file-size limit (ulimit -f) must fail a write (EFBIG), not kill the tool with its
   // temporary file left behind.
   std::signal(SIGXFSZ, SIG_IGN);
+  // SIGINT, SIGTERM and SIGHUP remove this run's temporary files before it dies.
+  terrain::install_interrupt_cleanup();
   try {
     app.parse(argc, argv);
     reject_non_finite(app);

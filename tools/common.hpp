@@ -51,6 +51,11 @@ inline constexpr int kMaxThreads = 1024;
 // Empty strings are skipped.
 void check_distinct_paths(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
 
+// Warns (-q silences it) of each temporary file or scratch folder beside an output that a
+// run on it left when it was killed (SIGKILL, a power cut: temp_files.hpp), with the
+// command that removes it. Empty strings are skipped.
+void warn_stale_temporaries(const Verbosity& v, const std::vector<std::string>& outputs);
+
 // Runs `body` after CLI11 parsing with the exit-code policy. A named option's value that
 // parses as a number but not a finite one (nan, inf, 1e999) is a usage error for every
 // option of every tool, so no option lets NaN into the arithmetic. CLI11 usage errors -> 2

@@ -168,6 +168,7 @@ int main(int argc, char** argv) {
   return tt::run_main(app, argc, argv, [&]() {
     if (!output.ends_with(".ply")) throw terrain::Error("OUTPUT must be a .ply file: '" + output + "'");
     tt::check_distinct_paths({input}, {output, grid_out});
+    tt::warn_stale_temporaries(verb, {output, grid_out});
     terrain::check_output_path(output);
     if (!grid_out.empty()) terrain::check_output_path(grid_out);
     if (*spacing_opt) req.spacing = spacing;

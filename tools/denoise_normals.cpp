@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
   return tt::run_main(app, argc, argv, [&]() {
     if (!output.ends_with(".ply")) throw terrain::Error("OUTPUT must be a .ply file: '" + output + "'");
     tt::check_distinct_paths({input}, {output});
+    tt::warn_stale_temporaries(verb, {output});
     terrain::check_output_path(output);
     using clock = std::chrono::steady_clock;
     auto t0 = clock::now();

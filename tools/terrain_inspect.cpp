@@ -221,6 +221,7 @@ int main(int argc, char** argv) {
       else info_dem(file);
     } else if (*preview) {
       tt::check_distinct_paths({file}, {out});
+      tt::warn_stale_temporaries(verb, {out});
       terrain::check_output_path(out);
       const std::string desc = tt::provenance(argc, argv);
       if (is_dv) {
@@ -254,6 +255,7 @@ int main(int argc, char** argv) {
     } else if (*exp) {
       if (out.empty()) out = std::filesystem::path(file).replace_extension(to).string();
       tt::check_distinct_paths({file}, {out});
+      tt::warn_stale_temporaries(verb, {out});
       terrain::check_output_path(out);
       if (to == "gpkg") {
         if (!is_dv) throw terrain::Error("'" + file + "' is not a drainage database (.dv): only those export to gpkg");

@@ -368,6 +368,7 @@ int run_frame(FrameArgs& a, const std::string& prov, const tt::Verbosity& verb) 
   const auto [w, h] = finish_options(a.opts, layers);
   if (!a.out.ends_with(".png")) throw terrain::Error("the output must be a .png file: '" + a.out + "'");
   tt::check_distinct_paths({a.mesh, a.dv}, {a.out});
+  tt::warn_stale_temporaries(verb, {a.out});
   terrain::check_output_path(a.out);
   if (!a.dv.empty() && !drainage::is_dv_file(a.dv))
     throw terrain::Error("'" + a.dv + "' is not a drainage database (.dv)");
@@ -420,6 +421,8 @@ int run_frame(FrameArgs& a, const std::string& prov, const tt::Verbosity& verb) 
   return 0;
 }
 
+std::string frame_name(std::size_t i) { return fmt::format("frame_{:05d}.png", i); }
+
 int run_batch(BatchArgs& a, const std::string& prov, const tt::Verbosity& verb) {
   rr::Layers layers;
   const auto [w, h] = finish_options(a.opts, layers);
@@ -429,9 +432,15 @@ int run_batch(BatchArgs& a, const std::string& prov, const tt::Verbosity& verb) 
     throw terrain::Error("'" + dv_path + "' is not a drainage database (.dv)");
   const auto frames = rr::read_frames_csv(csv, a.opts.frame);
   const std::filesystem::path dir(a.dir);
-  tt::check_distinct_paths(a.inputs, {(dir / "timings.csv").string()});
+  // Every file the batch writes, checked against every input (a frames CSV or a mesh named
+  // like an output is never replaced): the frames, the timings and the statistics.
+  std::vector<std::string> outputs = {(dir / "timings.csv").string()};
+  if (a.opts.line_stats) outputs.push_back((dir / "line_stats.csv").string());
+  for (std::size_t i = 0; i < frames.size(); ++i) outputs.push_back((dir / frame_name(i)).string());
+  for (const std::string& out : outputs) tt::check_distinct_paths(a.inputs, {out});
   std::filesystem::create_directories(dir);
   terrain::check_output_path(dir / "timings.csv");
+  tt::warn_stale_temporaries(verb, outputs);
   check_line_stats(a.opts, layers, dv_path);
   const Scene scene = load_scene(mesh_path, dv_path, a.opts.rules, verb);
   for (std::size_t i = 0; i < frames.size(); ++i) {
@@ -465,7 +474,7 @@ int run_batch(BatchArgs& a, const std::string& prov, const tt::Verbosity& verb) 
       drawn.push_back(std::move(lines.drawn));
       pixels.push_back(std::move(lines.pixels));
     }
-    terrain::write_png((dir / fmt::format("frame_{:05d}.png", i)).string(), w, h, 4, res.rgba,
+    terrain::write_png((dir / frame_name(i)).string(), w, h, 4, res.rgba,
                        prov + fmt::format(" [frame {}]", i));
     terrain::report(progress, double(i + 1) / double(frames.size()));
   }

@@ -20,22 +20,24 @@
 #include "drainage/tiled.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
+#include "terrain/temp_files.hpp"
 
 namespace drainage {
 
 namespace {
 
-// A temporary raw array of rows x cols values of T (row-major) in a file next to the
-// output, written and read by windows and runs with pwrite / pread, so that several
+// A temporary raw array of rows x cols values of T (row-major) in the run's private scratch
+// folder, written and read by windows and runs with pwrite / pread, so that several
 // processes (the ranks of an MPI job, on a file system they share) write disjoint parts of
-// it at once. Rank 0 creates it and removes it; the other ranks open it after a barrier.
+// it at once. Rank 0 creates it (O_EXCL: never an existing file) and removes it; the other
+// ranks open it after a barrier.
 template <class T>
 class ScratchArray {
  public:
   ScratchArray(std::string path, std::size_t rows, std::size_t cols, const TileComm& comm)
       : path_(std::move(path)), cols_(cols), root_(comm.root()) {
     if (root_) {
-      fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+      fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
       if (fd_ < 0 || ::ftruncate(fd_, off_t(rows * cols * sizeof(T))) != 0)
         fail("cannot create the temporary raster");
     }
@@ -310,9 +312,17 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
   std::uint32_t flags = 0;
   std::function<terrain::Grid(const terrain::RasterWindow&)> surface = read_z;
 
+  // Scratch rasters and rank files live in a folder private to this run (mkdtemp beside
+  // the output, on the file system the ranks share): two runs on one output never share a
+  // scratch file, and no scratch name can be an input's. Rank 0 makes it and tells the
+  // others its name; it is removed at the end, on an error and on SIGINT/SIGTERM.
+  std::unique_ptr<terrain::ScratchDir> scratch_dir;
+  if (comm.root()) scratch_dir = std::make_unique<terrain::ScratchDir>(output_path);
+  const std::string scratch = comm.all_gather(comm.root() ? scratch_dir->path().string() : std::string())[0] + "/";
+
   std::unique_ptr<ScratchArray<float>> filled;
   if (!run.dem.empty() && run.fill) {
-    filled = std::make_unique<ScratchArray<float>>(output_path + ".filled.tmp", info.rows, info.cols, comm);
+    filled = std::make_unique<ScratchArray<float>>(scratch + "filled.f32", info.rows, info.cols, comm);
     summary.filled = tiled_priority_flood_fill(
         tiles, read_z,
         [&](std::size_t t, terrain::Grid& g) {
@@ -332,7 +342,7 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
   std::unique_ptr<ScratchArray<std::uint8_t>> resolved;
   if (!run.dem.empty() && run.resolve_flats) {
     flags |= kDvHasElevations | kDvFlatsResolved;
-    resolved = std::make_unique<ScratchArray<std::uint8_t>>(output_path + ".d8.tmp", info.rows, info.cols, comm);
+    resolved = std::make_unique<ScratchArray<std::uint8_t>>(scratch + "d8.u8", info.rows, info.cols, comm);
     tiled_resolved_codes(tiles, surface, *resolved, comm);
     codes = [&](const terrain::RasterWindow& w) {
       D8Codes out(w.rows * w.cols);
@@ -373,16 +383,17 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
   struct BlockRef {
     std::uint64_t tile, offset, bytes;
   };
-  auto blocks_path = [&](int rank) { return fmt::format("{}.rank{}.tmp", output_path, rank); };
+  auto blocks_path = [&](int rank) { return fmt::format("{}rank{}.blocks", scratch, rank); };
   struct RemoveAtEnd {
     std::string path;
+    terrain::TempRegistration on_signal{path};
     ~RemoveAtEnd() { ::unlink(path.c_str()); }
   } remove_rank_blocks{comm.size() > 1 ? blocks_path(comm.rank()) : std::string()};
   auto network = [&](DvBlockWriter* writer) {
     std::ofstream blocks;
     std::vector<BlockRef> index;
     if (comm.size() > 1) {
-      blocks.open(blocks_path(comm.rank()), std::ios::binary | std::ios::trunc);
+      blocks.open(blocks_path(comm.rank()), std::ios::binary | std::ios::trunc);  // a fresh folder: a new file
       if (!blocks) throw terrain::Error("cannot create the temporary file '" + blocks_path(comm.rank()) + "'");
     }
     summary.totals = tiled_network(

@@ -31,12 +31,16 @@ void check_output_path(const fs::path& path) {
 
 AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
   check_output_path(target_);
-  // Appended piece by piece: `"." + std::string` trips GCC 12's -Wrestrict false positive (PR 105329).
-  std::string name(".");
-  name += target_.stem().string();
-  name += ".tmp" + std::to_string(::getpid());
-  name += target_.extension().string();
-  temp_ = target_.parent_path() / name;
+  if (is_registered_temporary(target_)) {
+    // A staged path of an OutputSet (or another AtomicFile) of this process: it is already
+    // a private temporary that its owner renames, so it is written in place rather than
+    // through a second, nested temporary.
+    temp_ = target_;
+    in_place_ = true;
+    return;
+  }
+  temp_ = temporary_sibling(target_);
+  registration_ = TempRegistration(temp_);
 }
 
 AtomicFile::~AtomicFile() {
@@ -49,9 +53,14 @@ AtomicFile::~AtomicFile() {
 void AtomicFile::commit() {
   std::error_code ec;
   if (!fs::is_regular_file(temp_, ec)) throw Error("cannot write '" + target_.string() + "': nothing was written");
+  if (in_place_) {
+    committed_ = true;
+    return;
+  }
   fs::rename(temp_, target_, ec);
   if (ec) throw Error("cannot write '" + target_.string() + "': " + ec.message());
   committed_ = true;
+  registration_ = TempRegistration();
 }
 
 void write_stream_atomic(const fs::path& path, const std::function<void(std::ostream&)>& write) {

@@ -49,8 +49,11 @@ DatasetPtr wrap_in_mem_dataset(Grid& grid) {
   GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
   DatasetPtr ds(mem->Create("", int(grid.cols), int(grid.rows), 0, GDT_Float32, nullptr));
   if (!ds) throw Error("cannot create an in-memory raster: " + last_gdal_error());
-  char ptr[64];
-  CPLPrintPointer(ptr, grid.z.data(), sizeof(ptr));
+  // CPLPrintPointer does not terminate what it prints: the buffer starts zeroed and it may
+  // fill all but the last byte (an unterminated pointer string made MEM read a random
+  // address, issue 41).
+  char ptr[64] = {};
+  CPLPrintPointer(ptr, grid.z.data(), sizeof(ptr) - 1);
   std::string opt = std::string("DATAPOINTER=") + ptr;
   char* opts[] = {opt.data(), nullptr};
   if (ds->AddBand(GDT_Float32, opts) != CE_None)
@@ -284,7 +287,11 @@ std::size_t fill_nodata(Grid& grid) {
   DatasetPtr ds = wrap_in_mem_dataset(grid);
   GDALRasterBand* band = ds->GetRasterBand(1);
   const double max_search = double(std::max(grid.rows, grid.cols));
-  if (GDALFillNodata(band, nullptr, max_search, 0, 0, nullptr, nullptr, nullptr) != CE_None)
+  // Its work rasters in memory: by default GDAL writes them as GeoTIFFs in the current
+  // directory (up to 250 MB each), left behind when the run is interrupted.
+  char temp_driver[] = "TEMP_FILE_DRIVER=MEM";
+  char* fill_opts[] = {temp_driver, nullptr};
+  if (GDALFillNodata(band, nullptr, max_search, 0, 0, fill_opts, nullptr, nullptr) != CE_None)
     throw Error("GDALFillNodata failed: " + last_gdal_error());
   ds.reset();  // the data pointer aliases grid.z: nothing to copy back
   const std::size_t left = grid.count_nodata();

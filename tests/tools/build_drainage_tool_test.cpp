@@ -196,16 +196,7 @@ TEST(BuildDrainage, TiledFlatAndDepressionAcrossFourTiles) {
 }
 
 #ifdef TERRAIN_MPIEXEC
-// mpirun with the settings a root user in a container needs (Open MPI refuses root
-// otherwise; no cross-memory attach there), as many ranks as asked on 2 cores. Under
-// AddressSanitizer the ranks skip the leak check: Open MPI keeps allocations until exit in
-// components it unloads, whose stacks no suppression can name (the same code paths run
-// leak-checked in one process in the other tests).
-std::string mpirun(int ranks) {
-  return "ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" "
-         "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl_vader_single_copy_mechanism=none "
-         "OMPI_MCA_btl=self,vader " TERRAIN_MPIEXEC " --oversubscribe -np " + std::to_string(ranks) + " ";
-}
+using terrain::test::mpirun;
 
 // Skips the test where this machine cannot start 3 ranks at all (a launcher problem, not ours).
 #define SKIP_WITHOUT_MPI_LAUNCH()                                                         \

@@ -14,6 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "terrain/temp_files.hpp"
+
 namespace terrain {
 
 class AtomicFile {
@@ -26,7 +28,9 @@ class AtomicFile {
   AtomicFile& operator=(const AtomicFile&) = delete;
 
   // Where to write: a hidden sibling of the target in the same directory, with the
-  // target's extension (drivers such as GDAL's GPKG look at it).
+  // target's extension (drivers such as GDAL's GPKG look at it), private to this process
+  // and removed on SIGINT/SIGTERM (temp_files.hpp). When the target is itself a temporary
+  // this process registered (an OutputSet's staged path), it is written in place.
   const std::filesystem::path& temp_path() const { return temp_; }
   const std::filesystem::path& target() const { return target_; }
   // Renames the temporary file onto the target (atomic on POSIX). Throws Error when the
@@ -36,6 +40,8 @@ class AtomicFile {
  private:
   std::filesystem::path target_;
   std::filesystem::path temp_;
+  TempRegistration registration_;
+  bool in_place_ = false;
   bool committed_ = false;
 };
 

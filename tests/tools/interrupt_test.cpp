@@ -1,0 +1,180 @@
+// Runs at once, interrupts and temporary names (issue 41): two tiled runs on one output
+// never share a scratch file; SIGINT and SIGTERM at any moment leave the output directory
+// as it was (or with the finished output) and nothing else; a killed run's leftovers are
+// reported by the next; output names up to the file system's limit work.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <set>
+#include <thread>
+
+#include "test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using terrain::test::Background;
+using terrain::test::data;
+using terrain::test::file_bytes;
+using terrain::test::run;
+using terrain::test::tool;
+
+std::set<std::string> entries(const std::string& dir) {
+  std::set<std::string> out;
+  for (const auto& e : fs::directory_iterator(dir)) out.insert(e.path().filename().string());
+  return out;
+}
+
+// Waits (at most `limit_s`) until `dir` holds more than `n` entries; false on time-out.
+bool wait_for_entries(const std::string& dir, std::size_t n, double limit_s = 30.0) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
+  while (entries(dir).size() <= n) {
+    if (std::chrono::steady_clock::now() > until) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return true;
+}
+
+// Logan at 10 m (14.4 M points), made once for the tests below.
+const std::string& logan10() {
+  static terrain::test::ScratchDir dir;
+  static const std::string tif = [] {
+    const std::string t = dir.path("logan10.tif");
+    EXPECT_EQ(std::system(("gdalwarp -q -r cubic -tr 10 10 " + data("logan_utm12n_100m.tif") + " " + t).c_str()), 0);
+    return t;
+  }();
+  return tif;
+}
+
+// The issue's race: the same tiled command twice on one output, the second started while
+// the first is working and interrupted. Before, both used OUT.dv.filled.tmp and
+// OUT.dv.d8.tmp (opened with O_TRUNC): the first failed or wrote a wrong database.
+TEST(Interrupt, TwoTiledRunsOnOneOutputShareNoScratch) {
+  terrain::test::ScratchDir dir;
+  const std::string cmd = tool("build-drainage") + " --raster " + logan10() + " --fill --tile-size 1000 -q ";
+  fs::create_directory(dir.path("d"));
+  const std::string d = dir.path("d");
+  const auto clean = run(cmd + dir.path("d/out.dv"));  // the same command: the same provenance in the header
+  ASSERT_EQ(clean.exit_code, 0) << clean.err;
+  fs::rename(dir.path("d/out.dv"), dir.path("clean.dv"));
+  Background first(cmd + dir.path("d/out.dv"));
+  ASSERT_TRUE(wait_for_entries(d, 0)) << "the first run made no scratch";
+  const std::size_t before = entries(d).size();
+  Background second(cmd + dir.path("d/out.dv"));
+  ASSERT_TRUE(wait_for_entries(d, before)) << "the second run made no scratch";
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // both work on their scratch
+  second.signal(SIGINT);
+  EXPECT_EQ(second.wait(), 128 + SIGINT) << second.err();
+  ASSERT_EQ(first.wait(), 0) << first.err();
+  EXPECT_TRUE(file_bytes(dir.path("d/out.dv")) == file_bytes(dir.path("clean.dv")))
+      << "the first run's database differs from a clean run's";
+  EXPECT_EQ(entries(d), std::set<std::string>{"out.dv"});
+}
+
+// An input named like the old fixed scratch names is read, not truncated.
+TEST(Interrupt, AnInputNamedLikeScratchSurvives) {
+  terrain::test::ScratchDir dir;
+  const std::string in = dir.path("x.dv.d8.tmp");
+  fs::copy_file(data("msh_2007_utm10n_10m.tif"), in);
+  const std::string bytes = file_bytes(in);
+  for (const char* extra : {"", " --fill"}) {
+    const auto r = run(tool("build-drainage") + " --raster " + in + " " + dir.path("x.dv") + " --tile-size 16 -q" + extra);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(file_bytes(in) == bytes) << "the input changed";
+  }
+  EXPECT_EQ(entries(dir.path("")), (std::set<std::string>{"x.dv", "x.dv.d8.tmp"}));
+}
+
+// SIGINT and SIGTERM at several moments of each tool's long work: what remains is the old
+// output (or the new one, when the run finished first) and nothing else.
+TEST(Interrupt, SignalsLeaveNothingBehind) {
+  const std::string msh = data("msh_2007_utm10n_10m.tif");
+  struct Case {
+    std::string what, command, output;
+  };
+  terrain::test::ScratchDir mesh_dir;
+  ASSERT_EQ(run(tool("dem2mesh") + " " + logan10() + " " + mesh_dir.path("l.ply") + " --spacing 20 -q").exit_code, 0);
+  const std::vector<Case> cases = {
+      {"dem2mesh", tool("dem2mesh") + " " + logan10() + " OUT --spacing 20 --grid-out OUTDIR/g.tif -q", "o.ply"},
+      {"build-drainage --raster", tool("build-drainage") + " --raster " + logan10() + " OUT -q", "o.dv"},
+      {"build-drainage tiled", tool("build-drainage") + " --raster " + logan10() + " OUT --tile-size 700 --fill -q",
+       "o.dv"},
+      {"build-drainage mesh", tool("build-drainage") + " " + mesh_dir.path("l.ply") + " OUT -q", "o.dv"},
+#ifdef TERRAIN_MPIEXEC
+      {"build-drainage 2 ranks",
+       terrain::test::mpirun(2) + tool("build-drainage") + " --raster " + logan10() + " OUT --tile-size 700 --fill -q",
+       "o.dv"},
+#endif
+  };
+  int runs = 0;
+  for (const Case& c : cases)
+    for (const int sig : {SIGINT, SIGTERM})
+      for (const int delay_ms : {50, 400, 1200}) {
+        terrain::test::ScratchDir dir;
+        const std::string out = dir.path(c.output);
+        std::ofstream(out) << "old output\n";
+        std::string cmd = c.command;
+        cmd.replace(cmd.find("OUT"), 3, out);
+        if (const auto at = cmd.find("OUTDIR/"); at != std::string::npos) cmd.replace(at, 7, dir.path(""));
+        Background b(cmd);
+        std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+        b.signal(sig);
+        const int code = b.wait();
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));  // mpirun's ranks end after it
+        const std::string what = c.what + ", signal " + std::to_string(sig) + " at " + std::to_string(delay_ms) + " ms";
+        ++runs;
+        if (code == 0) {  // finished before the signal: the new output, complete
+          EXPECT_NE(file_bytes(out), "old output\n") << what;
+          continue;
+        }
+        EXPECT_TRUE(code == 128 + sig || (c.what.find("ranks") != std::string::npos && code != 0))
+            << what << ": exit " << code << "\n" << b.err();
+        EXPECT_EQ(file_bytes(out), "old output\n") << what;
+        EXPECT_EQ(entries(dir.path("")), std::set<std::string>{c.output}) << what;
+      }
+  EXPECT_GT(runs, 0);
+}
+
+// What a run killed by SIGKILL leaves (its temporary output, its scratch folder) is
+// reported by the next run on the same output.
+TEST(Interrupt, ALaterRunReportsWhatAKilledRunLeft) {
+  terrain::test::ScratchDir dir;
+  const std::string out = dir.path("o.dv");
+  Background b(tool("build-drainage") + " --raster " + logan10() + " " + out + " --tile-size 700 --fill -q");
+  ASSERT_TRUE(wait_for_entries(dir.path(""), 0));
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  b.signal(SIGKILL);
+  EXPECT_EQ(b.wait(), 128 + SIGKILL);
+  const std::set<std::string> left = entries(dir.path(""));
+  ASSERT_FALSE(left.empty()) << "SIGKILL cannot be caught: its scratch stays";
+  const auto r = run(tool("build-drainage") + " --raster " + data("msh_2007_utm10n_10m.tif") + " " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const std::string& name : left) {
+    EXPECT_NE(r.err.find("stale temporary '" + dir.path(name) + "'"), std::string::npos) << name << "\n" << r.err;
+  }
+}
+
+// Output names up to 255 bytes (the file system's limit): the temporary names fit too.
+TEST(Interrupt, LongOutputNamesWork) {
+  terrain::test::ScratchDir dir;
+  const std::string msh = data("msh_2007_utm10n_10m.tif");
+  for (const std::size_t length : {238u, 239u, 255u}) {
+    const std::string stem(length - 4, 'a');
+    const std::string ply = dir.path(stem + ".ply"), dv = dir.path(stem.substr(0, length - 3) + ".dv");
+    auto r = run(tool("dem2mesh") + " " + msh + " " + ply + " --spacing 50 --grid-out " + dir.path(stem + ".tif") + " -q");
+    EXPECT_EQ(r.exit_code, 0) << length << ": " << r.err;
+    r = run(tool("build-drainage") + " --raster " + msh + " " + dv + " --tile-size 64 --fill -q");
+    EXPECT_EQ(r.exit_code, 0) << length << ": " << r.err;
+    r = run(tool("build-drainage") + " " + ply + " " + dv + " --surface " + dir.path(stem + ".tif") + " -q");
+    EXPECT_EQ(r.exit_code, 0) << length << ": " << r.err;
+    for (const auto& name : entries(dir.path(""))) EXPECT_NE(name[0], '.') << "left: " << name;
+    fs::remove_all(dir.path(""));
+    fs::create_directories(dir.path(""));
+  }
+}
+
+}  // namespace
