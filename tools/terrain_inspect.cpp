@@ -253,6 +253,8 @@ int main(int argc, char** argv) {
       }
       std::cout << "output: " << out << "\n";
     } else if (*exp) {
+      std::error_code ec;
+      if (!std::filesystem::exists(file, ec)) throw terrain::Error("cannot read '" + file + "': no such file");
       if (out.empty()) out = std::filesystem::path(file).replace_extension(to).string();
       tt::check_distinct_paths({file}, {out});
       tt::warn_stale_temporaries(verb, {out});

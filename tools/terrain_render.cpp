@@ -46,6 +46,12 @@ struct RenderOptions {
   CLI::Option *view_az = nullptr, *light_az = nullptr, *light_alt = nullptr;
 };
 
+// The range of a per-frame value, shared with the frames CSV (rr::frame_range).
+CLI::Range frame_range(const char* column) {
+  const auto [lo, hi] = rr::frame_range(column);
+  return CLI::Range(lo, hi);
+}
+
 void add_render_options(CLI::App* app, RenderOptions& o) {
   auto& f = o.frame;
   app->add_option("--size", o.size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
@@ -56,29 +62,29 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
   o.view_az = app->add_option("--view-az", f.camera.view_az, "Bearing of the line of sight, degrees clockwise from grid north")
       ->capture_default_str();
   app->add_option("--view-alt", f.camera.view_alt, "Angle of the line of sight below the horizon, degrees")
-      ->check(CLI::Range(-90.0, 90.0))
+      ->check(frame_range("view_alt"))
       ->capture_default_str();
   app->add_option("--fov", f.camera.fov, "Vertical field of view, degrees")
-      ->check(CLI::Range(1.0, 170.0))
+      ->check(frame_range("fov"))
       ->capture_default_str();
   o.light_az = app->add_option("--light-az", f.light.azimuth,
                                "Light azimuth, degrees clockwise from north (frame's default view: from its left)")
       ->capture_default_str();
   o.light_alt = app->add_option("--light-alt", f.light.altitude, "Light altitude above the horizon, degrees")
-      ->check(CLI::Range(-90.0, 90.0))
+      ->check(frame_range("light_alt"))
       ->capture_default_str();
-  app->add_option("--sw", f.score.sw, "Crease score: slope weight")->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  app->add_option("--sw", f.score.sw, "Crease score: slope weight")->check(frame_range("sw"))->capture_default_str();
   app->add_option("--iw", f.score.iw, "Crease score: illumination weight")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(frame_range("iw"))
       ->capture_default_str();
-  app->add_option("--fw", f.score.fw, "Crease score: flow weight")->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  app->add_option("--fw", f.score.fw, "Crease score: flow weight")->check(frame_range("fw"))->capture_default_str();
   app->add_option("--min-score", f.score.min_score,
                   "Crease score: minimum (rs_min at the eye); 0 draws every crease, 1 none")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(frame_range("min_score"))
       ->capture_default_str();
   app->add_option("--falloff", f.score.falloff,
                   "Crease score: k in rs_min(d) = min + (1 - min) k clamp(d / far, 0, 1); 0 = no distance term")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(frame_range("falloff"))
       ->capture_default_str();
   app->add_option("--far-distance", f.score.far_distance,
                   "Crease score: distance (m) at which rs_min stops rising; 0 = across the scene, from its nearest to its farthest point")
@@ -116,7 +122,7 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
                 "Divide the weighted sum by 3 (the paper's equation 6) instead of by the weight sum");
   app->add_option("--pel-threshold", f.pel.threshold,
                   "PELs: keep lines where |grad f| / max |grad f| exceeds this (tau)")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(frame_range("pel_threshold"))
       ->capture_default_str();
   app->add_option("--pel-light", o.pel_light,
                   "PELs: f = max(0, n . L) with L the headlight (towards the eye) or the scene light (--light-az/alt)")
@@ -217,7 +223,8 @@ void add_render_options(CLI::App* app, RenderOptions& o) {
       ->check(CLI::Range(0.01, 100.0))
       ->capture_default_str();
   app->add_option("--crease-lift", o.style.crease_lift,
-                  "Lines (creases, PELs, edges) are drawn where they lie on the surface, at the depth of their points moved this far (m) towards the eye, so the tessellated surface does not hide them in their valleys; default 0.5 x mesh spacing");
+                  "Lines (creases, PELs, edges) are drawn where they lie on the surface, at the depth of their points moved this far (m) towards the eye, so the tessellated surface does not hide them in their valleys; default 0.5 x mesh spacing")
+      ->check(CLI::NonNegativeNumber);
   app->add_option("--pixels-per-edge", o.style.pixels_per_edge,
                   "Adaptive tessellation target: screen length of a tessellated edge, pixels")
       ->check(CLI::Range(1.0, 100.0))

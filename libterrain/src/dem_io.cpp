@@ -120,6 +120,11 @@ OpenRaster open_raster(const std::string& path) {
   r.rows = std::size_t(rows);
   r.cols = std::size_t(cols);
   double gt[6];
+  if (r.ds->GetGeoTransform(gt) != CE_None && r.ds->GetGCPCount() > 0)
+    // GDAL stores a geotransform it cannot invert (a zero pixel width or height) as ground
+    // control points: placing the DEM at pixel coordinates would be silently wrong.
+    throw Error("cannot use '" + path + "': it is georeferenced by ground control points, not a geotransform (or its "
+                "geotransform is invalid, e.g. a zero pixel width); warp it onto a grid first (gdalwarp)");
   if (r.ds->GetGeoTransform(gt) != CE_None) {  // no georeferencing: pixel coordinates, row 0 at the top
     // Except for picture formats: a PNG or JPEG without a world file is a picture, not a DEM.
     const std::string driver = r.ds->GetDriver() ? r.ds->GetDriver()->GetDescription() : "";
@@ -154,6 +159,16 @@ OpenRaster open_raster(const std::string& path) {
     if (!crs.non_metre_unit.empty())
       throw Error("cannot use '" + path + "': its projected CRS is in " + crs.non_metre_unit +
                   ", not metres; reproject it first (gdalwarp -t_srs EPSG:...)");
+  }
+  if (r.geo.crs_kind == CrsKind::Geographic) {
+    // Edges within one cell of the globe's (cell-centred global grids reach past 90 by half
+    // a cell); longitudes -180..360 cover both conventions.
+    const double north = r.geo.y0, south = r.geo.y0 - double(rows) * r.geo.dy;
+    const double west = r.geo.x0, east = r.geo.x0 + double(cols) * r.geo.dx;
+    if (north > 90.0 + r.geo.dy || south < -90.0 - r.geo.dy || west < -180.0 - r.geo.dx || east > 360.0 + r.geo.dx)
+      throw Error(fmt::format("cannot use '{}': its geographic extent (longitude {:g} .. {:g}, latitude {:g} .. {:g}) "
+                              "lies outside the globe (-180 .. 360, -90 .. 90); is its CRS or geotransform right?",
+                              path, west, east, south, north));
   }
   return r;
 }

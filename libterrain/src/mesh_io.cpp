@@ -485,6 +485,16 @@ GridMesh read_mesh_ply(const std::string& path) {
       !(m.geo.dx > 0) || !(m.geo.dy > 0) || !std::isfinite(m.geo.dx) || !std::isfinite(m.geo.dy) ||
       !std::isfinite(m.geo.origin_x) || !std::isfinite(m.geo.origin_y) || !std::isfinite(m.geo.origin_z))
     throw Error("cannot read '" + path + "': invalid grid or origin comment");
+  // Every header field that sizes or places something, against what a projected mesh can
+  // be (the lattice itself is checked against the vertices below): spacings from 1 mm to
+  // 1000 km, an extent and origin within 1e8 m (UTM coordinates are below 1e7).
+  if (m.geo.dx < 1e-3 || m.geo.dy < 1e-3 || m.geo.dx > 1e6 || m.geo.dy > 1e6 ||
+      double(m.topo.cols - 1) * m.geo.dx > 1e8 || double(m.topo.rows - 1) * m.geo.dy > 1e8 ||
+      std::abs(m.geo.origin_x) > 1e8 || std::abs(m.geo.origin_y) > 1e8 || std::abs(m.geo.origin_z) > 1e8)
+    throw Error(fmt::format("cannot read '{}': its grid comment (spacing {:g} x {:g} m, {} x {} vertices) or origin "
+                            "({:g}, {:g}, {:g}) is outside what a terrain mesh can be",
+                            path, m.geo.dx, m.geo.dy, m.topo.cols, m.topo.rows, m.geo.origin_x, m.geo.origin_y,
+                            m.geo.origin_z));
   check_terrain_ply(header, m.topo, std::filesystem::file_size(path, ec), path);
   silence_openmesh();
 
@@ -506,6 +516,21 @@ GridMesh read_mesh_ply(const std::string& path) {
     if (!(std::abs(m.normals[i].squaredNorm() - 1.0f) < 1e-3f))
       throw Error(fmt::format("cannot read '{}': the normal of vertex {} is not unit length (corrupt file?)", path, i));
   }
+  // The vertices lie on the lattice the grid comment states (x = column * dx, y = -row * dy
+  // about the origin), within 1 % of a spacing and float rounding: a spacing that disagrees
+  // with the vertices would place and index every sample wrongly downstream.
+  const double tol_x = 0.01 * m.geo.dx, tol_y = 0.01 * m.geo.dy;
+  for (std::size_t r = 0; r < m.topo.rows; ++r)
+    for (std::size_t c = 0; c < m.topo.cols; ++c) {
+      const Eigen::Vector3f& p = m.positions[r * m.topo.cols + c];
+      const double x = double(c) * m.geo.dx, y = -double(r) * m.geo.dy;
+      if (std::abs(double(p.x()) - x) > tol_x + 1e-6 * std::abs(x) ||
+          std::abs(double(p.y()) - y) > tol_y + 1e-6 * std::abs(y))
+        throw Error(fmt::format("cannot read '{}': vertex {} (row {}, column {}) at ({:g}, {:g}) is not on the grid "
+                                "comment's {:g} x {:g} m lattice (expected ({:g}, {:g})): the header disagrees with "
+                                "the vertices",
+                                path, r * m.topo.cols + c, r, c, p.x(), p.y(), m.geo.dx, m.geo.dy, x, y));
+    }
 
   // Optional data: the Voronoi weights come as a set (all seven properties) or not at all.
   auto& k = importer.properties();

@@ -1,5 +1,7 @@
 #include "terrain/pn_surface.hpp"
 
+#include <fmt/format.h>
+
 #include <omp.h>
 
 #include <algorithm>
@@ -99,6 +101,10 @@ SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Pro
   const double width = double(mesh.topo.cols - 1) * mesh.geo.dx, height = double(mesh.topo.rows - 1) * mesh.geo.dy;
   const std::size_t nx = std::size_t(std::floor(width / spacing + 1e-9)) + 1;
   const std::size_t ny = std::size_t(std::floor(height / spacing + 1e-9)) + 1;
+  if (nx < 2 || ny < 2)
+    throw Error(fmt::format("sampling at {:g} m gives {} x {} points: the sampled surface needs at least 2 x 2; give a "
+                            "spacing at most the mesh's extent ({:g} x {:g} m)",
+                            spacing, nx, ny, width, height));
   if (double(nx) * double(ny) >= double(std::numeric_limits<std::uint32_t>::max()))
     throw Error("sampling at " + std::to_string(spacing) + " m would give more than 2^32 - 1 points");
   Georef geo;

@@ -10,6 +10,8 @@
 #include <fstream>
 #include <memory>
 
+#include <fmt/format.h>
+
 #include "terrain/error.hpp"
 #include "terrain/scattered.hpp"
 #include "terrain/utm.hpp"
@@ -73,22 +75,46 @@ OGRLayer* point_layer(GDALDataset& ds) {
   return nullptr;
 }
 
-// Splits a text line into numbers; false when a field is not a number.
-bool parse_numbers(const std::string& line, std::vector<double>& out) {
+// The field separator of an XYZ text line: ',' or ';' when the line has one, otherwise
+// white space.
+char separator_of(const std::string& line) {
+  if (line.find(',') != std::string::npos) return ',';
+  if (line.find(';') != std::string::npos) return ';';
+  return ' ';
+}
+
+// Splits an XYZ text line into its fields at `sep` (' ': any run of white space; ',' or
+// ';': that character, with white space around it) and reads each as a number. Returns ""
+// when every field is a number, else what is wrong (a field that is not a number in full,
+// "1,5" under white space included, or an empty field).
+std::string parse_numbers(const std::string& line, char sep, std::vector<double>& out) {
   out.clear();
-  const char* p = line.data();
-  const char* end = p + line.size();
-  while (p < end) {
-    while (p < end && (std::isspace(static_cast<unsigned char>(*p)) || *p == ',' || *p == ';')) ++p;
-    if (p == end) break;
-    if (*p == '+') ++p;  // from_chars takes no leading '+'
+  const auto space = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+  std::size_t at = 0;
+  const std::size_t n = line.size();
+  while (true) {
+    while (at < n && space(line[at])) ++at;
+    if (at == n && sep == ' ') break;
+    std::size_t end = at;
+    if (sep == ' ') {
+      while (end < n && !space(line[end])) ++end;
+    } else {
+      end = line.find(sep, at);
+      if (end == std::string::npos) end = n;
+    }
+    std::size_t last = end;
+    while (last > at && space(line[last - 1])) --last;
+    const std::string field = line.substr(at, last - at);
+    if (field.empty()) return "an empty field";
+    const char* p = field.data() + (field[0] == '+' ? 1 : 0);  // from_chars takes no leading '+'
     double v = 0;
-    const auto [next, ec] = std::from_chars(p, end, v);
-    if (ec != std::errc() || next == p) return false;
+    const auto [next, ec] = std::from_chars(p, field.data() + field.size(), v);
+    if (ec != std::errc() || next != field.data() + field.size()) return "'" + field + "' is not a number";
     out.push_back(v);
-    p = next;
+    if (end == n) break;
+    at = end + (sep == ' ' ? 0 : 1);
   }
-  return true;
+  return {};
 }
 
 bool is_comment_or_blank(const std::string& line) {
@@ -106,7 +132,7 @@ bool looks_like_xyz(const std::string& path) {
   for (int n = 0; n < 50 && std::getline(in, line); ++n) {
     if (line.find('\0') != std::string::npos) return false;  // binary
     if (is_comment_or_blank(line)) continue;
-    if (parse_numbers(line, v) && v.size() >= 3) {
+    if (parse_numbers(line, separator_of(line), v).empty() && v.size() >= 3) {
       ++data;
       if (data >= 3) return true;
     } else if (++bad > 1 || data > 0) {
@@ -146,9 +172,15 @@ PointCloud read_ogr(GDALDataset& ds, OGRLayer& layer, const std::string& path, c
   std::size_t n = 0;
   for (auto& feature : layer) {
     const OGRGeometry* g = feature->GetGeometryRef();
-    if (!g) continue;
+    // A CSV row whose x or y is empty or not a number has no geometry: an error with the
+    // row's line (the CSV driver numbers data rows from 1 after the header line).
+    const auto where = [&] {
+      return EQUAL(p.format.c_str(), "CSV") ? fmt::format("line {}", feature->GetFID() + 1)
+                                             : fmt::format("feature {}", feature->GetFID());
+    };
+    if (!g) throw Error("'" + path + "' " + where() + ": no point (x or y is empty or not a number)");
     auto add = [&](const OGRPoint& pt) {
-      if (pt.IsEmpty()) return;
+      if (pt.IsEmpty()) throw Error("'" + path + "' " + where() + ": an empty point");
       double z = std::nan("");
       if (pt.Is3D()) z = pt.getZ();
       else if (z_field >= 0 && feature->IsFieldSetAndNotNull(z_field)) z = feature->GetFieldAsDouble(z_field);
@@ -181,16 +213,21 @@ PointCloud read_xyz(const std::string& path, const Progress& progress) {
   std::vector<double> v;
   std::size_t line_no = 0;
   bool header_seen = false;
+  char sep = 0;  // the separator of the first data line, for every line
   while (std::getline(in, line)) {
     ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
     if (is_comment_or_blank(line)) continue;
-    if (!parse_numbers(line, v) || v.size() < 3) {
-      if (!header_seen && p.size() == 0) {
+    const std::string wrong = parse_numbers(line, sep ? sep : separator_of(line), v);
+    if (!wrong.empty() || v.size() != 3) {
+      if (!wrong.empty() && !header_seen && p.size() == 0) {  // one header line (not numbers) before the data
         header_seen = true;
         continue;
       }
-      throw Error("'" + path + "' line " + std::to_string(line_no) + ": expected x y z, got '" + line.substr(0, 60) + "'");
+      throw Error(fmt::format("'{}' line {}: expected x y z, got '{}' ({})", path, line_no, line.substr(0, 60),
+                              !wrong.empty() ? wrong : fmt::format("{} fields", v.size())));
     }
+    if (!sep) sep = separator_of(line);
     p.x.push_back(v[0]);
     p.y.push_back(v[1]);
     p.z.push_back(v[2]);

@@ -4,9 +4,11 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -109,29 +111,38 @@ Eigen::Vector3f parse_colour(const std::string& text) {
 
 namespace {
 
-// The columns of FRAMES.csv, in the order path_csv writes them, and the value each one
-// sets: the eye's coordinates (the first three) or a member of FrameParams.
+// The columns of FRAMES.csv, in the order path_csv writes them, the value each one sets
+// (the eye's coordinates, the first three, or a member of FrameParams) and the range it
+// must lie in: the same range the command line's option checks (frame_range).
+constexpr double kAny = std::numeric_limits<double>::max();
 struct Column {
   const char* name;
   double* (*field)(FrameParams& f, Eigen::Vector3d& eye);
+  double min = -kAny, max = kAny;
 };
 const Column kColumns[] = {
     {"easting", [](FrameParams&, Eigen::Vector3d& e) { return &e.x(); }},
     {"northing", [](FrameParams&, Eigen::Vector3d& e) { return &e.y(); }},
     {"elevation", [](FrameParams&, Eigen::Vector3d& e) { return &e.z(); }},
     {"view_az", [](FrameParams& f, Eigen::Vector3d&) { return &f.camera.view_az; }},
-    {"view_alt", [](FrameParams& f, Eigen::Vector3d&) { return &f.camera.view_alt; }},
-    {"fov", [](FrameParams& f, Eigen::Vector3d&) { return &f.camera.fov; }},
+    {"view_alt", [](FrameParams& f, Eigen::Vector3d&) { return &f.camera.view_alt; }, -90, 90},
+    {"fov", [](FrameParams& f, Eigen::Vector3d&) { return &f.camera.fov; }, 1, 170},
     {"light_az", [](FrameParams& f, Eigen::Vector3d&) { return &f.light.azimuth; }},
-    {"light_alt", [](FrameParams& f, Eigen::Vector3d&) { return &f.light.altitude; }},
-    {"sw", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.sw; }},
-    {"iw", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.iw; }},
-    {"fw", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.fw; }},
-    {"min_score", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.min_score; }},
-    {"falloff", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.falloff; }},
-    {"pel_threshold", [](FrameParams& f, Eigen::Vector3d&) { return &f.pel.threshold; }},
+    {"light_alt", [](FrameParams& f, Eigen::Vector3d&) { return &f.light.altitude; }, -90, 90},
+    {"sw", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.sw; }, 0, 1},
+    {"iw", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.iw; }, 0, 1},
+    {"fw", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.fw; }, 0, 1},
+    {"min_score", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.min_score; }, 0, 1},
+    {"falloff", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.falloff; }, 0, 1},
+    {"pel_threshold", [](FrameParams& f, Eigen::Vector3d&) { return &f.pel.threshold; }, 0, 1},
 };
 constexpr std::size_t kEyeColumns = 3;
+
+// The command-line option of a column: "view_alt" -> "view-alt".
+std::string option_name(std::string column) {
+  std::replace(column.begin(), column.end(), '_', '-');
+  return column;
+}
 
 const Column* column_named(const std::string& name) {
   for (const auto& c : kColumns)
@@ -140,6 +151,12 @@ const Column* column_named(const std::string& name) {
 }
 
 }  // namespace
+
+std::pair<double, double> frame_range(const std::string& column) {
+  const Column* c = column_named(column);
+  if (!c) throw std::logic_error("frame_range: no column '" + column + "'");
+  return {c->min, c->max};
+}
 
 const std::vector<std::string>& frame_columns() {
   static const std::vector<std::string> cols = [] {
@@ -188,10 +205,12 @@ std::vector<FrameParams> parse_frames_csv(const std::string& text, const FramePa
     for (std::size_t i = 0; i < fields.size(); ++i) {
       double v = 0;
       if (!to_double(fields[i], v)) fail(line_no, fmt::format("field '{}': '{}' is not a number", header[i], fields[i]));
+      if (v < columns[i]->min || v > columns[i]->max)
+        fail(line_no, fmt::format("field '{}': {} is outside {:g} .. {:g} (as for --{})", header[i], fields[i],
+                                  columns[i]->min, columns[i]->max, option_name(header[i])));
       *columns[i]->field(f, eye) = v;
     }
     if (eye_columns == 3) f.camera.eye = eye;
-    if (!(f.camera.fov > 0 && f.camera.fov < 180)) fail(line_no, "fov must be in (0, 180) degrees");
     frames.push_back(f);
   }
   if (header.empty()) throw terrain::Error(name + ": no header row");

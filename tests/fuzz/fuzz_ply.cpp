@@ -1,15 +1,16 @@
 // libFuzzer harness: the terrain mesh reader (strict PLY header, then OpenMesh's body
-// parser, then the grid and value checks).
+// parser, then the grid, lattice and value checks) and the mesh mode's PN sampling of what
+// it read (mesh_target.hpp).
 #include <string>
 
 #include "fuzz_support.hpp"
+#include "mesh_target.hpp"
 #include "terrain/error.hpp"
-#include "terrain/mesh_io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string path = terrain::fuzz::input_file(data, size, ".ply");
   try {
-    (void)terrain::read_mesh_ply(path);
+    terrain::fuzz::mesh_target(path);
   } catch (const terrain::Error&) {
   }
   return 0;

@@ -13,6 +13,7 @@
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
 #include "drainage/rasters.hpp"
+#include "mesh_target.hpp"
 #include "points_target.hpp"
 #include "renderer/frames.hpp"
 #include "terrain/error.hpp"
@@ -53,8 +54,8 @@ std::string slurp(const std::string& path) {
 }
 
 TEST(FuzzRegressions, MeshReader) {
-  read_all("ply", [](const std::string& p) { (void)terrain::read_mesh_ply(p); });
-  for (const fs::path& p : files("corpus/ply")) EXPECT_NO_THROW((void)terrain::read_mesh_ply(p.string())) << p;
+  read_all("ply", [](const std::string& p) { terrain::fuzz::mesh_target(p); });
+  for (const fs::path& p : files("corpus/ply")) EXPECT_NO_THROW(terrain::fuzz::mesh_target(p.string())) << p;
 }
 
 TEST(FuzzRegressions, DvReader) {

@@ -10,6 +10,7 @@
 //   pel_threshold                PEL threshold tau
 // A missing column takes the value of `defaults` (the command line's options).
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -20,6 +21,11 @@ namespace renderer {
 
 // The column names accepted in FRAMES.csv, in the order write_path_csv writes them.
 const std::vector<std::string>& frame_columns();
+
+// The range [min, max] a column's value must lie in; the command line's option of the same
+// name (view_alt: --view-alt) checks the same range, so a frame list accepts exactly what
+// the command line does. Throws std::logic_error for a name not in frame_columns().
+std::pair<double, double> frame_range(const std::string& column);
 
 // Parses CSV text. `name` is used in errors, which name the line (and column):
 // "frames.csv:4: expected 8 fields, found 7", "frames.csv:1: unknown column 'foo'",
