@@ -212,6 +212,7 @@ struct OpenDv {
   std::uint64_t size = 0;
   FixedHeader f{};
   DvHeader h;
+  std::vector<char> header;  // every header byte as read (fixed part, strings, padding), the CRC field 0
 };
 
 void open_dv(const std::string& path, OpenDv& d) {
@@ -236,8 +237,9 @@ void open_dv(const std::string& path, OpenDv& d) {
   if (f.header_bytes != kFixedHeader + padded(std::size_t(f.wkt_bytes) + f.provenance_bytes) || f.valid > n ||
       f.branches > n || f.header_bytes > d.size)
     throw terrain::Error(cannot(path, "corrupt .dv header"));
-  if (f.version >= 2 && (f.block_rows == 0 || f.block_cols == 0 || f.block_rows > (1u << 14) ||
-                         f.block_cols > (1u << 14) || f.codec != kCodecZstd))
+  if (f.version >= 2 ? (f.block_rows == 0 || f.block_cols == 0 || f.block_rows > (1u << 14) ||
+                        f.block_cols > (1u << 14) || f.codec != kCodecZstd)
+                     : (f.block_rows != 0 || f.block_cols != 0 || f.codec != 0))
     throw terrain::Error(cannot(path, "corrupt .dv header (block shape or codec)"));
   DvHeader& h = d.h;
   h.version = f.version, h.flags = f.flags, h.rows = f.rows, h.cols = f.cols, h.valid = f.valid;
@@ -245,11 +247,14 @@ void open_dv(const std::string& path, OpenDv& d) {
   h.origin_x = f.origin_x, h.origin_y = f.origin_y, h.origin_z = f.origin_z, h.dx = f.dx, h.dy = f.dy;
   h.epsg = f.epsg;
   if (f.version >= 2) h.block_rows = f.block_rows, h.block_cols = f.block_cols;
-  std::vector<char> strings(f.header_bytes - kFixedHeader);
-  d.in.read(strings.data(), std::streamsize(strings.size()));
+  d.header.resize(f.header_bytes);
+  std::memcpy(d.header.data(), &f, kFixedHeader);
+  std::memset(d.header.data() + kCrcOffset, 0, 4);
+  d.in.read(d.header.data() + kFixedHeader, std::streamsize(f.header_bytes - kFixedHeader));
   if (!d.in) throw terrain::Error(cannot(path, "truncated header"));
-  h.crs_wkt.assign(strings.data(), f.wkt_bytes);
-  h.provenance.assign(strings.data() + f.wkt_bytes, f.provenance_bytes);
+  const char* strings = d.header.data() + kFixedHeader;
+  h.crs_wkt.assign(strings, f.wkt_bytes);
+  h.provenance.assign(strings + f.wkt_bytes, f.provenance_bytes);
 }
 
 DrainageDb read_dv_v1(const std::string& path, OpenDv& d) {
@@ -272,8 +277,8 @@ DrainageDb read_dv_v1(const std::string& path, OpenDv& d) {
   d.in.read(reinterpret_cast<char*>(db.branch_vertices.data()), std::streamsize(f.valid * sizeof(std::uint32_t)));
   if (!d.in) throw terrain::Error(cannot(path, "read failed"));
 
-  // CRC over the whole file with the CRC field zeroed.
-  std::vector<char> head = header_bytes(db.header);
+  // CRC over the whole file with the CRC field zeroed: every header byte as read.
+  const std::vector<char>& head = d.header;
   uLong crc = crc32(0L, Z_NULL, 0);
   crc = crc32_z(crc, reinterpret_cast<const Bytef*>(head.data()), head.size());
   crc = crc32_z(crc, reinterpret_cast<const Bytef*>(db.vertices.data()), db.vertices.size() * sizeof(DvVertex));
@@ -323,7 +328,7 @@ V2Trailer read_v2_trailer(const std::string& path, OpenDv& d) {
   d.in.seekg(std::streamoff(d.size - trailer));
   d.in.read(raw.data(), std::streamsize(raw.size()));
   if (!d.in) throw terrain::Error(cannot(path, "read failed"));
-  const std::vector<char> head = header_bytes(d.h);
+  const std::vector<char>& head = d.header;  // every header byte as read
   if (crc_of(raw.data(), raw.size(), crc_of(head.data(), head.size())) != f.crc32)
     throw terrain::Error(cannot(path, "checksum mismatch in the header or block index (corrupt file)"));
   V2Trailer t;
@@ -571,12 +576,12 @@ DvHeader read_dv_header(const std::string& path) {
   return d.h;
 }
 
-DrainageDb read_dv(const std::string& path) {
-  OpenDv d;
-  open_dv(path, d);
-  if (d.f.version == 1) return read_dv_v1(path, d);
-  const V2Trailer t = read_v2_trailer(path, d);
-  DrainageDb db = decode_v2_region(path, d, t, 0, 0, std::size_t(d.f.rows), std::size_t(d.f.cols));
+namespace {
+
+// What a whole version 2 grid, decoded, must agree with in its header and basin table: the
+// valid points, the branches and each basin's pit. read_dv and read_dv_window (when its
+// window is the whole grid) check the same.
+void check_whole_v2(DrainageDb& db, const OpenDv& d, const V2Trailer& t, const std::string& path) {
   if (db.header.valid != d.f.valid)
     throw terrain::Error(cannot(path, "corrupt .dv (" + std::to_string(db.header.valid) + " valid points, the header says " +
                                           std::to_string(d.f.valid) + ")"));
@@ -589,6 +594,17 @@ DrainageDb read_dv(const std::string& path) {
     if (v.point_class != std::uint8_t(PointClass::Pit) || v.basin != k || v.accumulated != t.pit_accumulated[k])
       throw terrain::Error(cannot(path, "corrupt .dv (pit of basin " + std::to_string(k) + ")"));
   }
+}
+
+}  // namespace
+
+DrainageDb read_dv(const std::string& path) {
+  OpenDv d;
+  open_dv(path, d);
+  if (d.f.version == 1) return read_dv_v1(path, d);
+  const V2Trailer t = read_v2_trailer(path, d);
+  DrainageDb db = decode_v2_region(path, d, t, 0, 0, std::size_t(d.f.rows), std::size_t(d.f.cols));
+  check_whole_v2(db, d, t, path);
   check_indices(db, path);
   return db;
 }
@@ -603,6 +619,12 @@ DrainageDb read_dv_window(const std::string& path, std::size_t row0, std::size_t
   if (rows == 0 || cols == 0) throw terrain::Error(cannot(path, "the window lies outside the grid"));
   if (d.f.version == 1) return crop(read_dv_v1(path, d), row0, col0, rows, cols);
   const V2Trailer t = read_v2_trailer(path, d);
+  if (rows == R && cols == C) {  // the whole grid: checked as read_dv checks it
+    DrainageDb db = decode_v2_region(path, d, t, 0, 0, R, C);
+    check_whole_v2(db, d, t, path);
+    check_indices(db, path);
+    return db;
+  }
   // One point of margin, so that the window's classes see all their inflows.
   const std::size_t er0 = row0 > 0 ? row0 - 1 : 0, ec0 = col0 > 0 ? col0 - 1 : 0;
   const std::size_t er1 = std::min(R, row0 + rows + 1), ec1 = std::min(C, col0 + cols + 1);

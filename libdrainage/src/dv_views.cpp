@@ -75,6 +75,16 @@ DvSummary summarize_dv_file(const std::string& path) {
         if (same != 1) ++s.branches_per_order[v.order];
       }
   }
+  // The header's counts against the points streamed, as read_dv checks them (one
+  // validation for every reader of a whole file).
+  std::uint64_t branches = 0;
+  for (const auto& [order, n] : s.branches_per_order) branches += n;
+  if (s.points != h.valid)
+    throw terrain::Error(fmt::format("cannot read '{}': corrupt .dv ({} valid points, the header says {})", path,
+                                     s.points, h.valid));
+  if (branches != h.branches)
+    throw terrain::Error(fmt::format("cannot read '{}': corrupt .dv ({} branches derived, the header says {})", path,
+                                     branches, h.branches));
   if (s.points) s.mean_normalized = sum / double(s.points);
   return s;
 }

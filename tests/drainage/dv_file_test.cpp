@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <limits>
 
@@ -125,6 +126,54 @@ TEST(DvFile, RejectsDamagedVersion1Files) {
   expect_error(dir.path("missing.dv"), "no such file");
   std::ofstream(dir.path("empty.dv")).close();
   expect_error(dir.path("empty.dv"), "wrong magic");
+}
+
+// Every header byte is under the checksum: version 1's block fields (bytes 116-127, 0 in
+// that version) were re-encoded for the CRC, so a change there went unseen.
+TEST(DvFile, EveryVersion1HeaderByteIsUnderTheChecksum) {
+  terrain::test::ScratchDir dir;
+  const DrainageResult r = logan_drainage();
+  write_dv(dir.path("a.dv"), v1_header(r), r.surface, r.dirs, r.net);
+  for (const std::size_t at : {116u, 120u, 124u, 127u}) {
+    std::string name = std::to_string(at);  // built piece by piece: GCC 12's -Wrestrict false positive
+    name += ".dv";
+    expect_error(patched_copy(dir, "a.dv", name, at, "\x01"), "corrupt .dv header");
+  }
+  // Also behind a matching checksum: the block fields of version 1 must be 0.
+  std::string bytes = terrain::test::file_bytes(dir.path("a.dv"));
+  bytes[124] = 1;
+  dv_fix_checksums(bytes.data(), bytes.size());
+  std::ofstream(dir.path("fixed.dv"), std::ios::binary) << bytes;
+  expect_error(dir.path("fixed.dv"), "block shape or codec");
+}
+
+// One header validation for every reader of a whole file: a version 2 header that says 127
+// valid points, behind matching checksums, is refused by read_dv, by a window over the
+// whole grid (render) and by the streamed summary (info), with the same message.
+TEST(DvFile, EveryReaderRefusesAHeaderThatDisagreesWithTheData) {
+  terrain::test::ScratchDir dir;
+  const DrainageResult r = logan_drainage();
+  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs, r.net);
+  for (const auto& [offset, field] : {std::pair{40u, "valid points"}, std::pair{48u, "branches derived"}}) {
+    std::string bytes = terrain::test::file_bytes(dir.path("a.dv"));
+    const std::uint64_t wrong = 127;
+    std::memcpy(bytes.data() + offset, &wrong, 8);
+    dv_fix_checksums(bytes.data(), bytes.size());
+    const std::string path = dir.path(std::to_string(offset) + ".dv");
+    std::ofstream(path, std::ios::binary) << bytes;
+    const DvHeader h = read_dv_header(path);
+    auto expect = [&](const char* reader, const std::function<void()>& read) {
+      try {
+        read();
+        ADD_FAILURE() << reader << " read a header with " << field << " wrong";
+      } catch (const terrain::Error& e) {
+        EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << reader << ": " << e.what();
+      }
+    };
+    expect("read_dv", [&] { (void)read_dv(path); });
+    expect("read_dv_window", [&] { (void)read_dv_window(path, 0, 0, std::size_t(h.rows), std::size_t(h.cols)); });
+    expect("summarize_dv_file", [&] { (void)summarize_dv_file(path); });
+  }
 }
 
 // Files whose checksum was made to match (as a fuzzer or a hostile file can): every count
