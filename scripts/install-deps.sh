@@ -11,7 +11,7 @@ PACKAGES=(
   libcli11-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libegl-dev libgl-dev libepoxy-dev libglm-dev libtbb-dev
-  time
+  time valgrind   # valgrind: the sanitizer script's memcheck of the point path
   libopenmpi-dev openmpi-bin   # build-drainage under mpirun (optional at build time; its tests need it)
   clang libclang-rt-14-dev libomp-14-dev   # the sanitizer build of CI, fuzzing (scripts/fuzz.sh)
 )

@@ -165,6 +165,17 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
     }
     const drainage::D8Encoding enc = drainage::parse_d8_encoding(encoding);
     const std::string prov = tt::provenance(argc, argv);
+    // A version-2 .dv stores neither normalized flow nor branches: list them only for
+    // version 1 and --rasters.
+    const auto detail = dv_version == 1 || !rasters_dir.empty() ? drainage::NetworkDetail::Full : drainage::NetworkDetail::Lean;
+    const double per_cell = drainage::untiled_bytes_per_cell(detail);
+    if (raster_mode) {  // refused before reading anything when the whole grid does not fit
+      const terrain::DemInfo info = terrain::read_dem_info(raster.empty() ? d8_input : raster);
+      terrain::check_memory(double(info.rows) * double(info.cols) * per_cell,
+                            fmt::format("an untiled run of {} x {} cells", info.cols, info.rows),
+                            "run it tiled, which holds a tile at a time: --memory MiB (tiles sized to it) or "
+                            "--tile-size 4096");
+    }
 
     auto t0 = clock::now();
     auto seconds = [&] { return std::chrono::duration<double>(clock::now() - t0).count(); };
@@ -173,6 +184,10 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
     if (!raster_mode) {
       const terrain::GridMesh mesh = terrain::read_mesh_ply(positional[0]);
       tt::step(verb, fmt::format("read mesh {} x {}: {:.2f} s", mesh.topo.cols, mesh.topo.rows, seconds()));
+      const double cells = (std::floor(double(mesh.topo.cols - 1) * mesh.geo.dx / spacing) + 1) *
+                           (std::floor(double(mesh.topo.rows - 1) * mesh.geo.dy / spacing) + 1);
+      terrain::check_memory(cells * per_cell, fmt::format("sampling the mesh at {:g} m ({:.0f} points)", spacing, cells),
+                            "give a coarser --spacing");
       t0 = clock::now();
       terrain::SampledSurface s = terrain::sample_pn_surface(mesh, spacing, tt::terminal_progress(verb, "sample"));
       const double dt = seconds();
@@ -192,9 +207,6 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
       outputs.write([&] { terrain::write_geotiff(input.surface, outputs.stage(surface_out), prov); });
 
     t0 = clock::now();
-    // A version-2 .dv stores neither normalized flow nor branches: list them only for
-    // version 1 and --rasters.
-    const auto detail = dv_version == 1 || !rasters_dir.empty() ? drainage::NetworkDetail::Full : drainage::NetworkDetail::Lean;
     drainage::DrainageResult result = drainage::run_drainage(std::move(input), {fill, !keep_flats, breach, detail},
                                                              tt::terminal_progress(verb, "drainage"));
     flags |= result.dv_flags;

@@ -10,6 +10,8 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -192,6 +194,42 @@ double physical_memory() {
 
 }  // namespace
 
+double available_memory() {
+  double available = physical_memory();
+  if (std::FILE* f = std::fopen("/proc/meminfo", "r")) {
+    char line[256];
+    double kib = -1.0;
+    while (std::fgets(line, sizeof line, f))
+      if (std::sscanf(line, "MemAvailable: %lf kB", &kib) == 1) break;
+    std::fclose(f);
+    if (kib >= 0.0) available = kib * 1024.0;
+  }
+  // A container's or batch job's limit (cgroup v2): its room left, when smaller.
+  double max = 0.0, current = 0.0;
+  if (std::FILE* f = std::fopen("/sys/fs/cgroup/memory.max", "r")) {
+    if (std::fscanf(f, "%lf", &max) != 1) max = 0.0;  // "max": no limit
+    std::fclose(f);
+  }
+  if (std::FILE* f = std::fopen("/sys/fs/cgroup/memory.current", "r")) {
+    if (std::fscanf(f, "%lf", &current) != 1) current = 0.0;
+    std::fclose(f);
+  }
+  if (max > 0.0 && max - current < available) available = std::max(0.0, max - current);
+  // TERRAIN_MEMORY_MIB caps it (a share of a machine others use too; tests).
+  if (const char* cap = std::getenv("TERRAIN_MEMORY_MIB")) {
+    const double mib = std::atof(cap);
+    if (mib > 0.0) available = std::min(available > 0.0 ? available : mib * 1048576.0, mib * 1048576.0);
+  }
+  return available;
+}
+
+void check_memory(double bytes, const std::string& what, const std::string& advice) {
+  const double available = available_memory();
+  if (available > 0 && bytes > available)
+    throw Error(fmt::format("{} needs {:.1f} GiB, more than this machine's memory available now ({:.1f} GiB); {}", what,
+                            bytes / 1073741824.0, available / 1073741824.0, advice));
+}
+
 DemInfo read_dem_info(const std::string& path) {
   const OpenRaster r = open_raster(path);
   return {r.geo, r.rows, r.cols};
@@ -203,11 +241,9 @@ Grid read_dem(const std::string& path, const Progress& progress, std::optional<R
   if (w.rows < 1 || w.cols < 1 || w.row0 > r.rows || w.col0 > r.cols || w.rows > r.rows - w.row0 ||
       w.cols > r.cols - w.col0)
     throw Error("cannot read '" + path + "': window outside the raster");
-  const double bytes = double(w.rows) * double(w.cols) * sizeof(float), memory = physical_memory();
-  if (memory > 0 && bytes > 0.8 * memory)
-    throw Error(fmt::format("cannot read '{}': {} x {} samples need {:.1f} GiB, more than this machine's memory "
-                            "({:.1f} GiB); crop it (dem2mesh --bbox reads only what it needs)",
-                            path, w.cols, w.rows, bytes / 1073741824.0, memory / 1073741824.0));
+  check_memory(double(w.rows) * double(w.cols) * sizeof(float),
+               fmt::format("cannot read '{}': {} x {} samples", path, w.cols, w.rows),
+               "crop it (dem2mesh --bbox reads only what it needs; build-drainage --tile-size reads a tile at a time)");
   Grid grid;
   grid.rows = w.rows;
   grid.cols = w.cols;

@@ -3,6 +3,7 @@
 #include "renderer/terrain_renderer.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <limits>
 
@@ -12,6 +13,7 @@
 #include "renderer/gl_contract.hpp"
 #include "renderer/programs.hpp"
 #include "renderer/stroke_visibility.hpp"
+#include "terrain/dem_io.hpp"
 #include "terrain/error.hpp"
 #include "terrain/hillshade.hpp"
 
@@ -155,10 +157,52 @@ FrameBlock TerrainRenderer::Impl::frame_block(const FrameParams& frame, const Vi
   return fb;
 }
 
+// Memory a frame takes per pixel with every layer (the render targets, the read-back
+// buffers): llvmpipe's peak resident memory grew by 64.2 bytes a pixel from 1024 x 1024 to
+// 4096 x 4096 (MSH 50 m mesh, default layers).
+constexpr double kFrameBytesPerPixel = 64.0;
+
+// The frame size against the device's limits (texture, renderbuffer and viewport sizes)
+// and, on a CPU renderer, whose textures are this machine's memory, against the memory
+// available now: refused before anything is allocated, naming the largest size that works.
+void check_frame_size(const GlContext& context, int width, int height) {
+  GLint texture = 0, renderbuffer = 0, viewport[2] = {0, 0};
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &texture);
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer);
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport);
+  const int max_w = std::min({texture, renderbuffer, viewport[0]}), max_h = std::min({texture, renderbuffer, viewport[1]});
+  if (max_w > 0 && max_h > 0 && (width > max_w || height > max_h))
+    throw terrain::Error(fmt::format("a {} x {} frame is larger than this OpenGL device ({}) draws: at most {} x {} "
+                                     "(GL_MAX_TEXTURE_SIZE, GL_MAX_RENDERBUFFER_SIZE, GL_MAX_VIEWPORT_DIMS)",
+                                     width, height, context.info().renderer, max_w, max_h));
+  if (!context.info().software) return;  // a GPU's own memory: GL_OUT_OF_MEMORY is checked after allocation
+  const double bytes = double(width) * double(height) * kFrameBytesPerPixel, available = terrain::available_memory();
+  if (available > 0 && bytes > available) {
+    const double shrink = std::sqrt(available / bytes);
+    throw terrain::Error(fmt::format(
+        "a {} x {} frame needs about {:.1f} GiB on {} (a CPU renderer: its textures are this machine's memory), more "
+        "than the memory available now ({:.1f} GiB); the largest frame of this shape that fits is about {} x {}",
+        width, height, bytes / 1073741824.0, context.info().renderer, available / 1073741824.0,
+        int(double(width) * shrink), int(double(height) * shrink)));
+  }
+}
+
 TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases,
                                  int width, int height, const Layers& layers, const Style& style) {
   check_inputs(mesh, width, height, layers, style);
-  impl_ = std::make_unique<Impl>(context, mesh, creases, width, height, layers, style);
+  check_frame_size(context, width, height);
+  const auto out_of_memory = [&] {
+    return terrain::Error(fmt::format("cannot allocate a {} x {} frame on this OpenGL device ({}): out of its memory; "
+                                      "give a smaller --size",
+                                      width, height, context.info().renderer));
+  };
+  try {
+    impl_ = std::make_unique<Impl>(context, mesh, creases, width, height, layers, style);
+  } catch (const terrain::Error& e) {  // a render target the device could not allocate
+    if (std::string(e.what()).find("incomplete framebuffer") == std::string::npos && glGetError() != GL_OUT_OF_MEMORY) throw;
+    throw out_of_memory();
+  }
+  if (glGetError() == GL_OUT_OF_MEMORY) throw out_of_memory();
   if (impl_->scene.reversed) glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
   glViewport(0, 0, width, height);
   glDisable(GL_CULL_FACE);

@@ -9,10 +9,12 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 
+#include "drainage/dv_file.hpp"
 #include "terrain/dem_io.hpp"
 #include "test_support.hpp"
 
@@ -178,6 +180,49 @@ class BadInput : public ::testing::TestWithParam<Row> {
     std::ofstream(in("pts_nan.xyz")) << "0 0 1\nx y z\n";
     std::ofstream(in("pts_nan2.xyz")) << "0 0 1\n10 0 nan\n0 10 3\n";
     std::ofstream(in("pts.xyz")) << "0 0 1\n100 0 2\n0 100 3\n70 80 4\n";  // irregular: not an XYZ raster
+    // Issue 41: hostile metadata, malformed numbers, outputs placed on inputs.
+    std::ofstream(in("big.vrt")) << "<VRTDataset rasterXSize=\"40000\" rasterYSize=\"40000\">"
+                                    "<SRS>EPSG:26910</SRS><GeoTransform>500000, 10, 0, 4000000, 0, -10</GeoTransform>"
+                                    "<VRTRasterBand dataType=\"Float32\" band=\"1\"/></VRTDataset>\n";
+    sh("gdal_translate -q -a_ullr 500000 4000000 500000 3999800 " + in("plane.tif") + " " + in("zero_width.tif") +
+       " 2>/dev/null");
+    sh("gdal_translate -q -a_ullr -200 95 -199 94 " + eno + " " + in("lat95.tif"));
+    {  // the mesh (50 m) with a grid or origin comment that disagrees with its vertices
+      const std::string bytes = terrain::test::file_bytes(in("m.ply"));
+      const std::size_t at = bytes.find("comment grid "), end = bytes.find('\n', at);
+      std::istringstream grid(bytes.substr(at + 13, end - at - 13));
+      std::string rows, cols;
+      grid >> rows >> cols;
+      for (const std::string dx : {"100", "1e300", "5e-324"}) {
+        std::string b = bytes;
+        b.replace(at, end - at, "comment grid " + rows + " " + cols + " " + dx + " 50");
+        std::ofstream(in("dx" + dx + ".ply"), std::ios::binary) << b;
+      }
+      std::string b = bytes;
+      const std::size_t o = b.find("comment origin "), oe = b.find('\n', o);
+      b.replace(o, oe - o, "comment origin 1e300 5117000 0");
+      std::ofstream(in("origin1e300.ply"), std::ios::binary) << b;
+    }
+    {  // a version 2 .dv whose header says 127 valid points, every checksum made to match
+      std::string bytes = terrain::test::file_bytes(in("m.dv"));
+      const std::uint64_t wrong = 127;
+      std::memcpy(bytes.data() + 40, &wrong, 8);
+      drainage::dv_fix_checksums(bytes.data(), bytes.size());
+      std::ofstream(in("valid127.dv"), std::ios::binary) << bytes;
+    }
+    std::ofstream(in("comma.xyz")) << "562270.00 5117000 1915.5\n562280.00 5117010 1916.5\n562290 5117000 1917\n"
+                                      "562270.00 1,5 1915.545\n";
+    std::ofstream(in("four.xyz")) << "562270 5117000 1915.5 7\n562280 5117010 1916.5 7\n562290 5117000 1917 7\n";
+    for (const std::string x : {"nan", "abc", ""})
+      std::ofstream(in("x_" + (x.empty() ? std::string("empty") : x) + ".csv"))
+          << "x,y,z\n562270,5117000,1915\n562280,5117010,1916\n" << x << ",5117000,1917\n562290,5117020,1917\n";
+    for (const auto& [column, value] : std::vector<std::pair<std::string, std::string>>{
+             {"view_alt", "1000"}, {"light_alt", "-500"}, {"min_score", "5"}, {"sw", "-5"}, {"falloff", "-7"},
+             {"pel_threshold", "-3"}, {"fov", "179.99"}})
+      std::ofstream(in("range_" + column + ".csv")) << "view_az," << column << "\n200," << value << "\n";
+    std::ofstream(in("line_stats.csv")) << "view_az,view_alt\n200,30\n";  // a frames CSV named like batch's output
+    fs::create_directories(in("meshdir"));
+    fs::copy_file(in("m.ply"), in("meshdir/frame_00000.png"));  // a mesh named like batch's first frame
     return ok;
   }
   static std::string in_;  // the inputs' directory, with a trailing slash
@@ -323,6 +368,48 @@ INSTANTIATE_TEST_SUITE_P(
         Row{tr + "frame IN/m.ply -o OUT/f.png --layers mask,silhouettes,silhouettes-adjacency -q", 1,
             "choose silhouettes (Toward/Away) or silhouettes-adjacency"},
         Row{tr + "path --from 0 0 nan --to 1 1 1 --frames 3 -o OUT/p.csv", 2, "not a finite number"},
-        Row{tr + "path --from 0 0 100 --to 1 1 100 --frames 3 -o /dev/null", 1, "not a regular file"}));
+        Row{tr + "path --from 0 0 100 --to 1 1 100 --frames 3 -o /dev/null", 1, "not a regular file"},
+        // issue 41: hostile metadata, malformed numbers, outputs on inputs, sizes beyond memory
+        Row{bd + "--raster IN/big.vrt OUT/o.dv -q", 1, "an untiled run of 40000 x 40000 cells needs"},
+        Row{bd + "--raster IN/big.vrt OUT/o.dv -q", 1, "run it tiled"},
+        Row{d2m + "IN/big.vrt OUT/o.ply -q", 1, "more than this machine's memory available now"},
+        Row{d2m + "IN/zero_width.tif OUT/o.ply -q", 1, "georeferenced by ground control points"},
+        Row{bd + "--raster IN/zero_width.tif OUT/o.dv -q", 1, "georeferenced by ground control points"},
+        Row{bd + "--raster IN/lat95.tif OUT/o.dv -q", 1, "lies outside the globe"},
+        Row{bd + "IN/m.ply OUT/o.dv --spacing 1e7 -q", 1, "needs at least 2 x 2"},
+        Row{bd + "IN/m.ply OUT/o.dv --spacing 1e300 -q", 1, "needs at least 2 x 2"},
+        Row{bd + "IN/dx100.ply OUT/o.dv -q", 1, "not on the grid comment's 100 x 50 m lattice"},
+        Row{ti + "info IN/dx100.ply", 1, "not on the grid comment's 100 x 50 m lattice"},
+        Row{ti + "preview IN/dx100.ply -o OUT/p.png", 1, "not on the grid comment's 100 x 50 m lattice"},
+        Row{ti + "export IN/dx100.ply --to tif -o OUT/e.tif", 1, "not on the grid comment's 100 x 50 m lattice"},
+        Row{tr + "frame IN/dx100.ply -o OUT/f.png -q", 1, "not on the grid comment's 100 x 50 m lattice"},
+        Row{dn + "IN/dx100.ply OUT/d.ply -q", 1, "not on the grid comment's 100 x 50 m lattice"},
+        Row{bd + "IN/dx1e300.ply OUT/o.dv -q", 1, "outside what a terrain mesh can be"},
+        Row{ti + "info IN/dx1e300.ply", 1, "outside what a terrain mesh can be"},
+        Row{bd + "IN/dx5e-324.ply OUT/o.dv -q", 1, "outside what a terrain mesh can be"},
+        Row{ti + "info IN/dx5e-324.ply", 1, "outside what a terrain mesh can be"},
+        Row{bd + "IN/origin1e300.ply OUT/o.dv -q", 1, "outside what a terrain mesh can be"},
+        Row{ti + "info IN/origin1e300.ply", 1, "outside what a terrain mesh can be"},
+        Row{ti + "export IN/missing.ply --to tif -o OUT/e.tif", 1, "missing.ply': no such file"},
+        Row{ti + "info IN/valid127.dv", 1, "valid points, the header says 127"},
+        Row{ti + "preview IN/valid127.dv -o OUT/p.png", 1, "valid points, the header says 127"},
+        Row{ti + "export IN/valid127.dv --to gpkg -o OUT/e.gpkg", 1, "valid points, the header says 127"},
+        Row{tr + "frame IN/m.ply IN/valid127.dv -o OUT/f.png -q", 1, "valid points, the header says 127"},
+        Row{d2m + "IN/comma.xyz OUT/o.ply --spacing 5 --src-crs EPSG:32610 -q", 1, "line 4: expected x y z, got '562270.00 1,5 1915.545' ('1,5' is not a number)"},
+        Row{d2m + "IN/four.xyz OUT/o.ply --spacing 5 --src-crs EPSG:32610 -q", 1, "line 1: expected x y z"},
+        Row{d2m + "IN/x_nan.csv OUT/o.ply --spacing 5 --src-crs EPSG:32610 -q", 1, "line 4: no point"},
+        Row{d2m + "IN/x_abc.csv OUT/o.ply --spacing 5 --src-crs EPSG:32610 -q", 1, "line 4: no point"},
+        Row{d2m + "IN/x_empty.csv OUT/o.ply --spacing 5 --src-crs EPSG:32610 -q", 1, "line 4: no point"},
+        Row{tr + "batch IN/m.ply IN/m.dv IN/range_view_alt.csv -o OUT/ -q", 1, "range_view_alt.csv:2: field 'view_alt': 1000 is outside -90 .. 90"},
+        Row{tr + "batch IN/m.ply IN/m.dv IN/range_light_alt.csv -o OUT/ -q", 1, "range_light_alt.csv:2: field 'light_alt': -500 is outside -90 .. 90"},
+        Row{tr + "batch IN/m.ply IN/m.dv IN/range_min_score.csv -o OUT/ -q", 1, "range_min_score.csv:2: field 'min_score': 5 is outside 0 .. 1"},
+        Row{tr + "batch IN/m.ply IN/m.dv IN/range_sw.csv -o OUT/ -q", 1, "range_sw.csv:2: field 'sw': -5 is outside 0 .. 1"},
+        Row{tr + "batch IN/m.ply IN/m.dv IN/range_falloff.csv -o OUT/ -q", 1, "range_falloff.csv:2: field 'falloff': -7 is outside 0 .. 1"},
+        Row{tr + "batch IN/m.ply IN/m.dv IN/range_pel_threshold.csv -o OUT/ -q", 1, "range_pel_threshold.csv:2: field 'pel_threshold': -3 is outside 0 .. 1"},
+        Row{tr + "batch IN/m.ply IN/m.dv IN/range_fov.csv -o OUT/ -q", 1, "range_fov.csv:2: field 'fov': 179.99 is outside 1 .. 170"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --crease-lift -5", 2, "--crease-lift"},
+        Row{tr + "batch IN/m.ply IN/m.dv IN/line_stats.csv -o IN/ --line-stats -q", 1, "line_stats.csv': give another output name"},
+        Row{tr + "batch IN/meshdir/frame_00000.png IN/m.dv IN/line_stats.csv -o IN/meshdir -q", 1, "frame_00000.png': give another output name"},
+        Row{"env TERRAIN_MEMORY_MIB=4000 " + tr + "frame IN/m.ply IN/m.dv -o OUT/f.png --size 16384x16384 -q", 1, "the largest frame of this shape that fits is about"}));
 
 }  // namespace

@@ -57,6 +57,13 @@ RasterInput read_raster_input(const std::string& dem_path, const std::string& d8
 // `options` must be the defaults' fill = false).
 DrainageResult run_drainage(RasterInput in, const DrainageOptions& options, const terrain::Progress& progress = {});
 
+// Peak memory of an untiled run per grid cell, every buffer counted (input, directions,
+// network, the .dv writer's blocks, rasters): measured as build-drainage's peak RSS on
+// Logan at 10 m (14.4 M cells) with --fill: 25.7 bytes a cell lean (a version-2 .dv),
+// 40.3 with --rasters; rounded up. Tools check it against the memory available before
+// they read (terrain::check_memory).
+inline double untiled_bytes_per_cell(NetworkDetail detail) { return detail == NetworkDetail::Lean ? 28.0 : 44.0; }
+
 // Throws terrain::Error naming both files when `a` and `b` differ in size, origin or step.
 void check_same_grid(const terrain::Grid& a, const terrain::Grid& b, const std::string& a_name,
                      const std::string& b_name);
