@@ -154,7 +154,9 @@ TEST(DvFile, EveryReaderRefusesAHeaderThatDisagreesWithTheData) {
   terrain::test::ScratchDir dir;
   const DrainageResult r = logan_drainage();
   write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs, r.net);
-  for (const auto& [offset, field] : {std::pair{40u, "valid points"}, std::pair{48u, "branches derived"}}) {
+  for (const auto& patch : {std::pair{40u, "valid points"}, std::pair{48u, "branches derived"}}) {
+    const unsigned offset = patch.first;
+    const std::string field = patch.second;  // not a structured binding: clang 14 cannot capture one
     std::string bytes = terrain::test::file_bytes(dir.path("a.dv"));
     const std::uint64_t wrong = 127;
     std::memcpy(bytes.data() + offset, &wrong, 8);
