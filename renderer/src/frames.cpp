@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "renderer/options.hpp"
 #include "terrain/error.hpp"
 
 namespace renderer {
@@ -111,57 +112,30 @@ Eigen::Vector3f parse_colour(const std::string& text) {
 
 namespace {
 
-// The columns of FRAMES.csv, in the order path_csv writes them, the value each one sets
-// (the eye's coordinates, the first three, or a member of FrameParams) and the range it
-// must lie in: the same range the command line's option checks (frame_range).
-constexpr double kAny = std::numeric_limits<double>::max();
-struct Column {
-  const char* name;
-  double* (*field)(FrameParams& f, Eigen::Vector3d& eye);
-  double min = -kAny, max = kAny;
-};
-const Column kColumns[] = {
-    {"easting", [](FrameParams&, Eigen::Vector3d& e) { return &e.x(); }},
-    {"northing", [](FrameParams&, Eigen::Vector3d& e) { return &e.y(); }},
-    {"elevation", [](FrameParams&, Eigen::Vector3d& e) { return &e.z(); }},
-    {"view_az", [](FrameParams& f, Eigen::Vector3d&) { return &f.camera.view_az; }},
-    {"view_alt", [](FrameParams& f, Eigen::Vector3d&) { return &f.camera.view_alt; }, -90, 90},
-    {"fov", [](FrameParams& f, Eigen::Vector3d&) { return &f.camera.fov; }, 1, 170},
-    {"light_az", [](FrameParams& f, Eigen::Vector3d&) { return &f.light.azimuth; }},
-    {"light_alt", [](FrameParams& f, Eigen::Vector3d&) { return &f.light.altitude; }, -90, 90},
-    {"sw", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.sw; }, 0, 1},
-    {"iw", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.iw; }, 0, 1},
-    {"fw", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.fw; }, 0, 1},
-    {"min_score", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.min_score; }, 0, 1},
-    {"falloff", [](FrameParams& f, Eigen::Vector3d&) { return &f.score.falloff; }, 0, 1},
-    {"pel_threshold", [](FrameParams& f, Eigen::Vector3d&) { return &f.pel.threshold; }, 0, 1},
-};
-constexpr std::size_t kEyeColumns = 3;
+// The columns of FRAMES.csv: the eye's coordinates, then the per-frame options of the
+// option table (options.hpp) under their CSV names, each checked as its command-line
+// option is (set_option).
+const char* const kEyeColumns[] = {"easting", "northing", "elevation"};
 
-// The command-line option of a column: "view_alt" -> "view-alt".
-std::string option_name(std::string column) {
-  std::replace(column.begin(), column.end(), '_', '-');
-  return column;
+std::vector<const OptionSpec*> per_frame_options() {
+  std::vector<const OptionSpec*> v;
+  for (const OptionSpec& o : render_options())
+    if (o.per_frame) v.push_back(&o);
+  return v;
 }
 
-const Column* column_named(const std::string& name) {
-  for (const auto& c : kColumns)
-    if (name == c.name) return &c;
-  return nullptr;
+int eye_index(const std::string& name) {
+  for (int k = 0; k < 3; ++k)
+    if (name == kEyeColumns[k]) return k;
+  return -1;
 }
 
 }  // namespace
 
-std::pair<double, double> frame_range(const std::string& column) {
-  const Column* c = column_named(column);
-  if (!c) throw std::logic_error("frame_range: no column '" + column + "'");
-  return {c->min, c->max};
-}
-
 const std::vector<std::string>& frame_columns() {
   static const std::vector<std::string> cols = [] {
-    std::vector<std::string> v;
-    for (const auto& c : kColumns) v.emplace_back(c.name);
+    std::vector<std::string> v(std::begin(kEyeColumns), std::end(kEyeColumns));
+    for (const OptionSpec* o : per_frame_options()) v.push_back(csv_column(*o));
     return v;
   }();
   return cols;
@@ -173,7 +147,7 @@ std::vector<FrameParams> parse_frames_csv(const std::string& text, const FramePa
   std::string line;
   std::vector<std::string> header;
   std::vector<FrameParams> frames;
-  std::vector<const Column*> columns;
+  std::vector<const OptionSpec*> columns;  // nullptr: an eye column
   int line_no = 0, header_line = 0, eye_columns = 0;
   auto fail = [&](int at, const std::string& what) { throw terrain::Error(fmt::format("{}:{}: {}", name, at, what)); };
   while (std::getline(in, line)) {
@@ -186,13 +160,13 @@ std::vector<FrameParams> parse_frames_csv(const std::string& text, const FramePa
       header = fields;
       header_line = line_no;
       for (std::size_t i = 0; i < header.size(); ++i) {
-        const Column* col = column_named(header[i]);
-        if (!col)
+        const OptionSpec* o = find_option(header[i]);
+        if (eye_index(header[i]) < 0 && (!o || !o->per_frame || csv_column(*o) != header[i]))
           fail(line_no, fmt::format("unknown column '{}' (columns: {})", header[i], fmt::join(frame_columns(), " ")));
         if (std::find(header.begin(), header.begin() + long(i), header[i]) != header.begin() + long(i))
           fail(line_no, fmt::format("column '{}' appears twice", header[i]));
-        eye_columns += col < kColumns + kEyeColumns;
-        columns.push_back(col);
+        eye_columns += eye_index(header[i]) >= 0;
+        columns.push_back(eye_index(header[i]) >= 0 ? nullptr : o);
       }
       if (eye_columns != 0 && eye_columns != 3)
         fail(line_no, "columns easting, northing and elevation go together (all three or none)");
@@ -200,18 +174,24 @@ std::vector<FrameParams> parse_frames_csv(const std::string& text, const FramePa
     }
     if (fields.size() != header.size())
       fail(line_no, fmt::format("expected {} fields, found {}", header.size(), fields.size()));
-    FrameParams f = defaults;
+    RenderSettings s;
+    s.frame = defaults;
     Eigen::Vector3d eye = defaults.camera.eye.value_or(Eigen::Vector3d::Zero());
     for (std::size_t i = 0; i < fields.size(); ++i) {
-      double v = 0;
-      if (!to_double(fields[i], v)) fail(line_no, fmt::format("field '{}': '{}' is not a number", header[i], fields[i]));
-      if (v < columns[i]->min || v > columns[i]->max)
-        fail(line_no, fmt::format("field '{}': {} is outside {:g} .. {:g} (as for --{})", header[i], fields[i],
-                                  columns[i]->min, columns[i]->max, option_name(header[i])));
-      *columns[i]->field(f, eye) = v;
+      if (!columns[i]) {
+        double v = 0;
+        if (!to_double(fields[i], v)) fail(line_no, fmt::format("field '{}': '{}' is not a number", header[i], fields[i]));
+        eye[eye_index(header[i])] = v;
+        continue;
+      }
+      try {
+        set_option(s, *columns[i], fields[i]);
+      } catch (const terrain::Error& e) {
+        fail(line_no, fmt::format("field '{}': {} (as for --{})", header[i], e.what(), columns[i]->name));
+      }
     }
-    if (eye_columns == 3) f.camera.eye = eye;
-    frames.push_back(f);
+    if (eye_columns == 3) s.frame.camera.eye = eye;
+    frames.push_back(s.frame);
   }
   if (header.empty()) throw terrain::Error(name + ": no header row");
   if (frames.empty()) fail(header_line, "no frames after the header row");
@@ -235,14 +215,15 @@ std::string path_csv(const FlightPath& p) {
     az = std::fmod(std::atan2(d.x(), d.y()) * 180.0 / std::numbers::pi + 360.0, 360.0);
   }
   std::string out = fmt::format("{}\n", fmt::join(frame_columns(), ","));  // all columns
-  FrameParams f = p.params;
-  f.camera.view_az = az;
+  RenderSettings s;
+  s.frame = p.params;
+  s.frame.camera.view_az = az;
   for (int i = 0; i < p.frames; ++i) {
-    Eigen::Vector3d eye = p.from + d * (double(i) / double(p.frames - 1));
-    for (std::size_t k = 0; k < std::size(kColumns); ++k) {
-      const double v = *kColumns[k].field(f, eye);
-      if (k) out += ',';
-      out += k < kEyeColumns ? fmt::format("{:.3f}", v) : fmt::format("{}", v);
+    const Eigen::Vector3d eye = p.from + d * (double(i) / double(p.frames - 1));
+    out += fmt::format("{:.3f},{:.3f},{:.3f}", eye.x(), eye.y(), eye.z());
+    for (const OptionSpec* o : per_frame_options()) {
+      out += ',';  // appended piece by piece: `"," + std::string` trips GCC 12's -Wrestrict (PR 105329)
+      out += o->get(s);
     }
     out += "\n";
   }

@@ -21,6 +21,10 @@
 namespace renderer {
 namespace {
 
+// Every D8 link, unsmoothed (CreaseRules' defaults before they became terrain-render's:
+// min_accumulated 100, smooth_spacings 0.5): what these analytic checks were written for.
+const renderer::CreaseRules kPaperLinks{.min_accumulated = 0, .smooth_spacings = 0};
+
 using drainage::test::analytic;
 
 // The mesh of `g` and the drainage of the same grid (raster mode), as terrain-render sees them.
@@ -217,7 +221,7 @@ TEST(LineStats, StrokesWeightedByOpacityAsTheirLengthIs) {
 TEST(CreaseRules, VValleyCreasesLieOnTheAxis) {
   const std::size_t n = 41;
   const Scene s = scene_of(analytic(n, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
-  const CreaseGeometry g = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 30});
+  const CreaseGeometry g = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 30, .smooth_spacings = 0});
   ASSERT_GT(g.n_segments(), 30u);
   const SegmentTraits t = segment_traits(s.mesh, s.links, g);
   const double axis_x = double(n / 2) * 10.0;  // local frame: x = column * h
@@ -234,13 +238,13 @@ TEST(CreaseRules, VValleyCreasesLieOnTheAxis) {
 // (1 % of the 10 m spacing, under kSurfaceOffsetShare) is not worth one.
 TEST(CreaseGeometry, MedianSurfaceOffsetTellsAnotherSurface) {
   const Scene s = scene_of(analytic(41, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
-  const CreaseGeometry own = build_crease_geometry(s.mesh, s.links);
+  const CreaseGeometry own = build_crease_geometry(s.mesh, s.links, kPaperLinks);
   EXPECT_LT(own.median_surface_offset, 1e-3);
   EXPECT_EQ(surface_warning(s.mesh, own), "");
   for (const double dz : {3.0, 0.1}) {
     terrain::DrainageLinks higher = s.links;
     for (auto& p : higher.positions) p.z() += float(dz);
-    const CreaseGeometry g = build_crease_geometry(s.mesh, higher);
+    const CreaseGeometry g = build_crease_geometry(s.mesh, higher, kPaperLinks);
     EXPECT_NEAR(g.median_surface_offset, dz, 1e-3);
     const std::string w = surface_warning(s.mesh, g);
     if (dz > kSurfaceOffsetShare * 10) {
@@ -260,9 +264,9 @@ TEST(CreaseRules, APlaneDrainingOffAnEdgeGathersNoCreasesThere) {
   const std::size_t n = 64;
   const Scene s = scene_of(analytic(n, 10, [](double, double y) { return 0.05 * y; }), false);
   const CreaseGeometry paper =
-      build_crease_geometry(s.mesh, s.links, {.edge_basin_min_share = 0, .log_flow = false, .one_line_per_flat = false});
-  const CreaseGeometry linear = build_crease_geometry(s.mesh, s.links, {.log_flow = false});
-  const CreaseGeometry ours = build_crease_geometry(s.mesh, s.links, {});
+      build_crease_geometry(s.mesh, s.links, {.min_accumulated = 0, .edge_basin_min_share = 0, .log_flow = false, .one_line_per_flat = false, .smooth_spacings = 0});
+  const CreaseGeometry linear = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 0, .log_flow = false, .smooth_spacings = 0});
+  const CreaseGeometry ours = build_crease_geometry(s.mesh, s.links, kPaperLinks);
   const float floor = 0.05f * float(n * n);
   EXPECT_EQ(*std::max_element(paper.flow.begin(), paper.flow.end()), 1.0f);
   EXPECT_LE(*std::max_element(linear.flow.begin(), linear.flow.end()), float(n) / floor + 1e-6f);
@@ -339,8 +343,8 @@ TEST(CreaseRules, AFilledSquareDepressionGetsOneLine) {
                                      return std::abs(x) < 60 && std::abs(y) < 60 ? z - 5 - 0.01 * (60 - std::abs(y)) : z;
                                    }),
                            true);
-  const CreaseGeometry all = build_crease_geometry(s.mesh, s.links, {.one_line_per_flat = false});
-  const CreaseGeometry one = build_crease_geometry(s.mesh, s.links, {});
+  const CreaseGeometry all = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 0, .one_line_per_flat = false, .smooth_spacings = 0});
+  const CreaseGeometry one = build_crease_geometry(s.mesh, s.links, kPaperLinks);
   auto flat_strokes = [&](const CreaseGeometry& g) {
     const SegmentTraits t = segment_traits(s.mesh, s.links, g);
     std::vector<float> drawn(t.flat.begin(), t.flat.end());
@@ -360,7 +364,7 @@ TEST(CreaseRules, AFilledSquareDepressionGetsOneLine) {
 TEST(CreaseLines, SmoothingLeavesAStraightChannelWhereItIs) {
   const std::size_t n = 41;
   const Scene s = scene_of(analytic(n, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
-  const CreaseGeometry d8 = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 30});
+  const CreaseGeometry d8 = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 30, .smooth_spacings = 0});
   const CreaseGeometry smooth = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 30, .smooth_spacings = 1});
   ASSERT_EQ(smooth.positions.size(), d8.positions.size());
   EXPECT_EQ(smooth.segments, d8.segments);
@@ -389,7 +393,7 @@ TEST(CreaseLines, SmoothingStraightensAnObliqueD8Staircase) {
                                       return 0.3 * std::abs(x * ca - y * sa) + 0.2 * (x * sa + y * ca);
                                     }),
                            false);
-  const CreaseGeometry d8 = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 30});
+  const CreaseGeometry d8 = build_crease_geometry(s.mesh, s.links, {.min_accumulated = 30, .smooth_spacings = 0});
   ASSERT_GT(d8.n_segments(), 40u);
   // The analytic origin in the mesh's local frame (x = column * h, y = -row * h).
   const double x0 = double(n / 2) * h, y0 = -double(n / 2) * h;

@@ -35,8 +35,8 @@ struct CreaseGeometry {
 // (docs/terrain-render.md, "Where creases are drawn").
 struct CreaseRules {
   // A channel-initiation threshold: links whose point has fewer accumulated points are
-  // left out (0 keeps every link, as the paper).
-  std::uint32_t min_accumulated = 0;
+  // left out (0 keeps every link, as the paper). The default is terrain-render's.
+  std::uint32_t min_accumulated = 100;
   // Basins that drain off the grid (their pit on the grid's edge or beside no-data) are
   // pieces of larger basins the grid cannot see: their flow is normalized by at least
   // this share of the network's points, not by their own small total (edge basins larger
@@ -57,8 +57,8 @@ struct CreaseRules {
   bool one_line_per_flat = true;
   // Lines as a cartographer draws rivers, not D8 staircases: each crease vertex moves to the
   // Gaussian-weighted mean of the vertices along its line (smooth_crease_lines), sigma this
-  // many mesh spacings. 0: the D8 polyline as it is (the paper).
-  double smooth_spacings = 0;
+  // many mesh spacings. 0: the D8 polyline as it is (the paper). The default is terrain-render's.
+  double smooth_spacings = 0.5;
   // ... and at least this many drainage samples: the staircase is the network's, one sample
   // sideways per jog, and a network as fine as the mesh (10 m on a 10 m mesh) smoothed over
   // half a mesh spacing keeps it.

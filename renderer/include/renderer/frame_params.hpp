@@ -1,6 +1,6 @@
 #pragma once
 // What one frame of terrain-render draws: camera, light, crease score and layers.
-// Plain data; the defaults are the ones --help shows.
+// Plain data; the defaults are the option table's (options.hpp), the ones --help shows.
 //
 // Angles (one place, documented in docs/terrain-render.md):
 //   view_az   compass bearing of the line of sight, degrees clockwise from grid north
@@ -100,7 +100,7 @@ struct Style {
   double exaggeration = 1.0;                          // vertical exaggeration
   double crease_lift = -1;        // metres towards the eye, for the depth test only; < 0: 0.5 x mesh spacing
   double pixels_per_edge = 6.0;   // tessellation target: screen length of a triangle edge
-  Eigen::Vector3f pel_colour{0.55f, 0.1f, 0.1f};
+  Eigen::Vector3f pel_colour{0x8c / 255.f, 0x1a / 255.f, 0x1a / 255.f};  // #8c1a1a
   double pel_width = 1.0;         // pixels
   // PEL pieces (anti-aliased lines only; renderer::pel_piece_opacity), in mesh spacings: a
   // PEL piece shorter than this on the mesh fades out, to nothing at half of it; 0 keeps
@@ -116,7 +116,7 @@ struct Style {
   double crease_angle = 30.0;
   EdgeCaps edge_caps = EdgeCaps::Exact;
   double edge_width = 1.5;        // pixels
-  Eigen::Vector3f edge_colour{0.15f, 0.15f, 0.15f};
+  Eigen::Vector3f edge_colour{0x26 / 255.f, 0x26 / 255.f, 0x26 / 255.f};  // #262626
 };
 
 // Parses "contour,boundary,crease" into EdgeKind bits; Error on an unknown or empty list.

@@ -21,11 +21,9 @@ namespace renderer {
 
 // The column names accepted in FRAMES.csv, in the order write_path_csv writes them.
 const std::vector<std::string>& frame_columns();
-
-// The range [min, max] a column's value must lie in; the command line's option of the same
-// name (view_alt: --view-alt) checks the same range, so a frame list accepts exactly what
-// the command line does. Throws std::logic_error for a name not in frame_columns().
-std::pair<double, double> frame_range(const std::string& column);
+// Each column but the eye's is a per-frame option of the option table (options.hpp),
+// checked as its command-line option is: a frame list accepts exactly what the command
+// line does.
 
 // Parses CSV text. `name` is used in errors, which name the line (and column):
 // "frames.csv:4: expected 8 fields, found 7", "frames.csv:1: unknown column 'foo'",

@@ -1,0 +1,55 @@
+#pragma once
+// What terrain-render and terrain-view draw from: a mesh file and, optionally, a drainage
+// database's creases under it, loaded once (load_scene); and the line statistics of a
+// drawn frame (frame_line_stats). Built as its own library (terrain::renderer_scene),
+// since it reads .dv files through libdrainage, which the GL renderer itself does not need.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "renderer/crease.hpp"
+#include "renderer/line_stats.hpp"
+#include "renderer/terrain_renderer.hpp"
+#include "terrain/grid_mesh.hpp"
+
+namespace renderer {
+
+struct Scene {
+  terrain::GridMesh mesh;
+  std::optional<CreaseGeometry> creases;  // with a database
+  SegmentTraits traits;                   // of the creases' segments
+  SegmentChains chains;                   // the strokes they follow, as the DM pass holds them
+  std::vector<std::string> warnings;      // "'x.dv': ..." for the tool to print
+  double mesh_seconds = 0, creases_seconds = 0;
+};
+
+// Reads the mesh and, when `dv_path` is not empty, the database's points under it (a large
+// tiled .dv is read block by block) and builds their creases with `rules`.
+Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const CreaseRules& rules);
+
+// The creases one frame draws (what the DM pass accepts, as the GL-free score gives it),
+// with each segment's pixels left after hidden-line removal (its own line against the
+// toward depth of `buffers`, the frame's read_buffers()).
+struct FrameLines {
+  std::vector<float> drawn;
+  std::vector<double> pixels;
+};
+FrameLines frame_lines(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                       const FrameBuffers& buffers, const FrameParams& fp, const Style& style);
+
+// --line-stats of one frame: the creases' figures and, with the silhouettes layer, the
+// silhouettes'.
+struct FrameStats {
+  FrameLines lines;
+  LineStats creases;
+  std::optional<SilhouetteStats> silhouettes;
+};
+FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                            const FrameParams& fp, const Style& style, const Layers& layers);
+// The figures as `terrain-render frame --line-stats` prints them, one "name: value" a line.
+std::string line_stats_text(const FrameStats& s);
+// batch's line_stats.csv: its header line and frame i's row.
+std::string line_stats_csv_header();
+std::string line_stats_csv_row(std::size_t i, const FrameStats& s);
+
+}  // namespace renderer

@@ -1,0 +1,98 @@
+#include "renderer/scene.hpp"
+
+#include <chrono>
+
+#include <fmt/format.h>
+
+#include "drainage/dv_views.hpp"
+#include "renderer/stroke_visibility.hpp"
+#include "terrain/hillshade.hpp"
+#include "terrain/mesh_io.hpp"
+
+namespace renderer {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+}  // namespace
+
+Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const CreaseRules& rules) {
+  auto t0 = Clock::now();
+  Scene s{terrain::read_mesh_ply(mesh_path), std::nullopt, {}, {}, {}, 0, 0};
+  s.mesh_seconds = since(t0);
+  if (dv_path.empty()) return s;
+  t0 = Clock::now();
+  // Only the database's points under the mesh: a large (tiled) .dv is read block by block.
+  const auto& g = s.mesh.geo;
+  const terrain::DrainageLinks links =
+      drainage::drainage_links_in(dv_path, g.origin_x, g.origin_y - double(s.mesh.topo.rows - 1) * g.dy,
+                                  g.origin_x + double(s.mesh.topo.cols - 1) * g.dx, g.origin_y);
+  s.creases = build_crease_geometry(s.mesh, links, rules);
+  std::string w = coverage_warning(s.mesh, links);
+  if (w.empty()) w = surface_warning(s.mesh, *s.creases);  // one warning: the extent says it already
+  if (!w.empty()) s.warnings.push_back("'" + dv_path + "': " + w);
+  s.traits = segment_traits(s.mesh, links, *s.creases);
+  s.chains = segment_chains(*s.creases);
+  s.creases_seconds = since(t0);
+  return s;
+}
+
+FrameLines frame_lines(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                       const FrameBuffers& buffers, const FrameParams& fp, const Style& style) {
+  const double exaggeration = style.exaggeration;
+  const CreaseGeometry& g = *scene.creases;
+  const CreaseScoreParams score = resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.eye);
+  const double fade = style.antialias ? style.crease_fade : 0.0;
+  FrameLines lines{segment_opacity(g, res.view.eye, terrain::light_direction(fp.light.azimuth, fp.light.altitude),
+                                   exaggeration, score, fade, stroke_rule(style, scene.mesh)),
+                   {}};
+  const double lift = crease_lift(style, scene.mesh);
+  if (style.antialias) {
+    lines.pixels = shown_pixels(stroke_visibility(g, scene.chains, lines.drawn, res.view, exaggeration, lift,
+                                                  buffers.toward_depth, stroke_visibility_rule(style, scene.mesh)));
+    return lines;
+  }
+  lines.pixels = segment_pixels(g, res.view, exaggeration);
+  const auto visible = visible_fraction(g, res.view, exaggeration, lift, buffers.toward_depth, false);
+  for (std::size_t s = 0; s < visible.size(); ++s) lines.pixels[s] *= visible[s];
+  return lines;
+}
+
+FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                            const FrameParams& fp, const Style& style, const Layers& layers) {
+  const FrameBuffers buffers = r.read_buffers();
+  FrameStats st;
+  st.lines = frame_lines(scene, r, res, buffers, fp, style);
+  st.creases = line_stats(*scene.creases, scene.traits, st.lines.drawn, st.lines.pixels);
+  if (layers.silhouettes) st.silhouettes = silhouette_stats(buffers.silhouette_opacity, res.width, res.height);
+  return st;
+}
+
+std::string line_stats_text(const FrameStats& s) {
+  const LineStats& st = s.creases;
+  std::string out = fmt::format(
+      "crease length px: {:.0f}\ncrease boundary share: {:.4f}\ncrease flat share: {:.4f}\n"
+      "crease valley share: {:.4f}\ncrease strokes: {}\ncrease mean stroke px: {:.1f}\n"
+      "crease strokes, opacity-weighted: {:.1f}\ncrease mean stroke px, opacity-weighted: {:.1f}\n",
+      st.length_px, st.boundary, st.flat, st.valley, st.strokes, st.mean_stroke_px, st.weighted_strokes,
+      st.weighted_mean_stroke_px);
+  if (s.silhouettes)
+    out += fmt::format("silhouette px: {:.0f}\nsilhouette pieces: {}\nsilhouette mean piece px: {:.1f}\n",
+                       s.silhouettes->pixels, s.silhouettes->pieces, s.silhouettes->mean_piece_px);
+  return out;
+}
+
+std::string line_stats_csv_header() {
+  return "frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px,silhouette_px,"
+         "silhouette_pieces,weighted_strokes,weighted_mean_stroke_px\n";
+}
+
+std::string line_stats_csv_row(std::size_t i, const FrameStats& s) {
+  const LineStats& c = s.creases;
+  const SilhouetteStats ss = s.silhouettes.value_or(SilhouetteStats{});
+  return fmt::format("{},{:.1f},{:.5f},{:.5f},{:.5f},{},{:.2f},{:.0f},{},{:.2f},{:.2f}\n", i, c.length_px, c.boundary,
+                     c.flat, c.valley, c.strokes, c.mean_stroke_px, ss.pixels, ss.pieces, c.weighted_strokes,
+                     c.weighted_mean_stroke_px);
+}
+
+}  // namespace renderer

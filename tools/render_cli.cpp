@@ -1,0 +1,70 @@
+#include "render_cli.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "terrain/error.hpp"
+
+namespace terrain::tools {
+
+namespace rr = renderer;
+
+// One CLI option per table row (only the per-frame ones for `path`), checked by set_option.
+void add_table_options(CLI::App* app, TableArgs& a, bool per_frame_only) {
+  for (const rr::OptionSpec& o : rr::render_options()) {
+    if (per_frame_only && !o.per_frame) continue;
+    const std::string flag = "--" + o.name;
+    CLI::Option* opt = nullptr;
+    if (o.type == rr::OptionType::Bool) {
+      opt = app->add_flag(flag, a.flags[o.name], o.help);
+    } else if (o.type == rr::OptionType::Point) {
+      opt = app->add_option(flag, a.eye, o.help)->expected(3);
+    } else {
+      const bool numeric = o.type == rr::OptionType::Number || o.type == rr::OptionType::Integer;
+      const std::string range = !numeric          ? std::string()
+                                : o.max >= 1e9    ? o.unit
+                                                  : fmt::format("{:g} .. {:g}{}", o.min, o.max,
+                                                                o.unit.empty() ? "" : " " + o.unit);
+      opt = app->add_option(flag, a.text[o.name], o.help)->default_str(o.default_text);
+      opt->check(CLI::Validator(
+          [&o](std::string& v) {
+            rr::RenderSettings scratch;
+            try {
+              rr::set_option(scratch, o, v);
+              return std::string();
+            } catch (const terrain::Error& e) {
+              return std::string(e.what());
+            }
+          },
+          range));
+    }
+    static const char* const kTypeNames[] = {"NUMBER", "INTEGER", "", "CHOICE", "COLOUR", "LIST", "WxH", "E N Z"};
+    opt->group(o.group)->type_name(kTypeNames[int(o.type)]);
+    if (o.type == rr::OptionType::Enum) opt->type_name("{" + fmt::format("{}", fmt::join(o.choices, ",")) + "}");
+    a.given[o.name] = opt;
+  }
+}
+
+// The settings the command line gives: the table's defaults and every option given.
+rr::RenderSettings settings_of(const TableArgs& a) {
+  rr::RenderSettings s;
+  for (const rr::OptionSpec& o : rr::render_options()) {
+    if (!a.was_given(o.name)) continue;
+    const std::string v = o.type == rr::OptionType::Bool    ? std::string(a.flags.at(o.name) ? "true" : "false")
+                          : o.type == rr::OptionType::Point ? fmt::format("{} {} {}", a.eye[0], a.eye[1], a.eye[2])
+                                                            : a.text.at(o.name);
+    try {
+      rr::set_option(s, o, v);
+    } catch (const terrain::Error& e) {
+      throw CLI::ValidationError("--" + o.name, e.what());
+    }
+  }
+  try {
+    rr::validate(s);
+  } catch (const terrain::Error& e) {
+    throw CLI::ValidationError(e.what());
+  }
+  return s;
+}
+
+}  // namespace terrain::tools

@@ -1,0 +1,31 @@
+#pragma once
+// The render options' command line, generated from the renderer's option table
+// (renderer/options.hpp): terrain-render's frame, batch and path, and terrain-view.
+#include <CLI/CLI.hpp>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "renderer/options.hpp"
+
+namespace terrain::tools {
+
+// The table's options as CLI11 fills them (text, flags, the eye's three numbers).
+struct TableArgs {
+  std::map<std::string, std::string> text;
+  std::map<std::string, bool> flags;
+  std::vector<double> eye;
+  std::map<std::string, CLI::Option*> given;
+  bool line_stats = false;
+  bool was_given(const std::string& name) const { return given.count(name) && given.at(name)->count() > 0; }
+};
+
+// One option per table row (only the per-frame ones with `per_frame_only`), in the table's
+// groups, each checked by renderer::set_option (a bad value is a usage error, exit 2).
+void add_table_options(CLI::App* app, TableArgs& a, bool per_frame_only);
+
+// The settings the command line gives: the table's defaults and every option given, then
+// renderer::validate.
+renderer::RenderSettings settings_of(const TableArgs& a);
+
+}  // namespace terrain::tools
