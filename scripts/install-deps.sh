@@ -14,6 +14,7 @@ PACKAGES=(
   time valgrind   # valgrind: the sanitizer script's memcheck of the point path
   libopenmpi-dev openmpi-bin   # build-drainage under mpirun (optional at build time; its tests need it)
   clang libclang-rt-14-dev libomp-14-dev   # the sanitizer build of CI, fuzzing (scripts/fuzz.sh)
+  libglfw3-dev libimgui-dev xvfb xauth     # terrain-view (GLFW window, Dear ImGui panel) and its tests under Xvfb
 )
 
 missing=()

@@ -21,10 +21,10 @@ void add_table_options(CLI::App* app, TableArgs& a, bool per_frame_only) {
       opt = app->add_option(flag, a.eye, o.help)->expected(3);
     } else {
       const bool numeric = o.type == rr::OptionType::Number || o.type == rr::OptionType::Integer;
-      const std::string range = !numeric          ? std::string()
-                                : o.max >= 1e9    ? o.unit
-                                                  : fmt::format("{:g} .. {:g}{}", o.min, o.max,
-                                                                o.unit.empty() ? "" : " " + o.unit);
+      const std::string range = !numeric ? std::string()
+                                : o.max >= 1e9
+                                    ? o.unit
+                                    : fmt::format("{:g} .. {:g}{}", o.min, o.max, o.unit.empty() ? "" : " " + o.unit);
       opt = app->add_option(flag, a.text[o.name], o.help)->default_str(o.default_text);
       opt->check(CLI::Validator(
           [&o](std::string& v) {

@@ -1,8 +1,8 @@
 #include "renderer/scene.hpp"
 
-#include <chrono>
-
 #include <fmt/format.h>
+
+#include <chrono>
 
 #include "drainage/dv_views.hpp"
 #include "renderer/stroke_visibility.hpp"
@@ -58,8 +58,8 @@ FrameLines frame_lines(const Scene& scene, const TerrainRenderer& r, const Frame
   return lines;
 }
 
-FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                            const FrameParams& fp, const Style& style, const Layers& layers) {
+FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const FrameResult& res, const FrameParams& fp,
+                            const Style& style, const Layers& layers) {
   const FrameBuffers buffers = r.read_buffers();
   FrameStats st;
   st.lines = frame_lines(scene, r, res, buffers, fp, style);

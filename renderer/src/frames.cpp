@@ -214,18 +214,57 @@ std::string path_csv(const FlightPath& p) {
     if (std::hypot(d.x(), d.y()) == 0) throw terrain::Error("--from and --to are vertically aligned: give --view-az");
     az = std::fmod(std::atan2(d.x(), d.y()) * 180.0 / std::numbers::pi + 360.0, 360.0);
   }
+  std::vector<FrameParams> frames(std::size_t(p.frames), p.params);
+  for (int i = 0; i < p.frames; ++i) {
+    frames[std::size_t(i)].camera.view_az = az;
+    frames[std::size_t(i)].camera.eye = p.from + d * (double(i) / double(p.frames - 1));
+  }
+  return frames_csv(frames);
+}
+
+std::string frames_csv(const std::vector<FrameParams>& frames) {
   std::string out = fmt::format("{}\n", fmt::join(frame_columns(), ","));  // all columns
   RenderSettings s;
-  s.frame = p.params;
-  s.frame.camera.view_az = az;
-  for (int i = 0; i < p.frames; ++i) {
-    const Eigen::Vector3d eye = p.from + d * (double(i) / double(p.frames - 1));
+  for (const FrameParams& f : frames) {
+    if (!f.camera.eye) throw terrain::Error("frames_csv: a frame without its eye");
+    s.frame = f;
+    const Eigen::Vector3d& eye = *f.camera.eye;
     out += fmt::format("{:.3f},{:.3f},{:.3f}", eye.x(), eye.y(), eye.z());
     for (const OptionSpec* o : per_frame_options()) {
       out += ',';  // appended piece by piece: `"," + std::string` trips GCC 12's -Wrestrict (PR 105329)
       out += o->get(s);
     }
     out += "\n";
+  }
+  return out;
+}
+
+std::vector<FrameParams> keyframe_path(const std::vector<FrameParams>& keys, int count) {
+  if (keys.size() < 2) throw terrain::Error("a keyframe path needs at least 2 keyframes");
+  if (count < 2) throw terrain::Error("a keyframe path needs at least 2 frames");
+  // Per key: eye x, y, z, bearing (unwrapped), altitude.
+  std::vector<Eigen::Matrix<double, 5, 1>> k(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    if (!keys[i].camera.eye) throw terrain::Error("a keyframe without its eye");
+    double az = keys[i].camera.view_az;
+    if (i > 0) az = k[i - 1][3] + std::remainder(az - k[i - 1][3], 360.0);
+    k[i] << keys[i].camera.eye->x(), keys[i].camera.eye->y(), keys[i].camera.eye->z(), az, keys[i].camera.view_alt;
+  }
+  const auto at = [&](long i) { return k[std::size_t(std::clamp<long>(i, 0, long(k.size()) - 1))]; };
+  std::vector<FrameParams> out;
+  const double segments = double(keys.size() - 1);
+  for (int f = 0; f < count; ++f) {
+    const double u = double(f) / double(count - 1) * segments;
+    const long i = std::min(long(u), long(keys.size()) - 2);
+    const double t = u - double(i), t2 = t * t, t3 = t2 * t;
+    const auto p0 = at(i - 1), p1 = at(i), p2 = at(i + 1), p3 = at(i + 2);
+    const Eigen::Matrix<double, 5, 1> v =
+        0.5 * (2 * p1 + (p2 - p0) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t2 + (3 * p1 - p0 - 3 * p2 + p3) * t3);
+    FrameParams fp = keys[std::size_t(i)];
+    fp.camera.eye = Eigen::Vector3d(v[0], v[1], v[2]);
+    fp.camera.view_az = std::fmod(std::fmod(v[3], 360.0) + 360.0, 360.0);
+    fp.camera.view_alt = std::clamp(v[4], -90.0, 90.0);
+    out.push_back(fp);
   }
   return out;
 }

@@ -202,4 +202,14 @@ GlContext::GlContext() : impl_(std::make_unique<Impl>()) {
 
 GlContext::~GlContext() { release(impl_->made); }
 
+void GlContext::release_current() const {
+  eglMakeCurrent(impl_->made.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+}
+
+void GlContext::make_current() const {
+  const Made& m = impl_->made;
+  if (!eglMakeCurrent(m.display, m.surface, m.surface, m.context))
+    throw terrain::Error("cannot make the OpenGL context current again (eglMakeCurrent failed)");
+}
+
 }  // namespace renderer

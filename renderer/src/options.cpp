@@ -1,11 +1,11 @@
 #include "renderer/options.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-
-#include <fmt/format.h>
 
 #include "terrain/error.hpp"
 
@@ -38,8 +38,8 @@ std::string join(const std::vector<std::string>& v) {
 template <class Ref>
 OptionSpec number(std::string name, std::string group, double min, double max, std::string unit, std::string def,
                   std::string help, Ref ref, bool per_frame = false) {
-  OptionSpec o{std::move(name), std::move(group), OptionType::Number, min, max, std::move(unit), {}, std::move(def),
-               std::move(help), per_frame, {}, {}};
+  OptionSpec o{std::move(name), std::move(group), OptionType::Number, min, max, std::move(unit), {},
+               std::move(def),  std::move(help),  per_frame,          {},  {}};
   o.get = [ref](const RenderSettings& s) { return text_of(double(ref(s))); };
   o.store = [ref](RenderSettings& s, const std::string& t) {
     double v = 0;
@@ -52,16 +52,16 @@ OptionSpec number(std::string name, std::string group, double min, double max, s
 template <class Ref>
 OptionSpec integer(std::string name, std::string group, double min, double max, std::string unit, std::string def,
                    std::string help, Ref ref) {
-  OptionSpec o = number(std::move(name), std::move(group), min, max, std::move(unit), std::move(def), std::move(help),
-                        ref);
+  OptionSpec o =
+      number(std::move(name), std::move(group), min, max, std::move(unit), std::move(def), std::move(help), ref);
   o.type = OptionType::Integer;
   return o;
 }
 
 OptionSpec flag(std::string name, std::string group, std::string help, std::function<bool(const RenderSettings&)> get,
                 std::function<void(RenderSettings&, bool)> set) {
-  OptionSpec o{std::move(name), std::move(group), OptionType::Bool, 0, 0, "", {}, "false", std::move(help), false,
-               {}, {}};
+  OptionSpec o{
+      std::move(name), std::move(group), OptionType::Bool, 0, 0, "", {}, "false", std::move(help), false, {}, {}};
   o.get = [get](const RenderSettings& s) { return std::string(get(s) ? "true" : "false"); };
   o.store = [set](RenderSettings& s, const std::string& t) { set(s, t == "true"); };
   return o;
@@ -71,7 +71,7 @@ OptionSpec choice(std::string name, std::string group, OptionType type, std::vec
                   std::string def, std::string help, std::function<std::string(const RenderSettings&)> get,
                   std::function<void(RenderSettings&, const std::string&)> store) {
   return {std::move(name), std::move(group), type, 0, 0, "", std::move(choices), std::move(def), std::move(help), false,
-          std::move(get), std::move(store)};
+          std::move(get),  std::move(store)};
 }
 
 template <class Ref>
@@ -103,15 +103,16 @@ std::string edges_text(std::uint8_t kinds) {
 
 std::vector<OptionSpec> make_table() {
   const std::string frame = "Frame", camera = "Camera and light", score = "Crease score", rules = "Crease network",
-                    strokes = "Crease strokes", sil = "Silhouettes", pel = "PELs", edges = "Edges",
-                    colours = "Colours", surface = "Surface";
+                    strokes = "Crease strokes", sil = "Silhouettes", pel = "PELs", edges = "Edges", colours = "Colours",
+                    surface = "Surface";
   std::vector<OptionSpec> t;
   t.push_back(choice(
       "size", frame, OptionType::Size, {}, "1280x720", "Image size WIDTHxHEIGHT in pixels",
       [](const RenderSettings& s) { return fmt::format("{}x{}", s.width, s.height); },
       [](RenderSettings& s, const std::string& v) { std::sscanf(v.c_str(), "%dx%d", &s.width, &s.height); }));
   t.push_back(choice(
-      "layers", frame, OptionType::List, {"shaded", "mask", "creases", "silhouettes", "silhouettes-adjacency", "pels", "edges"},
+      "layers", frame, OptionType::List,
+      {"shaded", "mask", "creases", "silhouettes", "silhouettes-adjacency", "pels", "edges"},
       "mask,creases,silhouettes",
       "Layers to draw (comma list): shaded (relief), mask (white surface), creases, silhouettes "
       "(Toward/Away) or silhouettes-adjacency, pels (photic extremum lines; needs a mesh from "
@@ -129,50 +130,63 @@ std::vector<OptionSpec> make_table() {
       },
       [](RenderSettings& s, const std::string& v) {
         double x = 0, y = 0, z = 0;
-        if (v.empty()) s.frame.camera.eye.reset();
-        else if (std::sscanf(v.c_str(), "%lf %lf %lf", &x, &y, &z) == 3) s.frame.camera.eye = Eigen::Vector3d(x, y, z);
+        if (v.empty())
+          s.frame.camera.eye.reset();
+        else if (std::sscanf(v.c_str(), "%lf %lf %lf", &x, &y, &z) == 3)
+          s.frame.camera.eye = Eigen::Vector3d(x, y, z);
       }));
-  t.push_back(number("view-az", camera, -1e9, 1e9, "degrees", "225",
-                     "Bearing of the line of sight, degrees clockwise from grid north",
-                     [](auto& s) -> auto& { return s.frame.camera.view_az; }, true));
-  t.push_back(number("view-alt", camera, -90, 90, "degrees", "30", "Angle of the line of sight below the horizon, degrees",
-                     [](auto& s) -> auto& { return s.frame.camera.view_alt; }, true));
-  t.push_back(number("fov", camera, 1, 170, "degrees", "35", "Vertical field of view, degrees",
-                     [](auto& s) -> auto& { return s.frame.camera.fov; }, true));
-  t.push_back(number("light-az", camera, -1e9, 1e9, "degrees", "315",
-                     "Light azimuth, degrees clockwise from north (frame's default view: from its left)",
-                     [](auto& s) -> auto& { return s.frame.light.azimuth; }, true));
-  t.push_back(number("light-alt", camera, -90, 90, "degrees", "45", "Light altitude above the horizon, degrees",
-                     [](auto& s) -> auto& { return s.frame.light.altitude; }, true));
-  t.push_back(number("exaggeration", camera, 0.01, 100, "", "1", "Vertical exaggeration",
-                     [](auto& s) -> auto& { return s.style.exaggeration; }));
-  t.push_back(number("sw", score, 0, 1, "", text_of(1.0 / 3), "Crease score: slope weight",
-                     [](auto& s) -> auto& { return s.frame.score.sw; }, true));
-  t.push_back(number("iw", score, 0, 1, "", text_of(1.0 / 3), "Crease score: illumination weight",
-                     [](auto& s) -> auto& { return s.frame.score.iw; }, true));
-  t.push_back(number("fw", score, 0, 1, "", text_of(1.0 / 3), "Crease score: flow weight",
-                     [](auto& s) -> auto& { return s.frame.score.fw; }, true));
-  t.push_back(number("min-score", score, 0, 1, "", "0.25",
-                     "Crease score: minimum (rs_min at the eye); 0 draws every crease, 1 none",
-                     [](auto& s) -> auto& { return s.frame.score.min_score; }, true));
-  t.push_back(number("falloff", score, 0, 1, "", "0.2",
-                     "Crease score: k in rs_min(d) = min + (1 - min) k clamp(d / far, 0, 1); 0 = no distance term",
-                     [](auto& s) -> auto& { return s.frame.score.falloff; }, true));
-  t.push_back(number("far-distance", score, 0, 1e9, "m", "0",
-                     "Crease score: distance (m) at which rs_min stops rising; 0 = across the scene, from its nearest "
-                     "to its farthest point",
-                     [](auto& s) -> auto& { return s.frame.score.far_distance; }));
+  t.push_back(number(
+      "view-az", camera, -1e9, 1e9, "degrees", "225", "Bearing of the line of sight, degrees clockwise from grid north",
+      [](auto& s) -> auto& { return s.frame.camera.view_az; }, true));
+  t.push_back(number(
+      "view-alt", camera, -90, 90, "degrees", "30", "Angle of the line of sight below the horizon, degrees",
+      [](auto& s) -> auto& { return s.frame.camera.view_alt; }, true));
+  t.push_back(number(
+      "fov", camera, 1, 170, "degrees", "35", "Vertical field of view, degrees",
+      [](auto& s) -> auto& { return s.frame.camera.fov; }, true));
+  t.push_back(number(
+      "light-az", camera, -1e9, 1e9, "degrees", "315",
+      "Light azimuth, degrees clockwise from north (frame's default view: from its left)",
+      [](auto& s) -> auto& { return s.frame.light.azimuth; }, true));
+  t.push_back(number(
+      "light-alt", camera, -90, 90, "degrees", "45", "Light altitude above the horizon, degrees",
+      [](auto& s) -> auto& { return s.frame.light.altitude; }, true));
+  t.push_back(number(
+      "exaggeration", camera, 0.01, 100, "", "1", "Vertical exaggeration",
+      [](auto& s) -> auto& { return s.style.exaggeration; }));
+  t.push_back(number(
+      "sw", score, 0, 1, "", text_of(1.0 / 3), "Crease score: slope weight",
+      [](auto& s) -> auto& { return s.frame.score.sw; }, true));
+  t.push_back(number(
+      "iw", score, 0, 1, "", text_of(1.0 / 3), "Crease score: illumination weight",
+      [](auto& s) -> auto& { return s.frame.score.iw; }, true));
+  t.push_back(number(
+      "fw", score, 0, 1, "", text_of(1.0 / 3), "Crease score: flow weight",
+      [](auto& s) -> auto& { return s.frame.score.fw; }, true));
+  t.push_back(number(
+      "min-score", score, 0, 1, "", "0.25", "Crease score: minimum (rs_min at the eye); 0 draws every crease, 1 none",
+      [](auto& s) -> auto& { return s.frame.score.min_score; }, true));
+  t.push_back(number(
+      "falloff", score, 0, 1, "", "0.2",
+      "Crease score: k in rs_min(d) = min + (1 - min) k clamp(d / far, 0, 1); 0 = no distance term",
+      [](auto& s) -> auto& { return s.frame.score.falloff; }, true));
+  t.push_back(number(
+      "far-distance", score, 0, 1e9, "m", "0",
+      "Crease score: distance (m) at which rs_min stops rising; 0 = across the scene, from its nearest "
+      "to its farthest point",
+      [](auto& s) -> auto& { return s.frame.score.far_distance; }));
   t.push_back(flag(
       "literal-score", score, "Divide the weighted sum by 3 (the paper's equation 6) instead of by the weight sum",
       [](const RenderSettings& s) { return s.frame.score.literal_divisor; },
       [](RenderSettings& s, bool v) { s.frame.score.literal_divisor = v; }));
-  t.push_back(number("pel-threshold", pel, 0, 1, "", "0.1",
-                     "PELs: keep lines where |grad f| / max |grad f| exceeds this (tau)",
-                     [](auto& s) -> auto& { return s.frame.pel.threshold; }, true));
-  t.push_back(integer("min-accumulation", rules, 0, 4294967295.0, "points", "100",
-                      "Creases start where at least this many drainage points drain (channel initiation; 0: every "
-                      "D8 link, as the paper)",
-                      [](auto& s) -> auto& { return s.rules.min_accumulated; }));
+  t.push_back(number(
+      "pel-threshold", pel, 0, 1, "", "0.1", "PELs: keep lines where |grad f| / max |grad f| exceeds this (tau)",
+      [](auto& s) -> auto& { return s.frame.pel.threshold; }, true));
+  t.push_back(integer(
+      "min-accumulation", rules, 0, 4294967295.0, "points", "100",
+      "Creases start where at least this many drainage points drain (channel initiation; 0: every "
+      "D8 link, as the paper)",
+      [](auto& s) -> auto& { return s.rules.min_accumulated; }));
   t.push_back(flag(
       "seed-rules", rules,
       "Creases as the paper draws them: every basin normalized by its own total (also the small ones that drain "
@@ -187,62 +201,72 @@ std::vector<OptionSpec> make_table() {
           s.rules.edge_basin_min_share = 0, s.rules.log_flow = false, s.rules.one_line_per_flat = false,
           s.rules.smooth_spacings = 0;
       }));
-  t.push_back(number("edge-basin-share", rules, 0, 1, "", "0.05",
-                     "Basins that drain off the grid edge are normalized by at least this share of the network's "
-                     "points (0: by their own, as the paper)",
-                     [](auto& s) -> auto& { return s.rules.edge_basin_min_share; }));
+  t.push_back(number(
+      "edge-basin-share", rules, 0, 1, "", "0.05",
+      "Basins that drain off the grid edge are normalized by at least this share of the network's "
+      "points (0: by their own, as the paper)",
+      [](auto& s) -> auto& { return s.rules.edge_basin_min_share; }));
   t.push_back(choice(
       "flow-scale", rules, OptionType::Enum, {"log", "linear"}, "log",
       "Flow term of the crease score: log = ln(accumulated) / ln(basin total), a tributary by its order of "
       "magnitude in its basin; linear = accumulated / basin total (the paper)",
       [](const RenderSettings& s) { return std::string(s.rules.log_flow ? "log" : "linear"); },
       [](RenderSettings& s, const std::string& v) { s.rules.log_flow = v == "log"; }));
-  t.push_back(number("crease-smooth", rules, 0, 4, "mesh spacings", "0.5",
-                     "Smooth the D8 staircase of crease lines: Gaussian sigma along the line, in mesh spacings, and at "
-                     "least 1.5 drainage samples (0: the D8 polyline as it is)",
-                     [](auto& s) -> auto& { return s.rules.smooth_spacings; }));
-  t.push_back(number("crease-width", strokes, 0.5, 20, "pixels", "1",
-                     "Crease width in pixels where little drains (basin share 0); it grows with the square root of "
-                     "the share of the basin that drains there",
-                     [](auto& s) -> auto& { return s.style.crease_width; }));
-  t.push_back(number("crease-width-max", strokes, 0.5, 20, "pixels", "3",
-                     "Crease width in pixels at a basin's outlet (share 1)",
-                     [](auto& s) -> auto& { return s.style.crease_width_max; }));
+  t.push_back(number(
+      "crease-smooth", rules, 0, 4, "mesh spacings", "0.5",
+      "Smooth the D8 staircase of crease lines: Gaussian sigma along the line, in mesh spacings, and at "
+      "least 1.5 drainage samples (0: the D8 polyline as it is)",
+      [](auto& s) -> auto& { return s.rules.smooth_spacings; }));
+  t.push_back(number(
+      "crease-width", strokes, 0.5, 20, "pixels", "1",
+      "Crease width in pixels where little drains (basin share 0); it grows with the square root of "
+      "the share of the basin that drains there",
+      [](auto& s) -> auto& { return s.style.crease_width; }));
+  t.push_back(number(
+      "crease-width-max", strokes, 0.5, 20, "pixels", "3", "Crease width in pixels at a basin's outlet (share 1)",
+      [](auto& s) -> auto& { return s.style.crease_width_max; }));
   t.push_back(flag(
       "aliased", strokes,
       "Pixel-exact lines: every crease and PEL pixel is the line colour or not (no coverage, no fade, no "
       "silhouette softening); for comparisons by pixel count",
       [](const RenderSettings& s) { return !s.style.antialias; },
       [](RenderSettings& s, bool v) { s.style.antialias = !v; }));
-  t.push_back(number("crease-fade", strokes, 0, 1, "", "0.03",
-                     "Creases fade in over this band of the rendering score above the threshold instead of popping "
-                     "in (0: cut at the threshold)",
-                     [](auto& s) -> auto& { return s.style.crease_fade; }));
-  t.push_back(number("crease-bridge", strokes, 0, 100, "mesh spacings", "1",
-                     "Draw a gap in a channel's crease up to this long (mesh spacings), where the score dips between "
-                     "two drawn parts (0: no bridging)",
-                     [](auto& s) -> auto& { return s.style.crease_bridge; }));
-  t.push_back(number("crease-min-stroke", strokes, 0, 100, "mesh spacings", "4",
-                     "Leave out crease strokes shorter than this (mesh spacings): dashes below the source mesh's "
-                     "resolution (0: keep every stroke)",
-                     [](auto& s) -> auto& { return s.style.crease_min_stroke; }));
-  t.push_back(number("crease-hidden-gap", strokes, 0, 256, "pixels", "8",
-                     "Draw a hidden run of a crease stroke up to this long (pixels) between its shown parts, when none "
-                     "of it is more than --crease-hidden-depth behind the surface: a gully's floor, not dashes (0: "
-                     "draw none)",
-                     [](auto& s) -> auto& { return s.style.crease_hidden_gap; }));
-  t.push_back(number("crease-hidden-depth", strokes, 0, 100, "mesh spacings", "1.5",
-                     "How far behind the surface a hidden run drawn by --crease-hidden-gap may lie (mesh spacings)",
-                     [](auto& s) -> auto& { return s.style.crease_hidden_depth; }));
-  t.push_back(number("crease-min-peek", strokes, 0, 256, "pixels", "6",
-                     "Leave out a shown run of a crease stroke up to this long (pixels) beside a hidden part: a dot "
-                     "where a channel peeks out between ridges (0: keep every run)",
-                     [](auto& s) -> auto& { return s.style.crease_min_peek; }));
-  t.push_back(number("crease-lift", strokes, 0, 1e6, "m", "auto",
-                     "Lines (creases, PELs, edges) are drawn where they lie on the surface, at the depth of their "
-                     "points moved this far (m) towards the eye, so the tessellated surface does not hide them in "
-                     "their valleys; auto: 0.5 x mesh spacing",
-                     [](auto& s) -> auto& { return s.style.crease_lift; }));
+  t.push_back(number(
+      "crease-fade", strokes, 0, 1, "", "0.03",
+      "Creases fade in over this band of the rendering score above the threshold instead of popping "
+      "in (0: cut at the threshold)",
+      [](auto& s) -> auto& { return s.style.crease_fade; }));
+  t.push_back(number(
+      "crease-bridge", strokes, 0, 100, "mesh spacings", "1",
+      "Draw a gap in a channel's crease up to this long (mesh spacings), where the score dips between "
+      "two drawn parts (0: no bridging)",
+      [](auto& s) -> auto& { return s.style.crease_bridge; }));
+  t.push_back(number(
+      "crease-min-stroke", strokes, 0, 100, "mesh spacings", "4",
+      "Leave out crease strokes shorter than this (mesh spacings): dashes below the source mesh's "
+      "resolution (0: keep every stroke)",
+      [](auto& s) -> auto& { return s.style.crease_min_stroke; }));
+  t.push_back(number(
+      "crease-hidden-gap", strokes, 0, 256, "pixels", "8",
+      "Draw a hidden run of a crease stroke up to this long (pixels) between its shown parts, when none "
+      "of it is more than --crease-hidden-depth behind the surface: a gully's floor, not dashes (0: "
+      "draw none)",
+      [](auto& s) -> auto& { return s.style.crease_hidden_gap; }));
+  t.push_back(number(
+      "crease-hidden-depth", strokes, 0, 100, "mesh spacings", "1.5",
+      "How far behind the surface a hidden run drawn by --crease-hidden-gap may lie (mesh spacings)",
+      [](auto& s) -> auto& { return s.style.crease_hidden_depth; }));
+  t.push_back(number(
+      "crease-min-peek", strokes, 0, 256, "pixels", "6",
+      "Leave out a shown run of a crease stroke up to this long (pixels) beside a hidden part: a dot "
+      "where a channel peeks out between ridges (0: keep every run)",
+      [](auto& s) -> auto& { return s.style.crease_min_peek; }));
+  t.push_back(number(
+      "crease-lift", strokes, 0, 1e6, "m", "auto",
+      "Lines (creases, PELs, edges) are drawn where they lie on the surface, at the depth of their "
+      "points moved this far (m) towards the eye, so the tessellated surface does not hide them in "
+      "their valleys; auto: 0.5 x mesh spacing",
+      [](auto& s) -> auto& { return s.style.crease_lift; }));
   t.back().get = [](const RenderSettings& s) {
     return s.style.crease_lift < 0 ? std::string("auto") : text_of(s.style.crease_lift);
   };
@@ -250,67 +274,79 @@ std::vector<OptionSpec> make_table() {
     s.style.crease_lift = -1;  // auto
     if (v != "auto") read_number(v, s.style.crease_lift);
   };
-  t.push_back(integer("silhouette-width", sil, 1, 9, "pixels", "1",
-                      "Silhouette width in pixels (anti-aliased: a band 0.8 px wider about the line of the silhouette "
-                      "pixels)",
-                      [](auto& s) -> auto& { return s.style.silhouette_width; }));
-  t.push_back(number("silhouette-min-length", sil, 0, 1, "of the frame's height", "0.025",
-                     "Silhouette pieces (connected pixels) shorter than this share of the frame's height fade out, to "
-                     "nothing at half of it: the scattered dashes of rolling ground seen from above (0: keep every "
-                     "piece; anti-aliased lines only)",
-                     [](auto& s) -> auto& { return s.style.silhouette_min_length; }));
+  t.push_back(integer(
+      "silhouette-width", sil, 1, 9, "pixels", "1",
+      "Silhouette width in pixels (anti-aliased: a band 0.8 px wider about the line of the silhouette "
+      "pixels)",
+      [](auto& s) -> auto& { return s.style.silhouette_width; }));
+  t.push_back(number(
+      "silhouette-min-length", sil, 0, 1, "of the frame's height", "0.025",
+      "Silhouette pieces (connected pixels) shorter than this share of the frame's height fade out, to "
+      "nothing at half of it: the scattered dashes of rolling ground seen from above (0: keep every "
+      "piece; anti-aliased lines only)",
+      [](auto& s) -> auto& { return s.style.silhouette_min_length; }));
   t.push_back(choice(
       "pel-light", pel, OptionType::Enum, {"headlight", "scene"}, "headlight",
       "PELs: f = max(0, n . L) with L the headlight (towards the eye) or the scene light (--light-az/alt)",
       [](const RenderSettings& s) { return std::string(s.frame.pel.headlight ? "headlight" : "scene"); },
       [](RenderSettings& s, const std::string& v) { s.frame.pel.headlight = v == "headlight"; }));
-  t.push_back(number("pel-width", pel, 0.5, 20, "pixels", "1", "PEL width in pixels",
-                     [](auto& s) -> auto& { return s.style.pel_width; }));
-  t.push_back(number("pel-min-length", pel, 0, 100, "mesh spacings", "4",
-                     "PELs: lines shorter than this many mesh spacings on the mesh fade out, to nothing at half of "
-                     "it: where the fields' noise crosses zero over a few faces (0: keep every line; anti-aliased "
-                     "lines only)",
-                     [](auto& s) -> auto& { return s.style.pel_min_length; }));
-  t.push_back(integer("pel-smooth", pel, 0, 16, "iterations", "3",
-                      "PELs: iterations of a Laplacian step along the lines, whose crossings zigzag from face to face "
-                      "(0: as extracted; anti-aliased lines only)",
-                      [](auto& s) -> auto& { return s.style.pel_smooth; }));
+  t.push_back(number(
+      "pel-width", pel, 0.5, 20, "pixels", "1", "PEL width in pixels",
+      [](auto& s) -> auto& { return s.style.pel_width; }));
+  t.push_back(number(
+      "pel-min-length", pel, 0, 100, "mesh spacings", "4",
+      "PELs: lines shorter than this many mesh spacings on the mesh fade out, to nothing at half of "
+      "it: where the fields' noise crosses zero over a few faces (0: keep every line; anti-aliased "
+      "lines only)",
+      [](auto& s) -> auto& { return s.style.pel_min_length; }));
+  t.push_back(integer(
+      "pel-smooth", pel, 0, 16, "iterations", "3",
+      "PELs: iterations of a Laplacian step along the lines, whose crossings zigzag from face to face "
+      "(0: as extracted; anti-aliased lines only)",
+      [](auto& s) -> auto& { return s.style.pel_smooth; }));
   t.push_back(choice(
       "edges", edges, OptionType::List, {"contour", "boundary", "crease"}, "contour,boundary,crease",
       "Edges layer: which object-space edges of the mesh facets (comma list of contour, boundary, crease)",
       [](const RenderSettings& s) { return edges_text(s.style.edge_kinds); },
       [](RenderSettings& s, const std::string& v) { s.style.edge_kinds = parse_edge_kinds(v); }));
-  t.push_back(number("crease-angle", edges, 0, 180, "degrees", "30",
-                     "Edges layer: crease edges bend by more than this (degrees between the two face normals)",
-                     [](auto& s) -> auto& { return s.style.crease_angle; }));
+  t.push_back(number(
+      "crease-angle", edges, 0, 180, "degrees", "30",
+      "Edges layer: crease edges bend by more than this (degrees between the two face normals)",
+      [](auto& s) -> auto& { return s.style.crease_angle; }));
   t.push_back(choice(
       "edge-caps", edges, OptionType::Enum, {"exact", "cheap", "none"}, "exact",
       "Edges layer: how consecutive edge quads join: exact (mitred where two edges meet), cheap (square caps), "
       "none",
       [](const RenderSettings& s) {
-        return std::string(s.style.edge_caps == EdgeCaps::Exact ? "exact"
+        return std::string(s.style.edge_caps == EdgeCaps::Exact   ? "exact"
                            : s.style.edge_caps == EdgeCaps::Cheap ? "cheap"
                                                                   : "none");
       },
       [](RenderSettings& s, const std::string& v) {
         s.style.edge_caps = v == "exact" ? EdgeCaps::Exact : v == "cheap" ? EdgeCaps::Cheap : EdgeCaps::None;
       }));
-  t.push_back(number("edge-width", edges, 0.5, 20, "pixels", "1.5", "Edges layer: width in pixels",
-                     [](auto& s) -> auto& { return s.style.edge_width; }));
-  t.push_back(colour("background", colours, "#dde4ec", "Background colour (#rrggbb, r,g,b or a name)",
-                     [](auto& s) -> auto& { return s.style.background; }));
-  t.push_back(colour("mask-colour", colours, "white", "Surface colour of the mask layer",
-                     [](auto& s) -> auto& { return s.style.mask; }));
-  t.push_back(colour("crease-colour", colours, "blue", "Crease colour",
-                     [](auto& s) -> auto& { return s.style.crease_colour; }));
-  t.push_back(colour("silhouette-colour", colours, "black", "Silhouette colour",
-                     [](auto& s) -> auto& { return s.style.silhouette_colour; }));
-  t.push_back(colour("pel-colour", colours, "#8c1a1a", "PEL colour", [](auto& s) -> auto& { return s.style.pel_colour; }));
-  t.push_back(colour("edge-colour", colours, "#262626", "Edges layer: colour",
-                     [](auto& s) -> auto& { return s.style.edge_colour; }));
-  t.push_back(number("pixels-per-edge", surface, 1, 100, "pixels", "6",
-                     "Adaptive tessellation target: screen length of a tessellated edge, pixels",
-                     [](auto& s) -> auto& { return s.style.pixels_per_edge; }));
+  t.push_back(number(
+      "edge-width", edges, 0.5, 20, "pixels", "1.5", "Edges layer: width in pixels",
+      [](auto& s) -> auto& { return s.style.edge_width; }));
+  t.push_back(colour(
+      "background", colours, "#dde4ec", "Background colour (#rrggbb, r,g,b or a name)",
+      [](auto& s) -> auto& { return s.style.background; }));
+  t.push_back(colour(
+      "mask-colour", colours, "white", "Surface colour of the mask layer",
+      [](auto& s) -> auto& { return s.style.mask; }));
+  t.push_back(colour(
+      "crease-colour", colours, "blue", "Crease colour", [](auto& s) -> auto& { return s.style.crease_colour; }));
+  t.push_back(colour(
+      "silhouette-colour", colours, "black", "Silhouette colour",
+      [](auto& s) -> auto& { return s.style.silhouette_colour; }));
+  t.push_back(colour(
+      "pel-colour", colours, "#8c1a1a", "PEL colour", [](auto& s) -> auto& { return s.style.pel_colour; }));
+  t.push_back(colour(
+      "edge-colour", colours, "#262626", "Edges layer: colour", [](auto& s) -> auto& { return s.style.edge_colour; }));
+  t.push_back(number(
+      "pixels-per-edge", surface, 1, 100, "pixels", "6",
+      "Adaptive tessellation target: screen length of a tessellated edge, pixels",
+      [](auto& s) -> auto& { return s.style.pixels_per_edge; }));
   return t;
 }
 
@@ -340,10 +376,11 @@ void set_option(RenderSettings& s, const OptionSpec& o, const std::string& text)
       if (text == "auto" && o.default_text == "auto") break;  // an option whose default is computed
       double v = 0;
       if (!read_number(text, v) || !std::isfinite(v)) throw terrain::Error("'" + text + "' is not a number");
-      if (o.type == OptionType::Integer && v != std::floor(v)) throw terrain::Error("'" + text + "' is not a whole number");
+      if (o.type == OptionType::Integer && v != std::floor(v))
+        throw terrain::Error("'" + text + "' is not a whole number");
       if (v < o.min || v > o.max)
-        throw terrain::Error(fmt::format("{} is outside {:g} .. {:g}{}", text, o.min, o.max,
-                                         o.unit.empty() ? "" : " " + o.unit));
+        throw terrain::Error(
+            fmt::format("{} is outside {:g} .. {:g}{}", text, o.min, o.max, o.unit.empty() ? "" : " " + o.unit));
       break;
     }
     case OptionType::Bool:

@@ -228,6 +228,9 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
   glNamedBufferSubData(m.scene.ubo.id(), 0, sizeof fb, &fb);
   glBindBufferBase(GL_UNIFORM_BUFFER, TR_UBO_FRAME, m.scene.ubo.id());
 
+  // Several renderers may share a context (terrain-view's full and cheap frames): the
+  // viewport is this renderer's own at every frame.
+  glViewport(0, 0, m.scene.width, m.scene.height);
   glFinish();
   const passes::FrameInputs in{frame, res.view, light};
   for (passes::PassBase* pass : m.sequence()) pass->run(in, res.timings);

@@ -94,7 +94,7 @@ TEST(TerrainRender, FlowScale) {
   EXPECT_GT(drawn(linear.out), 0.0);
   const auto bad = run(frame + " --flow-scale cubic");
   EXPECT_EQ(bad.exit_code, 2);
-  EXPECT_NE(bad.err.find("--flow-scale: cubic not in {log,linear}"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("--flow-scale: 'cubic' is not one of log,linear"), std::string::npos) << bad.err;
 }
 
 // --line-stats: every key with a value in range, no more strokes than segments the DM pass

@@ -42,4 +42,13 @@ struct FlightPath {
 // The CSV text of a straight flight path at equal steps (full set of columns).
 std::string path_csv(const FlightPath& path);
 
+// The CSV text of frames (full set of columns; every frame needs its eye).
+std::string frames_csv(const std::vector<FrameParams>& frames);
+
+// `count` frames along a smooth path through the keyframes (at least 2, each with its
+// eye): centripetal-free uniform Catmull-Rom on the eye and on the view's bearing and
+// altitude (the bearing unwrapped, so that 350 -> 10 turns 20 degrees), the ends held; the
+// other values of each frame from the keyframe before it.
+std::vector<FrameParams> keyframe_path(const std::vector<FrameParams>& keys, int count);
+
 }  // namespace renderer

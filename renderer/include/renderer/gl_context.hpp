@@ -36,6 +36,12 @@ class GlContext {
 
   const GlDeviceInfo& info() const { return info_; }
   bool has_clip_control() const { return clip_control_; }
+  // Makes this context current again (a program that also draws to a window's own
+  // context, terrain-view, switches between the two on one thread).
+  void make_current() const;
+  // Leaves no context of this thread current: libglvnd refuses to make a GLX context
+  // current while an EGL one is (BadAccess), so a program with both releases one first.
+  void release_current() const;
 
  private:
   struct Impl;

@@ -1,0 +1,104 @@
+// terrain-view under Xvfb (a real window, GLX on llvmpipe) and --offscreen: its replayed
+// screenshots are terrain-render frame's PNGs for the same camera and options; its saved
+// command line, run, gives the same PNG; its keyframes make a frames CSV that batch
+// renders; options set through the replay change the frame as the CLI options do (two of
+// each type); --list-options holds every option of the table.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+#include "renderer/options.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using terrain::test::data;
+using terrain::test::file_bytes;
+using terrain::test::run;
+using terrain::test::tool;
+
+// At most 1 % of the pixels differ by more than 8 levels (of 255) in any channel.
+bool same_picture(const std::string& a, const std::string& b) {
+  return run("oiiotool --fail 0.0314 --failpercent 1 --diff " + a + " " + b).exit_code == 0;
+}
+
+// Options set through the replay (and again as they were after the screenshot): two of
+// each type of the option table, as "--name value" pairs of the command line.
+const std::vector<std::vector<std::pair<std::string, std::string>>> kChanges = {
+    {{"min-score", "0.4"}},       {{"crease-width", "2.5"}},                           // numbers
+    {{"silhouette-width", "3"}},  {{"min-accumulation", "1000"}},                      // integers
+    {{"aliased", "true"}},        {{"literal-score", "true"}},                         // flags
+    {{"flow-scale", "linear"}},   {{"layers", "mask,edges"}, {"edge-caps", "none"}},   // choices
+    {{"crease-colour", "red"}},   {{"background", "#ffffff"}},                         // colours
+    {{"layers", "shaded,creases"}}, {{"layers", "mask,edges"}, {"edges", "contour"}},  // lists
+};
+
+void check_viewer(bool window) {
+  terrain::test::ScratchDir dir;
+  const std::string mesh = dir.path("m.ply"), dv = dir.path("m.dv"), size = " --size 320x180";
+  ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh + " --spacing 50 -q").exit_code, 0);
+  ASSERT_EQ(run(tool("build-drainage") + " " + mesh + " " + dv + " --breach 10 -q").exit_code, 0);
+  std::string replay = "screenshot " + dir.path("home.png") + "\nsave-view " + dir.path("view.png") + "\n" +
+                       "keyframe\norbit 30 0\nkeyframe\norbit 30 5\nkeyframe\nsave-keyframes " + dir.path("keys.csv") +
+                       " 5\nkey home\n";
+  for (std::size_t i = 0; i < kChanges.size(); ++i) {
+    for (const auto& [name, value] : kChanges[i]) replay += "set " + name + " " + value + "\n";
+    replay += "screenshot " + dir.path("set" + std::to_string(i) + ".png") + "\n";
+    for (const auto& [name, value] : kChanges[i])
+      replay += "set " + name + " " + renderer::find_option(name)->default_text + "\n";
+  }
+  replay += "wait 2\nquit\n";
+  std::ofstream(dir.path("replay.txt")) << replay;
+  const std::string viewer = tool("terrain-view") + " " + mesh + " " + dv + size + " --replay " + dir.path("replay.txt");
+  const auto v = run(window ? "xvfb-run -a -s '-screen 0 640x480x24' " + viewer : viewer + " --offscreen");
+  ASSERT_EQ(v.exit_code, 0) << v.err;
+
+  const std::string render = tool("terrain-render") + " frame " + mesh + " " + dv + size + " -q -o ";
+  ASSERT_EQ(run(render + dir.path("cli_home.png")).exit_code, 0);
+  EXPECT_TRUE(same_picture(dir.path("home.png"), dir.path("cli_home.png"))) << "the default view";
+  // The saved command line, run as it is (its output renamed), gives the same PNG.
+  EXPECT_EQ(v.out.rfind("terrain-render frame", 0), 0u) << "save-view prints the command line: " << v.out;
+  std::string cmd = file_bytes(dir.path("view.png.txt"));
+  ASSERT_FALSE(cmd.empty());
+  cmd.replace(cmd.find("terrain-render"), 14, tool("terrain-render"));
+  cmd.replace(cmd.find(dir.path("view.png")), dir.path("view.png").size(), dir.path("cmd.png"));
+  cmd.pop_back();  // the newline
+  ASSERT_EQ(run(cmd + " -q").exit_code, 0) << cmd;
+  EXPECT_TRUE(same_picture(dir.path("view.png"), dir.path("cmd.png"))) << cmd;
+  // The keyframes: a frames CSV of 5 frames that batch renders.
+  const auto b = run(tool("terrain-render") + " batch " + mesh + " " + dv + " " + dir.path("keys.csv") + " -o " +
+                     dir.path("kf") + size + " -q");
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_TRUE(std::filesystem::exists(dir.path("kf/frame_00004.png")));
+  EXPECT_FALSE(std::filesystem::exists(dir.path("kf/frame_00005.png")));
+  // Each option set in the viewer draws what the CLI option draws, and changes the frame.
+  for (std::size_t i = 0; i < kChanges.size(); ++i) {
+    std::string options;
+    for (const auto& [name, value] : kChanges[i])
+      options += " --" + name + (value == "true" ? std::string() : " '" + value + "'");  // a flag takes no value
+    const std::string png = dir.path("cli" + std::to_string(i) + ".png"), set = dir.path("set" + std::to_string(i) + ".png");
+    ASSERT_EQ(run(render + png + options).exit_code, 0) << options;
+    EXPECT_TRUE(same_picture(set, png)) << options;
+    EXPECT_FALSE(same_picture(set, dir.path("home.png"))) << options << " did not change the frame";
+  }
+}
+
+TEST(Viewer, WindowUnderXvfbDrawsWhatTerrainRenderDraws) { check_viewer(true); }
+
+TEST(Viewer, OffscreenReplayDrawsWhatTerrainRenderDraws) { check_viewer(false); }
+
+TEST(Viewer, ListsEveryOptionOfTheTable) {
+  const auto r = run(tool("terrain-view") + " --list-options");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::size_t lines = 0;
+  for (const renderer::OptionSpec& o : renderer::render_options()) {
+    EXPECT_NE(r.out.find(o.name + "\t" + o.group + "\t"), std::string::npos) << o.name;
+    EXPECT_NE(r.out.find("\t" + o.default_text + "\n"), std::string::npos) << o.name;
+    ++lines;
+  }
+  EXPECT_EQ(std::size_t(std::count(r.out.begin(), r.out.end(), '\n')), lines);
+}
+
+}  // namespace

@@ -1,0 +1,576 @@
+// terrain-view: the interactive window over terrain-render's renderer. It draws exactly
+// what `terrain-render frame` draws with the same options (the same scene, renderer and
+// passes, in its own headless context; the window shows the frame read back), with the
+// option table's panel, camera moves, saved views and keyframes, and a scriptable replay
+// (--replay) that also runs without a window (--offscreen).
+#include <epoxy/gl.h>  // before GLFW, which would include GL/gl.h
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <fmt/format.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <sstream>
+
+#include "common.hpp"
+#include "render_cli.hpp"
+#include "renderer/camera.hpp"
+#include "renderer/frames.hpp"
+#include "renderer/gl_context.hpp"
+#include "renderer/options.hpp"
+#include "renderer/scene.hpp"
+#include "renderer/terrain_renderer.hpp"
+#include "terrain/atomic_file.hpp"
+#include "terrain/image_io.hpp"
+#include "view_camera.hpp"
+
+namespace tt = terrain::tools;
+namespace rr = renderer;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+std::string quoted(const std::string& s) { return "'" + s + "'"; }
+
+// The scene, the settings and the two renderers (full size, and half size for the cheap
+// frames drawn while the camera or a slider moves), in the viewer's headless context.
+class Viewer {
+ public:
+  Viewer(std::string mesh, std::string dv, rr::RenderSettings s, const tt::Verbosity& verb)
+      : mesh_path_(std::move(mesh)),
+        dv_path_(std::move(dv)),
+        s_(std::move(s)),
+        verb_(verb),
+        scene_(rr::load_scene(mesh_path_, dv_path_, s_.rules)) {
+    for (const std::string& w : scene_.warnings) tt::warn(verb_, w);
+    home_fov_ = s_.frame.camera.fov, home_alt_ = s_.frame.camera.view_alt;
+    if (!s_.frame.camera.eye) home();
+    rebuild();
+  }
+
+  rr::RenderSettings& settings() { return s_; }
+  const rr::Scene& scene() const { return scene_; }
+  const rr::GlContext& gl() const { return gl_; }
+  tt::ViewCamera camera() const { return {scene_.mesh, s_.style.exaggeration, s_.width, s_.height}; }
+
+  // The default view of terrain-render frame: the part of highest relief, side-lit, at
+  // the field of view and altitude the viewer started with (as terrain-render's options).
+  void home() {
+    rr::Camera& c = s_.frame.camera;
+    const auto rv = rr::relief_view(scene_.mesh, s_.style.exaggeration, home_fov_, double(s_.width) / s_.height,
+                                    home_alt_);
+    c = rv.camera;
+    s_.frame.light = rv.light;
+  }
+
+  // Sets one option by the table; the renderers or the creases are rebuilt when it needs.
+  void set(const std::string& name, const std::string& value) {
+    const rr::OptionSpec* o = rr::find_option(name);
+    if (!o) throw terrain::Error("no option '" + name + "' (terrain-view --list-options)");
+    rr::set_option(s_, *o, value);
+    rr::validate(s_);
+    if (o->group == "Crease network" && !dv_path_.empty()) {
+      scene_ = rr::load_scene(mesh_path_, dv_path_, s_.rules);
+      rebuild();
+    } else if (!o->per_frame && o->name != "eye") {
+      rebuild();
+    }
+  }
+
+  void rebuild() {
+    if (before_gl) before_gl();
+    gl_.make_current();
+    const rr::CreaseGeometry* creases = scene_.creases ? &*scene_.creases : nullptr;
+    full_ = std::make_unique<rr::TerrainRenderer>(gl_, scene_.mesh, creases, s_.width, s_.height, s_.layers, s_.style);
+    const int cw = std::max(16, s_.width / 2), ch = std::max(16, s_.height / 2);
+    rr::Style cheap_style = s_.style;
+    cheap_ = std::make_unique<rr::TerrainRenderer>(gl_, scene_.mesh, creases, cw, ch, s_.layers, cheap_style);
+  }
+
+  // A frame: full size, or the cheap half-size one.
+  const rr::FrameResult& render(bool cheap) {
+    if (before_gl) before_gl();
+    gl_.make_current();
+    const auto t0 = Clock::now();
+    last_ = (cheap ? cheap_ : full_)->render(s_.frame);
+    (cheap ? cheap_ms_ : full_ms_) = ms_since(t0);
+    last_cheap_ = cheap;
+    return last_;
+  }
+  const rr::FrameResult& last() const { return last_; }
+  bool last_was_cheap() const { return last_cheap_; }
+  double full_ms() const { return full_ms_; }
+  double cheap_ms() const { return cheap_ms_; }
+  std::string line_stats() {
+    if (!scene_.creases || !s_.layers.creases) return "line statistics measure creases: give a .dv, keep creases";
+    render(false);
+    return rr::line_stats_text(rr::frame_line_stats(scene_, *full_, last_, s_.frame, s_.style, s_.layers));
+  }
+
+  // The exact terrain-render command line of the current view writing `png`.
+  std::string command_line(const std::string& png) const {
+    return "terrain-render frame " + quoted(mesh_path_) + (dv_path_.empty() ? "" : " " + quoted(dv_path_)) + " -o " +
+           quoted(png) + rr::changed_options(s_);
+  }
+
+  // screenshot: the full frame of the current view as a PNG.
+  void screenshot(const std::string& png) {
+    const rr::FrameResult& f = render(false);
+    terrain::write_png(png, f.width, f.height, 4, f.rgba, "terrain-view: " + command_line(png));
+  }
+
+  // save-view: the PNG, the command line (printed and in PNG.txt) and the frames-CSV row
+  // (PNG.csv, with its header) of the current view.
+  void save_view(const std::string& png) {
+    screenshot(png);
+    const std::string cmd = command_line(png);
+    std::cout << cmd << "\n";
+    terrain::write_file_atomic(png + ".txt", cmd + "\n");
+    terrain::write_file_atomic(png + ".csv", rr::frames_csv({s_.frame}));
+  }
+
+  std::vector<rr::FrameParams> keyframes, frames;
+  std::size_t frame_index = 0;
+  std::string window_shot;          // window-shot PATH: the window (panel included) after its next draw
+  std::function<void()> before_gl;  // releases the window's context before the renderer's is made current
+
+ private:
+  std::string mesh_path_, dv_path_;
+  rr::RenderSettings s_;
+  const tt::Verbosity& verb_;
+  rr::GlContext gl_;
+  rr::Scene scene_;
+  std::unique_ptr<rr::TerrainRenderer> full_, cheap_;
+  rr::FrameResult last_;
+  bool last_cheap_ = false;
+  double full_ms_ = 0, cheap_ms_ = 0;
+  double home_fov_ = 35, home_alt_ = 30;
+};
+
+// One replay command (see --help); returns false at quit.
+bool run_command(Viewer& v, const std::string& line, int& wait_frames) {
+  std::istringstream in(line);
+  std::string cmd;
+  in >> cmd;
+  if (cmd.empty() || cmd[0] == '#') return true;
+  auto rest = [&] {
+    std::string r;
+    std::getline(in >> std::ws, r);
+    return r;
+  };
+  rr::Camera& c = v.settings().frame.camera;
+  const tt::ViewCamera cam = v.camera();
+  const auto centre = [&] {
+    const auto p = cam.pick(c, v.settings().width / 2.0, v.settings().height / 2.0);
+    if (!p) throw terrain::Error("the view's centre is not on the terrain");
+    return *p;
+  };
+  if (cmd == "camera") {
+    double e, n, z, az, alt, fov = c.fov;
+    if (!(in >> e >> n >> z >> az >> alt)) throw terrain::Error("camera E N Z AZ ALT [FOV]");
+    in >> fov;
+    c.eye = Eigen::Vector3d(e, n, z), c.view_az = az, c.view_alt = alt, c.fov = fov;
+  } else if (cmd == "orbit") {
+    double daz = 0, dalt = 0;
+    if (!(in >> daz >> dalt)) throw terrain::Error("orbit D_AZ D_ALT");
+    cam.orbit(c, centre(), daz, dalt);
+  } else if (cmd == "zoom") {
+    double share = 0;
+    if (!(in >> share)) throw terrain::Error("zoom SHARE");
+    cam.zoom(c, centre(), share);
+  } else if (cmd == "set") {
+    std::string name;
+    in >> name;
+    v.set(name, rest());
+  } else if (cmd == "layer") {
+    std::string name, state;
+    in >> name >> state;
+    if (state != "on" && state != "off") throw terrain::Error("layer NAME on|off");
+    const bool on = state == "on";
+    std::string out;
+    std::istringstream ls(rr::find_option("layers")->get(v.settings()));
+    for (std::string l; std::getline(ls, l, ',');)
+      if (l != name) out += (out.empty() ? "" : ",") + l;
+    if (on) out += (out.empty() ? "" : ",") + name;
+    v.set("layers", out);
+  } else if (cmd == "key") {
+    std::string k;
+    in >> k;
+    const double step = 0.02 * double(v.scene().mesh.topo.cols) * v.scene().mesh.geo.dx;
+    if (k == "home")
+      v.home();
+    else if (k == "w")
+      cam.fly(c, step, 0, 0);
+    else if (k == "s")
+      cam.fly(c, -step, 0, 0);
+    else if (k == "a")
+      cam.fly(c, 0, -step, 0);
+    else if (k == "d")
+      cam.fly(c, 0, step, 0);
+    else if (k == "q")
+      cam.fly(c, 0, 0, -step);
+    else if (k == "e")
+      cam.fly(c, 0, 0, step);
+    else if (k == "k")
+      v.keyframes.push_back(v.settings().frame);
+    else
+      throw terrain::Error("unknown key '" + k + "' (home w a s d q e k)");
+  } else if (cmd == "keyframe") {
+    v.keyframes.push_back(v.settings().frame);
+  } else if (cmd == "save-keyframes") {
+    std::string path;
+    int n = 60;
+    in >> path >> n;
+    terrain::write_file_atomic(path, rr::frames_csv(rr::keyframe_path(v.keyframes, n)));
+  } else if (cmd == "load-frames") {
+    v.frames = rr::read_frames_csv(rest(), v.settings().frame);
+    v.frame_index = 0;
+    v.settings().frame = v.frames[0];
+  } else if (cmd == "next-frame") {
+    if (v.frames.empty()) throw terrain::Error("next-frame: no frames loaded (load-frames PATH)");
+    v.frame_index = (v.frame_index + 1) % v.frames.size();
+    v.settings().frame = v.frames[v.frame_index];
+  } else if (cmd == "wait") {
+    in >> wait_frames;
+  } else if (cmd == "screenshot") {
+    v.screenshot(rest());
+  } else if (cmd == "window-shot") {  // offscreen: the frame alone
+    v.window_shot = rest();
+  } else if (cmd == "save-view") {
+    v.save_view(rest());
+  } else if (cmd == "line-stats") {
+    std::cout << v.line_stats();
+  } else if (cmd == "timings") {
+    const rr::FrameResult& f = v.render(false);
+    std::cout << fmt::format("full frame {}x{}: {:.1f} ms\n", f.width, f.height, v.full_ms());
+    v.render(true);
+    std::cout << fmt::format("cheap frame {}x{}: {:.1f} ms\n", v.last().width, v.last().height, v.cheap_ms());
+  } else if (cmd == "quit") {
+    return false;
+  } else {
+    throw terrain::Error("unknown replay command '" + cmd + "'");
+  }
+  return true;
+}
+
+std::vector<std::string> read_replay(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw terrain::Error("cannot read '" + path + "'");
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  return lines;
+}
+
+// The replay without a window.
+int run_offscreen(Viewer& v, const std::vector<std::string>& replay) {
+  int wait = 0;
+  for (std::size_t i = 0; i < replay.size(); ++i) {
+    try {
+      if (!run_command(v, replay[i], wait)) break;
+      if (!v.window_shot.empty()) v.screenshot(v.window_shot), v.window_shot.clear();
+    } catch (const terrain::Error& e) {
+      throw terrain::Error(fmt::format("replay line {}: {}", i + 1, e.what()));
+    }
+  }
+  return 0;
+}
+
+// The option panel, generated from the table: a widget per option, in its group.
+void option_panel(Viewer& v, std::string& message) {
+  rr::RenderSettings& s = v.settings();
+  std::vector<std::string> groups;  // in the order they first appear, as --help lists them
+  for (const rr::OptionSpec& o : rr::render_options())
+    if (std::find(groups.begin(), groups.end(), o.group) == groups.end()) groups.push_back(o.group);
+  for (const std::string& group : groups) {
+    if (!ImGui::CollapsingHeader(group.c_str(), group == "Frame" ? ImGuiTreeNodeFlags_DefaultOpen : 0)) continue;
+    for (const rr::OptionSpec& o : rr::render_options()) {
+      if (o.group != group) continue;
+      const std::string label = o.name + (o.unit.empty() ? "" : " (" + o.unit + ")");
+      std::string value = o.get(s), next;
+      switch (o.type) {
+        case rr::OptionType::Number: {
+          float f = value == "auto" ? -1.0f : std::stof(value);
+          const bool bounded = o.max < 1e6;
+          if (bounded ? ImGui::SliderFloat(label.c_str(), &f, float(o.min), float(o.max))
+                      : ImGui::DragFloat(label.c_str(), &f, 1.0f))
+            next = fmt::format("{}", f);
+          break;
+        }
+        case rr::OptionType::Integer: {
+          int i = std::stoi(value);
+          if (o.max < 1e6 ? ImGui::SliderInt(label.c_str(), &i, int(o.min), int(o.max))
+                          : ImGui::DragInt(label.c_str(), &i, 1.0f, int(o.min), 1 << 30))
+            next = std::to_string(i);
+          break;
+        }
+        case rr::OptionType::Bool: {
+          bool b = value == "true";
+          if (ImGui::Checkbox(label.c_str(), &b)) next = b ? "true" : "false";
+          break;
+        }
+        case rr::OptionType::Enum:
+          if (ImGui::BeginCombo(label.c_str(), value.c_str())) {
+            for (const std::string& c : o.choices)
+              if (ImGui::Selectable(c.c_str(), c == value)) next = c;
+            ImGui::EndCombo();
+          }
+          break;
+        case rr::OptionType::Colour: {
+          float rgb[3];
+          std::sscanf(value.c_str(), "%f,%f,%f", &rgb[0], &rgb[1], &rgb[2]);
+          for (float& x : rgb) x /= 255.0f;
+          if (ImGui::ColorEdit3(label.c_str(), rgb))
+            next = fmt::format("{},{},{}", rgb[0] * 255.0f, rgb[1] * 255.0f, rgb[2] * 255.0f);
+          break;
+        }
+        case rr::OptionType::List: {
+          ImGui::TextUnformatted(label.c_str());
+          for (const std::string& c : o.choices) {
+            bool on = ("," + value + ",").find("," + c + ",") != std::string::npos;
+            ImGui::SameLine();
+            if (ImGui::Checkbox((c + "##" + o.name).c_str(), &on)) {
+              std::string list;
+              for (const std::string& d : o.choices) {
+                const bool has = d == c ? on : ("," + value + ",").find("," + d + ",") != std::string::npos;
+                if (has) list += (list.empty() ? "" : ",") + d;
+              }
+              next = list;
+            }
+          }
+          break;
+        }
+        case rr::OptionType::Size:
+        case rr::OptionType::Point:
+          ImGui::Text("%s: %s", o.name.c_str(), value.c_str());
+          break;
+      }
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", o.help.c_str());
+      if (!next.empty()) {
+        try {
+          v.set(o.name, next);
+          message.clear();
+        } catch (const terrain::Error& e) {
+          message = "--" + o.name + ": " + e.what();
+        }
+      }
+    }
+  }
+}
+
+int run_window(Viewer& v, const std::vector<std::string>& replay, const std::string& save_dir) {
+  if (!glfwInit()) throw terrain::Error("cannot open a window (no display? use --offscreen)");
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  rr::RenderSettings& s = v.settings();
+  v.gl().release_current();  // GLFW makes its context current while it creates the window
+  GLFWwindow* window = glfwCreateWindow(s.width, s.height, "terrain-view", nullptr, nullptr);
+  if (!window) {
+    glfwTerminate();
+    throw terrain::Error("cannot open a window (no display? use --offscreen)");
+  }
+  v.before_gl = [] { glfwMakeContextCurrent(nullptr); };
+  glfwMakeContextCurrent(window);
+  glfwSwapInterval(1);
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;
+  ImGui_ImplGlfw_InitForOpenGL(window, true);
+  ImGui_ImplOpenGL3_Init("#version 330");
+  GLuint texture = 0;
+  glGenTextures(1, &texture);
+
+  std::string message, stats;
+  std::size_t next_line = 0;
+  int wait = 0, saved = 0;
+  bool dirty = true, running = true;
+  auto last_input = Clock::now() - std::chrono::seconds(1);
+  double last_x = 0, last_y = 0;
+  std::optional<Eigen::Vector3d> pivot;
+  while (running && !glfwWindowShouldClose(window)) {
+    glfwPollEvents();
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    const ImGuiIO& io = ImGui::GetIO();
+    rr::Camera& c = s.frame.camera;
+    const rr::RenderSettings before = s;
+    const tt::ViewCamera cam = v.camera();
+    // Camera: left drag orbits about the terrain point under the cursor, right or middle
+    // drag pans, the wheel zooms towards it; W/A/S/D, Q/E fly (Shift: faster); Home; K.
+    double mx = 0, my = 0;
+    glfwGetCursorPos(window, &mx, &my);
+    if (!io.WantCaptureMouse) {
+      const bool any = ImGui::IsMouseDown(0) || ImGui::IsMouseDown(1) || ImGui::IsMouseDown(2);
+      if (any && !pivot) pivot = cam.pick(c, mx, my);
+      if (!any) pivot.reset();
+      if (pivot && ImGui::IsMouseDown(0)) cam.orbit(c, *pivot, 0.3 * (mx - last_x), 0.3 * (my - last_y));
+      if (pivot && (ImGui::IsMouseDown(1) || ImGui::IsMouseDown(2))) cam.pan(c, *pivot, mx - last_x, my - last_y);
+      if (io.MouseWheel != 0)
+        if (const auto p = cam.pick(c, mx, my)) cam.zoom(c, *p, io.MouseWheel > 0 ? 0.15 : -0.15);
+    }
+    last_x = mx, last_y = my;
+    if (!io.WantCaptureKeyboard) {
+      const double step = (io.KeyShift ? 0.05 : 0.01) * double(s.width) / 100 * v.scene().mesh.geo.dx;
+      const auto down = [&](int k) { return glfwGetKey(window, k) == GLFW_PRESS; };
+      cam.fly(c, step * (down(GLFW_KEY_W) - down(GLFW_KEY_S)), step * (down(GLFW_KEY_D) - down(GLFW_KEY_A)),
+              step * (down(GLFW_KEY_E) - down(GLFW_KEY_Q)));
+      if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Home))) v.home();
+      if (ImGui::IsKeyPressed(GLFW_KEY_K, false)) v.keyframes.push_back(s.frame);
+      if (ImGui::IsKeyPressed(GLFW_KEY_N, false) && !v.frames.empty()) {
+        v.frame_index = (v.frame_index + 1) % v.frames.size();
+        s.frame = v.frames[v.frame_index];
+      }
+    }
+
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(380, float(s.height) - 16), ImGuiCond_FirstUseEver);
+    ImGui::Begin("terrain-view");
+    const rr::FrameTimings& t = v.last().timings;
+    ImGui::Text("%s frame %dx%d: %.1f ms (%.1f fps)", v.last_was_cheap() ? "cheap" : "full", v.last().width,
+                v.last().height, v.last_was_cheap() ? v.cheap_ms() : v.full_ms(),
+                1000.0 / std::max(1e-3, v.last_was_cheap() ? v.cheap_ms() : v.full_ms()));
+    std::string passes;
+    for (int p = 0; p < rr::kPassCount; ++p) passes += fmt::format("{} {:.1f}  ", rr::pass_name(p), t.gpu_ms[p]);
+    ImGui::TextWrapped("GL ms: %s", passes.c_str());
+    if (c.eye)
+      ImGui::Text("eye %.0f %.0f %.0f  az %.1f alt %.1f", c.eye->x(), c.eye->y(), c.eye->z(), c.view_az, c.view_alt);
+    if (ImGui::Button("Line statistics")) stats = v.line_stats();
+    ImGui::SameLine();
+    if (ImGui::Button("Save view"))
+      v.save_view((std::filesystem::path(save_dir) / fmt::format("view_{:03d}.png", saved++)).string());
+    ImGui::SameLine();
+    if (ImGui::Button("Keyframe (K)")) v.keyframes.push_back(s.frame);
+    if (v.keyframes.size() >= 2 && ImGui::Button("Save keyframes"))
+      terrain::write_file_atomic((std::filesystem::path(save_dir) / "keyframes.csv").string(),
+                                 rr::frames_csv(rr::keyframe_path(v.keyframes, 60)));
+    if (!stats.empty()) ImGui::TextUnformatted(stats.c_str());
+    if (!message.empty()) ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "%s", message.c_str());
+    option_panel(v, message);
+    ImGui::End();
+
+    // The replay: one command a frame, `wait N` skips N frames.
+    if (wait > 0) {
+      --wait;
+    } else if (next_line < replay.size()) {
+      try {
+        running = run_command(v, replay[next_line], wait);
+      } catch (const terrain::Error& e) {
+        throw terrain::Error(fmt::format("replay line {}: {}", next_line + 1, e.what()));
+      }
+      ++next_line;
+    }
+    const bool changed = rr::changed_options(before) != rr::changed_options(s);
+    if (changed) last_input = Clock::now(), dirty = true;
+    // While input moves the view and a full frame is slow (> 50 ms), the half-size frame;
+    // the full frame once the input has been still for 200 ms.
+    const bool moving = ms_since(last_input) < 200;
+    if (dirty || (!moving && v.last_was_cheap())) {
+      v.render(moving && v.full_ms() > 50);
+      dirty = false;
+      const rr::FrameResult& f = v.last();
+      v.gl().release_current();
+      glfwMakeContextCurrent(window);
+      glBindTexture(GL_TEXTURE_2D, texture);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, f.width, f.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, f.rgba.data());
+    }
+    v.gl().release_current();
+    glfwMakeContextCurrent(window);
+    ImGui::GetBackgroundDrawList()->AddImage(reinterpret_cast<ImTextureID>(std::uintptr_t(texture)), ImVec2(0, 0),
+                                             io.DisplaySize);
+    ImGui::Render();
+    int fw = 0, fh = 0;
+    glfwGetFramebufferSize(window, &fw, &fh);
+    glViewport(0, 0, fw, fh);
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    if (!v.window_shot.empty() && !dirty) {
+      std::vector<std::uint8_t> rgba(std::size_t(fw) * std::size_t(fh) * 4), flipped(rgba.size());
+      glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      glReadPixels(0, 0, fw, fh, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+      const std::size_t row = std::size_t(fw) * 4;
+      for (int y = 0; y < fh; ++y)
+        std::copy_n(rgba.data() + std::size_t(fh - 1 - y) * row, row, flipped.data() + std::size_t(y) * row);
+      for (std::size_t i = 3; i < flipped.size(); i += 4) flipped[i] = 255;
+      terrain::write_png(v.window_shot, fw, fh, 4, flipped, "terrain-view window");
+      v.window_shot.clear();
+    }
+    glfwSwapBuffers(window);
+  }
+  glDeleteTextures(1, &texture);
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(window);
+  glfwTerminate();
+  v.before_gl = nullptr;
+  v.gl().make_current();  // the renderers free their GL objects in their own context
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Interactive terrain viewer: draws what terrain-render frame draws, with every render option\n"
+      "on a panel, camera moves, saved views and keyframes.",
+      "terrain-view"};
+  app.footer(
+      "Mouse: left drag orbits about the terrain point under the cursor, right or middle drag pans, the wheel\n"
+      "zooms towards it. Keys: W/A/S/D fly, Q/E down/up (Shift: faster), Home: the default view, K: a\n"
+      "keyframe, N: the next frame of --frames.\n\n"
+      "Replay commands (--replay FILE, one a line): camera E N Z AZ ALT [FOV] | orbit D_AZ D_ALT | zoom SHARE |\n"
+      "set NAME VALUE | layer NAME on|off | key home|w|a|s|d|q|e|k | keyframe | save-keyframes PATH [N] |\n"
+      "load-frames PATH | next-frame | wait N | screenshot PATH | window-shot PATH | save-view PATH | line-stats |\n"
+      "timings | quit\n\n"
+      "Examples:\n"
+      "  terrain-view out/msh_50m.ply out/msh_breached.dv\n"
+      "  terrain-view out/msh_50m.ply out/msh_breached.dv --replay tour.txt --offscreen\n"
+      "  terrain-view --list-options\n\n"
+      "See docs/terrain-view.md.");
+  app.set_version_flag("--version", tt::version());
+  std::string mesh, dv, replay_path, frames_path, save_dir = ".";
+  bool offscreen = false, list = false;
+  tt::Verbosity verb;
+  tt::TableArgs opts;
+  app.add_option("MESH", mesh, "Mesh (.ply from dem2mesh)");
+  app.add_option("DV", dv, "Drainage database (.dv from build-drainage); no creases without it");
+  app.add_option("--replay", replay_path, "Run the commands of this file (see below)");
+  app.add_flag("--offscreen", offscreen, "No window: run the replay through EGL only (a machine without a display)");
+  app.add_option("--frames", frames_path, "A frames CSV to step through (N, or next-frame)");
+  app.add_option("--save-dir", save_dir, "Where the panel's Save buttons write")->capture_default_str();
+  app.add_flag("--list-options", list, "Print the panel's options (name, group, type, default) and exit");
+  tt::add_verbosity_flags(app, verb);
+  tt::add_table_options(&app, opts, false);
+
+  return tt::run_main(app, argc, argv, [&]() -> int {
+    if (list) {
+      for (const rr::OptionSpec& o : rr::render_options())
+        std::cout << o.name << "\t" << o.group << "\t" << int(o.type) << "\t" << o.default_text << "\n";
+      return 0;
+    }
+    if (mesh.empty()) throw CLI::ValidationError("MESH", "give a mesh (.ply)");
+    if (offscreen && replay_path.empty()) throw CLI::ValidationError("--offscreen", "needs --replay FILE");
+    const std::vector<std::string> replay = replay_path.empty() ? std::vector<std::string>{} : read_replay(replay_path);
+    Viewer v(mesh, dv, tt::settings_of(opts), verb);
+    if (!frames_path.empty()) {
+      v.frames = rr::read_frames_csv(frames_path, v.settings().frame);
+      v.settings().frame = v.frames[0];
+    }
+    return offscreen ? run_offscreen(v, replay) : run_window(v, replay, save_dir);
+  });
+}
