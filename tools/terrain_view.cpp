@@ -117,27 +117,19 @@ class Viewer {
     return rr::line_stats_text(rr::frame_line_stats(scene_, *full_, last_, s_.frame, s_.style, s_.layers));
   }
 
-  // The exact terrain-render command line of the current view writing `png`.
-  std::string command_line(const std::string& png) const {
+  // The exact terrain-render command line of view `s` writing `png`.
+  std::string command_line(const std::string& png, const rr::RenderSettings& s) const {
     return "terrain-render frame " + quoted(mesh_path_) + (dv_path_.empty() ? "" : " " + quoted(dv_path_)) + " -o " +
-           quoted(png) + rr::changed_options(s_);
+           quoted(png) + rr::changed_options(s);
   }
 
-  // screenshot: the full frame of the current view as a PNG.
-  void screenshot(const std::string& png) {
-    const rr::FrameResult& f = render(false);
-    terrain::write_png(png, f.width, f.height, 4, f.rgba, "terrain-view: " + command_line(png));
-  }
+  // screenshot: the full frame of the current view as a PNG, at the window's size or at
+  // `size` (WxH, any size the device draws: a renderer of that size for this frame).
+  void screenshot(const std::string& png, const std::string& size = "") { save(png, size, false); }
 
   // save-view: the PNG, the command line (printed and in PNG.txt) and the frames-CSV row
   // (PNG.csv, with its header) of the current view.
-  void save_view(const std::string& png) {
-    screenshot(png);
-    const std::string cmd = command_line(png);
-    std::cout << cmd << "\n";
-    terrain::write_file_atomic(png + ".txt", cmd + "\n");
-    terrain::write_file_atomic(png + ".csv", rr::frames_csv({s_.frame}));
-  }
+  void save_view(const std::string& png, const std::string& size = "") { save(png, size, true); }
 
   std::vector<rr::FrameParams> keyframes, frames;
   std::size_t frame_index = 0;
@@ -146,6 +138,26 @@ class Viewer {
 
  private:
   std::string mesh_path_, dv_path_;
+  void save(const std::string& png, const std::string& size, bool with_command) {
+    rr::RenderSettings at = s_;
+    if (!size.empty()) rr::set_option(at, *rr::find_option("size"), size);
+    if (at.width == s_.width && at.height == s_.height) {
+      render(false);
+    } else {
+      if (before_gl) before_gl();
+      gl_.make_current();
+      rr::TerrainRenderer r(gl_, scene_.mesh, scene_.creases ? &*scene_.creases : nullptr, at.width, at.height,
+                            at.layers, at.style);
+      last_ = r.render(at.frame);
+    }
+    const std::string cmd = command_line(png, at);
+    terrain::write_png(png, last_.width, last_.height, 4, last_.rgba, "terrain-view: " + cmd);
+    if (!with_command) return;
+    std::cout << cmd << "\n";
+    terrain::write_file_atomic(png + ".txt", cmd + "\n");
+    terrain::write_file_atomic(png + ".csv", rr::frames_csv({at.frame}));
+  }
+
   rr::RenderSettings s_;
   const tt::Verbosity& verb_;
   rr::GlContext gl_;
@@ -242,12 +254,12 @@ bool run_command(Viewer& v, const std::string& line, int& wait_frames) {
     v.settings().frame = v.frames[v.frame_index];
   } else if (cmd == "wait") {
     in >> wait_frames;
-  } else if (cmd == "screenshot") {
-    v.screenshot(rest());
+  } else if (cmd == "screenshot" || cmd == "save-view") {
+    std::string path, size;
+    in >> path >> size;
+    cmd == "screenshot" ? v.screenshot(path, size) : v.save_view(path, size);
   } else if (cmd == "window-shot") {  // offscreen: the frame alone
     v.window_shot = rest();
-  } else if (cmd == "save-view") {
-    v.save_view(rest());
   } else if (cmd == "line-stats") {
     std::cout << v.line_stats();
   } else if (cmd == "timings") {
@@ -390,7 +402,7 @@ int run_window(Viewer& v, const std::vector<std::string>& replay, const std::str
   GLuint texture = 0;
   glGenTextures(1, &texture);
 
-  std::string message, stats;
+  std::string message, stats, save_size = fmt::format("{}x{}", v.settings().width, v.settings().height);
   std::size_t next_line = 0;
   int wait = 0, saved = 0;
   bool dirty = true, running = true;
@@ -447,8 +459,18 @@ int run_window(Viewer& v, const std::vector<std::string>& replay, const std::str
       ImGui::Text("eye %.0f %.0f %.0f  az %.1f alt %.1f", c.eye->x(), c.eye->y(), c.eye->z(), c.view_az, c.view_alt);
     if (ImGui::Button("Line statistics")) stats = v.line_stats();
     ImGui::SameLine();
-    if (ImGui::Button("Save view"))
-      v.save_view((std::filesystem::path(save_dir) / fmt::format("view_{:03d}.png", saved++)).string());
+    if (ImGui::Button("Save view")) {
+      try {
+        v.save_view((std::filesystem::path(save_dir) / fmt::format("view_{:03d}.png", saved++)).string(), save_size);
+      } catch (const terrain::Error& e) {
+        message = e.what();
+      }
+    }
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(90);
+    char size_text[32];
+    std::snprintf(size_text, sizeof size_text, "%s", save_size.c_str());
+    if (ImGui::InputText("size", size_text, sizeof size_text)) save_size = size_text;
     ImGui::SameLine();
     if (ImGui::Button("Keyframe (K)")) v.keyframes.push_back(s.frame);
     if (v.keyframes.size() >= 2 && ImGui::Button("Save keyframes"))
@@ -535,7 +557,7 @@ int main(int argc, char** argv) {
       "keyframe, N: the next frame of --frames.\n\n"
       "Replay commands (--replay FILE, one a line): camera E N Z AZ ALT [FOV] | orbit D_AZ D_ALT | zoom SHARE |\n"
       "set NAME VALUE | layer NAME on|off | key home|w|a|s|d|q|e|k | keyframe | save-keyframes PATH [N] |\n"
-      "load-frames PATH | next-frame | wait N | screenshot PATH | window-shot PATH | save-view PATH | line-stats |\n"
+      "load-frames PATH | next-frame | wait N | screenshot PATH [WxH] | window-shot PATH | save-view PATH [WxH] | line-stats |\n"
       "timings | quit\n\n"
       "Examples:\n"
       "  terrain-view out/msh_50m.ply out/msh_breached.dv\n"

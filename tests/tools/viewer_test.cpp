@@ -40,7 +40,8 @@ void check_viewer(bool window) {
   const std::string mesh = dir.path("m.ply"), dv = dir.path("m.dv"), size = " --size 320x180";
   ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh + " --spacing 50 -q").exit_code, 0);
   ASSERT_EQ(run(tool("build-drainage") + " " + mesh + " " + dv + " --breach 10 -q").exit_code, 0);
-  std::string replay = "screenshot " + dir.path("home.png") + "\nsave-view " + dir.path("view.png") + "\n" +
+  std::string replay = "screenshot " + dir.path("home.png") + "\nsave-view " + dir.path("view.png") + "\nsave-view " +
+                       dir.path("big.png") + " 400x240\n" +
                        "keyframe\norbit 30 0\nkeyframe\norbit 30 5\nkeyframe\nsave-keyframes " + dir.path("keys.csv") +
                        " 5\nkey home\n";
   for (std::size_t i = 0; i < kChanges.size(); ++i) {
@@ -58,15 +59,19 @@ void check_viewer(bool window) {
   const std::string render = tool("terrain-render") + " frame " + mesh + " " + dv + size + " -q -o ";
   ASSERT_EQ(run(render + dir.path("cli_home.png")).exit_code, 0);
   EXPECT_TRUE(same_picture(dir.path("home.png"), dir.path("cli_home.png"))) << "the default view";
-  // The saved command line, run as it is (its output renamed), gives the same PNG.
+  // The saved command lines (at the window's size and at 400 x 240), run as they are
+  // (their output renamed), give the same PNGs.
   EXPECT_EQ(v.out.rfind("terrain-render frame", 0), 0u) << "save-view prints the command line: " << v.out;
-  std::string cmd = file_bytes(dir.path("view.png.txt"));
-  ASSERT_FALSE(cmd.empty());
-  cmd.replace(cmd.find("terrain-render"), 14, tool("terrain-render"));
-  cmd.replace(cmd.find(dir.path("view.png")), dir.path("view.png").size(), dir.path("cmd.png"));
-  cmd.pop_back();  // the newline
-  ASSERT_EQ(run(cmd + " -q").exit_code, 0) << cmd;
-  EXPECT_TRUE(same_picture(dir.path("view.png"), dir.path("cmd.png"))) << cmd;
+  for (const std::string saved : {"view", "big"}) {
+    std::string cmd = file_bytes(dir.path(saved + ".png.txt"));
+    ASSERT_FALSE(cmd.empty()) << saved;
+    cmd.replace(cmd.find("terrain-render"), 14, tool("terrain-render"));
+    cmd.replace(cmd.find(dir.path(saved + ".png")), dir.path(saved + ".png").size(), dir.path("cmd.png"));
+    cmd.pop_back();  // the newline
+    ASSERT_EQ(run(cmd + " -q").exit_code, 0) << cmd;
+    EXPECT_TRUE(same_picture(dir.path(saved + ".png"), dir.path("cmd.png"))) << cmd;
+  }
+  EXPECT_NE(file_bytes(dir.path("big.png.txt")).find("--size '400x240'"), std::string::npos);
   // The keyframes: a frames CSV of 5 frames that batch renders.
   const auto b = run(tool("terrain-render") + " batch " + mesh + " " + dv + " " + dir.path("keys.csv") + " -o " +
                      dir.path("kf") + size + " -q");

@@ -92,8 +92,9 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
 // build-drainage --raster / --d8-input with --tile-size: the whole raster mode tile by
 // tile, from GDAL windows of the input to a .dv version 2 with one block per tile (so
 // that a window of it reads whole tiles). With `fill`, the filled surface is kept in a
-// temporary GeoTIFF next to the output, and with resolve_flats the resolved codes in
-// another (both removed at the end). A flat inside a tile is resolved with its tile; a flat
+// temporary raw array in the run's private scratch folder, and with resolve_flats the
+// resolved codes in another (both removed at the end, on an error and on SIGINT/SIGTERM).
+// The defaults are DrainageOptions' (pipeline.hpp): flats resolved, no fill. A flat inside a tile is resolved with its tile; a flat
 // that crosses tile edges is joined across tiles and resolved in a window of its bounding
 // box (so a flat's bounding box must fit in memory). Each flat's directions depend on that
 // flat alone, so the result equals resolve_flats on the whole grid.
@@ -101,7 +102,7 @@ struct TiledRun {
   std::string dem, d8;                  // inputs: a DEM, or D8 codes in `encoding`, not both
   D8Encoding encoding = D8Encoding::Taudem;
   std::size_t tile = 0;                 // tile side in samples (>= 1, <= 16384)
-  bool fill = false, resolve_flats = false;
+  bool fill = false, resolve_flats = true;
   std::string provenance;
 };
 struct TiledSummary {
