@@ -92,15 +92,17 @@ class Viewer {
     gl_.make_current();
     const rr::CreaseGeometry* creases = scene_.creases ? &*scene_.creases : nullptr;
     full_ = std::make_unique<rr::TerrainRenderer>(gl_, scene_.mesh, creases, s_.width, s_.height, s_.layers, s_.style);
-    const int cw = std::max(16, s_.width / 2), ch = std::max(16, s_.height / 2);
-    rr::Style cheap_style = s_.style;
-    cheap_ = std::make_unique<rr::TerrainRenderer>(gl_, scene_.mesh, creases, cw, ch, s_.layers, cheap_style);
+    cheap_.reset();  // made when a cheap frame is first drawn
   }
 
   // A frame: full size, or the cheap half-size one.
   const rr::FrameResult& render(bool cheap) {
     if (before_gl) before_gl();
     gl_.make_current();
+    if (cheap && !cheap_)
+      cheap_ = std::make_unique<rr::TerrainRenderer>(gl_, scene_.mesh, scene_.creases ? &*scene_.creases : nullptr,
+                                                     std::max(16, s_.width / 2), std::max(16, s_.height / 2),
+                                                     s_.layers, s_.style);
     const auto t0 = Clock::now();
     last_ = (cheap ? cheap_ : full_)->render(s_.frame);
     (cheap ? cheap_ms_ : full_ms_) = ms_since(t0);

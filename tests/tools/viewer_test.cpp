@@ -35,6 +35,8 @@ const std::vector<std::vector<std::pair<std::string, std::string>>> kChanges = {
     {{"layers", "shaded,creases"}}, {{"layers", "mask,edges"}, {"edges", "contour"}},  // lists
 };
 
+// The window test replays everything; the offscreen one the default view and a saved
+// view (the same commands run either way; the sanitizer build runs both).
 void check_viewer(bool window) {
   terrain::test::ScratchDir dir;
   const std::string mesh = dir.path("m.ply"), dv = dir.path("m.dv"), size = " --size 320x180";
@@ -44,7 +46,7 @@ void check_viewer(bool window) {
                        dir.path("big.png") + " 400x240\n" +
                        "keyframe\norbit 30 0\nkeyframe\norbit 30 5\nkeyframe\nsave-keyframes " + dir.path("keys.csv") +
                        " 5\nkey home\n";
-  for (std::size_t i = 0; i < kChanges.size(); ++i) {
+  for (std::size_t i = 0; window && i < kChanges.size(); ++i) {
     for (const auto& [name, value] : kChanges[i]) replay += "set " + name + " " + value + "\n";
     replay += "screenshot " + dir.path("set" + std::to_string(i) + ".png") + "\n";
     for (const auto& [name, value] : kChanges[i])
@@ -79,7 +81,7 @@ void check_viewer(bool window) {
   EXPECT_TRUE(std::filesystem::exists(dir.path("kf/frame_00004.png")));
   EXPECT_FALSE(std::filesystem::exists(dir.path("kf/frame_00005.png")));
   // Each option set in the viewer draws what the CLI option draws, and changes the frame.
-  for (std::size_t i = 0; i < kChanges.size(); ++i) {
+  for (std::size_t i = 0; window && i < kChanges.size(); ++i) {
     std::string options;
     for (const auto& [name, value] : kChanges[i])
       options += " --" + name + (value == "true" ? std::string() : " '" + value + "'");  // a flag takes no value
