@@ -1,5 +1,7 @@
 #include "terrain/atomic_file.hpp"
 
+#include <pthread.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -107,7 +109,20 @@ void OutputSet::write(const std::function<void()>& write) {
 }
 
 void OutputSet::commit() {
-  for (auto& f : files_) f->commit();
+  // The renames are one step for SIGINT/SIGTERM/SIGHUP: blocked until the last is done, so
+  // an interrupt leaves every output new or every output old (temp_files.hpp's handler then
+  // runs, with nothing left to remove).
+  sigset_t block, old;
+  sigemptyset(&block);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&block, sig);
+  pthread_sigmask(SIG_BLOCK, &block, &old);
+  try {
+    for (auto& f : files_) f->commit();
+  } catch (...) {
+    pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    throw;
+  }
+  pthread_sigmask(SIG_SETMASK, &old, nullptr);
 }
 
 }  // namespace terrain
