@@ -1,7 +1,5 @@
 #include "terrain/atomic_file.hpp"
 
-#include <pthread.h>
-#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -109,20 +107,10 @@ void OutputSet::write(const std::function<void()>& write) {
 }
 
 void OutputSet::commit() {
-  // The renames are one step for SIGINT/SIGTERM/SIGHUP: blocked until the last is done, so
-  // an interrupt leaves every output new or every output old (temp_files.hpp's handler then
-  // runs, with nothing left to remove).
-  sigset_t block, old;
-  sigemptyset(&block);
-  for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&block, sig);
-  pthread_sigmask(SIG_BLOCK, &block, &old);
-  try {
-    for (auto& f : files_) f->commit();
-  } catch (...) {
-    pthread_sigmask(SIG_SETMASK, &old, nullptr);
-    throw;
-  }
-  pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  // The renames are one step for SIGINT/SIGTERM/SIGHUP: an interrupt waits until the last
+  // is done, so it leaves every output new or every output old.
+  const DeferInterrupts one_step;
+  for (auto& f : files_) f->commit();
 }
 
 }  // namespace terrain

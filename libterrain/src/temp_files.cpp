@@ -59,7 +59,13 @@ void remove_folder_in_handler(const char* path) {
   ::rmdir(path);
 }
 
+std::atomic<int> deferring{0}, pending{0};
+
 void on_signal(int sig) {
+  if (deferring.load() > 0) {  // a DeferInterrupts is alive: it cleans up and re-raises
+    pending.store(sig);
+    return;
+  }
   const int saved = errno;
   for (Slot& s : slots)
     if (s.state.load(std::memory_order_acquire) == kFile) ::unlink(s.path);
@@ -109,6 +115,13 @@ void install_interrupt_cleanup() {
       ::sigaction(sig, &sa, nullptr);
     }
   });
+}
+
+DeferInterrupts::DeferInterrupts() { ++deferring; }
+
+DeferInterrupts::~DeferInterrupts() {
+  if (--deferring == 0)
+    if (const int sig = pending.exchange(0)) on_signal(sig);
 }
 
 TempRegistration::TempRegistration(const fs::path& path, bool folder) {

@@ -20,6 +20,18 @@ namespace terrain {
 // status still says which signal ended it. Idempotent; every tool calls it at start.
 void install_interrupt_cleanup();
 
+// While alive, SIGINT/SIGTERM/SIGHUP wait: the handler only notes the signal, and the
+// destructor of the last DeferInterrupts then cleans up and ends the process by it. Made
+// around the renames of a set of outputs, so that an interrupt leaves every output new or
+// every output old (a mask would not do: the signal may reach any thread).
+class DeferInterrupts {
+ public:
+  DeferInterrupts();
+  ~DeferInterrupts();
+  DeferInterrupts(const DeferInterrupts&) = delete;
+  DeferInterrupts& operator=(const DeferInterrupts&) = delete;
+};
+
 // While alive, `path` is removed if the process is interrupted (see above). Registering
 // does not create anything; destroying the registration does not remove anything.
 class TempRegistration {
