@@ -73,18 +73,22 @@ class Viewer {
     s_.frame.light = rv.light;
   }
 
-  // Sets one option by the table; the renderers or the creases are rebuilt when it needs.
+  // Sets one option by the table; the renderers (or the creases) are rebuilt when it needs,
+  // at the next frame (a slider dragged over several values, or several options set at
+  // once, rebuild once).
   void set(const std::string& name, const std::string& value) {
     const rr::OptionSpec* o = rr::find_option(name);
     if (!o) throw terrain::Error("no option '" + name + "' (terrain-view --list-options)");
     rr::set_option(s_, *o, value);
     rr::validate(s_);
-    if (o->group == "Crease network" && !dv_path_.empty()) {
-      scene_ = rr::load_scene(mesh_path_, dv_path_, s_.rules);
-      rebuild();
-    } else if (!o->per_frame && o->name != "eye") {
-      rebuild();
-    }
+    if (o->group == "Crease network" && !dv_path_.empty()) creases_stale_ = stale_ = true;
+    else if (!o->per_frame && o->name != "eye") stale_ = true;
+  }
+
+  void bring_up_to_date() {
+    if (creases_stale_) scene_ = rr::load_scene(mesh_path_, dv_path_, s_.rules);
+    if (stale_) rebuild();
+    creases_stale_ = stale_ = false;
   }
 
   void rebuild() {
@@ -97,6 +101,7 @@ class Viewer {
 
   // A frame: full size, or the cheap half-size one.
   const rr::FrameResult& render(bool cheap) {
+    bring_up_to_date();
     if (before_gl) before_gl();
     gl_.make_current();
     if (cheap && !cheap_)
@@ -141,6 +146,7 @@ class Viewer {
  private:
   std::string mesh_path_, dv_path_;
   void save(const std::string& png, const std::string& size, bool with_command) {
+    bring_up_to_date();
     rr::RenderSettings at = s_;
     if (!size.empty()) rr::set_option(at, *rr::find_option("size"), size);
     if (at.width == s_.width && at.height == s_.height) {
@@ -169,6 +175,7 @@ class Viewer {
   bool last_cheap_ = false;
   double full_ms_ = 0, cheap_ms_ = 0;
   double home_fov_ = 35, home_alt_ = 30;
+  bool stale_ = false, creases_stale_ = false;  // set() changed what the renderers or creases hold
 };
 
 // One replay command (see --help); returns false at quit.
