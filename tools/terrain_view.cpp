@@ -442,7 +442,8 @@ int run_window(Viewer& v, const std::vector<std::string>& replay, const std::str
     }
     last_x = mx, last_y = my;
     if (!io.WantCaptureKeyboard) {
-      const double step = (io.KeyShift ? 0.05 : 0.01) * double(s.width) / 100 * v.scene().mesh.geo.dx;
+      // Per drawn frame: 0.5 % of the terrain's width (Shift: 2.5 %), as a replay's key moves 2 %.
+      const double step = (io.KeyShift ? 0.025 : 0.005) * double(v.scene().mesh.topo.cols) * v.scene().mesh.geo.dx;
       const auto down = [&](int k) { return glfwGetKey(window, k) == GLFW_PRESS; };
       cam.fly(c, step * (down(GLFW_KEY_W) - down(GLFW_KEY_S)), step * (down(GLFW_KEY_D) - down(GLFW_KEY_A)),
               step * (down(GLFW_KEY_E) - down(GLFW_KEY_Q)));
