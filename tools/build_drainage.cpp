@@ -184,8 +184,8 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
     if (!raster_mode) {
       const terrain::GridMesh mesh = terrain::read_mesh_ply(positional[0]);
       tt::step(verb, fmt::format("read mesh {} x {}: {:.2f} s", mesh.topo.cols, mesh.topo.rows, seconds()));
-      const double cells = (std::floor(double(mesh.topo.cols - 1) * mesh.geo.dx / spacing) + 1) *
-                           (std::floor(double(mesh.topo.rows - 1) * mesh.geo.dy / spacing) + 1);
+      const auto [nx, ny] = terrain::sampled_size(mesh, spacing);
+      const double cells = double(nx) * double(ny);
       terrain::check_memory(cells * per_cell, fmt::format("sampling the mesh at {:g} m ({:.0f} points)", spacing, cells),
                             "give a coarser --spacing");
       t0 = clock::now();

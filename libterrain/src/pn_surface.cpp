@@ -96,11 +96,15 @@ std::optional<SurfacePoint> pn_point_above(const GridMesh& mesh, double x, doubl
   return SurfacePoint{w.face, s.b1, s.b2, s.b3, s.position, pn_normal(face_patch(mesh, w.face), s.b1, s.b2, s.b3)};
 }
 
+std::pair<std::size_t, std::size_t> sampled_size(const GridMesh& mesh, double spacing) {
+  const double width = double(mesh.topo.cols - 1) * mesh.geo.dx, height = double(mesh.topo.rows - 1) * mesh.geo.dy;
+  return {std::size_t(std::floor(width / spacing + 1e-9)) + 1, std::size_t(std::floor(height / spacing + 1e-9)) + 1};
+}
+
 SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Progress& progress) {
   if (!(spacing > 0.0 && std::isfinite(spacing))) throw Error("the sampling spacing must be a positive number of metres");
   const double width = double(mesh.topo.cols - 1) * mesh.geo.dx, height = double(mesh.topo.rows - 1) * mesh.geo.dy;
-  const std::size_t nx = std::size_t(std::floor(width / spacing + 1e-9)) + 1;
-  const std::size_t ny = std::size_t(std::floor(height / spacing + 1e-9)) + 1;
+  const auto [nx, ny] = sampled_size(mesh, spacing);
   if (nx < 2 || ny < 2)
     throw Error(fmt::format("sampling at {:g} m gives {} x {} points: the sampled surface needs at least 2 x 2; give a "
                             "spacing at most the mesh's extent ({:g} x {:g} m)",

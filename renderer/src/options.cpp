@@ -410,11 +410,8 @@ void set_option(RenderSettings& s, const OptionSpec& o, const std::string& text)
     case OptionType::Colour:
       (void)parse_colour(text);  // throws with the accepted forms
       break;
-    case OptionType::List: {
-      RenderSettings tmp = s;
-      o.store(tmp, text);  // parse_layers / parse_edge_kinds check names and combinations
-      break;
-    }
+    case OptionType::List:
+      break;  // stored below: parse_layers / parse_edge_kinds check names and combinations before they assign
   }
   o.store(s, text);
 }

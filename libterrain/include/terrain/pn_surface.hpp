@@ -2,6 +2,7 @@
 // The PN surface of a grid mesh: the patch of every face, the surface point above a given
 // (x, y) (docs/algorithms.md 2.4), and sampling the surface on a regular grid.
 #include <optional>
+#include <utility>
 
 #include "terrain/error.hpp"
 #include "terrain/grid.hpp"
@@ -40,5 +41,8 @@ struct SampledSurface {
 // patches cached per cell row in monomial form. Parallel over rows; the result does not
 // depend on the thread count. Throws Error for spacing <= 0 or more than 2^32 - 1 samples.
 SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Progress& progress = {});
+
+// The columns and rows sample_pn_surface gives at `spacing` (a tool checks memory with it).
+std::pair<std::size_t, std::size_t> sampled_size(const GridMesh& mesh, double spacing);
 
 }  // namespace terrain
