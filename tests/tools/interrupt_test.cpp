@@ -107,9 +107,9 @@ TEST(Interrupt, SignalsLeaveNothingBehind) {
       {"build-drainage mesh", tool("build-drainage") + " " + mesh_dir.path("l.ply") + " OUT -q", "o.dv"},
 #ifdef TERRAIN_MPIEXEC
       // mpirun sends the ranks SIGTERM, then SIGKILL after odls_base_sigkill_timeout (1 s);
-      // 10 s here, so that a rank that a loaded machine schedules late still cleans up.
+      // 3 s here, so that a rank that a loaded machine schedules late still cleans up.
       {"build-drainage 2 ranks",
-       "OMPI_MCA_odls_base_sigkill_timeout=10 " + terrain::test::mpirun(2) + tool("build-drainage") + " --raster " + logan10() + " OUT --tile-size 700 --fill -q",
+       "OMPI_MCA_odls_base_sigkill_timeout=3 " + terrain::test::mpirun(2) + tool("build-drainage") + " --raster " + logan10() + " OUT --tile-size 700 --fill -q",
        "o.dv"},
 #endif
   };
