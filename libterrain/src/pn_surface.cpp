@@ -104,7 +104,9 @@ std::pair<std::size_t, std::size_t> sampled_size(const GridMesh& mesh, double sp
 SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Progress& progress) {
   if (!(spacing > 0.0 && std::isfinite(spacing))) throw Error("the sampling spacing must be a positive number of metres");
   const double width = double(mesh.topo.cols - 1) * mesh.geo.dx, height = double(mesh.topo.rows - 1) * mesh.geo.dy;
-  const auto [nx, ny] = sampled_size(mesh, spacing);
+  // Named variables, not a structured binding: clang 14 cannot use a binding inside the OpenMP region below.
+  const auto size = sampled_size(mesh, spacing);
+  const std::size_t nx = size.first, ny = size.second;
   if (nx < 2 || ny < 2)
     throw Error(fmt::format("sampling at {:g} m gives {} x {} points: the sampled surface needs at least 2 x 2; give a "
                             "spacing at most the mesh's extent ({:g} x {:g} m)",
