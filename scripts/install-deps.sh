@@ -15,6 +15,8 @@ PACKAGES=(
   libopenmpi-dev openmpi-bin   # build-drainage under mpirun (optional at build time; its tests need it)
   clang libclang-rt-14-dev libomp-14-dev   # the sanitizer build of CI, fuzzing (scripts/fuzz.sh)
   libglfw3-dev libimgui-dev xvfb xauth     # terrain-view (GLFW window, Dear ImGui panel) and its tests under Xvfb
+  libcairo2-dev libpotrace-dev             # vector line art: SVG and PDF through cairo, the surface mask traced by potrace
+  librsvg2-bin poppler-utils               # tests rasterize the SVG (rsvg-convert) and the PDF (pdftoppm)
 )
 
 missing=()

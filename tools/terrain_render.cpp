@@ -3,6 +3,7 @@
 // Every render option comes from the renderer's option table (renderer/options.hpp).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -19,6 +20,7 @@
 #include "renderer/options.hpp"
 #include "renderer/scene.hpp"
 #include "renderer/terrain_renderer.hpp"
+#include "renderer/vector_file.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/image_io.hpp"
 
@@ -75,10 +77,52 @@ int run_path(const TableArgs& a, const std::vector<double>& from, const std::vec
   return 0;
 }
 
-int run_frame(const TableArgs& a, const std::string& mesh, const std::string& dv, const std::string& out,
-              const std::string& prov, const tt::Verbosity& verb) {
+// The output files' options besides the render options: vector page and underlay.
+struct OutputArgs {
+  double dpi = 96;
+  std::string underlay = "mask";
+  std::string formats = "png";
+};
+
+void add_output_options(CLI::App* cmd, OutputArgs& o, bool batch) {
+  cmd->add_option("--dpi", o.dpi, "SVG / PDF: pixels per inch of the page (the frame's size in pixels is the page)")
+      ->check(CLI::Range(1.0, 10000.0))
+      ->capture_default_str();
+  cmd->add_option("--vector-underlay", o.underlay,
+                  "SVG / PDF: what lies under the lines: none, mask (the surface as filled regions) or shaded (the "
+                  "shaded relief as an embedded image)")
+      ->check(CLI::IsMember({"none", "mask", "shaded"}))
+      ->capture_default_str();
+  if (batch)
+    cmd->add_option("--format", o.formats, "Files per frame, a comma list of png, svg, pdf")->capture_default_str();
+}
+
+// The frame's line art written as SVG or PDF; the times at -v.
+void write_vector(const std::string& out, const rr::Scene& scene, const rr::TerrainRenderer& r,
+                  const rr::FrameResult& res, const rr::FrameParams& fp, const rr::Style& style,
+                  const rr::Layers& layers, const OutputArgs& o, const std::string& prov, const tt::Verbosity& verb) {
+  auto t0 = Clock::now();
+  const rr::FrameBuffers buffers = r.read_buffers();
+  const double readback = since(t0);
+  t0 = Clock::now();
+  const rr::VectorArt art = rr::frame_vector_art(scene, r, res, buffers, fp, style, layers, rr::parse_underlay(o.underlay));
+  const double paths = since(t0);
+  t0 = Clock::now();
+  const std::string bytes = rr::vector_bytes(art, rr::vector_format_of(out), o.dpi, prov);
+  const double cairo = since(t0);
+  terrain::write_file_atomic(out, bytes);
+  std::string counts;
+  for (const rr::VectorLayer& l : art.layers) counts += fmt::format(", {} {} paths ({} strokes)", l.name, l.paths.size(), l.strokes);
+  tt::step(verb, fmt::format("{}: GPU readback {:.0f} ms, paths {:.0f} ms, cairo {:.0f} ms, {:.2f} MB{}", out,
+                             1e3 * readback, 1e3 * paths, 1e3 * cairo, double(bytes.size()) / 1e6, counts));
+}
+
+int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, const std::string& dv,
+              const std::string& out, const std::string& prov, const tt::Verbosity& verb) {
   rr::RenderSettings s = settings_of(a);
-  if (!out.ends_with(".png")) throw terrain::Error("the output must be a .png file: '" + out + "'");
+  const bool vector = rr::is_vector_path(out);
+  if (!vector && !out.ends_with(".png"))
+    throw terrain::Error("the output must be a .png, .svg or .pdf file: '" + out + "'");
   tt::check_distinct_paths({mesh, dv}, {out});
   tt::warn_stale_temporaries(verb, {out});
   terrain::check_output_path(out);
@@ -96,11 +140,17 @@ int run_frame(const TableArgs& a, const std::string& mesh, const std::string& dv
   if (fp.camera.eye) rr::check_eye_above_terrain(scene.mesh, *fp.camera.eye, s.style.exaggeration);
   auto t0 = Clock::now();
   rr::GlContext ctx;
+  const rr::Style style = rr::drawn_style(s);
   rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, s.layers,
-                        s.style);
+                        style);
   tt::step(verb, fmt::format("OpenGL set-up ({}): {:.2f} s", ctx.info().renderer, since(t0)));
+  t0 = Clock::now();
   const rr::FrameResult res = r.render(fp);
-  terrain::write_png(out, s.width, s.height, 4, res.rgba, prov);
+  tt::step(verb, fmt::format("frame: {:.0f} ms", 1e3 * since(t0)));
+  if (vector)
+    write_vector(out, scene, r, res, fp, style, s.layers, o, prov, verb);
+  else
+    terrain::write_png(out, s.width, s.height, 4, res.rgba, prov);
   const Eigen::Vector3d eye = res.view.eye + r.origin();
   std::cout << "output: " << out << "\n" << "size: " << s.width << " x " << s.height << "\n";
   print_device(ctx);
@@ -113,15 +163,33 @@ int run_frame(const TableArgs& a, const std::string& mesh, const std::string& dv
   for (int p = 0; p < rr::kPassCount; ++p)
     std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p), res.timings.gpu_ms[p],
                              res.timings.wall_ms[p]);
-  if (a.line_stats) std::cout << rr::line_stats_text(rr::frame_line_stats(scene, r, res, fp, s.style, s.layers));
+  if (a.line_stats) std::cout << rr::line_stats_text(rr::frame_line_stats(scene, r, res, fp, style, s.layers));
   return 0;
 }
 
-std::string frame_name(std::size_t i) { return fmt::format("frame_{:05d}.png", i); }
+std::string frame_name(std::size_t i, const std::string& ext = "png") { return fmt::format("frame_{:05d}.{}", i, ext); }
 
-int run_batch(const TableArgs& a, const std::vector<std::string>& inputs, const std::string& out_dir,
-              const std::string& prov, const tt::Verbosity& verb) {
+// --format: png, svg, pdf, each once, at least one.
+std::vector<std::string> parse_formats(const std::string& list) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t end = std::min(list.find(',', start), list.size());
+    const std::string f = list.substr(start, end - start);
+    if (f != "png" && f != "svg" && f != "pdf")
+      throw CLI::ValidationError("--format", "unknown format '" + f + "' (png, svg, pdf)");
+    if (std::find(out.begin(), out.end(), f) != out.end())
+      throw CLI::ValidationError("--format", "'" + f + "' is given twice");
+    out.push_back(f);
+    start = end + 1;
+  }
+  return out;
+}
+
+int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::string>& inputs,
+              const std::string& out_dir, const std::string& prov, const tt::Verbosity& verb) {
   const rr::RenderSettings s = settings_of(a);
+  const std::vector<std::string> formats = parse_formats(o.formats);
   const std::string mesh_path = inputs[0], csv = inputs.back(), dv_path = inputs.size() == 3 ? inputs[1] : "";
   if (!dv_path.empty() && !drainage::is_dv_file(dv_path))
     throw terrain::Error("'" + dv_path + "' is not a drainage database (.dv)");
@@ -131,7 +199,8 @@ int run_batch(const TableArgs& a, const std::vector<std::string>& inputs, const 
   // like an output is never replaced): the frames, the timings and the statistics.
   std::vector<std::string> outputs = {(dir / "timings.csv").string()};
   if (a.line_stats) outputs.push_back((dir / "line_stats.csv").string());
-  for (std::size_t i = 0; i < frames.size(); ++i) outputs.push_back((dir / frame_name(i)).string());
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    for (const std::string& f : formats) outputs.push_back((dir / frame_name(i, f)).string());
   for (const std::string& out : outputs) tt::check_distinct_paths(inputs, {out});
   std::filesystem::create_directories(dir);
   terrain::check_output_path(dir / "timings.csv");
@@ -146,8 +215,9 @@ int run_batch(const TableArgs& a, const std::vector<std::string>& inputs, const 
     }
   }
   rr::GlContext ctx;
+  const rr::Style style = rr::drawn_style(s);
   rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, s.layers,
-                        s.style);
+                        style);
   std::vector<rr::FrameTimings> timings;
   std::string stats_csv = rr::line_stats_csv_header();
   std::vector<std::vector<float>> drawn;
@@ -157,13 +227,18 @@ int run_batch(const TableArgs& a, const std::vector<std::string>& inputs, const 
     const rr::FrameResult res = r.render(frames[i]);
     timings.push_back(res.timings);
     if (a.line_stats) {
-      rr::FrameStats st = rr::frame_line_stats(scene, r, res, frames[i], s.style, s.layers);
+      rr::FrameStats st = rr::frame_line_stats(scene, r, res, frames[i], style, s.layers);
       stats_csv += rr::line_stats_csv_row(i, st);
       drawn.push_back(std::move(st.lines.drawn));
       pixels.push_back(std::move(st.lines.pixels));
     }
-    terrain::write_png((dir / frame_name(i)).string(), s.width, s.height, 4, res.rgba,
-                       prov + fmt::format(" [frame {}]", i));
+    for (const std::string& f : formats) {
+      const std::string path = (dir / frame_name(i, f)).string(), p = prov + fmt::format(" [frame {}]", i);
+      if (f == "png")
+        terrain::write_png(path, s.width, s.height, 4, res.rgba, p);
+      else
+        write_vector(path, scene, r, res, frames[i], style, s.layers, o, p, verb);
+    }
     terrain::report(progress, double(i + 1) / double(frames.size()));
   }
   terrain::write_file_atomic(dir / "timings.csv", rr::timings_csv(timings));
@@ -186,8 +261,10 @@ int main(int argc, char** argv) {
       "Examples:\n"
       "  terrain-render frame out/msh_50m.ply out/msh.dv -o msh.png\n"
       "  terrain-render frame out/msh_50m.ply out/msh.dv -o msh_shaded.png --layers shaded --view-az 180\n"
+      "  terrain-render frame out/msh_50m.ply out/msh.dv -o msh.svg            # the lines as vector paths (or .pdf)\n"
+      "  terrain-render frame out/msh_50m.ply out/msh.dv -o a3.pdf --size 4961x3508 --line-scale 3 --dpi 300\n"
       "  terrain-render path --from 560000 5120000 2600 --to 563000 5117000 2600 --frames 99 -o path.csv\n"
-      "  terrain-render batch out/msh_50m.ply out/msh.dv path.csv -o frames/\n"
+      "  terrain-render batch out/msh_50m.ply out/msh.dv path.csv -o frames/ --format png,svg\n"
       "  terrain-render frame out/msh_10m_denoised.ply -o pels.png --layers mask,pels,silhouettes\n"
       "  terrain-render frame out/msh_50m.ply -o edges.png --layers mask,edges --edges contour,crease --crease-angle 20\n"
       "  terrain-render --device\n\n"
@@ -203,13 +280,15 @@ int main(int argc, char** argv) {
                            "ground and in valleys, strokes; and the drawn silhouettes: pixels, pieces; batch: per "
                            "frame in line_stats.csv, and the crease flicker between frames";
 
-  auto* frame_cmd = app.add_subcommand("frame", "Render one frame to a PNG");
+  auto* frame_cmd = app.add_subcommand("frame", "Render one frame to a PNG, SVG or PDF");
   std::string mesh, dv, out;
   TableArgs fa;
   frame_cmd->add_option("MESH", mesh, "Mesh (.ply from dem2mesh)")->required();
   frame_cmd->add_option("DV", dv, "Drainage database (.dv from build-drainage); no creases without it");
-  frame_cmd->add_option("-o,--output", out, "Output PNG")->required();
+  frame_cmd->add_option("-o,--output", out, "Output file: .png, or .svg / .pdf (the lines as vector paths)")->required();
   frame_cmd->add_flag("--line-stats", fa.line_stats, stats_help);
+  OutputArgs fo, bo;
+  add_output_options(frame_cmd, fo, false);
   add_table_options(frame_cmd, fa, false);
 
   auto* batch_cmd = app.add_subcommand("batch", "Render every frame of a CSV list; write PNGs and timings.csv");
@@ -221,6 +300,7 @@ int main(int argc, char** argv) {
       ->expected(2, 3);
   batch_cmd->add_option("-o,--output", dir, "Output directory (created if missing)")->required();
   batch_cmd->add_flag("--line-stats", ba.line_stats, stats_help);
+  add_output_options(batch_cmd, bo, true);
   add_table_options(batch_cmd, ba, false);
 
   auto* path_cmd = app.add_subcommand("path", "Write a straight flight path as a frame list (CSV)");
@@ -238,8 +318,8 @@ int main(int argc, char** argv) {
     if (list_devices_flag) return list_devices();
     const std::string prov = tt::provenance(argc, argv);
     if (path_cmd->parsed()) return run_path(pa, from, to, frames, path_out, prov);
-    if (frame_cmd->parsed()) return run_frame(fa, mesh, dv, out, prov, verb);
-    if (batch_cmd->parsed()) return run_batch(ba, inputs, dir, prov, verb);
+    if (frame_cmd->parsed()) return run_frame(fa, fo, mesh, dv, out, prov, verb);
+    if (batch_cmd->parsed()) return run_batch(ba, bo, inputs, dir, prov, verb);
     throw CLI::ValidationError("terrain-render", "give a subcommand: frame, batch or path (or --device)");
   });
 }

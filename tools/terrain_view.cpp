@@ -95,7 +95,7 @@ class Viewer {
     if (before_gl) before_gl();
     gl_.make_current();
     const rr::CreaseGeometry* creases = scene_.creases ? &*scene_.creases : nullptr;
-    full_ = std::make_unique<rr::TerrainRenderer>(gl_, scene_.mesh, creases, s_.width, s_.height, s_.layers, s_.style);
+    full_ = std::make_unique<rr::TerrainRenderer>(gl_, scene_.mesh, creases, s_.width, s_.height, s_.layers, rr::drawn_style(s_));
     cheap_.reset();  // made when a cheap frame is first drawn
   }
 
@@ -107,7 +107,7 @@ class Viewer {
     if (cheap && !cheap_)
       cheap_ = std::make_unique<rr::TerrainRenderer>(gl_, scene_.mesh, scene_.creases ? &*scene_.creases : nullptr,
                                                      std::max(16, s_.width / 2), std::max(16, s_.height / 2),
-                                                     s_.layers, s_.style);
+                                                     s_.layers, rr::drawn_style(s_));
     const auto t0 = Clock::now();
     last_ = (cheap ? cheap_ : full_)->render(s_.frame);
     (cheap ? cheap_ms_ : full_ms_) = ms_since(t0);
@@ -121,7 +121,7 @@ class Viewer {
   std::string line_stats() {
     if (!scene_.creases || !s_.layers.creases) return "line statistics measure creases: give a .dv, keep creases";
     render(false);
-    return rr::line_stats_text(rr::frame_line_stats(scene_, *full_, last_, s_.frame, s_.style, s_.layers));
+    return rr::line_stats_text(rr::frame_line_stats(scene_, *full_, last_, s_.frame, rr::drawn_style(s_), s_.layers));
   }
 
   // The exact terrain-render command line of view `s` writing `png`.
@@ -155,7 +155,7 @@ class Viewer {
       if (before_gl) before_gl();
       gl_.make_current();
       rr::TerrainRenderer r(gl_, scene_.mesh, scene_.creases ? &*scene_.creases : nullptr, at.width, at.height,
-                            at.layers, at.style);
+                            at.layers, rr::drawn_style(at));
       last_ = r.render(at.frame);
     }
     const std::string cmd = command_line(png, at);

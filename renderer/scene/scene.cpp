@@ -58,6 +58,60 @@ FrameLines frame_lines(const Scene& scene, const TerrainRenderer& r, const Frame
   return lines;
 }
 
+VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                           const FrameBuffers& buffers, const FrameParams& fp, const Style& style,
+                           const Layers& layers, VectorUnderlay underlay) {
+  VectorArt art;
+  art.width = res.width;
+  art.height = res.height;
+  art.underlay = underlay;
+  art.background = style.background;
+  art.mask_colour = style.mask;
+  const std::size_t n = std::size_t(res.width) * std::size_t(res.height);
+  art.surface.resize(n);
+  const bool reversed = res.view.reversed_z;
+  for (std::size_t i = 0; i < n; ++i) art.surface[i] = (reversed ? 1.0 - buffers.toward_depth[i] : buffers.toward_depth[i]) < 1.0;
+  if (underlay == VectorUnderlay::Shaded) art.shaded = buffers.surface_rgba;
+  const double e = style.exaggeration, lift = crease_lift(style, scene.mesh);
+  if (layers.pels) {
+    std::vector<SceneSegment> segs;
+    for (const auto& p : r.read_pels())
+      segs.push_back({Eigen::Vector3d(p.a.x(), p.a.y(), p.a.z() * e), Eigen::Vector3d(p.b.x(), p.b.y(), p.b.z() * e),
+                      style.antialias ? p.opacity : 1.0f});
+    VectorLayer l{"pels", style.pel_colour, LineCap::Round, {}, 0};
+    l.paths = segment_paths(segs, res.view, lift, buffers.toward_depth, style.antialias, float(style.pel_width), &l.strokes);
+    art.layers.push_back(std::move(l));
+  }
+  if (layers.creases && scene.creases) {
+    const FrameLines lines = frame_lines(scene, r, res, buffers, fp, style);
+    std::vector<SegmentSamples> samples = r.read_crease_samples();
+    if (samples.empty())  // pixel-exact lines: the CPU reference of the anti-aliased test
+      samples = stroke_visibility(*scene.creases, scene.chains, lines.drawn, res.view, e, lift, buffers.toward_depth,
+                                  stroke_visibility_rule(style, scene.mesh));
+    VectorLayer l{"creases", style.crease_colour, LineCap::Round, {}, 0};
+    l.paths = crease_paths(*scene.creases, lines.drawn, samples, res.view, e, style.crease_width, style.crease_width_max,
+                           &l.strokes);
+    art.layers.push_back(std::move(l));
+  }
+  if (layers.edges) {
+    std::vector<SceneSegment> segs;
+    const auto& pos = scene.mesh.positions;
+    auto at = [&](std::uint32_t v) { return Eigen::Vector3d(pos[v].x(), pos[v].y(), double(pos[v].z()) * e); };
+    for (const auto& d : r.read_edges().drawn) segs.push_back({at(d[0]), at(d[1]), 1.0f});
+    VectorLayer l{"edges", style.edge_colour, style.edge_caps == EdgeCaps::None ? LineCap::Butt : LineCap::Square, {}, 0};
+    l.paths = segment_paths(segs, res.view, lift, buffers.toward_depth, false, float(style.edge_width), &l.strokes);
+    art.layers.push_back(std::move(l));
+  }
+  if (layers.silhouettes) {
+    // The composite's band: 0.8 px wider than the silhouette width when anti-aliased.
+    const float width = float(style.silhouette_width) + (style.antialias ? 0.8f : 0.0f);
+    VectorLayer l{"silhouettes", style.silhouette_colour, LineCap::Round, {}, 0};
+    l.paths = silhouette_paths(buffers.silhouette_opacity, res.width, res.height, width, &l.strokes);
+    art.layers.push_back(std::move(l));
+  }
+  return art;
+}
+
 FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const FrameResult& res, const FrameParams& fp,
                             const Style& style, const Layers& layers) {
   const FrameBuffers buffers = r.read_buffers();

@@ -101,6 +101,23 @@ std::string edges_text(std::uint8_t kinds) {
   return join(v);
 }
 
+}  // namespace
+
+Style drawn_style(const RenderSettings& s) {
+  Style st = s.style;
+  const double k = s.line_scale;
+  st.crease_width *= k;
+  st.crease_width_max *= k;
+  st.silhouette_width = std::clamp(int(std::lround(st.silhouette_width * k)), 1, 9);
+  st.pel_width *= k;
+  st.edge_width *= k;
+  st.crease_hidden_gap *= k;
+  st.crease_min_peek *= k;
+  return st;
+}
+
+namespace {
+
 std::vector<OptionSpec> make_table() {
   const std::string frame = "Frame", camera = "Camera and light", score = "Crease score", rules = "Crease network",
                     strokes = "Crease strokes", sil = "Silhouettes", pel = "PELs", edges = "Edges", colours = "Colours",
@@ -110,6 +127,11 @@ std::vector<OptionSpec> make_table() {
       "size", frame, OptionType::Size, {}, "1280x720", "Image size WIDTHxHEIGHT in pixels",
       [](const RenderSettings& s) { return fmt::format("{}x{}", s.width, s.height); },
       [](RenderSettings& s, const std::string& v) { std::sscanf(v.c_str(), "%dx%d", &s.width, &s.height); }));
+  t.push_back(number(
+      "line-scale", frame, 0.1, 20, "", "1",
+      "Every line width (creases, silhouettes, PELs, edges) and the crease strokes' pixel lengths (hidden gap, "
+      "peek) times this: 3 keeps a 4961x3508 print (A3 at 300 dpi) looking like a 1280x720 frame",
+      [](auto& s) -> auto& { return s.line_scale; }));
   t.push_back(choice(
       "layers", frame, OptionType::List,
       {"shaded", "mask", "creases", "silhouettes", "silhouettes-adjacency", "pels", "edges"},

@@ -273,6 +273,9 @@ FrameBuffers TerrainRenderer::read_buffers() const {
   bytes(m.silhouettes.opacity(), b.silhouette_opacity);
   red(m.creases.colour(), b.crease);
   red(m.edges.colour(), b.edge);
+  b.surface_rgba.resize(4 * n);
+  glGetTextureImage(m.scene.surface_colour.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(4 * n), b.surface_rgba.data());
+  flip_rows(b.surface_rgba, w, h, 4);
   if (m.layers.adjacency) {
     b.triangle_id.resize(n);
     glGetTextureImage(m.ids.ids().id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(n * 4), b.triangle_id.data());

@@ -20,7 +20,14 @@ struct RenderSettings {
   CreaseRules rules;
   Layers layers;
   int width = 1280, height = 720;
+  // Every line width and the pixel lengths of the crease stroke rules (hidden gap, peek)
+  // times this (drawn_style): a print-size frame keeps the look of a screen-size one.
+  double line_scale = 1.0;
 };
+
+// The style a frame is drawn with: s.style with its line widths and stroke pixel lengths
+// scaled by s.line_scale (the silhouette width rounded, 1 to 9 pixels).
+Style drawn_style(const RenderSettings& s);
 
 enum class OptionType {
   Number,   // a real number in [min, max], in `unit`

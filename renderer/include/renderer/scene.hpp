@@ -10,6 +10,7 @@
 #include "renderer/crease.hpp"
 #include "renderer/line_stats.hpp"
 #include "renderer/terrain_renderer.hpp"
+#include "renderer/vector_art.hpp"
 #include "terrain/grid_mesh.hpp"
 
 namespace renderer {
@@ -36,6 +37,15 @@ struct FrameLines {
 };
 FrameLines frame_lines(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                        const FrameBuffers& buffers, const FrameParams& fp, const Style& style);
+
+// The line art of the frame `res` just drawn by `r` (its buffers: r.read_buffers()), for
+// the SVG / PDF writer (vector_file.hpp): the layers the composite draws, bottom up (PELs,
+// creases, edges, silhouettes), from the strokes, samples, segments and masks the frame
+// drew; the crease samples are the DM pass's own (read_crease_samples; the CPU reference
+// with pixel-exact lines).
+VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                           const FrameBuffers& buffers, const FrameParams& fp, const Style& style,
+                           const Layers& layers, VectorUnderlay underlay);
 
 // --line-stats of one frame: the creases' figures and, with the silhouettes layer, the
 // silhouettes'.

@@ -55,6 +55,7 @@ struct FrameBuffers {
   std::vector<float> toward_depth, away_depth, crease_depth;  // window depth (clear: far)
   std::vector<std::uint8_t> silhouette, crease, edge;          // 0/1 masks before compositing
   std::vector<std::uint8_t> silhouette_opacity;  // what LAY draws of the silhouettes (0..255; the piece rule)
+  std::vector<std::uint8_t> surface_rgba;        // the shaded surface TFT drew (RGBA; where toward_depth shows surface)
   // Adjacency silhouettes only: the triangle ID per pixel (0 none, 0xFFFFFFFF unknown) and
   // the triangle list (9 floats per ID from 1: three vertices, exaggerated mesh frame).
   std::vector<std::uint32_t> triangle_id;

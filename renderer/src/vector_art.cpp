@@ -1,0 +1,199 @@
+#include "renderer/vector_art.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "renderer/line_stats.hpp"
+#include "renderer/silhouette.hpp"
+#include "terrain/error.hpp"
+
+namespace renderer {
+
+namespace {
+
+constexpr float kWidthQuantum = 0.25f;   // pixels
+constexpr float kOpacityQuantum = 0.1f;
+constexpr float kTolerance = 0.25f;      // simplification, pixels
+
+float quantise(float x, float q) { return std::round(x / q) * q; }
+
+// A run of points along a stroke, each with the width there and the opacity of the segment
+// that ends at it (the first point's is its successor's).
+struct RunPoint {
+  Eigen::Vector2f p;
+  float width, opacity;
+};
+
+// A run as paths: split where the quantised opacity changes, then into runs of equal
+// quantised width (width_runs), each simplified. A run of one point is a dot.
+void emit_run(const std::vector<RunPoint>& run, std::vector<VectorPath>& out) {
+  if (run.empty()) return;
+  if (run.size() == 1) {
+    out.push_back({Polyline{{run[0].p}, false}, quantise(run[0].width, kWidthQuantum),
+                   quantise(run[0].opacity, kOpacityQuantum)});
+    return;
+  }
+  // Segment j runs from point j - 1 to point j, at run[j].opacity.
+  Polyline line{{run[0].p}, false};
+  std::vector<float> widths{run[0].width};
+  float opacity = quantise(run[1].opacity, kOpacityQuantum);
+  auto close = [&] {
+    if (opacity > 0)
+      for (WidthRun& r : width_runs(line, widths, kWidthQuantum))
+        out.push_back({simplify(r.line, kTolerance), r.width, opacity});
+  };
+  for (std::size_t j = 1; j < run.size(); ++j) {
+    const float o = quantise(run[j].opacity, kOpacityQuantum);
+    if (o != opacity) {  // a new piece from point j - 1
+      close();
+      line.points = {run[j - 1].p};
+      widths = {run[j - 1].width};
+      opacity = o;
+    }
+    line.points.push_back(run[j].p);
+    widths.push_back(run[j].width);
+  }
+  close();
+}
+
+bool bit(std::uint32_t mask, int k) { return ((mask >> k) & 1u) != 0; }
+
+}  // namespace
+
+VectorUnderlay parse_underlay(const std::string& name) {
+  if (name == "none") return VectorUnderlay::None;
+  if (name == "mask") return VectorUnderlay::Mask;
+  if (name == "shaded") return VectorUnderlay::Shaded;
+  throw terrain::Error("unknown vector underlay '" + name + "' (none, mask, shaded)");
+}
+
+std::vector<VectorPath> crease_paths(const CreaseGeometry& g, const std::vector<float>& drawn,
+                                     const std::vector<SegmentSamples>& samples, const View& view,
+                                     double exaggeration, double width_min, double width_max, std::size_t* strokes) {
+  std::vector<VectorPath> out;
+  std::size_t n_strokes = 0;
+  if (samples.size() != g.n_segments() || drawn.size() != g.n_segments())
+    throw terrain::Error("crease_paths: one opacity and one set of samples per segment expected");
+  auto width_of = [&](std::uint32_t v) {
+    return float(width_min + (width_max - width_min) * std::sqrt(std::clamp(double(g.share[v]), 0.0, 1.0)));
+  };
+  for (const auto& stroke : crease_strokes(g, drawn)) {
+    const std::size_t before = out.size();
+    std::vector<RunPoint> run;
+    auto flush = [&] {
+      emit_run(run, out);
+      run.clear();
+    };
+    for (const std::uint32_t s : stroke) {
+      const SegmentSamples& m = samples[s];
+      const std::uint32_t va = g.segments[2 * s], vb = g.segments[2 * s + 1];
+      const Projected a = project(view, drawn_position(g, va, exaggeration));
+      const Projected b = project(view, drawn_position(g, vb, exaggeration));
+      if (m.n == 0 || !a.in_front || !b.in_front) {
+        flush();
+        continue;
+      }
+      const Eigen::Vector2f pa(float(a.u), float(a.v)), pb(float(b.u), float(b.v));
+      const float wa = width_of(va), wb = width_of(vb);
+      auto point = [&](double t) {
+        return RunPoint{pa + float(t) * (pb - pa), wa + float(t) * (wb - wa), drawn[s]};
+      };
+      const int n = int(m.n);
+      for (int k = 0; k < n; ++k) {
+        if (!bit(m.shown, k)) {
+          flush();
+          continue;
+        }
+        if (run.empty()) run.push_back(point(double(k) / n));
+        if (k == n - 1 || !bit(m.shown, k + 1)) run.push_back(point(double(k + 1) / n));
+      }
+    }
+    flush();
+    if (out.size() > before) ++n_strokes;
+  }
+  if (strokes) *strokes = n_strokes;
+  return out;
+}
+
+std::vector<VectorPath> silhouette_paths(const std::vector<std::uint8_t>& opacity, int w, int h, float width,
+                                         std::size_t* pieces) {
+  std::vector<std::uint8_t> mask(opacity.size());
+  for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = opacity[i] > 0;
+  if (pieces) *pieces = mask_pieces(mask, w, h).size.size();
+  std::vector<VectorPath> out;
+  for (Polyline& line : chain_mask(mask, w, h)) {
+    double sum = 0;
+    for (const Eigen::Vector2f& p : line.points)
+      sum += opacity[std::size_t(std::floor(p.y())) * std::size_t(w) + std::size_t(std::floor(p.x()))];
+    const float o = quantise(float(sum / double(line.points.size()) / 255.0), kOpacityQuantum);
+    if (!(o > 0)) continue;
+    // Smoothed as the composite's band smooths the pixel staircase: two passes of the
+    // (1, 2, 1) / 4 filter along the line, its ends kept (a ring's every point moves).
+    auto& p = line.points;
+    const std::size_t n = p.size();
+    for (int pass = 0; pass < 2 && n >= 3; ++pass) {
+      const std::vector<Eigen::Vector2f> q = p;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!line.closed && (i == 0 || i + 1 == n)) continue;
+        p[i] = 0.25f * q[(i + n - 1) % n] + 0.5f * q[i] + 0.25f * q[(i + 1) % n];
+      }
+    }
+    out.push_back({simplify(line, kTolerance), width, o});
+  }
+  return out;
+}
+
+std::vector<VectorPath> segment_paths(const std::vector<SceneSegment>& segments, const View& view, double lift,
+                                      const std::vector<float>& toward_depth, bool antialias, float width,
+                                      std::size_t* chains) {
+  const long W = view.width, H = view.height;
+  auto far_of = [&](double d) { return view.reversed_z ? 1.0 - d : d; };
+  // The visible pieces, by quantised opacity.
+  std::map<int, std::vector<std::array<Eigen::Vector2f, 2>>> pieces;
+  for (const SceneSegment& s : segments) {
+    const Projected a = lifted_projection(view, s.a, lift), b = lifted_projection(view, s.b, lift);
+    if (!a.in_front || !b.in_front) continue;  // as segment_quad_vertex drops it
+    const int o = int(std::lround(s.opacity / kOpacityQuantum));
+    if (o <= 0) continue;
+    const Eigen::Vector2d pa(a.u, a.v), pb(b.u, b.v);
+    const int n = std::clamp(int(std::ceil(2.0 * (pb - pa).norm())), 1, 1 << 16);  // every 0.5 px
+    int first = -1;
+    auto close = [&](int end) {  // samples first .. end - 1 show
+      if (first < 0) return;
+      const double t0 = first == 0 ? 0.0 : double(first) / n, t1 = end == n ? 1.0 : double(end) / n;
+      pieces[o].push_back({(pa + t0 * (pb - pa)).cast<float>(), (pa + t1 * (pb - pa)).cast<float>()});
+      first = -1;
+    };
+    for (int k = 0; k < n; ++k) {
+      const double t = (k + 0.5) / n;
+      const Eigen::Vector2d q = pa + t * (pb - pa);
+      bool shown = q.x() >= 0 && q.x() < double(W) && q.y() >= 0 && q.y() < double(H);
+      if (shown) {
+        const double line = a.depth + t * (b.depth - a.depth);
+        const long x = long(std::floor(q.x())), y = long(std::floor(q.y()));
+        if (antialias) {
+          const auto surface = farthest_surface(view, toward_depth, x, y);
+          shown = surface && far_of(line) <= far_of(*surface);
+        } else {
+          const double d = toward_depth[std::size_t(y * W + x)];
+          shown = far_of(d) >= 1.0 || far_of(line) <= far_of(d);
+        }
+      }
+      if (shown && first < 0) first = k;
+      if (!shown) close(k);
+    }
+    close(n);
+  }
+  std::vector<VectorPath> out;
+  std::size_t n_chains = 0;
+  for (const auto& [o, list] : pieces)
+    for (const Polyline& line : chain_segments(list, 0.01f)) {
+      out.push_back({simplify(line, kTolerance), width, float(o) * kOpacityQuantum});
+      ++n_chains;
+    }
+  if (chains) *chains = n_chains;
+  return out;
+}
+
+}  // namespace renderer
