@@ -69,6 +69,32 @@ void draw_surface(cairo_t* cr, const VectorArt& art) {
   cairo_surface_destroy(img);
 }
 
+// A line of varying width as one filled path: the union of its segments' capsules (the
+// convex hull of the discs at its two ends), each a subpath turning the same way, so the
+// nonzero rule fills their overlaps once.
+void fill_outline(cairo_t* cr, const VectorPath& p) {
+  constexpr double kPi = 3.14159265358979323846;
+  cairo_new_path(cr);
+  const auto& q = p.line.points;
+  for (std::size_t k = 0; k + 1 < q.size() || k == 0; ++k) {
+    const std::size_t j = std::min(k + 1, q.size() - 1);
+    const Eigen::Vector2d a = q[k].cast<double>(), b = q[j].cast<double>();
+    const double ra = 0.5 * p.widths[k], rb = 0.5 * p.widths[j], d = (b - a).norm();
+    cairo_new_sub_path(cr);
+    if (d <= std::abs(ra - rb)) {  // one disc holds the other
+      const Eigen::Vector2d& c = ra >= rb ? a : b;
+      cairo_arc_negative(cr, c.x(), c.y(), std::max(ra, rb), 2 * kPi, 0);
+    } else {
+      const double phi = std::atan2(b.y() - a.y(), b.x() - a.x()), beta = 0.5 * kPi - std::asin((ra - rb) / d);
+      cairo_arc_negative(cr, b.x(), b.y(), rb, phi + beta, phi - beta);
+      cairo_arc_negative(cr, a.x(), a.y(), ra, phi - beta, phi + beta);
+    }
+    cairo_close_path(cr);
+  }
+  cairo_set_fill_rule(cr, CAIRO_FILL_RULE_WINDING);
+  cairo_fill(cr);
+}
+
 void draw_layer(cairo_t* cr, const VectorLayer& layer) {
   cairo_set_line_cap(cr, layer.cap == LineCap::Round    ? CAIRO_LINE_CAP_ROUND
                          : layer.cap == LineCap::Square ? CAIRO_LINE_CAP_SQUARE
@@ -77,6 +103,10 @@ void draw_layer(cairo_t* cr, const VectorLayer& layer) {
   for (const VectorPath& p : layer.paths) {
     if (p.line.points.empty()) continue;
     cairo_set_source_rgba(cr, layer.colour.x(), layer.colour.y(), layer.colour.z(), p.opacity);
+    if (!p.widths.empty()) {
+      fill_outline(cr, p);
+      continue;
+    }
     cairo_set_line_width(cr, p.width);
     cairo_new_path(cr);
     cairo_move_to(cr, p.line.points[0].x(), p.line.points[0].y());

@@ -13,48 +13,54 @@ namespace renderer {
 namespace {
 
 constexpr float kWidthQuantum = 0.25f;   // pixels
-constexpr float kOpacityQuantum = 0.1f;
+constexpr float kOpacityQuantum = 0.1f;  // silhouettes and segment layers
 constexpr float kTolerance = 0.25f;      // simplification, pixels
 
 float quantise(float x, float q) { return std::round(x / q) * q; }
 
 // A run of points along a stroke, each with the width there and the opacity of the segment
-// that ends at it (the first point's is its successor's).
+// that ends at it.
 struct RunPoint {
   Eigen::Vector2f p;
   float width, opacity;
 };
 
-// A run as paths: split where the quantised opacity changes, then into runs of equal
-// quantised width (width_runs), each simplified. A run of one point is a dot.
+// Points begin .. end - 1 of a run as one path at `opacity`, simplified: a stroke where its
+// width varies by less than 1/8 px, else a filled outline with each kept point's width.
+void emit_piece(const std::vector<RunPoint>& run, std::size_t begin, std::size_t end, float opacity,
+                std::vector<VectorPath>& out) {
+  Polyline line{{}, false};
+  for (std::size_t j = begin; j < end; ++j) line.points.push_back(run[j].p);
+  VectorPath path{{{}, false}, 0, opacity, {}};
+  float lo = run[begin].width, hi = lo;
+  for (const std::size_t k : simplified_points(line, kTolerance)) {
+    path.line.points.push_back(run[begin + k].p);
+    path.widths.push_back(run[begin + k].width);
+    lo = std::min(lo, run[begin + k].width);
+    hi = std::max(hi, run[begin + k].width);
+  }
+  path.width = quantise(0.5f * (lo + hi), kWidthQuantum);
+  if (hi - lo < 0.5f * kWidthQuantum) path.widths.clear();
+  out.push_back(std::move(path));
+}
+
 void emit_run(const std::vector<RunPoint>& run, std::vector<VectorPath>& out) {
-  if (run.empty()) return;
-  if (run.size() == 1) {
-    out.push_back({Polyline{{run[0].p}, false}, quantise(run[0].width, kWidthQuantum),
-                   quantise(run[0].opacity, kOpacityQuantum)});
-    return;
-  }
-  // Segment j runs from point j - 1 to point j, at run[j].opacity.
-  Polyline line{{run[0].p}, false};
-  std::vector<float> widths{run[0].width};
-  float opacity = quantise(run[1].opacity, kOpacityQuantum);
-  auto close = [&] {
-    if (opacity > 0)
-      for (WidthRun& r : width_runs(line, widths, kWidthQuantum))
-        out.push_back({simplify(r.line, kTolerance), r.width, opacity});
-  };
+  // Segment j runs from point j - 1 to point j, at run[j].opacity; parts of full opacity
+  // (>= kFull) alternate with fading parts, each drawn at its mean opacity (by length).
+  constexpr float kFull = 0.875f;
+  std::size_t begin = 0;
+  double length = 0, ink = 0;
   for (std::size_t j = 1; j < run.size(); ++j) {
-    const float o = quantise(run[j].opacity, kOpacityQuantum);
-    if (o != opacity) {  // a new piece from point j - 1
-      close();
-      line.points = {run[j - 1].p};
-      widths = {run[j - 1].width};
-      opacity = o;
-    }
-    line.points.push_back(run[j].p);
-    widths.push_back(run[j].width);
+    const double l = (run[j].p - run[j - 1].p).norm();
+    length += l;
+    ink += l * run[j].opacity;
+    const bool full = run[j].opacity >= kFull;
+    if (j + 1 < run.size() && (run[j + 1].opacity >= kFull) == full) continue;
+    const float o = full ? 1.0f : length > 0 ? std::round(float(ink / length) * 100.0f) / 100.0f : run[j].opacity;
+    if (o > 0) emit_piece(run, begin, j + 1, o, out);
+    begin = j;
+    length = ink = 0;
   }
-  close();
 }
 
 bool bit(std::uint32_t mask, int k) { return ((mask >> k) & 1u) != 0; }

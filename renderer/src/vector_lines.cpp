@@ -162,31 +162,26 @@ std::vector<Polyline> chain_segments(const std::vector<std::array<Eigen::Vector2
   return out;
 }
 
-Polyline simplify(const Polyline& line, float tolerance) {
+std::vector<std::size_t> simplified_points(const Polyline& line, float tolerance) {
   std::vector<Eigen::Vector2f> pts = line.points;
   if (line.closed && !pts.empty()) pts.push_back(pts.front());  // simplified as an open line from its start
-  if (pts.size() < 3) return line;
+  std::vector<std::size_t> out;
+  if (pts.size() < 3) {
+    for (std::size_t k = 0; k < line.points.size(); ++k) out.push_back(k);
+    return out;
+  }
   std::vector<bool> keep(pts.size(), false);
   keep.front() = keep.back() = true;
   douglas_peucker(pts, 0, pts.size() - 1, tolerance, keep);
-  Polyline out;
-  out.closed = line.closed;
-  for (std::size_t k = 0; k < pts.size(); ++k)
-    if (keep[k]) out.points.push_back(pts[k]);
-  if (line.closed) out.points.pop_back();
+  for (std::size_t k = 0; k < line.points.size(); ++k)
+    if (keep[k]) out.push_back(k);
   return out;
 }
 
-std::vector<WidthRun> width_runs(const Polyline& line, const std::vector<float>& widths, float quantum) {
-  std::vector<WidthRun> out;
-  const auto& p = line.points;
-  if (p.size() < 2 || widths.size() != p.size()) return out;
-  auto q = [&](std::size_t k) { return std::round(0.5f * (widths[k] + widths[k + 1]) / quantum) * quantum; };
-  for (std::size_t k = 0; k + 1 < p.size(); ++k) {
-    const float wq = q(k);
-    if (out.empty() || out.back().width != wq) out.push_back({Polyline{{p[k]}, false}, wq});
-    out.back().line.points.push_back(p[k + 1]);
-  }
+Polyline simplify(const Polyline& line, float tolerance) {
+  Polyline out;
+  out.closed = line.closed;
+  for (const std::size_t k : simplified_points(line, tolerance)) out.points.push_back(line.points[k]);
   return out;
 }
 

@@ -138,19 +138,14 @@ TEST(VectorLines, SimplifyStaysWithinItsTolerance) {
   }
 }
 
-TEST(VectorLines, WidthRunsSplitWhereTheQuantisedWidthChanges) {
+TEST(VectorLines, SimplifiedPointsAreTheOnesSimplifyKeeps) {
   Polyline l;
-  for (int k = 0; k < 6; ++k) l.points.emplace_back(float(k), 0.0f);
-  const auto runs = width_runs(l, {1.0f, 1.05f, 1.1f, 2.0f, 2.05f, 2.1f}, 0.25f);
-  // Segment widths 1.025, 1.075, 1.55, 2.025, 2.075 -> 1, 1, 1.5, 2, 2.
-  ASSERT_EQ(runs.size(), 3u);
-  EXPECT_FLOAT_EQ(runs[0].width, 1.0f);
-  EXPECT_FLOAT_EQ(runs[1].width, 1.5f);
-  EXPECT_FLOAT_EQ(runs[2].width, 2.0f);
-  EXPECT_EQ(runs[0].line.points.size(), 3u);
-  EXPECT_EQ(runs[1].line.points.size(), 2u);
-  EXPECT_EQ(runs[2].line.points.size(), 3u);
-  EXPECT_EQ(runs[0].line.points.back(), runs[1].line.points.front());  // runs share their boundary
+  for (int k = 0; k < 9; ++k) l.points.emplace_back(float(k), k == 4 ? 3.0f : 0.0f);  // a spike at 4
+  const auto keep = simplified_points(l, 0.25f);
+  EXPECT_EQ(keep, (std::vector<std::size_t>{0, 3, 4, 5, 8}));
+  const Polyline s = simplify(l, 0.25f);
+  ASSERT_EQ(s.points.size(), keep.size());
+  for (std::size_t i = 0; i < keep.size(); ++i) EXPECT_EQ(s.points[i], l.points[keep[i]]);
 }
 
 }  // namespace

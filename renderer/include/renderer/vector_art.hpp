@@ -3,8 +3,9 @@
 // SVG / PDF writer (vector_file.hpp) draws, built from the same strokes, masks and
 // segments the PNG's passes draw (docs/terrain-render.md, "Vector output").
 //   creases      one path per visible run of each drawn stroke (crease_strokes), where the
-//                stroke's samples show (the DM pass's own hidden-run and peek rules), split
-//                where the width (quantised to 0.25 px) or the opacity (to 0.1) changes;
+//                stroke's samples show (the DM pass's own hidden-run and peek rules), at
+//                the run's mean opacity (by length); a filled outline where its width
+//                varies by 0.125 px or more, else a stroke of its width quantised to 0.25 px;
 //   silhouettes  the drawn pixels (the piece rule's opacity > 0) chained into centre lines
 //                (chain_mask), smoothed and simplified to 0.25 px, each at its piece's
 //                mean opacity;
@@ -26,8 +27,11 @@ namespace renderer {
 
 struct VectorPath {
   Polyline line;
-  float width = 1;    // pixels
+  float width = 1;    // pixels: a stroke of this width ...
   float opacity = 1;  // 0..1
+  // ... or, where not empty, one width per point: a line whose width varies, drawn as a
+  // filled outline (the union of the capsules of its segments, round ends).
+  std::vector<float> widths;
 };
 
 enum class LineCap { Butt, Round, Square };

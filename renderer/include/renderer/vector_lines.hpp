@@ -1,9 +1,7 @@
 #pragma once
-// Line art as polylines, GL-free (issue 37's first part: the geometry the SVG / PDF writer
-// will stroke): a drawn mask's pixels chained 8-connected into centre lines, segment
-// lists chained where consecutive ends meet, Douglas-Peucker simplification, and a
-// polyline of varying width split into runs of equal (quantised) width. Screen
-// coordinates, x right and y down, a pixel's centre at (x + 0.5, y + 0.5).
+// Line art as polylines, GL-free (the geometry the SVG / PDF writer strokes, vector_art.hpp):
+// a drawn mask's pixels chained 8-connected into centre lines, segment lists chained where
+// consecutive ends meet, and Douglas-Peucker simplification. Screen coordinates, x right and y down, a pixel's centre at (x + 0.5, y + 0.5).
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -32,13 +30,7 @@ std::vector<Polyline> chain_segments(const std::vector<std::array<Eigen::Vector2
 // point of `line` (ends kept; a ring keeps its first point).
 Polyline simplify(const Polyline& line, float tolerance);
 
-// Runs of equal width: `widths` (one per point of an open polyline) quantised to
-// `quantum`; the polyline is split where a segment's quantised width (of the mean of its
-// ends) changes, consecutive runs sharing their boundary point.
-struct WidthRun {
-  Polyline line;
-  float width = 0;
-};
-std::vector<WidthRun> width_runs(const Polyline& line, const std::vector<float>& widths, float quantum = 0.25f);
+// The indices of the points simplify keeps, in order (a ring's from its first point).
+std::vector<std::size_t> simplified_points(const Polyline& line, float tolerance);
 
 }  // namespace renderer
