@@ -1,6 +1,6 @@
 // renderer/vector_lines.hpp on hand-made masks and segment lists whose lines are known: a
 // ring, a T junction, a dashed line, a line along the frame's edge, a thick band; and the
-// simplification and width runs the vector writer strokes.
+// simplification the vector writer uses.
 #include <gtest/gtest.h>
 
 #include <cmath>
