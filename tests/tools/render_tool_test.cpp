@@ -2,6 +2,8 @@
 // bad frame lists, and a machine without a usable OpenGL.
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/imagebuf.h>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -78,6 +80,36 @@ TEST(TerrainRender, BatchWritesFramesAndTimings) {
 // --flow-scale: on the log scale fc = ln a / ln T is at least the linear a / T wherever a
 // >= 2 points drain (and T >= 4), so at the same minimum score the default draws at least
 // the segments the linear scale draws; an unknown scale is a usage error.
+// Surface pixels of a mask-only frame (the mask colour, white).
+std::size_t white_pixels(const std::string& png) {
+  OIIO::ImageBuf buf(png);
+  EXPECT_TRUE(buf.read(0, 0, true, OIIO::TypeDesc::UINT8)) << png;
+  std::vector<std::uint8_t> px(std::size_t(buf.spec().width) * std::size_t(buf.spec().height) * 3);
+  buf.get_pixels(OIIO::ROI(0, buf.spec().width, 0, buf.spec().height, 0, 1, 0, 3), OIIO::TypeDesc::UINT8, px.data());
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < px.size(); i += 3) n += px[i] == 255 && px[i + 1] == 255 && px[i + 2] == 255;
+  return n;
+}
+
+// Fine tessellation (1 px per edge, patches at the largest level) covers the same surface as
+// the default: llvmpipe dropped whole bands of patches from a draw call tessellating into
+// more than 65536 triangles (A3 at 300 dpi showed them at the default 6 px); the surface is
+// drawn in calls of 64 patches. Silhouette-free mask frames, so only the outline differs.
+TEST(TerrainRender, FineTessellationDrawsEveryPatch) {
+  Inputs in;
+  std::size_t px[2];
+  const char* ppe[2] = {"6", "1"};
+  for (int i = 0; i < 2; ++i) {
+    const std::string out = in.dir.path(std::string("t") + ppe[i] + ".png");
+    const auto r = run(tool("terrain-render") + " frame " + in.mesh + " -o " + out + " --layers mask --view-az 180 "
+                       "--pixels-per-edge " + ppe[i] + " -q");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    px[i] = white_pixels(out);
+  }
+  EXPECT_GT(px[0], std::size_t(300000));
+  EXPECT_NEAR(double(px[1]) / double(px[0]), 1.0, 0.002) << px[0] << " vs " << px[1];
+}
+
 TEST(TerrainRender, FlowScale) {
   Inputs in;
   const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + in.dir.path("f.png") +
