@@ -44,6 +44,9 @@ $bin/terrain-render --device > "$out/render_device.txt"
 # Mount St. Helens crater: the pen-and-ink mask with creases and silhouettes (default
 # camera), the shaded relief, and the crater seen from the north.
 run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_breached.dv" -o "$out/render_msh_lines.png"
+# The same lines as vector paths (layers for Inkscape; docs/terrain-render.md, "Vector output").
+run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_breached.dv" -o "$out/render_msh_lines.svg"
+run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_breached.dv" -o "$out/render_msh_lines.pdf"
 run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_breached.dv" -o "$out/render_msh_shaded.png" \
   --layers shaded,creases,silhouettes --view-az 160 --view-alt 35
 run $bin/terrain-render frame "$out/msh_50m.ply" -o "$out/render_msh_relief.png" --layers shaded --view-az 160 --view-alt 35

@@ -22,6 +22,7 @@
 #include "renderer/terrain_renderer.hpp"
 #include "renderer/vector_file.hpp"
 #include "terrain/atomic_file.hpp"
+#include "terrain/dem_io.hpp"
 #include "terrain/image_io.hpp"
 
 namespace tt = terrain::tools;
@@ -97,6 +98,19 @@ void add_output_options(CLI::App* cmd, OutputArgs& o, bool batch) {
     cmd->add_option("--format", o.formats, "Files per frame, a comma list of png, svg, pdf")->capture_default_str();
 }
 
+// Host memory the vector output reads back and builds per pixel, besides the frame itself:
+// the depth, mask and surface buffers and the art's masks (the peak resident memory of a
+// 9933 x 7016 PDF was 28 bytes a pixel above the PNG's).
+constexpr double kVectorBytesPerPixel = 28.0;
+
+// Checked before the renderer allocates the frame: on a CPU renderer the frame's own 64 bytes
+// a pixel (TerrainRenderer's check) are this machine's memory too.
+void check_vector_memory(const rr::GlContext& ctx, int width, int height) {
+  terrain::check_memory(double(width) * double(height) * (kVectorBytesPerPixel + (ctx.info().software ? 64.0 : 0.0)),
+                        fmt::format("the vector output of a {} x {} frame", width, height),
+                        "give a smaller --size, or write a PNG");
+}
+
 // The frame's line art written as SVG or PDF; the times at -v.
 void write_vector(const std::string& out, const rr::Scene& scene, const rr::TerrainRenderer& r,
                   const rr::FrameResult& res, const rr::FrameParams& fp, const rr::Style& style,
@@ -141,6 +155,7 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   auto t0 = Clock::now();
   rr::GlContext ctx;
   const rr::Style style = rr::drawn_style(s);
+  if (vector) check_vector_memory(ctx, s.width, s.height);
   rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, s.layers,
                         style);
   tt::step(verb, fmt::format("OpenGL set-up ({}): {:.2f} s", ctx.info().renderer, since(t0)));
@@ -216,6 +231,7 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   }
   rr::GlContext ctx;
   const rr::Style style = rr::drawn_style(s);
+  if (formats != std::vector<std::string>{"png"}) check_vector_memory(ctx, s.width, s.height);
   rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, s.layers,
                         style);
   std::vector<rr::FrameTimings> timings;

@@ -368,6 +368,15 @@ INSTANTIATE_TEST_SUITE_P(
         Row{tr + "frame IN/m.ply -o OUT/f.png --layers mask,silhouettes,silhouettes-adjacency -q", 2,
             "choose silhouettes (Toward/Away) or silhouettes-adjacency"},
         Row{tr + "path --from 0 0 nan --to 1 1 1 --frames 3 -o OUT/p.csv", 2, "not a finite number"},
+        // issue 37: vector output
+        Row{tr + "frame IN/m.ply -o OUT/f.eps -q", 1, "the output must be a .png, .svg or .pdf file"},
+        Row{tr + "frame IN/m.ply -o OUT/f.svg --vector-underlay relief", 2, "--vector-underlay"},
+        Row{tr + "frame IN/m.ply -o OUT/f.pdf --dpi 0", 2, "--dpi"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --line-scale 0", 2, "--line-scale"},
+        Row{tr + "batch IN/m.ply IN/inf.csv -o OUT/ --format png,gif -q", 2, "unknown format 'gif'"},
+        Row{tr + "batch IN/m.ply IN/inf.csv -o OUT/ --format svg,svg -q", 2, "'svg' is given twice"},
+        Row{"env TERRAIN_MEMORY_MIB=1000 " + tr + "frame IN/m.ply -o OUT/f.svg --size 4000x4000 -q", 1,
+            "the vector output of a 4000 x 4000 frame needs"},
         Row{tr + "path --from 0 0 100 --to 1 1 100 --frames 3 -o /dev/null", 1, "not a regular file"},
         // issue 41: hostile metadata, malformed numbers, outputs on inputs, sizes beyond memory
         Row{bd + "--raster IN/big.vrt OUT/o.dv -q", 1, "an untiled run of 40000 x 40000 cells needs"},
