@@ -32,7 +32,11 @@ cd build-asan
 # test's output carries it, those tests, and only those, run once more.
 log=Testing/Temporary/sanitizers.log
 mkdir -p Testing/Temporary
-if ctest --output-on-failure --parallel "$(nproc)" "$@" 2>&1 | tee "$log"; then exit 0; fi
+# End-to-end tests that repeat, on more views, a code path another test already runs here
+# (the vector output's agreement on the Logan view and the flight: its MSH test runs the
+# same writer, paths and tools): the GCC build runs them; here they would add ~100 s.
+skip='VectorOutput\.(Logan|Flight)'
+if ctest --output-on-failure --parallel "$(nproc)" -E "$skip" "$@" 2>&1 | tee "$log"; then exit 0; fi
 failed=$(grep -c . Testing/Temporary/LastTestsFailed.log || true)
 tracer=$(grep -c "LeakSanitizer has encountered a fatal error" "$log" || true)
 if [ "$failed" -gt 0 ] && [ "$failed" -eq "$tracer" ]; then

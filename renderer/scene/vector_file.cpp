@@ -12,6 +12,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 
 #include "terrain/error.hpp"
@@ -156,13 +157,6 @@ Doc parse(const std::string& text) {
   return d;
 }
 
-std::string attr(xmlNode* n, const char* name) {
-  xmlChar* v = xmlGetProp(n, BAD_CAST name);
-  std::string s = v ? reinterpret_cast<const char*>(v) : "";
-  xmlFree(v);
-  return s;
-}
-
 // "12.121094" -> "12.12": every number of a path's d attribute with 2 decimals at most.
 std::string round_numbers(const std::string& d) {
   std::string out;
@@ -194,12 +188,9 @@ void rename(xmlNode* n, const std::string& prefix) {
     if (n->type != XML_ELEMENT_NODE) continue;
     for (xmlAttr* a = n->properties; a; a = a->next) {
       const std::string name = reinterpret_cast<const char*>(a->name);
-      std::string v = attr(n, name.c_str());
-      if (a->ns) {
-        xmlChar* raw = xmlGetNsProp(n, a->name, a->ns->href);
-        v = raw ? reinterpret_cast<const char*>(raw) : "";
-        xmlFree(raw);
-      }
+      xmlChar* raw = xmlNodeListGetString(n->doc, a->children, 1);
+      const std::string v = raw ? reinterpret_cast<const char*>(raw) : "";
+      xmlFree(raw);
       std::string nv = v;
       if (name == "id") nv = prefix + v;
       else if (name == "href" && v.starts_with("#")) nv = "#" + prefix + v.substr(1);
