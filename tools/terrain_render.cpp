@@ -143,13 +143,13 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   check_line_stats(a, s, dv);
   const rr::Scene scene = scene_of(mesh, dv, s, verb);
   rr::FrameParams& fp = s.frame;
-  if (!fp.camera.eye && !a.was_given("view-az")) {  // the default view
-    const auto rv = rr::relief_view(scene.mesh, s.style.exaggeration, fp.camera.fov,
-                                    double(s.width) / double(s.height), fp.camera.view_alt);
-    fp.camera = rv.camera;
-    if (!a.was_given("light-az") && !a.was_given("light-alt")) fp.light = rv.light;
-    tt::step(verb, fmt::format("default view: the relief around {:.0f} {:.0f} ({:.0f} m), seen from bearing {:.0f}",
-                               rv.centre.x(), rv.centre.y(), rv.relief, std::fmod(rv.camera.view_az + 180, 360.0)));
+  if (!fp.camera.eye && !a.was_given("view-az")) {  // the default view: --view
+    const auto dv = rr::default_view(scene.mesh, s.view, s.style.exaggeration, fp.camera.fov,
+                                     double(s.width) / double(s.height),
+                                     a.was_given("view-alt") ? std::optional<double>(fp.camera.view_alt) : std::nullopt);
+    fp.camera = dv.camera;
+    if (!a.was_given("light-az") && !a.was_given("light-alt")) fp.light = dv.light;
+    tt::step(verb, dv.description);
   }
   if (fp.camera.eye) rr::check_eye_above_terrain(scene.mesh, *fp.camera.eye, s.style.exaggeration);
   auto t0 = Clock::now();

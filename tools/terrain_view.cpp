@@ -12,6 +12,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <optional>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -53,7 +54,10 @@ class Viewer {
         verb_(verb),
         scene_(rr::load_scene(mesh_path_, dv_path_, s_.rules)) {
     for (const std::string& w : scene_.warnings) tt::warn(verb_, w);
-    home_fov_ = s_.frame.camera.fov, home_alt_ = s_.frame.camera.view_alt;
+    home_fov_ = s_.frame.camera.fov;
+    // An altitude other than the default is the user's (--view-alt); the default lets the
+    // automatic view choose, as terrain-render does without --view-alt.
+    if (s_.frame.camera.view_alt != rr::RenderSettings{}.frame.camera.view_alt) home_alt_ = s_.frame.camera.view_alt;
     if (!s_.frame.camera.eye) home();
     rebuild();
   }
@@ -63,14 +67,13 @@ class Viewer {
   const rr::GlContext& gl() const { return gl_; }
   tt::ViewCamera camera() const { return {scene_.mesh, s_.style.exaggeration, s_.width, s_.height}; }
 
-  // The default view of terrain-render frame: the part of highest relief, side-lit, at
-  // the field of view and altitude the viewer started with (as terrain-render's options).
+  // The default view of terrain-render frame (--view), at the field of view and altitude
+  // the viewer started with (as terrain-render's options).
   void home() {
-    rr::Camera& c = s_.frame.camera;
-    const auto rv = rr::relief_view(scene_.mesh, s_.style.exaggeration, home_fov_, double(s_.width) / s_.height,
-                                    home_alt_);
-    c = rv.camera;
-    s_.frame.light = rv.light;
+    const auto dv = rr::default_view(scene_.mesh, s_.view, s_.style.exaggeration, home_fov_,
+                                     double(s_.width) / s_.height, home_alt_);
+    s_.frame.camera = dv.camera;
+    s_.frame.light = dv.light;
   }
 
   // Sets one option by the table; the renderers (or the creases) are rebuilt when it needs,
@@ -174,7 +177,8 @@ class Viewer {
   rr::FrameResult last_;
   bool last_cheap_ = false;
   double full_ms_ = 0, cheap_ms_ = 0;
-  double home_fov_ = 35, home_alt_ = 30;
+  double home_fov_ = 35;
+  std::optional<double> home_alt_;
   bool stale_ = false, creases_stale_ = false;  // set() changed what the renderers or creases hold
 };
 

@@ -13,6 +13,8 @@ namespace renderer {
 
 namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kAcrossWeight = 0.15, kUphillWeight = 0.02;  // auto_view's score (camera.hpp)
+constexpr double kMaxAutoAlt = 55, kAutoCoverage = 0.6;
 
 std::array<Eigen::Vector3d, 8> corners(const Box& b) {
   std::array<Eigen::Vector3d, 8> c;
@@ -62,26 +64,29 @@ Eigen::Matrix4d View::projection() const {
   return p;
 }
 
-Eigen::Vector3d frame_box(const Box& box, double az, double alt, double fov_deg, double aspect) {
+Eigen::Vector3d frame_points(const std::vector<Eigen::Vector3d>& points, double az, double alt, double fov_deg,
+                             double aspect, double margin) {
   const Eigen::Vector3d f = view_direction(az, alt);
   Eigen::Vector3d right, up;
   axes(az, f, right, up);
-  const double tv = std::tan(0.5 * fov_deg * kDeg) / 1.05, th = tv * aspect;
-  // Eye = target - d f. A corner c at offset o from the target has depth d + o.f and must
+  const double tv = std::tan(0.5 * fov_deg * kDeg) / margin, th = tv * aspect;
+  // Eye = target - d f. A point at offset o from the target has depth d + o.f and must
   // satisfy |o.right| <= (d + o.f) th and |o.up| <= (d + o.f) tv: the smallest such d.
-  // Then the target moves sideways so that the box's image is centred, and d is found
+  // Then the target moves sideways so that the points' image is centred, and d is found
   // again (two rounds are enough in practice).
-  Eigen::Vector3d target = 0.5 * (box.lo + box.hi);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (const auto& c : points) lo = lo.cwiseMin(c), hi = hi.cwiseMax(c);
+  Eigen::Vector3d target = 0.5 * (lo + hi);
   double d = 0;
   for (int round = 0; round < 3; ++round) {
     d = 0;
-    for (const auto& c : corners(box)) {
+    for (const auto& c : points) {
       const Eigen::Vector3d o = c - target;
       d = std::max({d, std::abs(o.dot(right)) / th - o.dot(f), std::abs(o.dot(up)) / tv - o.dot(f)});
     }
     if (round == 2) break;
     double x_lo = 1e300, x_hi = -1e300, y_lo = 1e300, y_hi = -1e300;
-    for (const auto& c : corners(box)) {
+    for (const auto& c : points) {
       const Eigen::Vector3d o = c - (target - d * f);
       const double depth = o.dot(f);
       x_lo = std::min(x_lo, o.dot(right) / depth), x_hi = std::max(x_hi, o.dot(right) / depth);
@@ -90,6 +95,118 @@ Eigen::Vector3d frame_box(const Box& box, double az, double alt, double fov_deg,
     target += d * (0.5 * (x_lo + x_hi) * right + 0.5 * (y_lo + y_hi) * up);
   }
   return target - d * f;
+}
+
+Eigen::Vector3d frame_box(const Box& box, double az, double alt, double fov_deg, double aspect) {
+  const auto c = corners(box);
+  return frame_points(std::vector<Eigen::Vector3d>(c.begin(), c.end()), az, alt, fov_deg, aspect, 1.05);
+}
+
+AutoView auto_view(const terrain::GridMesh& mesh, double e, double fov_deg, double aspect, double view_alt,
+                   bool search_alt) {
+  const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
+  if (rows < 2 || cols < 2) throw terrain::Error("the mesh has no faces");
+  auto at = [&](std::size_t r, std::size_t c) {
+    const Eigen::Vector3f& p = mesh.positions[r * cols + c];
+    return Eigen::Vector3d(p.x(), p.y(), double(p.z()) * e);
+  };
+  // The points to frame: every vertex, or every s-th in rows and columns (and the last) on a
+  // large mesh, at most ~256 k.
+  const std::size_t s = std::size_t(std::ceil(std::sqrt(double(rows * cols) / 262144.0)));
+  auto samples = [&](std::size_t n, std::size_t step) {
+    std::vector<std::size_t> v;
+    for (std::size_t i = 0; i < n; i += step) v.push_back(i);
+    if (v.back() != n - 1) v.push_back(n - 1);
+    return v;
+  };
+  const auto rs = samples(rows, std::max<std::size_t>(s, 1)), cs = samples(cols, std::max<std::size_t>(s, 1));
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(rs.size() * cs.size());
+  for (const std::size_t r : rs)
+    for (const std::size_t c : cs)
+      if (at(r, c).allFinite()) points.push_back(at(r, c));
+  if (points.size() < 3) throw terrain::Error("the mesh has no faces");
+  // The coarse grid (at most 64 cells a side) for the coverage and the relief's axis.
+  const std::size_t k = std::max<std::size_t>(1, (std::max(rows, cols) + 63) / 64);
+  const auto rk = samples(rows, k), ck = samples(cols, k);
+  // Across the main relief: the principal axis of the height gradients (the structure
+  // tensor J = sum g g^T over the coarse cells), and the mean plane's uphill direction.
+  double jxx = 0, jxy = 0, jyy = 0, gx_sum = 0, gy_sum = 0;
+  for (std::size_t i = 0; i + 1 < rk.size(); ++i)
+    for (std::size_t j = 0; j + 1 < ck.size(); ++j) {
+      const Eigen::Vector3d a = at(rk[i], ck[j]), b = at(rk[i], ck[j + 1]), c = at(rk[i + 1], ck[j]);
+      if (!a.allFinite() || !b.allFinite() || !c.allFinite()) continue;
+      const double gx = (b.z() - a.z()) / (b.x() - a.x()), gy = (c.z() - a.z()) / (c.y() - a.y());
+      jxx += gx * gx, jxy += gx * gy, jyy += gy * gy, gx_sum += gx, gy_sum += gy;
+    }
+  const double tr = jxx + jyy, det = jxx * jyy - jxy * jxy, disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+  const double l1 = 0.5 * tr + disc, l2 = 0.5 * tr - disc;
+  // The eigenvector of l1, (l1 - jyy, jxy) in (east, north), as a bearing.
+  const double axis = jxy == 0 ? (jxx >= jyy ? 90.0 : 0.0) : std::atan2(l1 - jyy, jxy) / kDeg;
+  const double anisotropy = l1 > 0 ? 1.0 - l2 / l1 : 0.0;
+  const Eigen::Vector2d uphill(gx_sum, gy_sum);
+  AutoView best;
+  double best_score = -1e300;
+  const int mw = 160, mh = std::max(1, int(std::lround(160.0 / aspect)));
+  std::vector<double> alts{view_alt};
+  if (search_alt)
+    for (double a = view_alt + 5; a <= kMaxAutoAlt + 1e-9; a += 5) alts.push_back(a);
+  for (int step = 0; step < 24 * int(alts.size()); ++step) {
+    const double az = 15.0 * (step % 24), view_alt = alts[std::size_t(step / 24)];
+    Camera cam;
+    cam.view_az = az;
+    cam.view_alt = view_alt;
+    cam.fov = fov_deg;
+    View v;
+    v.width = mw;
+    v.height = mh;
+    v.fov_deg = fov_deg;
+    v.forward = view_direction(az, view_alt);
+    axes(az, v.forward, v.right, v.up);
+    v.eye = frame_points(points, az, view_alt, fov_deg, double(mw) / double(mh), 1.02);
+    v.near = 1e-3;
+    // Coverage: the coarse grid's triangles filled into a mw x mh mask.
+    std::vector<std::uint8_t> mask(std::size_t(mw * mh), 0);
+    auto fill = [&](const Projected& p0, const Projected& p1, const Projected& p2) {
+      const double x0 = std::min({p0.u, p1.u, p2.u}), x1 = std::max({p0.u, p1.u, p2.u});
+      const double y0 = std::min({p0.v, p1.v, p2.v}), y1 = std::max({p0.v, p1.v, p2.v});
+      const double area = (p1.u - p0.u) * (p2.v - p0.v) - (p2.u - p0.u) * (p1.v - p0.v);
+      if (area == 0) return;
+      for (int y = std::max(0, int(std::floor(y0))); y < std::min(mh, int(std::ceil(y1))); ++y)
+        for (int x = std::max(0, int(std::floor(x0))); x < std::min(mw, int(std::ceil(x1))); ++x) {
+          const double px = x + 0.5, py = y + 0.5;
+          const double w0 = ((p1.u - px) * (p2.v - py) - (p2.u - px) * (p1.v - py)) / area;
+          const double w1 = ((p2.u - px) * (p0.v - py) - (p0.u - px) * (p2.v - py)) / area;
+          if (w0 >= 0 && w1 >= 0 && w0 + w1 <= 1) mask[std::size_t(y * mw + x)] = 1;
+        }
+    };
+    for (std::size_t i = 0; i + 1 < rk.size(); ++i)
+      for (std::size_t j = 0; j + 1 < ck.size(); ++j) {
+        const Eigen::Vector3d q[4] = {at(rk[i], ck[j]), at(rk[i], ck[j + 1]), at(rk[i + 1], ck[j]),
+                                      at(rk[i + 1], ck[j + 1])};
+        if (!q[0].allFinite() || !q[1].allFinite() || !q[2].allFinite() || !q[3].allFinite()) continue;
+        const Projected p[4] = {project(v, q[0]), project(v, q[1]), project(v, q[2]), project(v, q[3])};
+        fill(p[0], p[1], p[2]);
+        fill(p[1], p[3], p[2]);
+      }
+    const double coverage = double(std::count(mask.begin(), mask.end(), 1)) / double(mask.size());
+    const double across = std::pow(std::cos((az - axis) * kDeg), 2.0);
+    const Eigen::Vector2d dir(std::sin(az * kDeg), std::cos(az * kDeg));
+    const double score = coverage + kAcrossWeight * anisotropy * across + (dir.dot(uphill) > 0 ? kUphillWeight : 0.0);
+    if (score > best_score) {
+      best_score = score;
+      best.camera = cam;
+      best.camera.eye = v.eye + Eigen::Vector3d(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z);
+      best.coverage = coverage;
+    }
+    // The least steep altitude at which the best bearing fills enough of the frame.
+    if (step % 24 == 23 && best.coverage >= kAutoCoverage) break;
+  }
+  best.light.azimuth = std::fmod(best.camera.view_az + 315.0, 360.0);  // from the upper left of the image
+  best.light.altitude = 45;
+  best.relief_axis = std::fmod(axis + 360.0, 180.0);
+  best.anisotropy = anisotropy;
+  return best;
 }
 
 ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, double aspect, double view_alt) {
@@ -189,6 +306,45 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
   rv.centre = centre + origin.head<2>();
   rv.relief = whi - wlo;
   return rv;
+}
+
+DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double e, double fov_deg, double aspect,
+                         std::optional<double> given_alt) {
+  const double view_alt = given_alt.value_or(30.0);
+  DefaultView d;
+  if (mode == ViewMode::Relief) {
+    const ReliefView rv = relief_view(mesh, e, fov_deg, aspect, view_alt);
+    d.camera = rv.camera;
+    d.light = rv.light;
+    d.description = fmt::format("relief view: the relief around {:.0f} {:.0f} ({:.0f} m), seen from bearing {:.0f}",
+                                rv.centre.x(), rv.centre.y(), rv.relief, std::fmod(rv.camera.view_az + 180, 360.0));
+    return d;
+  }
+  if (mode == ViewMode::Top) {
+    d.camera.view_az = 0;
+    d.camera.view_alt = 90;
+    d.camera.fov = fov_deg;
+    std::vector<Eigen::Vector3d> points;
+    const std::size_t n = mesh.positions.size(), step = std::max<std::size_t>(1, n / 262144);
+    for (std::size_t i = 0; i < n; i += step) {
+      const Eigen::Vector3f& p = mesh.positions[i];
+      if (p.allFinite()) points.emplace_back(p.x(), p.y(), double(p.z()) * e);
+    }
+    if (points.empty()) throw terrain::Error("the mesh has no faces");
+    d.camera.eye = frame_points(points, 0, 90, fov_deg, aspect, 1.02) +
+                   Eigen::Vector3d(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z);
+    d.light = {315, 45};
+    d.description = "top view: straight down, north up";
+    return d;
+  }
+  const AutoView av = auto_view(mesh, e, fov_deg, aspect, view_alt, !given_alt);
+  d.camera = av.camera;
+  d.light = av.light;
+  d.description = fmt::format("automatic view: the whole terrain from bearing {:.0f}, {:.0f} degrees down, covering "
+                              "{:.0f} % of the frame (relief axis {:.0f}, anisotropy {:.2f}); light from {:.0f}",
+                              av.camera.view_az, av.camera.view_alt, 100 * av.coverage, av.relief_axis,
+                              av.anisotropy, av.light.azimuth);
+  return d;
 }
 
 View make_view(const Camera& cam, const Eigen::Vector3d& origin, const Box& box, int width, int height,

@@ -142,10 +142,20 @@ std::vector<OptionSpec> make_table() {
       [](const RenderSettings& s) { return layers_text(s.layers); },
       [](RenderSettings& s, const std::string& v) { s.layers = parse_layers(v); }));
   t.push_back(choice(
+      "view", camera, OptionType::Enum, {"auto", "top", "relief"}, "auto",
+      "The camera when no --eye and no --view-az is given (frame): auto, the whole terrain filling the frame, "
+      "seen across its main relief, lit from the upper left; top, straight down, north up; relief, the part "
+      "of highest relief seen from its open side",
+      [](const RenderSettings& s) {
+        return std::string(s.view == ViewMode::Auto ? "auto" : s.view == ViewMode::Top ? "top" : "relief");
+      },
+      [](RenderSettings& s, const std::string& v) {
+        s.view = v == "top" ? ViewMode::Top : v == "relief" ? ViewMode::Relief : ViewMode::Auto;
+      }));
+  t.push_back(choice(
       "eye", camera, OptionType::Point, {}, "",
-      "Viewpoint E N Z: easting, northing (mesh CRS) and elevation in metres; default (frame): the part of "
-      "highest relief, seen from its open side and side-lit; with --view-az: the whole terrain framed along "
-      "that bearing",
+      "Viewpoint E N Z: easting, northing (mesh CRS) and elevation in metres; default (frame): --view; with "
+      "--view-az: the whole terrain framed along that bearing",
       [](const RenderSettings& s) {
         const auto& e = s.frame.camera.eye;
         return e ? fmt::format("{} {} {}", e->x(), e->y(), e->z()) : std::string();

@@ -39,7 +39,10 @@ const std::vector<std::vector<std::pair<std::string, std::string>>> kChanges = {
 // view (the same commands run either way; the sanitizer build runs both).
 void check_viewer(bool window) {
   terrain::test::ScratchDir dir;
-  const std::string mesh = dir.path("m.ply"), dv = dir.path("m.dv"), size = " --size 320x180";
+  // The window test at the relief view (--view relief: silhouettes in sight, for the changes
+  // below), the offscreen one at the automatic view.
+  const std::string mesh = dir.path("m.ply"), dv = dir.path("m.dv"),
+                    size = std::string(" --size 320x180") + (window ? " --view relief" : "");
   ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh + " --spacing 50 -q").exit_code, 0);
   ASSERT_EQ(run(tool("build-drainage") + " " + mesh + " " + dv + " --breach 10 -q").exit_code, 0);
   std::string replay = "screenshot " + dir.path("home.png") + "\nsave-view " + dir.path("view.png") + "\nsave-view " +

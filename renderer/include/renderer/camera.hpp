@@ -3,6 +3,9 @@
 // with them). Coordinates are the mesh's local frame (world = origin + local) with z
 // multiplied by the vertical exaggeration; x east, y north, z up.
 #include <array>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -35,7 +38,38 @@ Eigen::Vector3d view_direction(double view_az_deg, double view_alt_deg);
 // margin), moved sideways so that the box's image is centred.
 Eigen::Vector3d frame_box(const Box& box, double view_az, double view_alt, double fov_deg, double aspect);
 
-// The default view of a terrain (terrain-render with no camera options;
+// The eye (local frame) that frames every point of `points` (the nearest eye for which
+// all lie inside the view, the field of view narrowed by `margin`), moved sideways so that
+// their image is centred, looking along view_direction(view_az, view_alt).
+Eigen::Vector3d frame_points(const std::vector<Eigen::Vector3d>& points, double view_az, double view_alt,
+                             double fov_deg, double aspect, double margin);
+
+// The automatic view (terrain-render with no camera option, the viewer's Home;
+// docs/terrain-render.md, "The automatic view"): the whole terrain from `view_alt` above
+// the horizon, framed tightly (every vertex inside the view, a 2 % margin; a large mesh
+// sampled at most ~256 k vertices), at the bearing, in 15 degree steps, of the largest
+// score = coverage + 0.15 a cos^2(bearing - axis) + 0.02 [the terrain rises away from the
+// eye]: coverage the share of the frame the terrain covers (its coarse grid, at most 64
+// cells a side, filled into a 160-pixel-wide mask), axis the bearing of the principal axis
+// of the height gradients (the structure tensor; looking along it is looking across the
+// main ridges and valleys), a = 1 - l2 / l1 its anisotropy (0 on a cone, 1 on a ramp), and
+// the last term the mean slope rising away from the eye. The light comes from the upper
+// left of the image (bearing - 45 degrees), 45 degrees high: the cartographic convention.
+struct AutoView {
+  Camera camera;  // eye set, world coordinates
+  Light light;
+  double coverage = 0;     // share of the frame covered (the coarse estimate)
+  double relief_axis = 0;  // degrees, 0..180
+  double anisotropy = 0;
+};
+// With search_alt, the altitudes view_alt, view_alt + 5, ... 55 are tried in turn (the
+// steeper, the closer the terrain's image to its plan shape and the more of the frame it
+// fills), each with the 24 bearings, until the best bearing covers 60 % of the frame: the
+// most oblique view that fills the frame (else the best of all).
+AutoView auto_view(const terrain::GridMesh& mesh, double exaggeration, double fov_deg, double aspect,
+                   double view_alt = 30.0, bool search_alt = false);
+
+// The relief view (--view relief; the default before the automatic view;
 // docs/terrain-render.md, "The default view"). On the grid coarsened to at most 95 cells a
 // side, each cell's local relief is the max - min height over a window a sixth of the
 // shorter side. The subject is the cells of at least 3/4 of the largest local relief (the
@@ -57,6 +91,18 @@ struct ReliefView {
 };
 ReliefView relief_view(const terrain::GridMesh& mesh, double exaggeration, double fov_deg, double aspect,
                        double view_alt = 30.0);
+
+// The camera and light of `mode` (ViewMode) for a mesh, and a line saying what they are:
+// Auto (auto_view at view_alt), Top (straight down, north up, every vertex framed; the
+// light from the north-west, 45 degrees high), Relief (relief_view at view_alt); a view_alt
+// not given: 30 degrees, and Auto searches 30 to 55.
+struct DefaultView {
+  Camera camera;  // eye set, world coordinates
+  Light light;
+  std::string description;
+};
+DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double exaggeration, double fov_deg,
+                         double aspect, std::optional<double> view_alt = std::nullopt);
 
 // The view of `camera` over a scene whose local frame has world origin `origin` and whose
 // (exaggerated) bounding box is `box`: the eye is camera.eye - origin, or framed on `box`

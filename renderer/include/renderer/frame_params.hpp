@@ -38,6 +38,11 @@ struct Camera {
   double view_az = 225.0, view_alt = 30.0, fov = 35.0;
 };
 
+// The camera a frame gets when none is given (no eye, no view azimuth): the automatic view
+// of the whole terrain (auto_view), straight down with north up (Top), or the part of
+// highest relief (relief_view).
+enum class ViewMode { Auto, Top, Relief };
+
 struct Light {
   double azimuth = 315.0, altitude = 45.0;
 };

@@ -23,6 +23,7 @@ struct RenderSettings {
   // Every line width and the pixel lengths of the crease stroke rules (hidden gap, peek)
   // times this (drawn_style): a print-size frame keeps the look of a screen-size one.
   double line_scale = 1.0;
+  ViewMode view = ViewMode::Auto;  // --view: the camera when none is given
 };
 
 // The style a frame is drawn with: s.style with its line widths and stroke pixel lengths
