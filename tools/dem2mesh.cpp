@@ -11,6 +11,7 @@
 #include "terrain/fit_normals.hpp"
 #include "terrain/grid_mesh.hpp"
 #include "terrain/mesh_io.hpp"
+#include "terrain/dequantize.hpp"
 #include "terrain/prepare_grid.hpp"
 #include "terrain/scattered.hpp"
 
@@ -24,8 +25,8 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 // A raster DEM: only the source window the crop needs is read (plus the kernel's margin),
 // then resampled onto the grid.
 // `source` (optional) receives the source samples read, in the grid's CRS, for --fit-normals.
-terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& req, const tt::Verbosity& verb,
-                          terrain::Grid* source) {
+terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& req, const std::string& dequantize,
+                          const tt::Verbosity& verb, terrain::Grid* source) {
   auto t0 = Clock::now();
   const terrain::DemInfo info = terrain::read_dem_info(input);
   const terrain::GridPlan plan = terrain::plan_grid(info.geo, info.rows, info.cols, req);
@@ -40,6 +41,13 @@ terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& 
   terrain::Grid dem = terrain::read_dem(input, tt::terminal_progress(verb, "read"), win);
   tt::step(verb, fmt::format("read {} x {} of {} x {} samples: {:.2f} s", win.cols, win.rows, info.cols, info.rows,
                              since(t0)));
+  // Integer heights terrace gentle slopes into flats: smoothed within half a unit.
+  if (dequantize == "on" || (dequantize == "auto" && terrain::is_integer_dem(dem))) {
+    t0 = Clock::now();
+    const double change = terrain::dequantize(dem);
+    tt::step(verb, fmt::format("integer heights: steps smoothed within half a unit (largest change {:.2f}): {:.2f} s",
+                               change, since(t0)));
+  }
   t0 = Clock::now();
   terrain::PreparedGrid prepared = terrain::resample_to_plan(dem, plan, req, tt::terminal_progress(verb, "resample"));
   for (const auto& w : prepared.warnings) tt::warn(verb, w);
@@ -141,6 +149,12 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"uniform", "angle", "area"}))
       ->capture_default_str();
   app.add_option("--grid-out", grid_out, "Also write the resampled grid as a GeoTIFF");
+  std::string dequantize = "auto";
+  app.add_option("--dequantize", dequantize,
+                 "Integer heights (whole metres: SRTM, many national DEMs) terrace gentle slopes into flats: smooth "
+                 "the steps, moving no sample by more than half a unit; auto: when every height is a whole number")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->capture_default_str();
   auto* interp_opt = app.add_option("--interpolation", interpolation,
                                     "Scattered points: natural (Sibson's C1 natural-neighbour interpolant, gradients "
                                     "fitted at the points), natural-c0 (natural-neighbour weighted mean) or linear "
@@ -196,7 +210,7 @@ int main(int argc, char** argv) {
     } else {
       for (const CLI::Option* o : {interp_opt, max_edge_opt, src_crs_opt})
         if (*o) throw terrain::Error(o->get_name() + " applies to scattered points; '" + input + "' is a raster");
-      grid = raster_grid(input, req, verb, fit ? &source_dem : nullptr);
+      grid = raster_grid(input, req, dequantize, verb, fit ? &source_dem : nullptr);
     }
     terrain::OutputSet outputs;  // the mesh and the grid land together, or neither does
     if (!grid_out.empty())

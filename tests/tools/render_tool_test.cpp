@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include "test_support.hpp"
@@ -108,6 +109,34 @@ TEST(TerrainRender, FineTessellationDrawsEveryPatch) {
   }
   EXPECT_GT(px[0], std::size_t(300000));
   EXPECT_NEAR(double(px[1]) / double(px[0]), 1.0, 0.002) << px[0] << " vs " << px[1];
+}
+
+// An integer DEM (MED_01_01: whole metres, 391-664 m) terraces its gentle slopes into flats,
+// and the creases of the default frame ran across them (flat share 0.71). dem2mesh smooths
+// the steps within half a metre (--dequantize auto): the flat share falls below 0.15 and the
+// valley share rises, measured by --line-stats at the automatic view.
+TEST(TerrainRender, IntegerDemStepsAreSmoothedAwayFromTheCreases) {
+  terrain::test::ScratchDir dir;
+  double flat[2] = {0, 0}, valley[2] = {0, 0};
+  const char* mode[2] = {"auto", "off"};
+  for (int i = 0; i < 2; ++i) {
+    const std::string mesh = dir.path(std::string(mode[i]) + ".ply"), dv = dir.path(std::string(mode[i]) + ".dv");
+    const auto m = run(tool("dem2mesh") + " " + data("med_01_01_10m.tif") + " " + mesh + " --dequantize " + mode[i] +
+                       " -v");
+    ASSERT_EQ(m.exit_code, 0) << m.err;
+    EXPECT_EQ(m.err.find("integer heights: steps smoothed") != std::string::npos, i == 0) << m.err;
+    ASSERT_EQ(run(tool("build-drainage") + " " + mesh + " " + dv + " --breach 10 -q").exit_code, 0);
+    const auto r = run(tool("terrain-render") + " frame " + mesh + " " + dv + " -o " + dir.path("f.png") +
+                       " --line-stats");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::smatch f, v;
+    ASSERT_TRUE(std::regex_search(r.out, f, std::regex("crease flat share: ([0-9.]+)")));
+    ASSERT_TRUE(std::regex_search(r.out, v, std::regex("crease valley share: ([0-9.]+)")));
+    flat[i] = std::stod(f[1]), valley[i] = std::stod(v[1]);
+  }
+  EXPECT_LT(flat[0], 0.15) << "dequantized";
+  EXPECT_GT(flat[1], 0.5) << "as stored";
+  EXPECT_GT(valley[0], valley[1] + 0.2);
 }
 
 TEST(TerrainRender, FlowScale) {
