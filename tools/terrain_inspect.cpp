@@ -14,6 +14,7 @@
 #include "terrain/grid_mesh.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/image_io.hpp"
+#include "renderer/camera.hpp"
 #include "terrain/mesh_io.hpp"
 #include "terrain/scattered.hpp"
 
@@ -80,6 +81,13 @@ void info_mesh(const std::string& path) {
                              fit.samples, fit.rmse_after, fit.rmse_before, fit.max_after, fit.max_before);
   else
     std::cout << "normals_fitted: no\n";
+  // The camera terrain-render frame takes with no camera option (1280 x 720, 35 degrees).
+  const renderer::DefaultView av = renderer::default_view(m, renderer::ViewMode::Auto, 1.0, 35.0, 1280.0 / 720.0);
+  std::cout << fmt::format("automatic_view: --eye {:.3f} {:.3f} {:.3f} --view-az {:g} --view-alt {:g} --fov {:g} "
+                           "--light-az {:g} --light-alt {:g}\n",
+                           av.camera.eye->x(), av.camera.eye->y(), av.camera.eye->z(), av.camera.view_az,
+                           av.camera.view_alt, av.camera.fov, av.light.azimuth, av.light.altitude)
+            << "automatic_view_rule: " << av.description << "\n";
   std::cout << "provenance: " << (m.provenance.empty() ? "unknown" : m.provenance) << "\n";
 }
 

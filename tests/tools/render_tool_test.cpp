@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 
 #include <filesystem>
 #include <fstream>
@@ -109,6 +110,22 @@ TEST(TerrainRender, FineTessellationDrawsEveryPatch) {
   }
   EXPECT_GT(px[0], std::size_t(300000));
   EXPECT_NEAR(double(px[1]) / double(px[0]), 1.0, 0.002) << px[0] << " vs " << px[1];
+}
+
+// terrain-inspect info prints the automatic view as terrain-render options: a frame with
+// them is the default frame (up to the millimetres the eye is printed to).
+TEST(TerrainRender, InfoPrintsTheAutomaticView) {
+  Inputs in;
+  const auto info = run(tool("terrain-inspect") + " info " + in.mesh);
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(info.out, m, std::regex("automatic_view: ([^\\n]+)"))) << info.out;
+  const std::string a = in.dir.path("a.png"), b = in.dir.path("b.png");
+  ASSERT_EQ(run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + a + " -q " + m[1].str()).exit_code, 0);
+  ASSERT_EQ(run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + b + " -q").exit_code, 0);
+  OIIO::ImageBuf ia(a), ib(b);
+  const auto cmp = OIIO::ImageBufAlgo::compare(ia, ib, 0.02f, 0.02f);
+  EXPECT_LT(double(cmp.nfail), 0.001 * 1280 * 720) << m[1].str();
 }
 
 // An integer DEM (MED_01_01: whole metres, 391-664 m) terraces its gentle slopes into flats,
