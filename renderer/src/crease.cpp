@@ -1,4 +1,5 @@
 #include "renderer/crease.hpp"
+#include "renderer/line_stats.hpp"
 
 #include <fmt/format.h>
 
@@ -108,6 +109,45 @@ std::vector<std::uint8_t> off_main_flat_path(const terrain::DrainageLinks& links
 
 namespace {
 
+// Branches of the kept links (from a channel head or a junction down to the next junction
+// or outlet) whose mean plan curvature (the mesh's, bilinear at each link's midpoint) is at
+// most rules.valley_curvature and that drain less than rules.river_share of their basin are
+// left out (CreaseRules::valley_branches).
+void drop_branches_off_valleys(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
+                               const Eigen::Vector3d& shift, const std::vector<float>& share, const CreaseRules& rules,
+                               std::vector<std::uint8_t>& keep) {
+  const std::size_t n = links.size();
+  const std::vector<float> kp = plan_curvature(mesh);
+  const long R = long(mesh.topo.rows), C = long(mesh.topo.cols);
+  auto curvature_at = [&](double x, double y) {  // bilinear, local frame
+    const double fc = std::clamp(x / mesh.geo.dx, 0.0, double(C - 1)), fr = std::clamp(-y / mesh.geo.dy, 0.0, double(R - 1));
+    const long c0 = std::min(long(fc), C - 2), r0 = std::min(long(fr), R - 2);
+    const double u = fc - double(c0), v = fr - double(r0);
+    auto at = [&](long r, long c) { return double(kp[std::size_t(r * C + c)]); };
+    return (1 - v) * ((1 - u) * at(r0, c0) + u * at(r0, c0 + 1)) + v * ((1 - u) * at(r0 + 1, c0) + u * at(r0 + 1, c0 + 1));
+  };
+  std::vector<std::uint8_t> inflows(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (keep[i]) inflows[links.downstream[i]] = std::uint8_t(std::min(2, inflows[links.downstream[i]] + 1));
+  std::vector<std::uint32_t> branch;
+  for (std::size_t s = 0; s < n; ++s) {
+    if (!keep[s] || inflows[s] == 1) continue;  // a branch starts at a head or a junction
+    branch.clear();
+    double sum = 0, top_share = 0;
+    for (std::uint32_t i = std::uint32_t(s);;) {
+      branch.push_back(i);
+      const std::uint32_t d = links.downstream[i];
+      const Eigen::Vector3d mid = 0.5 * (links.positions[i] + links.positions[d]).cast<double>() + shift;
+      sum += curvature_at(mid.x(), mid.y());
+      top_share = std::max(top_share, double(share[i]));
+      if (!keep[d] || inflows[d] != 1) break;
+      i = d;
+    }
+    if (sum / double(branch.size()) <= rules.valley_curvature && top_share < rules.river_share)
+      for (const std::uint32_t i : branch) keep[i] = 0;
+  }
+}
+
 // Per vertex, the segment leaving it and the one entering it from the largest flow (ties:
 // the lower index), kNoSegment where none; only segments with drawn[s] > 0 when `drawn`
 // is given. The rule strokes follow (segment_chains) and lines are smoothed along.
@@ -153,13 +193,17 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
     out.share.push_back(flow.share[i]);
   }
   const std::size_t m = out.positions.size();
+  std::vector<std::uint8_t> keep(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t d = links.downstream[i];
-    if (compact[i] == DrainageLinks::kNone || d == DrainageLinks::kNone || d >= n || compact[d] == DrainageLinks::kNone ||
-        links.accumulated[i] < rules.min_accumulated || off_flat[i])
-      continue;
+    keep[i] = !(compact[i] == DrainageLinks::kNone || d == DrainageLinks::kNone || d >= n ||
+                compact[d] == DrainageLinks::kNone || links.accumulated[i] < rules.min_accumulated || off_flat[i]);
+  }
+  if (rules.valley_branches) drop_branches_off_valleys(mesh, links, shift, flow.share, rules, keep);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!keep[i]) continue;
     out.segments.push_back(compact[i]);
-    out.segments.push_back(compact[d]);
+    out.segments.push_back(compact[links.downstream[i]]);
   }
 
   // PN normals above each vertex.

@@ -233,6 +233,17 @@ std::vector<OptionSpec> make_table() {
           s.rules.edge_basin_min_share = 0, s.rules.log_flow = false, s.rules.one_line_per_flat = false,
           s.rules.smooth_spacings = 0;
       }));
+  t.push_back(choice(
+      "crease-links", rules, OptionType::Enum, {"valleys", "all"}, "all",
+      "Which branches of the network may become creases: valleys, only those along which the surface is concave "
+      "across the slope (mean plan curvature above --valley-curvature; main stems draining a quarter of their "
+      "basin anywhere), so that flow down planes and across flats draws no parallel tracks; all, every branch",
+      [](const RenderSettings& s) { return std::string(s.rules.valley_branches ? "valleys" : "all"); },
+      [](RenderSettings& s, const std::string& v) { s.rules.valley_branches = v == "valleys"; }));
+  t.push_back(number(
+      "valley-curvature", rules, -1, 1, "1/m", "0",
+      "--crease-links valleys: the least mean plan curvature of a branch kept",
+      [](auto& s) -> auto& { return s.rules.valley_curvature; }));
   t.push_back(number(
       "edge-basin-share", rules, 0, 1, "", "0.05",
       "Basins that drain off the grid edge are normalized by at least this share of the network's "

@@ -150,6 +150,19 @@ TEST(TerrainRender, IntegerDemStepsAreSmoothedAwayFromTheCreases) {
     ASSERT_TRUE(std::regex_search(r.out, f, std::regex("crease flat share: ([0-9.]+)")));
     ASSERT_TRUE(std::regex_search(r.out, v, std::regex("crease valley share: ([0-9.]+)")));
     flat[i] = std::stod(f[1]), valley[i] = std::stod(v[1]);
+    if (i == 0) {
+      // --crease-links valleys: the branches down the planes beside the river (parallel D8
+      // tracks, mean plan curvature under 0.005 / m) are left out.
+      const auto k = run(tool("terrain-render") + " frame " + mesh + " " + dv + " -o " + dir.path("k.png") +
+                         " --line-stats --crease-links valleys --valley-curvature 0.005");
+      ASSERT_EQ(k.exit_code, 0) << k.err;
+      std::smatch kv, ka, kb;
+      ASSERT_TRUE(std::regex_search(k.out, kv, std::regex("crease valley share: ([0-9.]+)")));
+      ASSERT_TRUE(std::regex_search(k.out, ka, std::regex("crease length px: ([0-9.]+)")));
+      ASSERT_TRUE(std::regex_search(r.out, kb, std::regex("crease length px: ([0-9.]+)")));
+      EXPECT_GT(std::stod(kv[1]), 0.8);
+      EXPECT_LT(std::stod(ka[1]), 0.6 * std::stod(kb[1]));
+    }
   }
   EXPECT_LT(flat[0], 0.15) << "dequantized";
   EXPECT_GT(flat[1], 0.5) << "as stored";

@@ -55,6 +55,14 @@ struct CreaseRules {
   // upstream along the inflow of largest accumulation; the other parallel D8 paths across
   // the flat are left out. Off: every link, as the paper.
   bool one_line_per_flat = true;
+  // Valleys: a branch of the network (from a channel head or a junction down to the next
+  // junction) is left out where the mesh along it is not concave across the slope: its mean
+  // plan curvature (line_stats.hpp) at most valley_curvature (1/m). Flow down a plane or
+  // across a flat runs in parallel D8 tracks that are not valleys. Branches draining at least
+  // river_share of their basin (main stems, which cross floodplains) are kept.
+  bool valley_branches = false;
+  double valley_curvature = 0;
+  double river_share = 0.25;
   // Lines as a cartographer draws rivers, not D8 staircases: each crease vertex moves to the
   // Gaussian-weighted mean of the vertices along its line (smooth_crease_lines), sigma this
   // many mesh spacings. 0: the D8 polyline as it is (the paper). The default is terrain-render's.
