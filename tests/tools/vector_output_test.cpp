@@ -106,7 +106,7 @@ void write(const std::string& path, const std::string& text) { std::ofstream(pat
 
 const char* kHeader = "easting,northing,elevation,view_az,view_alt,fov,light_az,light_alt\n";
 
-// The demo's Mount St. Helens view (terrain-render frame's default view of its mesh), each
+// The demo's Mount St. Helens view (the relief view, the default before the automatic view), each
 // line layer alone and all together; then the SVG read back.
 TEST(VectorOutput, MountStHelensViewAgreesWithThePng) {
   terrain::test::ScratchDir dir;
