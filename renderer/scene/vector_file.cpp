@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <memory>
+#include <numbers>
 
 #include "terrain/error.hpp"
 
@@ -74,7 +75,7 @@ void draw_surface(cairo_t* cr, const VectorArt& art) {
 // convex hull of the discs at its two ends), each a subpath turning the same way, so the
 // nonzero rule fills their overlaps once.
 void fill_outline(cairo_t* cr, const VectorPath& p) {
-  constexpr double kPi = 3.14159265358979323846;
+  constexpr double kPi = std::numbers::pi;
   cairo_new_path(cr);
   const auto& q = p.line.points;
   for (std::size_t k = 0; k + 1 < q.size() || k == 0; ++k) {

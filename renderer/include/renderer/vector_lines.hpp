@@ -1,7 +1,8 @@
 #pragma once
 // Line art as polylines, GL-free (the geometry the SVG / PDF writer strokes, vector_art.hpp):
 // a drawn mask's pixels chained 8-connected into centre lines, segment lists chained where
-// consecutive ends meet, and Douglas-Peucker simplification. Screen coordinates, x right and y down, a pixel's centre at (x + 0.5, y + 0.5).
+// consecutive ends meet, and Douglas-Peucker simplification. Screen coordinates, x right
+// and y down, a pixel's centre at (x + 0.5, y + 0.5).
 #include <array>
 #include <cstdint>
 #include <vector>
