@@ -129,12 +129,9 @@ void check(cairo_status_t status, const char* what) {
     throw terrain::Error(fmt::format("cairo could not write the {}: {}", what, cairo_status_to_string(status)));
 }
 
-// One cairo SVG document of the frame's size (pixels) with what `draw` draws.
+// Draws on surface `s` with `draw`, finishes and frees it; Error naming `what` on a failure.
 template <class Draw>
-std::string svg_document(const VectorArt& art, Draw draw) {
-  std::string out;
-  cairo_surface_t* s = cairo_svg_surface_create_for_stream(append, &out, art.width, art.height);
-  cairo_svg_surface_set_document_unit(s, CAIRO_SVG_UNIT_PX);
+void draw_and_finish(cairo_surface_t* s, Draw draw, const char* what) {
   cairo_t* cr = cairo_create(s);
   draw(cr);
   const cairo_status_t status = cairo_status(cr);
@@ -142,8 +139,17 @@ std::string svg_document(const VectorArt& art, Draw draw) {
   cairo_surface_finish(s);
   const cairo_status_t finished = cairo_surface_status(s);
   cairo_surface_destroy(s);
-  check(status, "SVG");
-  check(finished, "SVG");
+  check(status, what);
+  check(finished, what);
+}
+
+// One cairo SVG document of the frame's size (pixels) with what `draw` draws.
+template <class Draw>
+std::string svg_document(const VectorArt& art, Draw draw) {
+  std::string out;
+  cairo_surface_t* s = cairo_svg_surface_create_for_stream(append, &out, art.width, art.height);
+  cairo_svg_surface_set_document_unit(s, CAIRO_SVG_UNIT_PX);
+  draw_and_finish(s, draw, "SVG");
   return out;
 }
 
@@ -334,17 +340,14 @@ std::string vector_bytes(const VectorArt& art, VectorFormat format, double dpi, 
   cairo_surface_t* s = cairo_pdf_surface_create_for_stream(append, &out, art.width * scale, art.height * scale);
   cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_SUBJECT, description.c_str());
   cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_CREATOR, "terrain-render");
-  cairo_t* cr = cairo_create(s);
-  cairo_scale(cr, scale, scale);
-  draw_surface(cr, art);
-  for (const VectorLayer& l : art.layers) draw_layer(cr, l);
-  const cairo_status_t status = cairo_status(cr);
-  cairo_destroy(cr);
-  cairo_surface_finish(s);
-  const cairo_status_t finished = cairo_surface_status(s);
-  cairo_surface_destroy(s);
-  check(status, "PDF");
-  check(finished, "PDF");
+  draw_and_finish(
+      s,
+      [&](cairo_t* cr) {
+        cairo_scale(cr, scale, scale);
+        draw_surface(cr, art);
+        for (const VectorLayer& l : art.layers) draw_layer(cr, l);
+      },
+      "PDF");
   return out;
 }
 

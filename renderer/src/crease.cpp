@@ -118,14 +118,6 @@ void drop_branches_off_valleys(const terrain::GridMesh& mesh, const terrain::Dra
                                std::vector<std::uint8_t>& keep) {
   const std::size_t n = links.size();
   const std::vector<float> kp = plan_curvature(mesh);
-  const long R = long(mesh.topo.rows), C = long(mesh.topo.cols);
-  auto curvature_at = [&](double x, double y) {  // bilinear, local frame
-    const double fc = std::clamp(x / mesh.geo.dx, 0.0, double(C - 1)), fr = std::clamp(-y / mesh.geo.dy, 0.0, double(R - 1));
-    const long c0 = std::min(long(fc), C - 2), r0 = std::min(long(fr), R - 2);
-    const double u = fc - double(c0), v = fr - double(r0);
-    auto at = [&](long r, long c) { return double(kp[std::size_t(r * C + c)]); };
-    return (1 - v) * ((1 - u) * at(r0, c0) + u * at(r0, c0 + 1)) + v * ((1 - u) * at(r0 + 1, c0) + u * at(r0 + 1, c0 + 1));
-  };
   std::vector<std::uint8_t> inflows(n, 0);
   for (std::size_t i = 0; i < n; ++i)
     if (keep[i]) inflows[links.downstream[i]] = std::uint8_t(std::min(2, inflows[links.downstream[i]] + 1));
@@ -138,7 +130,7 @@ void drop_branches_off_valleys(const terrain::GridMesh& mesh, const terrain::Dra
       branch.push_back(i);
       const std::uint32_t d = links.downstream[i];
       const Eigen::Vector3d mid = 0.5 * (links.positions[i] + links.positions[d]).cast<double>() + shift;
-      sum += curvature_at(mid.x(), mid.y());
+      sum += vertex_field_at(mesh, kp, mid.x(), mid.y());
       top_share = std::max(top_share, double(share[i]));
       if (!keep[d] || inflows[d] != 1) break;
       i = d;

@@ -28,17 +28,18 @@ std::vector<float> plan_curvature(const terrain::GridMesh& mesh) {
   return k;
 }
 
+double vertex_field_at(const terrain::GridMesh& mesh, const std::vector<float>& field, double x, double y) {
+  const long R = long(mesh.topo.rows), C = long(mesh.topo.cols);
+  const double fc = std::clamp(x / mesh.geo.dx, 0.0, double(C - 1)), fr = std::clamp(-y / mesh.geo.dy, 0.0, double(R - 1));
+  const long c0 = std::min(long(fc), C - 2), r0 = std::min(long(fr), R - 2);
+  const double u = fc - double(c0), v = fr - double(r0);
+  auto at = [&](long r, long c) { return double(field[std::size_t(r * C + c)]); };
+  return (1 - v) * ((1 - u) * at(r0, c0) + u * at(r0, c0 + 1)) + v * ((1 - u) * at(r0 + 1, c0) + u * at(r0 + 1, c0 + 1));
+}
+
 SegmentTraits segment_traits(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
                              const CreaseGeometry& g, int margin) {
   const std::vector<float> kp = plan_curvature(mesh);
-  const long R = long(mesh.topo.rows), C = long(mesh.topo.cols);
-  auto curvature_at = [&](double x, double y) {  // bilinear, local frame
-    const double fc = std::clamp(x / mesh.geo.dx, 0.0, double(C - 1)), fr = std::clamp(-y / mesh.geo.dy, 0.0, double(R - 1));
-    const long c0 = std::min(long(fc), C - 2), r0 = std::min(long(fr), R - 2);
-    const double u = fc - double(c0), v = fr - double(r0);
-    auto at = [&](long r, long c) { return double(kp[std::size_t(r * C + c)]); };
-    return (1 - v) * ((1 - u) * at(r0, c0) + u * at(r0, c0 + 1)) + v * ((1 - u) * at(r0 + 1, c0) + u * at(r0 + 1, c0 + 1));
-  };
   const std::size_t ns = g.n_segments();
   SegmentTraits t;
   t.boundary.resize(ns), t.flat.resize(ns), t.valley.resize(ns);
@@ -49,7 +50,7 @@ SegmentTraits segment_traits(const terrain::GridMesh& mesh, const terrain::Drain
     t.boundary[s] = r < m || c < m || r >= LR - m || c >= LC - m;
     t.flat[s] = links.positions[g.source[b]].z() >= links.positions[g.source[a]].z();
     const Eigen::Vector3f mid = 0.5f * (g.positions[a] + g.positions[b]);
-    t.valley[s] = curvature_at(mid.x(), mid.y()) > 0;
+    t.valley[s] = vertex_field_at(mesh, kp, mid.x(), mid.y()) > 0;
   }
   return t;
 }

@@ -21,6 +21,9 @@ namespace renderer {
 // > 0 where the surface is concave across the slope (valleys, hollows), < 0 on spurs and
 // ridges, 0 on planes; 0 on the mesh's boundary and where the slope is below 1e-6. #V.
 std::vector<float> plan_curvature(const terrain::GridMesh& mesh);
+// A per-vertex field of `mesh` (plan_curvature's) at local x, y: bilinear between the four
+// vertices about it, clamped to the grid.
+double vertex_field_at(const terrain::GridMesh& mesh, const std::vector<float>& field, double x, double y);
 
 // What each crease segment (i -> its downstream point) lies on, #S flags each.
 struct SegmentTraits {
