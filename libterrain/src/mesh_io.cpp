@@ -9,6 +9,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 #include <fmt/format.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -430,9 +431,67 @@ void write_with(const OM::IO::BaseWriter& writer, OM::IO::Options opt, const Gri
 
 }  // namespace
 
-void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
+void write_mesh_ply_openmesh(const GridMesh& mesh, const std::string& path) {
   write_with(OM::IO::PLYWriter(), OM::IO::Options::Binary | OM::IO::Options::LSB | OM::IO::Options::VertexNormal,
              mesh, path, header_comments(mesh), 2);
+}
+
+void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
+  static_assert(std::endian::native == std::endian::little, "the PLY body is written as the host's floats");
+  const std::size_t nv = mesh.n_vertices(), nf = mesh.n_faces();
+  if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != nv)
+    throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
+  const bool voronoi = !mesh.voronoi.empty(), change = mesh.normal_change.size() == nv;
+  // The header as OpenMesh writes it: custom properties in the order they were added.
+  std::string header = "ply\nformat binary_little_endian 1.0\n" + header_comments(mesh);
+  header += fmt::format("element vertex {}\n", nv);
+  for (const char* name : {"x", "y", "z", "nx", "ny", "nz"}) header += fmt::format("property float {}\n", name);
+  if (voronoi) {
+    header += "property float voronoi_area\n";
+    for (const char* name : kTangent) header += fmt::format("property float {}\n", name);
+  }
+  if (change) header += "property float normal_change\n";
+  header += fmt::format("element face {}\nproperty list uchar int vertex_indices\n", nf);
+  if (voronoi)
+    for (const char* name : kCornerArea) header += fmt::format("property float {}\n", name);
+  header += "end_header\n";
+  write_stream_atomic(path, [&](std::ostream& out) {
+    out.write(header.data(), std::streamsize(header.size()));
+    constexpr std::size_t kBlock = 1 << 16;  // records a block
+    const std::size_t vertex_bytes = 24 + (voronoi ? 16 : 0) + (change ? 4 : 0), face_bytes = 13 + (voronoi ? 12 : 0);
+    std::vector<char> buf(kBlock * std::max(vertex_bytes, face_bytes));
+    char* at = buf.data();
+    auto put = [&](const void* p, std::size_t n) {
+      std::memcpy(at, p, n);
+      at += n;
+    };
+    auto flush = [&] {
+      out.write(buf.data(), std::streamsize(at - buf.data()));
+      at = buf.data();
+    };
+    for (std::size_t i = 0; i < nv; ++i) {
+      put(mesh.positions[i].data(), 12);
+      put(mesh.normals[i].data(), 12);
+      if (voronoi) {
+        put(&mesh.voronoi.vertex_areas[i], 4);
+        put(mesh.voronoi.tangents[i].data(), 12);
+      }
+      if (change) put(&mesh.normal_change[i], 4);
+      if ((i + 1) % kBlock == 0) flush();
+    }
+    for (std::size_t f = 0; f < nf; ++f) {
+      const auto t = mesh.topo.face(f);
+      const std::uint8_t three = 3;
+      const std::int32_t idx[3] = {std::int32_t(t[0]), std::int32_t(t[1]), std::int32_t(t[2])};
+      put(&three, 1);
+      put(idx, 12);
+      if (voronoi) put(mesh.voronoi.corner_areas[f].data(), 12);
+      if ((f + 1) % kBlock == 0) flush();
+    }
+    flush();
+    out.flush();
+    if (!out) throw Error("cannot write '" + path + "': write failed (disk full?)");
+  });
 }
 
 void write_mesh_obj(const GridMesh& mesh, const std::string& path) {

@@ -10,6 +10,7 @@
 #include "terrain/dem_io.hpp"
 #include "terrain/mesh_io.hpp"
 #include "terrain/prepare_grid.hpp"
+#include "terrain/voronoi.hpp"
 #include "test_support.hpp"
 
 namespace terrain {
@@ -47,6 +48,33 @@ TEST(MeshIo, RoundTripIsIdentical) {
   const auto size = std::filesystem::file_size(dir.path("m.ply"));
   EXPECT_GT(size, 24 * m.n_vertices() + 13 * m.n_faces());
   EXPECT_LT(size, 24 * m.n_vertices() + 13 * m.n_faces() + 8192);
+}
+
+// The block writer (issue 40) writes the bytes OpenMesh's PLY writer wrote: a plain mesh, a
+// denoised one (Voronoi weights, tangents, corner areas, normal changes), a fitted one and
+// one with non-ASCII text in its header.
+TEST(MeshIo, BlockWriterWritesOpenMeshsBytes) {
+  test::ScratchDir dir;
+  GridMesh plain = msh_mesh();
+  GridMesh denoised = plain;
+  denoised.voronoi = voronoi_weights(denoised);
+  denoised.normal_change.resize(denoised.n_vertices());
+  for (std::size_t i = 0; i < denoised.n_vertices(); ++i) denoised.normal_change[i] = float(i % 97) * 0.01f;
+  GridMesh only_change = plain;
+  only_change.normal_change = denoised.normal_change;
+  GridMesh fitted = plain;
+  fitted.normal_fit = {true, 1.25, 3.5, 0.827, 2.25, 14300000};
+  fitted.provenance = "caf\xc3\xa9 \\ line";
+  int k = 0;
+  for (const GridMesh* m : {&plain, &denoised, &only_change, &fitted}) {
+    const std::string a = dir.path("a" + std::to_string(k) + ".ply"), b = dir.path("b" + std::to_string(k) + ".ply");
+    write_mesh_ply(*m, a);
+    write_mesh_ply_openmesh(*m, b);
+    const std::string fa = test::file_bytes(a), fb = test::file_bytes(b);
+    EXPECT_GT(fa.size(), 24 * m->n_vertices()) << k;
+    EXPECT_TRUE(fa == fb) << "mesh " << k << ": " << fa.size() << " vs " << fb.size() << " bytes";
+    ++k;
+  }
 }
 
 TEST(MeshIo, RejectsBadFiles) {
