@@ -469,7 +469,12 @@ void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
       out.write(buf.data(), std::streamsize(at - buf.data()));
       at = buf.data();
     };
+    // A record goes in whole: the buffer is written out when the next one does not fit.
+    auto room = [&](std::size_t n) {
+      if (std::size_t(buf.data() + buf.size() - at) < n) flush();
+    };
     for (std::size_t i = 0; i < nv; ++i) {
+      room(vertex_bytes);
       put(mesh.positions[i].data(), 12);
       put(mesh.normals[i].data(), 12);
       if (voronoi) {
@@ -477,16 +482,15 @@ void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
         put(mesh.voronoi.tangents[i].data(), 12);
       }
       if (change) put(&mesh.normal_change[i], 4);
-      if ((i + 1) % kBlock == 0) flush();
     }
     for (std::size_t f = 0; f < nf; ++f) {
       const auto t = mesh.topo.face(f);
+      room(face_bytes);
       const std::uint8_t three = 3;
       const std::int32_t idx[3] = {std::int32_t(t[0]), std::int32_t(t[1]), std::int32_t(t[2])};
       put(&three, 1);
       put(idx, 12);
       if (voronoi) put(mesh.voronoi.corner_areas[f].data(), 12);
-      if ((f + 1) % kBlock == 0) flush();
     }
     flush();
     out.flush();

@@ -1,6 +1,7 @@
 // The mesh file: round trip and rejection of bad files.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <cstring>
 #include <fstream>
@@ -51,8 +52,8 @@ TEST(MeshIo, RoundTripIsIdentical) {
 }
 
 // The block writer (issue 40) writes the bytes OpenMesh's PLY writer wrote: a plain mesh, a
-// denoised one (Voronoi weights, tangents, corner areas, normal changes), a fitted one and
-// one with non-ASCII text in its header.
+// denoised one (Voronoi weights, tangents, corner areas, normal changes), a fitted one, one
+// with non-ASCII text in its header, and two larger than a block.
 TEST(MeshIo, BlockWriterWritesOpenMeshsBytes) {
   test::ScratchDir dir;
   GridMesh plain = msh_mesh();
@@ -65,8 +66,13 @@ TEST(MeshIo, BlockWriterWritesOpenMeshsBytes) {
   GridMesh fitted = plain;
   fitted.normal_fit = {true, 1.25, 3.5, 0.827, 2.25, 14300000};
   fitted.provenance = "caf\xc3\xa9 \\ line";
+  // Larger than a block of records (65536), with a part block of vertices left before the
+  // faces: 400 x 313 = 125200 vertices, 59664 past the first block.
+  GridMesh large = test::function_mesh(400, 313, 10.0, [](double x, double y) { return std::sin(x / 300) * y / 50; });
+  GridMesh large_denoised = large;
+  large_denoised.voronoi = voronoi_weights(large_denoised);
   int k = 0;
-  for (const GridMesh* m : {&plain, &denoised, &only_change, &fitted}) {
+  for (const GridMesh* m : {&plain, &denoised, &only_change, &fitted, &large, &large_denoised}) {
     const std::string a = dir.path("a" + std::to_string(k) + ".ply"), b = dir.path("b" + std::to_string(k) + ".ply");
     write_mesh_ply(*m, a);
     write_mesh_ply_openmesh(*m, b);
