@@ -111,24 +111,27 @@ void check_vector_memory(const rr::GlContext& ctx, int width, int height) {
                         "give a smaller --size, or write a PNG");
 }
 
-// The frame's line art written as SVG or PDF; the times at -v.
-void write_vector(const std::string& out, const rr::Scene& scene, const rr::TerrainRenderer& r,
-                  const rr::FrameResult& res, const rr::FrameParams& fp, const rr::Style& style,
-                  const rr::Layers& layers, const OutputArgs& o, const std::string& prov, const tt::Verbosity& verb) {
+// The frame's line art written as each of `outs` (.svg or .pdf), built once; the times at -v.
+void write_vectors(const std::vector<std::string>& outs, const rr::Scene& scene, const rr::TerrainRenderer& r,
+                   const rr::FrameResult& res, const rr::FrameParams& fp, const rr::Style& style,
+                   const rr::Layers& layers, const OutputArgs& o, const std::string& prov, const tt::Verbosity& verb) {
+  if (outs.empty()) return;
   auto t0 = Clock::now();
   const rr::FrameBuffers buffers = r.read_buffers();
   const double readback = since(t0);
   t0 = Clock::now();
   const rr::VectorArt art = rr::frame_vector_art(scene, r, res, buffers, fp, style, layers, rr::parse_underlay(o.underlay));
   const double paths = since(t0);
-  t0 = Clock::now();
-  const std::string bytes = rr::vector_bytes(art, rr::vector_format_of(out), o.dpi, prov);
-  const double cairo = since(t0);
-  terrain::write_file_atomic(out, bytes);
   std::string counts;
   for (const rr::VectorLayer& l : art.layers) counts += fmt::format(", {} {} paths ({} strokes)", l.name, l.paths.size(), l.strokes);
-  tt::step(verb, fmt::format("{}: GPU readback {:.0f} ms, paths {:.0f} ms, cairo {:.0f} ms, {:.2f} MB{}", out,
-                             1e3 * readback, 1e3 * paths, 1e3 * cairo, double(bytes.size()) / 1e6, counts));
+  for (const std::string& out : outs) {
+    t0 = Clock::now();
+    const std::string bytes = rr::vector_bytes(art, rr::vector_format_of(out), o.dpi, prov);
+    const double cairo = since(t0);
+    terrain::write_file_atomic(out, bytes);
+    tt::step(verb, fmt::format("{}: GPU readback {:.0f} ms, paths {:.0f} ms, cairo {:.0f} ms, {:.2f} MB{}", out,
+                               1e3 * readback, 1e3 * paths, 1e3 * cairo, double(bytes.size()) / 1e6, counts));
+  }
 }
 
 int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, const std::string& dv,
@@ -163,7 +166,7 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   const rr::FrameResult res = r.render(fp);
   tt::step(verb, fmt::format("frame: {:.0f} ms", 1e3 * since(t0)));
   if (vector)
-    write_vector(out, scene, r, res, fp, style, s.layers, o, prov, verb);
+    write_vectors({out}, scene, r, res, fp, style, s.layers, o, prov, verb);
   else
     terrain::write_png(out, s.width, s.height, 4, res.rgba, prov);
   const Eigen::Vector3d eye = res.view.eye + r.origin();
@@ -248,13 +251,16 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
       drawn.push_back(std::move(st.lines.drawn));
       pixels.push_back(std::move(st.lines.pixels));
     }
+    const std::string p = prov + fmt::format(" [frame {}]", i);
+    std::vector<std::string> vector_paths;
     for (const std::string& f : formats) {
-      const std::string path = (dir / frame_name(i, f)).string(), p = prov + fmt::format(" [frame {}]", i);
+      const std::string path = (dir / frame_name(i, f)).string();
       if (f == "png")
         terrain::write_png(path, s.width, s.height, 4, res.rgba, p);
       else
-        write_vector(path, scene, r, res, frames[i], style, s.layers, o, p, verb);
+        vector_paths.push_back(path);
     }
+    write_vectors(vector_paths, scene, r, res, frames[i], style, s.layers, o, p, verb);
     terrain::report(progress, double(i + 1) / double(frames.size()));
   }
   terrain::write_file_atomic(dir / "timings.csv", rr::timings_csv(timings));

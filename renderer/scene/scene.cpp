@@ -37,15 +37,19 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
   return s;
 }
 
+std::vector<float> frame_opacity(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                                 const FrameParams& fp, const Style& style) {
+  const CreaseScoreParams score = resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.eye);
+  const double fade = style.antialias ? style.crease_fade : 0.0;
+  return segment_opacity(*scene.creases, res.view.eye, terrain::light_direction(fp.light.azimuth, fp.light.altitude),
+                         style.exaggeration, score, fade, stroke_rule(style, scene.mesh));
+}
+
 FrameLines frame_lines(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                        const FrameBuffers& buffers, const FrameParams& fp, const Style& style) {
   const double exaggeration = style.exaggeration;
   const CreaseGeometry& g = *scene.creases;
-  const CreaseScoreParams score = resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.eye);
-  const double fade = style.antialias ? style.crease_fade : 0.0;
-  FrameLines lines{segment_opacity(g, res.view.eye, terrain::light_direction(fp.light.azimuth, fp.light.altitude),
-                                   exaggeration, score, fade, stroke_rule(style, scene.mesh)),
-                   {}};
+  FrameLines lines{frame_opacity(scene, r, res, fp, style), {}};
   const double lift = crease_lift(style, scene.mesh);
   if (style.antialias) {
     lines.pixels = shown_pixels(stroke_visibility(g, scene.chains, lines.drawn, res.view, exaggeration, lift,
@@ -83,13 +87,13 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
     art.layers.push_back(std::move(l));
   }
   if (layers.creases && scene.creases) {
-    const FrameLines lines = frame_lines(scene, r, res, buffers, fp, style);
+    const std::vector<float> drawn = frame_opacity(scene, r, res, fp, style);
     std::vector<SegmentSamples> samples = r.read_crease_samples();
     if (samples.empty())  // pixel-exact lines: the CPU reference of the anti-aliased test
-      samples = stroke_visibility(*scene.creases, scene.chains, lines.drawn, res.view, e, lift, buffers.toward_depth,
+      samples = stroke_visibility(*scene.creases, scene.chains, drawn, res.view, e, lift, buffers.toward_depth,
                                   stroke_visibility_rule(style, scene.mesh));
     VectorLayer l{"creases", style.crease_colour, LineCap::Round, {}, 0};
-    l.paths = crease_paths(*scene.creases, lines.drawn, samples, res.view, e, style.crease_width, style.crease_width_max,
+    l.paths = crease_paths(*scene.creases, drawn, samples, res.view, e, style.crease_width, style.crease_width_max,
                            &l.strokes);
     art.layers.push_back(std::move(l));
   }

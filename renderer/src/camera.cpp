@@ -102,33 +102,46 @@ Eigen::Vector3d frame_box(const Box& box, double az, double alt, double fov_deg,
   return frame_points(std::vector<Eigen::Vector3d>(c.begin(), c.end()), az, alt, fov_deg, aspect, 1.05);
 }
 
+namespace {
+
+// Vertex i of `mesh` as drawn: local frame, height times the exaggeration e.
+Eigen::Vector3d drawn_vertex(const terrain::GridMesh& mesh, std::size_t i, double e) {
+  const Eigen::Vector3f& p = mesh.positions[i];
+  return {p.x(), p.y(), double(p.z()) * e};
+}
+
+// 0, step, 2 step, ... and n - 1.
+std::vector<std::size_t> grid_samples(std::size_t n, std::size_t step) {
+  std::vector<std::size_t> v;
+  for (std::size_t i = 0; i < n; i += step) v.push_back(i);
+  if (v.back() != n - 1) v.push_back(n - 1);
+  return v;
+}
+
+// The points a default view frames: every vertex, or every s-th in rows and columns (and the
+// last row and column) on a large mesh, at most ~256 k; no-data vertices left out.
+std::vector<Eigen::Vector3d> framing_points(const terrain::GridMesh& mesh, double e) {
+  const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
+  const std::size_t s = std::max<std::size_t>(1, std::size_t(std::ceil(std::sqrt(double(rows * cols) / 262144.0))));
+  std::vector<Eigen::Vector3d> points;
+  for (const std::size_t r : grid_samples(rows, s))
+    for (const std::size_t c : grid_samples(cols, s))
+      if (const Eigen::Vector3d p = drawn_vertex(mesh, r * cols + c, e); p.allFinite()) points.push_back(p);
+  if (points.size() < 3) throw terrain::Error("the mesh has no faces");
+  return points;
+}
+
+}  // namespace
+
 AutoView auto_view(const terrain::GridMesh& mesh, double e, double fov_deg, double aspect, double view_alt,
                    bool search_alt) {
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
   if (rows < 2 || cols < 2) throw terrain::Error("the mesh has no faces");
-  auto at = [&](std::size_t r, std::size_t c) {
-    const Eigen::Vector3f& p = mesh.positions[r * cols + c];
-    return Eigen::Vector3d(p.x(), p.y(), double(p.z()) * e);
-  };
-  // The points to frame: every vertex, or every s-th in rows and columns (and the last) on a
-  // large mesh, at most ~256 k.
-  const std::size_t s = std::size_t(std::ceil(std::sqrt(double(rows * cols) / 262144.0)));
-  auto samples = [&](std::size_t n, std::size_t step) {
-    std::vector<std::size_t> v;
-    for (std::size_t i = 0; i < n; i += step) v.push_back(i);
-    if (v.back() != n - 1) v.push_back(n - 1);
-    return v;
-  };
-  const auto rs = samples(rows, std::max<std::size_t>(s, 1)), cs = samples(cols, std::max<std::size_t>(s, 1));
-  std::vector<Eigen::Vector3d> points;
-  points.reserve(rs.size() * cs.size());
-  for (const std::size_t r : rs)
-    for (const std::size_t c : cs)
-      if (at(r, c).allFinite()) points.push_back(at(r, c));
-  if (points.size() < 3) throw terrain::Error("the mesh has no faces");
+  auto at = [&](std::size_t r, std::size_t c) { return drawn_vertex(mesh, r * cols + c, e); };
+  const std::vector<Eigen::Vector3d> points = framing_points(mesh, e);
   // The coarse grid (at most 64 cells a side) for the coverage and the relief's axis.
   const std::size_t k = std::max<std::size_t>(1, (std::max(rows, cols) + 63) / 64);
-  const auto rk = samples(rows, k), ck = samples(cols, k);
+  const auto rk = grid_samples(rows, k), ck = grid_samples(cols, k);
   // Across the main relief: the principal axis of the height gradients (the structure
   // tensor J = sum g g^T over the coarse cells), and the mean plane's uphill direction.
   double jxx = 0, jxy = 0, jyy = 0, gx_sum = 0, gy_sum = 0;
@@ -324,14 +337,8 @@ DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double e,
     d.camera.view_az = 0;
     d.camera.view_alt = 90;
     d.camera.fov = fov_deg;
-    std::vector<Eigen::Vector3d> points;
-    const std::size_t n = mesh.positions.size(), step = std::max<std::size_t>(1, n / 262144);
-    for (std::size_t i = 0; i < n; i += step) {
-      const Eigen::Vector3f& p = mesh.positions[i];
-      if (p.allFinite()) points.emplace_back(p.x(), p.y(), double(p.z()) * e);
-    }
-    if (points.empty()) throw terrain::Error("the mesh has no faces");
-    d.camera.eye = frame_points(points, 0, 90, fov_deg, aspect, 1.02) +
+    if (mesh.topo.rows < 2 || mesh.topo.cols < 2) throw terrain::Error("the mesh has no faces");
+    d.camera.eye = frame_points(framing_points(mesh, e), 0, 90, fov_deg, aspect, 1.02) +
                    Eigen::Vector3d(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z);
     d.light = {315, 45};
     d.description = "top view: straight down, north up";

@@ -101,23 +101,6 @@ std::string edges_text(std::uint8_t kinds) {
   return join(v);
 }
 
-}  // namespace
-
-Style drawn_style(const RenderSettings& s) {
-  Style st = s.style;
-  const double k = s.line_scale;
-  st.crease_width *= k;
-  st.crease_width_max *= k;
-  st.silhouette_width = std::clamp(int(std::lround(st.silhouette_width * k)), 1, 9);
-  st.pel_width *= k;
-  st.edge_width *= k;
-  st.crease_hidden_gap *= k;
-  st.crease_min_peek *= k;
-  return st;
-}
-
-namespace {
-
 std::vector<OptionSpec> make_table() {
   const std::string frame = "Frame", camera = "Camera and light", score = "Crease score", rules = "Crease network",
                     strokes = "Crease strokes", sil = "Silhouettes", pel = "PELs", edges = "Edges", colours = "Colours",
@@ -394,6 +377,19 @@ std::vector<OptionSpec> make_table() {
 }
 
 }  // namespace
+
+Style drawn_style(const RenderSettings& s) {
+  Style st = s.style;
+  const double k = s.line_scale;
+  st.crease_width *= k;
+  st.crease_width_max *= k;
+  st.silhouette_width = std::clamp(int(std::lround(st.silhouette_width * k)), 1, 9);
+  st.pel_width *= k;
+  st.edge_width *= k;
+  st.crease_hidden_gap *= k;
+  st.crease_min_peek *= k;
+  return st;
+}
 
 const std::vector<OptionSpec>& render_options() {
   static const std::vector<OptionSpec> table = make_table();

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "renderer/top_view.hpp"
+
 #include <bit>
 #include <string>
 
@@ -12,14 +14,7 @@ namespace {
 
 constexpr int kW = 64, kH = 16;
 
-// A camera 100 m above the origin looking straight down; kW x kH pixels.
-View top_view(bool reversed) {
-  Camera camera;
-  camera.eye = Eigen::Vector3d(0, 0, 100);
-  camera.view_az = 0;
-  camera.view_alt = 90;
-  return make_view(camera, Eigen::Vector3d::Zero(), Box{{-30, -30, -60}, {30, 30, 60}}, kW, kH, reversed);
-}
+View top_view(bool reversed) { return test::top_view(kW, kH, reversed); }
 
 // A stroke along the image's middle row (y = 0, z = 0): `n` segments of 1.98 px from
 // u = 0.2, so that its two samples a segment (0.99 px each) fall in columns 2j and 2j + 1.
@@ -37,19 +32,7 @@ CreaseGeometry row_stroke(const View& view, int n) {
   return g;
 }
 
-// Toward depths by column: 'G' ground (z = 0, the line's height), 'N' a near wall 10 m
-// above it, 'R' a ridge 50 m above it, '.' no surface.
-std::vector<float> toward_of(const View& view, const std::string& columns) {
-  auto depth_at = [&](double z) { return float(project(view, Eigen::Vector3d(0, 0, z)).depth); };
-  std::vector<float> t(std::size_t(kW * kH));
-  for (int v = 0; v < kH; ++v)
-    for (int u = 0; u < kW; ++u) {
-      const char c = columns[std::size_t(u)];
-      t[std::size_t(v * kW + u)] =
-          c == 'G' ? depth_at(0) : c == 'N' ? depth_at(10) : c == 'R' ? depth_at(50) : (view.reversed_z ? 0.0f : 1.0f);
-    }
-  return t;
-}
+using test::toward_of;
 
 // Sample i of the stroke (segment i / 2, bit i % 2) as '1' when `mask` of it is set.
 std::string bits(const std::vector<SegmentSamples>& m, std::uint32_t SegmentSamples::*mask) {

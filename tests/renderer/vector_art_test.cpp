@@ -2,6 +2,8 @@
 // GL-free: strokes, masks and segments laid out by hand under a camera looking straight
 // down, whose paths are known; the mask traced into regions; the files read back.
 #include <gtest/gtest.h>
+
+#include "renderer/top_view.hpp"
 #include <libxml/parser.h>
 #include <libxml/tree.h>
 
@@ -18,13 +20,7 @@ namespace {
 
 constexpr int kW = 64, kH = 16;
 
-View top_view() {
-  Camera camera;
-  camera.eye = Eigen::Vector3d(0, 0, 100);
-  camera.view_az = 0;
-  camera.view_alt = 90;
-  return make_view(camera, Eigen::Vector3d::Zero(), Box{{-30, -30, -60}, {30, 30, 60}}, kW, kH, true);
-}
+View top_view() { return test::top_view(kW, kH); }
 
 // Metres per pixel along x and the local x of pixel column u, on the ground (z = 0).
 double x_of(const View& view, double u) {
@@ -131,17 +127,7 @@ TEST(VectorArt, SilhouettePathsOfARingAndAFadedPiece) {
   EXPECT_NEAR(piece.opacity, 0.5f, 1e-6);
 }
 
-// Toward depths by column: 'G' ground (z = 0), 'R' a ridge 50 m above it, '.' none.
-std::vector<float> toward_of(const View& view, const std::string& columns) {
-  auto depth_at = [&](double z) { return float(project(view, Eigen::Vector3d(0, 0, z)).depth); };
-  std::vector<float> t(std::size_t(kW * kH));
-  for (int v = 0; v < kH; ++v)
-    for (int u = 0; u < kW; ++u) {
-      const char c = columns[std::size_t(u)];
-      t[std::size_t(v * kW + u)] = c == 'G' ? depth_at(0) : c == 'R' ? depth_at(50) : 0.0f;
-    }
-  return t;
-}
+using test::toward_of;
 
 // A line on the ground behind a ridge: the part behind it is left out, by line.frag's test
 // (the farthest surface of the 3 x 3 pixels: the ridge hides the columns inside it but its

@@ -28,6 +28,11 @@ struct Scene {
 // tiled .dv is read block by block) and builds their creases with `rules`.
 Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const CreaseRules& rules);
 
+// Each crease segment's opacity in the frame `res` (#S): what the DM pass draws, as the
+// GL-free score, fade and stroke rule give it (segment_opacity).
+std::vector<float> frame_opacity(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                                 const FrameParams& fp, const Style& style);
+
 // The creases one frame draws (what the DM pass accepts, as the GL-free score gives it),
 // with each segment's pixels left after hidden-line removal (its own line against the
 // toward depth of `buffers`, the frame's read_buffers()).
