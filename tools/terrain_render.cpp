@@ -146,7 +146,10 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   check_line_stats(a, s, dv);
   const rr::Scene scene = scene_of(mesh, dv, s, verb);
   rr::FrameParams& fp = s.frame;
-  if (!fp.camera.eye && !a.was_given("view-az")) {  // the default view: --view
+  if (!fp.camera.eye && !a.was_given("view-az") && s.view == rr::ViewMode::Row) {  // --view FRAMES.csv:N
+    fp = rr::view_row_frame(s.view_row, fp);
+    tt::step(verb, "view: " + s.view_row);
+  } else if (!fp.camera.eye && !a.was_given("view-az")) {  // the default view: --view
     const auto dv = rr::default_view(scene.mesh, s.view, s.style.exaggeration, fp.camera.fov,
                                      double(s.width) / double(s.height),
                                      a.was_given("view-alt") ? std::optional<double>(fp.camera.view_alt) : std::nullopt);

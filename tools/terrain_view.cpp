@@ -70,6 +70,10 @@ class Viewer {
   // The default view of terrain-render frame (--view), at the field of view and altitude
   // the viewer started with (as terrain-render's options).
   void home() {
+    if (s_.view == rr::ViewMode::Row) {
+      s_.frame = rr::view_row_frame(s_.view_row, s_.frame);
+      return;
+    }
     const auto dv = rr::default_view(scene_.mesh, s_.view, s_.style.exaggeration, home_fov_,
                                      double(s_.width) / s_.height, home_alt_);
     s_.frame.camera = dv.camera;
@@ -346,7 +350,7 @@ void option_panel(Viewer& v, std::string& message) {
         case rr::OptionType::Enum:
           if (ImGui::BeginCombo(label.c_str(), value.c_str())) {
             for (const std::string& c : o.choices)
-              if (ImGui::Selectable(c.c_str(), c == value)) next = c;
+              if (c.find(':') == std::string::npos && ImGui::Selectable(c.c_str(), c == value)) next = c;
             ImGui::EndCombo();
           }
           break;

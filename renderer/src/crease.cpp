@@ -186,10 +186,12 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
   }
   const std::size_t m = out.positions.size();
   std::vector<std::uint8_t> keep(n, 0);
+  const double cell_area = links.dx * links.dy;
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t d = links.downstream[i];
     keep[i] = !(compact[i] == DrainageLinks::kNone || d == DrainageLinks::kNone || d >= n ||
-                compact[d] == DrainageLinks::kNone || links.accumulated[i] < rules.min_accumulated || off_flat[i]);
+                compact[d] == DrainageLinks::kNone || double(links.accumulated[i]) * cell_area < rules.min_area ||
+                off_flat[i]);
   }
   if (rules.valley_branches) drop_branches_off_valleys(mesh, links, shift, flow.share, rules, keep);
   for (std::size_t i = 0; i < n; ++i) {

@@ -206,6 +206,33 @@ std::vector<FrameParams> read_frames_csv(const std::string& path, const FramePar
   return parse_frames_csv(ss.str(), defaults, path);
 }
 
+namespace {
+
+// "FRAMES.csv:N" -> (FRAMES.csv, N); "FRAMES.csv" -> (FRAMES.csv, 0); otherwise no path.
+std::pair<std::string, long> split_view_row(const std::string& text) {
+  const auto colon = text.rfind(':');
+  if (colon != std::string::npos && colon + 1 < text.size() && text.substr(0, colon).ends_with(".csv")) {
+    const std::string n = text.substr(colon + 1);
+    if (n.find_first_not_of("0123456789") == std::string::npos && n.size() <= 9) return {text.substr(0, colon), std::stol(n)};
+    return {};
+  }
+  if (text.ends_with(".csv") && text.size() > 4) return {text, 0};
+  return {};
+}
+
+}  // namespace
+
+bool is_view_row(const std::string& text) { return !split_view_row(text).first.empty(); }
+
+FrameParams view_row_frame(const std::string& spec, const FrameParams& defaults) {
+  const auto [path, row] = split_view_row(spec);
+  if (path.empty()) throw terrain::Error("--view: '" + spec + "' is not FRAMES.csv or FRAMES.csv:ROW");
+  const std::vector<FrameParams> frames = read_frames_csv(path, defaults);
+  if (std::size_t(row) >= frames.size())
+    throw terrain::Error(fmt::format("--view: {} has frames 0 .. {}, not {}", path, frames.size() - 1, row));
+  return frames[std::size_t(row)];
+}
+
 std::string path_csv(const FlightPath& p) {
   if (p.frames < 2) throw terrain::Error("--frames must be at least 2");
   double az = p.params.camera.view_az;

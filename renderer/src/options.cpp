@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "renderer/frames.hpp"
 #include "terrain/error.hpp"
 
 namespace renderer {
@@ -125,15 +126,20 @@ std::vector<OptionSpec> make_table() {
       [](const RenderSettings& s) { return layers_text(s.layers); },
       [](RenderSettings& s, const std::string& v) { s.layers = parse_layers(v); }));
   t.push_back(choice(
-      "view", camera, OptionType::Enum, {"auto", "top", "relief"}, "auto",
+      "view", camera, OptionType::Enum, {"auto", "top", "relief", "FRAMES.csv:ROW"}, "auto",
       "The camera when no --eye and no --view-az is given (frame): auto, the whole terrain filling the frame, "
       "seen across its main relief, lit from the upper left; top, straight down, north up; relief, the part "
-      "of highest relief seen from its open side",
+      "of highest relief seen from its open side; FRAMES.csv:ROW, that row of a frames CSV (a flight's frame "
+      "ROW, 0 the first as batch numbers them; its camera, light and per-frame options)",
       [](const RenderSettings& s) {
-        return std::string(s.view == ViewMode::Auto ? "auto" : s.view == ViewMode::Top ? "top" : "relief");
+        return s.view == ViewMode::Row ? s.view_row
+                                       : std::string(s.view == ViewMode::Auto ? "auto"
+                                                     : s.view == ViewMode::Top ? "top"
+                                                                               : "relief");
       },
       [](RenderSettings& s, const std::string& v) {
-        s.view = v == "top" ? ViewMode::Top : v == "relief" ? ViewMode::Relief : ViewMode::Auto;
+        s.view = v == "top" ? ViewMode::Top : v == "relief" ? ViewMode::Relief : v == "auto" ? ViewMode::Auto : ViewMode::Row;
+        s.view_row = s.view == ViewMode::Row ? v : std::string();
       }));
   t.push_back(choice(
       "eye", camera, OptionType::Point, {}, "",
@@ -197,11 +203,11 @@ std::vector<OptionSpec> make_table() {
   t.push_back(number(
       "pel-threshold", pel, 0, 1, "", "0.1", "PELs: keep lines where |grad f| / max |grad f| exceeds this (tau)",
       [](auto& s) -> auto& { return s.frame.pel.threshold; }, true));
-  t.push_back(integer(
-      "min-accumulation", rules, 0, 4294967295.0, "points", "100",
-      "Creases start where at least this many drainage points drain (channel initiation; 0: every "
-      "D8 link, as the paper)",
-      [](auto& s) -> auto& { return s.rules.min_accumulated; }));
+  t.push_back(number(
+      "min-area", rules, 0, 1e15, "m^2", "10000",
+      "Creases start where at least this area drains (channel initiation, m^2: 1 ha is 100 drainage points "
+      "at 10 m, 400 at 5 m; 0: every D8 link, as the paper)",
+      [](auto& s) -> auto& { return s.rules.min_area; }));
   t.push_back(flag(
       "seed-rules", rules,
       "Creases as the paper draws them: every basin normalized by its own total (also the small ones that drain "
@@ -426,6 +432,7 @@ void set_option(RenderSettings& s, const OptionSpec& o, const std::string& text)
       if (text != "true" && text != "false") throw terrain::Error("'" + text + "' is not true or false");
       break;
     case OptionType::Enum:
+      if (o.name == "view" && is_view_row(text)) break;  // FRAMES.csv:ROW, read when the frame is drawn
       if (std::find(o.choices.begin(), o.choices.end(), text) == o.choices.end())
         throw terrain::Error(fmt::format("'{}' is not one of {}", text, join(o.choices)));
       break;

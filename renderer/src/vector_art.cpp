@@ -145,7 +145,7 @@ std::vector<VectorPath> silhouette_paths(const std::vector<std::uint8_t>& opacit
         p[i] = 0.25f * q[(i + n - 1) % n] + 0.5f * q[i] + 0.25f * q[(i + 1) % n];
       }
     }
-    out.push_back({simplify(line, kTolerance), width, o});
+    out.push_back({simplify(line, kTolerance), width, o, {}});
   }
   return out;
 }
@@ -195,7 +195,7 @@ std::vector<VectorPath> segment_paths(const std::vector<SceneSegment>& segments,
   std::size_t n_chains = 0;
   for (const auto& [o, list] : pieces)
     for (const Polyline& line : chain_segments(list, 0.01f)) {
-      out.push_back({simplify(line, kTolerance), width, float(o) * kOpacityQuantum});
+      out.push_back({simplify(line, kTolerance), width, float(o) * kOpacityQuantum, {}});
       ++n_chains;
     }
   if (chains) *chains = n_chains;

@@ -24,11 +24,11 @@ bool same_picture(const std::string& a, const std::string& b) {
   return run("oiiotool --fail 0.0314 --failpercent 1 --diff " + a + " " + b).exit_code == 0;
 }
 
-// Options set through the replay (and again as they were after the screenshot): two of
-// each type of the option table, as "--name value" pairs of the command line.
+// Options set through the replay (and again as they were after the screenshot): about two
+// of each type of the option table, as "--name value" pairs of the command line.
 const std::vector<std::vector<std::pair<std::string, std::string>>> kChanges = {
-    {{"min-score", "0.4"}},       {{"crease-width", "2.5"}},                           // numbers
-    {{"silhouette-width", "3"}},  {{"min-accumulation", "1000"}},                      // integers
+    {{"min-score", "0.4"}},       {{"crease-width", "2.5"}}, {{"min-area", "100000"}}, // numbers
+    {{"silhouette-width", "3"}},  // integers (the other, --pel-smooth, draws on PELs only)
     {{"aliased", "true"}},        {{"literal-score", "true"}},                         // flags
     {{"flow-scale", "linear"}},   {{"layers", "mask,edges"}, {"edge-caps", "none"}},   // choices
     {{"crease-colour", "red"}},   {{"background", "#ffffff"}},                         // colours

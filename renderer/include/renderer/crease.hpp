@@ -34,9 +34,11 @@ struct CreaseGeometry {
 // Which drainage links become crease segments, and how their flow is normalized
 // (docs/terrain-render.md, "Where creases are drawn").
 struct CreaseRules {
-  // A channel-initiation threshold: links whose point has fewer accumulated points are
-  // left out (0 keeps every link, as the paper). The default is terrain-render's.
-  std::uint32_t min_accumulated = 100;
+  // A channel-initiation threshold as a contributing area (m^2): links whose point drains
+  // less (accumulated points x the network's cell area, dx dy) are left out, so a network
+  // sampled at 10 m and at 5 m starts its channels at the same place (0 keeps every link, as
+  // the paper). The default is terrain-render's: 1 ha, 100 points at 10 m.
+  double min_area = 1e4;
   // Basins that drain off the grid (their pit on the grid's edge or beside no-data) are
   // pieces of larger basins the grid cannot see: their flow is normalized by at least
   // this share of the network's points, not by their own small total (edge basins larger

@@ -40,8 +40,9 @@ struct Camera {
 
 // The camera a frame gets when none is given (no eye, no view azimuth): the automatic view
 // of the whole terrain (auto_view), straight down with north up (Top), or the part of
-// highest relief (relief_view).
-enum class ViewMode { Auto, Top, Relief };
+// highest relief (relief_view), or a row of a frames CSV (a flight's frame: its camera,
+// light and per-frame options; view_row_frame).
+enum class ViewMode { Auto, Top, Relief, Row };
 
 struct Light {
   double azimuth = 315.0, altitude = 45.0;

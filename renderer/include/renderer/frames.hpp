@@ -33,6 +33,13 @@ std::vector<FrameParams> parse_frames_csv(const std::string& text, const FramePa
 // Reads and parses a file (Error when it cannot be read).
 std::vector<FrameParams> read_frames_csv(const std::string& path, const FrameParams& defaults);
 
+// --view FRAMES.csv[:N]: is `text` such a row's name (a path ending in .csv, then
+// optionally ':' and a row number)?
+bool is_view_row(const std::string& text);
+// The frame of row N (0: the first, as batch names it frame_00000; no ":N": 0) of the
+// frames CSV `spec` names, its columns over `defaults`. Error when there is no such row.
+FrameParams view_row_frame(const std::string& spec, const FrameParams& defaults);
+
 struct FlightPath {
   Eigen::Vector3d from, to;  // world coordinates
   int frames = 2;            // >= 2: first at `from`, last at `to`

@@ -24,6 +24,7 @@ struct RenderSettings {
   // times this (drawn_style): a print-size frame keeps the look of a screen-size one.
   double line_scale = 1.0;
   ViewMode view = ViewMode::Auto;  // --view: the camera when none is given
+  std::string view_row;            // ViewMode::Row: "FRAMES.csv:N" as given
 };
 
 // The style a frame is drawn with: s.style with its line widths and stroke pixel lengths
