@@ -71,6 +71,33 @@ std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_
   return basin_flow(links, edge_basin_min_share, log_flow).fc;
 }
 
+// In topological order (Kahn): each point passes its longest path down.
+std::vector<float> contributing_width(const terrain::DrainageLinks& links) {
+  using terrain::DrainageLinks;
+  const std::size_t n = links.size();
+  std::vector<std::uint32_t> inflows(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t d = links.downstream[i];
+    if (links.valid[i] && d != DrainageLinks::kNone && d < n) ++inflows[d];
+  }
+  std::vector<float> length(n, 0.0f);
+  std::vector<std::uint32_t> queue;
+  for (std::size_t i = 0; i < n; ++i)
+    if (links.valid[i] && inflows[i] == 0) queue.push_back(std::uint32_t(i));
+  const float cell = float(std::sqrt(links.dx * links.dy));
+  for (std::size_t q = 0; q < queue.size(); ++q) {
+    const std::uint32_t i = queue[q], d = links.downstream[i];
+    if (d == DrainageLinks::kNone || d >= n) continue;
+    const float step = (links.positions[d] - links.positions[i]).head<2>().norm();
+    length[d] = std::max(length[d], length[i] + step);
+    if (--inflows[d] == 0) queue.push_back(d);
+  }
+  std::vector<float> width(n, 0.0f);
+  const double area = links.dx * links.dy;
+  for (std::size_t i = 0; i < n; ++i) width[i] = float(double(links.accumulated[i]) * area / double(length[i] + cell));
+  return width;
+}
+
 std::vector<std::uint8_t> off_main_flat_path(const terrain::DrainageLinks& links) {
   using terrain::DrainageLinks;
   const std::size_t n = links.size();
@@ -192,6 +219,12 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
     keep[i] = !(compact[i] == DrainageLinks::kNone || d == DrainageLinks::kNone || d >= n ||
                 compact[d] == DrainageLinks::kNone || double(links.accumulated[i]) * cell_area < rules.min_area ||
                 off_flat[i]);
+  }
+  if (rules.min_width > 0) {
+    const double least = std::max(rules.min_width, 2 * std::sqrt(cell_area));
+    const std::vector<float> w = contributing_width(links);
+    for (std::size_t i = 0; i < n; ++i)
+      if (keep[i] && double(w[i]) < least) keep[i] = 0;
   }
   if (rules.valley_branches) drop_branches_off_valleys(mesh, links, shift, flow.share, rules, keep);
   for (std::size_t i = 0; i < n; ++i) {

@@ -208,6 +208,12 @@ std::vector<OptionSpec> make_table() {
       "Creases start where at least this area drains (channel initiation, m^2: 1 ha is 100 drainage points "
       "at 10 m, 400 at 5 m; 0: every D8 link, as the paper)",
       [](auto& s) -> auto& { return s.rules.min_area; }));
+  t.push_back(number(
+      "min-drainage-width", rules, 0, 1e6, "m", "30",
+      "Creases only where the area draining through a point, over its longest flow path from the divide, is at "
+      "least this wide (m; and 2 drainage spacings): flow down a plane, whose D8 tracks gather one cell "
+      "per cell, draws no fan of parallel lines (0: off)",
+      [](auto& s) -> auto& { return s.rules.min_width; }));
   t.push_back(flag(
       "seed-rules", rules,
       "Creases as the paper draws them: every basin normalized by its own total (also the small ones that drain "

@@ -39,6 +39,13 @@ struct CreaseRules {
   // sampled at 10 m and at 5 m starts its channels at the same place (0 keeps every link, as
   // the paper). The default is terrain-render's: 1 ha, 100 points at 10 m.
   double min_area = 1e4;
+  // Channels, not flow down planes: links where the area draining through the point, over
+  // the longest flow path to it from the divide (contributing_width), is narrower than this
+  // (m; and than 2 network spacings) are left out. A D8 track down a plane gathers one cell
+  // per cell it runs, so its width is the network's spacing however long it runs: with the
+  // area threshold alone, planes draw fans of parallel tracks a kilometre long. A hollow or
+  // a valley gathers from both sides. 0: off.
+  double min_width = 30;
   // Basins that drain off the grid (their pit on the grid's edge or beside no-data) are
   // pieces of larger basins the grid cannot see: their flow is normalized by at least
   // this share of the network's points, not by their own small total (edge basins larger
@@ -109,6 +116,11 @@ std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_
 // Whether each point's link is on flat ground (its downstream point is not lower) and is
 // not the main path of its flat (CreaseRules::one_line_per_flat): #P flags, 1 = left out.
 std::vector<std::uint8_t> off_main_flat_path(const terrain::DrainageLinks& links);
+
+// The mean width (m) of the area draining through each point (CreaseRules::min_width): its
+// contributing area over its longest flow path from the divide, its own cell included. A
+// D8 track down a plane has the network's spacing. #P values, O(#P).
+std::vector<float> contributing_width(const terrain::DrainageLinks& links);
 
 // A warning (empty when none) when the network's sample extent differs from the mesh's
 // by more than one network spacing on any side: it was made from another mesh (or a
