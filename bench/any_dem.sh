@@ -31,8 +31,8 @@ for name in msh logan eno med sinmap; do
     stats=$("$bin/terrain-render" frame "$m" "$d" -o "$work/${name}_$kind.png" --line-stats "$@")
     "$bin/terrain-render" frame "$m" -o "$work/${name}_${kind}_mask.png" --layers mask -q "$@" > /dev/null
     # Coverage: the mask (white) over the background (#dde4ec): mean R = bg + cov (1 - bg).
-    red=$(oiiotool "$work/${name}_${kind}_mask.png" --printstats 2>/dev/null | awk '/Avg:/{print $2; exit}')
-    cov=$(awk -v r="$red" 'BEGIN{bg=221/255; printf "%.1f %%", 100*(r-bg)/(1-bg)}')
+    red=$(oiiotool "$work/${name}_${kind}_mask.png" --printstats 2>/dev/null | awk '/Avg:/{print $3; exit}')
+    cov=$(awk -v r="$red" 'BEGIN{if (r > 1) r /= 255; bg=221/255; printf "%.1f %%", 100*(r-bg)/(1-bg)}')
     get() { echo "$stats" | awk -F': ' -v k="$1" '$1==k{print $2}'; }
     pct() { awk -v x="$(get "$1")" 'BEGIN{printf "%.1f %%", 100*x}'; }
     view=$(echo "$stats" | awk '/^view:/{print $3", "$5}')

@@ -220,6 +220,16 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
                 compact[d] == DrainageLinks::kNone || double(links.accumulated[i]) * cell_area < rules.min_area ||
                 off_flat[i]);
   }
+  if (rules.off_edge_runs) {  // runs along the grid's edge, within 2 samples of it
+    const long R = long(links.rows), C = long(links.cols), m = 2;
+    auto edge_row = [&](long r) { return r < m || r >= R - m; };
+    auto edge_col = [&](long c) { return c < m || c >= C - m; };
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!keep[i]) continue;
+      const long d = long(links.downstream[i]), ri = long(i) / C, ci = long(i) % C, rd = d / C, cd = d % C;
+      if ((ri == rd && edge_row(ri)) || (ci == cd && edge_col(ci))) keep[i] = 0;
+    }
+  }
   if (rules.min_width > 0) {
     const double least = std::max(rules.min_width, 2 * std::sqrt(cell_area));
     const std::vector<float> w = contributing_width(links);

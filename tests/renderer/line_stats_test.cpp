@@ -24,7 +24,7 @@ namespace {
 // Every D8 link, unsmoothed (CreaseRules' defaults before they became terrain-render's:
 // min_area 1 ha, smooth_spacings 0.5): what these analytic checks were written for (min_area
 // 3000 below: 30 points of these 10 m grids).
-const renderer::CreaseRules kPaperLinks{.min_area = 0, .min_width = 0, .smooth_spacings = 0};
+const renderer::CreaseRules kPaperLinks{.min_area = 0, .min_width = 0, .off_edge_runs = false, .smooth_spacings = 0};
 
 using drainage::test::analytic;
 
@@ -265,8 +265,8 @@ TEST(CreaseRules, APlaneDrainingOffAnEdgeGathersNoCreasesThere) {
   const std::size_t n = 64;
   const Scene s = scene_of(analytic(n, 10, [](double, double y) { return 0.05 * y; }), false);
   const CreaseGeometry paper =
-      build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .edge_basin_min_share = 0, .log_flow = false, .one_line_per_flat = false, .smooth_spacings = 0});
-  const CreaseGeometry linear = build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .log_flow = false, .smooth_spacings = 0});
+      build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .edge_basin_min_share = 0, .log_flow = false, .one_line_per_flat = false, .smooth_spacings = 0});
+  const CreaseGeometry linear = build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .log_flow = false, .smooth_spacings = 0});
   const CreaseGeometry ours = build_crease_geometry(s.mesh, s.links, kPaperLinks);
   const float floor = 0.05f * float(n * n);
   EXPECT_EQ(*std::max_element(paper.flow.begin(), paper.flow.end()), 1.0f);
@@ -344,7 +344,7 @@ TEST(CreaseRules, AFilledSquareDepressionGetsOneLine) {
                                      return std::abs(x) < 60 && std::abs(y) < 60 ? z - 5 - 0.01 * (60 - std::abs(y)) : z;
                                    }),
                            true);
-  const CreaseGeometry all = build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .one_line_per_flat = false, .smooth_spacings = 0});
+  const CreaseGeometry all = build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .one_line_per_flat = false, .smooth_spacings = 0});
   const CreaseGeometry one = build_crease_geometry(s.mesh, s.links, kPaperLinks);
   auto flat_strokes = [&](const CreaseGeometry& g) {
     const SegmentTraits t = segment_traits(s.mesh, s.links, g);
@@ -386,6 +386,29 @@ TEST(CreaseRules, PlanesDrawNoParallelTracks) {
   const std::size_t bottom = (n - 1) * n;  // the southern row
   EXPECT_NEAR(w[bottom + 5], h, 1e-3);
   EXPECT_NEAR(w[bottom + n / 2], 7 * h, 0.5 * h);
+}
+
+// A channel along the grid's edge is the edge's, not the terrain's (CreaseRules::off_edge_runs):
+// a valley whose axis runs down the grid's second column draws nothing along it; the same
+// valley down the middle column is drawn, link for link as without the rule.
+TEST(CreaseRules, RunsAlongTheGridEdgeAreLeftOut) {
+  const std::size_t n = 41;
+  const double h = 10, edge_x = -double(n / 2 - 1) * h;  // analytic x of column 1
+  const CreaseRules with{.min_area = 3000, .smooth_spacings = 0}, without{.min_area = 3000, .off_edge_runs = false, .smooth_spacings = 0};
+  const Scene edge = scene_of(analytic(n, h, [&](double x, double y) { return 0.3 * std::abs(x - edge_x) + 0.05 * y; }), false);
+  auto along_column_1 = [&](const CreaseGeometry& g) {
+    std::size_t k = 0;
+    for (std::size_t s = 0; s < g.n_segments(); ++s)
+      k += g.source[g.segments[2 * s]] % n == 1 && g.source[g.segments[2 * s + 1]] % n == 1;
+    return k;
+  };
+  EXPECT_GE(along_column_1(build_crease_geometry(edge.mesh, edge.links, without)), 10u);
+  EXPECT_EQ(along_column_1(build_crease_geometry(edge.mesh, edge.links, with)), 0u);
+  const Scene middle = scene_of(analytic(n, h, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
+  const CreaseGeometry a = build_crease_geometry(middle.mesh, middle.links, with),
+                       b = build_crease_geometry(middle.mesh, middle.links, without);
+  EXPECT_GE(a.n_segments(), 10u);
+  EXPECT_EQ(a.segments, b.segments);
 }
 
 // Smoothed crease lines (smooth_crease_lines). A straight channel (the V valley's axis,
@@ -449,7 +472,7 @@ TEST(CreaseLines, SmoothingStraightensAnObliqueD8Staircase) {
   };
   const Offset before = offset(d8);
   EXPECT_GT(before.mean, 1.0);  // a staircase
-  for (const CreaseRules rules : {CreaseRules{.min_area = 3000, .min_width = 0, .smooth_spacings = 1, .smooth_min_samples = 0},
+  for (const CreaseRules& rules : {CreaseRules{.min_area = 3000, .min_width = 0, .smooth_spacings = 1, .smooth_min_samples = 0},
                                   CreaseRules{.min_area = 3000, .min_width = 0, .smooth_spacings = 0.5}}) {
     const CreaseGeometry smooth = build_crease_geometry(s.mesh, s.links, rules);
     EXPECT_EQ(smooth.positions[stem.front()], d8.positions[stem.front()]);  // the outlet

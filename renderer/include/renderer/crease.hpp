@@ -46,6 +46,10 @@ struct CreaseRules {
   // area threshold alone, planes draw fans of parallel tracks a kilometre long. A hollow or
   // a valley gathers from both sides. 0: off.
   double min_width = 30;
+  // Links that run along the network grid's edge, within 2 samples of it, are left out: the
+  // edge turns D8 flow along it (a channel that leaves the grid obliquely runs along its last
+  // rows, its outlet on the edge), a line of the grid, not of the terrain. Off: kept.
+  bool off_edge_runs = true;
   // Basins that drain off the grid (their pit on the grid's edge or beside no-data) are
   // pieces of larger basins the grid cannot see: their flow is normalized by at least
   // this share of the network's points, not by their own small total (edge basins larger
