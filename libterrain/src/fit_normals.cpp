@@ -22,48 +22,24 @@ namespace {
 
 using Eigen::Vector3d;
 
-double value_of(double v) { return v; }
-template <int N>
-double value_of(const ceres::Jet<double, N>& j) {
-  return j.a;
-}
-
-// The residuals of the samples in one face: the PN surface's height above each sample
-// minus the sample's z. Parameters: the unit normals of the face's three corners.
-// The inverse evaluation (x, y) -> (s, t) runs in double; one Newton step from that
-// solution in T then carries the derivatives of the implicit function: at a solution
-// F(s0, t0) = P.xy - (x, y) = 0, so d(s, t)/dn = -J^-1 dF/dn, which is what
-// (s, t) = (s0, t0) - J^-1 F gives to first order with J in double.
-struct FaceCost {
-  std::array<Vector3d, 3> corner;
-  std::vector<Vector3d> samples;  // local x, y, z
-
-  template <class T>
-  bool operator()(const T* n1, const T* n2, const T* n3, T* residuals) const {
-    const Vec3<T> p1 = corner[0].cast<T>(), p2 = corner[1].cast<T>(), p3 = corner[2].cast<T>();
-    const auto b = pn_control_points<T>(p1, p2, p3, Eigen::Map<const Vec3<T>>(n1), Eigen::Map<const Vec3<T>>(n2),
-                                        Eigen::Map<const Vec3<T>>(n3));
-    PnPatch pd;
-    for (std::size_t k = 0; k < 10; ++k)
-      pd.b[k] = Vector3d(value_of(b[k].x()), value_of(b[k].y()), value_of(b[k].z()));
-    const PnPolynomial poly = to_polynomial(pd);
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-      const Vector3d& q = samples[i];
-      const PnXySolution sol = pn_solve_xy(poly, q.x(), q.y(), 1e-7);
-      double s0 = sol.b2, t0 = sol.b3;
-      if (!sol.converged && !pn_planar_st(poly, q.x(), q.y(), s0, t0)) s0 = t0 = 1.0 / 3.0;
-      Vector3d dpds, dpdt;
-      pn_derivatives(pd, 1.0 - s0 - t0, s0, t0, dpds, dpdt);
-      Eigen::Matrix2d jac;
-      jac << dpds.x(), dpdt.x(), dpds.y(), dpdt.y();
-      const Eigen::Matrix2d inv = jac.inverse();
-      const Vec3<T> p = pn_cubic<T>(b, T(1.0 - s0 - t0), T(s0), T(t0));
-      const T fx = p.x() - q.x(), fy = p.y() - q.y();
-      const T s = s0 - (inv(0, 0) * fx + inv(0, 1) * fy), t = t0 - (inv(1, 0) * fx + inv(1, 1) * fy);
-      residuals[i] = pn_cubic<T>(b, T(1.0) - s - t, s, t).z() - q.z();
-    }
+// The residuals of the samples of one face, as pn_face_residuals computes them.
+class FaceCost : public ceres::CostFunction {
+ public:
+  FaceCost(const std::array<Vector3d, 3>& corner, std::vector<Vector3d> samples)
+      : corner_(corner), samples_(std::move(samples)) {
+    set_num_residuals(int(samples_.size()));
+    *mutable_parameter_block_sizes() = {3, 3, 3};
+  }
+  bool Evaluate(double const* const* n, double* residuals, double** jacobians) const override {
+    std::array<double*, 3> jac{nullptr, nullptr, nullptr};
+    if (jacobians) jac = {jacobians[0], jacobians[1], jacobians[2]};
+    pn_face_residuals(corner_, samples_, {n[0], n[1], n[2]}, residuals, jac);
     return true;
   }
+
+ private:
+  std::array<Vector3d, 3> corner_;
+  std::vector<Vector3d> samples_;
 };
 
 // weight * (n - n0): the pull toward the starting normal.
@@ -144,6 +120,70 @@ bool inside(const GridMesh& mesh, double wx, double wy) {
 }
 
 }  // namespace
+
+void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner, const std::vector<Eigen::Vector3d>& samples,
+                       const std::array<const double*, 3>& n, double* residuals, const std::array<double*, 3>& jacobians) {
+  PnPatch pd;
+  std::array<Eigen::Matrix<double, 3, 9>, 10> m;  // d b_k / d(n1, n2, n3)
+  const bool jac = jacobians[0] || jacobians[1] || jacobians[2];
+  if (jac) {  // the control points in dual numbers, once per face
+    using J = ceres::Jet<double, 9>;
+    Vec3<J> nj[3];
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) nj[j][k] = J(n[std::size_t(j)][k], 3 * j + k);
+    const auto b =
+        pn_control_points<J>(corner[0].cast<J>(), corner[1].cast<J>(), corner[2].cast<J>(), nj[0], nj[1], nj[2]);
+    for (std::size_t k = 0; k < 10; ++k)
+      for (int r = 0; r < 3; ++r) {
+        pd.b[k][r] = b[k][r].a;
+        m[k].row(r) = b[k][r].v.transpose();
+      }
+  } else {
+    const auto b = pn_control_points<double>(corner[0], corner[1], corner[2], Eigen::Map<const Vector3d>(n[0]),
+                                             Eigen::Map<const Vector3d>(n[1]), Eigen::Map<const Vector3d>(n[2]));
+    for (std::size_t k = 0; k < 10; ++k) pd.b[k] = b[k];
+  }
+  const PnPolynomial poly = to_polynomial(pd);
+  const auto& c = poly.c;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const Vector3d& q = samples[i];
+    // Newton from the planar guess every time, so that the residual is a function of the
+    // normals alone: started from the last evaluation's solution it depended on the trial
+    // steps (two roots where a patch folds) and the logged cost rose; from the solution
+    // under the starting normals it was 7 % faster and 1.5 % worse on the MSH crop.
+    const PnXySolution sol = pn_solve_xy(poly, q.x(), q.y(), 1e-7);
+    double s0 = sol.b2, t0 = sol.b3;
+    if (!sol.converged && !pn_planar_st(poly, q.x(), q.y(), s0, t0)) s0 = t0 = 1.0 / 3.0;
+    const Vector3d p0 = sol.converged ? sol.position : poly.at(s0, t0);
+    // dP/ds, dP/dt from the monomial form (PnPolynomial's order).
+    const double ss = s0 * s0, st = s0 * t0, tt = t0 * t0;
+    const Vector3d dpds = c[1] + 2 * s0 * c[3] + t0 * c[4] + 3 * ss * c[6] + 2 * st * c[7] + tt * c[8];
+    const Vector3d dpdt = c[2] + s0 * c[4] + 2 * t0 * c[5] + ss * c[7] + 2 * st * c[8] + 3 * tt * c[9];
+    Eigen::Matrix2d jm;
+    jm << dpds.x(), dpdt.x(), dpds.y(), dpdt.y();
+    const Eigen::RowVector2d g = Eigen::RowVector2d(dpds.z(), dpdt.z()) * jm.inverse();
+    // The height after one Newton step from (s0, t0), to first order: z - g F.
+    residuals[i] = p0.z() - (g.x() * (p0.x() - q.x()) + g.y() * (p0.y() - q.y())) - q.z();
+    if (!jac) continue;
+    const Eigen::RowVector3d w(-g.x(), -g.y(), 1.0);
+    const double u = 1.0 - s0 - t0, v = s0, x = t0;  // Bernstein weights in PnPatch::b order
+    // The corners do not move with the normals; each edge point moves with its own corner's
+    // normal only (B210 and B201 with n1, B120 and B021 with n2, B012 and B102 with n3); the
+    // centre B111 = 1.5 mean(edge points) - 0.5 mean(corners) moves with a quarter of each.
+    const double b9 = 1.5 * u * v * x;  // 6 u v x / 4
+    const double bw[10] = {0, 0, 0, 3 * u * u * v + b9, 3 * u * v * v + b9, 3 * v * v * x + b9, 3 * v * x * x + b9,
+                           3 * u * x * x + b9, 3 * u * u * x + b9, 0};
+    constexpr std::size_t kEdge[3][2] = {{B210, B201}, {B120, B021}, {B012, B102}};
+    for (std::size_t j = 0; j < 3; ++j) {
+      if (!jacobians[j]) continue;
+      const auto d = (bw[kEdge[j][0]] * m[kEdge[j][0]].middleCols<3>(long(3 * j)) +
+                      bw[kEdge[j][1]] * m[kEdge[j][1]].middleCols<3>(long(3 * j)))
+                         .eval();
+      const Eigen::RowVector3d r = w * d;
+      for (std::size_t k = 0; k < 3; ++k) jacobians[j][3 * i + k] = r[long(k)];
+    }
+  }
+}
 
 SourceSamples dem_samples_for_mesh(const Grid& dem, const GridMesh& mesh) {
   std::unique_ptr<OGRCoordinateTransformation> ct;
@@ -237,15 +277,15 @@ NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, con
             const std::size_t f = topo.face_of_cell(r, c, k);
             if (a.offset[f] == a.offset[f + 1]) continue;
             const auto fv = topo.face(f);
-            auto* cost = new FaceCost;
-            for (int j = 0; j < 3; ++j) cost->corner[std::size_t(j)] = mesh.positions[fv[std::size_t(j)]].cast<double>();
+            std::array<Vector3d, 3> corner;
+            for (int j = 0; j < 3; ++j) corner[std::size_t(j)] = mesh.positions[fv[std::size_t(j)]].cast<double>();
             const std::size_t count = a.offset[f + 1] - a.offset[f];
             const std::size_t take = opt.face_samples ? std::min(count, opt.face_samples) : count;
+            std::vector<Vector3d> picked;
             for (std::size_t j = 0; j < take; ++j)  // evenly strided over the face's samples
-              cost->samples.push_back(local[a.sample[a.offset[f] + j * count / take]]);
-            const int m = int(cost->samples.size());
-            problem.AddResidualBlock(new ceres::AutoDiffCostFunction<FaceCost, ceres::DYNAMIC, 3, 3, 3>(cost, m),
-                                     nullptr, normal[fv[0]].data(), normal[fv[1]].data(), normal[fv[2]].data());
+              picked.push_back(local[a.sample[a.offset[f] + j * count / take]]);
+            problem.AddResidualBlock(new FaceCost(corner, std::move(picked)), nullptr, normal[fv[0]].data(),
+                                     normal[fv[1]].data(), normal[fv[2]].data());
           }
       std::vector<Vector3d> saved;
       for (std::size_t r = er0; r < er1; ++r)
@@ -265,7 +305,11 @@ NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, con
         else problem.SetParameterBlockConstant(p);
       }
       ceres::Solver::Options so;
-      so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+      // Conjugate gradients on the normal equations (Jacobi preconditioner): the blocks are
+      // grids of up to 400 x 400 vertices, on which the sparse Cholesky factorization took
+      // two thirds of the time (docs/performance.md, "--fit-normals").
+      so.linear_solver_type = ceres::CGNR;
+      so.function_tolerance = 1e-5;
       so.max_num_iterations = opt.max_iterations;
       so.num_threads = threads;
       so.logging_type = ceres::SILENT;

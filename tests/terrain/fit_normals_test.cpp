@@ -54,6 +54,54 @@ double max_angle_deg(const GridMesh& a, const GridMesh& b) {
   return worst;
 }
 
+// The fit's analytic Jacobian (pn_face_residuals) equals central differences of its own
+// residuals: a tilted 50 m face with unit normals leaning 10-25 degrees different ways, 40
+// samples inside it, each of the 9 normal components moved by +-1e-4. The residual is
+// exact to second order in the inverse evaluation's error, so the differences are clean.
+TEST(FitNormals, AnalyticJacobianEqualsFiniteDifferences) {
+  const std::array<Eigen::Vector3d, 3> corner{Eigen::Vector3d(0, 0, 10), Eigen::Vector3d(50, 0, 18),
+                                              Eigen::Vector3d(0, 50, 4)};
+  std::array<Eigen::Vector3d, 3> normal{Eigen::Vector3d(-0.3, 0.1, 1).normalized(),
+                                        Eigen::Vector3d(-0.1, 0.4, 1).normalized(),
+                                        Eigen::Vector3d(0.2, -0.2, 1).normalized()};
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(0.02, 0.96);
+  std::vector<Eigen::Vector3d> samples;
+  while (samples.size() < 40) {
+    const double a = unit(rng), b = unit(rng);
+    if (a + b > 0.98) continue;
+    samples.emplace_back(50 * a, 50 * b, 10 + 8 * a - 6 * b + 2 * std::sin(7 * a * b));
+  }
+  const std::size_t m = samples.size();
+  auto residuals = [&](const std::array<Eigen::Vector3d, 3>& nn, std::array<std::vector<double>, 3>* jac) {
+    std::vector<double> r(m);
+    std::array<double*, 3> j{nullptr, nullptr, nullptr};
+    if (jac)
+      for (std::size_t k = 0; k < 3; ++k) (*jac)[k].assign(3 * m, 0.0), j[k] = (*jac)[k].data();
+    pn_face_residuals(corner, samples, {nn[0].data(), nn[1].data(), nn[2].data()}, r.data(), j);
+    return r;
+  };
+  std::array<std::vector<double>, 3> jac;
+  const std::vector<double> r0 = residuals(normal, &jac);
+  const std::vector<double> plain = residuals(normal, nullptr);  // the same residuals without the Jacobian
+  for (std::size_t i = 0; i < m; ++i) EXPECT_NEAR(r0[i], plain[i], 1e-9) << i;
+  const double h = 1e-4;
+  double worst = 0, largest = 0;
+  for (std::size_t v = 0; v < 3; ++v)
+    for (int k = 0; k < 3; ++k) {
+      auto plus = normal, minus = normal;
+      plus[v][k] += h, minus[v][k] -= h;
+      const std::vector<double> rp = residuals(plus, nullptr), rm = residuals(minus, nullptr);
+      for (std::size_t i = 0; i < m; ++i) {
+        const double fd = (rp[i] - rm[i]) / (2 * h), an = jac[v][3 * i + std::size_t(k)];
+        worst = std::max(worst, std::abs(fd - an));
+        largest = std::max(largest, std::abs(an));
+      }
+    }
+  EXPECT_GT(largest, 1.0);  // metres per unit of normal: the normals matter
+  EXPECT_LT(worst, 1e-5 * largest) << "largest derivative " << largest;
+}
+
 TEST(FitNormals, ExactSurfaceKeepsItsNormals) {
   ExactCase c = exact_case();
   const GridMesh truth = c.mesh;
@@ -110,7 +158,9 @@ TEST(FitNormals, MountStHelensCostFallsMonotonically) {
   for (std::size_t i = 1; i < r.costs.size(); ++i) EXPECT_LE(r.costs[i], r.costs[i - 1]) << i;
   std::printf("MSH crop at 50 m: RMSE %.3f -> %.3f m, max %.2f -> %.2f m, %zu iterations\n", r.before.rmse,
               r.after.rmse, r.before.max_abs, r.after.max_abs, r.iterations);
-  EXPECT_LT(r.after.rmse, r.before.rmse * 2 / 3);
+  // A third less: 3.692 -> 2.461 m with sparse Cholesky steps to a function tolerance of
+  // 1e-6 (until stop 43), 2.473 m (0.5 % more) with CGNR steps to 1e-5, 3.6x faster.
+  EXPECT_LT(r.after.rmse, 0.68 * r.before.rmse);
 
   GridMesh blocked = msh_crop(dem);
   o.block = 8;

@@ -16,8 +16,11 @@
 // (a fitted normal moves the patch boundaries a little). Large meshes are solved in
 // overlapping square blocks of vertices, one after another; each block's outside vertices
 // are held fixed and only its core is kept.
+#include <array>
 #include <cstddef>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "terrain/error.hpp"
 #include "terrain/grid.hpp"
@@ -68,6 +71,14 @@ struct NormalFitReport {
   std::vector<double> costs;
   double seconds = 0;
 };
+
+// The fit's residuals for one face (a building block of fit_pn_normals, exposed for its
+// test): for each of `samples` (local x, y, z) on the PN patch of the face's `corner`s with
+// unit normals n[0..2], the patch's height above it (by the inverse evaluation, then one
+// Newton step to first order) minus its z; and, for each jacobians[j] not null, d residual /
+// d n_j (#samples x 3, row-major), analytic (docs/dem2mesh.md, "Fitted normals").
+void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner, const std::vector<Eigen::Vector3d>& samples,
+                       const std::array<const double*, 3>& n, double* residuals, const std::array<double*, 3>& jacobians);
 
 // Fits mesh.normals to the samples (local = world - mesh origin is taken care of). Throws
 // Error without samples inside the mesh. Sets mesh.normal_fit.
