@@ -22,24 +22,32 @@ namespace {
 
 using Eigen::Vector3d;
 
-// The residuals of the samples of one face, as pn_face_residuals computes them.
+// The residuals of the samples of one face, as pn_face_residuals computes them, each
+// sample's inverse evaluation started from its solution under the starting normals `n`.
 class FaceCost : public ceres::CostFunction {
  public:
-  FaceCost(const std::array<Vector3d, 3>& corner, std::vector<Vector3d> samples)
+  FaceCost(const std::array<Vector3d, 3>& corner, std::vector<Vector3d> samples, const std::array<const double*, 3>& n)
       : corner_(corner), samples_(std::move(samples)) {
     set_num_residuals(int(samples_.size()));
     *mutable_parameter_block_sizes() = {3, 3, 3};
+    std::vector<double> r(samples_.size());
+    pn_face_residuals(corner_, samples_, n, r.data(), {nullptr, nullptr, nullptr}, nullptr, &start_);
   }
   bool Evaluate(double const* const* n, double* residuals, double** jacobians) const override {
     std::array<double*, 3> jac{nullptr, nullptr, nullptr};
     if (jacobians) jac = {jacobians[0], jacobians[1], jacobians[2]};
-    pn_face_residuals(corner_, samples_, {n[0], n[1], n[2]}, residuals, jac);
+    // The Jacobian is evaluated at accepted iterates only: their solutions start the
+    // trial steps from there.
+    const bool accepted = jac[0] || jac[1] || jac[2];
+    pn_face_residuals(corner_, samples_, {n[0], n[1], n[2]}, residuals, jac, &start_, accepted ? &solved_ : nullptr);
+    if (accepted) start_.swap(solved_);
     return true;
   }
 
  private:
   std::array<Vector3d, 3> corner_;
   std::vector<Vector3d> samples_;
+  mutable std::vector<Eigen::Vector2d> start_, solved_;
 };
 
 // weight * (n - n0): the pull toward the starting normal.
@@ -122,7 +130,9 @@ bool inside(const GridMesh& mesh, double wx, double wy) {
 }  // namespace
 
 void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner, const std::vector<Eigen::Vector3d>& samples,
-                       const std::array<const double*, 3>& n, double* residuals, const std::array<double*, 3>& jacobians) {
+                       const std::array<const double*, 3>& n, double* residuals, const std::array<double*, 3>& jacobians,
+                       const std::vector<Eigen::Vector2d>* start, std::vector<Eigen::Vector2d>* solved) {
+  if (solved) solved->resize(samples.size());
   PnPatch pd;
   std::array<Eigen::Matrix<double, 3, 9>, 10> m;  // d b_k / d(n1, n2, n3)
   const bool jac = jacobians[0] || jacobians[1] || jacobians[2];
@@ -147,13 +157,17 @@ void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner, const std::
   const auto& c = poly.c;
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const Vector3d& q = samples[i];
-    // Newton from the planar guess every time, so that the residual is a function of the
-    // normals alone: started from the last evaluation's solution it depended on the trial
-    // steps (two roots where a patch folds) and the logged cost rose; from the solution
-    // under the starting normals it was 7 % faster and 1.5 % worse on the MSH crop.
-    const PnXySolution sol = pn_solve_xy(poly, q.x(), q.y(), 1e-7);
+    // Newton from the sample's fixed start if it has one (its solution under the normals the
+    // problem started from: a step or two away), else from the planar guess. Never from the
+    // last evaluation's solution: the residual would depend on the trial steps (two roots
+    // where a patch folds), and the logged cost rose.
+    PnXySolution sol;
+    if (start && std::isfinite((*start)[i].x()))
+      sol = pn_solve_xy_from(poly, q.x(), q.y(), (*start)[i].x(), (*start)[i].y(), 1e-7);
+    if (!sol.converged) sol = pn_solve_xy(poly, q.x(), q.y(), 1e-7);
     double s0 = sol.b2, t0 = sol.b3;
     if (!sol.converged && !pn_planar_st(poly, q.x(), q.y(), s0, t0)) s0 = t0 = 1.0 / 3.0;
+    if (solved) (*solved)[i] = sol.converged ? Eigen::Vector2d(s0, t0) : Eigen::Vector2d(NAN, NAN);
     const Vector3d p0 = sol.converged ? sol.position : poly.at(s0, t0);
     // dP/ds, dP/dt from the monomial form (PnPolynomial's order).
     const double ss = s0 * s0, st = s0 * t0, tt = t0 * t0;
@@ -284,7 +298,9 @@ NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, con
             std::vector<Vector3d> picked;
             for (std::size_t j = 0; j < take; ++j)  // evenly strided over the face's samples
               picked.push_back(local[a.sample[a.offset[f] + j * count / take]]);
-            problem.AddResidualBlock(new FaceCost(corner, std::move(picked)), nullptr, normal[fv[0]].data(),
+            problem.AddResidualBlock(new FaceCost(corner, std::move(picked),
+                                                  {normal[fv[0]].data(), normal[fv[1]].data(), normal[fv[2]].data()}),
+                                     nullptr, normal[fv[0]].data(),
                                      normal[fv[1]].data(), normal[fv[2]].data());
           }
       std::vector<Vector3d> saved;

@@ -76,9 +76,13 @@ struct NormalFitReport {
 // test): for each of `samples` (local x, y, z) on the PN patch of the face's `corner`s with
 // unit normals n[0..2], the patch's height above it (by the inverse evaluation, then one
 // Newton step to first order) minus its z; and, for each jacobians[j] not null, d residual /
-// d n_j (#samples x 3, row-major), analytic (docs/dem2mesh.md, "Fitted normals").
+// d n_j (#samples x 3, row-major), analytic (docs/dem2mesh.md, "Fitted normals"). `start`:
+// where to start each sample's inverse evaluation, (s, t) (NaN or null: the planar guess);
+// `solved`: each sample's (s, t) (NaN where it did not converge), when not null.
 void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner, const std::vector<Eigen::Vector3d>& samples,
-                       const std::array<const double*, 3>& n, double* residuals, const std::array<double*, 3>& jacobians);
+                       const std::array<const double*, 3>& n, double* residuals, const std::array<double*, 3>& jacobians,
+                       const std::vector<Eigen::Vector2d>* start = nullptr,
+                       std::vector<Eigen::Vector2d>* solved = nullptr);
 
 // Fits mesh.normals to the samples (local = world - mesh origin is taken care of). Throws
 // Error without samples inside the mesh. Sets mesh.normal_fit.
