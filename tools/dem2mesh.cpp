@@ -168,6 +168,13 @@ int main(int argc, char** argv) {
   auto* src_crs_opt = app.add_option("--src-crs", src_crs,
                                      "Scattered points: their CRS (EPSG:32610, WKT, PROJ string) where the file has "
                                      "none (XYZ text, CSV), or instead of the file's");
+  std::string input_kind = "auto";
+  app.add_option("--input", input_kind,
+                 "What INPUT holds: raster (a grid, holes are no-data), points (scattered points, triangulated: also "
+                 "points that lie on a lattice, such as a decimated grid or lidar ground points at cell centres, which "
+                 "GDAL's XYZ driver would read as a grid full of holes), or auto (points when GDAL opens no raster)")
+      ->check(CLI::IsMember({"auto", "points", "raster"}))
+      ->capture_default_str();
   bool fit = false;
   terrain::NormalFitOptions fit_opt;
   app.add_flag("--fit-normals", fit,
@@ -204,13 +211,25 @@ int main(int argc, char** argv) {
 
     terrain::Grid grid, source_dem;
     terrain::SourceSamples source_points;
-    const bool points = terrain::is_point_input(input);
+    const bool points = input_kind == "points" || (input_kind == "auto" && terrain::is_point_input(input));
+    // Points on a lattice that GDAL reads as a grid (its XYZ driver): say how to read them as points.
+    const std::string lattice_hint = input_kind == "auto" && !points && terrain::raster_driver(input) == "XYZ"
+                                         ? " (it was read as a grid of XYZ text; for scattered points pass --input points)"
+                                         : "";
     if (points) {
       grid = points_grid(input, req, {interpolation, max_edge, src_crs}, verb, fit ? &source_points : nullptr);
     } else {
       for (const CLI::Option* o : {interp_opt, max_edge_opt, src_crs_opt})
-        if (*o) throw terrain::Error(o->get_name() + " applies to scattered points; '" + input + "' is a raster");
-      grid = raster_grid(input, req, dequantize, verb, fit ? &source_dem : nullptr);
+        if (*o)
+          throw terrain::Error(o->get_name() + " applies to scattered points; '" + input + "' is a raster" +
+                               (lattice_hint.empty() ? std::string() : " of XYZ text: pass --input points"));
+      try {
+        grid = raster_grid(input, req, dequantize, verb, fit ? &source_dem : nullptr);
+      } catch (const terrain::Error& e) {
+        const std::string what = e.what();
+        if (lattice_hint.empty() || what.find("no-data") == std::string::npos) throw;
+        throw terrain::Error(what + lattice_hint);
+      }
     }
     terrain::OutputSet outputs;  // the mesh and the grid land together, or neither does
     if (!grid_out.empty())

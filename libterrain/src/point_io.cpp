@@ -58,14 +58,7 @@ Dataset open_vector(const std::string& path) {
   return open(kCsvOptions);
 }
 
-bool opens_as_raster(const std::string& path) {
-  ensure_gdal();
-  CPLPushErrorHandler(CPLQuietErrorHandler);
-  GDALDatasetH ds = GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr);
-  CPLPopErrorHandler();
-  if (ds) GDALClose(ds);
-  return ds != nullptr;
-}
+bool opens_as_raster(const std::string& path) { return !raster_driver(path).empty(); }
 
 OGRLayer* point_layer(GDALDataset& ds) {
   for (OGRLayer* layer : ds.GetLayers()) {
@@ -238,6 +231,17 @@ PointCloud read_xyz(const std::string& path, const Progress& progress) {
 }
 
 }  // namespace
+
+std::string raster_driver(const std::string& path) {
+  ensure_gdal();
+  CPLPushErrorHandler(CPLQuietErrorHandler);
+  GDALDatasetH ds = GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr);
+  CPLPopErrorHandler();
+  if (!ds) return {};
+  const std::string name = GDALGetDriverShortName(GDALGetDatasetDriver(ds));
+  GDALClose(ds);
+  return name;
+}
 
 bool is_point_input(const std::string& path) {
   if (opens_as_raster(path)) return false;

@@ -142,6 +142,33 @@ TEST(Dem2mesh, CropReadsOnlyItsWindow) {
   EXPECT_NE(r.out.find("grid: 8 x 8"), std::string::npos) << r.out;
 }
 
+// Points on a lattice (issue 39): four cell centres in five of a 60 x 60 crop of the MSH DEM
+// as XYZ text. GDAL's XYZ driver reads it as a grid full of holes: refused for its no-data,
+// saying --input points exists; --input points triangulates the points instead.
+TEST(Dem2mesh, PointsOnALatticeAreReadAsPointsWhenAsked) {
+  terrain::test::ScratchDir dir;
+  const std::string xyz = dir.path("grid.xyz"), lattice = dir.path("lattice.xyz");
+  ASSERT_EQ(std::system(("gdal_translate -q -of XYZ -srcwin 0 0 60 60 " + data("msh_2007_utm10n_10m.tif") + " " + xyz)
+                            .c_str()),
+            0);
+  ASSERT_EQ(std::system(("awk 'NR % 5 != 0' " + xyz + " > " + lattice).c_str()), 0);  // holes
+  const std::string d2m = tool("dem2mesh") + " " + lattice + " " + dir.path("m.ply");
+  const auto grid = run(d2m + " -q");
+  EXPECT_EQ(grid.exit_code, 1);
+  EXPECT_NE(grid.err.find("no-data"), std::string::npos) << grid.err;
+  EXPECT_NE(grid.err.find("pass --input points"), std::string::npos) << grid.err;
+  const auto crs = run(d2m + " --src-crs EPSG:32610 -q");
+  EXPECT_EQ(crs.exit_code, 1);
+  EXPECT_NE(crs.err.find("pass --input points"), std::string::npos) << crs.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.path("m.ply")));
+  const auto points = run(d2m + " --input points --src-crs EPSG:32610 --spacing 20");
+  ASSERT_EQ(points.exit_code, 0) << points.err;
+  EXPECT_NE(points.out.find("vertices: "), std::string::npos) << points.out;
+  EXPECT_TRUE(std::filesystem::exists(dir.path("m.ply")));
+  // --input raster reads it as the grid, as auto does.
+  EXPECT_EQ(run(d2m + " --input raster -q").exit_code, 1);
+}
+
 TEST(Dem2mesh, HelpShowsAnExample) {
   const auto r = run(tool("dem2mesh") + " --help");
   EXPECT_EQ(r.exit_code, 0);

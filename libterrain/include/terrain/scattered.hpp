@@ -36,6 +36,10 @@ struct PointCloud {
 // GDAL's raster drivers do not open it: a regular XYZ grid is a raster).
 bool is_point_input(const std::string& path);
 
+// The short name of the GDAL raster driver that opens `path` ("" when none does): "XYZ" for
+// a text file of points GDAL reads as a grid (points on a lattice, holes as no-data).
+std::string raster_driver(const std::string& path);
+
 // All points of the first point layer (x, y from the geometry, z from the geometry's Z or
 // else from a field named z, elevation, elev, height or alt), or of the XYZ text (x y z per
 // line, separated by spaces, tabs, commas or semicolons; one header line and '#' comments
