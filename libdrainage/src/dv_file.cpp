@@ -652,19 +652,31 @@ std::vector<char> encode_dv_block(const DvBlockFields& f) {
   const std::uint32_t* __restrict const acc = f.accumulated.data();
   const std::uint32_t* __restrict const basin = f.basin.data();
   const std::uint8_t* __restrict const order = f.order.data();
-  std::uint32_t zprev = 0, bprev = 0;
+  // Deltas first (neighbours share high bits), then each byte plane in its own loop: one
+  // output stream per loop vectorizes; fourteen interleaved streams per point did not
+  // (the shuffle took three times zstd's time).
+  thread_local std::vector<std::uint32_t> dzs, dbs;
+  dzs.resize(m), dbs.resize(m);
+  std::uint32_t* __restrict const dz = dzs.data();
+  std::uint32_t* __restrict const db = dbs.data();
   for (std::size_t q = 0; q < m; ++q) {
     const std::uint32_t zb = std::bit_cast<std::uint32_t>(zs[q]);
-    const std::uint32_t dz = zb - zprev, db = basin[q] - bprev, a = acc[q];  // deltas: neighbours share high bits
-    zprev = zb, bprev = basin[q];
-    for (std::size_t k = 0; k < 4; ++k) {
-      o[k * m + q] = std::uint8_t(dz >> (8 * k));
-      o[(5 + k) * m + q] = std::uint8_t(a >> (8 * k));
-      o[(9 + k) * m + q] = std::uint8_t(db >> (8 * k));
-    }
-    o[4 * m + q] = cut[q] && d8[q] < 8 ? std::uint8_t(kCutFlag | d8[q]) : d8[q];
-    o[13 * m + q] = order[q];
+    dz[q] = zb - (q ? std::bit_cast<std::uint32_t>(zs[q - 1]) : 0u);
+    db[q] = basin[q] - (q ? basin[q - 1] : 0u);
   }
+  for (std::size_t k = 0; k < 4; ++k) {
+    const unsigned shift = unsigned(8 * k);
+    std::uint8_t* __restrict const pz = o + k * m;
+    std::uint8_t* __restrict const pa = o + (5 + k) * m;
+    std::uint8_t* __restrict const pb = o + (9 + k) * m;
+    for (std::size_t q = 0; q < m; ++q) pz[q] = std::uint8_t(dz[q] >> shift);
+    for (std::size_t q = 0; q < m; ++q) pa[q] = std::uint8_t(acc[q] >> shift);
+    for (std::size_t q = 0; q < m; ++q) pb[q] = std::uint8_t(db[q] >> shift);
+  }
+  std::uint8_t* __restrict const pd = o + 4 * m;
+  std::uint8_t* __restrict const po = o + 13 * m;
+  for (std::size_t q = 0; q < m; ++q) pd[q] = cut[q] && d8[q] < 8 ? std::uint8_t(kCutFlag | d8[q]) : d8[q];
+  for (std::size_t q = 0; q < m; ++q) po[q] = order[q];
   std::vector<char> out(ZSTD_compressBound(raw.size()));
   const std::size_t n = ZSTD_compressCCtx(ctx.get(), out.data(), out.size(), raw.data(), raw.size(), 1);
   if (ZSTD_isError(n)) throw terrain::Error(std::string("zstd: ") + ZSTD_getErrorName(n));

@@ -7,6 +7,9 @@
 #include <functional>
 #include <iostream>
 #include <limits>
+#include <random>
+
+#include <zstd.h>
 
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
@@ -105,6 +108,43 @@ std::string patched_copy(const terrain::test::ScratchDir& dir, const std::string
   f.seekp(std::streamoff(offset));
   f.write(bytes.data(), std::streamsize(bytes.size()));
   return dir.path(name);
+}
+
+// encode_dv_block writes the bytes it wrote before its byte planes were split into one loop
+// each (issue 40: files byte-identical): the format written out here, point by point (deltas
+// of the z bits and of the basin ids, then 14 byte planes: z delta 0-3, code, accumulation
+// 0-3, basin delta 4 bytes, order), compressed by zstd at level 1, on a block of random
+// fields with no-data, cut flows and negative deltas.
+TEST(DvFile, BlockEncodingIsTheFormatByteForByte) {
+  std::mt19937 rng(11);
+  DvBlockFields f;
+  const std::size_t m = 256 * 200 + 17;
+  for (std::size_t q = 0; q < m; ++q) {
+    f.z.push_back(q % 97 == 0 ? 0.0f : float(std::uniform_real_distribution<double>(-50, 900)(rng)));
+    f.d8.push_back(std::uint8_t(rng() % 9 == 8 ? 8 : rng() % 8));
+    f.cut.push_back(std::uint8_t(rng() % 13 == 0));
+    f.accumulated.push_back(std::uint32_t(rng() % 5 == 0 ? rng() : rng() % 300));
+    f.basin.push_back(std::uint32_t(rng() % 7 == 0 ? rng() % 100000 : 4242));
+    f.order.push_back(std::uint8_t(rng() % 12));
+  }
+  std::vector<std::uint8_t> raw(14 * m);
+  std::uint32_t zprev = 0, bprev = 0;
+  for (std::size_t q = 0; q < m; ++q) {
+    std::uint32_t zb;
+    std::memcpy(&zb, &f.z[q], 4);
+    const std::uint32_t dz = zb - zprev, db = f.basin[q] - bprev;
+    zprev = zb, bprev = f.basin[q];
+    for (std::size_t k = 0; k < 4; ++k) {
+      raw[k * m + q] = std::uint8_t(dz >> (8 * k));
+      raw[(5 + k) * m + q] = std::uint8_t(f.accumulated[q] >> (8 * k));
+      raw[(9 + k) * m + q] = std::uint8_t(db >> (8 * k));
+    }
+    raw[4 * m + q] = f.cut[q] && f.d8[q] < 8 ? std::uint8_t(0x40 | f.d8[q]) : f.d8[q];
+    raw[13 * m + q] = f.order[q];
+  }
+  std::vector<char> expected(ZSTD_compressBound(raw.size()));
+  expected.resize(ZSTD_compress(expected.data(), expected.size(), raw.data(), raw.size(), 1));
+  EXPECT_EQ(encode_dv_block(f), expected);
 }
 
 TEST(DvFile, RejectsDamagedVersion1Files) {
