@@ -138,8 +138,8 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
     }
     if (tile_size > 0) {
       if (!raster_mode) throw terrain::Error("--tile-size applies to --raster and --d8-input runs");
-      if (!rasters_dir.empty() || !surface_out.empty())
-        throw terrain::Error("--rasters and --surface are not written in tiled runs (yet)");
+      if (!surface_out.empty())
+        throw terrain::Error("--surface is not written in tiled runs (yet): --rasters DIR writes surface.tif");
       if (dv_version != 2) throw terrain::Error("tiled runs write .dv version 2");
       if (breach) throw terrain::Error("--breach runs untiled only (use --fill in tiled and MPI runs)");
       using clock = std::chrono::steady_clock;
@@ -154,6 +154,17 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
                                  comm.size(), comm.size() > 1 ? "es" : "",
                                  std::chrono::duration<double>(clock::now() - t0).count(), tt::peak_rss_mib()));
       if (!comm.root()) return 0;
+      if (!rasters_dir.empty()) {  // from the .dv, window by window: memory bounded as the run's
+        const auto t1 = clock::now();
+        terrain::OutputSet outputs;
+        outputs.write([&] {
+          drainage::export_dv_rasters(
+              output, [&](const std::string& name) { return outputs.stage(std::filesystem::path(rasters_dir) / name); },
+              run.encoding, run.provenance);
+        });
+        outputs.commit();
+        tt::step(verb, fmt::format("rasters from {}: {:.2f} s", output, std::chrono::duration<double>(clock::now() - t1).count()));
+      }
       std::cout << "output: " << output << "\n"
                 << "grid: " << r.cols << " x " << r.rows << " (columns x rows)\n"
                 << fmt::format("spacing: {} {}\n", r.dx, r.dy) << "tiles: " << r.tiles << "\n"

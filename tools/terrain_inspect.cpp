@@ -9,6 +9,7 @@
 #include "common.hpp"
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
+#include "drainage/rasters.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/grid_mesh.hpp"
@@ -208,10 +209,17 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   CLI::App* exp = app.add_subcommand("export", "Convert: a mesh to obj (Wavefront, local coordinates) or tif (its elevations "
-                                                 "as a GeoTIFF); a .dv to gpkg (branches as LineString ZM, M = normalized flow)");
+                                                 "as a GeoTIFF); a .dv to gpkg (branches as LineString ZM, M = normalized flow) "
+                                                 "or tif (every layer as a GeoTIFF in a directory, as build-drainage --rasters)");
   exp->add_option("FILE", file, "Terrain mesh (.ply) or drainage database (.dv)")->required();
   exp->add_option("--to", to, "Output format")->required()->check(CLI::IsMember({"obj", "tif", "gpkg"}));
-  exp->add_option("-o,--output", out, "Output file (default: FILE with the new extension)");
+  exp->add_option("-o,--output", out,
+                  "Output file (default: FILE with the new extension); a .dv to tif: a directory (default: FILE's name "
+                  "without .dv, then _rasters), created if missing");
+  std::string d8_encoding = "taudem";
+  exp->add_option("--d8-encoding", d8_encoding, "A .dv to tif: the codes of d8.tif")
+      ->check(CLI::IsMember({"taudem", "esri"}))
+      ->capture_default_str();
   int min_order = 1;
   std::uint32_t min_flow = 0;
   exp->add_option("--min-order", min_order, "gpkg: only branches of at least this Strahler order")
@@ -263,6 +271,29 @@ int main(int argc, char** argv) {
     } else if (*exp) {
       std::error_code ec;
       if (!std::filesystem::exists(file, ec)) throw terrain::Error("cannot read '" + file + "': no such file");
+      if (to == "tif" && is_dv) {  // every layer, window by window, into a directory
+        namespace fs = std::filesystem;
+        if (out.empty()) out = (fs::path(file).parent_path() / (fs::path(file).stem().string() + "_rasters")).string();
+        if (fs::exists(out, ec) && !fs::is_directory(out, ec))
+          throw terrain::Error("'" + out + "' exists and is not a directory: a .dv exports to a directory of GeoTIFFs");
+        std::vector<std::string> targets;
+        for (const char* name : drainage::kDrainageRasterNames) targets.push_back((fs::path(out) / name).string());
+        tt::check_distinct_paths({file}, targets);
+        tt::warn_stale_temporaries(verb, targets);
+        fs::create_directories(out, ec);
+        if (ec) throw terrain::Error("cannot create the directory '" + out + "': " + ec.message());
+        terrain::OutputSet outputs;  // the seven land together, or none does
+        std::size_t points = 0;
+        outputs.write([&] {
+          points = drainage::export_dv_rasters(
+              file, [&](const std::string& name) { return outputs.stage(fs::path(out) / name); },
+              drainage::parse_d8_encoding(d8_encoding), tt::provenance(argc, argv));
+        });
+        outputs.commit();
+        std::cout << "output: " << out << "\npoints: " << points << "\n";
+        for (const std::string& t : targets) std::cout << "layer: " << t << "\n";
+        return 0;
+      }
       if (out.empty()) out = std::filesystem::path(file).replace_extension(to).string();
       tt::check_distinct_paths({file}, {out});
       tt::warn_stale_temporaries(verb, {out});

@@ -33,7 +33,6 @@ void ensure_gdal() {
 
 namespace {
 
-constexpr double kGeoTiffNodata = -9999.0;
 
 std::string last_gdal_error() {
   std::string msg = CPLGetLastErrorMsg();
@@ -286,14 +285,25 @@ Grid read_dem(const std::string& path, const Progress& progress, std::optional<R
   return grid;
 }
 
-void write_raster(const std::string& path, const Georef& geo, std::size_t rows, std::size_t cols,
-                  RasterType type, const void* data, std::optional<double> nodata, const std::string& metadata) {
+struct RasterWriter::Impl {
+  std::string path;
+  AtomicFile out;
+  DatasetPtr ds;
+  GDALDataType gdt = GDT_Byte;
+  std::size_t rows = 0, cols = 0;
+  explicit Impl(const std::string& p) : path(p), out(p) {}
+};
+
+RasterWriter::RasterWriter(const std::string& path, const Georef& geo, std::size_t rows, std::size_t cols,
+                           RasterType type, std::optional<double> nodata, const std::string& metadata)
+    : impl_(std::make_unique<Impl>(path)) {
   ensure_gdal();
-  AtomicFile out(path);
-  const GDALDataType gdt = type == RasterType::Byte    ? GDT_Byte
-                           : type == RasterType::Int16 ? GDT_Int16
-                           : type == RasterType::UInt32 ? GDT_UInt32
-                                                        : GDT_Float32;
+  Impl& m = *impl_;
+  m.rows = rows, m.cols = cols;
+  m.gdt = type == RasterType::Byte    ? GDT_Byte
+          : type == RasterType::Int16 ? GDT_Int16
+          : type == RasterType::UInt32 ? GDT_UInt32
+                                       : GDT_Float32;
   GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
   CPLStringList opts;
   opts.SetNameValue("COMPRESS", "DEFLATE");
@@ -301,27 +311,42 @@ void write_raster(const std::string& path, const Georef& geo, std::size_t rows, 
   if (cols >= 256 && rows >= 256) opts.SetNameValue("TILED", "YES");
   opts.SetNameValue("BIGTIFF", "IF_SAFER");
   CPLErrorReset();
-  {
-    DatasetPtr ds(gtiff->Create(out.temp_path().c_str(), int(cols), int(rows), 1, gdt, opts.List()));
-    if (!ds) throw Error("cannot write '" + path + "': " + last_gdal_error());
-    double gt[6] = {geo.x0, geo.dx, 0.0, geo.y0, 0.0, -geo.dy};
-    ds->SetGeoTransform(gt);
-    if (!geo.crs_wkt.empty()) {
-      OGRSpatialReference srs;
-      if (srs.importFromWkt(geo.crs_wkt.c_str()) == OGRERR_NONE) ds->SetSpatialRef(&srs);
-    }
-    if (!metadata.empty()) ds->SetMetadataItem("TIFFTAG_IMAGEDESCRIPTION", metadata.c_str());
-    GDALRasterBand* band = ds->GetRasterBand(1);
-    if (nodata) band->SetNoDataValue(*nodata);
-    if (band->RasterIO(GF_Write, 0, 0, int(cols), int(rows), const_cast<void*>(data), int(cols), int(rows), gdt, 0,
-                       0) != CE_None)
-      throw Error("cannot write '" + path + "': " + last_gdal_error());
-    // Closing flushes; a failure there (disk full) must not be committed.
-    CPLErrorReset();
-    ds.reset();
-    if (CPLGetLastErrorType() >= CE_Failure) throw Error("cannot write '" + path + "': " + last_gdal_error());
+  m.ds.reset(gtiff->Create(m.out.temp_path().c_str(), int(cols), int(rows), 1, m.gdt, opts.List()));
+  if (!m.ds) throw Error("cannot write '" + path + "': " + last_gdal_error());
+  double gt[6] = {geo.x0, geo.dx, 0.0, geo.y0, 0.0, -geo.dy};
+  m.ds->SetGeoTransform(gt);
+  if (!geo.crs_wkt.empty()) {
+    OGRSpatialReference srs;
+    if (srs.importFromWkt(geo.crs_wkt.c_str()) == OGRERR_NONE) m.ds->SetSpatialRef(&srs);
   }
-  out.commit();
+  if (!metadata.empty()) m.ds->SetMetadataItem("TIFFTAG_IMAGEDESCRIPTION", metadata.c_str());
+  if (nodata) m.ds->GetRasterBand(1)->SetNoDataValue(*nodata);
+}
+
+RasterWriter::~RasterWriter() = default;
+
+void RasterWriter::write_rows(std::size_t row0, std::size_t n, const void* data) {
+  Impl& m = *impl_;
+  if (!m.ds || row0 + n > m.rows) throw Error("RasterWriter: rows out of range or written after commit");
+  if (m.ds->GetRasterBand(1)->RasterIO(GF_Write, 0, int(row0), int(m.cols), int(n), const_cast<void*>(data),
+                                       int(m.cols), int(n), m.gdt, 0, 0) != CE_None)
+    throw Error("cannot write '" + m.path + "': " + last_gdal_error());
+}
+
+void RasterWriter::commit() {
+  Impl& m = *impl_;
+  // Closing flushes; a failure there (disk full) must not be committed.
+  CPLErrorReset();
+  m.ds.reset();
+  if (CPLGetLastErrorType() >= CE_Failure) throw Error("cannot write '" + m.path + "': " + last_gdal_error());
+  m.out.commit();
+}
+
+void write_raster(const std::string& path, const Georef& geo, std::size_t rows, std::size_t cols,
+                  RasterType type, const void* data, std::optional<double> nodata, const std::string& metadata) {
+  RasterWriter w(path, geo, rows, cols, type, nodata, metadata);
+  w.write_rows(0, rows, data);
+  w.commit();
 }
 
 void write_geotiff(const Grid& grid, const std::string& path, const std::string& metadata) {

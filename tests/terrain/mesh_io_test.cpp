@@ -73,7 +73,9 @@ TEST(MeshIo, BlockWriterWritesOpenMeshsBytes) {
   large_denoised.voronoi = voronoi_weights(large_denoised);
   int k = 0;
   for (const GridMesh* m : {&plain, &denoised, &only_change, &fitted, &large, &large_denoised}) {
-    const std::string a = dir.path("a" + std::to_string(k) + ".ply"), b = dir.path("b" + std::to_string(k) + ".ply");
+    const std::string n = std::to_string(k) + ".ply";  // appended: `"a" + std::string` trips GCC 12's -Wrestrict
+    std::string a = "a", b = "b";
+    a = dir.path(a += n), b = dir.path(b += n);
     write_mesh_ply(*m, a);
     write_mesh_ply_openmesh(*m, b);
     const std::string fa = test::file_bytes(a), fb = test::file_bytes(b);

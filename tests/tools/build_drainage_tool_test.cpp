@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <gdal_priv.h>
+
 #include "drainage/dv_file.hpp"
 #include "drainage/rasters.hpp"
 #include "terrain/dem_io.hpp"
@@ -193,6 +195,91 @@ TEST(BuildDrainage, TiledFlatAndDepressionAcrossFourTiles) {
       expect_same_db(whole, read_dv(dir.path("t.dv")), "terrace" + opts + " tiles " + std::to_string(side));
     }
   }
+}
+
+// Band 1 of a GeoTIFF as doubles (exact for every type written here), with its geotransform
+// and no-data value.
+struct Band {
+  std::vector<double> v;
+  std::array<double, 6> gt{};
+  double nodata = 0;
+};
+Band band_of(const std::string& path) {
+  terrain::ensure_gdal();
+  std::unique_ptr<GDALDataset> ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  EXPECT_TRUE(ds) << path;
+  Band b;
+  if (!ds) return b;
+  const int w = ds->GetRasterXSize(), h = ds->GetRasterYSize();
+  b.v.resize(std::size_t(w) * std::size_t(h));
+  EXPECT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, w, h, b.v.data(), w, h, GDT_Float64, 0, 0), CE_None);
+  ds->GetGeoTransform(b.gt.data());
+  b.nodata = ds->GetRasterBand(1)->GetNoDataValue();
+  return b;
+}
+
+// Every layer of directory `a` equals `b`'s: values, geotransform (to 1e-9 of a cell) and
+// no-data value.
+void expect_same_rasters(const std::string& a, const std::string& b, const std::string& what) {
+  for (const char* name : kDrainageRasterNames) {
+    SCOPED_TRACE(what + ": " + name);
+    const Band x = band_of(a + "/" + name), y = band_of(b + "/" + name);
+    ASSERT_EQ(x.v.size(), y.v.size());
+    EXPECT_GT(x.v.size(), 0u);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < x.v.size(); ++i) differ += x.v[i] != y.v[i];
+    EXPECT_EQ(differ, 0u);
+    for (int k = 0; k < 6; ++k) EXPECT_NEAR(x.gt[std::size_t(k)], y.gt[std::size_t(k)], 1e-9 * std::abs(x.gt[1])) << k;
+    EXPECT_EQ(x.nodata, y.nodata);
+  }
+}
+
+// Issue 39: every layer out of any .dv and out of tiled runs. terrain-inspect export X.dv --to
+// tif writes, window by window, the layers --rasters writes for the run that made X (the
+// Logan DEM, filled: 498 rows, so two windows of 256; .dv versions 2 and 1); a tiled run's
+// --rasters (tiles of 100 and of 77) are the untiled run's; and a tiled run from TauDEM's
+// D8 directions of Logan 30 m writes the accumulation TauDEM's aread8 computed, on each of
+// its 1,587,804 cells.
+TEST(BuildDrainage, EveryLayerOutOfAnyDvAndOfTiledRuns) {
+  terrain::test::ScratchDir dir;
+  for (const char* d : {"u", "t100", "t77", "x2", "x1", "taudem"}) std::filesystem::create_directory(dir.path(d));
+  const std::string bd = tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " --fill ";
+  const auto u = run(bd + dir.path("u.dv") + " --rasters " + dir.path("u") + " -q");
+  ASSERT_EQ(u.exit_code, 0) << u.err;
+  const auto v1 = run(bd + dir.path("v1.dv") + " --dv-version 1 -q");
+  ASSERT_EQ(v1.exit_code, 0) << v1.err;
+  for (const std::string side : {"100", "77"}) {
+    const auto t = run(bd + dir.path("t.dv") + " --tile-size " + side + " --rasters " + dir.path("t" + side) + " -q");
+    ASSERT_EQ(t.exit_code, 0) << t.err;
+    expect_same_rasters(dir.path("u"), dir.path("t" + side), "tiles of " + side);
+  }
+  for (const std::string version : {"2", "1"}) {
+    const std::string dv = dir.path(version == "2" ? "u.dv" : "v1.dv"), out = dir.path("x" + version);
+    const auto e = run(tool("terrain-inspect") + " export " + dv + " --to tif -o " + out);
+    ASSERT_EQ(e.exit_code, 0) << e.err;
+    EXPECT_NE(e.out.find("points: 143922"), std::string::npos) << e.out;
+    expect_same_rasters(dir.path("u"), out, "export of version " + version);
+  }
+  // A file where the directory should be: one line, nothing written.
+  std::ofstream(dir.path("file")) << "x";
+  const auto bad = run(tool("terrain-inspect") + " export " + dir.path("u.dv") + " --to tif -o " + dir.path("file"));
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("is not a directory"), std::string::npos) << bad.err;
+
+  const auto a = run(tool("build-drainage") + " --d8-input " + data("logan_30m_taudem_d8dir.tif") + " " +
+                     dir.path("a.dv") + " --tile-size 300 --rasters " + dir.path("taudem") + " -q");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  const Band acc = band_of(dir.path("taudem/accumulation.tif")),
+             ref = band_of(data("logan_30m_taudem_aread8.tif"));
+  ASSERT_EQ(acc.v.size(), ref.v.size());
+  std::size_t compared = 0, equal = 0;
+  for (std::size_t i = 0; i < ref.v.size(); ++i) {
+    if (ref.v[i] == ref.nodata || std::isnan(ref.v[i])) continue;
+    ++compared;
+    equal += acc.v[i] == ref.v[i];
+  }
+  EXPECT_EQ(compared, 1587804u);
+  EXPECT_EQ(equal, compared);
 }
 
 #ifdef TERRAIN_MPIEXEC

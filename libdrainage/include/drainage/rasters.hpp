@@ -27,6 +27,15 @@ inline constexpr const char* kDrainageRasterNames[] = {"surface.tif",         "d
 void write_drainage_rasters(const std::function<std::string(const std::string&)>& path_of, const DrainageResult& r,
                             D8Encoding encoding, const std::string& provenance);
 
+// The same rasters from a .dv file (version 1 or 2), each to path_of(name): the same
+// names, types, no-data values and values as write_drainage_rasters writes for the run that
+// made the file (the surface as the file stores it: relative to its origin, in float, then
+// back). Read and written `window_rows` rows at a time (read_dv_window: only the blocks under
+// the window), so memory is bounded by the window, not the grid. Returns the grid's rows
+// and columns written.
+std::size_t export_dv_rasters(const std::string& dv_path, const std::function<std::string(const std::string&)>& path_of,
+                              D8Encoding encoding, const std::string& provenance, std::size_t window_rows = 256);
+
 // Reads a D8 direction raster in `encoding` into our codes (d8.hpp) with its grid (the
 // Grid's z holds the raw codes). Throws terrain::Error naming the first invalid code and
 // where it is.

@@ -1,5 +1,6 @@
 #pragma once
 // Raster I/O through GDAL: any format GDAL reads (GeoTIFF, ESRI ASCII grid, VRT, ...).
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -53,12 +54,34 @@ void write_geotiff(const Grid& grid, const std::string& path, const std::string&
 // Sample types of write_raster.
 enum class RasterType { Byte, Int16, UInt32, Float32 };
 
+// The no-data value of the Float32 GeoTIFFs written here (write_geotiff).
+inline constexpr double kGeoTiffNodata = -9999.0;
+
 // Writes a single-band GeoTIFF (DEFLATE, tiled when >= 256 x 256) of rows x cols values
 // of `type` at `data` (row-major, row 0 north) with `geo`'s geotransform and CRS, and
 // `nodata` as the band's no-data value when given. Atomic. Throws Error on failure.
 void write_raster(const std::string& path, const Georef& geo, std::size_t rows, std::size_t cols,
                   RasterType type, const void* data, std::optional<double> nodata,
                   const std::string& metadata = {});
+
+// The same GeoTIFF written window by window (rows of the full width at a time), for grids
+// that do not fit in memory: staged in a temporary file and renamed by commit(); destroyed
+// without commit(), nothing is left behind. Throws Error on failure.
+class RasterWriter {
+ public:
+  RasterWriter(const std::string& path, const Georef& geo, std::size_t rows, std::size_t cols, RasterType type,
+               std::optional<double> nodata, const std::string& metadata = {});
+  ~RasterWriter();
+  RasterWriter(const RasterWriter&) = delete;
+  RasterWriter& operator=(const RasterWriter&) = delete;
+  // Rows row0 .. row0 + n - 1: n x cols values of the writer's type at `data`, row-major.
+  void write_rows(std::size_t row0, std::size_t n, const void* data);
+  void commit();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 // Fills the no-data samples of `grid` in place by GDAL's inverse-distance interpolation
 // (GDALFillNodata, unlimited search distance, no smoothing). Returns how many samples it
