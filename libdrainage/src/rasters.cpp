@@ -1,6 +1,9 @@
 #include "drainage/rasters.hpp"
 
+#include <algorithm>
 #include <filesystem>
+
+#include <gdal.h>
 #include <fmt/format.h>
 
 #include "drainage/dv_file.hpp"
@@ -43,6 +46,13 @@ std::size_t export_dv_rasters(const std::string& dv_path, const std::function<st
   using terrain::RasterType;
   const DvHeader h = read_dv_header(dv_path);
   const std::size_t R = std::size_t(h.rows), C = std::size_t(h.cols);
+  // GDAL keeps written tiles in its block cache (by default 5 % of the memory): at most
+  // 128 MiB here, so that memory follows the window; restored on the way out.
+  struct CacheLimit {
+    GIntBig before = GDALGetCacheMax64();
+    CacheLimit() { GDALSetCacheMax64(std::min<GIntBig>(before, GIntBig(128) << 20)); }
+    ~CacheLimit() { GDALSetCacheMax64(before); }
+  } cache_limit;
   terrain::Georef geo;
   geo.dx = h.dx, geo.dy = h.dy;
   geo.x0 = h.origin_x - h.dx / 2, geo.y0 = h.origin_y + h.dy / 2;

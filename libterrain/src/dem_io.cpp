@@ -310,6 +310,7 @@ RasterWriter::RasterWriter(const std::string& path, const Georef& geo, std::size
   opts.SetNameValue("PREDICTOR", type == RasterType::Float32 ? "3" : "2");
   if (cols >= 256 && rows >= 256) opts.SetNameValue("TILED", "YES");
   opts.SetNameValue("BIGTIFF", "IF_SAFER");
+  opts.SetNameValue("NUM_THREADS", "ALL_CPUS");  // DEFLATE in parallel, tile by tile
   CPLErrorReset();
   m.ds.reset(gtiff->Create(m.out.temp_path().c_str(), int(cols), int(rows), 1, m.gdt, opts.List()));
   if (!m.ds) throw Error("cannot write '" + path + "': " + last_gdal_error());
