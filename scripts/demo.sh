@@ -34,6 +34,7 @@ for d in msh logan; do
   $bin/terrain-inspect info "$out/$d.dv" > "$out/$d.dv.info.txt"
 done
 run $bin/terrain-inspect export "$out/msh.dv" --to gpkg -o "$out/msh_branches.gpkg"
+run $bin/terrain-inspect export "$out/logan.dv" --to tif -o "$out/logan_rasters"   # every layer as GeoTIFF
 
 echo "== Renderings (terrain-render: OpenGL through EGL; llvmpipe without a GPU)"
 # Depressions breached (cut up to 10 m deep, filled below that), so that channels run on

@@ -181,7 +181,8 @@ int main(int argc, char** argv) {
       "  terrain-inspect export out/msh_10m.ply --to tif -o msh_from_mesh.tif\n"
       "  terrain-inspect info out/msh.dv\n"
       "  terrain-inspect preview out/msh.dv -o msh_drainage.png\n"
-      "  terrain-inspect export out/msh.dv --to gpkg --min-order 2");
+      "  terrain-inspect export out/msh.dv --to gpkg --min-order 2\n"
+      "  terrain-inspect export out/msh.dv --to tif -o msh_rasters");
   app.set_version_flag("--version", tt::version());
   app.require_subcommand(1);
   app.fallthrough();  // -q / -v also after the subcommand's arguments
