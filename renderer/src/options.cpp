@@ -217,16 +217,16 @@ std::vector<OptionSpec> make_table() {
   t.push_back(flag(
       "seed-rules", rules,
       "Creases as the paper draws them: every basin normalized by its own total (also the small ones that drain "
-      "off the grid edge) on a linear scale, every D8 path across flats, and D8 polylines unsmoothed "
-      "(docs/terrain-render.md)",
+      "off the grid edge) on a linear scale, every D8 path across flats, down planes and along the grid's edge, "
+      "and D8 polylines unsmoothed (docs/terrain-render.md)",
       [](const RenderSettings& s) {
         return s.rules.edge_basin_min_share == 0 && !s.rules.log_flow && !s.rules.one_line_per_flat &&
-               s.rules.smooth_spacings == 0;
+               s.rules.smooth_spacings == 0 && s.rules.min_width == 0 && !s.rules.off_edge_runs;
       },
       [](RenderSettings& s, bool v) {
         if (v)
           s.rules.edge_basin_min_share = 0, s.rules.log_flow = false, s.rules.one_line_per_flat = false,
-          s.rules.smooth_spacings = 0;
+          s.rules.smooth_spacings = 0, s.rules.min_width = 0, s.rules.off_edge_runs = false;
       }));
   t.push_back(choice(
       "crease-links", rules, OptionType::Enum, {"valleys", "all"}, "all",
