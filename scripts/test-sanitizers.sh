@@ -44,7 +44,9 @@ failed=$(grep -c . Testing/Temporary/LastTestsFailed.log || true)
 tracer=$(grep -c "LeakSanitizer has encountered a fatal error" "$log" || true)
 if [ "$failed" -gt 0 ] && [ "$failed" -eq "$tracer" ]; then
   echo "== $failed test(s) failed only by LeakSanitizer's tracer crash at exit: running them again"
-  ctest --output-on-failure --rerun-failed
+  # By name: --rerun-failed goes by the tests' numbers, which named another test once.
+  names=$(cut -d: -f2- Testing/Temporary/LastTestsFailed.log | sed 's/[.]/[.]/g' | paste -sd'|')
+  ctest --output-on-failure -R "^(${names})\$"
 else
   exit 1
 fi
