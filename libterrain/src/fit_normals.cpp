@@ -23,7 +23,10 @@ namespace {
 using Eigen::Vector3d;
 
 // The residuals of the samples of one face, as pn_face_residuals computes them, each
-// sample's inverse evaluation started from its solution under the starting normals `n`.
+// sample's inverse evaluation started from its solution at the last accepted iterate (at
+// first, under the starting normals `n`). Not from the last evaluation's, whatever it was:
+// the residual would then depend on the trial steps (two roots where a patch folds), and
+// the logged cost rose between iterations.
 class FaceCost : public ceres::CostFunction {
  public:
   FaceCost(const std::array<Vector3d, 3>& corner, std::vector<Vector3d> samples, const std::array<const double*, 3>& n)
@@ -157,10 +160,8 @@ void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner, const std::
   const auto& c = poly.c;
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const Vector3d& q = samples[i];
-    // Newton from the sample's fixed start if it has one (its solution under the normals the
-    // problem started from: a step or two away), else from the planar guess. Never from the
-    // last evaluation's solution: the residual would depend on the trial steps (two roots
-    // where a patch folds), and the logged cost rose.
+    // Newton from the caller's start if it has one (FaceCost: the solutions at the last
+    // accepted iterate, a step or two away), else from the planar guess.
     PnXySolution sol;
     if (start && std::isfinite((*start)[i].x()))
       sol = pn_solve_xy_from(poly, q.x(), q.y(), (*start)[i].x(), (*start)[i].y(), 1e-7);
