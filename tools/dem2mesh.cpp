@@ -212,23 +212,22 @@ int main(int argc, char** argv) {
     terrain::Grid grid, source_dem;
     terrain::SourceSamples source_points;
     const bool points = input_kind == "points" || (input_kind == "auto" && terrain::is_point_input(input));
-    // Points on a lattice that GDAL reads as a grid (its XYZ driver): say how to read them as points.
-    const std::string lattice_hint = input_kind == "auto" && !points && terrain::raster_driver(input) == "XYZ"
-                                         ? " (it was read as a grid of XYZ text; for scattered points pass --input points)"
-                                         : "";
+    // Points on a lattice that GDAL reads as a grid (its XYZ driver): the errors say how to
+    // read them as points (asked only on the way to an error: it opens the file again).
+    auto lattice = [&] { return input_kind == "auto" && terrain::raster_driver(input) == "XYZ"; };
     if (points) {
       grid = points_grid(input, req, {interpolation, max_edge, src_crs}, verb, fit ? &source_points : nullptr);
     } else {
       for (const CLI::Option* o : {interp_opt, max_edge_opt, src_crs_opt})
         if (*o)
           throw terrain::Error(o->get_name() + " applies to scattered points; '" + input + "' is a raster" +
-                               (lattice_hint.empty() ? std::string() : " of XYZ text: pass --input points"));
+                               (lattice() ? " of XYZ text: pass --input points" : ""));
       try {
         grid = raster_grid(input, req, dequantize, verb, fit ? &source_dem : nullptr);
       } catch (const terrain::Error& e) {
         const std::string what = e.what();
-        if (lattice_hint.empty() || what.find("no-data") == std::string::npos) throw;
-        throw terrain::Error(what + lattice_hint);
+        if (what.find("no-data") == std::string::npos || !lattice()) throw;
+        throw terrain::Error(what + " (it was read as a grid of XYZ text; for scattered points pass --input points)");
       }
     }
     terrain::OutputSet outputs;  // the mesh and the grid land together, or neither does

@@ -350,7 +350,7 @@ void option_panel(Viewer& v, std::string& message) {
         case rr::OptionType::Enum:
           if (ImGui::BeginCombo(label.c_str(), value.c_str())) {
             for (const std::string& c : o.choices)
-              if (c.find(':') == std::string::npos && ImGui::Selectable(c.c_str(), c == value)) next = c;
+              if (ImGui::Selectable(c.c_str(), c == value)) next = c;
             ImGui::EndCombo();
           }
           break;

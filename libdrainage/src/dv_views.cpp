@@ -130,8 +130,7 @@ terrain::DrainageLinks drainage_links_in(const std::string& path, double west, d
                                        std::size_t(c1 - c0 + 1)));
 }
 
-terrain::Grid dv_elevations(const DrainageDb& db) {
-  const DvHeader& h = db.header;
+terrain::Georef dv_georef(const DvHeader& h) {
   terrain::Georef geo;
   geo.dx = h.dx;
   geo.dy = h.dy;
@@ -140,7 +139,12 @@ terrain::Grid dv_elevations(const DrainageDb& db) {
   geo.crs_wkt = h.crs_wkt;
   geo.epsg = h.epsg;
   geo.crs_kind = h.crs_wkt.empty() ? terrain::CrsKind::None : terrain::CrsKind::Projected;
-  terrain::Grid g(h.rows, h.cols, geo);
+  return geo;
+}
+
+terrain::Grid dv_elevations(const DrainageDb& db) {
+  const DvHeader& h = db.header;
+  terrain::Grid g(h.rows, h.cols, dv_georef(h));
   for (std::size_t i = 0; i < g.size(); ++i)
     g.z[i] = PointClass(db.vertices[i].point_class) == PointClass::Nodata ? std::numeric_limits<float>::quiet_NaN()
                                                                            : float(h.origin_z + db.vertices[i].z);

@@ -2,15 +2,43 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <iterator>
+#include <memory>
 
 #include <gdal.h>
 #include <fmt/format.h>
 
 #include "drainage/dv_file.hpp"
+#include "drainage/dv_views.hpp"
 #include "drainage/network.hpp"
 #include "terrain/dem_io.hpp"
 
 namespace drainage {
+
+namespace {
+
+// The layers' types and no-data values, in kDrainageRasterNames' order: the untiled run's
+// rasters and a .dv's export are the same files.
+constexpr std::size_t kLayers = std::size(kDrainageRasterNames);
+struct LayerFormat {
+  terrain::RasterType type;
+  double nodata;
+};
+constexpr LayerFormat kFormat[kLayers] = {
+    {terrain::RasterType::Float32, terrain::kGeoTiffNodata},  // surface
+    {terrain::RasterType::Int16, -32768.0},                   // d8
+    {terrain::RasterType::UInt32, 0.0},                       // accumulation
+    {terrain::RasterType::Float32, 0.0},                      // normalized flow
+    {terrain::RasterType::UInt32, double(kNone)},             // basin
+    {terrain::RasterType::Byte, 255.0},                       // class
+    {terrain::RasterType::Byte, 0.0},                         // order
+};
+
+std::int16_t d8_value(std::uint8_t code, D8Encoding encoding) {
+  return code == kNodata ? std::int16_t(-32768) : std::int16_t(to_foreign_code(code, encoding));
+}
+
+}  // namespace
 
 void write_drainage_rasters(const std::string& dir, const DrainageResult& r, D8Encoding encoding,
                             const std::string& provenance) {
@@ -20,30 +48,22 @@ void write_drainage_rasters(const std::string& dir, const DrainageResult& r, D8E
 
 void write_drainage_rasters(const std::function<std::string(const std::string&)>& path, const DrainageResult& r,
                             D8Encoding encoding, const std::string& provenance) {
-  using terrain::RasterType;
   const terrain::Grid& g = r.surface;
   const Network& net = r.net;
   if (net.normalized.size() != g.size())
     throw terrain::Error("write_drainage_rasters: the normalized flow was not listed (NetworkDetail::Full)");
   terrain::write_geotiff(g, path("surface.tif"), provenance);
   std::vector<std::int16_t> d8(g.size());
-  for (std::size_t i = 0; i < g.size(); ++i)
-    d8[i] = r.dirs[i] == kNodata ? std::int16_t(-32768) : std::int16_t(to_foreign_code(r.dirs[i], encoding));
-  terrain::write_raster(path("d8.tif"), g.geo, g.rows, g.cols, RasterType::Int16, d8.data(), -32768.0, provenance);
-  terrain::write_raster(path("accumulation.tif"), g.geo, g.rows, g.cols, RasterType::UInt32, net.accumulated.data(), 0.0,
-                        provenance);
-  terrain::write_raster(path("normalized_flow.tif"), g.geo, g.rows, g.cols, RasterType::Float32, net.normalized.data(),
-                        0.0, provenance);
-  terrain::write_raster(path("basin.tif"), g.geo, g.rows, g.cols, RasterType::UInt32, net.basin.data(),
-                        double(kNone), provenance);
-  terrain::write_raster(path("class.tif"), g.geo, g.rows, g.cols, RasterType::Byte, net.point_class.data(), 255.0,
-                        provenance);
-  terrain::write_raster(path("order.tif"), g.geo, g.rows, g.cols, RasterType::Byte, net.order.data(), 0.0, provenance);
+  for (std::size_t i = 0; i < g.size(); ++i) d8[i] = d8_value(r.dirs[i], encoding);
+  const void* data[kLayers] = {nullptr, d8.data(), net.accumulated.data(), net.normalized.data(),
+                               net.basin.data(), net.point_class.data(), net.order.data()};
+  for (std::size_t k = 1; k < kLayers; ++k)
+    terrain::write_raster(path(kDrainageRasterNames[k]), g.geo, g.rows, g.cols, kFormat[k].type, data[k],
+                          kFormat[k].nodata, provenance);
 }
 
 std::size_t export_dv_rasters(const std::string& dv_path, const std::function<std::string(const std::string&)>& path,
                               D8Encoding encoding, const std::string& provenance, std::size_t window_rows) {
-  using terrain::RasterType;
   const DvHeader h = read_dv_header(dv_path);
   const std::size_t R = std::size_t(h.rows), C = std::size_t(h.cols);
   // GDAL keeps written tiles in its block cache (by default 5 % of the memory): at most
@@ -53,17 +73,11 @@ std::size_t export_dv_rasters(const std::string& dv_path, const std::function<st
     CacheLimit() { GDALSetCacheMax64(std::min<GIntBig>(before, GIntBig(128) << 20)); }
     ~CacheLimit() { GDALSetCacheMax64(before); }
   } cache_limit;
-  terrain::Georef geo;
-  geo.dx = h.dx, geo.dy = h.dy;
-  geo.x0 = h.origin_x - h.dx / 2, geo.y0 = h.origin_y + h.dy / 2;
-  geo.crs_wkt = h.crs_wkt, geo.epsg = h.epsg;
-  terrain::RasterWriter surface(path("surface.tif"), geo, R, C, RasterType::Float32, terrain::kGeoTiffNodata, provenance);
-  terrain::RasterWriter d8(path("d8.tif"), geo, R, C, RasterType::Int16, -32768.0, provenance);
-  terrain::RasterWriter acc(path("accumulation.tif"), geo, R, C, RasterType::UInt32, 0.0, provenance);
-  terrain::RasterWriter flow(path("normalized_flow.tif"), geo, R, C, RasterType::Float32, 0.0, provenance);
-  terrain::RasterWriter basin(path("basin.tif"), geo, R, C, RasterType::UInt32, double(kNone), provenance);
-  terrain::RasterWriter cls(path("class.tif"), geo, R, C, RasterType::Byte, 255.0, provenance);
-  terrain::RasterWriter order(path("order.tif"), geo, R, C, RasterType::Byte, 0.0, provenance);
+  const terrain::Georef geo = dv_georef(h);
+  std::vector<std::unique_ptr<terrain::RasterWriter>> out;
+  for (std::size_t k = 0; k < kLayers; ++k)
+    out.push_back(std::make_unique<terrain::RasterWriter>(path(kDrainageRasterNames[k]), geo, R, C, kFormat[k].type,
+                                                          kFormat[k].nodata, provenance));
   const std::size_t step = std::max<std::size_t>(1, window_rows);
   std::vector<float> vz, vf;
   std::vector<std::int16_t> vd;
@@ -77,18 +91,13 @@ std::size_t export_dv_rasters(const std::string& dv_path, const std::function<st
       const DvVertex& v = w.vertices[i];
       const bool nodata = PointClass(v.point_class) == PointClass::Nodata;
       vz[i] = nodata ? float(terrain::kGeoTiffNodata) : float(h.origin_z + v.z);
-      vd[i] = v.d8 == kNodata ? std::int16_t(-32768) : std::int16_t(to_foreign_code(v.d8, encoding));
+      vd[i] = d8_value(v.d8, encoding);
       va[i] = v.accumulated, vf[i] = v.normalized, vb[i] = v.basin, vc[i] = v.point_class, vo[i] = v.order;
     }
-    surface.write_rows(r0, n, vz.data());
-    d8.write_rows(r0, n, vd.data());
-    acc.write_rows(r0, n, va.data());
-    flow.write_rows(r0, n, vf.data());
-    basin.write_rows(r0, n, vb.data());
-    cls.write_rows(r0, n, vc.data());
-    order.write_rows(r0, n, vo.data());
+    const void* data[kLayers] = {vz.data(), vd.data(), va.data(), vf.data(), vb.data(), vc.data(), vo.data()};
+    for (std::size_t k = 0; k < kLayers; ++k) out[k]->write_rows(r0, n, data[k]);
   }
-  for (terrain::RasterWriter* wr : {&surface, &d8, &acc, &flow, &basin, &cls, &order}) wr->commit();
+  for (const auto& layer : out) layer->commit();
   return R * C;
 }
 

@@ -33,7 +33,6 @@ void ensure_gdal() {
 
 namespace {
 
-
 std::string last_gdal_error() {
   std::string msg = CPLGetLastErrorMsg();
   return msg.empty() ? std::string("unknown GDAL error") : msg;

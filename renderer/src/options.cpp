@@ -40,7 +40,7 @@ template <class Ref>
 OptionSpec number(std::string name, std::string group, double min, double max, std::string unit, std::string def,
                   std::string help, Ref ref, bool per_frame = false) {
   OptionSpec o{std::move(name), std::move(group), OptionType::Number, min, max, std::move(unit), {},
-               std::move(def),  std::move(help),  per_frame,          {},  {}};
+               std::move(def),  std::move(help),  per_frame,          {},  {}, {}};
   o.get = [ref](const RenderSettings& s) { return text_of(double(ref(s))); };
   o.store = [ref](RenderSettings& s, const std::string& t) {
     double v = 0;
@@ -62,7 +62,7 @@ OptionSpec integer(std::string name, std::string group, double min, double max, 
 OptionSpec flag(std::string name, std::string group, std::string help, std::function<bool(const RenderSettings&)> get,
                 std::function<void(RenderSettings&, bool)> set) {
   OptionSpec o{
-      std::move(name), std::move(group), OptionType::Bool, 0, 0, "", {}, "false", std::move(help), false, {}, {}};
+      std::move(name), std::move(group), OptionType::Bool, 0, 0, "", {}, "false", std::move(help), false, {}, {}, {}};
   o.get = [get](const RenderSettings& s) { return std::string(get(s) ? "true" : "false"); };
   o.store = [set](RenderSettings& s, const std::string& t) { set(s, t == "true"); };
   return o;
@@ -72,7 +72,7 @@ OptionSpec choice(std::string name, std::string group, OptionType type, std::vec
                   std::string def, std::string help, std::function<std::string(const RenderSettings&)> get,
                   std::function<void(RenderSettings&, const std::string&)> store) {
   return {std::move(name), std::move(group), type, 0, 0, "", std::move(choices), std::move(def), std::move(help), false,
-          std::move(get),  std::move(store)};
+          std::move(get),  std::move(store), {}};
 }
 
 template <class Ref>
@@ -126,7 +126,7 @@ std::vector<OptionSpec> make_table() {
       [](const RenderSettings& s) { return layers_text(s.layers); },
       [](RenderSettings& s, const std::string& v) { s.layers = parse_layers(v); }));
   t.push_back(choice(
-      "view", camera, OptionType::Enum, {"auto", "top", "relief", "FRAMES.csv:ROW"}, "auto",
+      "view", camera, OptionType::Enum, {"auto", "top", "relief"}, "auto",
       "The camera when no --eye and no --view-az is given (frame): auto, the whole terrain filling the frame, "
       "seen across its main relief, lit from the upper left; top, straight down, north up; relief, the part "
       "of highest relief seen from its open side; FRAMES.csv:ROW, that row of a frames CSV (a flight's frame "
@@ -141,6 +141,7 @@ std::vector<OptionSpec> make_table() {
         s.view = v == "top" ? ViewMode::Top : v == "relief" ? ViewMode::Relief : v == "auto" ? ViewMode::Auto : ViewMode::Row;
         s.view_row = s.view == ViewMode::Row ? v : std::string();
       }));
+  t.back().accepts = is_view_row;  // FRAMES.csv:ROW, read when the frame is drawn
   t.push_back(choice(
       "eye", camera, OptionType::Point, {}, "",
       "Viewpoint E N Z: easting, northing (mesh CRS) and elevation in metres; default (frame): --view; with "
@@ -438,7 +439,7 @@ void set_option(RenderSettings& s, const OptionSpec& o, const std::string& text)
       if (text != "true" && text != "false") throw terrain::Error("'" + text + "' is not true or false");
       break;
     case OptionType::Enum:
-      if (o.name == "view" && is_view_row(text)) break;  // FRAMES.csv:ROW, read when the frame is drawn
+      if (o.accepts && o.accepts(text)) break;
       if (std::find(o.choices.begin(), o.choices.end(), text) == o.choices.end())
         throw terrain::Error(fmt::format("'{}' is not one of {}", text, join(o.choices)));
       break;

@@ -39,6 +39,10 @@ terrain::DrainageLinks drainage_links_in(const std::string& path, double west, d
 // The database's elevations as a grid (no-data where a vertex is not a point).
 terrain::Grid dv_elevations(const DrainageDb& db);
 
+// The grid of a .dv's points as a raster's georeference: cell (0, 0) centred on the
+// header's origin, its spacing and CRS.
+terrain::Georef dv_georef(const DvHeader& h);
+
 // RGB preview, rows x cols: a hillshade of the database's surface with drainage points of
 // at least `min_accumulated` points drawn in blue, darker with larger normalized flow
 // (alpha 0.35 + 0.65 * sqrt(normalized)). 0 picks the 96th percentile of accumulated flow

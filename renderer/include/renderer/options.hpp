@@ -56,6 +56,8 @@ struct OptionSpec {
   std::function<std::string(const RenderSettings& s)> get;
   // Stores a checked value (see set_option); unchecked here.
   std::function<void(RenderSettings& s, const std::string& text)> store;
+  // Enum: values outside `choices` it also takes (--view's FRAMES.csv:ROW); none when empty.
+  std::function<bool(const std::string& text)> accepts;
 };
 
 // The table, in the order of --help and the panel.
