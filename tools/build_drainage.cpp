@@ -12,6 +12,7 @@
 #include "drainage/d8.hpp"
 #include "drainage/dv_file.hpp"
 #include "drainage/pipeline.hpp"
+#include "drainage/gis_layers.hpp"
 #include "drainage/rasters.hpp"
 #include "drainage/tiled.hpp"
 #include "terrain/atomic_file.hpp"
@@ -41,13 +42,15 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
       "  build-drainage --raster data/logan_utm12n_100m.tif logan.dv --fill\n"
       "  build-drainage --raster dem.tif --d8-input dirs.tif --d8-encoding taudem acc.dv\n"
       "  build-drainage --raster big.vrt big.dv --fill --memory 4096\n"
-      "  mpirun -np 8 build-drainage --raster big.vrt big.dv --fill --tile-size 4096\n\n"
+      "  mpirun -np 8 build-drainage --raster big.vrt big.dv --fill --tile-size 4096\n"
+      "  build-drainage --raster dem.tif dem.dv --fill --outlets gauges.gpkg --snap-distance 100\n\n"
       "Output: stdout gets 'key: value' lines (points, pits, basins, classes, branches); see\n"
       "docs/build-drainage.md for the rules and docs/dv-format.md for the file.");
   app.set_version_flag("--version", tt::version());
 
   std::vector<std::string> positional;
-  std::string raster, d8_input, rasters_dir, surface_out, encoding = "taudem";
+  std::string raster, d8_input, rasters_dir, surface_out, encoding = "taudem", outlets, watersheds;
+  double snap_distance = 0;
   double spacing = 10.0;
   bool keep_flats = false, fill = false;
   int threads = 0;
@@ -81,6 +84,19 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
       ->type_name("DEPTH")
       ->excludes(fill_flag);
   app.add_option("--rasters", rasters_dir, "Also write GeoTIFFs of every layer into this directory");
+  app.add_option("--outlets", outlets,
+                 "Watersheds at these points (any OGR point layer: GeoPackage, shapefile, GeoJSON, CSV with x/y\n"
+                 "columns; transformed to the grid's CRS): each cell goes to its nearest outlet downstream, so\n"
+                 "nested outlets give nested watersheds (TauDEM's gagewatershed)");
+  app.add_option("--snap-distance", snap_distance,
+                 "Move each outlet to the cell of highest accumulation within this many metres (TauDEM's\n"
+                 "moveoutletstostreams); 0: the cell holding the point")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--watersheds", watersheds,
+                 "With --outlets: the GeoPackage to write (layers outlets and watersheds) and, beside it with\n"
+                 "the extension .tif, the watershed raster (UInt32 outlet index). Default: OUTPUT's name\n"
+                 "without .dv, then _watersheds.gpkg");
   app.add_option("--surface", surface_out, "Also write the sampled surface as a GeoTIFF");
   app.add_option("--dv-version", dv_version,
                  "Format version of OUTPUT.dv: 2 (compact, compressed blocks) or 1 (32 bytes per point, for readers "
@@ -119,10 +135,42 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
     if (!rasters_dir.empty())
       for (const char* name : drainage::kDrainageRasterNames)
         output_paths.push_back((std::filesystem::path(rasters_dir) / name).string());
-    tt::check_distinct_paths({raster_mode ? "" : positional[0], raster, d8_input}, output_paths);
+    if (outlets.empty() && (!watersheds.empty() || app.get_option("--snap-distance")->count() > 0))
+      throw terrain::Error("--watersheds and --snap-distance go with --outlets POINTS");
+    std::string watershed_tif;
+    if (!outlets.empty()) {
+      if (watersheds.empty()) watersheds = output.substr(0, output.size() - 3) + "_watersheds.gpkg";
+      if (!watersheds.ends_with(".gpkg")) throw terrain::Error("--watersheds must name a .gpkg file: '" + watersheds + "'");
+      watershed_tif = watersheds.substr(0, watersheds.size() - 5) + ".tif";
+      output_paths.push_back(watersheds), output_paths.push_back(watershed_tif);
+    }
+    tt::check_distinct_paths({raster_mode ? "" : positional[0], raster, d8_input, outlets}, output_paths);
     tt::warn_stale_temporaries(verb, output_paths);
     terrain::check_output_path(output);
     if (!surface_out.empty()) terrain::check_output_path(surface_out);
+    if (!outlets.empty()) {  // before the run: a bad outlet file fails at once
+      (void)drainage::read_outlet_points(outlets, "");
+      terrain::check_output_path(watersheds);
+      terrain::check_output_path(watershed_tif);
+    }
+    // Watersheds at the outlets from the .dv at `dv` (staged paths of `outputs`), reported.
+    auto write_watersheds = [&](const std::string& dv, terrain::OutputSet& outputs, const std::string& prov) {
+      const auto t = clock::now();
+      const std::vector<drainage::Watershed> ws = drainage::write_watersheds(
+          dv, drainage::read_outlet_points(outlets, drainage::read_dv_header(dv).crs_wkt), snap_distance,
+          outputs.stage(watersheds), outputs.stage(watershed_tif), prov, tt::terminal_progress(verb, "watersheds"));
+      tt::step(verb, fmt::format("watersheds of {} outlets: {:.2f} s", ws.size(),
+                                 std::chrono::duration<double>(clock::now() - t).count()));
+      return ws;
+    };
+    auto report_watersheds = [&](const std::vector<drainage::Watershed>& ws) {
+      if (outlets.empty()) return;
+      std::cout << "watersheds: " << watersheds << "\nwatershed_raster: " << watershed_tif << "\n";
+      for (std::size_t k = 0; k < ws.size(); ++k)
+        std::cout << fmt::format("outlet_{}: row {}, column {}, moved {:.2f} m, accumulated {}, cells {}, drains into {}\n",
+                                 k, ws[k].row, ws[k].col, ws[k].moved, ws[k].accumulated, ws[k].cells,
+                                 ws[k].downstream < 0 ? std::string("none") : std::to_string(ws[k].downstream));
+    };
     if (!rasters_dir.empty() && !std::filesystem::is_directory(rasters_dir))
       throw terrain::Error("--rasters: directory '" + rasters_dir + "' does not exist");
     if (threads > 0) omp_set_num_threads(threads);
@@ -154,16 +202,19 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
                                  comm.size(), comm.size() > 1 ? "es" : "",
                                  std::chrono::duration<double>(clock::now() - t0).count(), tt::peak_rss_mib()));
       if (!comm.root()) return 0;
-      if (!rasters_dir.empty()) {  // from the .dv, window by window: memory bounded as the run's
+      std::vector<drainage::Watershed> ws;
+      if (!rasters_dir.empty() || !outlets.empty()) {  // from the .dv, window by window
         const auto t1 = clock::now();
         terrain::OutputSet outputs;
         outputs.write([&] {
-          drainage::export_dv_rasters(
-              output, [&](const std::string& name) { return outputs.stage(std::filesystem::path(rasters_dir) / name); },
-              run.encoding, run.provenance);
+          if (!rasters_dir.empty())
+            drainage::export_dv_rasters(
+                output, [&](const std::string& name) { return outputs.stage(std::filesystem::path(rasters_dir) / name); },
+                run.encoding, run.provenance);
+          if (!outlets.empty()) ws = write_watersheds(output, outputs, run.provenance);
         });
         outputs.commit();
-        tt::step(verb, fmt::format("rasters from {}: {:.2f} s", output, std::chrono::duration<double>(clock::now() - t1).count()));
+        tt::step(verb, fmt::format("layers from {}: {:.2f} s", output, std::chrono::duration<double>(clock::now() - t1).count()));
       }
       std::cout << "output: " << output << "\n"
                 << "grid: " << r.cols << " x " << r.rows << " (columns x rows)\n"
@@ -172,6 +223,7 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
                 << "basins: " << r.totals.pits.size() << "\n"
                 << "branches: " << r.totals.branches << "\n"
                 << "filled: " << r.filled << "\n";
+      report_watersheds(ws);
       return 0;
     }
     const drainage::D8Encoding enc = drainage::parse_d8_encoding(encoding);
@@ -227,13 +279,16 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
     t0 = clock::now();
     drainage::DvHeader header = drainage::make_dv_header(result.surface, result.net, flags, prov);
     header.version = dv_version;
+    std::vector<drainage::Watershed> ws;
     outputs.write([&] {
-      drainage::write_dv(outputs.stage(output), header, result.surface, result.dirs, result.net);
+      const std::string staged_dv = outputs.stage(output);
+      drainage::write_dv(staged_dv, header, result.surface, result.dirs, result.net);
       tt::step(verb, fmt::format("write {}: {:.2f} s", output, seconds()));
       if (!rasters_dir.empty())
         drainage::write_drainage_rasters(
             [&](const std::string& name) { return outputs.stage(std::filesystem::path(rasters_dir) / name); }, result,
             enc, prov);
+      if (!outlets.empty()) ws = write_watersheds(staged_dv, outputs, prov);
     });
     outputs.commit();
 
@@ -254,6 +309,7 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
               << "flats: " << result.flats.flats << " (" << result.flats.undrainable << " undrainable)\n"
               << "filled: " << result.filled << "\n";
     if (breach) std::cout << fmt::format("carved: {} (deepest {:.2f} m)\n", result.carved, result.max_carve);
+    report_watersheds(ws);
     return 0;
   });
 }

@@ -9,6 +9,7 @@
 #include "common.hpp"
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
+#include "drainage/gis_layers.hpp"
 #include "drainage/rasters.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
@@ -182,6 +183,7 @@ int main(int argc, char** argv) {
       "  terrain-inspect info out/msh.dv\n"
       "  terrain-inspect preview out/msh.dv -o msh_drainage.png\n"
       "  terrain-inspect export out/msh.dv --to gpkg --min-order 2\n"
+      "  terrain-inspect export out/msh.dv --to gpkg --layers basins,divides -o msh_basins.gpkg\n"
       "  terrain-inspect export out/msh.dv --to tif -o msh_rasters");
   app.set_version_flag("--version", tt::version());
   app.require_subcommand(1);
@@ -210,7 +212,7 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   CLI::App* exp = app.add_subcommand("export", "Convert: a mesh to obj (Wavefront, local coordinates) or tif (its elevations "
-                                                 "as a GeoTIFF); a .dv to gpkg (branches as LineString ZM, M = normalized flow) "
+                                                 "as a GeoTIFF); a .dv to gpkg (layers branches, basins and divides) "
                                                  "or tif (every layer as a GeoTIFF in a directory, as build-drainage --rasters)");
   exp->add_option("FILE", file, "Terrain mesh (.ply) or drainage database (.dv)")->required();
   exp->add_option("--to", to, "Output format")->required()->check(CLI::IsMember({"obj", "tif", "gpkg"}));
@@ -226,6 +228,14 @@ int main(int argc, char** argv) {
   exp->add_option("--min-order", min_order, "gpkg: only branches of at least this Strahler order")
       ->check(CLI::Range(1, 255))
       ->capture_default_str();
+  std::vector<std::string> gpkg_layers = {"branches", "basins", "divides"};
+  exp->add_option("--layers", gpkg_layers,
+                  "gpkg: the layers to write, comma-separated: branches (LineString ZM, M = normalized flow), basins "
+                  "(polygons with area, outlet, max order), divides (lines between adjacent basins with the larger "
+                  "max order)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"branches", "basins", "divides"}))
+      ->default_str("branches,basins,divides");
   preview->add_option("--min-flow", min_flow, ".dv: draw points with at least this accumulated flow (default: the top 4 % of points, at least 20)");
 
   return tt::run_main(app, argc, argv, [&]() {
@@ -301,8 +311,16 @@ int main(int argc, char** argv) {
       terrain::check_output_path(out);
       if (to == "gpkg") {
         if (!is_dv) throw terrain::Error("'" + file + "' is not a drainage database (.dv): only those export to gpkg");
-        const std::size_t n = drainage::export_branches_gpkg(drainage::read_dv(file), out, min_order);
-        std::cout << "output: " << out << "\nfeatures: " << n << "\n";
+        drainage::GpkgLayers layers;
+        auto has = [&](const char* name) { return std::find(gpkg_layers.begin(), gpkg_layers.end(), name) != gpkg_layers.end(); };
+        layers.branches = has("branches"), layers.basins = has("basins"), layers.divides = has("divides");
+        layers.min_order = min_order;
+        const drainage::GpkgCounts n =
+            drainage::export_dv_gpkg(file, out, layers, tt::terminal_progress(verb, "gpkg"));
+        std::cout << "output: " << out << "\n";
+        if (layers.branches) std::cout << "branches: " << n.branches << "\n";
+        if (layers.basins) std::cout << "basins: " << n.basins << "\n";
+        if (layers.divides) std::cout << "divides: " << n.divides << "\n";
         return 0;
       }
       if (!is_mesh) throw terrain::Error("'" + file + "' is not a terrain mesh (.ply): only meshes export to " + to);

@@ -1,8 +1,5 @@
 #include "drainage/dv_views.hpp"
 
-#include <gdal_priv.h>
-#include <ogrsf_frmts.h>
-
 #include <algorithm>
 #include <cmath>
 
@@ -11,7 +8,6 @@
 #include "drainage/d8.hpp"
 
 static_assert(drainage::kNone == terrain::DrainageLinks::kNone);
-#include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/error.hpp"
 #include "terrain/hillshade.hpp"
@@ -177,57 +173,6 @@ std::vector<std::uint8_t> dv_preview(const DrainageDb& db, std::uint32_t min_acc
     for (int k = 0; k < 3; ++k) rgb[3 * i + std::size_t(k)] = std::uint8_t(std::lround((1 - alpha) * grey + alpha * blue[k]));
   }
   return rgb;
-}
-
-std::size_t export_branches_gpkg(const DrainageDb& db, const std::string& path, int min_order) {
-  terrain::ensure_gdal();
-  terrain::AtomicFile out(path);
-  const DvHeader& h = db.header;
-  std::size_t written = 0;
-  {
-    GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("GPKG");
-    if (!drv) throw terrain::Error("GDAL has no GPKG driver");
-    CPLErrorReset();
-    std::unique_ptr<GDALDataset> ds(drv->Create(out.temp_path().c_str(), 0, 0, 0, GDT_Unknown, nullptr));
-    if (!ds) throw terrain::Error("cannot write '" + path + "': " + CPLGetLastErrorMsg());
-    OGRSpatialReference srs;
-    const bool has_srs = !h.crs_wkt.empty() && srs.importFromWkt(h.crs_wkt.c_str()) == OGRERR_NONE;
-    OGRLayer* layer = ds->CreateLayer("branches", has_srs ? &srs : nullptr, wkbLineStringZM, nullptr);
-    if (!layer) throw terrain::Error("cannot write '" + path + "': " + CPLGetLastErrorMsg());
-    for (const char* name : {"order", "basin", "max_flow", "vertices"}) {
-      OGRFieldDefn field(name, OFTInteger64);
-      layer->CreateField(&field);
-    }
-    ds->StartTransaction();
-    for (const DvBranch& b : db.branches) {
-      if (b.order < min_order) continue;
-      OGRLineString line;
-      std::uint32_t max_flow = 0;
-      auto add = [&](std::uint32_t v) {
-        const DvVertex& p = db.vertices[v];
-        line.addPoint(h.origin_x + p.x, h.origin_y + p.y, h.origin_z + p.z, p.normalized);
-        max_flow = std::max(max_flow, p.accumulated);
-      };
-      for (std::uint32_t k = 0; k < b.count; ++k) add(db.branch_vertices[b.first + k]);
-      if (b.drains_into != kNone) add(b.drains_into);
-      if (line.getNumPoints() < 2) continue;  // a lone pit: no line
-      OGRFeature feature(layer->GetLayerDefn());
-      feature.SetField("order", GIntBig(b.order));
-      feature.SetField("basin", GIntBig(db.vertices[db.branch_vertices[b.first]].basin));
-      feature.SetField("max_flow", GIntBig(max_flow));
-      feature.SetField("vertices", GIntBig(line.getNumPoints()));
-      feature.SetGeometry(&line);
-      if (layer->CreateFeature(&feature) != OGRERR_NONE)
-        throw terrain::Error("cannot write '" + path + "': " + CPLGetLastErrorMsg());
-      ++written;
-    }
-    if (ds->CommitTransaction() != OGRERR_NONE) throw terrain::Error("cannot write '" + path + "': " + CPLGetLastErrorMsg());
-    CPLErrorReset();
-    ds.reset();
-    if (CPLGetLastErrorType() >= CE_Failure) throw terrain::Error("cannot write '" + path + "': " + CPLGetLastErrorMsg());
-  }
-  out.commit();
-  return written;
 }
 
 }  // namespace drainage

@@ -4,6 +4,7 @@
 
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
+#include "drainage/gis_layers.hpp"
 #include "drainage/pipeline.hpp"
 #include "terrain/dem_io.hpp"
 #include "test_support.hpp"

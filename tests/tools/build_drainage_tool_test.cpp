@@ -4,10 +4,16 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
+#include <map>
 
 #include <gdal_priv.h>
+#include <ogrsf_frmts.h>
+
+#include <fmt/format.h>
 
 #include "drainage/dv_file.hpp"
+#include "drainage/gis_layers.hpp"
 #include "drainage/rasters.hpp"
 #include "terrain/dem_io.hpp"
 #include "test_support.hpp"
@@ -280,6 +286,204 @@ TEST(BuildDrainage, EveryLayerOutOfAnyDvAndOfTiledRuns) {
   }
   EXPECT_EQ(compared, 1587804u);
   EXPECT_EQ(equal, compared);
+}
+
+std::unique_ptr<GDALDataset> open_vector(const std::string& path) {
+  terrain::ensure_gdal();
+  std::unique_ptr<GDALDataset> ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  EXPECT_TRUE(ds) << path;
+  return ds;
+}
+
+// Basins and divides of the Logan 100 m run as GeoPackage layers, checked against the
+// basin raster of the same run: every basin one feature whose area is its cells', holding
+// its outlet; the divides along the cell edges between two basins, on both boundaries.
+TEST(BuildDrainage, BasinsAndDividesAsGisLayers) {
+  terrain::test::ScratchDir dir;
+  std::filesystem::create_directory(dir.path("r"));
+  const auto b = run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + dir.path("l.dv") +
+                     " --fill --rasters " + dir.path("r") + " -q");
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  const auto e = run(tool("terrain-inspect") + " export " + dir.path("l.dv") + " --to gpkg -q");
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  const auto o = run("ogrinfo -so -al " + dir.path("l.gpkg"));  // what QGIS reads, GDAL reads
+  ASSERT_EQ(o.exit_code, 0) << o.err;
+  for (const char* layer : {"branches", "basins", "divides"})
+    EXPECT_NE(o.out.find(std::string("Layer name: ") + layer), std::string::npos) << o.out;
+
+  const DvHeader h = read_dv_header(dir.path("l.dv"));
+  const Band basin = band_of(dir.path("r/basin.tif")), order = band_of(dir.path("r/order.tif"));
+  const std::size_t C = h.cols, R = h.rows;
+  const double cell = h.dx * h.dy;
+  std::map<std::uint32_t, std::uint64_t> cells;
+  double edges = 0;  // 4-neighbour pairs of cells in two different basins
+  for (std::size_t r = 0; r < R; ++r)
+    for (std::size_t c = 0; c < C; ++c) {
+      const double u = basin.v[r * C + c];
+      if (u == basin.nodata) continue;
+      ++cells[std::uint32_t(u)];
+      for (const std::size_t j : {c + 1 < C ? r * C + c + 1 : SIZE_MAX, r + 1 < R ? (r + 1) * C + c : SIZE_MAX})
+        if (j != SIZE_MAX && basin.v[j] != basin.nodata && basin.v[j] != u) ++edges;
+    }
+
+  const auto ds = open_vector(dir.path("l.gpkg"));
+  ASSERT_TRUE(ds);
+  OGRLayer* basins = ds->GetLayerByName("basins");
+  ASSERT_TRUE(basins);
+  EXPECT_EQ(std::uint64_t(basins->GetFeatureCount()), h.basins);
+  double area = 0;
+  std::map<std::int64_t, std::unique_ptr<OGRGeometry>> boundary;
+  std::map<std::int64_t, int> max_order;
+  for (auto& f : *basins) {
+    const std::int64_t id = f->GetFieldAsInteger64("id");
+    const auto* poly = f->GetGeometryRef()->toMultiPolygon();
+    area += poly->get_Area();
+    EXPECT_NEAR(poly->get_Area(), double(cells[std::uint32_t(id)]) * cell, 1e-12 * double(h.valid) * cell) << id;
+    EXPECT_EQ(std::uint64_t(f->GetFieldAsInteger64("cells")), cells[std::uint32_t(id)]) << id;
+    const double x = f->GetFieldAsDouble("outlet_x"), y = f->GetFieldAsDouble("outlet_y");
+    OGRPoint outlet(x, y);
+    EXPECT_TRUE(poly->Contains(&outlet)) << "basin " << id << " does not hold its outlet";
+    const std::size_t oc = std::size_t(std::lround((x - basin.gt[0]) / basin.gt[1] - 0.5)),
+                      orow = std::size_t(std::lround((y - basin.gt[3]) / basin.gt[5] - 0.5));
+    EXPECT_EQ(basin.v[orow * C + oc], double(id));
+    EXPECT_EQ(f->GetFieldAsInteger("max_order"), int(order.v[orow * C + oc]));
+    max_order[id] = f->GetFieldAsInteger("max_order");
+    boundary[id].reset(poly->Boundary());
+  }
+  EXPECT_NEAR(area, double(h.valid) * cell, 1e-9 * double(h.valid) * cell) << "polygon areas sum to the valid area";
+
+  OGRLayer* divides = ds->GetLayerByName("divides");
+  ASSERT_TRUE(divides);
+  double length = 0;
+  std::size_t checked = 0;
+  for (auto& f : *divides) {
+    const std::int64_t a = f->GetFieldAsInteger64("basin_a"), bb = f->GetFieldAsInteger64("basin_b");
+    const auto* lines = f->GetGeometryRef()->toMultiLineString();
+    EXPECT_LT(a, bb);
+    EXPECT_NEAR(lines->get_Length(), f->GetFieldAsDouble("length_m"), 1e-6);
+    EXPECT_EQ(f->GetFieldAsInteger("max_order"), std::max(max_order[a], max_order[bb]));
+    length += lines->get_Length();
+    if (checked++ % 8 == 0) {  // GEOS on one in eight: the divide lies on both basins' boundaries
+      EXPECT_TRUE(lines->Within(boundary[a].get())) << a << "-" << bb;
+      EXPECT_TRUE(lines->Within(boundary[bb].get())) << a << "-" << bb;
+    }
+  }
+  EXPECT_GT(checked, 100u);
+  EXPECT_NEAR(length, edges * h.dx, 1e-6 * length) << "divides run along every edge between two basins";
+}
+
+// Watersheds at outlets on TauDEM's D8 of Logan 30 m: each watershed's cells are TauDEM's
+// aread8 at its outlet less the aread8 of the outlets nested in it; the same raster from a
+// tiled run; snapping picks the highest aread8 within the distance.
+TEST(BuildDrainage, WatershedsAtOutletsAreTauDemsUpstreamAreas) {
+  terrain::test::ScratchDir dir;
+  const Band d8 = band_of(data("logan_30m_taudem_d8dir.tif")), acc = band_of(data("logan_30m_taudem_aread8.tif"));
+  const std::size_t C = 985, R = 1660;
+  ASSERT_EQ(acc.v.size(), R * C);
+  auto valid = [&](std::size_t i) { return acc.v[i] != acc.nodata && !std::isnan(acc.v[i]); };
+  auto x_of = [&](std::size_t i) { return acc.gt[0] + (double(i % C) + 0.5) * acc.gt[1]; };
+  auto y_of = [&](std::size_t i) { return acc.gt[3] + (double(i / C) + 0.5) * acc.gt[5]; };
+  // Outlets: the largest aread8, three interior cells of 300-3000 cells and, 60 steps down
+  // TauDEM's D8 from each, a cell they nest in.
+  std::vector<std::size_t> outlet;
+  outlet.push_back(std::size_t(std::max_element(acc.v.begin(), acc.v.end(),
+                                                [&](double p, double q) { return p < q; }) - acc.v.begin()));
+  const int dr[9] = {0, 0, -1, -1, -1, 0, 1, 1, 1}, dc[9] = {0, 1, 1, 0, -1, -1, -1, 0, 1};  // TauDEM 1..8
+  for (const std::size_t row : {R / 4, R / 2, 3 * R / 4}) {
+    std::size_t i = row * C + C / 3;  // away from the edges, where aread8 is left undefined
+    while (i < (row + 1) * C && !(valid(i) && acc.v[i] >= 300 && acc.v[i] <= 3000)) ++i;
+    ASSERT_LT(i, (row + 1) * C);
+    outlet.push_back(i);
+    for (int step = 0; step < 60; ++step) {
+      const int code = int(d8.v[i]);
+      if (code < 1 || code > 8) break;
+      const long r = long(i / C) + dr[code], c = long(i % C) + dc[code];
+      if (r < 0 || c < 0 || r >= long(R) || c >= long(C) || !valid(std::size_t(r) * C + std::size_t(c))) break;
+      i = std::size_t(r) * C + std::size_t(c);
+    }
+    if (std::find(outlet.begin(), outlet.end(), i) == outlet.end()) outlet.push_back(i);
+  }
+  {
+    std::ofstream csv(dir.path("outlets.csv"));
+    csv << "name,x,y\n" << std::setprecision(17);
+    for (std::size_t k = 0; k < outlet.size(); ++k) csv << "o" << k << "," << x_of(outlet[k]) << "," << y_of(outlet[k]) << "\n";
+  }
+  const std::string bd = tool("build-drainage") + " --d8-input " + data("logan_30m_taudem_d8dir.tif") + " ";
+  const auto u = run(bd + dir.path("u.dv") + " --outlets " + dir.path("outlets.csv") + " -q");
+  ASSERT_EQ(u.exit_code, 0) << u.err;
+  EXPECT_NE(u.out.find("watersheds: " + dir.path("u_watersheds.gpkg")), std::string::npos) << u.out;
+  const Band shed = band_of(dir.path("u_watersheds.tif"));
+  std::vector<std::uint64_t> raster_cells(outlet.size());
+  for (const double v : shed.v)
+    if (v != shed.nodata) ++raster_cells.at(std::size_t(v));
+
+  const auto ds = open_vector(dir.path("u_watersheds.gpkg"));
+  ASSERT_TRUE(ds);
+  OGRLayer* points = ds->GetLayerByName("outlets");
+  ASSERT_TRUE(points);
+  ASSERT_EQ(std::size_t(points->GetFeatureCount()), outlet.size());
+  std::vector<std::int64_t> downstream(outlet.size());
+  std::vector<std::uint64_t> cells(outlet.size());
+  for (auto& f : *points) {
+    const std::size_t k = std::size_t(f->GetFieldAsInteger64("id"));
+    downstream.at(k) = f->IsFieldSetAndNotNull(f->GetFieldIndex("downstream")) ? f->GetFieldAsInteger64("downstream") : -1;
+    cells[k] = std::uint64_t(f->GetFieldAsInteger64("cells"));
+    EXPECT_EQ(f->GetFieldAsDouble("moved_m"), 0.0) << k;
+    EXPECT_EQ(double(f->GetFieldAsInteger64("accumulated")), acc.v[outlet[k]]) << k;
+    EXPECT_EQ(cells[k], raster_cells[k]) << k;
+  }
+  std::size_t nested = 0;
+  for (std::size_t k = 0; k < outlet.size(); ++k) {
+    double upstream = double(cells[k]);
+    for (std::size_t j = 0; j < outlet.size(); ++j)
+      if (downstream[j] == std::int64_t(k)) upstream += acc.v[outlet[j]], ++nested;
+    EXPECT_EQ(upstream, acc.v[outlet[k]]) << "outlet " << k;
+  }
+  EXPECT_GE(nested, 3u);
+  OGRLayer* polygons = ds->GetLayerByName("watersheds");
+  ASSERT_TRUE(polygons);
+  for (auto& f : *polygons)
+    EXPECT_NEAR(f->GetGeometryRef()->toMultiPolygon()->get_Area(),
+                double(cells.at(std::size_t(f->GetFieldAsInteger64("id")))) * 900.0, 1e-3);  // of 10^5..10^9 m^2
+
+  // Tiled: the same raster.
+  const auto t = run(bd + dir.path("t.dv") + " --tile-size 300 --outlets " + dir.path("outlets.csv") + " -q");
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  EXPECT_TRUE(band_of(dir.path("t_watersheds.tif")).v == shed.v);
+
+  // Snapping: 100 m around a point 40 m off an outlet in the interior (where TauDEM's aread8
+  // is defined on every cell within reach).
+  const std::size_t near = outlet.back();
+  const double px = x_of(near) + 40, py = y_of(near) - 25;
+  std::size_t best = SIZE_MAX;
+  double best_d = 0;
+  for (std::size_t i = 0; i < acc.v.size(); ++i) {
+    const double d = std::hypot(x_of(i) - px, y_of(i) - py);
+    if (d > 100) continue;
+    ASSERT_TRUE(valid(i)) << "aread8 has no value within reach of the snapped point";
+    if (best == SIZE_MAX || acc.v[i] > acc.v[best] || (acc.v[i] == acc.v[best] && d < best_d)) best = i, best_d = d;
+  }
+  EXPECT_NE(best, near);
+  {
+    std::ofstream csv(dir.path("one.csv"));
+    csv << "x,y\n" << std::setprecision(17) << px << "," << py << "\n";
+  }
+  const auto s = run(bd + dir.path("s.dv") + " --outlets " + dir.path("one.csv") + " --snap-distance 100 -q");
+  ASSERT_EQ(s.exit_code, 0) << s.err;
+  EXPECT_NE(s.out.find(fmt::format("outlet_0: row {}, column {}, moved {:.2f} m", best / C, best % C, best_d)),
+            std::string::npos)
+      << s.out << "expected row " << best / C << ", column " << best % C << ", " << best_d << " m";
+
+  // An outlet off the grid: one line, nothing written.
+  {
+    std::ofstream csv(dir.path("off.csv"));
+    csv << "x,y\n1000,1000\n";
+  }
+  const auto off = run(bd + dir.path("off.dv") + " --outlets " + dir.path("off.csv") + " --snap-distance 50 -q");
+  EXPECT_EQ(off.exit_code, 1);
+  EXPECT_NE(off.err.find("no drainage point within 50 m"), std::string::npos) << off.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.path("off.dv")));
+  EXPECT_FALSE(std::filesystem::exists(dir.path("off_watersheds.gpkg")));
 }
 
 #ifdef TERRAIN_MPIEXEC

@@ -1,6 +1,6 @@
 #pragma once
-// Views of a drainage database for people and other tools: a summary, a preview image and
-// a GeoPackage of branches.
+// Views of a drainage database for people and other tools: a summary, a preview image, the
+// points for the renderer (GIS layers: gis_layers.hpp).
 #include <cstdint>
 #include <map>
 #include <string>
@@ -48,11 +48,5 @@ terrain::Georef dv_georef(const DvHeader& h);
 // (alpha 0.35 + 0.65 * sqrt(normalized)). 0 picks the 96th percentile of accumulated flow
 // (the top 4 % of points are drawn), at least 20.
 std::vector<std::uint8_t> dv_preview(const DrainageDb& db, std::uint32_t min_accumulated = 0);
-
-// Writes a GeoPackage (GDAL/OGR) with layer "branches": one LineString ZM per branch of
-// order >= min_order, its vertices followed by the vertex it drains into, world
-// coordinates, M = normalized flow; fields order, basin, max_flow (largest accumulated
-// flow, points) and vertices. Atomic. Returns the number of features written.
-std::size_t export_branches_gpkg(const DrainageDb& db, const std::string& path, int min_order = 1);
 
 }  // namespace drainage

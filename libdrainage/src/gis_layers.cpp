@@ -1,0 +1,589 @@
+#include "drainage/gis_layers.hpp"
+
+#include <gdal_alg.h>
+#include <gdal_priv.h>
+#include <ogr_spatialref.h>
+#include <ogrsf_frmts.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "drainage/dv_file.hpp"
+#include "drainage/dv_views.hpp"
+#include "drainage/network.hpp"
+#include "terrain/atomic_file.hpp"
+#include "terrain/dem_io.hpp"
+
+namespace drainage {
+
+namespace {
+
+// ---- GeoPackage writing ------------------------------------------------------------------
+
+struct Field {
+  const char* name;
+  OGRFieldType type;
+};
+
+// A GeoPackage written to a temporary beside `path` in one transaction, renamed onto it by
+// commit(): layers are created first, then features added.
+class Gpkg {
+ public:
+  Gpkg(const std::string& path, const std::string& crs_wkt) : path_(path), out_(path) {
+    terrain::ensure_gdal();
+    GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("GPKG");
+    if (!drv) throw terrain::Error("GDAL has no GPKG driver");
+    CPLErrorReset();
+    ds_.reset(drv->Create(out_.temp_path().c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+    if (!ds_) fail();
+    has_srs_ = !crs_wkt.empty() && srs_.importFromWkt(crs_wkt.c_str()) == OGRERR_NONE;
+  }
+  OGRLayer* layer(const char* name, OGRwkbGeometryType type, std::initializer_list<Field> fields) {
+    OGRLayer* l = ds_->CreateLayer(name, has_srs_ ? &srs_ : nullptr, type, nullptr);
+    if (!l) fail();
+    for (const Field& f : fields) {
+      OGRFieldDefn def(f.name, f.type);
+      if (l->CreateField(&def) != OGRERR_NONE) fail();
+    }
+    return l;
+  }
+  void begin() {
+    if (ds_->StartTransaction() != OGRERR_NONE) fail();
+  }
+  void add(OGRLayer* l, OGRFeature& f) {
+    if (l->CreateFeature(&f) != OGRERR_NONE) fail();
+  }
+  void commit() {
+    if (ds_->CommitTransaction() != OGRERR_NONE) fail();
+    CPLErrorReset();
+    ds_.reset();
+    if (CPLGetLastErrorType() >= CE_Failure) fail();
+    out_.commit();
+  }
+  [[noreturn]] void fail() const { throw terrain::Error("cannot write '" + path_ + "': " + CPLGetLastErrorMsg()); }
+
+ private:
+  std::string path_;
+  terrain::AtomicFile out_;
+  std::unique_ptr<GDALDataset> ds_;
+  OGRSpatialReference srs_;
+  bool has_srs_ = false;
+};
+
+// terrain::Progress through GDAL's progress callback.
+int gdal_progress(double fraction, const char*, void* arg) {
+  const auto& p = *static_cast<const terrain::Progress*>(arg);
+  return !p || p(fraction) ? TRUE : FALSE;
+}
+
+// GDALPolygonize of the id raster at `tif` (4-connected, no-data left out): its polygons
+// grouped by id, ids ascending, each id's parts in the order GDAL found them.
+std::vector<std::pair<std::uint32_t, std::unique_ptr<OGRMultiPolygon>>> polygonize_ids(
+    const std::string& tif, const terrain::Progress& progress) {
+  std::unique_ptr<GDALDataset> src(GDALDataset::Open(tif.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  if (!src) throw terrain::Error("cannot read '" + tif + "': " + CPLGetLastErrorMsg());
+  GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("Memory");
+  std::unique_ptr<GDALDataset> ds(mem->Create("", 0, 0, 0, GDT_Unknown, nullptr));
+  OGRLayer* layer = ds->CreateLayer("polygons", nullptr, wkbPolygon, nullptr);
+  OGRFieldDefn id("id", OFTInteger64);
+  layer->CreateField(&id);
+  GDALRasterBand* band = src->GetRasterBand(1);
+  if (GDALPolygonize(band, band->GetMaskBand(), layer, 0, nullptr, gdal_progress,
+                     const_cast<terrain::Progress*>(&progress)) != CE_None)
+    throw terrain::Error("polygonizing '" + tif + "' failed: " + CPLGetLastErrorMsg());
+  std::vector<std::pair<std::uint32_t, std::unique_ptr<OGRGeometry>>> parts;
+  layer->ResetReading();
+  for (auto& f : *layer) parts.emplace_back(std::uint32_t(f->GetFieldAsInteger64(0)), f->StealGeometry());
+  std::stable_sort(parts.begin(), parts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::pair<std::uint32_t, std::unique_ptr<OGRMultiPolygon>>> out;
+  for (auto& [i, g] : parts) {
+    if (out.empty() || out.back().first != i) out.emplace_back(i, std::make_unique<OGRMultiPolygon>());
+    out.back().second->addGeometryDirectly(g.release());
+  }
+  return out;
+}
+
+// Rows per window for reading a .dv `cols` wide: at most 256, and about 256 MiB.
+std::size_t band_rows(std::size_t cols) {
+  return std::clamp<std::size_t>((std::size_t(256) << 20) / (std::max<std::size_t>(cols, 1) * sizeof(DvVertex)), 1, 256);
+}
+
+struct BasinFacts {
+  std::uint64_t cells = 0;
+  double x = 0, y = 0;
+  bool has_outlet = false, edge = false;
+  std::uint8_t max_order = 0;
+};
+
+}  // namespace
+
+// ---- Divides ---------------------------------------------------------------------------
+
+void add_divide_edges(const std::uint32_t* ids, std::size_t row0, std::size_t n, std::size_t cols, bool below,
+                      std::vector<DivideEdge>& edges) {
+  const std::uint64_t W = cols + 1;  // corners per row
+  auto add = [&](std::uint32_t u, std::uint32_t v, std::uint64_t from, std::uint64_t to) {
+    if (u == v || u == kNone || v == kNone) return;
+    edges.push_back({std::min(u, v), std::max(u, v), from, to});
+  };
+  for (std::size_t r = 0; r < n; ++r) {
+    const std::uint64_t gr = row0 + r;
+    for (std::size_t c = 0; c < cols; ++c) {
+      const std::uint32_t u = ids[r * cols + c];
+      if (c + 1 < cols) add(u, ids[r * cols + c + 1], gr * W + c + 1, (gr + 1) * W + c + 1);  // east edge
+      if (r + 1 < n || below) add(u, ids[(r + 1) * cols + c], (gr + 1) * W + c, (gr + 1) * W + c + 1);  // south edge
+    }
+  }
+}
+
+std::vector<std::vector<std::uint64_t>> chain_divide_edges(std::vector<DivideEdge> edges, std::size_t cols) {
+  const std::uint64_t W = cols + 1;
+  std::sort(edges.begin(), edges.end(),
+            [](const DivideEdge& p, const DivideEdge& q) { return std::tie(p.from, p.to) < std::tie(q.from, q.to); });
+  // Each edge's two ends, sorted by corner: the edges at a corner are one equal range.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> ends;
+  ends.reserve(2 * edges.size());
+  for (std::uint32_t e = 0; e < edges.size(); ++e) ends.push_back({edges[e].from, e}), ends.push_back({edges[e].to, e});
+  std::sort(ends.begin(), ends.end());
+  auto at = [&](std::uint64_t corner) {
+    return std::equal_range(ends.begin(), ends.end(), std::pair<std::uint64_t, std::uint32_t>{corner, 0},
+                            [](const auto& p, const auto& q) { return p.first < q.first; });
+  };
+  std::vector<char> used(edges.size(), 0);
+  std::vector<std::vector<std::uint64_t>> chains;
+  auto walk = [&](std::uint64_t start) {
+    std::vector<std::uint64_t> path = {start};
+    std::uint64_t cur = start;
+    for (;;) {
+      const auto [b, e] = at(cur);
+      auto next = std::find_if(b, e, [&](const auto& p) { return !used[p.second]; });
+      if (next == e) break;
+      used[next->second] = 1;
+      const DivideEdge& d = edges[next->second];
+      cur = d.from == cur ? d.to : d.from;
+      path.push_back(cur);
+      if (std::distance(at(cur).first, at(cur).second) != 2) break;  // basins meet, or a free end
+    }
+    // Leave out corners along straight runs.
+    std::vector<std::uint64_t> kept = {path.front()};
+    for (std::size_t i = 1; i + 1 < path.size(); ++i) {
+      const auto dr = [&](std::uint64_t p, std::uint64_t q) { return std::int64_t(q / W) - std::int64_t(p / W); };
+      const auto dc = [&](std::uint64_t p, std::uint64_t q) { return std::int64_t(q % W) - std::int64_t(p % W); };
+      if (dr(path[i - 1], path[i]) != dr(path[i], path[i + 1]) || dc(path[i - 1], path[i]) != dc(path[i], path[i + 1]))
+        kept.push_back(path[i]);
+    }
+    kept.push_back(path.back());
+    chains.push_back(std::move(kept));
+  };
+  // Chains from free ends and meeting corners first, then closed rings.
+  for (std::size_t i = 0; i < ends.size();) {
+    std::size_t j = i;
+    while (j < ends.size() && ends[j].first == ends[i].first) ++j;
+    if (j - i != 2)
+      while (std::any_of(ends.begin() + std::ptrdiff_t(i), ends.begin() + std::ptrdiff_t(j),
+                         [&](const auto& p) { return !used[p.second]; }))
+        walk(ends[i].first);
+    i = j;
+  }
+  for (std::uint32_t e = 0; e < edges.size(); ++e)
+    if (!used[e]) walk(edges[e].from);
+  return chains;
+}
+
+// ---- Watersheds ---------------------------------------------------------------------------
+
+terrain::BigVector<std::uint32_t> nearest_downstream_outlet(const D8Codes& dirs, std::size_t rows, std::size_t cols,
+                                                            const std::vector<std::uint64_t>& outlet_cells) {
+  const std::size_t n = rows * cols;
+  if (dirs.size() != n) throw terrain::Error("nearest_downstream_outlet: directions are not rows x cols");
+  constexpr std::uint32_t kPending = kNone - 1;
+  terrain::BigVector<std::uint32_t> label(n, kPending);
+  for (std::size_t k = 0; k < outlet_cells.size(); ++k) {
+    const std::uint64_t i = outlet_cells[k];
+    if (i >= n) throw terrain::Error(fmt::format("outlet {} lies outside the grid", k));
+    if (label[i] != kPending)
+      throw terrain::Error(fmt::format("outlets {} and {} are the same cell (row {}, column {})", label[i], k, i / cols,
+                                       i % cols));
+    label[i] = std::uint32_t(k);
+  }
+  // The cell a cell drains into, or kNone where the flow ends.
+  auto down = [&](std::size_t i) -> std::size_t {
+    const std::uint8_t code = dirs[i];
+    if (code >= 8) return kNone;
+    const std::int64_t r = std::int64_t(i / cols) + kDRow[code], c = std::int64_t(i % cols) + kDCol[code];
+    if (r < 0 || c < 0 || r >= std::int64_t(rows) || c >= std::int64_t(cols)) return kNone;
+    const std::size_t j = std::size_t(r) * cols + std::size_t(c);
+    return dirs[j] == kNodata ? kNone : j;
+  };
+  std::vector<std::size_t> path;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (label[i] != kPending) continue;
+    if (dirs[i] == kNodata) {
+      label[i] = kNone;
+      continue;
+    }
+    path.clear();
+    std::size_t j = i;
+    while (j != kNone && label[j] == kPending) {
+      if (path.size() > n) throw terrain::Error("the D8 directions hold a cycle");
+      path.push_back(j);
+      label[j] = kNone - 2;  // on the path: met again only through a cycle
+      j = down(j);
+    }
+    if (j != kNone && label[j] == kNone - 2) throw terrain::Error("the D8 directions hold a cycle");
+    const std::uint32_t to = j == kNone ? kNone : label[j];
+    for (const std::size_t p : path) label[p] = to;
+  }
+  return label;
+}
+
+std::vector<OutletPoint> read_outlet_points(const std::string& path, const std::string& crs_wkt) {
+  terrain::ensure_gdal();
+  CPLStringList open_options;
+  if (std::filesystem::path(path).extension() == ".csv" || std::filesystem::path(path).extension() == ".CSV") {
+    open_options.AddString("X_POSSIBLE_NAMES=x,X,easting,Easting,lon*,Lon*,long*,Long*");
+    open_options.AddString("Y_POSSIBLE_NAMES=y,Y,northing,Northing,lat*,Lat*");
+  }
+  CPLErrorReset();
+  std::unique_ptr<GDALDataset> ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr,
+                                                    open_options.List()));
+  if (!ds) {
+    const std::string why = CPLGetLastErrorMsg();
+    throw terrain::Error("cannot read outlets from '" + path + "': " + (why.empty() ? "not a vector file GDAL reads" : why));
+  }
+  if (ds->GetLayerCount() < 1) throw terrain::Error("'" + path + "' has no layer of outlet points");
+  OGRLayer* layer = ds->GetLayer(0);
+  std::unique_ptr<OGRCoordinateTransformation> to_grid;
+  const OGRSpatialReference* from = layer->GetSpatialRef();
+  OGRSpatialReference target;
+  if (from && !crs_wkt.empty() && target.importFromWkt(crs_wkt.c_str()) == OGRERR_NONE && !from->IsSame(&target)) {
+    OGRSpatialReference src(*from);
+    src.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    target.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    to_grid.reset(OGRCreateCoordinateTransformation(&src, &target));
+    if (!to_grid)
+      throw terrain::Error("cannot transform the outlets of '" + path + "' to the drainage grid's CRS: " +
+                           CPLGetLastErrorMsg());
+  }
+  std::vector<OutletPoint> out;
+  for (auto& f : *layer) {
+    const OGRGeometry* g = f->GetGeometryRef();
+    if (!g || wkbFlatten(g->getGeometryType()) != wkbPoint)
+      throw terrain::Error(fmt::format("'{}': feature {} is {}, not a point", path, f->GetFID(),
+                                       g ? OGRGeometryTypeToName(g->getGeometryType()) : "without geometry"));
+    double x = g->toPoint()->getX(), y = g->toPoint()->getY();
+    if (to_grid && !to_grid->Transform(1, &x, &y))
+      throw terrain::Error(fmt::format("'{}': feature {} cannot be transformed to the grid's CRS", path, f->GetFID()));
+    out.push_back({x, y, f->GetFID()});
+  }
+  if (out.empty()) throw terrain::Error("'" + path + "' holds no outlet point");
+  return out;
+}
+
+std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::vector<OutletPoint>& points,
+                                        double snap_distance, const std::string& gpkg_path,
+                                        const std::string& tif_path, const std::string& provenance,
+                                        const terrain::Progress& progress) {
+  const DvHeader h = read_dv_header(dv_path);
+  const std::size_t R = h.rows, C = h.cols;
+  const terrain::Georef geo = dv_georef(h);
+  const double cell_area = h.dx * h.dy;
+  auto centre_x = [&](std::size_t c) { return h.origin_x + double(c) * h.dx; };
+  auto centre_y = [&](std::size_t r) { return h.origin_y - double(r) * h.dy; };
+  if (!(snap_distance >= 0)) throw terrain::Error("the snap distance must be 0 or more metres");
+
+  // 1. Snap: the highest accumulation within the distance (a window of the file around it).
+  std::vector<Watershed> ws(points.size());
+  std::vector<std::uint64_t> cells(points.size());
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const OutletPoint& p = points[k];
+    Watershed& w = ws[k];
+    w.given = p;
+    const double s = snap_distance;
+    const double cmin = std::floor((p.x - s - geo.x0) / h.dx), cmax = std::floor((p.x + s - geo.x0) / h.dx);
+    const double rmin = std::floor((geo.y0 - (p.y + s)) / h.dy), rmax = std::floor((geo.y0 - (p.y - s)) / h.dy);
+    const double c0 = std::max(0.0, cmin), c1 = std::min(double(C) - 1, cmax);
+    const double r0 = std::max(0.0, rmin), r1 = std::min(double(R) - 1, rmax);
+    bool found = false;
+    double best_d = 0;
+    if (c0 <= c1 && r0 <= r1) {
+      const DrainageDb win = read_dv_window(dv_path, std::size_t(r0), std::size_t(c0), std::size_t(r1 - r0 + 1),
+                                            std::size_t(c1 - c0 + 1));
+      const std::size_t wc = win.header.cols;
+      for (std::size_t i = 0; i < win.vertices.size(); ++i) {
+        const DvVertex& v = win.vertices[i];
+        if (PointClass(v.point_class) == PointClass::Nodata) continue;
+        const std::size_t r = std::size_t(r0) + i / wc, c = std::size_t(c0) + i % wc;
+        const double d = std::hypot(centre_x(c) - p.x, centre_y(r) - p.y);
+        if (s > 0 && d > s) continue;  // with 0 the window is the cell holding the point
+        if (!found || v.accumulated > w.accumulated || (v.accumulated == w.accumulated && d < best_d)) {
+          found = true;
+          best_d = d;
+          w.row = r, w.col = c, w.accumulated = v.accumulated;
+        }
+      }
+    }
+    if (!found)
+      throw terrain::Error(fmt::format("outlet {} (feature {}) at {:.2f}, {:.2f}: no drainage point {} (the grid spans "
+                                       "x {:.1f}..{:.1f}, y {:.1f}..{:.1f})",
+                                       k, p.fid, p.x, p.y,
+                                       s > 0 ? fmt::format("within {:g} m", s) : std::string("in its cell"),
+                                       geo.x0, geo.x0 + double(C) * h.dx, geo.y0 - double(R) * h.dy, geo.y0));
+    w.x = centre_x(w.col), w.y = centre_y(w.row), w.moved = best_d;
+    cells[k] = std::uint64_t(w.row) * C + w.col;
+    for (std::size_t j = 0; j < k; ++j)
+      if (cells[j] == cells[k])
+        throw terrain::Error(fmt::format("outlets {} and {} (features {} and {}) snap to the same cell (row {}, column "
+                                         "{}): give one of them, or a smaller --snap-distance",
+                                         j, k, points[j].fid, p.fid, w.row, w.col));
+  }
+  terrain::report(progress, 0.05);
+
+  // 2. The file's directions, window by window, then each cell's nearest outlet downstream.
+  terrain::BigVector<std::uint32_t> label;
+  {
+    D8Codes dirs(R * C);
+    const std::size_t band = band_rows(C);
+    for (std::size_t r0 = 0; r0 < R; r0 += band) {
+      const DrainageDb w = read_dv_window(dv_path, r0, 0, std::min(band, R - r0), C);
+      for (std::size_t i = 0; i < w.vertices.size(); ++i)
+        dirs[r0 * C + i] = PointClass(w.vertices[i].point_class) == PointClass::Nodata ? kNodata : w.vertices[i].d8;
+      terrain::report(progress, 0.05 + 0.3 * double(r0 + band) / double(R));
+    }
+    label = nearest_downstream_outlet(dirs, R, C, cells);
+    for (std::size_t k = 0; k < ws.size(); ++k) {
+      const std::uint8_t code = dirs[cells[k]];
+      if (code >= 8) continue;
+      const std::int64_t r = std::int64_t(ws[k].row) + kDRow[code], c = std::int64_t(ws[k].col) + kDCol[code];
+      if (r < 0 || c < 0 || r >= std::int64_t(R) || c >= std::int64_t(C)) continue;
+      const std::uint32_t d = label[std::size_t(r) * C + std::size_t(c)];
+      if (d != kNone) ws[k].downstream = d;
+    }
+  }
+  for (const std::uint32_t l : label)
+    if (l != kNone) ++ws[l].cells;
+  terrain::report(progress, 0.45);
+
+  // 3. The raster, then its polygons.
+  {
+    terrain::RasterWriter tif(tif_path, geo, R, C, terrain::RasterType::UInt32, double(kNone), provenance);
+    const std::size_t band = 256;
+    for (std::size_t r0 = 0; r0 < R; r0 += band) tif.write_rows(r0, std::min(band, R - r0), &label[r0 * C]);
+    tif.commit();
+  }
+  terrain::BigVector<std::uint32_t>().swap(label);  // freed before polygonize
+  const auto polygons = polygonize_ids(tif_path, terrain::sub_progress(progress, 0.55, 0.95));
+
+  Gpkg gpkg(gpkg_path, h.crs_wkt);
+  OGRLayer* outlets = gpkg.layer("outlets", wkbPoint,
+                                 {{"id", OFTInteger64}, {"fid_given", OFTInteger64}, {"given_x", OFTReal},
+                                  {"given_y", OFTReal}, {"moved_m", OFTReal}, {"accumulated", OFTInteger64},
+                                  {"cells", OFTInteger64}, {"area_m2", OFTReal}, {"downstream", OFTInteger64}});
+  OGRLayer* sheds = gpkg.layer("watersheds", wkbMultiPolygon,
+                               {{"id", OFTInteger64}, {"cells", OFTInteger64}, {"area_m2", OFTReal},
+                                {"outlet_x", OFTReal}, {"outlet_y", OFTReal}, {"downstream", OFTInteger64}});
+  gpkg.begin();
+  for (std::size_t k = 0; k < ws.size(); ++k) {
+    const Watershed& w = ws[k];
+    OGRFeature f(outlets->GetLayerDefn());
+    f.SetField("id", GIntBig(k));
+    f.SetField("fid_given", GIntBig(w.given.fid));
+    f.SetField("given_x", w.given.x);
+    f.SetField("given_y", w.given.y);
+    f.SetField("moved_m", w.moved);
+    f.SetField("accumulated", GIntBig(w.accumulated));
+    f.SetField("cells", GIntBig(w.cells));
+    f.SetField("area_m2", double(w.cells) * cell_area);
+    if (w.downstream >= 0) f.SetField("downstream", GIntBig(w.downstream));
+    OGRPoint pt(w.x, w.y);
+    f.SetGeometry(&pt);
+    gpkg.add(outlets, f);
+  }
+  for (const auto& [k, poly] : polygons) {
+    const Watershed& w = ws.at(k);
+    OGRFeature f(sheds->GetLayerDefn());
+    f.SetField("id", GIntBig(k));
+    f.SetField("cells", GIntBig(w.cells));
+    f.SetField("area_m2", double(w.cells) * cell_area);
+    f.SetField("outlet_x", w.x);
+    f.SetField("outlet_y", w.y);
+    if (w.downstream >= 0) f.SetField("downstream", GIntBig(w.downstream));
+    f.SetGeometry(poly.get());
+    gpkg.add(sheds, f);
+  }
+  gpkg.commit();
+  terrain::report(progress, 1.0);
+  return ws;
+}
+
+// ---- Branches, basins, divides -------------------------------------------------------------
+
+namespace {
+
+std::size_t write_branches(Gpkg& gpkg, OGRLayer* layer, const DrainageDb& db, int min_order) {
+  const DvHeader& h = db.header;
+  std::size_t written = 0;
+  for (const DvBranch& b : db.branches) {
+    if (b.order < min_order) continue;
+    OGRLineString line;
+    std::uint32_t max_flow = 0;
+    auto add = [&](std::uint32_t v) {
+      const DvVertex& p = db.vertices[v];
+      line.addPoint(h.origin_x + p.x, h.origin_y + p.y, h.origin_z + p.z, p.normalized);
+      max_flow = std::max(max_flow, p.accumulated);
+    };
+    for (std::uint32_t k = 0; k < b.count; ++k) add(db.branch_vertices[b.first + k]);
+    if (b.drains_into != kNone) add(b.drains_into);
+    if (line.getNumPoints() < 2) continue;  // a lone pit: no line
+    OGRFeature feature(layer->GetLayerDefn());
+    feature.SetField("order", GIntBig(b.order));
+    feature.SetField("basin", GIntBig(db.vertices[db.branch_vertices[b.first]].basin));
+    feature.SetField("max_flow", GIntBig(max_flow));
+    feature.SetField("vertices", GIntBig(line.getNumPoints()));
+    feature.SetGeometry(&line);
+    gpkg.add(layer, feature);
+    ++written;
+  }
+  return written;
+}
+
+OGRLayer* branches_layer(Gpkg& gpkg) {
+  return gpkg.layer("branches", wkbLineStringZM,
+                    {{"order", OFTInteger64}, {"basin", OFTInteger64}, {"max_flow", OFTInteger64}, {"vertices", OFTInteger64}});
+}
+
+}  // namespace
+
+std::size_t export_branches_gpkg(const DrainageDb& db, const std::string& path, int min_order) {
+  Gpkg gpkg(path, db.header.crs_wkt);
+  OGRLayer* layer = branches_layer(gpkg);
+  gpkg.begin();
+  const std::size_t n = write_branches(gpkg, layer, db, min_order);
+  gpkg.commit();
+  return n;
+}
+
+GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_path, const GpkgLayers& layers,
+                          const terrain::Progress& progress) {
+  const DvHeader h = read_dv_header(dv_path);
+  const std::size_t R = h.rows, C = h.cols;
+  if (h.basins > std::uint64_t(std::numeric_limits<std::int32_t>::max()))
+    throw terrain::Error("'" + dv_path + "' has more basins than GDAL's polygonize numbers (2^31)");
+  GpkgCounts counts;
+  Gpkg gpkg(out_path, h.crs_wkt);
+  OGRLayer* branches = layers.branches ? branches_layer(gpkg) : nullptr;
+  OGRLayer* basins = layers.basins ? gpkg.layer("basins", wkbMultiPolygon,
+                                                {{"id", OFTInteger64}, {"cells", OFTInteger64}, {"area_m2", OFTReal},
+                                                 {"outlet_x", OFTReal}, {"outlet_y", OFTReal}, {"outlet", OFTString},
+                                                 {"max_order", OFTInteger}})
+                                   : nullptr;
+  OGRLayer* divides = layers.divides ? gpkg.layer("divides", wkbMultiLineString,
+                                                  {{"basin_a", OFTInteger64}, {"basin_b", OFTInteger64},
+                                                   {"max_order", OFTInteger}, {"length_m", OFTReal}})
+                                     : nullptr;
+  gpkg.begin();
+  if (branches) counts.branches = write_branches(gpkg, branches, read_dv(dv_path), layers.min_order);
+  terrain::report(progress, 0.1);
+  if (!basins && !divides) {
+    gpkg.commit();
+    return counts;
+  }
+
+  // One pass over the file: the basin ids into a scratch GeoTIFF (for polygonize), each
+  // basin's outlet and cells, and the divide edges.
+  std::vector<BasinFacts> facts(h.basins);
+  std::vector<DivideEdge> edges;
+  terrain::ScratchDir scratch(out_path);
+  const std::string ids_tif = (scratch.path() / "basin.tif").string();
+  {
+    terrain::RasterWriter tif(ids_tif, dv_georef(h), R, C, terrain::RasterType::UInt32, double(kNone));
+    const std::size_t band = band_rows(C);
+    std::vector<std::uint32_t> ids;
+    for (std::size_t r0 = 0; r0 < R; r0 += band) {
+      const std::size_t n = std::min(band, R - r0);
+      const bool below = r0 + n < R;
+      const DrainageDb w = read_dv_window(dv_path, r0, 0, n + below, C);
+      ids.resize(w.vertices.size());
+      for (std::size_t i = 0; i < ids.size(); ++i) {
+        const DvVertex& v = w.vertices[i];
+        const bool valid = PointClass(v.point_class) != PointClass::Nodata;
+        ids[i] = valid ? v.basin : kNone;
+        if (!valid || i >= n * C) continue;
+        BasinFacts& b = facts.at(v.basin);
+        ++b.cells;
+        if (PointClass(v.point_class) == PointClass::Pit) {
+          b.has_outlet = true;
+          b.x = h.origin_x + double(i % C) * h.dx, b.y = h.origin_y - double(r0 + i / C) * h.dy;
+          b.edge = v.d8 != kNoFlow;
+          b.max_order = v.order;
+        }
+      }
+      tif.write_rows(r0, n, ids.data());
+      if (divides) add_divide_edges(ids.data(), r0, n, C, below, edges);
+      terrain::report(progress, 0.1 + 0.3 * double(r0 + n) / double(R));
+    }
+    tif.commit();
+  }
+  for (std::size_t b = 0; b < facts.size(); ++b)
+    if (!facts[b].has_outlet) throw terrain::Error(fmt::format("'{}': basin {} has no outlet (corrupt .dv)", dv_path, b));
+
+  const double cell_area = h.dx * h.dy;
+  if (basins) {
+    const auto polygons = polygonize_ids(ids_tif, terrain::sub_progress(progress, 0.4, 0.85));
+    for (const auto& [id, poly] : polygons) {
+      const BasinFacts& b = facts.at(id);
+      OGRFeature f(basins->GetLayerDefn());
+      f.SetField("id", GIntBig(id));
+      f.SetField("cells", GIntBig(b.cells));
+      f.SetField("area_m2", double(b.cells) * cell_area);
+      f.SetField("outlet_x", b.x);
+      f.SetField("outlet_y", b.y);
+      f.SetField("outlet", b.edge ? "edge" : "pit");
+      f.SetField("max_order", int(b.max_order));
+      f.SetGeometry(poly.get());
+      gpkg.add(basins, f);
+    }
+    counts.basins = polygons.size();
+  }
+  if (divides) {
+    std::sort(edges.begin(), edges.end(),
+              [](const DivideEdge& p, const DivideEdge& q) { return std::tie(p.a, p.b) < std::tie(q.a, q.b); });
+    const double x0 = h.origin_x - h.dx / 2, y0 = h.origin_y + h.dy / 2;
+    for (std::size_t i = 0; i < edges.size();) {
+      std::size_t j = i;
+      double length = 0;
+      while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) {
+        length += edges[j].to - edges[j].from == 1 ? h.dx : h.dy;
+        ++j;
+      }
+      const auto chains = chain_divide_edges({edges.begin() + std::ptrdiff_t(i), edges.begin() + std::ptrdiff_t(j)}, C);
+      OGRMultiLineString lines;
+      for (const auto& chain : chains) {
+        auto* line = new OGRLineString;
+        for (const std::uint64_t p : chain) line->addPoint(x0 + double(p % (C + 1)) * h.dx, y0 - double(p / (C + 1)) * h.dy);
+        lines.addGeometryDirectly(line);
+      }
+      const std::uint32_t a = edges[i].a, b = edges[i].b;
+      OGRFeature f(divides->GetLayerDefn());
+      f.SetField("basin_a", GIntBig(a));
+      f.SetField("basin_b", GIntBig(b));
+      f.SetField("max_order", int(std::max(facts[a].max_order, facts[b].max_order)));
+      f.SetField("length_m", length);
+      f.SetGeometry(&lines);
+      gpkg.add(divides, f);
+      ++counts.divides;
+      i = j;
+    }
+  }
+  gpkg.commit();
+  terrain::report(progress, 1.0);
+  return counts;
+}
+
+}  // namespace drainage
