@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <utility>
 
 #include <fmt/format.h>
@@ -298,6 +299,7 @@ std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::v
   auto centre_y = [&](std::size_t r) { return h.origin_y - double(r) * h.dy; };
   if (!(snap_distance >= 0)) throw terrain::Error("the snap distance must be 0 or more metres");
 
+  const terrain::GdalCacheLimit cache_limit;
   // 1. Snap: the highest accumulation within the distance (a window of the file around it).
   std::vector<Watershed> ws(points.size());
   std::vector<std::uint64_t> cells(points.size());
@@ -497,12 +499,14 @@ GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_pat
 
   // One pass over the file: the basin ids into a scratch GeoTIFF (for polygonize), each
   // basin's outlet and cells, and the divide edges.
+  const terrain::GdalCacheLimit cache_limit;
   std::vector<BasinFacts> facts(h.basins);
   std::vector<DivideEdge> edges;
   terrain::ScratchDir scratch(out_path);
   const std::string ids_tif = (scratch.path() / "basin.tif").string();
   {
-    terrain::RasterWriter tif(ids_tif, dv_georef(h), R, C, terrain::RasterType::UInt32, double(kNone));
+    std::optional<terrain::RasterWriter> tif;
+    if (basins) tif.emplace(ids_tif, dv_georef(h), R, C, terrain::RasterType::UInt32, double(kNone));
     const std::size_t band = band_rows(C);
     std::vector<std::uint32_t> ids;
     for (std::size_t r0 = 0; r0 < R; r0 += band) {
@@ -524,11 +528,11 @@ GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_pat
           b.max_order = v.order;
         }
       }
-      tif.write_rows(r0, n, ids.data());
+      if (tif) tif->write_rows(r0, n, ids.data());
       if (divides) add_divide_edges(ids.data(), r0, n, C, below, edges);
       terrain::report(progress, 0.1 + 0.3 * double(r0 + n) / double(R));
     }
-    tif.commit();
+    if (tif) tif->commit();
   }
   for (std::size_t b = 0; b < facts.size(); ++b)
     if (!facts[b].has_outlet) throw terrain::Error(fmt::format("'{}': basin {} has no outlet (corrupt .dv)", dv_path, b));

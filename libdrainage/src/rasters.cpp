@@ -66,13 +66,7 @@ std::size_t export_dv_rasters(const std::string& dv_path, const std::function<st
                               D8Encoding encoding, const std::string& provenance, std::size_t window_rows) {
   const DvHeader h = read_dv_header(dv_path);
   const std::size_t R = std::size_t(h.rows), C = std::size_t(h.cols);
-  // GDAL keeps written tiles in its block cache (by default 5 % of the memory): at most
-  // 128 MiB here, so that memory follows the window; restored on the way out.
-  struct CacheLimit {
-    GIntBig before = GDALGetCacheMax64();
-    CacheLimit() { GDALSetCacheMax64(std::min<GIntBig>(before, GIntBig(128) << 20)); }
-    ~CacheLimit() { GDALSetCacheMax64(before); }
-  } cache_limit;
+  const terrain::GdalCacheLimit cache_limit;  // memory follows the window
   const terrain::Georef geo = dv_georef(h);
   std::vector<std::unique_ptr<terrain::RasterWriter>> out;
   for (std::size_t k = 0; k < kLayers; ++k)

@@ -336,6 +336,11 @@ INSTANTIATE_TEST_SUITE_P(
         Row{bd + "IN/m.ply OUT/o.dv --breach -1", 2, "--breach"},
         Row{bd + "--raster IN/plane.tif OUT/o.dv --breach 5 --tile-size 64 -q", 1, "--breach runs untiled only"},
         Row{bd + "IN/m.ply OUT/o.dv --surface OUT/o.dv -q", 1, "two outputs are the same file"},
+        Row{bd + "IN/m.ply OUT/o.dv --snap-distance 10 -q", 1, "go with --outlets POINTS"},
+        Row{bd + "IN/m.ply OUT/o.dv --outlets IN/missing.gpkg -q", 1, "cannot read outlets from"},
+        Row{bd + "IN/m.ply OUT/o.dv --outlets IN/plane.tif -q", 1, "cannot read outlets from"},
+        Row{bd + "IN/m.ply OUT/o.dv --outlets IN/plane.tif --watersheds OUT/w.shp -q", 1, "must name a .gpkg"},
+        Row{bd + "IN/m.ply OUT/o.dv --outlets IN/plane.tif --snap-distance -5", 2, "--snap-distance"},
         // terrain-inspect
         Row{ti + "info IN/zero.dv", 1, "not a raster GDAL can open"},
         Row{ti + "info IN/flipped.dv", 1, "checksum mismatch"},
@@ -343,6 +348,7 @@ INSTANTIATE_TEST_SUITE_P(
         Row{ti + "preview IN/empty.tif -o OUT/p.png", 1, "not a raster GDAL can open"},
         Row{ti + "export IN/m.ply --to tif -o IN/m.ply", 1, "is the input"},
         Row{ti + "export IN/m.ply --to stl -o OUT/m.stl", 2, "--to"},
+        Row{ti + "export IN/m.dv --to gpkg --layers branches,rivers -o OUT/m.gpkg", 2, "--layers"},
         Row{ti + "preview IN/m.ply -o OUT/p.png --azimuth nan", 2, "not a finite number"},
         // denoise-normals
         Row{dn + "IN/m.ply OUT/d.ply --sigma-s -1", 2, "--sigma-s"},

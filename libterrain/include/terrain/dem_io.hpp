@@ -67,6 +67,19 @@ void write_raster(const std::string& path, const Georef& geo, std::size_t rows, 
 // The same GeoTIFF written window by window (rows of the full width at a time), for grids
 // that do not fit in memory: staged in a temporary file and renamed by commit(); destroyed
 // without commit(), nothing is left behind. Throws Error on failure.
+// While alive, GDAL's block cache (by default 5 % of the memory, where written tiles wait)
+// holds at most 128 MiB, so that a writer's memory follows its window; restored after.
+class GdalCacheLimit {
+ public:
+  GdalCacheLimit();
+  ~GdalCacheLimit();
+  GdalCacheLimit(const GdalCacheLimit&) = delete;
+  GdalCacheLimit& operator=(const GdalCacheLimit&) = delete;
+
+ private:
+  long long before_;
+};
+
 class RasterWriter {
  public:
   RasterWriter(const std::string& path, const Georef& geo, std::size_t rows, std::size_t cols, RasterType type,
