@@ -14,7 +14,7 @@
 #include "drainage/pipeline.hpp"
 #include "drainage/gis_layers.hpp"
 #include "drainage/rasters.hpp"
-#include "drainage/tiled.hpp"
+#include "drainage/tiled_pipeline.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/mesh_io.hpp"

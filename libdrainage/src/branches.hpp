@@ -92,12 +92,7 @@ void network_branches(std::size_t rows, std::size_t cols, Valid&& valid, Down&& 
       if (!valid(i)) continue;
       ++points;
       int same = 0;
-      for (int k = 0; k < 8; ++k) {
-        const long rr = r - kDRow[std::size_t(k)], cc = c - kDCol[std::size_t(k)];  // would flow in along k
-        if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;
-        const std::size_t j = std::size_t(rr * C + cc);
-        same += down(j) == i && order(j) == order(i);
-      }
+      Neighbours{R, C}.inflows(r, c, [&](std::size_t j, int) { same += down(j) == i && order(j) == order(i); });
       head[i] = same != 1;
     }
   branches_from_heads(rows, cols, points, head, down, order, emit, vertices);

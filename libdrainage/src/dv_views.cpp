@@ -62,12 +62,9 @@ DvSummary summarize_dv_file(const std::string& path) {
         const DvVertex& v = w.vertices[i];
         if (!count_point(s, v, h.valid, sum)) continue;
         int same = 0;  // a branch head: not exactly one inflow of its own order (network_branches, branches.hpp)
-        for (int k = 0; k < 8; ++k) {
-          const long rr = r - kDRow[std::size_t(k)], cc = c - kDCol[std::size_t(k)];
-          if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;
-          const DvVertex& u = w.vertices[std::size_t(rr * C + cc)];
-          same += u.downstream == i && u.order == v.order;
-        }
+        Neighbours{R, C}.inflows(r, c, [&](std::size_t j, int) {
+          same += w.vertices[j].downstream == i && w.vertices[j].order == v.order;
+        });
         if (same != 1) ++s.branches_per_order[v.order];
       }
   }

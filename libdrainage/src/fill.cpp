@@ -49,6 +49,7 @@ std::size_t priority_flood_fill(terrain::Grid& g) {
 
 BreachStats breach_depressions(terrain::Grid& g, double max_depth) {
   const long rows = long(g.rows), cols = long(g.cols);
+  const Neighbours nb{rows, cols};
   auto& z = g.z;
   const terrain::BigVector<float> original = z;
   terrain::BigVector<std::uint8_t> closed(g.size(), 0);
@@ -60,12 +61,9 @@ BreachStats breach_depressions(terrain::Grid& g, double max_depth) {
   while (!open.empty()) {
     const std::uint32_t i = open.top().i;
     open.pop();
-    const long r = long(i) / cols, c = long(i) % cols;
-    for (int k = 0; k < 8; ++k) {
-      const long rr = r + kDRow[std::size_t(k)], cc = c + kDCol[std::size_t(k)];
-      if (rr < 0 || cc < 0 || rr >= rows || cc >= cols) continue;
-      const std::uint32_t j = std::uint32_t(rr * cols + cc);
-      if (closed[j]) continue;
+    nb.each(i, [&](std::size_t jj, int) {
+      const std::uint32_t j = std::uint32_t(jj);
+      if (closed[j]) return;
       closed[j] = 1;
       from[j] = i;
       if (z[j] < z[i]) {
@@ -93,7 +91,7 @@ BreachStats breach_depressions(terrain::Grid& g, double max_depth) {
         }
       }
       open.push({z[j], j});
-    }
+    });
   }
   BreachStats st;
   for (std::size_t i = 0; i < z.size(); ++i) {

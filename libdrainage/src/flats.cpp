@@ -8,23 +8,6 @@
 
 namespace drainage {
 
-namespace {
-
-struct Neighbours {
-  long rows, cols;
-  // Calls f(j, k) for each in-grid neighbour j of i in direction k, in kTryOrder.
-  template <class F>
-  void each(std::uint32_t i, F&& f) const {
-    const long r = long(i) / cols, c = long(i) % cols;
-    for (int k : kTryOrder) {
-      const long rr = r + kDRow[std::size_t(k)], cc = c + kDCol[std::size_t(k)];
-      if (rr >= 0 && cc >= 0 && rr < rows && cc < cols) f(std::uint32_t(rr * cols + cc), k);
-    }
-  }
-};
-
-}  // namespace
-
 FlatStats resolve_flats(const terrain::Grid& g, D8Codes& dirs) {
   FlatStats stats;
   const std::size_t n = g.size();
@@ -53,7 +36,7 @@ FlatStats resolve_flats(const terrain::Grid& g, D8Codes& dirs) {
   for (std::uint32_t k = 0; k < n_flat; ++k) {
     const std::uint32_t i = cells[k];
     bool is_high = false;
-    nb.each(i, [&](std::uint32_t j, int) {
+    nb.each_in_try_order(i, [&](std::uint32_t j, int) {
       if (dirs[j] == kNodata) return;
       if (z[j] > z[i]) is_high = true;
       if (dirs[j] != kNoFlow && z[j] == z[i] && id.find(j) == id.end()) {
@@ -82,7 +65,7 @@ FlatStats resolve_flats(const terrain::Grid& g, D8Codes& dirs) {
     while (!stack.empty()) {
       const std::uint32_t k = stack.back();
       stack.pop_back();
-      nb.each(cells[k], [&](std::uint32_t j, int) {
+      nb.each_in_try_order(cells[k], [&](std::uint32_t j, int) {
         const std::uint32_t kj = id_of(j);  // no-flow cells and low edges
         if (kj != kNone && label[kj] == kNone && z[j] == z[cells[k]]) {
           label[kj] = lab;
@@ -121,7 +104,7 @@ FlatStats resolve_flats(const terrain::Grid& g, D8Codes& dirs) {
     following.clear();
     for (std::uint32_t k : frontier) {
       height[label[k]] = std::max(height[label[k]], level);
-      nb.each(cells[k], [&](std::uint32_t j, int) {
+      nb.each_in_try_order(cells[k], [&](std::uint32_t j, int) {
         const std::uint32_t kj = id_of(j);
         if (kj != kNone && is_flat(kj) && away[kj] == 0 && label[kj] == label[k]) {
           away[kj] = level + 1;
@@ -154,7 +137,7 @@ FlatStats resolve_flats(const terrain::Grid& g, D8Codes& dirs) {
   for (std::int32_t t = 1; !frontier.empty(); ++t) {
     following.clear();
     for (std::uint32_t k : frontier)
-      nb.each(cells[k], [&](std::uint32_t j, int) {
+      nb.each_in_try_order(cells[k], [&](std::uint32_t j, int) {
         const std::uint32_t kj = id_of(j);
         if (kj != kNone && is_flat(kj) && mask[kj] == 0 && label[kj] == label[k]) {
           mask[kj] = combined(kj, t + 1);
@@ -171,7 +154,7 @@ FlatStats resolve_flats(const terrain::Grid& g, D8Codes& dirs) {
     if (k == pit_of[label[k]]) continue;
     std::int32_t best = mask[k];
     int best_k = -1;
-    nb.each(cells[k], [&](std::uint32_t j, int dir) {
+    nb.each_in_try_order(cells[k], [&](std::uint32_t j, int dir) {
       const std::uint32_t kj = id_of(j);
       if (kj != kNone && label[kj] == label[k] && mask[kj] > 0 && mask[kj] < best) {
         best = mask[kj];

@@ -41,6 +41,7 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
   if (n >= std::size_t(kNone)) throw terrain::Error("analyze_network: more than 2^32 - 1 points");
   Network net;
   const long R = long(rows), C = long(cols);
+  const Neighbours nb{R, C};
 
   // Downstream links: in-grid, valid targets only.
   parallel_assign(net.downstream, n, kNone);
@@ -74,11 +75,9 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
         if (dirs[i] == kNodata) continue;
         ++points;
         std::uint8_t mask = 0, in = 0;
-        for (int k = 0; k < 8; ++k) {
-          const long rr = r - kDRow[k], cc = c - kDCol[k];
-          if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;
-          if (net.downstream[std::size_t(rr * C + cc)] == i) mask |= std::uint8_t(1u << k), ++in;
-        }
+        nb.inflows(r, c, [&](std::size_t j, int k) {
+          if (net.downstream[j] == i) mask |= std::uint8_t(1u << k), ++in;
+        });
         inflow[i] = mask;
         pending[i] = in;
         const PointClass cls = net.downstream[i] == kNone ? PointClass::Pit

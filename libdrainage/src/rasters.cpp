@@ -1,6 +1,7 @@
 #include "drainage/rasters.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iterator>
 #include <memory>
@@ -93,6 +94,40 @@ std::size_t export_dv_rasters(const std::string& dv_path, const std::function<st
   }
   for (const auto& layer : out) layer->commit();
   return R * C;
+}
+
+void check_same_grid(const terrain::Grid& a, const terrain::Grid& b, const std::string& an, const std::string& bn) {
+  const double tol = 1e-6 * std::max(a.geo.dx, a.geo.dy);
+  if (a.rows != b.rows || a.cols != b.cols || std::abs(a.geo.x0 - b.geo.x0) > tol ||
+      std::abs(a.geo.y0 - b.geo.y0) > tol || std::abs(a.geo.dx - b.geo.dx) > tol || std::abs(a.geo.dy - b.geo.dy) > tol)
+    throw terrain::Error(fmt::format("mismatched grids: '{}' is {} x {} at ({}, {}) step {}, '{}' is {} x {} at ({}, {}) "
+                                     "step {}",
+                                     an, a.cols, a.rows, a.geo.x0, a.geo.y0, a.geo.dx, bn, b.cols, b.rows, b.geo.x0,
+                                     b.geo.y0, b.geo.dx));
+}
+
+RasterInput read_raster_input(const std::string& dem_path, const std::string& d8_path, D8Encoding encoding) {
+  if (dem_path.empty() && d8_path.empty()) throw terrain::Error("raster mode needs a DEM or a D8 direction raster");
+  RasterInput in;
+  if (!dem_path.empty()) {
+    in.surface = terrain::read_dem(dem_path);
+    if (in.surface.count_nodata() == in.surface.size())
+      throw terrain::Error("'" + dem_path + "' has no valid sample (every cell is no-data)");
+    in.dv_flags |= kDvHasElevations;
+  }
+  if (d8_path.empty()) return in;
+  terrain::Grid dir_grid;
+  D8Codes dirs = read_d8_raster(d8_path, encoding, dir_grid);
+  if (!dem_path.empty()) {
+    check_same_grid(in.surface, dir_grid, dem_path, d8_path);
+    for (std::size_t i = 0; i < in.surface.size(); ++i)  // no elevation: not a point
+      if (std::isnan(in.surface.z[i])) dirs[i] = kNodata;
+  } else {
+    in.surface = std::move(dir_grid);
+    for (std::size_t i = 0; i < in.surface.size(); ++i) in.surface.z[i] = dirs[i] == kNodata ? NAN : 0.0f;
+  }
+  in.dirs = std::move(dirs);
+  return in;
 }
 
 D8Codes read_d8_raster(const std::string& path, D8Encoding encoding, terrain::Grid& grid) {

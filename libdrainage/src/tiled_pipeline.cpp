@@ -17,7 +17,7 @@
 #include "drainage/d8.hpp"
 #include "drainage/dv_file.hpp"
 #include "drainage/flats.hpp"
-#include "drainage/tiled.hpp"
+#include "drainage/tiled_pipeline.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/temp_files.hpp"
@@ -101,19 +101,16 @@ D8Codes window_codes(const SurfaceReader& surface, const terrain::RasterWindow& 
 // neighbours with a direction (low edges), joined into components through equal
 // elevations (8-connected). Returns each cell's component (kNone outside flats).
 std::vector<std::uint32_t> flat_components(const terrain::Grid& z, const D8Codes& raw, std::uint32_t& count) {
-  const long R = long(z.rows), C = long(z.cols);
+  const long C = long(z.cols);
+  const Neighbours nb{long(z.rows), C};
   const std::size_t n = z.size();
   auto involved = [&](long r, long c) {
     const std::size_t i = std::size_t(r * C + c);
     if (raw[i] == kNoFlow) return true;
     if (raw[i] == kNodata) return false;
-    for (int k = 0; k < 8; ++k) {
-      const long rr = r + kDRow[std::size_t(k)], cc = c + kDCol[std::size_t(k)];
-      if (rr >= 0 && cc >= 0 && rr < R && cc < C && raw[std::size_t(rr * C + cc)] == kNoFlow &&
-          z.z[std::size_t(rr * C + cc)] == z.z[i])
-        return true;
-    }
-    return false;
+    bool beside = false;  // beside a no-flow cell of its elevation
+    nb.each(r, c, [&](std::size_t j, int) { beside = beside || (raw[j] == kNoFlow && z.z[j] == z.z[i]); });
+    return beside;
   };
   std::vector<std::uint32_t> label(n, kNone);
   std::vector<std::uint32_t> stack;
@@ -127,15 +124,11 @@ std::vector<std::uint32_t> flat_components(const terrain::Grid& z, const D8Codes
     while (!stack.empty()) {
       const std::uint32_t i = stack.back();
       stack.pop_back();
-      const long r = long(i) / C, c = long(i) % C;
-      for (int k = 0; k < 8; ++k) {
-        const long rr = r + kDRow[std::size_t(k)], cc = c + kDCol[std::size_t(k)];
-        if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;
-        const std::size_t j = std::size_t(rr * C + cc);
-        if (label[j] != kNone || z.z[j] != z.z[i] || !involved(rr, cc)) continue;
+      nb.each(std::size_t(i), [&](std::size_t j, int) {
+        if (label[j] != kNone || z.z[j] != z.z[i] || !involved(long(j) / C, long(j) % C)) return;
         label[j] = count;
         stack.push_back(std::uint32_t(j));
-      }
+      });
     }
     ++count;
   }

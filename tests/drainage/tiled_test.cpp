@@ -11,6 +11,7 @@
 #include "drainage/network.hpp"
 #include "drainage/pipeline.hpp"
 #include "drainage/tiled.hpp"
+#include "drainage/tiled_pipeline.hpp"
 #include "drainage_test_support.hpp"
 #include "terrain/dem_io.hpp"
 #include "test_support.hpp"

@@ -54,6 +54,37 @@ int to_foreign_code(std::uint8_t code, D8Encoding enc);
 // neighbour get kNoFlow. Parallel over rows; the result does not depend on the threads.
 D8Codes d8_directions(const terrain::Grid& z);
 
+// The 8-neighbourhood of a rows x cols grid, the one loop over kDRow/kDCol: f(j, k) gets
+// the row-major index j of each in-grid neighbour and its direction code k.
+struct Neighbours {
+  long rows, cols;
+  // Each neighbour j of cell (r, c), lying in direction k from it, k = 0..7.
+  template <class F>
+  void each(long r, long c, F&& f) const {
+    for (int k = 0; k < 8; ++k) visit(r + kDRow[std::size_t(k)], c + kDCol[std::size_t(k)], k, f);
+  }
+  // The same in kTryOrder (where the first of equals wins).
+  template <class F>
+  void each_in_try_order(long r, long c, F&& f) const {
+    for (int k : kTryOrder) visit(r + kDRow[std::size_t(k)], c + kDCol[std::size_t(k)], k, f);
+  }
+  // Each neighbour j from which flow along code k enters (r, c): j = (r, c) - offset of k.
+  template <class F>
+  void inflows(long r, long c, F&& f) const {
+    for (int k = 0; k < 8; ++k) visit(r - kDRow[std::size_t(k)], c - kDCol[std::size_t(k)], k, f);
+  }
+  template <class F>
+  void each(std::size_t i, F&& f) const { each(long(i) / cols, long(i) % cols, f); }
+  template <class F>
+  void each_in_try_order(std::size_t i, F&& f) const { each_in_try_order(long(i) / cols, long(i) % cols, f); }
+
+ private:
+  template <class F>
+  void visit(long rr, long cc, int k, F& f) const {
+    if (rr >= 0 && cc >= 0 && rr < rows && cc < cols) f(std::size_t(rr * cols + cc), k);
+  }
+};
+
 // Index of the downstream sample of `i` under `code`, or kNone (kNoFlow, kOutlet, kNodata).
 inline std::uint32_t downstream(std::uint32_t i, std::uint8_t code, std::size_t cols) {
   if (code >= 8) return kNone;

@@ -69,12 +69,9 @@ std::size_t priority_flood(Z& z, long rows, long cols, const std::vector<std::ui
       i = open.top().i;
       open.pop();
     }
-    const long r = long(i) / cols, c = long(i) % cols;
-    for (int k = 0; k < 8; ++k) {
-      const long rr = r + kDRow[std::size_t(k)], cc = c + kDCol[std::size_t(k)];
-      if (rr < 0 || cc < 0 || rr >= rows || cc >= cols) continue;
-      const std::uint32_t j = std::uint32_t(rr * cols + cc);
-      if (!claim(i, j)) continue;
+    Neighbours{rows, cols}.each(i, [&](std::size_t jj, int) {
+      const std::uint32_t j = std::uint32_t(jj);
+      if (!claim(i, j)) return;
       if (z[j] <= z[i]) {
         if (z[j] < z[i]) ++raised;
         z[j] = z[i];
@@ -82,7 +79,7 @@ std::size_t priority_flood(Z& z, long rows, long cols, const std::vector<std::ui
       } else {
         open.push({z[j], j});
       }
-    }
+    });
   }
   return raised;
 }

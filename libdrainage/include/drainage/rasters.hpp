@@ -1,13 +1,33 @@
 #pragma once
-// GeoTIFF views of a drainage result, for QGIS and for checking against other tools.
+// Rasters in and out of a drainage run: raster mode's inputs, and GeoTIFF views of a drainage
+// result, for QGIS and for checking against other tools.
+#include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "drainage/d8.hpp"
-#include "drainage/pipeline.hpp"
+#include "drainage/drainage_result.hpp"
+#include "terrain/grid.hpp"
 
 namespace drainage {
+
+// The inputs of raster mode (build-drainage --raster DEM and/or --d8-input DIRS).
+struct RasterInput {
+  terrain::Grid surface;          // the DEM; with directions only, their grid with z = 0 (NaN at no-data)
+  std::optional<D8Codes> dirs;    // given directions (--d8-input), masked by the DEM's no-data
+  std::uint32_t dv_flags = 0;     // kDvHasElevations when a DEM was given
+};
+
+// Reads a DEM (any GDAL raster, projected or geographic: D8 then uses per-row metric cell
+// sizes), directions in `encoding`, or both. Errors (terrain::Error): neither given, a DEM
+// with no valid sample, a direction raster on a different grid than the DEM.
+RasterInput read_raster_input(const std::string& dem_path, const std::string& d8_path, D8Encoding encoding);
+
+// Throws terrain::Error naming both files when `a` and `b` differ in size, origin or step.
+void check_same_grid(const terrain::Grid& a, const terrain::Grid& b, const std::string& a_name,
+                     const std::string& b_name);
 
 // Writes into directory `dir` (which must exist): surface.tif (Float32), d8.tif (Int16, in
 // `encoding`; 0 = no in-grid direction, -32768 = no-data), accumulation.tif (UInt32 points),

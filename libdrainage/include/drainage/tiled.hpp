@@ -89,38 +89,4 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
                             const std::function<void(std::size_t, const NetworkTile&)>& done,
                             const TileComm& comm = single_process());
 
-// build-drainage --raster / --d8-input with --tile-size: the whole raster mode tile by
-// tile, from GDAL windows of the input to a .dv version 2 with one block per tile (so
-// that a window of it reads whole tiles). With `fill`, the filled surface is kept in a
-// temporary raw array in the run's private scratch folder, and with resolve_flats the
-// resolved codes in another (both removed at the end, on an error and on SIGINT/SIGTERM).
-// The defaults are DrainageOptions' (pipeline.hpp): flats resolved, no fill. A flat inside a tile is resolved with its tile; a flat
-// that crosses tile edges is joined across tiles and resolved in a window of its bounding
-// box (so a flat's bounding box must fit in memory). Each flat's directions depend on that
-// flat alone, so the result equals resolve_flats on the whole grid.
-struct TiledRun {
-  std::string dem, d8;                  // inputs: a DEM, or D8 codes in `encoding`, not both
-  D8Encoding encoding = D8Encoding::Taudem;
-  std::size_t tile = 0;                 // tile side in samples (>= 1, <= 16384)
-  bool fill = false, resolve_flats = true;
-  std::string provenance;
-};
-struct TiledSummary {
-  std::size_t rows = 0, cols = 0, tiles = 0, filled = 0;
-  double dx = 0, dy = 0;
-  NetworkTotals totals;
-};
-// The tile side for a raster mode run within `bytes` of memory: 0 (untiled) when the whole
-// grid fits at 40 bytes per point, else the largest multiple of 256 whose tiles fit at 100
-// bytes per tile point besides 64 MiB for the process and GDAL's cache (measured on Logan
-// 10 m: 163 MiB peak for tiles of 1024, 427 MiB for 2048); at least 256.
-std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes);
-
-// With several ranks (tile_comm.hpp, e.g. under mpirun) every rank calls it with the same
-// arguments; the ranks share the tiles, the temporary rasters (raw files next to the
-// output, so on a file system every rank sees) and the .dv, which rank 0 writes from the
-// blocks the others leave in per-rank temporary files. Every rank returns the summary.
-TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress = {},
-                                const TileComm& comm = single_process());
-
 }  // namespace drainage

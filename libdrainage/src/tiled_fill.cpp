@@ -1,0 +1,245 @@
+// Priority-Flood filling tile by tile (tiled.hpp; Barnes, Lehman & Mulla 2016).
+#include "drainage/tiled.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <unordered_map>
+#include <vector>
+
+#include "drainage/d8.hpp"
+#include "drainage/fill.hpp"
+#include "terrain/error.hpp"
+#include "tiled_internal.hpp"
+
+namespace drainage {
+
+using namespace tiled;
+
+terrain::RasterWindow TileGrid::window(std::size_t t) const {
+  const std::size_t tr = t / tile_cols(), tc = t % tile_cols();
+  terrain::RasterWindow w;
+  w.row0 = tr * side;
+  w.col0 = tc * side;
+  w.rows = std::min(side, rows - w.row0);
+  w.cols = std::min(side, cols - w.col0);
+  return w;
+}
+
+terrain::RasterWindow TileGrid::halo(const terrain::RasterWindow& w) const {
+  terrain::RasterWindow h = w;
+  if (h.row0 > 0) --h.row0, ++h.rows;
+  if (h.col0 > 0) --h.col0, ++h.cols;
+  h.rows = std::min(h.rows + 1, rows - h.row0);
+  h.cols = std::min(h.cols + 1, cols - h.col0);
+  return h;
+}
+
+namespace {
+
+// One tile, with the halo that tells which of its cells are the grid's own seeds.
+struct TileFlood {
+  std::size_t nr = 0, nc = 0;
+  std::vector<float> z;            // the tile's elevations, flooded from its perimeter
+  std::vector<float> original;     // as read
+  std::vector<std::uint32_t> label;  // kNone at no-data
+  terrain::Georef geo;             // the tile's
+};
+
+// Floods tile t: seeds are the grid's seeds (label kOutside) and the tile's perimeter
+// cells (label first_label + ring position). `edge(a, b, w)` gets each touching pair of
+// labels with the elevation at which they meet.
+template <class Edge>
+TileFlood flood_tile(const TileGrid& tiles, std::size_t t, const WindowReader& read, std::uint32_t first_label,
+                     Edge&& edge) {
+  const terrain::RasterWindow w = tiles.window(t);
+  const terrain::RasterWindow h = tiles.halo(w);
+  const terrain::Grid halo = read(h);
+  if (halo.rows != h.rows || halo.cols != h.cols) throw terrain::Error("tiled fill: the reader returned a wrong window");
+  const std::size_t dr = w.row0 - h.row0, dc = w.col0 - h.col0;
+
+  TileFlood f;
+  f.nr = w.rows, f.nc = w.cols;
+  f.geo = halo.geo.window(dr, dc);
+  const long nr = long(f.nr), nc = long(f.nc);
+  f.z.resize(f.nr * f.nc);
+  for (std::size_t r = 0; r < f.nr; ++r)
+    for (std::size_t c = 0; c < f.nc; ++c) f.z[r * f.nc + c] = halo.at(r + dr, c + dc);
+  f.original = f.z;
+  f.label.assign(f.z.size(), kNone);
+
+  std::vector<std::uint32_t> seeds;
+  for (long r = 0; r < nr; ++r)
+    for (long c = 0; c < nc; ++c) {
+      const std::size_t i = std::size_t(r * nc + c);
+      if (std::isnan(f.z[i])) continue;
+      const std::size_t gr = w.row0 + std::size_t(r), gc = w.col0 + std::size_t(c);
+      bool seed = gr == 0 || gc == 0 || gr + 1 == tiles.rows || gc + 1 == tiles.cols;
+      for (int k = 0; k < 8 && !seed; ++k)
+        seed = std::isnan(halo.at(std::size_t(long(r + long(dr)) + kDRow[k]), std::size_t(long(c + long(dc)) + kDCol[k])));
+      if (seed) {
+        f.label[i] = kOutside;
+      } else if (on_tile_edge(std::size_t(r), std::size_t(c), f.nr, f.nc)) {
+        f.label[i] = first_label + std::uint32_t(ring_position(std::size_t(r), std::size_t(c), f.nr, f.nc));
+      } else {
+        continue;
+      }
+      seeds.push_back(std::uint32_t(i));
+    }
+  priority_flood(f.z, nr, nc, seeds, [&](std::uint32_t i, std::uint32_t j) {
+    if (std::isnan(f.z[j])) return false;
+    if (f.label[j] != kNone) {  // taken: where two labels meet, record the elevation
+      if (f.label[j] != f.label[i]) edge(f.label[i], f.label[j], std::max(f.z[i], f.z[j]));
+      return false;
+    }
+    f.label[j] = f.label[i];
+    return true;
+  });
+  return f;
+}
+
+}  // namespace
+
+std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader& read,
+                                      const std::function<void(std::size_t, terrain::Grid&)>& done,
+                                      const TileComm& comm) {
+  if (tiles.side == 0 || tiles.rows == 0 || tiles.cols == 0) throw terrain::Error("tiled fill: empty grid or tile size 0");
+  const std::size_t nt = tiles.count();
+  // Labels: 0 = outside, then each tile's ring positions.
+  std::vector<std::uint32_t> first(nt);
+  std::uint64_t labels = 1;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const terrain::RasterWindow w = tiles.window(t);
+    first[t] = std::uint32_t(labels);
+    labels += ring_size(w.rows, w.cols);
+    if (labels >= kNone) throw terrain::Error("tiled fill: too many tiles (use a larger tile size)");
+  }
+  std::unordered_map<std::uint64_t, float> weight;  // lowest meeting elevation of two labels
+  auto edge = [&](std::uint32_t a, std::uint32_t b, float z) {
+    const std::uint64_t key = a < b ? (std::uint64_t(a) << 32 | b) : (std::uint64_t(b) << 32 | a);
+    const auto [it, fresh] = weight.emplace(key, z);
+    if (!fresh && z < it->second) it->second = z;
+  };
+
+  // Pass 1: labels and spill elevations inside tiles; the perimeter (label, elevation) of
+  // each tile, for the edges across tiles.
+  struct Ring {
+    std::size_t nr = 0, nc = 0;
+    std::vector<std::uint32_t> label;
+    std::vector<float> z;
+  };
+  std::vector<Ring> rings(nt);
+  Packer mine;  // this rank's tiles: their rings
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (!comm.owns(t)) continue;
+    const TileFlood f = flood_tile(tiles, t, read, first[t], edge);
+    Ring& ring = rings[t];
+    ring.nr = f.nr, ring.nc = f.nc;
+    ring.label.assign(ring_size(f.nr, f.nc), kNone);
+    ring.z.assign(ring.label.size(), NAN);
+    for (std::size_t r = 0; r < f.nr; ++r)
+      for (std::size_t c = 0; c < f.nc; ++c)
+        if (on_tile_edge(r, c, f.nr, f.nc)) {
+          const std::size_t p = ring_position(r, c, f.nr, f.nc);
+          ring.label[p] = f.label[r * f.nc + c];
+          ring.z[p] = f.original[r * f.nc + c];  // perimeter cells are seeds: never raised
+        }
+    if (comm.size() > 1) mine.put(std::uint64_t(t)).put_vector(ring.label).put_vector(ring.z);
+  }
+  if (comm.size() > 1) {  // every rank gets every ring and every spill edge
+    struct WeightEntry {
+      std::uint64_t key;
+      float z;
+    };
+    std::vector<WeightEntry> local;
+    local.reserve(weight.size());
+    for (const auto& [key, z] : weight) local.push_back({key, z});
+    mine.put(~std::uint64_t(0)).put_vector(local);
+    for (const std::string& bytes : comm.all_gather(mine.take())) {
+      Unpacker in(bytes);
+      for (auto t = in.get<std::uint64_t>(); t != ~std::uint64_t(0); t = in.get<std::uint64_t>()) {
+        if (t >= nt) throw terrain::Error("tiled fill: a rank sent a tile out of range");
+        const terrain::RasterWindow w = tiles.window(t);
+        Ring& ring = rings[t];
+        ring.nr = w.rows, ring.nc = w.cols;
+        ring.label = in.get_vector<std::uint32_t>();
+        ring.z = in.get_vector<float>();
+      }
+      for (const WeightEntry& e : in.get_vector<WeightEntry>()) edge(std::uint32_t(e.key >> 32), std::uint32_t(e.key), e.z);
+    }
+  }
+  // Edges across tile edges: each perimeter cell with its 8 neighbours in other tiles.
+  for (std::size_t t = 0; t < nt; ++t) {
+    const terrain::RasterWindow w = tiles.window(t);
+    const Ring& ring = rings[t];
+    for (std::size_t r = 0; r < w.rows; ++r)
+      for (std::size_t c = 0; c < w.cols; ++c) {
+        if (!on_tile_edge(r, c, w.rows, w.cols)) continue;
+        const std::size_t p = ring_position(r, c, w.rows, w.cols);
+        if (ring.label[p] == kNone) continue;
+        for (int k = 0; k < 8; ++k) {
+          const long gr = long(w.row0 + r) + kDRow[k], gc = long(w.col0 + c) + kDCol[k];
+          if (gr < 0 || gc < 0 || gr >= long(tiles.rows) || gc >= long(tiles.cols)) continue;
+          const std::size_t u = std::size_t(gr) / tiles.side * tiles.tile_cols() + std::size_t(gc) / tiles.side;
+          if (u == t) continue;
+          const terrain::RasterWindow wu = tiles.window(u);
+          const Ring& other = rings[u];
+          const std::size_t q = ring_position(std::size_t(gr) - wu.row0, std::size_t(gc) - wu.col0, wu.rows, wu.cols);
+          if (other.label[q] == kNone || other.label[q] == ring.label[p]) continue;
+          edge(ring.label[p], other.label[q], std::max(ring.z[p], other.z[q]));
+        }
+      }
+  }
+  std::vector<Ring>().swap(rings);
+
+  // The spill elevation of every label: minimax paths from the outside (Dijkstra with max).
+  std::vector<std::vector<std::pair<std::uint32_t, float>>> adjacent(labels);
+  for (const auto& [key, z] : weight) {
+    const std::uint32_t a = std::uint32_t(key >> 32), b = std::uint32_t(key);
+    adjacent[a].emplace_back(b, z);
+    adjacent[b].emplace_back(a, z);
+  }
+  decltype(weight)().swap(weight);
+  std::vector<float> spill(labels, std::numeric_limits<float>::infinity());
+  std::vector<std::uint8_t> settled(labels, 0);
+  using Entry = std::pair<float, std::uint32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  spill[kOutside] = -std::numeric_limits<float>::infinity();
+  queue.push({spill[kOutside], kOutside});
+  while (!queue.empty()) {
+    const auto [z, a] = queue.top();
+    queue.pop();
+    if (settled[a]) continue;
+    settled[a] = 1;
+    for (const auto& [b, w] : adjacent[a]) {
+      const float s = std::max(z, w);
+      if (s < spill[b]) {
+        spill[b] = s;
+        queue.push({s, b});
+      }
+    }
+  }
+  decltype(adjacent)().swap(adjacent);
+
+  // Pass 2: flood each tile again and raise it to its labels' spill elevations.
+  std::size_t raised = 0;
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (!comm.owns(t)) continue;
+    TileFlood f = flood_tile(tiles, t, read, first[t], [](std::uint32_t, std::uint32_t, float) {});
+    const terrain::RasterWindow w = tiles.window(t);
+    terrain::Grid out(w.rows, w.cols, f.geo, NAN);
+    for (std::size_t i = 0; i < f.z.size(); ++i) {
+      if (f.label[i] == kNone) continue;
+      const float s = spill[f.label[i]];
+      const float z = std::isfinite(s) ? std::max(f.z[i], s) : f.z[i];
+      raised += z > f.original[i];
+      out.z[i] = z;
+    }
+    done(t, out);
+  }
+  return sum_over_ranks(comm, raised);
+}
+
+}  // namespace drainage
