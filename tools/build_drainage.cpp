@@ -110,7 +110,8 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
       ->check(CLI::Range(1, 16384));
   app.add_option("--memory", memory_mib,
                  "Raster mode within about this much memory (MiB): untiled when the grid fits (40 bytes per\n"
-                 "point), else tiled with the largest tiles that fit (100 bytes per tile point + 64 MiB)")
+                 "point), else tiled with the largest tiles that fit (100 bytes per tile point per thread +\n"
+                 "64 MiB)")
       ->check(CLI::Range(64.0, 1e9))
       ->excludes("--tile-size");
   app.add_option("--threads", threads, "Threads (default: all cores); the output does not depend on it")
@@ -177,7 +178,7 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
     if (memory_mib > 0) {
       if (!raster_mode) throw terrain::Error("--memory applies to --raster and --d8-input runs");
       tile_size = drainage::tile_size_for_memory(terrain::read_dem_info(raster.empty() ? d8_input : raster),
-                                                 memory_mib * 1024.0 * 1024.0);
+                                                 memory_mib * 1024.0 * 1024.0, omp_get_max_threads());
       if (tile_size > 0) tt::step(verb, fmt::format("--memory {:.0f} MiB: tiles of {} x {}", memory_mib, tile_size, tile_size));
     }
     if (comm.size() > 1) {
@@ -198,6 +199,7 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
       run.provenance = tt::provenance(argc, argv);
       const drainage::TiledSummary r =
           drainage::run_tiled_drainage(run, output, tt::terminal_progress(verb, "tiles"), comm);
+      for (const auto& [name, secs] : r.timings) tt::step(verb, fmt::format("  {}: {:.3f} s", name, secs));
       tt::step(verb, fmt::format("tiled run ({} tiles, {} process{}): {:.2f} s, peak RSS {:.0f} MiB (rank 0)", r.tiles,
                                  comm.size(), comm.size() > 1 ? "es" : "",
                                  std::chrono::duration<double>(clock::now() - t0).count(), tt::peak_rss_mib()));

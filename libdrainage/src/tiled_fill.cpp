@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <queue>
 #include <unordered_map>
@@ -12,6 +14,7 @@
 #include "drainage/d8.hpp"
 #include "drainage/fill.hpp"
 #include "terrain/error.hpp"
+#include "terrain/temp_files.hpp"
 #include "tiled_internal.hpp"
 
 namespace drainage {
@@ -100,11 +103,83 @@ TileFlood flood_tile(const TileGrid& tiles, std::size_t t, const WindowReader& r
   return f;
 }
 
+// Pass 1's tiles on disk for pass 2: each tile's flooded elevations, labels and original
+// elevations (those only where the flood raised a cell; else they are the flooded ones),
+// appended in the order put, found by offset. No file when the path is empty.
+class TileCache {
+ public:
+  explicit TileCache(const std::string& path) : path_(path) {
+    if (path.empty()) return;
+    registration_ = terrain::TempRegistration(path);
+    file_.open(path, std::ios::in | std::ios::out | std::ios::trunc | std::ios::binary);
+    if (!file_) throw terrain::Error("cannot create the temporary file '" + path + "'");
+  }
+  ~TileCache() {
+    if (path_.empty()) return;
+    file_.close();
+    std::error_code ec;
+    std::filesystem::remove(path_, ec);
+  }
+  explicit operator bool() const { return !path_.empty(); }
+  void put(std::size_t t, const TileFlood& f) {
+    if (path_.empty()) return;
+    Entry& e = entries_[t];
+    e.offset = end_, e.nr = f.nr, e.nc = f.nc, e.geo = f.geo;
+    std::vector<std::uint32_t> raised;  // cells the flood raised, with their elevation as read
+    std::vector<float> before;
+    for (std::size_t i = 0; i < f.z.size(); ++i)
+      if (f.z[i] != f.original[i] && !std::isnan(f.z[i])) raised.push_back(std::uint32_t(i)), before.push_back(f.original[i]);
+    e.raised = raised.size();
+    write(f.z.data(), f.z.size() * sizeof(float));
+    write(f.label.data(), f.label.size() * sizeof(std::uint32_t));
+    write(raised.data(), raised.size() * sizeof(std::uint32_t));
+    write(before.data(), before.size() * sizeof(float));
+  }
+  TileFlood get(std::size_t t) {
+    const Entry& e = entries_.at(t);
+    TileFlood f;
+    f.nr = e.nr, f.nc = e.nc, f.geo = e.geo;
+    const std::size_t n = e.nr * e.nc;
+    f.z.resize(n), f.label.resize(n);
+    std::vector<std::uint32_t> raised(e.raised);
+    std::vector<float> before(e.raised);
+    file_.seekg(std::streamoff(e.offset));
+    read(f.z.data(), n * sizeof(float));
+    read(f.label.data(), n * sizeof(std::uint32_t));
+    read(raised.data(), raised.size() * sizeof(std::uint32_t));
+    read(before.data(), before.size() * sizeof(float));
+    f.original = f.z;
+    for (std::size_t k = 0; k < raised.size(); ++k) f.original[raised[k]] = before[k];
+    return f;
+  }
+
+ private:
+  struct Entry {
+    std::uint64_t offset = 0;
+    std::size_t nr = 0, nc = 0, raised = 0;
+    terrain::Georef geo;
+  };
+  void write(const void* p, std::size_t n) {
+    file_.write(static_cast<const char*>(p), std::streamsize(n));
+    if (!file_) throw terrain::Error("cannot write the temporary file '" + path_ + "' (disk full?)");
+    end_ += n;
+  }
+  void read(void* p, std::size_t n) {
+    file_.read(static_cast<char*>(p), std::streamsize(n));
+    if (!file_) throw terrain::Error("cannot read the temporary file '" + path_ + "'");
+  }
+  std::string path_;
+  terrain::TempRegistration registration_;
+  std::fstream file_;
+  std::unordered_map<std::size_t, Entry> entries_;
+  std::uint64_t end_ = 0;
+};
+
 }  // namespace
 
 std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader& read,
                                       const std::function<void(std::size_t, terrain::Grid&)>& done,
-                                      const TileComm& comm) {
+                                      const TileComm& comm, const std::string& cache_path) {
   if (tiles.side == 0 || tiles.rows == 0 || tiles.cols == 0) throw terrain::Error("tiled fill: empty grid or tile size 0");
   const std::size_t nt = tiles.count();
   // Labels: 0 = outside, then each tile's ring positions.
@@ -132,22 +207,41 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
   };
   std::vector<Ring> rings(nt);
   Packer mine;  // this rank's tiles: their rings
-  for (std::size_t t = 0; t < nt; ++t) {
-    if (!comm.owns(t)) continue;
-    const TileFlood f = flood_tile(tiles, t, read, first[t], edge);
-    Ring& ring = rings[t];
-    ring.nr = f.nr, ring.nc = f.nc;
-    ring.label.assign(ring_size(f.nr, f.nc), kNone);
-    ring.z.assign(ring.label.size(), NAN);
-    for (std::size_t r = 0; r < f.nr; ++r)
-      for (std::size_t c = 0; c < f.nc; ++c)
-        if (on_tile_edge(r, c, f.nr, f.nc)) {
-          const std::size_t p = ring_position(r, c, f.nr, f.nc);
-          ring.label[p] = f.label[r * f.nc + c];
-          ring.z[p] = f.original[r * f.nc + c];  // perimeter cells are seeds: never raised
-        }
-    if (comm.size() > 1) mine.put(std::uint64_t(t)).put_vector(ring.label).put_vector(ring.z);
-  }
+  TileCache cache(cache_path);
+  struct Flooded {
+    TileFlood f;
+    std::vector<std::pair<std::uint64_t, float>> edges;  // the tile's own, each pair once
+  };
+  for_each_tile(
+      comm, nt,
+      [&](std::size_t t) {  // on the tile's thread: the edges into a map of its own
+        std::unordered_map<std::uint64_t, float> own;
+        Flooded x;
+        x.f = flood_tile(tiles, t, read, first[t], [&](std::uint32_t a, std::uint32_t b, float z) {
+          const std::uint64_t key = a < b ? (std::uint64_t(a) << 32 | b) : (std::uint64_t(b) << 32 | a);
+          const auto [it, fresh] = own.emplace(key, z);
+          if (!fresh && z < it->second) it->second = z;
+        });
+        x.edges.assign(own.begin(), own.end());
+        return x;
+      },
+      [&](std::size_t t, Flooded&& x) {
+        const TileFlood& f = x.f;
+        for (const auto& [key, z] : x.edges) edge(std::uint32_t(key >> 32), std::uint32_t(key), z);
+        cache.put(t, f);
+        Ring& ring = rings[t];
+        ring.nr = f.nr, ring.nc = f.nc;
+        ring.label.assign(ring_size(f.nr, f.nc), kNone);
+        ring.z.assign(ring.label.size(), NAN);
+        for (std::size_t r = 0; r < f.nr; ++r)
+          for (std::size_t c = 0; c < f.nc; ++c)
+            if (on_tile_edge(r, c, f.nr, f.nc)) {
+              const std::size_t p = ring_position(r, c, f.nr, f.nc);
+              ring.label[p] = f.label[r * f.nc + c];
+              ring.z[p] = f.original[r * f.nc + c];  // perimeter cells are seeds: never raised
+            }
+        if (comm.size() > 1) mine.put(std::uint64_t(t)).put_vector(ring.label).put_vector(ring.z);
+      });
   if (comm.size() > 1) {  // every rank gets every ring and every spill edge
     struct WeightEntry {
       std::uint64_t key;
@@ -225,20 +319,32 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
 
   // Pass 2: flood each tile again and raise it to its labels' spill elevations.
   std::size_t raised = 0;
-  for (std::size_t t = 0; t < nt; ++t) {
-    if (!comm.owns(t)) continue;
-    TileFlood f = flood_tile(tiles, t, read, first[t], [](std::uint32_t, std::uint32_t, float) {});
-    const terrain::RasterWindow w = tiles.window(t);
-    terrain::Grid out(w.rows, w.cols, f.geo, NAN);
-    for (std::size_t i = 0; i < f.z.size(); ++i) {
-      if (f.label[i] == kNone) continue;
-      const float s = spill[f.label[i]];
-      const float z = std::isfinite(s) ? std::max(f.z[i], s) : f.z[i];
-      raised += z > f.original[i];
-      out.z[i] = z;
-    }
-    done(t, out);
-  }
+  using Filled = std::pair<terrain::Grid, std::size_t>;  // a tile's elevations, how many raised
+  for_each_tile(
+      comm, nt,
+      [&](std::size_t t) {
+        TileFlood f;
+        if (cache) {
+#pragma omp critical(tiled_fill_cache)
+          f = cache.get(t);
+        } else {
+          f = flood_tile(tiles, t, read, first[t], [](std::uint32_t, std::uint32_t, float) {});
+        }
+        const terrain::RasterWindow w = tiles.window(t);
+        Filled out{terrain::Grid(w.rows, w.cols, f.geo, NAN), 0};
+        for (std::size_t i = 0; i < f.z.size(); ++i) {
+          if (f.label[i] == kNone) continue;
+          const float s = spill[f.label[i]];
+          const float z = std::isfinite(s) ? std::max(f.z[i], s) : f.z[i];
+          out.second += z > f.original[i];
+          out.first.z[i] = z;
+        }
+        return out;
+      },
+      [&](std::size_t t, Filled&& out) {
+        raised += out.second;
+        done(t, out.first);
+      });
   return sum_over_ranks(comm, raised);
 }
 

@@ -1,10 +1,18 @@
 #pragma once
 // Helpers shared by the tiled fill (tiled_fill.cpp) and the tiled network
 // (tiled_network.cpp). Not installed.
+#include <omp.h>
+
+#include <condition_variable>
 #include <cstdint>
+#include <exception>
+#include <mutex>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "drainage/tile_comm.hpp"
+#include "terrain/error.hpp"
 
 namespace drainage::tiled {
 
@@ -26,5 +34,77 @@ inline std::size_t ring_position(std::size_t r, std::size_t c, std::size_t nr, s
   return 2 * nc + nr + (r - 1);
 }
 inline std::size_t ring_size(std::size_t nr, std::size_t nc) { return 2 * nc + 2 * nr; }
+
+// This rank's tiles on all threads: `work(t)` for each tile, on whichever thread is free
+// (tiles differ in work), then `take(t, result)` for each in tile order, one at a time, by
+// the thread that completes the run of tiles ready in order. A thread starts a tile only
+// while fewer than two results per thread wait to be taken (tiles differ in size: a
+// thread that finished a small tile goes on while a large one is worked on). Memory: a
+// tile worked on per thread, and up to two results per thread. The first exception is rethrown after the loop (the remaining tiles are
+// skipped). `work` must only read shared state (or lock); `take` may write it.
+// Deterministic: `take` sees the tiles in order whatever the number of threads.
+template <class Work, class Take>
+void for_each_tile(const TileComm& comm, std::size_t nt, Work&& work, Take&& take) {
+  std::vector<std::size_t> mine;
+  for (std::size_t t = 0; t < nt; ++t)
+    if (comm.owns(t)) mine.push_back(t);
+  using Result = decltype(work(std::size_t(0)));
+  const std::size_t m = mine.size(), window = 2 * std::size_t(omp_get_max_threads());
+  std::vector<std::optional<Result>> ready(m);
+  std::mutex mu;
+  std::condition_variable cv;
+  std::size_t next_work = 0, next_take = 0;
+  bool taking = false;
+  std::exception_ptr error;
+  auto fail = [&](std::unique_lock<std::mutex>& lock) {  // with `lock` held
+    if (!error) error = std::current_exception();
+    cv.notify_all();
+    (void)lock;
+  };
+#pragma omp parallel
+  {
+    for (;;) {
+      std::unique_lock<std::mutex> lock(mu);
+      cv.wait(lock, [&] { return error || next_work >= m || next_work < next_take + window; });
+      if (error || next_work >= m) break;
+      const std::size_t k = next_work++;
+      lock.unlock();
+      std::optional<Result> result;
+      try {
+        result.emplace(work(mine[k]));
+      } catch (...) {
+        lock.lock();
+        fail(lock);
+        break;
+      }
+      lock.lock();
+      ready[k] = std::move(result);
+      if (taking) continue;  // the thread taking will find it
+      taking = true;
+      while (!error && next_take < m && ready[next_take]) {
+        Result r = std::move(*ready[next_take]);
+        ready[next_take].reset();
+        const std::size_t kk = next_take;
+        lock.unlock();
+        bool ok = true;
+        try {
+          take(mine[kk], std::move(r));
+        } catch (...) {
+          ok = false;
+          lock.lock();
+          fail(lock);
+        }
+        if (!ok) break;
+        lock.lock();
+        ++next_take;
+        cv.notify_all();
+      }
+      taking = false;
+      if (error) break;
+    }
+  }
+  if (error) std::rethrow_exception(error);
+  if (next_take != m) throw terrain::Error("tiled run: a tile was not completed");
+}
 
 }  // namespace drainage::tiled

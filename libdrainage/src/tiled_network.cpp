@@ -76,8 +76,10 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
       L.dirs[i] = d;
       if (d == kNodata) continue;
       L.acc[i] = 1;
-      // Entered from outside the tile: a halo neighbour whose direction points here.
-      for (int q = 0; q < 8; ++q) {
+      // Entered from outside the tile: a halo neighbour whose direction points here (only
+      // cells on the tile's edge have neighbours outside it).
+      const bool edge = r == 0 || c == 0 || r == nr - 1 || c == nc - 1;
+      for (int q = 0; q < 8 && edge; ++q) {
         const long rr = r - kDRow[std::size_t(q)], cc = c - kDCol[std::size_t(q)];  // flows in along q
         if (rr >= 0 && cc >= 0 && rr < nr && cc < nc) continue;
         const long hr = rr + dr, hc = cc + dc;
@@ -103,7 +105,10 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
         ++indeg[L.down[i]];
       }
     }
-  // Kahn within the tile, chain by chain as analyze_network walks.
+  // Kahn within the tile, chain by chain as analyze_network walks; a cell is complete when
+  // its walk reaches it (every inflow delivered): then whether it is influenced (downstream
+  // of an entry), its local accumulation and order, passed on downstream.
+  std::vector<std::uint8_t> inflows_influenced(n, 0);
   L.topo.reserve(n);
   for (std::size_t src = 0; src < n; ++src) {
     if (L.dirs[src] == kNodata || indeg[src] != 0) continue;
@@ -111,28 +116,23 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
     while (true) {
       L.topo.push_back(i);
       indeg[i] = 0xFF;
+      if (L.entry[i]) L.influenced[i] = 1;
+      if (!L.influenced[i]) L.order[i] = strahler(L.m[i], L.k[i]);
       const std::uint32_t d = L.down[i];
-      if (d == kNone || --indeg[d] != 0) break;
+      if (d == kNone) break;
+      if (L.influenced[i]) {
+        L.influenced[d] = 1;
+        ++inflows_influenced[d];
+      } else {
+        L.acc[d] += L.acc[i];
+        add_inflow(L.m[d], L.k[d], L.order[i]);
+      }
+      if (--indeg[d] != 0) break;
       i = d;
     }
   }
   if (L.topo.size() != std::size_t(std::count_if(L.dirs.begin(), L.dirs.end(), [](std::uint8_t d) { return d != kNodata; })))
     throw terrain::Error("the D8 directions contain a cycle (in tile " + std::to_string(t) + ")");
-  // Influenced cells (downstream of an entry), local accumulation and orders.
-  std::vector<std::uint8_t> inflows_influenced(n, 0);
-  for (const std::uint32_t i : L.topo) {
-    if (L.entry[i]) L.influenced[i] = 1;
-    const std::uint32_t d = L.down[i];
-    if (!L.influenced[i]) L.order[i] = strahler(L.m[i], L.k[i]);
-    if (d == kNone) continue;
-    if (L.influenced[i]) {
-      L.influenced[d] = 1;
-      ++inflows_influenced[d];
-    } else {
-      L.acc[d] += L.acc[i];
-      add_inflow(L.m[d], L.k[d], L.order[i]);
-    }
-  }
   for (std::size_t i = 0; i < n; ++i)
     L.node[i] = L.dirs[i] != kNodata &&
                 (L.leaves[i] || (L.influenced[i] && (L.entry[i] || L.pit[i] || inflows_influenced[i] >= 2)));
@@ -206,7 +206,8 @@ TileNodes tile_nodes(const TileGrid& tiles, std::size_t t, const CodeReader& rea
 }  // namespace
 
 NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
-                            const std::function<void(std::size_t, const NetworkTile&)>& done, const TileComm& comm) {
+                            const std::function<void(std::size_t, const NetworkTile&)>& done, const TileComm& comm,
+                            const std::function<void(std::size_t, NetworkTile&)>& prepare) {
   if (tiles.side == 0 || tiles.rows == 0 || tiles.cols == 0) throw terrain::Error("tiled network: empty grid or tile size 0");
   if (tiles.rows * tiles.cols >= kNone) throw terrain::Error("tiled network: more than 2^32 - 1 points");
   const std::size_t nt = tiles.count(), ntc = tiles.tile_cols();
@@ -215,13 +216,13 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
   // rank joins them in tile order.
   std::vector<TileNodes> per_tile(nt);
   Packer mine;
-  for (std::size_t t = 0; t < nt; ++t) {
-    if (!comm.owns(t)) continue;
-    per_tile[t] = tile_nodes(tiles, t, read);
-    const TileNodes& T = per_tile[t];
-    if (comm.size() > 1)
-      mine.put(std::uint64_t(t)).put_vector(T.nodes).put_vector(T.pits_in_row).put_vector(T.leave_node).put_vector(T.leave_target);
-  }
+  for_each_tile(
+      comm, nt, [&](std::size_t t) { return tile_nodes(tiles, t, read); },
+      [&](std::size_t t, TileNodes&& T) {
+        if (comm.size() > 1)
+          mine.put(std::uint64_t(t)).put_vector(T.nodes).put_vector(T.pits_in_row).put_vector(T.leave_node).put_vector(T.leave_target);
+        per_tile[t] = std::move(T);
+      });
   if (comm.size() > 1)
     for (const std::string& bytes : comm.all_gather(mine.take())) {
       Unpacker in(bytes);
@@ -312,11 +313,17 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
     std::uint64_t target = ~std::uint64_t(0);  // where a leaving cell flows
   };
   std::vector<std::vector<RingCell>> rings(nt);
-  for (std::size_t t = 0; t < nt; ++t) {
-    if (!comm.owns(t)) continue;
+  struct Done {  // one tile, complete, and what it adds to the totals
+    NetworkTile out;
+    std::uint64_t points = 0, branches = 0;
+    std::vector<std::array<std::uint32_t, 3>> pits;  // basin, pit cell, its accumulation
+    std::vector<RingCell> ring;
+  };
+  auto complete = [&](std::size_t t) {
+    Done d;
     LocalNetwork L = local_network(tiles, t, read);
     const std::size_t n = L.nr * L.nc, tc = t % ntc;
-    NetworkTile out;
+    NetworkTile& out = d.out;
     out.window = L.w;
     out.accumulated.assign(n, 0);
     out.basin.assign(n, kNone);
@@ -327,7 +334,7 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
       if (L.node[i]) id[i] = next_id++;
     for (std::size_t i = 0; i < n; ++i) {
       if (L.dirs[i] == kNodata) continue;
-      totals.points += 1;
+      d.points += 1;
       if (id[i] != kNone) {
         out.accumulated[i] = A[id[i]], out.order[i] = O[id[i]];
       } else if (!L.influenced[i]) {
@@ -351,8 +358,7 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
         const std::size_t r = i / L.nc, gr = L.w.row0 + r;
         const std::uint64_t b = pit_base[gr * ntc + tc] + rank_in_row[r]++;
         out.basin[i] = std::uint32_t(b);
-        totals.pits[b] = std::uint32_t(gr * tiles.cols + L.w.col0 + i % L.nc);
-        totals.pit_accumulated[b] = out.accumulated[i];
+        d.pits.push_back({std::uint32_t(b), std::uint32_t(gr * tiles.cols + L.w.col0 + i % L.nc), out.accumulated[i]});
       }
     for (auto it = L.topo.rbegin(); it != L.topo.rend(); ++it) {
       const std::uint32_t i = *it;
@@ -362,28 +368,38 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
     // Branch heads (a point heads a branch unless exactly one inflow has its order):
     // inflows from inside the tile now, from other tiles through the rings below.
     const long nr = long(L.nr), nc = long(L.nc);
-    std::vector<RingCell>& ring = rings[t];
+    std::vector<RingCell>& ring = d.ring;
     ring.assign(ring_size(L.nr, L.nc), RingCell{});
     std::size_t leaving = 0;
+    std::vector<std::uint8_t> same_order(n, 0);  // inflows of a cell's own order (at most 8)
+    for (std::size_t j = 0; j < n; ++j)
+      if (L.down[j] != kNone && out.order[j] == out.order[L.down[j]]) ++same_order[L.down[j]];
     for (long r = 0; r < nr; ++r)
       for (long c = 0; c < nc; ++c) {
         const std::size_t i = std::size_t(r * nc + c);
         const std::uint64_t target = L.leaves[i] ? L.target[leaving++] : ~std::uint64_t(0);
         if (L.dirs[i] == kNodata) continue;
-        int same = 0;
-        Neighbours{nr, nc}.inflows(r, c, [&](std::size_t j, int) {
-          same += L.down[j] == i && out.order[j] == out.order[i];
-        });
+        const int same = same_order[i];
         if (on_tile_edge(std::size_t(r), std::size_t(c), L.nr, L.nc))
           ring[ring_position(std::size_t(r), std::size_t(c), L.nr, L.nc)] =
               RingCell{out.order[i], std::uint8_t(same), 1, target};
         else
-          totals.branches += same != 1;
+          d.branches += same != 1;
       }
     out.dirs = std::move(L.dirs);
     out.cut = std::move(L.cut);
-    done(t, out);
-  }
+    if (prepare) {  // then only what it made waits for `done`
+      prepare(t, out);
+      out.dirs = {}, out.cut = {}, out.accumulated = {}, out.basin = {}, out.order = {};
+    }
+    return d;
+  };
+  for_each_tile(comm, nt, complete, [&](std::size_t t, Done&& d) {
+    totals.points += d.points, totals.branches += d.branches;
+    for (const auto& [b, pit, acc] : d.pits) totals.pits[b] = pit, totals.pit_accumulated[b] = acc;
+    rings[t] = std::move(d.ring);
+    done(t, d.out);
+  });
   if (comm.size() > 1) {  // every rank gets every ring, pit and count
     struct PitEntry {
       std::uint32_t basin, pit, accumulated;

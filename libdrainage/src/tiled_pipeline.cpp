@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -21,6 +22,7 @@
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/temp_files.hpp"
+#include "tiled_internal.hpp"
 
 namespace drainage {
 
@@ -177,46 +179,60 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
   std::vector<CellPiece> ring;       // members on their tile's ring
   std::vector<CellPiece> contacts;   // members outside the tile
   const std::size_t C = tiles.cols;
-  for (std::size_t t = 0; t < tiles.count(); ++t) {
-    if (!comm.owns(t)) continue;
+  struct TilePieces {  // one tile's codes and its crossing flats, pieces numbered from 0
+    D8Codes codes;
+    std::vector<Box> boxes;
+    std::vector<std::uint64_t> seeds;
+    std::vector<CellPiece> ring, contacts;
+  };
+  auto pieces = [&](std::size_t t) {
     // Two samples of halo: whether a cell one sample outside the tile is a low edge
     // depends on its own neighbours.
     const terrain::RasterWindow w = tiles.window(t), h = tiles.halo(tiles.halo(w));
-    const auto [raw, resolved, comp, count] = window_flats(surface, h, tiles);
-    std::vector<std::uint32_t> crossing(count, kNone);
+    const WindowFlats f = window_flats(surface, h, tiles);
+    TilePieces p;
+    std::vector<std::uint32_t> crossing(f.count, kNone);
     auto inside = [&](std::size_t gr, std::size_t gc) {
       return gr >= w.row0 && gr < w.row0 + w.rows && gc >= w.col0 && gc < w.col0 + w.cols;
     };
-    std::vector<std::uint8_t> where(count, 0);  // bit 1: a member inside the tile, bit 2: outside
-    for (std::size_t i = 0; i < comp.size(); ++i)
-      if (comp[i] != kNone) where[comp[i]] |= inside(h.row0 + i / h.cols, h.col0 + i % h.cols) ? 1 : 2;
-    for (std::uint32_t k = 0; k < count; ++k)
+    std::vector<std::uint8_t> where(f.count, 0);  // bit 1: a member inside the tile, bit 2: outside
+    for (std::size_t i = 0; i < f.comp.size(); ++i)
+      if (f.comp[i] != kNone) where[f.comp[i]] |= inside(h.row0 + i / h.cols, h.col0 + i % h.cols) ? 1 : 2;
+    for (std::uint32_t k = 0; k < f.count; ++k)
       if (where[k] == 3) {
-        crossing[k] = std::uint32_t(boxes.size());
-        boxes.emplace_back();
-        seeds.push_back(~std::uint64_t(0));
+        crossing[k] = std::uint32_t(p.boxes.size());
+        p.boxes.emplace_back();
+        p.seeds.push_back(~std::uint64_t(0));
       }
-    D8Codes codes(w.rows * w.cols);
+    p.codes.resize(w.rows * w.cols);
     for (std::size_t r = 0; r < h.rows; ++r)
       for (std::size_t c = 0; c < h.cols; ++c) {
         const std::size_t i = r * h.cols + c, gr = h.row0 + r, gc = h.col0 + c;
         const std::uint64_t cell = std::uint64_t(gr) * C + gc;
-        const std::uint32_t k = comp[i];
+        const std::uint32_t k = f.comp[i];
         const bool in = inside(gr, gc);
-        if (in) codes[(gr - w.row0) * w.cols + gc - w.col0] = k != kNone && crossing[k] == kNone ? resolved[i] : raw[i];
+        if (in) p.codes[(gr - w.row0) * w.cols + gc - w.col0] = k != kNone && crossing[k] == kNone ? f.resolved[i] : f.raw[i];
         if (k == kNone || crossing[k] == kNone) continue;
         const std::uint32_t x = crossing[k];
         if (!in) {  // a member in a neighbouring tile, on its ring: the same flat there
           if (gr + 1 >= w.row0 && gr <= w.row0 + w.rows && gc + 1 >= w.col0 && gc <= w.col0 + w.cols)
-            contacts.push_back({cell, x});
+            p.contacts.push_back({cell, x});
           continue;
         }
-        boxes[x].add(gr, gc);
-        if (seeds[x] == ~std::uint64_t(0)) seeds[x] = cell;
-        if (on_tile_edge(gr - w.row0, gc - w.col0, w.rows, w.cols)) ring.push_back({cell, x});
+        p.boxes[x].add(gr, gc);
+        if (p.seeds[x] == ~std::uint64_t(0)) p.seeds[x] = cell;
+        if (on_tile_edge(gr - w.row0, gc - w.col0, w.rows, w.cols)) p.ring.push_back({cell, x});
       }
-    out.write(w, codes.data());
-  }
+    return p;
+  };
+  tiled::for_each_tile(comm, tiles.count(), pieces, [&](std::size_t t, TilePieces&& p) {
+    const auto base = std::uint32_t(boxes.size());  // numbered tile after tile
+    boxes.insert(boxes.end(), p.boxes.begin(), p.boxes.end());
+    seeds.insert(seeds.end(), p.seeds.begin(), p.seeds.end());
+    for (const CellPiece& x : p.ring) ring.push_back({x.cell, x.piece + base});
+    for (const CellPiece& x : p.contacts) contacts.push_back({x.cell, x.piece + base});
+    out.write(tiles.window(t), p.codes.data());
+  });
   if (comm.size() > 1) {  // every rank gets every rank's pieces, numbered rank after rank
     Packer mine;
     mine.put_vector(boxes).put_vector(seeds).put_vector(ring).put_vector(contacts);
@@ -277,10 +293,10 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
 
 }  // namespace
 
-std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes) {
+std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes, int threads) {
   if (double(info.rows) * double(info.cols) * 40.0 <= bytes) return 0;
   const double per_tile = std::max(0.0, bytes - double(64 << 20));  // the process and GDAL's cache
-  const std::size_t side = std::size_t(std::sqrt(per_tile / 100.0)) / 256 * 256;
+  const std::size_t side = std::size_t(std::sqrt(per_tile / (100.0 * std::max(1, threads)))) / 256 * 256;
   return std::clamp<std::size_t>(side, 256, 16384);
 }
 
@@ -298,6 +314,12 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
     ~CacheLimit() { GDALSetCacheMax64(before); }
   } cache_limit;
   TiledSummary summary;
+  auto t0 = std::chrono::steady_clock::now();
+  auto step = [&](const char* name) {
+    const auto t1 = std::chrono::steady_clock::now();
+    summary.timings.emplace_back(name, std::chrono::duration<double>(t1 - t0).count());
+    t0 = t1;
+  };
   summary.rows = info.rows, summary.cols = info.cols, summary.dx = info.geo.dx, summary.dy = info.geo.dy;
   const TileGrid tiles{info.rows, info.cols, run.tile};
   summary.tiles = tiles.count();
@@ -316,13 +338,14 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
   std::unique_ptr<ScratchArray<float>> filled;
   if (!run.dem.empty() && run.fill) {
     filled = std::make_unique<ScratchArray<float>>(scratch + "filled.f32", info.rows, info.cols, comm);
+    step("set-up");
     summary.filled = tiled_priority_flood_fill(
         tiles, read_z,
         [&](std::size_t t, terrain::Grid& g) {
           filled->write(tiles.window(t), g.z.data());
           terrain::report(progress, 0.3 * double(t + 1) / double(tiles.count()));
         },
-        comm);
+        comm, fmt::format("{}rank{}.fill", scratch, comm.rank()));
     comm.barrier();  // every tile filled before any rank reads the surface
     surface = [&](const terrain::RasterWindow& w) {
       terrain::Grid g(w.rows, w.cols, info.geo.window(w.row0, w.col0));  // as read_dem gives it
@@ -336,7 +359,9 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
   if (!run.dem.empty() && run.resolve_flats) {
     flags |= kDvHasElevations | kDvFlatsResolved;
     resolved = std::make_unique<ScratchArray<std::uint8_t>>(scratch + "d8.u8", info.rows, info.cols, comm);
+    step(run.fill ? "fill (2 passes)" : "set-up");
     tiled_resolved_codes(tiles, surface, *resolved, comm);
+    step("flats (D8, flats resolved)");
     codes = [&](const terrain::RasterWindow& w) {
       D8Codes out(w.rows * w.cols);
       resolved->read(w, out.data());
@@ -389,22 +414,26 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
       blocks.open(blocks_path(comm.rank()), std::ios::binary | std::ios::trunc);  // a fresh folder: a new file
       if (!blocks) throw terrain::Error("cannot create the temporary file '" + blocks_path(comm.rank()) + "'");
     }
+    // Each tile's block, encoded on the tile's thread.
+    auto encode = [&](std::size_t, NetworkTile& tile) {
+      const std::size_t m = tile.dirs.size();
+      DvBlockFields f;
+      f.z.resize(m);
+      if (flags & kDvHasElevations) {
+        const terrain::Grid g = surface(tile.window);
+        for (std::size_t q = 0; q < m; ++q) f.z[q] = std::isnan(g.z[q]) ? 0.0f : g.z[q];
+      }
+      f.d8.assign(tile.dirs.begin(), tile.dirs.end());
+      f.cut.assign(tile.cut.begin(), tile.cut.end());
+      f.accumulated.assign(tile.accumulated.begin(), tile.accumulated.end());
+      f.basin.assign(tile.basin.begin(), tile.basin.end());
+      f.order.assign(tile.order.begin(), tile.order.end());
+      tile.prepared = encode_dv_block(f);
+    };
     summary.totals = tiled_network(
         tiles, codes,
         [&](std::size_t t, const NetworkTile& tile) {
-          const std::size_t m = tile.dirs.size();
-          DvBlockFields f;
-          f.z.resize(m);
-          if (flags & kDvHasElevations) {
-            const terrain::Grid g = surface(tile.window);
-            for (std::size_t q = 0; q < m; ++q) f.z[q] = std::isnan(g.z[q]) ? 0.0f : g.z[q];
-          }
-          f.d8.assign(tile.dirs.begin(), tile.dirs.end());
-          f.cut.assign(tile.cut.begin(), tile.cut.end());
-          f.accumulated.assign(tile.accumulated.begin(), tile.accumulated.end());
-          f.basin.assign(tile.basin.begin(), tile.basin.end());
-          f.order.assign(tile.order.begin(), tile.order.end());
-          const std::vector<char> block = encode_dv_block(f);
+          const std::vector<char>& block = tile.prepared;
           if (comm.size() == 1) {
             writer->put_block(t, block);
           } else {
@@ -413,7 +442,7 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
           }
           terrain::report(progress, 0.3 + 0.7 * double(t + 1) / double(tiles.count()));
         },
-        comm);
+        comm, encode);
     if (summary.totals.points == 0)  // thrown inside the write: no output is left
       throw terrain::Error("'" + input + "' has no valid sample (every cell is no-data)");
     if (comm.size() == 1) return;
@@ -441,6 +470,7 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
     terrain::write_stream_atomic(output_path, [&](std::ostream& file) {
       DvBlockWriter writer(file, output_path, h);
       network(&writer);
+      step("network (2 passes) and .dv blocks");
       writer.finish(summary.totals.points, summary.totals.branches, summary.totals.pits, summary.totals.pit_accumulated);
     });
   } else {

@@ -3,6 +3,7 @@
 // tiles, a basin whose outlet is three tiles away).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstdlib>
 #include <string>
 
@@ -22,7 +23,7 @@ namespace {
 // A window reader over a grid in memory, counting the samples it hands out.
 struct MemoryReader {
   const terrain::Grid& g;
-  std::size_t samples = 0;
+  std::atomic<std::size_t> samples = 0;  // the tiled functions read on several threads
   terrain::Grid operator()(const terrain::RasterWindow& w) {
     terrain::Georef geo = g.geo;
     geo.x0 += double(w.col0) * geo.dx;
@@ -35,8 +36,9 @@ struct MemoryReader {
   }
 };
 
-// The tiled fill of `dem` assembled into one grid; checks the tiles' georeferencing.
-terrain::Grid tiled_fill(const terrain::Grid& dem, std::size_t side, std::size_t& raised) {
+// The tiled fill of `dem` assembled into one grid; checks the tiles' georeferencing. With
+// `cache`, pass 2 reads pass 1's tiles from that file instead of flooding again.
+terrain::Grid tiled_fill(const terrain::Grid& dem, std::size_t side, std::size_t& raised, const std::string& cache = {}) {
   terrain::Grid out(dem.rows, dem.cols, dem.geo, -1.0f);
   MemoryReader reader{dem};
   const TileGrid tiles{dem.rows, dem.cols, side};
@@ -48,21 +50,28 @@ terrain::Grid tiled_fill(const terrain::Grid& dem, std::size_t side, std::size_t
     EXPECT_DOUBLE_EQ(tile.geo.y_of_row(0), dem.geo.y_of_row(double(w.row0)));
     for (std::size_t r = 0; r < w.rows; ++r)
       for (std::size_t c = 0; c < w.cols; ++c) out.at(w.row0 + r, w.col0 + c) = tile.at(r, c);
-  });
+  }, single_process(), cache);
   EXPECT_EQ(calls, tiles.count());
+  if (!cache.empty()) {
+    EXPECT_FALSE(std::filesystem::exists(cache)) << "the cache outlives the fill";
+  }
   return out;
 }
 
+// Both strategies of pass 2 (flood again; read pass 1's tiles back) against the whole grid.
 void expect_same_fill(const terrain::Grid& dem, std::size_t side) {
   terrain::Grid whole = dem;
   const std::size_t raised_whole = priority_flood_fill(whole);
-  std::size_t raised_tiled = 0;
-  const terrain::Grid tiled = tiled_fill(dem, side, raised_tiled);
-  EXPECT_EQ(raised_tiled, raised_whole) << "tile side " << side;
-  std::size_t differ = 0;
-  for (std::size_t i = 0; i < dem.size(); ++i)
-    differ += !(tiled.z[i] == whole.z[i] || (std::isnan(tiled.z[i]) && std::isnan(whole.z[i])));
-  EXPECT_EQ(differ, 0u) << "tile side " << side << ": " << differ << " samples differ";
+  terrain::test::ScratchDir dir;
+  for (const std::string& cache : {std::string(), dir.path("fill.cache")}) {
+    std::size_t raised_tiled = 0;
+    const terrain::Grid tiled = tiled_fill(dem, side, raised_tiled, cache);
+    EXPECT_EQ(raised_tiled, raised_whole) << "tile side " << side << " cache '" << cache << "'";
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < dem.size(); ++i)
+      differ += !(tiled.z[i] == whole.z[i] || (std::isnan(tiled.z[i]) && std::isnan(whole.z[i])));
+    EXPECT_EQ(differ, 0u) << "tile side " << side << " cache '" << cache << "': " << differ << " samples differ";
+  }
 }
 
 TEST(TiledFill, RealDemsEqualTheSingleGridFill) {
@@ -201,6 +210,9 @@ TEST(TiledRun, TileSizeForMemory) {
   EXPECT_EQ(tile_size_for_memory(info, 799e6), 2560u);  // sqrt((799e6 - 64 MiB) / 100) = 2705
   EXPECT_EQ(tile_size_for_memory(info, 200.0 * (1 << 20)), 1024u);
   EXPECT_EQ(tile_size_for_memory(info, 1e6), 256u);
+  // Two threads hold two tiles: sqrt((799e6 - 64 MiB) / 200) = 1913.
+  EXPECT_EQ(tile_size_for_memory(info, 799e6, 2), 1792u);
+  EXPECT_EQ(tile_size_for_memory(info, 800e6, 2), 0u);  // untiled: one grid whatever the threads
 }
 
 }  // namespace

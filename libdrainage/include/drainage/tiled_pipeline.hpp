@@ -3,6 +3,8 @@
 // tiled.hpp between GDAL windows of the input and the blocks of a .dv version 2.
 #include <cstddef>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "drainage/d8.hpp"
 #include "drainage/tile_comm.hpp"
@@ -32,12 +34,15 @@ struct TiledSummary {
   std::size_t rows = 0, cols = 0, tiles = 0, filled = 0;
   double dx = 0, dy = 0;
   NetworkTotals totals;
+  std::vector<std::pair<const char*, double>> timings;  // wall seconds per step (rank 0's), for -v
 };
-// The tile side for a raster mode run within `bytes` of memory: 0 (untiled) when the whole
-// grid fits at 40 bytes per point, else the largest multiple of 256 whose tiles fit at 100
-// bytes per tile point besides 64 MiB for the process and GDAL's cache (measured on Logan
-// 10 m: 163 MiB peak for tiles of 1024, 427 MiB for 2048); at least 256.
-std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes);
+// The tile side for a raster mode run on `threads` threads within `bytes` of memory: 0
+// (untiled) when the whole grid fits at 40 bytes per point, else the largest multiple of
+// 256 whose tiles fit at 100 bytes per tile point per thread (tiles are worked on all
+// threads) besides 64 MiB for the process and GDAL's cache; at least 256. Measured on
+// Logan 10 m, 2 threads: 250 MiB peak for tiles of 1024, 760 MiB for 2048 (one thread:
+// 163 and 427 MiB).
+std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes, int threads = 1);
 
 // With several ranks (tile_comm.hpp, e.g. under mpirun) every rank calls it with the same
 // arguments; the ranks share the tiles, the temporary rasters (raw files next to the
