@@ -50,6 +50,45 @@ std::vector<std::string> MpiSession::all_gather(std::string mine) const {
   return all;
 }
 
+namespace {
+
+// Point to point, the size first, then the bytes in pieces of at most INT_MAX (MPI counts
+// are int).
+void send_bytes(const std::string& s, int to) {
+  const std::uint64_t n = s.size();
+  MPI_Send(&n, 1, MPI_UINT64_T, to, 0, MPI_COMM_WORLD);
+  for (std::uint64_t at = 0; at < n; at += std::uint64_t(INT_MAX))
+    MPI_Send(s.data() + at, int(std::min<std::uint64_t>(INT_MAX, n - at)), MPI_BYTE, to, 1, MPI_COMM_WORLD);
+}
+std::string receive_bytes(int from) {
+  std::uint64_t n = 0;
+  MPI_Recv(&n, 1, MPI_UINT64_T, from, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  std::string s(n, '\0');
+  for (std::uint64_t at = 0; at < n; at += std::uint64_t(INT_MAX))
+    MPI_Recv(s.data() + at, int(std::min<std::uint64_t>(INT_MAX, n - at)), MPI_BYTE, from, 1, MPI_COMM_WORLD,
+             MPI_STATUS_IGNORE);
+  return s;
+}
+
+}  // namespace
+
+std::vector<std::string> MpiSession::gather(std::string mine) const {
+  if (rank_ != 0) {
+    send_bytes(mine, 0);
+    return {};
+  }
+  std::vector<std::string> all(static_cast<std::size_t>(size_));
+  all[0] = std::move(mine);
+  for (int r = 1; r < size_; ++r) all[std::size_t(r)] = receive_bytes(r);
+  return all;
+}
+
+std::string MpiSession::scatter(std::vector<std::string> per_rank) const {
+  if (rank_ != 0) return receive_bytes(0);
+  for (int r = 1; r < size_; ++r) send_bytes(per_rank.at(std::size_t(r)), r);
+  return std::move(per_rank.at(0));
+}
+
 void MpiSession::barrier() const { MPI_Barrier(MPI_COMM_WORLD); }
 
 void MpiSession::abort(int code) const {

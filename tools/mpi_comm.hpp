@@ -17,6 +17,8 @@ class MpiSession : public drainage::TileComm {
   int rank() const override { return rank_; }
   int size() const override { return size_; }
   std::vector<std::string> all_gather(std::string mine) const override;
+  std::vector<std::string> gather(std::string mine) const override;
+  std::string scatter(std::vector<std::string> per_rank) const override;
   void barrier() const override;
   // Ends every rank with `code` (a rank that failed alone would leave the others waiting).
   [[noreturn]] void abort(int code) const;

@@ -242,7 +242,7 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
             }
         if (comm.size() > 1) mine.put(std::uint64_t(t)).put_vector(ring.label).put_vector(ring.z);
       });
-  if (comm.size() > 1) {  // every rank gets every ring and every spill edge
+  if (comm.size() > 1) {  // rank 0 gets every ring and every spill edge
     struct WeightEntry {
       std::uint64_t key;
       float z;
@@ -251,7 +251,8 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
     local.reserve(weight.size());
     for (const auto& [key, z] : weight) local.push_back({key, z});
     mine.put(~std::uint64_t(0)).put_vector(local);
-    for (const std::string& bytes : comm.all_gather(mine.take())) {
+    if (!comm.root()) decltype(weight)().swap(weight), std::vector<Ring>(nt).swap(rings);
+    for (const std::string& bytes : comm.gather(mine.take())) {
       Unpacker in(bytes);
       for (auto t = in.get<std::uint64_t>(); t != ~std::uint64_t(0); t = in.get<std::uint64_t>()) {
         if (t >= nt) throw terrain::Error("tiled fill: a rank sent a tile out of range");
@@ -264,58 +265,82 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
       for (const WeightEntry& e : in.get_vector<WeightEntry>()) edge(std::uint32_t(e.key >> 32), std::uint32_t(e.key), e.z);
     }
   }
-  // Edges across tile edges: each perimeter cell with its 8 neighbours in other tiles.
-  for (std::size_t t = 0; t < nt; ++t) {
-    const terrain::RasterWindow w = tiles.window(t);
-    const Ring& ring = rings[t];
-    for (std::size_t r = 0; r < w.rows; ++r)
-      for (std::size_t c = 0; c < w.cols; ++c) {
-        if (!on_tile_edge(r, c, w.rows, w.cols)) continue;
-        const std::size_t p = ring_position(r, c, w.rows, w.cols);
-        if (ring.label[p] == kNone) continue;
-        for (int k = 0; k < 8; ++k) {
-          const long gr = long(w.row0 + r) + kDRow[k], gc = long(w.col0 + c) + kDCol[k];
-          if (gr < 0 || gc < 0 || gr >= long(tiles.rows) || gc >= long(tiles.cols)) continue;
-          const std::size_t u = std::size_t(gr) / tiles.side * tiles.tile_cols() + std::size_t(gc) / tiles.side;
-          if (u == t) continue;
-          const terrain::RasterWindow wu = tiles.window(u);
-          const Ring& other = rings[u];
-          const std::size_t q = ring_position(std::size_t(gr) - wu.row0, std::size_t(gc) - wu.col0, wu.rows, wu.cols);
-          if (other.label[q] == kNone || other.label[q] == ring.label[p]) continue;
-          edge(ring.label[p], other.label[q], std::max(ring.z[p], other.z[q]));
+  // Rank 0 (or the only process) solves the graph: edges across tile edges, then the spill
+  // elevation of every label; each rank gets the spills of its tiles' labels.
+  std::vector<std::string> per_rank;
+  if (comm.root()) {
+    // Edges across tile edges: each perimeter cell with its 8 neighbours in other tiles.
+    for (std::size_t t = 0; t < nt; ++t) {
+      const terrain::RasterWindow w = tiles.window(t);
+      const Ring& ring = rings[t];
+      for (std::size_t r = 0; r < w.rows; ++r)
+        for (std::size_t c = 0; c < w.cols; ++c) {
+          if (!on_tile_edge(r, c, w.rows, w.cols)) continue;
+          const std::size_t p = ring_position(r, c, w.rows, w.cols);
+          if (ring.label[p] == kNone) continue;
+          for (int k = 0; k < 8; ++k) {
+            const long gr = long(w.row0 + r) + kDRow[k], gc = long(w.col0 + c) + kDCol[k];
+            if (gr < 0 || gc < 0 || gr >= long(tiles.rows) || gc >= long(tiles.cols)) continue;
+            const std::size_t u = std::size_t(gr) / tiles.side * tiles.tile_cols() + std::size_t(gc) / tiles.side;
+            if (u == t) continue;
+            const terrain::RasterWindow wu = tiles.window(u);
+            const Ring& other = rings[u];
+            const std::size_t q = ring_position(std::size_t(gr) - wu.row0, std::size_t(gc) - wu.col0, wu.rows, wu.cols);
+            if (other.label[q] == kNone || other.label[q] == ring.label[p]) continue;
+            edge(ring.label[p], other.label[q], std::max(ring.z[p], other.z[q]));
+          }
+        }
+    }
+    std::vector<Ring>().swap(rings);
+
+    // The spill elevation of every label: minimax paths from the outside (Dijkstra with max).
+    std::vector<std::vector<std::pair<std::uint32_t, float>>> adjacent(labels);
+    for (const auto& [key, z] : weight) {
+      const std::uint32_t a = std::uint32_t(key >> 32), b = std::uint32_t(key);
+      adjacent[a].emplace_back(b, z);
+      adjacent[b].emplace_back(a, z);
+    }
+    decltype(weight)().swap(weight);
+    std::vector<float> spill(labels, std::numeric_limits<float>::infinity());
+    std::vector<std::uint8_t> settled(labels, 0);
+    using Entry = std::pair<float, std::uint32_t>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+    spill[kOutside] = -std::numeric_limits<float>::infinity();
+    queue.push({spill[kOutside], kOutside});
+    while (!queue.empty()) {
+      const auto [z, a] = queue.top();
+      queue.pop();
+      if (settled[a]) continue;
+      settled[a] = 1;
+      for (const auto& [b, w] : adjacent[a]) {
+        const float s = std::max(z, w);
+        if (s < spill[b]) {
+          spill[b] = s;
+          queue.push({s, b});
         }
       }
+    }
+    decltype(adjacent)().swap(adjacent);
+    per_rank.resize(std::size_t(comm.size()));
+    std::vector<Packer> packs(std::size_t(comm.size()));
+    for (std::size_t t = 0; t < nt; ++t) {
+      const terrain::RasterWindow w = tiles.window(t);
+      const auto s0 = spill.begin() + std::ptrdiff_t(first[t]);
+      packs[t % std::size_t(comm.size())].put(std::uint64_t(t)).put_vector(
+          std::vector<float>(s0, s0 + std::ptrdiff_t(ring_size(w.rows, w.cols))));
+    }
+    for (std::size_t r = 0; r < per_rank.size(); ++r) per_rank[r] = packs[r].take();
   }
-  std::vector<Ring>().swap(rings);
-
-  // The spill elevation of every label: minimax paths from the outside (Dijkstra with max).
-  std::vector<std::vector<std::pair<std::uint32_t, float>>> adjacent(labels);
-  for (const auto& [key, z] : weight) {
-    const std::uint32_t a = std::uint32_t(key >> 32), b = std::uint32_t(key);
-    adjacent[a].emplace_back(b, z);
-    adjacent[b].emplace_back(a, z);
-  }
-  decltype(weight)().swap(weight);
-  std::vector<float> spill(labels, std::numeric_limits<float>::infinity());
-  std::vector<std::uint8_t> settled(labels, 0);
-  using Entry = std::pair<float, std::uint32_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-  spill[kOutside] = -std::numeric_limits<float>::infinity();
-  queue.push({spill[kOutside], kOutside});
-  while (!queue.empty()) {
-    const auto [z, a] = queue.top();
-    queue.pop();
-    if (settled[a]) continue;
-    settled[a] = 1;
-    for (const auto& [b, w] : adjacent[a]) {
-      const float s = std::max(z, w);
-      if (s < spill[b]) {
-        spill[b] = s;
-        queue.push({s, b});
-      }
+  std::vector<std::vector<float>> tile_spill(nt);  // this rank's tiles: spill by ring position
+  {
+    const std::string bytes = comm.scatter(std::move(per_rank));
+    Unpacker in(bytes);
+    while (!in.done()) {
+      const auto t = in.get<std::uint64_t>();
+      if (t >= nt || !comm.owns(t)) throw terrain::Error("tiled fill: rank 0 sent a tile out of range");
+      tile_spill[t] = in.get_vector<float>();
     }
   }
-  decltype(adjacent)().swap(adjacent);
 
   // Pass 2: flood each tile again and raise it to its labels' spill elevations.
   std::size_t raised = 0;
@@ -334,7 +359,8 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
         Filled out{terrain::Grid(w.rows, w.cols, f.geo, NAN), 0};
         for (std::size_t i = 0; i < f.z.size(); ++i) {
           if (f.label[i] == kNone) continue;
-          const float s = spill[f.label[i]];
+          const float s = f.label[i] == kOutside ? -std::numeric_limits<float>::infinity()
+                                                 : tile_spill[t].at(f.label[i] - first[t]);
           const float z = std::isfinite(s) ? std::max(f.z[i], s) : f.z[i];
           out.second += z > f.original[i];
           out.first.z[i] = z;

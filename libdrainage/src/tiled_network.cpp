@@ -223,8 +223,9 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
           mine.put(std::uint64_t(t)).put_vector(T.nodes).put_vector(T.pits_in_row).put_vector(T.leave_node).put_vector(T.leave_target);
         per_tile[t] = std::move(T);
       });
-  if (comm.size() > 1)
-    for (const std::string& bytes : comm.all_gather(mine.take())) {
+  if (comm.size() > 1) {  // rank 0 gets every tile's graph
+    if (!comm.root()) std::vector<TileNodes>(nt).swap(per_tile);
+    for (const std::string& bytes : comm.gather(mine.take())) {
       Unpacker in(bytes);
       while (!in.done()) {
         const auto t = in.get<std::uint64_t>();
@@ -237,77 +238,122 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
         if (T.pits_in_row.size() != tiles.window(t).rows) throw terrain::Error("tiled network: a rank sent a wrong tile");
       }
     }
-  std::vector<Node> nodes;
-  std::vector<std::uint32_t> first_node(nt + 1, 0);
-  std::vector<std::uint32_t> pits_in_row(tiles.rows * ntc, 0);  // pits of global row r in tile column tc
-  std::vector<std::uint64_t> leave_target_cells;                // node -> target cell, for leaving nodes
-  std::vector<std::uint32_t> leave_node;
-  for (std::size_t t = 0; t < nt; ++t) {
-    TileNodes& T = per_tile[t];
-    const std::uint32_t base = std::uint32_t(nodes.size());
-    if (nodes.size() + T.nodes.size() >= kNone) throw terrain::Error("tiled network: too many graph nodes");
-    first_node[t] = base;
-    for (Node& v : T.nodes) {
-      if (v.next != kNone) v.next += base;
-      nodes.push_back(v);
-    }
-    const terrain::RasterWindow w = tiles.window(t);
-    for (std::size_t r = 0; r < w.rows; ++r) pits_in_row[(w.row0 + r) * ntc + t % ntc] = T.pits_in_row[r];
-    for (const std::uint32_t v : T.leave_node) leave_node.push_back(base + v);
-    leave_target_cells.insert(leave_target_cells.end(), T.leave_target.begin(), T.leave_target.end());
-    T = TileNodes();  // freed as it goes
   }
-  first_node[nt] = std::uint32_t(nodes.size());
-  {  // leaving nodes drain into the node of their target cell, in another tile
-    std::unordered_map<std::uint64_t, std::uint32_t> of_cell;
-    of_cell.reserve(nodes.size());
-    for (std::uint32_t v = 0; v < nodes.size(); ++v) of_cell.emplace(nodes[v].cell, v);
-    for (std::size_t q = 0; q < leave_node.size(); ++q) {
-      const auto it = of_cell.find(leave_target_cells[q]);
-      if (it == of_cell.end()) throw terrain::Error("tiled network: a flow leaves a tile into a cell that is not entered");
-      nodes[leave_node[q]].next = it->second;
-    }
-  }
-  // Basin ids: pits numbered by ascending global index = row by row, tile column by tile column.
-  std::vector<std::uint64_t> pit_base(tiles.rows * ntc + 1, 0);
-  for (std::size_t q = 0; q < tiles.rows * ntc; ++q) pit_base[q + 1] = pit_base[q] + pits_in_row[q];
-  const std::uint64_t n_pits = pit_base.back();
-  if (n_pits >= kNone) throw terrain::Error("tiled network: too many basins");
-  for (Node& v : nodes)
-    if (v.pit) v.pit_id += pit_base[(v.cell / tiles.cols) * ntc + (v.cell % tiles.cols) / tiles.side];
 
-  // Solve the graph in topological order: accumulation, order, and the pit each node reaches.
-  const std::size_t nn = nodes.size();
-  std::vector<std::uint32_t> indeg(nn, 0), A(nn), topo;
-  std::vector<std::uint8_t> M(nn), K(nn), O(nn);
-  for (const Node& v : nodes)
-    if (v.next != kNone) ++indeg[v.next];
-  for (std::uint32_t v = 0; v < nn; ++v) A[v] = nodes[v].acc_local, M[v] = nodes[v].m, K[v] = nodes[v].k;
-  topo.reserve(nn);
-  for (std::uint32_t s = 0; s < nn; ++s) {
-    if (indeg[s] != 0) continue;
-    std::uint32_t v = s;
-    while (true) {
-      topo.push_back(v);
-      indeg[v] = kNone;
-      O[v] = strahler(M[v], K[v]);
-      const Node& x = nodes[v];
-      if (x.next == kNone) break;
-      A[x.next] += A[v] + x.add;
-      add_inflow(M[x.next], K[x.next], x.table[O[v]]);
-      if (--indeg[x.next] != 0) break;
-      v = x.next;
+  // Rank 0 (or the only process) joins and solves the graph, then sends each rank what its
+  // tiles need: their nodes' accumulation, order and basin, and the basins' numbering.
+  struct TileSolution {
+    std::vector<std::uint32_t> A, reach;  // by the tile's node index
+    std::vector<std::uint8_t> O;
+  };
+  std::vector<TileSolution> solved(nt);  // this rank's tiles
+  std::vector<std::uint64_t> pit_base;   // first basin id of each (global row, tile column)
+  std::vector<std::string> per_rank;
+  if (comm.root()) {
+    std::vector<Node> nodes;
+    std::vector<std::uint32_t> first_node(nt + 1, 0);
+    std::vector<std::uint32_t> pits_in_row(tiles.rows * ntc, 0);  // pits of global row r in tile column tc
+    std::vector<std::uint64_t> leave_target_cells;                // node -> target cell, for leaving nodes
+    std::vector<std::uint32_t> leave_node;
+    for (std::size_t t = 0; t < nt; ++t) {
+      TileNodes& T = per_tile[t];
+      const std::uint32_t base = std::uint32_t(nodes.size());
+      if (nodes.size() + T.nodes.size() >= kNone) throw terrain::Error("tiled network: too many graph nodes");
+      first_node[t] = base;
+      for (Node& v : T.nodes) {
+        if (v.next != kNone) v.next += base;
+        nodes.push_back(v);
+      }
+      const terrain::RasterWindow w = tiles.window(t);
+      for (std::size_t r = 0; r < w.rows; ++r) pits_in_row[(w.row0 + r) * ntc + t % ntc] = T.pits_in_row[r];
+      for (const std::uint32_t v : T.leave_node) leave_node.push_back(base + v);
+      leave_target_cells.insert(leave_target_cells.end(), T.leave_target.begin(), T.leave_target.end());
+      T = TileNodes();  // freed as it goes
+    }
+    first_node[nt] = std::uint32_t(nodes.size());
+    {  // leaving nodes drain into the node of their target cell, in another tile
+      std::unordered_map<std::uint64_t, std::uint32_t> of_cell;
+      of_cell.reserve(nodes.size());
+      for (std::uint32_t v = 0; v < nodes.size(); ++v) of_cell.emplace(nodes[v].cell, v);
+      for (std::size_t q = 0; q < leave_node.size(); ++q) {
+        const auto it = of_cell.find(leave_target_cells[q]);
+        if (it == of_cell.end()) throw terrain::Error("tiled network: a flow leaves a tile into a cell that is not entered");
+        nodes[leave_node[q]].next = it->second;
+      }
+    }
+    // Basin ids: pits numbered by ascending global index = row by row, tile column by tile column.
+    pit_base.assign(tiles.rows * ntc + 1, 0);
+    for (std::size_t q = 0; q < tiles.rows * ntc; ++q) pit_base[q + 1] = pit_base[q] + pits_in_row[q];
+    const std::uint64_t n_pits = pit_base.back();
+    if (n_pits >= kNone) throw terrain::Error("tiled network: too many basins");
+    for (Node& v : nodes)
+      if (v.pit) v.pit_id += pit_base[(v.cell / tiles.cols) * ntc + (v.cell % tiles.cols) / tiles.side];
+
+    // Solve the graph in topological order: accumulation, order, and the pit each node reaches.
+    const std::size_t nn = nodes.size();
+    std::vector<std::uint32_t> indeg(nn, 0), A(nn), topo;
+    std::vector<std::uint8_t> M(nn), K(nn), O(nn);
+    for (const Node& v : nodes)
+      if (v.next != kNone) ++indeg[v.next];
+    for (std::uint32_t v = 0; v < nn; ++v) A[v] = nodes[v].acc_local, M[v] = nodes[v].m, K[v] = nodes[v].k;
+    topo.reserve(nn);
+    for (std::uint32_t s = 0; s < nn; ++s) {
+      if (indeg[s] != 0) continue;
+      std::uint32_t v = s;
+      while (true) {
+        topo.push_back(v);
+        indeg[v] = kNone;
+        O[v] = strahler(M[v], K[v]);
+        const Node& x = nodes[v];
+        if (x.next == kNone) break;
+        A[x.next] += A[v] + x.add;
+        add_inflow(M[x.next], K[x.next], x.table[O[v]]);
+        if (--indeg[x.next] != 0) break;
+        v = x.next;
+      }
+    }
+    if (topo.size() != nn) throw terrain::Error("the D8 directions contain a cycle across tiles");
+    std::vector<std::uint64_t> reach(nn);  // basin id of the pit each node drains to
+    for (auto it = topo.rbegin(); it != topo.rend(); ++it)
+      reach[*it] = nodes[*it].pit ? nodes[*it].pit_id : reach[nodes[*it].next];
+
+    per_rank.resize(std::size_t(comm.size()));
+    std::vector<Packer> packs(std::size_t(comm.size()));
+    for (Packer& pk : packs) pk.put_vector(pit_base);
+    for (std::size_t t = 0; t < nt; ++t) {
+      const auto b0 = std::ptrdiff_t(first_node[t]), b1 = std::ptrdiff_t(first_node[t + 1]);
+      std::vector<std::uint32_t> reach32(std::size_t(b1 - b0));
+      for (std::size_t v = 0; v < reach32.size(); ++v) reach32[v] = std::uint32_t(reach[std::size_t(b0) + v]);
+      packs[t % std::size_t(comm.size())]
+          .put(std::uint64_t(t))
+          .put_vector(std::vector<std::uint32_t>(A.begin() + b0, A.begin() + b1))
+          .put_vector(std::vector<std::uint8_t>(O.begin() + b0, O.begin() + b1))
+          .put_vector(reach32);
+    }
+    for (std::size_t r = 0; r < per_rank.size(); ++r) per_rank[r] = packs[r].take();
+  }
+  {
+    const std::string bytes = comm.scatter(std::move(per_rank));
+    Unpacker in(bytes);
+    pit_base = in.get_vector<std::uint64_t>();
+    if (pit_base.size() != tiles.rows * ntc + 1) throw terrain::Error("tiled network: rank 0 sent a wrong message");
+    while (!in.done()) {
+      const auto t = in.get<std::uint64_t>();
+      if (t >= nt || !comm.owns(t)) throw terrain::Error("tiled network: rank 0 sent a tile out of range");
+      TileSolution& x = solved[t];
+      x.A = in.get_vector<std::uint32_t>();
+      x.O = in.get_vector<std::uint8_t>();
+      x.reach = in.get_vector<std::uint32_t>();
     }
   }
-  if (topo.size() != nn) throw terrain::Error("the D8 directions contain a cycle across tiles");
-  std::vector<std::uint64_t> reach(nn);  // basin id of the pit each node drains to
-  for (auto it = topo.rbegin(); it != topo.rend(); ++it)
-    reach[*it] = nodes[*it].pit ? nodes[*it].pit_id : reach[nodes[*it].next];
+  const std::uint64_t n_pits = pit_base.back();
 
   // Pass 2: complete every tile.
   NetworkTotals totals;
-  totals.pits.assign(n_pits, kNone);
-  totals.pit_accumulated.assign(n_pits, 0);
+  struct PitEntry {
+    std::uint32_t basin, pit, accumulated;
+  };
+  std::vector<PitEntry> my_pits;  // this rank's basins
   struct RingCell {
     std::uint8_t order = 0, same = 0, valid = 0;
     std::uint64_t target = ~std::uint64_t(0);  // where a leaving cell flows
@@ -328,7 +374,8 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
     out.accumulated.assign(n, 0);
     out.basin.assign(n, kNone);
     out.order.assign(n, 0);
-    std::uint32_t next_id = first_node[t];
+    const TileSolution& sol = solved[t];
+    std::uint32_t next_id = 0;
     std::vector<std::uint32_t> id(n, kNone);
     for (std::size_t i = 0; i < n; ++i)
       if (L.node[i]) id[i] = next_id++;
@@ -336,7 +383,7 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
       if (L.dirs[i] == kNodata) continue;
       d.points += 1;
       if (id[i] != kNone) {
-        out.accumulated[i] = A[id[i]], out.order[i] = O[id[i]];
+        out.accumulated[i] = sol.A.at(id[i]), out.order[i] = sol.O.at(id[i]);
       } else if (!L.influenced[i]) {
         out.accumulated[i] = L.acc[i], out.order[i] = L.order[i];
       }
@@ -363,7 +410,7 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
     for (auto it = L.topo.rbegin(); it != L.topo.rend(); ++it) {
       const std::uint32_t i = *it;
       if (L.pit[i]) continue;
-      out.basin[i] = L.leaves[i] ? std::uint32_t(reach[id[i]]) : out.basin[L.down[i]];
+      out.basin[i] = L.leaves[i] ? sol.reach.at(id[i]) : out.basin[L.down[i]];
     }
     // Branch heads (a point heads a branch unless exactly one inflow has its order):
     // inflows from inside the tile now, from other tiles through the rings below.
@@ -396,36 +443,36 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
   };
   for_each_tile(comm, nt, complete, [&](std::size_t t, Done&& d) {
     totals.points += d.points, totals.branches += d.branches;
-    for (const auto& [b, pit, acc] : d.pits) totals.pits[b] = pit, totals.pit_accumulated[b] = acc;
+    for (const auto& [b, pit, acc] : d.pits) my_pits.push_back({b, pit, acc});
     rings[t] = std::move(d.ring);
     done(t, d.out);
   });
-  if (comm.size() > 1) {  // every rank gets every ring, pit and count
-    struct PitEntry {
-      std::uint32_t basin, pit, accumulated;
-    };
-    Packer mine2;
-    mine2.put(std::uint64_t(totals.points)).put(std::uint64_t(totals.branches));
-    std::vector<PitEntry> pits;
-    for (std::uint32_t b = 0; b < n_pits; ++b)
-      if (totals.pits[b] != kNone) pits.push_back({b, totals.pits[b], totals.pit_accumulated[b]});
-    mine2.put_vector(pits);
-    for (std::size_t t = 0; t < nt; ++t)
-      if (comm.owns(t)) mine2.put(std::uint64_t(t)).put_vector(rings[t]);
-    totals.points = totals.branches = 0;
-    for (const std::string& bytes : comm.all_gather(mine2.take())) {
-      Unpacker in(bytes);
-      totals.points += in.get<std::uint64_t>();
-      totals.branches += in.get<std::uint64_t>();
-      for (const PitEntry& e : in.get_vector<PitEntry>()) {
-        if (e.basin >= n_pits) throw terrain::Error("tiled network: a rank sent a basin out of range");
-        totals.pits[e.basin] = e.pit, totals.pit_accumulated[e.basin] = e.accumulated;
-      }
-      while (!in.done()) {
-        const auto t = in.get<std::uint64_t>();
-        if (t >= nt) throw terrain::Error("tiled network: a rank sent a tile out of range");
-        rings[t] = in.get_vector<RingCell>();
-      }
+  // Rank 0 gets every rank's counts, basins and rings; it finishes the totals and every
+  // rank gets the counts.
+  Packer mine2;
+  mine2.put(std::uint64_t(totals.points)).put(std::uint64_t(totals.branches)).put_vector(my_pits);
+  for (std::size_t t = 0; t < nt; ++t)
+    if (comm.owns(t)) mine2.put(std::uint64_t(t)).put_vector(rings[t]);
+  std::vector<PitEntry>().swap(my_pits);
+  if (!comm.root()) std::vector<std::vector<RingCell>>(nt).swap(rings);
+  totals.points = totals.branches = 0;
+  const std::vector<std::string> from_ranks = comm.gather(mine2.take());
+  if (comm.root()) {
+    totals.pits.assign(n_pits, kNone);
+    totals.pit_accumulated.assign(n_pits, 0);
+  }
+  for (const std::string& bytes : from_ranks) {
+    Unpacker in(bytes);
+    totals.points += in.get<std::uint64_t>();
+    totals.branches += in.get<std::uint64_t>();
+    for (const PitEntry& e : in.get_vector<PitEntry>()) {
+      if (e.basin >= n_pits) throw terrain::Error("tiled network: a rank sent a basin out of range");
+      totals.pits[e.basin] = e.pit, totals.pit_accumulated[e.basin] = e.accumulated;
+    }
+    while (!in.done()) {
+      const auto t = in.get<std::uint64_t>();
+      if (t >= nt) throw terrain::Error("tiled network: a rank sent a tile out of range");
+      rings[t] = in.get_vector<RingCell>();
     }
   }
   // Inflows across tile edges into ring cells, then the ring cells' heads.
@@ -443,6 +490,14 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
       }
   for (const auto& ring : rings)
     for (const RingCell& x : ring) totals.branches += x.valid && x.same != 1;
+  if (comm.size() > 1) {  // rank 0's counts to every rank
+    const std::string counts =
+        comm.all_gather(comm.root() ? Packer().put(std::uint64_t(totals.points)).put(std::uint64_t(totals.branches)).take()
+                                    : std::string())[0];
+    Unpacker in(counts);
+    totals.points = in.get<std::uint64_t>();
+    totals.branches = in.get<std::uint64_t>();
+  }
   return totals;
 }
 

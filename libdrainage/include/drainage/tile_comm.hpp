@@ -2,8 +2,10 @@
 // How the tiles of a tiled run (tiled.hpp) are shared among processes. The default is one
 // process that takes every tile; build-drainage under mpirun passes the ranks of an MPI job
 // (tools/mpi_comm.cpp), as TauDEM runs on MPI. Tile t belongs to rank t % size. Ranks meet
-// only in all_gather and gather (per-tile perimeter graphs, counts, block indexes: a few
-// bytes per perimeter cell), so the library itself does not depend on MPI.
+// only in these collectives (per-tile perimeter graphs, counts, block indexes: a few bytes
+// per perimeter cell), so the library itself does not depend on MPI. As in Barnes (2016,
+// 2017), the perimeter graphs go to rank 0 alone, which solves them and sends each rank
+// back what its tiles need: a rank holds its tiles, rank 0 also the graph.
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -23,6 +25,13 @@ class TileComm {
   bool root() const { return rank() == 0; }
   // Every rank's `mine`, indexed by rank, on every rank. Collective: all ranks call it.
   virtual std::vector<std::string> all_gather(std::string mine) const { return {std::move(mine)}; }
+  // Every rank's `mine`, indexed by rank, on rank 0; an empty vector elsewhere. Collective.
+  virtual std::vector<std::string> gather(std::string mine) const { return {std::move(mine)}; }
+  // Rank 0 passes one string per rank (`per_rank`; the others pass nothing); each rank
+  // returns its own. Collective.
+  virtual std::string scatter(std::vector<std::string> per_rank) const {
+    return per_rank.empty() ? std::string() : std::move(per_rank[0]);
+  }
   // Waits for every rank. Collective.
   virtual void barrier() const {}
 };

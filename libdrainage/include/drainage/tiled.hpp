@@ -49,8 +49,9 @@ using WindowReader = std::function<terrain::Grid(const terrain::RasterWindow&)>;
 // graph; pass 2 floods each tile again and raises each cell to its label's spill.
 // `done(t, tile)` receives each tile's filled elevations (tile t's window, in order).
 // Returns the number of samples raised, as priority_flood_fill does.
-// With several ranks (tile_comm.hpp), each rank floods its own tiles, the perimeter graph
-// is gathered and solved on every rank, and `done` is called on each tile's owner only.
+// With several ranks (tile_comm.hpp), each rank floods its own tiles, rank 0 gathers the
+// perimeter graph, solves it and sends each rank the spill elevations of its tiles' labels,
+// and `done` is called on each tile's owner only.
 // With `cache_path` (a file private to this rank, made and removed here), pass 1 keeps each
 // tile's flooded elevations and labels there (8 bytes a cell) and pass 2 reads them back
 // instead of flooding again (Barnes et al. 2016's "cache" strategy against "evict"): the
@@ -90,10 +91,11 @@ struct NetworkTotals {
 // the path's Strahler order as a table of the incoming order. The graph of all tiles is
 // solved in topological order (accumulation, order, the pit each node drains to); pass 2
 // reads each tile again, completes it and hands it to `done(t, tile)` in tile order.
-// With several ranks, as tiled_priority_flood_fill: `done` runs on each tile's owner, in
-// tile order there, and every rank returns the same totals. Tiles are worked on all
-// threads (a tile per thread in memory; `read` is called from several at once):
-// `prepare(t, tile)`, when given, runs on the tile's thread as soon as it is complete (to
+// With several ranks, as tiled_priority_flood_fill: rank 0 gathers the tiles' graphs,
+// solves them and sends each rank its tiles' node values; `done` runs on each tile's owner,
+// in tile order there; rank 0 returns the totals, the other ranks the counts (points,
+// branches) without the pits. Tiles are worked on all threads (a tile per thread in
+// memory; `read` is called from several at once): `prepare(t, tile)`, when given, runs on the tile's thread as soon as it is complete (to
 // encode it, say, into tile.prepared; it must only read shared state; `done` then gets
 // the tile with `prepared` only, its arrays released), `done` one at a time.
 NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
