@@ -177,9 +177,17 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
     if (threads > 0) omp_set_num_threads(threads);
     if (memory_mib > 0) {
       if (!raster_mode) throw terrain::Error("--memory applies to --raster and --d8-input runs");
-      tile_size = drainage::tile_size_for_memory(terrain::read_dem_info(raster.empty() ? d8_input : raster),
-                                                 memory_mib * 1024.0 * 1024.0, omp_get_max_threads());
-      if (tile_size > 0) tt::step(verb, fmt::format("--memory {:.0f} MiB: tiles of {} x {}", memory_mib, tile_size, tile_size));
+      const terrain::DemInfo info = terrain::read_dem_info(raster.empty() ? d8_input : raster);
+      tile_size = drainage::tile_size_for_memory(info, memory_mib * 1024.0 * 1024.0, omp_get_max_threads());
+      if (tile_size > 0) {
+        const double need = drainage::tiled_run_bytes(info, tile_size, omp_get_max_threads()) / 1048576.0;
+        tt::step(verb, fmt::format("--memory {:.0f} MiB: tiles of {} x {} (about {:.0f} MiB)", memory_mib, tile_size,
+                                   tile_size, need));
+        if (need > memory_mib)
+          tt::warn(verb, fmt::format("--memory {:.0f} MiB is too little for this grid's perimeter graphs: expect about "
+                                     "{:.0f} MiB (tiles of {}; fewer --threads need less)",
+                                     memory_mib, need, tile_size));
+      }
     }
     if (comm.size() > 1) {
       if (!raster_mode) throw terrain::Error("mesh mode runs on one process: start it without mpirun, or use --raster");

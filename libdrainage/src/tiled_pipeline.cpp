@@ -293,11 +293,23 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
 
 }  // namespace
 
+double tiled_run_bytes(const terrain::DemInfo& info, std::size_t side, int threads) {
+  const double cells = double(info.rows) * double(info.cols), s = double(side);
+  const double edge_cells = 4.0 * cells / s;  // every tile's perimeter ring, about
+  return double(64 << 20) + 100.0 * double(std::max(1, threads)) * s * s + 190.0 * edge_cells;
+}
+
 std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes, int threads) {
   if (double(info.rows) * double(info.cols) * 40.0 <= bytes) return 0;
-  const double per_tile = std::max(0.0, bytes - double(64 << 20));  // the process and GDAL's cache
-  const std::size_t side = std::size_t(std::sqrt(per_tile / (100.0 * std::max(1, threads)))) / 256 * 256;
-  return std::clamp<std::size_t>(side, 256, 16384);
+  // The largest side that fits; if none does, the side that needs least.
+  std::size_t best = 256;
+  for (std::size_t side = 256; side <= 16384; side += 256) {
+    if (tiled_run_bytes(info, side, threads) <= bytes) best = side;
+    else if (tiled_run_bytes(info, best, threads) > bytes &&
+             tiled_run_bytes(info, side, threads) < tiled_run_bytes(info, best, threads))
+      best = side;
+  }
+  return best;
 }
 
 TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress,

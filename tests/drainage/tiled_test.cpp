@@ -207,12 +207,20 @@ TEST(TiledRun, TileSizeForMemory) {
   terrain::DemInfo info;
   info.rows = 4000, info.cols = 5000;  // 20 M points: 800 MB untiled
   EXPECT_EQ(tile_size_for_memory(info, 800e6), 0u);
-  EXPECT_EQ(tile_size_for_memory(info, 799e6), 2560u);  // sqrt((799e6 - 64 MiB) / 100) = 2705
-  EXPECT_EQ(tile_size_for_memory(info, 200.0 * (1 << 20)), 1024u);
-  EXPECT_EQ(tile_size_for_memory(info, 1e6), 256u);
-  // Two threads hold two tiles: sqrt((799e6 - 64 MiB) / 200) = 1913.
-  EXPECT_EQ(tile_size_for_memory(info, 799e6, 2), 1792u);
+  // The largest multiple of 256 whose run fits: 64 MiB + 100 side^2 + 190 * 4 * 20e6 / side.
+  for (const double budget : {799e6, 200.0 * (1 << 20)})
+    for (const int threads : {1, 2}) {
+      const std::size_t side = tile_size_for_memory(info, budget, threads);
+      EXPECT_LE(tiled_run_bytes(info, side, threads), budget) << budget << " " << threads;
+      EXPECT_GT(tiled_run_bytes(info, side + 256, threads), budget) << budget << " " << threads;
+    }
+  EXPECT_EQ(tile_size_for_memory(info, 799e6), 2560u);  // 64 MiB + 655 MB + 5.9 MB
+  EXPECT_EQ(tile_size_for_memory(info, 799e6, 2), 1792u);  // two threads hold two tiles
   EXPECT_EQ(tile_size_for_memory(info, 800e6, 2), 0u);  // untiled: one grid whatever the threads
+  // Too little for any side: the side that needs least, not the smallest.
+  const std::size_t least = tile_size_for_memory(info, 1e6);
+  for (std::size_t side = 256; side <= 16384; side += 256)
+    EXPECT_LE(tiled_run_bytes(info, least, 1), tiled_run_bytes(info, side, 1)) << side;
 }
 
 }  // namespace

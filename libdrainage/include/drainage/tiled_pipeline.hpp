@@ -36,12 +36,18 @@ struct TiledSummary {
   NetworkTotals totals;
   std::vector<std::pair<const char*, double>> timings;  // wall seconds per step (rank 0's), for -v
 };
+// About the peak memory of a tiled run (one process) of `info`'s grid in tiles of `side` on
+// `threads` threads: 64 MiB for the process and GDAL's cache, 100 bytes per tile point per
+// thread (tiles are worked on all threads), and 190 bytes per tile-edge cell for the
+// perimeter graphs. Measured: Logan 10 m, 2 threads, 250 MiB peak for tiles of 1024 and
+// 760 MiB for 2048 (one thread: 163 and 427 MiB); Logan 1 m (1.44 G points), 2 threads,
+// tiles of 2048: 1286 MiB, 550 MiB of it the graphs of 375 tiles (3.1 M edge cells).
+double tiled_run_bytes(const terrain::DemInfo& info, std::size_t side, int threads);
+
 // The tile side for a raster mode run on `threads` threads within `bytes` of memory: 0
 // (untiled) when the whole grid fits at 40 bytes per point, else the largest multiple of
-// 256 whose tiles fit at 100 bytes per tile point per thread (tiles are worked on all
-// threads) besides 64 MiB for the process and GDAL's cache; at least 256. Measured on
-// Logan 10 m, 2 threads: 250 MiB peak for tiles of 1024, 760 MiB for 2048 (one thread:
-// 163 and 427 MiB).
+// 256 (256 .. 16384) whose run fits (tiled_run_bytes); when none does, the side whose run
+// needs least (check tiled_run_bytes of the result against the budget).
 std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes, int threads = 1);
 
 // With several ranks (tile_comm.hpp, e.g. under mpirun) every rank calls it with the same
