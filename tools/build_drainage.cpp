@@ -110,8 +110,8 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
       ->check(CLI::Range(1, 16384));
   app.add_option("--memory", memory_mib,
                  "Raster mode within about this much memory (MiB): untiled when the grid fits (40 bytes per\n"
-                 "point), else tiled with the largest tiles that fit (100 bytes per tile point per thread +\n"
-                 "64 MiB)")
+                 "point), else tiled with the largest tiles that fit (100 bytes per tile point per thread, or\n"
+                 "430 per tile-edge cell for the perimeter graphs, + 64 MiB; docs/build-drainage.md)")
       ->check(CLI::Range(64.0, 1e9))
       ->excludes("--tile-size");
   app.add_option("--threads", threads, "Threads (default: all cores); the output does not depend on it")

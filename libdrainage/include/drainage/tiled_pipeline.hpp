@@ -37,11 +37,12 @@ struct TiledSummary {
   std::vector<std::pair<const char*, double>> timings;  // wall seconds per step (rank 0's), for -v
 };
 // About the peak memory of a tiled run (one process) of `info`'s grid in tiles of `side` on
-// `threads` threads: 64 MiB for the process and GDAL's cache, 100 bytes per tile point per
-// thread (tiles are worked on all threads), and 190 bytes per tile-edge cell for the
-// perimeter graphs. Measured: Logan 10 m, 2 threads, 250 MiB peak for tiles of 1024 and
-// 760 MiB for 2048 (one thread: 163 and 427 MiB); Logan 1 m (1.44 G points), 2 threads,
-// tiles of 2048: 1286 MiB, 550 MiB of it the graphs of 375 tiles (3.1 M edge cells).
+// `threads` threads: 64 MiB for the process and GDAL's cache, and the larger of the tiles
+// in flight (100 bytes per tile point per thread: tiles are worked on all threads) and the
+// perimeter graphs (430 bytes per tile-edge cell; they are solved between the passes).
+// Measured with --fill, 2 threads: Logan 10 m, 250 MiB peak for tiles of 1024 and 760 MiB
+// for 2048; Logan 1 m (1.44 G points), tiles of 2048 (3.1 M edge cells): 1286 MiB, tiles
+// of 1280 (4.6 M edge cells): 1992 MiB.
 double tiled_run_bytes(const terrain::DemInfo& info, std::size_t side, int threads);
 
 // The tile side for a raster mode run on `threads` threads within `bytes` of memory: 0
