@@ -1,6 +1,6 @@
 #pragma once
-// Helpers shared by the tiled fill (tiled_fill.cpp) and the tiled network
-// (tiled_network.cpp). Not installed.
+// Helpers shared by the tiled steps (tiled_fill.cpp, tiled_network.cpp,
+// tiled_pipeline.cpp): sums over ranks, perimeter rings, tiles on all threads. Not installed.
 #include <omp.h>
 
 #include <condition_variable>
