@@ -14,8 +14,10 @@
 //     spacing with the default 0.05 costs like a 0.25 m height error).
 // Samples are assigned to patches with the starting normals, and again after each round
 // (a fitted normal moves the patch boundaries a little). Large meshes are solved in
-// overlapping square blocks of vertices, one after another; each block's outside vertices
-// are held fixed and only its core is kept.
+// overlapping blocks of vertices (cores of equal size, at most `block` on a side), all
+// from the round's starting normals and side by side on the threads; each block's outside
+// vertices are held fixed and only its core is kept, so the result does not depend on the
+// order of the blocks.
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -56,7 +58,7 @@ struct NormalFitOptions {
   int rounds = 2;                 // patch assignment, solve; repeated
   std::size_t face_samples = 24;  // at most this many samples per face enter the problem (evenly
                                   // strided); the errors reported use all
-  std::size_t block = 400;        // block side in vertices; meshes within one block: one problem
+  std::size_t block = 400;        // largest block side in vertices; meshes within one block: one problem
   std::size_t overlap = 8;        // vertices of overlap around each block's core
   int threads = 0;                // 0: all (OpenMP's count)
   bool record_costs = false;      // NormalFitReport::costs (one more evaluation per iteration)
