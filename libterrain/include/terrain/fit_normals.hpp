@@ -59,7 +59,7 @@ struct NormalFitOptions {
   std::size_t face_samples = 24;  // at most this many samples per face enter the problem (evenly
                                   // strided); the errors reported use all
   std::size_t block = 400;        // largest block side in vertices; meshes within one block: one problem
-  std::size_t overlap = 8;        // vertices of overlap around each block's core
+  std::size_t overlap = 4;        // vertices of overlap around each block's core
   int threads = 0;                // 0: all (OpenMP's count)
   bool record_costs = false;      // NormalFitReport::costs (one more evaluation per iteration)
 };
