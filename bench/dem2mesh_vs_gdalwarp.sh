@@ -3,6 +3,7 @@
 # against gdalwarp performing the same bilinear resampling onto the same grid, in one
 # run. Prints both wall times, their ratio, dem2mesh's peak memory and bytes per vertex.
 # Usage: bench/dem2mesh_vs_gdalwarp.sh [SPACING]   (needs a built tree: scripts/build.sh)
+# Outputs go to a folder under $TMPDIR (default /tmp): TMPDIR=/dev/shm leaves the disk out.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 spacing="${1:-10}"
