@@ -43,12 +43,17 @@ DvSummary summarize(const DrainageDb& db) {
   return s;
 }
 
+std::size_t dv_band_rows(const DvHeader& h) {
+  const std::size_t block = h.block_rows ? std::size_t(h.block_rows) : 256;
+  return std::max<std::size_t>(
+      1, std::min(block, (std::size_t(256) << 20) / (std::max<std::size_t>(1, h.cols) * sizeof(DvVertex))));
+}
+
 DvSummary summarize_dv_file(const std::string& path) {
   const DvHeader h = read_dv_header(path);
   if (h.version < 2) return summarize(read_dv(path));
   const std::size_t rows = std::size_t(h.rows), cols = std::size_t(h.cols);
-  const std::size_t band = std::max<std::size_t>(
-      1, std::min<std::size_t>(h.block_rows, (std::size_t(256) << 20) / (cols * sizeof(DvVertex))));
+  const std::size_t band = dv_band_rows(h);
   DvSummary s;
   double sum = 0.0;
   for (std::size_t r0 = 0; r0 < rows; r0 += band) {

@@ -110,11 +110,6 @@ std::vector<std::pair<std::uint32_t, std::unique_ptr<OGRMultiPolygon>>> polygoni
   return out;
 }
 
-// Rows per window for reading a .dv `cols` wide: at most 256, and about 256 MiB.
-std::size_t band_rows(std::size_t cols) {
-  return std::clamp<std::size_t>((std::size_t(256) << 20) / (std::max<std::size_t>(cols, 1) * sizeof(DvVertex)), 1, 256);
-}
-
 struct BasinFacts {
   std::uint64_t cells = 0;
   double x = 0, y = 0;
@@ -199,6 +194,21 @@ std::vector<std::vector<std::uint64_t>> chain_divide_edges(std::vector<DivideEdg
 
 // ---- Watersheds ---------------------------------------------------------------------------
 
+namespace {
+
+// The cell that cell i of a rows x cols grid of D8 codes drains into, or kNone where the
+// flow ends (no direction, off the grid, into no-data).
+std::size_t flows_into(const D8Codes& dirs, std::size_t rows, std::size_t cols, std::size_t i) {
+  const std::uint8_t code = dirs[i];
+  if (code >= 8) return kNone;
+  const std::int64_t r = std::int64_t(i / cols) + kDRow[code], c = std::int64_t(i % cols) + kDCol[code];
+  if (r < 0 || c < 0 || r >= std::int64_t(rows) || c >= std::int64_t(cols)) return kNone;
+  const std::size_t j = std::size_t(r) * cols + std::size_t(c);
+  return dirs[j] == kNodata ? kNone : j;
+}
+
+}  // namespace
+
 terrain::BigVector<std::uint32_t> nearest_downstream_outlet(const D8Codes& dirs, std::size_t rows, std::size_t cols,
                                                             const std::vector<std::uint64_t>& outlet_cells) {
   const std::size_t n = rows * cols;
@@ -213,15 +223,7 @@ terrain::BigVector<std::uint32_t> nearest_downstream_outlet(const D8Codes& dirs,
                                        i % cols));
     label[i] = std::uint32_t(k);
   }
-  // The cell a cell drains into, or kNone where the flow ends.
-  auto down = [&](std::size_t i) -> std::size_t {
-    const std::uint8_t code = dirs[i];
-    if (code >= 8) return kNone;
-    const std::int64_t r = std::int64_t(i / cols) + kDRow[code], c = std::int64_t(i % cols) + kDCol[code];
-    if (r < 0 || c < 0 || r >= std::int64_t(rows) || c >= std::int64_t(cols)) return kNone;
-    const std::size_t j = std::size_t(r) * cols + std::size_t(c);
-    return dirs[j] == kNodata ? kNone : j;
-  };
+  auto down = [&](std::size_t i) { return flows_into(dirs, rows, cols, i); };
   std::vector<std::size_t> path;
   for (std::size_t i = 0; i < n; ++i) {
     if (label[i] != kPending) continue;
@@ -351,7 +353,7 @@ std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::v
   terrain::BigVector<std::uint32_t> label;
   {
     D8Codes dirs(R * C);
-    const std::size_t band = band_rows(C);
+    const std::size_t band = dv_band_rows(h);
     for (std::size_t r0 = 0; r0 < R; r0 += band) {
       const DrainageDb w = read_dv_window(dv_path, r0, 0, std::min(band, R - r0), C);
       for (std::size_t i = 0; i < w.vertices.size(); ++i)
@@ -359,13 +361,9 @@ std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::v
       terrain::report(progress, 0.05 + 0.3 * double(r0 + band) / double(R));
     }
     label = nearest_downstream_outlet(dirs, R, C, cells);
-    for (std::size_t k = 0; k < ws.size(); ++k) {
-      const std::uint8_t code = dirs[cells[k]];
-      if (code >= 8) continue;
-      const std::int64_t r = std::int64_t(ws[k].row) + kDRow[code], c = std::int64_t(ws[k].col) + kDCol[code];
-      if (r < 0 || c < 0 || r >= std::int64_t(R) || c >= std::int64_t(C)) continue;
-      const std::uint32_t d = label[std::size_t(r) * C + std::size_t(c)];
-      if (d != kNone) ws[k].downstream = d;
+    for (std::size_t k = 0; k < ws.size(); ++k) {  // the watershed each outlet drains into
+      const std::size_t j = flows_into(dirs, R, C, cells[k]);
+      if (j != kNone && label[j] != kNone) ws[k].downstream = label[j];
     }
   }
   for (const std::uint32_t l : label)
@@ -507,7 +505,7 @@ GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_pat
   {
     std::optional<terrain::RasterWriter> tif;
     if (basins) tif.emplace(ids_tif, dv_georef(h), R, C, terrain::RasterType::UInt32, double(kNone));
-    const std::size_t band = band_rows(C);
+    const std::size_t band = dv_band_rows(h);
     std::vector<std::uint32_t> ids;
     for (std::size_t r0 = 0; r0 < R; r0 += band) {
       const std::size_t n = std::min(band, R - r0);

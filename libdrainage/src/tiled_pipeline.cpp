@@ -1,6 +1,5 @@
 // build-drainage's raster mode tile by tile (tiled.hpp): GDAL windows in, .dv blocks out.
 #include <fcntl.h>
-#include <gdal_priv.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -320,13 +319,9 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
   if (run.dem.empty() == run.d8.empty()) throw terrain::Error("tiled mode takes a DEM or a D8 raster (not both yet)");
   const std::string input = run.dem.empty() ? run.d8 : run.dem;
   const terrain::DemInfo info = terrain::read_dem_info(input);
-  // GDAL's block cache (5 % of the machine's memory by default) would grow with the
-  // windows read; a tiled run keeps its memory to the tiles.
-  struct CacheLimit {
-    GIntBig before = GDALGetCacheMax64();
-    CacheLimit() { GDALSetCacheMax64(GIntBig(64) << 20); }
-    ~CacheLimit() { GDALSetCacheMax64(before); }
-  } cache_limit;
+  // GDAL's block cache would grow with the windows read; a tiled run keeps its memory to
+  // the tiles.
+  const terrain::GdalCacheLimit cache_limit(64);
   TiledSummary summary;
   auto t0 = std::chrono::steady_clock::now();
   auto step = [&](const char* name) {
@@ -349,10 +344,10 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
   if (comm.root()) scratch_dir = std::make_unique<terrain::ScratchDir>(output_path);
   const std::string scratch = comm.all_gather(comm.root() ? scratch_dir->path().string() : std::string())[0] + "/";
 
+  step("set-up");
   std::unique_ptr<ScratchArray<float>> filled;
   if (!run.dem.empty() && run.fill) {
     filled = std::make_unique<ScratchArray<float>>(scratch + "filled.f32", info.rows, info.cols, comm);
-    step("set-up");
     summary.filled = tiled_priority_flood_fill(
         tiles, read_z,
         [&](std::size_t t, terrain::Grid& g) {
@@ -361,6 +356,7 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
         },
         comm, fmt::format("{}rank{}.fill", scratch, comm.rank()));
     comm.barrier();  // every tile filled before any rank reads the surface
+    step("fill (2 passes)");
     surface = [&](const terrain::RasterWindow& w) {
       terrain::Grid g(w.rows, w.cols, info.geo.window(w.row0, w.col0));  // as read_dem gives it
       filled->read(w, g.z.data());
@@ -373,7 +369,6 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
   if (!run.dem.empty() && run.resolve_flats) {
     flags |= kDvHasElevations | kDvFlatsResolved;
     resolved = std::make_unique<ScratchArray<std::uint8_t>>(scratch + "d8.u8", info.rows, info.cols, comm);
-    step(run.fill ? "fill (2 passes)" : "set-up");
     tiled_resolved_codes(tiles, surface, *resolved, comm);
     step("flats (D8, flats resolved)");
     codes = [&](const terrain::RasterWindow& w) {

@@ -284,8 +284,8 @@ Grid read_dem(const std::string& path, const Progress& progress, std::optional<R
   return grid;
 }
 
-GdalCacheLimit::GdalCacheLimit() : before_(GDALGetCacheMax64()) {
-  GDALSetCacheMax64(std::min<GIntBig>(before_, GIntBig(128) << 20));
+GdalCacheLimit::GdalCacheLimit(int mib) : before_(GDALGetCacheMax64()) {
+  GDALSetCacheMax64(std::min<GIntBig>(before_, GIntBig(mib) << 20));
 }
 GdalCacheLimit::~GdalCacheLimit() { GDALSetCacheMax64(before_); }
 

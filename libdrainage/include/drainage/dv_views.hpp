@@ -21,6 +21,11 @@ struct DvSummary {
 };
 DvSummary summarize(const DrainageDb& db);
 
+// Rows per band for reading the .dv of `h` band by band (read_dv_window): its blocks' rows
+// (256 for a version 1 file), so that a band decodes whole blocks, at most about 256 MiB of
+// points, at least 1.
+std::size_t dv_band_rows(const DvHeader& h);
+
 // summarize() of the .dv at `path` without holding the database: a version 2 file is read
 // in bands of rows (read_dv_window, at most about 256 MiB each), so terrain-inspect can
 // summarize a database larger than memory. Version 1 files are read whole.

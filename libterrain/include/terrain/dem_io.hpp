@@ -64,14 +64,11 @@ void write_raster(const std::string& path, const Georef& geo, std::size_t rows, 
                   RasterType type, const void* data, std::optional<double> nodata,
                   const std::string& metadata = {});
 
-// The same GeoTIFF written window by window (rows of the full width at a time), for grids
-// that do not fit in memory: staged in a temporary file and renamed by commit(); destroyed
-// without commit(), nothing is left behind. Throws Error on failure.
-// While alive, GDAL's block cache (by default 5 % of the memory, where written tiles wait)
-// holds at most 128 MiB, so that a writer's memory follows its window; restored after.
+// While alive, GDAL's block cache (by default 5 % of the memory, where read and written
+// tiles wait) holds at most `mib` MiB, so that memory follows the windows; restored after.
 class GdalCacheLimit {
  public:
-  GdalCacheLimit();
+  explicit GdalCacheLimit(int mib = 128);
   ~GdalCacheLimit();
   GdalCacheLimit(const GdalCacheLimit&) = delete;
   GdalCacheLimit& operator=(const GdalCacheLimit&) = delete;
@@ -80,6 +77,9 @@ class GdalCacheLimit {
   long long before_;
 };
 
+// The same GeoTIFF written window by window (rows of the full width at a time), for grids
+// that do not fit in memory: staged in a temporary file and renamed by commit(); destroyed
+// without commit(), nothing is left behind. Throws Error on failure.
 class RasterWriter {
  public:
   RasterWriter(const std::string& path, const Georef& geo, std::size_t rows, std::size_t cols, RasterType type,
