@@ -2,7 +2,8 @@
 # Benchmark: dem2mesh on the Logan DEM resampled from 100 m to 10 m (~14 M vertices)
 # against gdalwarp performing the same bilinear resampling onto the same grid, in one
 # run. Prints both wall times, their ratio, dem2mesh's peak memory and bytes per vertex.
-# Usage: bench/dem2mesh_vs_gdalwarp.sh [SPACING]   (needs a built tree: scripts/build.sh)
+# Usage: bench/dem2mesh_vs_gdalwarp.sh [SPACING]   (needs a built tree: scripts/build.sh;
+# DEM2MESH=path times another dem2mesh binary, e.g. an older build)
 # Outputs go to a folder under $TMPDIR (default /tmp): TMPDIR=/dev/shm leaves the disk out.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,11 +14,12 @@ trap 'rm -rf "$tmp"' EXIT
 [ -x /usr/bin/time ] || { echo "needs /usr/bin/time (Debian package 'time')" >&2; exit 1; }
 
 measure() {  # prints "wall_s peak_kb"
+  sync  # the previous step's (or run's) writeback does not land on this one's clock
   /usr/bin/time -f "%e %M" -o "$tmp/time" "$@" >"$tmp/stdout" 2>/dev/null
   cat "$tmp/time"
 }
 
-read -r d_wall d_kb < <(measure build/bin/dem2mesh "$dem" "$tmp/mesh.ply" --spacing "$spacing" -q)
+read -r d_wall d_kb < <(measure "${DEM2MESH:-build/bin/dem2mesh}" "$dem" "$tmp/mesh.ply" --spacing "$spacing" -q)
 vertices=$(awk '/^vertices:/ {print $2}' "$tmp/stdout")
 read -r xmin ymin xmax ymax < <(awk '/^extent:/ {print $2, $3, $4, $5}' "$tmp/stdout")
 read -r g_wall g_kb < <(measure gdalwarp -q -overwrite -r bilinear -tr "$spacing" "$spacing" \

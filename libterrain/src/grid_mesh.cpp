@@ -55,7 +55,9 @@ void cell_row_terms(const BigVector<Eigen::Vector3f>& positions, const GridTopol
   out.resize(2 * (topo.cols - 1));
   for (std::size_t c = 0; c + 1 < topo.cols; ++c)
     for (int k = 0; k < 2; ++k) {
-      const auto f = topo.face(topo.face_of_cell(cr, c, k));
+      // GridTopology::face without its divisions: (NW, SW, SE), then (NW, SE, NE).
+      const std::size_t nw = cr * topo.cols + c, sw = nw + topo.cols;
+      const std::size_t f[3] = {nw, k == 0 ? sw : sw + 1, k == 0 ? sw + 1 : nw + 1};
       const Eigen::Vector3d p[3] = {positions[f[0]].cast<double>(), positions[f[1]].cast<double>(),
                                     positions[f[2]].cast<double>()};
       FaceTerms& t = out[2 * c + std::size_t(k)];

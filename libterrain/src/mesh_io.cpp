@@ -16,6 +16,8 @@
 #include <limits>
 #include <cstring>
 #include <fstream>
+#include <functional>
+#include <future>
 #include <sstream>
 #include <streambuf>
 
@@ -455,44 +457,69 @@ void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
   if (voronoi)
     for (const char* name : kCornerArea) header += fmt::format("property float {}\n", name);
   header += "end_header\n";
-  write_stream_atomic(path, [&](std::ostream& out) {
-    out.write(header.data(), std::streamsize(header.size()));
-    constexpr std::size_t kBlock = 1 << 16;  // records a block
-    const std::size_t vertex_bytes = 24 + (voronoi ? 16 : 0) + (change ? 4 : 0), face_bytes = 13 + (voronoi ? 12 : 0);
-    std::vector<char> buf(kBlock * std::max(vertex_bytes, face_bytes));
-    char* at = buf.data();
+  // The body in chunks of whole rows (vertex rows, then cell rows of two faces each).
+  const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
+  const std::size_t vertex_bytes = 24 + (voronoi ? 16 : 0) + (change ? 4 : 0), face_bytes = 13 + (voronoi ? 12 : 0);
+  // 1 MiB: 4 MiB chunks tripled the kernel's time in write(2) on ext4 (Logan 10 m: 0.27 ->
+  // 0.8-1.3 s), 256 KiB ones spend it on the helper threads (0.41-0.60 s).
+  constexpr std::size_t kChunkBytes = std::size_t(1) << 20;
+  const std::size_t vrow_bytes = cols * vertex_bytes, frow_bytes = 2 * (cols - 1) * face_bytes;
+  const std::size_t vrows = std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(1, vrow_bytes));
+  const std::size_t frows = std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(1, frow_bytes));
+  struct Chunk {
+    bool faces;
+    std::size_t r0, r1;  // vertex rows, or cell rows
+  };
+  std::vector<Chunk> chunks;
+  for (std::size_t r = 0; r < rows; r += vrows) chunks.push_back({false, r, std::min(rows, r + vrows)});
+  for (std::size_t r = 0; r + 1 < rows; r += frows) chunks.push_back({true, r, std::min(rows - 1, r + frows)});
+  // Fills `buf` with a chunk's records; returns the byte count.
+  auto fill = [&](const Chunk& ch, char* buf) {
+    char* at = buf;
     auto put = [&](const void* p, std::size_t n) {
       std::memcpy(at, p, n);
       at += n;
     };
-    auto flush = [&] {
-      out.write(buf.data(), std::streamsize(at - buf.data()));
-      at = buf.data();
-    };
-    // A record goes in whole: the buffer is written out when the next one does not fit.
-    auto room = [&](std::size_t n) {
-      if (std::size_t(buf.data() + buf.size() - at) < n) flush();
-    };
-    for (std::size_t i = 0; i < nv; ++i) {
-      room(vertex_bytes);
-      put(mesh.positions[i].data(), 12);
-      put(mesh.normals[i].data(), 12);
-      if (voronoi) {
-        put(&mesh.voronoi.vertex_areas[i], 4);
-        put(mesh.voronoi.tangents[i].data(), 12);
+    if (!ch.faces) {
+      for (std::size_t i = ch.r0 * cols; i < ch.r1 * cols; ++i) {
+        put(mesh.positions[i].data(), 12);
+        put(mesh.normals[i].data(), 12);
+        if (voronoi) {
+          put(&mesh.voronoi.vertex_areas[i], 4);
+          put(mesh.voronoi.tangents[i].data(), 12);
+        }
+        if (change) put(&mesh.normal_change[i], 4);
       }
-      if (change) put(&mesh.normal_change[i], 4);
+      return std::size_t(at - buf);
     }
-    for (std::size_t f = 0; f < nf; ++f) {
-      const auto t = mesh.topo.face(f);
-      room(face_bytes);
-      const std::uint8_t three = 3;
-      const std::int32_t idx[3] = {std::int32_t(t[0]), std::int32_t(t[1]), std::int32_t(t[2])};
-      put(&three, 1);
-      put(idx, 12);
-      if (voronoi) put(mesh.voronoi.corner_areas[f].data(), 12);
+    for (std::size_t r = ch.r0; r < ch.r1; ++r)
+      for (std::size_t c = 0; c + 1 < cols; ++c) {
+        const auto nw = std::int32_t(r * cols + c), ne = nw + 1, sw = std::int32_t(nw + std::int32_t(cols)), se = sw + 1;
+        const std::size_t f = mesh.topo.face_of_cell(r, c, 0);
+        // GridTopology::face's order: (NW, SW, SE), then (NW, SE, NE).
+        const std::int32_t tri[2][3] = {{nw, sw, se}, {nw, se, ne}};
+        for (int k = 0; k < 2; ++k) {
+          const std::uint8_t three = 3;
+          put(&three, 1);
+          put(tri[k], 12);
+          if (voronoi) put(mesh.voronoi.corner_areas[f + std::size_t(k)].data(), 12);
+        }
+      }
+    return std::size_t(at - buf);
+  };
+  write_stream_atomic(path, [&](std::ostream& out) {
+    out.write(header.data(), std::streamsize(header.size()));
+    // Two buffers: a helper thread fills the next chunk while this one writes.
+    std::vector<char> bufs[2];
+    for (auto& b : bufs) b.resize(std::max(vrows * vrow_bytes, frows * frow_bytes));
+    std::size_t n = chunks.empty() ? 0 : fill(chunks[0], bufs[0].data());
+    for (std::size_t i = 0; i < chunks.size() && out; ++i) {
+      std::future<std::size_t> next;
+      if (i + 1 < chunks.size())
+        next = std::async(std::launch::async, fill, std::cref(chunks[i + 1]), bufs[(i + 1) % 2].data());
+      out.write(bufs[i % 2].data(), std::streamsize(n));
+      if (next.valid()) n = next.get();
     }
-    flush();
     out.flush();
     if (!out) throw Error("cannot write '" + path + "': write failed (disk full?)");
   });

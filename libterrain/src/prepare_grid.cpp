@@ -116,6 +116,7 @@ GridPlan plan_grid(const Georef& sg, std::size_t src_rows, std::size_t src_cols,
       row = sg.row_of_y(y);
       col = sg.col_of_x(x);
     };
+    out.separable = true;
   }
   if (valid.x1 <= valid.x0 || valid.y1 <= valid.y0)
     throw Error("the DEM's footprint is empty after projection");
@@ -191,12 +192,30 @@ PreparedGrid resample_to_plan(const Grid& samples, const GridPlan& plan, const G
   const double dr = double(w.row0), dc = double(w.col0);
   Grid& g = out.grid;
   g = Grid(std::size_t(rows), std::size_t(cols), tg);
+  // A separable map: each column's taps once (sample_grid's values exactly).
+  std::vector<SampleTaps> column_taps;
+  if (plan.separable) {
+    column_taps.resize(std::size_t(cols));
+    for (long c = 0; c < cols; ++c) {
+      double sr, sc;
+      plan.to_source(tg.x_of_col(double(c)), tg.y_of_row(0), sr, sc);
+      column_taps[std::size_t(c)] = sample_taps(sc - dc, samples.cols, req.resampling);
+    }
+  }
   const long block = 64;
   for (long rb = 0; rb < rows; rb += block) {
     const long re = std::min(rows, rb + block);
 #pragma omp parallel for schedule(static)
     for (long r = rb; r < re; ++r) {
       const double y = tg.y_of_row(double(r));
+      if (!column_taps.empty()) {
+        double sr, sc;
+        plan.to_source(tg.x_of_col(0), y, sr, sc);
+        const SampleTaps row_taps = sample_taps(sr - dr, samples.rows, req.resampling);
+        for (long c = 0; c < cols; ++c)
+          g.at(std::size_t(r), std::size_t(c)) = sample_taps(samples, row_taps, column_taps[std::size_t(c)]);
+        continue;
+      }
       for (long c = 0; c < cols; ++c) {
         double sr, sc;
         plan.to_source(tg.x_of_col(double(c)), y, sr, sc);

@@ -33,47 +33,48 @@ std::size_t clamp_index(long i, std::size_t n) {
 
 }  // namespace
 
-float sample_grid(const Grid& g, double row, double col, Resampling method) {
+SampleTaps sample_taps(double coord, std::size_t n, Resampling method) {
   // Coordinates within 1e-7 cell of a sample centre are that centre, so that a grid
   // resampled at its own spacing reproduces its samples exactly (no-data neighbours
   // included, which a weight of 1e-12 would otherwise pull in).
   constexpr double kSnap = 1e-7;
-  if (std::abs(row - std::round(row)) < kSnap) row = std::round(row);
-  if (std::abs(col - std::round(col)) < kSnap) col = std::round(col);
+  if (std::abs(coord - std::round(coord)) < kSnap) coord = std::round(coord);
+  SampleTaps t;
   if (method == Resampling::Bilinear) {
-    const long c0 = std::clamp(long(std::floor(col)), 0L, long(g.cols) - 2);
-    const long r0 = std::clamp(long(std::floor(row)), 0L, long(g.rows) - 2);
-    const double tx = std::clamp(col - double(c0), 0.0, 1.0);
-    const double ty = std::clamp(row - double(r0), 0.0, 1.0);
-    const double w[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
-    const float v[4] = {g.at(r0, c0), g.at(r0, c0 + 1), g.at(r0 + 1, c0), g.at(r0 + 1, c0 + 1)};
-    double sum = 0.0;
-    for (int k = 0; k < 4; ++k) {
-      if (w[k] == 0.0) continue;
-      if (std::isnan(v[k])) return kNaN;
-      sum += w[k] * v[k];
-    }
-    return float(sum);
+    const long i0 = std::clamp(long(std::floor(coord)), 0L, long(n) - 2);
+    const double f = std::clamp(coord - double(i0), 0.0, 1.0);
+    t.n = 2;
+    t.index[0] = std::size_t(i0), t.index[1] = std::size_t(i0 + 1);
+    t.weight[0] = 1 - f, t.weight[1] = f;
+    return t;
   }
-  const long c0 = long(std::floor(col)), r0 = long(std::floor(row));
-  const double tx = col - double(c0), ty = row - double(r0);
-  double wx[4], wy[4];
+  const long i0 = long(std::floor(coord));
+  const double f = coord - double(i0);
+  t.n = 4;
   for (int k = 0; k < 4; ++k) {
-    wx[k] = keys(tx - (k - 1));
-    wy[k] = keys(ty - (k - 1));
+    t.index[k] = clamp_index(i0 + k - 1, n);
+    t.weight[k] = keys(f - (k - 1));
   }
+  return t;
+}
+
+float sample_taps(const Grid& g, const SampleTaps& row, const SampleTaps& col) {
   double sum = 0.0;
-  for (int i = 0; i < 4; ++i) {
-    if (wy[i] == 0.0) continue;
-    const std::size_t r = clamp_index(r0 + i - 1, g.rows);
-    for (int j = 0; j < 4; ++j) {
-      if (wx[j] == 0.0) continue;
-      const float v = g.at(r, clamp_index(c0 + j - 1, g.cols));
+  for (int i = 0; i < row.n; ++i) {
+    if (row.weight[i] == 0.0) continue;
+    const float* line = g.z.data() + row.index[i] * g.cols;
+    for (int j = 0; j < col.n; ++j) {
+      if (col.weight[j] == 0.0) continue;
+      const float v = line[col.index[j]];
       if (std::isnan(v)) return kNaN;
-      sum += wy[i] * wx[j] * v;
+      sum += col.weight[j] * row.weight[i] * v;
     }
   }
   return float(sum);
+}
+
+float sample_grid(const Grid& g, double row, double col, Resampling method) {
+  return sample_taps(g, sample_taps(row, g.rows, method), sample_taps(col, g.cols, method));
 }
 
 }  // namespace terrain

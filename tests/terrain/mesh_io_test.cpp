@@ -66,8 +66,8 @@ TEST(MeshIo, BlockWriterWritesOpenMeshsBytes) {
   GridMesh fitted = plain;
   fitted.normal_fit = {true, 1.25, 3.5, 0.827, 2.25, 14300000};
   fitted.provenance = "caf\xc3\xa9 \\ line";
-  // Larger than a block of records (65536), with a part block of vertices left before the
-  // faces: 400 x 313 = 125200 vertices, 59664 past the first block.
+  // Several of the writer's chunks (1 MiB of whole rows: 139 vertex rows or 129 cell rows
+  // of 313 columns, 83 and 67 with the Voronoi weights), the last ones part-filled.
   GridMesh large = test::function_mesh(400, 313, 10.0, [](double x, double y) { return std::sin(x / 300) * y / 50; });
   GridMesh large_denoised = large;
   large_denoised.voronoi = voronoi_weights(large_denoised);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "terrain/dem_io.hpp"
@@ -169,6 +170,35 @@ TEST(PrepareGrid, ResampleKeepsTheSourceLattice) {
   EXPECT_DOUBLE_EQ(col, 17.0);  // 25 m + 3*50 m from the corner: sample 17 (centre 175 m)
   EXPECT_DOUBLE_EQ(row, 22.0);
   EXPECT_EQ(p.grid.at(4, 3), src.at(22, 17));
+}
+
+// A projected source maps rows to rows and columns to columns: the resampling takes each
+// column's kernel taps once. It must give sample_grid's values bit for bit, no-data
+// neighbours included (a geographic source goes through sample_grid per sample).
+TEST(PrepareGrid, SeparableTapsEqualSampleGridPerSample) {
+  Grid src = read_dem(data("logan_utm12n_100m.tif"));
+  for (std::size_t r = 40; r < 44; ++r)
+    for (std::size_t c = 100; c < 103; ++c) src.at(r, c) = std::numeric_limits<float>::quiet_NaN();
+  const DemInfo eno = read_dem_info(data("eno_nad83_geographic_crop.tif"));
+  EXPECT_FALSE(plan_grid(eno.geo, eno.rows, eno.cols, {}).separable);
+  for (Resampling k : {Resampling::Bilinear, Resampling::Cubic})
+    for (double spacing : {7.0, 100.0, 130.0}) {
+      GridRequest req;
+      req.resampling = k;
+      req.spacing = spacing;
+      req.fill_nodata = true;
+      GridPlan plan = plan_grid(src.geo, src.rows, src.cols, req);
+      plan.source_window = {0, 0, src.rows, src.cols};
+      ASSERT_TRUE(plan.separable);
+      const PreparedGrid taps = resample_to_plan(src, plan, req);
+      plan.separable = false;
+      const PreparedGrid each = resample_to_plan(src, plan, req);
+      EXPECT_GT(taps.filled, 0u);
+      EXPECT_EQ(taps.filled, each.filled);
+      ASSERT_EQ(taps.grid.size(), each.grid.size());
+      EXPECT_EQ(std::memcmp(taps.grid.z.data(), each.grid.z.data(), taps.grid.size() * sizeof(float)), 0)
+          << spacing << " m";
+    }
 }
 
 TEST(PrepareGrid, CropByBboxAndByCenterAgree) {

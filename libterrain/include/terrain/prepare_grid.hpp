@@ -62,6 +62,7 @@ struct GridPlan {
   Georef target;
   std::size_t rows = 0, cols = 0;
   ToSource to_source;
+  bool separable = false;  // to_source's row depends on y only and its column on x only
   RasterWindow source_window;
   std::vector<std::string> warnings;
 };

@@ -18,4 +18,15 @@ Resampling parse_resampling(std::string_view name);
 // is no-data. Tested against hand-worked values and against gdalwarp (tests/resample_test).
 float sample_grid(const Grid& grid, double row, double col, Resampling method);
 
+// The kernel is separable: sample_grid = sample_taps(grid, taps(row), taps(col)). A
+// resampling whose source rows depend on the target row only and source columns on the
+// target column only computes the taps once per row and once per column.
+struct SampleTaps {
+  std::size_t index[4];  // samples along one axis, clamped to the grid
+  double weight[4];
+  int n = 0;
+};
+SampleTaps sample_taps(double coord, std::size_t n, Resampling method);
+float sample_taps(const Grid& grid, const SampleTaps& row, const SampleTaps& col);
+
 }  // namespace terrain
