@@ -6,6 +6,13 @@
 // when they were drawn); silhouettes, found per pixel, are drawn as a band 0.8 px wider
 // than the silhouette width about the line fitted to the silhouette pixels around each
 // pixel (silhouette_band).
+//
+// Two programs from this file: the base (no silhouettes) draws every pixel; with
+// TR_COMPOSITE_SILHOUETTES defined it draws again only the pixels within reach of a tile
+// that SIL marked, the whole colour with the silhouettes (the others discard: there the
+// silhouettes add nothing, so the base's colour is the frame's). On llvmpipe a group of
+// pixels that all discard skips the rest of the shader, while an `if` runs both of its
+// sides under a mask: the band's code cost every pixel 40 ms a frame (1280 x 720).
 layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
 layout(binding = TR_TEX_SURFACE_COLOUR) uniform sampler2D u_surface_colour;
 layout(binding = TR_TEX_CREASE_COLOUR) uniform sampler2D u_crease;
@@ -17,7 +24,6 @@ layout(location = TR_LOC_BACKGROUND) uniform vec3 u_background;
 layout(location = TR_LOC_MASK_COLOUR) uniform vec3 u_mask_colour;
 layout(location = TR_LOC_CREASE_COLOUR) uniform vec3 u_crease_colour;
 layout(location = TR_LOC_SILHOUETTE_COLOUR) uniform vec3 u_silhouette_colour;
-layout(location = TR_LOC_SILHOUETTE_WIDTH) uniform int u_silhouette_width;
 layout(binding = TR_TEX_PEL_COLOUR) uniform sampler2D u_pel;
 layout(binding = TR_TEX_PEL_DEPTH) uniform sampler2D u_pel_depth;
 layout(location = TR_LOC_PEL_COLOUR) uniform vec3 u_pel_colour;
@@ -101,15 +107,20 @@ void take_nearer(inout Nearest a, ivec2 d, float o, int win) {
   if (d2 < a.d2 || (d2 == a.d2 && o > a.o)) a = Nearest(d2, o, d + win);
 }
 
-float silhouette_band(ivec2 p, ivec2 size, float r) {
-  // No coverage beyond r + 1.5 px of every silhouette pixel: look there first, in the
-  // tiles that SIL marked, then in the pixels.
-  int reach = int(r + 1.5);
+// Whether a tile that SIL marked (one holding a silhouette pixel) lies within `reach`
+// pixels of p.
+bool near_marked_tile(ivec2 p, ivec2 size, int reach) {
   ivec2 t0 = max(p - reach, ivec2(0)) / TR_SILHOUETTE_TILE, t1 = min(p + reach, size - 1) / TR_SILHOUETTE_TILE;
   bool any_tile = false;
   for (int ty = t0.y; ty <= t1.y && !any_tile; ++ty)
     for (int tx = t0.x; tx <= t1.x && !any_tile; ++tx) any_tile = texelFetch(u_silhouette_tiles, ivec2(tx, ty), 0).r > 0.0;
-  if (!any_tile) return 0.0;
+  return any_tile;
+}
+
+float silhouette_band(ivec2 p, ivec2 size, float r) {
+  // No coverage beyond r + 1.5 px of every silhouette pixel (the caller looked at the
+  // tiles): look in the pixels first.
+  int reach = int(r + 1.5);
   bool any_near = false;
   for (int dy = -reach; dy <= reach && !any_near; ++dy)
     for (int dx = -reach; dx <= reach && !any_near; ++dx)
@@ -182,6 +193,9 @@ float silhouette_band(ivec2 p, ivec2 size, float r) {
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   ivec2 size = textureSize(u_toward, 0);
+#ifdef TR_COMPOSITE_SILHOUETTES
+  if (!near_marked_tile(p, size, silhouette_reach())) discard;
+#endif
   float t = far_of(texelFetch(u_toward, p, 0).r);
   bool surface = t < 1.0;
   vec3 c = u_background;
@@ -190,18 +204,18 @@ void main() {
   if (u_pels != 0) c = mix(c, u_pel_colour, line_cover(u_pel, u_pel_depth, p, t));
   if (u_layers.z != 0) c = mix(c, u_crease_colour, line_cover(u_crease, u_crease_depth, p, t));
   if (u_edges != 0 && line_visible(u_edge, u_edge_depth, p, t)) c = u_edge_colour;
-  if (u_layers.w != 0) {
-    float sil = 0.0;
-    if (u_style.x != 0.0) {
-      sil = silhouette_band(p, size, 0.5 * (float(u_silhouette_width) + 0.8));
-    } else {
-      // The dilation window [r0, r1]^2.
-      int r0 = -(u_silhouette_width - 1) / 2, r1 = u_silhouette_width / 2;
-      for (int dy = r0; dy <= r1; ++dy)
-        for (int dx = r0; dx <= r1; ++dx)
-          sil = max(sil, texelFetch(u_silhouette, clamp(p + ivec2(dx, dy), ivec2(0), size - 1), 0).r);
-    }
-    c = mix(c, u_silhouette_colour, sil);
+#ifdef TR_COMPOSITE_SILHOUETTES
+  float sil = 0.0;
+  if (u_style.x != 0.0) {
+    sil = silhouette_band(p, size, silhouette_half_width());
+  } else {
+    // The dilation window [r0, r1]^2.
+    int r0 = -(u_silhouette_width - 1) / 2, r1 = u_silhouette_width / 2;
+    for (int dy = r0; dy <= r1; ++dy)
+      for (int dx = r0; dx <= r1; ++dx)
+        sil = max(sil, texelFetch(u_silhouette, clamp(p + ivec2(dx, dy), ivec2(0), size - 1), 0).r);
   }
+  c = mix(c, u_silhouette_colour, sil);
+#endif
   o_colour = vec4(c, 1.0);
 }

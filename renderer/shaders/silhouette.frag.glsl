@@ -34,7 +34,10 @@ void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   ivec2 size = textureSize(u_toward, 0);
   bool s = silhouette(p, size);
-  if (s && u_style.x != 0.0) {
+  // The mask was cleared to 0. (On llvmpipe a group of pixels that all discard skips the
+  // rest of the shader; an `if` alone runs both sides, its lanes masked.)
+  if (!s) discard;
+  if (u_style.x != 0.0) {
     int n = 0;
     for (int dy = -2; dy <= 2 && n < 3; ++dy)
       for (int dx = -2; dx <= 2 && n < 3; ++dx) {

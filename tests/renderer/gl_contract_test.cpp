@@ -167,7 +167,7 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
   EXPECT_EQ(computes, 9u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 17u);  // silhouette 2, composite 10, adjacency 2, crease visibility and PEL draw 1 each, pieces 1
+  EXPECT_EQ(samplers, 25u);  // silhouette 2, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1
   EXPECT_EQ(images, 3u);     // pieces (opacity), silhouette and adjacency (tiles)
   EXPECT_GE(locations, 14u);
 }

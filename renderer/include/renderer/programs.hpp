@@ -18,7 +18,8 @@ enum class ProgramId {
   CreaseSelect,  // DM: segments drawn (strokes long enough), indirect draw command
   CreaseDraw,    // DM: the selected segments as screen-space quads
   Silhouette,    // SIL: Toward/Away
-  Composite,     // LAY
+  Composite,     // LAY: every pixel, without the silhouettes
+  CompositeSilhouettes,  // LAY: again, the pixels near silhouettes, with them
   PelFields,     // PEL: per-vertex fields
   PelExtract,    // PEL: zero-crossing segments, indirect draw command
   PelDraw,       // PEL: the segments as quads
@@ -33,7 +34,7 @@ enum class ProgramId {
 inline constexpr std::array kAllPrograms = {ProgramId::Surface,     ProgramId::PnCapture,    ProgramId::CreaseScore,
                                             ProgramId::CreaseBridge, ProgramId::CreaseSelect, ProgramId::CreaseDraw,
                                             ProgramId::Silhouette,
-                                            ProgramId::Composite,    ProgramId::PelFields,   ProgramId::PelExtract,
+                                            ProgramId::Composite,    ProgramId::CompositeSilhouettes, ProgramId::PelFields,   ProgramId::PelExtract,
                                             ProgramId::PelDraw,     ProgramId::SurfaceId,    ProgramId::Adjacency,
                                             ProgramId::EdgeClassify, ProgramId::EdgeDraw,    ProgramId::SilhouettePieces,
                                             ProgramId::PelPieces,   ProgramId::CreaseVisibility};

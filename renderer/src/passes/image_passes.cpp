@@ -155,19 +155,12 @@ CompositePass::CompositePass(const SceneGpu& scene, const Layers& layers, const 
       silhouettes_(silhouettes),
       colour_(make_texture(GL_RGBA8, scene.width, scene.height)),
       fbo_(make_framebuffer(&colour_, nullptr)),
-      prog_(build_program(ProgramId::Composite)) {}
+      prog_(build_program(ProgramId::Composite)),
+      silhouettes_prog_(build_program(ProgramId::CompositeSilhouettes)) {}
 
 void CompositePass::execute(const FrameInputs&) {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glDisable(GL_DEPTH_TEST);
-  const GLuint p = prog_.id();
-  glUseProgram(p);
-  glProgramUniform4i(p, TR_LOC_LAYERS, layers_.shaded, layers_.mask, layers_.creases, layers_.silhouettes);
-  glProgramUniform3fv(p, TR_LOC_BACKGROUND, 1, style_.background.data());
-  glProgramUniform3fv(p, TR_LOC_MASK_COLOUR, 1, style_.mask.data());
-  glProgramUniform3fv(p, TR_LOC_CREASE_COLOUR, 1, style_.crease_colour.data());
-  glProgramUniform3fv(p, TR_LOC_SILHOUETTE_COLOUR, 1, style_.silhouette_colour.data());
-  glProgramUniform1i(p, TR_LOC_SILHOUETTE_WIDTH, std::max(1, style_.silhouette_width));
   glBindTextureUnit(TR_TEX_TOWARD_DEPTH, s_.toward_depth.id());
   glBindTextureUnit(TR_TEX_SURFACE_COLOUR, s_.surface_colour.id());
   glBindTextureUnit(TR_TEX_CREASE_COLOUR, creases_.colour().id());
@@ -176,14 +169,35 @@ void CompositePass::execute(const FrameInputs&) {
   glBindTextureUnit(TR_TEX_SILHOUETTE_TILES, silhouettes_.tiles().id());
   glBindTextureUnit(TR_TEX_PEL_COLOUR, pels_.colour().id());
   glBindTextureUnit(TR_TEX_PEL_DEPTH, pels_.depth().id());
-  glProgramUniform3fv(p, TR_LOC_PEL_COLOUR, 1, style_.pel_colour.data());
-  glProgramUniform1i(p, TR_LOC_PELS, pels_.active() ? 1 : 0);
   glBindTextureUnit(TR_TEX_EDGE_COLOUR, edges_.colour().id());
   glBindTextureUnit(TR_TEX_EDGE_DEPTH, edges_.depth().id());
-  glProgramUniform3fv(p, TR_LOC_EDGE_COLOUR, 1, style_.edge_colour.data());
-  glProgramUniform1i(p, TR_LOC_EDGES, edges_.active() ? 1 : 0);
   glBindVertexArray(s_.empty_vao.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  // Every pixel without the silhouettes, then the pixels near them again with them
+  // (composite.frag.glsl).
+  for (const GLuint p : {prog_.id(), silhouettes_prog_.id()}) {
+    const bool silhouettes = p == silhouettes_prog_.id();
+    if (silhouettes && !layers_.silhouettes) break;
+    glUseProgram(p);
+    glProgramUniform4i(p, TR_LOC_LAYERS, layers_.shaded, layers_.mask, layers_.creases, layers_.silhouettes);
+    glProgramUniform3fv(p, TR_LOC_BACKGROUND, 1, style_.background.data());
+    glProgramUniform3fv(p, TR_LOC_MASK_COLOUR, 1, style_.mask.data());
+    glProgramUniform3fv(p, TR_LOC_CREASE_COLOUR, 1, style_.crease_colour.data());
+    glProgramUniform3fv(p, TR_LOC_PEL_COLOUR, 1, style_.pel_colour.data());
+    glProgramUniform1i(p, TR_LOC_PELS, pels_.active() ? 1 : 0);
+    glProgramUniform3fv(p, TR_LOC_EDGE_COLOUR, 1, style_.edge_colour.data());
+    glProgramUniform1i(p, TR_LOC_EDGES, edges_.active() ? 1 : 0);
+    if (silhouettes) {
+      glProgramUniform3fv(p, TR_LOC_SILHOUETTE_COLOUR, 1, style_.silhouette_colour.data());
+      glProgramUniform1i(p, TR_LOC_SILHOUETTE_WIDTH, std::max(1, style_.silhouette_width));
+    }
+    if (!silhouettes) {
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+    } else {
+      const GLsizei tiles_x = (s_.width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE;
+      const GLsizei tiles_y = (s_.height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE;
+      glDrawArrays(GL_TRIANGLES, 0, 6 * tiles_x * tiles_y);  // composite_tiles.vert.glsl
+    }
+  }
 }
 
 }  // namespace renderer::passes

@@ -255,7 +255,7 @@ class CompositePass : public PassBase {
   const PelPass& pels_;
   const EdgePass& edges_;
   const SilhouettePass& silhouettes_;
-  GlObject colour_, fbo_, prog_;
+  GlObject colour_, fbo_, prog_, silhouettes_prog_;
 };
 
 }  // namespace renderer::passes
