@@ -13,22 +13,25 @@ layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
 layout(binding = TR_TEX_AWAY_DEPTH) uniform sampler2D u_away;
 layout(location = 0) out vec4 o_mask;
 bool inside(ivec2 q, ivec2 size) { return all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size)); }
+vec4 far_of(vec4 d) { return u_lines.w > 0.5 ? 1.0 - d : d; }
+// The 2 x 2 depths of s at columns and rows c - 1 and c (one gather, not four fetches).
+vec4 gather(sampler2D s, ivec2 c, vec2 size) { return far_of(textureGather(s, vec2(c) / size)); }
 bool silhouette(ivec2 p, ivec2 size) {
+  // The 3 x 3 window about p as four gathers. Beyond the image's edge a gather clamps to
+  // the window's own edge pixels (or p itself), which changes neither the nearest away
+  // depth nor the neighbours' test (p's own toward depth is nearer than a).
+  vec2 fs = vec2(size);
   float t = far_of(texelFetch(u_toward, p, 0).r);
   float a = far_of(texelFetch(u_away, p, 0).r);
-  if (u_style.x != 0.0)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        ivec2 q = p + ivec2(dx, dy);
-        if (inside(q, size)) a = min(a, far_of(texelFetch(u_away, q, 0).r));
-      }
+  if (u_style.x != 0.0) {
+    vec4 m = min(min(gather(u_away, p, fs), gather(u_away, p + ivec2(1, 0), fs)),
+                 min(gather(u_away, p + ivec2(0, 1), fs), gather(u_away, p + ivec2(1, 1), fs)));
+    a = min(min(m.x, m.y), min(m.z, m.w));
+  }
   if (!(t < a)) return false;
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      ivec2 q = p + ivec2(dx, dy);
-      if ((dx != 0 || dy != 0) && inside(q, size) && far_of(texelFetch(u_toward, q, 0).r) > a) return true;
-    }
-  return false;
+  vec4 f = max(max(gather(u_toward, p, fs), gather(u_toward, p + ivec2(1, 0), fs)),
+               max(gather(u_toward, p + ivec2(0, 1), fs), gather(u_toward, p + ivec2(1, 1), fs)));
+  return max(max(f.x, f.y), max(f.z, f.w)) > a;
 }
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
