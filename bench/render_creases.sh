@@ -5,13 +5,13 @@
 # wall clock around glFinish) for the full renderer (shaded surface, creases,
 # silhouettes) and for a plain shaded frame (TFT only), and the ratio of a full frame to
 # a plain one (mean over frames 4-99, wall clock). Needs a built tree (scripts/build.sh).
-# Usage: bench/render_creases.sh [FRAMES]
+# Usage: bench/render_creases.sh [FRAMES]   (TERRAIN_BIN=folder: another build's binaries)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 frames="${1:-99}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-bin=build/bin
+bin="${TERRAIN_BIN:-build/bin}"  # TERRAIN_BIN=folder times other binaries (an older build)
 
 $bin/dem2mesh data/logan_utm12n_100m.tif "$tmp/scene.ply" --center 450000 4640000 --size 6000 6000 \
   --spacing 50 -q > "$tmp/mesh.txt"
