@@ -17,6 +17,7 @@
 #include "drainage/tiled_pipeline.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
+#include "terrain/memory.hpp"
 #include "terrain/mesh_io.hpp"
 #include "terrain/pn_surface.hpp"
 #ifdef TERRAIN_HAVE_MPI

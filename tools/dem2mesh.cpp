@@ -8,6 +8,7 @@
 #include "common.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
+#include "terrain/memory.hpp"
 #include "terrain/fit_normals.hpp"
 #include "terrain/grid_mesh.hpp"
 #include "terrain/mesh_io.hpp"

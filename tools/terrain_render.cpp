@@ -23,6 +23,7 @@
 #include "renderer/vector_file.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
+#include "terrain/memory.hpp"
 #include "terrain/image_io.hpp"
 
 namespace tt = terrain::tools;

@@ -18,6 +18,7 @@
 
 #include "terrain/atomic_file.hpp"
 #include "terrain/error.hpp"
+#include "terrain/memory.hpp"
 #include "crs_info.hpp"
 
 namespace terrain {
@@ -184,49 +185,7 @@ int gdal_progress(double fraction, const char*, void* arg) {
   return g.cancelled ? FALSE : TRUE;
 }
 
-// Physical memory of this machine in bytes (0 when unknown).
-double physical_memory() {
-  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-  return pages > 0 && page > 0 ? double(pages) * double(page) : 0.0;
-}
-
 }  // namespace
-
-double available_memory() {
-  double available = physical_memory();
-  if (std::FILE* f = std::fopen("/proc/meminfo", "r")) {
-    char line[256];
-    double kib = -1.0;
-    while (std::fgets(line, sizeof line, f))
-      if (std::sscanf(line, "MemAvailable: %lf kB", &kib) == 1) break;
-    std::fclose(f);
-    if (kib >= 0.0) available = kib * 1024.0;
-  }
-  // A container's or batch job's limit (cgroup v2): its room left, when smaller.
-  double max = 0.0, current = 0.0;
-  if (std::FILE* f = std::fopen("/sys/fs/cgroup/memory.max", "r")) {
-    if (std::fscanf(f, "%lf", &max) != 1) max = 0.0;  // "max": no limit
-    std::fclose(f);
-  }
-  if (std::FILE* f = std::fopen("/sys/fs/cgroup/memory.current", "r")) {
-    if (std::fscanf(f, "%lf", &current) != 1) current = 0.0;
-    std::fclose(f);
-  }
-  if (max > 0.0 && max - current < available) available = std::max(0.0, max - current);
-  // TERRAIN_MEMORY_MIB caps it (a share of a machine others use too; tests).
-  if (const char* cap = std::getenv("TERRAIN_MEMORY_MIB")) {
-    const double mib = std::atof(cap);
-    if (mib > 0.0) available = std::min(available > 0.0 ? available : mib * 1048576.0, mib * 1048576.0);
-  }
-  return available;
-}
-
-void check_memory(double bytes, const std::string& what, const std::string& advice) {
-  const double available = available_memory();
-  if (available > 0 && bytes > available)
-    throw Error(fmt::format("{} needs {:.1f} GiB, more than this machine's memory available now ({:.1f} GiB); {}", what,
-                            bytes / 1073741824.0, available / 1073741824.0, advice));
-}
 
 DemInfo read_dem_info(const std::string& path) {
   const OpenRaster r = open_raster(path);

@@ -13,7 +13,7 @@
 #include "renderer/gl_contract.hpp"
 #include "renderer/programs.hpp"
 #include "renderer/stroke_visibility.hpp"
-#include "terrain/dem_io.hpp"
+#include "terrain/memory.hpp"
 #include "terrain/error.hpp"
 #include "terrain/hillshade.hpp"
 

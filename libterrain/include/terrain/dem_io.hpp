@@ -27,15 +27,6 @@ struct DemInfo {
 };
 DemInfo read_dem_info(const std::string& path);
 
-// Memory this process can take now, in bytes: MemAvailable of /proc/meminfo (what Linux
-// can give without swapping), else the physical memory; 0 when neither is known.
-double available_memory();
-
-// Throws Error "WHAT needs N GiB, more than this machine's memory available now (M GiB);
-// ADVICE" when `bytes` exceed available_memory(). Tools call it with every buffer a run
-// will hold counted, before they read anything large.
-void check_memory(double bytes, const std::string& what, const std::string& advice);
-
 // Reads band 1 of `path` (or only `window` of it) as float elevations; the band's no-data
 // value (and NaN) become NaN. `path` is anything GDAL opens, also names that are not files
 // (NETCDF:f.nc:Band1, GTIFF_DIR:1:f.tif, /vsizip/...). Requires a north-up geotransform
