@@ -201,9 +201,17 @@ void main() {
   vec3 c = u_background;
   if (surface && u_layers.x != 0) c = texelFetch(u_surface_colour, p, 0).rgb;
   else if (surface && u_layers.y != 0) c = u_mask_colour;
+  // A layer the frame does not draw is compiled out (TR_COMPOSITE_NO_*, CompositePass):
+  // llvmpipe would run its fetches under a mask (PELs and edges: 9 ms a frame).
+#ifndef TR_COMPOSITE_NO_PELS
   if (u_pels != 0) c = mix(c, u_pel_colour, line_cover(u_pel, u_pel_depth, p, t));
+#endif
+#ifndef TR_COMPOSITE_NO_CREASES
   if (u_layers.z != 0) c = mix(c, u_crease_colour, line_cover(u_crease, u_crease_depth, p, t));
+#endif
+#ifndef TR_COMPOSITE_NO_EDGES
   if (u_edges != 0 && line_visible(u_edge, u_edge_depth, p, t)) c = u_edge_colour;
+#endif
 #ifdef TR_COMPOSITE_SILHOUETTES
   float sil = 0.0;
   if (u_style.x != 0.0) {

@@ -58,9 +58,9 @@ const ProgramSpec& program_spec(ProgramId id) {
   return specs.at(std::size_t(id));
 }
 
-GlObject build_program(ProgramId id) {
+GlObject build_program(ProgramId id, const std::string& defines) {
   const ProgramSpec& spec = program_spec(id);
-  return build_program(spec.stages, spec.feedback);
+  return build_program(spec.stages, spec.feedback, defines);
 }
 
 }  // namespace renderer

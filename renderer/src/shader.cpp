@@ -41,9 +41,9 @@ std::string one_line(std::string s) {
   return s;
 }
 
-GLuint compile(const StageSource& st) {
-  // String 0: the version and the C++/GLSL contract (renderer/gl_contract.h).
-  std::vector<std::string> parts{"#version 450 core\n" + shader_source("gl_contract.h") + "\n"};
+GLuint compile(const StageSource& st, const std::string& defines) {
+  // String 0: the version, the C++/GLSL contract (renderer/gl_contract.h) and the defines.
+  std::vector<std::string> parts{"#version 450 core\n" + shader_source("gl_contract.h") + "\n" + defines};
   for (std::size_t i = 0; i < st.files.size(); ++i)
     parts.push_back("#line 1 " + std::to_string(i + 1) + "\n" + shader_source(st.files[i]) + "\n");
   std::vector<const char*> ptrs;
@@ -66,11 +66,12 @@ GLuint compile(const StageSource& st) {
 
 }  // namespace
 
-GlObject build_program(const std::vector<StageSource>& stages, const std::vector<std::string>& feedback) {
+GlObject build_program(const std::vector<StageSource>& stages, const std::vector<std::string>& feedback,
+                       const std::string& defines) {
   GlObject prog(GlKind::Program);
   std::vector<GLuint> shaders;
   try {
-    for (const auto& st : stages) shaders.push_back(compile(st));
+    for (const auto& st : stages) shaders.push_back(compile(st, defines));
   } catch (...) {
     for (GLuint s : shaders) glDeleteShader(s);
     throw;

@@ -46,7 +46,7 @@ struct ProgramSpec {
 };
 const ProgramSpec& program_spec(ProgramId id);
 
-// build_program() of the program's spec.
-GlObject build_program(ProgramId id);
+// build_program() of the program's spec, with `defines` ("#define NAME 1\n" lines).
+GlObject build_program(ProgramId id, const std::string& defines = "");
 
 }  // namespace renderer

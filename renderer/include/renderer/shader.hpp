@@ -25,7 +25,9 @@ struct StageSource {
 // Compiles and links. `feedback`: transform-feedback varyings (interleaved), captured
 // from the last vertex-processing stage. Throws terrain::Error with the driver's log and
 // the file names on failure.
-GlObject build_program(const std::vector<StageSource>& stages, const std::vector<std::string>& feedback = {});
+// `defines` ("#define NAME 1\n" lines) go before every stage's files.
+GlObject build_program(const std::vector<StageSource>& stages, const std::vector<std::string>& feedback = {},
+                       const std::string& defines = "");
 
 // Rewrites driver log locations "N:L(C)" / "N(L)" to "file:L" for the given file list
 // (file N+... as in build_program). Exposed for tests.

@@ -155,8 +155,16 @@ CompositePass::CompositePass(const SceneGpu& scene, const Layers& layers, const 
       silhouettes_(silhouettes),
       colour_(make_texture(GL_RGBA8, scene.width, scene.height)),
       fbo_(make_framebuffer(&colour_, nullptr)),
-      prog_(build_program(ProgramId::Composite)),
-      silhouettes_prog_(build_program(ProgramId::CompositeSilhouettes)) {}
+      prog_(build_program(ProgramId::Composite, defines())),
+      silhouettes_prog_(build_program(ProgramId::CompositeSilhouettes, defines())) {}
+
+std::string CompositePass::defines() const {
+  std::string d;
+  if (!pels_.active()) d += "#define TR_COMPOSITE_NO_PELS 1\n";
+  if (!layers_.creases) d += "#define TR_COMPOSITE_NO_CREASES 1\n";
+  if (!edges_.active()) d += "#define TR_COMPOSITE_NO_EDGES 1\n";
+  return d;
+}
 
 void CompositePass::execute(const FrameInputs&) {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());

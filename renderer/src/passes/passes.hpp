@@ -248,6 +248,7 @@ class CompositePass : public PassBase {
 
  private:
   void execute(const FrameInputs&) override;
+  std::string defines() const;  // the layers the frame does not draw, compiled out
   const SceneGpu& s_;
   Layers layers_;
   Style style_;
