@@ -32,7 +32,10 @@ const ProgramSpec& program_spec(ProgramId id) {
          {{GL_VERTEX_SHADER, {c, "crease_data.glsl", "crease.vert.glsl"}},
           {GL_FRAGMENT_SHADER, {c, "crease_samples.glsl", "line.frag.glsl"}}},
          {}},
-        {"silhouette", fullscreen({"silhouette_list.glsl", "silhouette.frag.glsl"}), {}},
+        {"silhouette",
+         {{GL_VERTEX_SHADER, {c, "silhouette_tiles.vert.glsl"}},
+          {GL_FRAGMENT_SHADER, {c, "silhouette_list.glsl", "silhouette.frag.glsl"}}},
+         {}},
         {"composite", fullscreen({"silhouette_reach.glsl", "composite.frag.glsl"}), {}},
         {"composite_silhouettes",
          {{GL_VERTEX_SHADER, {c, "silhouette_reach.glsl", "composite_tiles.vert.glsl"}},
@@ -53,6 +56,7 @@ const ProgramSpec& program_spec(ProgramId id) {
         {"silhouette_pieces", compute({"silhouette_list.glsl", "union_find.glsl", "silhouette_pieces.comp.glsl"}), {}},
         {"pel_pieces", compute({"pel_common.glsl", "union_find.glsl", "pel_pieces.comp.glsl"}), {}},
         {"crease_visibility", compute({"crease_data.glsl", "crease_samples.glsl", "crease_visibility.comp.glsl"}), {}},
+        {"away_tiles", compute({"away_tiles.comp.glsl"}), {}},
     };
   }();
   return specs.at(std::size_t(id));

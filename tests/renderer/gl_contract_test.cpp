@@ -39,9 +39,10 @@ const std::map<std::string, int> kSamplers = {
     {"u_pel", TR_TEX_PEL_COLOUR},            {"u_pel_depth", TR_TEX_PEL_DEPTH},
     {"u_ids", TR_TEX_TRIANGLE_ID},           {"u_id_depth", TR_TEX_ID_DEPTH},
     {"u_edge", TR_TEX_EDGE_COLOUR},          {"u_edge_depth", TR_TEX_EDGE_DEPTH},
-    {"u_silhouette_tiles", TR_TEX_SILHOUETTE_TILES}};
+    {"u_silhouette_tiles", TR_TEX_SILHOUETTE_TILES}, {"u_away_tiles", TR_TEX_AWAY_TILES}};
 const std::map<std::string, int> kImages = {{"u_opacity", TR_IMG_SILHOUETTE_OPACITY},
-                                            {"u_tiles", TR_IMG_SILHOUETTE_TILES}};
+                                            {"u_tiles", TR_IMG_SILHOUETTE_TILES},
+                                            {"u_away_tiles", TR_IMG_AWAY_TILES}};
 const std::map<std::string, int> kUniformLocations = {
     {"u_mode", TR_LOC_SURFACE_MODE},
     {"u_layers", TR_LOC_LAYERS},
@@ -164,11 +165,11 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
     }
   }
   // The checks ran on the interfaces there are (a program could lose them silently).
-  EXPECT_EQ(computes, 9u);
+  EXPECT_EQ(computes, 10u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 25u);  // silhouette 2, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1
-  EXPECT_EQ(images, 3u);     // pieces (opacity), silhouette and adjacency (tiles)
+  EXPECT_EQ(samplers, 27u);  // silhouette 3, away tiles 1, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1
+  EXPECT_EQ(images, 4u);     // pieces (opacity), silhouette and adjacency (tiles), away tiles
   EXPECT_GE(locations, 14u);
 }
 

@@ -106,12 +106,15 @@
 #define TR_TEX_EDGE_COLOUR 7
 #define TR_TEX_EDGE_DEPTH 8
 #define TR_TEX_SILHOUETTE_TILES 9
+#define TR_TEX_AWAY_TILES 10
 
 /* Image units: the silhouette opacity the piece rule writes (r8); the tiles of
    TR_SILHOUETTE_TILE x TR_SILHOUETTE_TILE pixels that hold a silhouette pixel (r8, 1),
-   where LAY looks for silhouettes near a pixel before its window. */
+   where LAY looks for silhouettes near a pixel before its window; the tiles that hold an
+   away-facing surface pixel (r8, 1), where SIL looks for silhouettes. */
 #define TR_IMG_SILHOUETTE_OPACITY 0
 #define TR_IMG_SILHOUETTE_TILES 1
+#define TR_IMG_AWAY_TILES 2
 #define TR_SILHOUETTE_TILE 8
 
 /* Vertex attributes of the surface. */

@@ -30,6 +30,7 @@ enum class ProgramId {
   SilhouettePieces,  // SIL: silhouette pieces and their opacity (anti-aliased)
   PelPieces,         // PEL: PEL pieces and their segments' opacity (anti-aliased)
   CreaseVisibility,  // DM: crease samples' visibility along strokes (anti-aliased)
+  AwayTiles,         // SIL: the tiles that hold an away-facing surface pixel
 };
 inline constexpr std::array kAllPrograms = {ProgramId::Surface,     ProgramId::PnCapture,    ProgramId::CreaseScore,
                                             ProgramId::CreaseBridge, ProgramId::CreaseSelect, ProgramId::CreaseDraw,
@@ -37,7 +38,7 @@ inline constexpr std::array kAllPrograms = {ProgramId::Surface,     ProgramId::P
                                             ProgramId::Composite,    ProgramId::CompositeSilhouettes, ProgramId::PelFields,   ProgramId::PelExtract,
                                             ProgramId::PelDraw,     ProgramId::SurfaceId,    ProgramId::Adjacency,
                                             ProgramId::EdgeClassify, ProgramId::EdgeDraw,    ProgramId::SilhouettePieces,
-                                            ProgramId::PelPieces,   ProgramId::CreaseVisibility};
+                                            ProgramId::PelPieces,   ProgramId::CreaseVisibility, ProgramId::AwayTiles};
 
 struct ProgramSpec {
   const char* name;

@@ -56,6 +56,11 @@ SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece
       prog_(build_program(ids ? ProgramId::Adjacency : ProgramId::Silhouette)),
       tiles_(make_texture(GL_R8, (scene.width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE,
                           (scene.height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE)) {
+  if (!ids_) {
+    away_tiles_ = make_texture(GL_R8, (scene.width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE,
+                               (scene.height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE);
+    away_prog_ = build_program(ProgramId::AwayTiles);
+  }
   glProgramUniform1f(prog_.id(), TR_LOC_PIECE_MIN, float(piece_min_px_));
   if (piece_min_px_ <= 0) return;
   const std::size_t n = std::size_t(scene.width) * std::size_t(scene.height);
@@ -108,12 +113,25 @@ void SilhouettePass::draw(double pixel_angle) const {
     glBindTextureUnit(TR_TEX_TRIANGLE_ID, ids_->ids().id());
     glBindTextureUnit(TR_TEX_ID_DEPTH, ids_->depth().id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_ID_TRIANGLES, ids_->triangles().id());
+    glBindVertexArray(s_.empty_vao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
   } else {
+    // Toward/Away: the tiles that hold an away-facing pixel, then the test on the tiles
+    // beside them (silhouette_tiles.vert.glsl; no silhouette pixel lies elsewhere).
+    const GLsizei tiles_x = (s_.width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE;
+    const GLsizei tiles_y = (s_.height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE;
+    const std::size_t tiles = std::size_t(tiles_x) * std::size_t(tiles_y);
     glBindTextureUnit(TR_TEX_TOWARD_DEPTH, s_.toward_depth.id());
     glBindTextureUnit(TR_TEX_AWAY_DEPTH, s_.away_depth.id());
+    glUseProgram(away_prog_.id());
+    glBindImageTexture(TR_IMG_AWAY_TILES, away_tiles_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
+    glDispatchCompute(dispatch_groups_x(tiles), dispatch_groups_y(tiles), 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    glUseProgram(prog_.id());
+    glBindTextureUnit(TR_TEX_AWAY_TILES, away_tiles_.id());
+    glBindVertexArray(s_.empty_vao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 6 * tiles_x * tiles_y);
   }
-  glBindVertexArray(s_.empty_vao.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }
 

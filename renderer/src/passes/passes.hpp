@@ -236,6 +236,7 @@ class SilhouettePass : public PassBase {
   double tolerance_;
   Eigen::Vector4f extent_;  // the mesh's local extent: xmin, ymin, xmax, ymax
   GlObject mask_, fbo_, prog_, tiles_;
+  GlObject away_tiles_, away_prog_;  // Toward/Away: the tiles SIL draws (not with Adjacency)
   GlObject opacity_, labels_, sizes_, list_, pieces_prog_;  // the piece rule (piece_min_px > 0)
 };
 
