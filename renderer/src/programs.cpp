@@ -33,12 +33,12 @@ const ProgramSpec& program_spec(ProgramId id) {
           {GL_FRAGMENT_SHADER, {c, "crease_samples.glsl", "line.frag.glsl"}}},
          {}},
         {"silhouette",
-         {{GL_VERTEX_SHADER, {c, "silhouette_tiles.vert.glsl"}},
+         {{GL_VERTEX_SHADER, {c, "tile_rects_list.glsl", "tile_rects.vert.glsl"}},
           {GL_FRAGMENT_SHADER, {c, "silhouette_list.glsl", "silhouette.frag.glsl"}}},
          {}},
         {"composite", fullscreen({"silhouette_reach.glsl", "composite.frag.glsl"}), {}},
         {"composite_silhouettes",
-         {{GL_VERTEX_SHADER, {c, "silhouette_reach.glsl", "composite_tiles.vert.glsl"}},
+         {{GL_VERTEX_SHADER, {c, "tile_rects_list.glsl", "tile_rects.vert.glsl"}},
           {GL_FRAGMENT_SHADER, {c, "composite_silhouettes.glsl", "silhouette_reach.glsl", "composite.frag.glsl"}}},
          {}},
         {"pel_fields", compute({"pel_common.glsl", "pel_fields.comp.glsl"}), {}},
@@ -57,6 +57,7 @@ const ProgramSpec& program_spec(ProgramId id) {
         {"pel_pieces", compute({"pel_common.glsl", "union_find.glsl", "pel_pieces.comp.glsl"}), {}},
         {"crease_visibility", compute({"crease_data.glsl", "crease_samples.glsl", "crease_visibility.comp.glsl"}), {}},
         {"away_tiles", compute({"away_tiles.comp.glsl"}), {}},
+        {"tile_rects", compute({"tile_rects_list.glsl", "tile_rects.comp.glsl"}), {}},
     };
   }();
   return specs.at(std::size_t(id));

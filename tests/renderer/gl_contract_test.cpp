@@ -31,7 +31,8 @@ const std::map<std::string, int> kStorageBlocks = {
     {"CreaseChains", TR_SSBO_CREASE_CHAINS},     {"Opacity", TR_SSBO_CREASE_OPACITY},
     {"PieceLabels", TR_SSBO_PIECE_LABELS},       {"PieceSizes", TR_SSBO_PIECE_SIZES},
     {"PieceList", TR_SSBO_PIECE_LIST},           {"FaceSegments", TR_SSBO_PEL_FACE_SEGMENTS},
-    {"PelSmoothed", TR_SSBO_PEL_SMOOTHED},       {"CreaseSamples", TR_SSBO_CREASE_SAMPLES}};
+    {"PelSmoothed", TR_SSBO_PEL_SMOOTHED},       {"CreaseSamples", TR_SSBO_CREASE_SAMPLES},
+    {"TileRects", TR_SSBO_TILE_RECTS}};
 const std::map<std::string, int> kSamplers = {
     {"u_toward", TR_TEX_TOWARD_DEPTH},       {"u_away", TR_TEX_AWAY_DEPTH},
     {"u_surface_colour", TR_TEX_SURFACE_COLOUR}, {"u_crease", TR_TEX_CREASE_COLOUR},
@@ -39,7 +40,8 @@ const std::map<std::string, int> kSamplers = {
     {"u_pel", TR_TEX_PEL_COLOUR},            {"u_pel_depth", TR_TEX_PEL_DEPTH},
     {"u_ids", TR_TEX_TRIANGLE_ID},           {"u_id_depth", TR_TEX_ID_DEPTH},
     {"u_edge", TR_TEX_EDGE_COLOUR},          {"u_edge_depth", TR_TEX_EDGE_DEPTH},
-    {"u_silhouette_tiles", TR_TEX_SILHOUETTE_TILES}, {"u_away_tiles", TR_TEX_AWAY_TILES}};
+    {"u_silhouette_tiles", TR_TEX_SILHOUETTE_TILES}, {"u_away_tiles", TR_TEX_AWAY_TILES},
+    {"u_marks", TR_TEX_TILE_MARKS}};
 const std::map<std::string, int> kImages = {{"u_opacity", TR_IMG_SILHOUETTE_OPACITY},
                                             {"u_tiles", TR_IMG_SILHOUETTE_TILES},
                                             {"u_away_tiles", TR_IMG_AWAY_TILES}};
@@ -71,7 +73,8 @@ const std::map<std::string, int> kUniformLocations = {
     {"u_edges", TR_LOC_EDGES},
     {"u_piece_stage", TR_LOC_PIECE_STAGE},
     {"u_piece_min", TR_LOC_PIECE_MIN},
-    {"u_crease_stage", TR_LOC_CREASE_STAGE}};
+    {"u_crease_stage", TR_LOC_CREASE_STAGE},
+    {"u_reach", TR_LOC_TILE_REACH}};
 const std::map<std::string, int> kAttributes = {{"a_position", TR_ATTR_POSITION}, {"a_normal", TR_ATTR_NORMAL}};
 
 #define TR_OFFSET(type, name) {#name, offsetof(FrameBlock, name)},
@@ -165,10 +168,10 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
     }
   }
   // The checks ran on the interfaces there are (a program could lose them silently).
-  EXPECT_EQ(computes, 10u);
+  EXPECT_EQ(computes, 11u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 27u);  // silhouette 3, away tiles 1, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1
+  EXPECT_EQ(samplers, 28u);  // silhouette 2, away tiles 1, tile rects 2, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1
   EXPECT_EQ(images, 4u);     // pieces (opacity), silhouette and adjacency (tiles), away tiles
   EXPECT_GE(locations, 14u);
 }

@@ -66,6 +66,7 @@
 #define TR_SSBO_PEL_FACE_SEGMENTS 26
 #define TR_SSBO_PEL_SMOOTHED 27
 #define TR_SSBO_CREASE_SAMPLES 28
+#define TR_SSBO_TILE_RECTS 29
 
 /* Crease strokes: "no segment" in the chains (renderer::kNoSegment), and how many
    segments a stroke's run is followed each way (renderer::kStrokeReach). */
@@ -107,6 +108,7 @@
 #define TR_TEX_EDGE_DEPTH 8
 #define TR_TEX_SILHOUETTE_TILES 9
 #define TR_TEX_AWAY_TILES 10
+#define TR_TEX_TILE_MARKS 11
 
 /* Image units: the silhouette opacity the piece rule writes (r8); the tiles of
    TR_SILHOUETTE_TILE x TR_SILHOUETTE_TILE pixels that hold a silhouette pixel (r8, 1),
@@ -157,5 +159,7 @@
 #define TR_LOC_PIECE_MIN 27
 /* Crease visibility along strokes: */
 #define TR_LOC_CREASE_STAGE 28
+/* Tile rectangles (SIL and LAY draw only near marked tiles): */
+#define TR_LOC_TILE_REACH 29
 
 #endif

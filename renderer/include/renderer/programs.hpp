@@ -31,6 +31,7 @@ enum class ProgramId {
   PelPieces,         // PEL: PEL pieces and their segments' opacity (anti-aliased)
   CreaseVisibility,  // DM: crease samples' visibility along strokes (anti-aliased)
   AwayTiles,         // SIL: the tiles that hold an away-facing surface pixel
+  TileRects,         // SIL and LAY: the rectangles of pixels near marked tiles they draw
 };
 inline constexpr std::array kAllPrograms = {ProgramId::Surface,     ProgramId::PnCapture,    ProgramId::CreaseScore,
                                             ProgramId::CreaseBridge, ProgramId::CreaseSelect, ProgramId::CreaseDraw,
@@ -38,7 +39,8 @@ inline constexpr std::array kAllPrograms = {ProgramId::Surface,     ProgramId::P
                                             ProgramId::Composite,    ProgramId::CompositeSilhouettes, ProgramId::PelFields,   ProgramId::PelExtract,
                                             ProgramId::PelDraw,     ProgramId::SurfaceId,    ProgramId::Adjacency,
                                             ProgramId::EdgeClassify, ProgramId::EdgeDraw,    ProgramId::SilhouettePieces,
-                                            ProgramId::PelPieces,   ProgramId::CreaseVisibility, ProgramId::AwayTiles};
+                                            ProgramId::PelPieces,   ProgramId::CreaseVisibility, ProgramId::AwayTiles,
+                                            ProgramId::TileRects};
 
 struct ProgramSpec {
   const char* name;

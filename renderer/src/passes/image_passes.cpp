@@ -116,8 +116,8 @@ void SilhouettePass::draw(double pixel_angle) const {
     glBindVertexArray(s_.empty_vao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
   } else {
-    // Toward/Away: the tiles that hold an away-facing pixel, then the test on the tiles
-    // beside them (silhouette_tiles.vert.glsl; no silhouette pixel lies elsewhere).
+    // Toward/Away: the tiles that hold an away-facing pixel, then the test on the pixels
+    // within one pixel of them (no silhouette pixel lies elsewhere).
     const GLsizei tiles_x = (s_.width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE;
     const GLsizei tiles_y = (s_.height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE;
     const std::size_t tiles = std::size_t(tiles_x) * std::size_t(tiles_y);
@@ -127,10 +127,7 @@ void SilhouettePass::draw(double pixel_angle) const {
     glBindImageTexture(TR_IMG_AWAY_TILES, away_tiles_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
     glDispatchCompute(dispatch_groups_x(tiles), dispatch_groups_y(tiles), 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-    glUseProgram(prog_.id());
-    glBindTextureUnit(TR_TEX_AWAY_TILES, away_tiles_.id());
-    glBindVertexArray(s_.empty_vao.id());
-    glDrawArrays(GL_TRIANGLES, 0, 6 * tiles_x * tiles_y);
+    s_.draw_near_tiles(away_tiles_, 1, prog_);
   }
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }
@@ -219,9 +216,10 @@ void CompositePass::execute(const FrameInputs&) {
     if (!silhouettes) {
       glDrawArrays(GL_TRIANGLES, 0, 3);
     } else {
-      const GLsizei tiles_x = (s_.width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE;
-      const GLsizei tiles_y = (s_.height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE;
-      glDrawArrays(GL_TRIANGLES, 0, 6 * tiles_x * tiles_y);  // composite_tiles.vert.glsl
+      // The silhouettes' reach as silhouette_reach.glsl computes it.
+      const int w = std::max(1, style_.silhouette_width);
+      const int reach = style_.antialias ? int(0.5 * (double(w) + 0.8) + 1.5) : std::max((w - 1) / 2, w / 2);
+      s_.draw_near_tiles(silhouettes_.tiles(), reach, silhouettes_prog_);
     }
   }
 }

@@ -36,6 +36,11 @@ struct SceneGpu {
   void draw_surface(int mode) const;
   // The same patches with another program (mode 2: no facing cull).
   void draw_patches(const GlObject& program, int mode) const;
+  // Draws with `program` (its vertex shader tile_rects.vert.glsl) only the pixels within
+  // `reach` pixels of a TR_SILHOUETTE_TILE tile that `marks` (r8, one texel per tile)
+  // marks: tile_rects.comp.glsl lists their rectangles and the draw command.
+  void draw_near_tiles(const GlObject& marks, int reach, const GlObject& program) const;
+  GlObject tile_rects_buf, tile_rects_prog;
 };
 
 // A framebuffer over the given colour and depth textures (either may be null).

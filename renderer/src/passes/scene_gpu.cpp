@@ -34,6 +34,29 @@ SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev)
   surface_colour = make_texture(GL_RGBA8, width, height);
   toward_depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
   away_depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
+  const std::size_t tiles = std::size_t((width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE) *
+                            std::size_t((height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE);
+  tile_rects_buf = make_buffer(16 + 16 * tiles, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  tile_rects_prog = build_program(ProgramId::TileRects);
+}
+
+void SceneGpu::draw_near_tiles(const GlObject& marks, int reach, const GlObject& program) const {
+  const GLuint header[4] = {0, 1, 0, 0};
+  glNamedBufferSubData(tile_rects_buf.id(), 0, sizeof header, header);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_TILE_RECTS, tile_rects_buf.id());
+  glBindTextureUnit(TR_TEX_TILE_MARKS, marks.id());
+  glBindTextureUnit(TR_TEX_TOWARD_DEPTH, toward_depth.id());
+  glUseProgram(tile_rects_prog.id());
+  glProgramUniform1i(tile_rects_prog.id(), TR_LOC_TILE_REACH, reach);
+  const std::size_t tiles = std::size_t((width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE) *
+                            std::size_t((height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE);
+  glDispatchCompute(dispatch_groups_x(tiles), dispatch_groups_y(tiles), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+  glUseProgram(program.id());
+  glBindVertexArray(empty_vao.id());
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, tile_rects_buf.id());
+  glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
 }
 
 void SceneGpu::depth_state() const {
