@@ -24,7 +24,7 @@ double dequantize(Grid& grid, double half_step) {
   // Summed-area tables of the valid values and of their count: a box mean in O(1).
   std::vector<double> sum((R + 1) * (C + 1)), cnt((R + 1) * (C + 1));
   auto at = [&](std::vector<double>& t, std::size_t r, std::size_t c) -> double& { return t[r * (C + 1) + c]; };
-  for (const int radius : {128, 64, 32, 16, 8, 4, 2, 1})
+  for (const int radius : {16, 8, 4, 2, 1})
     for (int round = 0; round < (radius == 1 ? 16 : 4); ++round) {
       for (std::size_t r = 0; r < R; ++r) {
         double row_sum = 0, row_cnt = 0;
