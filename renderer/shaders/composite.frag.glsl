@@ -8,11 +8,12 @@
 // pixel (silhouette_band).
 //
 // Two programs from this file: the base (no silhouettes) draws every pixel; with
-// TR_COMPOSITE_SILHOUETTES defined it draws again only the pixels within reach of a tile
-// that SIL marked, the whole colour with the silhouettes (the others discard: there the
-// silhouettes add nothing, so the base's colour is the frame's). On llvmpipe a group of
-// pixels that all discard skips the rest of the shader, while an `if` runs both of its
-// sides under a mask: the band's code cost every pixel 40 ms a frame (1280 x 720).
+// TR_COMPOSITE_SILHOUETTES defined it draws again, the whole colour with the silhouettes,
+// only the rectangles of pixels near tiles that SIL marked (tile_rects.comp.glsl), and a
+// pixel there out of the silhouettes' reach discards (the silhouettes add nothing there,
+// so the base's colour is the frame's). llvmpipe runs both sides of an `if` for its groups
+// of pixels, lanes masked, and a discard does not end a group early: drawn over every
+// pixel, the band's code cost 40 ms a frame at 1280 x 720 even where no silhouette was.
 layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
 layout(binding = TR_TEX_SURFACE_COLOUR) uniform sampler2D u_surface_colour;
 layout(binding = TR_TEX_CREASE_COLOUR) uniform sampler2D u_crease;

@@ -37,8 +37,8 @@ void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   ivec2 size = textureSize(u_toward, 0);
   bool s = silhouette(p, size);
-  // The mask was cleared to 0. (On llvmpipe a group of pixels that all discard skips the
-  // rest of the shader; an `if` alone runs both sides, its lanes masked.)
+  // The mask was cleared to 0, so a pixel that is no silhouette writes nothing (on
+  // llvmpipe the speck test's loops then end at once for its lanes: SIL 44 -> 37 ms).
   if (!s) discard;
   if (u_style.x != 0.0) {
     int n = 0;

@@ -33,14 +33,13 @@ enum class ProgramId {
   AwayTiles,         // SIL: the tiles that hold an away-facing surface pixel
   TileRects,         // SIL and LAY: the rectangles of pixels near marked tiles they draw
 };
-inline constexpr std::array kAllPrograms = {ProgramId::Surface,     ProgramId::PnCapture,    ProgramId::CreaseScore,
-                                            ProgramId::CreaseBridge, ProgramId::CreaseSelect, ProgramId::CreaseDraw,
-                                            ProgramId::Silhouette,
-                                            ProgramId::Composite,    ProgramId::CompositeSilhouettes, ProgramId::PelFields,   ProgramId::PelExtract,
-                                            ProgramId::PelDraw,     ProgramId::SurfaceId,    ProgramId::Adjacency,
-                                            ProgramId::EdgeClassify, ProgramId::EdgeDraw,    ProgramId::SilhouettePieces,
-                                            ProgramId::PelPieces,   ProgramId::CreaseVisibility, ProgramId::AwayTiles,
-                                            ProgramId::TileRects};
+inline constexpr std::array kAllPrograms = {
+    ProgramId::Surface,          ProgramId::PnCapture,   ProgramId::CreaseScore,          ProgramId::CreaseBridge,
+    ProgramId::CreaseSelect,     ProgramId::CreaseDraw,  ProgramId::Silhouette,           ProgramId::Composite,
+    ProgramId::CompositeSilhouettes, ProgramId::PelFields, ProgramId::PelExtract,         ProgramId::PelDraw,
+    ProgramId::SurfaceId,        ProgramId::Adjacency,   ProgramId::EdgeClassify,         ProgramId::EdgeDraw,
+    ProgramId::SilhouettePieces, ProgramId::PelPieces,   ProgramId::CreaseVisibility,     ProgramId::AwayTiles,
+    ProgramId::TileRects};
 
 struct ProgramSpec {
   const char* name;
