@@ -6,11 +6,14 @@
 // file is this tree's structures byte for byte; the header names the format's version).
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include "renderer/crease.hpp"
 #include "renderer/options.hpp"
@@ -72,7 +75,7 @@ class Reader {
   std::string path_;
 };
 
-inline void write(const std::string& path, const terrain::GridMesh& m, const renderer::CreaseGeometry* c) {
+inline void write_to(const std::string& path, const terrain::GridMesh& m, const renderer::CreaseGeometry* c) {
   Writer w(path);
   w.pod(kMagic);
   w.pod(std::uint64_t(m.topo.rows)), w.pod(std::uint64_t(m.topo.cols));
@@ -88,6 +91,19 @@ inline void write(const std::string& path, const terrain::GridMesh& m, const ren
     w.pod(c->median_surface_offset);
   }
   w.finish();
+}
+
+// Written to a temporary file of this process beside `path`, renamed onto it when whole.
+inline void write(const std::string& path, const terrain::GridMesh& m, const renderer::CreaseGeometry* c) {
+  const std::string temp = path + ".partial." + std::to_string(::getpid());
+  try {
+    write_to(temp, m, c);
+    std::filesystem::rename(temp, path);
+  } catch (const std::exception& e) {
+    std::error_code ec;
+    std::filesystem::remove(temp, ec);
+    throw std::runtime_error("cannot write '" + path + "' (" + e.what() + ")");
+  }
 }
 
 inline Scene read(const std::string& path) {
