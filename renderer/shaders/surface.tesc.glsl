@@ -9,18 +9,6 @@ patch out vec3 p_b210, p_b120, p_b021, p_b012, p_b102, p_b201, p_b111;
 patch out vec3 p_n110, p_n011, p_n101;
 layout(location = TR_LOC_SURFACE_MODE) uniform int u_mode;  // 0: TFT (toward-facing fragments), 1: AFT (away-facing)
 
-// Point 1/3 along Pi -> Pj projected into the tangent plane of Pi.
-vec3 edge_point(vec3 pi, vec3 pj, vec3 ni) { return (2.0 * pi + pj - dot(pj - pi, ni) * ni) / 3.0; }
-
-// Mid-edge normal: Ni + Nj reflected in the plane perpendicular to the edge.
-vec3 mid_normal(vec3 pi, vec3 pj, vec3 ni, vec3 nj, vec3 face_n) {
-  vec3 e = pj - pi;
-  float ee = dot(e, e);
-  vec3 h = ee > 0.0 ? ni + nj - 2.0 * dot(e, ni + nj) / ee * e : ni + nj;
-  float len = length(h);
-  return len > 1e-12 ? h / len : face_n;
-}
-
 vec2 to_pixels(vec4 c) { return (c.xy / c.w * 0.5 + 0.5) * u_viewport.xy; }
 
 // Level of an edge: its screen length over the target pixels per edge, in [1, max]. An

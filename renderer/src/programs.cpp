@@ -6,7 +6,7 @@ const ProgramSpec& program_spec(ProgramId id) {
   static const std::vector<ProgramSpec> specs = [] {
     const std::string c = "common.glsl";
     const std::vector<StageSource> surface_geometry = {{GL_VERTEX_SHADER, {c, "surface.vert.glsl"}},
-                                                       {GL_TESS_CONTROL_SHADER, {c, "surface.tesc.glsl"}},
+                                                       {GL_TESS_CONTROL_SHADER, {c, "pn_control.glsl", "surface.tesc.glsl"}},
                                                        {GL_TESS_EVALUATION_SHADER, {c, "surface.tese.glsl"}}};
     auto with = [](std::vector<StageSource> stages, StageSource more) {
       stages.push_back(std::move(more));
@@ -58,6 +58,7 @@ const ProgramSpec& program_spec(ProgramId id) {
         {"crease_visibility", compute({"crease_data.glsl", "crease_samples.glsl", "crease_visibility.comp.glsl"}), {}},
         {"away_tiles", compute({"away_tiles.comp.glsl"}), {}},
         {"tile_rects", compute({"tile_rects_list.glsl", "tile_rects.comp.glsl"}), {}},
+        {"surface_cull", compute({"pn_control.glsl", "surface_cull.comp.glsl"}), {}},
     };
   }();
   return specs.at(std::size_t(id));

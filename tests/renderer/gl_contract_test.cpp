@@ -32,7 +32,8 @@ const std::map<std::string, int> kStorageBlocks = {
     {"PieceLabels", TR_SSBO_PIECE_LABELS},       {"PieceSizes", TR_SSBO_PIECE_SIZES},
     {"PieceList", TR_SSBO_PIECE_LIST},           {"FaceSegments", TR_SSBO_PEL_FACE_SEGMENTS},
     {"PelSmoothed", TR_SSBO_PEL_SMOOTHED},       {"CreaseSamples", TR_SSBO_CREASE_SAMPLES},
-    {"TileRects", TR_SSBO_TILE_RECTS}};
+    {"TileRects", TR_SSBO_TILE_RECTS},           {"SurfaceIndices", TR_SSBO_SURFACE_INDICES},
+    {"AwayPatches", TR_SSBO_AWAY_PATCHES},       {"AwayDraws", TR_SSBO_AWAY_DRAWS}};
 const std::map<std::string, int> kSamplers = {
     {"u_toward", TR_TEX_TOWARD_DEPTH},       {"u_away", TR_TEX_AWAY_DEPTH},
     {"u_surface_colour", TR_TEX_SURFACE_COLOUR}, {"u_crease", TR_TEX_CREASE_COLOUR},
@@ -74,7 +75,8 @@ const std::map<std::string, int> kUniformLocations = {
     {"u_piece_stage", TR_LOC_PIECE_STAGE},
     {"u_piece_min", TR_LOC_PIECE_MIN},
     {"u_crease_stage", TR_LOC_CREASE_STAGE},
-    {"u_reach", TR_LOC_TILE_REACH}};
+    {"u_reach", TR_LOC_TILE_REACH},
+    {"u_patches", TR_LOC_PATCH_COUNT}};
 const std::map<std::string, int> kAttributes = {{"a_position", TR_ATTR_POSITION}, {"a_normal", TR_ATTR_NORMAL}};
 
 #define TR_OFFSET(type, name) {#name, offsetof(FrameBlock, name)},
@@ -168,7 +170,7 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
     }
   }
   // The checks ran on the interfaces there are (a program could lose them silently).
-  EXPECT_EQ(computes, 11u);
+  EXPECT_EQ(computes, 12u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
   EXPECT_EQ(samplers, 28u);  // silhouette 2, away tiles 1, tile rects 2, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1

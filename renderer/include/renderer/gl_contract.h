@@ -67,6 +67,9 @@
 #define TR_SSBO_PEL_SMOOTHED 27
 #define TR_SSBO_CREASE_SAMPLES 28
 #define TR_SSBO_TILE_RECTS 29
+#define TR_SSBO_SURFACE_INDICES 30
+#define TR_SSBO_AWAY_PATCHES 31
+#define TR_SSBO_AWAY_DRAWS 32
 
 /* Crease strokes: "no segment" in the chains (renderer::kNoSegment), and how many
    segments a stroke's run is followed each way (renderer::kStrokeReach). */
@@ -161,5 +164,7 @@
 #define TR_LOC_CREASE_STAGE 28
 /* Tile rectangles (SIL and LAY draw only near marked tiles): */
 #define TR_LOC_TILE_REACH 29
+/* AFT's patch cull: */
+#define TR_LOC_PATCH_COUNT 30
 
 #endif

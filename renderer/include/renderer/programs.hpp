@@ -32,6 +32,7 @@ enum class ProgramId {
   CreaseVisibility,  // DM: crease samples' visibility along strokes (anti-aliased)
   AwayTiles,         // SIL: the tiles that hold an away-facing surface pixel
   TileRects,         // SIL and LAY: the rectangles of pixels near marked tiles they draw
+  SurfaceCull,       // AFT: the patches that may face away in view, listed for the draw
 };
 inline constexpr std::array kAllPrograms = {
     ProgramId::Surface,          ProgramId::PnCapture,   ProgramId::CreaseScore,          ProgramId::CreaseBridge,
@@ -39,7 +40,7 @@ inline constexpr std::array kAllPrograms = {
     ProgramId::CompositeSilhouettes, ProgramId::PelFields, ProgramId::PelExtract,         ProgramId::PelDraw,
     ProgramId::SurfaceId,        ProgramId::Adjacency,   ProgramId::EdgeClassify,         ProgramId::EdgeDraw,
     ProgramId::SilhouettePieces, ProgramId::PelPieces,   ProgramId::CreaseVisibility,     ProgramId::AwayTiles,
-    ProgramId::TileRects};
+    ProgramId::TileRects,        ProgramId::SurfaceCull};
 
 struct ProgramSpec {
   const char* name;

@@ -21,6 +21,12 @@ namespace renderer::passes {
 // What the passes share: the mesh on the GPU (positions, normals, patches), the surface
 // program, the frame's uniform buffer, the image size and depth convention, and the
 // surface targets later passes read (toward colour and depth, away depth).
+// Patches per draw call. llvmpipe (Mesa 22.3) drops patches from a draw call that
+// tessellates into more than 65536 triangles: a 50 m mesh lost bands of patches at
+// 4961 x 3508 (and at 1280 x 720 with 1.5 px per edge). At the largest level the renderer
+// uses (32: 1024 triangles a patch) 64 patches stay within it (116 did not).
+inline constexpr std::size_t kPatchesPerDraw = 65536 / (32 * 32);
+
 struct SceneGpu {
   SceneGpu(const terrain::GridMesh& mesh, int width, int height, bool reversed);
   int width, height;
@@ -36,6 +42,10 @@ struct SceneGpu {
   void draw_surface(int mode) const;
   // The same patches with another program (mode 2: no facing cull).
   void draw_patches(const GlObject& program, int mode) const;
+  // Patches listed in `indices` (after a 16-byte counter) by the indirect draws `draws`
+  // (n_draws of at most kPatchesPerDraw patches each; surface_cull.comp.glsl).
+  void draw_patch_list(const GlObject& program, int mode, const GlObject& indices, const GlObject& draws,
+                       std::size_t n_draws) const;
   // Draws with `program` (its vertex shader tile_rects.vert.glsl) only the pixels within
   // `reach` pixels of a TR_SILHOUETTE_TILE tile that `marks` (r8, one texel per tile)
   // marks: tile_rects.comp.glsl lists their rectangles and the draw command.
@@ -112,6 +122,10 @@ class AwayPass : public PassBase {
   const SceneGpu& s_;
   bool enabled_;
   GlObject fbo_;
+  // The patches that may face away in view (surface_cull.comp.glsl): their indices after a
+  // counter, and the draws of 64 of them each.
+  GlObject cull_prog_, patches_, draws_;
+  std::size_t n_draws_ = 0;
 };
 
 // DM: crease vertices scored, segments selected (indirect draw), drawn as quads.

@@ -67,11 +67,7 @@ void SceneGpu::depth_state() const {
 
 void SceneGpu::draw_surface(int mode) const { draw_patches(surface_prog, mode); }
 
-// Patches per draw call. llvmpipe (Mesa 22.3) drops patches from a draw call that
-// tessellates into more than 65536 triangles: a 50 m mesh lost bands of patches at
-// 4961 x 3508 (and at 1280 x 720 with 1.5 px per edge). At the largest level the renderer
-// uses (32: 1024 triangles a patch) 64 patches stay within it (116 did not).
-constexpr std::size_t kPatchesPerDraw = 65536 / (32 * 32);
+// Patches per draw call: kPatchesPerDraw (passes.hpp).
 
 void SceneGpu::draw_patches(const GlObject& program, int mode) const {
   glUseProgram(program.id());
@@ -86,6 +82,19 @@ void SceneGpu::draw_patches(const GlObject& program, int mode) const {
     offsets.push_back(reinterpret_cast<const void*>(3 * first * sizeof(std::uint32_t)));
   }
   glMultiDrawElements(GL_PATCHES, counts.data(), GL_UNSIGNED_INT, offsets.data(), GLsizei(counts.size()));
+}
+
+void SceneGpu::draw_patch_list(const GlObject& program, int mode, const GlObject& indices, const GlObject& draws,
+                               std::size_t n_draws) const {
+  glUseProgram(program.id());
+  glProgramUniform1i(program.id(), TR_LOC_SURFACE_MODE, mode);
+  glBindVertexArray(vao.id());
+  glVertexArrayElementBuffer(vao.id(), indices.id());
+  glPatchParameteri(GL_PATCH_VERTICES, 3);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, draws.id());
+  glMultiDrawElementsIndirect(GL_PATCHES, GL_UNSIGNED_INT, nullptr, GLsizei(n_draws), 0);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  glVertexArrayElementBuffer(vao.id(), index_buf.id());
 }
 
 GlObject make_framebuffer(const GlObject* colour, const GlObject* depth) {

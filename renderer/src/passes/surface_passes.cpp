@@ -1,6 +1,10 @@
 // TFT and AFT: the PN surface, toward-facing fragments to colour and toward depth, away-
 // facing fragments to the away depth.
+#include <algorithm>
+
 #include "passes.hpp"
+#include "renderer/gl_contract.hpp"
+#include "renderer/programs.hpp"
 
 namespace renderer::passes {
 
@@ -17,15 +21,37 @@ void TowardPass::execute(const FrameInputs&) {
 }
 
 AwayPass::AwayPass(const SceneGpu& scene, bool enabled)
-    : PassBase(AFT), s_(scene), enabled_(enabled), fbo_(make_framebuffer(nullptr, &scene.away_depth)) {}
+    : PassBase(AFT), s_(scene), enabled_(enabled), fbo_(make_framebuffer(nullptr, &scene.away_depth)) {
+  if (!enabled_) return;
+  const std::size_t n = scene.topo.n_faces();
+  n_draws_ = (n + kPatchesPerDraw - 1) / kPatchesPerDraw;
+  cull_prog_ = build_program(ProgramId::SurfaceCull);
+  patches_ = make_buffer(16 + 12 * n, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  draws_ = make_buffer(20 * std::max<std::size_t>(n_draws_, 1), nullptr, GL_DYNAMIC_STORAGE_BIT);
+}
 
 void AwayPass::execute(const FrameInputs&) {
   const float far_depth = s_.clear_depth();
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &far_depth);
   if (!enabled_) return;
+  // The patches that may face away in view (all threads), then only those drawn: the
+  // tessellation control stage that culls the others runs on one thread in llvmpipe.
+  const std::size_t n = s_.topo.n_faces();
+  const GLuint zero = 0;
+  glNamedBufferSubData(patches_.id(), 0, 4, &zero);
+  glClearNamedBufferData(draws_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_MESH_POSITIONS, s_.pos_buf.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_MESH_NORMALS, s_.nrm_buf.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_SURFACE_INDICES, s_.index_buf.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_AWAY_PATCHES, patches_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_AWAY_DRAWS, draws_.id());
+  glUseProgram(cull_prog_.id());
+  glProgramUniform1ui(cull_prog_.id(), TR_LOC_PATCH_COUNT, GLuint(n));
+  glDispatchCompute(dispatch_groups_x(n), dispatch_groups_y(n), 1);
+  glMemoryBarrier(GL_ELEMENT_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   s_.depth_state();
-  s_.draw_surface(1);
+  s_.draw_patch_list(s_.surface_prog, 1, patches_, draws_, n_draws_);
 }
 
 }  // namespace renderer::passes
