@@ -197,10 +197,19 @@ void main() {
 #ifdef TR_COMPOSITE_SILHOUETTES
   if (!near_marked_tile(p, size, silhouette_reach())) discard;
 #endif
+#if defined(TR_COMPOSITE_ANTIALIASED) && defined(TR_COMPOSITE_NO_EDGES)
+  // Anti-aliased lines do not look at the depth here (line.frag hid them), and the toward
+  // pass wrote alpha 1 exactly where it wrote a depth: one fetch fewer.
+  vec4 sc = texelFetch(u_surface_colour, p, 0);
+  bool surface = sc.a > 0.0;
+  float t = surface ? 0.0 : 1.0;
+#else
   float t = far_of(texelFetch(u_toward, p, 0).r);
   bool surface = t < 1.0;
+  vec4 sc = texelFetch(u_surface_colour, p, 0);
+#endif
   vec3 c = u_background;
-  if (surface && u_layers.x != 0) c = texelFetch(u_surface_colour, p, 0).rgb;
+  if (surface && u_layers.x != 0) c = sc.rgb;
   else if (surface && u_layers.y != 0) c = u_mask_colour;
   // A layer the frame does not draw is compiled out (TR_COMPOSITE_NO_*, CompositePass):
   // llvmpipe would run its fetches under a mask (PELs and edges: 9 ms a frame).

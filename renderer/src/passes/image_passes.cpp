@@ -178,6 +178,7 @@ std::string CompositePass::defines() const {
   if (!pels_.active()) d += "#define TR_COMPOSITE_NO_PELS 1\n";
   if (!layers_.creases) d += "#define TR_COMPOSITE_NO_CREASES 1\n";
   if (!edges_.active()) d += "#define TR_COMPOSITE_NO_EDGES 1\n";
+  if (style_.antialias) d += "#define TR_COMPOSITE_ANTIALIASED 1\n";
   return d;
 }
 
