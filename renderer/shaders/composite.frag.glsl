@@ -25,6 +25,10 @@ layout(location = TR_LOC_BACKGROUND) uniform vec3 u_background;
 layout(location = TR_LOC_MASK_COLOUR) uniform vec3 u_mask_colour;
 layout(location = TR_LOC_CREASE_COLOUR) uniform vec3 u_crease_colour;
 layout(location = TR_LOC_SILHOUETTE_COLOUR) uniform vec3 u_silhouette_colour;
+layout(location = TR_LOC_SILHOUETTE_WIDTH) uniform int u_silhouette_width;
+// No silhouette coverage farther than this from every silhouette pixel (CompositePass
+// sets it: anti-aliased, the band's half-width + 1.5 px; pixel-exact, the dilation's).
+layout(location = TR_LOC_TILE_REACH) uniform int u_reach;
 layout(binding = TR_TEX_PEL_COLOUR) uniform sampler2D u_pel;
 layout(binding = TR_TEX_PEL_DEPTH) uniform sampler2D u_pel_depth;
 layout(location = TR_LOC_PEL_COLOUR) uniform vec3 u_pel_colour;
@@ -195,7 +199,7 @@ void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   ivec2 size = textureSize(u_toward, 0);
 #ifdef TR_COMPOSITE_SILHOUETTES
-  if (!near_marked_tile(p, size, silhouette_reach())) discard;
+  if (!near_marked_tile(p, size, u_reach)) discard;
 #endif
 #if defined(TR_COMPOSITE_ANTIALIASED) && defined(TR_COMPOSITE_NO_EDGES)
   // Anti-aliased lines do not look at the depth here (line.frag hid them), and the toward
@@ -225,7 +229,7 @@ void main() {
 #ifdef TR_COMPOSITE_SILHOUETTES
   float sil = 0.0;
   if (u_style.x != 0.0) {
-    sil = silhouette_band(p, size, silhouette_half_width());
+    sil = silhouette_band(p, size, 0.5 * (float(u_silhouette_width) + 0.8));
   } else {
     // The dilation window [r0, r1]^2.
     int r0 = -(u_silhouette_width - 1) / 2, r1 = u_silhouette_width / 2;

@@ -54,11 +54,9 @@ SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece
       mask_(make_texture(GL_R8, scene.width, scene.height)),
       fbo_(make_framebuffer(&mask_, nullptr)),
       prog_(build_program(ids ? ProgramId::Adjacency : ProgramId::Silhouette)),
-      tiles_(make_texture(GL_R8, (scene.width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE,
-                          (scene.height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE)) {
+      tiles_(scene.make_tile_texture()) {
   if (!ids_) {
-    away_tiles_ = make_texture(GL_R8, (scene.width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE,
-                               (scene.height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE);
+    away_tiles_ = scene.make_tile_texture();
     away_prog_ = build_program(ProgramId::AwayTiles);
   }
   glProgramUniform1f(prog_.id(), TR_LOC_PIECE_MIN, float(piece_min_px_));
@@ -118,14 +116,11 @@ void SilhouettePass::draw(double pixel_angle) const {
   } else {
     // Toward/Away: the tiles that hold an away-facing pixel, then the test on the pixels
     // within one pixel of them (no silhouette pixel lies elsewhere).
-    const GLsizei tiles_x = (s_.width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE;
-    const GLsizei tiles_y = (s_.height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE;
-    const std::size_t tiles = std::size_t(tiles_x) * std::size_t(tiles_y);
     glBindTextureUnit(TR_TEX_TOWARD_DEPTH, s_.toward_depth.id());
     glBindTextureUnit(TR_TEX_AWAY_DEPTH, s_.away_depth.id());
     glUseProgram(away_prog_.id());
     glBindImageTexture(TR_IMG_AWAY_TILES, away_tiles_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
-    glDispatchCompute(dispatch_groups_x(tiles), dispatch_groups_y(tiles), 1);
+    glDispatchCompute(dispatch_groups_x(s_.tile_count()), dispatch_groups_y(s_.tile_count()), 1);
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     s_.draw_near_tiles(away_tiles_, 1, prog_);
   }
@@ -196,11 +191,7 @@ void CompositePass::execute(const FrameInputs&) {
   glBindTextureUnit(TR_TEX_EDGE_COLOUR, edges_.colour().id());
   glBindTextureUnit(TR_TEX_EDGE_DEPTH, edges_.depth().id());
   glBindVertexArray(s_.empty_vao.id());
-  // Every pixel without the silhouettes, then the pixels near them again with them
-  // (composite.frag.glsl).
-  for (const GLuint p : {prog_.id(), silhouettes_prog_.id()}) {
-    const bool silhouettes = p == silhouettes_prog_.id();
-    if (silhouettes && !layers_.silhouettes) break;
+  auto use = [&](GLuint p) {
     glUseProgram(p);
     glProgramUniform4i(p, TR_LOC_LAYERS, layers_.shaded, layers_.mask, layers_.creases, layers_.silhouettes);
     glProgramUniform3fv(p, TR_LOC_BACKGROUND, 1, style_.background.data());
@@ -210,19 +201,22 @@ void CompositePass::execute(const FrameInputs&) {
     glProgramUniform1i(p, TR_LOC_PELS, pels_.active() ? 1 : 0);
     glProgramUniform3fv(p, TR_LOC_EDGE_COLOUR, 1, style_.edge_colour.data());
     glProgramUniform1i(p, TR_LOC_EDGES, edges_.active() ? 1 : 0);
-    if (silhouettes) {
-      glProgramUniform3fv(p, TR_LOC_SILHOUETTE_COLOUR, 1, style_.silhouette_colour.data());
-      glProgramUniform1i(p, TR_LOC_SILHOUETTE_WIDTH, std::max(1, style_.silhouette_width));
-    }
-    if (!silhouettes) {
-      glDrawArrays(GL_TRIANGLES, 0, 3);
-    } else {
-      // The silhouettes' reach as silhouette_reach.glsl computes it.
-      const int w = std::max(1, style_.silhouette_width);
-      const int reach = style_.antialias ? int(0.5 * (double(w) + 0.8) + 1.5) : std::max((w - 1) / 2, w / 2);
-      s_.draw_near_tiles(silhouettes_.tiles(), reach, silhouettes_prog_);
-    }
-  }
+  };
+  // Every pixel without the silhouettes, then the pixels near them again with them
+  // (composite.frag.glsl).
+  use(prog_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  if (!layers_.silhouettes) return;
+  const GLuint p = silhouettes_prog_.id();
+  use(p);
+  const int w = std::max(1, style_.silhouette_width);
+  // No silhouette coverage beyond: anti-aliased, the band's half-width + 1.5 px (the
+  // composite's silhouette_band); pixel-exact, the dilation window's larger side.
+  const int reach = style_.antialias ? int(0.5 * (double(w) + 0.8) + 1.5) : std::max((w - 1) / 2, w / 2);
+  glProgramUniform3fv(p, TR_LOC_SILHOUETTE_COLOUR, 1, style_.silhouette_colour.data());
+  glProgramUniform1i(p, TR_LOC_SILHOUETTE_WIDTH, w);
+  glProgramUniform1i(p, TR_LOC_TILE_REACH, reach);
+  s_.draw_near_tiles(silhouettes_.tiles(), reach, silhouettes_prog_);
 }
 
 }  // namespace renderer::passes

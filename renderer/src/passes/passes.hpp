@@ -11,6 +11,7 @@
 #include "renderer/camera.hpp"
 #include "renderer/crease.hpp"
 #include "renderer/frame_params.hpp"
+#include "renderer/gl_contract.hpp"
 #include "renderer/gl_objects.hpp"
 #include "renderer/stroke_visibility.hpp"
 #include "renderer/timing.hpp"
@@ -46,6 +47,12 @@ struct SceneGpu {
   // (n_draws of at most kPatchesPerDraw patches each; surface_cull.comp.glsl).
   void draw_patch_list(const GlObject& program, int mode, const GlObject& indices, const GlObject& draws,
                        std::size_t n_draws) const;
+  // The image in TR_SILHOUETTE_TILE tiles: columns, rows, and an r8 texture of one texel
+  // per tile (the marks of draw_near_tiles).
+  int tiles_x() const { return (width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE; }
+  int tiles_y() const { return (height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE; }
+  std::size_t tile_count() const { return std::size_t(tiles_x()) * std::size_t(tiles_y()); }
+  GlObject make_tile_texture() const;
   // Draws with `program` (its vertex shader tile_rects.vert.glsl) only the pixels within
   // `reach` pixels of a TR_SILHOUETTE_TILE tile that `marks` (r8, one texel per tile)
   // marks: tile_rects.comp.glsl lists their rectangles and the draw command.

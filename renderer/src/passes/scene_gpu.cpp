@@ -34,11 +34,11 @@ SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev)
   surface_colour = make_texture(GL_RGBA8, width, height);
   toward_depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
   away_depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
-  const std::size_t tiles = std::size_t((width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE) *
-                            std::size_t((height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE);
-  tile_rects_buf = make_buffer(16 + 16 * tiles, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  tile_rects_buf = make_buffer(16 + 16 * tile_count(), nullptr, GL_DYNAMIC_STORAGE_BIT);
   tile_rects_prog = build_program(ProgramId::TileRects);
 }
+
+GlObject SceneGpu::make_tile_texture() const { return make_texture(GL_R8, tiles_x(), tiles_y()); }
 
 void SceneGpu::draw_near_tiles(const GlObject& marks, int reach, const GlObject& program) const {
   const GLuint header[4] = {0, 1, 0, 0};
@@ -48,9 +48,7 @@ void SceneGpu::draw_near_tiles(const GlObject& marks, int reach, const GlObject&
   glBindTextureUnit(TR_TEX_TOWARD_DEPTH, toward_depth.id());
   glUseProgram(tile_rects_prog.id());
   glProgramUniform1i(tile_rects_prog.id(), TR_LOC_TILE_REACH, reach);
-  const std::size_t tiles = std::size_t((width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE) *
-                            std::size_t((height + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE);
-  glDispatchCompute(dispatch_groups_x(tiles), dispatch_groups_y(tiles), 1);
+  glDispatchCompute(dispatch_groups_x(tile_count()), dispatch_groups_y(tile_count()), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   glUseProgram(program.id());
   glBindVertexArray(empty_vao.id());
