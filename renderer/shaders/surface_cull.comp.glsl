@@ -6,7 +6,7 @@
 // faces the eye everywhere). The listed patches' indices follow a counter (4 uints) in
 // AwayPatches; draw d of AwayDraws (5 uints: count, instances, first index, base vertex,
 // base instance) holds listed patches 64 d .. 64 d + 63 (llvmpipe drops patches from a
-// draw that tessellates into more than 65536 triangles; scene_gpu.cpp). The control points
+// draw that tessellates into more than 65536 triangles; kPatchesPerDraw). The control points
 // are assembled here as surface.tesc.glsl assembles them, not through a shared function:
 // moved into one, the control stage's surface changed by 1/255 at a few pixels a frame.
 layout(local_size_x = TR_LOCAL_SIZE) in;
