@@ -42,11 +42,11 @@ terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& 
   terrain::Grid dem = terrain::read_dem(input, tt::terminal_progress(verb, "read"), win);
   tt::step(verb, fmt::format("read {} x {} of {} x {} samples: {:.2f} s", win.cols, win.rows, info.cols, info.rows,
                              since(t0)));
-  // Integer heights terrace gentle slopes into flats: smoothed within half a unit.
+  // Integer heights terrace gentle slopes into flats: heights between the terraces' contours.
   if (dequantize == "on" || (dequantize == "auto" && terrain::is_integer_dem(dem))) {
     t0 = Clock::now();
     const double change = terrain::dequantize(dem);
-    tt::step(verb, fmt::format("integer heights: steps smoothed within half a unit (largest change {:.2f}): {:.2f} s",
+    tt::step(verb, fmt::format("integer heights: steps smoothed between the terraces' contours (largest change {:.2f}): {:.2f} s",
                                change, since(t0)));
   }
   t0 = Clock::now();
@@ -152,8 +152,9 @@ int main(int argc, char** argv) {
   app.add_option("--grid-out", grid_out, "Also write the resampled grid as a GeoTIFF");
   std::string dequantize = "auto";
   app.add_option("--dequantize", dequantize,
-                 "Integer heights (whole metres: SRTM, many national DEMs) terrace gentle slopes into flats: smooth "
-                 "the steps, moving no sample by more than half a unit; auto: when every height is a whole number")
+                 "Integer heights (whole metres: SRTM, many national DEMs) terrace gentle slopes into flats: heights "
+                 "interpolated between the terraces' edges (the contours half-way between two values), smoothed "
+                 "within 0.1 of that; auto: when every height is a whole number")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->capture_default_str();
   auto* interp_opt = app.add_option("--interpolation", interpolation,

@@ -2,9 +2,86 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <queue>
+#include <utility>
 #include <vector>
 
 namespace terrain {
+
+std::vector<double> terrace_interpolation(const Grid& grid, double h) {
+  const long R = long(grid.rows), C = long(grid.cols);
+  const std::size_t n = grid.size();
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  constexpr int dr[8] = {-1, -1, -1, 0, 0, 1, 1, 1}, dc[8] = {-1, 0, 1, -1, 1, -1, 0, 1};
+  auto valid = [&](long r, long c) { return r >= 0 && c >= 0 && r < R && c < C && !std::isnan(grid.z[r * C + c]); };
+  // Geodesic distance within each terrace (8-connected samples of one value) to its edge
+  // with the lower (sign -1) or the higher (sign +1) neighbours: the contour between them
+  // lies half a step from the edge sample.
+  auto distance_to = [&](int sign) {
+    std::vector<double> d(n, inf);
+    using Item = std::pair<double, std::uint32_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> heap;
+    for (long r = 0; r < R; ++r)
+      for (long c = 0; c < C; ++c) {
+        const float z = grid.z[r * C + c];
+        if (std::isnan(z)) continue;
+        double best = inf;
+        for (int k = 0; k < 8; ++k)
+          if (valid(r + dr[k], c + dc[k]) && (grid.z[(r + dr[k]) * C + c + dc[k]] - z) * float(sign) > 0)
+            best = std::min(best, (dr[k] && dc[k]) ? 0.5 * std::sqrt(2.0) : 0.5);
+        if (best < inf) d[r * C + c] = best, heap.emplace(best, std::uint32_t(r * C + c));
+      }
+    while (!heap.empty()) {
+      const auto [di, i] = heap.top();
+      heap.pop();
+      if (di > d[i]) continue;
+      const long r = long(i) / C, c = long(i) % C;
+      for (int k = 0; k < 8; ++k) {
+        const long rr = r + dr[k], cc = c + dc[k];
+        if (!valid(rr, cc) || grid.z[rr * C + cc] != grid.z[i]) continue;
+        const double dn = di + ((dr[k] && dc[k]) ? std::sqrt(2.0) : 1.0);
+        if (dn < d[rr * C + cc]) d[rr * C + cc] = dn, heap.emplace(dn, std::uint32_t(rr * C + cc));
+      }
+    }
+    return d;
+  };
+  const std::vector<double> lo = distance_to(-1), hi = distance_to(+1);
+  // Each terrace's largest distances, for terraces with one kind of edge only (summits, pits).
+  std::vector<std::uint32_t> label(n, std::numeric_limits<std::uint32_t>::max());
+  std::vector<double> max_lo, max_hi;
+  std::vector<std::uint32_t> stack;
+  for (std::size_t s = 0; s < n; ++s) {
+    if (std::isnan(grid.z[s]) || label[s] != std::numeric_limits<std::uint32_t>::max()) continue;
+    const std::uint32_t id = std::uint32_t(max_lo.size());
+    double mlo = 0, mhi = 0;
+    label[s] = id, stack.push_back(std::uint32_t(s));
+    while (!stack.empty()) {
+      const std::uint32_t i = stack.back();
+      stack.pop_back();
+      if (lo[i] < inf) mlo = std::max(mlo, lo[i]);
+      if (hi[i] < inf) mhi = std::max(mhi, hi[i]);
+      const long r = long(i) / C, c = long(i) % C;
+      for (int k = 0; k < 8; ++k) {
+        const long rr = r + dr[k], cc = c + dc[k];
+        if (valid(rr, cc) && grid.z[rr * C + cc] == grid.z[i] && label[rr * C + cc] != id)
+          label[rr * C + cc] = id, stack.push_back(std::uint32_t(rr * C + cc));
+      }
+    }
+    max_lo.push_back(mlo), max_hi.push_back(mhi);
+  }
+  std::vector<double> z(n, std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (std::isnan(grid.z[i])) continue;
+    const double k = grid.z[i];
+    if (lo[i] < inf && hi[i] < inf) z[i] = k - h + 2 * h * lo[i] / (lo[i] + hi[i]);
+    else if (lo[i] < inf) z[i] = k - h + 2 * h * lo[i] / (max_lo[label[i]] + 0.5);
+    else if (hi[i] < inf) z[i] = k + h - 2 * h * hi[i] / (max_hi[label[i]] + 0.5);
+    else z[i] = k;
+  }
+  return z;
+}
 
 bool is_integer_dem(const Grid& grid) {
   float lo = INFINITY, hi = -INFINITY;
@@ -17,10 +94,10 @@ bool is_integer_dem(const Grid& grid) {
   return hi - lo >= 2;
 }
 
-double dequantize(Grid& grid, double half_step) {
+double dequantize(Grid& grid, double half_step, double within) {
   const std::size_t R = grid.rows, C = grid.cols;
-  std::vector<double> orig(R * C), z(R * C);
-  for (std::size_t i = 0; i < R * C; ++i) orig[i] = z[i] = grid.z[i];
+  const std::vector<double> ref = terrace_interpolation(grid, half_step);
+  std::vector<double> z = ref;
   // Summed-area tables of the valid values and of their count: a box mean in O(1).
   std::vector<double> sum((R + 1) * (C + 1)), cnt((R + 1) * (C + 1));
   auto at = [&](std::vector<double>& t, std::size_t r, std::size_t c) -> double& { return t[r * (C + 1) + c]; };
@@ -39,19 +116,19 @@ double dequantize(Grid& grid, double half_step) {
 #pragma omp parallel for schedule(static)
       for (std::size_t r = 0; r < R; ++r)
         for (std::size_t c = 0; c < C; ++c) {
-          const double o = orig[r * C + c];
+          const double o = ref[r * C + c];
           if (std::isnan(o)) continue;
           const std::size_t r0 = r >= k ? r - k : 0, r1 = std::min(R, r + k + 1);
           const std::size_t c0 = c >= k ? c - k : 0, c1 = std::min(C, c + k + 1);
           const double s = at(sum, r1, c1) - at(sum, r0, c1) - at(sum, r1, c0) + at(sum, r0, c0);
           const double n = at(cnt, r1, c1) - at(cnt, r0, c1) - at(cnt, r1, c0) + at(cnt, r0, c0);
-          z[r * C + c] = std::clamp(s / n, o - half_step, o + half_step);
+          z[r * C + c] = std::clamp(s / n, o - within, o + within);
         }
     }
   double change = 0;
   for (std::size_t i = 0; i < R * C; ++i) {
-    if (std::isnan(orig[i])) continue;
-    change = std::max(change, std::abs(z[i] - orig[i]));
+    if (std::isnan(ref[i])) continue;
+    change = std::max(change, std::abs(z[i] - double(grid.z[i])));
     grid.z[i] = float(z[i]);
   }
   return change;

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 
 #include "terrain/error.hpp"
@@ -145,6 +146,19 @@ void drop_branches_off_valleys(const terrain::GridMesh& mesh, const terrain::Dra
                                std::vector<std::uint8_t>& keep) {
   const std::size_t n = links.size();
   const std::vector<float> kp = plan_curvature(mesh);
+  const double W = std::getenv("VW") ? std::atof(std::getenv("VW")) : 0;
+  std::vector<float> zf(mesh.positions.size());
+  for (std::size_t v = 0; v < zf.size(); ++v) zf[v] = mesh.positions[v].z();
+  auto across = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    const Eigen::Vector3d mid = 0.5 * (a + b);
+    Eigen::Vector2d dir(b.x() - a.x(), b.y() - a.y());
+    dir.normalize();
+    const Eigen::Vector2d p(-dir.y() * W, dir.x() * W);
+    const double zl = vertex_field_at(mesh, zf, mid.x() + p.x(), mid.y() + p.y());
+    const double zr = vertex_field_at(mesh, zf, mid.x() - p.x(), mid.y() - p.y());
+    const double zm = vertex_field_at(mesh, zf, mid.x(), mid.y());
+    return (zl + zr - 2 * zm) / (W * W);
+  };
   std::vector<std::uint8_t> inflows(n, 0);
   for (std::size_t i = 0; i < n; ++i)
     if (keep[i]) inflows[links.downstream[i]] = std::uint8_t(std::min(2, inflows[links.downstream[i]] + 1));
@@ -157,7 +171,8 @@ void drop_branches_off_valleys(const terrain::GridMesh& mesh, const terrain::Dra
       branch.push_back(i);
       const std::uint32_t d = links.downstream[i];
       const Eigen::Vector3d mid = 0.5 * (links.positions[i] + links.positions[d]).cast<double>() + shift;
-      sum += vertex_field_at(mesh, kp, mid.x(), mid.y());
+      if (W > 0) sum += across(links.positions[i].cast<double>() + shift, links.positions[d].cast<double>() + shift);
+      else sum += vertex_field_at(mesh, kp, mid.x(), mid.y());
       top_share = std::max(top_share, double(share[i]));
       if (!keep[d] || inflows[d] != 1) break;
       i = d;
