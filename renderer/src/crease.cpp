@@ -4,7 +4,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <cmath>
 
 #include "terrain/error.hpp"
@@ -138,26 +137,23 @@ std::vector<std::uint8_t> off_main_flat_path(const terrain::DrainageLinks& links
 namespace {
 
 // Branches of the kept links (from a channel head or a junction down to the next junction
-// or outlet) whose mean plan curvature (the mesh's, bilinear at each link's midpoint) is at
-// most rules.valley_curvature and that drain less than rules.river_share of their basin are
-// left out (CreaseRules::valley_branches).
+// or outlet) whose mean concavity across the flow (CreaseRules::valley_branches) is at most
+// rules.valley_curvature and that drain less than rules.river_share of their basin are left
+// out.
 void drop_branches_off_valleys(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
                                const Eigen::Vector3d& shift, const std::vector<float>& share, const CreaseRules& rules,
                                std::vector<std::uint8_t>& keep) {
   const std::size_t n = links.size();
-  const std::vector<float> kp = plan_curvature(mesh);
-  const double W = std::getenv("VW") ? std::atof(std::getenv("VW")) : 0;
-  std::vector<float> zf(mesh.positions.size());
-  for (std::size_t v = 0; v < zf.size(); ++v) zf[v] = mesh.positions[v].z();
-  auto across = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    const Eigen::Vector3d mid = 0.5 * (a + b);
-    Eigen::Vector2d dir(b.x() - a.x(), b.y() - a.y());
-    dir.normalize();
-    const Eigen::Vector2d p(-dir.y() * W, dir.x() * W);
-    const double zl = vertex_field_at(mesh, zf, mid.x() + p.x(), mid.y() + p.y());
-    const double zr = vertex_field_at(mesh, zf, mid.x() - p.x(), mid.y() - p.y());
-    const double zm = vertex_field_at(mesh, zf, mid.x(), mid.y());
-    return (zl + zr - 2 * zm) / (W * W);
+  const double w = std::max({rules.valley_width, mesh.geo.dx, mesh.geo.dy});
+  std::vector<float> height(mesh.positions.size());
+  for (std::size_t v = 0; v < height.size(); ++v) height[v] = mesh.positions[v].z();
+  // (z(+w) + z(-w) - 2 z) / w^2 across link i -> d, at its midpoint (mesh heights, bilinear).
+  auto concavity = [&](std::uint32_t i, std::uint32_t d) {
+    const Eigen::Vector3d a = links.positions[i].cast<double>() + shift, b = links.positions[d].cast<double>() + shift;
+    const Eigen::Vector2d mid = 0.5 * (a + b).head<2>(), along = (b - a).head<2>().normalized();
+    const Eigen::Vector2d side(-along.y() * w, along.x() * w);
+    auto z = [&](const Eigen::Vector2d& p) { return vertex_field_at(mesh, height, p.x(), p.y()); };
+    return (z(mid + side) + z(mid - side) - 2 * z(mid)) / (w * w);
   };
   std::vector<std::uint8_t> inflows(n, 0);
   for (std::size_t i = 0; i < n; ++i)
@@ -170,9 +166,7 @@ void drop_branches_off_valleys(const terrain::GridMesh& mesh, const terrain::Dra
     for (std::uint32_t i = std::uint32_t(s);;) {
       branch.push_back(i);
       const std::uint32_t d = links.downstream[i];
-      const Eigen::Vector3d mid = 0.5 * (links.positions[i] + links.positions[d]).cast<double>() + shift;
-      if (W > 0) sum += across(links.positions[i].cast<double>() + shift, links.positions[d].cast<double>() + shift);
-      else sum += vertex_field_at(mesh, kp, mid.x(), mid.y());
+      sum += concavity(i, d);
       top_share = std::max(top_share, double(share[i]));
       if (!keep[d] || inflows[d] != 1) break;
       i = d;

@@ -219,27 +219,36 @@ std::vector<OptionSpec> make_table() {
       "seed-rules", rules,
       "Creases as the paper draws them: every basin normalized by its own total (also the small ones that drain "
       "off the grid edge) on a linear scale, every D8 path across flats, down planes and along the grid's edge, "
-      "and D8 polylines unsmoothed (docs/terrain-render.md)",
+      "every branch whether or not in a valley, and D8 polylines unsmoothed (docs/terrain-render.md)",
       [](const RenderSettings& s) {
         return s.rules.edge_basin_min_share == 0 && !s.rules.log_flow && !s.rules.one_line_per_flat &&
-               s.rules.smooth_spacings == 0 && s.rules.min_width == 0 && !s.rules.off_edge_runs;
+               s.rules.smooth_spacings == 0 && s.rules.min_width == 0 && !s.rules.off_edge_runs &&
+               !s.rules.valley_branches;
       },
       [](RenderSettings& s, bool v) {
         if (v)
           s.rules.edge_basin_min_share = 0, s.rules.log_flow = false, s.rules.one_line_per_flat = false,
-          s.rules.smooth_spacings = 0, s.rules.min_width = 0, s.rules.off_edge_runs = false;
+          s.rules.smooth_spacings = 0, s.rules.min_width = 0, s.rules.off_edge_runs = false,
+          s.rules.valley_branches = false;
       }));
   t.push_back(choice(
-      "crease-links", rules, OptionType::Enum, {"valleys", "all"}, "all",
+      "crease-links", rules, OptionType::Enum, {"valleys", "all"}, "valleys",
       "Which branches of the network may become creases: valleys, only those along which the surface is concave "
-      "across the slope (mean plan curvature above --valley-curvature; main stems draining a quarter of their "
-      "basin anywhere), so that flow down planes and across flats draws no parallel tracks; all, every branch",
+      "across the flow (the mean second difference of the heights --valley-width to either side above "
+      "--valley-curvature; main stems draining a quarter of their basin anywhere), so that flow down planes and "
+      "across flats draws no parallel tracks; all, every branch (the paper)",
       [](const RenderSettings& s) { return std::string(s.rules.valley_branches ? "valleys" : "all"); },
       [](RenderSettings& s, const std::string& v) { s.rules.valley_branches = v == "valleys"; }));
   t.push_back(number(
-      "valley-curvature", rules, -1, 1, "1/m", "0",
-      "--crease-links valleys: the least mean plan curvature of a branch kept",
+      "valley-curvature", rules, -1, 1, "1/m", "0.0005",
+      "--crease-links valleys: the least mean concavity across the flow of a branch kept (0.0005 at 30 m: its "
+      "sides 0.45 m above it)",
       [](auto& s) -> auto& { return s.rules.valley_curvature; }));
+  t.push_back(number(
+      "valley-width", rules, 0, 1e4, "m", "30",
+      "--crease-links valleys: how far to either side of a link the concavity is measured (at least the mesh "
+      "spacing)",
+      [](auto& s) -> auto& { return s.rules.valley_width; }));
   t.push_back(number(
       "edge-basin-share", rules, 0, 1, "", "0.05",
       "Basins that drain off the grid edge are normalized by at least this share of the network's "

@@ -24,7 +24,7 @@ namespace {
 // Every D8 link, unsmoothed (CreaseRules' defaults before they became terrain-render's:
 // min_area 1 ha, smooth_spacings 0.5): what these analytic checks were written for (min_area
 // 3000 below: 30 points of these 10 m grids).
-const renderer::CreaseRules kPaperLinks{.min_area = 0, .min_width = 0, .off_edge_runs = false, .smooth_spacings = 0};
+const renderer::CreaseRules kPaperLinks{.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false, .smooth_spacings = 0};
 
 using drainage::test::analytic;
 
@@ -222,7 +222,7 @@ TEST(LineStats, StrokesWeightedByOpacityAsTheirLengthIs) {
 TEST(CreaseRules, VValleyCreasesLieOnTheAxis) {
   const std::size_t n = 41;
   const Scene s = scene_of(analytic(n, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
-  const CreaseGeometry g = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .smooth_spacings = 0});
+  const CreaseGeometry g = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0});
   ASSERT_GT(g.n_segments(), 30u);
   const SegmentTraits t = segment_traits(s.mesh, s.links, g);
   const double axis_x = double(n / 2) * 10.0;  // local frame: x = column * h
@@ -265,8 +265,8 @@ TEST(CreaseRules, APlaneDrainingOffAnEdgeGathersNoCreasesThere) {
   const std::size_t n = 64;
   const Scene s = scene_of(analytic(n, 10, [](double, double y) { return 0.05 * y; }), false);
   const CreaseGeometry paper =
-      build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .edge_basin_min_share = 0, .log_flow = false, .one_line_per_flat = false, .smooth_spacings = 0});
-  const CreaseGeometry linear = build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .log_flow = false, .smooth_spacings = 0});
+      build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .edge_basin_min_share = 0, .log_flow = false, .one_line_per_flat = false, .valley_branches = false, .smooth_spacings = 0});
+  const CreaseGeometry linear = build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .log_flow = false, .valley_branches = false, .smooth_spacings = 0});
   const CreaseGeometry ours = build_crease_geometry(s.mesh, s.links, kPaperLinks);
   const float floor = 0.05f * float(n * n);
   EXPECT_EQ(*std::max_element(paper.flow.begin(), paper.flow.end()), 1.0f);
@@ -344,7 +344,7 @@ TEST(CreaseRules, AFilledSquareDepressionGetsOneLine) {
                                      return std::abs(x) < 60 && std::abs(y) < 60 ? z - 5 - 0.01 * (60 - std::abs(y)) : z;
                                    }),
                            true);
-  const CreaseGeometry all = build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .one_line_per_flat = false, .smooth_spacings = 0});
+  const CreaseGeometry all = build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .one_line_per_flat = false, .valley_branches = false, .smooth_spacings = 0});
   const CreaseGeometry one = build_crease_geometry(s.mesh, s.links, kPaperLinks);
   auto flat_strokes = [&](const CreaseGeometry& g) {
     const SegmentTraits t = segment_traits(s.mesh, s.links, g);
@@ -364,7 +364,8 @@ TEST(CreaseRules, AFilledSquareDepressionGetsOneLine) {
 // with a trench along its middle column (0.5 across within 3 columns of it) drains in
 // parallel D8 tracks straight down, each one cell wide however long it runs, so an area
 // threshold alone draws them as a fan once they are long enough (30 points here). The
-// trench gathers 7 columns: its contributing width keeps it, and only it.
+// trench gathers 7 columns: its contributing width keeps it, and only it; so does its
+// concavity across the flow.
 TEST(CreaseRules, PlanesDrawNoParallelTracks) {
   const std::size_t n = 81;
   const double h = 10;
@@ -376,11 +377,17 @@ TEST(CreaseRules, PlanesDrawNoParallelTracks) {
     for (std::size_t k = 0; k < g.segments.size(); ++k) off += std::abs(g.positions[g.segments[k]].x() - axis) > 2 * h;
     return off;
   };
-  const CreaseGeometry tracks = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .smooth_spacings = 0});
-  const CreaseGeometry valley = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 30, .smooth_spacings = 0});
+  const CreaseGeometry tracks = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0});
+  const CreaseGeometry valley =
+      build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 30, .valley_branches = false, .smooth_spacings = 0});
   EXPECT_GT(off_axis(tracks), 500u) << "a fan of parallel tracks";
   EXPECT_EQ(off_axis(valley), 0u);
   EXPECT_GE(valley.n_segments(), 60u);  // the trench, from where 30 points drain to the outlet
+  // The valley rule alone (CreaseRules::valley_branches) leaves the tracks out too: the
+  // plane's concavity across any link is 0, the trench's (0.5 * 30 * 2) / 30^2 = 0.033 / m.
+  const CreaseGeometry concave = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .smooth_spacings = 0});
+  EXPECT_EQ(off_axis(concave), 0u);
+  EXPECT_EQ(concave.segments, valley.segments);
   // The contributing width of a track is the spacing; the trench's 7 columns.
   const std::vector<float> w = contributing_width(s.links);
   const std::size_t bottom = (n - 1) * n;  // the southern row
@@ -416,8 +423,8 @@ TEST(CreaseRules, RunsAlongTheGridEdgeAreLeftOut) {
 TEST(CreaseLines, SmoothingLeavesAStraightChannelWhereItIs) {
   const std::size_t n = 41;
   const Scene s = scene_of(analytic(n, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
-  const CreaseGeometry d8 = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .smooth_spacings = 0});
-  const CreaseGeometry smooth = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .smooth_spacings = 1});
+  const CreaseGeometry d8 = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0});
+  const CreaseGeometry smooth = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 1});
   ASSERT_EQ(smooth.positions.size(), d8.positions.size());
   EXPECT_EQ(smooth.segments, d8.segments);
   CreaseGeometry widest = d8;  // sigma capped (kMaxSmoothSigma): no overflow of the window
@@ -445,7 +452,7 @@ TEST(CreaseLines, SmoothingStraightensAnObliqueD8Staircase) {
                                       return 0.3 * std::abs(x * ca - y * sa) + 0.2 * (x * sa + y * ca);
                                     }),
                            false);
-  const CreaseGeometry d8 = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .smooth_spacings = 0});
+  const CreaseGeometry d8 = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0});
   ASSERT_GT(d8.n_segments(), 40u);
   // The analytic origin in the mesh's local frame (x = column * h, y = -row * h).
   const double x0 = double(n / 2) * h, y0 = -double(n / 2) * h;
@@ -472,8 +479,8 @@ TEST(CreaseLines, SmoothingStraightensAnObliqueD8Staircase) {
   };
   const Offset before = offset(d8);
   EXPECT_GT(before.mean, 1.0);  // a staircase
-  for (const CreaseRules& rules : {CreaseRules{.min_area = 3000, .min_width = 0, .smooth_spacings = 1, .smooth_min_samples = 0},
-                                  CreaseRules{.min_area = 3000, .min_width = 0, .smooth_spacings = 0.5}}) {
+  for (const CreaseRules& rules : {CreaseRules{.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 1, .smooth_min_samples = 0},
+                                  CreaseRules{.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0.5}}) {
     const CreaseGeometry smooth = build_crease_geometry(s.mesh, s.links, rules);
     EXPECT_EQ(smooth.positions[stem.front()], d8.positions[stem.front()]);  // the outlet
     EXPECT_EQ(smooth.positions[stem.back()], d8.positions[stem.back()]);    // the channel head
@@ -492,7 +499,7 @@ TEST(CreaseLines, SmoothingStraightensAnObliqueD8Staircase) {
   }
   // Half a sample alone leaves the staircase.
   const Offset half = offset(
-      build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .smooth_spacings = 0.5, .smooth_min_samples = 0}));
+      build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0.5, .smooth_min_samples = 0}));
   EXPECT_GT(half.mean, 0.5 * before.mean);
 }
 

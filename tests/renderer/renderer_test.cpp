@@ -928,7 +928,7 @@ TEST(RendererGl, AntialiasedCoverageEqualsTheLineArea) {
 // never grows with the min score.
 TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
   const auto& sc = msh_scene();
-  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .smooth_spacings = 0});
+  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false, .smooth_spacings = 0});
   ASSERT_GT(g.n_segments(), 10000u);
   renderer::GlContext ctx;
   TerrainRenderer r(ctx, sc.mesh, &g, 160, 120, renderer::Layers{false, true, true, false}, test_style());
@@ -962,7 +962,7 @@ TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
 // gaps bridged, short strokes left out.
 TEST(RendererGl, StrokeRuleMatchesCpu) {
   const auto& sc = msh_scene();
-  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .smooth_spacings = 0});
+  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false, .smooth_spacings = 0});
   renderer::GlContext ctx;
   renderer::Style style = test_style();
   style.crease_bridge = 1.0;
@@ -997,7 +997,7 @@ TEST(RendererGl, StrokeRuleMatchesCpu) {
 // pixel.
 TEST(RendererGl, StrokeVisibilityMatchesCpu) {
   const auto& sc = msh_scene();
-  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .smooth_spacings = 0});
+  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false, .smooth_spacings = 0});
   renderer::GlContext ctx;
   renderer::Style style = test_style();
   style.antialias = true;
@@ -1053,7 +1053,7 @@ TEST(RendererGl, StrokeVisibilityMatchesCpu) {
 // (CreasesAreDrawnWhereTheyLieOnTheSurface).
 TEST(RendererGl, MinScoreZeroDrawsEveryVisibleVertex) {
   const auto& sc = msh_scene();
-  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .smooth_spacings = 0});
+  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false, .smooth_spacings = 0});
   renderer::GlContext ctx;
   renderer::Style style = test_style();
   style.pixels_per_edge = 2;
