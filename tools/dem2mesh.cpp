@@ -46,7 +46,8 @@ terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& 
   if (dequantize == "on" || (dequantize == "auto" && terrain::is_integer_dem(dem))) {
     t0 = Clock::now();
     const double change = terrain::dequantize(dem);
-    tt::step(verb, fmt::format("integer heights: steps smoothed between the terraces' contours (largest change {:.2f}): {:.2f} s",
+    tt::step(verb, fmt::format("integer heights: steps smoothed between the terraces' contours "
+                               "(largest change {:.2f}): {:.2f} s",
                                change, since(t0)));
   }
   t0 = Clock::now();
