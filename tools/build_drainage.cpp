@@ -206,27 +206,28 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
       run.dem = raster, run.d8 = d8_input, run.encoding = drainage::parse_d8_encoding(encoding);
       run.tile = tile_size, run.fill = fill, run.resolve_flats = !keep_flats;
       run.provenance = tt::provenance(argc, argv);
-      const drainage::TiledSummary r =
-          drainage::run_tiled_drainage(run, output, tt::terminal_progress(verb, "tiles"), comm);
+      // The .dv is staged and lands with the layers made from it (or none lands).
+      terrain::OutputSet outputs;
+      if (comm.root()) run.write_to = outputs.stage(output);
+      drainage::TiledSummary r;
+      outputs.write([&] { r = drainage::run_tiled_drainage(run, output, tt::terminal_progress(verb, "tiles"), comm); });
       for (const auto& [name, secs] : r.timings) tt::step(verb, fmt::format("  {}: {:.3f} s", name, secs));
       tt::step(verb, fmt::format("tiled run ({} tiles, {} process{}): {:.2f} s, peak RSS {:.0f} MiB (rank 0)", r.tiles,
                                  comm.size(), comm.size() > 1 ? "es" : "",
                                  std::chrono::duration<double>(clock::now() - t0).count(), tt::peak_rss_mib()));
       if (!comm.root()) return 0;
       std::vector<drainage::Watershed> ws;
-      if (!rasters_dir.empty() || !outlets.empty()) {  // from the .dv, window by window
-        const auto t1 = clock::now();
-        terrain::OutputSet outputs;
-        outputs.write([&] {
-          if (!rasters_dir.empty())
-            drainage::export_dv_rasters(
-                output, [&](const std::string& name) { return outputs.stage(std::filesystem::path(rasters_dir) / name); },
-                run.encoding, run.provenance);
-          if (!outlets.empty()) ws = write_watersheds(output, outputs, run.provenance);
-        });
-        outputs.commit();
+      const auto t1 = clock::now();
+      outputs.write([&] {
+        if (!rasters_dir.empty())
+          drainage::export_dv_rasters(
+              run.write_to, [&](const std::string& name) { return outputs.stage(std::filesystem::path(rasters_dir) / name); },
+              run.encoding, run.provenance);
+        if (!outlets.empty()) ws = write_watersheds(run.write_to, outputs, run.provenance);
+      });
+      outputs.commit();
+      if (!rasters_dir.empty() || !outlets.empty())
         tt::step(verb, fmt::format("layers from {}: {:.2f} s", output, std::chrono::duration<double>(clock::now() - t1).count()));
-      }
       std::cout << "output: " << output << "\n"
                 << "grid: " << r.cols << " x " << r.rows << " (columns x rows)\n"
                 << fmt::format("spacing: {} {}\n", r.dx, r.dy) << "tiles: " << r.tiles << "\n"

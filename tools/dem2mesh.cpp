@@ -26,10 +26,12 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 // A raster DEM: only the source window the crop needs is read (plus the kernel's margin),
 // then resampled onto the grid.
 // `source` (optional) receives the source samples read, in the grid's CRS, for --fit-normals.
+// `src_crs` (--src-crs) replaces the raster's own CRS, as gdalwarp's -s_srs.
 terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& req, const std::string& dequantize,
-                          const tt::Verbosity& verb, terrain::Grid* source) {
+                          const std::string& src_crs, const tt::Verbosity& verb, terrain::Grid* source) {
   auto t0 = Clock::now();
-  const terrain::DemInfo info = terrain::read_dem_info(input);
+  terrain::DemInfo info = terrain::read_dem_info(input);
+  if (!src_crs.empty()) terrain::assign_crs(info.geo, src_crs);
   const terrain::GridPlan plan = terrain::plan_grid(info.geo, info.rows, info.cols, req);
   const terrain::RasterWindow& win = plan.source_window;
   // Every buffer counted before anything is read: the source window (4 bytes a sample,
@@ -40,6 +42,7 @@ terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& 
                                     win.rows),
                         "crop it (--bbox, or --center with --size) or give a coarser --spacing");
   terrain::Grid dem = terrain::read_dem(input, tt::terminal_progress(verb, "read"), win);
+  if (!src_crs.empty()) terrain::assign_crs(dem.geo, src_crs);
   tt::step(verb, fmt::format("read {} x {} of {} x {} samples: {:.2f} s", win.cols, win.rows, info.cols, info.rows,
                              since(t0)));
   // Integer heights terrace gentle slopes into flats: heights between the terraces' contours.
@@ -116,6 +119,7 @@ int main(int argc, char** argv) {
       "  dem2mesh dem.tif crater.ply --center 562500 5116500 --size 2000 2000\n"
       "  dem2mesh lidar_ground.gpkg site.ply --spacing 10 --interpolation natural --max-edge 200 --fill-nodata\n"
       "  dem2mesh survey.xyz site.ply --spacing 5 --src-crs EPSG:32610 --bbox 561000 5113000 564000 5116000\n"
+      "  dem2mesh srtm_no_prj.asc srtm.ply --src-crs EPSG:4326            # an SRTM grid without its .prj\n"
       "  dem2mesh data/msh_2007_utm10n_10m.tif msh_50m_fit.ply --spacing 50 --fit-normals\n\n"
       "Output: stdout gets 'key: value' lines describing the mesh; progress and warnings go to stderr.\n"
       "See docs/dem2mesh.md for the grid, triangulation and file conventions.");
@@ -168,9 +172,9 @@ int main(int argc, char** argv) {
                                       "Scattered points: samples in Delaunay triangles with an edge longer than this "
                                       "(metres) are no-data, like those outside the convex hull")
                            ->check(CLI::PositiveNumber);
-  auto* src_crs_opt = app.add_option("--src-crs", src_crs,
-                                     "Scattered points: their CRS (EPSG:32610, WKT, PROJ string) where the file has "
-                                     "none (XYZ text, CSV), or instead of the file's");
+  app.add_option("--src-crs", src_crs,
+                 "The input's CRS (EPSG:4326, EPSG:32610, WKT, PROJ string) where the file has none (XYZ text, CSV, "
+                 "an .asc without .prj), or instead of the file's (as gdalwarp -s_srs)");
   std::string input_kind = "auto";
   app.add_option("--input", input_kind,
                  "What INPUT holds: raster (a grid, holes are no-data), points (scattered points, triangulated: also "
@@ -221,12 +225,12 @@ int main(int argc, char** argv) {
     if (points) {
       grid = points_grid(input, req, {interpolation, max_edge, src_crs}, verb, fit ? &source_points : nullptr);
     } else {
-      for (const CLI::Option* o : {interp_opt, max_edge_opt, src_crs_opt})
+      for (const CLI::Option* o : {interp_opt, max_edge_opt})
         if (*o)
           throw terrain::Error(o->get_name() + " applies to scattered points; '" + input + "' is a raster" +
                                (lattice() ? " of XYZ text: pass --input points" : ""));
       try {
-        grid = raster_grid(input, req, dequantize, verb, fit ? &source_dem : nullptr);
+        grid = raster_grid(input, req, dequantize, src_crs, verb, fit ? &source_dem : nullptr);
       } catch (const terrain::Error& e) {
         const std::string what = e.what();
         if (what.find("no-data") == std::string::npos || !lattice()) throw;

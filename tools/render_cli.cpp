@@ -38,8 +38,7 @@ void add_table_options(CLI::App* app, TableArgs& a, bool per_frame_only) {
           },
           range));
     }
-    static const char* const kTypeNames[] = {"NUMBER", "INTEGER", "", "CHOICE", "COLOUR", "LIST", "WxH", "E N Z"};
-    opt->group(o.group)->type_name(kTypeNames[int(o.type)]);
+    opt->group(o.group)->type_name(o.type == rr::OptionType::Bool ? "" : rr::option_type_name(o.type));
     if (o.type == rr::OptionType::Enum) opt->type_name("{" + fmt::format("{}", fmt::join(o.choices, ",")) + "}");
     a.given[o.name] = opt;
   }

@@ -291,8 +291,8 @@ int main(int argc, char** argv) {
         for (const char* name : drainage::kDrainageRasterNames) targets.push_back((fs::path(out) / name).string());
         tt::check_distinct_paths({file}, targets);
         tt::warn_stale_temporaries(verb, targets);
-        fs::create_directories(out, ec);
-        if (ec) throw terrain::Error("cannot create the directory '" + out + "': " + ec.message());
+        (void)drainage::read_dv_header(file);  // a file that is no .dv fails before any folder is made
+        terrain::NewDirectories made(out);    // removed again on an error or an interrupt
         terrain::OutputSet outputs;  // the seven land together, or none does
         std::size_t points = 0;
         outputs.write([&] {
@@ -301,6 +301,7 @@ int main(int argc, char** argv) {
               drainage::parse_d8_encoding(d8_encoding), tt::provenance(argc, argv));
         });
         outputs.commit();
+        made.keep();
         std::cout << "output: " << out << "\npoints: " << points << "\n";
         for (const std::string& t : targets) std::cout << "layer: " << t << "\n";
         return 0;

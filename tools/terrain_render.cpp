@@ -82,7 +82,7 @@ int run_path(const TableArgs& a, const std::vector<double>& from, const std::vec
 // The output files' options besides the render options: vector page and underlay.
 struct OutputArgs {
   double dpi = 96;
-  std::string underlay = "mask";
+  std::string underlay;  // empty: shaded when the layers draw the shaded relief, else mask
   std::string formats = "png";
 };
 
@@ -92,9 +92,8 @@ void add_output_options(CLI::App* cmd, OutputArgs& o, bool batch) {
       ->capture_default_str();
   cmd->add_option("--vector-underlay", o.underlay,
                   "SVG / PDF: what lies under the lines: none, mask (the surface as filled regions) or shaded (the "
-                  "shaded relief as an embedded image)")
-      ->check(CLI::IsMember({"none", "mask", "shaded"}))
-      ->capture_default_str();
+                  "shaded relief as an embedded image); default: shaded when --layers has shaded, else mask")
+      ->check(CLI::IsMember({"none", "mask", "shaded"}));
   if (batch)
     cmd->add_option("--format", o.formats, "Files per frame, a comma list of png, svg, pdf")->capture_default_str();
 }
@@ -121,7 +120,12 @@ void write_vectors(const std::vector<std::string>& outs, const rr::Scene& scene,
   const rr::FrameBuffers buffers = r.read_buffers();
   const double readback = since(t0);
   t0 = Clock::now();
-  const rr::VectorArt art = rr::frame_vector_art(scene, r, res, buffers, fp, style, layers, rr::parse_underlay(o.underlay));
+  const std::string underlay = !o.underlay.empty() ? o.underlay : layers.shaded ? "shaded" : "mask";
+  const rr::VectorArt art = rr::frame_vector_art(scene, r, res, buffers, fp, style, layers, rr::parse_underlay(underlay));
+  if (art.layers.empty() && art.underlay == rr::VectorUnderlay::None)
+    throw terrain::Error(std::string("the vector file would be empty: --layers draws no lines") +
+                         (layers.creases && !scene.creases ? " (creases need a .dv)" : "") +
+                         " and --vector-underlay is none");
   const double paths = since(t0);
   std::string counts;
   for (const rr::VectorLayer& l : art.layers) counts += fmt::format(", {} {} paths ({} strokes)", l.name, l.paths.size(), l.strokes);
@@ -334,8 +338,10 @@ int main(int argc, char** argv) {
   int frames = 0;
   std::string path_out;
   TableArgs pa;
-  path_cmd->add_option("--from", from, "Start viewpoint E N Z (metres)")->expected(3)->required();
-  path_cmd->add_option("--to", to, "End viewpoint E N Z (metres)")->expected(3)->required();
+  // Any terrain mesh lies within 1e8 m of the origin (mesh_io.cpp): a viewpoint beyond 1e9
+  // could only draw a blank frame.
+  path_cmd->add_option("--from", from, "Start viewpoint E N Z (metres)")->expected(3)->required()->check(CLI::Range(-1e9, 1e9));
+  path_cmd->add_option("--to", to, "End viewpoint E N Z (metres)")->expected(3)->required()->check(CLI::Range(-1e9, 1e9));
   path_cmd->add_option("--frames", frames, "Number of frames (>= 2)")->check(CLI::Range(2, 1000000))->required();
   path_cmd->add_option("-o,--output", path_out, "Output CSV")->required();
   add_table_options(path_cmd, pa, true);  // the per-frame options; --view-az default: along the path

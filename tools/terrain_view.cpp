@@ -12,6 +12,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cctype>
 #include <optional>
 #include <chrono>
 #include <cmath>
@@ -86,8 +87,12 @@ class Viewer {
   void set(const std::string& name, const std::string& value) {
     const rr::OptionSpec* o = rr::find_option(name);
     if (!o) throw terrain::Error("no option '" + name + "' (terrain-view --list-options)");
-    rr::set_option(s_, *o, value);
-    rr::validate(s_);
+    rr::RenderSettings next = s_;
+    rr::set_option(next, *o, value);
+    rr::validate(next);
+    if (o->name == "view" && next.view == rr::ViewMode::Row) (void)rr::view_row_frame(next.view_row, next.frame);
+    if (o->name == "eye" && next.frame.camera.eye) check_eye(*next.frame.camera.eye);
+    s_ = std::move(next);
     if (o->group == "Crease network" && !dv_path_.empty()) creases_stale_ = stale_ = true;
     else if (!o->per_frame && o->name != "eye") stale_ = true;
   }
@@ -145,6 +150,42 @@ class Viewer {
   // (PNG.csv, with its header) of the current view.
   void save_view(const std::string& png, const std::string& size = "") { save(png, size, true); }
 
+  // Throws unless `eye` is above the terrain and near enough to draw it (as terrain-render).
+  void check_eye(const Eigen::Vector3d& eye) const {
+    rr::check_eye_above_terrain(scene_.mesh, eye, s_.style.exaggeration);
+  }
+
+  // Throws unless every path in `outputs` differs from every file the viewer reads (the
+  // mesh, the .dv, the replay, the frames CSVs) and from each other, as the other tools
+  // check their outputs.
+  void check_output(const std::vector<std::string>& outputs) const {
+    tt::check_distinct_paths(inputs, outputs);
+    for (const std::string& o : outputs) terrain::check_output_path(o);
+  }
+
+  // A frames CSV to step through; each frame's eye checked as terrain-render batch does.
+  void load_frames(const std::string& path) {
+    std::vector<rr::FrameParams> loaded = rr::read_frames_csv(path, s_.frame);
+    for (std::size_t i = 0; i < loaded.size(); ++i)
+      if (loaded[i].camera.eye) {
+        try {
+          check_eye(*loaded[i].camera.eye);
+        } catch (const terrain::Error& e) {
+          throw terrain::Error(fmt::format("{}: frame {}: {}", path, i + 1, e.what()));
+        }
+      }
+    inputs.push_back(path);
+    frames = std::move(loaded);
+    frame_index = 0;
+    s_.frame = frames[0];
+  }
+
+  void save_keyframes(const std::string& path, int count) {
+    check_output({path});
+    terrain::write_file_atomic(path, rr::frames_csv(rr::keyframe_path(keyframes, count)));
+  }
+
+  std::vector<std::string> inputs;  // every file read: outputs must be none of them
   std::vector<rr::FrameParams> keyframes, frames;
   std::size_t frame_index = 0;
   std::string window_shot;          // window-shot PATH: the window (panel included) after its next draw
@@ -153,6 +194,8 @@ class Viewer {
  private:
   std::string mesh_path_, dv_path_;
   void save(const std::string& png, const std::string& size, bool with_command) {
+    if (!png.ends_with(".png")) throw terrain::Error("the viewer saves PNG images: give a .png name, not '" + png + "'");
+    check_output(with_command ? std::vector<std::string>{png, png + ".txt", png + ".csv"} : std::vector<std::string>{png});
     bring_up_to_date();
     rr::RenderSettings at = s_;
     if (!size.empty()) rr::set_option(at, *rr::find_option("size"), size);
@@ -186,17 +229,53 @@ class Viewer {
   bool stale_ = false, creases_stale_ = false;  // set() changed what the renderers or creases hold
 };
 
+// The words of one replay line, each command checked as the option table checks options:
+// its number of arguments, and each number whole, finite and in its range.
+class ReplayArgs {
+ public:
+  explicit ReplayArgs(const std::string& line) {
+    std::istringstream in(line);
+    for (std::string w; in >> w;) words_.push_back(w);
+  }
+  const std::string& command() const { return words_.front(); }
+  bool empty() const { return words_.empty() || words_.front()[0] == '#'; }
+  std::size_t size() const { return words_.size() - 1; }
+  const std::string& operator[](std::size_t k) const { return words_[k + 1]; }
+  // Throws "USAGE" unless the command has lo .. hi arguments.
+  void expect(std::size_t lo, std::size_t hi, const std::string& usage) const {
+    if (size() < lo || size() > hi) throw terrain::Error("expected " + usage);
+  }
+  // Argument k as a finite number in [lo, hi] (whole when `whole`).
+  double number(std::size_t k, const std::string& what, double lo, double hi, bool whole = false) const {
+    const std::string& w = (*this)[k];
+    char* end = nullptr;
+    const double v = std::strtod(w.c_str(), &end);
+    if (w.empty() || end != w.c_str() + w.size() || !std::isfinite(v))
+      throw terrain::Error(what + ": '" + w + "' is not a finite number");
+    if (whole && v != std::floor(v)) throw terrain::Error(what + ": '" + w + "' is not a whole number");
+    if (v < lo || v > hi) throw terrain::Error(fmt::format("{}: {} is outside {:g} .. {:g}", what, w, lo, hi));
+    return v;
+  }
+
+ private:
+  std::vector<std::string> words_;
+};
+
+// The rest of `line` after its command word: a path, which may hold spaces.
+std::string after_command(const std::string& line) {
+  std::istringstream in(line);
+  std::string cmd, r;
+  in >> cmd;
+  std::getline(in >> std::ws, r);
+  while (!r.empty() && std::isspace(static_cast<unsigned char>(r.back()))) r.pop_back();
+  return r;
+}
+
 // One replay command (see --help); returns false at quit.
 bool run_command(Viewer& v, const std::string& line, int& wait_frames) {
-  std::istringstream in(line);
-  std::string cmd;
-  in >> cmd;
-  if (cmd.empty() || cmd[0] == '#') return true;
-  auto rest = [&] {
-    std::string r;
-    std::getline(in >> std::ws, r);
-    return r;
-  };
+  const ReplayArgs a(line);
+  if (a.empty()) return true;
+  const std::string& cmd = a.command();
   rr::Camera& c = v.settings().frame.camera;
   const tt::ViewCamera cam = v.camera();
   const auto centre = [&] {
@@ -204,37 +283,53 @@ bool run_command(Viewer& v, const std::string& line, int& wait_frames) {
     if (!p) throw terrain::Error("the view's centre is not on the terrain");
     return *p;
   };
+  const auto path_arg = [&](const std::string& usage) {
+    const std::string p = after_command(line);
+    if (p.empty()) throw terrain::Error("expected " + usage);
+    return p;
+  };
   if (cmd == "camera") {
-    double e, n, z, az, alt, fov = c.fov;
-    if (!(in >> e >> n >> z >> az >> alt)) throw terrain::Error("camera E N Z AZ ALT [FOV]");
-    in >> fov;
-    c.eye = Eigen::Vector3d(e, n, z), c.view_az = az, c.view_alt = alt, c.fov = fov;
+    a.expect(5, 6, "camera E N Z AZ ALT [FOV]");
+    rr::RenderSettings s = v.settings();
+    const char* names[] = {"view-az", "view-alt", "fov"};
+    for (std::size_t k = 3; k < a.size(); ++k) {
+      try {
+        rr::set_option(s, *rr::find_option(names[k - 3]), a[k]);
+      } catch (const terrain::Error& e) {
+        throw terrain::Error(std::string("camera: ") + names[k - 3] + ": " + e.what());
+      }
+    }
+    try {
+      rr::set_option(s, *rr::find_option("eye"), a[0] + " " + a[1] + " " + a[2]);
+    } catch (const terrain::Error& e) {
+      throw terrain::Error(std::string("camera: E N Z: ") + e.what());
+    }
+    v.check_eye(*s.frame.camera.eye);
+    c = s.frame.camera;
   } else if (cmd == "orbit") {
-    double daz = 0, dalt = 0;
-    if (!(in >> daz >> dalt)) throw terrain::Error("orbit D_AZ D_ALT");
-    cam.orbit(c, centre(), daz, dalt);
+    a.expect(2, 2, "orbit D_AZ D_ALT");
+    cam.orbit(c, centre(), a.number(0, "orbit: D_AZ", -3600, 3600), a.number(1, "orbit: D_ALT", -180, 180));
   } else if (cmd == "zoom") {
-    double share = 0;
-    if (!(in >> share)) throw terrain::Error("zoom SHARE");
-    cam.zoom(c, centre(), share);
+    a.expect(1, 1, "zoom SHARE");
+    // A share of the distance to the view's centre: 1 would put the eye on the terrain.
+    cam.zoom(c, centre(), a.number(0, "zoom: SHARE", -10, 0.95));
   } else if (cmd == "set") {
-    std::string name;
-    in >> name;
-    v.set(name, rest());
+    if (a.size() < 1) throw terrain::Error("expected set NAME VALUE");
+    std::string value = after_command(line).substr(a[0].size());  // the value may hold spaces (eye)
+    value.erase(0, value.find_first_not_of(" \t"));
+    v.set(a[0], value);
   } else if (cmd == "layer") {
-    std::string name, state;
-    in >> name >> state;
-    if (state != "on" && state != "off") throw terrain::Error("layer NAME on|off");
-    const bool on = state == "on";
+    a.expect(2, 2, "layer NAME on|off");
+    if (a[1] != "on" && a[1] != "off") throw terrain::Error("expected layer NAME on|off");
     std::string out;
     std::istringstream ls(rr::find_option("layers")->get(v.settings()));
     for (std::string l; std::getline(ls, l, ',');)
-      if (l != name) out += (out.empty() ? "" : ",") + l;
-    if (on) out += (out.empty() ? "" : ",") + name;
+      if (l != a[0]) out += (out.empty() ? "" : ",") + l;
+    if (a[1] == "on") out += (out.empty() ? "" : ",") + a[0];
     v.set("layers", out);
   } else if (cmd == "key") {
-    std::string k;
-    in >> k;
+    a.expect(1, 1, "key home|w|a|s|d|q|e|k");
+    const std::string& k = a[0];
     const double step = 0.02 * double(v.scene().mesh.topo.cols) * v.scene().mesh.geo.dx;
     if (k == "home")
       v.home();
@@ -255,41 +350,63 @@ bool run_command(Viewer& v, const std::string& line, int& wait_frames) {
     else
       throw terrain::Error("unknown key '" + k + "' (home w a s d q e k)");
   } else if (cmd == "keyframe") {
+    a.expect(0, 0, "keyframe");
     v.keyframes.push_back(v.settings().frame);
   } else if (cmd == "save-keyframes") {
-    std::string path;
-    int n = 60;
-    in >> path >> n;
-    terrain::write_file_atomic(path, rr::frames_csv(rr::keyframe_path(v.keyframes, n)));
+    a.expect(1, 2, "save-keyframes PATH [N]");
+    const int n = a.size() > 1 ? int(a.number(1, "save-keyframes: N", 2, rr::kMaxPathFrames, true)) : 60;
+    v.save_keyframes(a[0], n);
   } else if (cmd == "load-frames") {
-    v.frames = rr::read_frames_csv(rest(), v.settings().frame);
-    v.frame_index = 0;
-    v.settings().frame = v.frames[0];
+    v.load_frames(path_arg("load-frames PATH"));
   } else if (cmd == "next-frame") {
+    a.expect(0, 0, "next-frame");
     if (v.frames.empty()) throw terrain::Error("next-frame: no frames loaded (load-frames PATH)");
     v.frame_index = (v.frame_index + 1) % v.frames.size();
     v.settings().frame = v.frames[v.frame_index];
   } else if (cmd == "wait") {
-    in >> wait_frames;
+    a.expect(1, 1, "wait N");
+    wait_frames = int(a.number(0, "wait: N", 0, 100000, true));
   } else if (cmd == "screenshot" || cmd == "save-view") {
-    std::string path, size;
-    in >> path >> size;
-    cmd == "screenshot" ? v.screenshot(path, size) : v.save_view(path, size);
+    a.expect(1, 2, cmd + " PATH [WxH]");
+    cmd == "screenshot" ? v.screenshot(a[0], a.size() > 1 ? a[1] : "") : v.save_view(a[0], a.size() > 1 ? a[1] : "");
   } else if (cmd == "window-shot") {  // offscreen: the frame alone
-    v.window_shot = rest();
+    const std::string p = path_arg("window-shot PATH");
+    if (!p.ends_with(".png")) throw terrain::Error("window-shot writes a PNG image: give a .png name, not '" + p + "'");
+    v.check_output({p});
+    v.window_shot = p;
   } else if (cmd == "line-stats") {
+    a.expect(0, 0, "line-stats");
     std::cout << v.line_stats();
   } else if (cmd == "timings") {
+    a.expect(0, 0, "timings");
     const rr::FrameResult& f = v.render(false);
     std::cout << fmt::format("full frame {}x{}: {:.1f} ms\n", f.width, f.height, v.full_ms());
     v.render(true);
     std::cout << fmt::format("cheap frame {}x{}: {:.1f} ms\n", v.last().width, v.last().height, v.cheap_ms());
   } else if (cmd == "quit") {
+    a.expect(0, 0, "quit");
     return false;
   } else {
     throw terrain::Error("unknown replay command '" + cmd + "'");
   }
   return true;
+}
+
+// `message` fit for one line of stderr: control and non-ASCII bytes (a binary file given
+// as a replay) as '?', at most 300 characters.
+std::string printable(const std::string& message) {
+  std::string out;
+  for (const char ch : message) {
+    const auto u = static_cast<unsigned char>(ch);
+    out += u >= 0x20 && u < 0x7f ? ch : '?';
+    if (out.size() >= 300) return out + "...";
+  }
+  return out;
+}
+
+// A replay command's error, with its line number.
+terrain::Error replay_error(std::size_t index, const std::exception& e) {
+  return terrain::Error(printable(fmt::format("replay line {}: {}", index + 1, e.what())));
 }
 
 std::vector<std::string> read_replay(const std::string& path) {
@@ -307,8 +424,8 @@ int run_offscreen(Viewer& v, const std::vector<std::string>& replay) {
     try {
       if (!run_command(v, replay[i], wait)) break;
       if (!v.window_shot.empty()) v.screenshot(v.window_shot), v.window_shot.clear();
-    } catch (const terrain::Error& e) {
-      throw terrain::Error(fmt::format("replay line {}: {}", i + 1, e.what()));
+    } catch (const std::exception& e) {
+      throw replay_error(i, e);
     }
   }
   return 0;
@@ -491,9 +608,13 @@ int run_window(Viewer& v, const std::vector<std::string>& replay, const std::str
     if (ImGui::InputText("size", size_text, sizeof size_text)) save_size = size_text;
     ImGui::SameLine();
     if (ImGui::Button("Keyframe (K)")) v.keyframes.push_back(s.frame);
-    if (v.keyframes.size() >= 2 && ImGui::Button("Save keyframes"))
-      terrain::write_file_atomic((std::filesystem::path(save_dir) / "keyframes.csv").string(),
-                                 rr::frames_csv(rr::keyframe_path(v.keyframes, 60)));
+    if (v.keyframes.size() >= 2 && ImGui::Button("Save keyframes")) {
+      try {
+        v.save_keyframes((std::filesystem::path(save_dir) / "keyframes.csv").string(), 60);
+      } catch (const terrain::Error& e) {
+        message = e.what();
+      }
+    }
     if (!stats.empty()) ImGui::TextUnformatted(stats.c_str());
     if (!message.empty()) ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "%s", message.c_str());
     option_panel(v, message);
@@ -505,8 +626,8 @@ int run_window(Viewer& v, const std::vector<std::string>& replay, const std::str
     } else if (next_line < replay.size()) {
       try {
         running = run_command(v, replay[next_line], wait);
-      } catch (const terrain::Error& e) {
-        throw terrain::Error(fmt::format("replay line {}: {}", next_line + 1, e.what()));
+      } catch (const std::exception& e) {
+        throw replay_error(next_line, e);
       }
       ++next_line;
     }
@@ -600,17 +721,16 @@ int main(int argc, char** argv) {
   return tt::run_main(app, argc, argv, [&]() -> int {
     if (list) {
       for (const rr::OptionSpec& o : rr::render_options())
-        std::cout << o.name << "\t" << o.group << "\t" << int(o.type) << "\t" << o.default_text << "\n";
+        std::cout << o.name << "\t" << o.group << "\t" << rr::option_type_name(o.type) << "\t" << o.default_text << "\n";
       return 0;
     }
     if (mesh.empty()) throw CLI::ValidationError("MESH", "give a mesh (.ply)");
     if (offscreen && replay_path.empty()) throw CLI::ValidationError("--offscreen", "needs --replay FILE");
     const std::vector<std::string> replay = replay_path.empty() ? std::vector<std::string>{} : read_replay(replay_path);
     Viewer v(mesh, dv, tt::settings_of(opts), verb);
-    if (!frames_path.empty()) {
-      v.frames = rr::read_frames_csv(frames_path, v.settings().frame);
-      v.settings().frame = v.frames[0];
-    }
+    v.inputs = {mesh, dv, replay_path};
+    if (!frames_path.empty()) v.load_frames(frames_path);
+    if (v.settings().frame.camera.eye) v.check_eye(*v.settings().frame.camera.eye);
     return offscreen ? run_offscreen(v, replay) : run_window(v, replay, save_dir);
   });
 }

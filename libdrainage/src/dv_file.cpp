@@ -1,6 +1,8 @@
 // The .dv header, its checksums and the index checks every reader runs (dv_internal.hpp).
 #include "drainage/dv_file.hpp"
 
+#include <fmt/format.h>
+
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -9,6 +11,7 @@
 
 #include "drainage/d8.hpp"
 #include "dv_internal.hpp"
+#include "terrain/dem_io.hpp"
 
 namespace drainage {
 
@@ -50,6 +53,12 @@ void check_indices(const DrainageDb& db, const std::string& path) {
     if (!(v.basin < basins || v.basin == kNone)) throw bad("basin of vertex", i);
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z) || !std::isfinite(v.normalized))
       throw bad("coordinates or flow of vertex", i);
+    if (!nodata && (v.accumulated == 0 || !(v.normalized > 0.0f && v.normalized <= 1.0f)))
+      throw bad("accumulated or normalized flow of vertex", i);
+    // Flow grows downstream within one basin: no D8 cycle passes this local test.
+    if (v.downstream != kNone && v.downstream < n &&
+        (db.vertices[v.downstream].accumulated <= v.accumulated || db.vertices[v.downstream].basin != v.basin))
+      throw bad("flow that does not grow downstream (a D8 cycle or a wrong basin) at vertex", i);
   }
   for (std::size_t b = 0; b < db.branches.size(); ++b) {
     const DvBranch& br = db.branches[b];
@@ -80,6 +89,13 @@ void open_dv(const std::string& path, OpenDv& d) {
   if (!(f.dx > 0) || !(f.dy > 0) || !std::isfinite(f.dx) || !std::isfinite(f.dy) || !std::isfinite(f.origin_x) ||
       !std::isfinite(f.origin_y) || !std::isfinite(f.origin_z) || f.basins > f.rows * f.cols)
     throw terrain::Error(cannot(path, "corrupt .dv header (spacing, origin or basin count)"));
+  // What a terrain grid can be, as the mesh reader checks it (mesh_io.cpp): an origin
+  // within 1e8 (UTM coordinates are below 1e7; heights far less) and an extent within 1e8.
+  if (std::abs(f.origin_x) > 1e8 || std::abs(f.origin_y) > 1e8 || std::abs(f.origin_z) > 1e8 ||
+      double(f.cols - 1) * f.dx > 1e8 || double(f.rows - 1) * f.dy > 1e8)
+    throw terrain::Error(cannot(path, fmt::format("corrupt .dv header (origin {:g} {:g} {:g}, spacing {:g} x {:g}: "
+                                                  "outside what a terrain grid can be)",
+                                                  f.origin_x, f.origin_y, f.origin_z, f.dx, f.dy)));
   const std::uint64_t n = f.rows * f.cols;
   if (f.header_bytes != kFixedHeader + padded(std::size_t(f.wkt_bytes) + f.provenance_bytes) || f.valid > n ||
       f.branches > n || f.header_bytes > d.size)
@@ -102,6 +118,8 @@ void open_dv(const std::string& path, OpenDv& d) {
   const char* strings = d.header.data() + kFixedHeader;
   h.crs_wkt.assign(strings, f.wkt_bytes);
   h.provenance.assign(strings + f.wkt_bytes, f.provenance_bytes);
+  if (const std::string crs = terrain::crs_fields_problem(h.crs_wkt, h.epsg); !crs.empty())
+    throw terrain::Error(cannot(path, "corrupt .dv header (" + crs + ")"));
 }
 
 }  // namespace dv

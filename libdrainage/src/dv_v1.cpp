@@ -85,6 +85,19 @@ DrainageDb read_dv_v1(const std::string& path, OpenDv& d) {
                 db.branch_vertices.size() * sizeof(std::uint32_t));
   if (std::uint32_t(crc) != f.crc32) throw terrain::Error(cannot(path, "checksum mismatch (corrupt file)"));
   check_indices(db, path);
+  // What the grid says of the flow: no point accumulates more than the grid's points, and
+  // the points that end a flow (class Pit) are the basins, one each.
+  std::uint64_t pits = 0;
+  for (std::uint64_t i = 0; i < n; ++i) {
+    const DvVertex& v = db.vertices[i];
+    if (v.point_class == std::uint8_t(PointClass::Nodata)) continue;
+    if (v.accumulated > n)  // (the valid points are counted below; the grid bounds them)
+      throw terrain::Error(cannot(path, "corrupt .dv (accumulated flow of vertex " + std::to_string(i) + ")"));
+    pits += v.point_class == std::uint8_t(PointClass::Pit);
+  }
+  if (pits != f.basins)
+    throw terrain::Error(cannot(path, "corrupt .dv (" + std::to_string(pits) + " pits, the header says " +
+                                          std::to_string(f.basins) + " basins)"));
   return db;
 }
 

@@ -57,7 +57,8 @@ V2Trailer read_v2_trailer(const std::string& path, OpenDv& d) {
   for (std::size_t k = 0; k < f.basins; ++k) {
     std::memcpy(&t.pit[k], basins + k * kBasinEntry, 4);
     std::memcpy(&t.pit_accumulated[k], basins + k * kBasinEntry + 4, 4);
-    if (t.pit[k] >= f.rows * f.cols || t.pit_accumulated[k] == 0 || (k > 0 && t.pit[k] <= t.pit[k - 1]))
+    if (t.pit[k] >= f.rows * f.cols || t.pit_accumulated[k] == 0 || t.pit_accumulated[k] > f.rows * f.cols ||
+        (k > 0 && t.pit[k] <= t.pit[k - 1]))
       throw terrain::Error(cannot(path, "corrupt .dv (basin " + std::to_string(k) + ")"));
   }
   return t;
@@ -148,6 +149,18 @@ DrainageDb decode_v2_region(const std::string& path, OpenDv& d, const V2Trailer&
         fail("corrupt .dv (basin of vertex " + std::to_string(gr * C + gc) + ")");
         break;
       }
+      if (!nodata && v.accumulated > t.pit_accumulated[v.basin]) {
+        fail("corrupt .dv (accumulated flow of vertex " + std::to_string(gr * C + gc) + " exceeds its basin's)");
+        break;
+      }
+      if (!nodata && (v.d8 >= 8 || is_cut) && t.pit[v.basin] != gr * C + gc) {
+        fail("corrupt .dv (vertex " + std::to_string(gr * C + gc) + " ends its flow but is not its basin's pit)");
+        break;
+      }
+      if (!nodata && t.pit[v.basin] == gr * C + gc && v.accumulated != t.pit_accumulated[v.basin]) {
+        fail("corrupt .dv (pit of basin " + std::to_string(v.basin) + ")");
+        break;
+      }
       v.normalized = nodata ? 0.0f : float(double(v.accumulated) / double(t.pit_accumulated[v.basin]));
       v.point_class = std::uint8_t(nodata ? PointClass::Nodata : PointClass::Pit);  // refined below
     }
@@ -177,6 +190,12 @@ DrainageDb decode_v2_region(const std::string& path, OpenDv& d, const V2Trailer&
       if (db.vertices[j].d8 == kNodata) {
 #pragma omp critical(dv_error)
         if (error.empty()) error = cannot(path, "corrupt .dv (downstream of vertex " + std::to_string((r0 + std::size_t(r)) * C + c0 + std::size_t(c)) + " is no-data)");
+        continue;
+      }
+      // Flow grows downstream within one basin: no cycle can pass this local test.
+      if (db.vertices[j].accumulated <= v.accumulated || db.vertices[j].basin != v.basin) {
+#pragma omp critical(dv_error)
+        if (error.empty()) error = cannot(path, "corrupt .dv (the flow of vertex " + std::to_string((r0 + std::size_t(r)) * C + c0 + std::size_t(c)) + " does not grow downstream: a D8 cycle or a wrong basin)");
         continue;
       }
       v.downstream = std::uint32_t(j);

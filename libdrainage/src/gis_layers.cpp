@@ -300,6 +300,25 @@ std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::v
   auto centre_x = [&](std::size_t c) { return h.origin_x + double(c) * h.dx; };
   auto centre_y = [&](std::size_t r) { return h.origin_y - double(r) * h.dy; };
   if (!(snap_distance >= 0)) throw terrain::Error("the snap distance must be 0 or more metres");
+  const double west = geo.x0, east = geo.x0 + double(C) * h.dx, north = geo.y0, south = geo.y0 - double(R) * h.dy;
+  const double size = std::hypot(east - west, north - south);
+  if (snap_distance > size)
+    throw terrain::Error(fmt::format("a snap distance of {:g} m exceeds the grid's size ({:.0f} m): every outlet would "
+                                     "move to the largest stream; give at most a few cells",
+                                     snap_distance, size));
+  // An outlet outside the grid is a point in other coordinates (longitude and latitude in
+  // a file without a CRS), not one to snap in from afar.
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const OutletPoint& p = points[k];
+    if (p.x >= west && p.x <= east && p.y >= south && p.y <= north) continue;
+    const bool degrees = std::abs(p.x) <= 180 && std::abs(p.y) <= 90 && size > 1000;
+    throw terrain::Error(fmt::format(
+        "outlet {} (feature {}) at {:.6g}, {:.6g} lies outside the grid (x {:.1f}..{:.1f}, y {:.1f}..{:.1f}){}", k, p.fid,
+        p.x, p.y, west, east, south, north,
+        degrees ? ": its numbers look like longitude and latitude in a file without a CRS; give the file one "
+                  "(ogr2ogr -a_srs EPSG:4326, or a .prj beside it)"
+                : ""));
+  }
 
   const terrain::GdalCacheLimit cache_limit;
   // 1. Snap: the highest accumulation within the distance (a window of the file around it).

@@ -476,7 +476,7 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
     }
   };
   if (comm.root()) {
-    terrain::write_stream_atomic(output_path, [&](std::ostream& file) {
+    terrain::write_stream_atomic(run.write_to.empty() ? output_path : run.write_to, [&](std::ostream& file) {
       DvBlockWriter writer(file, output_path, h);
       network(&writer);
       step("network (2 passes) and .dv blocks");

@@ -47,6 +47,7 @@ AtomicFile::~AtomicFile() {
   if (!committed_) {
     std::error_code ec;
     fs::remove(temp_, ec);
+    for (const char* suffix : {"-journal", "-wal", "-shm"}) fs::remove(temp_.string() + suffix, ec);  // SQLite's
   }
 }
 
@@ -57,6 +58,9 @@ void AtomicFile::commit() {
     committed_ = true;
     return;
   }
+  // A file replaced keeps its mode (a read-only output stays read-only), as cp and GDAL do.
+  if (const fs::file_status old = fs::status(target_, ec); !ec && fs::is_regular_file(old))
+    fs::permissions(temp_, old.permissions(), fs::perm_options::replace, ec);
   fs::rename(temp_, target_, ec);
   if (ec) throw Error("cannot write '" + target_.string() + "': " + ec.message());
   committed_ = true;

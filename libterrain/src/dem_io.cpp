@@ -82,6 +82,36 @@ CrsInfo crs_info(const OGRSpatialReference& srs) {
   return c;
 }
 
+void assign_crs(Georef& geo, const std::string& user_crs) {
+  ensure_gdal();
+  OGRSpatialReference srs;
+  if (srs.SetFromUserInput(user_crs.c_str()) != OGRERR_NONE) throw Error("cannot understand the CRS '" + user_crs + "'");
+  const CrsInfo crs = crs_info(srs);
+  if (crs.kind == CrsKind::None) throw Error("the CRS '" + user_crs + "' is neither geographic nor projected");
+  if (!crs.non_metre_unit.empty())
+    throw Error("the CRS '" + user_crs + "' is in " + crs.non_metre_unit + ", not metres");
+  geo.crs_wkt = crs.wkt, geo.epsg = crs.epsg, geo.crs_kind = crs.kind;
+}
+
+std::string crs_fields_problem(const std::string& wkt, int epsg) {
+  ensure_gdal();
+  OGRSpatialReference from_wkt, from_code;
+  if (!wkt.empty() && from_wkt.importFromWkt(wkt.c_str()) != OGRERR_NONE) return "its CRS WKT does not parse";
+  if (epsg != 0 && (epsg < 0 || from_code.importFromEPSG(epsg) != OGRERR_NONE))
+    return "EPSG:" + std::to_string(epsg) + " is no CRS PROJ knows";
+  if (wkt.empty() || epsg == 0) return "";
+  const char* auth = from_wkt.GetAuthorityName(nullptr);
+  const char* code = from_wkt.GetAuthorityCode(nullptr);
+  if (auth && code && std::string(auth) == "EPSG" && std::atoi(code) != epsg)
+    return "its CRS WKT says EPSG:" + std::string(code) + " but its EPSG field says " + std::to_string(epsg);
+  if (bool(from_wkt.IsGeographic()) != bool(from_code.IsGeographic()) ||
+      bool(from_wkt.IsProjected()) != bool(from_code.IsProjected()))
+    return std::string("its CRS WKT is ") + (from_wkt.IsGeographic() ? "geographic" : "not geographic") +
+           " but its EPSG field (" + std::to_string(epsg) + ") is " +
+           (from_code.IsGeographic() ? "geographic" : "not geographic");
+  return "";
+}
+
 namespace {
 
 // An opened raster with its north-up georeferencing (a south-up raster's rows are read
@@ -240,6 +270,20 @@ Grid read_dem(const std::string& path, const Progress& progress, std::optional<R
     throw Error(fmt::format("cannot use '{}': {} samples are infinite (the first at row {}, column {}); mark them as "
                             "no-data (gdal_translate -a_nodata) or fix the DEM",
                             path, infinite, w.row0 + first_inf / grid.cols, w.col0 + first_inf % grid.cols));
+  // Heights are single-precision floats: above 2^24 they step by 2 or more, so the values
+  // of a wider band type (UInt32 near 4e9 steps by 256 there) would lose their steps.
+  const GDALDataType type = band->GetRasterDataType();
+  if (GDALGetDataTypeSizeBits(type) > 16 && type != GDT_Float32) {
+    float top = 0;
+    for (const float v : grid.z)
+      if (std::abs(v) > top) top = std::abs(v);  // NaN compares false
+    if (top > float(1 << 24))
+      throw Error(fmt::format("cannot use '{}': its {} heights reach {:.10g}, where single-precision floats step by "
+                              "{:g}, so its steps would be lost; subtract an offset first (gdal_calc.py --calc "
+                              "\"A-{:.0f}\" --type Float32)",
+                              path, GDALGetDataTypeName(type), double(top),
+                              double(std::nextafter(top, INFINITY) - top), std::floor(double(top) / 1e6) * 1e6));
+  }
   return grid;
 }
 

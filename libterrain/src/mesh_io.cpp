@@ -1,4 +1,5 @@
 #include "terrain/mesh_io.hpp"
+#include "terrain/dem_io.hpp"
 
 #include <OpenMesh/Core/IO/exporter/BaseExporter.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
@@ -415,10 +416,27 @@ void silence_openmesh() {
   (void)once;
 }
 
+// Throws "WHAT: ..." unless every header field that sizes or places something is what a
+// projected mesh can be (the lattice itself is checked against the vertices on reading):
+// spacings from 1 mm to 1000 km, an extent and origin within 1e8 m (UTM coordinates are
+// below 1e7), and a CRS whose WKT and EPSG code agree. The writer checks the same, so no
+// tool writes a mesh that another refuses.
+void check_mesh_georef(const GridMesh& m, const std::string& what) {
+  if (m.geo.dx < 1e-3 || m.geo.dy < 1e-3 || m.geo.dx > 1e6 || m.geo.dy > 1e6 ||
+      double(m.topo.cols - 1) * m.geo.dx > 1e8 || double(m.topo.rows - 1) * m.geo.dy > 1e8 ||
+      !(std::abs(m.geo.origin_x) <= 1e8) || !(std::abs(m.geo.origin_y) <= 1e8) || !(std::abs(m.geo.origin_z) <= 1e8))
+    throw Error(fmt::format("{}: its grid comment (spacing {:g} x {:g} m, {} x {} vertices) or origin "
+                            "({:g}, {:g}, {:g}) is outside what a terrain mesh can be",
+                            what, m.geo.dx, m.geo.dy, m.topo.cols, m.topo.rows, m.geo.origin_x, m.geo.origin_y,
+                            m.geo.origin_z));
+  if (const std::string crs = crs_fields_problem(m.geo.crs_wkt, m.geo.epsg); !crs.empty()) throw Error(what + ": " + crs);
+}
+
 void write_with(const OM::IO::BaseWriter& writer, OM::IO::Options opt, const GridMesh& mesh,
                 const std::string& path, const std::string& comments, int after) {
   if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != mesh.positions.size())
     throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
+  check_mesh_georef(mesh, "cannot write '" + path + "'");
   silence_openmesh();
   write_stream_atomic(path, [&](std::ostream& file) {
     CommentInjector injector(file.rdbuf(), comments, after);
@@ -443,6 +461,7 @@ void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
   const std::size_t nv = mesh.n_vertices(), nf = mesh.n_faces();
   if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != nv)
     throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
+  check_mesh_georef(mesh, "cannot write '" + path + "'");
   const bool voronoi = !mesh.voronoi.empty(), change = mesh.normal_change.size() == nv;
   // The header as OpenMesh writes it: custom properties in the order they were added.
   std::string header = "ply\nformat binary_little_endian 1.0\n" + header_comments(mesh);
@@ -575,16 +594,7 @@ GridMesh read_mesh_ply(const std::string& path) {
       !(m.geo.dx > 0) || !(m.geo.dy > 0) || !std::isfinite(m.geo.dx) || !std::isfinite(m.geo.dy) ||
       !std::isfinite(m.geo.origin_x) || !std::isfinite(m.geo.origin_y) || !std::isfinite(m.geo.origin_z))
     throw Error("cannot read '" + path + "': invalid grid or origin comment");
-  // Every header field that sizes or places something, against what a projected mesh can
-  // be (the lattice itself is checked against the vertices below): spacings from 1 mm to
-  // 1000 km, an extent and origin within 1e8 m (UTM coordinates are below 1e7).
-  if (m.geo.dx < 1e-3 || m.geo.dy < 1e-3 || m.geo.dx > 1e6 || m.geo.dy > 1e6 ||
-      double(m.topo.cols - 1) * m.geo.dx > 1e8 || double(m.topo.rows - 1) * m.geo.dy > 1e8 ||
-      std::abs(m.geo.origin_x) > 1e8 || std::abs(m.geo.origin_y) > 1e8 || std::abs(m.geo.origin_z) > 1e8)
-    throw Error(fmt::format("cannot read '{}': its grid comment (spacing {:g} x {:g} m, {} x {} vertices) or origin "
-                            "({:g}, {:g}, {:g}) is outside what a terrain mesh can be",
-                            path, m.geo.dx, m.geo.dy, m.topo.cols, m.topo.rows, m.geo.origin_x, m.geo.origin_y,
-                            m.geo.origin_z));
+  check_mesh_georef(m, "cannot read '" + path + "'");
   check_terrain_ply(header, m.topo, std::filesystem::file_size(path, ec), path);
   silence_openmesh();
 

@@ -72,7 +72,8 @@ WalkResult walk(const GridMesh& mesh, double x, double y, PolyOf&& poly, Hint& h
       best_min = bary[k];
       best = {f, s};
     }
-    if (next == prev) break;  // ping-pong across one edge from rounding: take the better side
+    if (next == kNoFace) break;  // far outside the mesh's edge (a fold of a rough surface's patch)
+    if (next == prev) break;     // ping-pong across one edge from rounding: take the better side
     prev = f;
     f = next;
   }

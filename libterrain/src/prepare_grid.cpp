@@ -56,8 +56,18 @@ GridPlan plan_grid(const Georef& sg, std::size_t src_rows, std::size_t src_cols,
   const bool geographic = sg.crs_kind == CrsKind::Geographic;
   if (!geographic && req.utm_zone)
     throw Error("--utm-zone applies to geographic DEMs only; this DEM is in " + crs_name(sg));
-  if (sg.crs_kind == CrsKind::None)
-    out.warnings.push_back("the DEM has no CRS: its coordinates are taken as metres");
+  if (sg.crs_kind == CrsKind::None) {
+    // Degrees read as metres would make a mesh of millimetre cells that no tool can use:
+    // an extent within the globe's and cells under 0.1 are degrees, refused.
+    const double west = sg.x0, east = sg.x0 + double(src_cols) * sg.dx;
+    const double north = sg.y0, south = sg.y0 - double(src_rows) * sg.dy;
+    if (west >= -180 && east <= 360 && south >= -90 && north <= 90 && sg.dx < 0.1 && sg.dy < 0.1)
+      throw Error(fmt::format("the DEM has no CRS and its coordinates look like degrees (x {:g}..{:g}, y {:g}..{:g}, "
+                              "cells of {:g} x {:g}): give its CRS with --src-crs EPSG:4326 (or gdal_translate "
+                              "-a_srs EPSG:4326)",
+                              west, east, south, north, sg.dx, sg.dy));
+    out.warnings.push_back("the DEM has no CRS: its coordinates are taken as metres (--src-crs gives one)");
+  }
 
   Georef& tg = out.target;
   double sx = 0, sy = 0;  // target spacing

@@ -68,7 +68,18 @@ void on_signal(int sig) {
   }
   const int saved = errno;
   for (Slot& s : slots)
-    if (s.state.load(std::memory_order_acquire) == kFile) ::unlink(s.path);
+    if (s.state.load(std::memory_order_acquire) == kFile) {
+      ::unlink(s.path);
+      // SQLite's files beside a GeoPackage being written (its rollback journal, or the WAL
+      // and shared-memory files): a stack buffer, no allocation.
+      for (const char* suffix : {"-journal", "-wal", "-shm"}) {
+        char side[PATH_MAX + 16];
+        const std::size_t n = std::strlen(s.path), k = std::strlen(suffix);
+        std::memcpy(side, s.path, n);
+        std::memcpy(side + n, suffix, k + 1);
+        ::unlink(side);
+      }
+    }
   for (Slot& s : slots)
     if (s.state.load(std::memory_order_acquire) == kFolder) remove_folder_in_handler(s.path);
   errno = saved;
@@ -177,6 +188,34 @@ ScratchDir::ScratchDir(const fs::path& near) {
 ScratchDir::~ScratchDir() {
   std::error_code ec;
   fs::remove_all(path_, ec);
+}
+
+NewDirectories::NewDirectories(const fs::path& path) {
+  std::error_code ec;
+  for (fs::path p = fs::absolute(path).lexically_normal(); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+    created_.push_back(p);
+    if (p == p.parent_path()) break;
+  }
+  // Registered deepest first: the handler empties and removes the folders in that order.
+  for (const fs::path& p : created_) registrations_.emplace_back(p, true);
+  fs::create_directories(path, ec);
+  if (ec) {
+    registrations_.clear();
+    std::error_code ignored;
+    for (const fs::path& p : created_) fs::remove(p, ignored);
+    throw Error("cannot create the directory '" + path.string() + "': " + ec.message());
+  }
+}
+
+NewDirectories::~NewDirectories() {
+  registrations_.clear();
+  std::error_code ec;
+  for (const fs::path& p : created_) fs::remove(p, ec);  // only when empty
+}
+
+void NewDirectories::keep() {
+  registrations_.clear();
+  created_.clear();
 }
 
 std::vector<fs::path> stale_temporaries(const fs::path& target) {

@@ -384,6 +384,16 @@ Projected project(const View& view, const Eigen::Vector3d& p) {
 
 void check_eye_above_terrain(const terrain::GridMesh& mesh, const Eigen::Vector3d& eye, double exaggeration) {
   const auto& g = mesh.geo;
+  // Far away, the terrain is a speck (and single-precision matrices lose it): an eye more
+  // than kMaxEyeDistance terrain sizes from its centre is an error, not a blank frame.
+  const double size = std::hypot(double(mesh.topo.cols - 1) * g.dx, double(mesh.topo.rows - 1) * g.dy);
+  const Eigen::Vector3d centre(g.origin_x + 0.5 * double(mesh.topo.cols - 1) * g.dx,
+                               g.origin_y - 0.5 * double(mesh.topo.rows - 1) * g.dy, g.origin_z);
+  const double distance = std::hypot(std::hypot(eye.x() - centre.x(), eye.y() - centre.y()), eye.z() - centre.z());
+  if (!(distance <= kMaxEyeDistance * size))
+    throw terrain::Error(fmt::format("the eye ({:.6g}, {:.6g}, {:.6g}) is {:.3g} km from the terrain, more than {:g} "
+                                     "times its size ({:.3g} km): it would draw a blank frame; move it closer",
+                                     eye.x(), eye.y(), eye.z(), distance / 1000, kMaxEyeDistance, size / 1000));
   const auto p = terrain::pn_point_above(mesh, eye.x() - g.origin_x, eye.y() - g.origin_y);
   if (!p) return;
   const double surface = g.origin_z + exaggeration * p->position.z();

@@ -268,7 +268,8 @@ std::string frames_csv(const std::vector<FrameParams>& frames) {
 
 std::vector<FrameParams> keyframe_path(const std::vector<FrameParams>& keys, int count) {
   if (keys.size() < 2) throw terrain::Error("a keyframe path needs at least 2 keyframes");
-  if (count < 2) throw terrain::Error("a keyframe path needs at least 2 frames");
+  if (count < 2 || count > kMaxPathFrames)
+    throw terrain::Error(fmt::format("a keyframe path has 2 .. {} frames, not {}", kMaxPathFrames, count));
   // Per key: eye x, y, z, bearing (unwrapped), altitude.
   std::vector<Eigen::Matrix<double, 5, 1>> k(keys.size());
   for (std::size_t i = 0; i < keys.size(); ++i) {

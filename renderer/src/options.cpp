@@ -413,6 +413,11 @@ Style drawn_style(const RenderSettings& s) {
   return st;
 }
 
+const char* option_type_name(OptionType t) {
+  static const char* const kNames[] = {"NUMBER", "INTEGER", "FLAG", "CHOICE", "COLOUR", "LIST", "WxH", "E N Z"};
+  return kNames[int(t)];
+}
+
 const std::vector<OptionSpec>& render_options() {
   static const std::vector<OptionSpec> table = make_table();
   return table;

@@ -11,6 +11,8 @@
 
 #include <zstd.h>
 
+#include <ogr_spatialref.h>
+
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
 #include "drainage/pipeline.hpp"
@@ -316,8 +318,85 @@ TEST(DvFile, RejectsBadFieldsBehindValidBlockChecksums) {
   expect_error(file_with([](DvBlockFields& f, auto&, auto&) { f.d8[1] = 7; }), "leaves the grid");
   expect_error(file_with([](DvBlockFields& f, auto&, auto&) { f.z[2] = NAN; }), "elevation of vertex 2");
   expect_error(file_with([](auto&, std::vector<std::uint32_t>& p, auto&) { p[1] = 9; }), "basin 1");
-  expect_error(file_with([](auto&, auto&, std::vector<std::uint32_t>& a) { a[1] = 2; }), "pit of basin 1");
-  expect_error(file_with([](auto&, std::vector<std::uint32_t>& p, auto&) { p[0] = 1; }), "pit of basin 0");
+  expect_error(file_with([](auto&, auto&, std::vector<std::uint32_t>& a) { a[1] = 2; }), "exceeds its basin's");
+  expect_error(file_with([](auto&, auto&, std::vector<std::uint32_t>& a) { a[1] = 4; }), "pit of basin 1");
+  expect_error(file_with([](auto&, std::vector<std::uint32_t>& p, auto&) { p[0] = 1; }), "is not its basin's pit");
+}
+
+// Issue 48: a crafted .dv with valid checksums whose flow or header cannot be. Every reader
+// - the whole file, a window, info's summary, the GeoTIFF and GeoPackage exports - runs the
+// same checks (before, export --to tif wrote a D8 cycle and an accumulation of 2^32 - 1 that
+// info rejected, and an origin z of 1e300 became inf).
+TEST(DvFile, EveryReaderRejectsImpossibleFlowAndHeaders) {
+  terrain::test::ScratchDir dir;
+  // 2 x 2: (0,0) flows E into (0,1), which flows S into (1,1), the pit of basin 1; (1,0) is
+  // the pit of basin 0. In UTM 10N.
+  auto file_with = [&](auto&& spoil) {
+    DvHeader h;
+    h.rows = 2, h.cols = 2, h.block_rows = h.block_cols = 2;
+    h.origin_x = 562000, h.origin_y = 5117000, h.origin_z = 1000, h.dx = h.dy = 10;
+    h.epsg = 26910;
+    OGRSpatialReference srs;
+    srs.importFromEPSG(26910);
+    char* wkt = nullptr;
+    srs.exportToWkt(&wkt);
+    h.crs_wkt = wkt;
+    CPLFree(wkt);
+    DvBlockFields f{{1, 2, 3, 4}, {0, 6, 9, 9}, {0, 0, 0, 0}, {1, 2, 1, 3}, {1, 1, 0, 1}, {1, 1, 1, 1}};
+    std::vector<std::uint32_t> pits = {2, 3}, pit_acc = {1, 3};
+    spoil(h, f);
+    const std::string path = dir.path("x.dv");
+    terrain::write_stream_atomic(path, [&](std::ostream& out) {
+      DvBlockWriter w(out, path, h);
+      w.put_block(0, encode_dv_block(f));
+      w.finish(4, 2, pits, pit_acc);
+    });
+    return path;
+  };
+  auto every_reader_refuses = [&](const std::string& path, const std::string& fragment) {
+    const std::vector<std::pair<std::string, std::function<void()>>> readers = {
+        {"read_dv", [&] { (void)read_dv(path); }},
+        {"read_dv_window", [&] { (void)read_dv_window(path, 0, 0, 1, 2); }},
+        {"summarize_dv_file", [&] { (void)summarize_dv_file(path); }},
+        {"export_dv_rasters",
+         [&] {
+           (void)export_dv_rasters(path, [&](const std::string& n) { return dir.path("r_" + n); },
+                                   D8Encoding::Taudem, "");
+         }},
+    };
+    for (const auto& [name, read] : readers) {
+      try {
+        read();
+        ADD_FAILURE() << name << " took " << fragment;
+      } catch (const terrain::Error& e) {
+        EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << name << ": " << e.what();
+      }
+    }
+  };
+  ASSERT_EQ(read_dv(file_with([](DvHeader&, DvBlockFields&) {})).vertices[0].downstream, 1u);
+  EXPECT_EQ(summarize_dv_file(file_with([](DvHeader&, DvBlockFields&) {})).points, 4u);
+  every_reader_refuses(file_with([](DvHeader&, DvBlockFields& f) { f.accumulated[0] = 0xFFFFFFFFu; }),
+                       "accumulated flow of vertex 0");
+  // (0,1) flows W back into (0,0): a cycle of two.
+  every_reader_refuses(file_with([](DvHeader&, DvBlockFields& f) { f.d8[1] = 4; }), "does not grow downstream");
+  // (0,0) ends its flow (an outlet) inside basin 1, whose pit is (1,1): a stray pit.
+  every_reader_refuses(file_with([](DvHeader&, DvBlockFields& f) { f.d8[0] = 9; }), "is not its basin's pit");
+  every_reader_refuses(file_with([](DvHeader& h, DvBlockFields&) { h.origin_z = 1e300; }),
+                       "outside what a terrain grid can be");
+  every_reader_refuses(file_with([](DvHeader& h, DvBlockFields&) { h.crs_wkt = "GARBAGE[\"x\"]"; }),
+                       "CRS WKT does not parse");
+  every_reader_refuses(file_with([](DvHeader& h, DvBlockFields&) {
+                         OGRSpatialReference g;
+                         g.importFromEPSG(4326);
+                         char* w = nullptr;
+                         g.exportToWkt(&w);
+                         h.crs_wkt = w;
+                         CPLFree(w);
+                       }),
+                       "says EPSG:4326 but its EPSG field says 26910");
+  every_reader_refuses(file_with([](DvHeader& h, DvBlockFields&) { h.epsg = 4326; }), "EPSG field says 4326");
+  for (const auto& e : std::filesystem::directory_iterator(dir.path("")))
+    EXPECT_EQ(e.path().filename().string(), "x.dv") << "a refused export left " << e.path();
 }
 
 // A window is the full database's points with window indices: every field of every

@@ -35,6 +35,30 @@ TEST(PnPointAbove, PlanarMeshGivesThePlane) {
   EXPECT_FALSE(pn_point_above(m, -100.0, -10.0));  // off the mesh
 }
 
+// Issue 48: on a checkerboard (cells alternating 0 and 100 m, 50 m apart) the patch walk
+// stepped off the mesh's edge onto "no face" and read past the faces (SIGSEGV in
+// dem2mesh --fit-normals). Every point inside and around the mesh is answered, inside
+// with the patch's own point, never from a face that does not exist.
+TEST(PnPointAbove, ACheckerboardNeverWalksOffTheMesh) {
+  Georef geo;
+  geo.dx = geo.dy = 50.0;
+  Grid g(24, 24, geo);
+  for (std::size_t r = 0; r < g.rows; ++r)
+    for (std::size_t c = 0; c < g.cols; ++c) g.at(r, c) = float(100 * ((r + c) % 2));
+  const GridMesh m = make_grid_mesh(g, NormalWeighting::Uniform);
+  std::size_t answered = 0;
+  for (double x = -60; x <= 23 * 50 + 60; x += 3.7)
+    for (double y = 60; y >= -23 * 50 - 60; y -= 4.1) {
+      const auto p = pn_point_above(m, x, y);
+      if (!p) continue;
+      ++answered;
+      ASSERT_LT(p->face, m.n_faces());
+      EXPECT_NEAR(p->position.x(), x, 1e-6);
+      EXPECT_NEAR(p->position.y(), y, 1e-6);
+    }
+  EXPECT_GT(answered, std::size_t(0.8 * (1150 / 3.7) * (1150 / 4.1)));
+}
+
 // On real, rough terrain the returned point is exactly above the request (1e-6 m), lies
 // inside its patch (or extrapolates a boundary patch), and is the patch's own point.
 TEST(PnPointAbove, MountStHelensXyMatchesTheRequest) {

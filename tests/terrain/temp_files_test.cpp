@@ -8,7 +8,11 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
+#include "terrain/atomic_file.hpp"
+#include "terrain/error.hpp"
 #include "terrain/temp_files.hpp"
 #include "test_support.hpp"
 
@@ -60,6 +64,62 @@ TEST(TempFiles, DeferredInterruptRemovesTemporariesAndEndsByTheSignal) {
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status;
   EXPECT_TRUE(fs::exists(marker)) << "the signal was not deferred";
   EXPECT_FALSE(fs::exists(temp)) << "the registered temporary was left";
+}
+
+// Issue 48: an interrupted GeoPackage write left SQLite's journal beside the output (the
+// temporary .gpkg went, its '-journal' stayed); the handler removes SQLite's side files
+// of every registered file, and the folders a NewDirectories made, deepest first.
+TEST(TempFiles, InterruptRemovesSqliteSideFilesAndNewFolders) {
+  terrain::test::ScratchDir dir;
+  const std::string gpkg = dir.path("t.gpkg"), deep = dir.path("a/b/c");
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    install_interrupt_cleanup();
+    const NewDirectories made(deep);
+    const TempRegistration reg(gpkg);
+    for (const char* side : {"", "-journal", "-wal", "-shm"}) std::ofstream(gpkg + side) << "x";
+    std::ofstream(deep + "/.staged.tmp") << "x";
+    const TempRegistration staged(deep + "/.staged.tmp");
+    ::raise(SIGINT);
+    ::_exit(0);  // not reached
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << status;
+  std::vector<std::string> left;
+  for (const auto& e : fs::recursive_directory_iterator(dir.path(""))) left.push_back(e.path().string());
+  EXPECT_TRUE(left.empty()) << "left: " << (left.empty() ? "" : left.front());
+}
+
+// NewDirectories keeps its folders only when kept; a folder that existed is never removed.
+TEST(TempFiles, NewDirectoriesGoUnlessKept) {
+  terrain::test::ScratchDir dir;
+  fs::create_directories(dir.path("old"));
+  { const NewDirectories made(dir.path("old/x/y")); EXPECT_TRUE(fs::is_directory(dir.path("old/x/y"))); }
+  EXPECT_FALSE(fs::exists(dir.path("old/x")));
+  EXPECT_TRUE(fs::is_directory(dir.path("old")));
+  {
+    NewDirectories made(dir.path("old/k"));
+    made.keep();
+  }
+  EXPECT_TRUE(fs::is_directory(dir.path("old/k")));
+  std::ofstream(dir.path("file")) << "x";
+  EXPECT_THROW(NewDirectories(dir.path("file/sub")), Error);
+}
+
+// Issue 48: an output that was read-only came back 0644; a replaced file keeps its mode,
+// as cp and GDAL keep it.
+TEST(AtomicFile, AReplacedFileKeepsItsMode) {
+  terrain::test::ScratchDir dir;
+  const std::string f = dir.path("o.csv");
+  for (const fs::perms mode : {fs::perms(0444), fs::perms(0640), fs::perms(0755)}) {
+    std::ofstream(f) << "old";
+    fs::permissions(f, mode, fs::perm_options::replace);
+    write_file_atomic(f, "new");
+    EXPECT_EQ(terrain::test::file_bytes(f), "new");
+    EXPECT_EQ(fs::status(f).permissions() & fs::perms::mask, mode) << std::oct << int(mode);
+    fs::permissions(f, fs::perms(0644), fs::perm_options::replace);
+  }
 }
 
 TEST(TempFiles, StaleTemporariesAreThoseOfDeadProcesses) {

@@ -81,7 +81,7 @@ class BadInput : public ::testing::TestWithParam<Row> {
     fs::create_directories(dir.parent_path());
     const fs::path scratch = dir.string() + ".tmp" + std::to_string(::getpid());
     fs::create_directories(scratch);
-    if (!make_inputs(scratch.string() + "/")) {
+    if (!make_inputs(scratch.string() + "/", in_)) {
       fs::remove_all(scratch);
       return;  // the rows fail on the missing inputs, after the setup's own failure
     }
@@ -90,8 +90,9 @@ class BadInput : public ::testing::TestWithParam<Row> {
     if (ec) fs::remove_all(scratch);
   }
 
-  // Returns false when a command that makes an input failed.
-  static bool make_inputs(const std::string& into) {
+  // Returns false when a command that makes an input failed. `final` is where `into` will
+  // be renamed: the paths written inside replay files.
+  static bool make_inputs(const std::string& into, const std::string& final) {
     bool ok = true;
     auto in = [&](const std::string& n) { return into + n; };
     const std::string msh = data("msh_2007_utm10n_10m.tif"), eno = data("eno_nad83_geographic_crop.tif");
@@ -223,6 +224,64 @@ class BadInput : public ::testing::TestWithParam<Row> {
     std::ofstream(in("line_stats.csv")) << "view_az,view_alt\n200,30\n";  // a frames CSV named like batch's output
     fs::create_directories(in("meshdir"));
     fs::copy_file(in("m.ply"), in("meshdir/frame_00000.png"));  // a mesh named like batch's first frame
+    // Issue 48: rough, degree-valued and too-wide DEMs; outlets in degrees; crafted headers.
+    {
+      std::vector<float> checker(40 * 40);
+      for (int r = 0; r < 40; ++r)
+        for (int c = 0; c < 40; ++c) checker[std::size_t(r * 40 + c)] = float(100 * ((r + c) % 2));
+      make_tif(in("checker.tif"), 40, 40, checker, {500000, 30, 0, 4000000, 0, -30}, kUtm10);
+      sh("gdal_translate -q -ot Int16 " + in("checker.tif") + " " + in("checker16.tif"));
+      make_tif(in("degrees_no_crs.tif"), 20, 20, plane(20, 20), {-122.3, 1.0 / 1200, 0, 46.3, 0, -1.0 / 1200}, "");
+      GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("GTiff");
+      std::unique_ptr<GDALDataset> ds(drv->Create(in("uint32.tif").c_str(), 20, 20, 1, GDT_UInt32, nullptr));
+      double g[6] = {500000, 10, 0, 4000000, 0, -10};
+      ds->SetGeoTransform(g);
+      OGRSpatialReference srs;
+      srs.SetFromUserInput(kUtm10);
+      ds->SetSpatialRef(&srs);
+      std::vector<std::uint32_t> high(400);
+      for (std::size_t i = 0; i < high.size(); ++i) high[i] = 4000000000u + 5u * std::uint32_t(i % 20 + i / 20);
+      EXPECT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 20, 20, high.data(), 20, 20, GDT_UInt32, 0, 0), CE_None);
+    }
+    std::ofstream(in("lonlat.csv")) << "lon,lat\n-122.19,46.2\n";
+    std::ofstream(in("far_eye.csv")) << "easting,northing,elevation\n562500,5117000,5.6e12\n";
+    std::ofstream(in("shot.png.csv")) << "view_az,view_alt\n200,30\n";
+    {  // the .dv with an origin z of 1e300, with a projected WKT beside EPSG 4326, with garbage WKT
+      const std::string bytes = terrain::test::file_bytes(in("m.dv"));
+      auto patched = [&](const std::string& name, std::size_t at, const std::string& with) {
+        std::string b = bytes;
+        b.replace(at, with.size(), with);
+        drainage::dv_fix_checksums(b.data(), b.size());
+        std::ofstream(in(name), std::ios::binary) << b;
+      };
+      const double z = 1e300;
+      const std::int32_t epsg = 4326;
+      patched("origin_z.dv", 80, std::string(reinterpret_cast<const char*>(&z), 8));
+      patched("epsg4326.dv", 104, std::string(reinterpret_cast<const char*>(&epsg), 4));
+      patched("garbage_wkt.dv", 128, "GARBAGE");  // the WKT starts after the 128-byte fixed header
+    }
+    // Replays that write onto the viewer's inputs, or give bad arguments.
+    auto replay = [&](const std::string& name, const std::string& text) { std::ofstream(in(name)) << text; };
+    auto at = [&](const std::string& n) { return final + n; };
+    replay("r_shot_mesh.txt", "screenshot " + at("meshdir/frame_00000.png") + "\nquit\n");
+    replay("r_window_mesh.txt", "window-shot " + at("meshdir/frame_00000.png") + "\nquit\n");
+    replay("r_view_frames.txt", "save-view " + at("shot.png") + "\nquit\n");
+    replay("r_keys_self.txt", "keyframe\norbit 30 0\nkeyframe\nsave-keyframes " + at("r_keys_self.txt") + "\n");
+    replay("r_keys_frames.txt", "keyframe\nkeyframe\nsave-keyframes " + at("shot.png.csv") + "\n");
+    replay("r_keys_huge.txt", "keyframe\norbit 30 0\nkeyframe\nsave-keyframes " + at("never.csv") + " 1000000000\n");
+    replay("r_keys_zero.txt", "keyframe\norbit 30 0\nkeyframe\nsave-keyframes " + at("never.csv") + " 0\n");
+    replay("r_alt.txt", "camera 562500 5117000 4000 200 200\n");
+    replay("r_below.txt", "camera 562500 5117000 0 200 30\n");
+    replay("r_far.txt", "camera 562500 5117000 5.6e12 200 30\n");
+    replay("r_extra.txt", "camera 562500 5117000 4000 200 30 35 7\n");
+    replay("r_zoom.txt", "zoom -1e308\n");
+    replay("r_wait_nan.txt", "wait nan\n");
+    replay("r_wait_abc.txt", "wait abc\n");
+    replay("r_wait_neg.txt", "wait -5\n");
+    replay("r_view_row.txt", "set view /nonexistent.csv:3\n");
+    replay("r_shot_nopath.txt", "screenshot\n");
+    replay("r_shot_svg.txt", "screenshot " + at("never.svg") + "\n");
+    std::ofstream(in("r_binary.txt"), std::ios::binary) << std::string("\x01\x02\xff\xfe\x1b[2J\x00zz\n", 11);
     return ok;
   }
   static std::string in_;  // the inputs' directory, with a trailing slash
@@ -249,7 +308,8 @@ TEST_P(BadInput, OneLineNoOutputNoHang) {
 }
 
 const std::string d2m = tool("dem2mesh") + " ", bd = tool("build-drainage") + " ", ti = tool("terrain-inspect") + " ",
-                  dn = tool("denoise-normals") + " ", tr = tool("terrain-render") + " ";
+                  dn = tool("denoise-normals") + " ", tr = tool("terrain-render") + " ",
+                  tv = tool("terrain-view") + " --offscreen -q --size 320x180 ";
 const std::string msh = data("msh_2007_utm10n_10m.tif") + " ";
 
 INSTANTIATE_TEST_SUITE_P(
@@ -428,6 +488,57 @@ INSTANTIATE_TEST_SUITE_P(
         Row{tr + "frame IN/m.ply -o OUT/f.png --crease-lift -5", 2, "--crease-lift"},
         Row{tr + "batch IN/m.ply IN/m.dv IN/line_stats.csv -o IN/ --line-stats -q", 1, "line_stats.csv': give another output name"},
         Row{tr + "batch IN/meshdir/frame_00000.png IN/m.dv IN/line_stats.csv -o IN/meshdir -q", 1, "frame_00000.png': give another output name"},
-        Row{"env TERRAIN_MEMORY_MIB=4000 " + tr + "frame IN/m.ply IN/m.dv -o OUT/f.png --size 16384x16384 -q", 1, "the largest frame of this shape that fits is about"}));
+        Row{"env TERRAIN_MEMORY_MIB=4000 " + tr + "frame IN/m.ply IN/m.dv -o OUT/f.png --size 16384x16384 -q", 1, "the largest frame of this shape that fits is about"},
+        // issue 48: rough DEMs fit, degrees without a CRS, heights beyond single precision
+        Row{d2m + "IN/checker.tif OUT/o.ply --spacing 50 --fit-normals -q", 0, "normals: fitted"},
+        Row{d2m + "IN/checker16.tif OUT/o.ply --spacing 50 --fit-normals -q", 0, "normals: fitted"},
+        Row{d2m + "IN/checker.tif OUT/o.ply --fit-normals -q", 0, "normals: fitted"},
+        Row{d2m + "IN/degrees_no_crs.tif OUT/o.ply -q", 1, "no CRS and its coordinates look like degrees"},
+        Row{d2m + "IN/degrees_no_crs.tif OUT/o.ply --src-crs EPSG:4326 -q", 0, "UTM zone 10N"},
+        Row{d2m + "IN/no_crs.tif OUT/o.ply --src-crs EPSG:26910 -q", 0, "EPSG:26910"},
+        Row{d2m + "IN/plane.tif OUT/o.ply --src-crs EPSG:9999999 -q", 1, "cannot understand the CRS"},
+        Row{d2m + "IN/uint32.tif OUT/o.ply -q", 1, "steps would be lost"},
+        // issue 48: outlets that cannot be grid coordinates, snaps beyond the grid
+        Row{bd + "IN/m.ply OUT/o.dv --outlets IN/lonlat.csv -q", 1, "look like longitude and latitude"},
+        Row{bd + "IN/m.ply OUT/o.dv --outlets IN/lonlat.csv --snap-distance 1e7 -q", 1, "exceeds the grid's size"},
+        // issue 48: crafted .dv headers, refused by every reader
+        Row{ti + "info IN/origin_z.dv", 1, "outside what a terrain grid can be"},
+        Row{ti + "export IN/origin_z.dv --to tif -o OUT/r", 1, "outside what a terrain grid can be"},
+        Row{ti + "export IN/epsg4326.dv --to tif -o OUT/r", 1, "its EPSG field says 4326"},
+        Row{ti + "export IN/epsg4326.dv --to gpkg -o OUT/e.gpkg", 1, "its EPSG field says 4326"},
+        Row{ti + "info IN/garbage_wkt.dv", 1, "CRS WKT does not parse"},
+        Row{tr + "frame IN/m.ply IN/garbage_wkt.dv -o OUT/f.png -q", 1, "CRS WKT does not parse"},
+        Row{ti + "preview IN/epsg4326.dv -o OUT/p.png", 1, "its EPSG field says 4326"},
+        // a failed export leaves no folder it made (before: a/b/c stayed, empty)
+        Row{ti + "export IN/flipped.dv --to tif -o OUT/a/b/c", 1, "checksum mismatch"},
+        Row{ti + "export IN/m.ply --to tif -o OUT/a/b/c.tif", 1, "does not exist"},
+        // issue 48: vector files of no lines, eyes that would draw a blank frame
+        Row{tr + "frame IN/m.ply -o OUT/f.svg --layers shaded --vector-underlay none -q", 1, "the vector file would be empty"},
+        Row{tr + "frame IN/m.ply -o OUT/f.pdf --layers mask,creases --vector-underlay none -q", 1, "creases need a .dv"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --eye 562500 5117000 5.6e12 -q", 1, "move it closer"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --eye 1e308 5117000 3000 -q", 1, "move it closer"},
+        Row{tr + "batch IN/m.ply IN/far_eye.csv -o OUT/ -q", 1, "far_eye.csv: frame 1: the eye"},
+        Row{tr + "path --from 0 0 1e308 --to 1 1 1 --frames 3 -o OUT/p.csv", 2, "--from"},
+        // issue 48: the viewer writes none of its inputs, and checks its replay as the table checks options
+        Row{tv + "IN/meshdir/frame_00000.png IN/m.dv --replay IN/r_shot_mesh.txt", 1, "frame_00000.png' is the input"},
+        Row{tv + "IN/meshdir/frame_00000.png IN/m.dv --replay IN/r_window_mesh.txt", 1, "frame_00000.png' is the input"},
+        Row{tv + "IN/m.ply IN/m.dv --frames IN/shot.png.csv --replay IN/r_view_frames.txt", 1, "shot.png.csv' is the input"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_keys_self.txt", 1, "replay line 4: the output '"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_keys_frames.txt --frames IN/shot.png.csv", 1, "replay line 3: the output '"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_keys_huge.txt", 1, "replay line 4: save-keyframes: N: 1000000000 is outside 2 .. 100000"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_keys_zero.txt", 1, "save-keyframes: N: 0 is outside 2 .. 100000"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_alt.txt", 1, "replay line 1: camera: view-alt: 200 is outside -90 .. 90"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_below.txt", 1, "is inside the terrain"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_far.txt", 1, "move it closer"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_extra.txt", 1, "expected camera E N Z AZ ALT [FOV]"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_zoom.txt", 1, "zoom: SHARE: -1e308 is outside"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_wait_nan.txt", 1, "wait: N: 'nan' is not a finite number"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_wait_abc.txt", 1, "wait: N: 'abc' is not a finite number"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_wait_neg.txt", 1, "wait: N: -5 is outside 0 .. 100000"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_view_row.txt", 1, "nonexistent.csv"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_shot_nopath.txt", 1, "expected screenshot PATH [WxH]"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_shot_svg.txt", 1, "give a .png name"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_binary.txt", 1, "replay line 1: unknown replay command '????"},
+        Row{tv + "IN/m.ply IN/m.dv --frames IN/far_eye.csv --replay IN/r_alt.txt", 1, "far_eye.csv: frame 1: the eye"}));
 
 }  // namespace

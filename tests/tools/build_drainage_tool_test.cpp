@@ -474,14 +474,14 @@ TEST(BuildDrainage, WatershedsAtOutletsAreTauDemsUpstreamAreas) {
             std::string::npos)
       << s.out << "expected row " << best / C << ", column " << best % C << ", " << best_d << " m";
 
-  // An outlet off the grid: one line, nothing written.
+  // An outlet off the grid: one line, nothing written (refused before any snapping, issue 48).
   {
     std::ofstream csv(dir.path("off.csv"));
     csv << "x,y\n1000,1000\n";
   }
   const auto off = run(bd + dir.path("off.dv") + " --outlets " + dir.path("off.csv") + " --snap-distance 50 -q");
   EXPECT_EQ(off.exit_code, 1);
-  EXPECT_NE(off.err.find("no drainage point within 50 m"), std::string::npos) << off.err;
+  EXPECT_NE(off.err.find("lies outside the grid"), std::string::npos) << off.err;
   EXPECT_FALSE(std::filesystem::exists(dir.path("off.dv")));
   EXPECT_FALSE(std::filesystem::exists(dir.path("off_watersheds.gpkg")));
 }

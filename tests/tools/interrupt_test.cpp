@@ -150,6 +150,71 @@ TEST(Interrupt, SignalsLeaveNothingBehind) {
   EXPECT_GT(runs, 0);
 }
 
+// Issue 48: a tiled run with --rasters interrupted in its raster phase had already replaced
+// the .dv while the folder still held the previous run's rasters. Now the .dv is staged
+// and lands with them: interrupted there, every output is the old one.
+TEST(Interrupt, TiledRunReplacesItsDvAndRastersTogether) {
+  terrain::test::ScratchDir dir;
+  const std::string out = dir.path("o.dv"), rasters = dir.path("r");
+  fs::create_directories(rasters);
+  const std::string cmd = tool("build-drainage") + " --raster " + logan10() + " " + out + " --tile-size 700 --fill -q --rasters " + rasters;
+  std::vector<std::string> names;
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    std::ofstream(out) << "old output\n";
+    for (const auto& e : fs::directory_iterator(rasters)) fs::remove(e.path());
+    for (const char* n : {"surface.tif", "d8.tif", "accumulation.tif"}) std::ofstream(rasters + "/" + n) << "old raster\n";
+    Background b(cmd);
+    // The raster phase: a staged raster appears beside the old ones.
+    ASSERT_TRUE(wait_for_entries(rasters, 3, 120)) << "no raster was staged";
+    b.signal(sig);
+    EXPECT_EQ(b.wait(), 128 + sig) << b.err();
+    EXPECT_EQ(file_bytes(out), "old output\n") << "signal " << sig << ": the .dv was replaced without its rasters";
+    EXPECT_EQ(entries(rasters), (std::set<std::string>{"accumulation.tif", "d8.tif", "surface.tif"})) << sig;
+    EXPECT_EQ(file_bytes(rasters + "/d8.tif"), "old raster\n") << sig;
+    EXPECT_EQ(entries(dir.path("")), (std::set<std::string>{"o.dv", "r"})) << sig;
+  }
+  const auto r = run(cmd);  // uninterrupted: all of them new
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(run(tool("terrain-inspect") + " info " + out).exit_code, 0);
+  EXPECT_NE(file_bytes(rasters + "/d8.tif"), "old raster\n");
+}
+
+// Issue 48: SIGINT, SIGTERM or SIGHUP while a GeoPackage is written (terrain-inspect export
+// --to gpkg, build-drainage --outlets) left SQLite's '-journal' file beside the output.
+TEST(Interrupt, GeoPackageWritersLeaveNoJournal) {
+  terrain::test::ScratchDir src;
+  const std::string dv = src.path("l.dv");
+  ASSERT_EQ(run(tool("build-drainage") + " --raster " + logan10() + " " + dv + " --tile-size 1000 --fill -q").exit_code, 0);
+  std::ofstream(src.path("outlet.csv")) << "x,y\n447000,4637000\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"export --to gpkg", tool("terrain-inspect") + " export " + dv + " --to gpkg -o OUTDIR/e.gpkg -q"},
+      {"--outlets", tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " OUTDIR/w.dv --fill --outlets " +
+                        src.path("outlet.csv") + " -q"},
+  };
+  for (const auto& [what, command] : cases)
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP})
+      for (const int delay_ms : {0, 30}) {
+        terrain::test::ScratchDir dir;
+        std::string cmd = command;
+        cmd.replace(cmd.find("OUTDIR/"), 7, dir.path(""));
+        Background b(cmd);
+        // Until SQLite's journal (or the temporary GeoPackage) exists, then the signal.
+        const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+        bool writing = false;
+        while (!writing && std::chrono::steady_clock::now() < until) {
+          for (const std::string& n : entries(dir.path(""))) writing = writing || n.find(".gpkg") != std::string::npos;
+          if (!writing) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+        ASSERT_TRUE(writing) << what << ": no GeoPackage was written";
+        std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+        b.signal(sig);
+        const int code = b.wait();
+        const std::string label = what + ", signal " + std::to_string(sig) + " after " + std::to_string(delay_ms) + " ms";
+        EXPECT_TRUE(code == 0 || code == 128 + sig) << label << ": exit " << code << "\n" << b.err();
+        for (const std::string& n : entries(dir.path(""))) EXPECT_NE(n[0], '.') << label << ": left " << n;
+      }
+}
+
 // What a run killed by SIGKILL leaves (its temporary output, its scratch folder) is
 // reported by the next run on the same output.
 TEST(Interrupt, ALaterRunReportsWhatAKilledRunLeft) {

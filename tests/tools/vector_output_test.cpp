@@ -133,6 +133,26 @@ TEST(VectorOutput, LoganViewAgreesWithThePng) {
 }
 
 // Three frames of the demo's flight over the crater (960 x 540), all layers.
+// Issue 48: --layers shaded written as SVG got the flat mask, not the relief. The underlay
+// follows the layers: the shaded relief, embedded as the raster it is, whose rasterized
+// SVG matches the PNG; without shaded the mask (vector regions, no image).
+TEST(VectorOutput, TheUnderlayFollowsTheLayers) {
+  terrain::test::ScratchDir dir;
+  const std::string mesh = dir.path("m.ply");
+  ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh + " --spacing 100 -q").exit_code, 0);
+  const std::string cmd = tool("terrain-render") + " frame " + mesh + " --size 320x180 -q ";
+  ASSERT_EQ(run(cmd + "--layers shaded -o " + dir.path("s.svg")).exit_code, 0);
+  ASSERT_EQ(run(cmd + "--layers shaded -o " + dir.path("s.png")).exit_code, 0);
+  ASSERT_EQ(run(cmd + "--layers mask,silhouettes -o " + dir.path("m.svg")).exit_code, 0);
+  EXPECT_NE(terrain::test::file_bytes(dir.path("s.svg")).find("<image"), std::string::npos) << "no embedded relief";
+  EXPECT_EQ(terrain::test::file_bytes(dir.path("m.svg")).find("<image"), std::string::npos) << "the mask is vector regions";
+  ASSERT_EQ(run("rsvg-convert -w 320 -h 180 " + dir.path("s.svg") + " -o " + dir.path("s_svg.png")).exit_code, 0);
+  // The relief's grey levels where the PNG has them: at most 1 % of pixels differ by more than 8 levels.
+  const auto diff = run("oiiotool --fail 0.0314 --failpercent 1 --diff --ch R,G,B " + dir.path("s.png") + " --ch R,G,B " +
+                        dir.path("s_svg.png"));
+  EXPECT_EQ(diff.exit_code, 0) << diff.out;
+}
+
 TEST(VectorOutput, FlightFramesAgreeWithThePng) {
   terrain::test::ScratchDir dir;
   const std::string mesh = dir.path("m.ply"), dv = dir.path("m.dv"), path = dir.path("path.csv");

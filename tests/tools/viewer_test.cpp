@@ -104,7 +104,9 @@ TEST(Viewer, ListsEveryOptionOfTheTable) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::size_t lines = 0;
   for (const renderer::OptionSpec& o : renderer::render_options()) {
-    EXPECT_NE(r.out.find(o.name + "\t" + o.group + "\t"), std::string::npos) << o.name;
+    // The type by its name, as --help writes it (before: the enum's number).
+    EXPECT_NE(r.out.find(o.name + "\t" + o.group + "\t" + renderer::option_type_name(o.type) + "\t"), std::string::npos)
+        << o.name;
     EXPECT_NE(r.out.find("\t" + o.default_text + "\n"), std::string::npos) << o.name;
     ++lines;
   }

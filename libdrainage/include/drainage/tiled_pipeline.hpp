@@ -29,6 +29,10 @@ struct TiledRun {
   std::size_t tile = 0;                 // tile side in samples (>= 1, <= 16384)
   bool fill = false, resolve_flats = true;
   std::string provenance;
+  // Where rank 0 writes the .dv: empty for output_path itself, or a staged path of the
+  // caller's terrain::OutputSet, so that the .dv lands together with the layers made from
+  // it (--rasters, --outlets) and an interrupted run replaces none of them.
+  std::string write_to;
 };
 struct TiledSummary {
   std::size_t rows = 0, cols = 0, tiles = 0, filled = 0;

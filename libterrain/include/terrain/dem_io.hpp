@@ -14,6 +14,17 @@ namespace terrain {
 // direct use of GDAL.
 void ensure_gdal();
 
+// What is wrong with a file's stored CRS (the WKT and EPSG code a mesh or .dv header
+// carries), or "" when nothing is: a WKT that does not parse, an EPSG code PROJ does not
+// know, a WKT whose own EPSG code differs from the stored one, or a geographic WKT beside a
+// projected code (or the reverse). Either may be absent (empty, 0).
+std::string crs_fields_problem(const std::string& wkt, int epsg);
+
+// Gives `geo` the CRS `user_crs` (anything OGR's SetFromUserInput takes: EPSG:4326, a WKT,
+// a PROJ string), replacing the one it has, as gdalwarp's -s_srs does. Throws Error when
+// the CRS is not understood, or is projected in units other than metres.
+void assign_crs(Georef& geo, const std::string& user_crs);
+
 // A window of a raster in north-up sample indices (row 0 = the northernmost row).
 struct RasterWindow {
   std::size_t row0 = 0, col0 = 0, rows = 0, cols = 0;

@@ -72,6 +72,23 @@ class ScratchDir {
   TempRegistration registration_;
 };
 
+// Creates the folder `path` and its missing parents for outputs; the folders it created
+// are removed again (when empty) on destruction unless keep() was called, and on
+// SIGINT/SIGTERM/SIGHUP: a failed or interrupted run leaves no empty folder behind.
+// Throws Error when a folder cannot be created.
+class NewDirectories {
+ public:
+  explicit NewDirectories(const std::filesystem::path& path);
+  ~NewDirectories();
+  NewDirectories(const NewDirectories&) = delete;
+  NewDirectories& operator=(const NewDirectories&) = delete;
+  void keep();
+
+ private:
+  std::vector<std::filesystem::path> created_;  // deepest first
+  std::vector<TempRegistration> registrations_;
+};
+
 // Temporaries beside `target` (files and scratch folders named as above) whose process is
 // no longer running: what an earlier run killed by SIGKILL left behind.
 std::vector<std::filesystem::path> stale_temporaries(const std::filesystem::path& target);

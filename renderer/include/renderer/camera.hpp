@@ -113,7 +113,9 @@ View make_view(const Camera& camera, const Eigen::Vector3d& origin, const Box& b
 
 // Throws terrain::Error when `eye` (world coordinates) lies below the PN surface of `mesh`
 // (heights scaled by `exaggeration` about the mesh origin, as the renderer draws them):
-// the view from inside the terrain is blank. An eye outside the mesh's extent is fine.
+// the view from inside the terrain is blank. An eye outside the mesh's extent is fine, up
+// to kMaxEyeDistance times the terrain's size (the diagonal of its extent) from its centre.
+inline constexpr double kMaxEyeDistance = 1000.0;
 void check_eye_above_terrain(const terrain::GridMesh& mesh, const Eigen::Vector3d& eye, double exaggeration);
 
 struct Projected {

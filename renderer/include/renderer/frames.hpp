@@ -56,6 +56,8 @@ std::string frames_csv(const std::vector<FrameParams>& frames);
 // eye): centripetal-free uniform Catmull-Rom on the eye and on the view's bearing and
 // altitude (the bearing unwrapped, so that 350 -> 10 turns 20 degrees), the ends held; the
 // other values of each frame from the keyframe before it.
+// `count` is 2 .. kMaxPathFrames (a million frames would be hours of rendering at any speed).
+inline constexpr int kMaxPathFrames = 100000;
 std::vector<FrameParams> keyframe_path(const std::vector<FrameParams>& keys, int count);
 
 }  // namespace renderer

@@ -42,6 +42,10 @@ enum class OptionType {
   Point,    // three numbers E N Z (metres), or "" for none
 };
 
+// The type as --help and --list-options write it: NUMBER, INTEGER, FLAG, CHOICE, COLOUR,
+// LIST, WxH, "E N Z".
+const char* option_type_name(OptionType t);
+
 struct OptionSpec {
   std::string name;    // the command line's --NAME; a frames CSV column NAME with '-' as '_'
   std::string group;   // the --help section and the viewer's panel header
