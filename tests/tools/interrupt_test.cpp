@@ -50,6 +50,17 @@ const std::string& logan10() {
   return tif;
 }
 
+// Logan at 30 m (1.6 M points): long enough phases to interrupt, quick to run.
+const std::string& logan30() {
+  static terrain::test::ScratchDir dir;
+  static const std::string tif = [] {
+    const std::string t = dir.path("logan30.tif");
+    EXPECT_EQ(std::system(("gdalwarp -q -r cubic -tr 30 30 " + data("logan_utm12n_100m.tif") + " " + t).c_str()), 0);
+    return t;
+  }();
+  return tif;
+}
+
 // The race: the same tiled command twice on one output, the second started while
 // the first is working and interrupted. Before, both used OUT.dv.filled.tmp and
 // OUT.dv.d8.tmp (opened with O_TRUNC): the first failed or wrote a wrong database.
@@ -157,9 +168,8 @@ TEST(Interrupt, TiledRunReplacesItsDvAndRastersTogether) {
   terrain::test::ScratchDir dir;
   const std::string out = dir.path("o.dv"), rasters = dir.path("r");
   fs::create_directories(rasters);
-  const std::string cmd = tool("build-drainage") + " --raster " + logan10() + " " + out + " --tile-size 700 --fill -q --rasters " + rasters;
-  std::vector<std::string> names;
-  for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+  const std::string cmd = tool("build-drainage") + " --raster " + logan30() + " " + out + " --tile-size 400 --fill -q --rasters " + rasters;
+  for (const int sig : {SIGINT, SIGHUP}) {
     std::ofstream(out) << "old output\n";
     for (const auto& e : fs::directory_iterator(rasters)) fs::remove(e.path());
     for (const char* n : {"surface.tif", "d8.tif", "accumulation.tif"}) std::ofstream(rasters + "/" + n) << "old raster\n";
@@ -183,8 +193,8 @@ TEST(Interrupt, TiledRunReplacesItsDvAndRastersTogether) {
 // --to gpkg, build-drainage --outlets) left SQLite's '-journal' file beside the output.
 TEST(Interrupt, GeoPackageWritersLeaveNoJournal) {
   terrain::test::ScratchDir src;
-  const std::string dv = src.path("l.dv");
-  ASSERT_EQ(run(tool("build-drainage") + " --raster " + logan10() + " " + dv + " --tile-size 1000 --fill -q").exit_code, 0);
+  const std::string dv = src.path("l.dv");  // Logan at 100 m: its GeoPackage takes about a second
+  ASSERT_EQ(run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + dv + " --fill -q").exit_code, 0);
   std::ofstream(src.path("outlet.csv")) << "x,y\n447000,4637000\n";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"export --to gpkg", tool("terrain-inspect") + " export " + dv + " --to gpkg -o OUTDIR/e.gpkg -q"},
