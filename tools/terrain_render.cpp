@@ -2,6 +2,7 @@
 // Toward/Away silhouettes (Mower's Creases algorithm); single frames, batches, flight paths.
 // Every render option comes from the renderer's option table (renderer/options.hpp).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <chrono>
@@ -15,6 +16,7 @@
 #include "render_cli.hpp"
 #include "drainage/dv_file.hpp"
 #include "renderer/camera.hpp"
+#include "renderer/frame_setup.hpp"
 #include "renderer/frames.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/options.hpp"
@@ -79,18 +81,17 @@ int run_path(const TableArgs& a, const std::vector<double>& from, const std::vec
   return 0;
 }
 
-// The output files' options besides the render options: vector page and underlay.
+// The output files' options besides the render options: vector page and underlay, formats.
 struct OutputArgs {
-  double dpi = 96;
-  std::string underlay;  // empty: shaded when the layers draw the shaded relief, else mask
+  rr::VectorOptions vector;
   std::string formats = "png";
 };
 
 void add_output_options(CLI::App* cmd, OutputArgs& o, bool batch) {
-  cmd->add_option("--dpi", o.dpi, "SVG / PDF: pixels per inch of the page (the frame's size in pixels is the page)")
+  cmd->add_option("--dpi", o.vector.dpi, "SVG / PDF: pixels per inch of the page (the frame's size in pixels is the page)")
       ->check(CLI::Range(1.0, 10000.0))
       ->capture_default_str();
-  cmd->add_option("--vector-underlay", o.underlay,
+  cmd->add_option("--vector-underlay", o.vector.underlay,
                   "SVG / PDF: what lies under the lines: none, mask (the surface as filled regions) or shaded (the "
                   "shaded relief as an embedded image); default: shaded when --layers has shaded, else mask")
       ->check(CLI::IsMember({"none", "mask", "shaded"}));
@@ -98,85 +99,35 @@ void add_output_options(CLI::App* cmd, OutputArgs& o, bool batch) {
     cmd->add_option("--format", o.formats, "Files per frame, a comma list of png, svg, pdf")->capture_default_str();
 }
 
-// Host memory the vector output reads back and builds per pixel, besides the frame itself:
-// the depth, mask and surface buffers and the art's masks (the peak resident memory of a
-// 9933 x 7016 PDF was 28 bytes a pixel above the PNG's).
-constexpr double kVectorBytesPerPixel = 28.0;
-
-// Checked before the renderer allocates the frame: on a CPU renderer the frame's own 64 bytes
-// a pixel (TerrainRenderer's check) are this machine's memory too.
-void check_vector_memory(const rr::GlContext& ctx, int width, int height) {
-  terrain::check_memory(double(width) * double(height) * (kVectorBytesPerPixel + (ctx.info().software ? 64.0 : 0.0)),
-                        fmt::format("the vector output of a {} x {} frame", width, height),
-                        "give a smaller --size, or write a PNG");
-}
-
-// The frame's line art written as each of `outs` (.svg or .pdf), built once; the times at -v.
-void write_vectors(const std::vector<std::string>& outs, const rr::Scene& scene, const rr::TerrainRenderer& r,
-                   const rr::FrameResult& res, const rr::FrameParams& fp, const rr::Style& style,
-                   const rr::Layers& layers, const OutputArgs& o, const std::string& prov, const tt::Verbosity& verb) {
-  if (outs.empty()) return;
-  auto t0 = Clock::now();
-  const rr::FrameBuffers buffers = r.read_buffers();
-  const double readback = since(t0);
-  t0 = Clock::now();
-  const std::string underlay = !o.underlay.empty() ? o.underlay : layers.shaded ? "shaded" : "mask";
-  const rr::VectorArt art = rr::frame_vector_art(scene, r, res, buffers, fp, style, layers, rr::parse_underlay(underlay));
-  if (art.layers.empty() && art.underlay == rr::VectorUnderlay::None)
-    throw terrain::Error(std::string("the vector file would be empty: --layers draws no lines") +
-                         (layers.creases && !scene.creases ? " (creases need a .dv)" : "") +
-                         " and --vector-underlay is none");
-  const double paths = since(t0);
-  std::string counts;
-  for (const rr::VectorLayer& l : art.layers) counts += fmt::format(", {} {} paths ({} strokes)", l.name, l.paths.size(), l.strokes);
-  for (const std::string& out : outs) {
-    t0 = Clock::now();
-    const std::string bytes = rr::vector_bytes(art, rr::vector_format_of(out), o.dpi, prov);
-    const double cairo = since(t0);
-    terrain::write_file_atomic(out, bytes);
-    tt::step(verb, fmt::format("{}: GPU readback {:.0f} ms, paths {:.0f} ms, cairo {:.0f} ms, {:.2f} MB{}", out,
-                               1e3 * readback, 1e3 * paths, 1e3 * cairo, double(bytes.size()) / 1e6, counts));
-  }
+// The write times at -v.
+void report_write(const tt::Verbosity& verb, const std::vector<std::string>& outs, const rr::WriteTimes& t) {
+  if (t.vector_bytes == 0) return;
+  tt::step(verb, fmt::format("{}: GPU readback {:.0f} ms, paths {:.0f} ms, cairo {:.0f} ms, {:.2f} MB{}",
+                             fmt::join(outs, ", "), t.readback_ms, t.paths_ms, t.cairo_ms, double(t.vector_bytes) / 1e6,
+                             t.layers));
 }
 
 int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, const std::string& dv,
               const std::string& out, const std::string& prov, const tt::Verbosity& verb) {
-  rr::RenderSettings s = settings_of(a);
-  const bool vector = rr::is_vector_path(out);
-  if (!vector && !out.ends_with(".png"))
-    throw terrain::Error("the output must be a .png, .svg or .pdf file: '" + out + "'");
+  const rr::RenderSettings s = settings_of(a);
+  rr::check_frame_path(out);
   tt::check_distinct_paths({mesh, dv}, {out});
   tt::warn_stale_temporaries(verb, {out});
   terrain::check_output_path(out);
   check_line_stats(a, s, dv);
   const rr::Scene scene = scene_of(mesh, dv, s, verb);
-  rr::FrameParams& fp = s.frame;
-  if (!fp.camera.eye && !a.was_given("view-az") && s.view == rr::ViewMode::Row) {  // --view FRAMES.csv:N
-    fp = rr::view_row_frame(s.view_row, fp);
-    tt::step(verb, "view: " + s.view_row);
-  } else if (!fp.camera.eye && !a.was_given("view-az")) {  // the default view: --view
-    const auto dv = rr::default_view(scene.mesh, s.view, s.style.exaggeration, fp.camera.fov,
-                                     double(s.width) / double(s.height),
-                                     a.was_given("view-alt") ? std::optional<double>(fp.camera.view_alt) : std::nullopt);
-    fp.camera = dv.camera;
-    if (!a.was_given("light-az") && !a.was_given("light-alt")) fp.light = dv.light;
-    tt::step(verb, dv.description);
-  }
-  if (fp.camera.eye) rr::check_eye_above_terrain(scene.mesh, *fp.camera.eye, s.style.exaggeration);
+  const rr::ResolvedFrame f = rr::resolve_frame(s, scene.mesh, [&](const std::string& n) { return a.was_given(n); });
+  if (!f.description.empty()) tt::step(verb, f.description);
+  const rr::FrameParams& fp = f.frame;
   auto t0 = Clock::now();
   rr::GlContext ctx;
-  const rr::Style style = rr::drawn_style(s);
-  if (vector) check_vector_memory(ctx, s.width, s.height);
-  rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, s.layers,
-                        style);
+  if (rr::is_vector_path(out)) rr::check_vector_memory(ctx, s.width, s.height);
+  rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, f.layers, f.style);
   tt::step(verb, fmt::format("OpenGL set-up ({}): {:.2f} s", ctx.info().renderer, since(t0)));
   t0 = Clock::now();
   const rr::FrameResult res = r.render(fp);
   tt::step(verb, fmt::format("frame: {:.0f} ms", 1e3 * since(t0)));
-  if (vector)
-    write_vectors({out}, scene, r, res, fp, style, s.layers, o, prov, verb);
-  else
-    terrain::write_png(out, s.width, s.height, 4, res.rgba, prov);
+  report_write(verb, {out}, rr::write_frame_files({out}, scene, r, res, f, o.vector, prov));
   const Eigen::Vector3d eye = res.view.eye + r.origin();
   std::cout << "output: " << out << "\n" << "size: " << s.width << " x " << s.height << "\n";
   print_device(ctx);
@@ -189,7 +140,7 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   for (int p = 0; p < rr::kPassCount; ++p)
     std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p), res.timings.gpu_ms[p],
                              res.timings.wall_ms[p]);
-  if (a.line_stats) std::cout << rr::line_stats_text(rr::frame_line_stats(scene, r, res, fp, style, s.layers));
+  if (a.line_stats) std::cout << rr::line_stats_text(rr::frame_line_stats(scene, r, res, fp, f.style, f.layers));
   return 0;
 }
 
@@ -241,34 +192,28 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
     }
   }
   rr::GlContext ctx;
-  const rr::Style style = rr::drawn_style(s);
-  if (formats != std::vector<std::string>{"png"}) check_vector_memory(ctx, s.width, s.height);
-  rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, s.layers,
-                        style);
+  rr::ResolvedFrame f{s.frame, rr::drawn_style(s), s.layers, s.width, s.height, ""};
+  if (formats != std::vector<std::string>{"png"}) rr::check_vector_memory(ctx, s.width, s.height);
+  rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, f.layers,
+                        f.style);
   std::vector<rr::FrameTimings> timings;
   std::string stats_csv = rr::line_stats_csv_header();
   std::vector<std::vector<float>> drawn;
   std::vector<std::vector<double>> pixels;
   const auto progress = tt::terminal_progress(verb, "render");
   for (std::size_t i = 0; i < frames.size(); ++i) {
-    const rr::FrameResult res = r.render(frames[i]);
+    f.frame = frames[i];
+    const rr::FrameResult res = r.render(f.frame);
     timings.push_back(res.timings);
     if (a.line_stats) {
-      rr::FrameStats st = rr::frame_line_stats(scene, r, res, frames[i], style, s.layers);
+      rr::FrameStats st = rr::frame_line_stats(scene, r, res, f.frame, f.style, f.layers);
       stats_csv += rr::line_stats_csv_row(i, st);
       drawn.push_back(std::move(st.lines.drawn));
       pixels.push_back(std::move(st.lines.pixels));
     }
-    const std::string p = prov + fmt::format(" [frame {}]", i);
-    std::vector<std::string> vector_paths;
-    for (const std::string& f : formats) {
-      const std::string path = (dir / frame_name(i, f)).string();
-      if (f == "png")
-        terrain::write_png(path, s.width, s.height, 4, res.rgba, p);
-      else
-        vector_paths.push_back(path);
-    }
-    write_vectors(vector_paths, scene, r, res, frames[i], style, s.layers, o, p, verb);
+    std::vector<std::string> paths;
+    for (const std::string& format : formats) paths.push_back((dir / frame_name(i, format)).string());
+    report_write(verb, paths, rr::write_frame_files(paths, scene, r, res, f, o.vector, prov + fmt::format(" [frame {}]", i)));
     terrain::report(progress, double(i + 1) / double(frames.size()));
   }
   terrain::write_file_atomic(dir / "timings.csv", rr::timings_csv(timings));

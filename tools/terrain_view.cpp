@@ -20,16 +20,19 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 #include "common.hpp"
 #include "render_cli.hpp"
 #include "renderer/camera.hpp"
+#include "renderer/frame_setup.hpp"
 #include "renderer/frames.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/options.hpp"
 #include "renderer/scene.hpp"
 #include "renderer/terrain_renderer.hpp"
+#include "renderer/vector_file.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/image_io.hpp"
 #include "view_camera.hpp"
@@ -48,18 +51,18 @@ std::string quoted(const std::string& s) { return "'" + s + "'"; }
 // frames drawn while the camera or a slider moves), in the viewer's headless context.
 class Viewer {
  public:
-  Viewer(std::string mesh, std::string dv, rr::RenderSettings s, const tt::Verbosity& verb)
+  // `given`: the table options given on the command line (the automatic view chooses the
+  // rest, as terrain-render frame's).
+  Viewer(std::string mesh, std::string dv, rr::RenderSettings s, rr::GivenOption given, const tt::Verbosity& verb)
       : mesh_path_(std::move(mesh)),
         dv_path_(std::move(dv)),
         s_(std::move(s)),
+        start_(s_),
+        given_(std::move(given)),
         verb_(verb),
         scene_(rr::load_scene(mesh_path_, dv_path_, s_.rules)) {
     for (const std::string& w : scene_.warnings) tt::warn(verb_, w);
-    home_fov_ = s_.frame.camera.fov;
-    // An altitude other than the default is the user's (--view-alt); the default lets the
-    // automatic view choose, as terrain-render does without --view-alt.
-    if (s_.frame.camera.view_alt != rr::RenderSettings{}.frame.camera.view_alt) home_alt_ = s_.frame.camera.view_alt;
-    if (!s_.frame.camera.eye) home();
+    home();
     rebuild();
   }
 
@@ -68,17 +71,17 @@ class Viewer {
   const rr::GlContext& gl() const { return gl_; }
   tt::ViewCamera camera() const { return {scene_.mesh, s_.style.exaggeration, s_.width, s_.height}; }
 
-  // The default view of terrain-render frame (--view), at the field of view and altitude
-  // the viewer started with (as terrain-render's options).
+  // The view the viewer started with, resolved as terrain-render frame resolves it
+  // (resolve_frame) with today's options: the camera given at start (or the automatic view
+  // at today's field of view), and the light set since or given (or the view's).
   void home() {
-    if (s_.view == rr::ViewMode::Row) {
-      s_.frame = rr::view_row_frame(s_.view_row, s_.frame);
-      return;
-    }
-    const auto dv = rr::default_view(scene_.mesh, s_.view, s_.style.exaggeration, home_fov_,
-                                     double(s_.width) / s_.height, home_alt_);
-    s_.frame.camera = dv.camera;
-    s_.frame.light = dv.light;
+    rr::RenderSettings h = s_;
+    const double fov = h.frame.camera.fov;
+    h.frame.camera = start_.frame.camera;
+    h.frame.camera.fov = fov;
+    s_.frame = rr::resolve_frame(h, scene_.mesh, [this](const std::string& n) {
+                 return given_(n) || ((n == "light-az" || n == "light-alt") && set_since_start_.count(n));
+               }).frame;
   }
 
   // Sets one option by the table; the renderers (or the creases) are rebuilt when it needs,
@@ -87,6 +90,7 @@ class Viewer {
   void set(const std::string& name, const std::string& value) {
     const rr::OptionSpec* o = rr::find_option(name);
     if (!o) throw terrain::Error("no option '" + name + "' (terrain-view --list-options)");
+    set_since_start_.insert(o->name);
     rr::RenderSettings next = s_;
     rr::set_option(next, *o, value);
     rr::validate(next);
@@ -193,30 +197,46 @@ class Viewer {
 
  private:
   std::string mesh_path_, dv_path_;
-  void save(const std::string& png, const std::string& size, bool with_command) {
-    if (!png.ends_with(".png")) throw terrain::Error("the viewer saves PNG images: give a .png name, not '" + png + "'");
-    check_output(with_command ? std::vector<std::string>{png, png + ".txt", png + ".csv"} : std::vector<std::string>{png});
+  // A screenshot is a PNG; save-view writes what its extension says (.png, .svg, .pdf)
+  // through terrain-render's writer, at this frame's options.
+  void save(const std::string& path, const std::string& size, bool with_command) {
+    if (with_command)
+      rr::check_frame_path(path);
+    else if (!path.ends_with(".png"))
+      throw terrain::Error("a screenshot is a PNG image: give a .png name, not '" + path + "' (save-view also writes .svg "
+                           "and .pdf)");
+    check_output(with_command ? std::vector<std::string>{path, path + ".txt", path + ".csv"}
+                              : std::vector<std::string>{path});
     bring_up_to_date();
     rr::RenderSettings at = s_;
     if (!size.empty()) rr::set_option(at, *rr::find_option("size"), size);
+    const rr::ResolvedFrame f{at.frame, rr::drawn_style(at), at.layers, at.width, at.height, ""};
+    const std::string cmd = command_line(path, at);
+    const auto write = [&](const rr::TerrainRenderer& r) {
+      (void)rr::write_frame_files({path}, scene_, r, last_, f, {}, "terrain-view: " + cmd);
+    };
     if (at.width == s_.width && at.height == s_.height) {
       render(false);
+      write(*full_);
     } else {
       if (before_gl) before_gl();
       gl_.make_current();
-      rr::TerrainRenderer r(gl_, scene_.mesh, scene_.creases ? &*scene_.creases : nullptr, at.width, at.height,
-                            at.layers, rr::drawn_style(at));
+      if (rr::is_vector_path(path)) rr::check_vector_memory(gl_, at.width, at.height);
+      rr::TerrainRenderer r(gl_, scene_.mesh, scene_.creases ? &*scene_.creases : nullptr, at.width, at.height, f.layers,
+                            f.style);
       last_ = r.render(at.frame);
+      write(r);
     }
-    const std::string cmd = command_line(png, at);
-    terrain::write_png(png, last_.width, last_.height, 4, last_.rgba, "terrain-view: " + cmd);
     if (!with_command) return;
     std::cout << cmd << "\n";
-    terrain::write_file_atomic(png + ".txt", cmd + "\n");
-    terrain::write_file_atomic(png + ".csv", rr::frames_csv({at.frame}));
+    terrain::write_file_atomic(path + ".txt", cmd + "\n");
+    terrain::write_file_atomic(path + ".csv", rr::frames_csv({at.frame}));
   }
 
   rr::RenderSettings s_;
+  rr::RenderSettings start_;               // as given on the command line
+  rr::GivenOption given_;                  // which table options the command line gave
+  std::set<std::string> set_since_start_;  // options set through the panel or the replay
   const tt::Verbosity& verb_;
   rr::GlContext gl_;
   rr::Scene scene_;
@@ -224,8 +244,6 @@ class Viewer {
   rr::FrameResult last_;
   bool last_cheap_ = false;
   double full_ms_ = 0, cheap_ms_ = 0;
-  double home_fov_ = 35;
-  std::optional<double> home_alt_;
   bool stale_ = false, creases_stale_ = false;  // set() changed what the renderers or creases hold
 };
 
@@ -696,7 +714,8 @@ int main(int argc, char** argv) {
       "keyframe, N: the next frame of --frames.\n\n"
       "Replay commands (--replay FILE, one a line): camera E N Z AZ ALT [FOV] | orbit D_AZ D_ALT | zoom SHARE |\n"
       "set NAME VALUE | layer NAME on|off | key home|w|a|s|d|q|e|k | keyframe | save-keyframes PATH [N] |\n"
-      "load-frames PATH | next-frame | wait N | screenshot PATH [WxH] | window-shot PATH | save-view PATH [WxH] | line-stats |\n"
+      "load-frames PATH | next-frame | wait N | screenshot PATH.png [WxH] | window-shot PATH.png |\n"
+      "save-view PATH.png|.svg|.pdf [WxH] | line-stats |\n"
       "timings | quit\n\n"
       "Examples:\n"
       "  terrain-view out/msh_50m.ply out/msh_breached.dv\n"
@@ -727,10 +746,9 @@ int main(int argc, char** argv) {
     if (mesh.empty()) throw CLI::ValidationError("MESH", "give a mesh (.ply)");
     if (offscreen && replay_path.empty()) throw CLI::ValidationError("--offscreen", "needs --replay FILE");
     const std::vector<std::string> replay = replay_path.empty() ? std::vector<std::string>{} : read_replay(replay_path);
-    Viewer v(mesh, dv, tt::settings_of(opts), verb);
+    Viewer v(mesh, dv, tt::settings_of(opts), [&opts](const std::string& n) { return opts.was_given(n); }, verb);
     v.inputs = {mesh, dv, replay_path};
     if (!frames_path.empty()) v.load_frames(frames_path);
-    if (v.settings().frame.camera.eye) v.check_eye(*v.settings().frame.camera.eye);
     return offscreen ? run_offscreen(v, replay) : run_window(v, replay, save_dir);
   });
 }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 
 #include "renderer/options.hpp"
 #include "test_support.hpp"
@@ -92,6 +93,64 @@ void check_viewer(bool window) {
     ASSERT_EQ(run(render + png + options).exit_code, 0) << options;
     EXPECT_TRUE(same_picture(set, png)) << options;
     EXPECT_FALSE(same_picture(set, dir.path("home.png"))) << options << " did not change the frame";
+  }
+}
+
+// Issue 49: one frame, resolved once (renderer/frame_setup.hpp). For option sets that give
+// the camera or not, the light, each view mode, layers, --line-scale and the size, the
+// viewer's start view (its screenshot, offscreen) has exactly terrain-render frame's
+// pixels; before, the viewer's Home replaced the light given (--light-az 90) and its own
+// automatic view ignored --view-az. save-view to .svg and .pdf writes terrain-render's
+// files (the SVG's text with its provenance line left out; the PDF rasterized), where it
+// wrote PNG bytes under those names.
+TEST(Viewer, StartViewIsTerrainRendersFrameForEveryOptionSet) {
+  terrain::test::ScratchDir dir;
+  const std::string mesh = dir.path("m.ply"), dv = dir.path("m.dv");
+  ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh + " --spacing 100 -q").exit_code, 0);
+  ASSERT_EQ(run(tool("build-drainage") + " " + mesh + " " + dv + " --spacing 20 --breach 10 -q").exit_code, 0);
+  const std::vector<std::string> sets = {
+      "",
+      "--light-az 90",
+      "--view-az 180",
+      "--view top",
+      "--view relief --light-alt 20",
+      "--eye 565000 5112000 4000 --view-az 330 --view-alt 25",
+      "--layers shaded,creases",
+      "--line-scale 2",
+      "--size 240x200 --fov 50",
+      "--view-alt 50 --exaggeration 2",
+      "--layers mask,silhouettes-adjacency --light-az 300",
+  };
+  for (std::size_t i = 0; i < sets.size(); ++i) {
+    const std::string options = (sets[i].find("--size") == std::string::npos ? " --size 192x108 " : " ") + sets[i];
+    const std::string k = std::to_string(i), cli = dir.path("cli" + k + ".png"), shot = dir.path("view" + k + ".png");
+    std::string replay = "screenshot " + shot + "\n";
+    if (i == 0) replay += "save-view " + dir.path("view0.svg") + "\nsave-view " + dir.path("view0.pdf") + "\n";
+    std::ofstream(dir.path("r" + k + ".txt")) << replay << "quit\n";
+    const auto v = run(tool("terrain-view") + " " + mesh + " " + dv + options + " --offscreen -q --replay " +
+                       dir.path("r" + k + ".txt"));
+    ASSERT_EQ(v.exit_code, 0) << options << "\n" << v.err;
+    const std::string render = tool("terrain-render") + " frame " + mesh + " " + dv + options + " -q -o ";
+    ASSERT_EQ(run(render + cli).exit_code, 0) << options;
+    const auto diff = run("oiiotool --fail 0 --failpercent 0 --diff " + cli + " " + shot);
+    EXPECT_EQ(diff.exit_code, 0) << "'" << sets[i] << "': the viewer's start view differs\n" << diff.out;
+    if (i != 0) continue;
+    ASSERT_EQ(run(render + dir.path("cli0.svg")).exit_code, 0);
+    ASSERT_EQ(run(render + dir.path("cli0.pdf")).exit_code, 0);
+    const std::regex desc("<desc>[^<]*</desc>");
+    const std::string a = std::regex_replace(file_bytes(dir.path("cli0.svg")), desc, "");
+    const std::string b = std::regex_replace(file_bytes(dir.path("view0.svg")), desc, "");
+    EXPECT_NE(a.find("<svg"), std::string::npos);
+    EXPECT_TRUE(a == b) << "save-view's SVG is not terrain-render's";
+    for (const char* f : {"cli0", "view0"})
+      ASSERT_EQ(run(std::string("pdftoppm -png -singlefile -r 96 ") + dir.path(std::string(f) + ".pdf") + " " +
+                    dir.path(std::string(f) + "_pdf"))
+                    .exit_code,
+                0);
+    EXPECT_EQ(run("oiiotool --fail 0 --failpercent 0 --diff " + dir.path("cli0_pdf.png") + " " + dir.path("view0_pdf.png"))
+                  .exit_code,
+              0)
+        << "save-view's PDF is not terrain-render's";
   }
 }
 

@@ -1,0 +1,70 @@
+#pragma once
+// One frame, resolved once for every tool: terrain-render frame and batch and terrain-view
+// (at start, Home and save-view) turn the settings of the option table into the frame they
+// draw here, and write it here, so that the same options draw the same picture whichever
+// tool is asked (docs/architecture.md).
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "renderer/frame_params.hpp"
+#include "renderer/gl_context.hpp"
+#include "renderer/options.hpp"
+#include "renderer/scene.hpp"
+#include "renderer/terrain_renderer.hpp"
+
+namespace renderer {
+
+// Whether the user gave option NAME (the table's name: "view-az"), on the command line or
+// the panel: an option left at its default lets the automatic view choose.
+using GivenOption = std::function<bool(const std::string& name)>;
+
+// What a frame is drawn with. The camera's eye is set (the automatic view chooses it when
+// none is given), the light is the automatic view's unless --light-az/--light-alt was given,
+// and the style's line widths are scaled by --line-scale (drawn_style).
+struct ResolvedFrame {
+  FrameParams frame;
+  Style style;
+  Layers layers;
+  int width = 1280, height = 720;
+  std::string description;  // how the camera was chosen, for -v
+};
+
+// The frame of settings `s` over `mesh`: `--eye` as given (or framed along --view-az when
+// only that is given); else --view FRAMES.csv:ROW, that row; else the default view of
+// --view (auto, top, relief; default_view at --fov, the frame's aspect and --view-alt when
+// given). Throws terrain::Error when the eye is below the terrain or too far from it
+// (check_eye_above_terrain), or the row cannot be read.
+ResolvedFrame resolve_frame(const RenderSettings& s, const terrain::GridMesh& mesh, const GivenOption& given);
+
+// How a vector file is written: page resolution and what lies under the lines ("" for the
+// default: the shaded relief when the layers draw it, else the mask).
+struct VectorOptions {
+  double dpi = 96;
+  std::string underlay;
+};
+
+// Writes the frame `res` that `r` just drew of `scene` to each of `paths`: a PNG of its
+// pixels, or (.svg, .pdf) its line art through cairo (frame_vector_art, vector_bytes; built
+// once for every vector path). `description` is the provenance line the files record.
+// Throws terrain::Error for another extension, or a vector file that would be empty (no
+// line layer drawn and no underlay). Returns the time spent, for -v.
+struct WriteTimes {
+  double readback_ms = 0, paths_ms = 0, cairo_ms = 0;
+  std::size_t vector_bytes = 0;
+  std::string layers;  // ", creases 12 paths (40 strokes)..."
+};
+WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene& scene, const TerrainRenderer& r,
+                             const FrameResult& res, const ResolvedFrame& f, const VectorOptions& o,
+                             const std::string& description);
+
+// Throws terrain::Error, before the renderer allocates the frame, when the vector output of a
+// width x height frame would not fit in memory: about 28 bytes a pixel read back and
+// built (a 9933 x 7016 PDF peaked 28 bytes a pixel above its PNG), and on a CPU renderer
+// the frame's own 64 (TerrainRenderer's check) too.
+void check_vector_memory(const GlContext& ctx, int width, int height);
+
+// The output extensions a frame can be written as: .png, .svg or .pdf; throws otherwise.
+void check_frame_path(const std::string& path);
+
+}  // namespace renderer

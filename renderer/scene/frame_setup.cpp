@@ -1,0 +1,89 @@
+#include "renderer/frame_setup.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+
+#include "renderer/camera.hpp"
+#include "renderer/frames.hpp"
+#include "renderer/vector_file.hpp"
+#include "terrain/atomic_file.hpp"
+#include "terrain/error.hpp"
+#include "terrain/image_io.hpp"
+#include "terrain/memory.hpp"
+
+namespace renderer {
+
+ResolvedFrame resolve_frame(const RenderSettings& s, const terrain::GridMesh& mesh, const GivenOption& given) {
+  ResolvedFrame f;
+  f.frame = s.frame;
+  f.style = drawn_style(s);
+  f.layers = s.layers;
+  f.width = s.width, f.height = s.height;
+  Camera& camera = f.frame.camera;
+  if (!camera.eye && !given("view-az") && s.view == ViewMode::Row) {  // --view FRAMES.csv:N
+    f.frame = view_row_frame(s.view_row, f.frame);
+    f.description = "view: " + s.view_row;
+  } else if (!camera.eye && !given("view-az")) {  // the default view: --view
+    const DefaultView dv = default_view(mesh, s.view, s.style.exaggeration, camera.fov, double(s.width) / double(s.height),
+                                        given("view-alt") ? std::optional<double>(camera.view_alt) : std::nullopt);
+    camera = dv.camera;
+    if (!given("light-az") && !given("light-alt")) f.frame.light = dv.light;
+    f.description = dv.description;
+  }
+  if (camera.eye) check_eye_above_terrain(mesh, *camera.eye, s.style.exaggeration);
+  return f;
+}
+
+void check_vector_memory(const GlContext& ctx, int width, int height) {
+  constexpr double kVectorBytesPerPixel = 28.0;
+  terrain::check_memory(double(width) * double(height) * (kVectorBytesPerPixel + (ctx.info().software ? 64.0 : 0.0)),
+                        fmt::format("the vector output of a {} x {} frame", width, height),
+                        "give a smaller --size, or write a PNG");
+}
+
+void check_frame_path(const std::string& path) {
+  if (!is_vector_path(path) && !path.ends_with(".png"))
+    throw terrain::Error("the output must be a .png, .svg or .pdf file: '" + path + "'");
+}
+
+WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene& scene, const TerrainRenderer& r,
+                             const FrameResult& res, const ResolvedFrame& f, const VectorOptions& o,
+                             const std::string& description) {
+  using Clock = std::chrono::steady_clock;
+  const auto ms = [](Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); };
+  WriteTimes t;
+  std::vector<std::string> vectors;
+  for (const std::string& p : paths) {
+    check_frame_path(p);
+    if (is_vector_path(p))
+      vectors.push_back(p);
+    else
+      terrain::write_png(p, res.width, res.height, 4, res.rgba, description);
+  }
+  if (vectors.empty()) return t;
+  auto t0 = Clock::now();
+  const FrameBuffers buffers = r.read_buffers();
+  t.readback_ms = ms(t0);
+  t0 = Clock::now();
+  const std::string underlay = !o.underlay.empty() ? o.underlay : f.layers.shaded ? "shaded" : "mask";
+  const VectorArt art =
+      frame_vector_art(scene, r, res, buffers, f.frame, f.style, f.layers, parse_underlay(underlay));
+  if (art.layers.empty() && art.underlay == VectorUnderlay::None)
+    throw terrain::Error(std::string("the vector file would be empty: --layers draws no lines") +
+                         (f.layers.creases && !scene.creases ? " (creases need a .dv)" : "") +
+                         " and --vector-underlay is none");
+  t.paths_ms = ms(t0);
+  for (const VectorLayer& l : art.layers)
+    t.layers += fmt::format(", {} {} paths ({} strokes)", l.name, l.paths.size(), l.strokes);
+  for (const std::string& p : vectors) {
+    t0 = Clock::now();
+    const std::string bytes = vector_bytes(art, vector_format_of(p), o.dpi, description);
+    t.cairo_ms += ms(t0);
+    t.vector_bytes += bytes.size();
+    terrain::write_file_atomic(p, bytes);
+  }
+  return t;
+}
+
+}  // namespace renderer
