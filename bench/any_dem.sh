@@ -6,7 +6,7 @@
 # gdal_translate -ot Int16 (rounds). Usage: bench/any_dem.sh [WORKDIR] [EXTRA RENDER OPTIONS...]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
-bin="$root/build/bin"
+bin="${TERRAIN_BIN:-$root/build/bin}"
 work="${1:-$(mktemp -d)}"
 shift || true
 mkdir -p "$work"

@@ -4,11 +4,15 @@
 # Outputs go to out/ (or $1).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh
-scripts/build.sh
+# TERRAIN_BIN=DIR runs the binaries in DIR instead (no install, no build): the same outputs
+# from two builds, compared file by file (docs/architecture.md, "Refactoring").
+if [ -z "${TERRAIN_BIN:-}" ]; then
+  scripts/install-deps.sh
+  scripts/build.sh
+fi
 out="${1:-out}"
 mkdir -p "$out"
-bin=build/bin
+bin="${TERRAIN_BIN:-build/bin}"
 
 run() { echo "+ $*"; "$@"; }
 

@@ -22,7 +22,7 @@ void add_table_options(CLI::App* app, TableArgs& a, bool per_frame_only) {
     } else {
       const bool numeric = o.type == rr::OptionType::Number || o.type == rr::OptionType::Integer;
       const std::string range = !numeric ? std::string()
-                                : o.max >= 1e9
+                                : o.unbounded()
                                     ? o.unit
                                     : fmt::format("{:g} .. {:g}{}", o.min, o.max, o.unit.empty() ? "" : " " + o.unit);
       opt = app->add_option(flag, a.text[o.name], o.help)->default_str(o.default_text);

@@ -1,174 +1,11 @@
 // terrain-inspect: summary, preview and export of the toolkit's files (DEMs, meshes).
-#include <fmt/format.h>
-
-#include <cmath>
-#include <filesystem>
-#include <iostream>
-#include <numbers>
+#include <string>
 
 #include "common.hpp"
-#include "drainage/dv_file.hpp"
-#include "drainage/dv_views.hpp"
-#include "drainage/gis_layers.hpp"
-#include "drainage/rasters.hpp"
-#include "terrain/atomic_file.hpp"
-#include "terrain/dem_io.hpp"
-#include "terrain/grid_mesh.hpp"
-#include "terrain/hillshade.hpp"
-#include "terrain/image_io.hpp"
-#include "renderer/camera.hpp"
-#include "terrain/mesh_io.hpp"
-#include "terrain/scattered.hpp"
+#include "inspect/commands.hpp"
 
 namespace tt = terrain::tools;
-
-namespace {
-
-std::string crs_line(const std::string& wkt, int epsg) {
-  terrain::Georef g;
-  g.crs_wkt = wkt;
-  return terrain::crs_name(g) + (epsg ? fmt::format(" (EPSG:{})", epsg) : "");
-}
-
-void print_stats(const terrain::ElevationStats& s) {
-  std::cout << fmt::format("elevation_min: {:.3f}\nelevation_max: {:.3f}\nelevation_mean: {:.3f}\n"
-                           "elevation_stddev: {:.3f}\n",
-                           s.min, s.max, s.mean, s.stddev);
-}
-
-void info_mesh(const std::string& path) {
-  const terrain::GridMesh m = terrain::read_mesh_ply(path);
-  const terrain::Grid g = terrain::mesh_to_grid(m);
-  double tilt_sum = 0.0, tilt_max = 0.0;
-  for (const auto& n : m.normals) {
-    const double tilt = std::acos(std::clamp(double(n.z()), -1.0, 1.0)) * 180.0 / std::numbers::pi;
-    tilt_sum += tilt;
-    tilt_max = std::max(tilt_max, tilt);
-  }
-  std::cout << "file: " << path << "\n"
-            << "type: terrain mesh (PLY)\n"
-            << "grid: " << m.topo.cols << " x " << m.topo.rows << " (columns x rows)\n"
-            << "vertices: " << m.n_vertices() << "\n"
-            << "faces: " << m.n_faces() << "\n"
-            << "crs: " << crs_line(m.geo.crs_wkt, m.geo.epsg) << "\n"
-            << fmt::format("spacing: {} {}\n", m.geo.dx, m.geo.dy)
-            << fmt::format("origin: {:.3f} {:.3f} {:.3f}\n", m.geo.origin_x, m.geo.origin_y, m.geo.origin_z)
-            << fmt::format("extent: {:.3f} {:.3f} {:.3f} {:.3f}\n", g.geo.x0, g.geo.y0 - double(g.rows) * g.geo.dy,
-                           g.geo.x0 + double(g.cols) * g.geo.dx, g.geo.y0);
-  print_stats(terrain::elevation_stats(g.z));
-  std::cout << fmt::format("normal_tilt_mean_deg: {:.3f}\nnormal_tilt_max_deg: {:.3f}\n",
-                           tilt_sum / double(m.normals.size()), tilt_max);
-  if (m.voronoi.empty()) {
-    std::cout << "voronoi_weights: no (add them: denoise-normals MESH OUT --iterations 0)\n";
-  } else {
-    double total = 0, lo = 1e300, hi = 0;
-    for (float a : m.voronoi.vertex_areas) total += a, lo = std::min(lo, double(a)), hi = std::max(hi, double(a));
-    std::cout << "voronoi_weights: yes (corner areas, voronoi_area, tangent frames)\n"
-              << fmt::format("voronoi_area_total: {:.1f}\nvoronoi_area_min: {:.3f}\nvoronoi_area_max: {:.3f}\n", total, lo,
-                             hi);
-  }
-  if (m.normal_change.size() == m.n_vertices()) {
-    double total = 0, hi = 0;
-    for (float a : m.normal_change) total += a, hi = std::max(hi, double(a));
-    std::cout << "denoised: yes\n"
-              << fmt::format("normal_change_mean_deg: {:.4f}\nnormal_change_max_deg: {:.4f}\n",
-                             total / double(m.n_vertices()), hi);
-  } else {
-    std::cout << "denoised: no\n";
-  }
-  const terrain::NormalFitInfo& fit = m.normal_fit;
-  if (fit.fitted)
-    std::cout << fmt::format("normals_fitted: yes ({} source samples)\nfit_rmse_m: {:.4g} (before {:.4g})\n"
-                             "fit_max_m: {:.4g} (before {:.4g})\n",
-                             fit.samples, fit.rmse_after, fit.rmse_before, fit.max_after, fit.max_before);
-  else
-    std::cout << "normals_fitted: no\n";
-  // The camera terrain-render frame takes with no camera option (1280 x 720, 35 degrees).
-  const renderer::DefaultView av = renderer::default_view(m, renderer::ViewMode::Auto, 1.0, 35.0, 1280.0 / 720.0);
-  std::cout << fmt::format("automatic_view: --eye {:.3f} {:.3f} {:.3f} --view-az {:g} --view-alt {:g} --fov {:g} "
-                           "--light-az {:g} --light-alt {:g}\n",
-                           av.camera.eye->x(), av.camera.eye->y(), av.camera.eye->z(), av.camera.view_az,
-                           av.camera.view_alt, av.camera.fov, av.light.azimuth, av.light.altitude)
-            << "automatic_view_rule: " << av.description << "\n";
-  std::cout << "provenance: " << (m.provenance.empty() ? "unknown" : m.provenance) << "\n";
-}
-
-void info_dem(const std::string& path) {
-  const terrain::Grid g = terrain::read_dem(path);
-  const char* kind = g.geo.crs_kind == terrain::CrsKind::Geographic  ? "geographic"
-                     : g.geo.crs_kind == terrain::CrsKind::Projected ? "projected"
-                                                                     : "none";
-  std::cout << "file: " << path << "\n"
-            << "type: raster DEM\n"
-            << "grid: " << g.cols << " x " << g.rows << " (columns x rows)\n"
-            << "crs: " << crs_line(g.geo.crs_wkt, g.geo.epsg) << "\n"
-            << "crs_kind: " << kind << "\n"
-            << fmt::format("spacing: {:.10g} {:.10g}\n", g.geo.dx, g.geo.dy)
-            << fmt::format("extent: {:.10g} {:.10g} {:.10g} {:.10g}\n", g.geo.x0, g.geo.y0 - double(g.rows) * g.geo.dy,
-                           g.geo.x0 + double(g.cols) * g.geo.dx, g.geo.y0);
-  const terrain::ElevationStats s = terrain::elevation_stats(g.z);
-  std::cout << "valid: " << s.count << "\nnodata: " << s.nodata << "\n";
-  if (s.count > 0) print_stats(s);
-}
-
-void info_points(const std::string& path) {
-  const terrain::PointCloud p = terrain::read_points(path);
-  const terrain::PointCloudSummary s = terrain::summarize_points(p);
-  const char* kind = p.crs_kind == terrain::CrsKind::Geographic  ? "geographic"
-                     : p.crs_kind == terrain::CrsKind::Projected ? "projected"
-                                                                 : "none";
-  std::cout << "file: " << path << "\n"
-            << "type: scattered points\n"
-            << "format: " << p.format << "\n"
-            << "points: " << s.count << "\n"
-            << "duplicate_xy: " << s.duplicates << "\n"
-            << "crs: " << crs_line(p.crs_wkt, p.epsg) << "\n"
-            << "crs_kind: " << kind << "\n"
-            << fmt::format("extent: {:.3f} {:.3f} {:.3f} {:.3f}\n", s.xmin, s.ymin, s.xmax, s.ymax)
-            << fmt::format("z_min: {:.3f}\nz_max: {:.3f}\n", s.zmin, s.zmax);
-}
-
-void info_dv(const std::string& path) {
-  // Header and a summary streamed in bands: a database larger than memory is fine.
-  const drainage::DvHeader h = drainage::read_dv_header(path);
-  const drainage::DvSummary s = drainage::summarize_dv_file(path);
-  std::cout << "file: " << path << "\n"
-            << "type: drainage vertex database (.dv version " << h.version << ")\n"
-            << "grid: " << h.cols << " x " << h.rows << " (columns x rows)\n"
-            << "crs: " << crs_line(h.crs_wkt, h.epsg) << "\n"
-            << fmt::format("spacing: {} {}\n", h.dx, h.dy)
-            << fmt::format("origin: {:.3f} {:.3f} {:.3f}\n", h.origin_x, h.origin_y, h.origin_z)
-            << "source: " << ((h.flags & drainage::kDvFromPnSurface) ? "PN surface of a mesh" : "raster grid") << "\n"
-            << "flats_resolved: " << ((h.flags & drainage::kDvFlatsResolved) ? "yes" : "no") << "\n"
-            << "filled: " << ((h.flags & drainage::kDvFilled) ? "yes" : "no") << "\n"
-            << "breached: " << ((h.flags & drainage::kDvBreached) ? "yes" : "no") << "\n"
-            << "points: " << s.points << "\n"
-            << "basins: " << h.basins << "\n"
-            << "basins_over_1pct: " << s.basins_over_1pct << "\n"
-            << "pits: " << s.pits << "\n"
-            << "ridges: " << s.ridges << "\n"
-            << "channels: " << s.channels << "\n"
-            << "junctions: " << s.junctions << "\n"
-            << "branches: " << h.branches << "\n";
-  for (const auto& [order, count] : s.branches_per_order) std::cout << "branches_order_" << order << ": " << count << "\n";
-  std::cout << "max_order: " << (s.branches_per_order.empty() ? 0 : s.branches_per_order.rbegin()->first) << "\n"
-            << "flow_max: " << s.max_accumulated << "\n"
-            << fmt::format("normalized_flow_mean: {:.6f}\n", s.mean_normalized)
-            << "provenance: " << (h.provenance.empty() ? "unknown" : h.provenance) << "\n";
-}
-
-// Grey + alpha hillshade of a DEM (no-data transparent).
-std::vector<std::uint8_t> dem_shade(const terrain::Grid& g, double az, double alt, double zf) {
-  const auto shade = terrain::hillshade_grid(g, az, alt, zf);
-  std::vector<std::uint8_t> ga(2 * g.size());
-  for (std::size_t i = 0; i < g.size(); ++i) {
-    ga[2 * i] = shade[i];
-    ga[2 * i + 1] = g.valid(i) ? 255 : 0;
-  }
-  return ga;
-}
-
-}  // namespace
+namespace ti = terrain::tools::inspect;
 
 int main(int argc, char** argv) {
   CLI::App app{"Inspect the toolkit's files: DEMs (any raster GDAL reads), terrain meshes (.ply) and drainage\n"
@@ -191,145 +28,23 @@ int main(int argc, char** argv) {
   tt::Verbosity verb;
   tt::add_verbosity_flags(app, verb);
 
-  std::string file, out, to, colour_by = "shade";
-  double azimuth = 315.0, altitude = 45.0, zfactor = 1.0;
+  std::string info_file;
+  ti::PreviewArgs pa;
+  ti::ExportArgs ea;
   CLI::App* info = app.add_subcommand("info", "What FILE is: size, CRS, extent, elevation statistics ('key: value' lines)");
-  info->add_option("FILE", file, "DEM, mesh, .dv or scattered points")->required();
+  info->add_option("FILE", info_file, "DEM, mesh, .dv or scattered points")->required();
   CLI::App* preview = app.add_subcommand(
       "preview", "Hillshade PNG of a DEM or a mesh (meshes: shaded with their vertex normals); drainage over a hillshade for a .dv");
-  preview->add_option("FILE", file, "DEM, mesh or .dv")->required();
-  preview->add_option("-o,--output", out, "PNG to write")->required();
-  preview->add_option("--azimuth", azimuth, "Light azimuth, degrees clockwise from grid north")->capture_default_str();
-  preview->add_option("--altitude", altitude, "Light altitude above the horizon, degrees")
-      ->check(CLI::Range(0.0, 90.0))
-      ->capture_default_str();
-  preview->add_option("--colour-by", colour_by,
-                      "Meshes: shade (hillshade of the normals), voronoi (vertex Voronoi area) or normal-change "
-                      "(degrees, from denoise-normals)")
-      ->check(CLI::IsMember({"shade", "voronoi", "normal-change"}))
-      ->capture_default_str();
-  preview->add_option("--z-factor", zfactor, "Vertical exaggeration (DEMs only)")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+  ti::add_preview_options(preview, pa);
   CLI::App* exp = app.add_subcommand("export", "Convert: a mesh to obj (Wavefront, local coordinates) or tif (its elevations "
                                                  "as a GeoTIFF); a .dv to gpkg (layers branches, basins and divides) "
                                                  "or tif (every layer as a GeoTIFF in a directory, as build-drainage --rasters)");
-  exp->add_option("FILE", file, "Terrain mesh (.ply) or drainage database (.dv)")->required();
-  exp->add_option("--to", to, "Output format")->required()->check(CLI::IsMember({"obj", "tif", "gpkg"}));
-  exp->add_option("-o,--output", out,
-                  "Output file (default: FILE with the new extension); a .dv to tif: a directory (default: FILE's name "
-                  "without .dv, then _rasters), created if missing");
-  std::string d8_encoding = "taudem";
-  exp->add_option("--d8-encoding", d8_encoding, "A .dv to tif: the codes of d8.tif")
-      ->check(CLI::IsMember({"taudem", "esri"}))
-      ->capture_default_str();
-  int min_order = 1;
-  std::uint32_t min_flow = 0;
-  exp->add_option("--min-order", min_order, "gpkg: only branches of at least this Strahler order")
-      ->check(CLI::Range(1, 255))
-      ->capture_default_str();
-  std::vector<std::string> gpkg_layers = {"branches", "basins", "divides"};
-  exp->add_option("--layers", gpkg_layers,
-                  "gpkg: the layers to write, comma-separated: branches (LineString ZM, M = normalized flow), basins "
-                  "(polygons with area, outlet, max order), divides (lines between adjacent basins with the larger "
-                  "max order)")
-      ->delimiter(',')
-      ->check(CLI::IsMember({"branches", "basins", "divides"}))
-      ->default_str("branches,basins,divides");
-  preview->add_option("--min-flow", min_flow, ".dv: draw points with at least this accumulated flow (default: the top 4 % of points, at least 20)");
+  ti::add_export_options(exp, ea);
 
   return tt::run_main(app, argc, argv, [&]() {
-    const bool is_mesh = terrain::is_ply_file(file);
-    const bool is_dv = drainage::is_dv_file(file);
-    if (*info) {
-      if (is_dv) info_dv(file);
-      else if (is_mesh) info_mesh(file);
-      else if (terrain::is_point_input(file)) info_points(file);
-      else info_dem(file);
-    } else if (*preview) {
-      tt::check_distinct_paths({file}, {out});
-      tt::warn_stale_temporaries(verb, {out});
-      terrain::check_output_path(out);
-      const std::string desc = tt::provenance(argc, argv);
-      if (is_dv) {
-        const drainage::DrainageDb db = drainage::read_dv(file);
-        terrain::write_png(out, int(db.header.cols), int(db.header.rows), 3, drainage::dv_preview(db, min_flow), desc);
-      } else if (is_mesh) {
-        const terrain::GridMesh m = terrain::read_mesh_ply(file);
-        if (colour_by == "shade") {
-          terrain::write_png(out, int(m.topo.cols), int(m.topo.rows), 1, terrain::hillshade(m.normals, azimuth, altitude),
-                             desc);
-        } else {
-          const bool voronoi = colour_by == "voronoi";
-          if (voronoi ? m.voronoi.empty() : m.normal_change.size() != m.n_vertices())
-            throw terrain::Error("'" + file + "' has no " +
-                                 (voronoi ? "Voronoi weights (denoise-normals --iterations 0 adds them)"
-                                          : "normal change (it was not made by denoise-normals)"));
-          std::vector<float> v(voronoi ? m.voronoi.vertex_areas.begin() : m.normal_change.begin(),
-                               voronoi ? m.voronoi.vertex_areas.end() : m.normal_change.end());
-          std::vector<float> sorted = v;
-          std::sort(sorted.begin(), sorted.end());  // ramp from the 2nd to the 98th percentile
-          const double lo = voronoi ? sorted[sorted.size() / 50] : 0.0, hi = sorted[sorted.size() * 49 / 50];
-          terrain::write_png(out, int(m.topo.cols), int(m.topo.rows), 3, terrain::colour_ramp(v, lo, hi),
-                             desc + fmt::format(" [{} {:.4g} .. {:.4g}]", colour_by, lo, hi));
-          std::cout << fmt::format("ramp: {:.4g} .. {:.4g}\n", lo, hi);
-        }
-      } else {
-        const terrain::Grid g = terrain::read_dem(file);
-        terrain::write_png(out, int(g.cols), int(g.rows), 2, dem_shade(g, azimuth, altitude, zfactor), desc);
-      }
-      std::cout << "output: " << out << "\n";
-    } else if (*exp) {
-      std::error_code ec;
-      if (!std::filesystem::exists(file, ec)) throw terrain::Error("cannot read '" + file + "': no such file");
-      if (to == "tif" && is_dv) {  // every layer, window by window, into a directory
-        namespace fs = std::filesystem;
-        if (out.empty()) out = (fs::path(file).parent_path() / (fs::path(file).stem().string() + "_rasters")).string();
-        if (fs::exists(out, ec) && !fs::is_directory(out, ec))
-          throw terrain::Error("'" + out + "' exists and is not a directory: a .dv exports to a directory of GeoTIFFs");
-        std::vector<std::string> targets;
-        for (const char* name : drainage::kDrainageRasterNames) targets.push_back((fs::path(out) / name).string());
-        tt::check_distinct_paths({file}, targets);
-        tt::warn_stale_temporaries(verb, targets);
-        (void)drainage::read_dv_header(file);  // a file that is no .dv fails before any folder is made
-        terrain::NewDirectories made(out);    // removed again on an error or an interrupt
-        terrain::OutputSet outputs;  // the seven land together, or none does
-        std::size_t points = 0;
-        outputs.write([&] {
-          points = drainage::export_dv_rasters(
-              file, [&](const std::string& name) { return outputs.stage(fs::path(out) / name); },
-              drainage::parse_d8_encoding(d8_encoding), tt::provenance(argc, argv));
-        });
-        outputs.commit();
-        made.keep();
-        std::cout << "output: " << out << "\npoints: " << points << "\n";
-        for (const std::string& t : targets) std::cout << "layer: " << t << "\n";
-        return 0;
-      }
-      if (out.empty()) out = std::filesystem::path(file).replace_extension(to).string();
-      tt::check_distinct_paths({file}, {out});
-      tt::warn_stale_temporaries(verb, {out});
-      terrain::check_output_path(out);
-      if (to == "gpkg") {
-        if (!is_dv) throw terrain::Error("'" + file + "' is not a drainage database (.dv): only those export to gpkg");
-        drainage::GpkgLayers layers;
-        auto has = [&](const char* name) { return std::find(gpkg_layers.begin(), gpkg_layers.end(), name) != gpkg_layers.end(); };
-        layers.branches = has("branches"), layers.basins = has("basins"), layers.divides = has("divides");
-        layers.min_order = min_order;
-        const drainage::GpkgCounts n =
-            drainage::export_dv_gpkg(file, out, layers, tt::terminal_progress(verb, "gpkg"));
-        std::cout << "output: " << out << "\n";
-        if (layers.branches) std::cout << "branches: " << n.branches << "\n";
-        if (layers.basins) std::cout << "basins: " << n.basins << "\n";
-        if (layers.divides) std::cout << "divides: " << n.divides << "\n";
-        return 0;
-      }
-      if (!is_mesh) throw terrain::Error("'" + file + "' is not a terrain mesh (.ply): only meshes export to " + to);
-      const terrain::GridMesh m = terrain::read_mesh_ply(file);
-      if (to == "obj") terrain::write_mesh_obj(m, out);
-      else terrain::write_geotiff(terrain::mesh_to_grid(m), out, tt::provenance(argc, argv));
-      std::cout << "output: " << out << "\n";
-    }
+    if (*info) ti::run_info(info_file);
+    else if (*preview) ti::run_preview(pa, tt::provenance(argc, argv), verb);
+    else if (*exp) ti::run_export(ea, tt::provenance(argc, argv), verb);
     return 0;
   });
 }

@@ -1,5 +1,8 @@
 #include "renderer/scene.hpp"
 
+#include "renderer/camera.hpp"
+#include "renderer/gl_contract.hpp"
+
 #include <fmt/format.h>
 
 #include <chrono>
@@ -74,7 +77,7 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
   const std::size_t n = std::size_t(res.width) * std::size_t(res.height);
   art.surface.resize(n);
   const bool reversed = res.view.reversed_z;
-  for (std::size_t i = 0; i < n; ++i) art.surface[i] = (reversed ? 1.0 - buffers.toward_depth[i] : buffers.toward_depth[i]) < 1.0;
+  for (std::size_t i = 0; i < n; ++i) art.surface[i] = far_depth(reversed, buffers.toward_depth[i]) < 1.0;
   if (underlay == VectorUnderlay::Shaded) art.shaded = buffers.surface_rgba;
   const double e = style.exaggeration, lift = crease_lift(style, scene.mesh);
   if (layers.pels) {
@@ -107,8 +110,8 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
     art.layers.push_back(std::move(l));
   }
   if (layers.silhouettes) {
-    // The composite's band: 0.8 px wider than the silhouette width when anti-aliased.
-    const float width = float(style.silhouette_width) + (style.antialias ? 0.8f : 0.0f);
+    // The composite's band: TR_SILHOUETTE_BAND px wider than the silhouette width when anti-aliased.
+    const float width = float(style.silhouette_width) + (style.antialias ? float(TR_SILHOUETTE_BAND) : 0.0f);
     VectorLayer l{"silhouettes", style.silhouette_colour, LineCap::Round, {}, 0};
     l.paths = silhouette_paths(buffers.silhouette_opacity, res.width, res.height, width, &l.strokes);
     art.layers.push_back(std::move(l));

@@ -8,8 +8,15 @@ layout(std140, binding = TR_UBO_FRAME) uniform FrameBlock { TR_FRAME_BLOCK(TR_GL
 vec3 exaggerate_position(vec3 p) { return vec3(p.xy, p.z * u_eye.w); }
 vec3 exaggerate_normal(vec3 n) { return normalize(vec3(n.xy, n.z / u_eye.w)); }
 
-// Window depth to "distance order": larger is farther, 1 where nothing was drawn.
-float far_of(float depth) { return u_lines.w > 0.5 ? 1.0 - depth : depth; }
+// The frame block's flags by name: a fixed tessellation level (> 0: tests, capture), and
+// whether depth is reversed (1 at the near plane, 0 at infinity: glClipControl).
+float tess_override() { return u_lines.z; }
+bool reversed_z() { return u_lines.w > 0.5; }
+
+// Window depth to "distance order": larger is farther, 1 where nothing was drawn (the one
+// far test; renderer::far_depth on the CPU).
+float far_of(float depth) { return reversed_z() ? 1.0 - depth : depth; }
+vec4 far_of(vec4 depth) { return reversed_z() ? 1.0 - depth : depth; }
 
 // The clip position a line point p on the surface (exaggerated) is drawn at: the point
 // `lift` metres (u_score.w; at most half way) from p towards the eye. It lies on p's line

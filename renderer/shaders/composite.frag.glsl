@@ -3,7 +3,7 @@
 // silhouettes at their pixels' opacity (the piece rule lowers it on short pieces).
 // Pixel-exact: the silhouette pixels dilated to the silhouette width. Anti-aliased
 // (u_style.x != 0): PELs and creases blend by their coverage (hidden lines were removed
-// when they were drawn); silhouettes, found per pixel, are drawn as a band 0.8 px wider
+// when they were drawn); silhouettes, found per pixel, are drawn as a band TR_SILHOUETTE_BAND (0.8) px wider
 // than the silhouette width about the line fitted to the silhouette pixels around each
 // pixel (silhouette_band).
 //
@@ -229,7 +229,7 @@ void main() {
 #ifdef TR_COMPOSITE_SILHOUETTES
   float sil = 0.0;
   if (u_style.x != 0.0) {
-    sil = silhouette_band(p, size, 0.5 * (float(u_silhouette_width) + 0.8));
+    sil = silhouette_band(p, size, 0.5 * (float(u_silhouette_width) + float(TR_SILHOUETTE_BAND)));
   } else {
     // The dilation window [r0, r1]^2.
     int r0 = -(u_silhouette_width - 1) / 2, r1 = u_silhouette_width / 2;

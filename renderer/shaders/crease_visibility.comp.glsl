@@ -47,8 +47,8 @@ vec2 stroke_walk(uint s, int k, bool up, float limit) {
 
 // Window depth of clip position c, and the distance along the view axis of a window depth
 // (infinite far plane: reversed, depth = near / distance; else 1 - near / distance).
-float window_depth(vec4 c) { return u_lines.w > 0.5 ? c.z / c.w : 0.5 * c.z / c.w + 0.5; }
-float eye_distance(float depth) { return u_misc.x / max(u_lines.w > 0.5 ? depth : 1.0 - depth, 1e-30); }
+float window_depth(vec4 c) { return reversed_z() ? c.z / c.w : 0.5 * c.z / c.w + 0.5; }
+float eye_distance(float depth) { return u_misc.x / max(reversed_z() ? depth : 1.0 - depth, 1e-30); }
 
 void sample_segment(uint s) {
   SegmentSamples m = SegmentSamples(0u, 0u, 0u, 0u, 0u, 0.0);

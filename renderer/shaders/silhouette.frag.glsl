@@ -13,7 +13,6 @@ layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
 layout(binding = TR_TEX_AWAY_DEPTH) uniform sampler2D u_away;
 layout(location = 0) out vec4 o_mask;
 bool inside(ivec2 q, ivec2 size) { return all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size)); }
-vec4 far_of(vec4 d) { return u_lines.w > 0.5 ? 1.0 - d : d; }
 // The 2 x 2 depths of s at columns and rows c - 1 and c (one gather, not four fetches).
 vec4 gather(sampler2D s, ivec2 c, vec2 size) { return far_of(textureGather(s, vec2(c) / size)); }
 bool silhouette(ivec2 p, ivec2 size) {

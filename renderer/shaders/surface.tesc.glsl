@@ -41,9 +41,9 @@ void main() {
   p_n011 = mid_normal(p2, p3, n2, n3, fn);
   p_n101 = mid_normal(p3, p1, n3, n1, fn);
 
-  if (u_lines.z > 0.0) {  // fixed level (tests, capture)
-    gl_TessLevelOuter[0] = gl_TessLevelOuter[1] = gl_TessLevelOuter[2] = u_lines.z;
-    gl_TessLevelInner[0] = u_lines.z;
+  if (tess_override() > 0.0) {  // fixed level (tests, capture)
+    gl_TessLevelOuter[0] = gl_TessLevelOuter[1] = gl_TessLevelOuter[2] = tess_override();
+    gl_TessLevelInner[0] = tess_override();
     return;
   }
   // Cull: the patch lies in the convex hull of its 10 control points; drop it when they

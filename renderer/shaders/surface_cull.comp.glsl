@@ -22,7 +22,7 @@ void main() {
   uint i = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
   if (i >= u_patches) return;
   uint v1 = tri[3u * i], v2 = tri[3u * i + 1u], v3 = tri[3u * i + 2u];
-  bool keep = u_lines.z > 0.0;  // a fixed level: surface.tesc.glsl culls nothing
+  bool keep = tess_override() > 0.0;  // a fixed level: surface.tesc.glsl culls nothing
   if (!keep) {
     vec3 p1 = exaggerate_position(mesh_pos(v1)), p2 = exaggerate_position(mesh_pos(v2));
     vec3 p3 = exaggerate_position(mesh_pos(v3));
@@ -55,9 +55,9 @@ void main() {
     keep = !(any(all_out) || all_behind || all_toward);
   }
   if (!keep) return;
-  uint slot = atomicAdd(away_tri[0], 1u), d = slot / 64u;
+  uint slot = atomicAdd(away_tri[0], 1u), d = slot / TR_PATCHES_PER_DRAW;
   away_tri[4u + 3u * slot] = v1, away_tri[5u + 3u * slot] = v2, away_tri[6u + 3u * slot] = v3;
   atomicAdd(away_draw[5u * d], 3u);
   away_draw[5u * d + 1u] = 1u;
-  away_draw[5u * d + 2u] = 4u + 192u * d;
+  away_draw[5u * d + 2u] = 4u + 3u * TR_PATCHES_PER_DRAW * d;
 }

@@ -45,28 +45,32 @@ bool to_double(const std::string& s, double& v) {
 Layers parse_layers(const std::string& list) {
   Layers l{false, false, false, false};
   bool any = false;
+  std::string names;
+  for (const LayerName& n : kLayerNames) names += (names.empty() ? "" : ", ") + std::string(n.name);
   for (const auto& raw : split(list, ',')) {
     const std::string name = trim(raw);
-    if (name == "shaded") l.shaded = true;
-    else if (name == "mask") l.mask = true;
-    else if (name == "creases") l.creases = true;
-    else if (name == "silhouettes") l.silhouettes = true;
-    else if (name == "silhouettes-adjacency") l.adjacency = true;
-    else if (name == "pels") l.pels = true;
-    else if (name == "edges") l.edges = true;
-    else
-      throw terrain::Error("unknown layer '" + name +
-                           "' (layers: shaded, mask, creases, silhouettes, silhouettes-adjacency, pels, edges)");
+    const auto* known = std::find_if(std::begin(kLayerNames), std::end(kLayerNames),
+                                     [&](const LayerName& n) { return name == n.name; });
+    if (known == std::end(kLayerNames)) throw terrain::Error("unknown layer '" + name + "' (layers: " + names + ")");
+    l.*(known->flag) = true;
     any = true;
   }
-  if (!any)
-    throw terrain::Error(
-        "--layers is empty (layers: shaded, mask, creases, silhouettes, silhouettes-adjacency, pels, edges)");
+  if (!any) throw terrain::Error("--layers is empty (layers: " + names + ")");
   if (l.shaded && l.mask) throw terrain::Error("--layers: choose shaded or mask, not both");
   if (l.silhouettes && l.adjacency)
     throw terrain::Error("--layers: choose silhouettes (Toward/Away) or silhouettes-adjacency, not both");
   if (l.adjacency) l.silhouettes = true;  // the silhouette layer, found by the Adjacency method
   return l;
+}
+
+std::string layers_text(const Layers& l) {
+  std::string out;
+  for (const LayerName& n : kLayerNames) {
+    // silhouettes-adjacency sets both flags: it is written alone.
+    if (n.flag == &Layers::silhouettes && l.adjacency) continue;
+    if (l.*(n.flag)) out += (out.empty() ? "" : ",") + std::string(n.name);
+  }
+  return out;
 }
 
 std::uint8_t parse_edge_kinds(const std::string& list) {

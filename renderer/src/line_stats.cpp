@@ -1,4 +1,5 @@
 #include "renderer/line_stats.hpp"
+#include "renderer/camera.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -95,7 +96,7 @@ std::vector<double> segment_pixels(const CreaseGeometry& g, const View& view, do
 std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, double exaggeration, double lift,
                                      const std::vector<float>& toward_depth, bool antialias) {
   const long W = view.width, H = view.height;
-  auto far_of = [&](double d) { return view.reversed_z ? 1.0 - d : d; };
+  auto far_of = [&](double d) { return far_depth(view.reversed_z, d); };
   // An end on screen and the window depth it is drawn at (line_clip).
   auto end_of = [&](std::uint32_t i, Projected& at, double& depth) {
     const Eigen::Vector3d p = drawn_position(g, i, exaggeration);

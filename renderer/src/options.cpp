@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <map>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -83,15 +84,10 @@ OptionSpec colour(std::string name, std::string group, std::string def, std::str
       [ref](RenderSettings& s, const std::string& t) { ref(s) = parse_colour(t); });
 }
 
-std::string layers_text(const Layers& l) {
+std::vector<std::string> layer_names() {
   std::vector<std::string> v;
-  if (l.shaded) v.push_back("shaded");
-  if (l.mask) v.push_back("mask");
-  if (l.creases) v.push_back("creases");
-  if (l.silhouettes) v.push_back(l.adjacency ? "silhouettes-adjacency" : "silhouettes");
-  if (l.pels) v.push_back("pels");
-  if (l.edges) v.push_back("edges");
-  return join(v);
+  for (const LayerName& n : kLayerNames) v.push_back(n.name);
+  return v;
 }
 
 std::string edges_text(std::uint8_t kinds) {
@@ -117,8 +113,7 @@ std::vector<OptionSpec> make_table() {
       "peek) times this: 3 keeps a 4961x3508 print (A3 at 300 dpi) looking like a 1280x720 frame",
       [](auto& s) -> auto& { return s.line_scale; }));
   t.push_back(choice(
-      "layers", frame, OptionType::List,
-      {"shaded", "mask", "creases", "silhouettes", "silhouettes-adjacency", "pels", "edges"},
+      "layers", frame, OptionType::List, layer_names(),
       "mask,creases,silhouettes",
       "Layers to draw (comma list): shaded (relief), mask (white surface), creases, silhouettes "
       "(Toward/Away) or silhouettes-adjacency, pels (photic extremum lines; needs a mesh from "
@@ -395,6 +390,17 @@ std::vector<OptionSpec> make_table() {
       "pixels-per-edge", surface, 1, 100, "pixels", "6",
       "Adaptive tessellation target: screen length of a tessellated edge, pixels",
       [](auto& s) -> auto& { return s.style.pixels_per_edge; }));
+  // What --line-scale multiplies with a range the renderer draws it in (terrain_renderer.cpp's
+  // buffers and pixel loops), and what rebuilds the creases.
+  const std::map<std::string, OptionSpec::Range> drawn = {
+      {"silhouette-width", {1, 9}}, {"edge-width", {0, 64}}, {"crease-hidden-gap", {0, 256}}, {"crease-min-peek", {0, 256}}};
+  for (OptionSpec& o : t) {
+    if (const auto d = drawn.find(o.name); d != drawn.end()) {
+      o.drawn = d->second;
+      o.help += fmt::format(" (drawn, times --line-scale: {:g} .. {:g} {})", d->second.min, d->second.max, o.unit);
+    }
+    o.rebuilds_creases = o.group == rules;
+  }
   return t;
 }
 
@@ -405,7 +411,7 @@ Style drawn_style(const RenderSettings& s) {
   const double k = s.line_scale;
   st.crease_width *= k;
   st.crease_width_max *= k;
-  st.silhouette_width = std::clamp(int(std::lround(st.silhouette_width * k)), 1, 9);
+  st.silhouette_width = int(std::lround(st.silhouette_width * k));  // validate keeps it in 1 .. 9
   st.pel_width *= k;
   st.edge_width *= k;
   st.crease_hidden_gap *= k;
@@ -462,7 +468,8 @@ void set_option(RenderSettings& s, const OptionSpec& o, const std::string& text)
       char x = 0, extra = 0;
       if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X'))
         throw terrain::Error("expected WIDTHxHEIGHT, e.g. 1280x720, got '" + text + "'");
-      if (w < 16 || h < 16 || w > 16384 || h > 16384) throw terrain::Error("width and height must be in 16 .. 16384");
+      if (w < kMinFrameSide || h < kMinFrameSide || w > kMaxFrameSide || h > kMaxFrameSide)
+        throw terrain::Error(fmt::format("width and height must be in {} .. {}", kMinFrameSide, kMaxFrameSide));
       break;
     }
     case OptionType::Point: {
@@ -486,6 +493,15 @@ void set_option(RenderSettings& s, const OptionSpec& o, const std::string& text)
 void validate(const RenderSettings& s) {
   const auto& sc = s.frame.score;
   if (sc.sw + sc.iw + sc.fw <= 0) throw terrain::Error("--sw/--iw/--fw: at least one weight must be > 0");
+  // The widths and lengths --line-scale multiplies, drawn: within what the renderer draws.
+  for (const OptionSpec& o : render_options()) {
+    if (!o.drawn) continue;
+    const double v = std::stod(o.get(s));
+    const double drawn = o.type == OptionType::Integer ? double(std::lround(v * s.line_scale)) : v * s.line_scale;
+    if (drawn < o.drawn->min || drawn > o.drawn->max)
+      throw terrain::Error(fmt::format("--{} {:g} x --line-scale {:g} = {:g} {} is outside the {:g} .. {:g} {} drawn",
+                                       o.name, v, s.line_scale, drawn, o.unit, o.drawn->min, o.drawn->max, o.unit));
+  }
 }
 
 std::string changed_options(const RenderSettings& s) {

@@ -1,4 +1,5 @@
 #include "renderer/silhouette.hpp"
+#include "renderer/camera.hpp"
 
 #include <algorithm>
 #include <cstddef>
@@ -8,7 +9,7 @@ namespace renderer {
 std::vector<std::uint8_t> toward_away_silhouettes(const std::vector<float>& toward, const std::vector<float>& away,
                                                   int w, int h, bool reversed_z, bool antialias) {
   // As far_of in common.glsl: float arithmetic, so that the comparisons match the GPU's.
-  auto far_of = [&](float d) { return reversed_z ? 1.0f - d : d; };
+  auto far_of = [&](float d) { return far_depth(reversed_z, d); };
   auto inside = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h; };
   auto at = [&](int x, int y) { return std::size_t(y) * std::size_t(w) + std::size_t(x); };
   auto raw = [&](int x, int y) {

@@ -1,4 +1,5 @@
 #include "renderer/stroke_visibility.hpp"
+#include "renderer/camera.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -67,7 +68,7 @@ Projected lifted_projection(const View& view, const Eigen::Vector3d& p, double l
 
 std::optional<double> farthest_surface(const View& view, const std::vector<float>& toward_depth, long x, long y) {
   const long W = view.width, H = view.height;
-  auto far_of = [&](double d) { return view.reversed_z ? 1.0 - d : d; };
+  auto far_of = [&](double d) { return far_depth(view.reversed_z, d); };
   std::optional<double> farthest;
   for (long dy = -1; dy <= 1; ++dy)
     for (long dx = -1; dx <= 1; ++dx) {
@@ -82,7 +83,7 @@ std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const Seg
                                               double lift, const std::vector<float>& toward_depth,
                                               const StrokeVisibilityRule& rule) {
   const long W = view.width, H = view.height;
-  auto far_of = [&](double d) { return view.reversed_z ? 1.0 - d : d; };
+  auto far_of = [&](double d) { return far_depth(view.reversed_z, d); };
   // Distance along the view axis of a window depth (infinite far plane; common.glsl).
   auto eye_distance = [&](double d) { return view.near / std::max(view.reversed_z ? d : 1.0 - d, 1e-30); };
   const std::size_t ns = g.n_segments();

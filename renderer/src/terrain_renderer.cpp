@@ -32,31 +32,15 @@ void flip_rows(std::vector<T>& v, int width, int height, int channels) {
                      v.begin() + long(std::size_t(height - 1 - r) * row));
 }
 
-void check_inputs(const terrain::GridMesh& mesh, int width, int height, const Layers& layers, const Style& style) {
-  if (width < 16 || height < 16 || width > 16384 || height > 16384)
-    throw terrain::Error("image size " + std::to_string(width) + " x " + std::to_string(height) +
-                         " is outside 16 .. 16384 pixels");
+// What the option table cannot know (options.hpp checks every option's range, and
+// validate the drawn widths): the mesh, and the frame size for callers without the table.
+void check_inputs(const terrain::GridMesh& mesh, int width, int height, const Layers& layers) {
+  if (width < kMinFrameSide || height < kMinFrameSide || width > kMaxFrameSide || height > kMaxFrameSide)
+    throw terrain::Error(fmt::format("image size {} x {} is outside {} .. {} pixels", width, height, kMinFrameSide,
+                                     kMaxFrameSide));
   if (mesh.topo.rows < 2 || mesh.topo.cols < 2) throw terrain::Error("the mesh has no faces");
   if (mesh.n_faces() * 3 > std::size_t(std::numeric_limits<GLsizei>::max()))
     throw terrain::Error("the mesh has too many faces for one draw call");
-  if (!(style.exaggeration > 0)) throw terrain::Error("vertical exaggeration must be > 0");
-  if (!(style.edge_width > 0 && style.edge_width <= 64)) throw terrain::Error("edge width must be in (0, 64] pixels");
-  if (!(style.crease_fade >= 0 && style.crease_fade <= 1)) throw terrain::Error("crease fade must be in [0, 1]");
-  if (!(style.crease_bridge >= 0 && style.crease_bridge <= 100))
-    throw terrain::Error("crease bridge must be in [0, 100] mesh spacings");
-  if (!(style.crease_min_stroke >= 0 && style.crease_min_stroke <= 100))
-    throw terrain::Error("shortest crease stroke must be in [0, 100] mesh spacings");
-  if (!(style.crease_hidden_gap >= 0 && style.crease_hidden_gap <= 256))
-    throw terrain::Error("crease hidden gap must be in [0, 256] pixels");
-  if (!(style.crease_hidden_depth >= 0 && style.crease_hidden_depth <= 100))
-    throw terrain::Error("crease hidden depth must be in [0, 100] mesh spacings");
-  if (!(style.crease_min_peek >= 0 && style.crease_min_peek <= 256))
-    throw terrain::Error("shortest crease peek must be in [0, 256] pixels");
-  if (!(style.pel_min_length >= 0 && style.pel_min_length <= 100))
-    throw terrain::Error("shortest PEL piece must be in [0, 100] mesh spacings");
-  if (!(style.pel_smooth >= 0 && style.pel_smooth <= 16)) throw terrain::Error("PEL smoothing must be 0 to 16 iterations");
-  if (!(style.crease_angle >= 0 && style.crease_angle <= 180))
-    throw terrain::Error("crease angle must be in [0, 180] degrees");
   if (layers.pels && mesh.voronoi.empty())
     throw terrain::Error("--layers pels needs the mesh's Voronoi weights: make it with denoise-normals "
                          "(--iterations 0 only adds them)");
@@ -189,7 +173,7 @@ void check_frame_size(const GlContext& context, int width, int height) {
 
 TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases,
                                  int width, int height, const Layers& layers, const Style& style) {
-  check_inputs(mesh, width, height, layers, style);
+  check_inputs(mesh, width, height, layers);
   check_frame_size(context, width, height);
   const auto out_of_memory = [&] {
     return terrain::Error(fmt::format("cannot allocate a {} x {} frame on this OpenGL device ({}): out of its memory; "

@@ -1,4 +1,5 @@
 #include "renderer/vector_art.hpp"
+#include "renderer/camera.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -154,7 +155,7 @@ std::vector<VectorPath> segment_paths(const std::vector<SceneSegment>& segments,
                                       const std::vector<float>& toward_depth, bool antialias, float width,
                                       std::size_t* chains) {
   const long W = view.width, H = view.height;
-  auto far_of = [&](double d) { return view.reversed_z ? 1.0 - d : d; };
+  auto far_of = [&](double d) { return far_depth(view.reversed_z, d); };
   // The visible pieces, by quantised opacity.
   std::map<int, std::vector<std::array<Eigen::Vector2f, 2>>> pieces;
   for (const SceneSegment& s : segments) {

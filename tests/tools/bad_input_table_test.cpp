@@ -519,6 +519,10 @@ INSTANTIATE_TEST_SUITE_P(
         Row{tr + "frame IN/m.ply -o OUT/f.png --eye 1e308 5117000 3000 -q", 1, "move it closer"},
         Row{tr + "batch IN/m.ply IN/far_eye.csv -o OUT/ -q", 1, "far_eye.csv: frame 1: the eye"},
         Row{tr + "path --from 0 0 1e308 --to 1 1 1 --frames 3 -o OUT/p.csv", 2, "--from"},
+        // issue 49: --line-scale checked against the drawn range in the table (before: past --help's limits, exit 1)
+        Row{tr + "frame IN/m.ply -o OUT/f.png --layers mask,edges --edge-width 20 --line-scale 4", 2,
+            "--edge-width 20 x --line-scale 4 = 80 pixels is outside the 0 .. 64 pixels drawn"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --line-scale 0.2", 2, "--silhouette-width 1 x --line-scale 0.2 = 0 pixels"},
         // issue 48: the viewer writes none of its inputs, and checks its replay as the table checks options
         Row{tv + "IN/meshdir/frame_00000.png IN/m.dv --replay IN/r_shot_mesh.txt", 1, "frame_00000.png' is the input"},
         Row{tv + "IN/meshdir/frame_00000.png IN/m.dv --replay IN/r_window_mesh.txt", 1, "frame_00000.png' is the input"},

@@ -18,10 +18,16 @@ struct Box {
   Eigen::Vector3d lo, hi;
 };
 
+// Window depth to "distance order": larger is farther, 1 where nothing was drawn. The one
+// far test of the CPU references, as common.glsl's far_of on the GPU (the same arithmetic,
+// in float for float depths).
+inline double far_depth(bool reversed_z, double depth) { return reversed_z ? 1.0 - depth : depth; }
+inline float far_depth(bool reversed_z, float depth) { return reversed_z ? 1.0f - depth : depth; }
+
 // The view of one frame: eye, orthonormal axes, projection and image size.
 struct View {
   Eigen::Vector3d eye, forward, right, up;  // local frame
-  double fov_deg = 35, near = 1;
+  double fov_deg = Camera{}.fov, near = 1;
   int width = 1, height = 1;
   bool reversed_z = true;                   // depth 1 at `near`, 0 at infinity (glClipControl)
   Eigen::Matrix4d view_matrix() const;      // local -> eye space (camera looks down -z)

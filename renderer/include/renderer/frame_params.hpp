@@ -63,10 +63,25 @@ struct Layers {
   // crease edges (Style::edge_kinds), drawn as screen-space quads with caps.
   bool edges = false;
 };
-// Parses "shaded,creases,..." (names: shaded, mask, creases, silhouettes,
-// silhouettes-adjacency, pels, edges); Error on an unknown name, an empty list, both shaded
-// and mask, or both silhouette methods.
+// The layers by name, in the order --layers lists them (the one list of names: the option
+// table's choices, parse_layers and layers_text read it).
+struct LayerName {
+  const char* name;
+  bool Layers::*flag;
+};
+inline constexpr LayerName kLayerNames[] = {
+    {"shaded", &Layers::shaded},         {"mask", &Layers::mask},
+    {"creases", &Layers::creases},       {"silhouettes", &Layers::silhouettes},
+    {"silhouettes-adjacency", &Layers::adjacency}, {"pels", &Layers::pels},
+    {"edges", &Layers::edges}};
+// Parses "shaded,creases,..." (kLayerNames); Error on an unknown name, an empty list, both
+// shaded and mask, or both silhouette methods.
 Layers parse_layers(const std::string& list);
+// "mask,creases,silhouettes": what parse_layers reads back.
+std::string layers_text(const Layers& l);
+
+// The frame's width and height in pixels (--size; the renderer's targets).
+inline constexpr int kMinFrameSide = 16, kMaxFrameSide = 16384;
 
 // How the quads of consecutive object-space edges join (docs/terrain-render.md):
 //   None   quads end at the vertices (gaps on the outside of every turn; for comparison)

@@ -26,7 +26,7 @@ struct ResolvedFrame {
   FrameParams frame;
   Style style;
   Layers layers;
-  int width = 1280, height = 720;
+  int width = 0, height = 0;
   std::string description;  // how the camera was chosen, for -v
 };
 

@@ -17,7 +17,8 @@
    u_viewport width, height, pixels per triangle edge, maximum tessellation level
    u_weights  sw, iw, fw, divisor (sw + iw + fw, or 3)
    u_score    min score, falloff, far distance, crease lift (metres)
-   u_lines    crease width at basin share 0 and 1 (pixels), tessellation override, reversed z
+   u_lines    crease width at basin share 0 and 1 (pixels), tessellation override (> 0: every
+              patch at this level; tess_override()), reversed z (1: reversed_z())
    u_misc     near plane distance, segment count, vertex count, shortest crease stroke
               (metres; 0: any)
    u_style    anti-aliased lines (1) or pixel-exact (0), crease fade band (score units;
@@ -78,6 +79,17 @@
 /* Samples per crease segment for hidden-line removal along strokes, the bits of a mask
    (renderer::kStrokeSamples). */
 #define TR_STROKE_SAMPLES 32
+
+/* Patches per indirect draw of the away-facing patches (surface_cull.comp.glsl lists them,
+   3 vertices each; renderer::passes::kPatchesPerDraw, which says why 64). */
+#define TR_PATCHES_PER_DRAW 64u
+
+/* Anti-aliased silhouettes are drawn as a band this many pixels wider than the
+   silhouette width (composite.frag.glsl; the tiles' reach and the vector output's widths
+   follow it). */
+#define TR_SILHOUETTE_BAND 0.8
+
+/* The frame block's u_lines.z and .w by name (common.glsl: tess_override(), reversed_z()). */
 
 /* Piece rules (union_find.glsl): the label of a root. */
 #define TR_PIECE_ROOT 0xFFFFFFFFu

@@ -5,6 +5,7 @@
 // columns are its per-frame options, and set_option / validate are the one check of all
 // three. RenderSettings{} holds the table's defaults (a test locks that).
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,7 +29,7 @@ struct RenderSettings {
 };
 
 // The style a frame is drawn with: s.style with its line widths and stroke pixel lengths
-// scaled by s.line_scale (the silhouette width rounded, 1 to 9 pixels).
+// scaled by s.line_scale (the silhouette width rounded; validate keeps it in 1 .. 9).
 Style drawn_style(const RenderSettings& s);
 
 enum class OptionType {
@@ -62,6 +63,18 @@ struct OptionSpec {
   std::function<void(RenderSettings& s, const std::string& text)> store;
   // Enum: values outside `choices` it also takes (--view's FRAMES.csv:ROW); none when empty.
   std::function<bool(const std::string& text)> accepts;
+  // A width or length in pixels that --line-scale multiplies (drawn_style): the range the
+  // drawn value must lie in (validate), where the renderer has one.
+  struct Range {
+    double min, max;
+  };
+  std::optional<Range> drawn;
+  // Changing it rebuilds the creases from the .dv (the crease network's rules).
+  bool rebuilds_creases = false;
+  // A Number or Integer whose max is no practical bound (--help shows its unit alone, the
+  // viewer's panel a drag field instead of a slider).
+  bool unbounded() const { return max >= kUnboundedMax; }
+  static constexpr double kUnboundedMax = 1e6;
 };
 
 // The table, in the order of --help and the panel.
@@ -76,7 +89,8 @@ std::string csv_column(const OptionSpec& o);
 // the option's name (the caller says where: --view-alt, a CSV line, the panel).
 void set_option(RenderSettings& s, const OptionSpec& o, const std::string& text);
 
-// The checks across options (at least one crease-score weight > 0); throws terrain::Error.
+// The checks across options: at least one crease-score weight > 0, and each width or length
+// --line-scale multiplies within its drawn range (OptionSpec::drawn); throws terrain::Error.
 void validate(const RenderSettings& s);
 
 // "--name value" for every option whose value in `s` differs from the default, in table

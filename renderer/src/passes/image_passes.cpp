@@ -212,7 +212,7 @@ void CompositePass::execute(const FrameInputs&) {
   const int w = std::max(1, style_.silhouette_width);
   // No silhouette coverage beyond: anti-aliased, the band's half-width + 1.5 px (the
   // composite's silhouette_band); pixel-exact, the dilation window's larger side.
-  const int reach = style_.antialias ? int(0.5 * (double(w) + 0.8) + 1.5) : std::max((w - 1) / 2, w / 2);
+  const int reach = style_.antialias ? int(0.5 * (double(w) + TR_SILHOUETTE_BAND) + 1.5) : std::max((w - 1) / 2, w / 2);
   glProgramUniform3fv(p, TR_LOC_SILHOUETTE_COLOUR, 1, style_.silhouette_colour.data());
   glProgramUniform1i(p, TR_LOC_SILHOUETTE_WIDTH, w);
   glProgramUniform1i(p, TR_LOC_TILE_REACH, reach);

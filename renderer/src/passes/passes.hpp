@@ -26,7 +26,8 @@ namespace renderer::passes {
 // tessellates into more than 65536 triangles: a 50 m mesh lost bands of patches at
 // 4961 x 3508 (and at 1280 x 720 with 1.5 px per edge). At the largest level the renderer
 // uses (32: 1024 triangles a patch) 64 patches stay within it (116 did not).
-inline constexpr std::size_t kPatchesPerDraw = 65536 / (32 * 32);
+inline constexpr std::size_t kPatchesPerDraw = TR_PATCHES_PER_DRAW;
+static_assert(kPatchesPerDraw == 65536 / (32 * 32));
 
 struct SceneGpu {
   SceneGpu(const terrain::GridMesh& mesh, int width, int height, bool reversed);

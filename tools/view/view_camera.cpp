@@ -1,4 +1,4 @@
-#include "view_camera.hpp"
+#include "view/view_camera.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -13,8 +13,8 @@ namespace terrain::tools {
 
 struct ViewCamera {
   const terrain::GridMesh& mesh;
-  double exaggeration = 1;
-  int width = 1280, height = 720;
+  double exaggeration;  // the frame's (given by the viewer: its settings)
+  int width, height;
 
   // The (exaggerated) surface's height under world x, y; nullopt off the mesh.
   std::optional<double> surface(double x, double y) const;

@@ -1,0 +1,34 @@
+#pragma once
+// terrain-inspect's subcommands (tools/terrain_inspect.cpp parses, these run): info,
+// preview and export of DEMs, meshes, scattered points and drainage databases.
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common.hpp"
+
+namespace terrain::tools::inspect {
+
+// info FILE: 'key: value' lines for a DEM, a mesh, scattered points or a .dv.
+void run_info(const std::string& file);
+
+struct PreviewArgs {
+  std::string file, out, colour_by = "shade";
+  double azimuth = 315.0, altitude = 45.0, zfactor = 1.0;
+  std::uint32_t min_flow = 0;
+};
+void add_preview_options(CLI::App* cmd, PreviewArgs& a);
+// preview FILE -o X.png: a hillshade (DEMs, meshes) or the drainage over one (.dv).
+void run_preview(const PreviewArgs& a, const std::string& provenance, const Verbosity& verb);
+
+struct ExportArgs {
+  std::string file, out, to, d8_encoding = "taudem";
+  int min_order = 1;
+  std::vector<std::string> gpkg_layers = {"branches", "basins", "divides"};
+};
+void add_export_options(CLI::App* cmd, ExportArgs& a);
+// export FILE --to obj|tif|gpkg.
+void run_export(ExportArgs& a, const std::string& provenance, const Verbosity& verb);
+
+}  // namespace terrain::tools::inspect

@@ -1,0 +1,223 @@
+#include "render/commands.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <map>
+
+#include "drainage/dv_file.hpp"
+#include "renderer/camera.hpp"
+#include "renderer/frame_setup.hpp"
+#include "renderer/frames.hpp"
+#include "renderer/gl_context.hpp"
+#include "renderer/options.hpp"
+#include "renderer/scene.hpp"
+#include "renderer/terrain_renderer.hpp"
+#include "renderer/vector_file.hpp"
+#include "terrain/atomic_file.hpp"
+#include "terrain/dem_io.hpp"
+#include "terrain/memory.hpp"
+#include "terrain/image_io.hpp"
+
+namespace terrain::tools::render {
+
+namespace tt = terrain::tools;
+namespace rr = renderer;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+rr::Scene scene_of(const std::string& mesh, const std::string& dv, const rr::RenderSettings& s, const tt::Verbosity& v) {
+  if (!dv.empty() && !drainage::is_dv_file(dv)) throw terrain::Error("'" + dv + "' is not a drainage database (.dv)");
+  rr::Scene scene = rr::load_scene(mesh, dv, s.rules);
+  tt::step(v, fmt::format("read mesh {} x {} ({} patches): {:.2f} s", scene.mesh.topo.cols, scene.mesh.topo.rows,
+                          scene.mesh.n_faces(), scene.mesh_seconds));
+  for (const std::string& w : scene.warnings) tt::warn(v, w);
+  if (scene.creases)
+    tt::step(v, fmt::format("read {} and its PN normals: {} vertices, {} segments: {:.2f} s", dv,
+                            scene.creases->positions.size(), scene.creases->n_segments(), scene.creases_seconds));
+  return scene;
+}
+
+void check_line_stats(const TableArgs& a, const rr::RenderSettings& s, const std::string& dv) {
+  if (a.line_stats && (dv.empty() || !s.layers.creases))
+    throw CLI::ValidationError("--line-stats", "measures creases: give a .dv and keep the creases layer");
+}
+
+void print_device(const rr::GlContext& ctx) {
+  std::cout << "renderer: " << ctx.info().renderer << " (" << ctx.info().platform << ", OpenGL " << ctx.info().version
+            << ")\n";
+}
+
+}  // namespace
+
+int list_devices() {
+  for (const auto& d : rr::list_gl_devices())
+    std::cout << d.platform << ": " << d.renderer << (d.version.empty() ? "" : " | OpenGL " + d.version)
+              << (d.software ? " | software" : "") << (d.usable ? " | usable" : "")
+              << (d.detail.empty() ? "" : " | " + d.detail) << "\n";
+  rr::GlContext ctx;
+  std::cout << "selected: " << ctx.info().platform << " (" << ctx.info().renderer << ")\n";
+  return 0;
+}
+
+int run_path(const TableArgs& a, const std::vector<double>& from, const std::vector<double>& to, int frames,
+             const std::string& out, const std::string& prov) {
+  terrain::check_output_path(out);
+  rr::FrameParams params = settings_of(a).frame;
+  if (!a.was_given("view-az")) params.camera.view_az = std::numeric_limits<double>::quiet_NaN();  // along the path
+  const rr::FlightPath p{Eigen::Vector3d(from[0], from[1], from[2]), Eigen::Vector3d(to[0], to[1], to[2]), frames,
+                         params};
+  terrain::write_file_atomic(out, "# " + prov + "\n" + rr::path_csv(p));
+  std::cout << "output: " << out << "\nframes: " << frames << "\n";
+  return 0;
+}
+
+void add_output_options(CLI::App* cmd, OutputArgs& o, bool batch) {
+  cmd->add_option("--dpi", o.vector.dpi, "SVG / PDF: pixels per inch of the page (the frame's size in pixels is the page)")
+      ->check(CLI::Range(1.0, 10000.0))
+      ->capture_default_str();
+  cmd->add_option("--vector-underlay", o.vector.underlay,
+                  "SVG / PDF: what lies under the lines: none, mask (the surface as filled regions) or shaded (the "
+                  "shaded relief as an embedded image); default: shaded when --layers has shaded, else mask")
+      ->check(CLI::IsMember({"none", "mask", "shaded"}));
+  if (batch)
+    cmd->add_option("--format", o.formats, "Files per frame, a comma list of png, svg, pdf")->capture_default_str();
+}
+
+// The write times at -v.
+void report_write(const tt::Verbosity& verb, const std::vector<std::string>& outs, const rr::WriteTimes& t) {
+  if (t.vector_bytes == 0) return;
+  tt::step(verb, fmt::format("{}: GPU readback {:.0f} ms, paths {:.0f} ms, cairo {:.0f} ms, {:.2f} MB{}",
+                             fmt::join(outs, ", "), t.readback_ms, t.paths_ms, t.cairo_ms, double(t.vector_bytes) / 1e6,
+                             t.layers));
+}
+
+int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, const std::string& dv,
+              const std::string& out, const std::string& prov, const tt::Verbosity& verb) {
+  const rr::RenderSettings s = settings_of(a);
+  rr::check_frame_path(out);
+  tt::check_distinct_paths({mesh, dv}, {out});
+  tt::warn_stale_temporaries(verb, {out});
+  terrain::check_output_path(out);
+  check_line_stats(a, s, dv);
+  const rr::Scene scene = scene_of(mesh, dv, s, verb);
+  const rr::ResolvedFrame f = rr::resolve_frame(s, scene.mesh, [&](const std::string& n) { return a.was_given(n); });
+  if (!f.description.empty()) tt::step(verb, f.description);
+  const rr::FrameParams& fp = f.frame;
+  auto t0 = Clock::now();
+  rr::GlContext ctx;
+  if (rr::is_vector_path(out)) rr::check_vector_memory(ctx, s.width, s.height);
+  rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, f.layers, f.style);
+  tt::step(verb, fmt::format("OpenGL set-up ({}): {:.2f} s", ctx.info().renderer, since(t0)));
+  t0 = Clock::now();
+  const rr::FrameResult res = r.render(fp);
+  tt::step(verb, fmt::format("frame: {:.0f} ms", 1e3 * since(t0)));
+  report_write(verb, {out}, rr::write_frame_files({out}, scene, r, res, f, o.vector, prov));
+  const Eigen::Vector3d eye = res.view.eye + r.origin();
+  std::cout << "output: " << out << "\n" << "size: " << s.width << " x " << s.height << "\n";
+  print_device(ctx);
+  std::cout << fmt::format("eye: {:.1f} {:.1f} {:.1f}\n", eye.x(), eye.y(), eye.z())
+            << fmt::format("view: az {:g} alt {:g} fov {:g}\n", fp.camera.view_az, fp.camera.view_alt, fp.camera.fov)
+            << fmt::format("light: az {:g} alt {:g}\n", fp.light.azimuth, fp.light.altitude)
+            << "crease segments drawn: " << res.crease_segments << "\n"
+            << "pel segments drawn: " << res.pel_segments << "\n"
+            << "edges drawn: " << res.edges << "\n";
+  for (int p = 0; p < rr::kPassCount; ++p)
+    std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p), res.timings.gpu_ms[p],
+                             res.timings.wall_ms[p]);
+  if (a.line_stats) std::cout << rr::line_stats_text(rr::frame_line_stats(scene, r, res, fp, f.style, f.layers));
+  return 0;
+}
+
+std::string frame_name(std::size_t i, const std::string& ext = "png") { return fmt::format("frame_{:05d}.{}", i, ext); }
+
+// --format: png, svg, pdf, each once, at least one.
+std::vector<std::string> parse_formats(const std::string& list) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t end = std::min(list.find(',', start), list.size());
+    const std::string f = list.substr(start, end - start);
+    if (f != "png" && f != "svg" && f != "pdf")
+      throw CLI::ValidationError("--format", "unknown format '" + f + "' (png, svg, pdf)");
+    if (std::find(out.begin(), out.end(), f) != out.end())
+      throw CLI::ValidationError("--format", "'" + f + "' is given twice");
+    out.push_back(f);
+    start = end + 1;
+  }
+  return out;
+}
+
+int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::string>& inputs,
+              const std::string& out_dir, const std::string& prov, const tt::Verbosity& verb) {
+  const rr::RenderSettings s = settings_of(a);
+  const std::vector<std::string> formats = parse_formats(o.formats);
+  const std::string mesh_path = inputs[0], csv = inputs.back(), dv_path = inputs.size() == 3 ? inputs[1] : "";
+  if (!dv_path.empty() && !drainage::is_dv_file(dv_path))
+    throw terrain::Error("'" + dv_path + "' is not a drainage database (.dv)");
+  const auto frames = rr::read_frames_csv(csv, s.frame);
+  const std::filesystem::path dir(out_dir);
+  // Every file the batch writes, checked against every input (a frames CSV or a mesh named
+  // like an output is never replaced): the frames, the timings and the statistics.
+  std::vector<std::string> outputs = {(dir / "timings.csv").string()};
+  if (a.line_stats) outputs.push_back((dir / "line_stats.csv").string());
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    for (const std::string& f : formats) outputs.push_back((dir / frame_name(i, f)).string());
+  for (const std::string& out : outputs) tt::check_distinct_paths(inputs, {out});
+  std::filesystem::create_directories(dir);
+  terrain::check_output_path(dir / "timings.csv");
+  tt::warn_stale_temporaries(verb, outputs);
+  check_line_stats(a, s, dv_path);
+  const rr::Scene scene = scene_of(mesh_path, dv_path, s, verb);
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    try {
+      if (frames[i].camera.eye) rr::check_eye_above_terrain(scene.mesh, *frames[i].camera.eye, s.style.exaggeration);
+    } catch (const terrain::Error& e) {
+      throw terrain::Error(fmt::format("{}: frame {}: {}", csv, i + 1, e.what()));
+    }
+  }
+  rr::GlContext ctx;
+  rr::ResolvedFrame f{s.frame, rr::drawn_style(s), s.layers, s.width, s.height, ""};
+  if (formats != std::vector<std::string>{"png"}) rr::check_vector_memory(ctx, s.width, s.height);
+  rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, f.layers,
+                        f.style);
+  std::vector<rr::FrameTimings> timings;
+  std::string stats_csv = rr::line_stats_csv_header();
+  std::vector<std::vector<float>> drawn;
+  std::vector<std::vector<double>> pixels;
+  const auto progress = tt::terminal_progress(verb, "render");
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    f.frame = frames[i];
+    const rr::FrameResult res = r.render(f.frame);
+    timings.push_back(res.timings);
+    if (a.line_stats) {
+      rr::FrameStats st = rr::frame_line_stats(scene, r, res, f.frame, f.style, f.layers);
+      stats_csv += rr::line_stats_csv_row(i, st);
+      drawn.push_back(std::move(st.lines.drawn));
+      pixels.push_back(std::move(st.lines.pixels));
+    }
+    std::vector<std::string> paths;
+    for (const std::string& format : formats) paths.push_back((dir / frame_name(i, format)).string());
+    report_write(verb, paths, rr::write_frame_files(paths, scene, r, res, f, o.vector, prov + fmt::format(" [frame {}]", i)));
+    terrain::report(progress, double(i + 1) / double(frames.size()));
+  }
+  terrain::write_file_atomic(dir / "timings.csv", rr::timings_csv(timings));
+  if (a.line_stats) terrain::write_file_atomic(dir / "line_stats.csv", stats_csv);
+  std::cout << "output: " << out_dir << "\nframes: " << frames.size() << "\nsize: " << s.width << " x " << s.height
+            << "\n";
+  print_device(ctx);
+  std::cout << rr::timing_tables(timings);
+  if (a.line_stats) std::cout << fmt::format("crease flicker: {:.4f}\n", rr::flicker(drawn, pixels));
+  return 0;
+}
+
+}  // namespace terrain::tools::render
