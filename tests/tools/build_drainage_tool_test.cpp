@@ -3,6 +3,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <sstream>
 #include <fstream>
 #include <iomanip>
 #include <map>
@@ -103,6 +104,32 @@ void expect_same_db(const DrainageDb& a, const DrainageDb& b, const std::string&
 
 // --tile-size gives the untiled run's database exactly (every field), with tile sizes that
 // do and do not divide the grid, filled or not, from a DEM or from D8 codes.
+// Issue 49: one summary for tiled and untiled runs (drainage/job.hpp), the same keys in the
+// same order; the tiled run's classes counted from its .dv, so every value but the tiles
+// and the flats (counted by untiled runs only) equals the untiled run's.
+TEST(BuildDrainage, TiledAndUntiledRunsPrintTheSameSummary) {
+  terrain::test::ScratchDir dir;
+  const std::string bd = tool("build-drainage") + " --raster " + data("med_01_01_10m.tif") + " --fill -q ";
+  const auto u = run(bd + dir.path("u.dv"));
+  const auto t = run(bd + dir.path("t.dv") + " --tile-size 100");
+  ASSERT_EQ(u.exit_code, 0) << u.err;
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  auto lines = [](const std::string& out) {
+    std::vector<std::pair<std::string, std::string>> kv;
+    std::istringstream in(out);
+    for (std::string l; std::getline(in, l);) kv.emplace_back(l.substr(0, l.find(':')), l.substr(l.find(':') + 1));
+    return kv;
+  };
+  const auto a = lines(u.out), b = lines(t.out);
+  ASSERT_EQ(a.size(), b.size()) << u.out << "\n" << t.out;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].first, b[i].first) << "line " << i;
+    if (a[i].first != "output" && a[i].first != "tiles" && a[i].first != "flats") EXPECT_EQ(a[i].second, b[i].second) << a[i].first;
+  }
+  EXPECT_NE(u.out.find("\npits: "), std::string::npos);
+  EXPECT_NE(t.out.find("\ntiles: 35\n"), std::string::npos) << t.out;
+}
+
 TEST(BuildDrainage, TiledRunsEqualTheUntiledRun) {
   terrain::test::ScratchDir dir;
   const std::string bd = tool("build-drainage") + " ";
