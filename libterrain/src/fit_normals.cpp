@@ -244,10 +244,6 @@ SourceSamples samples_inside_mesh(const SourceSamples& all, const GridMesh& mesh
   return out;
 }
 
-SurfaceError pn_surface_error(const GridMesh& mesh, const SourceSamples& samples) {
-  return locate(mesh, to_local(mesh, samples), nullptr);
-}
-
 NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, const NormalFitOptions& opt,
                                const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();

@@ -245,7 +245,7 @@ PreparedGrid resample_to_plan(const Grid& samples, const GridPlan& plan, const G
             rmin = std::min(rmin, r), rmax = std::max(rmax, r);
             cmin = std::min(cmin, c), cmax = std::max(cmax, c);
           }
-      throw Error(fmt::format(
+      throw NodataError(fmt::format(
           "{} no-data samples inside the chosen area (rows {}-{}, columns {}-{} of {} x {}; "
           "x {:.1f}..{:.1f}, y {:.1f}..{:.1f}); crop them away or pass --fill-nodata",
           missing, rmin, rmax, cmin, cmax, g.rows, g.cols, tg.x_of_col(double(cmin)),

@@ -34,13 +34,15 @@ std::string trim(const std::string& s) {
   return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
 }
 
-bool to_double(const std::string& s, double& v) {
-  const char* end = s.data() + s.size();
-  const auto r = std::from_chars(s.data(), end, v);
-  return r.ec == std::errc() && r.ptr == end && std::isfinite(v);
-}
-
 }  // namespace
+
+bool parse_number(std::string_view text, double& v) {
+  const char* b = text.data();
+  const char* e = b + text.size();
+  if (b != e && *b == '+') ++b;
+  const auto r = std::from_chars(b, e, v);
+  return r.ec == std::errc() && r.ptr == e && b != e && std::isfinite(v);
+}
 
 Layers parse_layers(const std::string& list) {
   Layers l{false, false, false, false};
@@ -106,7 +108,7 @@ Eigen::Vector3f parse_colour(const std::string& text) {
     bool ok = true;
     for (int i = 0; i < 3; ++i) {
       double v = 0;
-      ok = ok && to_double(trim(parts[i]), v) && v >= 0 && v <= 255;
+      ok = ok && parse_number(trim(parts[i]), v) && v >= 0 && v <= 255;
       c[i] = float(v / 255.0);
     }
     if (ok) return c;
@@ -184,7 +186,7 @@ std::vector<FrameParams> parse_frames_csv(const std::string& text, const FramePa
     for (std::size_t i = 0; i < fields.size(); ++i) {
       if (!columns[i]) {
         double v = 0;
-        if (!to_double(fields[i], v)) fail(line_no, fmt::format("field '{}': '{}' is not a number", header[i], fields[i]));
+        if (!parse_number(fields[i], v)) fail(line_no, fmt::format("field '{}': '{}' is not a number", header[i], fields[i]));
         eye[eye_index(header[i])] = v;
         continue;
       }

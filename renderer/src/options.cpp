@@ -17,14 +17,6 @@ namespace {
 
 std::string text_of(double v) { return fmt::format("{}", v); }  // shortest text that reads back exactly
 
-bool read_number(const std::string& text, double& v) {
-  const char* b = text.data();
-  const char* e = b + text.size();
-  if (b != e && *b == '+') ++b;
-  const auto r = std::from_chars(b, e, v);
-  return r.ec == std::errc() && r.ptr == e && b != e;
-}
-
 std::string colour_text(const Eigen::Vector3f& c) {
   return fmt::format("{},{},{}", double(c.x()) * 255.0, double(c.y()) * 255.0, double(c.z()) * 255.0);
 }
@@ -45,7 +37,7 @@ OptionSpec number(std::string name, std::string group, double min, double max, s
   o.get = [ref](const RenderSettings& s) { return text_of(double(ref(s))); };
   o.store = [ref](RenderSettings& s, const std::string& t) {
     double v = 0;
-    read_number(t, v);
+    parse_number(t, v);
     ref(s) = static_cast<std::remove_reference_t<decltype(ref(s))>>(v);
   };
   return o;
@@ -315,7 +307,7 @@ std::vector<OptionSpec> make_table() {
   };
   t.back().store = [](RenderSettings& s, const std::string& v) {
     s.style.crease_lift = -1;  // auto
-    if (v != "auto") read_number(v, s.style.crease_lift);
+    if (v != "auto") parse_number(v, s.style.crease_lift);
   };
   t.push_back(integer(
       "silhouette-width", sil, 1, 9, "pixels", "1",
@@ -447,7 +439,7 @@ void set_option(RenderSettings& s, const OptionSpec& o, const std::string& text)
     case OptionType::Integer: {
       if (text == "auto" && o.default_text == "auto") break;  // an option whose default is computed
       double v = 0;
-      if (!read_number(text, v) || !std::isfinite(v)) throw terrain::Error("'" + text + "' is not a number");
+      if (!parse_number(text, v) || !std::isfinite(v)) throw terrain::Error("'" + text + "' is not a number");
       if (o.type == OptionType::Integer && v != std::floor(v))
         throw terrain::Error("'" + text + "' is not a whole number");
       if (v < o.min || v > o.max)

@@ -87,7 +87,6 @@ class DvBlockWriter {
  public:
   // Writes the header (counts are patched by finish) to `out`, a seekable stream.
   DvBlockWriter(std::ostream& out, std::string path, DvHeader header);
-  std::size_t block_count() const { return index_.size(); }
   const DvHeader& header() const { return header_; }  // with the block shape filled in
   // Block b (row-major over the grid of blocks), once each, in any order.
   void put_block(std::size_t b, const std::vector<char>& encoded);

@@ -17,6 +17,12 @@ class Error : public std::runtime_error {
 // the work, which then throws Cancelled. An empty callback reports nothing.
 using Progress = std::function<bool(double fraction)>;
 
+// No-data samples where a grid needs values (a caller may say how else to read the input).
+class NodataError : public Error {
+ public:
+  using Error::Error;
+};
+
 class Cancelled : public Error {
  public:
   Cancelled() : Error("cancelled") {}

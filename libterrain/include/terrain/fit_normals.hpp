@@ -45,12 +45,11 @@ SourceSamples dem_samples_for_mesh(const Grid& dem, const GridMesh& mesh);
 SourceSamples samples_inside_mesh(const SourceSamples& all, const GridMesh& mesh);
 
 // The PN surface versus the samples: RMSE and max |error| of z (metres) over the samples
-// the surface is above (pn_point_above).
+// the surface is above (pn_point_above); the fit's report gives it before and after.
 struct SurfaceError {
   double rmse = 0, max_abs = 0;
   std::size_t samples = 0;
 };
-SurfaceError pn_surface_error(const GridMesh& mesh, const SourceSamples& samples);
 
 struct NormalFitOptions {
   double regularization = 0.05;   // weight of the pull toward the starting normals (see above)

@@ -135,12 +135,6 @@ const char* to_string(NormalWeighting w);
 // grid.geo.
 GridMesh make_grid_mesh(const Grid& grid, NormalWeighting weighting);
 
-// World (CRS) coordinates of a vertex.
-inline Eigen::Vector3d world_position(const GridMesh& m, std::size_t v) {
-  return {m.geo.origin_x + double(m.positions[v].x()), m.geo.origin_y + double(m.positions[v].y()),
-          m.geo.origin_z + double(m.positions[v].z())};
-}
-
 // The mesh's vertex elevations back on its grid (rows x cols) with its georeferencing.
 Grid mesh_to_grid(const GridMesh& mesh);
 

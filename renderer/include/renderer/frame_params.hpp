@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include <Eigen/Core>
 
@@ -79,6 +80,10 @@ inline constexpr LayerName kLayerNames[] = {
 Layers parse_layers(const std::string& list);
 // "mask,creases,silhouettes": what parse_layers reads back.
 std::string layers_text(const Layers& l);
+
+// The one number reader of options and frames CSVs: the whole of `text` a finite decimal
+// number (a leading '+' allowed; "nan", "inf", "1e999", "3 m" are not).
+bool parse_number(std::string_view text, double& v);
 
 // The frame's width and height in pixels (--size; the renderer's targets).
 inline constexpr int kMinFrameSide = 16, kMaxFrameSide = 16384;

@@ -1,0 +1,104 @@
+#include "mesh/grid_input.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <iostream>
+
+#include "terrain/atomic_file.hpp"
+#include "terrain/dem_io.hpp"
+#include "terrain/memory.hpp"
+#include "terrain/fit_normals.hpp"
+#include "terrain/grid_mesh.hpp"
+#include "terrain/mesh_io.hpp"
+#include "terrain/dequantize.hpp"
+#include "terrain/prepare_grid.hpp"
+#include "terrain/scattered.hpp"
+
+
+namespace terrain::tools::mesh {
+
+namespace tt = terrain::tools;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+// A raster DEM: only the source window the crop needs is read (plus the kernel's margin),
+// then resampled onto the grid.
+// `source` (optional) receives the source samples read, in the grid's CRS, for --fit-normals.
+// `src_crs` (--src-crs) replaces the raster's own CRS, as gdalwarp's -s_srs.
+terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& req, const std::string& dequantize,
+                          const std::string& src_crs, const tt::Verbosity& verb, terrain::Grid* source) {
+  auto t0 = Clock::now();
+  terrain::DemInfo info = terrain::read_dem_info(input);
+  if (!src_crs.empty()) terrain::assign_crs(info.geo, src_crs);
+  const terrain::GridPlan plan = terrain::plan_grid(info.geo, info.rows, info.cols, req);
+  const terrain::RasterWindow& win = plan.source_window;
+  // Every buffer counted before anything is read: the source window (4 bytes a sample,
+  // kept for --fit-normals) and the mesh (measured peak 31 bytes a vertex on Logan at 10 m:
+  // grid, positions, normals, the writer's buffer).
+  terrain::check_memory(double(win.rows) * double(win.cols) * 4.0 + double(plan.rows) * double(plan.cols) * 32.0,
+                        fmt::format("a {} x {} mesh from {} x {} source samples", plan.cols, plan.rows, win.cols,
+                                    win.rows),
+                        "crop it (--bbox, or --center with --size) or give a coarser --spacing");
+  terrain::Grid dem = terrain::read_dem(input, tt::terminal_progress(verb, "read"), win);
+  if (!src_crs.empty()) terrain::assign_crs(dem.geo, src_crs);
+  tt::step(verb, fmt::format("read {} x {} of {} x {} samples: {:.2f} s", win.cols, win.rows, info.cols, info.rows,
+                             since(t0)));
+  // Integer heights terrace gentle slopes into flats: heights between the terraces' contours.
+  if (dequantize == "on" || (dequantize == "auto" && terrain::is_integer_dem(dem))) {
+    t0 = Clock::now();
+    const double change = terrain::dequantize(dem);
+    tt::step(verb, fmt::format("integer heights: steps smoothed between the terraces' contours "
+                               "(largest change {:.2f}): {:.2f} s",
+                               change, since(t0)));
+  }
+  t0 = Clock::now();
+  terrain::PreparedGrid prepared = terrain::resample_to_plan(dem, plan, req, tt::terminal_progress(verb, "resample"));
+  for (const auto& w : prepared.warnings) tt::warn(verb, w);
+  if (prepared.filled > 0) tt::warn(verb, fmt::format("filled {} no-data samples by interpolation", prepared.filled));
+  tt::step(verb, fmt::format("grid {} x {} at {} m: {:.2f} s", prepared.grid.cols, prepared.grid.rows,
+                             prepared.grid.geo.dx, since(t0)));
+  if (source) *source = std::move(dem);
+  return std::move(prepared.grid);
+}
+
+// Scattered points: read, projected to UTM if geographic, triangulated and interpolated
+// onto the grid; no-data samples (outside the hull, long triangles) are an error unless
+// --fill-nodata, as for rasters.
+terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& req, const PointOptions& o,
+                          const tt::Verbosity& verb, terrain::SourceSamples* source) {
+  if (!req.spacing) throw terrain::Error("scattered points need --spacing (the grid spacing in metres)");
+  auto t0 = Clock::now();
+  terrain::PointCloud points = terrain::read_points(input, tt::terminal_progress(verb, "read"));
+  terrain::project_points(points, o.src_crs, req.utm_zone);
+  tt::step(verb, fmt::format("read {} points ({}): {:.2f} s", points.size(), points.format, since(t0)));
+  if (source) *source = {points.x, points.y, points.z};
+  terrain::PointGridRequest pr;
+  pr.spacing = *req.spacing;
+  pr.interpolation = terrain::parse_point_interpolation(o.interpolation);
+  pr.max_edge = o.max_edge;
+  if (req.bbox) pr.bbox = req.bbox;
+  if (req.center && req.size)
+    pr.bbox = std::array<double, 4>{(*req.center)[0] - 0.5 * (*req.size)[0], (*req.center)[1] - 0.5 * (*req.size)[1],
+                                    (*req.center)[0] + 0.5 * (*req.size)[0], (*req.center)[1] + 0.5 * (*req.size)[1]};
+  t0 = Clock::now();
+  terrain::PointGridResult r = terrain::points_to_grid(points, pr, tt::terminal_progress(verb, "interpolate"));
+  if (r.duplicates) tt::warn(verb, fmt::format("{} points repeat an earlier x, y: their z is averaged", r.duplicates));
+  tt::step(verb, fmt::format("Delaunay triangulation of {} points, grid {} x {} at {} m ({}): {:.2f} s", r.vertices,
+                             r.grid.cols, r.grid.rows, pr.spacing, o.interpolation, since(t0)));
+  if (r.nodata) {
+    if (!req.fill_nodata)
+      throw terrain::Error(fmt::format("{} of {} grid samples lie outside the points' convex hull{}; crop with --bbox "
+                                       "or pass --fill-nodata",
+                                       r.nodata, r.grid.size(), o.max_edge > 0 ? " or in triangles over --max-edge" : ""));
+    tt::warn(verb, fmt::format("filled {} no-data samples by interpolation", terrain::fill_nodata(r.grid)));
+  }
+  return std::move(r.grid);
+}
+
+}  // namespace terrain::tools::mesh
