@@ -1,7 +1,7 @@
 // Reading a .dv, whole or by window, in either version (dv_internal.hpp).
 #include <cstring>
 
-#include "branches.hpp"
+#include "network/branches.hpp"
 #include "drainage/d8.hpp"
 #include "dv_internal.hpp"
 

@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <string>
 
-#include "branches.hpp"
+#include "network/branches.hpp"
 #include "drainage/d8.hpp"
 
 namespace drainage {
