@@ -3,6 +3,7 @@
 // (lines) and watersheds at given outlets (TauDEM's gagewatershed), in GeoPackages that
 // QGIS reads; each read from a .dv window by window. docs/build-drainage.md, "GIS layers".
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,18 @@ struct Watershed {
   std::uint64_t cells = 0;         // cells in its watershed (nested watersheds left out)
   std::int64_t downstream = -1;    // the watershed its outlet drains into, -1: none
 };
+
+// The points of rows r0 .. r0 + rows - 1, columns c0 .. c0 + cols - 1 of a .dv (as
+// read_dv_window gives them): the file's, or an in-memory database's for tests.
+using DvWindowReader = std::function<DrainageDb(std::size_t r0, std::size_t c0, std::size_t rows, std::size_t cols)>;
+
+// Outlets snapped as write_watersheds snaps them (below), on the grid of `h` whose points
+// `window` reads; `cells` receives each outlet's cell (row-major index). Throws
+// terrain::Error for a point outside the grid (in other coordinates: longitude and
+// latitude in a file without a CRS), a snap distance larger than the grid, a point with no
+// drainage point within reach, or two points on one cell.
+std::vector<Watershed> snap_outlets(const DvHeader& h, const std::vector<OutletPoint>& points, double snap_distance,
+                                    const DvWindowReader& window, std::vector<std::uint64_t>& cells);
 
 // Watersheds of `points` on the .dv at `dv_path`: each point moved to the cell of highest
 // accumulation whose centre lies within `snap_distance` metres (ties: the nearest, then

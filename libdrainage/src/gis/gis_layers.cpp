@@ -289,14 +289,10 @@ std::vector<OutletPoint> read_outlet_points(const std::string& path, const std::
   return out;
 }
 
-std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::vector<OutletPoint>& points,
-                                        double snap_distance, const std::string& gpkg_path,
-                                        const std::string& tif_path, const std::string& provenance,
-                                        const terrain::Progress& progress) {
-  const DvHeader h = read_dv_header(dv_path);
+std::vector<Watershed> snap_outlets(const DvHeader& h, const std::vector<OutletPoint>& points, double snap_distance,
+                                    const DvWindowReader& window, std::vector<std::uint64_t>& cells) {
   const std::size_t R = h.rows, C = h.cols;
   const terrain::Georef geo = dv_georef(h);
-  const double cell_area = h.dx * h.dy;
   auto centre_x = [&](std::size_t c) { return h.origin_x + double(c) * h.dx; };
   auto centre_y = [&](std::size_t r) { return h.origin_y - double(r) * h.dy; };
   if (!(snap_distance >= 0)) throw terrain::Error("the snap distance must be 0 or more metres");
@@ -320,10 +316,9 @@ std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::v
                 : ""));
   }
 
-  const terrain::GdalCacheLimit cache_limit;
-  // 1. Snap: the highest accumulation within the distance (a window of the file around it).
+  // The highest accumulation within the distance (a window of the file around it).
   std::vector<Watershed> ws(points.size());
-  std::vector<std::uint64_t> cells(points.size());
+  cells.assign(points.size(), 0);
   for (std::size_t k = 0; k < points.size(); ++k) {
     const OutletPoint& p = points[k];
     Watershed& w = ws[k];
@@ -336,8 +331,7 @@ std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::v
     bool found = false;
     double best_d = 0;
     if (c0 <= c1 && r0 <= r1) {
-      const DrainageDb win = read_dv_window(dv_path, std::size_t(r0), std::size_t(c0), std::size_t(r1 - r0 + 1),
-                                            std::size_t(c1 - c0 + 1));
+      const DrainageDb win = window(std::size_t(r0), std::size_t(c0), std::size_t(r1 - r0 + 1), std::size_t(c1 - c0 + 1));
       const std::size_t wc = win.header.cols;
       for (std::size_t i = 0; i < win.vertices.size(); ++i) {
         const DvVertex& v = win.vertices[i];
@@ -366,9 +360,18 @@ std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::v
                                          "{}): give one of them, or a smaller --snap-distance",
                                          j, k, points[j].fid, p.fid, w.row, w.col));
   }
-  terrain::report(progress, 0.05);
+  return ws;
+}
 
-  // 2. The file's directions, window by window, then each cell's nearest outlet downstream.
+namespace {
+
+// Each cell's watershed: the file's directions, window by window, then each cell's nearest
+// outlet downstream (`cells`: the outlets' cells); each outlet's downstream watershed and
+// cell count set in `ws`.
+terrain::BigVector<std::uint32_t> label_watersheds(const std::string& dv_path, const DvHeader& h,
+                                                   const std::vector<std::uint64_t>& cells, std::vector<Watershed>& ws,
+                                                   const terrain::Progress& progress) {
+  const std::size_t R = h.rows, C = h.cols;
   terrain::BigVector<std::uint32_t> label;
   {
     D8Codes dirs(R * C);
@@ -387,18 +390,14 @@ std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::v
   }
   for (const std::uint32_t l : label)
     if (l != kNone) ++ws[l].cells;
-  terrain::report(progress, 0.45);
+  return label;
+}
 
-  // 3. The raster, then its polygons.
-  {
-    terrain::RasterWriter tif(tif_path, geo, R, C, terrain::RasterType::UInt32, double(kNone), provenance);
-    const std::size_t band = 256;
-    for (std::size_t r0 = 0; r0 < R; r0 += band) tif.write_rows(r0, std::min(band, R - r0), &label[r0 * C]);
-    tif.commit();
-  }
-  terrain::BigVector<std::uint32_t>().swap(label);  // freed before polygonize
-  const auto polygons = polygonize_ids(tif_path, terrain::sub_progress(progress, 0.55, 0.95));
-
+// The GeoPackage's layers "outlets" (points at the outlet cells) and "watersheds" (their
+// polygons).
+void write_watershed_layers(const std::string& gpkg_path, const DvHeader& h, const std::vector<Watershed>& ws,
+                            const std::vector<std::pair<std::uint32_t, std::unique_ptr<OGRMultiPolygon>>>& polygons) {
+  const double cell_area = h.dx * h.dy;
   Gpkg gpkg(gpkg_path, h.crs_wkt);
   OGRLayer* outlets = gpkg.layer("outlets", wkbPoint,
                                  {{"id", OFTInteger64}, {"fid_given", OFTInteger64}, {"given_x", OFTReal},
@@ -437,6 +436,36 @@ std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::v
     gpkg.add(sheds, f);
   }
   gpkg.commit();
+}
+
+}  // namespace
+
+std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::vector<OutletPoint>& points,
+                                        double snap_distance, const std::string& gpkg_path,
+                                        const std::string& tif_path, const std::string& provenance,
+                                        const terrain::Progress& progress) {
+  const DvHeader h = read_dv_header(dv_path);
+  const std::size_t R = h.rows, C = h.cols;
+  const terrain::GdalCacheLimit cache_limit;
+  std::vector<std::uint64_t> cells;
+  std::vector<Watershed> ws = snap_outlets(
+      h, points, snap_distance,
+      [&](std::size_t r0, std::size_t c0, std::size_t rows, std::size_t cols) {
+        return read_dv_window(dv_path, r0, c0, rows, cols);
+      },
+      cells);
+  terrain::report(progress, 0.05);
+  terrain::BigVector<std::uint32_t> label = label_watersheds(dv_path, h, cells, ws, progress);
+  terrain::report(progress, 0.45);
+  // The raster, then its polygons.
+  {
+    terrain::RasterWriter tif(tif_path, dv_georef(h), R, C, terrain::RasterType::UInt32, double(kNone), provenance);
+    const std::size_t band = 256;
+    for (std::size_t r0 = 0; r0 < R; r0 += band) tif.write_rows(r0, std::min(band, R - r0), &label[r0 * C]);
+    tif.commit();
+  }
+  terrain::BigVector<std::uint32_t>().swap(label);  // freed before polygonize
+  write_watershed_layers(gpkg_path, h, ws, polygonize_ids(tif_path, terrain::sub_progress(progress, 0.55, 0.95)));
   terrain::report(progress, 1.0);
   return ws;
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <tuple>
 
@@ -100,6 +101,59 @@ TEST(Divides, BandsFindTheEdgesOfTheWholeGrid) {
         }
       EXPECT_EQ(unit_steps, pair.size()) << a << "-" << b << " seed " << seed;
     }
+}
+
+// Issue 49: outlet snapping on an in-memory grid (snap_outlets, as write_watersheds snaps
+// on the file). 6 x 8 points, 10 m apart, origin (point (0,0)'s centre) at 1000, 2000; the
+// accumulation is the column index + 1, but 50 at (2, 5), and (0, 0) is no-data.
+TEST(Watersheds, OutletsSnapOnAnInMemoryGrid) {
+  DvHeader h;
+  h.rows = 6, h.cols = 8, h.dx = h.dy = 10, h.origin_x = 1000, h.origin_y = 2000;
+  std::vector<std::uint32_t> acc(48);
+  for (std::size_t i = 0; i < acc.size(); ++i) acc[i] = std::uint32_t(i % 8 + 1);
+  acc[2 * 8 + 5] = 50;
+  const DvWindowReader window = [&](std::size_t r0, std::size_t c0, std::size_t rows, std::size_t cols) {
+    DrainageDb w;
+    w.header = h, w.header.rows = rows, w.header.cols = cols;
+    w.vertices.resize(rows * cols);
+    for (std::size_t r = 0; r < rows; ++r)
+      for (std::size_t c = 0; c < cols; ++c) {
+        DvVertex& v = w.vertices[r * cols + c];
+        v.accumulated = acc[(r0 + r) * 8 + c0 + c];
+        v.point_class = (r0 + r == 0 && c0 + c == 0) ? std::uint8_t(PointClass::Nodata) : std::uint8_t(PointClass::Channel);
+      }
+    return w;
+  };
+  std::vector<std::uint64_t> cells;
+  auto snap = [&](std::vector<OutletPoint> pts, double d) { return snap_outlets(h, pts, d, window, cells); };
+  // With 0, the cell holding the point: (1, 3), 3 m from its centre.
+  auto ws = snap({{1030, 1990 + 3, 7}}, 0);
+  ASSERT_EQ(ws.size(), 1u);
+  EXPECT_EQ(ws[0].row, 1u);
+  EXPECT_EQ(ws[0].col, 3u);
+  EXPECT_NEAR(ws[0].moved, 3.0, 1e-9);
+  EXPECT_EQ(cells[0], 1u * 8 + 3);
+  // Within 25 m of (1, 3): (2, 5) holds 50, 22.4 m away; within 15 m the highest is column 4.
+  ws = snap({{1030, 1990, 7}}, 25);
+  EXPECT_EQ(ws[0].row, 2u);
+  EXPECT_EQ(ws[0].col, 5u);
+  EXPECT_EQ(ws[0].accumulated, 50u);
+  EXPECT_NEAR(ws[0].moved, std::hypot(20.0, 10.0), 1e-9);
+  ws = snap({{1030, 1990, 7}}, 15);
+  EXPECT_EQ(ws[0].col, 4u);
+  EXPECT_EQ(ws[0].accumulated, 5u);
+  auto error = [&](std::vector<OutletPoint> pts, double d) {
+    try {
+      (void)snap(std::move(pts), d);
+      return std::string();
+    } catch (const terrain::Error& e) {
+      return std::string(e.what());
+    }
+  };
+  EXPECT_NE(error({{1000, 2000, 1}}, 0).find("no drainage point in its cell"), std::string::npos);  // no-data
+  EXPECT_NE(error({{900, 2000, 1}}, 0).find("lies outside the grid"), std::string::npos);
+  EXPECT_NE(error({{1030, 1990, 1}}, 1000).find("exceeds the grid's size"), std::string::npos);
+  EXPECT_NE(error({{1030, 1990, 1}, {1031, 1991, 2}}, 0).find("snap to the same cell"), std::string::npos);
 }
 
 TEST(Watersheds, EachCellGoesToItsNearestOutletDownstream) {
