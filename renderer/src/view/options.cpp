@@ -33,7 +33,7 @@ template <class Ref>
 OptionSpec number(std::string name, std::string group, double min, double max, std::string unit, std::string def,
                   std::string help, Ref ref, bool per_frame = false) {
   OptionSpec o{std::move(name), std::move(group), OptionType::Number, min, max, std::move(unit), {},
-               std::move(def),  std::move(help),  per_frame,          {},  {}, {}};
+               std::move(def),  std::move(help),  per_frame,          {},  {}, {}, {}, false};
   o.get = [ref](const RenderSettings& s) { return text_of(double(ref(s))); };
   o.store = [ref](RenderSettings& s, const std::string& t) {
     double v = 0;
@@ -55,7 +55,7 @@ OptionSpec integer(std::string name, std::string group, double min, double max, 
 OptionSpec flag(std::string name, std::string group, std::string help, std::function<bool(const RenderSettings&)> get,
                 std::function<void(RenderSettings&, bool)> set) {
   OptionSpec o{
-      std::move(name), std::move(group), OptionType::Bool, 0, 0, "", {}, "false", std::move(help), false, {}, {}, {}};
+      std::move(name), std::move(group), OptionType::Bool, 0, 0, "", {}, "false", std::move(help), false, {}, {}, {}, {}, false};
   o.get = [get](const RenderSettings& s) { return std::string(get(s) ? "true" : "false"); };
   o.store = [set](RenderSettings& s, const std::string& t) { set(s, t == "true"); };
   return o;
@@ -65,7 +65,7 @@ OptionSpec choice(std::string name, std::string group, OptionType type, std::vec
                   std::string def, std::string help, std::function<std::string(const RenderSettings&)> get,
                   std::function<void(RenderSettings&, const std::string&)> store) {
   return {std::move(name), std::move(group), type, 0, 0, "", std::move(choices), std::move(def), std::move(help), false,
-          std::move(get),  std::move(store), {}};
+          std::move(get),  std::move(store), {}, {}, false};
 }
 
 template <class Ref>
@@ -90,11 +90,16 @@ std::string edges_text(std::uint8_t kinds) {
   return join(v);
 }
 
-std::vector<OptionSpec> make_table() {
-  const std::string frame = "Frame", camera = "Camera and light", score = "Crease score", rules = "Crease network",
-                    strokes = "Crease strokes", sil = "Silhouettes", pel = "PELs", edges = "Edges", colours = "Colours",
-                    surface = "Surface";
-  std::vector<OptionSpec> t;
+// The table's groups: the --help sections and the viewer's panel headers, in order.
+struct GroupNames {
+  std::string frame = "Frame", camera = "Camera and light", score = "Crease score", rules = "Crease network",
+              strokes = "Crease strokes", sil = "Silhouettes", pel = "PELs", edges = "Edges", colours = "Colours",
+              surface = "Surface";
+};
+
+// The options of the frame: size, line scale, layers, view.
+void add_frame_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface] = g;
   t.push_back(choice(
       "size", frame, OptionType::Size, {}, "1280x720", "Image size WIDTHxHEIGHT in pixels",
       [](const RenderSettings& s) { return fmt::format("{}x{}", s.width, s.height); },
@@ -112,6 +117,11 @@ std::vector<OptionSpec> make_table() {
       "denoise-normals), edges (object-space edges of the mesh facets)",
       [](const RenderSettings& s) { return layers_text(s.layers); },
       [](RenderSettings& s, const std::string& v) { s.layers = parse_layers(v); }));
+}
+
+// The options of the camera, the light and the exaggeration.
+void add_camera_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface] = g;
   t.push_back(choice(
       "view", camera, OptionType::Enum, {"auto", "top", "relief"}, "auto",
       "The camera when no --eye and no --view-az is given (frame): auto, the whole terrain filling the frame, "
@@ -163,6 +173,11 @@ std::vector<OptionSpec> make_table() {
   t.push_back(number(
       "exaggeration", camera, 0.01, 100, "", "1", "Vertical exaggeration",
       [](auto& s) -> auto& { return s.style.exaggeration; }));
+}
+
+// The options of the crease score (and the PEL threshold, per frame too).
+void add_score_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface] = g;
   t.push_back(number(
       "sw", score, 0, 1, "", text_of(1.0 / 3), "Crease score: slope weight",
       [](auto& s) -> auto& { return s.frame.score.sw; }, true));
@@ -191,6 +206,11 @@ std::vector<OptionSpec> make_table() {
   t.push_back(number(
       "pel-threshold", pel, 0, 1, "", "0.1", "PELs: keep lines where |grad f| / max |grad f| exceeds this (tau)",
       [](auto& s) -> auto& { return s.frame.pel.threshold; }, true));
+}
+
+// The options of the crease network: which branches become creases.
+void add_network_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface] = g;
   t.push_back(number(
       "min-area", rules, 0, 1e15, "m^2", "10000",
       "Creases start where at least this area drains (channel initiation, m^2: 1 ha is 100 drainage points "
@@ -252,6 +272,11 @@ std::vector<OptionSpec> make_table() {
       "Smooth the D8 staircase of crease lines: Gaussian sigma along the line, in mesh spacings, and at "
       "least 1.5 drainage samples (0: the D8 polyline as it is)",
       [](auto& s) -> auto& { return s.rules.smooth_spacings; }));
+}
+
+// The options of the crease strokes: widths, fades, bridges, hidden runs.
+void add_strokes_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface] = g;
   t.push_back(number(
       "crease-width", strokes, 0.5, 20, "pixels", "1",
       "Crease width in pixels where little drains (basin share 0); it grows with the square root of "
@@ -309,6 +334,11 @@ std::vector<OptionSpec> make_table() {
     s.style.crease_lift = -1;  // auto
     if (v != "auto") parse_number(v, s.style.crease_lift);
   };
+}
+
+// The options of silhouettes, PELs and object-space edges.
+void add_lines_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface] = g;
   t.push_back(integer(
       "silhouette-width", sil, 1, 9, "pixels", "1",
       "Silhouette width in pixels (anti-aliased: a band 0.8 px wider about the line of the silhouette "
@@ -363,6 +393,11 @@ std::vector<OptionSpec> make_table() {
   t.push_back(number(
       "edge-width", edges, 0.5, 20, "pixels", "1.5", "Edges layer: width in pixels",
       [](auto& s) -> auto& { return s.style.edge_width; }));
+}
+
+// The options of colours and the surface.
+void add_look_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface] = g;
   t.push_back(colour(
       "background", colours, "#dde4ec", "Background colour (#rrggbb, r,g,b or a name)",
       [](auto& s) -> auto& { return s.style.background; }));
@@ -382,6 +417,19 @@ std::vector<OptionSpec> make_table() {
       "pixels-per-edge", surface, 1, 100, "pixels", "6",
       "Adaptive tessellation target: screen length of a tessellated edge, pixels",
       [](auto& s) -> auto& { return s.style.pixels_per_edge; }));
+}
+
+std::vector<OptionSpec> make_table() {
+  const GroupNames g;
+  const std::string& rules = g.rules;
+  std::vector<OptionSpec> t;
+  add_frame_options(t, g);
+  add_camera_options(t, g);
+  add_score_options(t, g);
+  add_network_options(t, g);
+  add_strokes_options(t, g);
+  add_lines_options(t, g);
+  add_look_options(t, g);
   // What --line-scale multiplies with a range the renderer draws it in (terrain_renderer.cpp's
   // buffers and pixel loops), and what rebuilds the creases.
   const std::map<std::string, OptionSpec::Range> drawn = {
