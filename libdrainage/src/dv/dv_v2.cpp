@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <memory>
 
 #include "drainage/d8.hpp"
@@ -64,33 +65,34 @@ V2Trailer read_v2_trailer(const std::string& path, OpenDv& d) {
   return t;
 }
 
-DrainageDb decode_v2_region(const std::string& path, OpenDv& d, const V2Trailer& t, std::size_t r0, std::size_t c0,
-                            std::size_t nr, std::size_t nc) {
-  const FixedHeader& f = d.f;
+// The points of the packed blocks `blocks` (of the region r0, c0, nr x nc) into db's
+// vertices, every stored field checked; each vertex's reserved byte gets its cut flag.
+// Block b's m points' byte planes, its checksum checked and decompressed into a buffer of
+// this thread's (a fresh one per block would cost the kernel's zeroing of new pages for
+// every block); nullptr after fail(why).
+const std::uint8_t* unpack_block(const std::vector<char>& in, std::uint32_t crc, std::size_t b, std::size_t m,
+                                 const std::function<void(const std::string&)>& fail) {
+  if (crc_of(in.data(), in.size()) != crc) {
+    fail("checksum mismatch in block " + std::to_string(b) + " (corrupt file)");
+    return nullptr;
+  }
+  thread_local std::vector<std::uint8_t> raw;
+  thread_local std::unique_ptr<ZSTD_DCtx, std::size_t (*)(ZSTD_DCtx*)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
+  if (raw.size() < kBytesPerPoint * m) raw.resize(kBytesPerPoint * m);
+  const std::size_t got = ZSTD_decompressDCtx(ctx.get(), raw.data(), kBytesPerPoint * m, in.data(), in.size());
+  if (ZSTD_isError(got) || got != kBytesPerPoint * m) {
+    fail("corrupt .dv (block " + std::to_string(b) + " does not decompress to its size)");
+    return nullptr;
+  }
+  return raw.data();
+}
+
+void decode_blocks(const std::string& path, const FixedHeader& f, const V2Trailer& t, const std::vector<std::size_t>& blocks,
+                   const std::vector<std::vector<char>>& packed, std::size_t r0, std::size_t c0, std::size_t nr,
+                   std::size_t nc, DrainageDb& db) {
   const std::size_t R = std::size_t(f.rows), C = std::size_t(f.cols), BR = f.block_rows, BC = f.block_cols;
   const std::size_t nbc = blocks_along(C, f.block_cols);
-  DrainageDb db;
-  db.header = d.h;
-  DvHeader& h = db.header;
-  h.rows = nr, h.cols = nc;
-  h.origin_x = d.h.origin_x + double(c0) * d.h.dx;
-  h.origin_y = d.h.origin_y - double(r0) * d.h.dy;
-  db.vertices.resize(nr * nc);
-  // Each vertex's reserved byte holds its cut flag until the classes are known, then 0.
-  auto cut = [&](std::size_t i) { return db.vertices[i].reserved != 0; };
-
-  // The blocks under the region, read in file order, decoded in parallel.
-  std::vector<std::size_t> blocks;
-  for (std::size_t br = r0 / BR; br * BR < r0 + nr; ++br)
-    for (std::size_t bc = c0 / BC; bc * BC < c0 + nc; ++bc) blocks.push_back(br * nbc + bc);
-  std::vector<std::vector<char>> packed(blocks.size());
-  for (std::size_t k = 0; k < blocks.size(); ++k) {
-    const std::size_t b = blocks[k];
-    packed[k].resize(t.bytes[b]);
-    d.in.seekg(std::streamoff(t.offset[b]));
-    d.in.read(packed[k].data(), std::streamsize(t.bytes[b]));
-    if (!d.in) throw terrain::Error(cannot(path, "read failed"));
-  }
+  const DvHeader& h = db.header;
   std::string error;
 #pragma omp parallel for schedule(dynamic)
   for (long k = 0; k < long(blocks.size()); ++k) {
@@ -100,22 +102,8 @@ DrainageDb decode_v2_region(const std::string& path, OpenDv& d, const V2Trailer&
 #pragma omp critical(dv_error)
       if (error.empty()) error = cannot(path, what);
     };
-    const std::vector<char>& in = packed[std::size_t(k)];
-    if (crc_of(in.data(), in.size()) != t.crc[b]) {
-      fail("checksum mismatch in block " + std::to_string(b) + " (corrupt file)");
-      continue;
-    }
-    // Per-thread buffers and context: a fresh one per block would cost the kernel's
-    // zeroing of new pages for every block.
-    thread_local std::vector<std::uint8_t> raw;
-    thread_local std::unique_ptr<ZSTD_DCtx, std::size_t (*)(ZSTD_DCtx*)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
-    if (raw.size() < kBytesPerPoint * m) raw.resize(kBytesPerPoint * m);
-    const std::size_t got = ZSTD_decompressDCtx(ctx.get(), raw.data(), kBytesPerPoint * m, in.data(), in.size());
-    if (ZSTD_isError(got) || got != kBytesPerPoint * m) {
-      fail("corrupt .dv (block " + std::to_string(b) + " does not decompress to its size)");
-      continue;
-    }
-    const std::uint8_t* planes = raw.data();
+    const std::uint8_t* planes = unpack_block(packed[std::size_t(k)], t.crc[b], b, m, fail);
+    if (!planes) continue;
     auto u32 = [&](std::size_t at, std::size_t q) {  // byte-shuffled planes: byte k of value q at at + k m + q
       return std::uint32_t(planes[at + q]) | std::uint32_t(planes[at + m + q]) << 8 |
              std::uint32_t(planes[at + 2 * m + q]) << 16 | std::uint32_t(planes[at + 3 * m + q]) << 24;
@@ -167,7 +155,14 @@ DrainageDb decode_v2_region(const std::string& path, OpenDv& d, const V2Trailer&
   }
   if (!error.empty()) throw terrain::Error(error);
 
-  // Downstream links (region indices) and classes from the codes.
+}
+
+// Downstream links (region indices) from the codes, each checked; returns the valid points.
+std::uint64_t link_downstream(const std::string& path, const FixedHeader& f, std::size_t r0, std::size_t c0,
+                              std::size_t nr, std::size_t nc, DrainageDb& db) {
+  const std::size_t R = std::size_t(f.rows), C = std::size_t(f.cols);
+  auto cut = [&](std::size_t i) { return db.vertices[i].reserved != 0; };
+  std::string error;
   const long NR = long(nr), NC = long(nc);
   std::uint64_t valid = 0;
 #pragma omp parallel for schedule(static) reduction(+ : valid)
@@ -201,7 +196,14 @@ DrainageDb decode_v2_region(const std::string& path, OpenDv& d, const V2Trailer&
       v.downstream = std::uint32_t(j);
     }
   if (!error.empty()) throw terrain::Error(error);
-  h.valid = valid;
+  return valid;
+}
+
+// The classes from the codes (exact where all 8 neighbours lie in the region); the cut
+// flags cleared.
+void classify(std::size_t nr, std::size_t nc, DrainageDb& db) {
+  const long NR = long(nr), NC = long(nc);
+  auto cut = [&](std::size_t i) { return db.vertices[i].reserved != 0; };
 #pragma omp parallel for schedule(static)
   for (long r = 0; r < NR; ++r)
     for (long c = 0; c < NC; ++c) {
@@ -214,6 +216,36 @@ DrainageDb decode_v2_region(const std::string& path, OpenDv& d, const V2Trailer&
     }
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < NR * NC; ++i) db.vertices[std::size_t(i)].reserved = 0;
+}
+
+DrainageDb decode_v2_region(const std::string& path, OpenDv& d, const V2Trailer& t, std::size_t r0, std::size_t c0,
+                            std::size_t nr, std::size_t nc) {
+  const FixedHeader& f = d.f;
+  const std::size_t C = std::size_t(f.cols), BR = f.block_rows, BC = f.block_cols;
+  const std::size_t nbc = blocks_along(C, f.block_cols);
+  DrainageDb db;
+  db.header = d.h;
+  DvHeader& h = db.header;
+  h.rows = nr, h.cols = nc;
+  h.origin_x = d.h.origin_x + double(c0) * d.h.dx;
+  h.origin_y = d.h.origin_y - double(r0) * d.h.dy;
+  db.vertices.resize(nr * nc);
+  // Each vertex's reserved byte holds its cut flag until the classes are known, then 0.
+  // The blocks under the region, read in file order, decoded in parallel.
+  std::vector<std::size_t> blocks;
+  for (std::size_t br = r0 / BR; br * BR < r0 + nr; ++br)
+    for (std::size_t bc = c0 / BC; bc * BC < c0 + nc; ++bc) blocks.push_back(br * nbc + bc);
+  std::vector<std::vector<char>> packed(blocks.size());
+  for (std::size_t k = 0; k < blocks.size(); ++k) {
+    const std::size_t b = blocks[k];
+    packed[k].resize(t.bytes[b]);
+    d.in.seekg(std::streamoff(t.offset[b]));
+    d.in.read(packed[k].data(), std::streamsize(t.bytes[b]));
+    if (!d.in) throw terrain::Error(cannot(path, "read failed"));
+  }
+  decode_blocks(path, f, t, blocks, packed, r0, c0, nr, nc, db);
+  h.valid = link_downstream(path, f, r0, c0, nr, nc, db);
+  classify(nr, nc, db);
   return db;
 }
 
