@@ -38,8 +38,10 @@ std::string fmt_box(const Box& b) {
 
 }  // namespace
 
-GridPlan plan_grid(const Georef& sg, std::size_t src_rows, std::size_t src_cols, const GridRequest& req) {
-  GridPlan out;
+namespace {
+
+// The request's own consistency, and a DEM of at least 2 x 2.
+void check_request(std::size_t src_rows, std::size_t src_cols, const GridRequest& req) {
   if (src_rows < 2 || src_cols < 2)
     throw Error(fmt::format("the DEM has {} x {} samples; a mesh needs at least 2 x 2", src_cols, src_rows));
   if (req.spacing && !(*req.spacing > 0.0 && std::isfinite(*req.spacing)))
@@ -52,86 +54,100 @@ GridPlan plan_grid(const Georef& sg, std::size_t src_rows, std::size_t src_cols,
     throw Error("the crop size must be positive");
   if (req.bbox && !((*req.bbox)[2] > (*req.bbox)[0] && (*req.bbox)[3] > (*req.bbox)[1]))
     throw Error("the bbox must be xmin ymin xmax ymax with xmin < xmax and ymin < ymax");
+}
 
-  const bool geographic = sg.crs_kind == CrsKind::Geographic;
-  if (!geographic && req.utm_zone)
-    throw Error("--utm-zone applies to geographic DEMs only; this DEM is in " + crs_name(sg));
-  if (sg.crs_kind == CrsKind::None) {
-    // Degrees read as metres would make a mesh of millimetre cells that no tool can use:
-    // an extent within the globe's and cells under 0.1 are degrees, refused.
-    const double west = sg.x0, east = sg.x0 + double(src_cols) * sg.dx;
-    const double north = sg.y0, south = sg.y0 - double(src_rows) * sg.dy;
-    if (west >= -180 && east <= 360 && south >= -90 && north <= 90 && sg.dx < 0.1 && sg.dy < 0.1)
-      throw Error(fmt::format("the DEM has no CRS and its coordinates look like degrees (x {:g}..{:g}, y {:g}..{:g}, "
-                              "cells of {:g} x {:g}): give its CRS with --src-crs EPSG:4326 (or gdal_translate "
-                              "-a_srs EPSG:4326)",
-                              west, east, south, north, sg.dx, sg.dy));
-    out.warnings.push_back("the DEM has no CRS: its coordinates are taken as metres (--src-crs gives one)");
-  }
+// A DEM without a CRS is taken as metres (a warning), unless its numbers are degrees: read
+// as metres they would make a mesh of millimetre cells that no tool can use, so an extent
+// within the globe's and cells under 0.1 are refused.
+void check_no_crs(const Georef& sg, std::size_t src_rows, std::size_t src_cols, std::vector<std::string>& warnings) {
+  const double west = sg.x0, east = sg.x0 + double(src_cols) * sg.dx;
+  const double north = sg.y0, south = sg.y0 - double(src_rows) * sg.dy;
+  if (west >= -180 && east <= 360 && south >= -90 && north <= 90 && sg.dx < 0.1 && sg.dy < 0.1)
+    throw Error(fmt::format("the DEM has no CRS and its coordinates look like degrees (x {:g}..{:g}, y {:g}..{:g}, "
+                            "cells of {:g} x {:g}): give its CRS with --src-crs EPSG:4326 (or gdal_translate "
+                            "-a_srs EPSG:4326)",
+                            west, east, south, north, sg.dx, sg.dy));
+  warnings.push_back("the DEM has no CRS: its coordinates are taken as metres (--src-crs gives one)");
+}
 
+// The target's spacing, lattice anchor (a target cell corner) and the box where its sample
+// centres may lie (inside the footprint of the source's sample centres).
+struct Lattice {
+  double sx = 0, sy = 0, ax = 0, ay = 0;
+  Box valid{};
+};
+
+// A geographic DEM onto UTM (the zone of its centre or req.utm_zone): out.target's CRS and
+// out.to_source set.
+Lattice geographic_lattice(const Georef& sg, std::size_t src_rows, std::size_t src_cols, const GridRequest& req,
+                           GridPlan& out) {
   Georef& tg = out.target;
-  double sx = 0, sy = 0;  // target spacing
-  double ax = 0, ay = 0;  // lattice anchor (a target cell corner)
-  Box valid{};            // where target sample centres may lie
-  ToSource& to_source = out.to_source;
-
-  if (geographic) {
-    const double lat_c = sg.y_of_row((double(src_rows) - 1) / 2);
-    const double lon_c = sg.x_of_col((double(src_cols) - 1) / 2);
-    const UtmZone zone = req.utm_zone ? parse_utm_zone(*req.utm_zone, lat_c) : standard_utm_zone(lat_c, lon_c);
-    tg.crs_wkt = utm_crs_wkt(sg.crs_wkt, zone, tg.epsg);
-    tg.crs_kind = CrsKind::Projected;
-    try {
-      // Default spacing: the N-S sample spacing in metres at the centre.
-      double xa, ya, xb, yb;
-      utm_forward(zone, lat_c - sg.dy / 2, lon_c, xa, ya);
-      utm_forward(zone, lat_c + sg.dy / 2, lon_c, xb, yb);
-      const double ns = std::round(std::hypot(xb - xa, yb - ya) * 100.0) / 100.0;
-      sx = sy = req.spacing.value_or(ns);
-      // Inner rectangle of the footprint of the source sample centres.
-      valid = {-1e300, -1e300, 1e300, 1e300};
-      for (std::size_t r = 0; r < src_rows; ++r) {
-        double x, y;
-        utm_forward(zone, sg.y_of_row(double(r)), sg.x_of_col(0), x, y);
-        valid.x0 = std::max(valid.x0, x);
-        utm_forward(zone, sg.y_of_row(double(r)), sg.x_of_col(double(src_cols - 1)), x, y);
-        valid.x1 = std::min(valid.x1, x);
-      }
-      for (std::size_t c = 0; c < src_cols; ++c) {
-        double x, y;
-        utm_forward(zone, sg.y_of_row(0), sg.x_of_col(double(c)), x, y);
-        valid.y1 = std::min(valid.y1, y);
-        utm_forward(zone, sg.y_of_row(double(src_rows - 1)), sg.x_of_col(double(c)), x, y);
-        valid.y0 = std::max(valid.y0, y);
-      }
-    } catch (const GeographicLib::GeographicErr& e) {
-      throw Error(fmt::format("cannot project the DEM into UTM zone {}{}: {}", zone.zone,
-                              zone.north ? "N" : "S", e.what()));
+  Lattice l;
+  const double lat_c = sg.y_of_row((double(src_rows) - 1) / 2);
+  const double lon_c = sg.x_of_col((double(src_cols) - 1) / 2);
+  const UtmZone zone = req.utm_zone ? parse_utm_zone(*req.utm_zone, lat_c) : standard_utm_zone(lat_c, lon_c);
+  tg.crs_wkt = utm_crs_wkt(sg.crs_wkt, zone, tg.epsg);
+  tg.crs_kind = CrsKind::Projected;
+  try {
+    // Default spacing: the N-S sample spacing in metres at the centre.
+    double xa, ya, xb, yb;
+    utm_forward(zone, lat_c - sg.dy / 2, lon_c, xa, ya);
+    utm_forward(zone, lat_c + sg.dy / 2, lon_c, xb, yb);
+    const double ns = std::round(std::hypot(xb - xa, yb - ya) * 100.0) / 100.0;
+    l.sx = l.sy = req.spacing.value_or(ns);
+    // Inner rectangle of the footprint of the source sample centres.
+    Box& valid = l.valid;
+    valid = {-1e300, -1e300, 1e300, 1e300};
+    for (std::size_t r = 0; r < src_rows; ++r) {
+      double x, y;
+      utm_forward(zone, sg.y_of_row(double(r)), sg.x_of_col(0), x, y);
+      valid.x0 = std::max(valid.x0, x);
+      utm_forward(zone, sg.y_of_row(double(r)), sg.x_of_col(double(src_cols - 1)), x, y);
+      valid.x1 = std::min(valid.x1, x);
     }
-    to_source = [zone, sg](double x, double y, double& row, double& col) {
-      double lat, lon;
-      UTMUPS::Reverse(zone.zone, zone.north, x, y, lat, lon);
-      row = sg.row_of_y(lat);
-      col = sg.col_of_x(lon);
-    };
-  } else {
-    tg = sg;
-    sx = req.spacing.value_or(sg.dx);
-    sy = req.spacing.value_or(sg.dy);
-    ax = sg.x0;
-    ay = sg.y0;
-    valid = {sg.x_of_col(0), sg.y_of_row(double(src_rows - 1)), sg.x_of_col(double(src_cols - 1)),
-             sg.y_of_row(0)};
-    to_source = [sg](double x, double y, double& row, double& col) {
-      row = sg.row_of_y(y);
-      col = sg.col_of_x(x);
-    };
-    out.separable = true;
+    for (std::size_t c = 0; c < src_cols; ++c) {
+      double x, y;
+      utm_forward(zone, sg.y_of_row(0), sg.x_of_col(double(c)), x, y);
+      valid.y1 = std::min(valid.y1, y);
+      utm_forward(zone, sg.y_of_row(double(src_rows - 1)), sg.x_of_col(double(c)), x, y);
+      valid.y0 = std::max(valid.y0, y);
+    }
+  } catch (const GeographicLib::GeographicErr& e) {
+    throw Error(fmt::format("cannot project the DEM into UTM zone {}{}: {}", zone.zone, zone.north ? "N" : "S",
+                            e.what()));
   }
-  if (valid.x1 <= valid.x0 || valid.y1 <= valid.y0)
-    throw Error("the DEM's footprint is empty after projection");
+  out.to_source = [zone, sg](double x, double y, double& row, double& col) {
+    double lat, lon;
+    UTMUPS::Reverse(zone.zone, zone.north, x, y, lat, lon);
+    row = sg.row_of_y(lat);
+    col = sg.col_of_x(lon);
+  };
+  return l;
+}
 
-  // The requested area, checked against the DEM's extent (valid centres + half a cell).
+// A projected DEM stays in its CRS, on its own cell lattice.
+Lattice projected_lattice(const Georef& sg, std::size_t src_rows, std::size_t src_cols, const GridRequest& req,
+                          GridPlan& out) {
+  out.target = sg;
+  Lattice l;
+  l.sx = req.spacing.value_or(sg.dx);
+  l.sy = req.spacing.value_or(sg.dy);
+  l.ax = sg.x0;
+  l.ay = sg.y0;
+  l.valid = {sg.x_of_col(0), sg.y_of_row(double(src_rows - 1)), sg.x_of_col(double(src_cols - 1)), sg.y_of_row(0)};
+  out.to_source = [sg](double x, double y, double& row, double& col) {
+    row = sg.row_of_y(y);
+    col = sg.col_of_x(x);
+  };
+  out.separable = true;
+  return l;
+}
+
+// The requested area (the whole DEM, --bbox or --center/--size), checked against the DEM's
+// extent (valid centres + half a cell), as the box of sample centres to take.
+Box requested_box(const Lattice& l, const GridRequest& req) {
+  const Box& valid = l.valid;
+  const double sx = l.sx, sy = l.sy;
   Box area = valid;
   if (req.bbox) area = {(*req.bbox)[0], (*req.bbox)[1], (*req.bbox)[2], (*req.bbox)[3]};
   if (req.center)
@@ -144,36 +160,20 @@ GridPlan plan_grid(const Georef& sg, std::size_t src_rows, std::size_t src_cols,
   if (area.x0 < extent.x0 - tol || area.x1 > extent.x1 + tol || area.y0 < extent.y0 - tol ||
       area.y1 > extent.y1 + tol)
     throw Error("the requested area (" + fmt_box(area) + ") reaches beyond the DEM (" + fmt_box(extent) + ")");
-  const Box take{std::max(area.x0, valid.x0), std::max(area.y0, valid.y0), std::min(area.x1, valid.x1),
-                 std::min(area.y1, valid.y1)};
+  return {std::max(area.x0, valid.x0), std::max(area.y0, valid.y0), std::min(area.x1, valid.x1),
+          std::min(area.y1, valid.y1)};
+}
 
-  long c0, c1, r0, r1;
-  const bool has_cols = lattice_range(ax, sx, take.x0, take.x1, c0, c1);
-  // Rows run southwards: row k covers y in [ay - (k+1)*sy, ay - k*sy].
-  const bool has_rows = lattice_range(-ay, sy, -take.y1, -take.y0, r0, r1);
-  const long cols = has_cols ? c1 - c0 + 1 : 0, rows = has_rows ? r1 - r0 + 1 : 0;
-  if (cols < 2 || rows < 2)
-    throw Error(fmt::format("the requested area holds {} x {} samples at {} m spacing; a mesh needs at least 2 x 2",
-                            std::max(cols, 0L), std::max(rows, 0L), sx));
-  if (double(cols) * double(rows) > double(std::numeric_limits<std::int32_t>::max()))
-    throw Error(fmt::format("the output would have {} x {} = {:.3g} samples, more than a mesh file can index "
-                            "(2^31 - 1); use a larger spacing or a smaller area",
-                            cols, rows, double(cols) * double(rows)));
-  tg.x0 = ax + double(c0) * sx;
-  tg.y0 = ay - double(r0) * sy;
-  tg.dx = sx;
-  tg.dy = sy;
-
-  out.rows = std::size_t(rows);
-  out.cols = std::size_t(cols);
-
-  // The source samples the kernel reads: the source coordinates of the target's boundary
-  // samples bound those of all (the map is smooth and one-to-one), plus the cubic kernel's
-  // reach (2) and one sample of rounding.
+// The source samples the kernel reads: the source coordinates of the target's boundary
+// samples bound those of all (the map is smooth and one-to-one), plus the cubic kernel's
+// reach (2) and one sample of rounding; at least 2 x 2 (read_dem's minimum), inside the source.
+RasterWindow source_window(const GridPlan& out, std::size_t src_rows, std::size_t src_cols) {
+  const Georef& tg = out.target;
+  const long rows = long(out.rows), cols = long(out.cols);
   double rmin = 1e300, rmax = -1e300, cmin = 1e300, cmax = -1e300;
   auto include = [&](long r, long c) {
     double sr, sc;
-    to_source(tg.x_of_col(double(c)), tg.y_of_row(double(r)), sr, sc);
+    out.to_source(tg.x_of_col(double(c)), tg.y_of_row(double(r)), sr, sc);
     rmin = std::min(rmin, sr), rmax = std::max(rmax, sr), cmin = std::min(cmin, sc), cmax = std::max(cmax, sc);
   };
   for (long c = 0; c < cols; ++c) include(0, c), include(rows - 1, c);
@@ -182,9 +182,43 @@ GridPlan plan_grid(const Georef& sg, std::size_t src_rows, std::size_t src_cols,
   auto clamp = [](double v, std::size_t n) { return std::size_t(std::clamp(v, 0.0, double(n - 1))); };
   const std::size_t wr0 = clamp(std::floor(rmin - margin), src_rows), wr1 = clamp(std::ceil(rmax + margin), src_rows);
   const std::size_t wc0 = clamp(std::floor(cmin - margin), src_cols), wc1 = clamp(std::ceil(cmax + margin), src_cols);
-  // At least 2 x 2 samples (read_dem's minimum), inside the source.
   const std::size_t wrows = std::max<std::size_t>(wr1 - wr0 + 1, 2), wcols = std::max<std::size_t>(wc1 - wc0 + 1, 2);
-  out.source_window = {std::min(wr0, src_rows - wrows), std::min(wc0, src_cols - wcols), wrows, wcols};
+  return {std::min(wr0, src_rows - wrows), std::min(wc0, src_cols - wcols), wrows, wcols};
+}
+
+}  // namespace
+
+GridPlan plan_grid(const Georef& sg, std::size_t src_rows, std::size_t src_cols, const GridRequest& req) {
+  GridPlan out;
+  check_request(src_rows, src_cols, req);
+  const bool geographic = sg.crs_kind == CrsKind::Geographic;
+  if (!geographic && req.utm_zone)
+    throw Error("--utm-zone applies to geographic DEMs only; this DEM is in " + crs_name(sg));
+  if (sg.crs_kind == CrsKind::None) check_no_crs(sg, src_rows, src_cols, out.warnings);
+  const Lattice l = geographic ? geographic_lattice(sg, src_rows, src_cols, req, out)
+                               : projected_lattice(sg, src_rows, src_cols, req, out);
+  if (l.valid.x1 <= l.valid.x0 || l.valid.y1 <= l.valid.y0) throw Error("the DEM's footprint is empty after projection");
+  const Box take = requested_box(l, req);
+  long c0, c1, r0, r1;
+  const bool has_cols = lattice_range(l.ax, l.sx, take.x0, take.x1, c0, c1);
+  // Rows run southwards: row k covers y in [ay - (k+1)*sy, ay - k*sy].
+  const bool has_rows = lattice_range(-l.ay, l.sy, -take.y1, -take.y0, r0, r1);
+  const long cols = has_cols ? c1 - c0 + 1 : 0, rows = has_rows ? r1 - r0 + 1 : 0;
+  if (cols < 2 || rows < 2)
+    throw Error(fmt::format("the requested area holds {} x {} samples at {} m spacing; a mesh needs at least 2 x 2",
+                            std::max(cols, 0L), std::max(rows, 0L), l.sx));
+  if (double(cols) * double(rows) > double(std::numeric_limits<std::int32_t>::max()))
+    throw Error(fmt::format("the output would have {} x {} = {:.3g} samples, more than a mesh file can index "
+                            "(2^31 - 1); use a larger spacing or a smaller area",
+                            cols, rows, double(cols) * double(rows)));
+  Georef& tg = out.target;
+  tg.x0 = l.ax + double(c0) * l.sx;
+  tg.y0 = l.ay - double(r0) * l.sy;
+  tg.dx = l.sx;
+  tg.dy = l.sy;
+  out.rows = std::size_t(rows);
+  out.cols = std::size_t(cols);
+  out.source_window = source_window(out, src_rows, src_cols);
   return out;
 }
 
