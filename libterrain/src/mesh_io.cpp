@@ -456,26 +456,76 @@ void write_mesh_ply_openmesh(const GridMesh& mesh, const std::string& path) {
              mesh, path, header_comments(mesh), 2);
 }
 
-void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
-  static_assert(std::endian::native == std::endian::little, "the PLY body is written as the host's floats");
-  const std::size_t nv = mesh.n_vertices(), nf = mesh.n_faces();
-  if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != nv)
-    throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
-  check_mesh_georef(mesh, "cannot write '" + path + "'");
-  const bool voronoi = !mesh.voronoi.empty(), change = mesh.normal_change.size() == nv;
-  // The header as OpenMesh writes it: custom properties in the order they were added.
+namespace {
+
+// The header as OpenMesh writes it: custom properties in the order they were added.
+std::string ply_header(const GridMesh& mesh, bool voronoi, bool change) {
   std::string header = "ply\nformat binary_little_endian 1.0\n" + header_comments(mesh);
-  header += fmt::format("element vertex {}\n", nv);
+  header += fmt::format("element vertex {}\n", mesh.n_vertices());
   for (const char* name : {"x", "y", "z", "nx", "ny", "nz"}) header += fmt::format("property float {}\n", name);
   if (voronoi) {
     header += "property float voronoi_area\n";
     for (const char* name : kTangent) header += fmt::format("property float {}\n", name);
   }
   if (change) header += "property float normal_change\n";
-  header += fmt::format("element face {}\nproperty list uchar int vertex_indices\n", nf);
+  header += fmt::format("element face {}\nproperty list uchar int vertex_indices\n", mesh.n_faces());
   if (voronoi)
     for (const char* name : kCornerArea) header += fmt::format("property float {}\n", name);
-  header += "end_header\n";
+  return header + "end_header\n";
+}
+
+// A piece of the body: vertex rows r0 .. r1 - 1, or cell rows (two faces each).
+struct PlyChunk {
+  bool faces;
+  std::size_t r0, r1;
+};
+
+// Fills `buf` with a chunk's records; returns the byte count.
+std::size_t fill_ply_chunk(const GridMesh& mesh, const PlyChunk& ch, bool voronoi, bool change, char* buf) {
+  const std::size_t cols = mesh.topo.cols;
+  char* at = buf;
+  auto put = [&](const void* p, std::size_t n) {
+    std::memcpy(at, p, n);
+    at += n;
+  };
+  if (!ch.faces) {
+    for (std::size_t i = ch.r0 * cols; i < ch.r1 * cols; ++i) {
+      put(mesh.positions[i].data(), 12);
+      put(mesh.normals[i].data(), 12);
+      if (voronoi) {
+        put(&mesh.voronoi.vertex_areas[i], 4);
+        put(mesh.voronoi.tangents[i].data(), 12);
+      }
+      if (change) put(&mesh.normal_change[i], 4);
+    }
+    return std::size_t(at - buf);
+  }
+  for (std::size_t r = ch.r0; r < ch.r1; ++r)
+    for (std::size_t c = 0; c + 1 < cols; ++c) {
+      const auto nw = std::int32_t(r * cols + c), ne = nw + 1, sw = std::int32_t(nw + std::int32_t(cols)), se = sw + 1;
+      const std::size_t f = mesh.topo.face_of_cell(r, c, 0);
+      // GridTopology::face's order: (NW, SW, SE), then (NW, SE, NE).
+      const std::int32_t tri[2][3] = {{nw, sw, se}, {nw, se, ne}};
+      for (int k = 0; k < 2; ++k) {
+        const std::uint8_t three = 3;
+        put(&three, 1);
+        put(tri[k], 12);
+        if (voronoi) put(mesh.voronoi.corner_areas[f + std::size_t(k)].data(), 12);
+      }
+    }
+  return std::size_t(at - buf);
+}
+
+}  // namespace
+
+void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
+  static_assert(std::endian::native == std::endian::little, "the PLY body is written as the host's floats");
+  const std::size_t nv = mesh.n_vertices();
+  if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != nv)
+    throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
+  check_mesh_georef(mesh, "cannot write '" + path + "'");
+  const bool voronoi = !mesh.voronoi.empty(), change = mesh.normal_change.size() == nv;
+  const std::string header = ply_header(mesh, voronoi, change);
   // The body in chunks of whole rows (vertex rows, then cell rows of two faces each).
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
   const std::size_t vertex_bytes = 24 + (voronoi ? 16 : 0) + (change ? 4 : 0), face_bytes = 13 + (voronoi ? 12 : 0);
@@ -485,47 +535,10 @@ void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
   const std::size_t vrow_bytes = cols * vertex_bytes, frow_bytes = 2 * (cols - 1) * face_bytes;
   const std::size_t vrows = std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(1, vrow_bytes));
   const std::size_t frows = std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(1, frow_bytes));
-  struct Chunk {
-    bool faces;
-    std::size_t r0, r1;  // vertex rows, or cell rows
-  };
-  std::vector<Chunk> chunks;
+  std::vector<PlyChunk> chunks;
   for (std::size_t r = 0; r < rows; r += vrows) chunks.push_back({false, r, std::min(rows, r + vrows)});
   for (std::size_t r = 0; r + 1 < rows; r += frows) chunks.push_back({true, r, std::min(rows - 1, r + frows)});
-  // Fills `buf` with a chunk's records; returns the byte count.
-  auto fill = [&](const Chunk& ch, char* buf) {
-    char* at = buf;
-    auto put = [&](const void* p, std::size_t n) {
-      std::memcpy(at, p, n);
-      at += n;
-    };
-    if (!ch.faces) {
-      for (std::size_t i = ch.r0 * cols; i < ch.r1 * cols; ++i) {
-        put(mesh.positions[i].data(), 12);
-        put(mesh.normals[i].data(), 12);
-        if (voronoi) {
-          put(&mesh.voronoi.vertex_areas[i], 4);
-          put(mesh.voronoi.tangents[i].data(), 12);
-        }
-        if (change) put(&mesh.normal_change[i], 4);
-      }
-      return std::size_t(at - buf);
-    }
-    for (std::size_t r = ch.r0; r < ch.r1; ++r)
-      for (std::size_t c = 0; c + 1 < cols; ++c) {
-        const auto nw = std::int32_t(r * cols + c), ne = nw + 1, sw = std::int32_t(nw + std::int32_t(cols)), se = sw + 1;
-        const std::size_t f = mesh.topo.face_of_cell(r, c, 0);
-        // GridTopology::face's order: (NW, SW, SE), then (NW, SE, NE).
-        const std::int32_t tri[2][3] = {{nw, sw, se}, {nw, se, ne}};
-        for (int k = 0; k < 2; ++k) {
-          const std::uint8_t three = 3;
-          put(&three, 1);
-          put(tri[k], 12);
-          if (voronoi) put(mesh.voronoi.corner_areas[f + std::size_t(k)].data(), 12);
-        }
-      }
-    return std::size_t(at - buf);
-  };
+  const auto fill = [&](const PlyChunk& ch, char* buf) { return fill_ply_chunk(mesh, ch, voronoi, change, buf); };
   write_stream_atomic(path, [&](std::ostream& out) {
     out.write(header.data(), std::streamsize(header.size()));
     // Two buffers: a helper thread fills the next chunk while this one writes.
@@ -552,13 +565,10 @@ void write_mesh_obj(const GridMesh& mesh, const std::string& path) {
   write_with(OM::IO::OBJWriter(), OM::IO::Options::VertexNormal, mesh, path, comments, 0);
 }
 
-GridMesh read_mesh_ply(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read '" + path + "': no such file or not readable");
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a directory");
-  const PlyHeader header = read_ply_header(in, path);
-  in.close();
+namespace {
+
+// The georeferencing and records of a terrain mesh's header comments, checked.
+GridMesh mesh_of_header(const PlyHeader& header, const std::string& path) {
   GridMesh m;
   int version = -1;
   bool has_grid = false, has_origin = false;
@@ -594,21 +604,12 @@ GridMesh read_mesh_ply(const std::string& path) {
       !(m.geo.dx > 0) || !(m.geo.dy > 0) || !std::isfinite(m.geo.dx) || !std::isfinite(m.geo.dy) ||
       !std::isfinite(m.geo.origin_x) || !std::isfinite(m.geo.origin_y) || !std::isfinite(m.geo.origin_z))
     throw Error("cannot read '" + path + "': invalid grid or origin comment");
-  check_mesh_georef(m, "cannot read '" + path + "'");
-  check_terrain_ply(header, m.topo, std::filesystem::file_size(path, ec), path);
-  silence_openmesh();
+  return m;
+}
 
-  GridMeshImporter importer(m);
-  OM::IO::Options opt(OM::IO::Options::VertexNormal | OM::IO::Options::Custom);
-  if (!OM::IO::PLYReader().read(path, importer, opt))
-    throw Error("cannot read '" + path + "': OpenMesh's PLY reader failed (corrupt or truncated file)");
-  if (!opt.vertex_has_normal()) throw Error("cannot read '" + path + "': it has no vertex normals");
-  if (m.positions.size() != m.topo.n_vertices())
-    throw Error(fmt::format("cannot read '{}': {} vertices, but its {} x {} grid needs {}", path, m.positions.size(),
-                            m.topo.rows, m.topo.cols, m.topo.n_vertices()));
-  if (importer.faces_read != m.topo.n_faces() || importer.bad_faces != 0)
-    throw Error(fmt::format("cannot read '{}': its faces are not the {} x {} grid triangulation ({} faces, {} differ)",
-                            path, m.topo.rows, m.topo.cols, importer.faces_read, importer.bad_faces));
+// Every vertex finite, every normal of unit length, every vertex on the lattice the grid
+// comment states.
+void check_vertices(const GridMesh& m, const std::string& path) {
   for (std::size_t i = 0; i < m.n_vertices(); ++i) {
     if (!m.positions[i].allFinite())
       throw Error(fmt::format("cannot read '{}': vertex {} (row {}, column {}) is not a finite number", path, i,
@@ -632,6 +633,10 @@ GridMesh read_mesh_ply(const std::string& path) {
                                 path, r * m.topo.cols + c, r, c, p.x(), p.y(), m.geo.dx, m.geo.dy, x, y));
     }
 
+}
+
+// The optional data: the Voronoi weights (all seven properties or none), the normal change.
+void read_optional(const std::string& path, GridMeshImporter& importer, GridMesh& m) {
   // Optional data: the Voronoi weights come as a set (all seven properties) or not at all.
   auto& k = importer.properties();
   auto& w = m.voronoi;
@@ -650,6 +655,35 @@ GridMesh read_mesh_ply(const std::string& path) {
   m.normal_change.resize(m.n_vertices());
   if (!k.vertex_floats("normal_change", [&](std::size_t i, float v) { m.normal_change[i] = v; }))
     m.normal_change = BigVector<float>{};
+}
+
+}  // namespace
+
+GridMesh read_mesh_ply(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot read '" + path + "': no such file or not readable");
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a directory");
+  const PlyHeader header = read_ply_header(in, path);
+  in.close();
+  GridMesh m = mesh_of_header(header, path);
+  check_mesh_georef(m, "cannot read '" + path + "'");
+  check_terrain_ply(header, m.topo, std::filesystem::file_size(path, ec), path);
+  silence_openmesh();
+
+  GridMeshImporter importer(m);
+  OM::IO::Options opt(OM::IO::Options::VertexNormal | OM::IO::Options::Custom);
+  if (!OM::IO::PLYReader().read(path, importer, opt))
+    throw Error("cannot read '" + path + "': OpenMesh's PLY reader failed (corrupt or truncated file)");
+  if (!opt.vertex_has_normal()) throw Error("cannot read '" + path + "': it has no vertex normals");
+  if (m.positions.size() != m.topo.n_vertices())
+    throw Error(fmt::format("cannot read '{}': {} vertices, but its {} x {} grid needs {}", path, m.positions.size(),
+                            m.topo.rows, m.topo.cols, m.topo.n_vertices()));
+  if (importer.faces_read != m.topo.n_faces() || importer.bad_faces != 0)
+    throw Error(fmt::format("cannot read '{}': its faces are not the {} x {} grid triangulation ({} faces, {} differ)",
+                            path, m.topo.rows, m.topo.cols, importer.faces_read, importer.bad_faces));
+  check_vertices(m, path);
+  read_optional(path, importer, m);
   return m;
 }
 
