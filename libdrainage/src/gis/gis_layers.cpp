@@ -517,39 +517,14 @@ std::size_t export_branches_gpkg(const DrainageDb& db, const std::string& path, 
   return n;
 }
 
-GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_path, const GpkgLayers& layers,
-                          const terrain::Progress& progress) {
-  const DvHeader h = read_dv_header(dv_path);
-  const std::size_t R = h.rows, C = h.cols;
-  if (h.basins > std::uint64_t(std::numeric_limits<std::int32_t>::max()))
-    throw terrain::Error("'" + dv_path + "' has more basins than GDAL's polygonize numbers (2^31)");
-  GpkgCounts counts;
-  Gpkg gpkg(out_path, h.crs_wkt);
-  OGRLayer* branches = layers.branches ? branches_layer(gpkg) : nullptr;
-  OGRLayer* basins = layers.basins ? gpkg.layer("basins", wkbMultiPolygon,
-                                                {{"id", OFTInteger64}, {"cells", OFTInteger64}, {"area_m2", OFTReal},
-                                                 {"outlet_x", OFTReal}, {"outlet_y", OFTReal}, {"outlet", OFTString},
-                                                 {"max_order", OFTInteger}})
-                                   : nullptr;
-  OGRLayer* divides = layers.divides ? gpkg.layer("divides", wkbMultiLineString,
-                                                  {{"basin_a", OFTInteger64}, {"basin_b", OFTInteger64},
-                                                   {"max_order", OFTInteger}, {"length_m", OFTReal}})
-                                     : nullptr;
-  gpkg.begin();
-  if (branches) counts.branches = write_branches(gpkg, branches, read_dv(dv_path), layers.min_order);
-  terrain::report(progress, 0.1);
-  if (!basins && !divides) {
-    gpkg.commit();
-    return counts;
-  }
+namespace {
 
-  // One pass over the file: the basin ids into a scratch GeoTIFF (for polygonize), each
-  // basin's outlet and cells, and the divide edges.
-  const terrain::GdalCacheLimit cache_limit;
-  std::vector<BasinFacts> facts(h.basins);
-  std::vector<DivideEdge> edges;
-  terrain::ScratchDir scratch(out_path);
-  const std::string ids_tif = (scratch.path() / "basin.tif").string();
+// One pass over the file: the basin ids into the GeoTIFF `ids_tif` (when given, for
+// polygonize), each basin's outlet and cells into `facts`, and the divide edges (when asked).
+void scan_basins(const std::string& dv_path, const DvHeader& h, const std::string& ids_tif, bool divides,
+                 std::vector<BasinFacts>& facts, std::vector<DivideEdge>& edges, const terrain::Progress& progress) {
+  const std::size_t R = h.rows, C = h.cols;
+  const bool basins = !ids_tif.empty();
   {
     std::optional<terrain::RasterWriter> tif;
     if (basins) tif.emplace(ids_tif, dv_georef(h), R, C, terrain::RasterType::UInt32, double(kNone));
@@ -582,55 +557,103 @@ GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_pat
   }
   for (std::size_t b = 0; b < facts.size(); ++b)
     if (!facts[b].has_outlet) throw terrain::Error(fmt::format("'{}': basin {} has no outlet (corrupt .dv)", dv_path, b));
+}
 
+// The "basins" layer: the polygons of the basin ids with their facts; returns their count.
+std::size_t write_basins(Gpkg& gpkg, OGRLayer* basins, const DvHeader& h, const std::string& ids_tif,
+                         const std::vector<BasinFacts>& facts, const terrain::Progress& progress) {
   const double cell_area = h.dx * h.dy;
-  if (basins) {
-    const auto polygons = polygonize_ids(ids_tif, terrain::sub_progress(progress, 0.4, 0.85));
-    for (const auto& [id, poly] : polygons) {
-      const BasinFacts& b = facts.at(id);
-      OGRFeature f(basins->GetLayerDefn());
-      f.SetField("id", GIntBig(id));
-      f.SetField("cells", GIntBig(b.cells));
-      f.SetField("area_m2", double(b.cells) * cell_area);
-      f.SetField("outlet_x", b.x);
-      f.SetField("outlet_y", b.y);
-      f.SetField("outlet", b.edge ? "edge" : "pit");
-      f.SetField("max_order", int(b.max_order));
-      f.SetGeometry(poly.get());
-      gpkg.add(basins, f);
-    }
-    counts.basins = polygons.size();
+  const auto polygons = polygonize_ids(ids_tif, terrain::sub_progress(progress, 0.4, 0.85));
+  for (const auto& [id, poly] : polygons) {
+    const BasinFacts& b = facts.at(id);
+    OGRFeature f(basins->GetLayerDefn());
+    f.SetField("id", GIntBig(id));
+    f.SetField("cells", GIntBig(b.cells));
+    f.SetField("area_m2", double(b.cells) * cell_area);
+    f.SetField("outlet_x", b.x);
+    f.SetField("outlet_y", b.y);
+    f.SetField("outlet", b.edge ? "edge" : "pit");
+    f.SetField("max_order", int(b.max_order));
+    f.SetGeometry(poly.get());
+    gpkg.add(basins, f);
   }
-  if (divides) {
-    std::sort(edges.begin(), edges.end(),
-              [](const DivideEdge& p, const DivideEdge& q) { return std::tie(p.a, p.b) < std::tie(q.a, q.b); });
-    const double x0 = h.origin_x - h.dx / 2, y0 = h.origin_y + h.dy / 2;
-    for (std::size_t i = 0; i < edges.size();) {
-      std::size_t j = i;
-      double length = 0;
-      while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) {
-        length += edges[j].to - edges[j].from == 1 ? h.dx : h.dy;
-        ++j;
-      }
-      const auto chains = chain_divide_edges({edges.begin() + std::ptrdiff_t(i), edges.begin() + std::ptrdiff_t(j)}, C);
-      OGRMultiLineString lines;
-      for (const auto& chain : chains) {
-        auto* line = new OGRLineString;
-        for (const std::uint64_t p : chain) line->addPoint(x0 + double(p % (C + 1)) * h.dx, y0 - double(p / (C + 1)) * h.dy);
-        lines.addGeometryDirectly(line);
-      }
-      const std::uint32_t a = edges[i].a, b = edges[i].b;
-      OGRFeature f(divides->GetLayerDefn());
-      f.SetField("basin_a", GIntBig(a));
-      f.SetField("basin_b", GIntBig(b));
-      f.SetField("max_order", int(std::max(facts[a].max_order, facts[b].max_order)));
-      f.SetField("length_m", length);
-      f.SetGeometry(&lines);
-      gpkg.add(divides, f);
-      ++counts.divides;
-      i = j;
+  return polygons.size();
+}
+
+// The "divides" layer: the edges between two basins chained into lines, one feature per pair
+// of basins; returns their count.
+std::size_t write_divides(Gpkg& gpkg, OGRLayer* divides, const DvHeader& h, std::vector<DivideEdge>& edges,
+                          const std::vector<BasinFacts>& facts) {
+  const std::size_t C = h.cols;
+  std::size_t n = 0;
+  std::sort(edges.begin(), edges.end(),
+            [](const DivideEdge& p, const DivideEdge& q) { return std::tie(p.a, p.b) < std::tie(q.a, q.b); });
+  const double x0 = h.origin_x - h.dx / 2, y0 = h.origin_y + h.dy / 2;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    double length = 0;
+    while (j < edges.size() && edges[j].a == edges[i].a && edges[j].b == edges[i].b) {
+      length += edges[j].to - edges[j].from == 1 ? h.dx : h.dy;
+      ++j;
     }
+    const auto chains = chain_divide_edges({edges.begin() + std::ptrdiff_t(i), edges.begin() + std::ptrdiff_t(j)}, C);
+    OGRMultiLineString lines;
+    for (const auto& chain : chains) {
+      auto* line = new OGRLineString;
+      for (const std::uint64_t p : chain) line->addPoint(x0 + double(p % (C + 1)) * h.dx, y0 - double(p / (C + 1)) * h.dy);
+      lines.addGeometryDirectly(line);
+    }
+    const std::uint32_t a = edges[i].a, b = edges[i].b;
+    OGRFeature f(divides->GetLayerDefn());
+    f.SetField("basin_a", GIntBig(a));
+    f.SetField("basin_b", GIntBig(b));
+    f.SetField("max_order", int(std::max(facts[a].max_order, facts[b].max_order)));
+    f.SetField("length_m", length);
+    f.SetGeometry(&lines);
+    gpkg.add(divides, f);
+    ++n;
+    i = j;
   }
+  return n;
+}
+
+}  // namespace
+
+GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_path, const GpkgLayers& layers,
+                          const terrain::Progress& progress) {
+  const DvHeader h = read_dv_header(dv_path);
+  if (h.basins > std::uint64_t(std::numeric_limits<std::int32_t>::max()))
+    throw terrain::Error("'" + dv_path + "' has more basins than GDAL's polygonize numbers (2^31)");
+  GpkgCounts counts;
+  Gpkg gpkg(out_path, h.crs_wkt);
+  OGRLayer* branches = layers.branches ? branches_layer(gpkg) : nullptr;
+  OGRLayer* basins = layers.basins ? gpkg.layer("basins", wkbMultiPolygon,
+                                                {{"id", OFTInteger64}, {"cells", OFTInteger64}, {"area_m2", OFTReal},
+                                                 {"outlet_x", OFTReal}, {"outlet_y", OFTReal}, {"outlet", OFTString},
+                                                 {"max_order", OFTInteger}})
+                                   : nullptr;
+  OGRLayer* divides = layers.divides ? gpkg.layer("divides", wkbMultiLineString,
+                                                  {{"basin_a", OFTInteger64}, {"basin_b", OFTInteger64},
+                                                   {"max_order", OFTInteger}, {"length_m", OFTReal}})
+                                     : nullptr;
+  gpkg.begin();
+  if (branches) counts.branches = write_branches(gpkg, branches, read_dv(dv_path), layers.min_order);
+  terrain::report(progress, 0.1);
+  if (!basins && !divides) {
+    gpkg.commit();
+    return counts;
+  }
+
+  // One pass over the file: the basin ids into a scratch GeoTIFF (for polygonize), each
+  // basin's outlet and cells, and the divide edges.
+  const terrain::GdalCacheLimit cache_limit;
+  std::vector<BasinFacts> facts(h.basins);
+  std::vector<DivideEdge> edges;
+  terrain::ScratchDir scratch(out_path);
+  const std::string ids_tif = (scratch.path() / "basin.tif").string();
+  scan_basins(dv_path, h, basins ? ids_tif : std::string(), divides != nullptr, facts, edges, progress);
+  if (basins) counts.basins = write_basins(gpkg, basins, h, ids_tif, facts, progress);
+  if (divides) counts.divides = write_divides(gpkg, divides, h, edges, facts);
   gpkg.commit();
   terrain::report(progress, 1.0);
   return counts;
