@@ -133,17 +133,15 @@ std::vector<Eigen::Vector3d> framing_points(const terrain::GridMesh& mesh, doubl
 
 }  // namespace
 
-AutoView auto_view(const terrain::GridMesh& mesh, double e, double fov_deg, double aspect, double view_alt,
-                   bool search_alt) {
-  const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
-  if (rows < 2 || cols < 2) throw terrain::Error("the mesh has no faces");
-  auto at = [&](std::size_t r, std::size_t c) { return drawn_vertex(mesh, r * cols + c, e); };
-  const std::vector<Eigen::Vector3d> points = framing_points(mesh, e);
-  // The coarse grid (at most 64 cells a side) for the coverage and the relief's axis.
-  const std::size_t k = std::max<std::size_t>(1, (std::max(rows, cols) + 63) / 64);
-  const auto rk = grid_samples(rows, k), ck = grid_samples(cols, k);
-  // Across the main relief: the principal axis of the height gradients (the structure
-  // tensor J = sum g g^T over the coarse cells), and the mean plane's uphill direction.
+// The main relief over the coarse grid's cells (rows rk x columns ck of `at`): the
+// principal axis of the height gradients (the structure tensor J = sum g g^T), as a
+// bearing, its anisotropy (1 - l2 / l1), and the mean plane's uphill direction.
+struct ReliefAxis {
+  double axis = 0, anisotropy = 0;
+  Eigen::Vector2d uphill{0, 0};
+};
+template <class At>
+ReliefAxis relief_axis(const At& at, const std::vector<std::size_t>& rk, const std::vector<std::size_t>& ck) {
   double jxx = 0, jxy = 0, jyy = 0, gx_sum = 0, gy_sum = 0;
   for (std::size_t i = 0; i + 1 < rk.size(); ++i)
     for (std::size_t j = 0; j + 1 < ck.size(); ++j) {
@@ -154,10 +152,56 @@ AutoView auto_view(const terrain::GridMesh& mesh, double e, double fov_deg, doub
     }
   const double tr = jxx + jyy, det = jxx * jyy - jxy * jxy, disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
   const double l1 = 0.5 * tr + disc, l2 = 0.5 * tr - disc;
+  ReliefAxis r;
   // The eigenvector of l1, (l1 - jyy, jxy) in (east, north), as a bearing.
-  const double axis = jxy == 0 ? (jxx >= jyy ? 90.0 : 0.0) : std::atan2(l1 - jyy, jxy) / kDeg;
-  const double anisotropy = l1 > 0 ? 1.0 - l2 / l1 : 0.0;
-  const Eigen::Vector2d uphill(gx_sum, gy_sum);
+  r.axis = jxy == 0 ? (jxx >= jyy ? 90.0 : 0.0) : std::atan2(l1 - jyy, jxy) / kDeg;
+  r.anisotropy = l1 > 0 ? 1.0 - l2 / l1 : 0.0;
+  r.uphill = Eigen::Vector2d(gx_sum, gy_sum);
+  return r;
+}
+
+// The share of a v.width x v.height frame the coarse grid's triangles cover.
+template <class At>
+double frame_coverage(const View& v, const At& at, const std::vector<std::size_t>& rk, const std::vector<std::size_t>& ck) {
+  const int mw = v.width, mh = v.height;
+  std::vector<std::uint8_t> mask(std::size_t(mw * mh), 0);
+  auto fill = [&](const Projected& p0, const Projected& p1, const Projected& p2) {
+    const double x0 = std::min({p0.u, p1.u, p2.u}), x1 = std::max({p0.u, p1.u, p2.u});
+    const double y0 = std::min({p0.v, p1.v, p2.v}), y1 = std::max({p0.v, p1.v, p2.v});
+    const double area = (p1.u - p0.u) * (p2.v - p0.v) - (p2.u - p0.u) * (p1.v - p0.v);
+    if (area == 0) return;
+    for (int y = std::max(0, int(std::floor(y0))); y < std::min(mh, int(std::ceil(y1))); ++y)
+      for (int x = std::max(0, int(std::floor(x0))); x < std::min(mw, int(std::ceil(x1))); ++x) {
+        const double px = x + 0.5, py = y + 0.5;
+        const double w0 = ((p1.u - px) * (p2.v - py) - (p2.u - px) * (p1.v - py)) / area;
+        const double w1 = ((p2.u - px) * (p0.v - py) - (p0.u - px) * (p2.v - py)) / area;
+        if (w0 >= 0 && w1 >= 0 && w0 + w1 <= 1) mask[std::size_t(y * mw + x)] = 1;
+      }
+  };
+  for (std::size_t i = 0; i + 1 < rk.size(); ++i)
+    for (std::size_t j = 0; j + 1 < ck.size(); ++j) {
+      const Eigen::Vector3d q[4] = {at(rk[i], ck[j]), at(rk[i], ck[j + 1]), at(rk[i + 1], ck[j]),
+                                    at(rk[i + 1], ck[j + 1])};
+      if (!q[0].allFinite() || !q[1].allFinite() || !q[2].allFinite() || !q[3].allFinite()) continue;
+      const Projected p[4] = {project(v, q[0]), project(v, q[1]), project(v, q[2]), project(v, q[3])};
+      fill(p[0], p[1], p[2]);
+      fill(p[1], p[3], p[2]);
+    }
+  return double(std::count(mask.begin(), mask.end(), 1)) / double(mask.size());
+}
+
+AutoView auto_view(const terrain::GridMesh& mesh, double e, double fov_deg, double aspect, double view_alt,
+                   bool search_alt) {
+  const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
+  if (rows < 2 || cols < 2) throw terrain::Error("the mesh has no faces");
+  auto at = [&](std::size_t r, std::size_t c) { return drawn_vertex(mesh, r * cols + c, e); };
+  const std::vector<Eigen::Vector3d> points = framing_points(mesh, e);
+  // The coarse grid (at most 64 cells a side) for the coverage and the relief's axis.
+  const std::size_t k = std::max<std::size_t>(1, (std::max(rows, cols) + 63) / 64);
+  const auto rk = grid_samples(rows, k), ck = grid_samples(cols, k);
+  const ReliefAxis relief = relief_axis(at, rk, ck);
+  const double axis = relief.axis, anisotropy = relief.anisotropy;
+  const Eigen::Vector2d& uphill = relief.uphill;
   AutoView best;
   double best_score = -1e300;
   const int mw = 160, mh = std::max(1, int(std::lround(160.0 / aspect)));
@@ -178,31 +222,7 @@ AutoView auto_view(const terrain::GridMesh& mesh, double e, double fov_deg, doub
     axes(az, v.forward, v.right, v.up);
     v.eye = frame_points(points, az, view_alt, fov_deg, double(mw) / double(mh), 1.02);
     v.near = 1e-3;
-    // Coverage: the coarse grid's triangles filled into a mw x mh mask.
-    std::vector<std::uint8_t> mask(std::size_t(mw * mh), 0);
-    auto fill = [&](const Projected& p0, const Projected& p1, const Projected& p2) {
-      const double x0 = std::min({p0.u, p1.u, p2.u}), x1 = std::max({p0.u, p1.u, p2.u});
-      const double y0 = std::min({p0.v, p1.v, p2.v}), y1 = std::max({p0.v, p1.v, p2.v});
-      const double area = (p1.u - p0.u) * (p2.v - p0.v) - (p2.u - p0.u) * (p1.v - p0.v);
-      if (area == 0) return;
-      for (int y = std::max(0, int(std::floor(y0))); y < std::min(mh, int(std::ceil(y1))); ++y)
-        for (int x = std::max(0, int(std::floor(x0))); x < std::min(mw, int(std::ceil(x1))); ++x) {
-          const double px = x + 0.5, py = y + 0.5;
-          const double w0 = ((p1.u - px) * (p2.v - py) - (p2.u - px) * (p1.v - py)) / area;
-          const double w1 = ((p2.u - px) * (p0.v - py) - (p0.u - px) * (p2.v - py)) / area;
-          if (w0 >= 0 && w1 >= 0 && w0 + w1 <= 1) mask[std::size_t(y * mw + x)] = 1;
-        }
-    };
-    for (std::size_t i = 0; i + 1 < rk.size(); ++i)
-      for (std::size_t j = 0; j + 1 < ck.size(); ++j) {
-        const Eigen::Vector3d q[4] = {at(rk[i], ck[j]), at(rk[i], ck[j + 1]), at(rk[i + 1], ck[j]),
-                                      at(rk[i + 1], ck[j + 1])};
-        if (!q[0].allFinite() || !q[1].allFinite() || !q[2].allFinite() || !q[3].allFinite()) continue;
-        const Projected p[4] = {project(v, q[0]), project(v, q[1]), project(v, q[2]), project(v, q[3])};
-        fill(p[0], p[1], p[2]);
-        fill(p[1], p[3], p[2]);
-      }
-    const double coverage = double(std::count(mask.begin(), mask.end(), 1)) / double(mask.size());
+    const double coverage = frame_coverage(v, at, rk, ck);
     const double across = std::pow(std::cos((az - axis) * kDeg), 2.0);
     const Eigen::Vector2d dir(std::sin(az * kDeg), std::cos(az * kDeg));
     const double score = coverage + kAcrossWeight * anisotropy * across + (dir.dot(uphill) > 0 ? kUphillWeight : 0.0);
