@@ -1,0 +1,135 @@
+// renderer/src/view/camera.cpp: the default view (the relief from its open side; the crater
+// and the dome of Mount St. Helens), projection and framing.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <numbers>
+
+#include "drainage/dv_file.hpp"
+#include "drainage/dv_views.hpp"
+#include "drainage/pipeline.hpp"
+#include "renderer/camera.hpp"
+#include "renderer/crease.hpp"
+#include "renderer/frames.hpp"
+#include "renderer/gl_context.hpp"
+#include "renderer/line_stats.hpp"
+#include "renderer/shader.hpp"
+#include "renderer/silhouette.hpp"
+#include "renderer/stroke_visibility.hpp"
+#include "renderer/terrain_renderer.hpp"
+#include "renderer/timing.hpp"
+#include "terrain/dem_io.hpp"
+#include "terrain/error.hpp"
+#include "terrain/hillshade.hpp"
+#include "terrain/pn_surface.hpp"
+#include "terrain/voronoi.hpp"
+#include "renderer/pel.hpp"
+#include <map>
+#include "test_support.hpp"
+
+namespace {
+
+using Eigen::Vector3d;
+using renderer::CreaseGeometry;
+using renderer::FrameParams;
+using renderer::TerrainRenderer;
+
+TEST(Camera, DefaultViewFramesTheReliefFromItsOpenSide) {
+  const double cx = 6000, cy = -3000;  // local frame: x east, y north (rows go south)
+  const auto mesh = terrain::test::function_mesh(161, 201, 50, [&](double x, double y) {
+    const double r = std::hypot(x - cx, y - cy);
+    const double cone = std::max(0.0, 1200.0 * (1 - r / 2500));
+    const double crater = r < 800 ? 600.0 * (1 - r * r / (800.0 * 800.0)) : 0.0;
+    // The breach: a trench north from the crater through the rim, 80 % of the cone deep.
+    const double breach = (y > cy && std::abs(x - cx) < 400) ? 0.8 * cone * (1 - std::abs(x - cx) / 400) : 0.0;
+    return cone - crater - breach;
+  });
+  const auto rv = renderer::relief_view(mesh, 1.0, 35, 16.0 / 9.0);
+  EXPECT_LT(std::hypot(rv.centre.x() - cx, rv.centre.y() - cy), 1500) << rv.centre.transpose();
+  EXPECT_EQ(rv.camera.view_az, 180.0);
+  EXPECT_EQ(rv.light.azimuth, 270.0);  // from the right of a view towards the south: west
+  ASSERT_TRUE(rv.camera.eye.has_value());
+  EXPECT_GT(rv.camera.eye->y(), cy);  // north of the cone
+  EXPECT_NO_THROW(renderer::check_eye_above_terrain(mesh, *rv.camera.eye, 1.0));
+  renderer::Box box{Vector3d(0, -8000, 0), Vector3d(10000, 0, 1200)};
+  const auto v = renderer::make_view(rv.camera, Vector3d::Zero(), box, 1280, 720);
+  const auto c = renderer::project(v, Vector3d(cx, cy, 800));
+  EXPECT_GT(c.u, 1280 / 3.0);
+  EXPECT_LT(c.u, 2 * 1280 / 3.0);
+  EXPECT_GT(c.v, 720 / 3.0);
+  EXPECT_LT(c.v, 2 * 720 / 3.0);
+}
+
+// The default view on Mount St. Helens (the bundled 2007 DEM as the demo's 50 m mesh):
+// it looks into the crater through its breach to the north, the lava dome (summit 2310 m
+// at 562490 E 5116070 N in the DEM) in the middle third across and in the upper two thirds
+// of the image, the highest point of the crater rim (2538 m, 562060 E 5115640 N) in the
+// image beyond it, and the eye above the terrain.
+TEST(Camera, DefaultViewOfMountStHelensShowsTheCraterAndTheDome) {
+  const terrain::GridMesh& mesh = terrain::test::msh_50m_mesh();
+  const int w = 1280, h = 720;
+  const auto rv = renderer::relief_view(mesh, 1.0, 35, double(w) / h);
+  EXPECT_GE(rv.camera.view_az, 150.0);  // towards the south, through the breach
+  EXPECT_LE(rv.camera.view_az, 210.0);
+  ASSERT_TRUE(rv.camera.eye.has_value());
+  EXPECT_NO_THROW(renderer::check_eye_above_terrain(mesh, *rv.camera.eye, 1.0));
+  const auto& g = mesh.geo;
+  const Vector3d origin(g.origin_x, g.origin_y, g.origin_z);
+  const renderer::Box box{Vector3d(0, -double(mesh.topo.rows - 1) * g.dy, 1300),
+                          Vector3d(double(mesh.topo.cols - 1) * g.dx, 0, 2600)};
+  const auto v = renderer::make_view(rv.camera, origin, box, w, h);
+  const auto dome = renderer::project(v, Vector3d(562490, 5116070, 2310) - origin);
+  const auto rim = renderer::project(v, Vector3d(562060, 5115640, 2538) - origin);
+  EXPECT_TRUE(dome.in_front);
+  EXPECT_GT(dome.u, w / 3.0);
+  EXPECT_LT(dome.u, 2 * w / 3.0);
+  EXPECT_GT(dome.v, 0.0);
+  EXPECT_LT(dome.v, 2 * h / 3.0);
+  EXPECT_TRUE(rim.in_front);
+  EXPECT_GT(rim.u, 0.0);
+  EXPECT_LT(rim.u, double(w));
+  EXPECT_GT(rim.v, 0.0);
+  EXPECT_LT(rim.v, dome.v);  // the rim beyond the dome
+}
+
+TEST(Camera, ProjectionAndFraming) {
+  renderer::Box box{{0, -3000, 100}, {4000, 0, 900}};
+  for (double az : {0.0, 135.0, 225.0}) {
+    for (double alt : {5.0, 30.0, 90.0}) {
+      renderer::Camera cam;
+      cam.view_az = az;
+      cam.view_alt = alt;
+      const auto v = renderer::make_view(cam, Vector3d::Zero(), box, 640, 360);
+      // A point straight ahead projects to the image centre.
+      const auto c = renderer::project(v, v.eye + 500 * v.forward);
+      EXPECT_NEAR(c.u, 320, 1e-6);
+      EXPECT_NEAR(c.v, 180, 1e-6);
+      EXPECT_NEAR(c.depth, v.near / 500, 1e-12);  // reversed z
+      // Every corner of the framed box is in the image.
+      for (int i = 0; i < 8; ++i) {
+        const Vector3d p((i & 1) ? box.hi.x() : box.lo.x(), (i & 2) ? box.hi.y() : box.lo.y(),
+                         (i & 4) ? box.hi.z() : box.lo.z());
+        const auto q = renderer::project(v, p);
+        EXPECT_TRUE(q.in_front);
+        EXPECT_GE(q.u, -1e-6) << az << " " << alt;
+        EXPECT_LE(q.u, 640 + 1e-6);
+        EXPECT_GE(q.v, -1e-6);
+        EXPECT_LE(q.v, 360 + 1e-6);
+      }
+    }
+  }
+  // Up in the world is up in the image; east is right when looking north.
+  renderer::Camera north;
+  north.view_az = 0;
+  north.view_alt = 0;
+  north.eye = Vector3d(0, 0, 0);
+  const auto v = renderer::make_view(north, Vector3d::Zero(), box, 100, 100);
+  EXPECT_LT(renderer::project(v, {0, 100, 10}).v, 50);
+  EXPECT_GT(renderer::project(v, {10, 100, 0}).u, 50);
+}
+
+}  // namespace
