@@ -196,31 +196,16 @@ VertexSegments vertex_segments(const CreaseGeometry& g, const std::vector<float>
 
 }  // namespace
 
-CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
-                                     const CreaseRules& rules) {
-  using terrain::DrainageLinks;
-  const auto& g = mesh.geo;
-  if (links.epsg != 0 && g.epsg != 0 && links.epsg != g.epsg)
-    throw terrain::Error("the drainage database (EPSG:" + std::to_string(links.epsg) + ") and the mesh (EPSG:" +
-                         std::to_string(g.epsg) + ") are in different CRSs");
-  const Eigen::Vector3d shift = links.origin - Eigen::Vector3d(g.origin_x, g.origin_y, g.origin_z);
-  const std::size_t n = links.size();
-  const BasinFlow flow = basin_flow(links, rules.edge_basin_min_share, rules.log_flow);
-  const std::vector<std::uint8_t> off_flat =
-      rules.one_line_per_flat ? off_main_flat_path(links) : std::vector<std::uint8_t>(n, 0);
+namespace {
 
-  // Compact index of every valid point.
-  std::vector<std::uint32_t> compact(n, DrainageLinks::kNone);
-  CreaseGeometry out;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!links.valid[i]) continue;
-    compact[i] = std::uint32_t(out.positions.size());
-    out.positions.emplace_back((links.positions[i].cast<double>() + shift).cast<float>());
-    out.source.push_back(std::uint32_t(i));
-    out.flow.push_back(flow.fc[i]);
-    out.share.push_back(flow.share[i]);
-  }
-  const std::size_t m = out.positions.size();
+// Which points' links to their downstream point become crease segments: valid ends, the
+// area, the flat rule, runs along the grid's edge, the contributing width, the valleys.
+std::vector<std::uint8_t> kept_links(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
+                                     const CreaseRules& rules, const std::vector<std::uint32_t>& compact,
+                                     const std::vector<std::uint8_t>& off_flat, const Eigen::Vector3d& shift,
+                                     const std::vector<float>& share) {
+  using terrain::DrainageLinks;
+  const std::size_t n = links.size();
   std::vector<std::uint8_t> keep(n, 0);
   const double cell_area = links.dx * links.dy;
   for (std::size_t i = 0; i < n; ++i) {
@@ -245,14 +230,15 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
     for (std::size_t i = 0; i < n; ++i)
       if (keep[i] && double(w[i]) < least) keep[i] = 0;
   }
-  if (rules.valley_branches) drop_branches_off_valleys(mesh, links, shift, flow.share, rules, keep);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!keep[i]) continue;
-    out.segments.push_back(compact[i]);
-    out.segments.push_back(compact[links.downstream[i]]);
-  }
+  if (rules.valley_branches) drop_branches_off_valleys(mesh, links, shift, share, rules, keep);
+  return keep;
+}
 
-  // PN normals above each vertex.
+// The PN shading normal above each crease vertex (the nearest vertex's normal off the mesh)
+// and the median |z - PN z| of those above it; throws when none lies on the mesh.
+void pn_normals_above(CreaseGeometry& out, const terrain::GridMesh& mesh) {
+  const auto& g = mesh.geo;
+  const std::size_t m = out.positions.size();
   out.normals.resize(m);
   std::vector<float> offset(m, -1.0f);  // |z - PN z| where above the mesh
   std::size_t inside = 0;
@@ -278,13 +264,14 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
     std::nth_element(offset.begin(), mid, offset.end());
     out.median_surface_offset = *mid;
   }
-  if (rules.smooth_spacings > 0 && std::min(links.dx, links.dy) > 0)
-    smooth_crease_lines(out, mesh,
-                        std::max(rules.smooth_spacings * std::min(g.dx, g.dy) / std::min(links.dx, links.dy),
-                                 rules.smooth_min_samples));
-  // Only the vertices of kept segments (in their order): the DM pass scores every vertex
-  // each frame, and most points of a network are on no crease (the paper's scene: 355,216
-  // points, 13,882 segments).
+}
+
+// Only the vertices of kept segments (in their order): the DM pass scores every vertex
+// each frame, and most points of a network are on no crease (the paper's scene: 355,216
+// points, 13,882 segments).
+void keep_segment_vertices(CreaseGeometry& out) {
+  using terrain::DrainageLinks;
+  const std::size_t m = out.positions.size();
   std::vector<std::uint32_t> used(m, DrainageLinks::kNone);
   for (const std::uint32_t v : out.segments) used[v] = 0;
   std::uint32_t kept = 0;
@@ -298,6 +285,47 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
   for (auto* v : {&out.positions, &out.normals}) v->resize(kept);
   out.source.resize(kept), out.flow.resize(kept), out.share.resize(kept);
   for (std::uint32_t& v : out.segments) v = used[v];
+}
+
+}  // namespace
+
+CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
+                                     const CreaseRules& rules) {
+  using terrain::DrainageLinks;
+  const auto& g = mesh.geo;
+  if (links.epsg != 0 && g.epsg != 0 && links.epsg != g.epsg)
+    throw terrain::Error("the drainage database (EPSG:" + std::to_string(links.epsg) + ") and the mesh (EPSG:" +
+                         std::to_string(g.epsg) + ") are in different CRSs");
+  const Eigen::Vector3d shift = links.origin - Eigen::Vector3d(g.origin_x, g.origin_y, g.origin_z);
+  const std::size_t n = links.size();
+  const BasinFlow flow = basin_flow(links, rules.edge_basin_min_share, rules.log_flow);
+  const std::vector<std::uint8_t> off_flat =
+      rules.one_line_per_flat ? off_main_flat_path(links) : std::vector<std::uint8_t>(n, 0);
+
+  // Compact index of every valid point.
+  std::vector<std::uint32_t> compact(n, DrainageLinks::kNone);
+  CreaseGeometry out;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!links.valid[i]) continue;
+    compact[i] = std::uint32_t(out.positions.size());
+    out.positions.emplace_back((links.positions[i].cast<double>() + shift).cast<float>());
+    out.source.push_back(std::uint32_t(i));
+    out.flow.push_back(flow.fc[i]);
+    out.share.push_back(flow.share[i]);
+  }
+  const std::vector<std::uint8_t> keep = kept_links(mesh, links, rules, compact, off_flat, shift, flow.share);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!keep[i]) continue;
+    out.segments.push_back(compact[i]);
+    out.segments.push_back(compact[links.downstream[i]]);
+  }
+
+  pn_normals_above(out, mesh);
+  if (rules.smooth_spacings > 0 && std::min(links.dx, links.dy) > 0)
+    smooth_crease_lines(out, mesh,
+                        std::max(rules.smooth_spacings * std::min(g.dx, g.dy) / std::min(links.dx, links.dy),
+                                 rules.smooth_min_samples));
+  keep_segment_vertices(out);
   return out;
 }
 
