@@ -242,13 +242,23 @@ AutoView auto_view(const terrain::GridMesh& mesh, double e, double fov_deg, doub
   return best;
 }
 
-ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, double aspect, double view_alt) {
+// The local relief of every coarse cell (f x f mesh cells, their corner vertices
+// included): max - min over the h x h cells centred on it (h about a sixth of the shorter
+// side, `hh` its half); `top` the largest.
+struct LocalRelief {
+  std::size_t f = 1, R = 0, C = 0;
+  long hh = 0;
+  std::vector<double> relief;
+  double top = 0;
+};
+LocalRelief local_relief(const terrain::GridMesh& mesh) {
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
-  if (rows < 2 || cols < 2) throw terrain::Error("the mesh has no faces");
   const auto z = [&](std::size_t r, std::size_t c) { return double(mesh.positions[r * cols + c].z()); };
+  LocalRelief out;
   // Coarse cells of f x f mesh cells (their corner vertices included): their lowest and
   // highest heights.
   const std::size_t f = (std::max(rows, cols) + 94) / 95, R = (rows - 2) / f + 1, C = (cols - 2) / f + 1;
+  out.f = f, out.R = R, out.C = C;
   std::vector<double> lo(R * C, 1e300), hi(R * C, -1e300);
   for (std::size_t i = 0; i < R; ++i)
     for (std::size_t j = 0; j < C; ++j)
@@ -260,8 +270,10 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
   // Local relief of every coarse cell: max - min over the h x h cells centred on it (h
   // about a sixth of the shorter side).
   const long hh = std::max<long>(1, long(std::min(R, C)) / 6) / 2;
-  std::vector<double> relief(R * C, 0.0);
-  double top = 0;
+  out.hh = hh;
+  std::vector<double>& relief = out.relief;
+  relief.assign(R * C, 0.0);
+  double& top = out.top;
   for (long i = 0; i < long(R); ++i)
     for (long j = 0; j < long(C); ++j) {
       double a = 1e300, b = -1e300;
@@ -271,6 +283,39 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
       relief[std::size_t(i) * C + std::size_t(j)] = b - a;
       top = std::max(top, b - a);
     }
+  return out;
+}
+
+// The open side of a subject at `centre` (local) of half-width w: the bearing (every 15
+// degrees) from which the heights between the eye and the subject are lowest.
+double open_side(const terrain::GridMesh& mesh, const Eigen::Vector2d& centre, double w, double wlo) {
+  const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
+  const auto z = [&](std::size_t r, std::size_t c) { return double(mesh.positions[r * cols + c].z()); };
+  const auto& g = mesh.geo;
+  // The eye's bearing from the centre is the view's bearing + 180.
+  double view_az = 225, lowest = 1e300;
+  for (int a = 0; a < 360; a += 15) {
+    const Eigen::Vector2d towards_eye = -Eigen::Vector2d(std::sin(a * kDeg), std::cos(a * kDeg));
+    double sum = 0;
+    for (int s = 0; s <= 8; ++s) {
+      const Eigen::Vector2d p = centre + w * (0.25 + 0.125 * s) * towards_eye;
+      const double c = std::round(p.x() / g.dx), r = std::round(-p.y() / g.dy);
+      sum += (c >= 0 && r >= 0 && c < double(cols) && r < double(rows)) ? z(std::size_t(r), std::size_t(c)) : wlo;
+    }
+    if (sum < lowest - 1e-9 * std::abs(lowest)) lowest = sum, view_az = a;
+  }
+  return view_az;
+}
+
+ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, double aspect, double view_alt) {
+  const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
+  if (rows < 2 || cols < 2) throw terrain::Error("the mesh has no faces");
+  const auto z = [&](std::size_t r, std::size_t c) { return double(mesh.positions[r * cols + c].z()); };
+  const LocalRelief lr = local_relief(mesh);
+  const std::size_t f = lr.f, R = lr.R, C = lr.C;
+  const long hh = lr.hh;
+  const std::vector<double>& relief = lr.relief;
+  const double top = lr.top;
   // The subject: the cells of at least 3/4 of the largest local relief (the walls of a
   // crater, the front of a range) around the one of largest relief: its centre is their
   // relief-weighted mean within half the grid's shorter side, moved there until it stays
@@ -311,18 +356,7 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
     for (std::size_t c = c0; c <= c1; ++c) wlo = std::min(wlo, z(r, c)), whi = std::max(whi, z(r, c)), mean += z(r, c);
   mean /= double((r1 - r0 + 1) * (c1 - c0 + 1));
   const double w = std::max(half.x(), half.y());
-  // The open side: the eye's bearing from the centre is the view's bearing + 180.
-  double view_az = 225, lowest = 1e300;
-  for (int a = 0; a < 360; a += 15) {
-    const Eigen::Vector2d towards_eye = -Eigen::Vector2d(std::sin(a * kDeg), std::cos(a * kDeg));
-    double sum = 0;
-    for (int s = 0; s <= 8; ++s) {
-      const Eigen::Vector2d p = centre + w * (0.25 + 0.125 * s) * towards_eye;
-      const double c = std::round(p.x() / g.dx), r = std::round(-p.y() / g.dy);
-      sum += (c >= 0 && r >= 0 && c < double(cols) && r < double(rows)) ? z(std::size_t(r), std::size_t(c)) : wlo;
-    }
-    if (sum < lowest - 1e-9 * std::abs(lowest)) lowest = sum, view_az = a;
-  }
+  const double view_az = open_side(mesh, centre, w, wlo);
   // The eye looks at the subject's centre at its mean height, from 1.5 times the distance
   // that frames its box: the subject fills about the middle two thirds of the frame.
   const Box box{{centre.x() - half.x(), centre.y() - half.y(), wlo * e}, {centre.x() + half.x(), centre.y() + half.y(), whi * e}};
