@@ -34,16 +34,11 @@ const char* to_string(PointClass c) {
   return "?";
 }
 
-Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
-                        const terrain::Progress& progress, NetworkDetail detail) {
-  const std::size_t n = rows * cols;
-  if (dirs.size() != n) throw terrain::Error("analyze_network: direction grid does not match rows x cols");
-  if (n >= std::size_t(kNone)) throw terrain::Error("analyze_network: more than 2^32 - 1 points");
-  Network net;
-  const long R = long(rows), C = long(cols);
-  const Neighbours nb{R, C};
+namespace {
 
-  // Downstream links: in-grid, valid targets only.
+// Downstream links: in-grid, valid targets only.
+void link_downstream(const D8Codes& dirs, long R, long C, Network& net) {
+  const std::size_t n = std::size_t(R * C);
   parallel_assign(net.downstream, n, kNone);
 #pragma omp parallel for schedule(static)
   for (long r = 0; r < R; ++r)
@@ -56,11 +51,14 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
       const std::size_t j = std::size_t(rr * C + cc);
       if (dirs[j] != kNodata) net.downstream[i] = std::uint32_t(j);
     }
-  terrain::report(progress, 0.1);
+}
 
-  // Inflow masks (bit k: the neighbour at (r - kDRow[k], c - kDCol[k]) drains in; gathered
-  // per point, so no write conflicts), in-degrees still pending, classes and the pits.
-  terrain::BigVector<std::uint8_t> inflow, pending;
+// Inflow masks (bit k: the neighbour at (r - kDRow[k], c - kDCol[k]) drains in; gathered
+// per point, so no write conflicts), in-degrees still pending, classes and the pits.
+void classify_points(const D8Codes& dirs, long R, long C, Network& net, terrain::BigVector<std::uint8_t>& inflow,
+                     terrain::BigVector<std::uint8_t>& pending) {
+  const std::size_t n = std::size_t(R * C);
+  const Neighbours nb{R, C};
   parallel_assign(inflow, n, 0);
   parallel_assign(pending, n, 0);
   parallel_assign(net.point_class, n, std::uint8_t(PointClass::Nodata));
@@ -92,13 +90,17 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
   }
   std::sort(net.pits.begin(), net.pits.end());
   net.points = points;
-  terrain::report(progress, 0.2);
+}
 
-  // Flow and Strahler order in topological order, on all threads: from each source walk
-  // downstream; a point is computed from its inflows (1 + their flow; their largest order,
-  // plus one where two or more carry it) by the walk that delivers its last inflow (the
-  // acquire-release count makes the other walks' results visible). Sums and maxima do not
-  // depend on the order of arrival, so neither do the results.
+// Flow and Strahler order in topological order, on all threads: from each source walk
+// downstream; a point is computed from its inflows (1 + their flow; their largest order,
+// plus one where two or more carry it) by the walk that delivers its last inflow (the
+// acquire-release count makes the other walks' results visible). Sums and maxima do not
+// depend on the order of arrival, so neither do the results.
+// `pending` ends holding the branch heads' marks.
+void flow_and_order(const D8Codes& dirs, long R, long C, Network& net, terrain::BigVector<std::uint8_t>& inflow,
+                    terrain::BigVector<std::uint8_t>& pending) {
+  const std::size_t n = std::size_t(R * C);
   std::ptrdiff_t offset[8];
   for (int k = 0; k < 8; ++k) offset[k] = -(kDRow[k] * C + kDCol[k]);
   parallel_assign(net.accumulated, n, 0);
@@ -139,11 +141,13 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
                          " points never reach a pit or outlet");
   terrain::BigVector<std::uint8_t>().swap(inflow);
   net.branch_count = heads;
-  terrain::report(progress, 0.5);
+}
 
-  // Basins, numbered by ascending pit index. Every other point takes its pit's basin: walk
-  // downstream to a point whose basin is known and give it to the points on the way (two
-  // threads may write the same value to a point: relaxed atomics).
+// Basins, numbered by ascending pit index. Every other point takes its pit's basin: walk
+// downstream to a point whose basin is known and give it to the points on the way (two
+// threads may write the same value to a point: relaxed atomics).
+void assign_basins(const D8Codes& dirs, long R, long C, Network& net) {
+  const std::size_t n = std::size_t(R * C);
   parallel_assign(net.basin, n, kNone);
 #pragma omp parallel for schedule(static)
   for (long k = 0; k < long(net.pits.size()); ++k) net.basin[net.pits[std::size_t(k)]] = std::uint32_t(k);
@@ -164,6 +168,29 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
         for (const std::uint32_t p : path) __atomic_store_n(&net.basin[p], b, __ATOMIC_RELAXED);
       }
   }
+}
+
+}  // namespace
+
+Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
+                        const terrain::Progress& progress, NetworkDetail detail) {
+  const std::size_t n = rows * cols;
+  if (dirs.size() != n) throw terrain::Error("analyze_network: direction grid does not match rows x cols");
+  if (n >= std::size_t(kNone)) throw terrain::Error("analyze_network: more than 2^32 - 1 points");
+  Network net;
+  const long R = long(rows), C = long(cols);
+
+  link_downstream(dirs, R, C, net);
+  terrain::report(progress, 0.1);
+
+  terrain::BigVector<std::uint8_t> inflow, pending;
+  classify_points(dirs, R, C, net, inflow, pending);
+  terrain::report(progress, 0.2);
+
+  flow_and_order(dirs, R, C, net, inflow, pending);
+  terrain::report(progress, 0.5);
+
+  assign_basins(dirs, R, C, net);
   if (detail == NetworkDetail::Lean) {
     terrain::report(progress, 1.0);
     return net;
