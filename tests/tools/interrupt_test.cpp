@@ -9,6 +9,7 @@
 #include <chrono>
 #include <csignal>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <thread>
 
@@ -39,27 +40,22 @@ bool wait_for_entries(const std::string& dir, std::size_t n, double limit_s = 30
   return true;
 }
 
-// Logan at 10 m (14.4 M points), made once for the tests below.
-const std::string& logan10() {
+// Logan's DEM resampled to `m` metres (cubic), made once per resolution for the tests below.
+const std::string& logan_at(int m) {
   static terrain::test::ScratchDir dir;
-  static const std::string tif = [] {
-    const std::string t = dir.path("logan10.tif");
-    EXPECT_EQ(std::system(("gdalwarp -q -r cubic -tr 10 10 " + data("logan_utm12n_100m.tif") + " " + t).c_str()), 0);
-    return t;
-  }();
-  return tif;
+  static std::map<int, std::string> made;
+  if (!made.count(m)) {
+    const std::string t = dir.path("logan" + std::to_string(m) + ".tif");
+    const std::string tr = std::to_string(m) + " " + std::to_string(m);
+    EXPECT_EQ(std::system(("gdalwarp -q -r cubic -tr " + tr + " " + data("logan_utm12n_100m.tif") + " " + t).c_str()), 0);
+    made[m] = t;
+  }
+  return made[m];
 }
-
-// Logan at 30 m (1.6 M points): long enough phases to interrupt, quick to run.
-const std::string& logan30() {
-  static terrain::test::ScratchDir dir;
-  static const std::string tif = [] {
-    const std::string t = dir.path("logan30.tif");
-    EXPECT_EQ(std::system(("gdalwarp -q -r cubic -tr 30 30 " + data("logan_utm12n_100m.tif") + " " + t).c_str()), 0);
-    return t;
-  }();
-  return tif;
-}
+// Logan at 10 m (14.4 M points); at 30 m (1.6 M points: long enough phases to interrupt,
+// quick to run).
+const std::string& logan10() { return logan_at(10); }
+const std::string& logan30() { return logan_at(30); }
 
 // The race: the same tiled command twice on one output, the second started while
 // the first is working and interrupted. Before, both used OUT.dv.filled.tmp and

@@ -287,6 +287,17 @@ TEST(DvFile, RejectsDamagedVersion2Files) {
   expect_error(dir.path("a.dv"), "no end record");
 }
 
+// A .dv of one block of 2 x 2 points (4 valid, 2 branches) with the given fields and basins.
+std::string one_block_dv(const std::string& path, const DvHeader& h, const DvBlockFields& f,
+                         const std::vector<std::uint32_t>& pits, const std::vector<std::uint32_t>& pit_acc) {
+  terrain::write_stream_atomic(path, [&](std::ostream& out) {
+    DvBlockWriter w(out, path, h);
+    w.put_block(0, encode_dv_block(f));
+    w.finish(4, 2, pits, pit_acc);
+  });
+  return path;
+}
+
 // Blocks with valid checksums but impossible contents (as a hostile file can have).
 TEST(DvFile, RejectsBadFieldsBehindValidBlockChecksums) {
   terrain::test::ScratchDir dir;
@@ -300,12 +311,7 @@ TEST(DvFile, RejectsBadFieldsBehindValidBlockChecksums) {
     f.basin = {1, 1, 0, 1};
     std::vector<std::uint32_t> pits = {2, 3}, pit_acc = {1, 3};
     spoil(f, pits, pit_acc);
-    terrain::write_stream_atomic(dir.path("x.dv"), [&](std::ostream& out) {
-      DvBlockWriter w(out, dir.path("x.dv"), h);
-      w.put_block(0, encode_dv_block(f));
-      w.finish(4, 2, pits, pit_acc);
-    });
-    return dir.path("x.dv");
+    return one_block_dv(dir.path("x.dv"), h, f, pits, pit_acc);
   };
   const DrainageDb good = read_dv(file_with([](auto&, auto&, auto&) {}));
   EXPECT_EQ(good.vertices[0].downstream, 1u);
@@ -323,6 +329,17 @@ TEST(DvFile, RejectsBadFieldsBehindValidBlockChecksums) {
   expect_error(file_with([](auto&, std::vector<std::uint32_t>& p, auto&) { p[0] = 1; }), "is not its basin's pit");
 }
 
+// The WKT of an EPSG code, as GDAL exports it.
+std::string wkt_of(int epsg) {
+  OGRSpatialReference srs;
+  srs.importFromEPSG(epsg);
+  char* wkt = nullptr;
+  srs.exportToWkt(&wkt);
+  const std::string out = wkt;
+  CPLFree(wkt);
+  return out;
+}
+
 // Issue 48: a crafted .dv with valid checksums whose flow or header cannot be. Every reader
 // - the whole file, a window, info's summary, the GeoTIFF and GeoPackage exports - runs the
 // same checks (before, export --to tif wrote a D8 cycle and an accumulation of 2^32 - 1 that
@@ -336,22 +353,11 @@ TEST(DvFile, EveryReaderRejectsImpossibleFlowAndHeaders) {
     h.rows = 2, h.cols = 2, h.block_rows = h.block_cols = 2;
     h.origin_x = 562000, h.origin_y = 5117000, h.origin_z = 1000, h.dx = h.dy = 10;
     h.epsg = 26910;
-    OGRSpatialReference srs;
-    srs.importFromEPSG(26910);
-    char* wkt = nullptr;
-    srs.exportToWkt(&wkt);
-    h.crs_wkt = wkt;
-    CPLFree(wkt);
+    h.crs_wkt = wkt_of(26910);
     DvBlockFields f{{1, 2, 3, 4}, {0, 6, 9, 9}, {0, 0, 0, 0}, {1, 2, 1, 3}, {1, 1, 0, 1}, {1, 1, 1, 1}};
     std::vector<std::uint32_t> pits = {2, 3}, pit_acc = {1, 3};
     spoil(h, f);
-    const std::string path = dir.path("x.dv");
-    terrain::write_stream_atomic(path, [&](std::ostream& out) {
-      DvBlockWriter w(out, path, h);
-      w.put_block(0, encode_dv_block(f));
-      w.finish(4, 2, pits, pit_acc);
-    });
-    return path;
+    return one_block_dv(dir.path("x.dv"), h, f, pits, pit_acc);
   };
   auto every_reader_refuses = [&](const std::string& path, const std::string& fragment) {
     const std::vector<std::pair<std::string, std::function<void()>>> readers = {
@@ -385,14 +391,7 @@ TEST(DvFile, EveryReaderRejectsImpossibleFlowAndHeaders) {
                        "outside what a terrain grid can be");
   every_reader_refuses(file_with([](DvHeader& h, DvBlockFields&) { h.crs_wkt = "GARBAGE[\"x\"]"; }),
                        "CRS WKT does not parse");
-  every_reader_refuses(file_with([](DvHeader& h, DvBlockFields&) {
-                         OGRSpatialReference g;
-                         g.importFromEPSG(4326);
-                         char* w = nullptr;
-                         g.exportToWkt(&w);
-                         h.crs_wkt = w;
-                         CPLFree(w);
-                       }),
+  every_reader_refuses(file_with([](DvHeader& h, DvBlockFields&) { h.crs_wkt = wkt_of(4326); }),
                        "says EPSG:4326 but its EPSG field says 26910");
   every_reader_refuses(file_with([](DvHeader& h, DvBlockFields&) { h.epsg = 4326; }), "EPSG field says 4326");
   for (const auto& e : std::filesystem::directory_iterator(dir.path("")))
