@@ -52,6 +52,36 @@ struct LocalNetwork {
   std::vector<std::uint64_t> target;            // of each leaving cell, in cell order: global index downstream
 };
 
+// Kahn within the tile, chain by chain as analyze_network walks; a cell is complete when
+// its walk reaches it (every inflow delivered): then whether it is influenced (downstream
+// of an entry), its local accumulation and order, passed on downstream. `indeg` is spent;
+// `inflows_influenced` gets each cell's influenced inflows.
+void walk_tile(LocalNetwork& L, std::vector<std::uint8_t>& indeg, std::vector<std::uint8_t>& inflows_influenced) {
+  const std::size_t n = L.dirs.size();
+  L.topo.reserve(n);
+  for (std::size_t src = 0; src < n; ++src) {
+    if (L.dirs[src] == kNodata || indeg[src] != 0) continue;
+    std::uint32_t i = std::uint32_t(src);
+    while (true) {
+      L.topo.push_back(i);
+      indeg[i] = 0xFF;
+      if (L.entry[i]) L.influenced[i] = 1;
+      if (!L.influenced[i]) L.order[i] = strahler(L.m[i], L.k[i]);
+      const std::uint32_t d = L.down[i];
+      if (d == kNone) break;
+      if (L.influenced[i]) {
+        L.influenced[d] = 1;
+        ++inflows_influenced[d];
+      } else {
+        L.acc[d] += L.acc[i];
+        add_inflow(L.m[d], L.k[d], L.order[i]);
+      }
+      if (--indeg[d] != 0) break;
+      i = d;
+    }
+  }
+}
+
 LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReader& read) {
   LocalNetwork L;
   L.w = tiles.window(t);
@@ -105,32 +135,8 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
         ++indeg[L.down[i]];
       }
     }
-  // Kahn within the tile, chain by chain as analyze_network walks; a cell is complete when
-  // its walk reaches it (every inflow delivered): then whether it is influenced (downstream
-  // of an entry), its local accumulation and order, passed on downstream.
   std::vector<std::uint8_t> inflows_influenced(n, 0);
-  L.topo.reserve(n);
-  for (std::size_t src = 0; src < n; ++src) {
-    if (L.dirs[src] == kNodata || indeg[src] != 0) continue;
-    std::uint32_t i = std::uint32_t(src);
-    while (true) {
-      L.topo.push_back(i);
-      indeg[i] = 0xFF;
-      if (L.entry[i]) L.influenced[i] = 1;
-      if (!L.influenced[i]) L.order[i] = strahler(L.m[i], L.k[i]);
-      const std::uint32_t d = L.down[i];
-      if (d == kNone) break;
-      if (L.influenced[i]) {
-        L.influenced[d] = 1;
-        ++inflows_influenced[d];
-      } else {
-        L.acc[d] += L.acc[i];
-        add_inflow(L.m[d], L.k[d], L.order[i]);
-      }
-      if (--indeg[d] != 0) break;
-      i = d;
-    }
-  }
+  walk_tile(L, indeg, inflows_influenced);
   if (L.topo.size() != std::size_t(std::count_if(L.dirs.begin(), L.dirs.end(), [](std::uint8_t d) { return d != kNodata; })))
     throw terrain::Error("the D8 directions contain a cycle (in tile " + std::to_string(t) + ")");
   for (std::size_t i = 0; i < n; ++i)
