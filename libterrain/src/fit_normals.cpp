@@ -244,6 +244,106 @@ SourceSamples samples_inside_mesh(const SourceSamples& all, const GridMesh& mesh
   return out;
 }
 
+// What every block of a round shares (fit_pn_normals): the mesh, the samples and their
+// faces, the options, the round's starting normals and the first round's, the pull, the
+// blocks' cores, the threads a block gets; and the normals the blocks' cores are kept in.
+struct BlockRound {
+  const GridMesh& mesh;
+  const Assignment& a;
+  const std::vector<Vector3d>& local;
+  const NormalFitOptions& opt;
+  const std::vector<Vector3d>& snapshot;
+  const std::vector<Vector3d>& start;
+  double pull;
+  std::size_t brows, bcols, nbc;
+  int per_block;
+  ceres::SphereManifold<3>& sphere;
+  NormalFitReport& rep;
+  std::vector<Vector3d>& normal;
+};
+
+// One block: its problem on a copy of the round's starting normals, its core kept.
+// Returns its Levenberg-Marquardt iterations.
+std::size_t solve_block(const BlockRound& k, std::size_t b) {
+  const GridMesh& mesh = k.mesh;
+  const GridTopology& topo = mesh.topo;
+  const Assignment& a = k.a;
+  const std::vector<Vector3d>& local = k.local;
+  const NormalFitOptions& opt = k.opt;
+  const std::size_t brows = k.brows, bcols = k.bcols, nbc = k.nbc;
+  std::vector<Vector3d> nb = k.snapshot;
+  const std::size_t r0 = (b / nbc) * brows, c0 = (b % nbc) * bcols;
+  const std::size_t r1 = std::min(topo.rows, r0 + brows), c1 = std::min(topo.cols, c0 + bcols);
+  const std::size_t er0 = r0 > opt.overlap ? r0 - opt.overlap : 0, ec0 = c0 > opt.overlap ? c0 - opt.overlap : 0;
+  const std::size_t er1 = std::min(topo.rows, r1 + opt.overlap), ec1 = std::min(topo.cols, c1 + opt.overlap);
+  const auto in_ext = [&](std::size_t v) {
+    const std::size_t r = v / topo.cols, c = v % topo.cols;
+    return r >= er0 && r < er1 && c >= ec0 && c < ec1;
+  };
+  ceres::Problem::Options po;
+  po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(po);
+  // Faces with a corner in the extended block; their other corners are held fixed.
+  const std::size_t fr0 = er0 > 0 ? er0 - 1 : 0, fc0 = ec0 > 0 ? ec0 - 1 : 0;
+  const std::size_t fr1 = std::min(topo.rows - 1, er1), fc1 = std::min(topo.cols - 1, ec1);
+  for (std::size_t r = fr0; r < fr1; ++r)
+    for (std::size_t c = fc0; c < fc1; ++c)
+      for (int k = 0; k < 2; ++k) {
+        const std::size_t f = topo.face_of_cell(r, c, k);
+        if (a.offset[f] == a.offset[f + 1]) continue;
+        const auto fv = topo.face(f);
+        std::array<Vector3d, 3> corner;
+        for (int j = 0; j < 3; ++j) corner[std::size_t(j)] = mesh.positions[fv[std::size_t(j)]].cast<double>();
+        const std::size_t count = a.offset[f + 1] - a.offset[f];
+        const std::size_t take = opt.face_samples ? std::min(count, opt.face_samples) : count;
+        std::vector<Vector3d> picked;
+        for (std::size_t j = 0; j < take; ++j)  // evenly strided over the face's samples
+          picked.push_back(local[a.sample[a.offset[f] + j * count / take]]);
+        problem.AddResidualBlock(new FaceCost(corner, std::move(picked),
+                                              {nb[fv[0]].data(), nb[fv[1]].data(), nb[fv[2]].data()}),
+                                 nullptr, nb[fv[0]].data(),
+                                 nb[fv[1]].data(), nb[fv[2]].data());
+      }
+  for (std::size_t r = er0; r < er1; ++r)
+    for (std::size_t c = ec0; c < ec1; ++c) {
+      const std::size_t v = r * topo.cols + c;
+      if (k.pull > 0)
+        problem.AddResidualBlock(
+            new ceres::AutoDiffCostFunction<PullCost, 3, 3>(new PullCost{k.start[v], k.pull}), nullptr,
+            nb[v].data());
+    }
+  std::vector<double*> blocks;
+  problem.GetParameterBlocks(&blocks);
+  for (double* p : blocks) {
+    const std::size_t v = std::size_t((reinterpret_cast<Vector3d*>(p)) - nb.data());
+    if (in_ext(v)) problem.SetManifold(p, &k.sphere);
+    else problem.SetParameterBlockConstant(p);
+  }
+  ceres::Solver::Options so;
+  // Conjugate gradients on the normal equations (Jacobi preconditioner): the blocks are
+  // grids of up to 400 x 400 vertices, on which the sparse Cholesky factorization took
+  // two thirds of the time (docs/performance.md, "--fit-normals").
+  so.linear_solver_type = ceres::CGNR;
+  so.function_tolerance = 1e-5;
+  so.max_num_iterations = opt.max_iterations;
+  so.num_threads = k.per_block;
+  so.logging_type = ceres::SILENT;
+  CostLog log;
+  if (opt.record_costs && k.rep.blocks == 1) {
+    log.costs = &k.rep.costs;
+    log.problem = &problem;
+    log.threads = k.per_block;
+    so.update_state_every_iteration = true;
+    so.callbacks.push_back(&log);
+  }
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  // Keep the core; the overlap is solved by the block whose core it is.
+  for (std::size_t r = r0; r < r1; ++r)
+    for (std::size_t c = c0; c < c1; ++c) k.normal[r * topo.cols + c] = nb[r * topo.cols + c];
+  return summary.iterations.size() > 0 ? summary.iterations.size() - 1 : 0;
+}
+
 NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, const NormalFitOptions& opt,
                                const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -279,85 +379,11 @@ NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, con
     const int per_block = std::max(1, threads / side_by_side);
     std::exception_ptr error;
     std::size_t blocks_done = 0;
-    // One block: its problem on a copy of the round's starting normals, its core kept.
-    // Returns its Levenberg-Marquardt iterations.
-    auto solve_block = [&](std::size_t b) -> std::size_t {
-      std::vector<Vector3d> nb = snapshot;
-      const std::size_t r0 = (b / nbc) * brows, c0 = (b % nbc) * bcols;
-      const std::size_t r1 = std::min(topo.rows, r0 + brows), c1 = std::min(topo.cols, c0 + bcols);
-      const std::size_t er0 = r0 > opt.overlap ? r0 - opt.overlap : 0, ec0 = c0 > opt.overlap ? c0 - opt.overlap : 0;
-      const std::size_t er1 = std::min(topo.rows, r1 + opt.overlap), ec1 = std::min(topo.cols, c1 + opt.overlap);
-      const auto in_ext = [&](std::size_t v) {
-        const std::size_t r = v / topo.cols, c = v % topo.cols;
-        return r >= er0 && r < er1 && c >= ec0 && c < ec1;
-      };
-      ceres::Problem::Options po;
-      po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-      ceres::Problem problem(po);
-      // Faces with a corner in the extended block; their other corners are held fixed.
-      const std::size_t fr0 = er0 > 0 ? er0 - 1 : 0, fc0 = ec0 > 0 ? ec0 - 1 : 0;
-      const std::size_t fr1 = std::min(topo.rows - 1, er1), fc1 = std::min(topo.cols - 1, ec1);
-      for (std::size_t r = fr0; r < fr1; ++r)
-        for (std::size_t c = fc0; c < fc1; ++c)
-          for (int k = 0; k < 2; ++k) {
-            const std::size_t f = topo.face_of_cell(r, c, k);
-            if (a.offset[f] == a.offset[f + 1]) continue;
-            const auto fv = topo.face(f);
-            std::array<Vector3d, 3> corner;
-            for (int j = 0; j < 3; ++j) corner[std::size_t(j)] = mesh.positions[fv[std::size_t(j)]].cast<double>();
-            const std::size_t count = a.offset[f + 1] - a.offset[f];
-            const std::size_t take = opt.face_samples ? std::min(count, opt.face_samples) : count;
-            std::vector<Vector3d> picked;
-            for (std::size_t j = 0; j < take; ++j)  // evenly strided over the face's samples
-              picked.push_back(local[a.sample[a.offset[f] + j * count / take]]);
-            problem.AddResidualBlock(new FaceCost(corner, std::move(picked),
-                                                  {nb[fv[0]].data(), nb[fv[1]].data(), nb[fv[2]].data()}),
-                                     nullptr, nb[fv[0]].data(),
-                                     nb[fv[1]].data(), nb[fv[2]].data());
-          }
-      for (std::size_t r = er0; r < er1; ++r)
-        for (std::size_t c = ec0; c < ec1; ++c) {
-          const std::size_t v = r * topo.cols + c;
-          if (pull > 0)
-            problem.AddResidualBlock(
-                new ceres::AutoDiffCostFunction<PullCost, 3, 3>(new PullCost{start[v], pull}), nullptr,
-                nb[v].data());
-        }
-      std::vector<double*> blocks;
-      problem.GetParameterBlocks(&blocks);
-      for (double* p : blocks) {
-        const std::size_t v = std::size_t((reinterpret_cast<Vector3d*>(p)) - nb.data());
-        if (in_ext(v)) problem.SetManifold(p, &sphere);
-        else problem.SetParameterBlockConstant(p);
-      }
-      ceres::Solver::Options so;
-      // Conjugate gradients on the normal equations (Jacobi preconditioner): the blocks are
-      // grids of up to 400 x 400 vertices, on which the sparse Cholesky factorization took
-      // two thirds of the time (docs/performance.md, "--fit-normals").
-      so.linear_solver_type = ceres::CGNR;
-      so.function_tolerance = 1e-5;
-      so.max_num_iterations = opt.max_iterations;
-      so.num_threads = per_block;
-      so.logging_type = ceres::SILENT;
-      CostLog log;
-      if (opt.record_costs && rep.blocks == 1) {
-        log.costs = &rep.costs;
-        log.problem = &problem;
-        log.threads = per_block;
-        so.update_state_every_iteration = true;
-        so.callbacks.push_back(&log);
-      }
-      ceres::Solver::Summary summary;
-      ceres::Solve(so, &problem, &summary);
-      // Keep the core; the overlap is solved by the block whose core it is.
-      for (std::size_t r = r0; r < r1; ++r)
-        for (std::size_t c = c0; c < c1; ++c) normal[r * topo.cols + c] = nb[r * topo.cols + c];
-      return summary.iterations.size() > 0 ? summary.iterations.size() - 1 : 0;
-    };
+    const BlockRound k{mesh, a, local, opt, snapshot, start, pull, brows, bcols, nbc, per_block, sphere, rep, normal};
 #pragma omp parallel for schedule(dynamic) num_threads(side_by_side)
     for (std::size_t b = 0; b < rep.blocks; ++b) {
       try {
-        const std::size_t iterations = solve_block(b);
+        const std::size_t iterations = solve_block(k, b);
 #pragma omp critical(fit_normals_block)
         {
           rep.iterations += iterations;
