@@ -165,6 +165,112 @@ struct CellPiece {
   std::uint32_t piece;
 };
 
+// One tile's codes and its crossing flats, pieces numbered from 0.
+struct TilePieces {
+  D8Codes codes;
+  std::vector<Box> boxes;
+  std::vector<std::uint64_t> seeds;
+  std::vector<CellPiece> ring, contacts;
+};
+
+// Tile t's codes (flats inside it resolved) and the pieces of the flats that cross its edge:
+// their boxes, a member each, their members on the tile's ring and just outside it.
+TilePieces tile_pieces(const TileGrid& tiles, const SurfaceReader& surface, std::size_t t) {
+  const std::size_t C = tiles.cols;
+  // Two samples of halo: whether a cell one sample outside the tile is a low edge
+  // depends on its own neighbours.
+  const terrain::RasterWindow w = tiles.window(t), h = tiles.halo(tiles.halo(w));
+  const WindowFlats f = window_flats(surface, h, tiles);
+  TilePieces p;
+  std::vector<std::uint32_t> crossing(f.count, kNone);
+  auto inside = [&](std::size_t gr, std::size_t gc) {
+    return gr >= w.row0 && gr < w.row0 + w.rows && gc >= w.col0 && gc < w.col0 + w.cols;
+  };
+  std::vector<std::uint8_t> where(f.count, 0);  // bit 1: a member inside the tile, bit 2: outside
+  for (std::size_t i = 0; i < f.comp.size(); ++i)
+    if (f.comp[i] != kNone) where[f.comp[i]] |= inside(h.row0 + i / h.cols, h.col0 + i % h.cols) ? 1 : 2;
+  for (std::uint32_t k = 0; k < f.count; ++k)
+    if (where[k] == 3) {
+      crossing[k] = std::uint32_t(p.boxes.size());
+      p.boxes.emplace_back();
+      p.seeds.push_back(~std::uint64_t(0));
+    }
+  p.codes.resize(w.rows * w.cols);
+  for (std::size_t r = 0; r < h.rows; ++r)
+    for (std::size_t c = 0; c < h.cols; ++c) {
+      const std::size_t i = r * h.cols + c, gr = h.row0 + r, gc = h.col0 + c;
+      const std::uint64_t cell = std::uint64_t(gr) * C + gc;
+      const std::uint32_t k = f.comp[i];
+      const bool in = inside(gr, gc);
+      if (in) p.codes[(gr - w.row0) * w.cols + gc - w.col0] = k != kNone && crossing[k] == kNone ? f.resolved[i] : f.raw[i];
+      if (k == kNone || crossing[k] == kNone) continue;
+      const std::uint32_t x = crossing[k];
+      if (!in) {  // a member in a neighbouring tile, on its ring: the same flat there
+        if (gr + 1 >= w.row0 && gr <= w.row0 + w.rows && gc + 1 >= w.col0 && gc <= w.col0 + w.cols)
+          p.contacts.push_back({cell, x});
+        continue;
+      }
+      p.boxes[x].add(gr, gc);
+      if (p.seeds[x] == ~std::uint64_t(0)) p.seeds[x] = cell;
+      if (on_tile_edge(gr - w.row0, gc - w.col0, w.rows, w.cols)) p.ring.push_back({cell, x});
+    }
+  return p;
+}
+
+// The crossing flats' pieces joined (union-find over the contacts with the ring), each
+// root's box grown to the flat's. Returns each piece's root.
+std::vector<std::uint32_t> join_pieces(std::vector<Box>& boxes, const std::vector<CellPiece>& ring,
+                                       const std::vector<CellPiece>& contacts, std::size_t C) {
+  std::unordered_map<std::uint64_t, std::uint32_t> ring_piece;
+  for (const CellPiece& x : ring) ring_piece.emplace(x.cell, x.piece);
+  std::vector<std::uint32_t> parent(boxes.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& [cell, x] : contacts) {
+    const auto it = ring_piece.find(cell);
+    if (it == ring_piece.end() || x >= boxes.size() || it->second >= boxes.size())
+      throw terrain::Error(fmt::format("tiled flats: a flat crosses into a tile that does not see it (row {}, column {})", cell / C, cell % C));
+    const std::uint32_t a = find(x), b = find(it->second);
+    if (a != b) parent[a] = b;
+  }
+  for (std::uint32_t x = 0; x < boxes.size(); ++x)
+    if (find(x) != x) boxes[find(x)].add(boxes[x]);
+  for (std::uint32_t x = 0; x < boxes.size(); ++x) parent[x] = find(x);
+  return parent;
+}
+
+// Each joined flat resolved in a window of its bounding box (and a halo), shared out among
+// the ranks; its no-flow cells written, row run by row run.
+void resolve_joined(const TileGrid& tiles, const SurfaceReader& surface, const std::vector<Box>& boxes,
+                    const std::vector<std::uint64_t>& seeds, const std::vector<std::uint32_t>& root,
+                    ScratchArray<std::uint8_t>& out, const TileComm& comm) {
+  const std::size_t C = tiles.cols;
+  std::size_t joined = 0;
+  for (std::uint32_t x = 0; x < boxes.size(); ++x) {
+    if (root[x] != x || !comm.owns(joined++)) continue;
+    const terrain::RasterWindow box{boxes[x].r0, boxes[x].c0, boxes[x].r1 - boxes[x].r0 + 1, boxes[x].c1 - boxes[x].c0 + 1};
+    const terrain::RasterWindow W = tiles.halo(box);
+    const WindowFlats f = window_flats(surface, W, tiles);
+    const std::uint64_t seed = seeds[x];
+    const std::uint32_t mine = f.comp[(seed / C - W.row0) * W.cols + seed % C - W.col0];
+    auto fixed = [&](std::size_t i) { return f.comp[i] == mine && f.raw[i] == kNoFlow; };
+    for (std::size_t r = 0; r < W.rows; ++r)
+      for (std::size_t c = 0; c < W.cols;) {
+        if (!fixed(r * W.cols + c)) {
+          ++c;
+          continue;
+        }
+        std::size_t e = c;
+        while (e < W.cols && fixed(r * W.cols + e)) ++e;
+        out.write_run(std::uint64_t(W.row0 + r) * C + W.col0 + c, f.resolved.data() + r * W.cols + c, e - c);
+        c = e;
+      }
+  }
+}
+
 // Codes with flats resolved, tile by tile, into `out`: a flat inside one tile is resolved
 // with its tile (and a halo); a flat that crosses tile edges is joined across tiles and
 // resolved in a window of its bounding box. Each flat's directions depend on that flat
@@ -178,52 +284,7 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
   std::vector<CellPiece> ring;       // members on their tile's ring
   std::vector<CellPiece> contacts;   // members outside the tile
   const std::size_t C = tiles.cols;
-  struct TilePieces {  // one tile's codes and its crossing flats, pieces numbered from 0
-    D8Codes codes;
-    std::vector<Box> boxes;
-    std::vector<std::uint64_t> seeds;
-    std::vector<CellPiece> ring, contacts;
-  };
-  auto pieces = [&](std::size_t t) {
-    // Two samples of halo: whether a cell one sample outside the tile is a low edge
-    // depends on its own neighbours.
-    const terrain::RasterWindow w = tiles.window(t), h = tiles.halo(tiles.halo(w));
-    const WindowFlats f = window_flats(surface, h, tiles);
-    TilePieces p;
-    std::vector<std::uint32_t> crossing(f.count, kNone);
-    auto inside = [&](std::size_t gr, std::size_t gc) {
-      return gr >= w.row0 && gr < w.row0 + w.rows && gc >= w.col0 && gc < w.col0 + w.cols;
-    };
-    std::vector<std::uint8_t> where(f.count, 0);  // bit 1: a member inside the tile, bit 2: outside
-    for (std::size_t i = 0; i < f.comp.size(); ++i)
-      if (f.comp[i] != kNone) where[f.comp[i]] |= inside(h.row0 + i / h.cols, h.col0 + i % h.cols) ? 1 : 2;
-    for (std::uint32_t k = 0; k < f.count; ++k)
-      if (where[k] == 3) {
-        crossing[k] = std::uint32_t(p.boxes.size());
-        p.boxes.emplace_back();
-        p.seeds.push_back(~std::uint64_t(0));
-      }
-    p.codes.resize(w.rows * w.cols);
-    for (std::size_t r = 0; r < h.rows; ++r)
-      for (std::size_t c = 0; c < h.cols; ++c) {
-        const std::size_t i = r * h.cols + c, gr = h.row0 + r, gc = h.col0 + c;
-        const std::uint64_t cell = std::uint64_t(gr) * C + gc;
-        const std::uint32_t k = f.comp[i];
-        const bool in = inside(gr, gc);
-        if (in) p.codes[(gr - w.row0) * w.cols + gc - w.col0] = k != kNone && crossing[k] == kNone ? f.resolved[i] : f.raw[i];
-        if (k == kNone || crossing[k] == kNone) continue;
-        const std::uint32_t x = crossing[k];
-        if (!in) {  // a member in a neighbouring tile, on its ring: the same flat there
-          if (gr + 1 >= w.row0 && gr <= w.row0 + w.rows && gc + 1 >= w.col0 && gc <= w.col0 + w.cols)
-            p.contacts.push_back({cell, x});
-          continue;
-        }
-        p.boxes[x].add(gr, gc);
-        if (p.seeds[x] == ~std::uint64_t(0)) p.seeds[x] = cell;
-        if (on_tile_edge(gr - w.row0, gc - w.col0, w.rows, w.cols)) p.ring.push_back({cell, x});
-      }
-    return p;
-  };
+  auto pieces = [&](std::size_t t) { return tile_pieces(tiles, surface, t); };
   tiled::for_each_tile(comm, tiles.count(), pieces, [&](std::size_t t, TilePieces&& p) {
     const auto base = std::uint32_t(boxes.size());  // numbered tile after tile
     boxes.insert(boxes.end(), p.boxes.begin(), p.boxes.end());
@@ -246,47 +307,8 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
       if (seeds.size() != boxes.size()) throw terrain::Error("tiled flats: a rank sent a wrong message");
     }
   }
-  // Join the pieces of each crossing flat.
-  std::unordered_map<std::uint64_t, std::uint32_t> ring_piece;
-  for (const CellPiece& x : ring) ring_piece.emplace(x.cell, x.piece);
-  std::vector<std::uint32_t> parent(boxes.size());
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto find = [&](std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  for (const auto& [cell, x] : contacts) {
-    const auto it = ring_piece.find(cell);
-    if (it == ring_piece.end() || x >= boxes.size() || it->second >= boxes.size())
-      throw terrain::Error(fmt::format("tiled flats: a flat crosses into a tile that does not see it (row {}, column {})", cell / C, cell % C));
-    const std::uint32_t a = find(x), b = find(it->second);
-    if (a != b) parent[a] = b;
-  }
-  for (std::uint32_t x = 0; x < boxes.size(); ++x)
-    if (find(x) != x) boxes[find(x)].add(boxes[x]);
-  // Resolve each in a window of its bounding box (and a halo), the joined flats shared out
-  // among the ranks; write its no-flow cells, row run by row run.
-  std::size_t joined = 0;
-  for (std::uint32_t x = 0; x < boxes.size(); ++x) {
-    if (find(x) != x || !comm.owns(joined++)) continue;
-    const terrain::RasterWindow box{boxes[x].r0, boxes[x].c0, boxes[x].r1 - boxes[x].r0 + 1, boxes[x].c1 - boxes[x].c0 + 1};
-    const terrain::RasterWindow W = tiles.halo(box);
-    const WindowFlats f = window_flats(surface, W, tiles);
-    const std::uint64_t seed = seeds[x];
-    const std::uint32_t mine = f.comp[(seed / C - W.row0) * W.cols + seed % C - W.col0];
-    auto fixed = [&](std::size_t i) { return f.comp[i] == mine && f.raw[i] == kNoFlow; };
-    for (std::size_t r = 0; r < W.rows; ++r)
-      for (std::size_t c = 0; c < W.cols;) {
-        if (!fixed(r * W.cols + c)) {
-          ++c;
-          continue;
-        }
-        std::size_t e = c;
-        while (e < W.cols && fixed(r * W.cols + e)) ++e;
-        out.write_run(std::uint64_t(W.row0 + r) * C + W.col0 + c, f.resolved.data() + r * W.cols + c, e - c);
-        c = e;
-      }
-  }
+  const std::vector<std::uint32_t> root = join_pieces(boxes, ring, contacts, C);
+  resolve_joined(tiles, surface, boxes, seeds, root, out, comm);
   comm.barrier();  // every flat written before any rank reads the codes
 }
 
