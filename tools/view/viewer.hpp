@@ -76,13 +76,13 @@ class Viewer {
   void set(const std::string& name, const std::string& value) {
     const rr::OptionSpec* o = rr::find_option(name);
     if (!o) throw terrain::Error("no option '" + name + "' (terrain-view --list-options)");
-    set_since_start_.insert(o->name);
     rr::RenderSettings next = s_;
     rr::set_option(next, *o, value);
     rr::validate(next);
     if (o->name == "view" && next.view == rr::ViewMode::Row) (void)rr::view_row_frame(next.view_row, next.frame);
     if (o->name == "eye" && next.frame.camera.eye) check_eye(*next.frame.camera.eye);
     s_ = std::move(next);
+    set_since_start_.insert(o->name);  // (a value refused leaves nothing set)
     if (o->rebuilds_creases && !dv_path_.empty()) creases_stale_ = stale_ = true;
     else if (!o->per_frame && o->name != "eye") stale_ = true;
   }
