@@ -93,7 +93,20 @@ void assign_crs(Georef& geo, const std::string& user_crs) {
   geo.crs_wkt = crs.wkt, geo.epsg = crs.epsg, geo.crs_kind = crs.kind;
 }
 
+static std::string crs_fields_check(const std::string& wkt, int epsg);
+
 std::string crs_fields_problem(const std::string& wkt, int epsg) {
+  // A windowed reader opens one file many times (a .dv band by band): the answer for the
+  // last fields, kept per thread, spares PROJ's look-ups.
+  thread_local std::string last_wkt, last_problem;
+  thread_local int last_epsg = -1;
+  if (epsg == last_epsg && wkt == last_wkt) return last_problem;
+  last_problem = crs_fields_check(wkt, epsg);
+  last_wkt = wkt, last_epsg = epsg;
+  return last_problem;
+}
+
+static std::string crs_fields_check(const std::string& wkt, int epsg) {
   ensure_gdal();
   OGRSpatialReference from_wkt, from_code;
   if (!wkt.empty() && from_wkt.importFromWkt(wkt.c_str()) != OGRERR_NONE) return "its CRS WKT does not parse";

@@ -14,12 +14,10 @@
 
 namespace renderer {
 
+ResolvedFrame drawn_frame(const RenderSettings& s) { return {s.frame, drawn_style(s), s.layers, s.width, s.height, ""}; }
+
 ResolvedFrame resolve_frame(const RenderSettings& s, const terrain::GridMesh& mesh, const GivenOption& given) {
-  ResolvedFrame f;
-  f.frame = s.frame;
-  f.style = drawn_style(s);
-  f.layers = s.layers;
-  f.width = s.width, f.height = s.height;
+  ResolvedFrame f = drawn_frame(s);
   Camera& camera = f.frame.camera;
   if (!camera.eye && !given("view-az") && s.view == ViewMode::Row) {  // --view FRAMES.csv:N
     f.frame = view_row_frame(s.view_row, f.frame);

@@ -186,7 +186,7 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
     }
   }
   rr::GlContext ctx;
-  rr::ResolvedFrame f{s.frame, rr::drawn_style(s), s.layers, s.width, s.height, ""};
+  rr::ResolvedFrame f = rr::drawn_frame(s);
   if (formats != std::vector<std::string>{"png"}) rr::check_vector_memory(ctx, s.width, s.height);
   rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, f.layers,
                         f.style);

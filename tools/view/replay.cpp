@@ -194,6 +194,8 @@ bool run_command(Viewer& v, const std::string& line, int& wait_frames) {
   return false;
 }
 
+namespace {
+
 // `message` fit for one line of stderr: control and non-ASCII bytes (a binary file given
 // as a replay) as '?', at most 300 characters.
 std::string printable(const std::string& message) {
@@ -206,7 +208,8 @@ std::string printable(const std::string& message) {
   return out;
 }
 
-// A replay command's error, with its line number.
+}  // namespace
+
 terrain::Error replay_error(std::size_t index, const std::exception& e) {
   return terrain::Error(printable(fmt::format("replay line {}: {}", index + 1, e.what())));
 }

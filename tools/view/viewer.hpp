@@ -196,7 +196,7 @@ class Viewer {
     bring_up_to_date();
     rr::RenderSettings at = s_;
     if (!size.empty()) rr::set_option(at, *rr::find_option("size"), size);
-    const rr::ResolvedFrame f{at.frame, rr::drawn_style(at), at.layers, at.width, at.height, ""};
+    const rr::ResolvedFrame f = rr::drawn_frame(at);
     const std::string cmd = command_line(path, at);
     const auto write = [&](const rr::TerrainRenderer& r) {
       (void)rr::write_frame_files({path}, scene_, r, last_, f, {}, "terrain-view: " + cmd);

@@ -53,12 +53,6 @@ void check_indices(const DrainageDb& db, const std::string& path) {
     if (!(v.basin < basins || v.basin == kNone)) throw bad("basin of vertex", i);
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z) || !std::isfinite(v.normalized))
       throw bad("coordinates or flow of vertex", i);
-    if (!nodata && (v.accumulated == 0 || !(v.normalized > 0.0f && v.normalized <= 1.0f)))
-      throw bad("accumulated or normalized flow of vertex", i);
-    // Flow grows downstream within one basin: no D8 cycle passes this local test.
-    if (v.downstream != kNone && v.downstream < n &&
-        (db.vertices[v.downstream].accumulated <= v.accumulated || db.vertices[v.downstream].basin != v.basin))
-      throw bad("flow that does not grow downstream (a D8 cycle or a wrong basin) at vertex", i);
   }
   for (std::size_t b = 0; b < db.branches.size(); ++b) {
     const DvBranch& br = db.branches[b];

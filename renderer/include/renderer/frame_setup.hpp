@@ -30,6 +30,10 @@ struct ResolvedFrame {
   std::string description;  // how the camera was chosen, for -v
 };
 
+// Settings `s` as drawn, the frame as it stands (its camera not resolved): the frames of a
+// frames CSV, a view the viewer is on.
+ResolvedFrame drawn_frame(const RenderSettings& s);
+
 // The frame of settings `s` over `mesh`: `--eye` as given (or framed along --view-az when
 // only that is given); else --view FRAMES.csv:ROW, that row; else the default view of
 // --view (auto, top, relief; default_view at --fov, the frame's aspect and --view-alt when
