@@ -6,8 +6,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
+# Line tables are all the reports need (file:line in every stack): full debug information
+# would cost 14 % more compile time.
 CC=clang CXX=clang++ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DTERRAIN_SANITIZE=address,undefined >/dev/null
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" -DTERRAIN_SANITIZE=address,undefined >/dev/null
 cmake --build build-asan --parallel "${TERRAIN_BUILD_JOBS:-$(nproc)}"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
@@ -39,8 +41,13 @@ mkdir -p Testing/Temporary
 # smaller tiled and MPI tests (MSH, MED, Eno, the terrace across four tiles) run here. The
 # GCC build runs them; here they would add ~400 s of test time (~230 s of it at Logan 10 m).
 # The viewer's start view against terrain-render for eleven option sets (issue 49) runs the
-# offscreen replay's code path, which Viewer.OffscreenReplay* runs here once.
+# offscreen replay's code path, which Viewer.OffscreenReplay* runs here once. The 50
+# repeated scattered-point runs look for a read of uninitialised memory, which this build
+# cannot see and Valgrind (above) does; the 10 m / 5 m network agreement drains and draws
+# at two resolutions what CreaseLines' other tests and the tiled tests drain and draw here
+# (~180 s of test time between them).
 skip='VectorOutput\.(Logan|Flight)|TerrainRender\.IntegerDem|Logan10m|Viewer\.StartView'
+skip+='|Interrupt\.ScatteredPointsWithFillNodata|CreaseLines\.TenAndFiveMetre'
 if ctest --output-on-failure --parallel "$(nproc)" -E "$skip" "$@" 2>&1 | tee "$log"; then exit 0; fi
 failed=$(grep -c . Testing/Temporary/LastTestsFailed.log || true)
 tracer=$(grep -c "LeakSanitizer has encountered a fatal error" "$log" || true)

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -32,6 +33,17 @@ struct Row {
 };
 
 std::ostream& operator<<(std::ostream& os, const Row& r) { return os << r.command; }
+
+// A row's name is its program and its index ("dem2mesh_12"): tests/CMakeLists.txt runs each
+// program's rows as one ctest entry by this name.
+std::string row_name(const ::testing::TestParamInfo<Row>& info) {
+  const std::string& cmd = info.param.command;
+  std::string program = cmd.substr(0, cmd.find(' '));
+  program = program.substr(program.rfind('/') + 1);
+  for (char& ch : program)
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  return program + "_" + std::to_string(info.index);
+}
 
 const char* kUtm10 = "EPSG:26910";
 
@@ -543,6 +555,7 @@ INSTANTIATE_TEST_SUITE_P(
         Row{tv + "IN/m.ply IN/m.dv --replay IN/r_shot_nopath.txt", 1, "expected screenshot PATH [WxH]"},
         Row{tv + "IN/m.ply IN/m.dv --replay IN/r_shot_svg.txt", 1, "give a .png name"},
         Row{tv + "IN/m.ply IN/m.dv --replay IN/r_binary.txt", 1, "replay line 1: unknown replay command '????"},
-        Row{tv + "IN/m.ply IN/m.dv --frames IN/far_eye.csv --replay IN/r_alt.txt", 1, "far_eye.csv: frame 1: the eye"}));
+        Row{tv + "IN/m.ply IN/m.dv --frames IN/far_eye.csv --replay IN/r_alt.txt", 1, "far_eye.csv: frame 1: the eye"}),
+    row_name);
 
 }  // namespace

@@ -124,7 +124,9 @@ TEST(BuildDrainage, TiledAndUntiledRunsPrintTheSameSummary) {
   ASSERT_EQ(a.size(), b.size()) << u.out << "\n" << t.out;
   for (std::size_t i = 0; i < a.size(); ++i) {
     EXPECT_EQ(a[i].first, b[i].first) << "line " << i;
-    if (a[i].first != "output" && a[i].first != "tiles" && a[i].first != "flats") EXPECT_EQ(a[i].second, b[i].second) << a[i].first;
+    if (a[i].first != "output" && a[i].first != "tiles" && a[i].first != "flats") {
+      EXPECT_EQ(a[i].second, b[i].second) << a[i].first;
+    }
   }
   EXPECT_NE(u.out.find("\npits: "), std::string::npos);
   EXPECT_NE(t.out.find("\ntiles: 35\n"), std::string::npos) << t.out;
