@@ -74,14 +74,15 @@ TileFlood flood_tile(const TileGrid& tiles, std::size_t t, const WindowReader& r
   f.label.assign(f.z.size(), kNone);
 
   std::vector<std::uint32_t> seeds;
+  const Neighbours around{long(h.rows), long(h.cols)};
   for (long r = 0; r < nr; ++r)
     for (long c = 0; c < nc; ++c) {
       const std::size_t i = std::size_t(r * nc + c);
       if (std::isnan(f.z[i])) continue;
       const std::size_t gr = w.row0 + std::size_t(r), gc = w.col0 + std::size_t(c);
       bool seed = gr == 0 || gc == 0 || gr + 1 == tiles.rows || gc + 1 == tiles.cols;
-      for (int k = 0; k < 8 && !seed; ++k)
-        seed = std::isnan(halo.at(std::size_t(long(r + long(dr)) + kDRow[k]), std::size_t(long(c + long(dc)) + kDCol[k])));
+      if (!seed)  // an interior cell beside no-data (its neighbours all lie in the halo)
+        around.each(r + long(dr), c + long(dc), [&](std::size_t j, int) { seed = seed || std::isnan(halo.z[j]); });
       if (seed) {
         f.label[i] = kOutside;
       } else if (on_tile_edge(std::size_t(r), std::size_t(c), f.nr, f.nc)) {
@@ -175,6 +176,204 @@ class TileCache {
   std::uint64_t end_ = 0;
 };
 
+// The lowest elevation at which each pair of labels meets (the spill graph's edges).
+class SpillEdges {
+ public:
+  void add(std::uint32_t a, std::uint32_t b, float z) {
+    const std::uint64_t key = a < b ? (std::uint64_t(a) << 32 | b) : (std::uint64_t(b) << 32 | a);
+    const auto [it, fresh] = weight_.emplace(key, z);
+    if (!fresh && z < it->second) it->second = z;
+  }
+  struct Entry {
+    std::uint64_t key;  // the two labels, smaller first
+    float z;
+  };
+  std::vector<Entry> entries() const {
+    std::vector<Entry> all;
+    all.reserve(weight_.size());
+    for (const auto& [key, z] : weight_) all.push_back({key, z});
+    return all;
+  }
+  void add(const Entry& e) { add(std::uint32_t(e.key >> 32), std::uint32_t(e.key), e.z); }
+  void clear() { decltype(weight_)().swap(weight_); }
+
+ private:
+  std::unordered_map<std::uint64_t, float> weight_;
+};
+
+// A tile's perimeter: each ring position's label and elevation as read.
+struct Ring {
+  std::vector<std::uint32_t> label;
+  std::vector<float> z;
+};
+
+Ring perimeter(const TileFlood& f) {
+  Ring ring;
+  ring.label.assign(ring_size(f.nr, f.nc), kNone);
+  ring.z.assign(ring.label.size(), NAN);
+  for (std::size_t r = 0; r < f.nr; ++r)
+    for (std::size_t c = 0; c < f.nc; ++c)
+      if (on_tile_edge(r, c, f.nr, f.nc)) {
+        const std::size_t p = ring_position(r, c, f.nr, f.nc);
+        ring.label[p] = f.label[r * f.nc + c];
+        ring.z[p] = f.original[r * f.nc + c];  // perimeter cells are seeds: never raised
+      }
+  return ring;
+}
+
+// Pass 1: labels and spill elevations inside this rank's tiles (into `edges`, and the
+// tiles into `cache`); rank 0 (or the only process) gets every tile's ring and every
+// rank's edges.
+std::vector<Ring> flood_pass(const TileGrid& tiles, const WindowReader& read, const TileComm& comm,
+                             const std::vector<std::uint32_t>& first, TileCache& cache, SpillEdges& edges) {
+  const std::size_t nt = tiles.count();
+  std::vector<Ring> rings(nt);
+  Packer mine;  // this rank's tiles: their rings
+  struct Flooded {
+    TileFlood f;
+    std::vector<SpillEdges::Entry> edges;  // the tile's own, each pair once
+  };
+  for_each_tile(
+      comm, nt,
+      [&](std::size_t t) {  // on the tile's thread: the edges into a map of its own
+        SpillEdges own;
+        Flooded x;
+        x.f = flood_tile(tiles, t, read, first[t], [&](std::uint32_t a, std::uint32_t b, float z) { own.add(a, b, z); });
+        x.edges = own.entries();
+        return x;
+      },
+      [&](std::size_t t, Flooded&& x) {
+        for (const SpillEdges::Entry& e : x.edges) edges.add(e);
+        cache.put(t, x.f);
+        rings[t] = perimeter(x.f);
+        if (comm.size() > 1) mine.put(std::uint64_t(t)).put_vector(rings[t].label).put_vector(rings[t].z);
+      });
+  if (comm.size() == 1) return rings;
+  mine.put(~std::uint64_t(0)).put_vector(edges.entries());
+  if (!comm.root()) edges.clear(), std::vector<Ring>(nt).swap(rings);
+  for (const std::string& bytes : comm.gather(mine.take())) {
+    Unpacker in(bytes);
+    for (auto t = in.get<std::uint64_t>(); t != ~std::uint64_t(0); t = in.get<std::uint64_t>()) {
+      if (t >= nt) throw terrain::Error("tiled fill: a rank sent a tile out of range");
+      rings[t].label = in.get_vector<std::uint32_t>();
+      rings[t].z = in.get_vector<float>();
+    }
+    for (const SpillEdges::Entry& e : in.get_vector<SpillEdges::Entry>()) edges.add(e);
+  }
+  return rings;
+}
+
+// Edges across tile edges: each perimeter cell with its 8 neighbours in other tiles.
+void cross_tile_edges(const TileGrid& tiles, const std::vector<Ring>& rings, SpillEdges& edges) {
+  const Neighbours grid{long(tiles.rows), long(tiles.cols)};
+  for (std::size_t t = 0; t < tiles.count(); ++t) {
+    const terrain::RasterWindow w = tiles.window(t);
+    const Ring& ring = rings[t];
+    for (std::size_t r = 0; r < w.rows; ++r)
+      for (std::size_t c = 0; c < w.cols; ++c) {
+        if (!on_tile_edge(r, c, w.rows, w.cols)) continue;
+        const std::size_t p = ring_position(r, c, w.rows, w.cols);
+        if (ring.label[p] == kNone) continue;
+        grid.each(long(w.row0 + r), long(w.col0 + c), [&](std::size_t j, int) {
+          const std::size_t gr = j / tiles.cols, gc = j % tiles.cols;
+          const std::size_t u = gr / tiles.side * tiles.tile_cols() + gc / tiles.side;
+          if (u == t) return;
+          const terrain::RasterWindow wu = tiles.window(u);
+          const Ring& other = rings[u];
+          const std::size_t q = ring_position(gr - wu.row0, gc - wu.col0, wu.rows, wu.cols);
+          if (other.label[q] == kNone || other.label[q] == ring.label[p]) return;
+          edges.add(ring.label[p], other.label[q], std::max(ring.z[p], other.z[q]));
+        });
+      }
+  }
+}
+
+// The spill elevation of every label: minimax paths from the outside (Dijkstra with max).
+std::vector<float> spill_elevations(std::uint64_t labels, SpillEdges& edges) {
+  std::vector<std::vector<std::pair<std::uint32_t, float>>> adjacent(labels);
+  for (const SpillEdges::Entry& e : edges.entries()) {
+    const std::uint32_t a = std::uint32_t(e.key >> 32), b = std::uint32_t(e.key);
+    adjacent[a].emplace_back(b, e.z);
+    adjacent[b].emplace_back(a, e.z);
+  }
+  edges.clear();
+  std::vector<float> spill(labels, std::numeric_limits<float>::infinity());
+  std::vector<std::uint8_t> settled(labels, 0);
+  using Entry = std::pair<float, std::uint32_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  spill[kOutside] = -std::numeric_limits<float>::infinity();
+  queue.push({spill[kOutside], kOutside});
+  while (!queue.empty()) {
+    const auto [z, a] = queue.top();
+    queue.pop();
+    if (settled[a]) continue;
+    settled[a] = 1;
+    for (const auto& [b, w] : adjacent[a]) {
+      const float s = std::max(z, w);
+      if (s < spill[b]) {
+        spill[b] = s;
+        queue.push({s, b});
+      }
+    }
+  }
+  return spill;
+}
+
+// Rank 0 solves the spill graph; each rank gets the spills of its tiles' labels, by ring
+// position.
+std::vector<std::vector<float>> scatter_spills(const TileGrid& tiles, const TileComm& comm,
+                                               const std::vector<std::uint32_t>& first, std::uint64_t labels,
+                                               std::vector<Ring>& rings, SpillEdges& edges) {
+  const std::size_t nt = tiles.count();
+  std::vector<std::string> per_rank;
+  if (comm.root()) {
+    cross_tile_edges(tiles, rings, edges);
+    std::vector<Ring>().swap(rings);
+    const std::vector<float> spill = spill_elevations(labels, edges);
+    std::vector<Packer> packs(std::size_t(comm.size()));
+    for (std::size_t t = 0; t < nt; ++t) {
+      const terrain::RasterWindow w = tiles.window(t);
+      const auto s0 = spill.begin() + std::ptrdiff_t(first[t]);
+      packs[t % std::size_t(comm.size())].put(std::uint64_t(t)).put_vector(
+          std::vector<float>(s0, s0 + std::ptrdiff_t(ring_size(w.rows, w.cols))));
+    }
+    for (Packer& pk : packs) per_rank.push_back(pk.take());
+  }
+  std::vector<std::vector<float>> tile_spill(nt);
+  const std::string bytes = comm.scatter(std::move(per_rank));
+  Unpacker in(bytes);
+  while (!in.done()) {
+    const auto t = in.get<std::uint64_t>();
+    if (t >= nt || !comm.owns(t)) throw terrain::Error("tiled fill: rank 0 sent a tile out of range");
+    tile_spill[t] = in.get_vector<float>();
+  }
+  return tile_spill;
+}
+
+// Pass 2 for one tile: flooded again (or from the cache) and raised to its labels' spill
+// elevations; the tile's elevations and how many cells were raised.
+std::pair<terrain::Grid, std::size_t> raise_tile(const TileGrid& tiles, std::size_t t, const WindowReader& read,
+                                                 std::uint32_t first_label, const std::vector<float>& spill,
+                                                 TileCache& cache) {
+  TileFlood f;
+  if (cache) {
+#pragma omp critical(tiled_fill_cache)
+    f = cache.get(t);
+  } else {
+    f = flood_tile(tiles, t, read, first_label, [](std::uint32_t, std::uint32_t, float) {});
+  }
+  const terrain::RasterWindow w = tiles.window(t);
+  std::pair<terrain::Grid, std::size_t> out{terrain::Grid(w.rows, w.cols, f.geo, NAN), 0};
+  for (std::size_t i = 0; i < f.z.size(); ++i) {
+    if (f.label[i] == kNone) continue;
+    const float s = f.label[i] == kOutside ? -std::numeric_limits<float>::infinity() : spill.at(f.label[i] - first_label);
+    const float z = std::isfinite(s) ? std::max(f.z[i], s) : f.z[i];
+    out.second += z > f.original[i];
+    out.first.z[i] = z;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader& read,
@@ -191,182 +390,14 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
     labels += ring_size(w.rows, w.cols);
     if (labels >= kNone) throw terrain::Error("tiled fill: too many tiles (use a larger tile size)");
   }
-  std::unordered_map<std::uint64_t, float> weight;  // lowest meeting elevation of two labels
-  auto edge = [&](std::uint32_t a, std::uint32_t b, float z) {
-    const std::uint64_t key = a < b ? (std::uint64_t(a) << 32 | b) : (std::uint64_t(b) << 32 | a);
-    const auto [it, fresh] = weight.emplace(key, z);
-    if (!fresh && z < it->second) it->second = z;
-  };
-
-  // Pass 1: labels and spill elevations inside tiles; the perimeter (label, elevation) of
-  // each tile, for the edges across tiles.
-  struct Ring {
-    std::size_t nr = 0, nc = 0;
-    std::vector<std::uint32_t> label;
-    std::vector<float> z;
-  };
-  std::vector<Ring> rings(nt);
-  Packer mine;  // this rank's tiles: their rings
+  SpillEdges edges;
   TileCache cache(cache_path);
-  struct Flooded {
-    TileFlood f;
-    std::vector<std::pair<std::uint64_t, float>> edges;  // the tile's own, each pair once
-  };
-  for_each_tile(
-      comm, nt,
-      [&](std::size_t t) {  // on the tile's thread: the edges into a map of its own
-        std::unordered_map<std::uint64_t, float> own;
-        Flooded x;
-        x.f = flood_tile(tiles, t, read, first[t], [&](std::uint32_t a, std::uint32_t b, float z) {
-          const std::uint64_t key = a < b ? (std::uint64_t(a) << 32 | b) : (std::uint64_t(b) << 32 | a);
-          const auto [it, fresh] = own.emplace(key, z);
-          if (!fresh && z < it->second) it->second = z;
-        });
-        x.edges.assign(own.begin(), own.end());
-        return x;
-      },
-      [&](std::size_t t, Flooded&& x) {
-        const TileFlood& f = x.f;
-        for (const auto& [key, z] : x.edges) edge(std::uint32_t(key >> 32), std::uint32_t(key), z);
-        cache.put(t, f);
-        Ring& ring = rings[t];
-        ring.nr = f.nr, ring.nc = f.nc;
-        ring.label.assign(ring_size(f.nr, f.nc), kNone);
-        ring.z.assign(ring.label.size(), NAN);
-        for (std::size_t r = 0; r < f.nr; ++r)
-          for (std::size_t c = 0; c < f.nc; ++c)
-            if (on_tile_edge(r, c, f.nr, f.nc)) {
-              const std::size_t p = ring_position(r, c, f.nr, f.nc);
-              ring.label[p] = f.label[r * f.nc + c];
-              ring.z[p] = f.original[r * f.nc + c];  // perimeter cells are seeds: never raised
-            }
-        if (comm.size() > 1) mine.put(std::uint64_t(t)).put_vector(ring.label).put_vector(ring.z);
-      });
-  if (comm.size() > 1) {  // rank 0 gets every ring and every spill edge
-    struct WeightEntry {
-      std::uint64_t key;
-      float z;
-    };
-    std::vector<WeightEntry> local;
-    local.reserve(weight.size());
-    for (const auto& [key, z] : weight) local.push_back({key, z});
-    mine.put(~std::uint64_t(0)).put_vector(local);
-    if (!comm.root()) decltype(weight)().swap(weight), std::vector<Ring>(nt).swap(rings);
-    for (const std::string& bytes : comm.gather(mine.take())) {
-      Unpacker in(bytes);
-      for (auto t = in.get<std::uint64_t>(); t != ~std::uint64_t(0); t = in.get<std::uint64_t>()) {
-        if (t >= nt) throw terrain::Error("tiled fill: a rank sent a tile out of range");
-        const terrain::RasterWindow w = tiles.window(t);
-        Ring& ring = rings[t];
-        ring.nr = w.rows, ring.nc = w.cols;
-        ring.label = in.get_vector<std::uint32_t>();
-        ring.z = in.get_vector<float>();
-      }
-      for (const WeightEntry& e : in.get_vector<WeightEntry>()) edge(std::uint32_t(e.key >> 32), std::uint32_t(e.key), e.z);
-    }
-  }
-  // Rank 0 (or the only process) solves the graph: edges across tile edges, then the spill
-  // elevation of every label; each rank gets the spills of its tiles' labels.
-  std::vector<std::string> per_rank;
-  if (comm.root()) {
-    // Edges across tile edges: each perimeter cell with its 8 neighbours in other tiles.
-    for (std::size_t t = 0; t < nt; ++t) {
-      const terrain::RasterWindow w = tiles.window(t);
-      const Ring& ring = rings[t];
-      for (std::size_t r = 0; r < w.rows; ++r)
-        for (std::size_t c = 0; c < w.cols; ++c) {
-          if (!on_tile_edge(r, c, w.rows, w.cols)) continue;
-          const std::size_t p = ring_position(r, c, w.rows, w.cols);
-          if (ring.label[p] == kNone) continue;
-          for (int k = 0; k < 8; ++k) {
-            const long gr = long(w.row0 + r) + kDRow[k], gc = long(w.col0 + c) + kDCol[k];
-            if (gr < 0 || gc < 0 || gr >= long(tiles.rows) || gc >= long(tiles.cols)) continue;
-            const std::size_t u = std::size_t(gr) / tiles.side * tiles.tile_cols() + std::size_t(gc) / tiles.side;
-            if (u == t) continue;
-            const terrain::RasterWindow wu = tiles.window(u);
-            const Ring& other = rings[u];
-            const std::size_t q = ring_position(std::size_t(gr) - wu.row0, std::size_t(gc) - wu.col0, wu.rows, wu.cols);
-            if (other.label[q] == kNone || other.label[q] == ring.label[p]) continue;
-            edge(ring.label[p], other.label[q], std::max(ring.z[p], other.z[q]));
-          }
-        }
-    }
-    std::vector<Ring>().swap(rings);
-
-    // The spill elevation of every label: minimax paths from the outside (Dijkstra with max).
-    std::vector<std::vector<std::pair<std::uint32_t, float>>> adjacent(labels);
-    for (const auto& [key, z] : weight) {
-      const std::uint32_t a = std::uint32_t(key >> 32), b = std::uint32_t(key);
-      adjacent[a].emplace_back(b, z);
-      adjacent[b].emplace_back(a, z);
-    }
-    decltype(weight)().swap(weight);
-    std::vector<float> spill(labels, std::numeric_limits<float>::infinity());
-    std::vector<std::uint8_t> settled(labels, 0);
-    using Entry = std::pair<float, std::uint32_t>;
-    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-    spill[kOutside] = -std::numeric_limits<float>::infinity();
-    queue.push({spill[kOutside], kOutside});
-    while (!queue.empty()) {
-      const auto [z, a] = queue.top();
-      queue.pop();
-      if (settled[a]) continue;
-      settled[a] = 1;
-      for (const auto& [b, w] : adjacent[a]) {
-        const float s = std::max(z, w);
-        if (s < spill[b]) {
-          spill[b] = s;
-          queue.push({s, b});
-        }
-      }
-    }
-    decltype(adjacent)().swap(adjacent);
-    per_rank.resize(std::size_t(comm.size()));
-    std::vector<Packer> packs(std::size_t(comm.size()));
-    for (std::size_t t = 0; t < nt; ++t) {
-      const terrain::RasterWindow w = tiles.window(t);
-      const auto s0 = spill.begin() + std::ptrdiff_t(first[t]);
-      packs[t % std::size_t(comm.size())].put(std::uint64_t(t)).put_vector(
-          std::vector<float>(s0, s0 + std::ptrdiff_t(ring_size(w.rows, w.cols))));
-    }
-    for (std::size_t r = 0; r < per_rank.size(); ++r) per_rank[r] = packs[r].take();
-  }
-  std::vector<std::vector<float>> tile_spill(nt);  // this rank's tiles: spill by ring position
-  {
-    const std::string bytes = comm.scatter(std::move(per_rank));
-    Unpacker in(bytes);
-    while (!in.done()) {
-      const auto t = in.get<std::uint64_t>();
-      if (t >= nt || !comm.owns(t)) throw terrain::Error("tiled fill: rank 0 sent a tile out of range");
-      tile_spill[t] = in.get_vector<float>();
-    }
-  }
-
-  // Pass 2: flood each tile again and raise it to its labels' spill elevations.
+  std::vector<Ring> rings = flood_pass(tiles, read, comm, first, cache, edges);
+  const std::vector<std::vector<float>> tile_spill = scatter_spills(tiles, comm, first, labels, rings, edges);
   std::size_t raised = 0;
   using Filled = std::pair<terrain::Grid, std::size_t>;  // a tile's elevations, how many raised
   for_each_tile(
-      comm, nt,
-      [&](std::size_t t) {
-        TileFlood f;
-        if (cache) {
-#pragma omp critical(tiled_fill_cache)
-          f = cache.get(t);
-        } else {
-          f = flood_tile(tiles, t, read, first[t], [](std::uint32_t, std::uint32_t, float) {});
-        }
-        const terrain::RasterWindow w = tiles.window(t);
-        Filled out{terrain::Grid(w.rows, w.cols, f.geo, NAN), 0};
-        for (std::size_t i = 0; i < f.z.size(); ++i) {
-          if (f.label[i] == kNone) continue;
-          const float s = f.label[i] == kOutside ? -std::numeric_limits<float>::infinity()
-                                                 : tile_spill[t].at(f.label[i] - first[t]);
-          const float z = std::isfinite(s) ? std::max(f.z[i], s) : f.z[i];
-          out.second += z > f.original[i];
-          out.first.z[i] = z;
-        }
-        return out;
-      },
+      comm, nt, [&](std::size_t t) { return raise_tile(tiles, t, read, first[t], tile_spill[t], cache); },
       [&](std::size_t t, Filled&& out) {
         raised += out.second;
         done(t, out.first);

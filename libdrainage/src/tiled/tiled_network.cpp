@@ -99,6 +99,7 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
   L.down.assign(n, kNone), L.acc.assign(n, 0);
   std::vector<std::uint8_t> indeg(n, 0);
   auto code_at = [&](long hr, long hc) { return halo[std::size_t(hr * HC + hc)]; };
+  const Neighbours around{HR, HC};
   for (long r = 0; r < nr; ++r)
     for (long c = 0; c < nc; ++c) {
       const std::size_t i = std::size_t(r * nc + c);
@@ -109,13 +110,11 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
       // Entered from outside the tile: a halo neighbour whose direction points here (only
       // cells on the tile's edge have neighbours outside it).
       const bool edge = r == 0 || c == 0 || r == nr - 1 || c == nc - 1;
-      for (int q = 0; q < 8 && edge; ++q) {
-        const long rr = r - kDRow[std::size_t(q)], cc = c - kDCol[std::size_t(q)];  // flows in along q
-        if (rr >= 0 && cc >= 0 && rr < nr && cc < nc) continue;
-        const long hr = rr + dr, hc = cc + dc;
-        if (hr < 0 || hc < 0 || hr >= HR || hc >= HC) continue;
-        if (code_at(hr, hc) == std::uint8_t(q)) L.entry[i] = 1;
-      }
+      if (edge)
+        around.inflows(r + dr, c + dc, [&](std::size_t j, int q) {
+          const long rr = long(j) / HC - dr, cc = long(j) % HC - dc;  // in the tile's coordinates
+          if ((rr < 0 || cc < 0 || rr >= nr || cc >= nc) && halo[j] == std::uint8_t(q)) L.entry[i] = 1;
+        });
       if (d >= 8) {
         L.pit[i] = 1;
         continue;
