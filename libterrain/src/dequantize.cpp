@@ -8,14 +8,16 @@
 #include <utility>
 #include <vector>
 
+#include "terrain/neighbours.hpp"
+
 namespace terrain {
 
 std::vector<double> terrace_interpolation(const Grid& grid, double h) {
   const long R = long(grid.rows), C = long(grid.cols);
   const std::size_t n = grid.size();
   constexpr double inf = std::numeric_limits<double>::infinity();
-  constexpr int dr[8] = {-1, -1, -1, 0, 0, 1, 1, 1}, dc[8] = {-1, 0, 1, -1, 1, -1, 0, 1};
-  auto valid = [&](long r, long c) { return r >= 0 && c >= 0 && r < R && c < C && !std::isnan(grid.z[r * C + c]); };
+  const Neighbours around{R, C};
+  auto diagonal = [](int k) { return (k & 1) != 0; };
   // Geodesic distance within each terrace (8-connected samples of one value) to its edge
   // with the lower (sign -1) or the higher (sign +1) neighbours: the contour between them
   // lies half a step from the edge sample.
@@ -28,22 +30,21 @@ std::vector<double> terrace_interpolation(const Grid& grid, double h) {
         const float z = grid.z[r * C + c];
         if (std::isnan(z)) continue;
         double best = inf;
-        for (int k = 0; k < 8; ++k)
-          if (valid(r + dr[k], c + dc[k]) && (grid.z[(r + dr[k]) * C + c + dc[k]] - z) * float(sign) > 0)
-            best = std::min(best, (dr[k] && dc[k]) ? 0.5 * std::sqrt(2.0) : 0.5);
+        around.each(r, c, [&](std::size_t j, int k) {
+          if (!std::isnan(grid.z[j]) && (grid.z[j] - z) * float(sign) > 0)
+            best = std::min(best, diagonal(k) ? 0.5 * std::sqrt(2.0) : 0.5);
+        });
         if (best < inf) d[r * C + c] = best, heap.emplace(best, std::uint32_t(r * C + c));
       }
     while (!heap.empty()) {
       const auto [di, i] = heap.top();
       heap.pop();
       if (di > d[i]) continue;
-      const long r = long(i) / C, c = long(i) % C;
-      for (int k = 0; k < 8; ++k) {
-        const long rr = r + dr[k], cc = c + dc[k];
-        if (!valid(rr, cc) || grid.z[rr * C + cc] != grid.z[i]) continue;
-        const double dn = di + ((dr[k] && dc[k]) ? std::sqrt(2.0) : 1.0);
-        if (dn < d[rr * C + cc]) d[rr * C + cc] = dn, heap.emplace(dn, std::uint32_t(rr * C + cc));
-      }
+      around.each(std::size_t(i), [&](std::size_t j, int k) {
+        if (grid.z[j] != grid.z[i]) return;  // another terrace, or no-data (NaN)
+        const double dn = di + (diagonal(k) ? std::sqrt(2.0) : 1.0);
+        if (dn < d[j]) d[j] = dn, heap.emplace(dn, std::uint32_t(j));
+      });
     }
     return d;
   };
@@ -62,12 +63,9 @@ std::vector<double> terrace_interpolation(const Grid& grid, double h) {
       stack.pop_back();
       if (lo[i] < inf) mlo = std::max(mlo, lo[i]);
       if (hi[i] < inf) mhi = std::max(mhi, hi[i]);
-      const long r = long(i) / C, c = long(i) % C;
-      for (int k = 0; k < 8; ++k) {
-        const long rr = r + dr[k], cc = c + dc[k];
-        if (valid(rr, cc) && grid.z[rr * C + cc] == grid.z[i] && label[rr * C + cc] != id)
-          label[rr * C + cc] = id, stack.push_back(std::uint32_t(rr * C + cc));
-      }
+      around.each(std::size_t(i), [&](std::size_t j, int) {
+        if (grid.z[j] == grid.z[i] && label[j] != id) label[j] = id, stack.push_back(std::uint32_t(j));
+      });
     }
     max_lo.push_back(mlo), max_hi.push_back(mhi);
   }

@@ -13,6 +13,7 @@
 
 #include "terrain/big_vector.hpp"
 #include "terrain/grid.hpp"
+#include "terrain/neighbours.hpp"
 
 namespace drainage {
 
@@ -24,12 +25,13 @@ inline constexpr std::uint8_t kOutlet = 9;
 inline constexpr std::uint8_t kNodata = 255;
 inline constexpr std::uint32_t kNone = 0xFFFFFFFFu;  // "no vertex" in index arrays
 
-inline constexpr std::array<int, 8> kDRow = {0, -1, -1, -1, 0, 1, 1, 1};
-inline constexpr std::array<int, 8> kDCol = {1, 1, 0, -1, -1, -1, 0, 1};
+using terrain::kDCol;  // terrain/neighbours.hpp: the offsets of E, NE, N, NW, W, SW, S, SE
+using terrain::kDRow;
+using terrain::Neighbours;
 inline constexpr std::array<const char*, 8> kName = {"E", "NE", "N", "NW", "W", "SW", "S", "SE"};
-// Order in which neighbours are tried; a later one replaces the best only when strictly
-// steeper, so ties go to the first cardinal of E, N, W, S, then NE, NW, SW, SE (TauDEM).
-inline constexpr std::array<int, 8> kTryOrder = {0, 2, 4, 6, 1, 3, 5, 7};
+// Neighbours are tried in terrain::kTryOrder; a later one replaces the best only when
+// strictly steeper, so ties go to the first cardinal of E, N, W, S, then NE, NW, SW, SE.
+using terrain::kTryOrder;
 
 // Codes of other tools, indexed by our code k (0..7).
 inline constexpr std::array<int, 8> kTaudemCode = {1, 2, 3, 4, 5, 6, 7, 8};
@@ -54,41 +56,27 @@ int to_foreign_code(std::uint8_t code, D8Encoding enc);
 // neighbour get kNoFlow. Parallel over rows; the result does not depend on the threads.
 D8Codes d8_directions(const terrain::Grid& z);
 
-// The 8-neighbourhood of a rows x cols grid, the one loop over kDRow/kDCol: f(j, k) gets
-// the row-major index j of each in-grid neighbour and its direction code k.
-struct Neighbours {
-  long rows, cols;
-  // Each neighbour j of cell (r, c), lying in direction k from it, k = 0..7.
-  template <class F>
-  void each(long r, long c, F&& f) const {
-    for (int k = 0; k < 8; ++k) visit(r + kDRow[std::size_t(k)], c + kDCol[std::size_t(k)], k, f);
-  }
-  // The same in kTryOrder (where the first of equals wins).
-  template <class F>
-  void each_in_try_order(long r, long c, F&& f) const {
-    for (int k : kTryOrder) visit(r + kDRow[std::size_t(k)], c + kDCol[std::size_t(k)], k, f);
-  }
-  // Each neighbour j from which flow along code k enters (r, c): j = (r, c) - offset of k.
-  template <class F>
-  void inflows(long r, long c, F&& f) const {
-    for (int k = 0; k < 8; ++k) visit(r - kDRow[std::size_t(k)], c - kDCol[std::size_t(k)], k, f);
-  }
-  template <class F>
-  void each(std::size_t i, F&& f) const { each(long(i) / cols, long(i) % cols, f); }
-  template <class F>
-  void each_in_try_order(std::size_t i, F&& f) const { each_in_try_order(long(i) / cols, long(i) % cols, f); }
-
- private:
-  template <class F>
-  void visit(long rr, long cc, int k, F& f) const {
-    if (rr >= 0 && cc >= 0 && rr < rows && cc < cols) f(std::size_t(rr * cols + cc), k);
-  }
-};
-
 // Index of the downstream sample of `i` under `code`, or kNone (kNoFlow, kOutlet, kNodata).
 inline std::uint32_t downstream(std::uint32_t i, std::uint8_t code, std::size_t cols) {
   if (code >= 8) return kNone;
   return std::uint32_t(std::int64_t(i) + std::int64_t(kDRow[code]) * std::int64_t(cols) + kDCol[code]);
+}
+
+// The one downstream step: the (row, column) that in-grid code k (0..7) points to from
+// (r, c), which may lie off the grid (or off a window: the caller decides what that means).
+struct RowCol {
+  long r, c;
+};
+inline RowCol step(long r, long c, std::uint8_t k) { return {r + kDRow[k], c + kDCol[k]}; }
+
+// The sample that sample i of a rows x cols grid of codes drains into, or kNone where the
+// flow ends (no direction, off the grid, into no-data).
+inline std::size_t flows_into(const D8Codes& dirs, std::size_t rows, std::size_t cols, std::size_t i) {
+  if (dirs[i] >= 8) return kNone;
+  const RowCol d = step(long(i / cols), long(i % cols), dirs[i]);
+  if (d.r < 0 || d.c < 0 || d.r >= long(rows) || d.c >= long(cols)) return kNone;
+  const std::size_t j = std::size_t(d.r) * cols + std::size_t(d.c);
+  return dirs[j] == kNodata ? kNone : j;
 }
 
 }  // namespace drainage

@@ -173,7 +173,7 @@ std::uint64_t link_downstream(const std::string& path, const FixedHeader& f, std
       if (v.d8 == kNodata) continue;
       ++valid;
       if (v.d8 >= 8 || cut(i)) continue;
-      const long rr = r + kDRow[v.d8], cc = c + kDCol[v.d8];
+      const auto [rr, cc] = step(r, c, v.d8);
       const long gr = long(r0) + rr, gc = long(c0) + cc;
       if (gr < 0 || gc < 0 || gr >= long(R) || gc >= long(C)) {
 #pragma omp critical(dv_error)

@@ -196,17 +196,6 @@ std::vector<std::vector<std::uint64_t>> chain_divide_edges(std::vector<DivideEdg
 
 namespace {
 
-// The cell that cell i of a rows x cols grid of D8 codes drains into, or kNone where the
-// flow ends (no direction, off the grid, into no-data).
-std::size_t flows_into(const D8Codes& dirs, std::size_t rows, std::size_t cols, std::size_t i) {
-  const std::uint8_t code = dirs[i];
-  if (code >= 8) return kNone;
-  const std::int64_t r = std::int64_t(i / cols) + kDRow[code], c = std::int64_t(i % cols) + kDCol[code];
-  if (r < 0 || c < 0 || r >= std::int64_t(rows) || c >= std::int64_t(cols)) return kNone;
-  const std::size_t j = std::size_t(r) * cols + std::size_t(c);
-  return dirs[j] == kNodata ? kNone : j;
-}
-
 }  // namespace
 
 terrain::BigVector<std::uint32_t> nearest_downstream_outlet(const D8Codes& dirs, std::size_t rows, std::size_t cols,

@@ -15,6 +15,7 @@ namespace {
 // Samples on the grid edge or beside no-data, ascending; marks them and no-data closed.
 std::vector<std::uint32_t> flood_seeds(const terrain::Grid& g, terrain::BigVector<std::uint8_t>& closed) {
   const long rows = long(g.rows), cols = long(g.cols);
+  const Neighbours around{rows, cols};
   std::vector<std::uint32_t> seeds;
   for (long r = 0; r < rows; ++r)
     for (long c = 0; c < cols; ++c) {
@@ -24,7 +25,7 @@ std::vector<std::uint32_t> flood_seeds(const terrain::Grid& g, terrain::BigVecto
         continue;
       }
       bool seed = r == 0 || c == 0 || r == rows - 1 || c == cols - 1;
-      for (std::size_t k = 0; k < 8 && !seed; ++k) seed = std::isnan(g.z[std::size_t((r + kDRow[k]) * cols + c + kDCol[k])]);
+      if (!seed) around.each(r, c, [&](std::size_t j, int) { seed = seed || std::isnan(g.z[j]); });
       if (seed) {
         closed[i] = 1;
         seeds.push_back(std::uint32_t(i));

@@ -44,12 +44,8 @@ void link_downstream(const D8Codes& dirs, long R, long C, Network& net) {
   for (long r = 0; r < R; ++r)
     for (long c = 0; c < C; ++c) {
       const std::size_t i = std::size_t(r * C + c);
-      const std::uint8_t d = dirs[i];
-      if (d >= 8) continue;
-      const long rr = r + kDRow[d], cc = c + kDCol[d];
-      if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;
-      const std::size_t j = std::size_t(rr * C + cc);
-      if (dirs[j] != kNodata) net.downstream[i] = std::uint32_t(j);
+      const std::size_t j = flows_into(dirs, std::size_t(R), std::size_t(C), i);
+      if (j != kNone) net.downstream[i] = std::uint32_t(j);
     }
 }
 

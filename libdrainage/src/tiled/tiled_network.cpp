@@ -119,13 +119,12 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
         L.pit[i] = 1;
         continue;
       }
-      const long gr = long(w.row0) + r + kDRow[d], gc = long(w.col0) + c + kDCol[d];
-      if (gr < 0 || gc < 0 || gr >= long(tiles.rows) || gc >= long(tiles.cols) ||
-          code_at(r + dr + kDRow[d], c + dc + kDCol[d]) == kNodata) {
+      const auto [rr, cc] = step(r, c, d);  // in the tile's coordinates
+      const long gr = long(w.row0) + rr, gc = long(w.col0) + cc;
+      if (gr < 0 || gc < 0 || gr >= long(tiles.rows) || gc >= long(tiles.cols) || code_at(rr + dr, cc + dc) == kNodata) {
         L.cut[i] = L.pit[i] = 1;
         continue;
       }
-      const long rr = r + kDRow[d], cc = c + kDCol[d];
       if (rr < 0 || cc < 0 || rr >= nr || cc >= nc) {
         L.leaves[i] = 1;
         L.target.push_back(std::uint64_t(gr) * tiles.cols + std::uint64_t(gc));
