@@ -335,158 +335,191 @@ std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes, int
   return best;
 }
 
-TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress,
-                                const TileComm& comm) {
-  if (run.tile == 0 || run.tile > 16384) throw terrain::Error("--tile-size must be between 1 and 16384");
-  if (run.dem.empty() == run.d8.empty()) throw terrain::Error("tiled mode takes a DEM or a D8 raster (not both yet)");
-  const std::string input = run.dem.empty() ? run.d8 : run.dem;
-  const terrain::DemInfo info = terrain::read_dem_info(input);
-  // GDAL's block cache would grow with the windows read; a tiled run keeps its memory to
-  // the tiles.
-  const terrain::GdalCacheLimit cache_limit(64);
-  TiledSummary summary;
-  auto t0 = std::chrono::steady_clock::now();
-  auto step = [&](const char* name) {
+namespace {
+
+// One tiled run's steps over its shared state: the surface (filled or as read), the D8
+// codes (flats resolved or not, or a D8 raster's), then the network into the .dv.
+class TiledDrainage {
+ public:
+  TiledDrainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress,
+                const TileComm& comm)
+      : run_(run), output_path_(output_path), progress_(progress), comm_(comm),
+        input_(run.dem.empty() ? run.d8 : run.dem), info_(terrain::read_dem_info(input_)),
+        tiles_{info_.rows, info_.cols, run.tile} {
+    summary_.rows = info_.rows, summary_.cols = info_.cols, summary_.dx = info_.geo.dx, summary_.dy = info_.geo.dy;
+    summary_.tiles = tiles_.count();
+    surface_ = [path = run.dem](const terrain::RasterWindow& w) { return terrain::read_dem(path, {}, w); };
+    // Scratch rasters and rank files live in a folder private to this run (mkdtemp beside
+    // the output, on the file system the ranks share): two runs on one output never share
+    // a scratch file, and no scratch name can be an input's. Rank 0 makes it and tells the
+    // others its name; it is removed at the end, on an error and on SIGINT/SIGTERM.
+    if (comm.root()) scratch_dir_ = std::make_unique<terrain::ScratchDir>(output_path);
+    scratch_ = comm.all_gather(comm.root() ? scratch_dir_->path().string() : std::string())[0] + "/";
+    step("set-up");
+  }
+
+  TiledSummary run() {
+    if (!run_.dem.empty() && run_.fill) fill();
+    choose_codes();
+    // This rank's blocks file (several ranks), kept until rank 0 has copied it.
+    struct RemoveAtEnd {
+      std::string path;
+      terrain::TempRegistration on_signal{path};
+      ~RemoveAtEnd() { ::unlink(path.c_str()); }
+    } remove_rank_blocks{comm_.size() > 1 ? blocks_path(comm_.rank()) : std::string()};
+    if (comm_.root()) {
+      terrain::write_stream_atomic(run_.write_to.empty() ? output_path_ : run_.write_to, [&](std::ostream& file) {
+        DvBlockWriter writer(file, output_path_, header());
+        network(&writer);
+        step("network (2 passes) and .dv blocks");
+        const NetworkTotals& n = summary_.totals;
+        writer.finish(n.points, n.branches, n.pits, n.pit_accumulated);
+      });
+    } else {
+      network(nullptr);
+    }
+    comm_.barrier();  // rank 0 has read every rank's blocks
+    return summary_;
+  }
+
+ private:
+  void step(const char* name) {
     const auto t1 = std::chrono::steady_clock::now();
-    summary.timings.emplace_back(name, std::chrono::duration<double>(t1 - t0).count());
-    t0 = t1;
-  };
-  summary.rows = info.rows, summary.cols = info.cols, summary.dx = info.geo.dx, summary.dy = info.geo.dy;
-  const TileGrid tiles{info.rows, info.cols, run.tile};
-  summary.tiles = tiles.count();
-  auto read_z = [&, path = run.dem](const terrain::RasterWindow& w) { return terrain::read_dem(path, {}, w); };
-  std::uint32_t flags = 0;
-  std::function<terrain::Grid(const terrain::RasterWindow&)> surface = read_z;
+    summary_.timings.emplace_back(name, std::chrono::duration<double>(t1 - t0_).count());
+    t0_ = t1;
+  }
 
-  // Scratch rasters and rank files live in a folder private to this run (mkdtemp beside
-  // the output, on the file system the ranks share): two runs on one output never share a
-  // scratch file, and no scratch name can be an input's. Rank 0 makes it and tells the
-  // others its name; it is removed at the end, on an error and on SIGINT/SIGTERM.
-  std::unique_ptr<terrain::ScratchDir> scratch_dir;
-  if (comm.root()) scratch_dir = std::make_unique<terrain::ScratchDir>(output_path);
-  const std::string scratch = comm.all_gather(comm.root() ? scratch_dir->path().string() : std::string())[0] + "/";
-
-  step("set-up");
-  std::unique_ptr<ScratchArray<float>> filled;
-  if (!run.dem.empty() && run.fill) {
-    filled = std::make_unique<ScratchArray<float>>(scratch + "filled.f32", info.rows, info.cols, comm);
-    summary.filled = tiled_priority_flood_fill(
-        tiles, read_z,
+  // Priority-Flood over the tiles into a scratch raster, which becomes the surface.
+  void fill() {
+    filled_ = std::make_unique<ScratchArray<float>>(scratch_ + "filled.f32", info_.rows, info_.cols, comm_);
+    summary_.filled = tiled_priority_flood_fill(
+        tiles_, surface_,
         [&](std::size_t t, terrain::Grid& g) {
-          filled->write(tiles.window(t), g.z.data());
-          terrain::report(progress, 0.3 * double(t + 1) / double(tiles.count()));
+          filled_->write(tiles_.window(t), g.z.data());
+          terrain::report(progress_, 0.3 * double(t + 1) / double(tiles_.count()));
         },
-        comm, fmt::format("{}rank{}.fill", scratch, comm.rank()));
-    comm.barrier();  // every tile filled before any rank reads the surface
+        comm_, fmt::format("{}rank{}.fill", scratch_, comm_.rank()));
+    comm_.barrier();  // every tile filled before any rank reads the surface
     step("fill (2 passes)");
-    surface = [&](const terrain::RasterWindow& w) {
-      terrain::Grid g(w.rows, w.cols, info.geo.window(w.row0, w.col0));  // as read_dem gives it
-      filled->read(w, g.z.data());
+    surface_ = [this](const terrain::RasterWindow& w) {
+      terrain::Grid g(w.rows, w.cols, info_.geo.window(w.row0, w.col0));  // as read_dem gives it
+      filled_->read(w, g.z.data());
       return g;
     };
-    flags |= kDvFilled;
-  }
-  CodeReader codes;
-  std::unique_ptr<ScratchArray<std::uint8_t>> resolved;
-  if (!run.dem.empty() && run.resolve_flats) {
-    flags |= kDvHasElevations | kDvFlatsResolved;
-    resolved = std::make_unique<ScratchArray<std::uint8_t>>(scratch + "d8.u8", info.rows, info.cols, comm);
-    tiled_resolved_codes(tiles, surface, *resolved, comm);
-    step("flats (D8, flats resolved)");
-    codes = [&](const terrain::RasterWindow& w) {
-      D8Codes out(w.rows * w.cols);
-      resolved->read(w, out.data());
-      return out;
-    };
-  } else if (!run.dem.empty()) {
-    flags |= kDvHasElevations;
-    codes = [&](const terrain::RasterWindow& w) { return window_codes(surface, w, tiles); };
-  } else {
-    codes = [&](const terrain::RasterWindow& w) {
-      const terrain::Grid g = terrain::read_dem(run.d8, {}, w);
-      D8Codes out(g.size());
-      for (std::size_t i = 0; i < g.size(); ++i) {
-        try {
-          out[i] = from_foreign_code(g.z[i], run.encoding, std::isnan(g.z[i]));
-        } catch (const terrain::Error& e) {
-          throw terrain::Error(fmt::format("'{}' row {}, column {}: {}", run.d8, w.row0 + i / g.cols,
-                                           w.col0 + i % g.cols, e.what()));
-        }
-      }
-      return out;
-    };
+    flags_ |= kDvFilled;
   }
 
-  DvHeader h;
-  h.flags = flags;
-  h.rows = info.rows, h.cols = info.cols;
-  h.origin_x = info.geo.x_of_col(0), h.origin_y = info.geo.y_of_row(0);
-  h.dx = info.geo.dx, h.dy = info.geo.dy;
-  h.epsg = info.geo.epsg;
-  h.crs_wkt = info.geo.crs_wkt;
-  h.provenance = run.provenance;
-  h.block_rows = h.block_cols = std::uint32_t(run.tile);  // one block per tile
-  // One process writes its blocks as they come. Several ranks leave theirs in per-rank
-  // temporary files; rank 0 gathers their indexes and copies the blocks into the .dv in
-  // tile order (so the file is the same byte for byte whatever the number of ranks).
+  // The D8 codes' reader: flats resolved into a scratch raster, D8 of the surface, or a D8
+  // raster's codes.
+  void choose_codes() {
+    if (!run_.dem.empty() && run_.resolve_flats) {
+      flags_ |= kDvHasElevations | kDvFlatsResolved;
+      resolved_ = std::make_unique<ScratchArray<std::uint8_t>>(scratch_ + "d8.u8", info_.rows, info_.cols, comm_);
+      tiled_resolved_codes(tiles_, surface_, *resolved_, comm_);
+      step("flats (D8, flats resolved)");
+      codes_ = [this](const terrain::RasterWindow& w) {
+        D8Codes out(w.rows * w.cols);
+        resolved_->read(w, out.data());
+        return out;
+      };
+    } else if (!run_.dem.empty()) {
+      flags_ |= kDvHasElevations;
+      codes_ = [this](const terrain::RasterWindow& w) { return window_codes(surface_, w, tiles_); };
+    } else {
+      codes_ = [this](const terrain::RasterWindow& w) { return foreign_codes(w); };
+    }
+  }
+
+  D8Codes foreign_codes(const terrain::RasterWindow& w) const {
+    const terrain::Grid g = terrain::read_dem(run_.d8, {}, w);
+    D8Codes out(g.size());
+    for (std::size_t i = 0; i < g.size(); ++i) {
+      try {
+        out[i] = from_foreign_code(g.z[i], run_.encoding, std::isnan(g.z[i]));
+      } catch (const terrain::Error& e) {
+        throw terrain::Error(
+            fmt::format("'{}' row {}, column {}: {}", run_.d8, w.row0 + i / g.cols, w.col0 + i % g.cols, e.what()));
+      }
+    }
+    return out;
+  }
+
+  DvHeader header() const {
+    DvHeader h;
+    h.flags = flags_;
+    h.rows = info_.rows, h.cols = info_.cols;
+    h.origin_x = info_.geo.x_of_col(0), h.origin_y = info_.geo.y_of_row(0);
+    h.dx = info_.geo.dx, h.dy = info_.geo.dy;
+    h.epsg = info_.geo.epsg;
+    h.crs_wkt = info_.geo.crs_wkt;
+    h.provenance = run_.provenance;
+    h.block_rows = h.block_cols = std::uint32_t(run_.tile);  // one block per tile
+    return h;
+  }
+
+  // A tile's .dv block, encoded on the tile's thread.
+  void encode(NetworkTile& tile) const {
+    const std::size_t m = tile.dirs.size();
+    DvBlockFields f;
+    f.z.resize(m);
+    if (flags_ & kDvHasElevations) {
+      const terrain::Grid g = surface_(tile.window);
+      for (std::size_t q = 0; q < m; ++q) f.z[q] = std::isnan(g.z[q]) ? 0.0f : g.z[q];
+    }
+    f.d8.assign(tile.dirs.begin(), tile.dirs.end());
+    f.cut.assign(tile.cut.begin(), tile.cut.end());
+    f.accumulated.assign(tile.accumulated.begin(), tile.accumulated.end());
+    f.basin.assign(tile.basin.begin(), tile.basin.end());
+    f.order.assign(tile.order.begin(), tile.order.end());
+    tile.prepared = encode_dv_block(f);
+  }
+
   struct BlockRef {
     std::uint64_t tile, offset, bytes;
   };
-  auto blocks_path = [&](int rank) { return fmt::format("{}rank{}.blocks", scratch, rank); };
-  struct RemoveAtEnd {
-    std::string path;
-    terrain::TempRegistration on_signal{path};
-    ~RemoveAtEnd() { ::unlink(path.c_str()); }
-  } remove_rank_blocks{comm.size() > 1 ? blocks_path(comm.rank()) : std::string()};
-  auto network = [&](DvBlockWriter* writer) {
+  std::string blocks_path(int rank) const { return fmt::format("{}rank{}.blocks", scratch_, rank); }
+
+  // The network over the tiles. One process writes its blocks as they come. Several ranks
+  // leave theirs in per-rank temporary files; rank 0 gathers their indexes and copies the
+  // blocks into the .dv in tile order (so the file is the same byte for byte whatever the
+  // number of ranks).
+  void network(DvBlockWriter* writer) {
     std::ofstream blocks;
     std::vector<BlockRef> index;
-    if (comm.size() > 1) {
-      blocks.open(blocks_path(comm.rank()), std::ios::binary | std::ios::trunc);  // a fresh folder: a new file
-      if (!blocks) throw terrain::Error("cannot create the temporary file '" + blocks_path(comm.rank()) + "'");
+    if (comm_.size() > 1) {
+      blocks.open(blocks_path(comm_.rank()), std::ios::binary | std::ios::trunc);  // a fresh folder: a new file
+      if (!blocks) throw terrain::Error("cannot create the temporary file '" + blocks_path(comm_.rank()) + "'");
     }
-    // Each tile's block, encoded on the tile's thread.
-    auto encode = [&](std::size_t, NetworkTile& tile) {
-      const std::size_t m = tile.dirs.size();
-      DvBlockFields f;
-      f.z.resize(m);
-      if (flags & kDvHasElevations) {
-        const terrain::Grid g = surface(tile.window);
-        for (std::size_t q = 0; q < m; ++q) f.z[q] = std::isnan(g.z[q]) ? 0.0f : g.z[q];
-      }
-      f.d8.assign(tile.dirs.begin(), tile.dirs.end());
-      f.cut.assign(tile.cut.begin(), tile.cut.end());
-      f.accumulated.assign(tile.accumulated.begin(), tile.accumulated.end());
-      f.basin.assign(tile.basin.begin(), tile.basin.end());
-      f.order.assign(tile.order.begin(), tile.order.end());
-      tile.prepared = encode_dv_block(f);
-    };
-    summary.totals = tiled_network(
-        tiles, codes,
+    summary_.totals = tiled_network(
+        tiles_, codes_,
         [&](std::size_t t, const NetworkTile& tile) {
           const std::vector<char>& block = tile.prepared;
-          if (comm.size() == 1) {
+          if (comm_.size() == 1) {
             writer->put_block(t, block);
           } else {
             index.push_back({t, std::uint64_t(blocks.tellp()), block.size()});
             blocks.write(block.data(), std::streamsize(block.size()));
           }
-          terrain::report(progress, 0.3 + 0.7 * double(t + 1) / double(tiles.count()));
+          terrain::report(progress_, 0.3 + 0.7 * double(t + 1) / double(tiles_.count()));
         },
-        comm, encode);
-    if (summary.totals.points == 0)  // thrown inside the write: no output is left
-      throw terrain::Error("'" + input + "' has no valid sample (every cell is no-data)");
-    if (comm.size() == 1) return;
-    if (!blocks.flush()) throw terrain::Error("cannot write the temporary file '" + blocks_path(comm.rank()) + "' (disk full?)");
+        comm_, [this](std::size_t, NetworkTile& tile) { encode(tile); });
+    if (summary_.totals.points == 0)  // thrown inside the write: no output is left
+      throw terrain::Error("'" + input_ + "' has no valid sample (every cell is no-data)");
+    if (comm_.size() == 1) return;
+    if (!blocks.flush()) throw terrain::Error("cannot write the temporary file '" + blocks_path(comm_.rank()) + "' (disk full?)");
     blocks.close();
-    const std::vector<std::string> indexes = comm.all_gather(Packer().put_vector(index).take());
-    if (!writer) return;
-    std::vector<std::pair<int, BlockRef>> where(tiles.count(), {-1, {}});
-    for (int r = 0; r < comm.size(); ++r)
+    const std::vector<std::string> indexes = comm_.all_gather(Packer().put_vector(index).take());
+    if (writer) copy_rank_blocks(indexes, *writer);
+  }
+
+  // Rank 0: every rank's blocks, in tile order, into the .dv.
+  void copy_rank_blocks(const std::vector<std::string>& indexes, DvBlockWriter& writer) const {
+    std::vector<std::pair<int, BlockRef>> where(tiles_.count(), {-1, {}});
+    for (int r = 0; r < comm_.size(); ++r)
       for (const BlockRef& b : Unpacker(indexes[std::size_t(r)]).get_vector<BlockRef>())
-        if (b.tile < tiles.count()) where[b.tile] = {r, b};
-    std::vector<std::ifstream> files(std::size_t(comm.size()));
-    for (std::size_t t = 0; t < tiles.count(); ++t) {
+        if (b.tile < tiles_.count()) where[b.tile] = {r, b};
+    std::vector<std::ifstream> files(std::size_t(comm_.size()));
+    for (std::size_t t = 0; t < tiles_.count(); ++t) {
       const auto& [r, b] = where[t];
       if (r < 0) throw terrain::Error("tiled run: no rank wrote tile " + std::to_string(t));
       std::ifstream& in = files[std::size_t(r)];
@@ -494,21 +527,38 @@ TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_p
       std::vector<char> block(b.bytes);
       if (!in.seekg(std::streamoff(b.offset)) || !in.read(block.data(), std::streamsize(b.bytes)))
         throw terrain::Error("cannot read rank " + std::to_string(r) + "'s blocks in '" + blocks_path(r) + "'");
-      writer->put_block(t, block);
+      writer.put_block(t, block);
     }
-  };
-  if (comm.root()) {
-    terrain::write_stream_atomic(run.write_to.empty() ? output_path : run.write_to, [&](std::ostream& file) {
-      DvBlockWriter writer(file, output_path, h);
-      network(&writer);
-      step("network (2 passes) and .dv blocks");
-      writer.finish(summary.totals.points, summary.totals.branches, summary.totals.pits, summary.totals.pit_accumulated);
-    });
-  } else {
-    network(nullptr);
   }
-  comm.barrier();  // rank 0 has read every rank's blocks
-  return summary;
+
+  const TiledRun& run_;
+  const std::string& output_path_;
+  const terrain::Progress& progress_;
+  const TileComm& comm_;
+  const std::string input_;
+  const terrain::DemInfo info_;
+  const TileGrid tiles_;
+  // GDAL's block cache would grow with the windows read; a tiled run keeps its memory to
+  // the tiles.
+  const terrain::GdalCacheLimit cache_limit_{64};
+  TiledSummary summary_;
+  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+  std::unique_ptr<terrain::ScratchDir> scratch_dir_;
+  std::string scratch_;
+  std::uint32_t flags_ = 0;
+  std::function<terrain::Grid(const terrain::RasterWindow&)> surface_;
+  CodeReader codes_;
+  std::unique_ptr<ScratchArray<float>> filled_;
+  std::unique_ptr<ScratchArray<std::uint8_t>> resolved_;
+};
+
+}  // namespace
+
+TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress,
+                                const TileComm& comm) {
+  if (run.tile == 0 || run.tile > 16384) throw terrain::Error("--tile-size must be between 1 and 16384");
+  if (run.dem.empty() == run.d8.empty()) throw terrain::Error("tiled mode takes a DEM or a D8 raster (not both yet)");
+  return TiledDrainage(run, output_path, progress, comm).run();
 }
 
 }  // namespace drainage
