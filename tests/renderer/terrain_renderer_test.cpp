@@ -92,6 +92,29 @@ const MshScene& msh_scene() {
 
 // ---------------------------------------------------------------- on OpenGL
 
+// What the renderer refuses before it allocates anything: a size outside the option
+// table's frame limits, PELs without Voronoi weights. At the limits themselves it draws.
+TEST(RendererGl, RefusesWhatItCannotDrawAndDrawsAtTheLimits) {
+  const auto& mesh = msh_scene().mesh;
+  renderer::GlContext ctx;
+  auto message = [&](const terrain::GridMesh& m, int w, int h, const renderer::Layers& layers) -> std::string {
+    try {
+      TerrainRenderer r(ctx, m, nullptr, w, h, layers, test_style());
+      return {};
+    } catch (const terrain::Error& e) {
+      return e.what();
+    }
+  };
+  const renderer::Layers plain{};
+  for (const auto& [w, h] : {std::pair{renderer::kMinFrameSide - 1, 64}, std::pair{64, renderer::kMaxFrameSide + 1}})
+    EXPECT_NE(message(mesh, w, h, plain).find("is outside"), std::string::npos) << w << " x " << h;
+  EXPECT_EQ(message(mesh, renderer::kMinFrameSide, renderer::kMinFrameSide, plain), "");
+  renderer::Layers pels = plain;
+  pels.pels = true;
+  ASSERT_TRUE(mesh.voronoi.empty());
+  EXPECT_NE(message(mesh, 64, 64, pels).find("Voronoi"), std::string::npos);
+}
+
 TEST(RendererGl, GlslPnEvaluationMatchesCpu) {
   const auto& mesh = msh_scene().mesh;
   renderer::GlContext ctx;
