@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # "A picture of any DEM" (docs/terrain-render.md): each DEM's no-option frame, by
 # `terrain-render frame MESH DV -o x.png --line-stats`, as a markdown table row. Meshes by
-# dem2mesh at the DEM's own spacing (MSH at 50 m), drainage by build-drainage --breach 10
-# (Logan at 30 m as the demo drains it, the others at 10 m); integer copies by
+# dem2mesh at the DEM's own spacing (MSH at 50 m), drainage by build-drainage's defaults
+# (depressions breached, as --breach 10; Logan at 30 m as the demo drains it, the others at 10 m); integer copies by
 # gdal_translate -ot Int16 (rounds). Usage: bench/any_dem.sh [WORKDIR] [EXTRA RENDER OPTIONS...]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -27,7 +27,7 @@ for name in msh logan eno med sinmap; do
     fi
     m="$work/${name}_$kind.ply" d="$work/${name}_$kind.dv"
     [ -f "$m" ] || "$bin/dem2mesh" "$src" "$m" ${spacing[$name]} -q > /dev/null
-    [ -f "$d" ] || "$bin/build-drainage" "$m" "$d" --spacing "${drain[$name]}" --breach 10 -q > /dev/null
+    [ -f "$d" ] || "$bin/build-drainage" "$m" "$d" --spacing "${drain[$name]}" -q > /dev/null
     stats=$("$bin/terrain-render" frame "$m" "$d" -o "$work/${name}_$kind.png" --line-stats "$@")
     "$bin/terrain-render" frame "$m" -o "$work/${name}_${kind}_mask.png" --layers mask -q "$@" > /dev/null
     # Coverage: the mask (white) over the background (#dde4ec): mean R = bg + cov (1 - bg).

@@ -53,18 +53,19 @@ run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_breached.dv" -o "$out
 run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_breached.dv" -o "$out/render_msh_lines.svg"
 run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_breached.dv" -o "$out/render_msh_lines.pdf"
 run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_breached.dv" -o "$out/render_msh_shaded.png" \
-  --layers shaded,creases,silhouettes --view-az 160 --view-alt 35
-run $bin/terrain-render frame "$out/msh_50m.ply" -o "$out/render_msh_relief.png" --layers shaded --view-az 160 --view-alt 35
+  --layers shaded,creases,silhouettes --eye 562300 5119450 4300 --view-az 170 --view-alt 38 --fov 28
+run $bin/terrain-render frame "$out/msh_50m.ply" -o "$out/render_msh_relief.png" --layers shaded \
+  --eye 562300 5119450 4300 --view-az 170 --view-alt 38 --fov 28
 # Logan: the mountains east of Cache Valley, 2x vertical exaggeration; channels from 9 ha
 # (100 points of its 30 m drainage; the default, 1 ha, draws every hillside gully here).
 run $bin/terrain-render frame "$out/logan_100m.ply" "$out/logan_breached.dv" -o "$out/render_logan_lines.png" \
-  --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2 --min-area 90000
+  --eye 433000 4624000 5500 --view-az 50 --view-alt 15 --fov 40 --exaggeration 2 --min-area 90000
 run $bin/terrain-render frame "$out/logan_100m.ply" "$out/logan_breached.dv" -o "$out/render_logan_shaded.png" \
-  --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2 --layers shaded,creases,silhouettes \
+  --eye 433000 4624000 5500 --view-az 50 --view-alt 15 --fov 40 --exaggeration 2 --layers shaded,creases,silhouettes \
   --min-area 90000
 # Object-space edges of the mesh facets (contours, boundary, creases sharper than 25 deg).
 run $bin/terrain-render frame "$out/msh_50m.ply" -o "$out/render_msh_edges.png" --layers mask,edges --crease-angle 25 \
-  --view-az 160 --view-alt 35
+  --eye 562300 5119450 4300 --view-az 170 --view-alt 38 --fov 28
 # Photic extremum lines: denoised meshes carry the Voronoi weights PELs need.
 run $bin/denoise-normals "$out/msh_10m.ply" "$out/msh_10m_denoised.ply" -q
 run $bin/denoise-normals "$out/logan_100m.ply" "$out/logan_100m_denoised.ply" -q
@@ -76,12 +77,13 @@ run $bin/build-drainage "$out/msh_10m_denoised.ply" "$out/msh_10m_breached.dv" -
 run $bin/terrain-render frame "$out/msh_10m_denoised.ply" "$out/msh_10m_breached.dv" -o "$out/render_msh_pels_lines.png" \
   --layers mask,pels,creases,silhouettes
 run $bin/terrain-render frame "$out/logan_100m_denoised.ply" -o "$out/render_logan_pels.png" --layers mask,pels \
-  --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2
+  --eye 433000 4624000 5500 --view-az 50 --view-alt 15 --fov 40 --exaggeration 2
 run $bin/terrain-render frame "$out/logan_100m_denoised.ply" "$out/logan_breached.dv" -o "$out/render_logan_pels_lines.png" \
-  --layers mask,pels,creases,silhouettes --eye 430000 4628000 4200 --view-az 50 --view-alt 12 --fov 40 --exaggeration 2 \
+  --layers mask,pels,creases,silhouettes --eye 433000 4624000 5500 --view-az 50 --view-alt 15 --fov 40 --exaggeration 2 \
   --min-area 90000
-# A short flight over the crater: frames, timings.csv and the paper's tables.
-run $bin/terrain-render path --from 561800 5113500 3300 --to 562900 5116000 3000 --frames 12 --view-alt 25 \
+# Every frame shows terrain in at least 60 % of it, with no look over the DEM's edge
+# (bench/frame_coverage.sh measures it). A short flight into the crater: frames, timings.csv and the paper's tables.
+run $bin/terrain-render path --from 562200 5119450 3800 --to 562500 5118000 3300 --frames 12 --view-alt 35 \
   -o "$out/msh_path.csv"
 mkdir -p "$out/msh_flight"
 run $bin/terrain-render batch "$out/msh_50m.ply" "$out/msh_breached.dv" "$out/msh_path.csv" -o "$out/msh_flight" \

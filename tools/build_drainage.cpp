@@ -3,7 +3,6 @@
 #include <omp.h>
 
 #include <chrono>
-#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -33,7 +32,7 @@ struct Options {
   std::vector<std::string> positional;
   std::string raster, d8_input, rasters_dir, surface_out, encoding = "taudem", outlets, watersheds;
   double snap_distance = 0, spacing = 10.0, memory_mib = 0;
-  bool keep_flats = false, fill = false;
+  bool keep_flats = false, fill = false, keep_pits = false;
   int threads = 0;
   std::uint32_t dv_version = drainage::kDvVersion;
   std::size_t tile_size = 0;
@@ -56,15 +55,17 @@ void add_options(CLI::App& app, Options& o) {
       ->check(CLI::IsMember({"taudem", "esri"}))
       ->capture_default_str();
   app.add_flag("--keep-flats", o.keep_flats, "Keep flat areas as one-point pits (the paper's literal behaviour)");
-  auto* fill_flag =
-      app.add_flag("--fill", o.fill, "Fill depressions first (Priority-Flood); off by default: every pit is a basin");
-  app.add_option("--breach", o.breach,
-                 "Breach depressions first instead: cut a channel through each one's rim, at most DEPTH\n"
-                 "metres deep, and fill what remains below that (Lindsay 2016). Keeps rivers running\n"
-                 "through small pits of the surface instead of across flat filled reaches. Untiled runs")
-      ->check(CLI::NonNegativeNumber)
-      ->type_name("DEPTH")
-      ->excludes(fill_flag);
+  auto* fill_flag = app.add_flag("--fill", o.fill, "Fill depressions first (Priority-Flood) instead of breaching them");
+  auto* breach = app.add_option("--breach", o.breach,
+                                "Breach depressions first: cut a channel through each one's rim, at most DEPTH\n"
+                                "metres deep, and fill what remains below that (Lindsay 2016). Mesh mode's default\n"
+                                "is --breach " + fmt::format("{:g}", drainage::kMeshBreachDepth) +
+                                    "; raster mode conditions nothing unless told. Untiled runs")
+                     ->check(CLI::NonNegativeNumber)
+                     ->type_name("DEPTH")
+                     ->excludes(fill_flag);
+  app.add_flag("--keep-pits", o.keep_pits, "Mesh mode: condition nothing, every pit is a basin (the paper's rule)")
+      ->excludes(fill_flag, breach);
   app.add_option("--rasters", o.rasters_dir, "Also write GeoTIFFs of every layer into this directory");
   app.add_option("--outlets", o.outlets,
                  "Watersheds at these points (any OGR point layer: GeoPackage, shapefile, GeoJSON, CSV with x/y\n"
@@ -116,6 +117,9 @@ drainage::DrainageJob job_of(const CLI::App& app, Options& o) {
   if (!job.output.ends_with(".dv")) throw terrain::Error("OUTPUT must be a .dv file: '" + job.output + "'");
   if (!o.d8_input.empty() && (o.fill || o.breach || o.keep_flats))
     throw terrain::Error("--fill, --breach and --keep-flats do not apply to --d8-input (directions are given)");
+  if (raster_mode && o.keep_pits)
+    throw terrain::Error("--keep-pits applies to mesh mode: raster mode keeps every pit unless --fill or --breach");
+  if (!raster_mode && !o.fill && !o.breach && !o.keep_pits) o.breach = drainage::kMeshBreachDepth;
   if (o.outlets.empty() && (!o.watersheds.empty() || app.get_option("--snap-distance")->count() > 0))
     throw terrain::Error("--watersheds and --snap-distance go with --outlets POINTS");
   if (!o.outlets.empty()) {
@@ -187,16 +191,18 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
   app.footer(
       "Examples:\n"
       "  build-drainage out/msh_50m.ply out/msh.dv --spacing 10 --rasters out/msh_rasters\n"
-      "  build-drainage out/logan_100m.ply out/logan_breached.dv --spacing 30 --breach 10\n"
+      "  build-drainage out/logan_100m.ply out/logan_pits.dv --spacing 30 --keep-pits\n"
       "  build-drainage --raster data/logan_utm12n_100m.tif logan.dv --fill\n"
       "  build-drainage --raster dem.tif --d8-input dirs.tif --d8-encoding taudem acc.dv\n"
       "  build-drainage --raster big.vrt big.dv --fill --memory 4096\n"
       "  mpirun -np 8 build-drainage --raster big.vrt big.dv --fill --tile-size 4096\n"
       "  build-drainage --raster dem.tif dem.dv --fill --outlets gauges.gpkg --snap-distance 100\n\n"
+      "Conditioning: mesh mode breaches depressions by default (--breach 10: basins are the\n"
+      "surface's real drainage basins); --keep-pits keeps every pit a basin, --fill fills.\n"
+      "Raster mode conditions nothing by default (TauDEM's rules: --fill is its pitremove).\n\n"
       "Output: stdout gets 'key: value' lines (points, pits, basins, classes, branches); see\n"
       "docs/build-drainage.md for the rules and docs/dv-format.md for the file.");
   app.set_version_flag("--version", tt::version());
-
   Options o;
   tt::Verbosity verb;
   add_options(app, o);
@@ -214,10 +220,9 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
     const drainage::RunSummary s =
         job.tile_size > 0 ? drainage::run_tiled_job(job, progress, comm) : drainage::run_untiled_job(job, progress);
     for (const auto& [name, secs] : s.timings) tt::step(verb, fmt::format("{}: {:.3f} s", name, secs));
-    tt::step(verb, fmt::format("{} run ({} tiles, {} process{}): {:.2f} s, peak RSS {:.0f} MiB (rank 0)",
-                               job.tile_size > 0 ? "tiled" : "untiled", s.tiles, comm.size(), comm.size() > 1 ? "es" : "",
-                               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-                               tt::peak_rss_mib()));
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    tt::step(verb, fmt::format("{} run ({} tiles, {} process(es)): {:.2f} s, peak RSS {:.0f} MiB (rank 0)",
+                               job.tile_size > 0 ? "tiled" : "untiled", s.tiles, comm.size(), secs, tt::peak_rss_mib()));
     if (s.pn_fallbacks > 0)
       tt::warn(verb, fmt::format("{} samples used the flat triangle (PN patch folds over)", s.pn_fallbacks));
     if (comm.root()) std::cout << drainage::summary_text(job, s);

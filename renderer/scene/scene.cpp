@@ -125,6 +125,8 @@ FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const 
   FrameStats st;
   st.lines = frame_lines(scene, r, res, buffers, fp, style);
   st.creases = line_stats(*scene.creases, scene.traits, st.lines.drawn, st.lines.pixels);
+  st.creases.connected = connected_share(*scene.creases, scene.traits, st.lines.drawn,
+                                         segment_pixels(*scene.creases, res.view, style.exaggeration));
   if (layers.silhouettes) st.silhouettes = silhouette_stats(buffers.silhouette_opacity, res.width, res.height);
   return st;
 }
@@ -133,9 +135,10 @@ std::string line_stats_text(const FrameStats& s) {
   const LineStats& st = s.creases;
   std::string out = fmt::format(
       "crease length px: {:.0f}\ncrease boundary share: {:.4f}\ncrease flat share: {:.4f}\n"
-      "crease valley share: {:.4f}\ncrease strokes: {}\ncrease mean stroke px: {:.1f}\n"
-      "crease strokes, opacity-weighted: {:.1f}\ncrease mean stroke px, opacity-weighted: {:.1f}\n",
-      st.length_px, st.boundary, st.flat, st.valley, st.strokes, st.mean_stroke_px, st.weighted_strokes,
+      "crease valley share: {:.4f}\ncrease connected share: {:.4f}\ncrease strokes: {}\n"
+      "crease mean stroke px: {:.1f}\ncrease strokes, opacity-weighted: {:.1f}\n"
+      "crease mean stroke px, opacity-weighted: {:.1f}\n",
+      st.length_px, st.boundary, st.flat, st.valley, st.connected, st.strokes, st.mean_stroke_px, st.weighted_strokes,
       st.weighted_mean_stroke_px);
   if (s.silhouettes)
     out += fmt::format("silhouette px: {:.0f}\nsilhouette pieces: {}\nsilhouette mean piece px: {:.1f}\n",
@@ -145,15 +148,15 @@ std::string line_stats_text(const FrameStats& s) {
 
 std::string line_stats_csv_header() {
   return "frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px,silhouette_px,"
-         "silhouette_pieces,weighted_strokes,weighted_mean_stroke_px\n";
+         "silhouette_pieces,weighted_strokes,weighted_mean_stroke_px,connected_share\n";
 }
 
 std::string line_stats_csv_row(std::size_t i, const FrameStats& s) {
   const LineStats& c = s.creases;
   const SilhouetteStats ss = s.silhouettes.value_or(SilhouetteStats{});
-  return fmt::format("{},{:.1f},{:.5f},{:.5f},{:.5f},{},{:.2f},{:.0f},{},{:.2f},{:.2f}\n", i, c.length_px, c.boundary,
-                     c.flat, c.valley, c.strokes, c.mean_stroke_px, ss.pixels, ss.pieces, c.weighted_strokes,
-                     c.weighted_mean_stroke_px);
+  return fmt::format("{},{:.1f},{:.5f},{:.5f},{:.5f},{},{:.2f},{:.0f},{},{:.2f},{:.2f},{:.5f}\n", i, c.length_px,
+                     c.boundary, c.flat, c.valley, c.strokes, c.mean_stroke_px, ss.pixels, ss.pieces, c.weighted_strokes,
+                     c.weighted_mean_stroke_px, c.connected);
 }
 
 }  // namespace renderer

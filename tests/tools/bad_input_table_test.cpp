@@ -385,6 +385,8 @@ INSTANTIATE_TEST_SUITE_P(
         Row{d2m + "IN/m.asc OUT/o.ply --spacing 50 -q", 0, "vertices: 5368"},
         Row{d2m + "IN/mosaic.vrt OUT/o.ply --spacing 50 -q", 0, "vertices: 5368"},
         Row{d2m + "IN/m.dt0 OUT/o.ply -q", 0, "UTM zone 18N"},
+        Row{bd + "--raster " + msh + "OUT/o.dv --keep-pits -q", 1, "--keep-pits applies to mesh mode"},
+        Row{bd + "IN/m.ply OUT/o.dv --keep-pits --fill -q", 2, "--fill excludes --keep-pits"},
         Row{bd + "--raster IN/m.envi OUT/o.dv -q", 0, "points: 133926"},
         Row{bd + "--raster IN/m.img OUT/o.dv -q", 0, "points: 133926"},
         Row{bd + "--raster IN/m.nc OUT/o.dv -q", 0, "points: 133926"},

@@ -612,6 +612,28 @@ TEST(BuildDrainage, BreachIsReportedAndRecorded) {
   EXPECT_GT(lowered, 0u);
 }
 
+// Mesh mode conditions by default: its .dv is --breach 10's (every point, every branch),
+// recorded as breached; --keep-pits keeps the paper's every-pit-a-basin rule, with more
+// basins on a real surface (MSH's crater floor and the pits of its PN surface). Raster
+// mode's default stays unconditioned (the TauDEM references test it point by point).
+TEST(BuildDrainage, MeshModeBreachesByDefaultAndKeepPitsKeepsThePapersRule) {
+  terrain::test::ScratchDir dir;
+  const auto m = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + dir.path("m.ply") + " --spacing 50 -q");
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  const std::string bd = tool("build-drainage") + " " + dir.path("m.ply") + " ";
+  const auto d = run(bd + dir.path("default.dv") + " -q");
+  const auto b = run(bd + dir.path("breach.dv") + " --breach 10 -q");
+  const auto k = run(bd + dir.path("pits.dv") + " --keep-pits -q");
+  for (const auto* r : {&d, &b, &k}) ASSERT_EQ(r->exit_code, 0) << r->err;
+  EXPECT_NE(d.out.find("carved: "), std::string::npos) << d.out;
+  EXPECT_EQ(k.out.find("carved: "), std::string::npos) << k.out;
+  const DrainageDb def = read_dv(dir.path("default.dv")), pits = read_dv(dir.path("pits.dv"));
+  expect_same_db(def, read_dv(dir.path("breach.dv")), "default vs --breach 10");
+  EXPECT_TRUE(def.header.flags & kDvBreached);
+  EXPECT_FALSE(pits.header.flags & (kDvBreached | kDvFilled));
+  EXPECT_GT(pits.header.basins, def.header.basins);
+}
+
 TEST(BuildDrainage, BadInputFailsCleanly) {
   terrain::test::ScratchDir dir;
   // A D8 raster with an invalid TauDEM code (9), and a truncated .dv.

@@ -267,7 +267,7 @@ TEST(TerrainRender, LineStats) {
   ASSERT_EQ(seed.exit_code, 0) << seed.err;
   for (const auto* r : {&ours, &seed}) {
     EXPECT_GT(value(r->out, "crease length px"), 0.0);
-    for (const char* share : {"crease boundary share", "crease flat share", "crease valley share"}) {
+    for (const char* share : {"crease boundary share", "crease flat share", "crease valley share", "crease connected share"}) {
       EXPECT_GE(value(r->out, share), 0.0);
       EXPECT_LE(value(r->out, share), 1.0);
     }
@@ -300,7 +300,7 @@ TEST(TerrainRender, LineStats) {
   all << t.rdbuf();
   EXPECT_EQ(lines(all.str()), 4u) << all.str();
   EXPECT_EQ(all.str().rfind("frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px,"
-                            "silhouette_px,silhouette_pieces,weighted_strokes,weighted_mean_stroke_px\n",
+                            "silhouette_px,silhouette_pieces,weighted_strokes,weighted_mean_stroke_px,connected_share\n",
                             0),
             0u);
   const double f = value(b.out, "crease flicker");

@@ -30,12 +30,18 @@ struct DrainageJob {
   std::string outlets, watersheds, watershed_tif;  // --outlets ("" none) and where they go
   double snap_distance = 0;
   bool fill = false, keep_flats = false;
-  std::optional<double> breach;
+  std::optional<double> breach;  // build-drainage sets kMeshBreachDepth in mesh mode unless told otherwise
   std::uint32_t dv_version = 2;
   std::size_t tile_size = 0;  // > 0: tiled (raster mode only)
   std::string provenance;
   bool raster_mode() const { return !raster.empty() || !d8_input.empty(); }
 };
+
+// Mesh mode's default conditioning: depressions breached at most this deep (metres), the
+// rest filled, so that basins are the surface's real drainage basins and the creases form
+// a network; --keep-pits keeps every pit a basin (the paper's rule). Raster mode conditions
+// nothing unless told (TauDEM's rules).
+inline constexpr double kMeshBreachDepth = 10.0;
 
 // What a run reports (build-drainage's stdout: summary_text), untiled or tiled alike.
 struct RunSummary {

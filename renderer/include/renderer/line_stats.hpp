@@ -30,7 +30,13 @@ struct SegmentTraits {
   std::vector<std::uint8_t> boundary;  // i within `margin` samples of the network grid's edge
   std::vector<std::uint8_t> flat;      // the segment does not descend (flat or filled ground)
   std::vector<std::uint8_t> valley;    // plan curvature at its midpoint > 0 (bilinear between mesh vertices)
+  // Its downstream point is where a drawn line may end: within `margin` samples of the
+  // network grid's edge or of no-data (the flow leaves the terrain), or the pit of a closed
+  // basin of at least kClosedBasinShare of the network's points (a lake, a sink that
+  // conditioning kept; a pit of an unconditioned surface drains less).
+  std::vector<std::uint8_t> open_end;
 };
+inline constexpr double kClosedBasinShare = 0.01;
 SegmentTraits segment_traits(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
                              const CreaseGeometry& g, int margin = 3);
 
@@ -58,8 +64,17 @@ std::vector<double> visible_fraction(const CreaseGeometry& g, const View& view, 
 // upstream down.
 std::vector<std::vector<std::uint32_t>> crease_strokes(const CreaseGeometry& g, const std::vector<float>& drawn);
 
+// The connected share: of the drawn crease length (drawn[s] x length[s], the lengths before
+// hidden-line removal), the part in drawn trees that end where a line may end
+// (SegmentTraits::open_end): a drawn segment's tree follows drawn segments downstream to
+// the last one; a tree whose last segment stops short of that - before the river it joins,
+// or in the middle of a slope - is a dash. 1 when nothing is drawn.
+double connected_share(const CreaseGeometry& g, const SegmentTraits& traits, const std::vector<float>& drawn,
+                       const std::vector<double>& length);
+
 struct LineStats {
   double length_px = 0;                       // drawn crease length (opacity-weighted)
+  double connected = 1;                       // connected_share, before hiding
   double boundary = 0, flat = 0, valley = 0;  // shares of length_px
   std::size_t strokes = 0;
   double mean_stroke_px = 0;                  // length_px / strokes

@@ -43,12 +43,24 @@ SegmentTraits segment_traits(const terrain::GridMesh& mesh, const terrain::Drain
   const std::vector<float> kp = plan_curvature(mesh);
   const std::size_t ns = g.n_segments();
   SegmentTraits t;
-  t.boundary.resize(ns), t.flat.resize(ns), t.valley.resize(ns);
+  t.boundary.resize(ns), t.flat.resize(ns), t.valley.resize(ns), t.open_end.resize(ns);
   const long LR = long(links.rows), LC = long(links.cols), m = margin;
+  const std::size_t valid = std::size_t(std::count(links.valid.begin(), links.valid.end(), std::uint8_t(1)));
+  auto near_edge = [&](std::uint32_t point) {  // within m samples of the grid's edge or of no-data
+    const long r = long(point) / LC, c = long(point) % LC;
+    if (r < m || c < m || r >= LR - m || c >= LC - m) return true;
+    for (long rr = r - m; rr <= r + m; ++rr)
+      for (long cc = c - m; cc <= c + m; ++cc)
+        if (!links.valid[std::size_t(rr * LC + cc)]) return true;
+    return false;
+  };
   for (std::size_t s = 0; s < ns; ++s) {
     const std::uint32_t a = g.segments[2 * s], b = g.segments[2 * s + 1];
     const long r = long(g.source[a]) / LC, c = long(g.source[a]) % LC;
     t.boundary[s] = r < m || c < m || r >= LR - m || c >= LC - m;
+    const std::uint32_t pb = g.source[b];
+    t.open_end[s] = near_edge(pb) || (links.downstream[pb] == terrain::DrainageLinks::kNone &&
+                                      double(links.accumulated[pb]) >= kClosedBasinShare * double(valid));
     t.flat[s] = links.positions[g.source[b]].z() >= links.positions[g.source[a]].z();
     const Eigen::Vector3f mid = 0.5f * (g.positions[a] + g.positions[b]);
     t.valley[s] = vertex_field_at(mesh, kp, mid.x(), mid.y()) > 0;
@@ -143,6 +155,37 @@ std::vector<std::vector<std::uint32_t>> crease_strokes(const CreaseGeometry& g, 
     strokes.push_back(std::move(stroke));
   }
   return strokes;
+}
+
+double connected_share(const CreaseGeometry& g, const SegmentTraits& traits, const std::vector<float>& drawn,
+                       const std::vector<double>& length) {
+  const std::size_t ns = g.n_segments();
+  constexpr std::uint32_t kNoSegment = 0xFFFFFFFFu;
+  std::vector<std::uint32_t> out(g.positions.size(), kNoSegment);  // each vertex's segment to its downstream vertex
+  for (std::size_t s = 0; s < ns; ++s) out[g.segments[2 * s]] = std::uint32_t(s);
+  // 0 unknown, 1 connected, 2 a dash; resolved downstream first along each walk.
+  std::vector<std::uint8_t> state(ns, 0);
+  std::vector<std::uint32_t> walk;
+  double total = 0, connected = 0;
+  for (std::size_t s0 = 0; s0 < ns; ++s0) {
+    if (drawn[s0] <= 0) continue;
+    std::uint32_t s = std::uint32_t(s0);
+    while (state[s] == 0) {
+      walk.push_back(s);
+      const std::uint32_t next = out[g.segments[2 * s + 1]];
+      if (next == kNoSegment || drawn[next] <= 0) {
+        state[s] = traits.open_end[s] ? 1 : 2;
+        break;
+      }
+      s = next;
+    }
+    for (const std::uint32_t w : walk) state[w] = state[s];
+    walk.clear();
+    const double l = double(drawn[s0]) * length[s0];
+    total += l;
+    connected += state[s0] == 1 ? l : 0.0;
+  }
+  return total > 0 ? connected / total : 1.0;
 }
 
 LineStats line_stats(const CreaseGeometry& g, const SegmentTraits& traits, const std::vector<float>& drawn,

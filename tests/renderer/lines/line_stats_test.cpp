@@ -102,6 +102,61 @@ TEST(CreaseStrokes, APolylineIsOneStrokeAndJunctionsContinueTheLargerInflow) {
   EXPECT_EQ(strokes[1].size(), 2u);
 }
 
+// The connected share on a chain of nine 10 px segments whose last ends at the terrain's
+// edge, with a tributary of two segments joining at vertex 5: drawn whole, every tree
+// reaches the edge (1); with segment 4 left out, the upper stem (segments 0-3, 40 px) is a
+// dash; with the tributary's lower segment left out too, its upper one (10 px) is a dash;
+// lengths weighted by opacity.
+TEST(LineStats, ConnectedShareCountsTreesThatReachWhereALineMayEnd) {
+  CreaseGeometry g = chain(9);
+  g.positions.emplace_back(5.0f, 1.0f, 0.0f), g.normals.emplace_back(0.0f, 0.0f, 1.0f);
+  g.positions.emplace_back(5.0f, 2.0f, 0.0f), g.normals.emplace_back(0.0f, 0.0f, 1.0f);
+  g.flow.push_back(0.01f), g.flow.push_back(0.02f);
+  g.source.push_back(10), g.source.push_back(11);
+  g.segments.insert(g.segments.end(), {11u, 10u, 10u, 5u});  // segments 9 (11 -> 10) and 10 (10 -> 5)
+  SegmentTraits t;
+  t.open_end.assign(11, 0);
+  t.open_end[8] = 1;  // the chain's last segment ends at the edge
+  const std::vector<double> px(11, 10.0);
+  std::vector<float> drawn(11, 1.0f);
+  EXPECT_DOUBLE_EQ(connected_share(g, t, drawn, px), 1.0);
+  drawn[4] = 0;
+  EXPECT_DOUBLE_EQ(connected_share(g, t, drawn, px), 60.0 / 100.0);  // 0-3 a dash; 5-8 and 9-10 reach the edge
+  drawn[10] = 0;
+  EXPECT_DOUBLE_EQ(connected_share(g, t, drawn, px), 40.0 / 90.0);  // 9 stops short of the stem too
+  drawn[9] = 0.5f;
+  EXPECT_DOUBLE_EQ(connected_share(g, t, drawn, px), 40.0 / 85.0);
+  // Ending at a closed basin's pit counts: segment 3's end made open, 0-3 connect.
+  t.open_end[3] = 1;
+  EXPECT_DOUBLE_EQ(connected_share(g, t, drawn, px), 80.0 / 85.0);
+  EXPECT_DOUBLE_EQ(connected_share(g, t, std::vector<float>(11, 0.0f), px), 1.0);  // nothing drawn
+}
+
+// Where a drawn line may end (SegmentTraits::open_end), on the network of a bowl that
+// drains to one interior pit and of a plane tilted off the grid's edge: the bowl's pit
+// holds every point (a closed basin), a link into it ends openly; the plane's links end
+// openly only within 3 samples of the edge.
+TEST(LineStats, LinesMayEndAtTheEdgeOrAtAClosedBasinsPit) {
+  for (const bool bowl : {true, false}) {
+    SCOPED_TRACE(bowl ? "bowl" : "plane");
+    const terrain::Grid g = analytic(41, 10.0, [&](double x, double y) { return bowl ? 0.01 * (x * x + y * y) : 0.1 * x; });
+    const Scene sc = scene_of(g, false);
+    const CreaseGeometry geo = renderer::build_crease_geometry(sc.mesh, sc.links, kPaperLinks);
+    const SegmentTraits t = segment_traits(sc.mesh, sc.links, geo);
+    ASSERT_GT(geo.n_segments(), 0u);
+    std::size_t open = 0;
+    for (std::size_t s = 0; s < geo.n_segments(); ++s) {
+      const std::uint32_t p = geo.source[geo.segments[2 * s + 1]];
+      const long r = long(p) / 41, c = long(p) % 41;
+      const bool edge = r < 3 || c < 3 || r >= 38 || c >= 38;
+      const bool pit = sc.links.downstream[p] == terrain::DrainageLinks::kNone;
+      EXPECT_EQ(bool(t.open_end[s]), edge || pit) << "segment " << s;
+      open += t.open_end[s];
+    }
+    EXPECT_GT(open, 0u);
+  }
+}
+
 // The stroke rule (crease.hpp) on chains of 1 m segments.
 TEST(CreaseStrokes, GapsWithinTheBridgeAreDrawnAtTheLowerOpacity) {
   const CreaseGeometry g = chain(10);
@@ -197,7 +252,8 @@ TEST(LineStats, FlickerCountsWhatAppearsOrVanishes) {
 // 40 px, as a fully drawn copy of the same picture would give.
 TEST(LineStats, StrokesWeightedByOpacityAsTheirLengthIs) {
   const CreaseGeometry g = chain(9);
-  const SegmentTraits t{std::vector<std::uint8_t>(9, 0), std::vector<std::uint8_t>(9, 0), std::vector<std::uint8_t>(9, 1)};
+  const SegmentTraits t{std::vector<std::uint8_t>(9, 0), std::vector<std::uint8_t>(9, 0), std::vector<std::uint8_t>(9, 1),
+                        std::vector<std::uint8_t>(9, 0)};
   const std::vector<double> px(9, 10.0);
   const LineStats st = line_stats(g, t, {1, 1, 1, 1, 0, 0.5f, 0.5f, 1, 1}, px);
   EXPECT_DOUBLE_EQ(st.length_px, 70.0);
