@@ -37,7 +37,8 @@ std::vector<double> terrace_interpolation(const Grid& grid, double h) {
         if (best < inf) d[r * C + c] = best, heap.emplace(best, std::uint32_t(r * C + c));
       }
     while (!heap.empty()) {
-      const auto [di, i] = heap.top();
+      const double di = heap.top().first;  // (not structured bindings: clang 14 cannot capture them)
+      const std::uint32_t i = heap.top().second;
       heap.pop();
       if (di > d[i]) continue;
       around.each(std::size_t(i), [&](std::size_t j, int k) {

@@ -14,6 +14,12 @@
 
 namespace renderer {
 
+std::string resolve_settings(RenderSettings& s, const terrain::GridMesh& mesh, const GivenOption& given) {
+  if (given("exaggeration")) return fmt::format("exaggeration: {:g}", s.style.exaggeration);
+  s.style.exaggeration = auto_exaggeration(mesh);
+  return fmt::format("exaggeration: {:g} (automatic)", s.style.exaggeration);
+}
+
 ResolvedFrame drawn_frame(const RenderSettings& s) { return {s.frame, drawn_style(s), s.layers, s.width, s.height, ""}; }
 
 ResolvedFrame resolve_frame(const RenderSettings& s, const terrain::GridMesh& mesh, const GivenOption& given) {

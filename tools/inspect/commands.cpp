@@ -88,8 +88,10 @@ void info_mesh(const std::string& path) {
     std::cout << "normals_fitted: no\n";
   // The camera terrain-render frame takes with no camera option (the table's size and fov).
   const renderer::RenderSettings d;
+  const double e = renderer::auto_exaggeration(m);
   const renderer::DefaultView av =
-      renderer::default_view(m, renderer::ViewMode::Auto, d.style.exaggeration, d.frame.camera.fov, double(d.width) / d.height);
+      renderer::default_view(m, renderer::ViewMode::Auto, e, d.frame.camera.fov, double(d.width) / d.height);
+  std::cout << fmt::format("automatic_exaggeration: {:g}\n", e);
   std::cout << fmt::format("automatic_view: --eye {:.3f} {:.3f} {:.3f} --view-az {:g} --view-alt {:g} --fov {:g} "
                            "--light-az {:g} --light-alt {:g}\n",
                            av.camera.eye->x(), av.camera.eye->y(), av.camera.eye->z(), av.camera.view_az,

@@ -103,14 +103,16 @@ void report_write(const tt::Verbosity& verb, const std::vector<std::string>& out
 
 int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, const std::string& dv,
               const std::string& out, const std::string& prov, const tt::Verbosity& verb) {
-  const rr::RenderSettings s = settings_of(a);
+  rr::RenderSettings s = settings_of(a);
   rr::check_frame_path(out);
   tt::check_distinct_paths({mesh, dv}, {out});
   tt::warn_stale_temporaries(verb, {out});
   terrain::check_output_path(out);
   check_line_stats(a, s, dv);
   const rr::Scene scene = scene_of(mesh, dv, s, verb);
-  const rr::ResolvedFrame f = rr::resolve_frame(s, scene.mesh, [&](const std::string& n) { return a.was_given(n); });
+  const rr::GivenOption given = [&](const std::string& n) { return a.was_given(n); };
+  const std::string exaggeration = rr::resolve_settings(s, scene.mesh, given);
+  const rr::ResolvedFrame f = rr::resolve_frame(s, scene.mesh, given);
   if (!f.description.empty()) tt::step(verb, f.description);
   const rr::FrameParams& fp = f.frame;
   auto t0 = Clock::now();
@@ -121,13 +123,13 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   t0 = Clock::now();
   const rr::FrameResult res = r.render(fp);
   tt::step(verb, fmt::format("frame: {:.0f} ms", 1e3 * since(t0)));
-  report_write(verb, {out}, rr::write_frame_files({out}, scene, r, res, f, o.vector, prov));
+  report_write(verb, {out}, rr::write_frame_files({out}, scene, r, res, f, o.vector, prov + "; " + exaggeration));
   const Eigen::Vector3d eye = res.view.eye + r.origin();
   std::cout << "output: " << out << "\n" << "size: " << s.width << " x " << s.height << "\n";
   print_device(ctx);
   std::cout << fmt::format("eye: {:.1f} {:.1f} {:.1f}\n", eye.x(), eye.y(), eye.z())
             << fmt::format("view: az {:g} alt {:g} fov {:g}\n", fp.camera.view_az, fp.camera.view_alt, fp.camera.fov)
-            << fmt::format("light: az {:g} alt {:g}\n", fp.light.azimuth, fp.light.altitude)
+            << fmt::format("light: az {:g} alt {:g}\n", fp.light.azimuth, fp.light.altitude) << exaggeration << "\n"
             << "crease segments drawn: " << res.crease_segments << "\n"
             << "pel segments drawn: " << res.pel_segments << "\n"
             << "edges drawn: " << res.edges << "\n";
@@ -159,7 +161,7 @@ std::vector<std::string> parse_formats(const std::string& list) {
 
 int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::string>& inputs,
               const std::string& out_dir, const std::string& prov, const tt::Verbosity& verb) {
-  const rr::RenderSettings s = settings_of(a);
+  rr::RenderSettings s = settings_of(a);
   const std::vector<std::string> formats = parse_formats(o.formats);
   const std::string mesh_path = inputs[0], csv = inputs.back(), dv_path = inputs.size() == 3 ? inputs[1] : "";
   if (!dv_path.empty() && !drainage::is_dv_file(dv_path))
@@ -178,6 +180,7 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   tt::warn_stale_temporaries(verb, outputs);
   check_line_stats(a, s, dv_path);
   const rr::Scene scene = scene_of(mesh_path, dv_path, s, verb);
+  tt::step(verb, rr::resolve_settings(s, scene.mesh, [&](const std::string& n) { return a.was_given(n); }));
   for (std::size_t i = 0; i < frames.size(); ++i) {
     try {
       if (frames[i].camera.eye) rr::check_eye_above_terrain(scene.mesh, *frames[i].camera.eye, s.style.exaggeration);

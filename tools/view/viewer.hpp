@@ -48,6 +48,8 @@ class Viewer {
         verb_(verb),
         scene_(rr::load_scene(mesh_path_, dv_path_, s_.rules)) {
     for (const std::string& w : scene_.warnings) tt::warn(verb_, w);
+    tt::step(verb_, rr::resolve_settings(s_, scene_.mesh, given_));
+    start_.style.exaggeration = s_.style.exaggeration;
     home();
     stale_ = true;  // the renderers are made for the first frame: a bad replay line fails before
   }

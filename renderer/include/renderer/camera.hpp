@@ -98,6 +98,15 @@ struct ReliefView {
 ReliefView relief_view(const terrain::GridMesh& mesh, double exaggeration, double fov_deg, double aspect,
                        double view_alt = 30.0);
 
+// The vertical exaggeration a frame takes when none is given: 1 where the relief is
+// already strong against the terrain's extent, more where it is gentle, so that a lowland's
+// valleys and divides show: e = kReliefRatio / (relief / extent) within 1 ..
+// kMaxAutoExaggeration, to the nearest 0.5; relief = the 99th minus the 1st percentile of
+// the vertex heights (metres), extent = sqrt(width x height) of the mesh. MSH (ratio 0.29),
+// Logan (0.038) and MED (0.033): 1; the Eno DEM (0.007): 4.5.
+inline constexpr double kReliefRatio = 0.03, kMaxAutoExaggeration = 5.0;
+double auto_exaggeration(const terrain::GridMesh& mesh);
+
 // The camera and light of `mode` (ViewMode) for a mesh, and a line saying what they are:
 // Auto (auto_view at view_alt), Top (straight down, north up, every vertex framed; the
 // light from the north-west, 45 degrees high), Relief (relief_view at view_alt); a view_alt

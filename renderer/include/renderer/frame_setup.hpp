@@ -30,6 +30,12 @@ struct ResolvedFrame {
   std::string description;  // how the camera was chosen, for -v
 };
 
+// What the settings leave to the mesh, filled in once the mesh is read, before any frame
+// is resolved or drawn (terrain-render frame and batch, the viewer): the exaggeration, when
+// --exaggeration is not given, is auto_exaggeration's (camera.hpp). Returns a line saying
+// so ("exaggeration: 4.5 (automatic: relief ...)"), or the given value's.
+std::string resolve_settings(RenderSettings& s, const terrain::GridMesh& mesh, const GivenOption& given);
+
 // Settings `s` as drawn, the frame as it stands (its camera not resolved): the frames of a
 // frames CSV, a view the viewer is on.
 ResolvedFrame drawn_frame(const RenderSettings& s);

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace renderer {
@@ -373,6 +374,28 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
   rv.centre = centre + origin.head<2>();
   rv.relief = whi - wlo;
   return rv;
+}
+
+double auto_exaggeration(const terrain::GridMesh& mesh) {
+  const std::size_t n = mesh.n_vertices();
+  if (n == 0) return 1.0;
+  std::vector<float> z(n);
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::max()), hi = -lo;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3f& p = mesh.positions[i];
+    z[i] = p.z();
+    lo = lo.cwiseMin(Eigen::Vector2d(p.x(), p.y())), hi = hi.cwiseMax(Eigen::Vector2d(p.x(), p.y()));
+  }
+  auto percentile = [&](double q) {
+    const auto at = z.begin() + std::ptrdiff_t(q * double(n - 1));
+    std::nth_element(z.begin(), at, z.end());
+    return double(*at);
+  };
+  const double p1 = percentile(0.01), p99 = percentile(0.99), relief = p99 - p1;
+  const double extent = std::sqrt((hi.x() - lo.x()) * (hi.y() - lo.y()));
+  if (!(relief > 0) || !(extent > 0)) return 1.0;
+  const double e = std::clamp(kReliefRatio * extent / relief, 1.0, kMaxAutoExaggeration);
+  return std::round(2.0 * e) / 2.0;
 }
 
 DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double e, double fov_deg, double aspect,

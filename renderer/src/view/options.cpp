@@ -171,7 +171,9 @@ void add_camera_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "light-alt", camera, -90, 90, "degrees", "45", "Light altitude above the horizon, degrees",
       [](auto& s) -> auto& { return s.frame.light.altitude; }, true));
   t.push_back(number(
-      "exaggeration", camera, 0.01, 100, "", "1", "Vertical exaggeration",
+      "exaggeration", camera, 0.01, 100, "", "1",
+      "Vertical exaggeration; not given: automatic, from the relief against the terrain's extent (1 where the relief "
+      "is strong, up to 5 on lowland; terrain-inspect info prints it)",
       [](auto& s) -> auto& { return s.style.exaggeration; }));
 }
 
