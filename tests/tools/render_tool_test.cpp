@@ -147,6 +147,37 @@ TEST(TerrainRender, InfoPrintsTheAutomaticView) {
   EXPECT_LT(double(cmp.nfail), 0.001 * 1280 * 720) << m[1].str();
 }
 
+// The automatic exaggeration (issue 50): a lowland (the Eno crop, about 30 m of relief over
+// 2.7 km) gets more than 1, MSH keeps 1; the frame prints it, terrain-inspect info prints
+// the same value, and the info's view with that --exaggeration given draws the no-option
+// frame; a given value is printed as given.
+TEST(TerrainRender, AutomaticExaggerationIsPrintedAndReproduced) {
+  Inputs in;
+  const std::string eno = in.dir.path("eno.ply");
+  ASSERT_EQ(run(tool("dem2mesh") + " " + data("eno_nad83_geographic_crop.tif") + " " + eno + " -q").exit_code, 0);
+  for (const std::string& mesh : {eno, in.mesh}) {
+    SCOPED_TRACE(mesh);
+    const auto info = run(tool("terrain-inspect") + " info " + mesh);
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    std::smatch e, v;
+    ASSERT_TRUE(std::regex_search(info.out, e, std::regex("automatic_exaggeration: ([0-9.]+)"))) << info.out;
+    ASSERT_TRUE(std::regex_search(info.out, v, std::regex("automatic_view: ([^\n]+)"))) << info.out;
+    const double auto_e = std::stod(e[1]);
+    if (mesh == eno) EXPECT_GE(auto_e, 2.0);
+    else EXPECT_EQ(auto_e, 1.0);
+    const std::string a = in.dir.path("a.png"), b = in.dir.path("b.png");
+    const auto plain = run(tool("terrain-render") + " frame " + mesh + " -o " + a + " --size 320x180");
+    ASSERT_EQ(plain.exit_code, 0) << plain.err;
+    EXPECT_NE(plain.out.find("exaggeration: " + e[1].str() + " (automatic)\n"), std::string::npos) << plain.out;
+    const auto given = run(tool("terrain-render") + " frame " + mesh + " -o " + b + " --size 320x180 " + v[1].str() +
+                           " --exaggeration " + e[1].str());
+    ASSERT_EQ(given.exit_code, 0) << given.err;
+    EXPECT_NE(given.out.find("exaggeration: " + e[1].str() + "\n"), std::string::npos) << given.out;
+    OIIO::ImageBuf ia(a), ib(b);
+    EXPECT_LT(double(OIIO::ImageBufAlgo::compare(ia, ib, 0.02f, 0.02f).nfail), 0.001 * 320 * 180);
+  }
+}
+
 // An integer DEM (MED_01_01: whole metres, 391-664 m) terraces its gentle slopes into flats,
 // and the creases of the default frame ran across them (flat share 0.71). dem2mesh
 // interpolates between the terraces' contours (--dequantize auto), and the default valley

@@ -38,6 +38,22 @@ using renderer::CreaseGeometry;
 using renderer::FrameParams;
 using renderer::TerrainRenderer;
 
+// The automatic exaggeration on ramps z = k x over 1 km x 1 km (10 m samples): the relief
+// between the 1st and 99th percentiles is 0.98 x 1000 k, so e = 0.03 / (0.98 k), to the
+// nearest 0.5 within 1 .. 5; a 2 km x 0.5 km extent is the same 1 km geometric mean; a
+// flat sheet keeps 1.
+TEST(Camera, AutomaticExaggerationFollowsReliefAgainstExtent) {
+  auto ramp = [](std::size_t rows, std::size_t cols, double k) {
+    return terrain::test::function_mesh(rows, cols, 10, [k](double x, double) { return k * x; });
+  };
+  EXPECT_EQ(renderer::auto_exaggeration(ramp(101, 101, 0.1)), 1.0);     // ratio 0.098
+  EXPECT_EQ(renderer::auto_exaggeration(ramp(101, 101, 0.01)), 3.0);    // 3.06
+  EXPECT_EQ(renderer::auto_exaggeration(ramp(101, 101, 0.0075)), 4.0);  // 4.08
+  EXPECT_EQ(renderer::auto_exaggeration(ramp(101, 101, 0.001)), 5.0);   // 30.6, at most 5
+  EXPECT_EQ(renderer::auto_exaggeration(ramp(51, 201, 0.005)), 3.0);    // 2000 m x 500 m; relief 9.8 m: 3.06
+  EXPECT_EQ(renderer::auto_exaggeration(ramp(101, 101, 0.0)), 1.0);
+}
+
 TEST(Camera, DefaultViewFramesTheReliefFromItsOpenSide) {
   const double cx = 6000, cy = -3000;  // local frame: x east, y north (rows go south)
   const auto mesh = terrain::test::function_mesh(161, 201, 50, [&](double x, double y) {
