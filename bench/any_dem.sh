@@ -2,8 +2,11 @@
 # "A picture of any DEM" (docs/terrain-render.md): each DEM's no-option frame, by
 # `terrain-render frame MESH DV -o x.png --line-stats`, as a markdown table row. Meshes by
 # dem2mesh at the DEM's own spacing (MSH at 50 m), drainage by build-drainage's defaults
-# (depressions breached, as --breach 10; Logan at 30 m as the demo drains it, the others at 10 m); integer copies by
-# gdal_translate -ot Int16 (rounds). Usage: bench/any_dem.sh [WORKDIR] [EXTRA RENDER OPTIONS...]
+# (depressions breached, as --breach 10; Logan at 30 m as the demo drains it, the others at
+# 10 m); integer copies by gdal_translate -ot Int16 (rounds); 3-arc-second integer copies
+# (what SRTM users have) by gdalwarp -t_srs EPSG:4326 -tr 1/1200 -r average -ot Int16,
+# drained at 30 m, for the DEMs that carry a CRS.
+# Usage: bench/any_dem.sh [WORKDIR] [EXTRA RENDER OPTIONS...]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${TERRAIN_BIN:-$root/build/bin}"
@@ -11,23 +14,34 @@ work="${1:-$(mktemp -d)}"
 shift || true
 mkdir -p "$work"
 shared="$root/../shared/data"
-declare -A spacing=([msh]="--spacing 50" [logan]="" [eno]="" [med]="" [sinmap]="--fill-nodata")
-declare -A drain=([msh]=10 [logan]=30 [eno]=10 [med]=10 [sinmap]=10)
+declare -A spacing=([msh]="--spacing 50" [logan]="" [eno]="" [med]="" [sinmap]="--fill-nodata" [enofull]="" [medpr]="")
+declare -A drain=([msh]=10 [logan]=30 [eno]=10 [med]=10 [sinmap]=10 [enofull]=10 [medpr]=10)
 declare -A dem=([msh]="$root/data/msh_2007_utm10n_10m.tif" [logan]="$root/data/logan_utm12n_100m.tif"
                 [eno]="$(ls "$root"/data/eno*crop*.tif | head -1)" [med]="$root/data/med_01_01_10m.tif"
-                [sinmap]="$shared/sinmap_sample_10m.asc")
-echo "| DEM | view | coverage | boundary | flat | valley | ink px | strokes |"
-echo "|---|---|---|---|---|---|---|---|"
-for name in msh logan eno med sinmap; do
-  for kind in as-is rounded; do
-    src="${dem[$name]}"
+                [sinmap]="$shared/sinmap_sample_10m.asc" [enofull]="$shared/eno_nad83_geographic_third_arcsec.tif"
+                [medpr]="$shared/med_01_01_10m_taudem_pitremove.tif")
+echo "| DEM | view | coverage | boundary | flat | valley | connected | ink px | strokes | mean stroke px |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
+for name in msh logan eno med sinmap enofull medpr; do
+  for kind in as-is rounded 3as; do
+    src="${dem[$name]}" sp="${drain[$name]}"
     if [ "$kind" = rounded ]; then
       gdal_translate -q -ot Int16 "$src" "$work/${name}_int.tif"
       src="$work/${name}_int.tif"
+    elif [ "$kind" = 3as ]; then
+      if ! gdalsrsinfo -o epsg "$src" 2>/dev/null | grep -q EPSG; then
+        echo "| $name ($kind) | no CRS: no 3-arc-second copy | | | | | | | | |"
+        continue
+      fi
+      gdalwarp -q -overwrite -t_srs EPSG:4326 -tr 0.000833333333 0.000833333333 -r average -ot Int16 "$src" \
+        "$work/${name}_3as.tif"
+      src="$work/${name}_3as.tif" sp=30
     fi
     m="$work/${name}_$kind.ply" d="$work/${name}_$kind.dv"
-    [ -f "$m" ] || "$bin/dem2mesh" "$src" "$m" ${spacing[$name]} -q > /dev/null
-    [ -f "$d" ] || "$bin/build-drainage" "$m" "$d" --spacing "${drain[$name]}" -q > /dev/null
+    sm="${spacing[$name]}"
+    [ "$kind" = 3as ] && sm=""
+    [ -f "$m" ] || "$bin/dem2mesh" "$src" "$m" $sm -q > /dev/null
+    [ -f "$d" ] || "$bin/build-drainage" "$m" "$d" --spacing "$sp" -q > /dev/null
     stats=$("$bin/terrain-render" frame "$m" "$d" -o "$work/${name}_$kind.png" --line-stats "$@")
     "$bin/terrain-render" frame "$m" -o "$work/${name}_${kind}_mask.png" --layers mask -q "$@" > /dev/null
     # Coverage: the mask (white) over the background (#dde4ec): mean R = bg + cov (1 - bg).
@@ -36,6 +50,6 @@ for name in msh logan eno med sinmap; do
     get() { echo "$stats" | awk -F': ' -v k="$1" '$1==k{print $2}'; }
     pct() { awk -v x="$(get "$1")" 'BEGIN{printf "%.1f %%", 100*x}'; }
     view=$(echo "$stats" | awk '/^view:/{print $3", "$5}')
-    echo "| $name ($kind) | $view | $cov | $(pct 'crease boundary share') | $(pct 'crease flat share') | $(pct 'crease valley share') | $(get 'crease length px') | $(get 'crease strokes') |"
+    echo "| $name ($kind) | $view | $cov | $(pct 'crease boundary share') | $(pct 'crease flat share') | $(pct 'crease valley share') | $(get 'crease connected share') | $(get 'crease length px') | $(get 'crease strokes') | $(get 'crease mean stroke px') |"
   done
 done

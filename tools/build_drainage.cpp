@@ -55,7 +55,7 @@ void add_options(CLI::App& app, Options& o) {
       ->check(CLI::IsMember({"taudem", "esri"}))
       ->capture_default_str();
   app.add_flag("--keep-flats", o.keep_flats, "Keep flat areas as one-point pits (the paper's literal behaviour)");
-  auto* fill_flag = app.add_flag("--fill", o.fill, "Fill depressions first (Priority-Flood) instead of breaching them");
+  auto* fill_flag = app.add_flag("--fill", o.fill, "Fill depressions first (Priority-Flood; TauDEM's pitremove)");
   auto* breach = app.add_option("--breach", o.breach,
                                 "Breach depressions first: cut a channel through each one's rim, at most DEPTH\n"
                                 "metres deep, and fill what remains below that (Lindsay 2016). Mesh mode's default\n"
