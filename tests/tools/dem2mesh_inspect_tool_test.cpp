@@ -4,6 +4,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "terrain/dem_io.hpp"
 #include "terrain/mesh_io.hpp"
@@ -167,6 +170,38 @@ TEST(Dem2mesh, PointsOnALatticeAreReadAsPointsWhenAsked) {
   EXPECT_TRUE(std::filesystem::exists(dir.path("m.ply")));
   // --input raster reads it as the grid, as auto does.
   EXPECT_EQ(run(d2m + " --input raster -q").exit_code, 1);
+}
+
+// Rasters without a CRS (issue 50): an SRTM-style .asc in degrees with no .prj is refused
+// with the fix named (--src-crs), and meshed with it; a metre grid without a CRS (MED)
+// meshes as it is. No tool refuses a mesh dem2mesh wrote: each mesh goes through
+// build-drainage, terrain-render, terrain-inspect and denoise-normals.
+TEST(Dem2mesh, RastersWithoutACrsGiveMeshesEveryToolTakes) {
+  terrain::test::ScratchDir dir;
+  const std::string asc = dir.path("srtm.asc");
+  ASSERT_EQ(std::system(("gdal_translate -q -of AAIGrid " + data("eno_nad83_geographic_crop.tif") + " " + asc).c_str()), 0);
+  std::filesystem::remove(dir.path("srtm.prj"));
+  const auto refused = run(tool("dem2mesh") + " " + asc + " " + dir.path("refused.ply") + " -q");
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.err.find("--src-crs"), std::string::npos) << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(dir.path("refused.ply")));
+  const std::vector<std::pair<std::string, std::string>> meshes = {
+      {"srtm", asc + " --src-crs EPSG:4269"}, {"med", data("med_01_01_10m.tif") + " --spacing 30"}};
+  for (const auto& [name, input] : meshes) {
+    SCOPED_TRACE(name);
+    const std::string m = dir.path(name + ".ply"), dv = dir.path(name + ".dv");
+    const auto made = run(tool("dem2mesh") + " " + input + " " + m + " -q");
+    ASSERT_EQ(made.exit_code, 0) << made.err;
+    for (const std::string& cmd :
+         {tool("build-drainage") + " " + m + " " + dv + " --spacing 30 -q",
+          tool("terrain-render") + " frame " + m + " " + dv + " -o " + dir.path(name + ".png") + " --size 160x90 -q",
+          tool("terrain-inspect") + " info " + m, tool("terrain-inspect") + " info " + dv,
+          tool("terrain-inspect") + " preview " + dv + " -o " + dir.path(name + "_dv.png"),
+          tool("denoise-normals") + " " + m + " " + dir.path(name + "_denoised.ply") + " --iterations 1 -q"}) {
+      const auto r = run(cmd);
+      EXPECT_EQ(r.exit_code, 0) << cmd << "\n" << r.err;
+    }
+  }
 }
 
 TEST(Dem2mesh, HelpShowsAnExample) {
