@@ -139,7 +139,7 @@ namespace {
 // Branches of the kept links (from a channel head or a junction down to the next junction
 // or outlet) whose mean concavity across the flow (CreaseRules::valley_branches) is at most
 // rules.valley_curvature and that drain less than rules.river_share of their basin are left
-// out.
+// out, unless a kept branch drains into them.
 void drop_branches_off_valleys(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
                                const Eigen::Vector3d& shift, const std::vector<float>& share, const CreaseRules& rules,
                                std::vector<std::uint8_t>& keep) {
@@ -159,6 +159,7 @@ void drop_branches_off_valleys(const terrain::GridMesh& mesh, const terrain::Dra
   for (std::size_t i = 0; i < n; ++i)
     if (keep[i]) inflows[links.downstream[i]] = std::uint8_t(std::min(2, inflows[links.downstream[i]] + 1));
   std::vector<std::uint32_t> branch;
+  std::vector<std::uint8_t> dropped(n, 0);
   for (std::size_t s = 0; s < n; ++s) {
     if (!keep[s] || inflows[s] == 1) continue;  // a branch starts at a head or a junction
     branch.clear();
@@ -172,8 +173,21 @@ void drop_branches_off_valleys(const terrain::GridMesh& mesh, const terrain::Dra
       i = d;
     }
     if (sum / double(branch.size()) <= rules.valley_curvature && top_share < rules.river_share)
-      for (const std::uint32_t i : branch) keep[i] = 0;
+      for (const std::uint32_t i : branch) dropped[i] = 1;
   }
+  // A dropped branch fed by a kept one is the stream's way on to the river it joins, across
+  // the valley floor or a fan (planar, so the rule dropped it): kept, or the tributary
+  // would stop short of its stem as a dash. Only branches that start the flow - tracks
+  // down planes from their heads - stay out.
+  std::vector<std::uint8_t> fed(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    if (keep[i] && !dropped[i]) fed[i] = 1;
+  for (std::size_t s = 0; s < n; ++s) {
+    if (!fed[s]) continue;
+    for (std::uint32_t d = links.downstream[s]; d < n && keep[d] && dropped[d] && !fed[d]; d = links.downstream[d])
+      fed[d] = 1;
+  }
+  for (std::size_t i = 0; i < n; ++i) keep[i] = fed[i];
 }
 
 // Per vertex, the segment leaving it and the one entering it from the largest flow (ties:
