@@ -17,6 +17,7 @@
 #include "terrain/grid_mesh.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/pn_surface.hpp"
+#include "terrain/dem_io.hpp"
 #include "test_support.hpp"
 
 namespace renderer {
@@ -450,6 +451,29 @@ TEST(CreaseRules, PlanesDrawNoParallelTracks) {
   const std::size_t bottom = (n - 1) * n;  // the southern row
   EXPECT_NEAR(w[bottom + 5], h, 1e-3);
   EXPECT_NEAR(w[bottom + n / 2], 7 * h, 0.5 * h);
+}
+
+// Issue 50: kept creases form a network. On MSH's real surface (10 m, filled), with the
+// valley rule on and the other rules that can cut a stream off (width, grid-edge runs)
+// off: every segment's downstream point either goes on as a kept segment, or is where a
+// line may end (the grid's edge, a closed basin's pit), or its own link is flat (the flat
+// rule). Before a branch fed by a kept one was kept, tributaries stopped where they met
+// planar ground before their stems.
+TEST(CreaseRules, AFedBranchAcrossAPlaneIsKept) {
+  const Scene s = scene_of(terrain::read_dem(terrain::test::data("msh_2007_utm10n_10m.tif")), true);
+  const CreaseGeometry g =
+      build_crease_geometry(s.mesh, s.links, {.min_area = 1e4, .min_width = 0, .off_edge_runs = false, .smooth_spacings = 0});
+  ASSERT_GT(g.n_segments(), 1000u);
+  const SegmentTraits t = segment_traits(s.mesh, s.links, g);
+  std::vector<std::uint8_t> leaves(g.positions.size(), 0);
+  for (std::size_t k = 0; k < g.n_segments(); ++k) leaves[g.segments[2 * k]] = 1;
+  std::size_t stops = 0;
+  for (std::size_t k = 0; k < g.n_segments(); ++k) {
+    const std::uint32_t b = g.segments[2 * k + 1], p = g.source[b], d = s.links.downstream[p];
+    const bool flat = d != terrain::DrainageLinks::kNone && s.links.positions[d].z() >= s.links.positions[p].z();
+    stops += !leaves[b] && !t.open_end[k] && !flat;
+  }
+  EXPECT_EQ(stops, 0u);
 }
 
 // Issue 38: a ramp falling west (1 m in 50 m) with a valley along its middle row (sides
