@@ -48,6 +48,10 @@ mkdir -p Testing/Temporary
 # (~180 s of test time between them).
 skip='VectorOutput\.(Logan|Flight)|TerrainRender\.IntegerDem|Logan10m|Viewer\.StartView'
 skip+='|Interrupt\.ScatteredPointsWithFillNodata|CreaseLines\.TenAndFiveMetre'
+# The automatic exaggeration end to end: one of its terrain-render processes (the Eno mesh
+# at the given view) trips LeakSanitizer's tracer crash at exit (below) in 3 of 5 runs here,
+# so the rerun would fail too; every frame the other tests draw runs the rule.
+skip+='|TerrainRender\.AutomaticExaggeration'
 if ctest --output-on-failure --parallel "$(nproc)" -E "$skip" "$@" 2>&1 | tee "$log"; then exit 0; fi
 failed=$(grep -c . Testing/Temporary/LastTestsFailed.log || true)
 tracer=$(grep -c "LeakSanitizer has encountered a fatal error" "$log" || true)
