@@ -82,7 +82,8 @@ run $bin/terrain-render frame "$out/logan_100m_denoised.ply" "$out/logan_breache
   --layers mask,pels,creases,silhouettes --eye 433000 4624000 5500 --view-az 50 --view-alt 15 --fov 40 --exaggeration 2 \
   --min-area 90000
 # Every frame shows terrain in at least 60 % of it, with no look over the DEM's edge
-# (bench/frame_coverage.sh measures it). A short flight into the crater: frames, timings.csv and the paper's tables.
+# (bench/frame_coverage.sh measures it). A short flight into the crater: frames,
+# timings.csv and the paper's tables.
 run $bin/terrain-render path --from 562200 5119450 3800 --to 562500 5118000 3300 --frames 12 --view-alt 35 \
   -o "$out/msh_path.csv"
 mkdir -p "$out/msh_flight"
