@@ -195,6 +195,10 @@ class SpillEdges {
     return all;
   }
   void add(const Entry& e) { add(std::uint32_t(e.key >> 32), std::uint32_t(e.key), e.z); }
+  template <class F>
+  void each(F&& f) const {
+    for (const auto& [key, z] : weight_) f(std::uint32_t(key >> 32), std::uint32_t(key), z);
+  }
   void clear() { decltype(weight_)().swap(weight_); }
 
  private:
@@ -291,11 +295,10 @@ void cross_tile_edges(const TileGrid& tiles, const std::vector<Ring>& rings, Spi
 // The spill elevation of every label: minimax paths from the outside (Dijkstra with max).
 std::vector<float> spill_elevations(std::uint64_t labels, SpillEdges& edges) {
   std::vector<std::vector<std::pair<std::uint32_t, float>>> adjacent(labels);
-  for (const SpillEdges::Entry& e : edges.entries()) {
-    const std::uint32_t a = std::uint32_t(e.key >> 32), b = std::uint32_t(e.key);
-    adjacent[a].emplace_back(b, e.z);
-    adjacent[b].emplace_back(a, e.z);
-  }
+  edges.each([&](std::uint32_t a, std::uint32_t b, float z) {
+    adjacent[a].emplace_back(b, z);
+    adjacent[b].emplace_back(a, z);
+  });
   edges.clear();
   std::vector<float> spill(labels, std::numeric_limits<float>::infinity());
   std::vector<std::uint8_t> settled(labels, 0);

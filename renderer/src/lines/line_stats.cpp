@@ -160,9 +160,7 @@ std::vector<std::vector<std::uint32_t>> crease_strokes(const CreaseGeometry& g, 
 double connected_share(const CreaseGeometry& g, const SegmentTraits& traits, const std::vector<float>& drawn,
                        const std::vector<double>& length) {
   const std::size_t ns = g.n_segments();
-  constexpr std::uint32_t kNoSegment = 0xFFFFFFFFu;
-  std::vector<std::uint32_t> out(g.positions.size(), kNoSegment);  // each vertex's segment to its downstream vertex
-  for (std::size_t s = 0; s < ns; ++s) out[g.segments[2 * s]] = std::uint32_t(s);
+  const std::vector<std::uint32_t> next = segment_chains(g, drawn).next;  // the drawn segment going on downstream
   // 0 unknown, 1 connected, 2 a dash; resolved downstream first along each walk.
   std::vector<std::uint8_t> state(ns, 0);
   std::vector<std::uint32_t> walk;
@@ -172,12 +170,11 @@ double connected_share(const CreaseGeometry& g, const SegmentTraits& traits, con
     std::uint32_t s = std::uint32_t(s0);
     while (state[s] == 0) {
       walk.push_back(s);
-      const std::uint32_t next = out[g.segments[2 * s + 1]];
-      if (next == kNoSegment || drawn[next] <= 0) {
+      if (next[s] == kNoSegment) {
         state[s] = traits.open_end[s] ? 1 : 2;
         break;
       }
-      s = next;
+      s = next[s];
     }
     for (const std::uint32_t w : walk) state[w] = state[s];
     walk.clear();
