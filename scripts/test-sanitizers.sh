@@ -52,6 +52,10 @@ skip+='|Interrupt\.ScatteredPointsWithFillNodata|CreaseLines\.TenAndFiveMetre'
 # at the given view) trips LeakSanitizer's tracer crash at exit (below) in 3 of 5 runs here,
 # so the rerun would fail too; every frame the other tests draw runs the rule.
 skip+='|TerrainRender\.AutomaticExaggeration'
+# The offscreen replay runs the commands the window test replays here, and two tiled runs
+# sharing one output run the tiled code that the MPI and tiled tests run here; the subject
+# of the latter, scratch names, is not memory (~115 s of test time between them).
+skip+='|Viewer\.OffscreenReplay|Interrupt\.TwoTiledRuns'
 if ctest --output-on-failure --parallel "$(nproc)" -E "$skip" "$@" 2>&1 | tee "$log"; then exit 0; fi
 failed=$(grep -c . Testing/Temporary/LastTestsFailed.log || true)
 tracer=$(grep -c "LeakSanitizer has encountered a fatal error" "$log" || true)

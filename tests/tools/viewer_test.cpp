@@ -37,7 +37,8 @@ const std::vector<std::vector<std::pair<std::string, std::string>>> kChanges = {
 };
 
 // The window test replays everything; the offscreen one the default view and a saved
-// view (the same commands run either way; the sanitizer build runs both).
+// view (the same commands run either way; the sanitizer build runs the window
+// test, and the bad-input rows run the offscreen context there).
 void check_viewer(bool window) {
   terrain::test::ScratchDir dir;
   // The window test at the relief view (--view relief: silhouettes in sight, for the changes
