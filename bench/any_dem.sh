@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# "A picture of any DEM" (docs/terrain-render.md): each DEM's no-option frame, by
-# `terrain-render frame MESH DV -o x.png --line-stats`, as a markdown table row. Meshes by
-# dem2mesh at the DEM's own spacing (MSH at 50 m), drainage by build-drainage's defaults
-# (depressions breached, as --breach 10; Logan at 30 m as the demo drains it, the others at
-# 10 m); integer copies by gdal_translate -ot Int16 (rounds); 3-arc-second integer copies
-# (what SRTM users have) by gdalwarp -t_srs EPSG:4326 -tr 1/1200 -r average -ot Int16,
-# drained at 30 m, for the DEMs that carry a CRS.
+# "A picture of any DEM" (docs/terrain-render.md): each DEM's no-option frame as a new user
+# makes it, `dem2mesh X m.ply; build-drainage m.ply m.dv; terrain-render frame m.ply m.dv
+# -o x.png --line-stats`, with no option anywhere (issue 50: the mesh at the DEM's own
+# spacing, drainage by build-drainage's defaults: sampled at 10 m, depressions breached),
+# as a markdown table row. Integer copies by gdal_translate -ot Int16 (rounds); 3-arc-second
+# integer copies (what SRTM users have) by gdalwarp -t_srs EPSG:4326 -tr 1/1200 -r average
+# -ot Int16, for the DEMs that carry a CRS.
 # Usage: bench/any_dem.sh [WORKDIR] [EXTRA RENDER OPTIONS...]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -14,8 +14,6 @@ work="${1:-$(mktemp -d)}"
 shift || true
 mkdir -p "$work"
 shared="$root/../shared/data"
-declare -A spacing=([msh]="--spacing 50" [logan]="" [eno]="" [med]="" [sinmap]="--fill-nodata" [enofull]="" [medpr]="")
-declare -A drain=([msh]=10 [logan]=30 [eno]=10 [med]=10 [sinmap]=10 [enofull]=10 [medpr]=10)
 declare -A dem=([msh]="$root/data/msh_2007_utm10n_10m.tif" [logan]="$root/data/logan_utm12n_100m.tif"
                 [eno]="$(ls "$root"/data/eno*crop*.tif | head -1)" [med]="$root/data/med_01_01_10m.tif"
                 [sinmap]="$shared/sinmap_sample_10m.asc" [enofull]="$shared/eno_nad83_geographic_third_arcsec.tif"
@@ -24,7 +22,7 @@ echo "| DEM | view | coverage | boundary | flat | valley | connected | ink px | 
 echo "|---|---|---|---|---|---|---|---|---|---|"
 for name in msh logan eno med sinmap enofull medpr; do
   for kind in as-is rounded 3as; do
-    src="${dem[$name]}" sp="${drain[$name]}"
+    src="${dem[$name]}"
     if [ "$kind" = rounded ]; then
       gdal_translate -q -ot Int16 "$src" "$work/${name}_int.tif"
       src="$work/${name}_int.tif"
@@ -35,13 +33,15 @@ for name in msh logan eno med sinmap enofull medpr; do
       fi
       gdalwarp -q -overwrite -t_srs EPSG:4326 -tr 0.000833333333 0.000833333333 -r average -ot Int16 "$src" \
         "$work/${name}_3as.tif"
-      src="$work/${name}_3as.tif" sp=30
+      src="$work/${name}_3as.tif"
     fi
     m="$work/${name}_$kind.ply" d="$work/${name}_$kind.dv"
-    sm="${spacing[$name]}"
-    [ "$kind" = 3as ] && sm=""
-    [ -f "$m" ] || "$bin/dem2mesh" "$src" "$m" $sm -q > /dev/null
-    [ -f "$d" ] || "$bin/build-drainage" "$m" "$d" --spacing "$sp" -q > /dev/null
+    # sinmap's DEM is a watershed: no-data all round its irregular edge, inside its extent,
+    # which dem2mesh refuses naming the fix (--fill-nodata): the one option of the table.
+    fill=""
+    [ "$name" = sinmap ] && fill=--fill-nodata
+    [ -f "$m" ] || "$bin/dem2mesh" "$src" "$m" $fill -q > /dev/null
+    [ -f "$d" ] || "$bin/build-drainage" "$m" "$d" -q > /dev/null
     stats=$("$bin/terrain-render" frame "$m" "$d" -o "$work/${name}_$kind.png" --line-stats "$@")
     "$bin/terrain-render" frame "$m" -o "$work/${name}_${kind}_mask.png" --layers mask -q "$@" > /dev/null
     # Coverage: the mask (white) over the background (#dde4ec): mean R = bg + cov (1 - bg).

@@ -53,8 +53,8 @@ int main() {
     }
   }
   Style style;
-  style.crease_bridge = 0;
-  style.crease_min_stroke = 0;
+  style.crease_bridge = style.crease_bridge_px = 0;
+  style.crease_min_stroke = style.crease_min_stroke_px = 0;
   const int w = 1280, hgt = 720;
   TerrainRenderer r(ctx, mesh, &g, w, hgt, Layers{false, true, true, false}, style);
   FrameParams fp;
@@ -72,7 +72,8 @@ int main() {
   const auto buffers = r.read_buffers();
   const Eigen::Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
   const auto score = resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.eye);
-  const auto drawn = segment_opacity(g, res.view.eye, light, 1.0, score, style.crease_fade, stroke_rule(style, mesh));
+  const auto drawn = segment_opacity(g, res.view.eye, light, 1.0, score, style.crease_fade,
+                                      stroke_rule(style, page_scale(res.view, r.box())));
   const auto cpu = stroke_visibility(g, segment_chains(g), drawn, res.view, 1.0, crease_lift(style, mesh),
                                      buffers.toward_depth, stroke_visibility_rule(style, mesh));
   const SampleComparison c = compare_samples(cpu, gpu);

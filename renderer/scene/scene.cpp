@@ -45,7 +45,8 @@ std::vector<float> frame_opacity(const Scene& scene, const TerrainRenderer& r, c
   const CreaseScoreParams score = resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.eye);
   const double fade = style.antialias ? style.crease_fade : 0.0;
   return segment_opacity(*scene.creases, res.view.eye, terrain::light_direction(fp.light.azimuth, fp.light.altitude),
-                         style.exaggeration, score, fade, stroke_rule(style, scene.mesh));
+                         style.exaggeration, score, fade,
+                         stroke_rule(style, page_scale(res.view, r.box())));
 }
 
 FrameLines frame_lines(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,

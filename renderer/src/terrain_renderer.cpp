@@ -75,7 +75,6 @@ struct TerrainRenderer::Impl {
         box(exaggerated_box(mesh, style.exaggeration)),
         origin(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z),
         lift(crease_lift(style, mesh)),
-        strokes(stroke_rule(style, mesh)),
         visibility(stroke_visibility_rule(style, mesh)),
         scene(mesh, width, height, context.has_clip_control()),
         toward(scene),
@@ -101,7 +100,6 @@ struct TerrainRenderer::Impl {
   Box box;
   Eigen::Vector3d origin;
   double lift = 0;
-  StrokeRule strokes;
   StrokeVisibilityRule visibility;
   int max_level = 32;
   passes::SceneGpu scene;
@@ -126,6 +124,7 @@ struct TerrainRenderer::Impl {
 FrameBlock TerrainRenderer::Impl::frame_block(const FrameParams& frame, const View& v,
                                               const Eigen::Vector3d& light) const {
   const CreaseScoreParams sp = resolve_distances(frame.score, box.lo, box.hi, v.eye);
+  const StrokeRule strokes = stroke_rule(style, page_scale(v, box));
   FrameBlock fb{};
   const Eigen::Matrix4f vp = v.view_projection().cast<float>();
   std::memcpy(fb.u_view_proj.data(), vp.data(), sizeof fb.u_view_proj);  // column-major, as GLSL

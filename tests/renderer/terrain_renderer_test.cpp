@@ -47,8 +47,8 @@ renderer::Style test_style() {
   s.antialias = false;
   // The score law alone: these tests count the segments the score accepts (the stroke
   // rule has its own tests below).
-  s.crease_bridge = 0;
-  s.crease_min_stroke = 0;
+  s.crease_bridge = s.crease_bridge_px = 0;
+  s.crease_min_stroke = s.crease_min_stroke_px = 0;
   s.background = {1, 1, 1};
   s.crease_colour = {1, 0, 0};
   s.silhouette_colour = {0, 0, 0};
@@ -738,17 +738,16 @@ TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
 }
 
 // The stroke rule on the GPU (crease_bridge, crease_select) equals its CPU reference
-// (segment_opacity with the style's rule) on real data, and it changes the selection:
-// gaps bridged, short strokes left out.
+// (segment_opacity with the style's rule at the frame's page scale) on real data, and it
+// changes the selection: gaps bridged, short strokes left out. The bridge is in metres,
+// the shortest stroke in pixels at the page scale, so both terms run on the GPU.
 TEST(RendererGl, StrokeRuleMatchesCpu) {
   const auto& sc = msh_scene();
   const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false, .smooth_spacings = 0});
   renderer::GlContext ctx;
   renderer::Style style = test_style();
-  style.crease_bridge = 1.0;
-  style.crease_min_stroke = 4.0;
-  const renderer::StrokeRule rule = renderer::stroke_rule(style, sc.mesh);
-  EXPECT_DOUBLE_EQ(rule.min_length, 4.0 * std::min(sc.mesh.geo.dx, sc.mesh.geo.dy));
+  style.crease_bridge = 10.0;
+  style.crease_min_stroke_px = 6.0;
   TerrainRenderer r(ctx, sc.mesh, &g, 160, 120, renderer::Layers{false, true, true, false}, style);
   const Vector3d light = terrain::light_direction(315, 45);
   std::size_t changed = 0;
@@ -757,6 +756,10 @@ TEST(RendererGl, StrokeRuleMatchesCpu) {
     fp.score.min_score = min_score;
     fp.score.far_distance = 600;
     const auto res = r.render(fp);
+    const double scale = renderer::page_scale(res.view, r.box());
+    const renderer::StrokeRule rule = renderer::stroke_rule(style, scale);
+    EXPECT_DOUBLE_EQ(rule.bridge, 10.0);
+    EXPECT_DOUBLE_EQ(rule.min_length, 6.0 * scale);
     const auto opacity = renderer::segment_opacity(g, res.view.eye, light, 1.0, fp.score, 0.0, rule);
     const auto cpu = std::size_t(std::count_if(opacity.begin(), opacity.end(), [](float o) { return o > 0; }));
     const double tol = std::max(2.0, 1e-3 * double(g.n_segments()));
@@ -794,7 +797,7 @@ TEST(RendererGl, StrokeVisibilityMatchesCpu) {
   const Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
   const auto score = renderer::resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.eye);
   const auto drawn = renderer::segment_opacity(g, res.view.eye, light, 1.0, score, style.crease_fade,
-                                               renderer::stroke_rule(style, sc.mesh));
+                                               renderer::stroke_rule(style, renderer::page_scale(res.view, r.box())));
   const auto rule = renderer::stroke_visibility_rule(style, sc.mesh);
   EXPECT_DOUBLE_EQ(rule.gap_depth, 1.5 * 10.0);
   const auto cpu = renderer::stroke_visibility(g, renderer::segment_chains(g), drawn, res.view, 1.0,

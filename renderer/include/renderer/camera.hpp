@@ -126,6 +126,13 @@ DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double ex
 View make_view(const Camera& camera, const Eigen::Vector3d& origin, const Box& box, int width, int height,
                bool reversed_z = true);
 
+// The page scale of a view (docs/terrain-render.md, "Density set by the page"): metres
+// (local frame, heights exaggerated) per pixel at the depth of the centre of `box`, the
+// scene's box, along the view, that depth at least the eye's distance to the box and 1 m.
+// It depends on the camera and the image, not on the mesh's spacing: what the stroke rules
+// in pixels are converted to metres with.
+double page_scale(const View& view, const Box& box);
+
 // Throws terrain::Error when `eye` (world coordinates) lies below the PN surface of `mesh`
 // (heights scaled by `exaggeration` about the mesh origin, as the renderer draws them):
 // the view from inside the terrain is blank. An eye outside the mesh's extent is fine, up

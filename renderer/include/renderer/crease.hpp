@@ -199,9 +199,11 @@ struct StrokeRule {
 std::vector<float> apply_stroke_rule(const SegmentChains& chains, const std::vector<float>& opacity,
                                      const std::vector<double>& length, const StrokeRule& rule);
 
-// The stroke rule of a style in metres: Style::crease_bridge and crease_min_stroke times
-// the mesh's spacing (the smaller of dx, dy).
-StrokeRule stroke_rule(const Style& style, const terrain::GridMesh& mesh);
+// The stroke rule of a style in metres at a page scale (metres per pixel, page_scale):
+// bridge = max(Style::crease_bridge, crease_bridge_px x scale), min_length likewise. The
+// mesh's spacing takes no part: a mesh of the same terrain at any spacing draws the same
+// strokes at one camera (issue 50).
+StrokeRule stroke_rule(const Style& style, double page_scale);
 
 // Each segment's length in metres (local frame, before exaggeration). #S.
 std::vector<double> segment_metres(const CreaseGeometry& g);

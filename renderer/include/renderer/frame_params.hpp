@@ -109,10 +109,12 @@ struct Style {
   // min(score) / fade, clamped to 1) instead of appearing at full strength; 0 cuts.
   // Anti-aliased lines only.
   double crease_fade = 0.03;
-  // Strokes, not dashes (renderer::StrokeRule), in mesh spacings: a gap in a channel's
-  // line up to crease_bridge long is drawn; a stroke shorter than crease_min_stroke (below
-  // the source mesh's resolution) is not. 0 turns a rule off.
-  double crease_bridge = 1.0, crease_min_stroke = 4.0;
+  // Strokes, not dashes (renderer::StrokeRule), set by the page, not by the mesh: a gap in
+  // a channel's line up to crease_bridge metres or crease_bridge_px pixels at the page
+  // scale (page_scale), whichever is longer, is drawn; a stroke shorter than
+  // crease_min_stroke metres or crease_min_stroke_px pixels is not. 0 turns a term off.
+  double crease_bridge = 50.0, crease_bridge_px = 2.0;
+  double crease_min_stroke = 200.0, crease_min_stroke_px = 4.0;
   // Hidden runs and peeks (anti-aliased lines only; renderer::StrokeVisibilityRule): a
   // hidden run of a stroke up to crease_hidden_gap pixels long between shown parts, none of
   // it more than crease_hidden_depth mesh spacings behind the surface, is drawn; a shown run

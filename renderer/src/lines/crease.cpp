@@ -220,29 +220,42 @@ std::vector<std::uint8_t> kept_links(const terrain::GridMesh& mesh, const terrai
                                      const std::vector<float>& share) {
   using terrain::DrainageLinks;
   const std::size_t n = links.size();
-  std::vector<std::uint8_t> keep(n, 0);
+  // Links that may be drawn at all: both ends valid, draining at least min_area, and not a
+  // run along the grid's edge (within 2 samples of it).
+  std::vector<std::uint8_t> eligible(n, 0);
   const double cell_area = links.dx * links.dy;
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t d = links.downstream[i];
-    keep[i] = !(compact[i] == DrainageLinks::kNone || d == DrainageLinks::kNone || d >= n ||
-                compact[d] == DrainageLinks::kNone || double(links.accumulated[i]) * cell_area < rules.min_area ||
-                off_flat[i]);
+    eligible[i] = !(compact[i] == DrainageLinks::kNone || d == DrainageLinks::kNone || d >= n ||
+                    compact[d] == DrainageLinks::kNone || double(links.accumulated[i]) * cell_area < rules.min_area);
   }
-  if (rules.off_edge_runs) {  // runs along the grid's edge, within 2 samples of it
+  if (rules.off_edge_runs) {
     const long R = long(links.rows), C = long(links.cols), m = 2;
     auto edge_row = [&](long r) { return r < m || r >= R - m; };
     auto edge_col = [&](long c) { return c < m || c >= C - m; };
     for (std::size_t i = 0; i < n; ++i) {
-      if (!keep[i]) continue;
+      if (!eligible[i]) continue;
       const long d = long(links.downstream[i]), ri = long(i) / C, ci = long(i) % C, rd = d / C, cd = d % C;
-      if ((ri == rd && edge_row(ri)) || (ci == cd && edge_col(ci))) keep[i] = 0;
+      if ((ri == rd && edge_row(ri)) || (ci == cd && edge_col(ci))) eligible[i] = 0;
     }
   }
+  std::vector<std::uint8_t> keep(n, 0);
+  for (std::size_t i = 0; i < n; ++i) keep[i] = eligible[i] && !off_flat[i];
   if (rules.min_width > 0) {
     const double least = std::max(rules.min_width, 2 * std::sqrt(cell_area));
     const std::vector<float> w = contributing_width(links);
     for (std::size_t i = 0; i < n; ++i)
       if (keep[i] && double(w[i]) < least) keep[i] = 0;
+  }
+  // A channel, once begun, goes on downstream to where it joins another or leaves the
+  // terrain (issue 50, connected creases): the width and flat rules choose where channels
+  // begin, not where they stop. A contributing width can fall below the threshold further
+  // down (the longest flow path grows faster than the area), and a tributary that reaches
+  // a flat joins the flat's main path along the flat's resolved D8 path; left out, both
+  // made dangling pieces (Logan: 16 % of the creases' length with every segment drawn).
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!keep[i]) continue;
+    for (std::uint32_t d = links.downstream[i]; d < n && eligible[d] && !keep[d]; d = links.downstream[d]) keep[d] = 1;
   }
   if (rules.valley_branches) drop_branches_off_valleys(mesh, links, shift, share, rules, keep);
   return keep;
@@ -464,9 +477,9 @@ std::vector<float> apply_stroke_rule(const SegmentChains& ch, const std::vector<
   return out;
 }
 
-StrokeRule stroke_rule(const Style& style, const terrain::GridMesh& mesh) {
-  const double spacing = std::min(mesh.geo.dx, mesh.geo.dy);
-  return StrokeRule{style.crease_bridge * spacing, style.crease_min_stroke * spacing};
+StrokeRule stroke_rule(const Style& style, double page_scale) {
+  return StrokeRule{std::max(style.crease_bridge, style.crease_bridge_px * page_scale),
+                    std::max(style.crease_min_stroke, style.crease_min_stroke_px * page_scale)};
 }
 
 std::vector<double> segment_metres(const CreaseGeometry& g) {

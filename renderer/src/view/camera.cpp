@@ -448,6 +448,12 @@ View make_view(const Camera& cam, const Eigen::Vector3d& origin, const Box& box,
   return v;
 }
 
+double page_scale(const View& view, const Box& box) {
+  const Eigen::Vector3d centre = 0.5 * (box.lo + box.hi), nearest = view.eye.cwiseMax(box.lo).cwiseMin(box.hi);
+  const double depth = std::max({(centre - view.eye).dot(view.forward), (nearest - view.eye).norm(), 1.0});
+  return depth * 2.0 * std::tan(0.5 * view.fov_deg * kDeg) / double(view.height);
+}
+
 Projected project(const View& view, const Eigen::Vector3d& p) {
   const Eigen::Vector4d c = view.view_projection() * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.0);
   Projected r;

@@ -299,15 +299,25 @@ void add_strokes_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "in (0: cut at the threshold)",
       [](auto& s) -> auto& { return s.style.crease_fade; }));
   t.push_back(number(
-      "crease-bridge", strokes, 0, 100, "mesh spacings", "1",
-      "Draw a gap in a channel's crease up to this long (mesh spacings), where the score dips between "
-      "two drawn parts (0: no bridging)",
+      "crease-bridge", strokes, 0, 1e5, "m", "50",
+      "Draw a gap in a channel's crease up to this long (m; or --crease-bridge-px at the page scale, "
+      "whichever is longer), where the score dips between two drawn parts (0: this term off)",
       [](auto& s) -> auto& { return s.style.crease_bridge; }));
   t.push_back(number(
-      "crease-min-stroke", strokes, 0, 100, "mesh spacings", "4",
-      "Leave out crease strokes shorter than this (mesh spacings): dashes below the source mesh's "
-      "resolution (0: keep every stroke)",
+      "crease-bridge-px", strokes, 0, 256, "pixels", "2",
+      "... or up to this long in pixels at the page scale (metres per pixel at the depth of the "
+      "scene's centre; 0: this term off)",
+      [](auto& s) -> auto& { return s.style.crease_bridge_px; }));
+  t.push_back(number(
+      "crease-min-stroke", strokes, 0, 1e5, "m", "200",
+      "Leave out crease strokes shorter than this (m; or --crease-min-stroke-px at the page scale, "
+      "whichever is longer): dashes, not channels (0: this term off)",
       [](auto& s) -> auto& { return s.style.crease_min_stroke; }));
+  t.push_back(number(
+      "crease-min-stroke-px", strokes, 0, 256, "pixels", "4",
+      "... or shorter than this in pixels at the page scale: dots on the page, whatever the mesh's "
+      "spacing (0: this term off)",
+      [](auto& s) -> auto& { return s.style.crease_min_stroke_px; }));
   t.push_back(number(
       "crease-hidden-gap", strokes, 0, 256, "pixels", "8",
       "Draw a hidden run of a crease stroke up to this long (pixels) between its shown parts, when none "
@@ -435,7 +445,8 @@ std::vector<OptionSpec> make_table() {
   // What --line-scale multiplies with a range the renderer draws it in (terrain_renderer.cpp's
   // buffers and pixel loops), and what rebuilds the creases.
   const std::map<std::string, OptionSpec::Range> drawn = {
-      {"silhouette-width", {1, 9}}, {"edge-width", {0, 64}}, {"crease-hidden-gap", {0, 256}}, {"crease-min-peek", {0, 256}}};
+      {"silhouette-width", {1, 9}}, {"edge-width", {0, 64}}, {"crease-hidden-gap", {0, 256}}, {"crease-min-peek", {0, 256}},
+      {"crease-bridge-px", {0, 256}}, {"crease-min-stroke-px", {0, 256}}};
   for (OptionSpec& o : t) {
     if (const auto d = drawn.find(o.name); d != drawn.end()) {
       o.drawn = d->second;
@@ -458,6 +469,8 @@ Style drawn_style(const RenderSettings& s) {
   st.edge_width *= k;
   st.crease_hidden_gap *= k;
   st.crease_min_peek *= k;
+  st.crease_bridge_px *= k;
+  st.crease_min_stroke_px *= k;
   return st;
 }
 

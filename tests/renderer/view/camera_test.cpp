@@ -112,6 +112,31 @@ TEST(Camera, DefaultViewOfMountStHelensShowsTheCraterAndTheDome) {
   EXPECT_LT(rim.v, dome.v);  // the rim beyond the dome
 }
 
+// The page scale is the metres a pixel spans at the depth of the scene's centre: a segment
+// of 100 m there, across the view, is 100 / scale pixels long on the image, at any view;
+// an eye inside the box (a low flight) takes at least 1 m of depth, never a negative one.
+TEST(Camera, PageScaleIsMetresPerPixelAtTheScenesCentre) {
+  const renderer::Box box{{0, -3000, 100}, {4000, 0, 900}};
+  const Vector3d centre = 0.5 * (box.lo + box.hi);
+  for (double alt : {10.0, 45.0, 90.0}) {
+    renderer::Camera cam;
+    cam.view_az = 30;
+    cam.view_alt = alt;
+    cam.fov = 40;
+    for (int height : {360, 720}) {
+      const auto v = renderer::make_view(cam, Vector3d::Zero(), box, 2 * height, height);
+      const double s = renderer::page_scale(v, box);
+      const auto a = renderer::project(v, centre - 50 * v.right), b = renderer::project(v, centre + 50 * v.right);
+      EXPECT_NEAR(std::hypot(b.u - a.u, b.v - a.v), 100 / s, 1e-6) << alt << " " << height;
+    }
+  }
+  renderer::Camera inside;
+  inside.eye = centre;
+  inside.view_alt = 0;
+  const auto v = renderer::make_view(inside, Vector3d::Zero(), box, 640, 360);
+  EXPECT_DOUBLE_EQ(renderer::page_scale(v, box), 2 * std::tan(0.5 * inside.fov * std::numbers::pi / 180) / 360);
+}
+
 TEST(Camera, ProjectionAndFraming) {
   renderer::Box box{{0, -3000, 100}, {4000, 0, 900}};
   for (double az : {0.0, 135.0, 225.0}) {
