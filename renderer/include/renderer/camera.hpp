@@ -126,7 +126,7 @@ DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double ex
 View make_view(const Camera& camera, const Eigen::Vector3d& origin, const Box& box, int width, int height,
                bool reversed_z = true);
 
-// The page scale of a view (docs/terrain-render.md, "Density set by the page"): metres
+// The page scale of a view (docs/terrain-render.md, "Strokes"): metres
 // (local frame, heights exaggerated) per pixel at the depth of the centre of `box`, the
 // scene's box, along the view, that depth at least the eye's distance to the box and 1 m.
 // It depends on the camera and the image, not on the mesh's spacing: what the stroke rules
