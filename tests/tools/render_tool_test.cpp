@@ -10,6 +10,7 @@
 #include <regex>
 #include <sstream>
 
+#include "terrain/dem_io.hpp"
 #include "test_support.hpp"
 #include "tools/ink.hpp"
 
@@ -303,6 +304,49 @@ TEST(TerrainRender, StrokesFollowThePageNotTheMesh) {
   EXPECT_LE(std::abs(s1 - s0), 0.25 * s0);
   EXPECT_LE(std::abs(i1 - i0), 0.15 * i0);
   EXPECT_GT(s_old - s0, 0.4 * s0);
+}
+
+// The same on an analytic surface (a slope with valleys at four wavelengths, 10 m, no
+// CRS), meshed at 40 m and at 20 m: about as many strokes at one camera with the rule in
+// metres and page pixels; with it in mesh spacings the finer mesh drew more.
+TEST(TerrainRender, StrokesFollowThePageNotTheMeshOnAnAnalyticSurface) {
+  terrain::test::ScratchDir dir;
+  terrain::Georef geo;
+  geo.x0 = 500000, geo.y0 = 5000000, geo.dx = geo.dy = 10;
+  terrain::Grid dem(301, 301, geo);
+  for (std::size_t r = 0; r < 301; ++r)
+    for (std::size_t c = 0; c < 301; ++c) {
+      const double x = 10.0 * double(c), y = 10.0 * double(r);
+      dem.at(r, c) = float(400 - 0.1 * y + 15 * std::sin(x / 230) + 8 * std::sin((x + y) / 97) +
+                           5 * std::sin((x - 2 * y) / 61) + 3 * std::sin((3 * x + y) / 37));
+    }
+  terrain::write_geotiff(dem, dir.path("dem.tif"));
+  auto strokes = [](const std::string& out) {
+    std::smatch m;
+    EXPECT_TRUE(std::regex_search(out, m, std::regex("crease strokes: ([0-9]+)"))) << out;
+    return m.empty() ? -1.0 : std::stod(m[1]);
+  };
+  for (const char* sp : {"40", "20"}) {
+    const std::string m = dir.path(std::string("m") + sp + ".ply"), dv = dir.path(std::string("m") + sp + ".dv");
+    ASSERT_EQ(run(tool("dem2mesh") + " " + dir.path("dem.tif") + " " + m + " --spacing " + sp + " -q").exit_code, 0);
+    ASSERT_EQ(run(tool("build-drainage") + " " + m + " " + dv + " -q").exit_code, 0);
+  }
+  const std::string camera = " --eye 501500 4996000 2500 --view-az 0 --view-alt 40 --light-az 315 --light-alt 45 "
+                             "--exaggeration 1 --size 640x360 --line-stats -o " + dir.path("f.png");
+  auto frame = [&](const std::string& sp, const std::string& options) {
+    const auto r = run(tool("terrain-render") + " frame " + dir.path("m" + sp + ".ply") + " " +
+                       dir.path("m" + sp + ".dv") + camera + options);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return strokes(r.out);
+  };
+  const double coarse = frame("40", ""), fine = frame("20", ""),
+               fine_old = frame("20", " --crease-min-stroke 80 --crease-min-stroke-px 0 --crease-bridge 20 --crease-bridge-px 0"),
+               coarse_old = frame("40", " --crease-min-stroke 160 --crease-min-stroke-px 0 --crease-bridge 40 --crease-bridge-px 0");
+  std::cout << "strokes: 40 m " << coarse << ", 20 m " << fine << "; in mesh spacings " << coarse_old << ", " << fine_old
+            << "\n";
+  ASSERT_GT(coarse, 10.0);
+  EXPECT_LE(std::abs(fine - coarse), 0.25 * coarse);
+  EXPECT_GT(fine_old - coarse_old, 0.25 * coarse_old);
 }
 
 TEST(TerrainRender, FlowScale) {
