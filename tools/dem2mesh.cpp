@@ -111,19 +111,20 @@ void add_input_options(CLI::App& app, Options& o) {
 // The grid the options ask for: a raster resampled, or scattered points interpolated;
 // `source_dem` / `source_points` receive the source samples for --fit-normals.
 terrain::Grid grid_of(const Options& o, const terrain::GridRequest& req, const tt::Verbosity& verb,
-                      terrain::Grid& source_dem, terrain::SourceSamples& source_points, bool& points) {
+                      terrain::Grid& source_dem, terrain::SourceSamples& source_points, bool& points,
+                      std::vector<std::uint8_t>& filled) {
   const std::string& input = o.input;
   points = o.input_kind == "points" || (o.input_kind == "auto" && terrain::is_point_input(input));
   // Points on a lattice that GDAL reads as a grid (its XYZ driver): the errors say how to
   // read them as points (asked only on the way to an error: it opens the file again).
   auto lattice = [&] { return o.input_kind == "auto" && terrain::raster_driver(input) == "XYZ"; };
-  if (points) return points_grid(input, req, {o.interpolation, o.max_edge, o.src_crs}, verb, o.fit ? &source_points : nullptr);
+  if (points) return points_grid(input, req, {o.interpolation, o.max_edge, o.src_crs}, verb, o.fit ? &source_points : nullptr, filled);
   for (const CLI::Option* opt : {o.interp_opt, o.max_edge_opt})
     if (*opt)
       throw terrain::Error(opt->get_name() + " applies to scattered points; '" + input + "' is a raster" +
                            (lattice() ? " of XYZ text: pass --input points" : ""));
   try {
-    return raster_grid(input, req, o.dequantize, o.src_crs, verb, o.fit ? &source_dem : nullptr);
+    return raster_grid(input, req, o.dequantize, o.src_crs, verb, o.fit ? &source_dem : nullptr, filled);
   } catch (const terrain::NodataError& e) {
     if (!lattice()) throw;
     throw terrain::Error(std::string(e.what()) + " (it was read as a grid of XYZ text; for scattered points pass --input points)");
@@ -177,12 +178,14 @@ int run(const Options& o, const std::string& provenance, const tt::Verbosity& ve
   terrain::Grid source_dem;
   terrain::SourceSamples source_points;
   bool points = false;
-  const terrain::Grid grid = grid_of(o, req, verb, source_dem, source_points, points);
+  std::vector<std::uint8_t> filled;
+  const terrain::Grid grid = grid_of(o, req, verb, source_dem, source_points, points, filled);
   terrain::OutputSet outputs;  // the mesh and the grid land together, or neither does
   if (!grid_out.empty()) outputs.write([&] { terrain::write_geotiff(grid, outputs.stage(grid_out), provenance); });
   auto t0 = Clock::now();
   terrain::GridMesh mesh = terrain::make_grid_mesh(grid, nw);
   mesh.provenance = provenance;
+  mesh.filled.assign(filled.begin(), filled.end());
   tt::step(verb, fmt::format("mesh and normals: {:.2f} s", since(t0)));
   terrain::NormalFitReport fit_rep;
   if (o.fit) {

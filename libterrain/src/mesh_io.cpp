@@ -98,8 +98,11 @@ class GridMeshExporter : public BaseExporter {
     }
     if (m.normal_change.size() == nv)
       kernel_.add_vertex_floats("normal_change", nv, [&](std::size_t i) { return m.normal_change[i]; });
+    if (m.filled.size() == nv) kernel_.add_vertex_floats("filled", nv, [&](std::size_t i) { return float(m.filled[i]); });
   }
-  bool has_custom() const { return !m_.voronoi.empty() || m_.normal_change.size() == m_.n_vertices(); }
+  bool has_custom() const {
+    return !m_.voronoi.empty() || m_.normal_change.size() == m_.n_vertices() || m_.filled.size() == m_.n_vertices();
+  }
 
   OM::Vec3f point(OM::VertexHandle v) const override {
     const auto& p = m_.positions[std::size_t(v.idx())];
@@ -459,7 +462,7 @@ void write_mesh_ply_openmesh(const GridMesh& mesh, const std::string& path) {
 namespace {
 
 // The header as OpenMesh writes it: custom properties in the order they were added.
-std::string ply_header(const GridMesh& mesh, bool voronoi, bool change) {
+std::string ply_header(const GridMesh& mesh, bool voronoi, bool change, bool filled) {
   std::string header = "ply\nformat binary_little_endian 1.0\n" + header_comments(mesh);
   header += fmt::format("element vertex {}\n", mesh.n_vertices());
   for (const char* name : {"x", "y", "z", "nx", "ny", "nz"}) header += fmt::format("property float {}\n", name);
@@ -468,6 +471,7 @@ std::string ply_header(const GridMesh& mesh, bool voronoi, bool change) {
     for (const char* name : kTangent) header += fmt::format("property float {}\n", name);
   }
   if (change) header += "property float normal_change\n";
+  if (filled) header += "property float filled\n";
   header += fmt::format("element face {}\nproperty list uchar int vertex_indices\n", mesh.n_faces());
   if (voronoi)
     for (const char* name : kCornerArea) header += fmt::format("property float {}\n", name);
@@ -481,7 +485,8 @@ struct PlyChunk {
 };
 
 // Fills `buf` with a chunk's records; returns the byte count.
-std::size_t fill_ply_chunk(const GridMesh& mesh, const PlyChunk& ch, bool voronoi, bool change, char* buf) {
+std::size_t fill_ply_chunk(const GridMesh& mesh, const PlyChunk& ch, bool voronoi, bool change, bool filled,
+                           char* buf) {
   const std::size_t cols = mesh.topo.cols;
   char* at = buf;
   auto put = [&](const void* p, std::size_t n) {
@@ -497,6 +502,10 @@ std::size_t fill_ply_chunk(const GridMesh& mesh, const PlyChunk& ch, bool vorono
         put(mesh.voronoi.tangents[i].data(), 12);
       }
       if (change) put(&mesh.normal_change[i], 4);
+      if (filled) {
+        const float f = mesh.filled[i];
+        put(&f, 4);
+      }
     }
     return std::size_t(at - buf);
   }
@@ -524,11 +533,11 @@ void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
   if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != nv)
     throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
   check_mesh_georef(mesh, "cannot write '" + path + "'");
-  const bool voronoi = !mesh.voronoi.empty(), change = mesh.normal_change.size() == nv;
-  const std::string header = ply_header(mesh, voronoi, change);
+  const bool voronoi = !mesh.voronoi.empty(), change = mesh.normal_change.size() == nv, filled = mesh.filled.size() == nv;
+  const std::string header = ply_header(mesh, voronoi, change, filled);
   // The body in chunks of whole rows (vertex rows, then cell rows of two faces each).
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
-  const std::size_t vertex_bytes = 24 + (voronoi ? 16 : 0) + (change ? 4 : 0), face_bytes = 13 + (voronoi ? 12 : 0);
+  const std::size_t vertex_bytes = 24 + (voronoi ? 16 : 0) + (change ? 4 : 0) + (filled ? 4 : 0), face_bytes = 13 + (voronoi ? 12 : 0);
   // 1 MiB: 4 MiB chunks tripled the kernel's time in write(2) on ext4 (Logan 10 m: 0.27 ->
   // 0.8-1.3 s), 256 KiB ones spend it on the helper threads (0.41-0.60 s).
   constexpr std::size_t kChunkBytes = std::size_t(1) << 20;
@@ -538,7 +547,7 @@ void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
   std::vector<PlyChunk> chunks;
   for (std::size_t r = 0; r < rows; r += vrows) chunks.push_back({false, r, std::min(rows, r + vrows)});
   for (std::size_t r = 0; r + 1 < rows; r += frows) chunks.push_back({true, r, std::min(rows - 1, r + frows)});
-  const auto fill = [&](const PlyChunk& ch, char* buf) { return fill_ply_chunk(mesh, ch, voronoi, change, buf); };
+  const auto fill = [&](const PlyChunk& ch, char* buf) { return fill_ply_chunk(mesh, ch, voronoi, change, filled, buf); };
   write_stream_atomic(path, [&](std::ostream& out) {
     out.write(header.data(), std::streamsize(header.size()));
     // Two buffers: a helper thread fills the next chunk while this one writes.
@@ -655,6 +664,8 @@ void read_optional(const std::string& path, GridMeshImporter& importer, GridMesh
   m.normal_change.resize(m.n_vertices());
   if (!k.vertex_floats("normal_change", [&](std::size_t i, float v) { m.normal_change[i] = v; }))
     m.normal_change = BigVector<float>{};
+  m.filled.resize(m.n_vertices());
+  if (!k.vertex_floats("filled", [&](std::size_t i, float v) { m.filled[i] = v != 0.0f; })) m.filled = BigVector<std::uint8_t>{};
 }
 
 }  // namespace

@@ -102,6 +102,30 @@ std::pair<std::size_t, std::size_t> sampled_size(const GridMesh& mesh, double sp
   return {std::size_t(std::floor(width / spacing + 1e-9)) + 1, std::size_t(std::floor(height / spacing + 1e-9)) + 1};
 }
 
+namespace {
+
+// No-data at every sample in a mesh cell with a filled corner (GridMesh::filled): a
+// sample on a cell's shared edge or corner belongs to each cell it touches.
+void drop_filled_cells(const GridMesh& mesh, Grid& grid) {
+  const std::size_t cols = mesh.topo.cols, rows = mesh.topo.rows;
+  const double s = grid.geo.dx;
+#pragma omp parallel for schedule(static)
+  for (long j = 0; j < long(grid.rows); ++j) {
+    const double v = double(j) * s / mesh.geo.dy;  // cell rows from the top
+    const std::size_t r0 = std::size_t(std::max(0.0, std::ceil(v) - 1)), r1 = std::min(rows - 2, std::size_t(v));
+    for (std::size_t i = 0; i < grid.cols; ++i) {
+      const double u = double(i) * s / mesh.geo.dx;
+      const std::size_t c0 = std::size_t(std::max(0.0, std::ceil(u) - 1)), c1 = std::min(cols - 2, std::size_t(u));
+      bool filled = false;
+      for (std::size_t r = r0; r <= r1 + 1 && !filled; ++r)
+        for (std::size_t c = c0; c <= c1 + 1 && !filled; ++c) filled = mesh.filled[r * cols + c] != 0;
+      if (filled) grid.z[std::size_t(j) * grid.cols + i] = std::numeric_limits<float>::quiet_NaN();
+    }
+  }
+}
+
+}  // namespace
+
 SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Progress& progress) {
   if (!(spacing > 0.0 && std::isfinite(spacing))) throw Error("the sampling spacing must be a positive number of metres");
   const double width = double(mesh.topo.cols - 1) * mesh.geo.dx, height = double(mesh.topo.rows - 1) * mesh.geo.dy;
@@ -176,6 +200,7 @@ SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Pro
     report(progress, double(je) / double(rows));
   }
   out.fallbacks = fallbacks;
+  if (mesh.filled.size() == mesh.n_vertices()) drop_filled_cells(mesh, out.grid);
   return out;
 }
 

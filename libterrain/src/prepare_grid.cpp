@@ -285,6 +285,7 @@ PreparedGrid resample_to_plan(const Grid& samples, const GridPlan& plan, const G
           missing, rmin, rmax, cmin, cmax, g.rows, g.cols, tg.x_of_col(double(cmin)),
           tg.x_of_col(double(cmax)), tg.y_of_row(double(rmax)), tg.y_of_row(double(rmin))));
     }
+    out.filled_mask = g.nodata_mask();
     out.filled = fill_nodata(g);
   }
   return out;

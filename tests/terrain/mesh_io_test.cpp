@@ -53,7 +53,8 @@ TEST(MeshIo, RoundTripIsIdentical) {
 
 // The block writer (issue 40) writes the bytes OpenMesh's PLY writer wrote: a plain mesh, a
 // denoised one (Voronoi weights, tangents, corner areas, normal changes), a fitted one, one
-// with non-ASCII text in its header, and two larger than a block.
+// with non-ASCII text in its header, two larger than a block, and one with filled vertices
+// (dem2mesh --fill-nodata), which reads back.
 TEST(MeshIo, BlockWriterWritesOpenMeshsBytes) {
   test::ScratchDir dir;
   GridMesh plain = msh_mesh();
@@ -71,8 +72,11 @@ TEST(MeshIo, BlockWriterWritesOpenMeshsBytes) {
   GridMesh large = test::function_mesh(400, 313, 10.0, [](double x, double y) { return std::sin(x / 300) * y / 50; });
   GridMesh large_denoised = large;
   large_denoised.voronoi = voronoi_weights(large_denoised);
+  GridMesh filled = denoised;
+  filled.filled.assign(filled.n_vertices(), 0);
+  for (std::size_t i = 0; i < filled.n_vertices(); i += 7) filled.filled[i] = 1;
   int k = 0;
-  for (const GridMesh* m : {&plain, &denoised, &only_change, &fitted, &large, &large_denoised}) {
+  for (const GridMesh* m : {&plain, &denoised, &only_change, &fitted, &large, &large_denoised, &filled}) {
     const std::string n = std::to_string(k) + ".ply";  // appended: `"a" + std::string` trips GCC 12's -Wrestrict
     std::string a = "a", b = "b";
     a = dir.path(a += n), b = dir.path(b += n);
@@ -81,6 +85,7 @@ TEST(MeshIo, BlockWriterWritesOpenMeshsBytes) {
     const std::string fa = test::file_bytes(a), fb = test::file_bytes(b);
     EXPECT_GT(fa.size(), 24 * m->n_vertices()) << k;
     EXPECT_TRUE(fa == fb) << "mesh " << k << ": " << fa.size() << " vs " << fb.size() << " bytes";
+    EXPECT_TRUE(read_mesh_ply(a).filled == m->filled) << k;
     ++k;
   }
 }

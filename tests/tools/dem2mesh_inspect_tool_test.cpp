@@ -2,12 +2,16 @@
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "drainage/dv_file.hpp"
+#include "drainage/dv_views.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/mesh_io.hpp"
 #include "test_support.hpp"
@@ -202,6 +206,46 @@ TEST(Dem2mesh, RastersWithoutACrsGiveMeshesEveryToolTakes) {
       EXPECT_EQ(r.exit_code, 0) << cmd << "\n" << r.err;
     }
   }
+}
+
+// Issue 50: ground that --fill-nodata invents carries no drainage. A 10 m DEM (a slope with
+// a valley, no CRS) with a 20 x 20 hole of no-data: the mesh records the 400 filled
+// vertices (PLY property `filled`, kept by denoise-normals, counted by terrain-inspect),
+// and build-drainage, sampling at the mesh's own 10 m, gives no-data exactly at the samples
+// of the cells those vertices touch (22 x 22), valid ones everywhere else. Before, the
+// drainage ran over the fill's folds in straight lines (sinmap's watershed).
+TEST(Dem2mesh, FilledSamplesCarryNoDrainage) {
+  terrain::test::ScratchDir dir;
+  Georef geo;
+  geo.x0 = 500000, geo.y0 = 5000000, geo.dx = geo.dy = 10;
+  Grid dem(80, 80, geo);
+  for (std::size_t r = 0; r < 80; ++r)
+    for (std::size_t c = 0; c < 80; ++c) {
+      const bool hole = r >= 30 && r < 50 && c >= 30 && c < 50;
+      dem.at(r, c) = hole ? std::numeric_limits<float>::quiet_NaN()
+                          : float(300 - 0.2 * double(r) + 0.3 * std::abs(double(c) - 40.0));
+    }
+  write_geotiff(dem, dir.path("dem.tif"));
+  const std::string m = dir.path("m.ply"), dv = dir.path("m.dv");
+  ASSERT_EQ(run(tool("dem2mesh") + " " + dir.path("dem.tif") + " " + m + " -q").exit_code, 1);  // no-data: refused
+  const auto made = run(tool("dem2mesh") + " " + dir.path("dem.tif") + " " + m + " --fill-nodata -q");
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  const GridMesh mesh = read_mesh_ply(m);
+  ASSERT_EQ(mesh.topo.rows, 80u);
+  ASSERT_EQ(mesh.filled.size(), mesh.n_vertices());
+  for (std::size_t r = 0; r < 80; ++r)
+    for (std::size_t c = 0; c < 80; ++c)
+      ASSERT_EQ(mesh.filled[r * 80 + c], r >= 30 && r < 50 && c >= 30 && c < 50) << r << " " << c;
+  EXPECT_NE(run(tool("terrain-inspect") + " info " + m).out.find("filled_vertices: 400\n"), std::string::npos);
+  ASSERT_EQ(run(tool("denoise-normals") + " " + m + " " + dir.path("d.ply") + " --iterations 1 -q").exit_code, 0);
+  EXPECT_TRUE(read_mesh_ply(dir.path("d.ply")).filled == mesh.filled);
+  ASSERT_EQ(run(tool("build-drainage") + " " + m + " " + dv + " -q").exit_code, 0);
+  const auto links = drainage::drainage_links(drainage::read_dv(dv));
+  ASSERT_EQ(links.rows, 80u);
+  ASSERT_EQ(links.cols, 80u);
+  for (std::size_t r = 0; r < 80; ++r)
+    for (std::size_t c = 0; c < 80; ++c)
+      EXPECT_EQ(bool(links.valid[r * 80 + c]), !(r >= 29 && r <= 50 && c >= 29 && c <= 50)) << r << " " << c;
 }
 
 TEST(Dem2mesh, HelpShowsAnExample) {

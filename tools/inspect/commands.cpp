@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -79,6 +80,8 @@ void info_mesh(const std::string& path) {
   } else {
     std::cout << "denoised: no\n";
   }
+  // Heights dem2mesh --fill-nodata invented: no drainage is sampled over their cells.
+  std::cout << "filled_vertices: " << std::count(m.filled.begin(), m.filled.end(), std::uint8_t(1)) << "\n";
   const terrain::NormalFitInfo& fit = m.normal_fit;
   if (fit.fitted)
     std::cout << fmt::format("normals_fitted: yes ({} source samples)\nfit_rmse_m: {:.4g} (before {:.4g})\n"

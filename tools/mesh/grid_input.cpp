@@ -32,7 +32,8 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 // `source` (optional) receives the source samples read, in the grid's CRS, for --fit-normals.
 // `src_crs` (--src-crs) replaces the raster's own CRS, as gdalwarp's -s_srs.
 terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& req, const std::string& dequantize,
-                          const std::string& src_crs, const tt::Verbosity& verb, terrain::Grid* source) {
+                          const std::string& src_crs, const tt::Verbosity& verb, terrain::Grid* source,
+                          std::vector<std::uint8_t>& filled) {
   auto t0 = Clock::now();
   terrain::DemInfo info = terrain::read_dem_info(input);
   if (!src_crs.empty()) terrain::assign_crs(info.geo, src_crs);
@@ -61,6 +62,7 @@ terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& 
   terrain::PreparedGrid prepared = terrain::resample_to_plan(dem, plan, req, tt::terminal_progress(verb, "resample"));
   for (const auto& w : prepared.warnings) tt::warn(verb, w);
   if (prepared.filled > 0) tt::warn(verb, fmt::format("filled {} no-data samples by interpolation", prepared.filled));
+  filled = std::move(prepared.filled_mask);
   tt::step(verb, fmt::format("grid {} x {} at {} m: {:.2f} s", prepared.grid.cols, prepared.grid.rows,
                              prepared.grid.geo.dx, since(t0)));
   if (source) *source = std::move(dem);
@@ -71,7 +73,8 @@ terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& 
 // onto the grid; no-data samples (outside the hull, long triangles) are an error unless
 // --fill-nodata, as for rasters.
 terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& req, const PointOptions& o,
-                          const tt::Verbosity& verb, terrain::SourceSamples* source) {
+                          const tt::Verbosity& verb, terrain::SourceSamples* source,
+                          std::vector<std::uint8_t>& filled) {
   if (!req.spacing) throw terrain::Error("scattered points need --spacing (the grid spacing in metres)");
   auto t0 = Clock::now();
   terrain::PointCloud points = terrain::read_points(input, tt::terminal_progress(verb, "read"));
@@ -96,6 +99,7 @@ terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& 
       throw terrain::Error(fmt::format("{} of {} grid samples lie outside the points' convex hull{}; crop with --bbox "
                                        "or pass --fill-nodata",
                                        r.nodata, r.grid.size(), o.max_edge > 0 ? " or in triangles over --max-edge" : ""));
+    filled = r.grid.nodata_mask();
     tt::warn(verb, fmt::format("filled {} no-data samples by interpolation", terrain::fill_nodata(r.grid)));
   }
   return std::move(r.grid);

@@ -14,9 +14,11 @@ namespace terrain::tools::mesh {
 // A raster DEM: only the source window the crop needs is read (plus the kernel's margin),
 // then resampled onto the grid. `source` (optional) receives the source samples read, in
 // the grid's CRS, for --fit-normals. `src_crs` (--src-crs) replaces the raster's own CRS,
-// as gdalwarp's -s_srs.
+// as gdalwarp's -s_srs. `filled` receives which samples --fill-nodata filled (#samples,
+// 1 where filled; empty when none was), for the mesh to record (GridMesh::filled).
 terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& req, const std::string& dequantize,
-                          const std::string& src_crs, const Verbosity& verb, terrain::Grid* source);
+                          const std::string& src_crs, const Verbosity& verb, terrain::Grid* source,
+                          std::vector<std::uint8_t>& filled);
 
 struct PointOptions {
   std::string interpolation;  // linear, natural, natural-c0
@@ -25,8 +27,8 @@ struct PointOptions {
 };
 // Scattered points: read, projected to UTM if geographic, triangulated and interpolated
 // onto the grid; no-data samples (outside the hull, long triangles) are an error unless
-// --fill-nodata, as for rasters.
+// --fill-nodata, as for rasters; `filled` as for rasters.
 terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& req, const PointOptions& o,
-                          const Verbosity& verb, terrain::SourceSamples* source);
+                          const Verbosity& verb, terrain::SourceSamples* source, std::vector<std::uint8_t>& filled);
 
 }  // namespace terrain::tools::mesh

@@ -106,6 +106,10 @@ struct GridMesh {
   std::string provenance;                  // tool, version, command line (free text)
   VoronoiWeights voronoi;                  // empty unless computed (voronoi_weights) or read
   BigVector<float> normal_change;          // #V degrees, written by denoise-normals; else empty
+  // #V, 1 where the vertex's height was invented by dem2mesh --fill-nodata (no-data in the
+  // source), else empty: sample_pn_surface gives no-data over the cells it touches, so no
+  // drainage line is drawn on invented ground.
+  BigVector<std::uint8_t> filled;
   NormalFitInfo normal_fit;                // fitted normals (not after denoise-normals)
 
   std::size_t n_vertices() const { return positions.size(); }

@@ -39,7 +39,9 @@ struct SampledSurface {
 // Samples the PN surface at every point (i * spacing, -j * spacing) (local coordinates)
 // of the mesh's extent: z is the PN surface exactly above (pn_point_above), computed with
 // patches cached per cell row in monomial form. Parallel over rows; the result does not
-// depend on the thread count. Throws Error for spacing <= 0 or more than 2^32 - 1 samples.
+// depend on the thread count. Samples in a mesh cell with a vertex that dem2mesh
+// --fill-nodata invented (GridMesh::filled) are no-data: drainage is not drawn on
+// invented ground. Throws Error for spacing <= 0 or more than 2^32 - 1 samples.
 SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Progress& progress = {});
 
 // The columns and rows sample_pn_surface gives at `spacing` (a tool checks memory with it).

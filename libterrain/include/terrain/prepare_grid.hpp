@@ -29,6 +29,7 @@ struct PreparedGrid {
   Grid grid;
   std::vector<std::string> warnings;  // for the tool to print (for example: no CRS)
   std::size_t filled = 0;             // no-data samples filled by interpolation
+  std::vector<std::uint8_t> filled_mask;  // #samples, 1 where filled; empty when none was
 };
 
 // Rules (documented in docs/dem2mesh.md, tested in tests/prepare_grid_test.cpp):
