@@ -55,6 +55,7 @@ int main() {
   Style style;
   style.crease_bridge = style.crease_bridge_px = 0;
   style.crease_min_stroke = style.crease_min_stroke_px = 0;
+  style.page_min_area = 0;
   const int w = 1280, hgt = 720;
   TerrainRenderer r(ctx, mesh, &g, w, hgt, Layers{false, true, true, false}, style);
   FrameParams fp;

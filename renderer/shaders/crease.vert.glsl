@@ -18,8 +18,8 @@ void main() {
   float width[2];
   for (int j = 0; j < 2; ++j) {
     uint v = j == 0 ? e.x : e.y;
-    vec4 nf = cv[2u * v + 1u];
-    clip[j] = line_clip(exaggerate_position(cv[2u * v].xyz), u_score.w);
+    vec4 nf = cv[3u * v + 1u];
+    clip[j] = line_clip(exaggerate_position(cv[3u * v].xyz), u_score.w);
     width[j] = mix(u_lines.x, u_lines.y, sqrt(clamp(nf.w, 0.0, 1.0)));
   }
   float fringe = u_style.x != 0.0 ? 2.0 : 0.0;

@@ -52,8 +52,8 @@ float eye_distance(float depth) { return u_misc.x / max(reversed_z() ? depth : 1
 
 void sample_segment(uint s) {
   SegmentSamples m = SegmentSamples(0u, 0u, 0u, 0u, 0u, 0.0);
-  vec4 c0 = line_clip(exaggerate_position(cv[2u * seg[s].x].xyz), u_score.w);
-  vec4 c1 = line_clip(exaggerate_position(cv[2u * seg[s].y].xyz), u_score.w);
+  vec4 c0 = line_clip(exaggerate_position(cv[3u * seg[s].x].xyz), u_score.w);
+  vec4 c1 = line_clip(exaggerate_position(cv[3u * seg[s].y].xyz), u_score.w);
   if (c0.w > u_misc.x && c1.w > u_misc.x) {  // as segment_quad_vertex draws it
     vec2 a = window_of(c0), b = window_of(c1);
     float d0 = window_depth(c0), d1 = window_depth(c1), len = distance(a, b);

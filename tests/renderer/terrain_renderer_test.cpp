@@ -49,6 +49,7 @@ renderer::Style test_style() {
   // rule has its own tests below).
   s.crease_bridge = s.crease_bridge_px = 0;
   s.crease_min_stroke = s.crease_min_stroke_px = 0;
+  s.page_min_area = 0;
   s.background = {1, 1, 1};
   s.crease_colour = {1, 0, 0};
   s.silhouette_colour = {0, 0, 0};
@@ -740,7 +741,8 @@ TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
 // The stroke rule on the GPU (crease_bridge, crease_select) equals its CPU reference
 // (segment_opacity with the style's rule at the frame's page scale) on real data, and it
 // changes the selection: gaps bridged, short strokes left out. The bridge is in metres,
-// the shortest stroke in pixels at the page scale, so both terms run on the GPU.
+// the shortest stroke in pixels at the page scale, and channels begin at the page's area
+// (Style::page_min_area), so every term runs on the GPU.
 TEST(RendererGl, StrokeRuleMatchesCpu) {
   const auto& sc = msh_scene();
   const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false, .smooth_spacings = 0});
@@ -748,6 +750,7 @@ TEST(RendererGl, StrokeRuleMatchesCpu) {
   renderer::Style style = test_style();
   style.crease_bridge = 10.0;
   style.crease_min_stroke_px = 6.0;
+  style.page_min_area = 20000.0;
   TerrainRenderer r(ctx, sc.mesh, &g, 160, 120, renderer::Layers{false, true, true, false}, style);
   const Vector3d light = terrain::light_direction(315, 45);
   std::size_t changed = 0;
@@ -760,6 +763,7 @@ TEST(RendererGl, StrokeRuleMatchesCpu) {
     const renderer::StrokeRule rule = renderer::stroke_rule(style, scale);
     EXPECT_DOUBLE_EQ(rule.bridge, 10.0);
     EXPECT_DOUBLE_EQ(rule.min_length, 6.0 * scale);
+    EXPECT_DOUBLE_EQ(rule.min_area, 20000.0 * std::sqrt(scale / renderer::kPageAreaScale));
     const auto opacity = renderer::segment_opacity(g, res.view.eye, light, 1.0, fp.score, 0.0, rule);
     const auto cpu = std::size_t(std::count_if(opacity.begin(), opacity.end(), [](float o) { return o > 0; }));
     const double tol = std::max(2.0, 1e-3 * double(g.n_segments()));

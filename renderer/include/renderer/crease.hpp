@@ -24,6 +24,7 @@ struct CreaseGeometry {
   // linear scale, whatever the score's): the line's width grows with its square root, as a
   // river's width with the square root of its discharge (Leopold & Maddock 1953).
   std::vector<float> share;
+  std::vector<float> area;                 // #C the area draining through the vertex, m^2 (points x dx dy)
   std::vector<std::uint32_t> segments;     // 2 x #S: (vertex, its downstream vertex)
   // The median |z - PN surface z| over the vertices above the mesh, metres (as read,
   // before smoothing): 0 up to float rounding for a network sampled from this mesh.
@@ -195,22 +196,27 @@ inline constexpr int kStrokeReach = 64;  // TR_STROKE_REACH
 struct StrokeRule {
   double bridge = 0;      // metres
   double min_length = 0;  // metres
+  // The page's channel initiation (m^2): a vertex draining less than this scores -1 (is
+  // not drawn), so channels begin further down on a smaller-scale page (Style::page_min_area).
+  double min_area = 0;
 };
 std::vector<float> apply_stroke_rule(const SegmentChains& chains, const std::vector<float>& opacity,
                                      const std::vector<double>& length, const StrokeRule& rule);
 
 // The stroke rule of a style in metres at a page scale (metres per pixel, page_scale):
-// bridge = max(Style::crease_bridge, crease_bridge_px x scale), min_length likewise. The
+// bridge = max(Style::crease_bridge, crease_bridge_px x scale), min_length likewise;
+// min_area = Style::page_min_area x sqrt(scale / 10 m), Topfer's radical law (below). The
 // mesh's spacing takes no part: a mesh of the same terrain at any spacing draws the same
 // strokes at one camera (issue 50).
+inline constexpr double kPageAreaScale = 10.0;  // m a pixel at which page_min_area applies as it is
 StrokeRule stroke_rule(const Style& style, double page_scale);
 
 // Each segment's length in metres (local frame, before exaggeration). #S.
 std::vector<double> segment_metres(const CreaseGeometry& g);
 
-// Per segment, its opacity as the DM pass draws it (#S): 0 where it is not accepted; else
-// min(score of its two ends) / fade clamped to 1, or 1 when fade is 0 (Style::crease_fade);
-// then `rule` (in metres) along segment_chains.
+// Per segment, its opacity as the DM pass draws it (#S): 0 where it is not accepted (an end
+// below rule.min_area scores -1); else min(score of its two ends) / fade clamped to 1, or 1
+// when fade is 0 (Style::crease_fade); then `rule` (in metres) along segment_chains.
 std::vector<float> segment_opacity(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
                                    double exaggeration, const CreaseScoreParams& params, double fade,
                                    const StrokeRule& rule = {});

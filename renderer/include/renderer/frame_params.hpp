@@ -115,6 +115,12 @@ struct Style {
   // crease_min_stroke metres or crease_min_stroke_px pixels is not. 0 turns a term off.
   double crease_bridge = 50.0, crease_bridge_px = 2.0;
   double crease_min_stroke = 200.0, crease_min_stroke_px = 4.0;
+  // Channels selected by the page (Topfer's radical law: the number of objects a map keeps
+  // grows with the square root of its scale, so on a page of fixed size the channel-
+  // initiation area grows with the square root of the page scale): creases begin where at
+  // least page_min_area x sqrt(page scale / 10 m a pixel) m^2 drains (and CreaseRules::
+  // min_area, the network's own floor). 0: off.
+  double page_min_area = 40000.0;
   // Hidden runs and peeks (anti-aliased lines only; renderer::StrokeVisibilityRule): a
   // hidden run of a stroke up to crease_hidden_gap pixels long between shown parts, none of
   // it more than crease_hidden_depth mesh spacings behind the surface, is drawn; a shown run

@@ -24,7 +24,8 @@
    u_style    anti-aliased lines (1) or pixel-exact (0), crease fade band (score units;
               0: cut), score near distance, crease gap bridged (metres; 0: none)
    u_strokes  hidden run drawn (pixels; 0: none), how far behind the surface (metres),
-              shortest peek drawn (pixels; 0: any), unused */
+              shortest peek drawn (pixels; 0: any), the page's channel-initiation area
+              (m^2: vertices draining less score -1; 0: any) */
 #define TR_UBO_FRAME 0
 #define TR_FRAME_BLOCK(M) \
   M(mat4, u_view_proj)    \

@@ -306,11 +306,11 @@ void keep_segment_vertices(CreaseGeometry& out) {
     if (used[i] == DrainageLinks::kNone) continue;
     used[i] = kept;
     out.positions[kept] = out.positions[i], out.source[kept] = out.source[i], out.normals[kept] = out.normals[i];
-    out.flow[kept] = out.flow[i], out.share[kept] = out.share[i];
+    out.flow[kept] = out.flow[i], out.share[kept] = out.share[i], out.area[kept] = out.area[i];
     ++kept;
   }
   for (auto* v : {&out.positions, &out.normals}) v->resize(kept);
-  out.source.resize(kept), out.flow.resize(kept), out.share.resize(kept);
+  out.source.resize(kept), out.flow.resize(kept), out.share.resize(kept), out.area.resize(kept);
   for (std::uint32_t& v : out.segments) v = used[v];
 }
 
@@ -339,6 +339,7 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
     out.source.push_back(std::uint32_t(i));
     out.flow.push_back(flow.fc[i]);
     out.share.push_back(flow.share[i]);
+    out.area.push_back(float(double(links.accumulated[i]) * links.dx * links.dy));
   }
   const std::vector<std::uint8_t> keep = kept_links(mesh, links, rules, compact, off_flat, shift, flow.share);
   for (std::size_t i = 0; i < n; ++i) {
@@ -479,7 +480,8 @@ std::vector<float> apply_stroke_rule(const SegmentChains& ch, const std::vector<
 
 StrokeRule stroke_rule(const Style& style, double page_scale) {
   return StrokeRule{std::max(style.crease_bridge, style.crease_bridge_px * page_scale),
-                    std::max(style.crease_min_stroke, style.crease_min_stroke_px * page_scale)};
+                    std::max(style.crease_min_stroke, style.crease_min_stroke_px * page_scale),
+                    style.page_min_area * std::sqrt(std::max(page_scale, 0.0) / kPageAreaScale)};
 }
 
 std::vector<double> segment_metres(const CreaseGeometry& g) {
@@ -495,8 +497,10 @@ std::vector<float> segment_opacity(const CreaseGeometry& g, const Eigen::Vector3
   for (std::size_t i = 0; i < score.size(); ++i) {
     const Eigen::Vector3d p = g.positions[i].cast<double>();
     const Eigen::Vector3d pe(p.x(), p.y(), p.z() * e);
-    score[i] = crease_score(exaggerate_normal(g.normals[i].cast<double>(), e), g.flow[i], light, (pe - eye).norm(),
-                            params);
+    score[i] = !g.area.empty() && double(g.area[i]) < rule.min_area
+                   ? -1.0
+                   : crease_score(exaggerate_normal(g.normals[i].cast<double>(), e), g.flow[i], light,
+                                  (pe - eye).norm(), params);
   }
   std::vector<float> opacity(g.n_segments());
   for (std::size_t s = 0; s < opacity.size(); ++s) {

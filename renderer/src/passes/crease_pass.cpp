@@ -6,6 +6,7 @@
 // them show, along their strokes (crease_visibility.comp.glsl); the segments are drawn as
 // screen-space quads where they lie, at the depth of their ends lifted towards the eye
 // (crease.vert.glsl).
+#include <cfloat>
 #include <cstring>
 
 #include "passes.hpp"
@@ -20,13 +21,16 @@ CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, boo
   if (creases && creases->n_segments() > 0) {
     n_vertices_ = creases->positions.size();
     n_segments_ = creases->n_segments();
-    if (creases->share.size() != n_vertices_) throw terrain::Error("crease geometry: one share per vertex expected");
-    std::vector<float> cv(8 * n_vertices_);  // position, flow, normal, share
+    if (creases->share.size() != n_vertices_ || (!creases->area.empty() && creases->area.size() != n_vertices_))
+      throw terrain::Error("crease geometry: one share and one area per vertex expected");
+    const bool area = !creases->area.empty();  // none: every vertex drains enough
+    std::vector<float> cv(12 * n_vertices_);  // position, flow, normal, share, area (crease_data.glsl)
     for (std::size_t i = 0; i < n_vertices_; ++i) {
       const auto& p = creases->positions[i];
       const auto& n = creases->normals[i];
-      const float v[8] = {p.x(), p.y(), p.z(), creases->flow[i], n.x(), n.y(), n.z(), creases->share[i]};
-      std::memcpy(&cv[8 * i], v, sizeof v);
+      const float v[12] = {p.x(), p.y(), p.z(), creases->flow[i], n.x(),           n.y(),
+                           n.z(), creases->share[i], area ? creases->area[i] : FLT_MAX, 0.0f, 0.0f, 0.0f};
+      std::memcpy(&cv[12 * i], v, sizeof v);
     }
     cv_buf_ = make_buffer(cv.size() * 4, cv.data(), 0);
     seg_buf_ = make_buffer(creases->segments.size() * 4, creases->segments.data(), 0);

@@ -319,6 +319,12 @@ void add_strokes_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "spacing (0: this term off)",
       [](auto& s) -> auto& { return s.style.crease_min_stroke_px; }));
   t.push_back(number(
+      "page-min-area", strokes, 0, 1e12, "m^2", "40000",
+      "Channels selected by the page: creases begin where at least this area drains on a page of "
+      "10 m a pixel, times the square root of the page scale over 10 m (Topfer's radical law: a "
+      "map keeps objects as the square root of its scale); never below --min-area (0: off)",
+      [](auto& s) -> auto& { return s.style.page_min_area; }));
+  t.push_back(number(
       "crease-hidden-gap", strokes, 0, 256, "pixels", "8",
       "Draw a hidden run of a crease stroke up to this long (pixels) between its shown parts, when none "
       "of it is more than --crease-hidden-depth behind the surface: a gully's floor, not dashes (0: "

@@ -106,6 +106,38 @@ TEST(CreaseScore, OpacityFadesInOverTheBand) {
   EXPECT_EQ(cut, (std::vector<float>{1, 1, 1, 0}));
 }
 
+// Channels selected by the page (StrokeRule::min_area, Style::page_min_area): a vertex
+// draining less than the page's area scores -1, so a segment with such an end is not drawn,
+// whatever its score; the rule grows as the square root of the page scale (4 ha at 10 m a
+// pixel: 2 ha at 2.5 m, 8 ha at 40 m).
+TEST(CreaseScore, ChannelsBeginAtThePagesArea) {
+  CreaseGeometry g;
+  const Vector3d up(0, 0, 1);
+  for (float area : {5000.0f, 15000.0f, 30000.0f, 60000.0f}) {  // a chain from a channel head downstream
+    g.positions.push_back(Eigen::Vector3f(0, 0, 0));
+    g.normals.push_back(Eigen::Vector3f(0, 0, 1));
+    g.flow.push_back(0.9f);  // scores 0.2 everywhere
+    g.area.push_back(area);
+  }
+  g.segments = {0, 1, 1, 2, 2, 3};
+  renderer::CreaseScoreParams p;
+  p.min_score = 0.1;
+  p.falloff = 0;
+  p.far_distance = 1;
+  auto drawn = [&](double min_area) {
+    return renderer::segment_opacity(g, Vector3d(0, 0, 10), up, 1.0, p, 0.0, {0, 0, min_area});
+  };
+  EXPECT_EQ(drawn(0), (std::vector<float>{1, 1, 1}));
+  EXPECT_EQ(drawn(10000), (std::vector<float>{0, 1, 1}));
+  EXPECT_EQ(drawn(20000), (std::vector<float>{0, 0, 1}));
+  EXPECT_EQ(drawn(60000), (std::vector<float>{0, 0, 0}));  // the outlet's own area, but its upstream end drains less
+  renderer::Style style;
+  style.page_min_area = 40000;
+  EXPECT_DOUBLE_EQ(renderer::stroke_rule(style, 10.0).min_area, 40000.0);
+  EXPECT_DOUBLE_EQ(renderer::stroke_rule(style, 2.5).min_area, 20000.0);
+  EXPECT_DOUBLE_EQ(renderer::stroke_rule(style, 40.0).min_area, 80000.0);
+}
+
 // The default view on an analytic volcano: a cone in the north-east of a plain with a
 // crater breached to the north. The relief window holds the cone, the eye looks into the
 // breach (from the north, bearing 180), the cone's centre falls in the middle third of the
