@@ -216,7 +216,7 @@ void add_network_options(std::vector<OptionSpec>& t, const GroupNames& g) {
   t.push_back(number(
       "min-area", rules, 0, 1e15, "m^2", "10000",
       "Creases start where at least this area drains (channel initiation, m^2: 1 ha is 100 drainage points "
-      "at 10 m, 400 at 5 m; 0: every D8 link, as the paper)",
+      "at 10 m, 400 at 5 m; 0: every D8 link, as the paper); --page-min-area may ask more of a page",
       [](auto& s) -> auto& { return s.rules.min_area; }));
   t.push_back(number(
       "min-drainage-width", rules, 0, 1e6, "m", "30",
