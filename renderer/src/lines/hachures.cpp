@@ -1,0 +1,147 @@
+#include "renderer/hachures.hpp"
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "terrain/pn_surface.hpp"
+
+namespace renderer {
+
+namespace {
+
+using Eigen::Vector2f;
+
+// The points of the accepted hachures, by cells of the occupancy grid.
+class Occupancy {
+ public:
+  Occupancy(int width, int height, double cell)
+      : cell_(cell), cols_(long(std::ceil(width / cell)) + 1), rows_(long(std::ceil(height / cell)) + 1),
+        cells_(std::size_t(cols_ * rows_)) {}
+  // Whether a point of another hachure than `self` lies closer than `d` to p.
+  bool near(const Vector2f& p, double d, long self) const {
+    const long reach = long(std::ceil(d / cell_)), cu = long(p.x() / cell_), cv = long(p.y() / cell_);
+    for (long v = std::max(0L, cv - reach); v <= std::min(rows_ - 1, cv + reach); ++v)
+      for (long u = std::max(0L, cu - reach); u <= std::min(cols_ - 1, cu + reach); ++u)
+        for (const auto& [q, id] : cells_[std::size_t(v * cols_ + u)])
+          if (id != self && (q - p).squaredNorm() < d * d) return true;
+    return false;
+  }
+  void add(const Vector2f& p, long id) {
+    const long u = std::clamp(long(p.x() / cell_), 0L, cols_ - 1), v = std::clamp(long(p.y() / cell_), 0L, rows_ - 1);
+    cells_[std::size_t(v * cols_ + u)].emplace_back(p, id);
+  }
+
+ private:
+  double cell_;
+  long cols_, rows_;
+  std::vector<std::vector<std::pair<Vector2f, long>>> cells_;
+};
+
+struct Tracer {
+  const HachureField& f;
+  const HachureRule& rule;
+  const Occupancy& occupied;
+
+  std::size_t at(const Vector2f& p) const { return std::size_t(long(p.y())) * std::size_t(f.width) + std::size_t(long(p.x())); }
+  bool usable(const Vector2f& p) const {
+    if (!f.terrain(long(p.x()), long(p.y())) || p.x() < 0 || p.y() < 0) return false;
+    const std::size_t i = at(p);
+    return f.slope[i] >= rule.min_slope && (f.blocked.empty() || !f.blocked[i]) && f.fall[i].squaredNorm() > 0.5f;
+  }
+  double spacing(const Vector2f& p) const { return rule.spacing / std::clamp(double(f.tone[at(p)]), kMinTone, 1.0); }
+  bool free(const Vector2f& p, long self) const { return !occupied.near(p, rule.test_share * spacing(p), self); }
+
+  // From `seed` along the fall line (sign +1 downhill, -1 uphill), the points after it.
+  std::vector<Vector2f> run(const Vector2f& seed, float sign, long self, double length) const {
+    constexpr float kStep = 0.5f;
+    std::vector<Vector2f> out;
+    Vector2f p = seed, last = sign * f.fall[at(seed)];
+    while (length < rule.max_length) {
+      const Vector2f d1 = sign * f.fall[at(p)];
+      const Vector2f mid = p + 0.5f * kStep * d1;
+      if (!usable(mid)) break;
+      const Vector2f d2 = sign * f.fall[at(mid)];
+      if (d2.dot(last) < 0.0f) break;  // the fall line turns back: a valley or a ridge
+      const Vector2f next = p + kStep * d2;
+      if (!usable(next) || !free(next, self)) break;
+      out.push_back(next);
+      p = next, last = d2, length += kStep;
+    }
+    return out;
+  }
+};
+
+}  // namespace
+
+std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& rule) {
+  std::vector<Hachure> out;
+  if (f.width <= 0 || f.height <= 0 || !(rule.spacing > 0)) return out;
+  Occupancy occupied(f.width, f.height, std::max(1.0, rule.spacing / 3.0));
+  const Tracer tracer{f, rule, occupied};
+  const double seed_step = std::max(1.0, rule.spacing / 3.0);
+  for (double v = 0.5 * seed_step; v < f.height; v += seed_step)
+    for (double u = 0.5 * seed_step; u < f.width; u += seed_step) {
+      const Vector2f seed{float(u), float(v)};
+      const long id = long(out.size());
+      if (!tracer.usable(seed) || occupied.near(seed, tracer.spacing(seed), -1)) continue;
+      const std::vector<Vector2f> up = tracer.run(seed, -1.0f, id, 0.0);
+      const std::vector<Vector2f> down = tracer.run(seed, 1.0f, id, 0.5 * double(up.size()));
+      if (0.5 * double(up.size() + down.size()) < rule.min_length) continue;
+      Hachure h;
+      h.points.assign(up.rbegin(), up.rend());
+      h.points.push_back(seed);
+      h.points.insert(h.points.end(), down.begin(), down.end());
+      for (const Vector2f& p : h.points) {
+        h.tone.push_back(f.tone[tracer.at(p)]);
+        occupied.add(p, id);
+      }
+      out.push_back(std::move(h));
+    }
+  return out;
+}
+
+HachureField hachure_field(const terrain::GridMesh& mesh, const View& view, double e,
+                           const std::vector<float>& toward_depth, const Eigen::Vector3d* light) {
+  HachureField f;
+  f.width = view.width, f.height = view.height;
+  const std::size_t n = std::size_t(f.width) * std::size_t(f.height);
+  f.fall.assign(n, Vector2f::Zero());
+  f.slope.assign(n, std::numeric_limits<float>::quiet_NaN());
+  f.tone.assign(n, 0.0f);
+  const Eigen::Matrix4d inv = view.view_projection().inverse();
+#pragma omp parallel for schedule(dynamic, 4)
+  for (int v = 0; v < f.height; ++v)
+    for (int u = 0; u < f.width; ++u) {
+      const std::size_t i = std::size_t(v) * std::size_t(f.width) + std::size_t(u);
+      const double depth = toward_depth[i];
+      if (far_depth(view.reversed_z, depth) >= 1.0) continue;  // no surface here
+      const double z_ndc = view.reversed_z ? depth : 2.0 * depth - 1.0;
+      const Eigen::Vector4d c((u + 0.5) / view.width * 2.0 - 1.0, 1.0 - (v + 0.5) / view.height * 2.0, z_ndc, 1.0);
+      const Eigen::Vector4d w = inv * c;
+      const Eigen::Vector3d p = w.head<3>() / w.w();  // exaggerated local frame
+      const auto sp = terrain::pn_point_above(mesh, p.x(), p.y());
+      if (!sp) continue;
+      const Eigen::Vector3d nrm = sp->normal;
+      const Eigen::Vector2d grad = -nrm.head<2>() / std::max(nrm.z(), 1e-6);  // dz/dx, dz/dy (metres a metre)
+      const double g = grad.norm();
+      f.slope[i] = float(std::atan(g));
+      if (light) {  // the shadow: 1 - n.l on the drawn (exaggerated) surface
+        const Eigen::Vector3d ne = Eigen::Vector3d(nrm.x(), nrm.y(), nrm.z() / e).normalized();
+        f.tone[i] = float(std::clamp(1.0 - ne.dot(*light), 0.0, 1.0));
+      } else {  // Lehmann: 0 flat .. 1 at 45 degrees
+        f.tone[i] = float(std::clamp(g, 0.0, 1.0));
+      }
+      if (g < 1e-9) continue;
+      // A step of 1 m down the fall line on the drawn (exaggerated) surface.
+      const Eigen::Vector3d down(-grad.x() / g, -grad.y() / g, -g * e);
+      const Projected a = project(view, p), b = project(view, p + down);
+      const Eigen::Vector2d d(b.u - a.u, b.v - a.v);
+      if (d.norm() > 0) f.fall[i] = (d / d.norm()).cast<float>();
+    }
+  return f;
+}
+
+}  // namespace renderer

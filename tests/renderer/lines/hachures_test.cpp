@@ -1,0 +1,159 @@
+// renderer/src/lines/hachures.cpp (issue 51, the CPU reference): hachures follow the fall
+// line, keep their spacing, leave flats white, stop at drawn lines, follow the tone; the
+// field of a frame points down a cone's flanks.
+#include "renderer/hachures.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <numbers>
+
+#include "renderer/gl_context.hpp"
+#include "renderer/terrain_renderer.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using Eigen::Vector2f;
+using renderer::Hachure;
+using renderer::HachureField;
+
+// A field of w x h pixels falling along `fall` (unit), slope and tone given per pixel.
+HachureField field(int w, int h, Vector2f fall, const std::function<float(int, int)>& slope,
+                   const std::function<float(int, int)>& tone) {
+  HachureField f;
+  f.width = w, f.height = h;
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      f.fall.push_back(fall);
+      f.slope.push_back(slope(u, v));
+      f.tone.push_back(tone(u, v));
+    }
+  return f;
+}
+
+// For every point of every hachure, the distance to the nearest point of another one.
+std::vector<double> neighbour_distances(const std::vector<Hachure>& hs) {
+  std::vector<double> out;
+  for (std::size_t a = 0; a < hs.size(); ++a)
+    for (const Vector2f& p : hs[a].points) {
+      double best = 1e30;
+      for (std::size_t b = 0; b < hs.size(); ++b)
+        if (b != a)
+          for (const Vector2f& q : hs[b].points) best = std::min(best, double((q - p).norm()));
+      out.push_back(best);
+    }
+  return out;
+}
+
+// On a uniform slope every step of every hachure runs along the fall line (to float
+// rounding), and >= 95 % of the points have their nearest other hachure between 0.5 and 2
+// spacings away (issue 51's direction and spacing targets); the lines cover the field.
+TEST(Hachures, FollowTheFallLineAtAnEvenSpacing) {
+  const Vector2f fall(std::cos(0.5f), std::sin(0.5f));
+  const HachureField f = field(160, 120, fall, [](int, int) { return 0.4f; }, [](int, int) { return 1.0f; });
+  renderer::HachureRule rule;
+  rule.spacing = 8;
+  const auto hs = renderer::trace_hachures(f, rule);
+  ASSERT_GE(hs.size(), 15u);
+  double length = 0;
+  for (const Hachure& h : hs)
+    for (std::size_t k = 1; k < h.points.size(); ++k) {
+      const Vector2f d = h.points[k] - h.points[k - 1];
+      length += d.norm();
+      EXPECT_GT(d.normalized().dot(fall), std::cos(1.0 * std::numbers::pi / 180)) << "a step off the fall line";
+    }
+  const auto near = neighbour_distances(hs);
+  std::size_t within = 0;
+  for (double d : near) within += d >= 0.5 * rule.spacing && d <= 2 * rule.spacing;
+  EXPECT_GE(double(within), 0.95 * double(near.size())) << within << " of " << near.size();
+  std::cout << hs.size() << " hachures, " << length << " px; " << within << " of " << near.size()
+            << " points 0.5 to 2 spacings from the next\n";
+  // Lines 8 px apart over 160 x 120 px hold about 160 * 120 / 8 = 2400 px of ink.
+  EXPECT_GT(length, 0.6 * 160 * 120 / 8);
+  EXPECT_LT(length, 1.5 * 160 * 120 / 8);
+}
+
+// Flats stay white: no hachure point where the slope is below the rule's least.
+TEST(Hachures, FlatsStayWhite) {
+  const HachureField f = field(
+      160, 120, Vector2f(0, 1), [](int u, int) { return u < 80 ? 0.01f : 0.4f; }, [](int, int) { return 0.5f; });
+  const auto hs = renderer::trace_hachures(f, {});
+  ASSERT_GT(hs.size(), 5u);
+  for (const Hachure& h : hs)
+    for (const Vector2f& p : h.points) EXPECT_GE(p.x(), 80.0f);
+}
+
+// Hachures stop at drawn lines and never cross them: a blocked column (a crease) across a
+// slope falling east; no hachure has points on both sides, none lies on it.
+TEST(Hachures, StopAtDrawnLines) {
+  HachureField f = field(160, 120, Vector2f(1, 0), [](int, int) { return 0.4f; }, [](int, int) { return 0.5f; });
+  f.blocked.assign(f.slope.size(), 0);
+  for (int v = 0; v < 120; ++v) f.blocked[std::size_t(v) * 160 + 80] = 1;
+  const auto hs = renderer::trace_hachures(f, {});
+  std::size_t west = 0, east = 0;
+  for (const Hachure& h : hs) {
+    bool w = false, e = false;
+    for (const Vector2f& p : h.points) {
+      EXPECT_NE(int(p.x()), 80);
+      (p.x() < 80 ? w : e) = true;
+    }
+    EXPECT_FALSE(w && e) << "a hachure crosses the line";
+    west += w, east += e;
+  }
+  EXPECT_GT(west, 5u);
+  EXPECT_GT(east, 5u);
+}
+
+// The tone sets the density: the black half of a slope holds about six times the ink of
+// the white half (spacing / tone, the tone at least kMinTone: 6 px against 36 px).
+TEST(Hachures, DarkerToneDrawsDenser) {
+  const HachureField f = field(
+      200, 120, Vector2f(0, 1), [](int, int) { return 0.4f; }, [](int u, int) { return u < 100 ? 0.0f : 1.0f; });
+  const auto hs = renderer::trace_hachures(f, {});
+  double white = 0, black = 0;
+  for (const Hachure& h : hs)
+    for (std::size_t k = 1; k < h.points.size(); ++k) (h.points[k].x() < 100 ? white : black) += (h.points[k] - h.points[k - 1]).norm();
+  ASSERT_GT(white, 0.0);
+  EXPECT_GT(black / white, 4.0);
+  EXPECT_LT(black / white, 8.0);
+}
+
+// The field of a frame: a cone seen from straight above (the renderer's TFT depth), every
+// pixel's fall line points away from the apex in the image (>= 95 % of the cone's pixels
+// within 10 degrees), and the slope is the cone's, atan(0.5).
+TEST(Hachures, TheFieldOfAConePointsDownItsFlanks) {
+  const double size = 1000;
+  const auto cone = terrain::test::function_mesh(101, 101, 10, [&](double x, double y) {
+    return 600 - 0.5 * std::hypot(x - size / 2, y + size / 2);
+  });
+  renderer::GlContext ctx;
+  renderer::Style style;
+  style.antialias = false;
+  renderer::TerrainRenderer r(ctx, cone, nullptr, 200, 200, renderer::Layers{}, style);
+  renderer::FrameParams fp;
+  fp.camera.view_alt = 90;
+  fp.camera.view_az = 0;
+  const auto res = r.render(fp);
+  const auto buffers = r.read_buffers();
+  const HachureField f = renderer::hachure_field(cone, res.view, 1.0, buffers.toward_depth);
+  const renderer::Projected apex = renderer::project(res.view, Eigen::Vector3d(size / 2, -size / 2, 600));
+  std::size_t flank = 0, along = 0, slope_ok = 0;
+  for (int v = 0; v < f.height; ++v)
+    for (int u = 0; u < f.width; ++u) {
+      const Vector2f away(float(u + 0.5 - apex.u), float(v + 0.5 - apex.v));
+      const std::size_t i = std::size_t(v) * std::size_t(f.width) + std::size_t(u);
+      if (!f.terrain(u, v) || away.norm() < 10 || away.norm() > 80) continue;  // the flanks, away from apex and foot
+      ++flank;
+      along += f.fall[i].dot(away.normalized()) > std::cos(10 * std::numbers::pi / 180);
+      slope_ok += std::abs(f.slope[i] - std::atan(0.5)) < 0.02;
+    }
+  ASSERT_GT(flank, 1000u);
+  EXPECT_GE(double(along), 0.95 * double(flank));
+  EXPECT_GE(double(slope_ok), 0.95 * double(flank));
+  const auto hs = renderer::trace_hachures(f, {});
+  EXPECT_GT(hs.size(), 20u);
+}
+
+}  // namespace
