@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <optional>
 
 #include "renderer/camera.hpp"
 #include "renderer/frames.hpp"
@@ -57,18 +58,31 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
   using Clock = std::chrono::steady_clock;
   const auto ms = [](Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); };
   WriteTimes t;
-  std::vector<std::string> vectors;
+  std::vector<std::string> vectors, pngs;
   for (const std::string& p : paths) {
     check_frame_path(p);
-    if (is_vector_path(p))
-      vectors.push_back(p);
-    else
-      terrain::write_png(p, res.width, res.height, 4, res.rgba, description);
+    (is_vector_path(p) ? vectors : pngs).push_back(p);
+  }
+  // Hachures are traced on the CPU from the frame's depth (renderer/hachures.hpp) and drawn
+  // over the PNG; the vector files carry them as a layer.
+  std::optional<FrameBuffers> read;
+  auto buffers_of = [&]() -> const FrameBuffers& {
+    if (!read) {
+      const auto t0 = Clock::now();
+      read = r.read_buffers();
+      t.readback_ms = ms(t0);
+    }
+    return *read;
+  };
+  if (!pngs.empty()) {
+    std::vector<std::uint8_t> rgba = res.rgba;
+    if (f.layers.hachures)
+      draw_on_rgba(hachure_layer(scene, res, buffers_of(), f.frame, f.style), res.width, res.height, rgba);
+    for (const std::string& p : pngs) terrain::write_png(p, res.width, res.height, 4, rgba, description);
   }
   if (vectors.empty()) return t;
+  const FrameBuffers& buffers = buffers_of();
   auto t0 = Clock::now();
-  const FrameBuffers buffers = r.read_buffers();
-  t.readback_ms = ms(t0);
   t0 = Clock::now();
   const std::string underlay = !o.underlay.empty() ? o.underlay : f.layers.shaded ? "shaded" : "mask";
   const VectorArt art =

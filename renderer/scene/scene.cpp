@@ -8,6 +8,7 @@
 #include <chrono>
 
 #include "drainage/dv_views.hpp"
+#include "renderer/hachures.hpp"
 #include "renderer/stroke_visibility.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/mesh_io.hpp"
@@ -75,6 +76,7 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
   art.underlay = underlay;
   art.background = style.background;
   art.mask_colour = style.mask;
+  if (layers.hachures) art.layers.push_back(hachure_layer(scene, res, buffers, fp, style));  // under the lines
   const std::size_t n = std::size_t(res.width) * std::size_t(res.height);
   art.surface.resize(n);
   const bool reversed = res.view.reversed_z;
@@ -118,6 +120,28 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
     art.layers.push_back(std::move(l));
   }
   return art;
+}
+
+VectorLayer hachure_layer(const Scene& scene, const FrameResult& res, const FrameBuffers& buffers,
+                          const FrameParams& fp, const Style& style) {
+  const Eigen::Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
+  HachureField field = hachure_field(scene.mesh, res.view, style.exaggeration, buffers.toward_depth,
+                                     style.hachure_light_tone ? &light : nullptr);
+  field.blocked.assign(field.slope.size(), 0);
+  for (std::size_t i = 0; i < field.blocked.size(); ++i)
+    field.blocked[i] = (i < buffers.crease.size() && buffers.crease[i]) ||
+                       (i < buffers.silhouette.size() && buffers.silhouette[i]);
+  HachureRule rule;
+  rule.spacing = style.hachure_spacing;
+  VectorLayer l{"hachures", style.hachure_colour, LineCap::Round, {}, 0};
+  for (Hachure& h : trace_hachures(field, rule)) {
+    VectorPath p;
+    p.line.points = std::move(h.points);
+    p.width = float(style.hachure_width);
+    l.paths.push_back(std::move(p));
+  }
+  l.strokes = l.paths.size();
+  return l;
 }
 
 FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const FrameResult& res, const FrameParams& fp,

@@ -326,6 +326,22 @@ std::vector<Region> trace_regions(const std::vector<std::uint8_t>& mask, int w, 
   return out;
 }
 
+void draw_on_rgba(const VectorLayer& layer, int width, int height, std::vector<std::uint8_t>& rgba) {
+  // cairo's ARGB32 is premultiplied BGRA in a little-endian word: opaque pixels need only
+  // their red and blue swapped, both ways.
+  const std::size_t n = std::size_t(width) * std::size_t(height);
+  for (std::size_t i = 0; i < n; ++i) std::swap(rgba[4 * i], rgba[4 * i + 2]);
+  cairo_surface_t* s = cairo_image_surface_create_for_data(rgba.data(), CAIRO_FORMAT_ARGB32, width, height, width * 4);
+  cairo_t* cr = cairo_create(s);
+  draw_layer(cr, layer);
+  const cairo_status_t status = cairo_status(cr);
+  cairo_destroy(cr);
+  cairo_surface_finish(s);
+  cairo_surface_destroy(s);
+  for (std::size_t i = 0; i < n; ++i) std::swap(rgba[4 * i], rgba[4 * i + 2]);
+  check(status, "hachures");
+}
+
 std::string vector_bytes(const VectorArt& art, VectorFormat format, double dpi, const std::string& description) {
   if (!(dpi > 0 && dpi <= 10000)) throw terrain::Error("the vector page's dpi must be in (0, 10000]");
   if (format == VectorFormat::Svg) {

@@ -356,6 +356,37 @@ TEST(TerrainRender, StrokesFollowThePageNotTheMeshOnAnAnalyticSurface) {
   EXPECT_GT(fine_old - coarse_old, 0.25 * coarse_old);
 }
 
+// Issue 51 (started): --layers hachures. MSH at its automatic view, 480 x 270: the PNG
+// carries hachure ink on the terrain and none on the background; the SVG carries them as
+// their own Inkscape layer, one path per hachure, and rasterized (rsvg-convert) its ink
+// lies where the PNG's does (>= 90 % within 1 px both ways: one trace drawn twice); the
+// tone sets the ink (--hachure-spacing 3 draws more than 12).
+TEST(TerrainRender, HachuresAreALayerOfPngAndSvg) {
+  Inputs in;
+  const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
+                            " --size 480x270 --layers mask,hachures -q -o ";
+  ASSERT_EQ(run(frame + in.dir.path("h.png")).exit_code, 0);
+  ASSERT_EQ(run(frame + in.dir.path("h.svg")).exit_code, 0);
+  ASSERT_EQ(run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
+                " --size 480x270 --layers mask -q -o " + in.dir.path("m.png")).exit_code,
+            0);
+  const auto png = terrain::test::ink_of(in.dir.path("h.png")), mask = terrain::test::ink_of(in.dir.path("m.png"));
+  EXPECT_EQ(terrain::test::count(mask), 0u);
+  EXPECT_GT(terrain::test::count(png), 2000u);
+  const std::string svg = terrain::test::file_bytes(in.dir.path("h.svg"));
+  const auto at = svg.find("inkscape:label=\"hachures\"");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_GT(std::count(svg.begin() + long(at), svg.end(), 'M'), 50);  // paths (each starts with a move)
+  ASSERT_EQ(run("rsvg-convert -b '#dde4ec' " + in.dir.path("h.svg") + " -o " + in.dir.path("svg.png")).exit_code, 0);
+  const auto drawn = terrain::test::ink_of(in.dir.path("svg.png"));
+  EXPECT_GE(terrain::test::near_share(png, drawn, 1), 0.9);
+  EXPECT_GE(terrain::test::near_share(drawn, png, 1), 0.9);
+  ASSERT_EQ(run(frame + in.dir.path("dense.png") + " --hachure-spacing 3").exit_code, 0);
+  ASSERT_EQ(run(frame + in.dir.path("sparse.png") + " --hachure-spacing 12").exit_code, 0);
+  EXPECT_GT(terrain::test::count(terrain::test::ink_of(in.dir.path("dense.png"))),
+            2 * terrain::test::count(terrain::test::ink_of(in.dir.path("sparse.png"))));
+}
+
 TEST(TerrainRender, FlowScale) {
   Inputs in;
   const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + in.dir.path("f.png") +

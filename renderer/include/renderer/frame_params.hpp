@@ -63,6 +63,10 @@ struct Layers {
   // Object-space feature edges of the mesh (McGuire & Hughes 2004): contour, boundary and
   // crease edges (Style::edge_kinds), drawn as screen-space quads with caps.
   bool edges = false;
+  // Hachures (issue 51; renderer/hachures.hpp): strokes along the fall line, denser where
+  // the tone is darker, traced on the CPU from the frame's depth and drawn over it (PNG)
+  // or as their own layer (SVG, PDF).
+  bool hachures = false;
 };
 // The layers by name, in the order --layers lists them (the one list of names: the option
 // table's choices, parse_layers and layers_text read it).
@@ -74,7 +78,7 @@ inline constexpr LayerName kLayerNames[] = {
     {"shaded", &Layers::shaded},         {"mask", &Layers::mask},
     {"creases", &Layers::creases},       {"silhouettes", &Layers::silhouettes},
     {"silhouettes-adjacency", &Layers::adjacency}, {"pels", &Layers::pels},
-    {"edges", &Layers::edges}};
+    {"edges", &Layers::edges},           {"hachures", &Layers::hachures}};
 // Parses "shaded,creases,..." (kLayerNames); Error on an unknown name, an empty list, both
 // shaded and mask, or both silhouette methods.
 Layers parse_layers(const std::string& list);
@@ -121,6 +125,11 @@ struct Style {
   // least page_min_area x sqrt(page scale / 10 m a pixel) m^2 drains (and CreaseRules::
   // min_area, the network's own floor). 0: off.
   double page_min_area = 40000.0;
+  // Hachures (Layers::hachures): spacing where the tone is black (pixels), width, colour,
+  // and the tone: the light's (true: shadowed slopes dark) or the slope's (Lehmann).
+  double hachure_spacing = 6.0, hachure_width = 0.8;
+  Eigen::Vector3f hachure_colour{0.2f, 0.2f, 0.2f};
+  bool hachure_light_tone = true;
   // Hidden runs and peeks (anti-aliased lines only; renderer::StrokeVisibilityRule): a
   // hidden run of a stroke up to crease_hidden_gap pixels long between shown parts, none of
   // it more than crease_hidden_depth mesh spacings behind the surface, is drawn; a shown run

@@ -52,6 +52,13 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
                            const FrameBuffers& buffers, const FrameParams& fp, const Style& style,
                            const Layers& layers, VectorUnderlay underlay);
 
+// The hachures of the frame `res` (issue 51; renderer/hachures.hpp): the fall-line field of
+// its toward depth (the light's tone with Style::hachure_light_tone, else the slope's),
+// traced at Style::hachure_spacing, stopped at the crease and silhouette pixels the frame
+// drew; one path per hachure.
+VectorLayer hachure_layer(const Scene& scene, const FrameResult& res, const FrameBuffers& buffers,
+                          const FrameParams& fp, const Style& style);
+
 // --line-stats of one frame: the creases' figures and, with the silhouettes layer, the
 // silhouettes'.
 struct FrameStats {

@@ -39,6 +39,10 @@ using Region = std::vector<Outline>;
 // pixel coordinates (y down); specks of under 3 pixels are dropped.
 std::vector<Region> trace_regions(const std::vector<std::uint8_t>& mask, int w, int h);
 
+// Draws `layer` over `rgba` (width x height, row 0 at the top, opaque RGBA: a frame) with
+// cairo, anti-aliased, as the SVG and PDF draw it.
+void draw_on_rgba(const VectorLayer& layer, int width, int height, std::vector<std::uint8_t>& rgba);
+
 // The file's bytes; `description`: the provenance line (SVG <desc>, PDF Subject).
 std::string vector_bytes(const VectorArt& art, VectorFormat format, double dpi, const std::string& description);
 

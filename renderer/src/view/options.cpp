@@ -94,12 +94,12 @@ std::string edges_text(std::uint8_t kinds) {
 struct GroupNames {
   std::string frame = "Frame", camera = "Camera and light", score = "Crease score", rules = "Crease network",
               strokes = "Crease strokes", sil = "Silhouettes", pel = "PELs", edges = "Edges", colours = "Colours",
-              surface = "Surface";
+              surface = "Surface", hachure = "Hachures";
 };
 
 // The options of the frame: size, line scale, layers, view.
 void add_frame_options(std::vector<OptionSpec>& t, const GroupNames& g) {
-  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface] = g;
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] = g;
   t.push_back(choice(
       "size", frame, OptionType::Size, {}, "1280x720", "Image size WIDTHxHEIGHT in pixels",
       [](const RenderSettings& s) { return fmt::format("{}x{}", s.width, s.height); },
@@ -121,7 +121,7 @@ void add_frame_options(std::vector<OptionSpec>& t, const GroupNames& g) {
 
 // The options of the camera, the light and the exaggeration.
 void add_camera_options(std::vector<OptionSpec>& t, const GroupNames& g) {
-  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface] = g;
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] = g;
   t.push_back(choice(
       "view", camera, OptionType::Enum, {"auto", "top", "relief"}, "auto",
       "The camera when no --eye and no --view-az is given (frame): auto, the whole terrain filling the frame, "
@@ -179,7 +179,7 @@ void add_camera_options(std::vector<OptionSpec>& t, const GroupNames& g) {
 
 // The options of the crease score (and the PEL threshold, per frame too).
 void add_score_options(std::vector<OptionSpec>& t, const GroupNames& g) {
-  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface] = g;
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] = g;
   t.push_back(number(
       "sw", score, 0, 1, "", text_of(1.0 / 3), "Crease score: slope weight",
       [](auto& s) -> auto& { return s.frame.score.sw; }, true));
@@ -212,7 +212,7 @@ void add_score_options(std::vector<OptionSpec>& t, const GroupNames& g) {
 
 // The options of the crease network: which branches become creases.
 void add_network_options(std::vector<OptionSpec>& t, const GroupNames& g) {
-  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface] = g;
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] = g;
   t.push_back(number(
       "min-area", rules, 0, 1e15, "m^2", "10000",
       "Creases start where at least this area drains (channel initiation, m^2: 1 ha is 100 drainage points "
@@ -278,7 +278,7 @@ void add_network_options(std::vector<OptionSpec>& t, const GroupNames& g) {
 
 // The options of the crease strokes: widths, fades, bridges, hidden runs.
 void add_strokes_options(std::vector<OptionSpec>& t, const GroupNames& g) {
-  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface] = g;
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] = g;
   t.push_back(number(
       "crease-width", strokes, 0.5, 20, "pixels", "1",
       "Crease width in pixels where little drains (basin share 0); it grows with the square root of "
@@ -355,8 +355,28 @@ void add_strokes_options(std::vector<OptionSpec>& t, const GroupNames& g) {
 }
 
 // The options of silhouettes, PELs and object-space edges.
+void add_hachure_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] = g;
+  t.push_back(number(
+      "hachure-spacing", hachure, 1, 256, "pixels", "6",
+      "--layers hachures: the spacing of the hachures where the tone is black; six times it where white",
+      [](auto& s) -> auto& { return s.style.hachure_spacing; }));
+  t.push_back(number(
+      "hachure-width", hachure, 0.1, 20, "pixels", "0.8", "--layers hachures: the width of a hachure",
+      [](auto& s) -> auto& { return s.style.hachure_width; }));
+  t.push_back(choice(
+      "hachure-tone", hachure, OptionType::Enum, {"light", "slope"}, "light",
+      "--layers hachures: what sets their density: light, the shadow (1 - n.l: slopes facing away from the "
+      "light dark); slope, the steepness (Lehmann: tan of the slope, black at 45 degrees)",
+      [](const RenderSettings& s) { return std::string(s.style.hachure_light_tone ? "light" : "slope"); },
+      [](RenderSettings& s, const std::string& v) { s.style.hachure_light_tone = v == "light"; }));
+  t.push_back(colour(
+      "hachure-colour", hachure, "#333333", "--layers hachures: their colour",
+      [](auto& s) -> auto& { return s.style.hachure_colour; }));
+}
+
 void add_lines_options(std::vector<OptionSpec>& t, const GroupNames& g) {
-  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface] = g;
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] = g;
   t.push_back(integer(
       "silhouette-width", sil, 1, 9, "pixels", "1",
       "Silhouette width in pixels (anti-aliased: a band 0.8 px wider about the line of the silhouette "
@@ -415,7 +435,7 @@ void add_lines_options(std::vector<OptionSpec>& t, const GroupNames& g) {
 
 // The options of colours and the surface.
 void add_look_options(std::vector<OptionSpec>& t, const GroupNames& g) {
-  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface] = g;
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] = g;
   t.push_back(colour(
       "background", colours, "#dde4ec", "Background colour (#rrggbb, r,g,b or a name)",
       [](auto& s) -> auto& { return s.style.background; }));
@@ -448,11 +468,13 @@ std::vector<OptionSpec> make_table() {
   add_strokes_options(t, g);
   add_lines_options(t, g);
   add_look_options(t, g);
+  add_hachure_options(t, g);
   // What --line-scale multiplies with a range the renderer draws it in (terrain_renderer.cpp's
   // buffers and pixel loops), and what rebuilds the creases.
   const std::map<std::string, OptionSpec::Range> drawn = {
       {"silhouette-width", {1, 9}}, {"edge-width", {0, 64}}, {"crease-hidden-gap", {0, 256}}, {"crease-min-peek", {0, 256}},
-      {"crease-bridge-px", {0, 256}}, {"crease-min-stroke-px", {0, 256}}};
+      {"crease-bridge-px", {0, 256}}, {"crease-min-stroke-px", {0, 256}},
+      {"hachure-spacing", {1, 256}},  {"hachure-width", {0.1, 64}}};
   for (OptionSpec& o : t) {
     if (const auto d = drawn.find(o.name); d != drawn.end()) {
       o.drawn = d->second;
@@ -476,6 +498,8 @@ Style drawn_style(const RenderSettings& s) {
   st.crease_hidden_gap *= k;
   st.crease_min_peek *= k;
   st.crease_bridge_px *= k;
+  st.hachure_spacing *= k;
+  st.hachure_width *= k;
   st.crease_min_stroke_px *= k;
   return st;
 }
