@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
       "  terrain-render batch out/msh_50m.ply out/msh.dv path.csv -o frames/ --format png,svg\n"
       "  terrain-render frame out/msh_10m_denoised.ply -o pels.png --layers mask,pels,silhouettes\n"
       "  terrain-render frame out/msh_50m.ply -o edges.png --layers mask,edges --edges contour,crease --crease-angle 20\n"
+      "  terrain-render frame out/msh_50m.ply out/msh.dv -o pen.svg --layers mask,hachures,creases,silhouettes\n"
       "  terrain-render --device\n\n"
       "See docs/terrain-render.md for the passes, the crease score and the camera conventions.");
   app.set_version_flag("--version", tt::version());
