@@ -28,7 +28,7 @@ namespace renderer {
 struct HachureField {
   int width = 0, height = 0;
   std::vector<Eigen::Vector2f> fall;  // #pixels, unit screen direction downhill (u right, v down); 0 where no terrain
-  std::vector<float> slope;           // #pixels, radians; NaN where no terrain
+  std::vector<float> slope;           // #pixels, radians, as drawn (heights exaggerated); NaN where no terrain
   std::vector<float> tone;            // #pixels, 0 .. 1 (darkness the hachures should give)
   std::vector<std::uint8_t> blocked;  // #pixels, 1 on a drawn crease or silhouette (optional: empty)
   bool terrain(long u, long v) const {

@@ -126,13 +126,13 @@ HachureField hachure_field(const terrain::GridMesh& mesh, const View& view, doub
       if (!sp) continue;
       const Eigen::Vector3d nrm = sp->normal;
       const Eigen::Vector2d grad = -nrm.head<2>() / std::max(nrm.z(), 1e-6);  // dz/dx, dz/dy (metres a metre)
-      const double g = grad.norm();
-      f.slope[i] = float(std::atan(g));
+      const double g = grad.norm(), drawn = g * e;  // the slope as drawn (heights exaggerated)
+      f.slope[i] = float(std::atan(drawn));
       if (light) {  // the shadow: 1 - n.l on the drawn (exaggerated) surface
         const Eigen::Vector3d ne = Eigen::Vector3d(nrm.x(), nrm.y(), nrm.z() / e).normalized();
         f.tone[i] = float(std::clamp(1.0 - ne.dot(*light), 0.0, 1.0));
       } else {  // Lehmann: 0 flat .. 1 at 45 degrees
-        f.tone[i] = float(std::clamp(g, 0.0, 1.0));
+        f.tone[i] = float(std::clamp(drawn, 0.0, 1.0));
       }
       if (g < 1e-9) continue;
       // A step of 1 m down the fall line on the drawn (exaggerated) surface.

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Issue 51's tone-fidelity figure (docs/terrain-render.md, "Hachures"): for each mesh given,
+# the frame at its automatic view drawn twice, `--layers mask,hachures` and `--layers
+# shaded`; the hachure ink (darkness, 0..1) blurred by a Gaussian of 2 hachure spacings
+# is correlated (Pearson r) with the shaded layer's darkness over the terrain's pixels.
+# Target: r >= 0.7. Prints one row per mesh and tone.
+# Usage: bench/hachure_tone.sh WORKDIR MESH.ply [MESH.ply ...]   (/usr/bin/python3 with numpy and GDAL)
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+bin="${TERRAIN_BIN:-$root/build/bin}"
+work="$1"
+shift
+mkdir -p "$work"
+spacing=6
+echo "mesh tone r hachure_ink_share"
+for m in "$@"; do
+  name=$(basename "$m" .ply)
+  "$bin/terrain-render" frame "$m" -o "$work/${name}_shaded.png" --layers shaded -q > /dev/null
+  for tone in light slope; do
+    "$bin/terrain-render" frame "$m" -o "$work/${name}_$tone.png" --layers mask,hachures --hachure-tone "$tone" \
+      --hachure-spacing "$spacing" -q > /dev/null
+    /usr/bin/python3 - "$work/${name}_$tone.png" "$work/${name}_shaded.png" "$spacing" "$name" "$tone" <<'EOF'
+import sys
+import numpy as np
+from osgeo import gdal
+hach, shaded, spacing, name, tone = sys.argv[1], sys.argv[2], float(sys.argv[3]), sys.argv[4], sys.argv[5]
+def rgb(path):
+    d = gdal.Open(path)
+    return np.stack([d.GetRasterBand(b + 1).ReadAsArray().astype(float) / 255 for b in range(3)])
+h, s = rgb(hach), rgb(shaded)
+bg = np.array([0xdd, 0xe4, 0xec])[:, None, None] / 255
+terrain = np.abs(s - bg).max(axis=0) > 0.02          # the shaded layer covers the terrain
+ink = 1 - h.mean(axis=0)                              # darkness of the hachure frame (white mask: 0)
+ink[~terrain] = 0
+sigma = 2 * spacing                                   # a Gaussian of 2 hachure spacings, separable
+r = int(3 * sigma)
+k = np.exp(-0.5 * (np.arange(-r, r + 1) / sigma) ** 2)
+k /= k.sum()
+def blur(a):
+    a = np.apply_along_axis(lambda v: np.convolve(v, k, mode="same"), 1, a)
+    return np.apply_along_axis(lambda v: np.convolve(v, k, mode="same"), 0, a)
+w = blur(terrain.astype(float))
+b = blur(ink) / np.maximum(w, 1e-6)                   # normalized inside the terrain
+dark = 1 - s.mean(axis=0)
+sel = terrain & (w > 0.5)
+rr = np.corrcoef(b[sel], dark[sel])[0, 1]
+print(f"{name} {tone} {rr:.3f} {ink[terrain].mean():.4f}")
+EOF
+  done
+done
