@@ -537,7 +537,8 @@ void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
   const std::string header = ply_header(mesh, voronoi, change, filled);
   // The body in chunks of whole rows (vertex rows, then cell rows of two faces each).
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
-  const std::size_t vertex_bytes = 24 + (voronoi ? 16 : 0) + (change ? 4 : 0) + (filled ? 4 : 0), face_bytes = 13 + (voronoi ? 12 : 0);
+  const std::size_t vertex_bytes = 24 + (voronoi ? 16 : 0) + (change ? 4 : 0) + (filled ? 4 : 0),
+                    face_bytes = 13 + (voronoi ? 12 : 0);
   // 1 MiB: 4 MiB chunks tripled the kernel's time in write(2) on ext4 (Logan 10 m: 0.27 ->
   // 0.8-1.3 s), 256 KiB ones spend it on the helper threads (0.41-0.60 s).
   constexpr std::size_t kChunkBytes = std::size_t(1) << 20;
@@ -665,7 +666,8 @@ void read_optional(const std::string& path, GridMeshImporter& importer, GridMesh
   if (!k.vertex_floats("normal_change", [&](std::size_t i, float v) { m.normal_change[i] = v; }))
     m.normal_change = BigVector<float>{};
   m.filled.resize(m.n_vertices());
-  if (!k.vertex_floats("filled", [&](std::size_t i, float v) { m.filled[i] = v != 0.0f; })) m.filled = BigVector<std::uint8_t>{};
+  if (!k.vertex_floats("filled", [&](std::size_t i, float v) { m.filled[i] = v != 0.0f; }))
+    m.filled = BigVector<std::uint8_t>{};
 }
 
 }  // namespace
