@@ -137,7 +137,11 @@ VectorLayer hachure_layer(const Scene& scene, const FrameResult& res, const Fram
   for (Hachure& h : trace_hachures(field, rule)) {
     VectorPath p;
     p.line.points = std::move(h.points);
-    p.width = float(style.hachure_width);
+    // Pen pressure: the width follows the hachure's mean tone, half to one and a half times
+    // --hachure-width (one width a path: an outline per point made the MSH SVG 15 MB).
+    double tone = 0;
+    for (const float t : h.tone) tone += t;
+    p.width = float(style.hachure_width * (0.5 + tone / double(std::max<std::size_t>(h.tone.size(), 1))));
     l.paths.push_back(std::move(p));
   }
   l.strokes = l.paths.size();
