@@ -63,35 +63,37 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
     check_frame_path(p);
     (is_vector_path(p) ? vectors : pngs).push_back(p);
   }
-  // Hachures are traced on the CPU from the frame's depth (renderer/hachures.hpp) and drawn
-  // over the PNG; the vector files carry them as a layer.
-  std::optional<FrameBuffers> read;
-  auto buffers_of = [&]() -> const FrameBuffers& {
-    if (!read) {
-      const auto t0 = Clock::now();
-      read = r.read_buffers();
-      t.readback_ms = ms(t0);
-    }
-    return *read;
-  };
+  std::optional<FrameBuffers> buffers;
+  auto t0 = Clock::now();
+  if (f.layers.hachures || !vectors.empty()) {
+    buffers = r.read_buffers();
+    t.readback_ms = ms(t0);
+  }
+  // Hachures are traced on the CPU from the frame's depth (renderer/hachures.hpp), once:
+  // drawn over the PNG, and the lowest line layer of the vector files.
+  std::optional<VectorLayer> hachures;
+  t0 = Clock::now();
+  if (f.layers.hachures) hachures = hachure_layer(scene, res, *buffers, f.frame, f.style);
+  t.paths_ms = ms(t0);
   if (!pngs.empty()) {
-    std::vector<std::uint8_t> rgba = res.rgba;
-    if (f.layers.hachures)
-      draw_on_rgba(hachure_layer(scene, res, buffers_of(), f.frame, f.style), res.width, res.height, rgba);
-    for (const std::string& p : pngs) terrain::write_png(p, res.width, res.height, 4, rgba, description);
+    std::vector<std::uint8_t> drawn;
+    if (hachures) {
+      drawn = res.rgba;
+      draw_on_rgba(*hachures, res.width, res.height, drawn);
+    }
+    for (const std::string& p : pngs)
+      terrain::write_png(p, res.width, res.height, 4, hachures ? drawn : res.rgba, description);
   }
   if (vectors.empty()) return t;
-  const FrameBuffers& buffers = buffers_of();
-  auto t0 = Clock::now();
   t0 = Clock::now();
   const std::string underlay = !o.underlay.empty() ? o.underlay : f.layers.shaded ? "shaded" : "mask";
-  const VectorArt art =
-      frame_vector_art(scene, r, res, buffers, f.frame, f.style, f.layers, parse_underlay(underlay));
+  VectorArt art = frame_vector_art(scene, r, res, *buffers, f.frame, f.style, f.layers, parse_underlay(underlay));
+  if (hachures) art.layers.insert(art.layers.begin(), std::move(*hachures));
   if (art.layers.empty() && art.underlay == VectorUnderlay::None)
     throw terrain::Error(std::string("the vector file would be empty: --layers draws no lines") +
                          (f.layers.creases && !scene.creases ? " (creases need a .dv)" : "") +
                          " and --vector-underlay is none");
-  t.paths_ms = ms(t0);
+  t.paths_ms += ms(t0);
   for (const VectorLayer& l : art.layers)
     t.layers += fmt::format(", {} {} paths ({} strokes)", l.name, l.paths.size(), l.strokes);
   for (const std::string& p : vectors) {

@@ -76,7 +76,6 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
   art.underlay = underlay;
   art.background = style.background;
   art.mask_colour = style.mask;
-  if (layers.hachures) art.layers.push_back(hachure_layer(scene, res, buffers, fp, style));  // under the lines
   const std::size_t n = std::size_t(res.width) * std::size_t(res.height);
   art.surface.resize(n);
   const bool reversed = res.view.reversed_z;

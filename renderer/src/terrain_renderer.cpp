@@ -136,10 +136,9 @@ FrameBlock TerrainRenderer::Impl::frame_block(const FrameParams& frame, const Vi
   set4(fb.u_lines, style.crease_width, style.crease_width_max, 0, scene.reversed ? 1 : 0);
   set4(fb.u_misc, v.near, double(creases.n_segments()), double(creases.n_vertices()), strokes.min_length);
   set4(fb.u_style, style.antialias ? 1 : 0, style.antialias ? style.crease_fade : 0, sp.near_distance, strokes.bridge);
-  if (style.antialias)
-    set4(fb.u_strokes, visibility.gap_px, visibility.gap_depth, visibility.min_peek_px, strokes.min_area);
-  else
-    set4(fb.u_strokes, 0, 0, 0, strokes.min_area);
+  const bool aa = style.antialias;  // the visibility stage runs on anti-aliased lines only
+  set4(fb.u_strokes, aa ? visibility.gap_px : 0, aa ? visibility.gap_depth : 0, aa ? visibility.min_peek_px : 0,
+       strokes.min_area);
   return fb;
 }
 

@@ -55,7 +55,8 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
 // The hachures of the frame `res` (issue 51; renderer/hachures.hpp): the fall-line field of
 // its toward depth (the light's tone with Style::hachure_light_tone, else the slope's),
 // traced at Style::hachure_spacing, stopped at the crease and silhouette pixels the frame
-// drew; one path per hachure.
+// drew; one path per hachure. write_frame_files draws it over the PNG and puts it under
+// frame_vector_art's layers.
 VectorLayer hachure_layer(const Scene& scene, const FrameResult& res, const FrameBuffers& buffers,
                           const FrameParams& fp, const Style& style);
 

@@ -136,6 +136,17 @@ std::vector<std::uint8_t> off_main_flat_path(const terrain::DrainageLinks& links
 
 namespace {
 
+// Marks every link downstream of a marked one, along the D8 links, while `may(d)` holds:
+// each walk stops at the first link already marked, so every link is marked once.
+template <class May>
+void mark_downstream(const terrain::DrainageLinks& links, std::vector<std::uint8_t>& mark, May may) {
+  const std::size_t n = mark.size();
+  for (std::size_t s = 0; s < n; ++s) {
+    if (!mark[s]) continue;
+    for (std::uint32_t d = links.downstream[s]; d < n && !mark[d] && may(d); d = links.downstream[d]) mark[d] = 1;
+  }
+}
+
 // Branches of the kept links (from a channel head or a junction down to the next junction
 // or outlet) whose mean concavity across the flow (CreaseRules::valley_branches) is at most
 // rules.valley_curvature and that drain less than rules.river_share of their basin are left
@@ -179,15 +190,9 @@ void drop_branches_off_valleys(const terrain::GridMesh& mesh, const terrain::Dra
   // the valley floor or a fan (planar, so the rule dropped it): kept, or the tributary
   // would stop short of its stem as a dash. Only branches that start the flow - tracks
   // down planes from their heads - stay out.
-  std::vector<std::uint8_t> fed(n, 0);
   for (std::size_t i = 0; i < n; ++i)
-    if (keep[i] && !dropped[i]) fed[i] = 1;
-  for (std::size_t s = 0; s < n; ++s) {
-    if (!fed[s]) continue;
-    for (std::uint32_t d = links.downstream[s]; d < n && keep[d] && dropped[d] && !fed[d]; d = links.downstream[d])
-      fed[d] = 1;
-  }
-  for (std::size_t i = 0; i < n; ++i) keep[i] = fed[i];
+    if (dropped[i]) keep[i] = 0;
+  mark_downstream(links, keep, [&](std::uint32_t d) { return dropped[d] != 0; });
 }
 
 // Per vertex, the segment leaving it and the one entering it from the largest flow (ties:
@@ -253,10 +258,7 @@ std::vector<std::uint8_t> kept_links(const terrain::GridMesh& mesh, const terrai
   // down (the longest flow path grows faster than the area), and a tributary that reaches
   // a flat joins the flat's main path along the flat's resolved D8 path; left out, both
   // made dangling pieces (Logan: 16 % of the creases' length with every segment drawn).
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!keep[i]) continue;
-    for (std::uint32_t d = links.downstream[i]; d < n && eligible[d] && !keep[d]; d = links.downstream[d]) keep[d] = 1;
-  }
+  mark_downstream(links, keep, [&](std::uint32_t d) { return eligible[d] != 0; });
   if (rules.valley_branches) drop_branches_off_valleys(mesh, links, shift, share, rules, keep);
   return keep;
 }
