@@ -73,7 +73,7 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
   // drawn over the PNG, and the lowest line layer of the vector files.
   std::optional<VectorLayer> hachures;
   t0 = Clock::now();
-  if (f.layers.hachures) hachures = hachure_layer(scene, res, *buffers, f.frame, f.style);
+  if (f.layers.hachures) hachures = hachure_layer(scene, r, res, *buffers, f.frame, f.style);
   t.paths_ms = ms(t0);
   if (!pngs.empty()) {
     std::vector<std::uint8_t> drawn;

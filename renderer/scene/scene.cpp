@@ -121,8 +121,8 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
   return art;
 }
 
-VectorLayer hachure_layer(const Scene& scene, const FrameResult& res, const FrameBuffers& buffers,
-                          const FrameParams& fp, const Style& style) {
+VectorLayer hachure_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                          const FrameBuffers& buffers, const FrameParams& fp, const Style& style) {
   const Eigen::Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
   HachureField field = hachure_field(scene.mesh, res.view, style.exaggeration, buffers.toward_depth,
                                      style.hachure_light_tone ? &light : nullptr);
@@ -132,8 +132,16 @@ VectorLayer hachure_layer(const Scene& scene, const FrameResult& res, const Fram
                        (i < buffers.silhouette.size() && buffers.silhouette[i]);
   HachureRule rule;
   rule.spacing = style.hachure_spacing;
+  if (style.hachure_rows)  // form lines at an interval from the page's scale (true metres)
+    rule.row_interval = row_interval_for(page_scale(res.view, r.box()) / style.exaggeration,
+                                         rule.spacing, std::atan(std::tan(median_slope(field, rule.min_slope)) /
+                                                                 style.exaggeration));
+  return hachure_paths(trace_hachures(field, rule), style);
+}
+
+VectorLayer hachure_paths(std::vector<Hachure> hachures, const Style& style) {
   VectorLayer l{"hachures", style.hachure_colour, LineCap::Round, {}, 0};
-  for (Hachure& h : trace_hachures(field, rule)) {
+  for (Hachure& h : hachures) {
     VectorPath p;
     p.line.points = std::move(h.points);
     // Pen pressure: the width follows the hachure's mean tone, half to one and a half times

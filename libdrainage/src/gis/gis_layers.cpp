@@ -19,63 +19,14 @@
 #include "drainage/dv_views.hpp"
 #include "drainage/network.hpp"
 #include "terrain/atomic_file.hpp"
+#include "terrain/gpkg.hpp"
 #include "terrain/dem_io.hpp"
 
 namespace drainage {
 
 namespace {
 
-// ---- GeoPackage writing ------------------------------------------------------------------
-
-struct Field {
-  const char* name;
-  OGRFieldType type;
-};
-
-// A GeoPackage written to a temporary beside `path` in one transaction, renamed onto it by
-// commit(): layers are created first, then features added.
-class Gpkg {
- public:
-  Gpkg(const std::string& path, const std::string& crs_wkt) : path_(path), out_(path) {
-    terrain::ensure_gdal();
-    GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("GPKG");
-    if (!drv) throw terrain::Error("GDAL has no GPKG driver");
-    CPLErrorReset();
-    ds_.reset(drv->Create(out_.temp_path().c_str(), 0, 0, 0, GDT_Unknown, nullptr));
-    if (!ds_) fail();
-    has_srs_ = !crs_wkt.empty() && srs_.importFromWkt(crs_wkt.c_str()) == OGRERR_NONE;
-  }
-  OGRLayer* layer(const char* name, OGRwkbGeometryType type, std::initializer_list<Field> fields) {
-    OGRLayer* l = ds_->CreateLayer(name, has_srs_ ? &srs_ : nullptr, type, nullptr);
-    if (!l) fail();
-    for (const Field& f : fields) {
-      OGRFieldDefn def(f.name, f.type);
-      if (l->CreateField(&def) != OGRERR_NONE) fail();
-    }
-    return l;
-  }
-  void begin() {
-    if (ds_->StartTransaction() != OGRERR_NONE) fail();
-  }
-  void add(OGRLayer* l, OGRFeature& f) {
-    if (l->CreateFeature(&f) != OGRERR_NONE) fail();
-  }
-  void commit() {
-    if (ds_->CommitTransaction() != OGRERR_NONE) fail();
-    CPLErrorReset();
-    ds_.reset();
-    if (CPLGetLastErrorType() >= CE_Failure) fail();
-    out_.commit();
-  }
-  [[noreturn]] void fail() const { throw terrain::Error("cannot write '" + path_ + "': " + CPLGetLastErrorMsg()); }
-
- private:
-  std::string path_;
-  terrain::AtomicFile out_;
-  std::unique_ptr<GDALDataset> ds_;
-  OGRSpatialReference srs_;
-  bool has_srs_ = false;
-};
+using terrain::Gpkg;
 
 // terrain::Progress through GDAL's progress callback.
 int gdal_progress(double fraction, const char*, void* arg) {

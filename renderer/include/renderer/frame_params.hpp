@@ -126,10 +126,11 @@ struct Style {
   // min_area, the network's own floor). 0: off.
   double page_min_area = 40000.0;
   // Hachures (Layers::hachures): spacing where the tone is black (pixels), width, colour,
-  // and the tone: the light's (true: shadowed slopes dark) or the slope's (Lehmann).
+  // the tone: the light's (true: shadowed slopes dark) or the slope's (Lehmann), and the
+  // style: Imhof's rows between form lines (true) or continuous slope lines.
   double hachure_spacing = 6.0, hachure_width = 0.8;
   Eigen::Vector3f hachure_colour{0.2f, 0.2f, 0.2f};
-  bool hachure_light_tone = true;
+  bool hachure_light_tone = true, hachure_rows = false;
   // Hidden runs and peeks (anti-aliased lines only; renderer::StrokeVisibilityRule): a
   // hidden run of a stroke up to crease_hidden_gap pixels long between shown parts, none of
   // it more than crease_hidden_depth mesh spacings behind the surface, is drawn; a shown run

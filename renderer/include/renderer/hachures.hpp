@@ -31,6 +31,7 @@ struct HachureField {
   std::vector<float> slope;           // #pixels, radians, as drawn (heights exaggerated); NaN where no terrain
   std::vector<float> tone;            // #pixels, 0 .. 1 (darkness the hachures should give)
   std::vector<std::uint8_t> blocked;  // #pixels, 1 on a drawn crease or silhouette (optional: empty)
+  std::vector<float> elevation;       // #pixels, metres (true, not exaggerated): the rows' form lines
   bool terrain(long u, long v) const {
     return u >= 0 && v >= 0 && u < width && v < height &&
            !std::isnan(slope[std::size_t(v) * std::size_t(width) + std::size_t(u)]);
@@ -43,12 +44,18 @@ struct HachureRule {
   double test_share = 0.5;    // a hachure stops this share of its spacing from another one
   double min_slope = 0.05;    // radians: flatter ground stays white (about 3 degrees)
   double min_length = 4.0;    // pixels: shorter traces are dropped
-  double max_length = 1e9;    // pixels: a hachure ends after this long (rows of hachures: the row's height)
+  double max_length = 1e9;    // pixels: a hachure ends after this long
+  // Imhof's rows (--hachure-style rows): with an interval > 0 (metres), each hachure runs
+  // between two form lines, the contours at multiples of the interval (HachureField::elevation),
+  // and ends half a pixel short of them (a white seam along the contour); the spacing test
+  // sees only the hachures of the same row, so the rows abut without thinning each other.
+  double row_interval = 0;
 };
 
 struct Hachure {
   std::vector<Eigen::Vector2f> points;  // pixel coordinates (u right, v down), downhill order
   std::vector<float> tone;              // at each point
+  std::vector<float> slope;             // at each point, radians (as the field has it)
 };
 
 // The evenly spaced hachures of `field` under `rule`. Deterministic (seeds in row order).
@@ -62,5 +69,36 @@ std::vector<Hachure> trace_hachures(const HachureField& field, const HachureRule
 // set, the shadow's (1 - n.l on the exaggerated surface, clamped).
 HachureField hachure_field(const terrain::GridMesh& mesh, const View& view, double exaggeration,
                            const std::vector<float>& toward_depth, const Eigen::Vector3d* light = nullptr);
+
+// The interval of the rows' form lines for a view `scale` metres a pixel across (true
+// metres: heights not exaggerated) with hachures `spacing` pixels apart: a row about four
+// spacings long on a slope of `slope` radians (the field's median), interval = 4 x spacing
+// x scale x tan(slope), rounded to 1, 2 or 5 times a power of ten (the cartographer's contour
+// intervals).
+double row_interval_for(double scale, double spacing, double slope);
+
+// The median slope of a field's terrain pixels that are steeper than `min_slope`
+// (0 where none is).
+double median_slope(const HachureField& field, double min_slope);
+
+// Plan view (a map: terrain-inspect export --layers hachures): north up, `scale` metres a
+// pixel, covering the mesh's extent. Pixel (u, v) has its corner at local (x0 + u scale,
+// y0 - v scale), so the map's geotransform is (origin_x + x0, scale, 0, origin_y + y0, 0,
+// -scale).
+struct PlanView {
+  double x0 = 0, y0 = 0, scale = 1;  // local coordinates of the top-left corner; metres a pixel
+  int width = 0, height = 0;
+};
+// Throws terrain::Error for a scale <= 0 or a map of more than 2^31 pixels.
+PlanView plan_view(const terrain::GridMesh& mesh, double scale);
+inline Eigen::Vector2d plan_to_local(const PlanView& p, const Eigen::Vector2f& px) {
+  return {p.x0 + double(px.x()) * p.scale, p.y0 - double(px.y()) * p.scale};
+}
+
+// The field of a plan view: at each pixel centre, the PN surface above it (pn_point_above)
+// gives the gradient; the fall line on the map is the gradient's opposite (v down is
+// south), the slope its angle (true, exaggeration 1), the tone the shadow's (1 - n.l,
+// `light` given) or the slope's (tan of the slope, black at 45 degrees). Parallel over rows.
+HachureField plan_hachure_field(const terrain::GridMesh& mesh, const PlanView& plan, const Eigen::Vector3d* light);
 
 }  // namespace renderer

@@ -9,6 +9,7 @@
 
 #include "renderer/crease.hpp"
 #include "renderer/line_stats.hpp"
+#include "renderer/hachures.hpp"
 #include "renderer/terrain_renderer.hpp"
 #include "renderer/vector_art.hpp"
 #include "terrain/grid_mesh.hpp"
@@ -55,10 +56,14 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
 // The hachures of the frame `res` (issue 51; renderer/hachures.hpp): the fall-line field of
 // its toward depth (the light's tone with Style::hachure_light_tone, else the slope's),
 // traced at Style::hachure_spacing, stopped at the crease and silhouette pixels the frame
-// drew; one path per hachure. write_frame_files draws it over the PNG and puts it under
+// drew, in rows with Style::hachure_rows (form lines at row_interval_for the page's
+// scale); one path per hachure. write_frame_files draws it over the PNG and puts it under
 // frame_vector_art's layers.
-VectorLayer hachure_layer(const Scene& scene, const FrameResult& res, const FrameBuffers& buffers,
-                          const FrameParams& fp, const Style& style);
+VectorLayer hachure_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                          const FrameBuffers& buffers, const FrameParams& fp, const Style& style);
+// The paths of traced hachures (pixel coordinates), each as wide as its mean tone asks:
+// 0.5 to 1.5 times Style::hachure_width (pen pressure).
+VectorLayer hachure_paths(std::vector<Hachure> hachures, const Style& style);
 
 // --line-stats of one frame: the creases' figures and, with the silhouettes layer, the
 // silhouettes'.

@@ -6,6 +6,9 @@
 #include <cmath>
 #include <limits>
 
+#include <fmt/format.h>
+
+#include "terrain/error.hpp"
 #include "terrain/pn_surface.hpp"
 
 namespace renderer {
@@ -20,24 +23,29 @@ class Occupancy {
   Occupancy(int width, int height, double cell)
       : cell_(cell), cols_(long(std::ceil(width / cell)) + 1), rows_(long(std::ceil(height / cell)) + 1),
         cells_(std::size_t(cols_ * rows_)) {}
-  // Whether a point of another hachure than `self` lies closer than `d` to p.
-  bool near(const Vector2f& p, double d, long self) const {
+  // Whether a point of another hachure than `self`, of row `row` (-1: any row), lies closer
+  // than `d` to p.
+  bool near(const Vector2f& p, double d, long self, long row = -1) const {
     const long reach = long(std::ceil(d / cell_)), cu = long(p.x() / cell_), cv = long(p.y() / cell_);
     for (long v = std::max(0L, cv - reach); v <= std::min(rows_ - 1, cv + reach); ++v)
       for (long u = std::max(0L, cu - reach); u <= std::min(cols_ - 1, cu + reach); ++u)
-        for (const auto& [q, id] : cells_[std::size_t(v * cols_ + u)])
-          if (id != self && (q - p).squaredNorm() < d * d) return true;
+        for (const Entry& e : cells_[std::size_t(v * cols_ + u)])
+          if (e.id != self && (row < 0 || e.row == row) && (e.p - p).squaredNorm() < d * d) return true;
     return false;
   }
-  void add(const Vector2f& p, long id) {
+  void add(const Vector2f& p, long id, long row) {
     const long u = std::clamp(long(p.x() / cell_), 0L, cols_ - 1), v = std::clamp(long(p.y() / cell_), 0L, rows_ - 1);
-    cells_[std::size_t(v * cols_ + u)].emplace_back(p, id);
+    cells_[std::size_t(v * cols_ + u)].push_back({p, id, row});
   }
 
  private:
+  struct Entry {
+    Vector2f p;
+    long id, row;
+  };
   double cell_;
   long cols_, rows_;
-  std::vector<std::vector<std::pair<Vector2f, long>>> cells_;
+  std::vector<std::vector<Entry>> cells_;
 };
 
 struct Tracer {
@@ -52,13 +60,18 @@ struct Tracer {
     return f.slope[i] >= rule.min_slope && (f.blocked.empty() || !f.blocked[i]) && f.fall[i].squaredNorm() > 0.5f;
   }
   double spacing(const Vector2f& p) const { return rule.spacing / std::clamp(double(f.tone[at(p)]), kMinTone, 1.0); }
-  bool free(const Vector2f& p, long self) const { return !occupied.near(p, rule.test_share * spacing(p), self); }
+  // The row of a point: the band between two form lines (-1: no rows).
+  long row(const Vector2f& p) const {
+    return rule.row_interval > 0 ? long(std::floor(double(f.elevation[at(p)]) / rule.row_interval)) : -1;
+  }
+  bool free(const Vector2f& p, long self, long r) const { return !occupied.near(p, rule.test_share * spacing(p), self, r); }
 
   // From `seed` along the fall line (sign +1 downhill, -1 uphill), the points after it.
   std::vector<Vector2f> run(const Vector2f& seed, float sign, long self, double length) const {
     constexpr float kStep = 0.5f;
     std::vector<Vector2f> out;
     Vector2f p = seed, last = sign * f.fall[at(seed)];
+    const long r = row(seed);
     while (length < rule.max_length) {
       const Vector2f d1 = sign * f.fall[at(p)];
       const Vector2f mid = p + 0.5f * kStep * d1;
@@ -66,7 +79,11 @@ struct Tracer {
       const Vector2f d2 = sign * f.fall[at(mid)];
       if (d2.dot(last) < 0.0f) break;  // the fall line turns back: a valley or a ridge
       const Vector2f next = p + kStep * d2;
-      if (!usable(next) || !free(next, self)) break;
+      if (!usable(next) || !free(next, self, r)) break;
+      if (row(next) != r) {  // a form line: end half a pixel before it (the seam)
+        if (!out.empty()) out.pop_back();
+        break;
+      }
       out.push_back(next);
       p = next, last = d2, length += kStep;
     }
@@ -74,11 +91,81 @@ struct Tracer {
   }
 };
 
+// The slope (as drawn: heights exaggerated by e) and the tone of pixel i from the unit
+// normal `nrm` of the true surface.
+void set_slope_and_tone(HachureField& f, std::size_t i, const Eigen::Vector3d& nrm, double e,
+                        const Eigen::Vector3d* light) {
+  const double g = nrm.head<2>().norm() / std::max(nrm.z(), 1e-6), drawn = g * e;
+  f.slope[i] = float(std::atan(drawn));
+  if (light) {  // the shadow: 1 - n.l on the drawn (exaggerated) surface
+    const Eigen::Vector3d ne = Eigen::Vector3d(nrm.x(), nrm.y(), nrm.z() / e).normalized();
+    f.tone[i] = float(std::clamp(1.0 - ne.dot(*light), 0.0, 1.0));
+  } else {  // Lehmann: 0 flat .. 1 at 45 degrees
+    f.tone[i] = float(std::clamp(drawn, 0.0, 1.0));
+  }
+}
+
 }  // namespace
+
+double row_interval_for(double scale, double spacing, double slope) {
+  const double raw = 4.0 * spacing * scale * std::tan(std::clamp(slope, 0.01, 1.4));
+  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (const double m : {1.0, 2.0, 5.0})
+    if (raw <= m * decade * 1.5) return m * decade;
+  return 10.0 * decade;
+}
+
+double median_slope(const HachureField& f, double min_slope) {
+  std::vector<float> s;
+  for (const float x : f.slope)
+    if (x >= min_slope) s.push_back(x);
+  if (s.empty()) return 0;
+  std::nth_element(s.begin(), s.begin() + std::ptrdiff_t(s.size() / 2), s.end());
+  return s[s.size() / 2];
+}
+
+PlanView plan_view(const terrain::GridMesh& mesh, double scale) {
+  if (!(scale > 0)) throw terrain::Error("the map's scale must be positive metres a pixel");
+  const double w = double(mesh.topo.cols - 1) * mesh.geo.dx, h = double(mesh.topo.rows - 1) * mesh.geo.dy;
+  PlanView p;
+  p.scale = scale;
+  const double pw = std::ceil(w / scale), ph = std::ceil(h / scale);
+  if (pw * ph > double(std::numeric_limits<int>::max()) || pw < 1 || ph < 1)
+    throw terrain::Error(fmt::format("a map of {:.0f} x {:.0f} pixels at {} m a pixel is too large", pw, ph, scale));
+  p.width = int(pw), p.height = int(ph);
+  p.x0 = 0.5 * (w - pw * scale), p.y0 = -0.5 * (h - ph * scale);  // centred on the mesh
+  return p;
+}
+
+HachureField plan_hachure_field(const terrain::GridMesh& mesh, const PlanView& plan, const Eigen::Vector3d* light) {
+  HachureField f;
+  f.width = plan.width, f.height = plan.height;
+  const std::size_t n = std::size_t(f.width) * std::size_t(f.height);
+  f.fall.assign(n, Vector2f::Zero());
+  f.slope.assign(n, std::numeric_limits<float>::quiet_NaN());
+  f.tone.assign(n, 0.0f);
+  f.elevation.assign(n, 0.0f);
+#pragma omp parallel for schedule(dynamic, 4)
+  for (int v = 0; v < f.height; ++v)
+    for (int u = 0; u < f.width; ++u) {
+      const std::size_t i = std::size_t(v) * std::size_t(f.width) + std::size_t(u);
+      const Eigen::Vector2d q = plan_to_local(plan, Vector2f(float(u) + 0.5f, float(v) + 0.5f));
+      const auto sp = terrain::pn_point_above(mesh, q.x(), q.y());
+      if (!sp) continue;
+      const Eigen::Vector3d& nrm = sp->normal;
+      f.elevation[i] = float(sp->position.z());
+      set_slope_and_tone(f, i, nrm, 1.0, light);
+      const Eigen::Vector2d down(nrm.x(), -nrm.y());  // -gradient, v down = south
+      if (down.norm() > 1e-12) f.fall[i] = (down / down.norm()).cast<float>();
+    }
+  return f;
+}
 
 std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& rule) {
   std::vector<Hachure> out;
   if (f.width <= 0 || f.height <= 0 || !(rule.spacing > 0)) return out;
+  if (rule.row_interval > 0 && f.elevation.size() != f.slope.size())
+    throw terrain::Error("hachure rows need the field's heights");
   Occupancy occupied(f.width, f.height, std::max(1.0, rule.spacing / 3.0));
   const Tracer tracer{f, rule, occupied};
   const double seed_step = std::max(1.0, rule.spacing / 3.0);
@@ -86,7 +173,9 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
     for (double u = 0.5 * seed_step; u < f.width; u += seed_step) {
       const Vector2f seed{float(u), float(v)};
       const long id = long(out.size());
-      if (!tracer.usable(seed) || occupied.near(seed, tracer.spacing(seed), -1)) continue;
+      if (!tracer.usable(seed)) continue;
+      const long row = tracer.row(seed);
+      if (occupied.near(seed, tracer.spacing(seed), -1, row)) continue;
       const std::vector<Vector2f> up = tracer.run(seed, -1.0f, id, 0.0);
       const std::vector<Vector2f> down = tracer.run(seed, 1.0f, id, 0.5 * double(up.size()));
       if (0.5 * double(up.size() + down.size()) < rule.min_length) continue;
@@ -96,7 +185,8 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
       h.points.insert(h.points.end(), down.begin(), down.end());
       for (const Vector2f& p : h.points) {
         h.tone.push_back(f.tone[tracer.at(p)]);
-        occupied.add(p, id);
+        h.slope.push_back(f.slope[tracer.at(p)]);
+        occupied.add(p, id, row);
       }
       out.push_back(std::move(h));
     }
@@ -111,6 +201,7 @@ HachureField hachure_field(const terrain::GridMesh& mesh, const View& view, doub
   f.fall.assign(n, Vector2f::Zero());
   f.slope.assign(n, std::numeric_limits<float>::quiet_NaN());
   f.tone.assign(n, 0.0f);
+  f.elevation.assign(n, 0.0f);
   const Eigen::Matrix4d inv = view.view_projection().inverse();
 #pragma omp parallel for schedule(dynamic, 4)
   for (int v = 0; v < f.height; ++v)
@@ -125,15 +216,10 @@ HachureField hachure_field(const terrain::GridMesh& mesh, const View& view, doub
       const auto sp = terrain::pn_point_above(mesh, p.x(), p.y());
       if (!sp) continue;
       const Eigen::Vector3d nrm = sp->normal;
+      f.elevation[i] = float(sp->position.z());
       const Eigen::Vector2d grad = -nrm.head<2>() / std::max(nrm.z(), 1e-6);  // dz/dx, dz/dy (metres a metre)
-      const double g = grad.norm(), drawn = g * e;  // the slope as drawn (heights exaggerated)
-      f.slope[i] = float(std::atan(drawn));
-      if (light) {  // the shadow: 1 - n.l on the drawn (exaggerated) surface
-        const Eigen::Vector3d ne = Eigen::Vector3d(nrm.x(), nrm.y(), nrm.z() / e).normalized();
-        f.tone[i] = float(std::clamp(1.0 - ne.dot(*light), 0.0, 1.0));
-      } else {  // Lehmann: 0 flat .. 1 at 45 degrees
-        f.tone[i] = float(std::clamp(drawn, 0.0, 1.0));
-      }
+      const double g = grad.norm();
+      set_slope_and_tone(f, i, nrm, e, light);
       if (g < 1e-9) continue;
       // A step of 1 m down the fall line on the drawn (exaggerated) surface.
       const Eigen::Vector3d down(-grad.x() / g, -grad.y() / g, -g * e);

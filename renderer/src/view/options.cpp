@@ -370,6 +370,12 @@ void add_hachure_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "light dark); slope, the steepness (Lehmann: tan of the slope, black at 45 degrees)",
       [](const RenderSettings& s) { return std::string(s.style.hachure_light_tone ? "light" : "slope"); },
       [](RenderSettings& s, const std::string& v) { s.style.hachure_light_tone = v == "light"; }));
+  t.push_back(choice(
+      "hachure-style", hachure, OptionType::Enum, {"lines", "rows"}, "lines",
+      "--layers hachures: lines, continuous slope lines (Buchin et al.), or rows, Imhof's rows between form lines "
+      "(contours at an interval chosen from the view's scale)",
+      [](const RenderSettings& s) { return std::string(s.style.hachure_rows ? "rows" : "lines"); },
+      [](RenderSettings& s, const std::string& v) { s.style.hachure_rows = v == "rows"; }));
   t.push_back(colour(
       "hachure-colour", hachure, "#333333", "--layers hachures: their colour",
       [](auto& s) -> auto& { return s.style.hachure_colour; }));
