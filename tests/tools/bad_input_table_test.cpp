@@ -423,6 +423,10 @@ INSTANTIATE_TEST_SUITE_P(
         Row{ti + "export IN/m.ply --to tif -o IN/m.ply", 1, "is the input"},
         Row{ti + "export IN/m.ply --to stl -o OUT/m.stl", 2, "--to"},
         Row{ti + "export IN/m.dv --to gpkg --layers branches,rivers -o OUT/m.gpkg", 2, "--layers"},
+        Row{ti + "export IN/m.dv --to gpkg --layers hachures -o OUT/m.gpkg", 1, "a mesh's layer"},
+        Row{ti + "export IN/m.ply --to gpkg --layers branches -o OUT/m.gpkg", 1, "a mesh exports only hachures"},
+        Row{ti + "export IN/m.dv --to svg -o OUT/m.svg", 1, "only meshes export to svg"},
+        Row{ti + "export IN/m.ply --to svg --scale 0 -o OUT/m.svg", 2, "--scale"},
         Row{ti + "preview IN/m.ply -o OUT/p.png --azimuth nan", 2, "not a finite number"},
         // denoise-normals
         Row{dn + "IN/m.ply OUT/d.ply --sigma-s -1", 2, "--sigma-s"},

@@ -10,7 +10,11 @@
 #include <regex>
 #include <sstream>
 
+#include <gdal_priv.h>
+#include <ogrsf_frmts.h>
+
 #include "terrain/dem_io.hpp"
+#include "terrain/mesh_io.hpp"
 #include "test_support.hpp"
 #include "tools/ink.hpp"
 
@@ -25,6 +29,11 @@ std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(
 void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
 // A 50 m Mount St. Helens mesh and its drainage at 25 m, made once per test.
+// The SVG at `svg` rasterized by librsvg on white into `png`.
+void rsvg_ink(const std::string& svg, const std::string& png) {
+  ASSERT_EQ(run("rsvg-convert -b white " + svg + " -o " + png).exit_code, 0);
+}
+
 struct Inputs {
   terrain::test::ScratchDir dir;
   std::string mesh, dv;
@@ -385,6 +394,74 @@ TEST(TerrainRender, HachuresAreALayerOfPngAndSvg) {
   ASSERT_EQ(run(frame + in.dir.path("sparse.png") + " --hachure-spacing 12").exit_code, 0);
   EXPECT_GT(terrain::test::count(terrain::test::ink_of(in.dir.path("dense.png"))),
             2 * terrain::test::count(terrain::test::ink_of(in.dir.path("sparse.png"))));
+}
+
+// A mesh's plan-view hachure map (terrain-inspect export --layers hachures): the GeoPackage
+// holds one line feature a hachure, in the mesh's CRS and extent, with slope and tone; its
+// vertices, put through the printed geotransform, lie on the SVG's ink (two paths: OGR's
+// coordinates and cairo's drawing); rows carry their form line.
+TEST(TerrainInspect, HachureMapsInMapCoordinates) {
+  Inputs in;
+  const std::string ex = tool("terrain-inspect") + " export " + in.mesh + " --scale 10 ";
+  const auto g = run(ex + "--to gpkg -o " + in.dir.path("h.gpkg"));
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  ASSERT_EQ(run(ex + "--to svg -o " + in.dir.path("h.svg")).exit_code, 0);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(g.out, m, std::regex(R"(hachures: (\d+))"))) << g.out;
+  const long n = std::stol(m[1]);
+  ASSERT_TRUE(std::regex_search(g.out, m, std::regex(R"(geotransform: (\S+) (\S+) 0 (\S+) 0 (\S+))"))) << g.out;
+  const double x0 = std::stod(m[1]), sx = std::stod(m[2]), y0 = std::stod(m[3]), sy = std::stod(m[4]);
+  EXPECT_EQ(sx, 10.0);
+  EXPECT_EQ(sy, -10.0);
+  EXPECT_GT(n, 100);
+
+  const terrain::GridMesh mesh = terrain::read_mesh_ply(in.mesh);
+  const double west = mesh.geo.origin_x, north = mesh.geo.origin_y;
+  const double east = west + double(mesh.topo.cols - 1) * mesh.geo.dx, south = north - double(mesh.topo.rows - 1) * mesh.geo.dy;
+  terrain::ensure_gdal();
+  std::unique_ptr<GDALDataset> ds(GDALDataset::Open(in.dir.path("h.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  ASSERT_TRUE(ds);
+  OGRLayer* layer = ds->GetLayerByName("hachures");
+  ASSERT_TRUE(layer);
+  EXPECT_EQ(layer->GetFeatureCount(), n);
+  ASSERT_TRUE(layer->GetSpatialRef());
+  EXPECT_EQ(std::string(layer->GetSpatialRef()->GetAuthorityCode(nullptr)), std::to_string(mesh.geo.epsg));
+  rsvg_ink(in.dir.path("h.svg"), in.dir.path("svg.png"));
+  const auto ink = terrain::test::ink_of(in.dir.path("svg.png"));
+  std::size_t vertices = 0, on_ink = 0;
+  for (auto& f : *layer) {
+    const double slope = f->GetFieldAsDouble("slope_deg"), tone = f->GetFieldAsDouble("tone");
+    EXPECT_TRUE(slope >= 2.8 && slope < 90) << slope;  // hachures end where the slope falls under 0.05 rad
+    EXPECT_TRUE(tone >= 0 && tone <= 1) << tone;
+    EXPECT_GT(f->GetFieldAsDouble("length_m"), 0);
+    const OGRLineString* line = f->GetGeometryRef()->toLineString();
+    for (int k = 0; k < line->getNumPoints(); ++k) {
+      const double x = line->getX(k), y = line->getY(k);
+      EXPECT_TRUE(x >= west && x <= east && y >= south && y <= north) << x << " " << y;
+      const int u = int((x - x0) / sx), v = int((y - y0) / sy);
+      ++vertices;
+      bool hit = false;
+      for (int dv = -1; dv <= 1; ++dv)
+        for (int du = -1; du <= 1; ++du) {
+          const int uu = u + du, vv = v + dv;
+          hit |= uu >= 0 && vv >= 0 && uu < ink.w && vv < ink.h && ink.on[std::size_t(vv * ink.w + uu)];
+        }
+      on_ink += hit;
+    }
+  }
+  EXPECT_GE(double(on_ink), 0.97 * double(vertices));
+
+  const auto r = run(ex + "--to gpkg --hachure-style rows -o " + in.dir.path("r.gpkg"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(form lines: every (\S+) m)"))) << r.out;
+  const double interval = std::stod(m[1]);
+  std::unique_ptr<GDALDataset> rows(GDALDataset::Open(in.dir.path("r.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  ASSERT_TRUE(rows);
+  for (auto& f : *rows->GetLayerByName("hachures")) {
+    const double row = f->GetFieldAsDouble("row_m");
+    EXPECT_NEAR(row / interval, std::round(row / interval), 1e-9);
+    EXPECT_GT(row, 0);
+  }
 }
 
 TEST(TerrainRender, FlowScale) {

@@ -19,6 +19,8 @@
 #include "terrain/image_io.hpp"
 #include "renderer/camera.hpp"
 #include "renderer/options.hpp"
+#include "renderer/plan_map.hpp"
+#include "renderer/vector_file.hpp"
 #include "terrain/mesh_io.hpp"
 #include "terrain/scattered.hpp"
 
@@ -178,6 +180,34 @@ std::vector<std::uint8_t> dem_shade(const terrain::Grid& g, double az, double al
   return ga;
 }
 
+// A mesh's plan-view hachure map (renderer/plan_map.hpp) as gpkg, svg or pdf.
+void export_hachure_map(const ExportArgs& a, const std::string& provenance, const Verbosity& verb) {
+  for (const std::string& l : a.gpkg_layers)
+    if (l != "hachures" && a.gpkg_layers != ExportArgs{}.gpkg_layers)
+      throw terrain::Error("--layers " + l + ": a .dv's layer; a mesh exports only hachures");
+  const terrain::GridMesh m = terrain::read_mesh_ply(a.file);
+  renderer::PlanHachureOptions o;
+  o.scale = a.scale, o.spacing = a.hachure_spacing, o.width = a.hachure_width;
+  o.light_tone = a.hachure_tone == "light", o.rows = a.hachure_style == "rows";
+  const renderer::PlanHachures h = renderer::plan_hachures(m, o);
+  const std::array<double, 6> gt = renderer::plan_geotransform(m, h.plan);
+  if (a.to == "gpkg") {
+    renderer::write_hachures_gpkg(m, h, a.out);
+  } else {
+    const std::string desc =
+        fmt::format("{} | plan view, north up, {} m a pixel; geotransform {:.3f} {} 0 {:.3f} 0 {}{}", provenance,
+                    h.plan.scale, gt[0], gt[1], gt[3], gt[5], m.geo.epsg ? fmt::format("; EPSG:{}", m.geo.epsg) : "");
+    terrain::write_file_atomic(a.out, renderer::vector_bytes(renderer::plan_vector_art(h, o),
+                                                             renderer::vector_format_of(a.out), 96.0, desc));
+  }
+  std::cout << "output: " << a.out << "\n"
+            << fmt::format("map: {} x {} pixels, {} m a pixel\n", h.plan.width, h.plan.height, h.plan.scale)
+            << fmt::format("geotransform: {:.3f} {} 0 {:.3f} 0 {}\n", gt[0], gt[1], gt[3], gt[5]);
+  if (h.row_interval > 0) std::cout << "form lines: every " << h.row_interval << " m\n";
+  std::cout << "hachures: " << h.hachures.size() << "\n";
+  (void)verb;
+}
+
 }  // namespace
 
 void add_preview_options(CLI::App* preview, PreviewArgs& a) {
@@ -201,7 +231,10 @@ void add_preview_options(CLI::App* preview, PreviewArgs& a) {
 
 void add_export_options(CLI::App* exp, ExportArgs& a) {
   exp->add_option("FILE", a.file, "Terrain mesh (.ply) or drainage database (.dv)")->required();
-  exp->add_option("--to", a.to, "Output format")->required()->check(CLI::IsMember({"obj", "tif", "gpkg"}));
+  exp->add_option("--to", a.to,
+                  "Output format: a mesh to obj, tif, or a plan-view hachure map (gpkg, svg, pdf); a .dv to tif or gpkg")
+      ->required()
+      ->check(CLI::IsMember({"obj", "tif", "gpkg", "svg", "pdf"}));
   exp->add_option("-o,--output", a.out,
                   "Output file (default: FILE with the new extension); a .dv to tif: a directory (default: FILE's name "
                   "without .dv, then _rasters), created if missing");
@@ -212,12 +245,31 @@ void add_export_options(CLI::App* exp, ExportArgs& a) {
       ->check(CLI::Range(1, 255))
       ->capture_default_str();
   exp->add_option("--layers", a.gpkg_layers,
-                  "gpkg: the layers to write, comma-separated: branches (LineString ZM, M = normalized flow), basins "
-                  "(polygons with area, outlet, max order), divides (lines between adjacent basins with the larger "
-                  "max order)")
+                  "gpkg: the layers to write, comma-separated; a .dv: branches (LineString ZM, M = normalized flow), "
+                  "basins (polygons with area, outlet, max order), divides (lines between adjacent basins with the "
+                  "larger max order); a mesh: hachures (lines with slope_deg, tone, length_m, row_m), its only layer")
       ->delimiter(',')
-      ->check(CLI::IsMember({"branches", "basins", "divides"}))
-      ->default_str("branches,basins,divides");
+      ->check(CLI::IsMember({"branches", "basins", "divides", "hachures"}))
+      ->default_str("branches,basins,divides (a .dv), hachures (a mesh)");
+  exp->add_option("--scale", a.scale,
+                  "A mesh's hachure map: metres a pixel (default: a round scale that makes the longer side at most 2048 "
+                  "pixels)")
+      ->check(CLI::PositiveNumber);
+  exp->add_option("--hachure-spacing", a.hachure_spacing, "Hachure map: pixels between hachures where the tone is black")
+      ->check(CLI::Range(1.0, 256.0))
+      ->capture_default_str();
+  exp->add_option("--hachure-width", a.hachure_width, "Hachure map (svg, pdf): the width of a hachure, pixels")
+      ->check(CLI::Range(0.1, 20.0))
+      ->capture_default_str();
+  exp->add_option("--hachure-tone", a.hachure_tone,
+                  "Hachure map: light (the shadow under a light from the north-west, 45 degrees high) or slope "
+                  "(Lehmann: black at 45 degrees)")
+      ->check(CLI::IsMember({"light", "slope"}))
+      ->capture_default_str();
+  exp->add_option("--hachure-style", a.hachure_style,
+                  "Hachure map: lines (continuous slope lines) or rows (Imhof's rows between form lines)")
+      ->check(CLI::IsMember({"lines", "rows"}))
+      ->capture_default_str();
 }
 
 void run_info(const std::string& file) {
@@ -304,8 +356,15 @@ void run_export(ExportArgs& a, const std::string& provenance, const Verbosity& v
   tt::check_distinct_paths({file}, {out});
   tt::warn_stale_temporaries(verb, {out});
   terrain::check_output_path(out);
+  if (is_mesh && (to == "gpkg" || to == "svg" || to == "pdf")) {
+    export_hachure_map(a, provenance, verb);
+    return;
+  }
+  if (to == "svg" || to == "pdf") throw terrain::Error("'" + file + "' is not a terrain mesh (.ply): only meshes export to " + to);
   if (to == "gpkg") {
-    if (!is_dv) throw terrain::Error("'" + file + "' is not a drainage database (.dv): only those export to gpkg");
+    if (!is_dv) throw terrain::Error("'" + file + "' is not a drainage database (.dv) or a mesh: only those export to gpkg");
+    for (const std::string& l : gpkg_layers)
+      if (l == "hachures") throw terrain::Error("--layers hachures: a mesh's layer ('" + file + "' is a .dv)");
     drainage::GpkgLayers layers;
     auto has = [&](const char* name) { return std::find(gpkg_layers.begin(), gpkg_layers.end(), name) != gpkg_layers.end(); };
     layers.branches = has("branches"), layers.basins = has("basins"), layers.divides = has("divides");

@@ -56,6 +56,7 @@ struct Hachure {
   std::vector<Eigen::Vector2f> points;  // pixel coordinates (u right, v down), downhill order
   std::vector<float> tone;              // at each point
   std::vector<float> slope;             // at each point, radians (as the field has it)
+  long row = -1;                        // rows: the band floor(elevation / row_interval); else -1
 };
 
 // The evenly spaced hachures of `field` under `rule`. Deterministic (seeds in row order).

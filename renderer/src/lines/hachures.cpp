@@ -180,6 +180,7 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
       const std::vector<Vector2f> down = tracer.run(seed, 1.0f, id, 0.5 * double(up.size()));
       if (0.5 * double(up.size() + down.size()) < rule.min_length) continue;
       Hachure h;
+      h.row = row;
       h.points.assign(up.rbegin(), up.rend());
       h.points.push_back(seed);
       h.points.insert(h.points.end(), down.begin(), down.end());

@@ -8,9 +8,11 @@
 #include <cmath>
 #include <iostream>
 #include <numbers>
+#include <set>
 
 #include "renderer/gl_context.hpp"
 #include "renderer/terrain_renderer.hpp"
+#include "terrain/error.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -154,6 +156,73 @@ TEST(Hachures, TheFieldOfAConePointsDownItsFlanks) {
   EXPECT_GE(double(slope_ok), 0.95 * double(flank));
   const auto hs = renderer::trace_hachures(f, {});
   EXPECT_GT(hs.size(), 20u);
+}
+
+// Imhof's rows: on a uniform slope whose height falls along the fall line, every hachure
+// lies within one band between two form lines and ends short of them; the rows abut (at
+// least 4 bands drawn) and each still keeps its spacing.
+TEST(Hachures, RowsEndAtFormLines) {
+  const Vector2f fall(0.0f, 1.0f);  // downhill = down the image
+  HachureField f = field(120, 160, fall, [](int, int) { return 0.4f; }, [](int, int) { return 1.0f; });
+  for (int v = 0; v < f.height; ++v)
+    for (int u = 0; u < f.width; ++u) f.elevation.push_back(float(1000 - v));  // a metre a pixel
+  renderer::HachureRule rule;
+  rule.spacing = 6;
+  rule.row_interval = 30;
+  const auto hs = renderer::trace_hachures(f, rule);
+  ASSERT_GE(hs.size(), 40u);
+  std::set<long> rows;
+  for (const Hachure& h : hs) {
+    rows.insert(h.row);
+    for (const Vector2f& p : h.points) {
+      const double z = 1000 - std::floor(p.y());  // the elevation of the pixel the point is in
+      EXPECT_EQ(long(std::floor(z / 30)), h.row) << p.transpose();
+    }
+    // A hachure that spans its band ends at least half a pixel from the form lines.
+    const double top = 1000 - double(h.row + 1) * 30, bottom = 1000 - double(h.row) * 30;  // image v of the lines
+    EXPECT_GE(h.points.front().y() - top, 0.49) << h.row;
+    EXPECT_GE(bottom + 1 - h.points.back().y(), 0.49) << h.row;
+  }
+  EXPECT_GE(rows.size(), 4u);
+  // Without heights, rows are refused.
+  HachureField no_heights = f;
+  no_heights.elevation.clear();
+  EXPECT_THROW(renderer::trace_hachures(no_heights, rule), terrain::Error);
+}
+
+// Plan view: the hachures of a cone from straight above carry map coordinates. Their steps
+// run away from the apex in the world (>= 95 % within 10 degrees), their slope is the
+// cone's, and the plan's corner and scale are the mesh's extent.
+TEST(Hachures, PlanViewOfAConeRunsDownItInMapCoordinates) {
+  const double size = 1000;
+  auto cone = terrain::test::function_mesh(101, 101, 10, [&](double x, double y) {
+    return 600 - 0.5 * std::hypot(x - size / 2, y + size / 2);
+  });
+  const renderer::PlanView plan = renderer::plan_view(cone, 4);
+  EXPECT_EQ(plan.width, 250);
+  EXPECT_EQ(plan.height, 250);
+  EXPECT_NEAR(plan.x0, 0, 1e-9);
+  EXPECT_NEAR(plan.y0, 0, 1e-9);
+  const renderer::HachureField f = renderer::plan_hachure_field(cone, plan, nullptr);
+  const auto hs = renderer::trace_hachures(f, {});
+  ASSERT_GT(hs.size(), 30u);
+  std::size_t steps = 0, along = 0, slope_ok = 0, points = 0;
+  for (const Hachure& h : hs)
+    for (std::size_t k = 0; k < h.points.size(); ++k) {
+      const Eigen::Vector2d q = renderer::plan_to_local(plan, h.points[k]);
+      const Eigen::Vector2d away = q - Eigen::Vector2d(size / 2, -size / 2);
+      if (away.norm() < 40 || away.norm() > 460) continue;  // off the apex and the foot
+      ++points;
+      slope_ok += std::abs(h.slope[k] - std::atan(0.5)) < 0.02;
+      if (k == 0) continue;
+      const Eigen::Vector2d step = q - renderer::plan_to_local(plan, h.points[k - 1]);
+      ++steps;
+      along += step.normalized().dot(away.normalized()) > std::cos(10 * std::numbers::pi / 180);
+    }
+  ASSERT_GT(steps, 1000u);
+  EXPECT_GE(double(along), 0.95 * double(steps));
+  EXPECT_GE(double(slope_ok), 0.95 * double(points));
+  EXPECT_THROW(renderer::plan_view(cone, 0), terrain::Error);
 }
 
 }  // namespace

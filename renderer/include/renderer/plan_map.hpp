@@ -1,0 +1,50 @@
+#pragma once
+// Plan-view hachure maps (issue 51; docs/terrain-render.md, "Hachures", "Plan-view maps"):
+// the hachures of a mesh seen from straight above, north up, at a scale in metres a pixel,
+// in the mesh's map coordinates: terrain-inspect export MESH --to gpkg|svg|pdf --layers
+// hachures. From straight above nothing of a height field is hidden, so the field is the
+// PN surface's own (plan_hachure_field), no frame is rendered, and the lines carry map
+// coordinates exactly.
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "renderer/hachures.hpp"
+#include "renderer/vector_art.hpp"
+#include "terrain/grid_mesh.hpp"
+
+namespace renderer {
+
+struct PlanHachureOptions {
+  double scale = 0;               // metres a pixel; 0: default_plan_scale
+  double spacing = 6, width = 0.8;  // pixels (at the map's scale), as --hachure-spacing and --hachure-width
+  bool light_tone = true, rows = false;
+  double light_azimuth = 315, light_altitude = 45;  // the cartographer's light: north-west, 45 degrees high
+};
+
+struct PlanHachures {
+  PlanView plan;
+  double row_interval = 0;  // metres, 0 unless rows
+  std::vector<Hachure> hachures;
+};
+
+// The scale a map takes when none is given: its longer side at most 2048 pixels, at 1,
+// 2, 2.5 or 5 times a power of ten metres a pixel (MSH: 2.5 m, Logan: 100 m).
+double default_plan_scale(const terrain::GridMesh& mesh);
+
+PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptions& o);
+
+// The map's geotransform, GDAL's order: x0, scale, 0, y0, 0, -scale (world coordinates).
+std::array<double, 6> plan_geotransform(const terrain::GridMesh& mesh, const PlanView& plan);
+
+// Writes the GeoPackage `path` with a line layer "hachures" in the mesh's CRS: one feature
+// a hachure, in world coordinates, with its mean slope (degrees), mean tone (0..1),
+// length (metres) and row_m (rows only: the form line above it, metres). Returns the count.
+std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachures& h, const std::string& path);
+
+// The map as line art: one layer "hachures" on a white page of plan.width x plan.height
+// pixels.
+VectorArt plan_vector_art(const PlanHachures& h, const PlanHachureOptions& o);
+
+}  // namespace renderer

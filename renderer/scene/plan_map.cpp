@@ -1,0 +1,76 @@
+#include "renderer/plan_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <ogrsf_frmts.h>
+
+#include "renderer/scene.hpp"
+#include "terrain/gpkg.hpp"
+#include "terrain/hillshade.hpp"
+
+namespace renderer {
+
+double default_plan_scale(const terrain::GridMesh& mesh) {
+  const double w = double(mesh.topo.cols - 1) * mesh.geo.dx, h = double(mesh.topo.rows - 1) * mesh.geo.dy;
+  const double raw = std::max(w, h) / 2048.0, decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (const double m : {1.0, 2.0, 2.5, 5.0})
+    if (m * decade >= raw * (1 - 1e-9)) return m * decade;
+  return 10.0 * decade;
+}
+
+PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptions& o) {
+  PlanHachures out;
+  out.plan = plan_view(mesh, o.scale > 0 ? o.scale : default_plan_scale(mesh));
+  const Eigen::Vector3d light = terrain::light_direction(o.light_azimuth, o.light_altitude);
+  const HachureField field = plan_hachure_field(mesh, out.plan, o.light_tone ? &light : nullptr);
+  HachureRule rule;
+  rule.spacing = o.spacing;
+  if (o.rows) rule.row_interval = row_interval_for(out.plan.scale, o.spacing, median_slope(field, rule.min_slope));
+  out.row_interval = rule.row_interval;
+  out.hachures = trace_hachures(field, rule);
+  return out;
+}
+
+std::array<double, 6> plan_geotransform(const terrain::GridMesh& mesh, const PlanView& p) {
+  return {mesh.geo.origin_x + p.x0, p.scale, 0.0, mesh.geo.origin_y + p.y0, 0.0, -p.scale};
+}
+
+std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachures& h, const std::string& path) {
+  terrain::Gpkg gpkg(path, mesh.geo.crs_wkt);
+  OGRLayer* layer = gpkg.layer("hachures", wkbLineString,
+                               {{"slope_deg", OFTReal}, {"tone", OFTReal}, {"length_m", OFTReal}, {"row_m", OFTReal}});
+  gpkg.begin();
+  for (const Hachure& hh : h.hachures) {
+    OGRLineString line;
+    double slope = 0, tone = 0, length = 0;
+    for (std::size_t k = 0; k < hh.points.size(); ++k) {
+      const Eigen::Vector2d q = plan_to_local(h.plan, hh.points[k]);
+      line.addPoint(mesh.geo.origin_x + q.x(), mesh.geo.origin_y + q.y());
+      slope += hh.slope[k], tone += hh.tone[k];
+      if (k) length += double((hh.points[k] - hh.points[k - 1]).norm()) * h.plan.scale;
+    }
+    const double n = double(std::max<std::size_t>(hh.points.size(), 1));
+    OGRFeature f(layer->GetLayerDefn());
+    f.SetField("slope_deg", slope / n * 180.0 / M_PI);
+    f.SetField("tone", tone / n);
+    f.SetField("length_m", length);
+    if (h.row_interval > 0) f.SetField("row_m", double(hh.row + 1) * h.row_interval);
+    f.SetGeometry(&line);
+    gpkg.add(layer, f);
+  }
+  gpkg.commit();
+  return h.hachures.size();
+}
+
+VectorArt plan_vector_art(const PlanHachures& h, const PlanHachureOptions& o) {
+  VectorArt art;
+  art.width = h.plan.width, art.height = h.plan.height;
+  art.underlay = VectorUnderlay::None;
+  Style style;
+  style.hachure_width = o.width;
+  art.layers.push_back(hachure_paths(h.hachures, style));
+  return art;
+}
+
+}  // namespace renderer
