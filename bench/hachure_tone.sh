@@ -3,7 +3,8 @@
 # the frame at its automatic view drawn twice, `--layers mask,hachures` and `--layers
 # shaded`; the hachure ink (darkness, 0..1) blurred by a Gaussian of 2 hachure spacings
 # is correlated (Pearson r) with the shaded layer's darkness over the terrain's pixels.
-# Target: r >= 0.7. Prints one row per mesh and tone.
+# Target: r >= 0.7, at the automatic view and at --view top. Prints one row per mesh, view
+# and tone. TONE_VIEWS (default "auto top") and TONES (default "light slope") pick them.
 # Usage: bench/hachure_tone.sh WORKDIR MESH.ply [MESH.ply ...]   (/usr/bin/python3 with numpy and GDAL)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -12,14 +13,15 @@ work="$1"
 shift
 mkdir -p "$work"
 spacing=6
-echo "mesh tone r hachure_ink_share"
+echo "mesh view tone r hachure_ink_share ceiling r_both_blurred"
 for m in "$@"; do
-  name=$(basename "$m" .ply)
-  "$bin/terrain-render" frame "$m" -o "$work/${name}_shaded.png" --layers shaded -q > /dev/null
-  for tone in light slope; do
+  for view in ${TONE_VIEWS:-auto top}; do
+  name=$(basename "$m" .ply)_$view
+  "$bin/terrain-render" frame "$m" -o "$work/${name}_shaded.png" --layers shaded --view "$view" -q > /dev/null
+  for tone in ${TONES:-light slope}; do
     "$bin/terrain-render" frame "$m" -o "$work/${name}_$tone.png" --layers mask,hachures --hachure-tone "$tone" \
-      --hachure-spacing "$spacing" -q > /dev/null
-    /usr/bin/python3 - "$work/${name}_$tone.png" "$work/${name}_shaded.png" "$spacing" "$name" "$tone" <<'EOF'
+      --hachure-spacing "$spacing" --view "$view" -q > /dev/null
+    /usr/bin/python3 - "$work/${name}_$tone.png" "$work/${name}_shaded.png" "$spacing" "$(basename "$m" .ply) $view" "$tone" <<'EOF'
 import sys
 import numpy as np
 from osgeo import gdal
@@ -44,7 +46,12 @@ b = blur(ink) / np.maximum(w, 1e-6)                   # normalized inside the te
 dark = 1 - s.mean(axis=0)
 sel = terrain & (w > 0.5)
 rr = np.corrcoef(b[sel], dark[sel])[0, 1]
-print(f"{name} {tone} {rr:.3f} {ink[terrain].mean():.4f}")
+dark_terrain = np.where(terrain, dark, 0)
+db = blur(dark_terrain) / np.maximum(w, 1e-6)         # the shaded tone at the same scale
+ceiling = np.corrcoef(db[sel], dark[sel])[0, 1]       # the best any blurred ink can do against the sharp shade
+both = np.corrcoef(b[sel], db[sel])[0, 1]             # both blurred: tone against tone
+print(f"{name} {tone} {rr:.3f} {ink[terrain].mean():.4f} {ceiling:.3f} {both:.3f}")
 EOF
+  done
   done
 done

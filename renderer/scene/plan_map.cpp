@@ -23,9 +23,10 @@ PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptio
   PlanHachures out;
   out.plan = plan_view(mesh, o.scale > 0 ? o.scale : default_plan_scale(mesh));
   const Eigen::Vector3d light = terrain::light_direction(o.light_azimuth, o.light_altitude);
-  const HachureField field = plan_hachure_field(mesh, out.plan, o.light_tone ? &light : nullptr);
+  HachureField field = plan_hachure_field(mesh, out.plan, o.light_tone ? &light : nullptr);
   HachureRule rule;
   rule.spacing = o.spacing;
+  stretch_tone(field, rule.min_slope);
   if (o.rows) rule.row_interval = row_interval_for(out.plan.scale, o.spacing, median_slope(field, rule.min_slope));
   out.row_interval = rule.row_interval;
   out.hachures = trace_hachures(field, rule);

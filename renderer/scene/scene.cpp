@@ -121,8 +121,8 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
   return art;
 }
 
-VectorLayer hachure_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                          const FrameBuffers& buffers, const FrameParams& fp, const Style& style) {
+TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                                    const FrameBuffers& buffers, const FrameParams& fp, const Style& style) {
   const Eigen::Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
   HachureField field = hachure_field(scene.mesh, res.view, style.exaggeration, buffers.toward_depth,
                                      style.hachure_light_tone ? &light : nullptr);
@@ -132,11 +132,18 @@ VectorLayer hachure_layer(const Scene& scene, const TerrainRenderer& r, const Fr
                        (i < buffers.silhouette.size() && buffers.silhouette[i]);
   HachureRule rule;
   rule.spacing = style.hachure_spacing;
+  stretch_tone(field, rule.min_slope);
   if (style.hachure_rows)  // form lines at an interval from the page's scale (true metres)
     rule.row_interval = row_interval_for(page_scale(res.view, r.box()) / style.exaggeration,
                                          rule.spacing, std::atan(std::tan(median_slope(field, rule.min_slope)) /
                                                                  style.exaggeration));
-  return hachure_paths(trace_hachures(field, rule), style);
+  std::vector<Hachure> hachures = trace_hachures(field, rule);
+  return {std::move(field), rule, std::move(hachures)};
+}
+
+VectorLayer hachure_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                          const FrameBuffers& buffers, const FrameParams& fp, const Style& style) {
+  return hachure_paths(trace_frame_hachures(scene, r, res, buffers, fp, style).hachures, style);
 }
 
 VectorLayer hachure_paths(std::vector<Hachure> hachures, const Style& style) {
@@ -164,6 +171,10 @@ FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const 
   st.creases.connected = connected_share(*scene.creases, scene.traits, st.lines.drawn,
                                          segment_pixels(*scene.creases, res.view, style.exaggeration));
   if (layers.silhouettes) st.silhouettes = silhouette_stats(buffers.silhouette_opacity, res.width, res.height);
+  if (layers.hachures) {  // traced again, as write_frame_files traces them (deterministic)
+    const TracedHachures t = trace_frame_hachures(scene, r, res, buffers, fp, style);
+    st.hachures = hachure_stats(t.field, t.hachures, t.rule);
+  }
   return st;
 }
 
@@ -179,20 +190,28 @@ std::string line_stats_text(const FrameStats& s) {
   if (s.silhouettes)
     out += fmt::format("silhouette px: {:.0f}\nsilhouette pieces: {}\nsilhouette mean piece px: {:.1f}\n",
                        s.silhouettes->pixels, s.silhouettes->pieces, s.silhouettes->mean_piece_px);
+  if (s.hachures)
+    out += fmt::format("hachures: {}\nhachure length px: {:.0f}\nhachure along share: {:.4f}\n"
+                       "hachure spacing share: {:.4f}\nhachure too close share: {:.4f}\nhachure too far share: {:.4f}\n",
+                       s.hachures->hachures, s.hachures->length_px, s.hachures->along_share, s.hachures->spacing_share,
+                       s.hachures->close_share, s.hachures->far_share);
   return out;
 }
 
 std::string line_stats_csv_header() {
   return "frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px,silhouette_px,"
-         "silhouette_pieces,weighted_strokes,weighted_mean_stroke_px,connected_share\n";
+         "silhouette_pieces,weighted_strokes,weighted_mean_stroke_px,connected_share,hachures,hachure_length_px,"
+         "hachure_along_share,hachure_spacing_share\n";
 }
 
 std::string line_stats_csv_row(std::size_t i, const FrameStats& s) {
   const LineStats& c = s.creases;
   const SilhouetteStats ss = s.silhouettes.value_or(SilhouetteStats{});
-  return fmt::format("{},{:.1f},{:.5f},{:.5f},{:.5f},{},{:.2f},{:.0f},{},{:.2f},{:.2f},{:.5f}\n", i, c.length_px,
-                     c.boundary, c.flat, c.valley, c.strokes, c.mean_stroke_px, ss.pixels, ss.pieces, c.weighted_strokes,
-                     c.weighted_mean_stroke_px, c.connected);
+  const HachureStats hs = s.hachures ? *s.hachures : HachureStats{};
+  return fmt::format("{},{:.1f},{:.5f},{:.5f},{:.5f},{},{:.2f},{:.0f},{},{:.2f},{:.2f},{:.5f},{},{:.0f},{:.5f},{:.5f}\n", i,
+                     c.length_px, c.boundary, c.flat, c.valley, c.strokes, c.mean_stroke_px, ss.pixels, ss.pieces,
+                     c.weighted_strokes, c.weighted_mean_stroke_px, c.connected, hs.hachures, hs.length_px,
+                     hs.along_share, hs.spacing_share);
 }
 
 }  // namespace renderer

@@ -534,7 +534,8 @@ TEST(TerrainRender, LineStats) {
   all << t.rdbuf();
   EXPECT_EQ(lines(all.str()), 4u) << all.str();
   EXPECT_EQ(all.str().rfind("frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px,"
-                            "silhouette_px,silhouette_pieces,weighted_strokes,weighted_mean_stroke_px,connected_share\n",
+                            "silhouette_px,silhouette_pieces,weighted_strokes,weighted_mean_stroke_px,connected_share,hachures,"
+                            "hachure_length_px,hachure_along_share,hachure_spacing_share\n",
                             0),
             0u);
   const double f = value(b.out, "crease flicker");

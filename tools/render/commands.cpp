@@ -197,6 +197,7 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   std::string stats_csv = rr::line_stats_csv_header();
   std::vector<std::vector<float>> drawn;
   std::vector<std::vector<double>> pixels;
+  std::vector<std::vector<std::uint8_t>> hachure_ink;
   const auto progress = tt::terminal_progress(verb, "render");
   for (std::size_t i = 0; i < frames.size(); ++i) {
     f.frame = frames[i];
@@ -207,6 +208,7 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
       stats_csv += rr::line_stats_csv_row(i, st);
       drawn.push_back(std::move(st.lines.drawn));
       pixels.push_back(std::move(st.lines.pixels));
+      if (st.hachures) hachure_ink.push_back(std::move(st.hachures->ink));
     }
     std::vector<std::string> paths;
     for (const std::string& format : formats) paths.push_back((dir / frame_name(i, format)).string());
@@ -220,6 +222,8 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   print_device(ctx);
   std::cout << rr::timing_tables(timings);
   if (a.line_stats) std::cout << fmt::format("crease flicker: {:.4f}\n", rr::flicker(drawn, pixels));
+  if (a.line_stats && f.layers.hachures)
+    std::cout << fmt::format("hachure coherence: {:.4f}\n", rr::ink_coherence(hachure_ink, s.width, s.height));
   return 0;
 }
 

@@ -39,6 +39,10 @@ struct HachureField {
 };
 
 inline constexpr double kMinTone = 1.0 / 6.0;
+// The light's tone is the shadow less this share of the flat's shadow, 1 - n.l - kFlatShare
+// (1 - l_z): slopes lit a little more than the flat, which the shaded layer draws lighter
+// than the flat, get no hachures, as the flats (measured: docs/terrain-render.md, "Tone").
+inline constexpr double kFlatShare = 0.5;
 struct HachureRule {
   double spacing = 6.0;       // pixels between neighbouring hachures where the tone is black
   double test_share = 0.5;    // a hachure stops this share of its spacing from another one
@@ -67,9 +71,23 @@ std::vector<Hachure> trace_hachures(const HachureField& field, const HachureRule
 // scaled by `exaggeration`), the PN surface above that point gives its normal (pn_point_above),
 // and the fall line there, a short step down the surface, is projected back to the screen.
 // Tone: the slope's (Lehmann: 0 flat .. 1 at 45 degrees, tan of the slope) or, with `light`
-// set, the shadow's (1 - n.l on the exaggerated surface, clamped).
+// set, the shadow's (1 - n.l on the exaggerated surface, less kFlatShare of the flat's,
+// clamped).
 HachureField hachure_field(const terrain::GridMesh& mesh, const View& view, double exaggeration,
                            const std::vector<float>& toward_depth, const Eigen::Vector3d* light = nullptr);
+
+// The figures of traced hachures (--line-stats; issue 51's direction and spacing targets).
+struct HachureStats {
+  std::size_t hachures = 0, points = 0;
+  double length_px = 0;
+  double along_share = 0;    // steps within 10 degrees of the field's fall line at their midpoint
+  double spacing_share = 0;  // points whose nearest point of another hachure is 0.5 to 2 local spacings away
+  double close_share = 0, far_share = 0;  // the others: nearer than 0.5, farther than 2
+  std::vector<std::uint8_t> ink;  // width x height: 1 where a hachure's point lies (coherence between frames)
+};
+// The local spacing is the rule's spacing / tone (as the tracer uses it); a point whose
+// nearest other hachure is farther than 2 local spacings counts against the share.
+HachureStats hachure_stats(const HachureField& field, const std::vector<Hachure>& hachures, const HachureRule& rule);
 
 // The interval of the rows' form lines for a view `scale` metres a pixel across (true
 // metres: heights not exaggerated) with hachures `spacing` pixels apart: a row about four
@@ -77,6 +95,12 @@ HachureField hachure_field(const terrain::GridMesh& mesh, const View& view, doub
 // x scale x tan(slope), rounded to 1, 2 or 5 times a power of ten (the cartographer's contour
 // intervals).
 double row_interval_for(double scale, double spacing, double slope);
+
+// Stretches the field's tone over the whole range: the 2nd percentile of the tones of
+// the pixels steeper than `min_slope` goes to 0, the 98th to 1, linearly, clamped. The
+// spacing's range (six to one) then spans the frame's own range of tone, whatever the
+// light and the relief, so the hachures resolve the tone as finely as the spacing allows.
+void stretch_tone(HachureField& field, double min_slope);
 
 // The median slope of a field's terrain pixels that are steeper than `min_slope`
 // (0 where none is).

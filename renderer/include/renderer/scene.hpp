@@ -61,6 +61,14 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
 // frame_vector_art's layers.
 VectorLayer hachure_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                           const FrameBuffers& buffers, const FrameParams& fp, const Style& style);
+// What hachure_layer draws, before it becomes paths: the field, the rule and the hachures.
+struct TracedHachures {
+  HachureField field;
+  HachureRule rule;
+  std::vector<Hachure> hachures;
+};
+TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                                    const FrameBuffers& buffers, const FrameParams& fp, const Style& style);
 // The paths of traced hachures (pixel coordinates), each as wide as its mean tone asks:
 // 0.5 to 1.5 times Style::hachure_width (pen pressure).
 VectorLayer hachure_paths(std::vector<Hachure> hachures, const Style& style);
@@ -71,6 +79,7 @@ struct FrameStats {
   FrameLines lines;
   LineStats creases;
   std::optional<SilhouetteStats> silhouettes;
+  std::optional<HachureStats> hachures;  // with the hachures layer
 };
 FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                             const FrameParams& fp, const Style& style, const Layers& layers);

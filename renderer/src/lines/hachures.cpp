@@ -23,30 +23,60 @@ class Occupancy {
   Occupancy(int width, int height, double cell)
       : cell_(cell), cols_(long(std::ceil(width / cell)) + 1), rows_(long(std::ceil(height / cell)) + 1),
         cells_(std::size_t(cols_ * rows_)) {}
-  // Whether a point of another hachure than `self`, of row `row` (-1: any row), lies closer
-  // than `d` to p.
-  bool near(const Vector2f& p, double d, long self, long row = -1) const {
+  // Whether a point q of another hachure than `self`, of row `row` (-1: any row), lies
+  // closer to p than `share` times the smaller of the two points' local spacings (p's is
+  // `spacing`): the test is the same seen from either hachure.
+  bool near(const Vector2f& p, double share, double spacing, long self, long row = -1) const {
+    const double d = share * spacing;
+    const long reach = long(std::ceil(d / cell_)), cu = long(p.x() / cell_), cv = long(p.y() / cell_);
+    for (long v = std::max(0L, cv - reach); v <= std::min(rows_ - 1, cv + reach); ++v)
+      for (long u = std::max(0L, cu - reach); u <= std::min(cols_ - 1, cu + reach); ++u)
+        for (const Entry& e : cells_[std::size_t(v * cols_ + u)]) {
+          const double dq = share * std::min(spacing, double(e.spacing));
+          if (e.id != self && (row < 0 || e.row == row) && (e.p - p).squaredNorm() < dq * dq) return true;
+        }
+    return false;
+  }
+  // Whether a point of another hachure than `self` lies closer than `d` to p.
+  bool within(const Vector2f& p, double d, long self) const {
     const long reach = long(std::ceil(d / cell_)), cu = long(p.x() / cell_), cv = long(p.y() / cell_);
     for (long v = std::max(0L, cv - reach); v <= std::min(rows_ - 1, cv + reach); ++v)
       for (long u = std::max(0L, cu - reach); u <= std::min(cols_ - 1, cu + reach); ++u)
         for (const Entry& e : cells_[std::size_t(v * cols_ + u)])
-          if (e.id != self && (row < 0 || e.row == row) && (e.p - p).squaredNorm() < d * d) return true;
+          if (e.id != self && (e.p - p).squaredNorm() < d * d) return true;
     return false;
   }
-  void add(const Vector2f& p, long id, long row) {
+  void add(const Vector2f& p, double spacing, long id, long row) {
     const long u = std::clamp(long(p.x() / cell_), 0L, cols_ - 1), v = std::clamp(long(p.y() / cell_), 0L, rows_ - 1);
-    cells_[std::size_t(v * cols_ + u)].push_back({p, id, row});
+    cells_[std::size_t(v * cols_ + u)].push_back({p, float(spacing), id, row});
   }
 
  private:
   struct Entry {
     Vector2f p;
+    float spacing;
     long id, row;
   };
   double cell_;
   long cols_, rows_;
   std::vector<std::vector<Entry>> cells_;
 };
+
+// The fall line at p, bilinear between the four nearest pixel centres (pixels without
+// terrain add nothing), normalized; zero where none has a direction.
+Vector2f fall_at(const HachureField& f, const Vector2f& p) {
+  const float x = p.x() - 0.5f, y = p.y() - 0.5f;
+  const long u0 = long(std::floor(x)), v0 = long(std::floor(y));
+  const float a = x - float(u0), b = y - float(v0);
+  Vector2f sum = Vector2f::Zero();
+  for (int dv = 0; dv < 2; ++dv)
+    for (int du = 0; du < 2; ++du) {
+      const long u = std::clamp(u0 + du, 0L, long(f.width) - 1), v = std::clamp(v0 + dv, 0L, long(f.height) - 1);
+      sum += (du ? a : 1 - a) * (dv ? b : 1 - b) * f.fall[std::size_t(v) * std::size_t(f.width) + std::size_t(u)];
+    }
+  const float n = sum.norm();
+  return n > 1e-6f ? Vector2f(sum / n) : Vector2f::Zero();
+}
 
 struct Tracer {
   const HachureField& f;
@@ -64,20 +94,20 @@ struct Tracer {
   long row(const Vector2f& p) const {
     return rule.row_interval > 0 ? long(std::floor(double(f.elevation[at(p)]) / rule.row_interval)) : -1;
   }
-  bool free(const Vector2f& p, long self, long r) const { return !occupied.near(p, rule.test_share * spacing(p), self, r); }
+  bool free(const Vector2f& p, long self, long r) const { return !occupied.near(p, rule.test_share, spacing(p), self, r); }
 
   // From `seed` along the fall line (sign +1 downhill, -1 uphill), the points after it.
   std::vector<Vector2f> run(const Vector2f& seed, float sign, long self, double length) const {
     constexpr float kStep = 0.5f;
     std::vector<Vector2f> out;
-    Vector2f p = seed, last = sign * f.fall[at(seed)];
+    Vector2f p = seed, last = sign * fall_at(f, seed);
     const long r = row(seed);
     while (length < rule.max_length) {
-      const Vector2f d1 = sign * f.fall[at(p)];
+      const Vector2f d1 = sign * fall_at(f, p);
       const Vector2f mid = p + 0.5f * kStep * d1;
       if (!usable(mid)) break;
-      const Vector2f d2 = sign * f.fall[at(mid)];
-      if (d2.dot(last) < 0.0f) break;  // the fall line turns back: a valley or a ridge
+      const Vector2f d2 = sign * fall_at(f, mid);
+      if (d2.dot(last) <= 0.0f) break;  // the fall line turns back (a valley or a ridge), or has none
       const Vector2f next = p + kStep * d2;
       if (!usable(next) || !free(next, self, r)) break;
       if (row(next) != r) {  // a form line: end half a pixel before it (the seam)
@@ -97,9 +127,9 @@ void set_slope_and_tone(HachureField& f, std::size_t i, const Eigen::Vector3d& n
                         const Eigen::Vector3d* light) {
   const double g = nrm.head<2>().norm() / std::max(nrm.z(), 1e-6), drawn = g * e;
   f.slope[i] = float(std::atan(drawn));
-  if (light) {  // the shadow: 1 - n.l on the drawn (exaggerated) surface
+  if (light) {  // the shadow, 1 - n.l on the drawn (exaggerated) surface, less half the flat's
     const Eigen::Vector3d ne = Eigen::Vector3d(nrm.x(), nrm.y(), nrm.z() / e).normalized();
-    f.tone[i] = float(std::clamp(1.0 - ne.dot(*light), 0.0, 1.0));
+    f.tone[i] = float(std::clamp(1.0 - ne.dot(*light) - kFlatShare * (1.0 - light->z()), 0.0, 1.0));
   } else {  // Lehmann: 0 flat .. 1 at 45 degrees
     f.tone[i] = float(std::clamp(drawn, 0.0, 1.0));
   }
@@ -113,6 +143,56 @@ double row_interval_for(double scale, double spacing, double slope) {
   for (const double m : {1.0, 2.0, 5.0})
     if (raw <= m * decade * 1.5) return m * decade;
   return 10.0 * decade;
+}
+
+HachureStats hachure_stats(const HachureField& f, const std::vector<Hachure>& hs, const HachureRule& rule) {
+  HachureStats st;
+  st.hachures = hs.size();
+  st.ink.assign(std::size_t(f.width) * std::size_t(f.height), 0);
+  const auto at = [&](const Vector2f& p) {
+    return std::size_t(std::clamp(long(p.y()), 0L, long(f.height) - 1)) * std::size_t(f.width) +
+           std::size_t(std::clamp(long(p.x()), 0L, long(f.width) - 1));
+  };
+  const auto local = [&](const Vector2f& p) { return rule.spacing / std::clamp(double(f.tone[at(p)]), kMinTone, 1.0); };
+  Occupancy grid(f.width, f.height, std::max(1.0, rule.spacing));
+  for (std::size_t h = 0; h < hs.size(); ++h)
+    for (const Vector2f& p : hs[h].points) grid.add(p, local(p), long(h), -1), st.ink[at(p)] = 1;
+  std::size_t steps = 0, along = 0, spaced = 0;
+  const float cos10 = float(std::cos(10.0 * std::acos(-1.0) / 180.0));
+  for (std::size_t h = 0; h < hs.size(); ++h) {
+    const auto& pts = hs[h].points;
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      ++st.points;
+      if (k) {
+        const Vector2f step = pts[k] - pts[k - 1], mid = 0.5f * (pts[k] + pts[k - 1]);
+        st.length_px += double(step.norm());
+        ++steps;
+        along += step.norm() > 0 && step.normalized().dot(fall_at(f, mid)) >= cos10;
+      }
+      const double s_p = local(pts[k]);
+      // Nearer than half the pair's spacing (the smaller local one), or no other hachure
+      // within 2 of p's own.
+      const bool close = grid.near(pts[k], 0.5 * (1 - 1e-3), s_p, long(h));
+      const bool far = !grid.within(pts[k], 2.0 * s_p, long(h));
+      spaced += !close && !far;
+      st.close_share += close, st.far_share += far;
+    }
+  }
+  st.along_share = steps ? double(along) / double(steps) : 1.0;
+  st.spacing_share = st.points ? double(spaced) / double(st.points) : 1.0;
+  st.close_share /= double(std::max<std::size_t>(st.points, 1)), st.far_share /= double(std::max<std::size_t>(st.points, 1));
+  return st;
+}
+
+void stretch_tone(HachureField& f, double min_slope) {
+  std::vector<float> t;
+  for (std::size_t i = 0; i < f.tone.size(); ++i)
+    if (f.slope[i] >= min_slope) t.push_back(f.tone[i]);  // NaN (no terrain) compares false
+  if (t.size() < 2) return;
+  std::sort(t.begin(), t.end());
+  const double lo = t[t.size() * 2 / 100], hi = t[t.size() * 98 / 100];
+  if (!(hi > lo + 1e-6)) return;
+  for (float& x : f.tone) x = float(std::clamp((double(x) - lo) / (hi - lo), 0.0, 1.0));
 }
 
 double median_slope(const HachureField& f, double min_slope) {
@@ -175,7 +255,7 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
       const long id = long(out.size());
       if (!tracer.usable(seed)) continue;
       const long row = tracer.row(seed);
-      if (occupied.near(seed, tracer.spacing(seed), -1, row)) continue;
+      if (occupied.near(seed, 1.0, tracer.spacing(seed), -1, row)) continue;
       const std::vector<Vector2f> up = tracer.run(seed, -1.0f, id, 0.0);
       const std::vector<Vector2f> down = tracer.run(seed, 1.0f, id, 0.5 * double(up.size()));
       if (0.5 * double(up.size() + down.size()) < rule.min_length) continue;
@@ -187,7 +267,7 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
       for (const Vector2f& p : h.points) {
         h.tone.push_back(f.tone[tracer.at(p)]);
         h.slope.push_back(f.slope[tracer.at(p)]);
-        occupied.add(p, id, row);
+        occupied.add(p, tracer.spacing(p), id, row);
       }
       out.push_back(std::move(h));
     }
