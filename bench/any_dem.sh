@@ -18,8 +18,8 @@ declare -A dem=([msh]="$root/data/msh_2007_utm10n_10m.tif" [logan]="$root/data/l
                 [eno]="$(ls "$root"/data/eno*crop*.tif | head -1)" [med]="$root/data/med_01_01_10m.tif"
                 [sinmap]="$shared/sinmap_sample_10m.asc" [enofull]="$shared/eno_nad83_geographic_third_arcsec.tif"
                 [medpr]="$shared/med_01_01_10m_taudem_pitremove.tif")
-echo "| DEM | view | coverage | boundary | flat | valley | connected | ink px | strokes | mean stroke px |"
-echo "|---|---|---|---|---|---|---|---|---|---|"
+echo "| DEM | view | coverage | boundary | flat | valley | connected | ink px | strokes | mean stroke px | relief r | r_tone |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 for name in msh logan eno med sinmap enofull medpr; do
   for kind in as-is rounded 3as; do
     src="${dem[$name]}"
@@ -28,7 +28,7 @@ for name in msh logan eno med sinmap enofull medpr; do
       src="$work/${name}_int.tif"
     elif [ "$kind" = 3as ]; then
       if ! gdalsrsinfo -o epsg "$src" 2>/dev/null | grep -q EPSG; then
-        echo "| $name ($kind) | no CRS: no 3-arc-second copy | | | | | | | | |"
+        echo "| $name ($kind) | no CRS: no 3-arc-second copy | | | | | | | | | | |"
         continue
       fi
       gdalwarp -q -overwrite -t_srs EPSG:4326 -tr 0.000833333333 0.000833333333 -r average -ot Int16 "$src" \
@@ -44,12 +44,17 @@ for name in msh logan eno med sinmap enofull medpr; do
     [ -f "$d" ] || "$bin/build-drainage" "$m" "$d" -q > /dev/null
     stats=$("$bin/terrain-render" frame "$m" "$d" -o "$work/${name}_$kind.png" --line-stats "$@")
     "$bin/terrain-render" frame "$m" -o "$work/${name}_${kind}_mask.png" --layers mask -q "$@" > /dev/null
+    # Does the picture show the relief (issue 51)? Its ink against the shaded layer at the same
+    # camera, blurred by a Gaussian of 12 px (2 hachure spacings): bench/tone_r.py.
+    "$bin/terrain-render" frame "$m" -o "$work/${name}_${kind}_shaded.png" --layers shaded -q "$@" > /dev/null
+    read -r rel _ceil rtone _share < <(/usr/bin/python3 "$root/bench/tone_r.py" "$work/${name}_$kind.png" \
+      "$work/${name}_${kind}_shaded.png" 12)
     # Coverage: the mask (white) over the background (#dde4ec): mean R = bg + cov (1 - bg).
     red=$(oiiotool "$work/${name}_${kind}_mask.png" --printstats 2>/dev/null | awk '/Avg:/{print $3; exit}')
     cov=$(awk -v r="$red" 'BEGIN{if (r > 1) r /= 255; bg=221/255; printf "%.1f %%", 100*(r-bg)/(1-bg)}')
     get() { echo "$stats" | awk -F': ' -v k="$1" '$1==k{print $2}'; }
     pct() { awk -v x="$(get "$1")" 'BEGIN{printf "%.1f %%", 100*x}'; }
     view=$(echo "$stats" | awk '/^view:/{print $3", "$5}')
-    echo "| $name ($kind) | $view | $cov | $(pct 'crease boundary share') | $(pct 'crease flat share') | $(pct 'crease valley share') | $(get 'crease connected share') | $(get 'crease length px') | $(get 'crease strokes') | $(get 'crease mean stroke px') |"
+    echo "| $name ($kind) | $view | $cov | $(pct 'crease boundary share') | $(pct 'crease flat share') | $(pct 'crease valley share') | $(get 'crease connected share') | $(get 'crease length px') | $(get 'crease strokes') | $(get 'crease mean stroke px') | $rel | $rtone |"
   done
 done

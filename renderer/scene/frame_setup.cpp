@@ -74,12 +74,14 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
   std::optional<VectorLayer> hachures;
   t0 = Clock::now();
   if (f.layers.hachures) hachures = hachure_layer(scene, r, res, *buffers, f.frame, f.style);
-  t.paths_ms = ms(t0);
+  t.paths_ms = t.hachure_ms = ms(t0);
   if (!pngs.empty()) {
     std::vector<std::uint8_t> drawn;
     if (hachures) {
+      t0 = Clock::now();
       drawn = res.rgba;
       draw_on_rgba(*hachures, res.width, res.height, drawn);
+      t.hachure_ms += ms(t0);
     }
     for (const std::string& p : pngs)
       terrain::write_png(p, res.width, res.height, 4, hachures ? drawn : res.rgba, description);

@@ -121,6 +121,7 @@ TEST(Viewer, StartViewIsTerrainRendersFrameForEveryOptionSet) {
       "--size 240x200 --fov 50",
       "--view-alt 50 --exaggeration 2",
       "--layers mask,silhouettes-adjacency --light-az 300",
+      "--layers mask,hachures,creases --hachure-style rows --hachure-spacing 4",
   };
   for (std::size_t i = 0; i < sets.size(); ++i) {
     const std::string options = (sets[i].find("--size") == std::string::npos ? " --size 192x108 " : " ") + sets[i];

@@ -123,7 +123,8 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   t0 = Clock::now();
   const rr::FrameResult res = r.render(fp);
   tt::step(verb, fmt::format("frame: {:.0f} ms", 1e3 * since(t0)));
-  report_write(verb, {out}, rr::write_frame_files({out}, scene, r, res, f, o.vector, prov + "; " + exaggeration));
+  const rr::WriteTimes wt = rr::write_frame_files({out}, scene, r, res, f, o.vector, prov + "; " + exaggeration);
+  report_write(verb, {out}, wt);
   const Eigen::Vector3d eye = res.view.eye + r.origin();
   std::cout << "output: " << out << "\n" << "size: " << s.width << " x " << s.height << "\n";
   print_device(ctx);
@@ -136,6 +137,8 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   for (int p = 0; p < rr::kPassCount; ++p)
     std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p), res.timings.gpu_ms[p],
                              res.timings.wall_ms[p]);
+  if (f.layers.hachures)  // CPU: the depth read back, the field, the tracing (renderer/hachures.hpp)
+    std::cout << fmt::format("hachures ms: {:.2f} (read back {:.2f})\n", wt.hachure_ms + wt.readback_ms, wt.readback_ms);
   if (a.line_stats) std::cout << rr::line_stats_text(rr::frame_line_stats(scene, r, res, fp, f.style, f.layers));
   return 0;
 }

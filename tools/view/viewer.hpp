@@ -103,7 +103,9 @@ class Viewer {
     cheap_.reset();  // made when a cheap frame is first drawn
   }
 
-  // A frame: full size, or the cheap half-size one.
+  // A frame: full size, or the cheap half-size one. With the hachures layer, a full frame
+  // shows them as terrain-render draws them (traced on the CPU: renderer/hachures.hpp); a
+  // cheap frame, while moving, goes without.
   const rr::FrameResult& render(bool cheap) {
     bring_up_to_date();
     if (before_gl) before_gl();
@@ -114,11 +116,20 @@ class Viewer {
                                                      s_.layers, rr::drawn_style(s_));
     const auto t0 = Clock::now();
     last_ = (cheap ? cheap_ : full_)->render(s_.frame);
-    (cheap ? cheap_ms_ : full_ms_) = ms_since(t0);
     last_cheap_ = cheap;
-    return last_;
+    shown_hachures_ = !cheap && s_.layers.hachures;
+    if (!shown_hachures_) {
+      (cheap ? cheap_ms_ : full_ms_) = ms_since(t0);
+      return last_;
+    }
+    shown_ = last_;
+    rr::draw_on_rgba(rr::hachure_layer(scene_, *full_, last_, full_->read_buffers(), s_.frame, rr::drawn_style(s_)),
+                     shown_.width, shown_.height, shown_.rgba);
+    full_ms_ = ms_since(t0);
+    return shown_;
   }
-  const rr::FrameResult& last() const { return last_; }
+  // The frame as shown (with hachures where drawn).
+  const rr::FrameResult& last() const { return shown_hachures_ ? shown_ : last_; }
   bool last_was_cheap() const { return last_cheap_; }
   double full_ms() const { return full_ms_; }
   double cheap_ms() const { return cheap_ms_; }
@@ -229,7 +240,9 @@ class Viewer {
   rr::GlContext gl_;
   rr::Scene scene_;
   std::unique_ptr<rr::TerrainRenderer> full_, cheap_;
-  rr::FrameResult last_;
+  rr::FrameResult last_;   // as the renderer drew it
+  rr::FrameResult shown_;  // a full frame with hachures drawn over it
+  bool shown_hachures_ = false;
   bool last_cheap_ = false;
   double full_ms_ = 0, cheap_ms_ = 0;
   bool stale_ = false, creases_stale_ = false;  // set() changed what the renderers or creases hold
