@@ -65,8 +65,9 @@ struct Layers {
   bool edges = false;
   // Hachures (issue 51; renderer/hachures.hpp): strokes along the fall line, denser where
   // the tone is darker, traced on the CPU from the frame's depth and drawn over it (PNG)
-  // or as their own layer (SVG, PDF).
-  bool hachures = false;
+  // or as their own layer (SVG, PDF). On by default: without them the picture does not
+  // show the relief (docs/terrain-render.md, "The default picture").
+  bool hachures = true;
 };
 // The layers by name, in the order --layers lists them (the one list of names: the option
 // table's choices, parse_layers and layers_text read it).
@@ -82,7 +83,7 @@ inline constexpr LayerName kLayerNames[] = {
 // Parses "shaded,creases,..." (kLayerNames); Error on an unknown name, an empty list, both
 // shaded and mask, or both silhouette methods.
 Layers parse_layers(const std::string& list);
-// "mask,creases,silhouettes": what parse_layers reads back.
+// "mask,creases,silhouettes,hachures": what parse_layers reads back.
 std::string layers_text(const Layers& l);
 
 // The one number reader of options and frames CSVs: the whole of `text` a finite decimal

@@ -45,7 +45,8 @@ bool parse_number(std::string_view text, double& v) {
 }
 
 Layers parse_layers(const std::string& list) {
-  Layers l{false, false, false, false};
+  Layers l;
+  for (const LayerName& n : kLayerNames) l.*(n.flag) = false;  // only the layers named
   bool any = false;
   std::string names;
   for (const LayerName& n : kLayerNames) names += (names.empty() ? "" : ", ") + std::string(n.name);

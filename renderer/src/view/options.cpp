@@ -111,10 +111,11 @@ void add_frame_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       [](auto& s) -> auto& { return s.line_scale; }));
   t.push_back(choice(
       "layers", frame, OptionType::List, layer_names(),
-      "mask,creases,silhouettes",
+      "mask,creases,silhouettes,hachures",
       "Layers to draw (comma list): shaded (relief), mask (white surface), creases, silhouettes "
       "(Toward/Away) or silhouettes-adjacency, pels (photic extremum lines; needs a mesh from "
-      "denoise-normals), edges (object-space edges of the mesh facets)",
+      "denoise-normals), edges (object-space edges of the mesh facets), hachures (strokes down the "
+      "slopes, denser where the relief is in shadow)",
       [](const RenderSettings& s) { return layers_text(s.layers); },
       [](RenderSettings& s, const std::string& v) { s.layers = parse_layers(v); }));
 }

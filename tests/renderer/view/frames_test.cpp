@@ -82,6 +82,16 @@ TEST(Frames, StraightPath) {
 TEST(Layers, Parse) {
   const auto l = renderer::parse_layers("shaded, creases");
   EXPECT_TRUE(l.shaded && l.creases && !l.mask && !l.silhouettes);
+  // Only the layers named, whatever Layers{} draws by default (hachures among them), and
+  // every layer reads back from its name.
+  for (const renderer::LayerName& n : renderer::kLayerNames) {
+    const renderer::Layers one = renderer::parse_layers(n.name);
+    for (const renderer::LayerName& m : renderer::kLayerNames)
+      EXPECT_EQ(one.*(m.flag), &m == &n || (std::string(n.name) == "silhouettes-adjacency" &&
+                                            std::string(m.name) == "silhouettes"))
+          << n.name << " sets " << m.name;
+  }
+  EXPECT_EQ(renderer::layers_text(renderer::Layers{}), "mask,creases,silhouettes,hachures");
   EXPECT_THROW(renderer::parse_layers("mask,contours"), terrain::Error);
   EXPECT_TRUE(renderer::parse_layers("mask,pels").pels);
   EXPECT_THROW(renderer::parse_layers("shaded,mask"), terrain::Error);
