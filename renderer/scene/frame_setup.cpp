@@ -81,7 +81,7 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
       t0 = Clock::now();
       drawn = res.rgba;
       draw_on_rgba(*hachures, res.width, res.height, drawn);
-      t.hachure_ms += ms(t0);
+      t.hachure_draw_ms = ms(t0);
     }
     for (const std::string& p : pngs)
       terrain::write_png(p, res.width, res.height, 4, hachures ? drawn : res.rgba, description);

@@ -9,6 +9,7 @@
 
 #include "drainage/dv_views.hpp"
 #include "renderer/hachures.hpp"
+#include "renderer/vector_lines.hpp"
 #include "renderer/stroke_visibility.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/mesh_io.hpp"
@@ -123,9 +124,8 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
 
 TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                                     const FrameBuffers& buffers, const FrameParams& fp, const Style& style) {
-  const Eigen::Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
-  HachureField field = hachure_field(scene.mesh, res.view, style.exaggeration, buffers.toward_depth,
-                                     style.hachure_light_tone ? &light : nullptr);
+  (void)scene, (void)fp;  // the field comes from the frame the renderer drew (its light)
+  HachureField field = r.hachure_field(res.view, style.hachure_light_tone);  // on the GPU
   field.blocked.assign(field.slope.size(), 0);
   for (std::size_t i = 0; i < field.blocked.size(); ++i)
     field.blocked[i] = (i < buffers.crease.size() && buffers.crease[i]) ||
@@ -150,7 +150,10 @@ VectorLayer hachure_paths(std::vector<Hachure> hachures, const Style& style) {
   VectorLayer l{"hachures", style.hachure_colour, LineCap::Round, {}, 0};
   for (Hachure& h : hachures) {
     VectorPath p;
-    p.line.points = std::move(h.points);
+    // Traced in steps of half a pixel; drawn as the fewest points within 0.1 px of them.
+    Polyline traced;
+    traced.points = std::move(h.points);
+    p.line = simplify(traced, 0.1f);
     // Pen pressure: the width follows the hachure's mean tone, half to one and a half times
     // --hachure-width (one width a path: an outline per point made the MSH SVG 15 MB).
     double tone = 0;

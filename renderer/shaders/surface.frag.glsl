@@ -4,6 +4,7 @@
 in vec3 f_pos;
 in vec3 f_nrm;
 layout(location = 0) out vec4 o_colour;
+layout(location = 1) out vec4 o_normal;  // TFT with hachures: the unit normal as drawn (hachure_field.comp.glsl)
 layout(location = TR_LOC_SURFACE_MODE) uniform int u_mode;
 void main() {
   vec3 n = normalize(f_nrm);
@@ -11,4 +12,5 @@ void main() {
   if ((u_mode == 0) != toward) discard;
   float lambert = max(dot(n, u_light.xyz), 0.0);
   o_colour = vec4(vec3(0.2 + 0.8 * lambert), 1.0);
+  o_normal = vec4(n, 1.0);
 }

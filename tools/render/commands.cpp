@@ -137,8 +137,9 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   for (int p = 0; p < rr::kPassCount; ++p)
     std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p), res.timings.gpu_ms[p],
                              res.timings.wall_ms[p]);
-  if (f.layers.hachures)  // CPU: the depth read back, the field, the tracing (renderer/hachures.hpp)
-    std::cout << fmt::format("hachures ms: {:.2f} (read back {:.2f})\n", wt.hachure_ms + wt.readback_ms, wt.readback_ms);
+  if (f.layers.hachures)  // the field (GPU), the lines read back, the tracing (CPU); then cairo on the PNG
+    std::cout << fmt::format("hachures ms: {:.2f} (lines read back {:.2f}; then drawn on the PNG {:.2f})\n",
+                             wt.hachure_ms + wt.readback_ms, wt.readback_ms, wt.hachure_draw_ms);
   if (a.line_stats) std::cout << rr::line_stats_text(rr::frame_line_stats(scene, r, res, fp, f.style, f.layers));
   return 0;
 }

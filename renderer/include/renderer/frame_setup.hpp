@@ -61,7 +61,7 @@ struct VectorOptions {
 // line layer drawn and no underlay). Returns the time spent, for -v.
 struct WriteTimes {
   double readback_ms = 0, paths_ms = 0, cairo_ms = 0;
-  double hachure_ms = 0;  // tracing the hachures (field and tracer; within paths_ms) and drawing them on the PNG
+  double hachure_ms = 0, hachure_draw_ms = 0;  // the hachures' field and tracing (within paths_ms); drawing them on the PNG
   std::size_t vector_bytes = 0;
   std::string layers;  // ", creases 12 paths (40 strokes)..."
 };

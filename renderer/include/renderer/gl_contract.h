@@ -72,6 +72,7 @@
 #define TR_SSBO_SURFACE_INDICES 30
 #define TR_SSBO_AWAY_PATCHES 31
 #define TR_SSBO_AWAY_DRAWS 32
+#define TR_SSBO_HACHURE_FIELD 33
 
 /* Crease strokes: "no segment" in the chains (renderer::kNoSegment), and how many
    segments a stroke's run is followed each way (renderer::kStrokeReach). */
@@ -125,6 +126,7 @@
 #define TR_TEX_SILHOUETTE_TILES 9
 #define TR_TEX_AWAY_TILES 10
 #define TR_TEX_TILE_MARKS 11
+#define TR_TEX_SURFACE_NORMAL 12
 
 /* Image units: the silhouette opacity the piece rule writes (r8); the tiles of
    TR_SILHOUETTE_TILE x TR_SILHOUETTE_TILE pixels that hold a silhouette pixel (r8, 1),
@@ -179,5 +181,9 @@
 #define TR_LOC_TILE_REACH 29
 /* AFT's patch cull: */
 #define TR_LOC_PATCH_COUNT 30
+/* Hachures' field (hachure_field.comp.glsl): the inverse view-projection (a mat4: locations
+   31 to 34), the tone (1 light, 0 slope). */
+#define TR_LOC_HACHURE_INVERSE 31
+#define TR_LOC_HACHURE_TONE 35
 
 #endif

@@ -33,6 +33,7 @@ enum class ProgramId {
   AwayTiles,         // SIL: the tiles that hold an away-facing surface pixel
   TileRects,         // SIL and LAY: the rectangles of pixels near marked tiles they draw
   SurfaceCull,       // AFT: the patches that may face away in view, listed for the draw
+  HachureField,      // hachures: the fall-line field of the frame (after TFT; not a timed pass)
 };
 inline constexpr std::array kAllPrograms = {
     ProgramId::Surface,          ProgramId::PnCapture,   ProgramId::CreaseScore,          ProgramId::CreaseBridge,
@@ -40,7 +41,7 @@ inline constexpr std::array kAllPrograms = {
     ProgramId::CompositeSilhouettes, ProgramId::PelFields, ProgramId::PelExtract,         ProgramId::PelDraw,
     ProgramId::SurfaceId,        ProgramId::Adjacency,   ProgramId::EdgeClassify,         ProgramId::EdgeDraw,
     ProgramId::SilhouettePieces, ProgramId::PelPieces,   ProgramId::CreaseVisibility,     ProgramId::AwayTiles,
-    ProgramId::TileRects,        ProgramId::SurfaceCull};
+    ProgramId::TileRects,        ProgramId::SurfaceCull, ProgramId::HachureField};
 
 struct ProgramSpec {
   const char* name;

@@ -34,6 +34,7 @@
 #include "renderer/crease.hpp"
 #include "renderer/frame_params.hpp"
 #include "renderer/gl_context.hpp"
+#include "renderer/hachures.hpp"
 #include "renderer/stroke_visibility.hpp"
 #include "renderer/timing.hpp"
 #include "terrain/grid_mesh.hpp"
@@ -74,6 +75,11 @@ class TerrainRenderer {
 
   FrameResult render(const FrameParams& frame);
   FrameBuffers read_buffers() const;
+  // The hachures' field of the last frame (`view`: its FrameResult::view), computed on the
+  // GPU (hachure_field.comp.glsl) from TFT's depth and the normals it drew; the tone the
+  // light's (light_tone) or the slope's. The renderer must have been made with the hachures
+  // layer. renderer::hachure_field (hachures.hpp) is the CPU reference.
+  HachureField hachure_field(const View& view, bool light_tone) const;
 
   // The scene's bounding box in the exaggerated local frame, and its world origin.
   const Box& box() const;

@@ -59,6 +59,7 @@ const ProgramSpec& program_spec(ProgramId id) {
         {"away_tiles", compute({"away_tiles.comp.glsl"}), {}},
         {"tile_rects", compute({"tile_rects_list.glsl", "tile_rects.comp.glsl"}), {}},
         {"surface_cull", compute({"pn_control.glsl", "surface_cull.comp.glsl"}), {}},
+        {"hachure_field", compute({"hachure_field.comp.glsl"}), {}},
     };
   }();
   return specs.at(std::size_t(id));

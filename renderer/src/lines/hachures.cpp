@@ -189,8 +189,11 @@ void stretch_tone(HachureField& f, double min_slope) {
   for (std::size_t i = 0; i < f.tone.size(); ++i)
     if (f.slope[i] >= min_slope) t.push_back(f.tone[i]);  // NaN (no terrain) compares false
   if (t.size() < 2) return;
-  std::sort(t.begin(), t.end());
-  const double lo = t[t.size() * 2 / 100], hi = t[t.size() * 98 / 100];
+  const auto at = [&](std::size_t k) {
+    std::nth_element(t.begin(), t.begin() + std::ptrdiff_t(k), t.end());
+    return double(t[k]);
+  };
+  const double lo = at(t.size() * 2 / 100), hi = at(t.size() * 98 / 100);
   if (!(hi > lo + 1e-6)) return;
   for (float& x : f.tone) x = float(std::clamp((double(x) - lo) / (hi - lo), 0.0, 1.0));
 }
@@ -246,14 +249,21 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
   if (f.width <= 0 || f.height <= 0 || !(rule.spacing > 0)) return out;
   if (rule.row_interval > 0 && f.elevation.size() != f.slope.size())
     throw terrain::Error("hachure rows need the field's heights");
-  Occupancy occupied(f.width, f.height, std::max(1.0, rule.spacing / 3.0));
+  Occupancy occupied(f.width, f.height, std::max(1.0, rule.spacing));
   const Tracer tracer{f, rule, occupied};
+  // Seeds on a grid a third of the spacing apart; where the tone asks for k times the
+  // spacing, only every k-th seed of the grid each way (a seed there must keep k spacings
+  // from every hachure: the others would be tested in vain).
   const double seed_step = std::max(1.0, rule.spacing / 3.0);
-  for (double v = 0.5 * seed_step; v < f.height; v += seed_step)
-    for (double u = 0.5 * seed_step; u < f.width; u += seed_step) {
+  long iv = 0;
+  for (double v = 0.5 * seed_step; v < f.height; v += seed_step, ++iv) {
+    long iu = 0;
+    for (double u = 0.5 * seed_step; u < f.width; u += seed_step, ++iu) {
       const Vector2f seed{float(u), float(v)};
       const long id = long(out.size());
       if (!tracer.usable(seed)) continue;
+      const long k = long(tracer.spacing(seed) / rule.spacing + 1e-6);
+      if (iu % k || iv % k) continue;
       const long row = tracer.row(seed);
       if (occupied.near(seed, 1.0, tracer.spacing(seed), -1, row)) continue;
       const std::vector<Vector2f> up = tracer.run(seed, -1.0f, id, 0.0);
@@ -271,6 +281,7 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
       }
       out.push_back(std::move(h));
     }
+  }
   return out;
 }
 

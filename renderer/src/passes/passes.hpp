@@ -30,12 +30,15 @@ inline constexpr std::size_t kPatchesPerDraw = TR_PATCHES_PER_DRAW;
 static_assert(kPatchesPerDraw == 65536 / (32 * 32));
 
 struct SceneGpu {
-  SceneGpu(const terrain::GridMesh& mesh, int width, int height, bool reversed);
+  // With `normals`, TFT also writes the drawn surface's normal (surface_normal, RGBA32F):
+  // the hachures' field reads it.
+  SceneGpu(const terrain::GridMesh& mesh, int width, int height, bool reversed, bool normals = false);
   int width, height;
   bool reversed;  // depth 1 at the near plane, 0 at infinity (glClipControl)
   terrain::GridTopology topo;
   GlObject pos_buf, nrm_buf, index_buf, vao, empty_vao, ubo, surface_prog;
   GlObject surface_colour, toward_depth, away_depth;
+  GlObject surface_normal;  // empty unless normals were asked for
 
   float clear_depth() const { return reversed ? 0.0f : 1.0f; }
   void depth_state() const;
@@ -61,8 +64,9 @@ struct SceneGpu {
   GlObject tile_rects_buf, tile_rects_prog;
 };
 
-// A framebuffer over the given colour and depth textures (either may be null).
-GlObject make_framebuffer(const GlObject* colour, const GlObject* depth);
+// A framebuffer over the given colour and depth textures (either may be null) and, given,
+// a second colour attachment (fragment output 1).
+GlObject make_framebuffer(const GlObject* colour, const GlObject* depth, const GlObject* colour1 = nullptr);
 
 // The colour and depth targets of a line layer (creases, PELs, edges) and their
 // framebuffer; clear() empties them (colour 0, depth far).

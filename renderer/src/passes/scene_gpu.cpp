@@ -8,7 +8,7 @@
 
 namespace renderer::passes {
 
-SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev)
+SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev, bool normals)
     : width(w), height(h), reversed(rev), topo(mesh.topo) {
   // Positions and normals in two buffers, faces as patches of 3.
   pos_buf = make_buffer(mesh.n_vertices() * sizeof(Eigen::Vector3f), mesh.positions.data(), 0);
@@ -34,6 +34,7 @@ SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev)
   surface_colour = make_texture(GL_RGBA8, width, height);
   toward_depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
   away_depth = make_texture(GL_DEPTH_COMPONENT32F, width, height);
+  if (normals) surface_normal = make_texture(GL_RGBA32F, width, height);
   tile_rects_buf = make_buffer(16 + 16 * tile_count(), nullptr, GL_DYNAMIC_STORAGE_BIT);
   tile_rects_prog = build_program(ProgramId::TileRects);
 }
@@ -95,11 +96,17 @@ void SceneGpu::draw_patch_list(const GlObject& program, int mode, const GlObject
   glVertexArrayElementBuffer(vao.id(), index_buf.id());
 }
 
-GlObject make_framebuffer(const GlObject* colour, const GlObject* depth) {
+GlObject make_framebuffer(const GlObject* colour, const GlObject* depth, const GlObject* colour1) {
   GlObject fbo(GlKind::Framebuffer);
   if (colour) glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT0, colour->id(), 0);
   if (depth) glNamedFramebufferTexture(fbo.id(), GL_DEPTH_ATTACHMENT, depth->id(), 0);
-  glNamedFramebufferDrawBuffer(fbo.id(), colour ? GL_COLOR_ATTACHMENT0 : GL_NONE);
+  if (colour1 && colour) {
+    glNamedFramebufferTexture(fbo.id(), GL_COLOR_ATTACHMENT1, colour1->id(), 0);
+    const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(fbo.id(), 2, both);
+  } else {
+    glNamedFramebufferDrawBuffer(fbo.id(), colour ? GL_COLOR_ATTACHMENT0 : GL_NONE);
+  }
   if (glCheckNamedFramebufferStatus(fbo.id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
     throw terrain::Error("internal: incomplete framebuffer");
   return fbo;

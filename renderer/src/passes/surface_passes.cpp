@@ -9,12 +9,16 @@
 namespace renderer::passes {
 
 TowardPass::TowardPass(const SceneGpu& scene)
-    : PassBase(TFT), s_(scene), fbo_(make_framebuffer(&scene.surface_colour, &scene.toward_depth)) {}
+    : PassBase(TFT),
+      s_(scene),
+      fbo_(make_framebuffer(&scene.surface_colour, &scene.toward_depth,
+                            scene.surface_normal.id() ? &scene.surface_normal : nullptr)) {}
 
 void TowardPass::execute(const FrameInputs&) {
   const float zero4[4] = {0, 0, 0, 0}, far_depth = s_.clear_depth();
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero4);
+  if (s_.surface_normal.id()) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 1, zero4);
   glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &far_depth);
   s_.depth_state();
   s_.draw_surface(0);

@@ -33,7 +33,8 @@ const std::map<std::string, int> kStorageBlocks = {
     {"PieceList", TR_SSBO_PIECE_LIST},           {"FaceSegments", TR_SSBO_PEL_FACE_SEGMENTS},
     {"PelSmoothed", TR_SSBO_PEL_SMOOTHED},       {"CreaseSamples", TR_SSBO_CREASE_SAMPLES},
     {"TileRects", TR_SSBO_TILE_RECTS},           {"SurfaceIndices", TR_SSBO_SURFACE_INDICES},
-    {"AwayPatches", TR_SSBO_AWAY_PATCHES},       {"AwayDraws", TR_SSBO_AWAY_DRAWS}};
+    {"AwayPatches", TR_SSBO_AWAY_PATCHES},       {"AwayDraws", TR_SSBO_AWAY_DRAWS},
+    {"HachureField", TR_SSBO_HACHURE_FIELD}};
 const std::map<std::string, int> kSamplers = {
     {"u_toward", TR_TEX_TOWARD_DEPTH},       {"u_away", TR_TEX_AWAY_DEPTH},
     {"u_surface_colour", TR_TEX_SURFACE_COLOUR}, {"u_crease", TR_TEX_CREASE_COLOUR},
@@ -42,7 +43,7 @@ const std::map<std::string, int> kSamplers = {
     {"u_ids", TR_TEX_TRIANGLE_ID},           {"u_id_depth", TR_TEX_ID_DEPTH},
     {"u_edge", TR_TEX_EDGE_COLOUR},          {"u_edge_depth", TR_TEX_EDGE_DEPTH},
     {"u_silhouette_tiles", TR_TEX_SILHOUETTE_TILES}, {"u_away_tiles", TR_TEX_AWAY_TILES},
-    {"u_marks", TR_TEX_TILE_MARKS}};
+    {"u_marks", TR_TEX_TILE_MARKS},          {"u_normal", TR_TEX_SURFACE_NORMAL}};
 const std::map<std::string, int> kImages = {{"u_opacity", TR_IMG_SILHOUETTE_OPACITY},
                                             {"u_tiles", TR_IMG_SILHOUETTE_TILES},
                                             {"u_away_tiles", TR_IMG_AWAY_TILES}};
@@ -76,7 +77,9 @@ const std::map<std::string, int> kUniformLocations = {
     {"u_piece_min", TR_LOC_PIECE_MIN},
     {"u_crease_stage", TR_LOC_CREASE_STAGE},
     {"u_reach", TR_LOC_TILE_REACH},
-    {"u_patches", TR_LOC_PATCH_COUNT}};
+    {"u_patches", TR_LOC_PATCH_COUNT},
+    {"u_inverse", TR_LOC_HACHURE_INVERSE},
+    {"u_tone", TR_LOC_HACHURE_TONE}};
 const std::map<std::string, int> kAttributes = {{"a_position", TR_ATTR_POSITION}, {"a_normal", TR_ATTR_NORMAL}};
 
 #define TR_OFFSET(type, name) {#name, offsetof(FrameBlock, name)},
@@ -170,10 +173,10 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
     }
   }
   // The checks ran on the interfaces there are (a program could lose them silently).
-  EXPECT_EQ(computes, 12u);
+  EXPECT_EQ(computes, 13u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 28u);  // silhouette 2, away tiles 1, tile rects 2, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1
+  EXPECT_EQ(samplers, 30u);  // silhouette 2, away tiles 1, tile rects 2, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1, hachure field 2
   EXPECT_EQ(images, 4u);     // pieces (opacity), silhouette and adjacency (tiles), away tiles
   EXPECT_GE(locations, 14u);
 }

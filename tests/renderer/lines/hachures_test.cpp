@@ -13,6 +13,7 @@
 #include "renderer/gl_context.hpp"
 #include "renderer/terrain_renderer.hpp"
 #include "terrain/error.hpp"
+#include "terrain/hillshade.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -156,6 +157,55 @@ TEST(Hachures, TheFieldOfAConePointsDownItsFlanks) {
   EXPECT_GE(double(slope_ok), 0.95 * double(flank));
   const auto hs = renderer::trace_hachures(f, {});
   EXPECT_GT(hs.size(), 20u);
+}
+
+// The field on the GPU (TerrainRenderer::hachure_field, hachure_field.comp.glsl) against
+// the CPU reference (hachure_field: the PN surface above each unprojected pixel) on MSH at
+// 50 m, the patches tessellated finely, at exaggeration 1 and 2, the light's tone and the
+// slope's: the same terrain pixels, and on >= 95 % of the steep ones the fall line within
+// 5 degrees, the slope within 0.02 rad, the tone within 0.03 and the height within 1 m. At
+// exaggeration 2 the slope within 0.04 and the tone within 0.05: the GPU draws the PN
+// patches of the exaggerated mesh, the reference exaggerates the true PN surface (they
+// differ a little; at e = 1 they are the same surface).
+TEST(Hachures, GpuFieldMatchesTheCpuReference) {
+  const terrain::GridMesh& mesh = terrain::test::msh_50m_mesh();
+  renderer::GlContext ctx;
+  for (const double e : {1.0, 2.0})
+    for (const bool light_tone : {true, false}) {
+      SCOPED_TRACE(::testing::Message() << "exaggeration " << e << (light_tone ? ", light" : ", slope"));
+      renderer::Style style;
+      style.exaggeration = e;
+      style.pixels_per_edge = 1;  // the patches tessellated finely: the drawn surface is the PN surface
+      renderer::TerrainRenderer r(ctx, mesh, nullptr, 320, 180, renderer::Layers{}, style);
+      renderer::FrameParams fp;
+      fp.camera.view_az = 250;
+      fp.camera.view_alt = 40;
+      const auto res = r.render(fp);
+      const Eigen::Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
+      const HachureField gpu = r.hachure_field(res.view, light_tone);
+      const HachureField cpu =
+          renderer::hachure_field(mesh, res.view, e, r.read_buffers().toward_depth, light_tone ? &light : nullptr);
+      std::size_t both = 0, either = 0, steep = 0, fall = 0, slope = 0, tone = 0, height = 0;
+      for (std::size_t i = 0; i < gpu.slope.size(); ++i) {
+        const bool g = !std::isnan(gpu.slope[i]), c = !std::isnan(cpu.slope[i]);
+        either += g || c, both += g && c;
+        if (!(g && c) || cpu.slope[i] < 0.05f) continue;
+        ++steep;
+        fall += gpu.fall[i].dot(cpu.fall[i]) > std::cos(5 * std::numbers::pi / 180);
+        slope += std::abs(gpu.slope[i] - cpu.slope[i]) < (e == 1 ? 0.02f : 0.04f);
+        tone += std::abs(gpu.tone[i] - cpu.tone[i]) < (e == 1 ? 0.03f : 0.05f);
+        height += std::abs(gpu.elevation[i] - cpu.elevation[i]) < 1.0f;
+      }
+      ASSERT_GT(steep, 10000u);
+      EXPECT_GE(double(both), 0.99 * double(either));
+      EXPECT_GE(double(fall), 0.95 * double(steep));
+      EXPECT_GE(double(slope), 0.95 * double(steep));
+      EXPECT_GE(double(tone), 0.95 * double(steep));
+      EXPECT_GE(double(height), 0.95 * double(steep));
+      std::cout << "e " << e << (light_tone ? " light" : " slope") << ": terrain " << both << " of " << either
+                << ", fall " << double(fall) / double(steep) << ", slope " << double(slope) / double(steep) << ", tone "
+                << double(tone) / double(steep) << ", height " << double(height) / double(steep) << "\n";
+    }
 }
 
 // Imhof's rows: on a uniform slope whose height falls along the fall line, every hachure
