@@ -137,7 +137,12 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
     rule.row_interval = row_interval_for(page_scale(res.view, r.box()) / style.exaggeration,
                                          rule.spacing, std::atan(std::tan(median_slope(field, rule.min_slope)) /
                                                                  style.exaggeration));
-  std::vector<Hachure> hachures = trace_hachures(field, rule);
+  // Seeds that move with the ground first (frame-to-frame coherence): cells of about half
+  // the spacing at the page's scale, the size a power of two metres, so that it stays the
+  // same while the camera moves a little.
+  const double cell = std::exp2(std::round(std::log2(std::max(1e-3, 0.5 * page_scale(res.view, r.box()) * rule.spacing))));
+  const std::vector<Eigen::Vector2f> seeds = surface_seeds(res.view, buffers.toward_depth, rule.spacing, cell);
+  std::vector<Hachure> hachures = trace_hachures(field, rule, seeds);
   return {std::move(field), rule, std::move(hachures)};
 }
 
@@ -166,7 +171,8 @@ VectorLayer hachure_paths(std::vector<Hachure> hachures, const Style& style) {
 }
 
 FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const FrameResult& res, const FrameParams& fp,
-                            const Style& style, const Layers& layers) {
+                            const Style& style, const Layers& layers,
+                            const std::vector<Eigen::Vector3f>* previous_hachures) {
   const FrameBuffers buffers = r.read_buffers();
   FrameStats st;
   st.lines = frame_lines(scene, r, res, buffers, fp, style);
@@ -177,6 +183,12 @@ FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const 
   if (layers.hachures) {  // traced again, as write_frame_files traces them (deterministic)
     const TracedHachures t = trace_frame_hachures(scene, r, res, buffers, fp, style);
     st.hachures = hachure_stats(t.field, t.hachures, t.rule);
+    for (const Hachure& h : t.hachures)
+      for (const Eigen::Vector2f& p : h.points)
+        if (const auto s = surface_point(res.view, buffers.toward_depth, p.x(), p.y()))
+          st.hachures->surface.push_back(s->cast<float>());
+    if (previous_hachures)
+      st.hachure_coherence = hachure_coherence(*previous_hachures, res.view, buffers.toward_depth, st.hachures->ink);
   }
   return st;
 }

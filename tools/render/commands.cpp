@@ -201,18 +201,21 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   std::string stats_csv = rr::line_stats_csv_header();
   std::vector<std::vector<float>> drawn;
   std::vector<std::vector<double>> pixels;
-  std::vector<std::vector<std::uint8_t>> hachure_ink;
+  std::vector<Eigen::Vector3f> previous_hachures;  // the last frame's, on the surface
+  rr::Coherence coherence;
   const auto progress = tt::terminal_progress(verb, "render");
   for (std::size_t i = 0; i < frames.size(); ++i) {
     f.frame = frames[i];
     const rr::FrameResult res = r.render(f.frame);
     timings.push_back(res.timings);
     if (a.line_stats) {
-      rr::FrameStats st = rr::frame_line_stats(scene, r, res, f.frame, f.style, f.layers);
+      rr::FrameStats st =
+          rr::frame_line_stats(scene, r, res, f.frame, f.style, f.layers, i ? &previous_hachures : nullptr);
       stats_csv += rr::line_stats_csv_row(i, st);
       drawn.push_back(std::move(st.lines.drawn));
       pixels.push_back(std::move(st.lines.pixels));
-      if (st.hachures) hachure_ink.push_back(std::move(st.hachures->ink));
+      if (st.hachures) previous_hachures = std::move(st.hachures->surface);
+      coherence.counted += st.hachure_coherence.counted, coherence.near += st.hachure_coherence.near;
     }
     std::vector<std::string> paths;
     for (const std::string& format : formats) paths.push_back((dir / frame_name(i, format)).string());
@@ -227,7 +230,7 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   std::cout << rr::timing_tables(timings);
   if (a.line_stats) std::cout << fmt::format("crease flicker: {:.4f}\n", rr::flicker(drawn, pixels));
   if (a.line_stats && f.layers.hachures)
-    std::cout << fmt::format("hachure coherence: {:.4f}\n", rr::ink_coherence(hachure_ink, s.width, s.height));
+    std::cout << fmt::format("hachure coherence: {:.4f}\n", coherence.share());
   return 0;
 }
 

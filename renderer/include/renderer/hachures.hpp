@@ -16,6 +16,7 @@
 // (Lehmann's scale: steeper or darker, denser).
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -63,8 +64,39 @@ struct Hachure {
   long row = -1;                        // rows: the band floor(elevation / row_interval); else -1
 };
 
-// The evenly spaced hachures of `field` under `rule`. Deterministic (seeds in row order).
-std::vector<Hachure> trace_hachures(const HachureField& field, const HachureRule& rule);
+// The evenly spaced hachures of `field` under `rule`. Deterministic: the seeds `first`
+// (pixel coordinates, in their order: surface_seeds gives ones that stay on the surface
+// from frame to frame), then the grid's in row order.
+std::vector<Hachure> trace_hachures(const HachureField& field, const HachureRule& rule,
+                                    const std::vector<Eigen::Vector2f>& first = {});
+
+// The point of the surface a frame shows at each pixel (local frame, heights exaggerated),
+// unprojected from its window depth (`toward_depth`, row 0 at the top); none where the
+// depth is the clear depth.
+std::optional<Eigen::Vector3d> surface_point(const View& view, const std::vector<float>& toward_depth, double u, double v);
+
+// Coherence of hachures along a flight (issue 51; the crease flicker measure, applied to
+// hachures): the points `previous` (local frame, the hachures of frame k on its surface)
+// projected into frame k + 1 (`next`, its depth and its hachure ink, width x height); of
+// those that land in the image on surface that shows them (within 1 % of their distance
+// of the surface point there), the share with ink of frame k + 1 within `radius` pixels.
+// Its `counted` the points that landed (0: the share is 1).
+struct Coherence {
+  std::size_t counted = 0, near = 0;
+  double share() const { return counted ? double(near) / double(counted) : 1.0; }
+};
+Coherence hachure_coherence(const std::vector<Eigen::Vector3f>& previous, const View& next,
+                            const std::vector<float>& next_depth, const std::vector<std::uint8_t>& next_ink,
+                            int radius = 1);
+
+// Seeds that stay on the surface as the camera moves (frame-to-frame coherence): the
+// ground under the frame is cut into square cells `cell` metres a side (local x, y); for
+// every cell a pixel of the grid a third of `spacing` apart falls in, the pixel whose ground
+// point (surface_point of the frame's `toward_depth`) lies nearest the cell's centre is its
+// seed, and the seeds are ordered by a hash of their cell. The same cells win in the next
+// frame, their seeds moved with the ground: the hachures move with it.
+std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<float>& toward_depth, double spacing,
+                                           double cell);
 
 // The field of a frame: each pixel whose toward depth (`toward_depth`, the frame's TFT
 // buffer, row 0 at the top) shows surface is unprojected to the mesh's local frame (heights
@@ -84,6 +116,7 @@ struct HachureStats {
   double spacing_share = 0;  // points whose nearest point of another hachure is 0.5 to 2 local spacings away
   double close_share = 0, far_share = 0;  // the others: nearer than 0.5, farther than 2
   std::vector<std::uint8_t> ink;  // width x height: 1 where a hachure's point lies (coherence between frames)
+  std::vector<Eigen::Vector3f> surface;  // the hachures' points on the surface (local frame; filled by the scene)
 };
 // The local spacing is the rule's spacing / tone (as the tracer uses it); a point whose
 // nearest other hachure is farther than 2 local spacings counts against the share.

@@ -104,10 +104,5 @@ SilhouetteStats silhouette_stats(const std::vector<std::uint8_t>& opacity, int w
 // 0 for fewer than two frames or no line.
 double flicker(const std::vector<std::vector<float>>& drawn, const std::vector<std::vector<double>>& pixels);
 
-// Coherence of ink along a flight (issue 51, hachures): over consecutive frames, the share
-// of frame k's ink pixels (width x height, non-zero: ink) with ink of frame k + 1 within
-// `radius` pixels (a (2 radius + 1)^2 window), pooled over all pairs. 1 for fewer than two
-// frames or no ink.
-double ink_coherence(const std::vector<std::vector<std::uint8_t>>& ink, int width, int height, int radius = 1);
 
 }  // namespace renderer

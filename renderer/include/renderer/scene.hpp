@@ -80,9 +80,13 @@ struct FrameStats {
   LineStats creases;
   std::optional<SilhouetteStats> silhouettes;
   std::optional<HachureStats> hachures;  // with the hachures layer
+  Coherence hachure_coherence;           // against the previous frame's hachures, when given
 };
+// `previous_hachures`: the last frame's HachureStats::surface (a flight's frames in turn),
+// for hachure_coherence.
 FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                            const FrameParams& fp, const Style& style, const Layers& layers);
+                            const FrameParams& fp, const Style& style, const Layers& layers,
+                            const std::vector<Eigen::Vector3f>* previous_hachures = nullptr);
 // The figures as `terrain-render frame --line-stats` prints them, one "name: value" a line.
 std::string line_stats_text(const FrameStats& s);
 // batch's line_stats.csv: its header line and frame i's row.

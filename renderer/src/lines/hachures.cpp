@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 #include <fmt/format.h>
 
@@ -244,14 +245,107 @@ HachureField plan_hachure_field(const terrain::GridMesh& mesh, const PlanView& p
   return f;
 }
 
-std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& rule) {
+std::optional<Eigen::Vector3d> surface_point(const View& view, const std::vector<float>& depth_buf, double u, double v) {
+  if (u < 0 || v < 0 || u >= view.width || v >= view.height) return std::nullopt;
+  const double depth = depth_buf[std::size_t(v) * std::size_t(view.width) + std::size_t(u)];
+  if (far_depth(view.reversed_z, depth) >= 1.0) return std::nullopt;
+  const Eigen::Matrix4d inv = view.view_projection().inverse();
+  const double z_ndc = view.reversed_z ? depth : 2.0 * depth - 1.0;
+  const Eigen::Vector4d w = inv * Eigen::Vector4d((std::floor(u) + 0.5) / view.width * 2.0 - 1.0,
+                                                  1.0 - (std::floor(v) + 0.5) / view.height * 2.0, z_ndc, 1.0);
+  return Eigen::Vector3d(w.head<3>() / w.w());
+}
+
+Coherence hachure_coherence(const std::vector<Eigen::Vector3f>& previous, const View& next,
+                            const std::vector<float>& next_depth, const std::vector<std::uint8_t>& next_ink, int radius) {
+  Coherence c;
+  const int w = next.width, h = next.height;
+  for (const Eigen::Vector3f& p : previous) {
+    const Projected q = project(next, p.cast<double>());
+    if (!q.in_front || q.u < 0 || q.v < 0 || q.u >= w || q.v >= h) continue;
+    const auto s = surface_point(next, next_depth, q.u, q.v);
+    if (!s || (*s - p.cast<double>()).norm() > 0.01 * (next.eye - *s).norm()) continue;  // hidden, or off the surface
+    ++c.counted;
+    bool hit = false;
+    const int x = int(q.u), y = int(q.v);
+    for (int yy = std::max(0, y - radius); yy <= std::min(h - 1, y + radius) && !hit; ++yy)
+      for (int xx = std::max(0, x - radius); xx <= std::min(w - 1, x + radius) && !hit; ++xx)
+        hit = next_ink[std::size_t(yy) * std::size_t(w) + std::size_t(xx)] != 0;
+    c.near += hit;
+  }
+  return c;
+}
+
+std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<float>& depth, double spacing,
+                                           double cell) {
+  struct Best {
+    Vector2f seed;
+    float d2;
+  };
+  std::unordered_map<std::uint64_t, Best> best;
+  const double step = std::max(1.0, spacing / 3.0);
+  const Eigen::Matrix4d inv = view.view_projection().inverse();
+  for (double v = 0.5 * step; v < view.height; v += step)
+    for (double u = 0.5 * step; u < view.width; u += step) {
+      const float d = depth[std::size_t(v) * std::size_t(view.width) + std::size_t(u)];
+      if (far_depth(view.reversed_z, double(d)) >= 1.0) continue;
+      const double z_ndc = view.reversed_z ? d : 2.0 * d - 1.0;
+      const Eigen::Vector4d q = inv * Eigen::Vector4d((std::floor(u) + 0.5) / view.width * 2.0 - 1.0,
+                                                      1.0 - (std::floor(v) + 0.5) / view.height * 2.0, z_ndc, 1.0);
+      const Vector2f g = (q.head<2>() / q.w()).cast<float>();
+      const double cx = std::floor(g.x() / cell), cy = std::floor(g.y() / cell);
+      const float d2 = float((Eigen::Vector2d(g.cast<double>()) - cell * Eigen::Vector2d(cx + 0.5, cy + 0.5)).squaredNorm());
+      const std::uint64_t key = (std::uint64_t(std::int64_t(cx)) << 32) ^ std::uint64_t(std::uint32_t(std::int64_t(cy)));
+      const auto [it, fresh] = best.try_emplace(key, Best{Vector2f(float(u), float(v)), d2});
+      if (!fresh && d2 < it->second.d2) it->second = {Vector2f(float(u), float(v)), d2};
+    }
+  std::vector<std::pair<std::uint64_t, Vector2f>> order;
+  order.reserve(best.size());
+  for (const auto& [key, b] : best) {
+    std::uint64_t z = key + 0x9e3779b97f4a7c15ull;  // splitmix64: a fixed shuffle of the cells
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    order.emplace_back(z ^ (z >> 31), b.seed);
+  }
+  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<Vector2f> out;
+  out.reserve(order.size());
+  for (const auto& o : order) out.push_back(o.second);
+  return out;
+}
+
+std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& rule,
+                                    const std::vector<Eigen::Vector2f>& first) {
   std::vector<Hachure> out;
   if (f.width <= 0 || f.height <= 0 || !(rule.spacing > 0)) return out;
   if (rule.row_interval > 0 && f.elevation.size() != f.slope.size())
     throw terrain::Error("hachure rows need the field's heights");
   Occupancy occupied(f.width, f.height, std::max(1.0, rule.spacing));
   const Tracer tracer{f, rule, occupied};
-  // Seeds on a grid a third of the spacing apart; where the tone asks for k times the
+  // A seed is traced where the field is usable there and no hachure lies within its spacing.
+  const auto trace_from = [&](const Vector2f& seed) {
+    const long id = long(out.size());
+    const long row = tracer.row(seed);
+    if (occupied.near(seed, 1.0, tracer.spacing(seed), -1, row)) return;
+    const std::vector<Vector2f> up = tracer.run(seed, -1.0f, id, 0.0);
+    const std::vector<Vector2f> down = tracer.run(seed, 1.0f, id, 0.5 * double(up.size()));
+    if (0.5 * double(up.size() + down.size()) < rule.min_length) return;
+    Hachure h;
+    h.row = row;
+    h.points.assign(up.rbegin(), up.rend());
+    h.points.push_back(seed);
+    h.points.insert(h.points.end(), down.begin(), down.end());
+    for (const Vector2f& p : h.points) {
+      h.tone.push_back(f.tone[tracer.at(p)]);
+      h.slope.push_back(f.slope[tracer.at(p)]);
+      occupied.add(p, tracer.spacing(p), id, row);
+    }
+    out.push_back(std::move(h));
+  };
+  for (const Vector2f& seed : first)
+    if (seed.x() >= 0 && seed.y() >= 0 && seed.x() < float(f.width) && seed.y() < float(f.height) && tracer.usable(seed))
+      trace_from(seed);
+  // Then seeds on a grid a third of the spacing apart; where the tone asks for k times the
   // spacing, only every k-th seed of the grid each way (a seed there must keep k spacings
   // from every hachure: the others would be tested in vain).
   const double seed_step = std::max(1.0, rule.spacing / 3.0);
@@ -260,26 +354,10 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
     long iu = 0;
     for (double u = 0.5 * seed_step; u < f.width; u += seed_step, ++iu) {
       const Vector2f seed{float(u), float(v)};
-      const long id = long(out.size());
       if (!tracer.usable(seed)) continue;
       const long k = long(tracer.spacing(seed) / rule.spacing + 1e-6);
       if (iu % k || iv % k) continue;
-      const long row = tracer.row(seed);
-      if (occupied.near(seed, 1.0, tracer.spacing(seed), -1, row)) continue;
-      const std::vector<Vector2f> up = tracer.run(seed, -1.0f, id, 0.0);
-      const std::vector<Vector2f> down = tracer.run(seed, 1.0f, id, 0.5 * double(up.size()));
-      if (0.5 * double(up.size() + down.size()) < rule.min_length) continue;
-      Hachure h;
-      h.row = row;
-      h.points.assign(up.rbegin(), up.rend());
-      h.points.push_back(seed);
-      h.points.insert(h.points.end(), down.begin(), down.end());
-      for (const Vector2f& p : h.points) {
-        h.tone.push_back(f.tone[tracer.at(p)]);
-        h.slope.push_back(f.slope[tracer.at(p)]);
-        occupied.add(p, tracer.spacing(p), id, row);
-      }
-      out.push_back(std::move(h));
+      trace_from(seed);
     }
   }
   return out;

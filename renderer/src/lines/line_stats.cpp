@@ -229,22 +229,4 @@ double flicker(const std::vector<std::vector<float>>& drawn, const std::vector<s
   return total > 0 ? changed / total : 0.0;
 }
 
-double ink_coherence(const std::vector<std::vector<std::uint8_t>>& ink, int w, int h, int radius) {
-  std::size_t n = 0, near = 0;
-  for (std::size_t k = 0; k + 1 < ink.size(); ++k) {
-    const auto &a = ink[k], &b = ink[k + 1];
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        if (!a[std::size_t(y) * std::size_t(w) + std::size_t(x)]) continue;
-        ++n;
-        bool hit = false;
-        for (int v = std::max(0, y - radius); v <= std::min(h - 1, y + radius) && !hit; ++v)
-          for (int u = std::max(0, x - radius); u <= std::min(w - 1, x + radius) && !hit; ++u)
-            hit = b[std::size_t(v) * std::size_t(w) + std::size_t(u)] != 0;
-        near += hit;
-      }
-  }
-  return n ? double(near) / double(n) : 1.0;
-}
-
 }  // namespace renderer
