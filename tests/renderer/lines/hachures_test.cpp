@@ -234,7 +234,7 @@ TEST(Hachures, SurfaceSeedsKeepHachuresOnTheGround) {
   };
   const Frame a = frame(0), b = frame(40);
   const renderer::HachureRule rule;
-  const double cell = 0.5 * renderer::page_scale(a.view, r.box()) * rule.spacing;
+  const double cell = 2.0 * renderer::page_scale(a.view, r.box()) * rule.spacing;
   auto coherence = [&](bool on_ground) {
     const auto ha = renderer::trace_hachures(
         a.field, rule, on_ground ? renderer::surface_seeds(a.view, a.depth, rule.spacing, cell) : std::vector<Vector2f>{});
