@@ -3,9 +3,13 @@
 #include "renderer/camera.hpp"
 #include "renderer/gl_contract.hpp"
 
+#include <Eigen/LU>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 
 #include "drainage/dv_views.hpp"
 #include "renderer/hachures.hpp"
@@ -122,10 +126,38 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
   return art;
 }
 
+namespace {
+
+// Ground that dem2mesh --fill-nodata invented (GridMesh::filled) gets no hachures, as it
+// gets no drainage: its pixels count as no terrain.
+void leave_out_filled(HachureField& field, const terrain::GridMesh& mesh, const View& view,
+                      const std::vector<float>& toward_depth) {
+  const auto& t = mesh.topo;
+  const Eigen::Matrix4d inv = view.view_projection().inverse();
+  for (int v = 0; v < field.height; ++v)
+    for (int u = 0; u < field.width; ++u) {
+      const std::size_t i = std::size_t(v) * std::size_t(field.width) + std::size_t(u);
+      if (std::isnan(field.slope[i])) continue;
+      const double d = toward_depth[i], z_ndc = view.reversed_z ? d : 2.0 * d - 1.0;
+      const Eigen::Vector4d q =
+          inv * Eigen::Vector4d((u + 0.5) / view.width * 2.0 - 1.0, 1.0 - (v + 0.5) / view.height * 2.0, z_ndc, 1.0);
+      const Eigen::Vector3d p3 = q.head<3>() / q.w();
+      const Eigen::Vector3d* p = &p3;
+      const long c = std::clamp(long(std::floor(p->x() / mesh.geo.dx)), 0L, long(t.cols) - 2);
+      const long r = std::clamp(long(std::floor(-p->y() / mesh.geo.dy)), 0L, long(t.rows) - 2);
+      const std::size_t k = std::size_t(r) * t.cols + std::size_t(c);
+      if (mesh.filled[k] || mesh.filled[k + 1] || mesh.filled[k + t.cols] || mesh.filled[k + t.cols + 1])
+        field.slope[i] = std::numeric_limits<float>::quiet_NaN();
+    }
+}
+
+}  // namespace
+
 TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                                     const FrameBuffers& buffers, const FrameParams& fp, const Style& style) {
-  (void)scene, (void)fp;  // the field comes from the frame the renderer drew (its light)
+  (void)fp;  // the field comes from the frame the renderer drew (its light)
   HachureField field = r.hachure_field(res.view, style.hachure_light_tone);  // on the GPU
+  if (!scene.mesh.filled.empty()) leave_out_filled(field, scene.mesh, res.view, buffers.toward_depth);
   field.blocked.assign(field.slope.size(), 0);
   for (std::size_t i = 0; i < field.blocked.size(); ++i)
     field.blocked[i] = (i < buffers.crease.size() && buffers.crease[i]) ||

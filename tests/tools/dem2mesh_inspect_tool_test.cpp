@@ -15,6 +15,7 @@
 #include "terrain/dem_io.hpp"
 #include "terrain/mesh_io.hpp"
 #include "test_support.hpp"
+#include "tools/ink.hpp"
 
 namespace terrain {
 namespace {
@@ -246,6 +247,32 @@ TEST(Dem2mesh, FilledSamplesCarryNoDrainage) {
   for (std::size_t r = 0; r < 80; ++r)
     for (std::size_t c = 0; c < 80; ++c)
       EXPECT_EQ(bool(links.valid[r * 80 + c]), !(r >= 29 && r <= 50 && c >= 29 && c <= 50)) << r << " " << c;
+  // Nor hachures (issue 51): from straight above, the slopes exaggerated 5 times (steeper
+  // than the hachures' 0.05 rad), none inside the hole (its inner part, in the terrain's box
+  // on the image), and some around it.
+  const std::string frame = tool("terrain-render") + " frame " + m + " --view top --size 400x400 --exaggeration 5 -q -o ";
+  ASSERT_EQ(run(frame + dir.path("mask.png") + " --layers mask").exit_code, 0);
+  ASSERT_EQ(run(frame + dir.path("h.png") + " --layers mask,hachures --hachure-spacing 4").exit_code, 0);
+  const auto white = terrain::test::ink_of(dir.path("mask.png")), ink = terrain::test::ink_of(dir.path("h.png"));
+  int x0 = 400, x1 = 0, y0 = 400, y1 = 0;  // the terrain's box: the mask's pixels (not background, no ink)
+  OIIO::ImageBuf mask(dir.path("mask.png"));
+  for (int y = 0; y < 400; ++y)
+    for (int x = 0; x < 400; ++x) {
+      float px[3];
+      mask.getpixel(x, y, px, 3);
+      if (px[0] > 0.99f && px[1] > 0.99f && px[2] > 0.99f) x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
+  ASSERT_GT(x1 - x0, 200);
+  ASSERT_EQ(terrain::test::count(white), 0u);
+  std::size_t inside = 0, outside = 0;
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const double fx = double(x - x0) / (x1 - x0), fy = double(y - y0) / (y1 - y0);
+      const bool in_hole = fx > 0.42 && fx < 0.57 && fy > 0.42 && fy < 0.57;
+      (in_hole ? inside : outside) += ink.on[std::size_t(y) * 400 + std::size_t(x)];
+    }
+  EXPECT_EQ(inside, 0u);
+  EXPECT_GT(outside, 500u);
 }
 
 TEST(Dem2mesh, HelpShowsAnExample) {
