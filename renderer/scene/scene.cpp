@@ -141,10 +141,9 @@ void leave_out_filled(HachureField& field, const terrain::GridMesh& mesh, const 
       const double d = toward_depth[i], z_ndc = view.reversed_z ? d : 2.0 * d - 1.0;
       const Eigen::Vector4d q =
           inv * Eigen::Vector4d((u + 0.5) / view.width * 2.0 - 1.0, 1.0 - (v + 0.5) / view.height * 2.0, z_ndc, 1.0);
-      const Eigen::Vector3d p3 = q.head<3>() / q.w();
-      const Eigen::Vector3d* p = &p3;
-      const long c = std::clamp(long(std::floor(p->x() / mesh.geo.dx)), 0L, long(t.cols) - 2);
-      const long r = std::clamp(long(std::floor(-p->y() / mesh.geo.dy)), 0L, long(t.rows) - 2);
+      const Eigen::Vector3d p = q.head<3>() / q.w();
+      const long c = std::clamp(long(std::floor(p.x() / mesh.geo.dx)), 0L, long(t.cols) - 2);
+      const long r = std::clamp(long(std::floor(-p.y() / mesh.geo.dy)), 0L, long(t.rows) - 2);
       const std::size_t k = std::size_t(r) * t.cols + std::size_t(c);
       if (mesh.filled[k] || mesh.filled[k + 1] || mesh.filled[k + t.cols] || mesh.filled[k + t.cols + 1])
         field.slope[i] = std::numeric_limits<float>::quiet_NaN();

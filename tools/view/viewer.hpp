@@ -104,16 +104,19 @@ class Viewer {
   }
 
   // A frame: full size, or the cheap half-size one. With the hachures layer, a full frame
-  // shows them as terrain-render draws them (traced on the CPU: renderer/hachures.hpp); a
-  // cheap frame, while moving, goes without.
+  // shows them as terrain-render draws them (renderer/hachures.hpp); a cheap frame, while
+  // moving, goes without.
   const rr::FrameResult& render(bool cheap) {
     bring_up_to_date();
     if (before_gl) before_gl();
     gl_.make_current();
-    if (cheap && !cheap_)
+    if (cheap && !cheap_) {
+      rr::Layers layers = s_.layers;
+      layers.hachures = false;  // cheap frames go without (no normals target)
       cheap_ = std::make_unique<rr::TerrainRenderer>(gl_, scene_.mesh, scene_.creases ? &*scene_.creases : nullptr,
-                                                     std::max(16, s_.width / 2), std::max(16, s_.height / 2),
-                                                     s_.layers, rr::drawn_style(s_));
+                                                     std::max(16, s_.width / 2), std::max(16, s_.height / 2), layers,
+                                                     rr::drawn_style(s_));
+    }
     const auto t0 = Clock::now();
     last_ = (cheap ? cheap_ : full_)->render(s_.frame);
     last_cheap_ = cheap;

@@ -122,6 +122,18 @@ struct Tracer {
   }
 };
 
+// A field of w x h pixels without terrain.
+HachureField empty_field(int w, int h) {
+  HachureField f;
+  f.width = w, f.height = h;
+  const std::size_t n = std::size_t(w) * std::size_t(h);
+  f.fall.assign(n, Vector2f::Zero());
+  f.slope.assign(n, std::numeric_limits<float>::quiet_NaN());
+  f.tone.assign(n, 0.0f);
+  f.elevation.assign(n, 0.0f);
+  return f;
+}
+
 // The slope (as drawn: heights exaggerated by e) and the tone of pixel i from the unit
 // normal `nrm` of the true surface.
 void set_slope_and_tone(HachureField& f, std::size_t i, const Eigen::Vector3d& nrm, double e,
@@ -222,13 +234,7 @@ PlanView plan_view(const terrain::GridMesh& mesh, double scale) {
 }
 
 HachureField plan_hachure_field(const terrain::GridMesh& mesh, const PlanView& plan, const Eigen::Vector3d* light) {
-  HachureField f;
-  f.width = plan.width, f.height = plan.height;
-  const std::size_t n = std::size_t(f.width) * std::size_t(f.height);
-  f.fall.assign(n, Vector2f::Zero());
-  f.slope.assign(n, std::numeric_limits<float>::quiet_NaN());
-  f.tone.assign(n, 0.0f);
-  f.elevation.assign(n, 0.0f);
+  HachureField f = empty_field(plan.width, plan.height);
 #pragma omp parallel for schedule(dynamic, 4)
   for (int v = 0; v < f.height; ++v)
     for (int u = 0; u < f.width; ++u) {
@@ -365,13 +371,7 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
 
 HachureField hachure_field(const terrain::GridMesh& mesh, const View& view, double e,
                            const std::vector<float>& toward_depth, const Eigen::Vector3d* light) {
-  HachureField f;
-  f.width = view.width, f.height = view.height;
-  const std::size_t n = std::size_t(f.width) * std::size_t(f.height);
-  f.fall.assign(n, Vector2f::Zero());
-  f.slope.assign(n, std::numeric_limits<float>::quiet_NaN());
-  f.tone.assign(n, 0.0f);
-  f.elevation.assign(n, 0.0f);
+  HachureField f = empty_field(view.width, view.height);
   const Eigen::Matrix4d inv = view.view_projection().inverse();
 #pragma omp parallel for schedule(dynamic, 4)
   for (int v = 0; v < f.height; ++v)
