@@ -372,11 +372,11 @@ TEST(TerrainRender, StrokesFollowThePageNotTheMeshOnAnAnalyticSurface) {
   EXPECT_GT(fine_old - coarse_old, 0.25 * coarse_old);
 }
 
-// Issue 51 (started): --layers hachures. MSH at its automatic view, 480 x 270: the PNG
-// carries hachure ink on the terrain and none on the background; the SVG carries them as
-// their own Inkscape layer, one path per hachure, and rasterized (rsvg-convert) its ink
-// lies where the PNG's does (>= 90 % within 1 px both ways: one trace drawn twice); the
-// tone sets the ink (--hachure-spacing 3 draws more than 12).
+// Issue 51: --layers hachures. MSH at its automatic view, 480 x 270: the PNG carries
+// hachure ink on the terrain and none on the background; the SVG carries them as their own
+// Inkscape layer, one path per hachure, and rasterized (rsvg-convert) its ink lies where
+// the PNG's does (>= 90 % within 1 px both ways: one trace drawn twice); the spacing sets
+// the ink (--hachure-spacing 3 draws more than 1.5 times the default 6's).
 TEST(TerrainRender, HachuresAreALayerOfPngAndSvg) {
   Inputs in;
   const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
@@ -386,9 +386,17 @@ TEST(TerrainRender, HachuresAreALayerOfPngAndSvg) {
   ASSERT_EQ(run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
                 " --size 480x270 --layers mask -q -o " + in.dir.path("m.png")).exit_code,
             0);
-  const auto png = terrain::test::ink_of(in.dir.path("h.png")), mask = terrain::test::ink_of(in.dir.path("m.png"));
-  EXPECT_EQ(terrain::test::count(mask), 0u);
+  const auto png = terrain::test::ink_of(in.dir.path("h.png"));
   EXPECT_GT(terrain::test::count(png), 2000u);
+  OIIO::ImageBuf mask(in.dir.path("m.png"));  // the terrain: the mask's white
+  std::size_t off_terrain = 0;
+  for (int y = 0; y < png.h; ++y)
+    for (int x = 0; x < png.w; ++x) {
+      float px[3];
+      mask.getpixel(x, y, px, 3);
+      off_terrain += png.on[std::size_t(y * png.w + x)] && px[0] < 0.95f;  // background (0xdd = 0.87)
+    }
+  EXPECT_LT(off_terrain, 20u);  // a round cap's anti-aliased rim at the terrain's edge at most
   const std::string svg = terrain::test::file_bytes(in.dir.path("h.svg"));
   const auto at = svg.find("inkscape:label=\"hachures\"");
   ASSERT_NE(at, std::string::npos);
@@ -398,9 +406,8 @@ TEST(TerrainRender, HachuresAreALayerOfPngAndSvg) {
   EXPECT_GE(terrain::test::near_share(png, drawn, 1), 0.9);
   EXPECT_GE(terrain::test::near_share(drawn, png, 1), 0.9);
   ASSERT_EQ(run(frame + in.dir.path("dense.png") + " --hachure-spacing 3").exit_code, 0);
-  ASSERT_EQ(run(frame + in.dir.path("sparse.png") + " --hachure-spacing 12").exit_code, 0);
-  EXPECT_GT(terrain::test::count(terrain::test::ink_of(in.dir.path("dense.png"))),
-            2 * terrain::test::count(terrain::test::ink_of(in.dir.path("sparse.png"))));
+  EXPECT_GT(double(terrain::test::count(terrain::test::ink_of(in.dir.path("dense.png")))),
+            1.5 * double(terrain::test::count(png)));
 }
 
 // A mesh's plan-view hachure map (terrain-inspect export --layers hachures): the GeoPackage
