@@ -1,16 +1,17 @@
 #pragma once
 // Hachures (issue 51; docs/terrain-render.md, "Hachures"), GL-free: strokes along the
-// projected fall line of the surface, seeded and spaced in screen space, the CPU reference
-// that a compute-shader pass is to follow.
+// projected fall line of the surface, seeded and spaced in screen space; the tracer, and
+// the CPU reference of the field that the GPU computes (TerrainRenderer::hachure_field).
 //
 // The input is a field over the image: for each pixel that shows terrain, the direction
 // of steepest descent as it runs on the screen (a unit 2D vector), the slope there and a
 // tone (0 white .. 1 black). The tracer is Jobard and Lefer's evenly spaced streamlines
-// (1997): seeds on a grid of `spacing` pixels, each traced downhill and uphill with
-// midpoint (RK2) steps of half a pixel while the next point shows terrain, is steep enough,
-// is not a blocked pixel (a drawn crease or silhouette: hachures stop at lines and never
-// cross them) and lies at least `spacing * test_share` from every other hachure; a traced
-// line shorter than `min_length` pixels is dropped. Flats (slope below `min_slope`) stay
+// (1997): seeds (given ones first, then a grid a third of `spacing` apart), each traced
+// downhill and uphill with midpoint (RK2) steps of half a pixel while the next point shows
+// terrain, is steep enough, is not a blocked pixel (a drawn crease or silhouette: hachures
+// stop at lines and never cross them) and lies at least `test_share` times the smaller of
+// the two local spacings from every other hachure; a traced line shorter than
+// `min_length` pixels is dropped. Flats (slope below `min_slope`) stay
 // white. The spacing is spacing / tone (tone clamped to kMinTone .. 1): `spacing` where the
 // tone is black, six times it where white, so that the ink a pixel gets follows the tone
 // (Lehmann's scale: steeper or darker, denser).
