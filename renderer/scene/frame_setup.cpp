@@ -54,7 +54,7 @@ void check_frame_path(const std::string& path) {
 
 WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene& scene, const TerrainRenderer& r,
                              const FrameResult& res, const ResolvedFrame& f, const VectorOptions& o,
-                             const std::string& description) {
+                             const std::string& description, TracedHachures* traced) {
   using Clock = std::chrono::steady_clock;
   const auto ms = [](Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); };
   WriteTimes t;
@@ -73,7 +73,11 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
   // drawn over the PNG, and the lowest line layer of the vector files.
   std::optional<VectorLayer> hachures;
   t0 = Clock::now();
-  if (f.layers.hachures) hachures = hachure_layer(scene, r, res, *buffers, f.frame, f.style);
+  if (f.layers.hachures) {
+    TracedHachures h = trace_frame_hachures(scene, r, res, *buffers, f.style);
+    hachures = hachure_paths(h.hachures, f.style);
+    if (traced) *traced = std::move(h);
+  }
   t.paths_ms = t.hachure_ms = ms(t0);
   if (!pngs.empty()) {
     std::vector<std::uint8_t> drawn;

@@ -133,15 +133,12 @@ namespace {
 void leave_out_filled(HachureField& field, const terrain::GridMesh& mesh, const View& view,
                       const std::vector<float>& toward_depth) {
   const auto& t = mesh.topo;
-  const Eigen::Matrix4d inv = view.view_projection().inverse();
+  const Eigen::Matrix4d inverse = view.view_projection().inverse();
   for (int v = 0; v < field.height; ++v)
     for (int u = 0; u < field.width; ++u) {
       const std::size_t i = std::size_t(v) * std::size_t(field.width) + std::size_t(u);
       if (std::isnan(field.slope[i])) continue;
-      const double d = toward_depth[i], z_ndc = view.reversed_z ? d : 2.0 * d - 1.0;
-      const Eigen::Vector4d q =
-          inv * Eigen::Vector4d((u + 0.5) / view.width * 2.0 - 1.0, 1.0 - (v + 0.5) / view.height * 2.0, z_ndc, 1.0);
-      const Eigen::Vector3d p = q.head<3>() / q.w();
+      const Eigen::Vector3d p = unproject(view, inverse, u, v, toward_depth[i]);
       const long c = std::clamp(long(std::floor(p.x() / mesh.geo.dx)), 0L, long(t.cols) - 2);
       const long r = std::clamp(long(std::floor(-p.y() / mesh.geo.dy)), 0L, long(t.rows) - 2);
       const std::size_t k = std::size_t(r) * t.cols + std::size_t(c);
@@ -153,8 +150,7 @@ void leave_out_filled(HachureField& field, const terrain::GridMesh& mesh, const 
 }  // namespace
 
 TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                                    const FrameBuffers& buffers, const FrameParams& fp, const Style& style) {
-  (void)fp;  // the field comes from the frame the renderer drew (its light)
+                                    const FrameBuffers& buffers, const Style& style) {
   HachureField field = r.hachure_field(res.view, style.hachure_light_tone);  // on the GPU
   if (!scene.mesh.filled.empty()) leave_out_filled(field, scene.mesh, res.view, buffers.toward_depth);
   field.blocked.assign(field.slope.size(), 0);
@@ -164,32 +160,33 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
   HachureRule rule;
   rule.spacing = style.hachure_spacing;
   stretch_tone(field, rule.min_slope);
+  const double scale = page_scale(res.view, r.box());
   if (style.hachure_rows)  // form lines at an interval from the page's scale (true metres)
-    rule.row_interval = row_interval_for(page_scale(res.view, r.box()) / style.exaggeration,
+    rule.row_interval = row_interval_for(scale / style.exaggeration,
                                          rule.spacing, std::atan(std::tan(median_slope(field, rule.min_slope)) /
                                                                  style.exaggeration));
   // Seeds that move with the ground first (frame-to-frame coherence): cells of about two
   // spacings at the page's scale, the size a power of two metres, so that it stays the same
   // while the camera moves a little (cells of 1/2, 1, 2 and 4 spacings: the flight's
   // coherence over its first 20 frames 0.55, 0.61, 0.63, 0.64; docs/terrain-render.md).
-  const double cell = std::exp2(std::round(std::log2(std::max(1e-3, 2.0 * page_scale(res.view, r.box()) * rule.spacing))));
+  const double cell = std::exp2(std::round(std::log2(std::max(1e-3, 2.0 * scale * rule.spacing))));
   const std::vector<Eigen::Vector2f> seeds = surface_seeds(res.view, buffers.toward_depth, rule.spacing, cell);
   std::vector<Hachure> hachures = trace_hachures(field, rule, seeds);
   return {std::move(field), rule, std::move(hachures)};
 }
 
 VectorLayer hachure_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                          const FrameBuffers& buffers, const FrameParams& fp, const Style& style) {
-  return hachure_paths(trace_frame_hachures(scene, r, res, buffers, fp, style).hachures, style);
+                          const FrameBuffers& buffers, const Style& style) {
+  return hachure_paths(trace_frame_hachures(scene, r, res, buffers, style).hachures, style);
 }
 
-VectorLayer hachure_paths(std::vector<Hachure> hachures, const Style& style) {
+VectorLayer hachure_paths(const std::vector<Hachure>& hachures, const Style& style) {
   VectorLayer l{"hachures", style.hachure_colour, LineCap::Round, {}, 0};
-  for (Hachure& h : hachures) {
+  for (const Hachure& h : hachures) {
     VectorPath p;
     // Traced in steps of half a pixel; drawn as the fewest points within 0.1 px of them.
     Polyline traced;
-    traced.points = std::move(h.points);
+    traced.points = h.points;
     p.line = simplify(traced, 0.1f);
     // Pen pressure: the width follows the hachure's mean tone, half to one and a half times
     // --hachure-width (one width a path: an outline per point made the MSH SVG 15 MB).
@@ -203,7 +200,7 @@ VectorLayer hachure_paths(std::vector<Hachure> hachures, const Style& style) {
 }
 
 FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const FrameResult& res, const FrameParams& fp,
-                            const Style& style, const Layers& layers,
+                            const Style& style, const Layers& layers, const TracedHachures* traced,
                             const std::vector<Eigen::Vector3f>* previous_hachures) {
   const FrameBuffers buffers = r.read_buffers();
   FrameStats st;
@@ -212,12 +209,15 @@ FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const 
   st.creases.connected = connected_share(*scene.creases, scene.traits, st.lines.drawn,
                                          segment_pixels(*scene.creases, res.view, style.exaggeration));
   if (layers.silhouettes) st.silhouettes = silhouette_stats(buffers.silhouette_opacity, res.width, res.height);
-  if (layers.hachures) {  // traced again, as write_frame_files traces them (deterministic)
-    const TracedHachures t = trace_frame_hachures(scene, r, res, buffers, fp, style);
+  if (layers.hachures) {  // as write_frame_files traced them, or traced here (deterministic)
+    std::optional<TracedHachures> own;
+    if (!traced) own = trace_frame_hachures(scene, r, res, buffers, style);
+    const TracedHachures& t = traced ? *traced : *own;
     st.hachures = hachure_stats(t.field, t.hachures, t.rule);
+    const Eigen::Matrix4d inverse = res.view.view_projection().inverse();
     for (const Hachure& h : t.hachures)
       for (const Eigen::Vector2f& p : h.points)
-        if (const auto s = surface_point(res.view, buffers.toward_depth, p.x(), p.y()))
+        if (const auto s = surface_point(res.view, inverse, buffers.toward_depth, p.x(), p.y()))
           st.hachures->surface.push_back(s->cast<float>());
     if (previous_hachures)
       st.hachure_coherence = hachure_coherence(*previous_hachures, res.view, buffers.toward_depth, st.hachures->ink);

@@ -181,9 +181,10 @@ std::vector<std::uint8_t> dem_shade(const terrain::Grid& g, double az, double al
 }
 
 // A mesh's plan-view hachure map (renderer/plan_map.hpp) as gpkg, svg or pdf.
-void export_hachure_map(const ExportArgs& a, const std::string& provenance, const Verbosity& verb) {
+void export_hachure_map(const ExportArgs& a, const std::string& provenance) {
+  const bool layers_given = a.gpkg_layers != ExportArgs{}.gpkg_layers;  // the default names a .dv's layers
   for (const std::string& l : a.gpkg_layers)
-    if (l != "hachures" && a.gpkg_layers != ExportArgs{}.gpkg_layers)
+    if (layers_given && l != "hachures")
       throw terrain::Error("--layers " + l + ": a .dv's layer; a mesh exports only hachures");
   const terrain::GridMesh m = terrain::read_mesh_ply(a.file);
   renderer::PlanHachureOptions o;
@@ -205,7 +206,6 @@ void export_hachure_map(const ExportArgs& a, const std::string& provenance, cons
             << fmt::format("geotransform: {:.3f} {} 0 {:.3f} 0 {}\n", gt[0], gt[1], gt[3], gt[5]);
   if (h.row_interval > 0) std::cout << "form lines: every " << h.row_interval << " m\n";
   std::cout << "hachures: " << h.hachures.size() << "\n";
-  (void)verb;
 }
 
 }  // namespace
@@ -357,7 +357,7 @@ void run_export(ExportArgs& a, const std::string& provenance, const Verbosity& v
   tt::warn_stale_temporaries(verb, {out});
   terrain::check_output_path(out);
   if (is_mesh && (to == "gpkg" || to == "svg" || to == "pdf")) {
-    export_hachure_map(a, provenance, verb);
+    export_hachure_map(a, provenance);
     return;
   }
   if (to == "svg" || to == "pdf") throw terrain::Error("'" + file + "' is not a terrain mesh (.ply): only meshes export to " + to);

@@ -123,7 +123,9 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   t0 = Clock::now();
   const rr::FrameResult res = r.render(fp);
   tt::step(verb, fmt::format("frame: {:.0f} ms", 1e3 * since(t0)));
-  const rr::WriteTimes wt = rr::write_frame_files({out}, scene, r, res, f, o.vector, prov + "; " + exaggeration);
+  rr::TracedHachures traced;  // traced once: for the file and for --line-stats
+  const rr::WriteTimes wt = rr::write_frame_files({out}, scene, r, res, f, o.vector, prov + "; " + exaggeration,
+                                                  a.line_stats ? &traced : nullptr);
   report_write(verb, {out}, wt);
   const Eigen::Vector3d eye = res.view.eye + r.origin();
   std::cout << "output: " << out << "\n" << "size: " << s.width << " x " << s.height << "\n";
@@ -140,7 +142,9 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   if (f.layers.hachures)  // the field (GPU), the lines read back, the tracing (CPU); then cairo on the PNG
     std::cout << fmt::format("hachures ms: {:.2f} (lines read back {:.2f}; then drawn on the PNG {:.2f})\n",
                              wt.hachure_ms + wt.readback_ms, wt.readback_ms, wt.hachure_draw_ms);
-  if (a.line_stats) std::cout << rr::line_stats_text(rr::frame_line_stats(scene, r, res, fp, f.style, f.layers));
+  if (a.line_stats)
+    std::cout << rr::line_stats_text(
+        rr::frame_line_stats(scene, r, res, fp, f.style, f.layers, f.layers.hachures ? &traced : nullptr));
   return 0;
 }
 
@@ -208,18 +212,21 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
     f.frame = frames[i];
     const rr::FrameResult res = r.render(f.frame);
     timings.push_back(res.timings);
+    std::vector<std::string> paths;
+    for (const std::string& format : formats) paths.push_back((dir / frame_name(i, format)).string());
+    rr::TracedHachures traced;  // traced once: for the files and for --line-stats
+    report_write(verb, paths,
+                 rr::write_frame_files(paths, scene, r, res, f, o.vector, prov + fmt::format(" [frame {}]", i),
+                                       a.line_stats ? &traced : nullptr));
     if (a.line_stats) {
-      rr::FrameStats st =
-          rr::frame_line_stats(scene, r, res, f.frame, f.style, f.layers, i ? &previous_hachures : nullptr);
+      rr::FrameStats st = rr::frame_line_stats(scene, r, res, f.frame, f.style, f.layers,
+                                               f.layers.hachures ? &traced : nullptr, i ? &previous_hachures : nullptr);
       stats_csv += rr::line_stats_csv_row(i, st);
       drawn.push_back(std::move(st.lines.drawn));
       pixels.push_back(std::move(st.lines.pixels));
       if (st.hachures) previous_hachures = std::move(st.hachures->surface);
       coherence.counted += st.hachure_coherence.counted, coherence.near += st.hachure_coherence.near;
     }
-    std::vector<std::string> paths;
-    for (const std::string& format : formats) paths.push_back((dir / frame_name(i, format)).string());
-    report_write(verb, paths, rr::write_frame_files(paths, scene, r, res, f, o.vector, prov + fmt::format(" [frame {}]", i)));
     terrain::report(progress, double(i + 1) / double(frames.size()));
   }
   terrain::write_file_atomic(dir / "timings.csv", rr::timings_csv(timings));

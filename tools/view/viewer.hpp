@@ -126,7 +126,7 @@ class Viewer {
       return last_;
     }
     shown_ = last_;
-    rr::draw_on_rgba(rr::hachure_layer(scene_, *full_, last_, full_->read_buffers(), s_.frame, rr::drawn_style(s_)),
+    rr::draw_on_rgba(rr::hachure_layer(scene_, *full_, last_, full_->read_buffers(), rr::drawn_style(s_)),
                      shown_.width, shown_.height, shown_.rgba);
     full_ms_ = ms_since(t0);
     return shown_;

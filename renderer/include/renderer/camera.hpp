@@ -147,4 +147,9 @@ struct Projected {
 };
 Projected project(const View& view, const Eigen::Vector3d& p_local);
 
+// project's inverse for a pixel: the local point at the centre of pixel (u, v) (u right, v
+// down; the whole pixel u, v falls in) whose window depth is `depth`. `inverse` is
+// view.view_projection().inverse(), computed once for many pixels.
+Eigen::Vector3d unproject(const View& view, const Eigen::Matrix4d& inverse, double u, double v, double depth);
+
 }  // namespace renderer

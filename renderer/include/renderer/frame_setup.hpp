@@ -58,7 +58,8 @@ struct VectorOptions {
 // pixels, or (.svg, .pdf) its line art through cairo (frame_vector_art, vector_bytes; built
 // once for every vector path). `description` is the provenance line the files record.
 // Throws terrain::Error for another extension, or a vector file that would be empty (no
-// line layer drawn and no underlay). Returns the time spent, for -v.
+// line layer drawn and no underlay). Returns the time spent, for -v. With the hachures
+// layer and `traced` given, the hachures it traced are left there (for frame_line_stats).
 struct WriteTimes {
   double readback_ms = 0, paths_ms = 0, cairo_ms = 0;
   double hachure_ms = 0, hachure_draw_ms = 0;  // the hachures' field and tracing (within paths_ms); drawing them on the PNG
@@ -67,7 +68,7 @@ struct WriteTimes {
 };
 WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene& scene, const TerrainRenderer& r,
                              const FrameResult& res, const ResolvedFrame& f, const VectorOptions& o,
-                             const std::string& description);
+                             const std::string& description, TracedHachures* traced = nullptr);
 
 // Throws terrain::Error, before the renderer allocates the frame, when the vector output of a
 // width x height frame would not fit in memory: about 28 bytes a pixel read back and

@@ -71,10 +71,12 @@ struct Hachure {
 std::vector<Hachure> trace_hachures(const HachureField& field, const HachureRule& rule,
                                     const std::vector<Eigen::Vector2f>& first = {});
 
-// The point of the surface a frame shows at each pixel (local frame, heights exaggerated),
-// unprojected from its window depth (`toward_depth`, row 0 at the top); none where the
+// The point of the surface a frame shows at pixel (u, v) (local frame, heights
+// exaggerated), unprojected from its window depth (`toward_depth`, row 0 at the top; camera.hpp's
+// unproject, `inverse` its inverse view-projection); none outside the image or where the
 // depth is the clear depth.
-std::optional<Eigen::Vector3d> surface_point(const View& view, const std::vector<float>& toward_depth, double u, double v);
+std::optional<Eigen::Vector3d> surface_point(const View& view, const Eigen::Matrix4d& inverse,
+                                             const std::vector<float>& toward_depth, double u, double v);
 
 // Coherence of hachures along a flight (issue 51; the crease flicker measure, applied to
 // hachures): the points `previous` (local frame, the hachures of frame k on its surface)

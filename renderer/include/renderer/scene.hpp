@@ -58,9 +58,9 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
 // traced at Style::hachure_spacing, stopped at the crease and silhouette pixels the frame
 // drew, in rows with Style::hachure_rows (form lines at row_interval_for the page's
 // scale); one path per hachure. write_frame_files draws it over the PNG and puts it under
-// frame_vector_art's layers.
+// frame_vector_art's layers. The renderer `r` drew `res` (the field is its GPU's).
 VectorLayer hachure_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                          const FrameBuffers& buffers, const FrameParams& fp, const Style& style);
+                          const FrameBuffers& buffers, const Style& style);
 // What hachure_layer draws, before it becomes paths: the field, the rule and the hachures.
 struct TracedHachures {
   HachureField field;
@@ -68,10 +68,10 @@ struct TracedHachures {
   std::vector<Hachure> hachures;
 };
 TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                                    const FrameBuffers& buffers, const FrameParams& fp, const Style& style);
+                                    const FrameBuffers& buffers, const Style& style);
 // The paths of traced hachures (pixel coordinates), each as wide as its mean tone asks:
 // 0.5 to 1.5 times Style::hachure_width (pen pressure).
-VectorLayer hachure_paths(std::vector<Hachure> hachures, const Style& style);
+VectorLayer hachure_paths(const std::vector<Hachure>& hachures, const Style& style);
 
 // --line-stats of one frame: the creases' figures and, with the silhouettes layer, the
 // silhouettes'.
@@ -82,10 +82,12 @@ struct FrameStats {
   std::optional<HachureStats> hachures;  // with the hachures layer
   Coherence hachure_coherence;           // against the previous frame's hachures, when given
 };
+// `traced`: the frame's hachures as write_frame_files traced them (else traced here);
 // `previous_hachures`: the last frame's HachureStats::surface (a flight's frames in turn),
 // for hachure_coherence.
 FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                             const FrameParams& fp, const Style& style, const Layers& layers,
+                            const TracedHachures* traced = nullptr,
                             const std::vector<Eigen::Vector3f>* previous_hachures = nullptr);
 // The figures as `terrain-render frame --line-stats` prints them, one "name: value" a line.
 std::string line_stats_text(const FrameStats& s);

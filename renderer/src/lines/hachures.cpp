@@ -79,6 +79,11 @@ Vector2f fall_at(const HachureField& f, const Vector2f& p) {
   return n > 1e-6f ? Vector2f(sum / n) : Vector2f::Zero();
 }
 
+// The spacing hachures keep at pixel i: the rule's spacing over the tone (kMinTone .. 1).
+double local_spacing(const HachureField& f, const HachureRule& rule, std::size_t i) {
+  return rule.spacing / std::clamp(double(f.tone[i]), kMinTone, 1.0);
+}
+
 struct Tracer {
   const HachureField& f;
   const HachureRule& rule;
@@ -90,7 +95,7 @@ struct Tracer {
     const std::size_t i = at(p);
     return f.slope[i] >= rule.min_slope && (f.blocked.empty() || !f.blocked[i]) && f.fall[i].squaredNorm() > 0.5f;
   }
-  double spacing(const Vector2f& p) const { return rule.spacing / std::clamp(double(f.tone[at(p)]), kMinTone, 1.0); }
+  double spacing(const Vector2f& p) const { return local_spacing(f, rule, at(p)); }
   // The row of a point: the band between two form lines (-1: no rows).
   long row(const Vector2f& p) const {
     return rule.row_interval > 0 ? long(std::floor(double(f.elevation[at(p)]) / rule.row_interval)) : -1;
@@ -166,7 +171,7 @@ HachureStats hachure_stats(const HachureField& f, const std::vector<Hachure>& hs
     return std::size_t(std::clamp(long(p.y()), 0L, long(f.height) - 1)) * std::size_t(f.width) +
            std::size_t(std::clamp(long(p.x()), 0L, long(f.width) - 1));
   };
-  const auto local = [&](const Vector2f& p) { return rule.spacing / std::clamp(double(f.tone[at(p)]), kMinTone, 1.0); };
+  const auto local = [&](const Vector2f& p) { return local_spacing(f, rule, at(p)); };
   Occupancy grid(f.width, f.height, std::max(1.0, rule.spacing));
   for (std::size_t h = 0; h < hs.size(); ++h)
     for (const Vector2f& p : hs[h].points) grid.add(p, local(p), long(h), -1), st.ink[at(p)] = 1;
@@ -251,25 +256,23 @@ HachureField plan_hachure_field(const terrain::GridMesh& mesh, const PlanView& p
   return f;
 }
 
-std::optional<Eigen::Vector3d> surface_point(const View& view, const std::vector<float>& depth_buf, double u, double v) {
+std::optional<Eigen::Vector3d> surface_point(const View& view, const Eigen::Matrix4d& inverse,
+                                             const std::vector<float>& depth_buf, double u, double v) {
   if (u < 0 || v < 0 || u >= view.width || v >= view.height) return std::nullopt;
   const double depth = depth_buf[std::size_t(v) * std::size_t(view.width) + std::size_t(u)];
   if (far_depth(view.reversed_z, depth) >= 1.0) return std::nullopt;
-  const Eigen::Matrix4d inv = view.view_projection().inverse();
-  const double z_ndc = view.reversed_z ? depth : 2.0 * depth - 1.0;
-  const Eigen::Vector4d w = inv * Eigen::Vector4d((std::floor(u) + 0.5) / view.width * 2.0 - 1.0,
-                                                  1.0 - (std::floor(v) + 0.5) / view.height * 2.0, z_ndc, 1.0);
-  return Eigen::Vector3d(w.head<3>() / w.w());
+  return unproject(view, inverse, u, v, depth);
 }
 
 Coherence hachure_coherence(const std::vector<Eigen::Vector3f>& previous, const View& next,
                             const std::vector<float>& next_depth, const std::vector<std::uint8_t>& next_ink, int radius) {
   Coherence c;
   const int w = next.width, h = next.height;
+  const Eigen::Matrix4d inverse = next.view_projection().inverse();
   for (const Eigen::Vector3f& p : previous) {
     const Projected q = project(next, p.cast<double>());
-    if (!q.in_front || q.u < 0 || q.v < 0 || q.u >= w || q.v >= h) continue;
-    const auto s = surface_point(next, next_depth, q.u, q.v);
+    if (!q.in_front) continue;
+    const auto s = surface_point(next, inverse, next_depth, q.u, q.v);
     if (!s || (*s - p.cast<double>()).norm() > 0.01 * (next.eye - *s).norm()) continue;  // hidden, or off the surface
     ++c.counted;
     bool hit = false;
@@ -290,15 +293,12 @@ std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<f
   };
   std::unordered_map<std::uint64_t, Best> best;
   const double step = std::max(1.0, spacing / 3.0);
-  const Eigen::Matrix4d inv = view.view_projection().inverse();
+  const Eigen::Matrix4d inverse = view.view_projection().inverse();
   for (double v = 0.5 * step; v < view.height; v += step)
     for (double u = 0.5 * step; u < view.width; u += step) {
-      const float d = depth[std::size_t(v) * std::size_t(view.width) + std::size_t(u)];
-      if (far_depth(view.reversed_z, double(d)) >= 1.0) continue;
-      const double z_ndc = view.reversed_z ? d : 2.0 * d - 1.0;
-      const Eigen::Vector4d q = inv * Eigen::Vector4d((std::floor(u) + 0.5) / view.width * 2.0 - 1.0,
-                                                      1.0 - (std::floor(v) + 0.5) / view.height * 2.0, z_ndc, 1.0);
-      const Vector2f g = (q.head<2>() / q.w()).cast<float>();
+      const auto q = surface_point(view, inverse, depth, u, v);
+      if (!q) continue;
+      const Vector2f g = q->head<2>().cast<float>();
       const double cx = std::floor(g.x() / cell), cy = std::floor(g.y() / cell);
       const float d2 = float((Eigen::Vector2d(g.cast<double>()) - cell * Eigen::Vector2d(cx + 0.5, cy + 0.5)).squaredNorm());
       const std::uint64_t key = (std::uint64_t(std::int64_t(cx)) << 32) ^ std::uint64_t(std::uint32_t(std::int64_t(cy)));
@@ -372,17 +372,14 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
 HachureField hachure_field(const terrain::GridMesh& mesh, const View& view, double e,
                            const std::vector<float>& toward_depth, const Eigen::Vector3d* light) {
   HachureField f = empty_field(view.width, view.height);
-  const Eigen::Matrix4d inv = view.view_projection().inverse();
+  const Eigen::Matrix4d inverse = view.view_projection().inverse();
 #pragma omp parallel for schedule(dynamic, 4)
   for (int v = 0; v < f.height; ++v)
     for (int u = 0; u < f.width; ++u) {
       const std::size_t i = std::size_t(v) * std::size_t(f.width) + std::size_t(u);
-      const double depth = toward_depth[i];
-      if (far_depth(view.reversed_z, depth) >= 1.0) continue;  // no surface here
-      const double z_ndc = view.reversed_z ? depth : 2.0 * depth - 1.0;
-      const Eigen::Vector4d c((u + 0.5) / view.width * 2.0 - 1.0, 1.0 - (v + 0.5) / view.height * 2.0, z_ndc, 1.0);
-      const Eigen::Vector4d w = inv * c;
-      const Eigen::Vector3d p = w.head<3>() / w.w();  // exaggerated local frame
+      const auto q = surface_point(view, inverse, toward_depth, u, v);
+      if (!q) continue;  // no surface here
+      const Eigen::Vector3d& p = *q;  // exaggerated local frame
       const auto sp = terrain::pn_point_above(mesh, p.x(), p.y());
       if (!sp) continue;
       const Eigen::Vector3d nrm = sp->normal;

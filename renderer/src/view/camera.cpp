@@ -465,6 +465,13 @@ Projected project(const View& view, const Eigen::Vector3d& p) {
   return r;
 }
 
+Eigen::Vector3d unproject(const View& view, const Eigen::Matrix4d& inverse, double u, double v, double depth) {
+  const double z_ndc = view.reversed_z ? depth : 2.0 * depth - 1.0;
+  const Eigen::Vector4d w = inverse * Eigen::Vector4d((std::floor(u) + 0.5) / view.width * 2.0 - 1.0,
+                                                      1.0 - (std::floor(v) + 0.5) / view.height * 2.0, z_ndc, 1.0);
+  return w.head<3>() / w.w();
+}
+
 void check_eye_above_terrain(const terrain::GridMesh& mesh, const Eigen::Vector3d& eye, double exaggeration) {
   const auto& g = mesh.geo;
   // Far away, the terrain is a speck (and single-precision matrices lose it): an eye more

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
+
 #include <cmath>
 #include <iostream>
 #include <numbers>
@@ -241,9 +243,11 @@ TEST(Hachures, SurfaceSeedsKeepHachuresOnTheGround) {
     const auto hb = renderer::trace_hachures(
         b.field, rule, on_ground ? renderer::surface_seeds(b.view, b.depth, rule.spacing, cell) : std::vector<Vector2f>{});
     std::vector<Eigen::Vector3f> points;
+    const Eigen::Matrix4d inverse = a.view.view_projection().inverse();
     for (const Hachure& h : ha)
       for (const Vector2f& p : h.points)
-        if (const auto q = renderer::surface_point(a.view, a.depth, p.x(), p.y())) points.push_back(q->cast<float>());
+        if (const auto q = renderer::surface_point(a.view, inverse, a.depth, p.x(), p.y()))
+          points.push_back(q->cast<float>());
     const auto self = renderer::hachure_coherence(points, a.view, a.depth, renderer::hachure_stats(a.field, ha, rule).ink);
     EXPECT_EQ(self.share(), 1.0);
     const auto c = renderer::hachure_coherence(points, b.view, b.depth, renderer::hachure_stats(b.field, hb, rule).ink);
