@@ -72,8 +72,8 @@ int main() {
   const auto gpu = r.read_crease_samples();
   const auto buffers = r.read_buffers();
   const Eigen::Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
-  const auto score = resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.eye);
-  const auto drawn = segment_opacity(g, res.view.eye, light, 1.0, score, style.crease_fade,
+  const auto score = resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.viewpoint());
+  const auto drawn = segment_opacity(g, res.view.viewpoint(), light, 1.0, score, style.crease_fade,
                                       stroke_rule(style, page_scale(res.view, r.box())));
   const auto cpu = stroke_visibility(g, segment_chains(g), drawn, res.view, 1.0, crease_lift(style, mesh),
                                      buffers.toward_depth, stroke_visibility_rule(style, mesh));

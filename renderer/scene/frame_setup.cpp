@@ -3,10 +3,12 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <filesystem>
 #include <optional>
 
 #include "renderer/camera.hpp"
 #include "renderer/frames.hpp"
+#include "renderer/plan_map.hpp"
 #include "renderer/vector_file.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/error.hpp"
@@ -32,10 +34,14 @@ ResolvedFrame resolve_frame(const RenderSettings& s, const terrain::GridMesh& me
   } else if (!camera.eye && !given("view-az")) {  // the default view: --view
     const DefaultView dv = default_view(mesh, s.view, s.style.exaggeration, camera.fov, double(s.width) / double(s.height),
                                         given("view-alt") ? std::optional<double>(camera.view_alt) : std::nullopt);
+    const double map_scale = camera.map_scale;
     camera = dv.camera;
+    camera.map_scale = map_scale;
     if (!given("light-az") && !given("light-alt")) f.frame.light = dv.light;
     f.description = dv.description;
   }
+  if (given("map-scale") && !camera.orthographic)
+    throw terrain::Error("--map-scale needs the orthographic view: --view top, without --eye or --view-az");
   if (camera.eye) check_eye_above_terrain(mesh, *camera.eye, s.style.exaggeration);
   return f;
 }
@@ -54,7 +60,7 @@ void check_frame_path(const std::string& path) {
 
 WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene& scene, const TerrainRenderer& r,
                              const FrameResult& res, const ResolvedFrame& f, const VectorOptions& o,
-                             const std::string& description, TracedHachures* traced) {
+                             const std::string& frame_description, TracedHachures* traced) {
   using Clock = std::chrono::steady_clock;
   const auto ms = [](Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); };
   WriteTimes t;
@@ -63,6 +69,10 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
     check_frame_path(p);
     (is_vector_path(p) ? vectors : pngs).push_back(p);
   }
+  // A map (the orthographic top view): its geotransform in every file, a world file by the PNG.
+  const auto gt = map_geotransform(res.view, r.origin());
+  const std::string description =
+      gt ? frame_description + "; map: orthographic, " + map_note(*gt, scene.mesh.geo.epsg) : frame_description;
   std::optional<FrameBuffers> buffers;
   auto t0 = Clock::now();
   if (f.layers.hachures || !vectors.empty()) {
@@ -87,8 +97,10 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
       draw_on_rgba(*hachures, res.width, res.height, drawn);
       t.hachure_draw_ms = ms(t0);
     }
-    for (const std::string& p : pngs)
+    for (const std::string& p : pngs) {
       terrain::write_png(p, res.width, res.height, 4, hachures ? drawn : res.rgba, description);
+      if (gt) terrain::write_file_atomic(std::filesystem::path(p).replace_extension(".pgw"), world_file(*gt));
+    }
   }
   if (vectors.empty()) return t;
   t0 = Clock::now();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
 #include <ogrsf_frmts.h>
 
 #include "renderer/scene.hpp"
@@ -35,6 +36,16 @@ PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptio
 
 std::array<double, 6> plan_geotransform(const terrain::GridMesh& mesh, const PlanView& p) {
   return {mesh.geo.origin_x + p.x0, p.scale, 0.0, mesh.geo.origin_y + p.y0, 0.0, -p.scale};
+}
+
+std::string map_note(const std::array<double, 6>& gt, int epsg) {
+  return fmt::format("north up, {:g} m a pixel; geotransform {:.3f} {:g} 0 {:.3f} 0 {:g}{}", gt[1], gt[0], gt[1], gt[3],
+                     gt[5], epsg ? fmt::format("; EPSG:{}", epsg) : "");
+}
+
+std::string world_file(const std::array<double, 6>& gt) {
+  return fmt::format("{:.10g}\n{:.10g}\n{:.10g}\n{:.10g}\n{:.10g}\n{:.10g}\n", gt[1], gt[4], gt[2], gt[5],
+                     gt[0] + 0.5 * gt[1] + 0.5 * gt[2], gt[3] + 0.5 * gt[4] + 0.5 * gt[5]);
 }
 
 std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachures& h, const std::string& path) {

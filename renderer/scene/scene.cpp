@@ -48,9 +48,9 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
 
 std::vector<float> frame_opacity(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                                  const FrameParams& fp, const Style& style) {
-  const CreaseScoreParams score = resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.eye);
+  const CreaseScoreParams score = resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.viewpoint());
   const double fade = style.antialias ? style.crease_fade : 0.0;
-  return segment_opacity(*scene.creases, res.view.eye, terrain::light_direction(fp.light.azimuth, fp.light.altitude),
+  return segment_opacity(*scene.creases, res.view.viewpoint(), terrain::light_direction(fp.light.azimuth, fp.light.altitude),
                          style.exaggeration, score, fade,
                          stroke_rule(style, page_scale(res.view, r.box())));
 }

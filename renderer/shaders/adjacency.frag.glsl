@@ -16,7 +16,8 @@ layout(std430, binding = TR_SSBO_ID_TRIANGLES) readonly buffer IdTriangles {
   vec4 tri[];
 };
 // x: tolerance in metres; y: the angle of one pixel (radians): vertices closer than
-// max(x, 4 y d / cos i), d the distance from the eye, i the incidence, are one vertex.
+// max(x, 4 y d / cos i), d the distance from the eye, i the incidence, are one vertex;
+// orthographic: y is the pixel's size in metres, and y d is y.
 layout(location = TR_LOC_ADJ_TOLERANCE) uniform vec2 u_tolerance;
 // The mesh's extent in its local frame: xmin, ymin, xmax, ymax.
 layout(location = TR_LOC_ADJ_EXTENT) uniform vec4 u_extent;
@@ -37,10 +38,11 @@ bool share_a_vertex(uint a, uint b) {
   // One pixel covers about d * angle / cos(incidence) of the surface: at grazing incidence
   // pixel neighbours skip whole thin triangles, so the tolerance grows (up to 20 x).
   vec3 a0 = tri[3u * (a - 1u)].xyz, a1 = tri[3u * (a - 1u) + 1u].xyz, a2 = tri[3u * (a - 1u) + 2u].xyz;
-  vec3 ray = a0 - u_eye.xyz;
+  vec3 ray = -to_eye(a0);
   vec3 n = cross(a1 - a0, a2 - a0);
   float incidence = abs(dot(normalize(n), normalize(ray)));
-  float tol = max(u_tolerance.x, 4.0 * u_tolerance.y * length(ray) / max(incidence, 0.05));
+  float pixel = orthographic() ? u_tolerance.y : u_tolerance.y * length(ray);
+  float tol = max(u_tolerance.x, 4.0 * pixel / max(incidence, 0.05));
   for (uint i = 0u; i < 3u; ++i)
     for (uint j = 0u; j < 3u; ++j)
       if (distance(tri[3u * (a - 1u) + i].xyz, tri[3u * (b - 1u) + j].xyz) <= tol) return true;

@@ -13,6 +13,13 @@ vec3 exaggerate_normal(vec3 n) { return normalize(vec3(n.xy, n.z / u_eye.w)); }
 float tess_override() { return u_lines.z; }
 bool reversed_z() { return u_lines.w > 0.5; }
 
+// The viewer (renderer::Viewpoint on the CPU): orthographic in the top view, every ray
+// along u_sight.xyz; the way from p towards the viewer (not normalised in perspective) and
+// p's distance from the eye (orthographic: from the eye plane, along the line of sight).
+bool orthographic() { return u_sight.w > 0.0; }
+vec3 to_eye(vec3 p) { return orthographic() ? -u_sight.xyz : u_eye.xyz - p; }
+float view_distance(vec3 p) { return orthographic() ? dot(p - u_eye.xyz, u_sight.xyz) : distance(p, u_eye.xyz); }
+
 // Window depth to "distance order": larger is farther, 1 where nothing was drawn (the one
 // far test; renderer::far_depth on the CPU).
 float far_of(float depth) { return reversed_z() ? 1.0 - depth : depth; }
@@ -26,11 +33,11 @@ vec4 far_of(vec4 depth) { return reversed_z() ? 1.0 - depth : depth; }
 // surface"). Towards the eye, not along the normal: seen at a grazing angle g a lift along
 // the normal brings the depth nearer by lift x sin(g) only, and a chord a fraction of a
 // metre high hid the line. Behind the near plane: w <= u_misc.x, and segment_quad_vertex
-// drops the segment.
+// drops the segment (never in the orthographic view: w = 1, near 0).
 vec4 line_clip(vec3 p, float lift) {
-  vec3 to_eye = u_eye.xyz - p;
-  float d = length(to_eye);
-  return u_view_proj * vec4(p + (d > 0.0 ? min(lift, 0.5 * d) / d : 0.0) * to_eye, 1.0);
+  vec3 t = to_eye(p);
+  float d = orthographic() ? view_distance(p) : length(t);
+  return u_view_proj * vec4(p + (d > 0.0 ? min(lift, 0.5 * d) / length(t) : 0.0) * t, 1.0);
 }
 
 // Vertex k (0..5) of the screen-space quad of the segment with clip positions c0, c1 and

@@ -14,7 +14,7 @@ void main() {
   float ic = 1.0 - dot(n, u_light.xyz);
   float raw = (u_weights.x * sc + u_weights.y * ic + u_weights.z * pf.w) / u_weights.w;
   float rs_min = u_score.x + (1.0 - u_score.x) * u_score.y *
-                 clamp((distance(p, u_eye.xyz) - u_style.z) / (u_score.z - u_style.z), 0.0, 1.0);
+                 clamp((view_distance(p) - u_style.z) / (u_score.z - u_style.z), 0.0, 1.0);
   // Channels begin where the page's area drains (StrokeRule::min_area): below it, no score.
   score[i] = cv[3u * i + 2u].x < u_strokes.w ? -1.0 : raw - rs_min;
 }

@@ -46,9 +46,13 @@ vec2 stroke_walk(uint s, int k, bool up, float limit) {
 }
 
 // Window depth of clip position c, and the distance along the view axis of a window depth
-// (infinite far plane: reversed, depth = near / distance; else 1 - near / distance).
+// (perspective, infinite far plane: reversed, depth = near / distance; else 1 - near /
+// distance; orthographic: linear from the eye plane to the far plane; View::depth_distance).
 float window_depth(vec4 c) { return reversed_z() ? c.z / c.w : 0.5 * c.z / c.w + 0.5; }
-float eye_distance(float depth) { return u_misc.x / max(reversed_z() ? depth : 1.0 - depth, 1e-30); }
+float eye_distance(float depth) {
+  if (orthographic()) return u_sight.w * far_of(depth);
+  return u_misc.x / max(reversed_z() ? depth : 1.0 - depth, 1e-30);
+}
 
 void sample_segment(uint s) {
   SegmentSamples m = SegmentSamples(0u, 0u, 0u, 0u, 0u, 0.0);

@@ -25,11 +25,11 @@ uint invocation_index() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 
 uint classify(uvec4 e) {
   vec3 p0 = exaggerate_position(position(e.x)), p1 = exaggerate_position(position(e.y));
   vec3 na = normalize(cross(p1 - p0, exaggerate_position(position(e.z)) - p0));
-  vec3 to_eye = u_eye.xyz - p0;
-  float fa = dot(na, to_eye);
+  vec3 towards = to_eye(p0);
+  float fa = dot(na, towards);
   if (e.w == TR_EDGE_NONE) return TR_EDGE_BOUNDARY | (fa > 0.0 ? TR_EDGE_FACING : 0u);
   vec3 nb = normalize(cross(p0 - p1, exaggerate_position(position(e.w)) - p1));
-  float fb = dot(nb, to_eye);
+  float fb = dot(nb, towards);
   uint k = 0u;
   if (fa * fb < 0.0) k |= TR_EDGE_CONTOUR;
   if (dot(na, nb) < u_edge_cos) k |= TR_EDGE_CREASE;

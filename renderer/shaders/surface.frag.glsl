@@ -8,7 +8,7 @@ layout(location = 1) out vec4 o_normal;  // TFT with hachures: the unit normal a
 layout(location = TR_LOC_SURFACE_MODE) uniform int u_mode;
 void main() {
   vec3 n = normalize(f_nrm);
-  bool toward = dot(n, u_eye.xyz - f_pos) > 0.0;
+  bool toward = dot(n, to_eye(f_pos)) > 0.0;
   if ((u_mode == 0) != toward) discard;
   float lambert = max(dot(n, u_light.xyz), 0.0);
   o_colour = vec4(vec3(0.2 + 0.8 * lambert), 1.0);

@@ -69,7 +69,7 @@ void main() {
   bool all_toward = true, all_away = true;
   for (int j = 0; j < 6; ++j)
     for (int k = 0; k < 10; ++k) {
-      float d = dot(nc[j], u_eye.xyz - bc[k]);
+      float d = dot(nc[j], to_eye(bc[k]));
       all_toward = all_toward && d > 0.0;
       all_away = all_away && d < 0.0;
     }

@@ -49,8 +49,8 @@ void main() {
     bool all_toward = true;
     for (int j = 0; j < 6; ++j)
       for (int k = 0; k < 10; ++k) {
-        vec3 to_eye = u_eye.xyz - b[k];
-        all_toward = all_toward && dot(n[j], to_eye) > 1e-4 * length(n[j]) * length(to_eye);
+        vec3 towards = to_eye(b[k]);
+        all_toward = all_toward && dot(n[j], towards) > 1e-4 * length(n[j]) * length(towards);
       }
     keep = !(any(all_out) || all_behind || all_toward);
   }

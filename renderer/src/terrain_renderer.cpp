@@ -126,12 +126,13 @@ struct TerrainRenderer::Impl {
 
 FrameBlock TerrainRenderer::Impl::frame_block(const FrameParams& frame, const View& v,
                                               const Eigen::Vector3d& light) const {
-  const CreaseScoreParams sp = resolve_distances(frame.score, box.lo, box.hi, v.eye);
+  const CreaseScoreParams sp = resolve_distances(frame.score, box.lo, box.hi, v.viewpoint());
   const StrokeRule strokes = stroke_rule(style, page_scale(v, box));
   FrameBlock fb{};
   const Eigen::Matrix4f vp = v.view_projection().cast<float>();
   std::memcpy(fb.u_view_proj.data(), vp.data(), sizeof fb.u_view_proj);  // column-major, as GLSL
   set4(fb.u_eye, v.eye.x(), v.eye.y(), v.eye.z(), style.exaggeration);
+  if (v.orthographic()) set4(fb.u_sight, v.forward.x(), v.forward.y(), v.forward.z(), v.far);
   set4(fb.u_light, light.x(), light.y(), light.z(), 0);
   set4(fb.u_viewport, scene.width, scene.height, style.pixels_per_edge, max_level);
   set4(fb.u_weights, sp.sw, sp.iw, sp.fw, sp.literal_divisor ? 3.0 : sp.sw + sp.iw + sp.fw);

@@ -723,7 +723,7 @@ TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
       fp.score.falloff = falloff;
       fp.score.far_distance = 600;
       const auto res = r.render(fp);
-      const std::size_t cpu = renderer::count_accepted_segments(g, res.view.eye, light, 1.0, fp.score);
+      const std::size_t cpu = renderer::count_accepted_segments(g, res.view.viewpoint(), light, 1.0, fp.score);
       const double tol = std::max(2.0, 1e-3 * double(g.n_segments()));
       EXPECT_NEAR(double(res.crease_segments), double(cpu), tol) << "min " << fp.score.min_score << " falloff " << falloff;
       EXPECT_LE(res.crease_segments, previous);
@@ -764,11 +764,11 @@ TEST(RendererGl, StrokeRuleMatchesCpu) {
     EXPECT_DOUBLE_EQ(rule.bridge, 10.0);
     EXPECT_DOUBLE_EQ(rule.min_length, 6.0 * scale);
     EXPECT_DOUBLE_EQ(rule.min_area, 20000.0 * std::sqrt(scale / renderer::kPageAreaScale));
-    const auto opacity = renderer::segment_opacity(g, res.view.eye, light, 1.0, fp.score, 0.0, rule);
+    const auto opacity = renderer::segment_opacity(g, res.view.viewpoint(), light, 1.0, fp.score, 0.0, rule);
     const auto cpu = std::size_t(std::count_if(opacity.begin(), opacity.end(), [](float o) { return o > 0; }));
     const double tol = std::max(2.0, 1e-3 * double(g.n_segments()));
     EXPECT_NEAR(double(res.crease_segments), double(cpu), tol) << "min score " << min_score;
-    changed += cpu != renderer::count_accepted_segments(g, res.view.eye, light, 1.0, fp.score);
+    changed += cpu != renderer::count_accepted_segments(g, res.view.viewpoint(), light, 1.0, fp.score);
   }
   EXPECT_GT(changed, 0u);
 }
@@ -799,8 +799,8 @@ TEST(RendererGl, StrokeVisibilityMatchesCpu) {
   ASSERT_EQ(gpu.size(), g.n_segments());
   const auto buffers = r.read_buffers();
   const Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
-  const auto score = renderer::resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.eye);
-  const auto drawn = renderer::segment_opacity(g, res.view.eye, light, 1.0, score, style.crease_fade,
+  const auto score = renderer::resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.viewpoint());
+  const auto drawn = renderer::segment_opacity(g, res.view.viewpoint(), light, 1.0, score, style.crease_fade,
                                                renderer::stroke_rule(style, renderer::page_scale(res.view, r.box())));
   const auto rule = renderer::stroke_visibility_rule(style, sc.mesh);
   EXPECT_DOUBLE_EQ(rule.gap_depth, 1.5 * 10.0);

@@ -195,9 +195,7 @@ void export_hachure_map(const ExportArgs& a, const std::string& provenance) {
   if (a.to == "gpkg") {
     renderer::write_hachures_gpkg(m, h, a.out);
   } else {
-    const std::string desc =
-        fmt::format("{} | plan view, north up, {} m a pixel; geotransform {:.3f} {} 0 {:.3f} 0 {}{}", provenance,
-                    h.plan.scale, gt[0], gt[1], gt[3], gt[5], m.geo.epsg ? fmt::format("; EPSG:{}", m.geo.epsg) : "");
+    const std::string desc = provenance + " | plan view, " + renderer::map_note(gt, m.geo.epsg);
     terrain::write_file_atomic(a.out, renderer::vector_bytes(renderer::plan_vector_art(h, o),
                                                              renderer::vector_format_of(a.out), 96.0, desc));
   }

@@ -131,11 +131,19 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   std::cout << "output: " << out << "\n" << "size: " << s.width << " x " << s.height << "\n";
   print_device(ctx);
   std::cout << fmt::format("eye: {:.1f} {:.1f} {:.1f}\n", eye.x(), eye.y(), eye.z())
-            << fmt::format("view: az {:g} alt {:g} fov {:g}\n", fp.camera.view_az, fp.camera.view_alt, fp.camera.fov)
+            << (res.view.orthographic()
+                    ? fmt::format("view: orthographic, az {:g} alt {:g}, {:g} m a pixel\n", fp.camera.view_az,
+                                  fp.camera.view_alt, res.view.map_scale)
+                    : fmt::format("view: az {:g} alt {:g} fov {:g}\n", fp.camera.view_az, fp.camera.view_alt, fp.camera.fov))
             << fmt::format("light: az {:g} alt {:g}\n", fp.light.azimuth, fp.light.altitude) << exaggeration << "\n"
             << "crease segments drawn: " << res.crease_segments << "\n"
             << "pel segments drawn: " << res.pel_segments << "\n"
             << "edges drawn: " << res.edges << "\n";
+  if (const auto gt = rr::map_geotransform(res.view, r.origin())) {
+    std::cout << fmt::format("geotransform: {:.3f} {:g} 0 {:.3f} 0 {:g}\n", (*gt)[0], (*gt)[1], (*gt)[3], (*gt)[5]);
+    if (!rr::is_vector_path(out))
+      std::cout << "world file: " << std::filesystem::path(out).replace_extension(".pgw").string() << "\n";
+  }
   for (int p = 0; p < rr::kPassCount; ++p)
     std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p), res.timings.gpu_ms[p],
                              res.timings.wall_ms[p]);

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "renderer/frame_params.hpp"
+#include "renderer/viewpoint.hpp"
 #include "terrain/grid_mesh.hpp"
 
 namespace renderer {
@@ -24,15 +25,24 @@ struct Box {
 inline double far_depth(bool reversed_z, double depth) { return reversed_z ? 1.0 - depth : depth; }
 inline float far_depth(bool reversed_z, float depth) { return reversed_z ? 1.0f - depth : depth; }
 
-// The view of one frame: eye, orthonormal axes, projection and image size.
+// The view of one frame: eye, orthonormal axes, projection and image size. Perspective,
+// or orthographic when map_scale > 0 (the top view: the eye is then on a plane before the
+// whole scene, near 0, and depth runs linearly from the eye plane to `far`).
 struct View {
   Eigen::Vector3d eye, forward, right, up;  // local frame
   double fov_deg = Camera{}.fov, near = 1;
+  double map_scale = 0, far = 0;            // orthographic: metres a pixel, the far plane's distance
   int width = 1, height = 1;
-  bool reversed_z = true;                   // depth 1 at `near`, 0 at infinity (glClipControl)
+  bool reversed_z = true;                   // depth 1 at `near`, 0 at infinity or `far` (glClipControl)
   Eigen::Matrix4d view_matrix() const;      // local -> eye space (camera looks down -z)
-  Eigen::Matrix4d projection() const;       // infinite far plane
+  Eigen::Matrix4d projection() const;       // perspective: infinite far plane
   Eigen::Matrix4d view_projection() const { return projection() * view_matrix(); }
+  bool orthographic() const { return map_scale > 0; }
+  Viewpoint viewpoint() const { return orthographic() ? Viewpoint(eye, forward) : Viewpoint(eye); }
+  // The distance along the line of sight of a window depth (as the depth buffer stores it).
+  double depth_distance(double depth) const;
+  // The metres one pixel spans at `distance` along the line of sight (orthographic: map_scale).
+  double pixel_size(double distance) const;
 };
 
 // Unit line-of-sight vector for a bearing and an angle below the horizon (degrees).
@@ -108,8 +118,9 @@ inline constexpr double kReliefRatio = 0.03, kMaxAutoExaggeration = 5.0;
 double auto_exaggeration(const terrain::GridMesh& mesh);
 
 // The camera and light of `mode` (ViewMode) for a mesh, and a line saying what they are:
-// Auto (auto_view at view_alt), Top (straight down, north up, every vertex framed; the
-// light from the north-west, 45 degrees high), Relief (relief_view at view_alt); a view_alt
+// Auto (auto_view at view_alt), Top (orthographic, straight down, north up, centred on the
+// terrain's extent, which map_scale 0 fits to the image; the eye at the height that frames
+// every vertex in perspective; the light from the north-west, 45 degrees high), Relief (relief_view at view_alt); a view_alt
 // not given: 30 degrees, and Auto searches 30 to 55.
 struct DefaultView {
   Camera camera;  // eye set, world coordinates
@@ -122,13 +133,17 @@ DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double ex
 // The view of `camera` over a scene whose local frame has world origin `origin` and whose
 // (exaggerated) bounding box is `box`: the eye is camera.eye - origin, or framed on `box`
 // (frame_box) when camera.eye is unset. `near` is half the distance from the eye to the
-// box, at least 1e-4 of the box diagonal.
+// box, at least 1e-4 of the box diagonal. Orthographic: the eye (the box's centre when
+// unset) moves along the line of sight to a plane 1 % of the box diagonal (at least 1 m)
+// before the box's nearest corner, `far` as far behind its farthest; map_scale 0 fits the
+// box into the image (a 2 % margin), centred.
 View make_view(const Camera& camera, const Eigen::Vector3d& origin, const Box& box, int width, int height,
                bool reversed_z = true);
 
 // The page scale of a view (docs/terrain-render.md, "Strokes"): metres
 // (local frame, heights exaggerated) per pixel at the depth of the centre of `box`, the
-// scene's box, along the view, that depth at least the eye's distance to the box and 1 m.
+// scene's box, along the view, that depth at least the eye's distance to the box and 1 m;
+// orthographic: map_scale.
 // It depends on the camera and the image, not on the mesh's spacing: what the stroke rules
 // in pixels are converted to metres with.
 double page_scale(const View& view, const Box& box);
@@ -139,6 +154,12 @@ double page_scale(const View& view, const Box& box);
 // to kMaxEyeDistance times the terrain's size (the diagonal of its extent) from its centre.
 inline constexpr double kMaxEyeDistance = 1000.0;
 void check_eye_above_terrain(const terrain::GridMesh& mesh, const Eigen::Vector3d& eye, double exaggeration);
+
+// The geotransform of an orthographic north-up view (the top view), GDAL's order: x0,
+// scale, 0, y0, 0, -scale, in world coordinates (the scene's local frame at `origin`): pixel
+// (u, v) (u right, v down, its corner) is world (x0 + u scale, y0 - v scale). None when the
+// view is perspective or turned from north up.
+std::optional<std::array<double, 6>> map_geotransform(const View& view, const Eigen::Vector3d& origin);
 
 struct Projected {
   double u = 0, v = 0;   // pixel coordinates: u right, v down, pixel centres at +0.5

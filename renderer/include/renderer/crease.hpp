@@ -10,6 +10,7 @@
 
 #include "terrain/drainage_links.hpp"
 #include "renderer/frame_params.hpp"
+#include "renderer/viewpoint.hpp"
 #include "terrain/grid_mesh.hpp"
 
 namespace renderer {
@@ -164,13 +165,16 @@ double crease_lift(const Style& style, const terrain::GridMesh& mesh);
 // distance as given, 0 by default: the paper's rule); else near_distance from the eye to
 // the nearest point of the scene's box lo..hi and far_distance to its farthest corner (all
 // in the exaggerated local frame), so that rs_min rises across the scene, from its
-// nearest to its farthest point, wherever the eye is.
+// nearest to its farthest point, wherever the eye is. Orthographic (a map, one scale
+// throughout): no distance term, near_distance the box's farthest corner from the eye plane
+// (Viewpoint::distance), so rs_min = min_score everywhere.
 CreaseScoreParams resolve_distances(const CreaseScoreParams& params, const Eigen::Vector3d& lo,
-                                    const Eigen::Vector3d& hi, const Eigen::Vector3d& eye);
+                                    const Eigen::Vector3d& hi, const Viewpoint& viewer);
 
-// Per segment, whether its two ends both score >= 0 for the eye `eye` (exaggerated local
-// frame) and light direction `light`: what the DM pass draws (#S flags).
-std::vector<std::uint8_t> accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye,
+// Per segment, whether its two ends both score >= 0 seen from `viewer` (exaggerated local
+// frame; a perspective eye converts) and light direction `light`: what the DM pass draws
+// (#S flags).
+std::vector<std::uint8_t> accepted_segments(const CreaseGeometry& g, const Viewpoint& viewer,
                                             const Eigen::Vector3d& light, double exaggeration,
                                             const CreaseScoreParams& params);
 // The chains that strokes follow (#S each, kNoSegment where none): next[s] is the segment
@@ -217,11 +221,11 @@ std::vector<double> segment_metres(const CreaseGeometry& g);
 // Per segment, its opacity as the DM pass draws it (#S): 0 where it is not accepted (an end
 // below rule.min_area scores -1); else min(score of its two ends) / fade clamped to 1, or 1
 // when fade is 0 (Style::crease_fade); then `rule` (in metres) along segment_chains.
-std::vector<float> segment_opacity(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
+std::vector<float> segment_opacity(const CreaseGeometry& g, const Viewpoint& viewer, const Eigen::Vector3d& light,
                                    double exaggeration, const CreaseScoreParams& params, double fade,
                                    const StrokeRule& rule = {});
 // How many (accepted_segments).
-std::size_t count_accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
+std::size_t count_accepted_segments(const CreaseGeometry& g, const Viewpoint& viewer, const Eigen::Vector3d& light,
                                     double exaggeration, const CreaseScoreParams& params);
 
 }  // namespace renderer

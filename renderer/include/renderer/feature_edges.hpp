@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "renderer/viewpoint.hpp"
 #include "terrain/grid_mesh.hpp"
 
 namespace renderer {
@@ -44,9 +45,10 @@ inline bool edge_drawn(std::uint8_t kinds, std::uint8_t mask) { return (kinds & 
 //            than crease_angle degrees (0 = every bend, 180 = none);
 //   boundary the edge has one face.
 // and kFacingEye when nA . (eye - v0) > 0 or nB . (eye - v0) > 0.
-// nA = (v1 - v0) x (v2 - v0), nB = (v0 - v1) x (v3 - v1), both normalized.
+// nA = (v1 - v0) x (v2 - v0), nB = (v0 - v1) x (v3 - v1), both normalized. Orthographic
+// (the top view), eye - v0 is the way back along the line of sight (Viewpoint::to_eye).
 std::vector<std::uint8_t> classify_edges(std::span<const MeshEdge> edges, std::span<const Eigen::Vector3f> positions,
-                                         const Eigen::Vector3d& eye, double crease_angle_deg);
+                                         const Viewpoint& viewer, double crease_angle_deg);
 
 // The edges of every vertex: kVertexEdgeSlots indices per vertex, unused slots
 // MeshEdge::kNoVertex. A vertex of the grid triangulation has at most 6 edges.

@@ -37,6 +37,11 @@ struct Camera {
   // Eye in world (CRS) coordinates, metres; unset: framed automatically (frame_terrain).
   std::optional<Eigen::Vector3d> eye;
   double view_az = 225.0, view_alt = 30.0, fov = 35.0;
+  // Orthographic (--view top): every ray parallel to the line of sight, the image at
+  // map_scale metres a pixel (0: the scene fitted to the image, centred); the eye then only
+  // says where the image is centred (its projection), and fov is not used.
+  bool orthographic = false;
+  double map_scale = 0;
 };
 
 // The camera a frame gets when none is given (no eye, no view azimuth): the automatic view

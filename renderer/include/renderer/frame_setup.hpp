@@ -56,7 +56,9 @@ struct VectorOptions {
 
 // Writes the frame `res` that `r` just drew of `scene` to each of `paths`: a PNG of its
 // pixels, or (.svg, .pdf) its line art through cairo (frame_vector_art, vector_bytes; built
-// once for every vector path). `description` is the provenance line the files record.
+// once for every vector path). `description` is the provenance line the files record; a
+// map (the orthographic top view, map_geotransform) adds its geotransform and EPSG code
+// (map_note), and a PNG gets its world file beside it (NAME.pgw).
 // Throws terrain::Error for another extension, or a vector file that would be empty (no
 // line layer drawn and no underlay). Returns the time spent, for -v. With the hachures
 // layer and `traced` given, the hachures it traced are left there (for frame_line_stats).

@@ -13,6 +13,8 @@
 
 /* Uniform block: the per-frame block, std140. Members in order (type, name); comments:
    u_eye      xyz eye, w vertical exaggeration
+   u_sight    orthographic (the top view): xyz the line of sight, w the far plane's distance
+              from the eye plane (> 0); perspective: 0 (orthographic(), to_eye, view_distance)
    u_light    xyz unit vector towards the light
    u_viewport width, height, pixels per triangle edge, maximum tessellation level
    u_weights  sw, iw, fw, divisor (sw + iw + fw, or 3)
@@ -30,6 +32,7 @@
 #define TR_FRAME_BLOCK(M) \
   M(mat4, u_view_proj)    \
   M(vec4, u_eye)          \
+  M(vec4, u_sight)        \
   M(vec4, u_light)        \
   M(vec4, u_viewport)     \
   M(vec4, u_weights)      \

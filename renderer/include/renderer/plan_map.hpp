@@ -38,6 +38,13 @@ PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptio
 // The map's geotransform, GDAL's order: x0, scale, 0, y0, 0, -scale (world coordinates).
 std::array<double, 6> plan_geotransform(const terrain::GridMesh& mesh, const PlanView& plan);
 
+// What a map's files say of it (SVG <desc>, PDF subject, PNG text, and printed): "north up,
+// S m a pixel; geotransform x0 s 0 y0 0 -s; EPSG:N" (no EPSG part when `epsg` is 0).
+std::string map_note(const std::array<double, 6>& gt, int epsg);
+// The ESRI world file of a raster with that geotransform (.pgw beside a PNG; GDAL and QGIS
+// read it): the pixel sizes and rotations, then the centre of the top-left pixel.
+std::string world_file(const std::array<double, 6>& gt);
+
 // Writes the GeoPackage `path` with a line layer "hachures" in the mesh's CRS: one feature
 // a hachure, in world coordinates, with its mean slope (degrees), mean tone (0..1),
 // length (metres) and row_m (rows only: the form line above it, metres). Returns the count.

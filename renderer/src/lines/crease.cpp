@@ -424,9 +424,19 @@ double crease_lift(const Style& style, const terrain::GridMesh& mesh) {
 }
 
 CreaseScoreParams resolve_distances(const CreaseScoreParams& params, const Eigen::Vector3d& lo,
-                                    const Eigen::Vector3d& hi, const Eigen::Vector3d& eye) {
+                                    const Eigen::Vector3d& hi, const Viewpoint& viewer) {
   if (params.far_distance > 0) return params;
   CreaseScoreParams p = params;
+  if (viewer.orthographic()) {  // a map has one scale: no distance term, the whole box nearer than near_distance
+    double d_hi = 0;
+    for (int i = 0; i < 8; ++i)
+      d_hi = std::max(d_hi, viewer.distance({(i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(),
+                                             (i & 4) ? hi.z() : lo.z()}));
+    p.near_distance = d_hi;
+    p.far_distance = d_hi * (1 + 1e-6) + 1e-6;
+    return p;
+  }
+  const Eigen::Vector3d& eye = viewer.eye;
   const Eigen::Vector3d far = (eye - lo).cwiseAbs().cwiseMax((eye - hi).cwiseAbs());
   p.near_distance = (eye - eye.cwiseMax(lo).cwiseMin(hi)).norm();
   p.far_distance = std::max(far.norm(), p.near_distance + 1e-6 * (1.0 + far.norm()));
@@ -493,7 +503,7 @@ std::vector<double> segment_metres(const CreaseGeometry& g) {
   return m;
 }
 
-std::vector<float> segment_opacity(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
+std::vector<float> segment_opacity(const CreaseGeometry& g, const Viewpoint& viewer, const Eigen::Vector3d& light,
                                    double e, const CreaseScoreParams& params, double fade, const StrokeRule& rule) {
   std::vector<double> score(g.positions.size());
   for (std::size_t i = 0; i < score.size(); ++i) {
@@ -502,7 +512,7 @@ std::vector<float> segment_opacity(const CreaseGeometry& g, const Eigen::Vector3
     score[i] = !g.area.empty() && double(g.area[i]) < rule.min_area
                    ? -1.0
                    : crease_score(exaggerate_normal(g.normals[i].cast<double>(), e), g.flow[i], light,
-                                  (pe - eye).norm(), params);
+                                  viewer.distance(pe), params);
   }
   std::vector<float> opacity(g.n_segments());
   for (std::size_t s = 0; s < opacity.size(); ++s) {
@@ -513,15 +523,15 @@ std::vector<float> segment_opacity(const CreaseGeometry& g, const Eigen::Vector3
   return apply_stroke_rule(segment_chains(g), opacity, segment_metres(g), rule);
 }
 
-std::vector<std::uint8_t> accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye,
+std::vector<std::uint8_t> accepted_segments(const CreaseGeometry& g, const Viewpoint& viewer,
                                             const Eigen::Vector3d& light, double e, const CreaseScoreParams& params) {
-  const auto opacity = segment_opacity(g, eye, light, e, params, 0.0);
+  const auto opacity = segment_opacity(g, viewer, light, e, params, 0.0);
   return std::vector<std::uint8_t>(opacity.begin(), opacity.end());
 }
 
-std::size_t count_accepted_segments(const CreaseGeometry& g, const Eigen::Vector3d& eye, const Eigen::Vector3d& light,
+std::size_t count_accepted_segments(const CreaseGeometry& g, const Viewpoint& viewer, const Eigen::Vector3d& light,
                                     double e, const CreaseScoreParams& params) {
-  const auto a = accepted_segments(g, eye, light, e, params);
+  const auto a = accepted_segments(g, viewer, light, e, params);
   return std::size_t(std::count(a.begin(), a.end(), 1));
 }
 

@@ -28,14 +28,14 @@ std::vector<MeshEdge> mesh_edges(const terrain::GridTopology& topo) {
 }
 
 std::vector<std::uint8_t> classify_edges(std::span<const MeshEdge> edges, std::span<const Eigen::Vector3f> positions,
-                                         const Eigen::Vector3d& eye, double crease_angle_deg) {
+                                         const Viewpoint& viewer, double crease_angle_deg) {
   const double cos_crease = std::cos(crease_angle_deg * std::numbers::pi / 180.0);
   std::vector<std::uint8_t> kinds(edges.size(), 0);
   for (std::size_t i = 0; i < edges.size(); ++i) {
     const MeshEdge& e = edges[i];
     const Eigen::Vector3d p0 = positions[e.v0].cast<double>(), p1 = positions[e.v1].cast<double>();
     const Eigen::Vector3d na = (p1 - p0).cross(positions[e.v2].cast<double>() - p0).normalized();
-    const Eigen::Vector3d to_eye = eye - p0;
+    const Eigen::Vector3d to_eye = viewer.to_eye(p0);
     const double fa = na.dot(to_eye);
     if (e.boundary()) {
       kinds[i] = std::uint8_t(kBoundaryEdge | (fa > 0 ? kFacingEye : 0));

@@ -273,7 +273,7 @@ Coherence hachure_coherence(const std::vector<Eigen::Vector3f>& previous, const 
     const Projected q = project(next, p.cast<double>());
     if (!q.in_front) continue;
     const auto s = surface_point(next, inverse, next_depth, q.u, q.v);
-    if (!s || (*s - p.cast<double>()).norm() > 0.01 * (next.eye - *s).norm()) continue;  // hidden, or off the surface
+    if (!s || (*s - p.cast<double>()).norm() > 0.01 * std::abs(next.viewpoint().distance(*s))) continue;  // hidden, or off the surface
     ++c.counted;
     bool hit = false;
     const int x = int(q.u), y = int(q.v);

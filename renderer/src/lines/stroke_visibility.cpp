@@ -61,9 +61,10 @@ Eigen::Vector3d drawn_position(const CreaseGeometry& g, std::uint32_t i, double 
 }
 
 Projected lifted_projection(const View& view, const Eigen::Vector3d& p, double lift) {
-  const Eigen::Vector3d to_eye = view.eye - p;
-  const double d = to_eye.norm();
-  return project(view, d > 0 ? Eigen::Vector3d(p + std::min(lift, 0.5 * d) / d * to_eye) : p);
+  const Viewpoint viewer = view.viewpoint();
+  const Eigen::Vector3d to_eye = viewer.to_eye(p);
+  const double d = viewer.orthographic() ? viewer.distance(p) : to_eye.norm();
+  return project(view, d > 0 ? Eigen::Vector3d(p + std::min(lift, 0.5 * d) / to_eye.norm() * to_eye) : p);
 }
 
 std::optional<double> farthest_surface(const View& view, const std::vector<float>& toward_depth, long x, long y) {
@@ -84,8 +85,8 @@ std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const Seg
                                               const StrokeVisibilityRule& rule) {
   const long W = view.width, H = view.height;
   auto far_of = [&](double d) { return far_depth(view.reversed_z, d); };
-  // Distance along the view axis of a window depth (infinite far plane; common.glsl).
-  auto eye_distance = [&](double d) { return view.near / std::max(view.reversed_z ? d : 1.0 - d, 1e-30); };
+  // Distance along the view axis of a window depth (crease_visibility.comp's eye_distance).
+  auto eye_distance = [&](double d) { return view.depth_distance(d); };
   const std::size_t ns = g.n_segments();
   std::vector<SegmentSamples> m(ns);
   for (std::uint32_t s = 0; s < ns; ++s) {

@@ -134,8 +134,9 @@ void SilhouettePass::execute(const FrameInputs& in) {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glDisable(GL_DEPTH_TEST);
   if (piece_min_px_ > 0) clear_pieces();
-  // The angle one pixel spans at the image centre (vertical field of view over the height).
-  draw(2.0 * std::tan(in.view.fov_deg * std::numbers::pi / 360.0) / double(s_.height));
+  // The angle one pixel spans at the image centre (vertical field of view over the height);
+  // orthographic: the metres it spans.
+  draw(in.view.pixel_size(1.0));
   if (piece_min_px_ > 0) pieces();
 }
 

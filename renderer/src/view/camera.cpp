@@ -49,10 +49,20 @@ Eigen::Matrix4d View::view_matrix() const {
 }
 
 Eigen::Matrix4d View::projection() const {
+  Eigen::Matrix4d p = Eigen::Matrix4d::Zero();
+  if (orthographic()) {
+    // Eye-space z = -d, d the distance from the eye plane. Reversed: z_ndc = 1 - d / far;
+    // conventional: z_ndc = 2 d / far - 1 (window depth d / far).
+    p(0, 0) = 2.0 / (map_scale * double(width));
+    p(1, 1) = 2.0 / (map_scale * double(height));
+    p(3, 3) = 1.0;
+    p(2, 2) = reversed_z ? 1.0 / far : -2.0 / far;
+    p(2, 3) = reversed_z ? 1.0 : -1.0;
+    return p;
+  }
   // Infinite far plane. Reversed (glClipControl ZERO_TO_ONE): z_ndc = near / distance,
   // 1 at the near plane, 0 at infinity. Conventional: z_ndc = 1 - 2 near / distance.
   const double f = 1.0 / std::tan(0.5 * fov_deg * kDeg), aspect = double(width) / double(height);
-  Eigen::Matrix4d p = Eigen::Matrix4d::Zero();
   p(0, 0) = f / aspect;
   p(1, 1) = f;
   p(3, 2) = -1.0;
@@ -63,6 +73,15 @@ Eigen::Matrix4d View::projection() const {
     p(2, 3) = -2.0 * near;
   }
   return p;
+}
+
+double View::depth_distance(double depth) const {
+  if (orthographic()) return far * far_depth(reversed_z, depth);
+  return near / std::max(reversed_z ? depth : 1.0 - depth, 1e-30);
+}
+
+double View::pixel_size(double distance) const {
+  return orthographic() ? map_scale : distance * 2.0 * std::tan(0.5 * fov_deg * kDeg) / double(height);
 }
 
 Eigen::Vector3d frame_points(const std::vector<Eigen::Vector3d>& points, double az, double alt, double fov_deg,
@@ -415,10 +434,17 @@ DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double e,
     d.camera.view_alt = 90;
     d.camera.fov = fov_deg;
     if (mesh.topo.rows < 2 || mesh.topo.cols < 2) throw terrain::Error("the mesh has no faces");
-    d.camera.eye = frame_points(framing_points(mesh, e), 0, 90, fov_deg, aspect, 1.02) +
-                   Eigen::Vector3d(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z);
+    // Orthographic; the eye, centred over the terrain's extent, at the height that frames
+    // it in perspective (the viewer's view once it moves).
+    const std::vector<Eigen::Vector3d> points = framing_points(mesh, e);
+    Eigen::Vector2d lo(1e300, 1e300), hi = -lo;
+    for (const Eigen::Vector3d& p : points) lo = lo.cwiseMin(p.head<2>()), hi = hi.cwiseMax(p.head<2>());
+    Eigen::Vector3d eye = frame_points(points, 0, 90, fov_deg, aspect, 1.02);
+    eye.head<2>() = 0.5 * (lo + hi);
+    d.camera.eye = eye + Eigen::Vector3d(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z);
+    d.camera.orthographic = true;
     d.light = {315, 45};
-    d.description = "top view: straight down, north up";
+    d.description = "top view: orthographic, straight down, north up";
     return d;
   }
   const AutoView av = auto_view(mesh, e, fov_deg, aspect, view_alt, !given_alt);
@@ -440,18 +466,48 @@ View make_view(const Camera& cam, const Eigen::Vector3d& origin, const Box& box,
   v.reversed_z = reversed_z;
   v.forward = view_direction(cam.view_az, cam.view_alt);
   axes(cam.view_az, v.forward, v.right, v.up);
+  const double diag = (box.hi - box.lo).norm();
+  if (cam.orthographic) {
+    v.eye = cam.eye ? Eigen::Vector3d(*cam.eye - origin) : Eigen::Vector3d(0.5 * (box.lo + box.hi));
+    double d_lo = 1e300, d_hi = -1e300, x_lo = 1e300, x_hi = -1e300, y_lo = 1e300, y_hi = -1e300;
+    for (const Eigen::Vector3d& c : corners(box)) {
+      const Eigen::Vector3d o = c - v.eye;
+      d_lo = std::min(d_lo, o.dot(v.forward)), d_hi = std::max(d_hi, o.dot(v.forward));
+      x_lo = std::min(x_lo, o.dot(v.right)), x_hi = std::max(x_hi, o.dot(v.right));
+      y_lo = std::min(y_lo, o.dot(v.up)), y_hi = std::max(y_hi, o.dot(v.up));
+    }
+    v.map_scale = cam.map_scale;
+    if (!(v.map_scale > 0)) {
+      v.eye += 0.5 * (x_lo + x_hi) * v.right + 0.5 * (y_lo + y_hi) * v.up;
+      v.map_scale = std::max({1.02 * (x_hi - x_lo) / double(width), 1.02 * (y_hi - y_lo) / double(height), 1e-9});
+    }
+    const double margin = std::max(0.01 * diag, 1.0);
+    v.eye += (d_lo - margin) * v.forward;
+    v.near = 0;
+    v.far = d_hi - d_lo + 2 * margin;
+    return v;
+  }
   v.eye = cam.eye ? Eigen::Vector3d(*cam.eye - origin)
                   : frame_box(box, cam.view_az, cam.view_alt, cam.fov, double(width) / double(height));
   const Eigen::Vector3d nearest = v.eye.cwiseMax(box.lo).cwiseMin(box.hi);
-  const double diag = (box.hi - box.lo).norm();
   v.near = std::max(0.5 * (nearest - v.eye).norm(), 1e-4 * std::max(diag, 1.0));
   return v;
 }
 
 double page_scale(const View& view, const Box& box) {
+  if (view.orthographic()) return view.map_scale;
   const Eigen::Vector3d centre = 0.5 * (box.lo + box.hi), nearest = view.eye.cwiseMax(box.lo).cwiseMin(box.hi);
   const double depth = std::max({(centre - view.eye).dot(view.forward), (nearest - view.eye).norm(), 1.0});
-  return depth * 2.0 * std::tan(0.5 * view.fov_deg * kDeg) / double(view.height);
+  return view.pixel_size(depth);
+}
+
+std::optional<std::array<double, 6>> map_geotransform(const View& view, const Eigen::Vector3d& origin) {
+  if (!view.orthographic() || (view.right - Eigen::Vector3d::UnitX()).norm() > 1e-9 ||
+      (view.up - Eigen::Vector3d::UnitY()).norm() > 1e-9)
+    return std::nullopt;
+  const double s = view.map_scale;
+  return std::array<double, 6>{origin.x() + view.eye.x() - 0.5 * double(view.width) * s, s, 0,
+                               origin.y() + view.eye.y() + 0.5 * double(view.height) * s, 0, -s};
 }
 
 Projected project(const View& view, const Eigen::Vector3d& p) {

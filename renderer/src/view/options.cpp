@@ -126,7 +126,7 @@ void add_camera_options(std::vector<OptionSpec>& t, const GroupNames& g) {
   t.push_back(choice(
       "view", camera, OptionType::Enum, {"auto", "top", "relief"}, "auto",
       "The camera when no --eye and no --view-az is given (frame): auto, the whole terrain filling the frame, "
-      "seen across its main relief, lit from the upper left; top, straight down, north up; relief, the part "
+      "seen across its main relief, lit from the upper left; top, straight down, north up, orthographic (a map; --map-scale); relief, the part "
       "of highest relief seen from its open side; FRAMES.csv:ROW, that row of a frames CSV (a flight's frame "
       "ROW, 0 the first as batch numbers them; its camera, light and per-frame options)",
       [](const RenderSettings& s) {
@@ -164,6 +164,12 @@ void add_camera_options(std::vector<OptionSpec>& t, const GroupNames& g) {
   t.push_back(number(
       "fov", camera, 1, 170, "degrees", "35", "Vertical field of view, degrees",
       [](auto& s) -> auto& { return s.frame.camera.fov; }, true));
+  t.push_back(number(
+      "map-scale", camera, 0, 1e9, "m", "0",
+      "With --view top (orthographic, north up): metres a pixel, the image centred on the terrain; 0 fits the "
+      "whole terrain to the image. The files carry the map's geotransform (SVG <desc>, PDF subject, PNG text and a "
+      ".pgw world file)",
+      [](auto& s) -> auto& { return s.frame.camera.map_scale; }));
   t.push_back(number(
       "light-az", camera, -1e9, 1e9, "degrees", "315",
       "Light azimuth, degrees clockwise from north (frame's default view: from its left)",

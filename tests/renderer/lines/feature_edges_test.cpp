@@ -35,7 +35,7 @@ TEST(FeatureEdges, EdgeBufferOfTheGrid) {
   // A flat plane seen from anywhere above: no contour, no crease; the boundary is found.
   const terrain::GridMesh plane =
       terrain::test::function_mesh(7, 11, 10.0, [](double x, double y) { return 0.1 * x - 0.2 * y; });
-  const auto kinds = classify_edges(edges, plane.positions, {50, -30, 500}, 1.0);
+  const auto kinds = classify_edges(edges, plane.positions, Eigen::Vector3d(50, -30, 500), 1.0);
   EXPECT_EQ(count(kinds, kContourEdge), 0u);
   EXPECT_EQ(count(kinds, kCreaseEdge), 0u);
   EXPECT_EQ(count(kinds, kBoundaryEdge), boundary);
@@ -52,7 +52,7 @@ TEST(FeatureEdges, TentRidgeIsCreaseAndContour) {
   auto on_ridge = [&](const MeshEdge& e) { return e.v0 % cols == 5 && e.v1 % cols == 5; };
   const std::size_t ridge_edges = rows - 1;
   for (double angle : {1.0, 30.0, 89.0}) {
-    const auto kinds = classify_edges(edges, tent.positions, {50, -40, 1000}, angle);
+    const auto kinds = classify_edges(edges, tent.positions, Eigen::Vector3d(50, -40, 1000), angle);
     std::size_t on = 0;
     for (std::size_t i = 0; i < edges.size(); ++i) {
       if (kinds[i] & kCreaseEdge) {
@@ -63,10 +63,10 @@ TEST(FeatureEdges, TentRidgeIsCreaseAndContour) {
     EXPECT_EQ(on, ridge_edges) << angle;
     EXPECT_EQ(count(kinds, kContourEdge), 0u);  // from high above both sides face the eye
   }
-  EXPECT_EQ(count(classify_edges(edges, tent.positions, {50, -40, 1000}, 91.0), kCreaseEdge), 0u);
+  EXPECT_EQ(count(classify_edges(edges, tent.positions, Eigen::Vector3d(50, -40, 1000), 91.0), kCreaseEdge), 0u);
   // Eye far to the west, a little above the ridge: the west slope faces it, the east slope
   // faces away; the ridge edges are contours, nothing else is.
-  const auto side = classify_edges(edges, tent.positions, {-5000, -40, 120}, 170.0);
+  const auto side = classify_edges(edges, tent.positions, Eigen::Vector3d(-5000, -40, 120), 170.0);
   std::size_t contours = 0;
   for (std::size_t i = 0; i < edges.size(); ++i)
     if (side[i] & kContourEdge) {
@@ -126,7 +126,7 @@ TEST(FeatureEdges, CreaseCountFallsWithTheAngle) {
   const auto edges = mesh_edges(m.topo);
   std::size_t previous = edges.size() + 1;
   for (double angle = 0.0; angle <= 180.0; angle += 5.0) {
-    const std::size_t n = count(classify_edges(edges, m.positions, {0, 0, 1e6}, angle), kCreaseEdge);
+    const std::size_t n = count(classify_edges(edges, m.positions, Eigen::Vector3d(0, 0, 1e6), angle), kCreaseEdge);
     EXPECT_LE(n, previous) << angle;
     previous = n;
   }

@@ -97,7 +97,7 @@ TEST(EdgesGl, ClassificationEqualsCpuReference) {
           SCOPED_TRACE(std::string(sc.name) + " view " + std::to_string(v) + " angle " + std::to_string(angle));
           const FrameResult res = r.render(sc.views[v]);
           const auto gpu = r.read_edges();
-          const auto cpu = classify_edges(edges, sc.mesh.positions, res.view.eye, angle);
+          const auto cpu = classify_edges(edges, sc.mesh.positions, res.view.viewpoint(), angle);
           ASSERT_EQ(gpu.kinds.size(), cpu.size());
           std::size_t differ = 0, kinds_seen = 0;
           std::set<std::pair<std::uint32_t, std::uint32_t>> expected;
@@ -133,7 +133,7 @@ TEST(EdgesGl, CreaseThresholdIsMonotone) {
   for (double angle = 2.0; angle <= 92.0; angle += 10.0) {
     TerrainRenderer r(ctx, mesh, nullptr, 160, 120, edge_layers(), edge_style(angle, EdgeCaps::Cheap, kCreaseEdge));
     const FrameResult res = r.render(FrameParams{});
-    const auto cpu = classify_edges(edges, mesh.positions, res.view.eye, angle);
+    const auto cpu = classify_edges(edges, mesh.positions, res.view.viewpoint(), angle);
     const auto expected = std::size_t(std::count_if(cpu.begin(), cpu.end(), [](auto k) { return edge_drawn(k, kCreaseEdge); }));
     EXPECT_EQ(res.edges, expected) << angle;
     EXPECT_LE(res.edges, previous) << angle;
