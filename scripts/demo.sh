@@ -55,11 +55,13 @@ run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_breached.dv" -o "$out
 run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_breached.dv" -o "$out/render_msh_shaded.png" \
   --layers shaded,creases,silhouettes --eye 562300 5119450 4300 --view-az 170 --view-alt 38 --fov 28
 # Hachures (docs/terrain-render.md, "Hachures"): a hachured landscape (Imhof's rows), and a
-# plan-view hachure map in map coordinates, as an SVG and as a GeoPackage layer for QGIS.
+# plan-view hachure map in map coordinates, as an SVG and as a GeoPackage layer for QGIS;
+# the top view as a map (orthographic, north up; a world file beside the PNG).
 run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_breached.dv" -o "$out/render_msh_hachures.png" \
   --layers mask,hachures,creases,silhouettes --hachure-style rows
 run $bin/terrain-inspect export "$out/msh_10m.ply" --to svg -o "$out/msh_hachure_map.svg"
 run $bin/terrain-inspect export "$out/msh_10m.ply" --to gpkg -o "$out/msh_hachure_map.gpkg"
+run $bin/terrain-render frame "$out/msh_50m.ply" "$out/msh_breached.dv" -o "$out/render_msh_map.png" --view top
 run $bin/terrain-render frame "$out/msh_50m.ply" -o "$out/render_msh_relief.png" --layers shaded \
   --eye 562300 5119450 4300 --view-az 170 --view-alt 38 --fov 28
 # Logan: the mountains east of Cache Valley, 2x vertical exaggeration; channels from 9 ha

@@ -714,10 +714,12 @@ TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
   renderer::GlContext ctx;
   TerrainRenderer r(ctx, sc.mesh, &g, 160, 120, renderer::Layers{false, true, true, false}, test_style());
   const Vector3d light = terrain::light_direction(315, 45);
-  for (double falloff : {0.0, 0.5}) {
+  for (const double signed_falloff : {0.0, 0.5, -0.5}) {  // -0.5: 0.5 orthographic (distance from the eye plane)
+    const double falloff = std::abs(signed_falloff);
     std::size_t previous = g.n_segments() + 1;
     for (int i = 0; i <= 10; ++i) {
       FrameParams fp;
+      fp.camera.orthographic = signed_falloff < 0;
       fp.score.sw = fp.score.iw = fp.score.fw = 1.0 / 3;
       fp.score.min_score = i / 10.0;
       fp.score.falloff = falloff;
@@ -790,9 +792,12 @@ TEST(RendererGl, StrokeVisibilityMatchesCpu) {
   style.antialias = true;
   const int w = 480, h = 270;
   TerrainRenderer r(ctx, sc.mesh, &g, w, h, renderer::Layers{false, true, true, false}, style);
+  for (const bool orthographic : {false, true}) {  // depth linear from the eye plane, the lift along the sight
+  SCOPED_TRACE(orthographic ? "orthographic" : "perspective");
   FrameParams fp;
   fp.camera.view_az = 200;
   fp.camera.view_alt = 12;
+  fp.camera.orthographic = orthographic;
   fp.score.min_score = 0.05;
   const auto res = r.render(fp);
   const auto gpu = r.read_crease_samples();
@@ -831,6 +836,7 @@ TEST(RendererGl, StrokeVisibilityMatchesCpu) {
             << " samples: " << c.differ[0] << " / " << c.differ[1] << " / " << c.differ[2] << " / " << c.differ[3]
             << " differ (visible, bridgeable, closed, shown); " << c.hidden_drawn << " hidden drawn, " << c.peeks
             << " peek samples left out, " << inked << " of the first inked\n";
+  }
 }
 
 // From straight above nothing is hidden: at min score 0 every drainage vertex that starts
@@ -1012,23 +1018,28 @@ TEST(RendererGl, AdjacencyAgreesWithTowardAwayOnRealTerrain) {
   const terrain::GridMesh& mesh = terrain::test::msh_50m_mesh();
   renderer::GlContext ctx;
   const int w = 640, h = 360;
-  auto mask = [&](bool adjacency) {
-    renderer::Layers layers{false, true, false, true};
-    layers.adjacency = adjacency;
-    TerrainRenderer r(ctx, mesh, nullptr, w, h, layers, test_style());
-    r.render(FrameParams{});
-    return r.read_buffers().silhouette;
-  };
-  const auto toward_away = mask(false), adjacency = mask(true);
-  std::size_t missed = 0, spurious = 0;
-  const double found = covered_within_one(toward_away, adjacency, w, h, missed);
-  covered_within_one(adjacency, toward_away, w, h, spurious);
-  const auto n_ta = std::count(toward_away.begin(), toward_away.end(), 1);
-  const auto n_adj = std::count(adjacency.begin(), adjacency.end(), 1);
-  std::printf("Toward/Away %ld px, Adjacency %ld px; found %.1f %% of Toward/Away within 1 px; spurious %zu px\n",
-              long(n_ta), long(n_adj), 100 * found, spurious);
-  EXPECT_GT(n_ta, 500);
-  EXPECT_GE(found, 0.90);
+  for (const bool orthographic : {false, true}) {  // the orthographic view: the pixel's size in metres
+    auto mask = [&](bool adjacency) {
+      renderer::Layers layers{false, true, false, true};
+      layers.adjacency = adjacency;
+      TerrainRenderer r(ctx, mesh, nullptr, w, h, layers, test_style());
+      FrameParams fp;
+      fp.camera.orthographic = orthographic;
+      if (orthographic) fp.camera.view_alt = 15;  // parallel rays graze less: lower, for as many silhouettes
+      r.render(fp);
+      return r.read_buffers().silhouette;
+    };
+    const auto toward_away = mask(false), adjacency = mask(true);
+    std::size_t missed = 0, spurious = 0;
+    const double found = covered_within_one(toward_away, adjacency, w, h, missed);
+    covered_within_one(adjacency, toward_away, w, h, spurious);
+    const auto n_ta = std::count(toward_away.begin(), toward_away.end(), 1);
+    const auto n_adj = std::count(adjacency.begin(), adjacency.end(), 1);
+    std::printf("%s: Toward/Away %ld px, Adjacency %ld px; found %.1f %% of Toward/Away within 1 px; spurious %zu px\n",
+                orthographic ? "orthographic" : "perspective", long(n_ta), long(n_adj), 100 * found, spurious);
+    EXPECT_GT(n_ta, 500);
+    EXPECT_GE(found, 0.90);
+  }
 }
 
 namespace {

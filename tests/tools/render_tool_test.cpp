@@ -10,6 +10,8 @@
 #include <regex>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include <gdal_priv.h>
 #include <ogrsf_frmts.h>
 
@@ -408,6 +410,68 @@ TEST(TerrainRender, HachuresAreALayerOfPngAndSvg) {
   ASSERT_EQ(run(frame + in.dir.path("dense.png") + " --hachure-spacing 3").exit_code, 0);
   EXPECT_GT(double(terrain::test::count(terrain::test::ink_of(in.dir.path("dense.png")))),
             1.5 * double(terrain::test::count(png)));
+}
+
+// --view top is a map: orthographic, north up, at --map-scale metres a pixel. The terrain's
+// pixels (the mask) cover exactly the mesh's extent put through the printed geotransform,
+// whatever the heights (a perspective view from above would spread the high ground); GDAL
+// reads the same geotransform from the PNG's world file; the SVG names it and the EPSG
+// code; --map-scale without the orthographic view is refused.
+TEST(TerrainRender, TopViewIsAMapInMapCoordinates) {
+  Inputs in;
+  const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
+                            " --view top --map-scale 10 --layers mask --size 640x480 -o ";
+  const auto f = run(frame + in.dir.path("t.png"));
+  ASSERT_EQ(f.exit_code, 0) << f.err;
+  EXPECT_NE(f.out.find("view: orthographic, az 0 alt 90, 10 m a pixel"), std::string::npos) << f.out;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(f.out, m, std::regex(R"(geotransform: (\S+) (\S+) 0 (\S+) 0 (\S+))"))) << f.out;
+  const double x0 = std::stod(m[1]), sx = std::stod(m[2]), y0 = std::stod(m[3]), sy = std::stod(m[4]);
+  EXPECT_EQ(sx, 10.0);
+  EXPECT_EQ(sy, -10.0);
+  terrain::ensure_gdal();
+  {
+    std::unique_ptr<GDALDataset> ds(GDALDataset::Open(in.dir.path("t.png").c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    ASSERT_TRUE(ds);
+    double gt[6];
+    ASSERT_EQ(ds->GetGeoTransform(gt), CE_None);  // from t.pgw
+    EXPECT_NEAR(gt[0], x0, 1e-3);
+    EXPECT_NEAR(gt[3], y0, 1e-3);
+    EXPECT_DOUBLE_EQ(gt[1], 10.0);
+    EXPECT_DOUBLE_EQ(gt[5], -10.0);
+  }
+  const terrain::GridMesh mesh = terrain::read_mesh_ply(in.mesh);
+  const double west = mesh.geo.origin_x, north = mesh.geo.origin_y;
+  const double east = west + double(mesh.topo.cols - 1) * mesh.geo.dx, south = north - double(mesh.topo.rows - 1) * mesh.geo.dy;
+  OIIO::ImageBuf img(in.dir.path("t.png"));
+  ASSERT_TRUE(img.read(0, 0, true, OIIO::TypeDesc::UINT8));
+  const int w = img.spec().width, h = img.spec().height;
+  std::vector<std::uint8_t> px(std::size_t(w * h * img.spec().nchannels));
+  img.get_pixels(img.roi(), OIIO::TypeDesc::UINT8, px.data());
+  const int nc = img.spec().nchannels;
+  auto background = [&](int u, int v) {
+    for (int c = 0; c < 3; ++c)
+      if (px[std::size_t((v * w + u) * nc + c)] != px[std::size_t(c)]) return false;  // the corner's colour
+    return true;
+  };
+  int u_lo = w, u_hi = -1, v_lo = h, v_hi = -1;
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u)
+      if (!background(u, v)) u_lo = std::min(u_lo, u), u_hi = std::max(u_hi, u), v_lo = std::min(v_lo, v), v_hi = std::max(v_hi, v);
+  EXPECT_NEAR(x0 + u_lo * sx, west, 1.5 * sx);
+  EXPECT_NEAR(x0 + (u_hi + 1) * sx, east, 1.5 * sx);
+  EXPECT_NEAR(y0 + v_lo * sy, north, 1.5 * sx);
+  EXPECT_NEAR(y0 + (v_hi + 1) * sy, south, 1.5 * sx);
+
+  ASSERT_EQ(run(frame + in.dir.path("t.svg")).exit_code, 0);
+  const std::string svg = terrain::test::file_bytes(in.dir.path("t.svg"));
+  EXPECT_NE(svg.find(fmt::format("north up, 10 m a pixel; geotransform {:.3f} 10 0 {:.3f} 0 -10; EPSG:{}", x0, y0,
+                                 mesh.geo.epsg)),
+            std::string::npos);
+  const auto bad = run(tool("terrain-render") + " frame " + in.mesh + " --map-scale 10 -o " + in.dir.path("b.png"));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.err.find("--map-scale needs the orthographic view"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(in.dir.path("b.png")));
 }
 
 // A mesh's plan-view hachure map (terrain-inspect export --layers hachures): the GeoPackage

@@ -71,6 +71,7 @@ std::optional<Eigen::Vector3d> ViewCamera::pick(const renderer::Camera& c, doubl
 
 void ViewCamera::orbit(renderer::Camera& c, const Eigen::Vector3d& pivot, double d_az, double d_alt) const {
   if (!c.eye) return;
+  c.orthographic = false;
   const double alt = std::clamp(c.view_alt + d_alt, -89.0, 89.0);
   d_alt = alt - c.view_alt;
   // Bearing turns clockwise seen from above: a rotation by -d_az about z; then the
@@ -87,6 +88,7 @@ void ViewCamera::orbit(renderer::Camera& c, const Eigen::Vector3d& pivot, double
 
 void ViewCamera::pan(renderer::Camera& c, const Eigen::Vector3d& pivot, double dx, double dy) const {
   if (!c.eye) return;
+  c.orthographic = false;
   const Eigen::Vector3d f = forward_of(c);
   Eigen::Vector3d right, up;
   basis(f, right, up);
@@ -97,12 +99,14 @@ void ViewCamera::pan(renderer::Camera& c, const Eigen::Vector3d& pivot, double d
 
 void ViewCamera::zoom(renderer::Camera& c, const Eigen::Vector3d& target, double share) const {
   if (!c.eye) return;
+  c.orthographic = false;
   c.eye = *c.eye + share * (target - *c.eye);
   keep_above(c);
 }
 
 void ViewCamera::fly(renderer::Camera& c, double forward, double right, double up) const {
   if (!c.eye) return;
+  c.orthographic = false;
   const double az = c.view_az * kDeg;
   c.eye = *c.eye + forward * Eigen::Vector3d(std::sin(az), std::cos(az), 0) +
           right * Eigen::Vector3d(std::cos(az), -std::sin(az), 0) + up * Eigen::Vector3d::UnitZ();

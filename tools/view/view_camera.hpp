@@ -2,7 +2,9 @@
 // terrain-view's camera moves, GL-free: the terrain point under a pixel, orbit about it,
 // pan, zoom towards it, fly, and the rule that the eye never goes below the surface. The
 // camera is the renderer's own (renderer::Camera: eye, bearing and altitude of the line of
-// sight, field of view), so a view moved here is a view terrain-render draws.
+// sight, field of view), so a view moved here is a view terrain-render draws. The top
+// view starts orthographic (a map); the first move makes it the perspective view from the
+// same eye, which frames the same terrain (pick treats every camera as perspective).
 #include <Eigen/Core>
 #include <optional>
 

@@ -166,8 +166,8 @@ double crease_lift(const Style& style, const terrain::GridMesh& mesh);
 // the nearest point of the scene's box lo..hi and far_distance to its farthest corner (all
 // in the exaggerated local frame), so that rs_min rises across the scene, from its
 // nearest to its farthest point, wherever the eye is. Orthographic (a map, one scale
-// throughout): no distance term, near_distance the box's farthest corner from the eye plane
-// (Viewpoint::distance), so rs_min = min_score everywhere.
+// throughout): the term of the scene's middle everywhere, rs_min = min + (1 - min) k / 2
+// (near and far a million box depths either side of the middle, Viewpoint::distance).
 CreaseScoreParams resolve_distances(const CreaseScoreParams& params, const Eigen::Vector3d& lo,
                                     const Eigen::Vector3d& hi, const Viewpoint& viewer);
 

@@ -427,13 +427,18 @@ CreaseScoreParams resolve_distances(const CreaseScoreParams& params, const Eigen
                                     const Eigen::Vector3d& hi, const Viewpoint& viewer) {
   if (params.far_distance > 0) return params;
   CreaseScoreParams p = params;
-  if (viewer.orthographic()) {  // a map has one scale: no distance term, the whole box nearer than near_distance
-    double d_hi = 0;
-    for (int i = 0; i < 8; ++i)
-      d_hi = std::max(d_hi, viewer.distance({(i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(),
-                                             (i & 4) ? hi.z() : lo.z()}));
-    p.near_distance = d_hi;
-    p.far_distance = d_hi * (1 + 1e-6) + 1e-6;
+  if (viewer.orthographic()) {
+    // A map has one scale: the distance term of the scene's middle everywhere, rs_min =
+    // min + (1 - min) k / 2: near and far put so far either side of the middle that the
+    // box's whole depth moves clamp(...) by under 1e-6 from 1/2.
+    double d_lo = 1e300, d_hi = -1e300;
+    for (int i = 0; i < 8; ++i) {
+      const double d = viewer.distance({(i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(), (i & 4) ? hi.z() : lo.z()});
+      d_lo = std::min(d_lo, d), d_hi = std::max(d_hi, d);
+    }
+    const double reach = 1e6 * (1 + d_hi - d_lo);
+    p.near_distance = 0.5 * (d_lo + d_hi) - reach;
+    p.far_distance = 0.5 * (d_lo + d_hi) + reach;
     return p;
   }
   const Eigen::Vector3d& eye = viewer.eye;

@@ -40,12 +40,13 @@ Layers edge_layers() {
   return l;
 }
 
-FrameParams looking(const Vector3d& eye, double az, double alt, double fov) {
+FrameParams looking(const Vector3d& eye, double az, double alt, double fov, bool orthographic = false) {
   FrameParams fp;
   fp.camera.eye = eye;
   fp.camera.view_az = az;
   fp.camera.view_alt = alt;
   fp.camera.fov = fov;
+  fp.camera.orthographic = orthographic;
   return fp;
 }
 
@@ -57,24 +58,25 @@ struct Scene {
 
 // The tent of feature_edges_test (ridge at x = 50), a pyramid (its ridges along both
 // diagonals: one follows the grid's diagonal edges, the other a staircase of row and
-// column edges) and the Gaussian ridge of the silhouette tests.
+// column edges) and the Gaussian ridge of the silhouette tests; the last view of each is
+// orthographic (the facing tests along the line of sight).
 std::vector<Scene> scenes() {
   std::vector<Scene> out;
   out.push_back({"tent",
                  terrain::test::function_mesh(9, 11, 10.0, [](double x, double) { return 100.0 - std::abs(x - 50.0); }),
                  {looking({-300, -40, 120}, 90, 5, 60), looking({50, -40, 600}, 0, 90, 60),
-                  looking({150, 60, 180}, 200, 30, 60)}});
+                  looking({150, 60, 180}, 200, 30, 60), looking({-300, -40, 120}, 90, 5, 60, true)}});
   out.push_back({"pyramid", terrain::test::function_mesh(21, 21, 10.0, [](double x, double y) {
                    return 80.0 - 0.8 * std::max(std::abs(x - 100.0), std::abs(y + 100.0));
                  }),
                  {looking({100, -100, 500}, 0, 90, 50), looking({-150, -180, 90}, 70, 10, 60),
-                  looking({260, 40, 140}, 225, 25, 60)}});
+                  looking({260, 40, 140}, 225, 25, 60), looking({-150, -180, 90}, 70, 10, 60, true)}});
   const double H = 200, s = 100, yr = -3000;
   out.push_back({"gaussian ridge", terrain::test::function_mesh(201, 101, 20.0, [=](double, double y) {
                    return H * std::exp(-0.5 * (y - yr) * (y - yr) / (s * s));
                  }),
                  {looking({1000, -3900, 100}, 0, 0, 30), looking({1000, -3900, 400}, 0, 0, 30),
-                  looking({-500, -2500, 600}, 120, 15, 45)}});
+                  looking({-500, -2500, 600}, 120, 15, 45), looking({1000, -3900, 100}, 0, 3, 30, true)}});
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <functional>
 #include <numbers>
+#include <Eigen/LU>
 
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
@@ -174,3 +175,68 @@ TEST(Camera, ProjectionAndFraming) {
 }
 
 }  // namespace
+
+// The orthographic view (--view top): rays are parallel, so a point and the same point
+// 500 m lower fall on one pixel; map_scale 0 fits the box's footprint (2 % margin) centred;
+// the geotransform takes a pixel back to the world point; window depth is linear in the
+// distance from the eye plane (View::depth_distance inverts it) and unproject inverts
+// project; the page scale is the map scale. Both depth conventions.
+TEST(Camera, OrthographicTopViewIsAMap) {
+  const renderer::Box box{{-1000, -3000, 100}, {3000, 0, 900}};
+  const Vector3d origin(500000, 4000000, 0);
+  for (const bool reversed : {true, false}) {
+    renderer::Camera cam;
+    cam.view_az = 0;
+    cam.view_alt = 90;
+    cam.orthographic = true;
+    const auto v = renderer::make_view(cam, origin, box, 640, 360, reversed);
+    ASSERT_TRUE(v.orthographic());
+    EXPECT_DOUBLE_EQ(v.map_scale, 1.02 * 3000 / 360);  // the box's 3000 m north-south in 360 rows
+    EXPECT_DOUBLE_EQ(renderer::page_scale(v, box), v.map_scale);
+    const auto gt = renderer::map_geotransform(v, origin);
+    ASSERT_TRUE(gt.has_value());
+    EXPECT_NEAR((*gt)[0] + 320 * (*gt)[1], origin.x() + 1000, 1e-6);  // the image centred on the box
+    EXPECT_NEAR((*gt)[3] + 180 * (*gt)[5], origin.y() - 1500, 1e-6);
+    const Eigen::Matrix4d inverse = v.view_projection().inverse();
+    for (const Vector3d& p : {Vector3d(-1000, -3000, 100), Vector3d(2500, -10, 900), Vector3d(123.4, -2345.6, 512)}) {
+      const auto a = renderer::project(v, p), b = renderer::project(v, p - Vector3d(0, 0, 500));
+      EXPECT_TRUE(a.in_front);
+      EXPECT_NEAR(a.u, b.u, 1e-9);
+      EXPECT_NEAR(a.v, b.v, 1e-9);
+      EXPECT_GT(renderer::far_depth(reversed, b.depth), renderer::far_depth(reversed, a.depth));  // lower is farther
+      EXPECT_NEAR(origin.x() + p.x(), (*gt)[0] + a.u * (*gt)[1], 1e-6);
+      EXPECT_NEAR(origin.y() + p.y(), (*gt)[3] + a.v * (*gt)[5], 1e-6);
+      EXPECT_GE(a.u, 0.0);
+      EXPECT_LE(a.u, 640.0);
+      EXPECT_GE(a.v, 0.0);
+      EXPECT_LE(a.v, 360.0);
+      EXPECT_NEAR(v.depth_distance(a.depth), v.viewpoint().distance(p), 1e-6);
+      EXPECT_NEAR(v.viewpoint().distance(p), v.eye.z() - p.z(), 1e-9);
+      const Vector3d back = renderer::unproject(v, inverse, a.u, a.v, a.depth);
+      EXPECT_NEAR((back - p).head<2>().norm(), 0.0, 0.5 * std::sqrt(2.0) * v.map_scale + 1e-6);  // the pixel's centre
+      EXPECT_NEAR(back.z(), p.z(), 1e-6);
+    }
+    // The whole box lies between the eye plane and the far plane.
+    for (double z : {box.lo.z(), box.hi.z()}) {
+      const double d = v.viewpoint().distance({0, 0, z});
+      EXPECT_GT(d, 0.0);
+      EXPECT_LT(d, v.far);
+    }
+  }
+  // A given scale is kept, centred on the eye; a view turned from north up has no geotransform.
+  renderer::Camera cam;
+  cam.view_az = 0;
+  cam.view_alt = 90;
+  cam.orthographic = true;
+  cam.map_scale = 2.5;
+  cam.eye = origin + Vector3d(100, -200, 5000);
+  const auto v = renderer::make_view(cam, origin, box, 640, 360);
+  EXPECT_DOUBLE_EQ(v.map_scale, 2.5);
+  const auto c = renderer::project(v, {100, -200, 300});
+  EXPECT_NEAR(c.u, 320, 1e-9);
+  EXPECT_NEAR(c.v, 180, 1e-9);
+  cam.view_az = 30;
+  EXPECT_FALSE(renderer::map_geotransform(renderer::make_view(cam, origin, box, 640, 360), origin).has_value());
+  // Orthographic facing: the way to the viewer is against the line of sight, wherever the point.
+  EXPECT_NEAR((v.viewpoint().to_eye({-900, -50, 100}) - Vector3d(0, 0, 1)).norm(), 0.0, 1e-12);
+}
