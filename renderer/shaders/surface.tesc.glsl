@@ -7,6 +7,8 @@ out vec3 c_pos[];
 out vec3 c_nrm[];
 patch out vec3 p_b210, p_b120, p_b021, p_b012, p_b102, p_b201, p_b111;
 patch out vec3 p_n110, p_n011, p_n101;
+// 1 on a coarse patch (levels of detail; u_lod): its facing is its geometry's.
+patch out float p_coarse;
 layout(location = TR_LOC_SURFACE_MODE) uniform int u_mode;  // 0: TFT (toward-facing fragments), 1: AFT (away-facing)
 
 vec2 to_pixels(vec4 c) { return (c.xy / c.w * 0.5 + 0.5) * u_viewport.xy; }
@@ -40,6 +42,8 @@ void main() {
   p_n110 = mid_normal(p1, p2, n1, n2, fn);
   p_n011 = mid_normal(p2, p3, n2, n3, fn);
   p_n101 = mid_normal(p3, p1, n3, n1, fn);
+  vec2 e1 = p2.xy - p1.xy, e2 = p3.xy - p2.xy, e3 = p1.xy - p3.xy;
+  p_coarse = u_lod.x > 0.0 && max(dot(e1, e1), max(dot(e2, e2), dot(e3, e3))) > u_lod.x ? 1.0 : 0.0;
 
   if (tess_override() > 0.0) {  // fixed level (tests, capture)
     gl_TessLevelOuter[0] = gl_TessLevelOuter[1] = gl_TessLevelOuter[2] = tess_override();
@@ -73,7 +77,8 @@ void main() {
       all_toward = all_toward && d > 0.0;
       all_away = all_away && d < 0.0;
     }
-  bool facing_cull = (u_mode == 1 && all_toward) || (u_mode == 0 && all_away);
+  // A coarse patch's fragments face by its geometry, not by its (fine) normals: no facing cull.
+  bool facing_cull = p_coarse < 0.5 && ((u_mode == 1 && all_toward) || (u_mode == 0 && all_away));
   if (any(all_out) || all_behind || facing_cull) {
     gl_TessLevelOuter[0] = gl_TessLevelOuter[1] = gl_TessLevelOuter[2] = 0.0;
     gl_TessLevelInner[0] = 0.0;

@@ -5,8 +5,10 @@ in vec3 c_pos[];
 in vec3 c_nrm[];
 patch in vec3 p_b210, p_b120, p_b021, p_b012, p_b102, p_b201, p_b111;
 patch in vec3 p_n110, p_n011, p_n101;
+patch in float p_coarse;
 out vec3 f_pos;
 out vec3 f_nrm;
+flat out float f_coarse;
 // Captured by transform feedback in TerrainRenderer::capture_pn (unused otherwise).
 out uint tf_face;
 out vec3 tf_bary;
@@ -25,6 +27,7 @@ void main() {
   n = len > 1e-12 ? n / len : c_nrm[0];
   f_pos = p;
   f_nrm = n;
+  f_coarse = p_coarse;
   gl_Position = u_view_proj * vec4(p, 1.0);
   tf_face = uint(gl_PrimitiveID);
   tf_bary = gl_TessCoord;

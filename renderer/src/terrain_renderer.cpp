@@ -8,11 +8,13 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "passes/passes.hpp"
 #include "renderer/gl_contract.hpp"
+#include "renderer/lod.hpp"
 #include "renderer/programs.hpp"
 #include "renderer/stroke_visibility.hpp"
 #include "terrain/memory.hpp"
@@ -76,6 +78,7 @@ struct TerrainRenderer::Impl {
         style(style),
         box(exaggerated_box(mesh, style.exaggeration)),
         origin(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z),
+        cell(mesh.geo.dx, mesh.geo.dy),
         lift(crease_lift(style, mesh)),
         visibility(stroke_visibility_rule(style, mesh)),
         scene(mesh, width, height, context.has_clip_control(), layers.hachures),
@@ -92,6 +95,10 @@ struct TerrainRenderer::Impl {
                     Eigen::Vector4f(0, -float(double(mesh.topo.rows - 1) * mesh.geo.dy),
                                     float(double(mesh.topo.cols - 1) * mesh.geo.dx), 0)),
         composite(scene, layers, style, this->creases, pels, edges, silhouettes) {
+    if (style.lod_error > 0 && mesh.topo.rows > kLodBlock && mesh.topo.cols > kLodBlock) {
+      lod = build_lod(mesh);
+      lod_levels.assign(lod->blocks.size(), 0);
+    }
     GLint max_gen = 64;
     glGetIntegerv(GL_MAX_TESS_GEN_LEVEL, &max_gen);
     max_level = std::min(32, int(max_gen));
@@ -101,6 +108,7 @@ struct TerrainRenderer::Impl {
   Style style;
   Box box;
   Eigen::Vector3d origin;
+  Eigen::Vector2d cell;  // the mesh's spacing, metres
   double lift = 0;
   StrokeVisibilityRule visibility;
   int max_level = 32;
@@ -115,6 +123,8 @@ struct TerrainRenderer::Impl {
   passes::CompositePass composite;
   GlObject capture_prog;  // built on the first capture_pn
   GlObject hachure_prog, hachure_buf;  // built on the first hachure_field
+  std::optional<LodHierarchy> lod;     // levels of detail (style.lod_error > 0, a mesh of more than one block)
+  std::vector<std::uint8_t> lod_levels;  // the levels scene's patches are at
 
   // In the order they run.
   std::array<passes::PassBase*, kPassCount> sequence() {
@@ -141,6 +151,9 @@ FrameBlock TerrainRenderer::Impl::frame_block(const FrameParams& frame, const Vi
   set4(fb.u_misc, v.near, double(creases.n_segments()), double(creases.n_vertices()), strokes.min_length);
   set4(fb.u_style, style.antialias ? 1 : 0, style.antialias ? style.crease_fade : 0, sp.near_distance, strokes.bridge);
   const bool aa = style.antialias;  // the visibility stage runs on anti-aliased lines only
+  // A patch with an edge longer than a cell's diagonal (1 % over) is a coarse level's.
+  const double diagonal2 = 1.0201 * (cell.x() * cell.x() + cell.y() * cell.y());
+  set4(fb.u_lod, lod ? diagonal2 : 0, 0, 0, 0);
   set4(fb.u_strokes, aa ? visibility.gap_px : 0, aa ? visibility.gap_depth : 0, aa ? visibility.min_peek_px : 0,
        strokes.min_area);
   return fb;
@@ -212,6 +225,14 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
   res.width = m.scene.width;
   res.height = m.scene.height;
   res.view = make_view(frame.camera, m.origin, m.box, res.width, res.height, m.scene.reversed);
+  if (m.lod) {
+    std::vector<std::uint8_t> levels = select_lod(*m.lod, res.view, m.style.exaggeration, m.style.lod_error);
+    if (levels != m.lod_levels) {
+      m.scene.set_patches(lod_patches(*m.lod, levels));
+      m.lod_levels = std::move(levels);
+    }
+  }
+  res.patches = m.scene.n_patches;
   const Eigen::Vector3d light = terrain::light_direction(frame.light.azimuth, frame.light.altitude);
   const FrameBlock fb = m.frame_block(frame, res.view, light);
   glNamedBufferSubData(m.scene.ubo.id(), 0, sizeof fb, &fb);

@@ -1153,3 +1153,58 @@ TEST(RendererGl, SilhouettePiecesFollowTheCpuRule) {
     EXPECT_GT(dropped, 0u);
   }
 }
+
+// Levels of detail (renderer/lod.hpp) join without cracks on the GPU: on a bumpy analytic
+// surface of 4 x 4 blocks drawn at a large error bound (so the blocks mix several levels),
+// no background pixel is enclosed by the terrain (every pixel where nothing was drawn
+// reaches the image's border through such pixels: a crack between two blocks, or a coarse
+// patch whose fine normals turn from the eye where its geometry faces it, would be an
+// enclosed one; before coarse patches faced by their geometry, 20 to 98 such pixels at
+// bounds 1 to 16 px), seen from straight above (orthographic) and obliquely. The patches
+// drawn are far fewer than the mesh's faces, and bound 0 draws them all.
+TEST(RendererGl, LevelsOfDetailLeaveNoCrack) {
+  const terrain::GridMesh mesh = terrain::test::function_mesh(257, 257, 10.0, [](double x, double y) {
+    return 0.05 * x + 40 * std::sin(x / 90) * std::cos(y / 70) + 8 * std::sin(x / 23 + y / 31);
+  });
+  renderer::GlContext ctx;
+  const int w = 480, h = 360;
+  renderer::Style style = test_style();
+  style.lod_error = 16;
+  TerrainRenderer r(ctx, mesh, nullptr, w, h, renderer::Layers{false, true, false, false}, style);
+  for (const bool orthographic : {true, false}) {
+    FrameParams fp;
+    fp.camera.orthographic = orthographic;
+    fp.camera.view_az = orthographic ? 0 : 200;
+    fp.camera.view_alt = orthographic ? 90 : 35;
+    const auto res = r.render(fp);
+    EXPECT_LT(res.patches, mesh.n_faces() / 8) << orthographic;
+    EXPECT_GT(res.patches, 32u) << orthographic;
+    const auto depth = r.read_buffers().toward_depth;
+    std::vector<std::uint8_t> outside(depth.size(), 0);
+    std::vector<std::size_t> stack;
+    auto empty = [&](std::size_t i) { return renderer::far_depth(res.view.reversed_z, depth[i]) >= 1.0f; };
+    for (int x = 0; x < w; ++x)
+      for (int y : {0, h - 1}) stack.push_back(std::size_t(y * w + x));
+    for (int y = 0; y < h; ++y)
+      for (int x : {0, w - 1}) stack.push_back(std::size_t(y * w + x));
+    while (!stack.empty()) {
+      const std::size_t i = stack.back();
+      stack.pop_back();
+      if (outside[i] || !empty(i)) continue;
+      outside[i] = 1;
+      const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
+      if (x > 0) stack.push_back(i - 1);
+      if (x + 1 < w) stack.push_back(i + 1);
+      if (y > 0) stack.push_back(i - std::size_t(w));
+      if (y + 1 < h) stack.push_back(i + std::size_t(w));
+    }
+    std::size_t enclosed = 0, terrain = 0;
+    for (std::size_t i = 0; i < depth.size(); ++i) enclosed += empty(i) && !outside[i], terrain += !empty(i);
+    EXPECT_EQ(enclosed, 0u) << (orthographic ? "orthographic" : "oblique") << " patches " << res.patches;
+    EXPECT_GT(terrain, depth.size() / 4);
+  }
+  renderer::Style full = style;
+  full.lod_error = 0;
+  TerrainRenderer f(ctx, mesh, nullptr, w, h, renderer::Layers{false, true, false, false}, full);
+  EXPECT_EQ(f.render(FrameParams{}).patches, mesh.n_faces());
+}

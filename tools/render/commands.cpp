@@ -138,7 +138,8 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
             << fmt::format("light: az {:g} alt {:g}\n", fp.light.azimuth, fp.light.altitude) << exaggeration << "\n"
             << "crease segments drawn: " << res.crease_segments << "\n"
             << "pel segments drawn: " << res.pel_segments << "\n"
-            << "edges drawn: " << res.edges << "\n";
+            << "edges drawn: " << res.edges << "\n"
+            << "surface patches drawn: " << res.patches << " of " << scene.mesh.n_faces() << "\n";
   if (const auto gt = rr::map_geotransform(res.view, r.origin())) {
     std::cout << fmt::format("geotransform: {:.3f} {:g} 0 {:.3f} 0 {:g}\n", (*gt)[0], (*gt)[1], (*gt)[3], (*gt)[5]);
     if (!rr::is_vector_path(out))

@@ -25,6 +25,9 @@
               (metres; 0: any)
    u_style    anti-aliased lines (1) or pixel-exact (0), crease fade band (score units;
               0: cut), score near distance, crease gap bridged (metres; 0: none)
+   u_lod      levels of detail: x the squared plan length (m^2) above which a patch edge
+              makes its patch coarse (a level above 0: facing by its geometry, coarse());
+              0: none is
    u_strokes  hidden run drawn (pixels; 0: none), how far behind the surface (metres),
               shortest peek drawn (pixels; 0: any), the page's channel-initiation area
               (m^2: vertices draining less score -1; 0: any) */
@@ -40,6 +43,7 @@
   M(vec4, u_lines)        \
   M(vec4, u_misc)         \
   M(vec4, u_style)        \
+  M(vec4, u_lod)          \
   M(vec4, u_strokes)
 
 /* Shader storage buffers. */

@@ -18,7 +18,7 @@ struct FrameBlock {
   TR_FRAME_BLOCK(TR_CPP_MEMBER)
 };
 #undef TR_CPP_MEMBER
-static_assert(sizeof(FrameBlock) == 56 * 4, "std140: one mat4 and ten vec4, no padding");
+static_assert(sizeof(FrameBlock) == 60 * 4, "std140: one mat4 and eleven vec4, no padding");
 
 // Work groups of TR_LOCAL_SIZE invocations covering n items, as x by y (x <= 65535):
 // shaders index item gl_GlobalInvocationID.y * gl_NumWorkGroups.x * TR_LOCAL_SIZE + x.

@@ -48,6 +48,7 @@ struct FrameResult {
   std::size_t crease_segments = 0;  // segments the DM pass drew (both ends accepted)
   std::size_t pel_segments = 0;     // segments the PEL pass drew
   std::size_t edges = 0;            // object-space edges the EDGE pass drew
+  std::size_t patches = 0;          // surface patches drawn (the mesh's faces, fewer with levels of detail)
   View view;                        // the view used (for projection by callers)
 };
 

@@ -37,6 +37,10 @@ struct SceneGpu {
   bool reversed;  // depth 1 at the near plane, 0 at infinity (glClipControl)
   terrain::GridTopology topo;
   GlObject pos_buf, nrm_buf, index_buf, vao, empty_vao, ubo, surface_prog;
+  // The patches drawn: the mesh's faces, or (levels of detail, renderer/lod.hpp) fewer,
+  // set by set_patches into index_buf.
+  std::size_t n_patches = 0;
+  void set_patches(const std::vector<std::uint32_t>& indices);
   GlObject surface_colour, toward_depth, away_depth;
   GlObject surface_normal;  // empty unless normals were asked for
 
@@ -137,7 +141,6 @@ class AwayPass : public PassBase {
   // The patches that may face away in view (surface_cull.comp.glsl): their indices after a
   // counter, and the draws of 64 of them each.
   GlObject cull_prog_, patches_, draws_;
-  std::size_t n_draws_ = 0;
 };
 
 // DM: crease vertices scored, segments selected (indirect draw), drawn as quads.

@@ -18,7 +18,8 @@ SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev, bool n
     const auto t = mesh.topo.face(f);
     std::copy(t.begin(), t.end(), idx.begin() + long(3 * f));
   }
-  index_buf = make_buffer(idx.size() * 4, idx.data(), 0);
+  index_buf = make_buffer(idx.size() * 4, idx.data(), GL_DYNAMIC_STORAGE_BIT);
+  n_patches = mesh.n_faces();
   vao = GlObject(GlKind::VertexArray);
   for (const auto& [a, buf] :
        {std::pair<GLuint, const GlObject*>{TR_ATTR_POSITION, &pos_buf}, {TR_ATTR_NORMAL, &nrm_buf}}) {
@@ -64,6 +65,12 @@ void SceneGpu::depth_state() const {
   glDepthMask(GL_TRUE);
 }
 
+void SceneGpu::set_patches(const std::vector<std::uint32_t>& indices) {
+  if (indices.size() > 3 * topo.n_faces()) throw terrain::Error("internal: more patches than the mesh's faces");
+  glNamedBufferSubData(index_buf.id(), 0, GLsizeiptr(indices.size() * 4), indices.data());
+  n_patches = indices.size() / 3;
+}
+
 void SceneGpu::draw_surface(int mode) const { draw_patches(surface_prog, mode); }
 
 // Patches per draw call: kPatchesPerDraw (passes.hpp).
@@ -73,7 +80,7 @@ void SceneGpu::draw_patches(const GlObject& program, int mode) const {
   glProgramUniform1i(program.id(), TR_LOC_SURFACE_MODE, mode);
   glBindVertexArray(vao.id());
   glPatchParameteri(GL_PATCH_VERTICES, 3);
-  const std::size_t n = topo.n_faces();
+  const std::size_t n = n_patches;
   std::vector<GLsizei> counts;
   std::vector<const void*> offsets;
   for (std::size_t first = 0; first < n; first += kPatchesPerDraw) {

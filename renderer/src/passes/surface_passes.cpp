@@ -27,11 +27,11 @@ void TowardPass::execute(const FrameInputs&) {
 AwayPass::AwayPass(const SceneGpu& scene, bool enabled)
     : PassBase(AFT), s_(scene), enabled_(enabled), fbo_(make_framebuffer(nullptr, &scene.away_depth)) {
   if (!enabled_) return;
-  const std::size_t n = scene.topo.n_faces();
-  n_draws_ = (n + kPatchesPerDraw - 1) / kPatchesPerDraw;
+  const std::size_t n = scene.topo.n_faces();  // at most: levels of detail draw fewer
+  const std::size_t n_draws = (n + kPatchesPerDraw - 1) / kPatchesPerDraw;
   cull_prog_ = build_program(ProgramId::SurfaceCull);
   patches_ = make_buffer(16 + 12 * n, nullptr, GL_DYNAMIC_STORAGE_BIT);
-  draws_ = make_buffer(20 * std::max<std::size_t>(n_draws_, 1), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  draws_ = make_buffer(20 * std::max<std::size_t>(n_draws, 1), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
 void AwayPass::execute(const FrameInputs&) {
@@ -41,7 +41,7 @@ void AwayPass::execute(const FrameInputs&) {
   if (!enabled_) return;
   // The patches that may face away in view (all threads), then only those drawn: the
   // tessellation control stage that culls the others runs on one thread in llvmpipe.
-  const std::size_t n = s_.topo.n_faces();
+  const std::size_t n = s_.n_patches, n_draws = (n + kPatchesPerDraw - 1) / kPatchesPerDraw;
   const GLuint zero = 0;
   glNamedBufferSubData(patches_.id(), 0, 4, &zero);
   glClearNamedBufferData(draws_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
@@ -55,7 +55,7 @@ void AwayPass::execute(const FrameInputs&) {
   glDispatchCompute(dispatch_groups_x(n), dispatch_groups_y(n), 1);
   glMemoryBarrier(GL_ELEMENT_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   s_.depth_state();
-  s_.draw_patch_list(s_.surface_prog, 1, patches_, draws_, n_draws_);
+  s_.draw_patch_list(s_.surface_prog, 1, patches_, draws_, n_draws);
 }
 
 }  // namespace renderer::passes

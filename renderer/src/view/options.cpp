@@ -468,6 +468,11 @@ void add_look_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "pixels-per-edge", surface, 1, 100, "pixels", "6",
       "Adaptive tessellation target: screen length of a tessellated edge, pixels",
       [](auto& s) -> auto& { return s.style.pixels_per_edge; }));
+  t.push_back(number(
+      "lod-error", surface, 0, 64, "pixels", "0.5",
+      "Levels of detail: each block of 64 x 64 cells is drawn at the coarsest level (every 2nd, 4th, ... row and "
+      "column) whose height error spans at most this on the screen; 0 draws every cell",
+      [](auto& s) -> auto& { return s.style.lod_error; }));
 }
 
 std::vector<OptionSpec> make_table() {

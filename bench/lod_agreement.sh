@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Issue 52's picture target (docs/performance.md, "Levels of detail"): a mesh drawn with
+# levels of detail (--lod-error, default or LOD_ERROR) against full detail (--lod-error 0)
+# at one camera, the creases and the silhouettes drawn apart (--layers mask,creases and
+# mask,silhouettes): the share of each frame's line pixels within 1 px of the other's
+# (bench/line_agreement.py), the patches drawn and TFT's time. Target: >= 95 % both ways,
+# for each layer. Usage: bench/lod_agreement.sh WORKDIR MESH.ply DV [terrain-render camera options...]
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+bin="${TERRAIN_BIN:-$root/build/bin}"
+work="$1" mesh="$2" dv="$3"
+shift 3
+mkdir -p "$work"
+name=$(basename "$mesh" .ply)
+echo "| mesh | layer | LOD in full | full in LOD | patches (LOD / full) | TFT ms (LOD / full) |"
+echo "|---|---|---|---|---|---|"
+for layer in creases silhouettes; do
+  for e in "${LOD_ERROR:-0.5}" 0; do
+    "$bin/terrain-render" frame "$mesh" "$dv" -o "$work/${name}_${layer}_$e.png" --layers "mask,$layer" \
+      --lod-error "$e" "$@" > "$work/${name}_${layer}_$e.txt"
+  done
+  lod="$work/${name}_${layer}_${LOD_ERROR:-0.5}" full="$work/${name}_${layer}_0"
+  read -r a b _ _ < <(/usr/bin/python3 "$root/bench/line_agreement.py" "$lod.png" "$full.png")
+  p() { sed -n 's/^surface patches drawn: \([0-9]*\) of.*/\1/p' "$1.txt"; }
+  t() { awk -F'[: ]+' '/^TFT ms/{printf "%.0f", $3}' "$1.txt"; }
+  echo "| $name | $layer | $a | $b | $(p "$lod") / $(p "$full") | $(t "$lod") / $(t "$full") |"
+done

@@ -1,0 +1,55 @@
+#pragma once
+// Levels of detail for the PN surface (issue 52; docs/terrain-render.md, "Levels of
+// detail"), GL-free. The grid's cells are grouped into square blocks (kLodBlock cells a
+// side; the last row and column of blocks may be smaller). Level l of a block keeps every
+// 2^l-th row and column of its vertices (and its last ones): the same vertices, with the
+// fine mesh's own positions and normals, so a coarse level's shading and silhouettes come
+// from the fine normals, not from the coarse grid's differences. Each frame a block is
+// drawn at the coarsest level whose error, seen from the eye at the block's nearest point,
+// spans at most the bound in pixels; where two blocks at different levels meet, both use
+// the coarser one's vertices on their shared edge (the finer block's edge vertices snap to
+// the nearest kept one), so the PN patches on either side share their edge curves: no
+// cracks.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "renderer/camera.hpp"
+#include "terrain/grid_mesh.hpp"
+
+namespace renderer {
+
+inline constexpr std::size_t kLodBlock = 64;  // cells a side of a block
+
+struct LodBlock {
+  std::uint32_t r0 = 0, c0 = 0;  // its first vertex row and column
+  std::uint32_t nr = 0, nc = 0;  // its cells down and across
+  // error[l]: the largest vertical distance (metres, heights not exaggerated) between a
+  // vertex of the block and the PN surface of level l over it; non-decreasing in l,
+  // error[0] = 0. The coarsest level is the first whose step covers the block.
+  std::vector<float> error;
+  Eigen::Vector3f lo, hi;  // its vertices' bounding box, local frame, heights not exaggerated
+  int levels() const { return int(error.size()); }
+};
+
+struct LodHierarchy {
+  terrain::GridTopology topo;
+  std::size_t block = kLodBlock, block_rows = 0, block_cols = 0;
+  std::vector<LodBlock> blocks;  // row-major
+};
+
+LodHierarchy build_lod(const terrain::GridMesh& mesh, std::size_t block = kLodBlock);
+
+// Per block, the coarsest level l with error[l] x exaggeration <= bound_px pixels at the
+// block's nearest point (View::pixel_size of its distance along the line of sight; the
+// eye inside the box: level 0).
+std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double exaggeration, double bound_px);
+
+// The patches (3 vertex indices each, counter-clockwise as GridTopology::face) of every
+// block at its level, joined without cracks (above). All blocks at level 0: the mesh's
+// own faces.
+std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<std::uint8_t>& levels);
+
+}  // namespace renderer

@@ -1,0 +1,151 @@
+#include "renderer/lod.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "terrain/pn_triangle.hpp"
+
+namespace renderer {
+
+namespace {
+
+// The kept positions 0..n of a block side at step s: 0, s, 2s, ... below n, and n.
+std::vector<std::uint32_t> lines(std::uint32_t n, std::uint32_t s) {
+  std::vector<std::uint32_t> v;
+  for (std::uint32_t p = 0; p < n; p += s) v.push_back(p);
+  v.push_back(n);
+  return v;
+}
+
+// Position p of a side of n cells moved to the nearest position kept at step s (ties: the
+// lower).
+std::uint32_t snap(std::uint32_t p, std::uint32_t n, std::uint32_t s) {
+  const std::uint32_t lower = p / s * s, upper = std::min(lower + s, n);
+  return p - lower <= upper - p ? lower : upper;
+}
+
+// The largest vertical distance between the block's vertices and the PN surface of its
+// cells at step s (the cell's two faces as GridTopology's: NW-SW-SE and NW-SE-NE).
+float level_error(const terrain::GridMesh& mesh, const LodBlock& b, std::uint32_t s) {
+  const std::size_t cols = mesh.topo.cols;
+  const auto rs = lines(b.nr, s), cs = lines(b.nc, s);
+  auto at = [&](std::uint32_t r, std::uint32_t c) { return (std::size_t(b.r0) + r) * cols + b.c0 + c; };
+  auto p = [&](std::size_t v) { return Eigen::Vector3d(mesh.positions[v].cast<double>()); };
+  auto n = [&](std::size_t v) { return Eigen::Vector3d(mesh.normals[v].cast<double>()); };
+  float worst = 0;
+  for (std::size_t i = 0; i + 1 < rs.size(); ++i)
+    for (std::size_t j = 0; j + 1 < cs.size(); ++j) {
+      const std::uint32_t ra = rs[i], rb = rs[i + 1], ca = cs[j], cb = cs[j + 1];
+      const std::size_t nw = at(ra, ca), sw = at(rb, ca), se = at(rb, cb), ne = at(ra, cb);
+      const terrain::PnPatch lower = terrain::make_pn_patch(p(nw), p(sw), p(se), n(nw), n(sw), n(se));
+      const terrain::PnPatch upper = terrain::make_pn_patch(p(nw), p(se), p(ne), n(nw), n(se), n(ne));
+      for (std::uint32_t r = ra; r <= rb; ++r)
+        for (std::uint32_t c = ca; c <= cb; ++c) {
+          const double u = double(c - ca) / double(cb - ca), v = double(r - ra) / double(rb - ra);
+          const Eigen::Vector3d q = v >= u ? terrain::pn_position(lower, 1 - v, v - u, u)
+                                           : terrain::pn_position(upper, 1 - u, v, u - v);
+          worst = std::max(worst, float(std::abs(q.z() - double(mesh.positions[at(r, c)].z()))));
+        }
+    }
+  return worst;
+}
+
+}  // namespace
+
+LodHierarchy build_lod(const terrain::GridMesh& mesh, std::size_t block) {
+  LodHierarchy h;
+  h.topo = mesh.topo;
+  h.block = block;
+  const std::size_t cells_r = mesh.topo.rows - 1, cells_c = mesh.topo.cols - 1;
+  h.block_rows = (cells_r + block - 1) / block;
+  h.block_cols = (cells_c + block - 1) / block;
+  h.blocks.resize(h.block_rows * h.block_cols);
+#pragma omp parallel for schedule(dynamic)
+  for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(h.blocks.size()); ++k) {
+    LodBlock& b = h.blocks[std::size_t(k)];
+    const std::size_t br = std::size_t(k) / h.block_cols, bc = std::size_t(k) % h.block_cols;
+    b.r0 = std::uint32_t(br * block), b.c0 = std::uint32_t(bc * block);
+    b.nr = std::uint32_t(std::min(block, cells_r - b.r0)), b.nc = std::uint32_t(std::min(block, cells_c - b.c0));
+    b.lo = Eigen::Vector3f::Constant(1e30f), b.hi = -b.lo;
+    for (std::uint32_t r = 0; r <= b.nr; ++r)
+      for (std::uint32_t c = 0; c <= b.nc; ++c) {
+        const Eigen::Vector3f& q = mesh.positions[(std::size_t(b.r0) + r) * mesh.topo.cols + b.c0 + c];
+        b.lo = b.lo.cwiseMin(q), b.hi = b.hi.cwiseMax(q);
+      }
+    b.error = {0.0f};
+    for (std::uint32_t s = 2; s / 2 < std::max(b.nr, b.nc); s *= 2)
+      b.error.push_back(std::max(b.error.back(), level_error(mesh, b, s)));
+  }
+  return h;
+}
+
+std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double e, double bound_px) {
+  std::vector<std::uint8_t> levels(h.blocks.size(), 0);
+  const Eigen::Matrix4d vp = view.view_projection();
+  for (std::size_t k = 0; k < h.blocks.size(); ++k) {
+    const LodBlock& b = h.blocks[k];
+    double nearest = 1e300, farthest = -1e300;
+    bool left = true, right = true, below = true, above = true;
+    for (int i = 0; i < 8; ++i) {
+      const Eigen::Vector3d p((i & 1) ? b.hi.x() : b.lo.x(), (i & 2) ? b.hi.y() : b.lo.y(),
+                              e * ((i & 4) ? b.hi.z() : b.lo.z()));
+      const double depth = (p - view.eye).dot(view.forward);
+      nearest = std::min(nearest, depth), farthest = std::max(farthest, depth);
+      const Eigen::Vector4d c = vp * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.0);
+      left = left && c.x() < -c.w(), right = right && c.x() > c.w(), below = below && c.y() < -c.w(),
+      above = above && c.y() > c.w();
+    }
+    if (left || right || below || above || farthest <= 0) {  // out of view or behind the eye: nothing of it is drawn
+      levels[k] = std::uint8_t(b.levels() - 1);
+      continue;
+    }
+    if (!view.orthographic() && !(nearest > view.near)) continue;  // reaches the eye: full detail
+    const double allowed = bound_px * view.pixel_size(nearest) / std::max(e, 1e-12);
+    int l = 0;
+    while (l + 1 < b.levels() && double(b.error[std::size_t(l + 1)]) <= allowed) ++l;
+    levels[k] = std::uint8_t(l);
+  }
+  return levels;
+}
+
+std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<std::uint8_t>& levels) {
+  std::vector<std::uint32_t> out;
+  if (std::all_of(levels.begin(), levels.end(), [](std::uint8_t l) { return l == 0; })) {
+    out.resize(3 * h.topo.n_faces());
+    for (std::size_t f = 0; f < h.topo.n_faces(); ++f) {
+      const auto t = h.topo.face(f);
+      std::copy(t.begin(), t.end(), out.begin() + long(3 * f));
+    }
+    return out;
+  }
+  const std::size_t cols = h.topo.cols;
+  auto step = [&](std::size_t br, std::size_t bc) { return std::uint32_t(1) << levels[br * h.block_cols + bc]; };
+  for (std::size_t br = 0; br < h.block_rows; ++br)
+    for (std::size_t bc = 0; bc < h.block_cols; ++bc) {
+      const LodBlock& b = h.blocks[br * h.block_cols + bc];
+      const std::uint32_t s = step(br, bc);
+      // Each side's step: the coarser of this block's and the neighbour's across it.
+      const std::uint32_t north = br > 0 ? std::max(s, step(br - 1, bc)) : s;
+      const std::uint32_t south = br + 1 < h.block_rows ? std::max(s, step(br + 1, bc)) : s;
+      const std::uint32_t west = bc > 0 ? std::max(s, step(br, bc - 1)) : s;
+      const std::uint32_t east = bc + 1 < h.block_cols ? std::max(s, step(br, bc + 1)) : s;
+      auto vertex = [&](std::uint32_t r, std::uint32_t c) {
+        if (r == 0) c = snap(c, b.nc, north);
+        else if (r == b.nr) c = snap(c, b.nc, south);
+        if (c == 0) r = snap(r, b.nr, west);
+        else if (c == b.nc) r = snap(r, b.nr, east);
+        return std::uint32_t((std::size_t(b.r0) + r) * cols + b.c0 + c);
+      };
+      const auto rs = lines(b.nr, s), cs = lines(b.nc, s);
+      for (std::size_t i = 0; i + 1 < rs.size(); ++i)
+        for (std::size_t j = 0; j + 1 < cs.size(); ++j) {
+          const std::uint32_t nw = vertex(rs[i], cs[j]), sw = vertex(rs[i + 1], cs[j]);
+          const std::uint32_t se = vertex(rs[i + 1], cs[j + 1]), ne = vertex(rs[i], cs[j + 1]);
+          for (const std::array<std::uint32_t, 3>& t : {std::array{nw, sw, se}, std::array{nw, se, ne}})
+            if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) out.insert(out.end(), t.begin(), t.end());
+        }
+    }
+  return out;
+}
+
+}  // namespace renderer

@@ -1,0 +1,144 @@
+// Levels of detail (renderer/lod.hpp): the patches of any mix of levels form one surface
+// without cracks; errors are zero on a plane and grow with the level; the selection
+// coarsens with distance and keeps full detail at bound 0.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <utility>
+
+#include "renderer/camera.hpp"
+#include "renderer/lod.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using Eigen::Vector3d;
+
+// A bumpy surface: hills of several wavelengths on a tilt.
+terrain::GridMesh bumps(std::size_t rows, std::size_t cols) {
+  return terrain::test::function_mesh(rows, cols, 10.0, [](double x, double y) {
+    return 0.05 * x + 40 * std::sin(x / 90) * std::cos(y / 70) + 8 * std::sin(x / 23 + y / 31);
+  });
+}
+
+// The patches' plan (x, y) area, counter-clockwise positive, and how often each directed
+// edge occurs.
+struct Patches {
+  double area = 0, smallest = 1e300;
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+};
+Patches tally(const terrain::GridMesh& m, const std::vector<std::uint32_t>& idx) {
+  Patches p;
+  for (std::size_t t = 0; t + 2 < idx.size(); t += 3) {
+    const Eigen::Vector3f a = m.positions[idx[t]], b = m.positions[idx[t + 1]], c = m.positions[idx[t + 2]];
+    const double area = 0.5 * ((double(b.x()) - a.x()) * (double(c.y()) - a.y()) - (double(b.y()) - a.y()) * (double(c.x()) - a.x()));
+    p.area += area;
+    p.smallest = std::min(p.smallest, area);
+    for (int k = 0; k < 3; ++k) ++p.edges[{idx[t + std::size_t(k)], idx[t + std::size_t((k + 1) % 3)]}];
+  }
+  return p;
+}
+
+// Whether vertex v lies on the mesh's outer boundary.
+bool on_rim(const terrain::GridTopology& g, std::uint32_t v) {
+  const std::size_t r = v / g.cols, c = v % g.cols;
+  return r == 0 || c == 0 || r + 1 == g.rows || c + 1 == g.cols;
+}
+
+}  // namespace
+
+// All blocks at level 0 give the mesh's own faces. Any mix of levels (random, and every
+// block one level apart from its neighbours' extremes) covers the mesh's extent exactly
+// once: every patch is counter-clockwise with positive area, the areas sum to the extent,
+// and every edge inside the mesh is used once in each direction (an edge used once, a
+// T-junction, would be a crack between two blocks).
+TEST(Lod, AnyMixOfLevelsJoinsWithoutCracks) {
+  const terrain::GridMesh m = bumps(150, 131);  // blocks of 16 cells: partial blocks at the right and bottom
+  const renderer::LodHierarchy h = renderer::build_lod(m, 16);
+  ASSERT_EQ(h.block_rows, 10u);  // 149 cells
+  ASSERT_EQ(h.block_cols, 9u);   // 130 cells
+  std::vector<std::uint8_t> zero(h.blocks.size(), 0);
+  const auto full = renderer::lod_patches(h, zero);
+  ASSERT_EQ(full.size(), 3 * m.n_faces());
+  for (std::size_t f = 0; f < m.n_faces(); ++f)
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(full[3 * f + std::size_t(k)], m.topo.face(f)[std::size_t(k)]);
+
+  const double extent = 130 * 10.0 * 149 * 10.0;
+  std::mt19937 rng(52);
+  for (int trial = 0; trial < 12; ++trial) {
+    std::vector<std::uint8_t> levels(h.blocks.size());
+    for (std::size_t k = 0; k < levels.size(); ++k) {
+      const int top = h.blocks[k].levels() - 1;
+      levels[k] = std::uint8_t(trial == 0 ? top : trial == 1 ? (k % 2 ? top : 0) : int(rng() % std::uint32_t(top + 1)));
+    }
+    const auto idx = renderer::lod_patches(h, levels);
+    const Patches p = tally(m, idx);
+    EXPECT_LT(idx.size(), full.size());
+    EXPECT_GT(p.smallest, 0.0) << "trial " << trial;
+    EXPECT_NEAR(p.area, extent, 1e-6 * extent) << "trial " << trial;
+    std::size_t once = 0;
+    for (const auto& [e, n] : p.edges) {
+      EXPECT_EQ(n, 1);
+      const bool twin = p.edges.count({e.second, e.first}) > 0;
+      if (!twin) {
+        ++once;
+        EXPECT_TRUE(on_rim(m.topo, e.first) && on_rim(m.topo, e.second)) << "a crack at " << e.first << "-" << e.second;
+      }
+    }
+    EXPECT_GT(once, 0u);
+  }
+}
+
+// A plane's PN patches are the plane at every level: no error. On relief the error is zero
+// at level 0, grows with the level, and the coarsest level of a block covers it with one
+// cell.
+TEST(Lod, ErrorsAreNoneOnAPlaneAndGrowWithTheLevel) {
+  const terrain::GridMesh plane =
+      terrain::test::function_mesh(70, 70, 10.0, [](double x, double y) { return 100 + 0.2 * x - 0.1 * y; });
+  for (const auto& b : renderer::build_lod(plane, 32).blocks)
+    for (float e : b.error) EXPECT_LT(e, 1e-3f);
+  const renderer::LodHierarchy h = renderer::build_lod(bumps(129, 129), 32);  // 4 x 4 blocks
+  for (const auto& b : h.blocks) {
+    ASSERT_GE(b.levels(), 2);
+    EXPECT_EQ(b.error[0], 0.0f);
+    for (int l = 1; l < b.levels(); ++l) EXPECT_GE(b.error[std::size_t(l)], b.error[std::size_t(l - 1)]);
+    EXPECT_GT(b.error.back(), 5.0f);
+    EXPECT_GE(std::uint32_t(1) << (b.levels() - 1), std::max(b.nr, b.nc));
+    EXPECT_LT(std::uint32_t(1) << (b.levels() - 2), std::max(b.nr, b.nc));
+  }
+}
+
+// Seen along a long terrain of identical blocks (its relief repeats every block) from one
+// end, blocks get coarser (never finer) with distance along the line of sight; bound 0
+// keeps every block in view at level 0; blocks behind the eye are at their coarsest.
+TEST(Lod, SelectionCoarsensWithDistance) {
+  constexpr double kTwoPi = 2 * 3.141592653589793;
+  const terrain::GridMesh m = terrain::test::function_mesh(65, 1025, 10.0, [=](double x, double y) {
+    return 30 * std::sin(kTwoPi * x / 640) * std::cos(y / 70) + 6 * std::sin(5 * kTwoPi * x / 640 + y / 31);
+  });  // 16 blocks of 64 cells in a row
+  const renderer::LodHierarchy h = renderer::build_lod(m);
+  renderer::Camera cam;
+  cam.view_az = 90;  // looking east along the row
+  cam.view_alt = 20;
+  cam.fov = 40;
+  cam.eye = Vector3d(-200, -320, 150);
+  renderer::Box box{{0, -640, -60}, {10240, 0, 600}};
+  const renderer::View v = renderer::make_view(cam, Vector3d::Zero(), box, 1280, 720);
+  const auto levels = renderer::select_lod(h, v, 1.0, 1.0);
+  ASSERT_EQ(levels.size(), 16u);
+  EXPECT_LE(levels.front(), 1);
+  EXPECT_GE(levels.back(), levels.front() + 2);
+  for (std::size_t k = 1; k < levels.size(); ++k) EXPECT_GE(levels[k], levels[k - 1]) << k;
+  for (std::uint8_t l : renderer::select_lod(h, v, 1.0, 0.0)) EXPECT_EQ(l, 0);
+  renderer::Camera away = cam;
+  away.view_az = 270;  // looking west, away from the terrain
+  away.eye = Vector3d(-300, -320, 100);
+  const auto unseen = renderer::select_lod(h, renderer::make_view(away, Vector3d::Zero(), box, 1280, 720), 1.0, 1.0);
+  for (std::size_t k = 0; k < unseen.size(); ++k) EXPECT_EQ(unseen[k], h.blocks[k].levels() - 1);
+  // Raising the bound never makes a block finer.
+  const auto coarse = renderer::select_lod(h, v, 1.0, 4.0);
+  for (std::size_t k = 0; k < levels.size(); ++k) EXPECT_GE(coarse[k], levels[k]);
+}
