@@ -71,6 +71,11 @@ Box exaggerated_box(const terrain::GridMesh& mesh, double exaggeration) {
 
 }  // namespace
 
+// Levels of detail are used with a positive bound on a mesh of more than one block.
+static bool uses_lod(const Style& style, const terrain::GridMesh& mesh) {
+  return style.lod_error > 0 && mesh.topo.rows > kLodBlock + 1 && mesh.topo.cols > kLodBlock + 1;
+}
+
 struct TerrainRenderer::Impl {
   Impl(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases, int width, int height,
        const Layers& layers, const Style& style)
@@ -81,7 +86,7 @@ struct TerrainRenderer::Impl {
         cell(mesh.geo.dx, mesh.geo.dy),
         lift(crease_lift(style, mesh)),
         visibility(stroke_visibility_rule(style, mesh)),
-        scene(mesh, width, height, context.has_clip_control(), layers.hachures),
+        scene(mesh, width, height, context.has_clip_control(), layers.hachures, !uses_lod(style, mesh)),
         toward(scene),
         away(scene, layers.silhouettes && !layers.adjacency),
         ids(scene, layers.adjacency, id_capacity(width, height)),
@@ -95,10 +100,7 @@ struct TerrainRenderer::Impl {
                     Eigen::Vector4f(0, -float(double(mesh.topo.rows - 1) * mesh.geo.dy),
                                     float(double(mesh.topo.cols - 1) * mesh.geo.dx), 0)),
         composite(scene, layers, style, this->creases, pels, edges, silhouettes) {
-    if (style.lod_error > 0 && mesh.topo.rows > kLodBlock && mesh.topo.cols > kLodBlock) {
-      lod = build_lod(mesh);
-      lod_levels.assign(lod->blocks.size(), 0);
-    }
+    if (uses_lod(style, mesh)) lod = build_lod(mesh);
     GLint max_gen = 64;
     glGetIntegerv(GL_MAX_TESS_GEN_LEVEL, &max_gen);
     max_level = std::min(32, int(max_gen));
@@ -124,7 +126,7 @@ struct TerrainRenderer::Impl {
   GlObject capture_prog;  // built on the first capture_pn
   GlObject hachure_prog, hachure_buf;  // built on the first hachure_field
   std::optional<LodHierarchy> lod;     // levels of detail (style.lod_error > 0, a mesh of more than one block)
-  std::vector<std::uint8_t> lod_levels;  // the levels scene's patches are at
+  std::vector<std::uint8_t> lod_levels;  // the levels scene's patches are at (none before the first frame)
 
   // In the order they run.
   std::array<passes::PassBase*, kPassCount> sequence() {

@@ -31,16 +31,18 @@ static_assert(kPatchesPerDraw == 65536 / (32 * 32));
 
 struct SceneGpu {
   // With `normals`, TFT also writes the drawn surface's normal (surface_normal, RGBA32F):
-  // the hachures' field reads it.
-  SceneGpu(const terrain::GridMesh& mesh, int width, int height, bool reversed, bool normals = false);
+  // the hachures' field reads it. With `all_patches`, index_buf holds the mesh's faces;
+  // without (levels of detail), none until set_patches.
+  SceneGpu(const terrain::GridMesh& mesh, int width, int height, bool reversed, bool normals = false,
+           bool all_patches = true);
   int width, height;
   bool reversed;  // depth 1 at the near plane, 0 at infinity (glClipControl)
   terrain::GridTopology topo;
   GlObject pos_buf, nrm_buf, index_buf, vao, empty_vao, ubo, surface_prog;
   // The patches drawn: the mesh's faces, or (levels of detail, renderer/lod.hpp) fewer,
   // set by set_patches into index_buf.
-  std::size_t n_patches = 0;
-  void set_patches(const std::vector<std::uint32_t>& indices);
+  std::size_t n_patches = 0, patch_capacity = 0;
+  void set_patches(const std::vector<std::uint32_t>& indices);  // index_buf grows as needed
   GlObject surface_colour, toward_depth, away_depth;
   GlObject surface_normal;  // empty unless normals were asked for
 
@@ -141,6 +143,7 @@ class AwayPass : public PassBase {
   // The patches that may face away in view (surface_cull.comp.glsl): their indices after a
   // counter, and the draws of 64 of them each.
   GlObject cull_prog_, patches_, draws_;
+  std::size_t capacity_ = 0;  // patches that patches_ and draws_ hold; they grow with the scene's
 };
 
 // DM: crease vertices scored, segments selected (indirect draw), drawn as quads.

@@ -8,18 +8,19 @@
 
 namespace renderer::passes {
 
-SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev, bool normals)
+SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev, bool normals, bool all_patches)
     : width(w), height(h), reversed(rev), topo(mesh.topo) {
   // Positions and normals in two buffers, faces as patches of 3.
   pos_buf = make_buffer(mesh.n_vertices() * sizeof(Eigen::Vector3f), mesh.positions.data(), 0);
   nrm_buf = make_buffer(mesh.n_vertices() * sizeof(Eigen::Vector3f), mesh.normals.data(), 0);
-  std::vector<std::uint32_t> idx(mesh.n_faces() * 3);
-  for (std::size_t f = 0; f < mesh.n_faces(); ++f) {
-    const auto t = mesh.topo.face(f);
-    std::copy(t.begin(), t.end(), idx.begin() + long(3 * f));
-  }
+  std::vector<std::uint32_t> idx(all_patches ? mesh.n_faces() * 3 : 3);
+  if (all_patches)
+    for (std::size_t f = 0; f < mesh.n_faces(); ++f) {
+      const auto t = mesh.topo.face(f);
+      std::copy(t.begin(), t.end(), idx.begin() + long(3 * f));
+    }
   index_buf = make_buffer(idx.size() * 4, idx.data(), GL_DYNAMIC_STORAGE_BIT);
-  n_patches = mesh.n_faces();
+  n_patches = patch_capacity = all_patches ? mesh.n_faces() : 0;
   vao = GlObject(GlKind::VertexArray);
   for (const auto& [a, buf] :
        {std::pair<GLuint, const GlObject*>{TR_ATTR_POSITION, &pos_buf}, {TR_ATTR_NORMAL, &nrm_buf}}) {
@@ -67,8 +68,13 @@ void SceneGpu::depth_state() const {
 
 void SceneGpu::set_patches(const std::vector<std::uint32_t>& indices) {
   if (indices.size() > 3 * topo.n_faces()) throw terrain::Error("internal: more patches than the mesh's faces");
-  glNamedBufferSubData(index_buf.id(), 0, GLsizeiptr(indices.size() * 4), indices.data());
   n_patches = indices.size() / 3;
+  if (n_patches > patch_capacity) {  // a quarter more room, so that a moving view seldom grows it again
+    patch_capacity = std::min(topo.n_faces(), n_patches + n_patches / 4);
+    index_buf = make_buffer(3 * patch_capacity * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glVertexArrayElementBuffer(vao.id(), index_buf.id());
+  }
+  glNamedBufferSubData(index_buf.id(), 0, GLsizeiptr(indices.size() * 4), indices.data());
 }
 
 void SceneGpu::draw_surface(int mode) const { draw_patches(surface_prog, mode); }

@@ -27,11 +27,7 @@ void TowardPass::execute(const FrameInputs&) {
 AwayPass::AwayPass(const SceneGpu& scene, bool enabled)
     : PassBase(AFT), s_(scene), enabled_(enabled), fbo_(make_framebuffer(nullptr, &scene.away_depth)) {
   if (!enabled_) return;
-  const std::size_t n = scene.topo.n_faces();  // at most: levels of detail draw fewer
-  const std::size_t n_draws = (n + kPatchesPerDraw - 1) / kPatchesPerDraw;
   cull_prog_ = build_program(ProgramId::SurfaceCull);
-  patches_ = make_buffer(16 + 12 * n, nullptr, GL_DYNAMIC_STORAGE_BIT);
-  draws_ = make_buffer(20 * std::max<std::size_t>(n_draws, 1), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
 void AwayPass::execute(const FrameInputs&) {
@@ -42,6 +38,12 @@ void AwayPass::execute(const FrameInputs&) {
   // The patches that may face away in view (all threads), then only those drawn: the
   // tessellation control stage that culls the others runs on one thread in llvmpipe.
   const std::size_t n = s_.n_patches, n_draws = (n + kPatchesPerDraw - 1) / kPatchesPerDraw;
+  if (!patches_.id() || s_.patch_capacity > capacity_) {
+    capacity_ = s_.patch_capacity;
+    patches_ = make_buffer(16 + 12 * std::max<std::size_t>(capacity_, 1), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    draws_ = make_buffer(20 * std::max<std::size_t>((capacity_ + kPatchesPerDraw - 1) / kPatchesPerDraw, 1), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
+  }
   const GLuint zero = 0;
   glNamedBufferSubData(patches_.id(), 0, 4, &zero);
   glClearNamedBufferData(draws_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);

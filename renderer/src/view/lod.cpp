@@ -37,13 +37,14 @@ float level_error(const terrain::GridMesh& mesh, const LodBlock& b, std::uint32_
     for (std::size_t j = 0; j + 1 < cs.size(); ++j) {
       const std::uint32_t ra = rs[i], rb = rs[i + 1], ca = cs[j], cb = cs[j + 1];
       const std::size_t nw = at(ra, ca), sw = at(rb, ca), se = at(rb, cb), ne = at(ra, cb);
-      const terrain::PnPatch lower = terrain::make_pn_patch(p(nw), p(sw), p(se), n(nw), n(sw), n(se));
-      const terrain::PnPatch upper = terrain::make_pn_patch(p(nw), p(se), p(ne), n(nw), n(se), n(ne));
+      // The cubic's control points only (the surface's normals are not needed here).
+      const auto lower = terrain::pn_control_points<double>(p(nw), p(sw), p(se), n(nw), n(sw), n(se));
+      const auto upper = terrain::pn_control_points<double>(p(nw), p(se), p(ne), n(nw), n(se), n(ne));
       for (std::uint32_t r = ra; r <= rb; ++r)
         for (std::uint32_t c = ca; c <= cb; ++c) {
           const double u = double(c - ca) / double(cb - ca), v = double(r - ra) / double(rb - ra);
-          const Eigen::Vector3d q = v >= u ? terrain::pn_position(lower, 1 - v, v - u, u)
-                                           : terrain::pn_position(upper, 1 - u, v, u - v);
+          const Eigen::Vector3d q = v >= u ? terrain::pn_cubic<double>(lower, 1 - v, v - u, u)
+                                           : terrain::pn_cubic<double>(upper, 1 - u, v, u - v);
           worst = std::max(worst, float(std::abs(q.z() - double(mesh.positions[at(r, c)].z()))));
         }
     }
