@@ -13,6 +13,7 @@
 #include "terrain/fit_normals.hpp"
 #include "terrain/grid_mesh.hpp"
 #include "terrain/mesh_io.hpp"
+#include "terrain/mesh_pyramid.hpp"
 #include "terrain/dequantize.hpp"
 #include "terrain/prepare_grid.hpp"
 #include "terrain/scattered.hpp"
@@ -34,7 +35,7 @@ struct Options {
   terrain::GridRequest req;
   std::array<double, 4> bbox{};
   std::array<double, 2> center{}, size{};
-  bool fit = false;
+  bool fit = false, pyramid = false;
   terrain::NormalFitOptions fit_opt;
   CLI::Option *spacing_opt = nullptr, *bbox_opt = nullptr, *center_opt = nullptr, *interp_opt = nullptr,
               *max_edge_opt = nullptr;
@@ -63,6 +64,9 @@ void add_grid_options(CLI::App& app, Options& o) {
       ->check(CLI::IsMember({"uniform", "angle", "area"}))
       ->capture_default_str();
   app.add_option("--grid-out", o.grid_out, "Also write the resampled grid as a GeoTIFF");
+  app.add_flag("--pyramid", o.pyramid,
+               "Also write the mesh pyramid beside the mesh (OUTPUT with .tpyr): its levels of detail in tiles of "
+               "64 x 64 cells, read by the view's windows (docs/formats.md)");
     app.add_option("--dequantize", o.dequantize,
                  "Integer heights (whole metres: SRTM, many national DEMs) terrace gentle slopes into flats: heights "
                  "interpolated between the terraces' edges (the contours half-way between two values), smoothed "
@@ -169,9 +173,11 @@ void print_summary(const Options& o, const terrain::Grid& grid, const terrain::G
 int run(const Options& o, const std::string& provenance, const tt::Verbosity& verb) {
   const std::string &output = o.output, &grid_out = o.grid_out;
   if (!output.ends_with(".ply")) throw terrain::Error("OUTPUT must be a .ply file: '" + output + "'");
-  tt::check_distinct_paths({o.input}, {output, grid_out});
-  tt::warn_stale_temporaries(verb, {output, grid_out});
+  const std::string pyramid = o.pyramid ? terrain::pyramid_path_of(output) : std::string();
+  tt::check_distinct_paths({o.input}, {output, grid_out, pyramid});
+  tt::warn_stale_temporaries(verb, {output, grid_out, pyramid});
   terrain::check_output_path(output);
+  if (!pyramid.empty()) terrain::check_output_path(pyramid);
   if (!grid_out.empty()) terrain::check_output_path(grid_out);
   const terrain::GridRequest req = request_of(o);
   const terrain::NormalWeighting nw = terrain::parse_normal_weighting(o.weighting);
@@ -200,9 +206,17 @@ int run(const Options& o, const std::string& provenance, const tt::Verbosity& ve
   }
   t0 = Clock::now();
   outputs.write([&] { terrain::write_mesh_ply(mesh, outputs.stage(output)); });
-  outputs.commit();
   tt::step(verb, fmt::format("write {}: {:.2f} s", output, since(t0)));
+  std::uint64_t pyramid_bytes = 0;
+  if (!pyramid.empty()) {
+    t0 = Clock::now();
+    const terrain::MeshLevels levels = terrain::build_mesh_levels(mesh);
+    outputs.write([&] { pyramid_bytes = terrain::write_mesh_pyramid(mesh, levels, outputs.stage(pyramid)); });
+    tt::step(verb, fmt::format("levels of detail and {}: {:.2f} s", pyramid, since(t0)));
+  }
+  outputs.commit();
   print_summary(o, grid, mesh, nw, o.fit ? &fit_rep : nullptr);
+  if (!pyramid.empty()) std::cout << "pyramid: " << pyramid << fmt::format(" ({:.1f} MB)\n", double(pyramid_bytes) / 1e6);
   return 0;
 }
 

@@ -14,6 +14,7 @@
 #include "drainage/dv_views.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/mesh_io.hpp"
+#include "terrain/mesh_pyramid.hpp"
 #include "test_support.hpp"
 #include "tools/ink.hpp"
 
@@ -273,6 +274,31 @@ TEST(Dem2mesh, FilledSamplesCarryNoDrainage) {
     }
   EXPECT_EQ(inside, 0u);
   EXPECT_GT(outside, 500u);
+}
+
+// dem2mesh --pyramid writes MESH.tpyr beside MESH.ply: terrain-inspect info reads it (the
+// levels of 64-cell blocks), and its level 0 read whole is the PLY's vertices, bit for bit.
+TEST(Dem2mesh, PyramidBesideTheMesh) {
+  test::ScratchDir dir;
+  const auto r = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + dir.path("m.ply") +
+                     " --spacing 20 --pyramid");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("pyramid: " + dir.path("m.tpyr")), std::string::npos) << r.out;
+  const auto info = run(tool("terrain-inspect") + " info " + dir.path("m.tpyr"));
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_NE(info.out.find("type: mesh pyramid"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("levels: 7"), std::string::npos) << info.out;  // 64-cell blocks: steps 1 .. 64
+  const GridMesh m = read_mesh_ply(dir.path("m.ply"));
+  MeshPyramid p(dir.path("m.tpyr"));
+  ASSERT_EQ(p.rows(0), m.topo.rows);
+  ASSERT_EQ(p.cols(0), m.topo.cols);
+  EXPECT_EQ(p.georef().epsg, m.geo.epsg);
+  EXPECT_EQ(p.georef().origin_x, m.geo.origin_x);
+  const MeshWindow w = p.read_window(0, 0, 0, p.rows(0), p.cols(0));
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < m.n_vertices(); ++i)
+    differ += w.positions[i] != m.positions[i] || w.normals[i] != m.normals[i];
+  EXPECT_EQ(differ, 0u);
 }
 
 TEST(Dem2mesh, HelpShowsAnExample) {

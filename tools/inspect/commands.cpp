@@ -22,6 +22,7 @@
 #include "renderer/plan_map.hpp"
 #include "renderer/vector_file.hpp"
 #include "terrain/mesh_io.hpp"
+#include "terrain/mesh_pyramid.hpp"
 #include "terrain/scattered.hpp"
 
 namespace terrain::tools::inspect {
@@ -270,8 +271,31 @@ void add_export_options(CLI::App* exp, ExportArgs& a) {
       ->capture_default_str();
 }
 
+void info_pyramid(const std::string& path) {
+  terrain::MeshPyramid p(path);
+  const terrain::MeshGeoref& g = p.georef();
+  std::size_t tiles = 0;
+  for (int l = 0; l < p.level_count(); ++l)
+    tiles += ((p.rows(l) - 1 + p.levels().block - 1) / p.levels().block) *
+             ((p.cols(l) - 1 + p.levels().block - 1) / p.levels().block);
+  std::cout << "file: " << path << "\n"
+            << "type: mesh pyramid (levels of detail in tiles)\n"
+            << "grid: " << p.topology().cols << " x " << p.topology().rows << " (columns x rows)\n"
+            << "crs: " << crs_line(g.crs_wkt, g.epsg) << "\n"
+            << fmt::format("spacing: {} {}\n", g.dx, g.dy)
+            << fmt::format("origin: {:.3f} {:.3f} {:.3f}\n", g.origin_x, g.origin_y, g.origin_z)
+            << "levels: " << p.level_count() << "\n"
+            << "block: " << p.levels().block << " cells\n"
+            << "blocks: " << p.levels().block_cols << " x " << p.levels().block_rows << "\n"
+            << "tiles: " << tiles << "\n"
+            << "bytes: " << std::filesystem::file_size(path) << "\n";
+  for (int l = 0; l < p.level_count(); ++l)
+    std::cout << fmt::format("level_{}: {} x {} vertices\n", l, p.cols(l), p.rows(l));
+}
+
 void run_info(const std::string& file) {
   if (drainage::is_dv_file(file)) info_dv(file);
+  else if (terrain::is_mesh_pyramid(file)) info_pyramid(file);
   else if (terrain::is_ply_file(file)) info_mesh(file);
   else if (terrain::is_point_input(file)) info_points(file);
   else info_dem(file);

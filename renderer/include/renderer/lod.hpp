@@ -18,29 +18,18 @@
 
 #include "renderer/camera.hpp"
 #include "terrain/grid_mesh.hpp"
+#include "terrain/mesh_pyramid.hpp"
 
 namespace renderer {
 
-inline constexpr std::size_t kLodBlock = 64;  // cells a side of a block
-
-struct LodBlock {
-  std::uint32_t r0 = 0, c0 = 0;  // its first vertex row and column
-  std::uint32_t nr = 0, nc = 0;  // its cells down and across
-  // error[l]: the largest vertical distance (metres, heights not exaggerated) between a
-  // vertex of the block and the PN surface of level l over it; non-decreasing in l,
-  // error[0] = 0. The coarsest level is the first whose step covers the block.
-  std::vector<float> error;
-  Eigen::Vector3f lo, hi;  // its vertices' bounding box, local frame, heights not exaggerated
-  int levels() const { return int(error.size()); }
-};
-
-struct LodHierarchy {
-  terrain::GridTopology topo;
-  std::size_t block = kLodBlock, block_rows = 0, block_cols = 0;
-  std::vector<LodBlock> blocks;  // row-major
-};
-
-LodHierarchy build_lod(const terrain::GridMesh& mesh, std::size_t block = kLodBlock);
+// The blocks and their levels' errors: libterrain's (terrain/mesh_pyramid.hpp), which the
+// mesh pyramid on disk stores too.
+inline constexpr std::size_t kLodBlock = terrain::kLevelBlock;  // cells a side of a block
+using LodBlock = terrain::MeshLevelBlock;
+using LodHierarchy = terrain::MeshLevels;
+inline LodHierarchy build_lod(const terrain::GridMesh& mesh, std::size_t block = kLodBlock) {
+  return terrain::build_mesh_levels(mesh, block);
+}
 
 // Per block, the coarsest level l with error[l] x exaggeration <= bound_px pixels at the
 // block's nearest point (View::pixel_size of its distance along the line of sight; the

@@ -3,19 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "terrain/pn_triangle.hpp"
-
 namespace renderer {
 
 namespace {
-
-// The kept positions 0..n of a block side at step s: 0, s, 2s, ... below n, and n.
-std::vector<std::uint32_t> lines(std::uint32_t n, std::uint32_t s) {
-  std::vector<std::uint32_t> v;
-  for (std::uint32_t p = 0; p < n; p += s) v.push_back(p);
-  v.push_back(n);
-  return v;
-}
 
 // Position p of a side of n cells moved to the nearest position kept at step s (ties: the
 // lower).
@@ -24,61 +14,7 @@ std::uint32_t snap(std::uint32_t p, std::uint32_t n, std::uint32_t s) {
   return p - lower <= upper - p ? lower : upper;
 }
 
-// The largest vertical distance between the block's vertices and the PN surface of its
-// cells at step s (the cell's two faces as GridTopology's: NW-SW-SE and NW-SE-NE).
-float level_error(const terrain::GridMesh& mesh, const LodBlock& b, std::uint32_t s) {
-  const std::size_t cols = mesh.topo.cols;
-  const auto rs = lines(b.nr, s), cs = lines(b.nc, s);
-  auto at = [&](std::uint32_t r, std::uint32_t c) { return (std::size_t(b.r0) + r) * cols + b.c0 + c; };
-  auto p = [&](std::size_t v) { return Eigen::Vector3d(mesh.positions[v].cast<double>()); };
-  auto n = [&](std::size_t v) { return Eigen::Vector3d(mesh.normals[v].cast<double>()); };
-  float worst = 0;
-  for (std::size_t i = 0; i + 1 < rs.size(); ++i)
-    for (std::size_t j = 0; j + 1 < cs.size(); ++j) {
-      const std::uint32_t ra = rs[i], rb = rs[i + 1], ca = cs[j], cb = cs[j + 1];
-      const std::size_t nw = at(ra, ca), sw = at(rb, ca), se = at(rb, cb), ne = at(ra, cb);
-      // The cubic's control points only (the surface's normals are not needed here).
-      const auto lower = terrain::pn_control_points<double>(p(nw), p(sw), p(se), n(nw), n(sw), n(se));
-      const auto upper = terrain::pn_control_points<double>(p(nw), p(se), p(ne), n(nw), n(se), n(ne));
-      for (std::uint32_t r = ra; r <= rb; ++r)
-        for (std::uint32_t c = ca; c <= cb; ++c) {
-          const double u = double(c - ca) / double(cb - ca), v = double(r - ra) / double(rb - ra);
-          const Eigen::Vector3d q = v >= u ? terrain::pn_cubic<double>(lower, 1 - v, v - u, u)
-                                           : terrain::pn_cubic<double>(upper, 1 - u, v, u - v);
-          worst = std::max(worst, float(std::abs(q.z() - double(mesh.positions[at(r, c)].z()))));
-        }
-    }
-  return worst;
-}
-
 }  // namespace
-
-LodHierarchy build_lod(const terrain::GridMesh& mesh, std::size_t block) {
-  LodHierarchy h;
-  h.topo = mesh.topo;
-  h.block = block;
-  const std::size_t cells_r = mesh.topo.rows - 1, cells_c = mesh.topo.cols - 1;
-  h.block_rows = (cells_r + block - 1) / block;
-  h.block_cols = (cells_c + block - 1) / block;
-  h.blocks.resize(h.block_rows * h.block_cols);
-#pragma omp parallel for schedule(dynamic)
-  for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(h.blocks.size()); ++k) {
-    LodBlock& b = h.blocks[std::size_t(k)];
-    const std::size_t br = std::size_t(k) / h.block_cols, bc = std::size_t(k) % h.block_cols;
-    b.r0 = std::uint32_t(br * block), b.c0 = std::uint32_t(bc * block);
-    b.nr = std::uint32_t(std::min(block, cells_r - b.r0)), b.nc = std::uint32_t(std::min(block, cells_c - b.c0));
-    b.lo = Eigen::Vector3f::Constant(1e30f), b.hi = -b.lo;
-    for (std::uint32_t r = 0; r <= b.nr; ++r)
-      for (std::uint32_t c = 0; c <= b.nc; ++c) {
-        const Eigen::Vector3f& q = mesh.positions[(std::size_t(b.r0) + r) * mesh.topo.cols + b.c0 + c];
-        b.lo = b.lo.cwiseMin(q), b.hi = b.hi.cwiseMax(q);
-      }
-    b.error = {0.0f};
-    for (std::uint32_t s = 2; s / 2 < std::max(b.nr, b.nc); s *= 2)
-      b.error.push_back(std::max(b.error.back(), level_error(mesh, b, s)));
-  }
-  return h;
-}
 
 std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double e, double bound_px) {
   std::vector<std::uint8_t> levels(h.blocks.size(), 0);
@@ -137,7 +73,7 @@ std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<
         else if (c == b.nc) r = snap(r, b.nr, east);
         return std::uint32_t((std::size_t(b.r0) + r) * cols + b.c0 + c);
       };
-      const auto rs = lines(b.nr, s), cs = lines(b.nc, s);
+      const auto rs = terrain::level_lines(b.nr, s), cs = terrain::level_lines(b.nc, s);
       for (std::size_t i = 0; i + 1 < rs.size(); ++i)
         for (std::size_t j = 0; j + 1 < cs.size(); ++j) {
           const std::uint32_t nw = vertex(rs[i], cs[j]), sw = vertex(rs[i + 1], cs[j]);

@@ -1,0 +1,114 @@
+#pragma once
+// The mesh's levels of detail (issue 52): the blocks of cells, the error of each level of
+// each block (build_mesh_levels; the renderer selects levels from them, renderer/lod.hpp),
+// and the mesh pyramid on disk (MESH.tpyr, docs/formats.md): every level's vertices in
+// tiles that a reader reads by window, so that what a view needs is read, not the mesh.
+#include <cstddef>
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "terrain/grid_mesh.hpp"
+
+namespace terrain {
+
+inline constexpr std::size_t kLevelBlock = 64;  // cells a side of a block (and of a pyramid tile)
+
+// Level l of a block keeps every 2^l-th row and column of its vertices and its last ones:
+// the fine mesh's own vertices, positions and normals.
+struct MeshLevelBlock {
+  std::uint32_t r0 = 0, c0 = 0;  // its first vertex row and column
+  std::uint32_t nr = 0, nc = 0;  // its cells down and across
+  // error[l]: the largest vertical distance (metres, heights not exaggerated) between a
+  // vertex of the block and the PN surface of level l over it at the same parameters;
+  // non-decreasing in l, error[0] = 0. The coarsest level is the first whose step covers
+  // the block.
+  std::vector<float> error;
+  Eigen::Vector3f lo, hi;  // its vertices' bounding box, local frame, heights not exaggerated
+  int levels() const { return int(error.size()); }
+};
+
+struct MeshLevels {
+  GridTopology topo;
+  std::size_t block = kLevelBlock, block_rows = 0, block_cols = 0;
+  std::vector<MeshLevelBlock> blocks;  // row-major
+};
+
+MeshLevels build_mesh_levels(const GridMesh& mesh, std::size_t block = kLevelBlock);
+
+// The kept positions 0..n of a block side of n cells at step s: 0, s, 2s, ... below n, and n.
+inline std::vector<std::uint32_t> level_lines(std::uint32_t n, std::uint32_t s) {
+  std::vector<std::uint32_t> v;
+  for (std::uint32_t p = 0; p < n; p += s) v.push_back(p);
+  v.push_back(n);
+  return v;
+}
+
+// Vertices of level l's grid along a side of n cells: every 2^l-th and the last,
+// ceil(n / 2^l) + 1 of them; level_index is a level-l vertex's level-0 row (or column).
+inline std::size_t level_count(std::size_t cells, int l) {
+  return (cells + (std::size_t(1) << l) - 1) / (std::size_t(1) << l) + 1;
+}
+inline std::size_t level_index(std::size_t k, std::size_t cells, int l) {
+  return std::min(k << l, cells);
+}
+
+// Writes the pyramid of `mesh` at `path` (atomically): its georeference, `levels`'
+// blocks (boxes, errors), and for each level 0 .. (the coarsest of any block) its grid in
+// tiles of kLevelBlock cells a side (their border vertices in both neighbours), each tile
+// its positions and normals compressed with zstd. Returns the bytes written.
+std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const MeshLevels& levels, const std::string& path);
+
+// Whether the file at `path` starts as a mesh pyramid does (by content, not by name).
+bool is_mesh_pyramid(const std::string& path);
+
+// The pyramid's path beside a mesh: MESH.ply -> MESH.tpyr.
+std::string pyramid_path_of(const std::string& mesh_path);
+
+struct MeshWindow {
+  std::size_t rows = 0, cols = 0;  // vertices
+  std::vector<Eigen::Vector3f> positions, normals;  // row-major, local frame
+};
+
+// A pyramid file opened for windowed reads: the header, the blocks and the tile index are
+// read at once; tiles only when a window needs them, and only those.
+class MeshPyramid {
+ public:
+  explicit MeshPyramid(const std::string& path);  // terrain::Error on a bad file
+  const MeshGeoref& georef() const { return geo_; }  // the mesh's
+  const GridTopology& topology() const { return levels_.topo; }
+  const MeshLevels& levels() const { return levels_; }
+  int level_count() const { return int(tiles_.size()); }
+  // Level l's grid, in vertices.
+  std::size_t rows(int l) const { return terrain::level_count(levels_.topo.rows - 1, l); }
+  std::size_t cols(int l) const { return terrain::level_count(levels_.topo.cols - 1, l); }
+  // The vertices of level l's grid rows r0 .. r0 + nr - 1 and columns c0 .. c0 + nc - 1.
+  MeshWindow read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc);
+  // Accounting since the file was opened: bytes read (header and index included) and
+  // tiles decoded.
+  std::uint64_t bytes_read() const { return bytes_read_; }
+  std::size_t tiles_read() const { return tiles_read_; }
+  // The stored bytes of tile (tr, tc) of level l.
+  std::uint32_t tile_bytes(int l, std::size_t tr, std::size_t tc) const;
+
+ private:
+  struct Tile {
+    std::uint64_t offset = 0;
+    std::uint32_t bytes = 0, crc = 0;
+  };
+  struct LevelTiles {
+    std::size_t tiles_r = 0, tiles_c = 0;
+    std::vector<Tile> tiles;
+  };
+  std::string path_;
+  MeshGeoref geo_;
+  MeshLevels levels_;
+  std::vector<LevelTiles> tiles_;
+  std::uint64_t bytes_read_ = 0;
+  std::size_t tiles_read_ = 0;
+};
+
+}  // namespace terrain

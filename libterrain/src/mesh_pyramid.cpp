@@ -1,0 +1,314 @@
+#include "terrain/mesh_pyramid.hpp"
+
+#include <fmt/format.h>
+#include <zlib.h>
+#include <zstd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <memory>
+
+#include "terrain/atomic_file.hpp"
+#include "terrain/error.hpp"
+#include "terrain/pn_triangle.hpp"
+
+namespace terrain {
+
+namespace {
+
+// The largest vertical distance between the block's vertices and the PN surface of its
+// cells at step s (the cell's two faces as GridTopology's: NW-SW-SE and NW-SE-NE).
+float level_error(const GridMesh& mesh, const MeshLevelBlock& b, std::uint32_t s) {
+  const std::size_t cols = mesh.topo.cols;
+  const auto rs = level_lines(b.nr, s), cs = level_lines(b.nc, s);
+  auto at = [&](std::uint32_t r, std::uint32_t c) { return (std::size_t(b.r0) + r) * cols + b.c0 + c; };
+  auto p = [&](std::size_t v) { return Eigen::Vector3d(mesh.positions[v].cast<double>()); };
+  auto n = [&](std::size_t v) { return Eigen::Vector3d(mesh.normals[v].cast<double>()); };
+  float worst = 0;
+  for (std::size_t i = 0; i + 1 < rs.size(); ++i)
+    for (std::size_t j = 0; j + 1 < cs.size(); ++j) {
+      const std::uint32_t ra = rs[i], rb = rs[i + 1], ca = cs[j], cb = cs[j + 1];
+      const std::size_t nw = at(ra, ca), sw = at(rb, ca), se = at(rb, cb), ne = at(ra, cb);
+      // The cubic's control points only (the surface's normals are not needed here).
+      const auto lower = pn_control_points<double>(p(nw), p(sw), p(se), n(nw), n(sw), n(se));
+      const auto upper = pn_control_points<double>(p(nw), p(se), p(ne), n(nw), n(se), n(ne));
+      for (std::uint32_t r = ra; r <= rb; ++r)
+        for (std::uint32_t c = ca; c <= cb; ++c) {
+          const double u = double(c - ca) / double(cb - ca), v = double(r - ra) / double(rb - ra);
+          const Eigen::Vector3d q =
+              v >= u ? pn_cubic<double>(lower, 1 - v, v - u, u) : pn_cubic<double>(upper, 1 - u, v, u - v);
+          worst = std::max(worst, float(std::abs(q.z() - double(mesh.positions[at(r, c)].z()))));
+        }
+    }
+  return worst;
+}
+
+constexpr char kMagic[8] = {'T', 'P', 'Y', 'R', 'A', 'M', 'I', 'D'};
+constexpr std::uint32_t kVersion = 1;
+
+// Little-endian scalars (this project's machines are; the format says so).
+struct Out {
+  std::string bytes;
+  template <class T>
+  void put(const T& v) {
+    bytes.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+};
+struct In {
+  const std::string& bytes;
+  const std::string& path;
+  std::size_t at = 0;
+  template <class T>
+  T get() {
+    if (at + sizeof(T) > bytes.size()) throw Error("cannot read '" + path + "': truncated mesh pyramid");
+    T v;
+    std::memcpy(&v, bytes.data() + at, sizeof v);
+    at += sizeof v;
+    return v;
+  }
+};
+
+// The level-l vertices of tile (tr, tc): rows tr B .. min(tr B + B, rows_l - 1), and so on.
+struct TileRange {
+  std::size_t r0, c0, nr, nc;
+};
+TileRange tile_range(std::size_t rows_l, std::size_t cols_l, std::size_t block, std::size_t tr, std::size_t tc) {
+  const std::size_t r0 = tr * block, c0 = tc * block;
+  return {r0, c0, std::min(block, rows_l - 1 - r0) + 1, std::min(block, cols_l - 1 - c0) + 1};
+}
+
+std::uint32_t crc_of(const std::string& s) {
+  return std::uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(s.data()), uInt(s.size())));
+}
+
+}  // namespace
+
+MeshLevels build_mesh_levels(const GridMesh& mesh, std::size_t block) {
+  MeshLevels h;
+  h.topo = mesh.topo;
+  h.block = block;
+  const std::size_t cells_r = mesh.topo.rows - 1, cells_c = mesh.topo.cols - 1;
+  h.block_rows = (cells_r + block - 1) / block;
+  h.block_cols = (cells_c + block - 1) / block;
+  h.blocks.resize(h.block_rows * h.block_cols);
+#pragma omp parallel for schedule(dynamic)
+  for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(h.blocks.size()); ++k) {
+    MeshLevelBlock& b = h.blocks[std::size_t(k)];
+    const std::size_t br = std::size_t(k) / h.block_cols, bc = std::size_t(k) % h.block_cols;
+    b.r0 = std::uint32_t(br * block), b.c0 = std::uint32_t(bc * block);
+    b.nr = std::uint32_t(std::min(block, cells_r - b.r0)), b.nc = std::uint32_t(std::min(block, cells_c - b.c0));
+    b.lo = Eigen::Vector3f::Constant(1e30f), b.hi = -b.lo;
+    for (std::uint32_t r = 0; r <= b.nr; ++r)
+      for (std::uint32_t c = 0; c <= b.nc; ++c) {
+        const Eigen::Vector3f& q = mesh.positions[(std::size_t(b.r0) + r) * mesh.topo.cols + b.c0 + c];
+        b.lo = b.lo.cwiseMin(q), b.hi = b.hi.cwiseMax(q);
+      }
+    b.error = {0.0f};
+    for (std::uint32_t s = 2; s / 2 < std::max(b.nr, b.nc); s *= 2)
+      b.error.push_back(std::max(b.error.back(), level_error(mesh, b, s)));
+  }
+  return h;
+}
+
+std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const MeshLevels& levels, const std::string& path) {
+  const std::size_t B = levels.block, cells_r = mesh.topo.rows - 1, cells_c = mesh.topo.cols - 1;
+  int n_levels = 1;
+  for (const MeshLevelBlock& b : levels.blocks) n_levels = std::max(n_levels, b.levels());
+  // The tiles, compressed (level by level, in parallel within a level).
+  std::vector<std::vector<std::string>> tiles(static_cast<std::size_t>(n_levels));
+  std::vector<std::array<std::size_t, 2>> counts(static_cast<std::size_t>(n_levels));
+  for (int l = 0; l < n_levels; ++l) {
+    const std::size_t rows_l = level_count(cells_r, l), cols_l = level_count(cells_c, l);
+    const std::size_t tr = (rows_l - 1 + B - 1) / B, tc = (cols_l - 1 + B - 1) / B;
+    counts[std::size_t(l)] = {tr, tc};
+    auto& out = tiles[std::size_t(l)];
+    out.resize(tr * tc);
+#pragma omp parallel for schedule(dynamic)
+    for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(out.size()); ++k) {
+      const TileRange t = tile_range(rows_l, cols_l, B, std::size_t(k) / tc, std::size_t(k) % tc);
+      std::vector<Eigen::Vector3f> raw(2 * t.nr * t.nc);
+      for (std::size_t r = 0; r < t.nr; ++r)
+        for (std::size_t c = 0; c < t.nc; ++c) {
+          const std::size_t v =
+              level_index(t.r0 + r, cells_r, l) * mesh.topo.cols + level_index(t.c0 + c, cells_c, l);
+          raw[r * t.nc + c] = mesh.positions[v];
+          raw[t.nr * t.nc + r * t.nc + c] = mesh.normals[v];
+        }
+      std::string z(ZSTD_compressBound(raw.size() * sizeof raw[0]), '\0');
+      const std::size_t n = ZSTD_compress(z.data(), z.size(), raw.data(), raw.size() * sizeof raw[0], 3);
+      if (ZSTD_isError(n)) throw Error("cannot compress a pyramid tile");
+      z.resize(n);
+      out[std::size_t(k)] = std::move(z);
+    }
+  }
+  Out h;
+  h.bytes.append(kMagic, 8);
+  h.put(kVersion);
+  h.put(std::uint32_t(B));
+  h.put(std::uint64_t(mesh.topo.rows));
+  h.put(std::uint64_t(mesh.topo.cols));
+  for (double v : {mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z, mesh.geo.dx, mesh.geo.dy}) h.put(v);
+  h.put(std::int32_t(mesh.geo.epsg));
+  h.put(std::uint32_t(mesh.geo.crs_wkt.size()));
+  h.bytes += mesh.geo.crs_wkt;
+  h.put(std::uint32_t(n_levels));
+  for (const MeshLevelBlock& b : levels.blocks) {
+    for (int k = 0; k < 3; ++k) h.put(b.lo[k]);
+    for (int k = 0; k < 3; ++k) h.put(b.hi[k]);
+    h.put(std::uint32_t(b.levels()));
+    for (float e : b.error) h.put(e);
+  }
+  std::size_t n_tiles = 0;
+  for (const auto& t : tiles) n_tiles += t.size();
+  // The index: per level its tile counts, then per tile offset, bytes, CRC-32.
+  const std::uint64_t index_bytes = std::uint64_t(n_levels) * 16 + std::uint64_t(n_tiles) * 16;
+  std::uint64_t offset = h.bytes.size() + index_bytes;
+  for (int l = 0; l < n_levels; ++l) {
+    h.put(std::uint64_t(counts[std::size_t(l)][0]));
+    h.put(std::uint64_t(counts[std::size_t(l)][1]));
+    for (const std::string& t : tiles[std::size_t(l)]) {
+      h.put(offset);
+      h.put(std::uint32_t(t.size()));
+      h.put(crc_of(t));
+      offset += t.size();
+    }
+  }
+  write_stream_atomic(path, [&](std::ostream& os) {
+    os.write(h.bytes.data(), std::streamsize(h.bytes.size()));
+    for (const auto& level : tiles)
+      for (const std::string& t : level) os.write(t.data(), std::streamsize(t.size()));
+  });
+  return offset;
+}
+
+bool is_mesh_pyramid(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  char m[8] = {};
+  return f.read(m, 8) && std::memcmp(m, kMagic, 8) == 0;
+}
+
+std::string pyramid_path_of(const std::string& mesh_path) {
+  return (mesh_path.ends_with(".ply") ? mesh_path.substr(0, mesh_path.size() - 4) : mesh_path) + ".tpyr";
+}
+
+MeshPyramid::MeshPyramid(const std::string& path) : path_(path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw Error("cannot open '" + path + "'");
+  // The header and index: read in growing pieces until they parse (their size is known only as they are read).
+  std::string bytes;
+  f.seekg(0, std::ios::end);
+  const auto size = std::uint64_t(f.tellg());
+  f.seekg(0);
+  auto read_more = [&](std::size_t want) {
+    const std::size_t n = std::size_t(std::min<std::uint64_t>(want, size - bytes.size()));
+    const std::size_t at = bytes.size();
+    bytes.resize(at + n);
+    f.read(bytes.data() + at, std::streamsize(n));
+  };
+  read_more(64);
+  if (bytes.size() < 8 || std::memcmp(bytes.data(), kMagic, 8) != 0)
+    throw Error("'" + path + "' is not a mesh pyramid (.tpyr)");
+  for (;;) {
+    try {
+      In in{bytes, path_, 8};
+      if (in.get<std::uint32_t>() != kVersion) throw Error("'" + path + "': a newer mesh pyramid version");
+      const std::size_t B = in.get<std::uint32_t>();
+      const std::size_t rows = in.get<std::uint64_t>(), cols = in.get<std::uint64_t>();
+      if (B < 2 || rows < 2 || cols < 2 || rows * cols >= (std::uint64_t(1) << 32))
+        throw Error("cannot read '" + path + "': corrupt mesh pyramid (its grid)");
+      geo_.origin_x = in.get<double>(), geo_.origin_y = in.get<double>(), geo_.origin_z = in.get<double>();
+      geo_.dx = in.get<double>(), geo_.dy = in.get<double>();
+      geo_.epsg = in.get<std::int32_t>();
+      const std::size_t wkt = in.get<std::uint32_t>();
+      if (in.at + wkt > bytes.size()) throw Error("cannot read '" + path + "': truncated mesh pyramid");
+      geo_.crs_wkt = bytes.substr(in.at, wkt);
+      in.at += wkt;
+      const int n_levels = int(in.get<std::uint32_t>());
+      if (n_levels < 1 || n_levels > 32) throw Error("cannot read '" + path + "': corrupt mesh pyramid (its levels)");
+      levels_ = MeshLevels{};
+      levels_.topo = GridTopology{rows, cols};
+      levels_.block = B;
+      levels_.block_rows = (rows - 1 + B - 1) / B;
+      levels_.block_cols = (cols - 1 + B - 1) / B;
+      levels_.blocks.resize(levels_.block_rows * levels_.block_cols);
+      for (std::size_t k = 0; k < levels_.blocks.size(); ++k) {
+        MeshLevelBlock& b = levels_.blocks[k];
+        b.r0 = std::uint32_t(k / levels_.block_cols * B), b.c0 = std::uint32_t(k % levels_.block_cols * B);
+        b.nr = std::uint32_t(std::min(B, rows - 1 - b.r0)), b.nc = std::uint32_t(std::min(B, cols - 1 - b.c0));
+        for (int j = 0; j < 3; ++j) b.lo[j] = in.get<float>();
+        for (int j = 0; j < 3; ++j) b.hi[j] = in.get<float>();
+        const std::uint32_t nl = in.get<std::uint32_t>();
+        if (nl < 1 || int(nl) > n_levels) throw Error("cannot read '" + path + "': corrupt mesh pyramid (a block)");
+        b.error.resize(nl);
+        for (float& e : b.error) e = in.get<float>();
+      }
+      tiles_.assign(std::size_t(n_levels), {});
+      for (int l = 0; l < n_levels; ++l) {
+        LevelTiles& t = tiles_[std::size_t(l)];
+        t.tiles_r = in.get<std::uint64_t>(), t.tiles_c = in.get<std::uint64_t>();
+        if (t.tiles_r != (this->rows(l) - 1 + B - 1) / B || t.tiles_c != (this->cols(l) - 1 + B - 1) / B)
+          throw Error("cannot read '" + path + "': corrupt mesh pyramid (its tile counts)");
+        t.tiles.resize(t.tiles_r * t.tiles_c);
+        for (Tile& tile : t.tiles) {
+          tile.offset = in.get<std::uint64_t>(), tile.bytes = in.get<std::uint32_t>(), tile.crc = in.get<std::uint32_t>();
+          if (tile.offset + tile.bytes > size) throw Error("cannot read '" + path + "': truncated mesh pyramid");
+        }
+      }
+      bytes_read_ = in.at;
+      return;
+    } catch (const Error& e) {
+      if (std::string(e.what()).find("truncated") == std::string::npos || bytes.size() == size) throw;
+      read_more(std::max<std::size_t>(bytes.size(), 4096));  // more of the header, then try again
+    }
+  }
+}
+
+std::uint32_t MeshPyramid::tile_bytes(int l, std::size_t tr, std::size_t tc) const {
+  const LevelTiles& t = tiles_.at(std::size_t(l));
+  return t.tiles.at(tr * t.tiles_c + tc).bytes;
+}
+
+MeshWindow MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc) {
+  if (l < 0 || l >= level_count() || nr == 0 || nc == 0 || r0 + nr > rows(l) || c0 + nc > cols(l))
+    throw Error(fmt::format("'{}': no window of {} x {} at {}, {} in level {}", path_, nr, nc, r0, c0, l));
+  const LevelTiles& lt = tiles_[std::size_t(l)];
+  const std::size_t B = levels_.block;
+  MeshWindow w;
+  w.rows = nr, w.cols = nc;
+  w.positions.resize(nr * nc);
+  w.normals.resize(nr * nc);
+  std::ifstream f(path_, std::ios::binary);
+  if (!f) throw Error("cannot open '" + path_ + "'");
+  // Every tile the window touches (a vertex on a tile border is in both; the lower one is read).
+  const std::size_t tr0 = std::min(r0 / B, lt.tiles_r - 1), tr1 = std::min((r0 + nr - 1) / B, lt.tiles_r - 1);
+  const std::size_t tc0 = std::min(c0 / B, lt.tiles_c - 1), tc1 = std::min((c0 + nc - 1) / B, lt.tiles_c - 1);
+  std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
+  for (std::size_t tr = tr0; tr <= tr1; ++tr)
+    for (std::size_t tc = tc0; tc <= tc1; ++tc) {
+      const Tile& tile = lt.tiles[tr * lt.tiles_c + tc];
+      const TileRange t = tile_range(rows(l), cols(l), B, tr, tc);
+      std::string z(tile.bytes, '\0');
+      f.seekg(std::streamoff(tile.offset));
+      f.read(z.data(), std::streamsize(z.size()));
+      if (!f || crc_of(z) != tile.crc)
+        throw Error(fmt::format("cannot read '{}': tile {}, {} of level {} is corrupt", path_, tr, tc, l));
+      std::vector<Eigen::Vector3f> raw(2 * t.nr * t.nc);
+      const std::size_t got = ZSTD_decompressDCtx(ctx.get(), raw.data(), raw.size() * sizeof raw[0], z.data(), z.size());
+      if (ZSTD_isError(got) || got != raw.size() * sizeof raw[0])
+        throw Error(fmt::format("cannot read '{}': tile {}, {} of level {} is corrupt", path_, tr, tc, l));
+      bytes_read_ += tile.bytes;
+      ++tiles_read_;
+      for (std::size_t r = std::max(r0, t.r0); r < std::min(r0 + nr, t.r0 + t.nr); ++r)
+        for (std::size_t c = std::max(c0, t.c0); c < std::min(c0 + nc, t.c0 + t.nc); ++c) {
+          const std::size_t i = (r - r0) * nc + (c - c0), j = (r - t.r0) * t.nc + (c - t.c0);
+          w.positions[i] = raw[j];
+          w.normals[i] = raw[t.nr * t.nc + j];
+        }
+    }
+  return w;
+}
+
+}  // namespace terrain

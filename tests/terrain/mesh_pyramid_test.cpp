@@ -1,0 +1,139 @@
+// The mesh pyramid (terrain/mesh_pyramid.hpp, docs/formats.md): windows read back equal the
+// mesh's own vertices at every level, bit for bit; a window reads only the tiles under it
+// (the reader's accounting); the blocks' boxes and errors come back as computed; a
+// damaged file is refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "terrain/error.hpp"
+#include "terrain/mesh_pyramid.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+terrain::GridMesh bumps(std::size_t rows, std::size_t cols) {
+  terrain::GridMesh m = terrain::test::function_mesh(rows, cols, 10.0, [](double x, double y) {
+    return 0.05 * x + 40 * std::sin(x / 90) * std::cos(y / 70) + 8 * std::sin(x / 23 + y / 31);
+  });
+  m.geo.origin_x = 500000, m.geo.origin_y = 4100000, m.geo.origin_z = 100;
+  m.geo.epsg = 32612;
+  m.geo.crs_wkt = "PROJCS[\"test\"]";
+  return m;
+}
+
+bool same(const Eigen::Vector3f& a, const Eigen::Vector3f& b) { return a.x() == b.x() && a.y() == b.y() && a.z() == b.z(); }
+
+}  // namespace
+
+// Every level read whole, and random windows of each, equal the mesh's vertices at that
+// level's rows and columns (every 2^l-th and the last), positions and normals exactly; the
+// georeference, the blocks' boxes and their errors come back as written.
+TEST(MeshPyramid, WindowsEqualTheMeshAtEveryLevel) {
+  const terrain::GridMesh m = bumps(150, 131);
+  const terrain::MeshLevels levels = terrain::build_mesh_levels(m, 16);
+  terrain::test::ScratchDir dir;
+  const std::string path = dir.path("m.tpyr");
+  const std::uint64_t bytes = terrain::write_mesh_pyramid(m, levels, path);
+  EXPECT_EQ(bytes, std::filesystem::file_size(path));
+  ASSERT_TRUE(terrain::is_mesh_pyramid(path));
+  terrain::MeshPyramid p(path);
+  EXPECT_EQ(p.georef().origin_x, m.geo.origin_x);
+  EXPECT_EQ(p.georef().origin_z, m.geo.origin_z);
+  EXPECT_EQ(p.georef().epsg, 32612);
+  EXPECT_EQ(p.georef().crs_wkt, m.geo.crs_wkt);
+  EXPECT_EQ(p.topology().rows, 150u);
+  EXPECT_EQ(p.topology().cols, 131u);
+  EXPECT_EQ(p.level_count(), 5);  // blocks of 16 cells: steps 1 .. 16
+  ASSERT_EQ(p.levels().blocks.size(), levels.blocks.size());
+  for (std::size_t k = 0; k < levels.blocks.size(); ++k) {
+    EXPECT_EQ(p.levels().blocks[k].error, levels.blocks[k].error);
+    EXPECT_TRUE(same(p.levels().blocks[k].lo, levels.blocks[k].lo) && same(p.levels().blocks[k].hi, levels.blocks[k].hi));
+    EXPECT_EQ(p.levels().blocks[k].r0, levels.blocks[k].r0);
+    EXPECT_EQ(p.levels().blocks[k].nc, levels.blocks[k].nc);
+  }
+  std::mt19937 rng(7);
+  for (int l = 0; l < p.level_count(); ++l) {
+    const std::size_t R = p.rows(l), C = p.cols(l);
+    EXPECT_EQ(R, (149 + (1u << l) - 1) / (1u << l) + 1);
+    auto check = [&](std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc) {
+      const terrain::MeshWindow w = p.read_window(l, r0, c0, nr, nc);
+      std::size_t differ = 0;
+      for (std::size_t r = 0; r < nr; ++r)
+        for (std::size_t c = 0; c < nc; ++c) {
+          const std::size_t v = terrain::level_index(r0 + r, 149, l) * 131 + terrain::level_index(c0 + c, 130, l);
+          differ += !same(w.positions[r * nc + c], m.positions[v]) || !same(w.normals[r * nc + c], m.normals[v]);
+        }
+      EXPECT_EQ(differ, 0u) << "level " << l << " window " << r0 << " " << c0 << " " << nr << " " << nc;
+    };
+    check(0, 0, R, C);
+    for (int k = 0; k < 5; ++k) {
+      const std::size_t r0 = rng() % R, c0 = rng() % C;
+      check(r0, c0, 1 + rng() % (R - r0), 1 + rng() % (C - c0));
+    }
+  }
+  // The last vertex of every level is the mesh's last.
+  const terrain::MeshWindow corner = p.read_window(p.level_count() - 1, p.rows(p.level_count() - 1) - 1,
+                                                   p.cols(p.level_count() - 1) - 1, 1, 1);
+  EXPECT_TRUE(same(corner.positions[0], m.positions[150 * 131 - 1]));
+}
+
+// Memory bounded by the view: opening reads the header, blocks and index only (a small
+// part of the file); a window inside one tile reads that tile and no other, one across a
+// tile corner the four tiles there, and the bytes read are exactly those tiles'.
+TEST(MeshPyramid, AWindowReadsOnlyTheTilesUnderIt) {
+  const terrain::GridMesh m = bumps(257, 257);
+  terrain::test::ScratchDir dir;
+  const std::string path = dir.path("m.tpyr");
+  const std::uint64_t bytes = terrain::write_mesh_pyramid(m, terrain::build_mesh_levels(m, 32), path);
+  terrain::MeshPyramid p(path);
+  const std::uint64_t opened = p.bytes_read();
+  EXPECT_LT(double(opened), 0.05 * double(bytes));
+  EXPECT_EQ(p.tiles_read(), 0u);
+  p.read_window(0, 40, 70, 10, 20);  // inside tile (1, 2) of level 0 (32 cells a tile)
+  EXPECT_EQ(p.tiles_read(), 1u);
+  EXPECT_EQ(p.bytes_read(), opened + p.tile_bytes(0, 1, 2));
+  p.read_window(0, 60, 60, 10, 10);  // across the corner of tiles (1, 1), (1, 2), (2, 1), (2, 2)
+  EXPECT_EQ(p.tiles_read(), 5u);
+  EXPECT_EQ(p.bytes_read(),
+            opened + p.tile_bytes(0, 1, 2) + p.tile_bytes(0, 1, 1) + p.tile_bytes(0, 1, 2) + p.tile_bytes(0, 2, 1) +
+                p.tile_bytes(0, 2, 2));
+  p.read_window(3, 0, 0, p.rows(3), p.cols(3));  // level 3: 33 x 33 vertices, one tile
+  EXPECT_EQ(p.tiles_read(), 6u);
+}
+
+// Not a pyramid, a truncated one, a damaged tile: one clear error each.
+TEST(MeshPyramid, DamagedFilesAreRefused) {
+  const terrain::GridMesh m = bumps(70, 70);
+  terrain::test::ScratchDir dir;
+  const std::string path = dir.path("m.tpyr");
+  const std::uint64_t bytes = terrain::write_mesh_pyramid(m, terrain::build_mesh_levels(m, 16), path);
+  const std::string good = terrain::test::file_bytes(path);
+  auto write = [&](const std::string& name, const std::string& s) {
+    std::ofstream(dir.path(name), std::ios::binary) << s;
+    return dir.path(name);
+  };
+  EXPECT_FALSE(terrain::is_mesh_pyramid(write("ply.tpyr", "ply\nformat binary_little_endian 1.0\n")));
+  EXPECT_THROW(terrain::MeshPyramid(dir.path("ply.tpyr")), terrain::Error);
+  const std::string cut = write("cut.tpyr", good.substr(0, std::size_t(bytes / 2)));
+  try {
+    terrain::MeshPyramid p(cut);
+    FAIL() << "a truncated pyramid opened";
+  } catch (const terrain::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
+  }
+  std::string flipped = good;
+  const std::size_t first_tile = std::size_t(terrain::MeshPyramid(path).bytes_read());  // level 0's first tile starts here
+  flipped[first_tile + 10] = char(flipped[first_tile + 10] ^ 0x5a);
+  terrain::MeshPyramid p(write("flip.tpyr", flipped));
+  try {
+    p.read_window(0, 0, 0, p.rows(0), p.cols(0));
+    FAIL() << "a damaged tile was read";
+  } catch (const terrain::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is corrupt"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(p.read_window(0, 0, 0, p.rows(0) + 1, 1), terrain::Error);
+}
