@@ -37,9 +37,11 @@ terrain::DrainageLinks drainage_links(const DrainageDb& db);
 // The points of the .dv at `path` that lie in the world rectangle [west, east] x [south,
 // north] (sample centres, with a tolerance of 1e-6 cell), read with read_dv_window: a
 // renderer given a large database and a small mesh loads only the mesh's extent. The
-// whole grid when the rectangle covers it; an Error when they do not overlap.
+// whole grid when the rectangle covers it; an Error when they do not overlap. A version 2
+// file is read in bands of rows of at most `band_points` points (each with a row of margin
+// above and below), so that only one band's database is held beside the arrays.
 terrain::DrainageLinks drainage_links_in(const std::string& path, double west, double south, double east,
-                                         double north);
+                                         double north, std::size_t band_points = std::size_t(1) << 22);
 
 // The database's elevations as a grid (no-data where a vertex is not a point).
 terrain::Grid dv_elevations(const DrainageDb& db);

@@ -114,7 +114,7 @@ terrain::DrainageLinks drainage_links(const DrainageDb& db) {
 }
 
 terrain::DrainageLinks drainage_links_in(const std::string& path, double west, double south, double east,
-                                         double north) {
+                                         double north, std::size_t band_points) {
   const DvHeader h = read_dv_header(path);
   const double eps = 1e-6;
   const double c0 = std::max(0.0, std::ceil((west - h.origin_x) / h.dx - eps));
@@ -124,8 +124,37 @@ terrain::DrainageLinks drainage_links_in(const std::string& path, double west, d
   if (!(c0 <= c1) || !(r0 <= r1))
     throw terrain::Error(fmt::format("'{}' does not overlap x {:.1f}..{:.1f}, y {:.1f}..{:.1f}", path, west, east, south,
                                      north));
-  return drainage_links(read_dv_window(path, std::size_t(r0), std::size_t(c0), std::size_t(r1 - r0 + 1),
-                                       std::size_t(c1 - c0 + 1)));
+  const std::size_t wr0 = std::size_t(r0), wc0 = std::size_t(c0), nr = std::size_t(r1 - r0 + 1),
+                    nc = std::size_t(c1 - c0 + 1);
+  if (h.version == 1) return drainage_links(read_dv_window(path, wr0, wc0, nr, nc));
+  // Version 2, band by band: only one band's database is held beside the arrays. Each band
+  // is read with one row of margin above and below, so that its points' downstream links
+  // into the rows next to it are known.
+  const std::size_t band = std::max<std::size_t>(1, band_points / nc);
+  terrain::DrainageLinks l;
+  l.epsg = h.epsg;
+  l.rows = nr, l.cols = nc;
+  l.dx = h.dx, l.dy = h.dy;
+  l.origin = {h.origin_x + double(wc0) * h.dx, h.origin_y - double(wr0) * h.dy, h.origin_z};
+  const std::size_t n = nr * nc;
+  l.positions.resize(n), l.valid.resize(n), l.flow.resize(n), l.accumulated.resize(n), l.downstream.resize(n);
+  for (std::size_t a = 0; a < nr; a += band) {
+    const std::size_t b = std::min(nr, a + band), wa = a > 0 ? a - 1 : 0, wb = std::min(nr, b + 1);
+    const DrainageDb w = read_dv_window(path, wr0 + wa, wc0, wb - wa, nc);
+    for (std::size_t r = a; r < b; ++r)
+      for (std::size_t c = 0; c < nc; ++c) {
+        const DvVertex& v = w.vertices[(r - wa) * nc + c];
+        const std::size_t i = r * nc + c;
+        l.positions[i] = {float(double(c) * h.dx), float(-double(r) * h.dy), v.z};
+        l.valid[i] = PointClass(v.point_class) != PointClass::Nodata;
+        l.flow[i] = v.normalized;
+        l.accumulated[i] = v.accumulated;
+        l.downstream[i] = v.downstream == terrain::DrainageLinks::kNone
+                              ? terrain::DrainageLinks::kNone
+                              : std::uint32_t(wa * nc + v.downstream);  // band-local row-major: + the band's first row
+      }
+  }
+  return l;
 }
 
 terrain::Georef dv_georef(const DvHeader& h) {

@@ -102,6 +102,42 @@ TEST(DvViews, LinksOfAnExtentAreThePointsUnderIt) {
   EXPECT_THROW(drainage_links_in(dir.path("a.dv"), 0, 0, 10, 10), terrain::Error);
 }
 
+// Read in bands (a few rows each, their downstream links across the bands' seams), the
+// links equal those of the window read whole, array for array, downstream links
+// included: over a partial window and over the whole grid, version 2 with blocks of 37 rows.
+TEST(DvViews, LinksReadInBandsEqualTheWindowReadWhole) {
+  terrain::test::ScratchDir dir;
+  const DrainageResult r = logan_drainage();
+  DvHeader hh = make_dv_header(r.surface, r.net, r.dv_flags, "");
+  hh.version = 2, hh.block_rows = hh.block_cols = 37;
+  write_dv(dir.path("a.dv"), hh, r.surface, r.dirs, r.net);
+  const DvHeader h = read_dv_header(dir.path("a.dv"));
+  struct Window {
+    std::size_t r0, c0, rows, cols;
+  };
+  for (const Window& w : {Window{120, 40, 101, 77}, Window{0, 0, std::size_t(h.rows), std::size_t(h.cols)}}) {
+    const double west = h.origin_x + double(w.c0) * h.dx, east = h.origin_x + double(w.c0 + w.cols - 1) * h.dx;
+    const double north = h.origin_y - double(w.r0) * h.dy, south = h.origin_y - double(w.r0 + w.rows - 1) * h.dy;
+    const terrain::DrainageLinks whole = drainage_links(read_dv_window(dir.path("a.dv"), w.r0, w.c0, w.rows, w.cols));
+    for (const std::size_t band_points : {std::size_t(1) << 40, 3 * w.cols, 1000 * w.cols / 7}) {
+      SCOPED_TRACE("window " + std::to_string(w.rows) + " x " + std::to_string(w.cols) + ", bands of " +
+                   std::to_string(band_points) + " points");
+      const terrain::DrainageLinks l = drainage_links_in(dir.path("a.dv"), west, south, east, north, band_points);
+      ASSERT_EQ(l.rows, whole.rows);
+      ASSERT_EQ(l.cols, whole.cols);
+      EXPECT_EQ(l.origin, whole.origin);
+      std::size_t differ = 0, links = 0;
+      for (std::size_t i = 0; i < l.size(); ++i) {
+        differ += l.positions[i] != whole.positions[i] || l.valid[i] != whole.valid[i] || l.flow[i] != whole.flow[i] ||
+                  l.accumulated[i] != whole.accumulated[i] || l.downstream[i] != whole.downstream[i];
+        links += l.downstream[i] != terrain::DrainageLinks::kNone;
+      }
+      EXPECT_EQ(differ, 0u);
+      EXPECT_GT(links, l.size() / 2);
+    }
+  }
+}
+
 // The streamed summary equals the summary of the whole database: version 1, version 2
 // in one band, and version 2 with blocks of 37 rows (14 bands on Logan's 498 rows).
 TEST(DvViews, StreamedSummaryEqualsTheWholeOne) {
