@@ -15,11 +15,11 @@ name=$(basename "$mesh" .ply)
 echo "| mesh | layer | LOD in full | full in LOD | line px (LOD / full) | patches (LOD / full) | TFT ms (LOD / full) |"
 echo "|---|---|---|---|---|---|---|"
 for layer in creases silhouettes; do
-  for e in "${LOD_ERROR:-0.5}" 0; do
+  for e in "${LOD_ERROR:-0.25}" 0; do
     "$bin/terrain-render" frame "$mesh" "$dv" -o "$work/${name}_${layer}_$e.png" --layers "mask,$layer" \
       --lod-error "$e" "$@" > "$work/${name}_${layer}_$e.txt"
   done
-  lod="$work/${name}_${layer}_${LOD_ERROR:-0.5}" full="$work/${name}_${layer}_0"
+  lod="$work/${name}_${layer}_${LOD_ERROR:-0.25}" full="$work/${name}_${layer}_0"
   read -r a b na nb < <(/usr/bin/python3 "$root/bench/line_agreement.py" "$lod.png" "$full.png")
   p() { sed -n 's/^surface patches drawn: \([0-9]*\) of.*/\1/p' "$1.txt"; }
   t() { awk -F'[: ]+' '/^TFT ms/{printf "%.0f", $3}' "$1.txt"; }

@@ -77,7 +77,9 @@ void main() {
       all_toward = all_toward && d > 0.0;
       all_away = all_away && d < 0.0;
     }
-  // A coarse patch's fragments face by its geometry, not by its (fine) normals: no facing cull.
+  // A coarse patch's fragments face by its geometry, not by its (fine) normals: no facing
+  // cull here (this stage runs on one thread in llvmpipe; AFT's compute pass culls coarse
+  // patches by their geometry, surface_cull.comp.glsl).
   bool facing_cull = p_coarse < 0.5 && ((u_mode == 1 && all_toward) || (u_mode == 0 && all_away));
   if (any(all_out) || all_behind || facing_cull) {
     gl_TessLevelOuter[0] = gl_TessLevelOuter[1] = gl_TessLevelOuter[2] = 0.0;

@@ -52,10 +52,13 @@ void main() {
         vec3 towards = to_eye(b[k]);
         all_toward = all_toward && dot(n[j], towards) > 1e-4 * length(n[j]) * length(towards);
       }
-    // A coarse patch (levels of detail) faces by its geometry (surface.frag.glsl): no facing cull.
+    // A coarse patch (levels of detail) faces by its geometry (surface.frag.glsl).
     vec2 e1 = p2.xy - p1.xy, e2 = p3.xy - p2.xy, e3 = p1.xy - p3.xy;
-    bool coarse = u_lod.x > 0.0 && max(dot(e1, e1), max(dot(e2, e2), dot(e3, e3))) > u_lod.x;
-    keep = !(any(all_out) || all_behind || (all_toward && !coarse));
+    if (u_lod.x > 0.0 && max(dot(e1, e1), max(dot(e2, e2), dot(e3, e3))) > u_lod.x) {
+      bool all_away;
+      geometric_facing(b, all_toward, all_away);
+    }
+    keep = !(any(all_out) || all_behind || all_toward);
   }
   if (!keep) return;
   uint slot = atomicAdd(away_tri[0], 1u), d = slot / TR_PATCHES_PER_DRAW;

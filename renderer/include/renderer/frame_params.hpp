@@ -152,7 +152,7 @@ struct Style {
   double pixels_per_edge = 6.0;   // tessellation target: screen length of a triangle edge
   // Levels of detail (renderer/lod.hpp): each block of patches is drawn at the coarsest
   // level whose error spans at most this many pixels; 0: every patch at full detail.
-  double lod_error = 0.5;
+  double lod_error = 0.25;
   Eigen::Vector3f pel_colour{0x8c / 255.f, 0x1a / 255.f, 0x1a / 255.f};  // #8c1a1a
   double pel_width = 1.0;         // pixels
   // PEL pieces (anti-aliased lines only; renderer::pel_piece_opacity), in mesh spacings: a

@@ -469,7 +469,7 @@ void add_look_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "Adaptive tessellation target: screen length of a tessellated edge, pixels",
       [](auto& s) -> auto& { return s.style.pixels_per_edge; }));
   t.push_back(number(
-      "lod-error", surface, 0, 64, "pixels", "0.5",
+      "lod-error", surface, 0, 64, "pixels", "0.25",
       "Levels of detail: each block of 64 x 64 cells is drawn at the coarsest level (every 2nd, 4th, ... row and "
       "column) whose height error spans at most this on the screen; 0 draws every cell",
       [](auto& s) -> auto& { return s.style.lod_error; }));
