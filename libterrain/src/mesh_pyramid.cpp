@@ -147,6 +147,7 @@ std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const MeshLevels& levels,
   Out h;
   h.bytes.append(kMagic, 8);
   h.put(kVersion);
+  h.put(std::uint64_t(0));  // the header's bytes, index included: set below
   h.put(std::uint32_t(B));
   h.put(std::uint64_t(mesh.topo.rows));
   h.put(std::uint64_t(mesh.topo.cols));
@@ -165,7 +166,9 @@ std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const MeshLevels& levels,
   for (const auto& t : tiles) n_tiles += t.size();
   // The index: per level its tile counts, then per tile offset, bytes, CRC-32.
   const std::uint64_t index_bytes = std::uint64_t(n_levels) * 16 + std::uint64_t(n_tiles) * 16;
-  std::uint64_t offset = h.bytes.size() + index_bytes;
+  const std::uint64_t header_bytes = h.bytes.size() + index_bytes;
+  std::memcpy(h.bytes.data() + 12, &header_bytes, 8);
+  std::uint64_t offset = header_bytes;
   for (int l = 0; l < n_levels; ++l) {
     h.put(std::uint64_t(counts[std::size_t(l)][0]));
     h.put(std::uint64_t(counts[std::size_t(l)][1]));
@@ -197,73 +200,61 @@ std::string pyramid_path_of(const std::string& mesh_path) {
 MeshPyramid::MeshPyramid(const std::string& path) : path_(path) {
   std::ifstream f(path, std::ios::binary);
   if (!f) throw Error("cannot open '" + path + "'");
-  // The header and index: read in growing pieces until they parse (their size is known only as they are read).
-  std::string bytes;
   f.seekg(0, std::ios::end);
   const auto size = std::uint64_t(f.tellg());
   f.seekg(0);
-  auto read_more = [&](std::size_t want) {
-    const std::size_t n = std::size_t(std::min<std::uint64_t>(want, size - bytes.size()));
-    const std::size_t at = bytes.size();
-    bytes.resize(at + n);
-    f.read(bytes.data() + at, std::streamsize(n));
-  };
-  read_more(64);
-  if (bytes.size() < 8 || std::memcmp(bytes.data(), kMagic, 8) != 0)
+  // The magic, the version and the header's size, then the header and index whole.
+  std::string bytes(20, '\0');
+  if (!f.read(bytes.data(), 20) || std::memcmp(bytes.data(), kMagic, 8) != 0)
     throw Error("'" + path + "' is not a mesh pyramid (.tpyr)");
-  for (;;) {
-    try {
-      In in{bytes, path_, 8};
-      if (in.get<std::uint32_t>() != kVersion) throw Error("'" + path + "': a newer mesh pyramid version");
-      const std::size_t B = in.get<std::uint32_t>();
-      const std::size_t rows = in.get<std::uint64_t>(), cols = in.get<std::uint64_t>();
-      if (B < 2 || rows < 2 || cols < 2 || rows * cols >= (std::uint64_t(1) << 32))
-        throw Error("cannot read '" + path + "': corrupt mesh pyramid (its grid)");
-      geo_.origin_x = in.get<double>(), geo_.origin_y = in.get<double>(), geo_.origin_z = in.get<double>();
-      geo_.dx = in.get<double>(), geo_.dy = in.get<double>();
-      geo_.epsg = in.get<std::int32_t>();
-      const std::size_t wkt = in.get<std::uint32_t>();
-      if (in.at + wkt > bytes.size()) throw Error("cannot read '" + path + "': truncated mesh pyramid");
-      geo_.crs_wkt = bytes.substr(in.at, wkt);
-      in.at += wkt;
-      const int n_levels = int(in.get<std::uint32_t>());
-      if (n_levels < 1 || n_levels > 32) throw Error("cannot read '" + path + "': corrupt mesh pyramid (its levels)");
-      levels_ = MeshLevels{};
-      levels_.topo = GridTopology{rows, cols};
-      levels_.block = B;
-      levels_.block_rows = (rows - 1 + B - 1) / B;
-      levels_.block_cols = (cols - 1 + B - 1) / B;
-      levels_.blocks.resize(levels_.block_rows * levels_.block_cols);
-      for (std::size_t k = 0; k < levels_.blocks.size(); ++k) {
-        MeshLevelBlock& b = levels_.blocks[k];
-        b.r0 = std::uint32_t(k / levels_.block_cols * B), b.c0 = std::uint32_t(k % levels_.block_cols * B);
-        b.nr = std::uint32_t(std::min(B, rows - 1 - b.r0)), b.nc = std::uint32_t(std::min(B, cols - 1 - b.c0));
-        for (int j = 0; j < 3; ++j) b.lo[j] = in.get<float>();
-        for (int j = 0; j < 3; ++j) b.hi[j] = in.get<float>();
-        const std::uint32_t nl = in.get<std::uint32_t>();
-        if (nl < 1 || int(nl) > n_levels) throw Error("cannot read '" + path + "': corrupt mesh pyramid (a block)");
-        b.error.resize(nl);
-        for (float& e : b.error) e = in.get<float>();
-      }
-      tiles_.assign(std::size_t(n_levels), {});
-      for (int l = 0; l < n_levels; ++l) {
-        LevelTiles& t = tiles_[std::size_t(l)];
-        t.tiles_r = in.get<std::uint64_t>(), t.tiles_c = in.get<std::uint64_t>();
-        if (t.tiles_r != (this->rows(l) - 1 + B - 1) / B || t.tiles_c != (this->cols(l) - 1 + B - 1) / B)
-          throw Error("cannot read '" + path + "': corrupt mesh pyramid (its tile counts)");
-        t.tiles.resize(t.tiles_r * t.tiles_c);
-        for (Tile& tile : t.tiles) {
-          tile.offset = in.get<std::uint64_t>(), tile.bytes = in.get<std::uint32_t>(), tile.crc = in.get<std::uint32_t>();
-          if (tile.offset + tile.bytes > size) throw Error("cannot read '" + path + "': truncated mesh pyramid");
-        }
-      }
-      bytes_read_ = in.at;
-      return;
-    } catch (const Error& e) {
-      if (std::string(e.what()).find("truncated") == std::string::npos || bytes.size() == size) throw;
-      read_more(std::max<std::size_t>(bytes.size(), 4096));  // more of the header, then try again
+  In in{bytes, path_, 8};
+  if (in.get<std::uint32_t>() != kVersion) throw Error("'" + path + "': a newer mesh pyramid version");
+  const std::uint64_t header_bytes = in.get<std::uint64_t>();
+  if (header_bytes < 20 || header_bytes > size) throw Error("cannot read '" + path + "': truncated mesh pyramid");
+  bytes.resize(std::size_t(header_bytes));
+  f.read(bytes.data() + 20, std::streamsize(header_bytes - 20));
+  const std::size_t B = in.get<std::uint32_t>();
+  const std::size_t rows = in.get<std::uint64_t>(), cols = in.get<std::uint64_t>();
+  if (B < 2 || rows < 2 || cols < 2 || rows * cols >= (std::uint64_t(1) << 32))
+    throw Error("cannot read '" + path + "': corrupt mesh pyramid (its grid)");
+  geo_.origin_x = in.get<double>(), geo_.origin_y = in.get<double>(), geo_.origin_z = in.get<double>();
+  geo_.dx = in.get<double>(), geo_.dy = in.get<double>();
+  geo_.epsg = in.get<std::int32_t>();
+  const std::size_t wkt = in.get<std::uint32_t>();
+  if (in.at + wkt > bytes.size()) throw Error("cannot read '" + path + "': truncated mesh pyramid");
+  geo_.crs_wkt = bytes.substr(in.at, wkt);
+  in.at += wkt;
+  const int n_levels = int(in.get<std::uint32_t>());
+  if (n_levels < 1 || n_levels > 32) throw Error("cannot read '" + path + "': corrupt mesh pyramid (its levels)");
+  levels_.topo = GridTopology{rows, cols};
+  levels_.block = B;
+  levels_.block_rows = (rows - 1 + B - 1) / B;
+  levels_.block_cols = (cols - 1 + B - 1) / B;
+  levels_.blocks.resize(levels_.block_rows * levels_.block_cols);
+  for (std::size_t k = 0; k < levels_.blocks.size(); ++k) {
+    MeshLevelBlock& b = levels_.blocks[k];
+    b.r0 = std::uint32_t(k / levels_.block_cols * B), b.c0 = std::uint32_t(k % levels_.block_cols * B);
+    b.nr = std::uint32_t(std::min(B, rows - 1 - b.r0)), b.nc = std::uint32_t(std::min(B, cols - 1 - b.c0));
+    for (int j = 0; j < 3; ++j) b.lo[j] = in.get<float>();
+    for (int j = 0; j < 3; ++j) b.hi[j] = in.get<float>();
+    const std::uint32_t nl = in.get<std::uint32_t>();
+    if (nl < 1 || int(nl) > n_levels) throw Error("cannot read '" + path + "': corrupt mesh pyramid (a block)");
+    b.error.resize(nl);
+    for (float& e : b.error) e = in.get<float>();
+  }
+  tiles_.assign(std::size_t(n_levels), {});
+  for (int l = 0; l < n_levels; ++l) {
+    LevelTiles& t = tiles_[std::size_t(l)];
+    t.tiles_r = in.get<std::uint64_t>(), t.tiles_c = in.get<std::uint64_t>();
+    if (t.tiles_r != (this->rows(l) - 1 + B - 1) / B || t.tiles_c != (this->cols(l) - 1 + B - 1) / B)
+      throw Error("cannot read '" + path + "': corrupt mesh pyramid (its tile counts)");
+    t.tiles.resize(t.tiles_r * t.tiles_c);
+    for (Tile& tile : t.tiles) {
+      tile.offset = in.get<std::uint64_t>(), tile.bytes = in.get<std::uint32_t>(), tile.crc = in.get<std::uint32_t>();
+      if (tile.offset + tile.bytes > size) throw Error("cannot read '" + path + "': truncated mesh pyramid");
     }
   }
+  bytes_read_ = in.at;
 }
 
 std::uint32_t MeshPyramid::tile_bytes(int l, std::size_t tr, std::size_t tc) const {

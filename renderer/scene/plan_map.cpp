@@ -38,9 +38,13 @@ std::array<double, 6> plan_geotransform(const terrain::GridMesh& mesh, const Pla
   return {mesh.geo.origin_x + p.x0, p.scale, 0.0, mesh.geo.origin_y + p.y0, 0.0, -p.scale};
 }
 
+std::string geotransform_text(const std::array<double, 6>& gt) {
+  return fmt::format("{:.3f} {:g} 0 {:.3f} 0 {:g}", gt[0], gt[1], gt[3], gt[5]);
+}
+
 std::string map_note(const std::array<double, 6>& gt, int epsg) {
-  return fmt::format("north up, {:g} m a pixel; geotransform {:.3f} {:g} 0 {:.3f} 0 {:g}{}", gt[1], gt[0], gt[1], gt[3],
-                     gt[5], epsg ? fmt::format("; EPSG:{}", epsg) : "");
+  return fmt::format("north up, {:g} m a pixel; geotransform {}{}", gt[1], geotransform_text(gt),
+                     epsg ? fmt::format("; EPSG:{}", epsg) : "");
 }
 
 std::string world_file(const std::array<double, 6>& gt) {

@@ -202,7 +202,7 @@ void export_hachure_map(const ExportArgs& a, const std::string& provenance) {
   }
   std::cout << "output: " << a.out << "\n"
             << fmt::format("map: {} x {} pixels, {} m a pixel\n", h.plan.width, h.plan.height, h.plan.scale)
-            << fmt::format("geotransform: {:.3f} {} 0 {:.3f} 0 {}\n", gt[0], gt[1], gt[3], gt[5]);
+            << "geotransform: " << renderer::geotransform_text(gt) << "\n";
   if (h.row_interval > 0) std::cout << "form lines: every " << h.row_interval << " m\n";
   std::cout << "hachures: " << h.hachures.size() << "\n";
 }

@@ -17,6 +17,7 @@
 #include "renderer/frames.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/options.hpp"
+#include "renderer/plan_map.hpp"
 #include "renderer/scene.hpp"
 #include "renderer/terrain_renderer.hpp"
 #include "renderer/vector_file.hpp"
@@ -141,7 +142,7 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
             << "edges drawn: " << res.edges << "\n"
             << "surface patches drawn: " << res.patches << " of " << scene.mesh.n_faces() << "\n";
   if (const auto gt = rr::map_geotransform(res.view, r.origin())) {
-    std::cout << fmt::format("geotransform: {:.3f} {:g} 0 {:.3f} 0 {:g}\n", (*gt)[0], (*gt)[1], (*gt)[3], (*gt)[5]);
+    std::cout << "geotransform: " << rr::geotransform_text(*gt) << "\n";
     if (!rr::is_vector_path(out))
       std::cout << "world file: " << std::filesystem::path(out).replace_extension(".pgw").string() << "\n";
   }

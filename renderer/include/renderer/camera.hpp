@@ -18,6 +18,7 @@ namespace renderer {
 struct Box {
   Eigen::Vector3d lo, hi;
 };
+std::array<Eigen::Vector3d, 8> box_corners(const Box& b);
 
 // Window depth to "distance order": larger is farther, 1 where nothing was drawn. The one
 // far test of the CPU references, as common.glsl's far_of on the GPU (the same arithmetic,

@@ -38,6 +38,9 @@ PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptio
 // The map's geotransform, GDAL's order: x0, scale, 0, y0, 0, -scale (world coordinates).
 std::array<double, 6> plan_geotransform(const terrain::GridMesh& mesh, const PlanView& plan);
 
+// A geotransform as the tools print it: "x0 s 0 y0 0 -s" (millimetres for the corner).
+std::string geotransform_text(const std::array<double, 6>& gt);
+
 // What a map's files say of it (SVG <desc>, PDF subject, PNG text, and printed): "north up,
 // S m a pixel; geotransform x0 s 0 y0 0 -s; EPSG:N" (no EPSG part when `epsg` is 0).
 std::string map_note(const std::array<double, 6>& gt, int epsg);

@@ -1,4 +1,5 @@
 #include "renderer/crease.hpp"
+#include "renderer/camera.hpp"
 #include "renderer/line_stats.hpp"
 
 #include <fmt/format.h>
@@ -220,7 +221,7 @@ namespace {
 // Which points' links to their downstream point become crease segments: valid ends, the
 // area, the flat rule, runs along the grid's edge, the contributing width, the valleys.
 std::vector<std::uint8_t> kept_links(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
-                                     const CreaseRules& rules, const std::vector<std::uint32_t>& compact,
+                                     const CreaseRules& rules,
                                      const std::vector<std::uint8_t>& off_flat, const Eigen::Vector3d& shift,
                                      const std::vector<float>& share) {
   using terrain::DrainageLinks;
@@ -231,8 +232,8 @@ std::vector<std::uint8_t> kept_links(const terrain::GridMesh& mesh, const terrai
   const double cell_area = links.dx * links.dy;
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t d = links.downstream[i];
-    eligible[i] = !(compact[i] == DrainageLinks::kNone || d == DrainageLinks::kNone || d >= n ||
-                    compact[d] == DrainageLinks::kNone || double(links.accumulated[i]) * cell_area < rules.min_area);
+    eligible[i] = links.valid[i] && d != DrainageLinks::kNone && d < n && links.valid[d] &&
+                  double(links.accumulated[i]) * cell_area >= rules.min_area;
   }
   if (rules.off_edge_runs) {
     const long R = long(links.rows), C = long(links.cols), m = 2;
@@ -310,16 +311,12 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
   const std::vector<std::uint8_t> off_flat =
       rules.one_line_per_flat ? off_main_flat_path(links) : std::vector<std::uint8_t>(n, 0);
 
-  // Which points are valid (kept_links reads it as an index: kNone where not).
-  std::vector<std::uint32_t> compact(n, DrainageLinks::kNone);
-  for (std::size_t i = 0; i < n; ++i)
-    if (links.valid[i]) compact[i] = 0;
-  const std::vector<std::uint8_t> keep = kept_links(mesh, links, rules, compact, off_flat, shift, flow.share);
+  const std::vector<std::uint8_t> keep = kept_links(mesh, links, rules, off_flat, shift, flow.share);
   // Only the vertices of kept segments, in the points' order: the DM pass scores every
   // vertex each frame, and most points of a network are on no crease (the paper's scene:
   // 355,216 points, 13,882 segments; Logan at 10 m: 14.3 M points, 0.54 M kept). Their
   // PN normals are looked up for them alone.
-  std::fill(compact.begin(), compact.end(), DrainageLinks::kNone);
+  std::vector<std::uint32_t> compact(n, DrainageLinks::kNone);
   for (std::size_t i = 0; i < n; ++i)
     if (keep[i]) compact[i] = compact[links.downstream[i]] = 0;
   CreaseGeometry out;
@@ -419,8 +416,8 @@ CreaseScoreParams resolve_distances(const CreaseScoreParams& params, const Eigen
     // min + (1 - min) k / 2: near and far put so far either side of the middle that the
     // box's whole depth moves clamp(...) by under 1e-6 from 1/2.
     double d_lo = 1e300, d_hi = -1e300;
-    for (int i = 0; i < 8; ++i) {
-      const double d = viewer.distance({(i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(), (i & 4) ? hi.z() : lo.z()});
+    for (const Eigen::Vector3d& c : box_corners({lo, hi})) {
+      const double d = viewer.distance(c);
       d_lo = std::min(d_lo, d), d_hi = std::max(d_hi, d);
     }
     const double reach = 1e6 * (1 + d_hi - d_lo);

@@ -17,13 +17,6 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr double kAcrossWeight = 0.15, kUphillWeight = 0.02;  // auto_view's score (camera.hpp)
 constexpr double kMaxAutoAlt = 55, kAutoCoverage = 0.6;
 
-std::array<Eigen::Vector3d, 8> corners(const Box& b) {
-  std::array<Eigen::Vector3d, 8> c;
-  for (int i = 0; i < 8; ++i)
-    c[i] = {(i & 1) ? b.hi.x() : b.lo.x(), (i & 2) ? b.hi.y() : b.lo.y(), (i & 4) ? b.hi.z() : b.lo.z()};
-  return c;
-}
-
 // Right and up axes of a line of sight at bearing `az`: right is horizontal, so the image
 // is never rolled, also when looking straight down.
 void axes(double az_deg, const Eigen::Vector3d& f, Eigen::Vector3d& right, Eigen::Vector3d& up) {
@@ -31,6 +24,13 @@ void axes(double az_deg, const Eigen::Vector3d& f, Eigen::Vector3d& right, Eigen
   up = right.cross(f).normalized();
 }
 }  // namespace
+
+std::array<Eigen::Vector3d, 8> box_corners(const Box& b) {
+  std::array<Eigen::Vector3d, 8> c;
+  for (int i = 0; i < 8; ++i)
+    c[i] = {(i & 1) ? b.hi.x() : b.lo.x(), (i & 2) ? b.hi.y() : b.lo.y(), (i & 4) ? b.hi.z() : b.lo.z()};
+  return c;
+}
 
 Eigen::Vector3d view_direction(double az, double alt) {
   return {std::sin(az * kDeg) * std::cos(alt * kDeg), std::cos(az * kDeg) * std::cos(alt * kDeg),
@@ -118,7 +118,7 @@ Eigen::Vector3d frame_points(const std::vector<Eigen::Vector3d>& points, double 
 }
 
 Eigen::Vector3d frame_box(const Box& box, double az, double alt, double fov_deg, double aspect) {
-  const auto c = corners(box);
+  const auto c = box_corners(box);
   return frame_points(std::vector<Eigen::Vector3d>(c.begin(), c.end()), az, alt, fov_deg, aspect, 1.05);
 }
 
@@ -470,7 +470,7 @@ View make_view(const Camera& cam, const Eigen::Vector3d& origin, const Box& box,
   if (cam.orthographic) {
     v.eye = cam.eye ? Eigen::Vector3d(*cam.eye - origin) : Eigen::Vector3d(0.5 * (box.lo + box.hi));
     double d_lo = 1e300, d_hi = -1e300, x_lo = 1e300, x_hi = -1e300, y_lo = 1e300, y_hi = -1e300;
-    for (const Eigen::Vector3d& c : corners(box)) {
+    for (const Eigen::Vector3d& c : box_corners(box)) {
       const Eigen::Vector3d o = c - v.eye;
       d_lo = std::min(d_lo, o.dot(v.forward)), d_hi = std::max(d_hi, o.dot(v.forward));
       x_lo = std::min(x_lo, o.dot(v.right)), x_hi = std::max(x_hi, o.dot(v.right));

@@ -23,9 +23,8 @@ std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, do
     const LodBlock& b = h.blocks[k];
     double nearest = 1e300, farthest = -1e300;
     bool left = true, right = true, below = true, above = true;
-    for (int i = 0; i < 8; ++i) {
-      const Eigen::Vector3d p((i & 1) ? b.hi.x() : b.lo.x(), (i & 2) ? b.hi.y() : b.lo.y(),
-                              e * ((i & 4) ? b.hi.z() : b.lo.z()));
+    const Box box{{b.lo.x(), b.lo.y(), e * b.lo.z()}, {b.hi.x(), b.hi.y(), e * b.hi.z()}};
+    for (const Eigen::Vector3d& p : box_corners(box)) {
       const double depth = (p - view.eye).dot(view.forward);
       nearest = std::min(nearest, depth), farthest = std::max(farthest, depth);
       const Eigen::Vector4d c = vp * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.0);
