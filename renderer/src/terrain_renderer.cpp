@@ -76,9 +76,15 @@ static bool uses_lod(const Style& style, const terrain::GridMesh& mesh) {
   return style.lod_error > 0 && mesh.topo.rows > kLodBlock + 1 && mesh.topo.cols > kLodBlock + 1;
 }
 
+// Without the PEL and edge layers, which read the whole mesh on the GPU, levels of detail
+// keep only the drawn vertices there (SceneGpu::set_lod_mesh).
+static bool drawn_vertices_only(const Style& style, const terrain::GridMesh& mesh, const Layers& layers) {
+  return uses_lod(style, mesh) && !layers.pels && !layers.edges;
+}
+
 struct TerrainRenderer::Impl {
   Impl(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases, int width, int height,
-       const Layers& layers, const Style& style)
+       const Layers& layers, const Style& style, std::shared_ptr<const LodHierarchy> levels)
       : layers(layers),
         style(style),
         box(exaggerated_box(mesh, style.exaggeration)),
@@ -86,7 +92,8 @@ struct TerrainRenderer::Impl {
         cell(mesh.geo.dx, mesh.geo.dy),
         lift(crease_lift(style, mesh)),
         visibility(stroke_visibility_rule(style, mesh)),
-        scene(mesh, width, height, context.has_clip_control(), layers.hachures, !uses_lod(style, mesh)),
+        scene(mesh, width, height, context.has_clip_control(), layers.hachures, !uses_lod(style, mesh),
+              !drawn_vertices_only(style, mesh, layers)),
         toward(scene),
         away(scene, layers.silhouettes && !layers.adjacency),
         ids(scene, layers.adjacency, id_capacity(width, height)),
@@ -100,7 +107,12 @@ struct TerrainRenderer::Impl {
                     Eigen::Vector4f(0, -float(double(mesh.topo.rows - 1) * mesh.geo.dy),
                                     float(double(mesh.topo.cols - 1) * mesh.geo.dx), 0)),
         composite(scene, layers, style, this->creases, pels, edges, silhouettes) {
-    if (uses_lod(style, mesh)) lod = build_lod(mesh);
+    if (uses_lod(style, mesh)) {
+      if (levels && !(levels->topo.rows == mesh.topo.rows && levels->topo.cols == mesh.topo.cols))
+        throw terrain::Error("internal: levels of detail of another mesh");
+      lod = levels ? std::move(levels) : std::make_shared<const LodHierarchy>(build_lod(mesh));
+      if (drawn_vertices_only(style, mesh, layers)) source = &mesh;
+    }
     GLint max_gen = 64;
     glGetIntegerv(GL_MAX_TESS_GEN_LEVEL, &max_gen);
     max_level = std::min(32, int(max_gen));
@@ -125,7 +137,8 @@ struct TerrainRenderer::Impl {
   passes::CompositePass composite;
   GlObject capture_prog;  // built on the first capture_pn
   GlObject hachure_prog, hachure_buf;  // built on the first hachure_field
-  std::optional<LodHierarchy> lod;     // levels of detail (style.lod_error > 0, a mesh of more than one block)
+  std::shared_ptr<const LodHierarchy> lod;  // levels of detail (style.lod_error > 0, a mesh of more than one block)
+  const terrain::GridMesh* source = nullptr;  // the mesh the drawn vertices come from, when only they are on the GPU
   std::vector<std::uint8_t> lod_levels;  // the levels scene's patches are at (none before the first frame)
 
   // In the order they run.
@@ -192,7 +205,8 @@ void check_frame_size(const GlContext& context, int width, int height) {
 }
 
 TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases,
-                                 int width, int height, const Layers& layers, const Style& style) {
+                                 int width, int height, const Layers& layers, const Style& style,
+                                 std::shared_ptr<const LodHierarchy> levels) {
   check_inputs(mesh, width, height, layers);
   check_frame_size(context, width, height);
   const auto out_of_memory = [&] {
@@ -201,7 +215,7 @@ TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMe
                                       width, height, context.info().renderer));
   };
   try {
-    impl_ = std::make_unique<Impl>(context, mesh, creases, width, height, layers, style);
+    impl_ = std::make_unique<Impl>(context, mesh, creases, width, height, layers, style, std::move(levels));
   } catch (const terrain::Error& e) {  // a render target the device could not allocate
     if (std::string(e.what()).find("incomplete framebuffer") == std::string::npos && glGetError() != GL_OUT_OF_MEMORY) throw;
     throw out_of_memory();
@@ -230,7 +244,8 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
   if (m.lod) {
     std::vector<std::uint8_t> levels = select_lod(*m.lod, res.view, m.style.exaggeration, m.style.lod_error);
     if (levels != m.lod_levels) {
-      m.scene.set_patches(lod_patches(*m.lod, levels));
+      if (m.source) m.scene.set_lod_mesh(lod_mesh(*m.lod, levels), *m.source);
+      else m.scene.set_patches(lod_patches(*m.lod, levels));
       m.lod_levels = std::move(levels);
     }
   }
@@ -362,6 +377,7 @@ std::vector<TerrainRenderer::PnSample> TerrainRenderer::capture_pn(const std::ve
   auto& m = *impl_;
   const auto& s = m.scene;
   if (level < 1 || level > m.max_level) throw terrain::Error("capture level out of range");
+  if (m.source) throw terrain::Error("internal: the PN capture needs the whole mesh on the GPU (--lod-error 0)");
   if (!m.capture_prog.id()) m.capture_prog = build_program(ProgramId::PnCapture);
   std::vector<std::uint32_t> idx;
   for (const auto f : faces) {

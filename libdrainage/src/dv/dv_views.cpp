@@ -97,14 +97,14 @@ terrain::DrainageLinks drainage_links(const DrainageDb& db) {
   l.dy = h.dy;
   l.origin = {h.origin_x, h.origin_y, h.origin_z};
   const std::size_t n = db.vertices.size();
-  l.positions.resize(n);
+  l.z.resize(n);
   l.valid.resize(n);
   l.flow.resize(n);
   l.accumulated.resize(n);
   l.downstream.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const DvVertex& v = db.vertices[i];
-    l.positions[i] = {v.x, v.y, v.z};
+    l.z[i] = v.z;  // x and y: the point's column and row (DrainageLinks::position)
     l.valid[i] = PointClass(v.point_class) != PointClass::Nodata;
     l.flow[i] = v.normalized;
     l.accumulated[i] = v.accumulated;
@@ -137,7 +137,7 @@ terrain::DrainageLinks drainage_links_in(const std::string& path, double west, d
   l.dx = h.dx, l.dy = h.dy;
   l.origin = {h.origin_x + double(wc0) * h.dx, h.origin_y - double(wr0) * h.dy, h.origin_z};
   const std::size_t n = nr * nc;
-  l.positions.resize(n), l.valid.resize(n), l.flow.resize(n), l.accumulated.resize(n), l.downstream.resize(n);
+  l.z.resize(n), l.valid.resize(n), l.flow.resize(n), l.accumulated.resize(n), l.downstream.resize(n);
   for (std::size_t a = 0; a < nr; a += band) {
     const std::size_t b = std::min(nr, a + band), wa = a > 0 ? a - 1 : 0, wb = std::min(nr, b + 1);
     const DrainageDb w = read_dv_window(path, wr0 + wa, wc0, wb - wa, nc);
@@ -145,7 +145,7 @@ terrain::DrainageLinks drainage_links_in(const std::string& path, double west, d
       for (std::size_t c = 0; c < nc; ++c) {
         const DvVertex& v = w.vertices[(r - wa) * nc + c];
         const std::size_t i = r * nc + c;
-        l.positions[i] = {float(double(c) * h.dx), float(-double(r) * h.dy), v.z};
+        l.z[i] = v.z;
         l.valid[i] = PointClass(v.point_class) != PointClass::Nodata;
         l.flow[i] = v.normalized;
         l.accumulated[i] = v.accumulated;

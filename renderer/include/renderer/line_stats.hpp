@@ -4,6 +4,7 @@
 // strokes; how much of them appears or vanishes between the frames of a flight.
 // terrain-render frame / batch --line-stats print them (docs/terrain-render.md, "Line
 // statistics"); tests/renderer/line_stats_test.cpp checks them on analytic surfaces.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -24,6 +25,16 @@ std::vector<float> plan_curvature(const terrain::GridMesh& mesh);
 // A per-vertex field of `mesh` (plan_curvature's) at local x, y: bilinear between the four
 // vertices about it, clamped to the grid.
 double vertex_field_at(const terrain::GridMesh& mesh, const std::vector<float>& field, double x, double y);
+// The same of any per-vertex value, `at(v)` the value of vertex v (no array of it held).
+template <class At>
+double vertex_value_at(const terrain::GridMesh& mesh, At at, double x, double y) {
+  const long R = long(mesh.topo.rows), C = long(mesh.topo.cols);
+  const double fc = std::clamp(x / mesh.geo.dx, 0.0, double(C - 1)), fr = std::clamp(-y / mesh.geo.dy, 0.0, double(R - 1));
+  const long c0 = std::min(long(fc), C - 2), r0 = std::min(long(fr), R - 2);
+  const double u = fc - double(c0), v = fr - double(r0);
+  auto f = [&](long r, long c) { return double(at(std::size_t(r * C + c))); };
+  return (1 - v) * ((1 - u) * f(r0, c0) + u * f(r0, c0 + 1)) + v * ((1 - u) * f(r0 + 1, c0) + u * f(r0 + 1, c0 + 1));
+}
 
 // What each crease segment (i -> its downstream point) lies on, #S flags each.
 struct SegmentTraits {

@@ -41,4 +41,13 @@ std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, do
 // own faces.
 std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<std::uint8_t>& levels);
 
+// The same patches as a mesh of their own, what the GPU holds when the whole mesh is not
+// resident: `vertices` lists mesh vertex indices, each block's level grid in turn (a
+// block's border vertices again in its neighbour), and `patches` indexes `vertices`, 3
+// a patch, in lod_patches' order. So the vertices drawn follow the view, not the mesh.
+struct LodMesh {
+  std::vector<std::uint32_t> vertices, patches;
+};
+LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels);
+
 }  // namespace renderer

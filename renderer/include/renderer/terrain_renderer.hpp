@@ -35,6 +35,7 @@
 #include "renderer/frame_params.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/hachures.hpp"
+#include "renderer/lod.hpp"
 #include "renderer/stroke_visibility.hpp"
 #include "renderer/timing.hpp"
 #include "terrain/grid_mesh.hpp"
@@ -67,9 +68,14 @@ struct FrameBuffers {
 class TerrainRenderer {
  public:
   // Uploads the mesh (positions, normals, faces) and, when given, the creases. The
-  // context must stay alive and current while the renderer is used.
+  // context must stay alive and current while the renderer is used, and the mesh too:
+  // with levels of detail (Style::lod_error, renderer/lod.hpp) and neither the PEL nor the
+  // edge layer, only the vertices a frame draws go to the GPU, from `mesh` at each frame
+  // whose levels change. `levels`: the mesh's levels of detail when already made (the
+  // mesh pyramid's, or another renderer's: LodHierarchy), else they are built here.
   TerrainRenderer(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases,
-                  int width, int height, const Layers& layers, const Style& style);
+                  int width, int height, const Layers& layers, const Style& style,
+                  std::shared_ptr<const LodHierarchy> levels = nullptr);
   ~TerrainRenderer();
   TerrainRenderer(const TerrainRenderer&) = delete;
   TerrainRenderer& operator=(const TerrainRenderer&) = delete;

@@ -14,16 +14,18 @@ namespace renderer {
 
 namespace {
 
-// crease_flow on both scales from one walk to the pits: fc on the scale asked for, and the
-// linear share a / T (CreaseGeometry::share; the same vector when the scale is linear).
+// crease_flow on both scales from one walk to the pits: the linear share a / T
+// (CreaseGeometry::share) and fc on the scale asked for (log_fc on the log scale; on the
+// linear one fc is the share and log_fc is empty: one array a point, not two).
 struct BasinFlow {
-  std::vector<float> fc, share;
+  std::vector<float> share, log_fc;
+  float fc(std::size_t i) const { return log_fc.empty() ? share[i] : log_fc[i]; }
 };
 BasinFlow basin_flow(const terrain::DrainageLinks& links, double edge_basin_min_share, bool log_flow) {
   using terrain::DrainageLinks;
   const std::size_t n = links.size();
   const bool edge_rule = edge_basin_min_share > 0;
-  if (!edge_rule && !log_flow) return {links.flow, links.flow};
+  if (!edge_rule && !log_flow) return {links.flow, {}};
   // The pit each point drains to (memoized walks downstream).
   std::vector<std::uint32_t> pit(n, DrainageLinks::kNone), path;
   for (std::size_t s = 0; s < n; ++s) {
@@ -53,7 +55,7 @@ BasinFlow basin_flow(const terrain::DrainageLinks& links, double edge_basin_min_
   };
   double points = 0;
   for (std::size_t i = 0; i < n; ++i) points += links.valid[i];
-  BasinFlow out{std::vector<float>(n, 0.0f), std::vector<float>(n, 0.0f)};
+  BasinFlow out{std::vector<float>(n, 0.0f), std::vector<float>(log_flow ? n : 0, 0.0f)};
   for (std::size_t i = 0; i < n; ++i) {
     if (!links.valid[i]) continue;
     const std::uint32_t p = pit[i];
@@ -61,7 +63,7 @@ BasinFlow basin_flow(const terrain::DrainageLinks& links, double edge_basin_min_
     if (edge_rule && drains_off(p)) total = std::max(total, edge_basin_min_share * points);
     const double a = std::clamp(double(links.accumulated[i]), 1.0, total);
     out.share[i] = float(a / total);
-    out.fc[i] = !log_flow ? out.share[i] : float(total > 1 ? std::log(a) / std::log(total) : 1.0);
+    if (log_flow) out.log_fc[i] = float(total > 1 ? std::log(a) / std::log(total) : 1.0);
   }
   return out;
 }
@@ -69,34 +71,41 @@ BasinFlow basin_flow(const terrain::DrainageLinks& links, double edge_basin_min_
 }  // namespace
 
 std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_basin_min_share, bool log_flow) {
-  return basin_flow(links, edge_basin_min_share, log_flow).fc;
+  BasinFlow f = basin_flow(links, edge_basin_min_share, log_flow);
+  return log_flow ? std::move(f.log_fc) : std::move(f.share);
 }
 
 // In topological order (Kahn): each point passes its longest path down.
 std::vector<float> contributing_width(const terrain::DrainageLinks& links) {
   using terrain::DrainageLinks;
   const std::size_t n = links.size();
-  std::vector<std::uint32_t> inflows(n, 0);
+  // Inflows of a valid point: at most its 8 neighbours (a byte each; 255 marks a point
+  // already passed on, and a corrupt database's point of more, which then stops the walks).
+  std::vector<std::uint8_t> inflows(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t d = links.downstream[i];
-    if (links.valid[i] && d != DrainageLinks::kNone && d < n) ++inflows[d];
+    if (links.valid[i] && d != DrainageLinks::kNone && d < n && inflows[d] < 254) ++inflows[d];
   }
+  // From each head down while the point below has had all its inflows: each point is
+  // passed on once, after every point above it (no queue of the points held).
   std::vector<float> length(n, 0.0f);
-  std::vector<std::uint32_t> queue;
-  for (std::size_t i = 0; i < n; ++i)
-    if (links.valid[i] && inflows[i] == 0) queue.push_back(std::uint32_t(i));
-  const float cell = float(std::sqrt(links.dx * links.dy));
-  for (std::size_t q = 0; q < queue.size(); ++q) {
-    const std::uint32_t i = queue[q], d = links.downstream[i];
-    if (d == DrainageLinks::kNone || d >= n) continue;
-    const float step = (links.positions[d] - links.positions[i]).head<2>().norm();
-    length[d] = std::max(length[d], length[i] + step);
-    if (--inflows[d] == 0) queue.push_back(d);
+  for (std::size_t s = 0; s < n; ++s) {
+    if (!links.valid[s] || inflows[s] != 0) continue;
+    for (std::uint32_t i = std::uint32_t(s);;) {
+      const std::uint32_t d = links.downstream[i];
+      if (d == DrainageLinks::kNone || d >= n) break;
+      const float step = (links.position(d) - links.position(i)).head<2>().norm();
+      length[d] = std::max(length[d], length[i] + step);
+      if (--inflows[d] != 0) break;
+      inflows[d] = 255;  // passed on now: no head for the loop over s
+      i = d;
+    }
   }
-  std::vector<float> width(n, 0.0f);
+  const float cell = float(std::sqrt(links.dx * links.dy));
   const double area = links.dx * links.dy;
-  for (std::size_t i = 0; i < n; ++i) width[i] = float(double(links.accumulated[i]) * area / double(length[i] + cell));
-  return width;
+  for (std::size_t i = 0; i < n; ++i)  // the width in the lengths' place
+    length[i] = float(double(links.accumulated[i]) * area / double(length[i] + cell));
+  return length;
 }
 
 std::vector<std::uint8_t> off_main_flat_path(const terrain::DrainageLinks& links) {
@@ -105,7 +114,7 @@ std::vector<std::uint8_t> off_main_flat_path(const terrain::DrainageLinks& links
   auto flat = [&](std::size_t i) {  // a link that does not descend
     const std::uint32_t d = links.downstream[i];
     return links.valid[i] && d != DrainageLinks::kNone && d < n && links.valid[d] &&
-           links.positions[d].z() >= links.positions[i].z();
+           links.z[d] >= links.z[i];
   };
   // Flat inflows of every point (compressed rows).
   std::vector<std::uint32_t> first(n + 1, 0), from;
@@ -113,11 +122,11 @@ std::vector<std::uint8_t> off_main_flat_path(const terrain::DrainageLinks& links
     if (flat(i)) ++first[links.downstream[i] + 1];
   for (std::size_t i = 0; i < n; ++i) first[i + 1] += first[i];
   from.resize(first[n]);
-  {
-    std::vector<std::uint32_t> at(first.begin(), first.end() - 1);
-    for (std::size_t i = 0; i < n; ++i)
-      if (flat(i)) from[at[links.downstream[i]]++] = std::uint32_t(i);
-  }
+  // Filled from the back, each row's start moving down to its place (no second array).
+  for (std::size_t i = n; i-- > 0;)
+    if (flat(i)) from[--first[links.downstream[i] + 1]] = std::uint32_t(i);
+  for (std::size_t v = 0; v < n; ++v) first[v] = first[v + 1];
+  first[n] = std::uint32_t(from.size());
   std::vector<std::uint8_t> off(n, 0);
   for (std::size_t i = 0; i < n; ++i) off[i] = flat(i);
   // From each point where flow leaves a flat, upstream along the largest flat inflow.
@@ -157,14 +166,14 @@ void drop_branches_off_valleys(const terrain::GridMesh& mesh, const terrain::Dra
                                std::vector<std::uint8_t>& keep) {
   const std::size_t n = links.size();
   const double w = std::max({rules.valley_width, mesh.geo.dx, mesh.geo.dy});
-  std::vector<float> height(mesh.positions.size());
-  for (std::size_t v = 0; v < height.size(); ++v) height[v] = mesh.positions[v].z();
   // (z(+w) + z(-w) - 2 z) / w^2 across link i -> d, at its midpoint (mesh heights, bilinear).
   auto concavity = [&](std::uint32_t i, std::uint32_t d) {
-    const Eigen::Vector3d a = links.positions[i].cast<double>() + shift, b = links.positions[d].cast<double>() + shift;
+    const Eigen::Vector3d a = links.position(i).cast<double>() + shift, b = links.position(d).cast<double>() + shift;
     const Eigen::Vector2d mid = 0.5 * (a + b).head<2>(), along = (b - a).head<2>().normalized();
     const Eigen::Vector2d side(-along.y() * w, along.x() * w);
-    auto z = [&](const Eigen::Vector2d& p) { return vertex_field_at(mesh, height, p.x(), p.y()); };
+    auto z = [&](const Eigen::Vector2d& p) {
+      return vertex_value_at(mesh, [&](std::size_t v) { return mesh.positions[v].z(); }, p.x(), p.y());
+    };
     return (z(mid + side) + z(mid - side) - 2 * z(mid)) / (w * w);
   };
   std::vector<std::uint8_t> inflows(n, 0);
@@ -307,35 +316,39 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
                          std::to_string(g.epsg) + ") are in different CRSs");
   const Eigen::Vector3d shift = links.origin - Eigen::Vector3d(g.origin_x, g.origin_y, g.origin_z);
   const std::size_t n = links.size();
-  const BasinFlow flow = basin_flow(links, rules.edge_basin_min_share, rules.log_flow);
+ const BasinFlow flow = basin_flow(links, rules.edge_basin_min_share, rules.log_flow);
   const std::vector<std::uint8_t> off_flat =
       rules.one_line_per_flat ? off_main_flat_path(links) : std::vector<std::uint8_t>(n, 0);
 
-  const std::vector<std::uint8_t> keep = kept_links(mesh, links, rules, off_flat, shift, flow.share);
+ std::vector<std::uint8_t> keep = kept_links(mesh, links, rules, off_flat, shift, flow.share);
   // Only the vertices of kept segments, in the points' order: the DM pass scores every
   // vertex each frame, and most points of a network are on no crease (the paper's scene:
   // 355,216 points, 13,882 segments; Logan at 10 m: 14.3 M points, 0.54 M kept). Their
   // PN normals are looked up for them alone.
-  std::vector<std::uint32_t> compact(n, DrainageLinks::kNone);
+  // A kept segment's ends, marked in `keep` (bit 1); a vertex's index is found in `source`,
+  // the points' order (no index array over all points).
+  std::vector<std::uint8_t>& ends = keep;
   for (std::size_t i = 0; i < n; ++i)
-    if (keep[i]) compact[i] = compact[links.downstream[i]] = 0;
+    if (ends[i] & 1) ends[i] |= 2, ends[links.downstream[i]] |= 2;
   CreaseGeometry out;
   for (std::size_t i = 0; i < n; ++i) {
-    if (compact[i] == DrainageLinks::kNone) continue;
-    compact[i] = std::uint32_t(out.positions.size());
-    out.positions.emplace_back((links.positions[i].cast<double>() + shift).cast<float>());
+    if (!(ends[i] & 2)) continue;
+    out.positions.emplace_back((links.position(i).cast<double>() + shift).cast<float>());
     out.source.push_back(std::uint32_t(i));
-    out.flow.push_back(flow.fc[i]);
+    out.flow.push_back(flow.fc(i));
     out.share.push_back(flow.share[i]);
     out.area.push_back(float(double(links.accumulated[i]) * links.dx * links.dy));
   }
+  auto compact = [&](std::uint32_t point) {
+    return std::uint32_t(std::lower_bound(out.source.begin(), out.source.end(), point) - out.source.begin());
+  };
   for (std::size_t i = 0; i < n; ++i) {
-    if (!keep[i]) continue;
-    out.segments.push_back(compact[i]);
-    out.segments.push_back(compact[links.downstream[i]]);
+    if (!(keep[i] & 1)) continue;
+    out.segments.push_back(compact(std::uint32_t(i)));
+    out.segments.push_back(compact(links.downstream[i]));
   }
 
-  pn_normals_above(out, mesh);
+ pn_normals_above(out, mesh);
   if (rules.smooth_spacings > 0 && std::min(links.dx, links.dy) > 0)
     smooth_crease_lines(out, mesh,
                         std::max(rules.smooth_spacings * std::min(g.dx, g.dy) / std::min(links.dx, links.dy),

@@ -30,12 +30,7 @@ std::vector<float> plan_curvature(const terrain::GridMesh& mesh) {
 }
 
 double vertex_field_at(const terrain::GridMesh& mesh, const std::vector<float>& field, double x, double y) {
-  const long R = long(mesh.topo.rows), C = long(mesh.topo.cols);
-  const double fc = std::clamp(x / mesh.geo.dx, 0.0, double(C - 1)), fr = std::clamp(-y / mesh.geo.dy, 0.0, double(R - 1));
-  const long c0 = std::min(long(fc), C - 2), r0 = std::min(long(fr), R - 2);
-  const double u = fc - double(c0), v = fr - double(r0);
-  auto at = [&](long r, long c) { return double(field[std::size_t(r * C + c)]); };
-  return (1 - v) * ((1 - u) * at(r0, c0) + u * at(r0, c0 + 1)) + v * ((1 - u) * at(r0 + 1, c0) + u * at(r0 + 1, c0 + 1));
+  return vertex_value_at(mesh, [&](std::size_t v) { return field[v]; }, x, y);
 }
 
 SegmentTraits segment_traits(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
@@ -61,7 +56,7 @@ SegmentTraits segment_traits(const terrain::GridMesh& mesh, const terrain::Drain
     const std::uint32_t pb = g.source[b];
     t.open_end[s] = near_edge(pb) || (links.downstream[pb] == terrain::DrainageLinks::kNone &&
                                       double(links.accumulated[pb]) >= kClosedBasinShare * double(valid));
-    t.flat[s] = links.positions[g.source[b]].z() >= links.positions[g.source[a]].z();
+    t.flat[s] = links.z[g.source[b]] >= links.z[g.source[a]];
     const Eigen::Vector3f mid = 0.5f * (g.positions[a] + g.positions[b]);
     t.valley[s] = vertex_field_at(mesh, kp, mid.x(), mid.y()) > 0;
   }

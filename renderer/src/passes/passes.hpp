@@ -13,6 +13,7 @@
 #include "renderer/frame_params.hpp"
 #include "renderer/gl_contract.hpp"
 #include "renderer/gl_objects.hpp"
+#include "renderer/lod.hpp"
 #include "renderer/stroke_visibility.hpp"
 #include "renderer/timing.hpp"
 #include "terrain/grid_mesh.hpp"
@@ -32,9 +33,11 @@ static_assert(kPatchesPerDraw == 65536 / (32 * 32));
 struct SceneGpu {
   // With `normals`, TFT also writes the drawn surface's normal (surface_normal, RGBA32F):
   // the hachures' field reads it. With `all_patches`, index_buf holds the mesh's faces;
-  // without (levels of detail), none until set_patches.
+  // without (levels of detail), none until set_patches. Without `resident`, pos_buf and
+  // nrm_buf hold no vertex until set_lod_mesh puts the drawn ones there (levels of detail
+  // without the PEL and edge layers, which read the whole mesh).
   SceneGpu(const terrain::GridMesh& mesh, int width, int height, bool reversed, bool normals = false,
-           bool all_patches = true);
+           bool all_patches = true, bool resident = true);
   int width, height;
   bool reversed;  // depth 1 at the near plane, 0 at infinity (glClipControl)
   terrain::GridTopology topo;
@@ -43,6 +46,10 @@ struct SceneGpu {
   // set by set_patches into index_buf.
   std::size_t n_patches = 0, patch_capacity = 0;
   void set_patches(const std::vector<std::uint32_t>& indices);  // index_buf grows as needed
+  // The vertices drawn, `m.vertices` of `mesh`, into pos_buf and nrm_buf (they grow as
+  // needed), and m.patches as the patches: the scene made without `resident`.
+  void set_lod_mesh(const LodMesh& m, const terrain::GridMesh& mesh);
+  std::size_t vertex_capacity = 0;
   GlObject surface_colour, toward_depth, away_depth;
   GlObject surface_normal;  // empty unless normals were asked for
 

@@ -8,11 +8,16 @@
 
 namespace renderer::passes {
 
-SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev, bool normals, bool all_patches)
+SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev, bool normals, bool all_patches,
+                   bool resident)
     : width(w), height(h), reversed(rev), topo(mesh.topo) {
-  // Positions and normals in two buffers, faces as patches of 3.
-  pos_buf = make_buffer(mesh.n_vertices() * sizeof(Eigen::Vector3f), mesh.positions.data(), 0);
-  nrm_buf = make_buffer(mesh.n_vertices() * sizeof(Eigen::Vector3f), mesh.normals.data(), 0);
+  // Positions and normals in two buffers (the whole mesh's, or room for one vertex until
+  // set_lod_mesh), faces as patches of 3.
+  vertex_capacity = resident ? mesh.n_vertices() : 1;
+  pos_buf = make_buffer(vertex_capacity * sizeof(Eigen::Vector3f), resident ? mesh.positions.data() : nullptr,
+                        resident ? 0 : GL_DYNAMIC_STORAGE_BIT);
+  nrm_buf = make_buffer(vertex_capacity * sizeof(Eigen::Vector3f), resident ? mesh.normals.data() : nullptr,
+                        resident ? 0 : GL_DYNAMIC_STORAGE_BIT);
   std::vector<std::uint32_t> idx(all_patches ? mesh.n_faces() * 3 : 3);
   if (all_patches)
     for (std::size_t f = 0; f < mesh.n_faces(); ++f) {
@@ -75,6 +80,23 @@ void SceneGpu::set_patches(const std::vector<std::uint32_t>& indices) {
     glVertexArrayElementBuffer(vao.id(), index_buf.id());
   }
   glNamedBufferSubData(index_buf.id(), 0, GLsizeiptr(indices.size() * 4), indices.data());
+}
+
+void SceneGpu::set_lod_mesh(const LodMesh& m, const terrain::GridMesh& mesh) {
+  const std::size_t n = m.vertices.size();
+  if (n > vertex_capacity) {  // a quarter more room, as set_patches
+    vertex_capacity = n + n / 4;
+    pos_buf = make_buffer(vertex_capacity * sizeof(Eigen::Vector3f), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    nrm_buf = make_buffer(vertex_capacity * sizeof(Eigen::Vector3f), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    glVertexArrayVertexBuffer(vao.id(), TR_ATTR_POSITION, pos_buf.id(), 0, sizeof(Eigen::Vector3f));
+    glVertexArrayVertexBuffer(vao.id(), TR_ATTR_NORMAL, nrm_buf.id(), 0, sizeof(Eigen::Vector3f));
+  }
+  std::vector<Eigen::Vector3f> gathered(n);
+  for (const auto& [buf, source] : {std::pair{&pos_buf, &mesh.positions}, std::pair{&nrm_buf, &mesh.normals}}) {
+    for (std::size_t i = 0; i < n; ++i) gathered[i] = (*source)[m.vertices[i]];
+    glNamedBufferSubData(buf->id(), 0, GLsizeiptr(n * sizeof(Eigen::Vector3f)), gathered.data());
+  }
+  set_patches(m.patches);
 }
 
 void SceneGpu::draw_surface(int mode) const { draw_patches(surface_prog, mode); }

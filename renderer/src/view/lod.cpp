@@ -1,5 +1,6 @@
 #include "renderer/lod.hpp"
 
+#include <array>
 #include <algorithm>
 #include <cmath>
 
@@ -44,6 +45,47 @@ std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, do
   return levels;
 }
 
+LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels) {
+  LodMesh out;
+  const std::size_t cols = h.topo.cols;
+  auto step = [&](std::size_t br, std::size_t bc) { return std::uint32_t(1) << levels[br * h.block_cols + bc]; };
+  for (std::size_t br = 0; br < h.block_rows; ++br)
+    for (std::size_t bc = 0; bc < h.block_cols; ++bc) {
+      const LodBlock& b = h.blocks[br * h.block_cols + bc];
+      const std::uint32_t s = step(br, bc);
+      const int l = levels[br * h.block_cols + bc];
+      // Each side's step: the coarser of this block's and the neighbour's across it.
+      const std::uint32_t north = br > 0 ? std::max(s, step(br - 1, bc)) : s;
+      const std::uint32_t south = br + 1 < h.block_rows ? std::max(s, step(br + 1, bc)) : s;
+      const std::uint32_t west = bc > 0 ? std::max(s, step(br, bc - 1)) : s;
+      const std::uint32_t east = bc + 1 < h.block_cols ? std::max(s, step(br, bc + 1)) : s;
+      const auto rs = terrain::level_lines(b.nr, s), cs = terrain::level_lines(b.nc, s);
+      // The block's level grid; a snapped vertex is on it too (a coarser step is a
+      // multiple of this one, and the last line is kept).
+      const auto base = std::uint32_t(out.vertices.size());
+      for (const std::uint32_t r : rs)
+        for (const std::uint32_t c : cs) out.vertices.push_back(std::uint32_t((std::size_t(b.r0) + r) * cols + b.c0 + c));
+      auto line = [&](std::uint32_t p, std::uint32_t n, std::size_t count) {
+        return p == n ? std::uint32_t(count - 1) : p >> l;
+      };
+      auto vertex = [&](std::uint32_t r, std::uint32_t c) {
+        if (r == 0) c = snap(c, b.nc, north);
+        else if (r == b.nr) c = snap(c, b.nc, south);
+        if (c == 0) r = snap(r, b.nr, west);
+        else if (c == b.nc) r = snap(r, b.nr, east);
+        return base + line(r, b.nr, rs.size()) * std::uint32_t(cs.size()) + line(c, b.nc, cs.size());
+      };
+      for (std::size_t i = 0; i + 1 < rs.size(); ++i)
+        for (std::size_t j = 0; j + 1 < cs.size(); ++j) {
+          const std::uint32_t nw = vertex(rs[i], cs[j]), sw = vertex(rs[i + 1], cs[j]);
+          const std::uint32_t se = vertex(rs[i + 1], cs[j + 1]), ne = vertex(rs[i], cs[j + 1]);
+          for (const std::array<std::uint32_t, 3>& t : {std::array{nw, sw, se}, std::array{nw, se, ne}})
+            if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) out.patches.insert(out.patches.end(), t.begin(), t.end());
+        }
+    }
+  return out;
+}
+
 std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<std::uint8_t>& levels) {
   std::vector<std::uint32_t> out;
   if (std::all_of(levels.begin(), levels.end(), [](std::uint8_t l) { return l == 0; })) {
@@ -54,34 +96,9 @@ std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<
     }
     return out;
   }
-  const std::size_t cols = h.topo.cols;
-  auto step = [&](std::size_t br, std::size_t bc) { return std::uint32_t(1) << levels[br * h.block_cols + bc]; };
-  for (std::size_t br = 0; br < h.block_rows; ++br)
-    for (std::size_t bc = 0; bc < h.block_cols; ++bc) {
-      const LodBlock& b = h.blocks[br * h.block_cols + bc];
-      const std::uint32_t s = step(br, bc);
-      // Each side's step: the coarser of this block's and the neighbour's across it.
-      const std::uint32_t north = br > 0 ? std::max(s, step(br - 1, bc)) : s;
-      const std::uint32_t south = br + 1 < h.block_rows ? std::max(s, step(br + 1, bc)) : s;
-      const std::uint32_t west = bc > 0 ? std::max(s, step(br, bc - 1)) : s;
-      const std::uint32_t east = bc + 1 < h.block_cols ? std::max(s, step(br, bc + 1)) : s;
-      auto vertex = [&](std::uint32_t r, std::uint32_t c) {
-        if (r == 0) c = snap(c, b.nc, north);
-        else if (r == b.nr) c = snap(c, b.nc, south);
-        if (c == 0) r = snap(r, b.nr, west);
-        else if (c == b.nc) r = snap(r, b.nr, east);
-        return std::uint32_t((std::size_t(b.r0) + r) * cols + b.c0 + c);
-      };
-      const auto rs = terrain::level_lines(b.nr, s), cs = terrain::level_lines(b.nc, s);
-      for (std::size_t i = 0; i + 1 < rs.size(); ++i)
-        for (std::size_t j = 0; j + 1 < cs.size(); ++j) {
-          const std::uint32_t nw = vertex(rs[i], cs[j]), sw = vertex(rs[i + 1], cs[j]);
-          const std::uint32_t se = vertex(rs[i + 1], cs[j + 1]), ne = vertex(rs[i], cs[j + 1]);
-          for (const std::array<std::uint32_t, 3>& t : {std::array{nw, sw, se}, std::array{nw, se, ne}})
-            if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) out.insert(out.end(), t.begin(), t.end());
-        }
-    }
-  return out;
+  LodMesh m = lod_mesh(h, levels);
+  for (std::uint32_t& v : m.patches) v = m.vertices[v];
+  return std::move(m.patches);
 }
 
 }  // namespace renderer

@@ -94,8 +94,8 @@ TEST(DvViews, LinksOfAnExtentAreThePointsUnderIt) {
       ASSERT_EQ(part.flow[i], full.flow[j]);
       ASSERT_EQ(part.accumulated[i], full.accumulated[j]);
       ASSERT_EQ(part.valid[i], full.valid[j]);
-      ASSERT_EQ(part.positions[i].z(), full.positions[j].z());
-      ASSERT_NEAR(part.positions[i].x() + part.origin.x(), full.positions[j].x() + full.origin.x(), 1e-3);
+      ASSERT_EQ(part.z[i], full.z[j]);
+      ASSERT_NEAR(part.position(i).x() + part.origin.x(), full.position(j).x() + full.origin.x(), 1e-3);
     }
   const terrain::DrainageLinks all = drainage_links_in(dir.path("a.dv"), -1e9, -1e9, 1e9, 1e9);
   EXPECT_EQ(all.size(), full.size());
@@ -128,7 +128,7 @@ TEST(DvViews, LinksReadInBandsEqualTheWindowReadWhole) {
       EXPECT_EQ(l.origin, whole.origin);
       std::size_t differ = 0, links = 0;
       for (std::size_t i = 0; i < l.size(); ++i) {
-        differ += l.positions[i] != whole.positions[i] || l.valid[i] != whole.valid[i] || l.flow[i] != whole.flow[i] ||
+        differ += l.z[i] != whole.z[i] || l.valid[i] != whole.valid[i] || l.flow[i] != whole.flow[i] ||
                   l.accumulated[i] != whole.accumulated[i] || l.downstream[i] != whole.downstream[i];
         links += l.downstream[i] != terrain::DrainageLinks::kNone;
       }

@@ -304,7 +304,7 @@ TEST(CreaseGeometry, MedianSurfaceOffsetTellsAnotherSurface) {
   EXPECT_EQ(surface_warning(s.mesh, own), "");
   for (const double dz : {3.0, 0.1}) {
     terrain::DrainageLinks higher = s.links;
-    for (auto& p : higher.positions) p.z() += float(dz);
+    for (float& z : higher.z) z += float(dz);
     const CreaseGeometry g = build_crease_geometry(s.mesh, higher, kPaperLinks);
     EXPECT_NEAR(g.median_surface_offset, dz, 1e-3);
     const std::string w = surface_warning(s.mesh, g);
@@ -479,6 +479,26 @@ TEST(CreaseRules, AFedBranchAcrossAPlaneIsKept) {
   EXPECT_EQ(stops, 0u);
   const std::vector<float> every(g.n_segments(), 1.0f);
   EXPECT_EQ(connected_share(g, t, every, segment_metres(g)), 1.0);
+  // The contributing width's longest flow paths, against a second order: a point drains
+  // more points than any point above it, so in rising accumulation every point's length is
+  // final before it is passed on.
+  const auto& L = s.links;
+  const std::size_t n = L.size();
+  std::vector<std::uint32_t> order;
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (L.valid[i]) order.push_back(i);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return L.accumulated[a] < L.accumulated[b]; });
+  std::vector<float> length(n, 0.0f);
+  for (const std::uint32_t i : order)
+    if (const std::uint32_t d = L.downstream[i]; d < n)
+      length[d] = std::max(length[d], length[i] + (L.position(d) - L.position(i)).head<2>().norm());
+  const std::vector<float> w = contributing_width(L);
+  const float cell = float(std::sqrt(L.dx * L.dy));
+  std::size_t differ = 0;
+  for (const std::uint32_t i : order)
+    differ += w[i] != float(double(L.accumulated[i]) * L.dx * L.dy / double(length[i] + cell));
+  EXPECT_EQ(differ, 0u);
 }
 
 // Issue 50: pits make dashes, conditioning connects them. Sixteen parallel valleys 100 m

@@ -76,6 +76,16 @@ TEST(Lod, AnyMixOfLevelsJoinsWithoutCracks) {
     }
     const auto idx = renderer::lod_patches(h, levels);
     const Patches p = tally(m, idx);
+    // What the GPU holds without the whole mesh (lod_mesh): each block's level grid and no
+    // more, so the vertices follow the levels (the coarsest: a block's four corners).
+    const renderer::LodMesh lm = renderer::lod_mesh(h, levels);
+    std::size_t grid = 0;
+    for (std::size_t k = 0; k < levels.size(); ++k)
+      grid += terrain::level_count(h.blocks[k].nr, levels[k]) * terrain::level_count(h.blocks[k].nc, levels[k]);
+    EXPECT_EQ(lm.vertices.size(), grid);
+    if (trial == 0) EXPECT_EQ(lm.vertices.size(), 4 * h.blocks.size());
+    ASSERT_EQ(lm.patches.size(), idx.size());
+    for (std::size_t k = 0; k < idx.size(); ++k) ASSERT_EQ(lm.vertices.at(lm.patches[k]), idx[k]);
     EXPECT_LT(idx.size(), full.size());
     EXPECT_GT(p.smallest, 0.0) << "trial " << trial;
     EXPECT_NEAR(p.area, extent, 1e-6 * extent) << "trial " << trial;
