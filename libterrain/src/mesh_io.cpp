@@ -700,4 +700,47 @@ GridMesh read_mesh_ply(const std::string& path) {
   return m;
 }
 
+std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, std::string& why) {
+  namespace fs = std::filesystem;
+  why.clear();
+  const std::string pyr = pyramid_path_of(ply_path);
+  std::error_code ec;
+  if (pyr == ply_path || !fs::is_regular_file(pyr, ec) || !is_mesh_pyramid(pyr)) return std::nullopt;
+  if (fs::last_write_time(pyr, ec) < fs::last_write_time(ply_path, ec)) {
+    why = "'" + pyr + "' is older than the mesh";
+    return std::nullopt;
+  }
+  std::ifstream in(ply_path, std::ios::binary);
+  if (!in) throw Error("cannot read '" + ply_path + "': no such file or not readable");
+  const PlyHeader header = read_ply_header(in, ply_path);
+  in.close();
+  PyramidMesh out{mesh_of_header(header, ply_path), {}};
+  GridMesh& m = out.mesh;
+  check_mesh_georef(m, "cannot read '" + ply_path + "'");
+  check_terrain_ply(header, m.topo, fs::file_size(ply_path, ec), ply_path);
+  for (const PlyElement& e : header.elements)
+    for (const PlyProperty& p : e.properties)
+      if (!(e.name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z" || p.name == "nx" || p.name == "ny" ||
+                                   p.name == "nz")) &&
+          !(e.name == "face" && p.name == "vertex_indices")) {
+        why = "the mesh has data its pyramid does not keep (" + e.name + " property '" + p.name + "')";
+        return std::nullopt;
+      }
+  MeshPyramid pyramid(pyr);
+  const MeshGeoref& g = pyramid.georef();
+  auto same = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(1.0, std::abs(a)); };
+  if (pyramid.topology().rows != m.topo.rows || pyramid.topology().cols != m.topo.cols ||
+      !same(g.origin_x, m.geo.origin_x) || !same(g.origin_y, m.geo.origin_y) || !same(g.origin_z, m.geo.origin_z) ||
+      !same(g.dx, m.geo.dx) || !same(g.dy, m.geo.dy) || g.epsg != m.geo.epsg) {
+    why = "'" + pyr + "' describes another grid than the mesh's";
+    return std::nullopt;
+  }
+  m.positions.resize(m.topo.n_vertices());
+  m.normals.resize(m.topo.n_vertices());
+  pyramid.read_level(0, m.positions.data(), m.normals.data());
+  check_vertices(m, pyr);
+  out.levels = pyramid.levels();
+  return out;
+}
+
 }  // namespace terrain

@@ -262,6 +262,24 @@ std::uint32_t MeshPyramid::tile_bytes(int l, std::size_t tr, std::size_t tc) con
   return t.tiles.at(tr * t.tiles_c + tc).bytes;
 }
 
+std::vector<Eigen::Vector3f> MeshPyramid::decode_tile(int l, std::size_t tr, std::size_t tc, std::ifstream& f,
+                                                      ZSTD_DCtx* ctx, std::uint64_t& bytes) const {
+  const LevelTiles& lt = tiles_[std::size_t(l)];
+  const Tile& tile = lt.tiles[tr * lt.tiles_c + tc];
+  const TileRange t = tile_range(rows(l), cols(l), levels_.block, tr, tc);
+  std::string z(tile.bytes, '\0');
+  f.seekg(std::streamoff(tile.offset));
+  f.read(z.data(), std::streamsize(z.size()));
+  if (!f || crc_of(z) != tile.crc)
+    throw Error(fmt::format("cannot read '{}': tile {}, {} of level {} is corrupt", path_, tr, tc, l));
+  std::vector<Eigen::Vector3f> raw(2 * t.nr * t.nc);  // positions, then normals
+  const std::size_t got = ZSTD_decompressDCtx(ctx, raw.data(), raw.size() * sizeof raw[0], z.data(), z.size());
+  if (ZSTD_isError(got) || got != raw.size() * sizeof raw[0])
+    throw Error(fmt::format("cannot read '{}': tile {}, {} of level {} is corrupt", path_, tr, tc, l));
+  bytes += tile.bytes;
+  return raw;
+}
+
 MeshWindow MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc) {
   if (l < 0 || l >= level_count() || nr == 0 || nc == 0 || r0 + nr > rows(l) || c0 + nc > cols(l))
     throw Error(fmt::format("'{}': no window of {} x {} at {}, {} in level {}", path_, nr, nc, r0, c0, l));
@@ -279,18 +297,8 @@ MeshWindow MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::
   std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
   for (std::size_t tr = tr0; tr <= tr1; ++tr)
     for (std::size_t tc = tc0; tc <= tc1; ++tc) {
-      const Tile& tile = lt.tiles[tr * lt.tiles_c + tc];
       const TileRange t = tile_range(rows(l), cols(l), B, tr, tc);
-      std::string z(tile.bytes, '\0');
-      f.seekg(std::streamoff(tile.offset));
-      f.read(z.data(), std::streamsize(z.size()));
-      if (!f || crc_of(z) != tile.crc)
-        throw Error(fmt::format("cannot read '{}': tile {}, {} of level {} is corrupt", path_, tr, tc, l));
-      std::vector<Eigen::Vector3f> raw(2 * t.nr * t.nc);
-      const std::size_t got = ZSTD_decompressDCtx(ctx.get(), raw.data(), raw.size() * sizeof raw[0], z.data(), z.size());
-      if (ZSTD_isError(got) || got != raw.size() * sizeof raw[0])
-        throw Error(fmt::format("cannot read '{}': tile {}, {} of level {} is corrupt", path_, tr, tc, l));
-      bytes_read_ += tile.bytes;
+      const std::vector<Eigen::Vector3f> raw = decode_tile(l, tr, tc, f, ctx.get(), bytes_read_);
       ++tiles_read_;
       for (std::size_t r = std::max(r0, t.r0); r < std::min(r0 + nr, t.r0 + t.nr); ++r)
         for (std::size_t c = std::max(c0, t.c0); c < std::min(c0 + nc, t.c0 + t.nc); ++c) {
@@ -300,6 +308,39 @@ MeshWindow MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::
         }
     }
   return w;
+}
+
+void MeshPyramid::read_level(int l, Eigen::Vector3f* positions, Eigen::Vector3f* normals) {
+  if (l < 0 || l >= level_count()) throw Error(fmt::format("'{}': no level {}", path_, l));
+  const LevelTiles& lt = tiles_[std::size_t(l)];
+  const std::size_t B = levels_.block, cols_l = cols(l), n_tiles = lt.tiles.size();
+  std::string failed;
+  std::uint64_t bytes = 0;
+#pragma omp parallel reduction(+ : bytes)
+  {
+    std::ifstream f(path_, std::ios::binary);
+    std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
+#pragma omp for schedule(dynamic, 16)
+    for (std::size_t k = 0; k < n_tiles; ++k) {
+      try {
+        if (!f) throw Error("cannot open '" + path_ + "'");
+        const std::size_t tr = k / lt.tiles_c, tc = k % lt.tiles_c;
+        const TileRange t = tile_range(rows(l), cols_l, B, tr, tc);
+        const std::vector<Eigen::Vector3f> raw = decode_tile(l, tr, tc, f, ctx.get(), bytes);
+        for (std::size_t r = 0; r < t.nr; ++r) {  // a border vertex twice, the same both times
+          const std::size_t v = (t.r0 + r) * cols_l + t.c0;
+          std::copy_n(raw.begin() + long(r * t.nc), t.nc, positions + v);
+          std::copy_n(raw.begin() + long(t.nr * t.nc + r * t.nc), t.nc, normals + v);
+        }
+      } catch (const std::exception& e) {
+#pragma omp critical
+        if (failed.empty()) failed = e.what();
+      }
+    }
+  }
+  if (!failed.empty()) throw Error(failed);
+  bytes_read_ += bytes;
+  tiles_read_ += n_tiles;
 }
 
 }  // namespace terrain

@@ -13,6 +13,7 @@
 
 #include "drainage/dv_views.hpp"
 #include "renderer/hachures.hpp"
+#include "renderer/lod.hpp"
 #include "renderer/vector_lines.hpp"
 #include "renderer/stroke_visibility.hpp"
 #include "terrain/hillshade.hpp"
@@ -27,7 +28,16 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 
 Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const CreaseRules& rules) {
   auto t0 = Clock::now();
-  Scene s{terrain::read_mesh_ply(mesh_path), std::nullopt, {}, {}, {}, 0, 0};
+  Scene s;
+  std::string why;
+  if (std::optional<terrain::PyramidMesh> p = terrain::read_mesh_via_pyramid(mesh_path, why)) {
+    s.mesh = std::move(p->mesh);
+    s.levels = std::make_shared<const LodHierarchy>(std::move(p->levels));
+    s.mesh_source = "'" + terrain::pyramid_path_of(mesh_path) + "' (its pyramid)";
+  } else {
+    s.mesh = terrain::read_mesh_ply(mesh_path);
+    s.mesh_source = why.empty() ? "the PLY" : "the PLY: " + why;
+  }
   s.mesh_seconds = since(t0);
   if (dv_path.empty()) return s;
   t0 = Clock::now();
@@ -44,6 +54,12 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
   s.chains = segment_chains(*s.creases);
   s.creases_seconds = since(t0);
   return s;
+}
+
+std::shared_ptr<const LodHierarchy> scene_levels(Scene& scene, const Style& style) {
+  if (!(style.lod_error > 0)) return nullptr;
+  if (!scene.levels) scene.levels = std::make_shared<const LodHierarchy>(build_lod(scene.mesh));
+  return scene.levels;
 }
 
 std::vector<float> frame_opacity(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "terrain/error.hpp"
+#include "terrain/mesh_io.hpp"
 #include "terrain/mesh_pyramid.hpp"
 #include "test_support.hpp"
 
@@ -136,4 +137,54 @@ TEST(MeshPyramid, DamagedFilesAreRefused) {
     EXPECT_NE(std::string(e.what()).find("is corrupt"), std::string::npos) << e.what();
   }
   EXPECT_THROW(p.read_window(0, 0, 0, p.rows(0) + 1, 1), terrain::Error);
+}
+
+// A renderer reads the mesh from its pyramid (read_mesh_via_pyramid): the same mesh as the
+// PLY, bit for bit, with the same levels as computed from it; and not when the pyramid is
+// older than the PLY, describes another grid, or the PLY holds data the pyramid lacks.
+TEST(MeshPyramid, TheMeshReadFromItsPyramidIsThePly) {
+  terrain::GridMesh m = bumps(150, 131);
+  m.provenance = "test provenance";
+  m.geo.crs_wkt.clear();  // a PLY's CRS must parse; the EPSG code is enough here
+
+  terrain::test::ScratchDir dir;
+  const std::string ply = dir.path("m.ply"), pyr = dir.path("m.tpyr");
+  std::string why;
+  terrain::write_mesh_ply(m, ply);
+  EXPECT_FALSE(terrain::read_mesh_via_pyramid(ply, why));
+  EXPECT_EQ(why, "");  // no pyramid: nothing to say
+  const terrain::MeshLevels levels = terrain::build_mesh_levels(m);
+  terrain::write_mesh_pyramid(m, levels, pyr);
+  const std::optional<terrain::PyramidMesh> got = terrain::read_mesh_via_pyramid(ply, why);
+  ASSERT_TRUE(got) << why;
+  const terrain::GridMesh from_ply = terrain::read_mesh_ply(ply);
+  ASSERT_EQ(got->mesh.n_vertices(), from_ply.n_vertices());
+  std::size_t differ = 0;
+  for (std::size_t v = 0; v < from_ply.n_vertices(); ++v)
+    differ += !same(got->mesh.positions[v], from_ply.positions[v]) || !same(got->mesh.normals[v], from_ply.normals[v]);
+  EXPECT_EQ(differ, 0u);
+  EXPECT_EQ(got->mesh.provenance, from_ply.provenance);
+  EXPECT_EQ(got->mesh.geo.origin_y, from_ply.geo.origin_y);
+  EXPECT_EQ(got->mesh.geo.crs_wkt, from_ply.geo.crs_wkt);
+  ASSERT_EQ(got->levels.blocks.size(), levels.blocks.size());
+  for (std::size_t k = 0; k < levels.blocks.size(); ++k) EXPECT_EQ(got->levels.blocks[k].error, levels.blocks[k].error);
+
+  // The PLY written again after its pyramid: the pyramid may be stale.
+  const auto later = std::filesystem::last_write_time(pyr) + std::chrono::seconds(2);
+  std::filesystem::last_write_time(ply, later);
+  EXPECT_FALSE(terrain::read_mesh_via_pyramid(ply, why));
+  EXPECT_NE(why.find("older than the mesh"), std::string::npos) << why;
+  // A pyramid of another grid.
+  terrain::write_mesh_pyramid(bumps(150, 130), terrain::build_mesh_levels(bumps(150, 130)), pyr);
+  std::filesystem::last_write_time(pyr, later + std::chrono::seconds(2));
+  EXPECT_FALSE(terrain::read_mesh_via_pyramid(ply, why));
+  EXPECT_NE(why.find("another grid"), std::string::npos) << why;
+  // Data the pyramid does not keep: the filled flags of dem2mesh --fill-nodata.
+  m.filled.assign(m.n_vertices(), 0);
+  m.filled[7] = 1;
+  terrain::write_mesh_ply(m, ply);
+  terrain::write_mesh_pyramid(m, levels, pyr);
+  std::filesystem::last_write_time(pyr, std::filesystem::last_write_time(ply) + std::chrono::seconds(2));
+  EXPECT_FALSE(terrain::read_mesh_via_pyramid(ply, why));
+  EXPECT_NE(why.find("'filled'"), std::string::npos) << why;
 }

@@ -299,6 +299,18 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
   for (std::size_t i = 0; i < m.n_vertices(); ++i)
     differ += w.positions[i] != m.positions[i] || w.normals[i] != m.normals[i];
   EXPECT_EQ(differ, 0u);
+  // terrain-render reads the mesh from the pyramid beside it, and draws the same frame as
+  // from the PLY alone (the PNG's bytes, its description naming the same command).
+  const std::string frame = tool("terrain-render") + " frame " + dir.path("m.ply") + " -o " + dir.path("f.png") + " -v";
+  const auto via = run(frame);
+  ASSERT_EQ(via.exit_code, 0) << via.err;
+  EXPECT_NE(via.err.find("from '" + dir.path("m.tpyr") + "' (its pyramid)"), std::string::npos) << via.err;
+  const std::string png = test::file_bytes(dir.path("f.png"));
+  std::filesystem::rename(dir.path("m.tpyr"), dir.path("away.tpyr"));
+  const auto direct = run(frame);
+  ASSERT_EQ(direct.exit_code, 0) << direct.err;
+  EXPECT_NE(direct.err.find("from the PLY"), std::string::npos) << direct.err;
+  EXPECT_TRUE(test::file_bytes(dir.path("f.png")) == png) << "the frames differ";
 }
 
 TEST(Dem2mesh, HelpShowsAnExample) {

@@ -39,8 +39,8 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 rr::Scene scene_of(const std::string& mesh, const std::string& dv, const rr::RenderSettings& s, const tt::Verbosity& v) {
   if (!dv.empty() && !drainage::is_dv_file(dv)) throw terrain::Error("'" + dv + "' is not a drainage database (.dv)");
   rr::Scene scene = rr::load_scene(mesh, dv, s.rules);
-  tt::step(v, fmt::format("read mesh {} x {} ({} patches): {:.2f} s", scene.mesh.topo.cols, scene.mesh.topo.rows,
-                          scene.mesh.n_faces(), scene.mesh_seconds));
+  tt::step(v, fmt::format("read mesh {} x {} ({} patches) from {}: {:.2f} s", scene.mesh.topo.cols, scene.mesh.topo.rows,
+                          scene.mesh.n_faces(), scene.mesh_source, scene.mesh_seconds));
   for (const std::string& w : scene.warnings) tt::warn(v, w);
   if (scene.creases)
     tt::step(v, fmt::format("read {} and its PN normals: {} vertices, {} segments: {:.2f} s", dv,
@@ -119,7 +119,8 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   auto t0 = Clock::now();
   rr::GlContext ctx;
   if (rr::is_vector_path(out)) rr::check_vector_memory(ctx, s.width, s.height);
-  rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, f.layers, f.style);
+  rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, f.layers, f.style,
+                        scene.levels);
   tt::step(verb, fmt::format("OpenGL set-up ({}): {:.2f} s", ctx.info().renderer, since(t0)));
   t0 = Clock::now();
   const rr::FrameResult res = r.render(fp);
@@ -210,7 +211,7 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   rr::ResolvedFrame f = rr::drawn_frame(s);
   if (formats != std::vector<std::string>{"png"}) rr::check_vector_memory(ctx, s.width, s.height);
   rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, f.layers,
-                        f.style);
+                        f.style, scene.levels);
   std::vector<rr::FrameTimings> timings;
   std::string stats_csv = rr::line_stats_csv_header();
   std::vector<std::vector<float>> drawn;

@@ -15,9 +15,11 @@
 // The PLY body is written and read by OpenMesh's PLY codec through an exporter and an
 // importer over our arrays (no half-edge mesh is built); the comment lines are added to
 // and read from the header text around it. Documented in docs/formats.md.
+#include <optional>
 #include <string>
 
 #include "terrain/grid_mesh.hpp"
+#include "terrain/mesh_pyramid.hpp"
 
 namespace terrain {
 
@@ -33,6 +35,20 @@ void write_mesh_ply_openmesh(const GridMesh& mesh, const std::string& path);
 // terrain-mesh comments, no vertex normals, vertex count or faces that do not match the
 // grid layout, truncated data.
 GridMesh read_mesh_ply(const std::string& path);
+
+// The mesh of `ply_path` read from the mesh pyramid beside it (pyramid_path_of; dem2mesh
+// --pyramid), which holds the same vertices in zstd tiles read in parallel, with its levels
+// of detail (the blocks and their errors): of the PLY only the header is read (the grid,
+// the georeference, the provenance). Used only when the pyramid is current: not older than
+// the PLY, of the same grid and georeference, and the PLY has no vertex or face data the
+// pyramid does not keep (Voronoi weights, normal change, filled flags). Otherwise nullopt,
+// and `why` says why (empty when there is no pyramid at all). Throws Error on a bad PLY
+// header or a damaged pyramid.
+struct PyramidMesh {
+  GridMesh mesh;
+  MeshLevels levels;
+};
+std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, std::string& why);
 
 // Writes the mesh as Wavefront OBJ (vertices, vertex normals, faces) through OpenMesh's
 // OBJ writer, in local coordinates; leading '#' comment lines give the origin, CRS and

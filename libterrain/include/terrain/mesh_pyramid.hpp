@@ -6,12 +6,16 @@
 #include <cstddef>
 #include <algorithm>
 #include <cstdint>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "terrain/grid_mesh.hpp"
+
+struct ZSTD_DCtx_s;
+typedef struct ZSTD_DCtx_s ZSTD_DCtx;
 
 namespace terrain {
 
@@ -87,6 +91,9 @@ class MeshPyramid {
   std::size_t cols(int l) const { return terrain::level_count(levels_.topo.cols - 1, l); }
   // The vertices of level l's grid rows r0 .. r0 + nr - 1 and columns c0 .. c0 + nc - 1.
   MeshWindow read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc);
+  // The whole of level l's grid, rows(l) x cols(l) vertices row-major into `positions` and
+  // `normals`, its tiles decoded in parallel.
+  void read_level(int l, Eigen::Vector3f* positions, Eigen::Vector3f* normals);
   // Accounting since the file was opened: bytes read (header and index included) and
   // tiles decoded.
   std::uint64_t bytes_read() const { return bytes_read_; }
@@ -103,6 +110,10 @@ class MeshPyramid {
     std::size_t tiles_r = 0, tiles_c = 0;
     std::vector<Tile> tiles;
   };
+  // Tile (tr, tc) of level l read from `f` and checked: positions, then normals; its
+  // stored bytes added to `bytes`.
+  std::vector<Eigen::Vector3f> decode_tile(int l, std::size_t tr, std::size_t tc, std::ifstream& f, ZSTD_DCtx* ctx,
+                                           std::uint64_t& bytes) const;
   std::string path_;
   MeshGeoref geo_;
   MeshLevels levels_;

@@ -3,6 +3,7 @@
 // database's creases under it, loaded once (load_scene); and the line statistics of a
 // drawn frame (frame_line_stats). Built as its own library (terrain::renderer_scene),
 // since it reads .dv files through libdrainage, which the GL renderer itself does not need.
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +19,10 @@ namespace renderer {
 
 struct Scene {
   terrain::GridMesh mesh;
+  // The mesh's levels of detail (renderer/lod.hpp): its pyramid's when the mesh was read
+  // from one, else made by scene_levels on first use; shared by every renderer of it.
+  std::shared_ptr<const LodHierarchy> levels;
+  std::string mesh_source;  // how the mesh was read: "MESH.tpyr (its pyramid)", or why not
   std::optional<CreaseGeometry> creases;  // with a database
   SegmentTraits traits;                   // of the creases' segments
   SegmentChains chains;                   // the strokes they follow, as the DM pass holds them
@@ -27,7 +32,13 @@ struct Scene {
 
 // Reads the mesh and, when `dv_path` is not empty, the database's points under it (a large
 // tiled .dv is read block by block) and builds their creases with `rules`.
+// The mesh comes from its pyramid when one is current beside it (terrain::read_mesh_via_pyramid:
+// the tiles read in parallel, the levels of detail with them), else from the PLY.
 Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const CreaseRules& rules);
+
+// The scene's levels of detail for `style`: none without levels of detail
+// (Style::lod_error 0), else Scene::levels, made here once when the mesh brought none.
+std::shared_ptr<const LodHierarchy> scene_levels(Scene& scene, const Style& style);
 
 // Each crease segment's opacity in the frame `res` (#S): what the DM pass draws, as the
 // GL-free score, fade and stroke rule give it (segment_opacity).
