@@ -464,7 +464,7 @@ namespace {
 // The header as OpenMesh writes it: custom properties in the order they were added.
 std::string ply_header(const GridMesh& mesh, bool voronoi, bool change, bool filled) {
   std::string header = "ply\nformat binary_little_endian 1.0\n" + header_comments(mesh);
-  header += fmt::format("element vertex {}\n", mesh.n_vertices());
+  header += fmt::format("element vertex {}\n", mesh.topo.n_vertices());
   for (const char* name : {"x", "y", "z", "nx", "ny", "nz"}) header += fmt::format("property float {}\n", name);
   if (voronoi) {
     header += "property float voronoi_area\n";
@@ -565,6 +565,61 @@ void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
     out.flush();
     if (!out) throw Error("cannot write '" + path + "': write failed (disk full?)");
   });
+}
+
+struct PlyRowWriter::Impl {
+  GridMesh header;  // grid, georeference, provenance; no vertices
+  std::string path;
+  std::ofstream out;
+  std::vector<char> buf;
+  std::size_t rows = 0;
+};
+
+PlyRowWriter::PlyRowWriter(const GridMesh& header, const std::string& path) : impl_(std::make_unique<Impl>()) {
+  static_assert(std::endian::native == std::endian::little, "the PLY body is written as the host's floats");
+  Impl& m = *impl_;
+  m.header.topo = header.topo, m.header.geo = header.geo, m.header.provenance = header.provenance;
+  m.header.normal_fit = header.normal_fit;
+  m.path = path;
+  check_mesh_georef(m.header, "cannot write '" + path + "'");
+  m.buf.resize(std::size_t(1) << 20);
+  m.out.rdbuf()->pubsetbuf(m.buf.data(), std::streamsize(m.buf.size()));
+  m.out.open(path, std::ios::binary | std::ios::trunc);
+  const std::string h = ply_header(m.header, false, false, false);
+  m.out.write(h.data(), std::streamsize(h.size()));
+  if (!m.out) throw Error("cannot write '" + path + "'");
+}
+
+PlyRowWriter::~PlyRowWriter() = default;
+
+void PlyRowWriter::add_rows(const Eigen::Vector3f* positions, const Eigen::Vector3f* normals, std::size_t n) {
+  Impl& m = *impl_;
+  const std::size_t cols = m.header.topo.cols;
+  if (m.rows + n > m.header.topo.rows) throw Error("cannot write '" + m.path + "': more rows than the grid's");
+  std::vector<char> row(24 * cols);
+  for (std::size_t r = 0; r < n; ++r) {
+    for (std::size_t c = 0; c < cols; ++c) {
+      std::memcpy(&row[24 * c], positions[r * cols + c].data(), 12);
+      std::memcpy(&row[24 * c + 12], normals[r * cols + c].data(), 12);
+    }
+    m.out.write(row.data(), std::streamsize(row.size()));
+  }
+  m.rows += n;
+  if (!m.out) throw Error("cannot write '" + m.path + "': write failed (disk full?)");
+}
+
+void PlyRowWriter::finish() {
+  Impl& m = *impl_;
+  if (m.rows != m.header.topo.rows)
+    throw Error(fmt::format("cannot write '{}': {} of the grid's {} rows given", m.path, m.rows, m.header.topo.rows));
+  const std::size_t rows = m.header.topo.rows, frows = std::max<std::size_t>(1, (std::size_t(1) << 20) / (26 * m.header.topo.cols));
+  std::vector<char> buf(frows * 26 * m.header.topo.cols);
+  for (std::size_t r = 0; r + 1 < rows; r += frows) {
+    const std::size_t n = fill_ply_chunk(m.header, {true, r, std::min(rows - 1, r + frows)}, false, false, false, buf.data());
+    m.out.write(buf.data(), std::streamsize(n));
+  }
+  m.out.close();
+  if (!m.out) throw Error("cannot write '" + m.path + "': write failed (disk full?)");
 }
 
 void write_mesh_obj(const GridMesh& mesh, const std::string& path) {

@@ -8,12 +8,14 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 
 #include "terrain/atomic_file.hpp"
 #include "terrain/error.hpp"
 #include "terrain/pn_triangle.hpp"
+#include "terrain/temp_files.hpp"
 
 namespace terrain {
 
@@ -44,6 +46,28 @@ float level_error(const GridMesh& mesh, const MeshLevelBlock& b, std::uint32_t s
         }
     }
   return worst;
+}
+
+// A block's box and its levels' errors, from `mesh`'s vertices at the block's rows and
+// columns (b.r0, b.c0, b.nr, b.nc set).
+void measure_block(const GridMesh& mesh, MeshLevelBlock& b) {
+  b.lo = Eigen::Vector3f::Constant(1e30f), b.hi = -b.lo;
+  for (std::uint32_t r = 0; r <= b.nr; ++r)
+    for (std::uint32_t c = 0; c <= b.nc; ++c) {
+      const Eigen::Vector3f& q = mesh.positions[(std::size_t(b.r0) + r) * mesh.topo.cols + b.c0 + c];
+      b.lo = b.lo.cwiseMin(q), b.hi = b.hi.cwiseMax(q);
+    }
+  b.error = {0.0f};
+  for (std::uint32_t s = 2; s / 2 < std::max(b.nr, b.nc); s *= 2)
+    b.error.push_back(std::max(b.error.back(), level_error(mesh, b, s)));
+}
+
+// A block's level count (measure_block's): level 0, then one per step s = 2, 4, ... with
+// s / 2 below its longer side.
+int block_levels(std::uint32_t nr, std::uint32_t nc) {
+  int n = 1;
+  for (std::uint32_t s = 2; s / 2 < std::max(nr, nc); s *= 2) ++n;
+  return n;
 }
 
 constexpr char kMagic[8] = {'T', 'P', 'Y', 'R', 'A', 'M', 'I', 'D'};
@@ -100,91 +124,219 @@ MeshLevels build_mesh_levels(const GridMesh& mesh, std::size_t block) {
     const std::size_t br = std::size_t(k) / h.block_cols, bc = std::size_t(k) % h.block_cols;
     b.r0 = std::uint32_t(br * block), b.c0 = std::uint32_t(bc * block);
     b.nr = std::uint32_t(std::min(block, cells_r - b.r0)), b.nc = std::uint32_t(std::min(block, cells_c - b.c0));
-    b.lo = Eigen::Vector3f::Constant(1e30f), b.hi = -b.lo;
-    for (std::uint32_t r = 0; r <= b.nr; ++r)
-      for (std::uint32_t c = 0; c <= b.nc; ++c) {
-        const Eigen::Vector3f& q = mesh.positions[(std::size_t(b.r0) + r) * mesh.topo.cols + b.c0 + c];
-        b.lo = b.lo.cwiseMin(q), b.hi = b.hi.cwiseMax(q);
-      }
-    b.error = {0.0f};
-    for (std::uint32_t s = 2; s / 2 < std::max(b.nr, b.nc); s *= 2)
-      b.error.push_back(std::max(b.error.back(), level_error(mesh, b, s)));
+    measure_block(mesh, b);
   }
   return h;
 }
 
-std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const MeshLevels& levels, const std::string& path) {
-  const std::size_t B = levels.block, cells_r = mesh.topo.rows - 1, cells_c = mesh.topo.cols - 1;
+struct MeshPyramidWriter::Level {
+  std::size_t rows = 0, cols = 0;              // the level's grid, vertices
+  std::size_t tiles_r = 0, tiles_c = 0;
+  std::size_t next = 0;                        // the next level row to take
+  std::size_t tile_row = 0;                    // the tile row being filled
+  std::vector<Eigen::Vector3f> pos, nrm;       // its rows tile_row B .. (B + 1 rows at most)
+  std::size_t held = 0;                        // rows held
+  std::vector<std::uint32_t> bytes, crc;       // per tile, row-major
+  std::filesystem::path file;                  // levels above 0: its tiles, one after another
+  TempRegistration registration;
+  std::ofstream out;
+};
+
+MeshPyramidWriter::MeshPyramidWriter(const GridTopology& topo, const MeshGeoref& geo, const std::string& path,
+                                     std::size_t block)
+    : topo_(topo), geo_(geo), path_(path), block_(block) {
+  if (topo.rows < 2 || topo.cols < 2 || block < 2) throw Error("cannot write '" + path + "': no cells");
+  const std::size_t cells_r = topo.rows - 1, cells_c = topo.cols - 1;
+  levels_.topo = topo;
+  levels_.block = block;
+  levels_.block_rows = (cells_r + block - 1) / block;
+  levels_.block_cols = (cells_c + block - 1) / block;
+  levels_.blocks.resize(levels_.block_rows * levels_.block_cols);
   int n_levels = 1;
-  for (const MeshLevelBlock& b : levels.blocks) n_levels = std::max(n_levels, b.levels());
-  // The tiles, compressed (level by level, in parallel within a level).
-  std::vector<std::vector<std::string>> tiles(static_cast<std::size_t>(n_levels));
-  std::vector<std::array<std::size_t, 2>> counts(static_cast<std::size_t>(n_levels));
+  for (std::size_t k = 0; k < levels_.blocks.size(); ++k) {
+    MeshLevelBlock& b = levels_.blocks[k];
+    b.r0 = std::uint32_t(k / levels_.block_cols * block), b.c0 = std::uint32_t(k % levels_.block_cols * block);
+    b.nr = std::uint32_t(std::min(block, cells_r - b.r0)), b.nc = std::uint32_t(std::min(block, cells_c - b.c0));
+    n_levels = std::max(n_levels, block_levels(b.nr, b.nc));
+  }
+  // The header's size is known now (finish() writes it): level 0's tiles go straight into
+  // the file after it, in the index's order; the coarser levels' into temporary files,
+  // appended at the end (a third of level 0's size at most).
+  header_bytes_ = 20 + 4 + 16 + 40 + 4 + 4 + geo.crs_wkt.size() + 4;
+  for (const MeshLevelBlock& b : levels_.blocks) header_bytes_ += 28 + 4 * std::uint64_t(block_levels(b.nr, b.nc));
   for (int l = 0; l < n_levels; ++l) {
-    const std::size_t rows_l = level_count(cells_r, l), cols_l = level_count(cells_c, l);
-    const std::size_t tr = (rows_l - 1 + B - 1) / B, tc = (cols_l - 1 + B - 1) / B;
-    counts[std::size_t(l)] = {tr, tc};
-    auto& out = tiles[std::size_t(l)];
-    out.resize(tr * tc);
-#pragma omp parallel for schedule(dynamic)
-    for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(out.size()); ++k) {
-      const TileRange t = tile_range(rows_l, cols_l, B, std::size_t(k) / tc, std::size_t(k) % tc);
-      std::vector<Eigen::Vector3f> raw(2 * t.nr * t.nc);
-      for (std::size_t r = 0; r < t.nr; ++r)
-        for (std::size_t c = 0; c < t.nc; ++c) {
-          const std::size_t v =
-              level_index(t.r0 + r, cells_r, l) * mesh.topo.cols + level_index(t.c0 + c, cells_c, l);
-          raw[r * t.nc + c] = mesh.positions[v];
-          raw[t.nr * t.nc + r * t.nc + c] = mesh.normals[v];
-        }
-      std::string z(ZSTD_compressBound(raw.size() * sizeof raw[0]), '\0');
-      const std::size_t n = ZSTD_compress(z.data(), z.size(), raw.data(), raw.size() * sizeof raw[0], 3);
-      if (ZSTD_isError(n)) throw Error("cannot compress a pyramid tile");
-      z.resize(n);
-      out[std::size_t(k)] = std::move(z);
+    auto v = std::make_unique<Level>();
+    v->rows = level_count(cells_r, l), v->cols = level_count(cells_c, l);
+    v->tiles_r = (v->rows - 1 + block - 1) / block, v->tiles_c = (v->cols - 1 + block - 1) / block;
+    v->pos.resize((block + 1) * v->cols), v->nrm.resize((block + 1) * v->cols);
+    header_bytes_ += 16 + 16 * std::uint64_t(v->tiles_r * v->tiles_c);
+    grids_.push_back(std::move(v));
+  }
+  file_ = std::make_unique<AtomicFile>(path);
+  out_.open(file_->temp_path(), std::ios::binary | std::ios::in | std::ios::out | std::ios::trunc);
+  out_.seekp(std::streamoff(header_bytes_));
+  if (!out_) throw Error("cannot write '" + path + "'");
+  for (int l = 1; l < n_levels; ++l) {
+    Level& v = *grids_[std::size_t(l)];
+    v.file = temporary_sibling(path);
+    v.registration = TempRegistration(v.file);
+    v.out.open(v.file, std::ios::binary | std::ios::trunc);
+    if (!v.out) throw Error("cannot write '" + v.file.string() + "'");
+  }
+}
+
+MeshPyramidWriter::~MeshPyramidWriter() {
+  for (auto& v : grids_) {
+    if (v->file.empty()) continue;
+    v->out.close();
+    std::error_code ec;
+    std::filesystem::remove(v->file, ec);
+  }
+}
+
+void MeshPyramidWriter::add_rows(const Eigen::Vector3f* positions, const Eigen::Vector3f* normals, std::size_t n) {
+  const std::size_t cells_r = topo_.rows - 1, cells_c = topo_.cols - 1, cols = topo_.cols, B = block_;
+  for (std::size_t k = 0; k < n; ++k, ++row_) {
+    if (row_ >= topo_.rows) throw Error("cannot write '" + path_ + "': more rows than the grid's");
+    const Eigen::Vector3f *p = positions + k * cols, *q = normals + k * cols;
+    for (std::size_t l = 0; l < grids_.size(); ++l) {
+      Level& v = *grids_[l];
+      if (v.next >= v.rows || row_ != level_index(v.next, cells_r, int(l))) continue;
+      for (std::size_t c = 0; c < v.cols; ++c) {
+        const std::size_t fc = level_index(c, cells_c, int(l));
+        v.pos[v.held * v.cols + c] = p[fc];
+        v.nrm[v.held * v.cols + c] = q[fc];
+      }
+      ++v.held, ++v.next;
+      const std::size_t r0 = v.tile_row * B, nr = std::min(B, v.rows - 1 - r0) + 1;
+      if (v.held < nr) continue;
+      if (l == 0) measure_block_row(v.pos, v.nrm, nr);
+      flush_tile_row(v, int(l), nr);
     }
   }
+  (void)cols;
+}
+
+void MeshPyramidWriter::measure_block_row(const std::vector<Eigen::Vector3f>& pos,
+                                          const std::vector<Eigen::Vector3f>& nrm, std::size_t nr) {
+  // The block row's vertices as a mesh of their own, the blocks measured there.
+  GridMesh band;
+  band.topo = {nr, topo_.cols};
+  band.geo = geo_;
+  band.positions.assign(pos.begin(), pos.begin() + long(nr * topo_.cols));
+  band.normals.assign(nrm.begin(), nrm.begin() + long(nr * topo_.cols));
+  const std::size_t br = block_rows_measured_++;
+#pragma omp parallel for schedule(dynamic)
+  for (std::ptrdiff_t bc = 0; bc < std::ptrdiff_t(levels_.block_cols); ++bc) {
+    MeshLevelBlock& b = levels_.blocks[br * levels_.block_cols + std::size_t(bc)];
+    MeshLevelBlock local = b;
+    local.r0 = 0;
+    measure_block(band, local);
+    b.lo = local.lo, b.hi = local.hi, b.error = std::move(local.error);
+  }
+}
+
+void MeshPyramidWriter::flush_tile_row(Level& v, int l, std::size_t nr) {
+  const std::size_t B = block_, tc_n = v.tiles_c;
+  std::vector<std::string> z(tc_n);
+#pragma omp parallel for schedule(dynamic)
+  for (std::ptrdiff_t tc = 0; tc < std::ptrdiff_t(tc_n); ++tc) {
+    const std::size_t c0 = std::size_t(tc) * B, nc = std::min(B, v.cols - 1 - c0) + 1;
+    std::vector<Eigen::Vector3f> raw(2 * nr * nc);
+    for (std::size_t r = 0; r < nr; ++r)
+      for (std::size_t c = 0; c < nc; ++c) {
+        raw[r * nc + c] = v.pos[r * v.cols + c0 + c];
+        raw[nr * nc + r * nc + c] = v.nrm[r * v.cols + c0 + c];
+      }
+    std::string t(ZSTD_compressBound(raw.size() * sizeof raw[0]), '\0');
+    const std::size_t n = ZSTD_compress(t.data(), t.size(), raw.data(), raw.size() * sizeof raw[0], 3);
+    if (!ZSTD_isError(n)) t.resize(n);
+    else t.clear();
+    z[std::size_t(tc)] = std::move(t);
+  }
+  std::ostream& out = l == 0 ? static_cast<std::ostream&>(out_) : v.out;
+  for (const std::string& t : z) {
+    if (t.empty()) throw Error("cannot compress a pyramid tile");
+    out.write(t.data(), std::streamsize(t.size()));
+    v.bytes.push_back(std::uint32_t(t.size()));
+    v.crc.push_back(crc_of(t));
+  }
+  if (!out) throw Error("cannot write '" + path_ + "': write failed (disk full?)");
+  // The last row is the next tile row's first (border vertices are in both tiles).
+  std::copy_n(v.pos.begin() + long((nr - 1) * v.cols), v.cols, v.pos.begin());
+  std::copy_n(v.nrm.begin() + long((nr - 1) * v.cols), v.cols, v.nrm.begin());
+  v.held = 1;
+  ++v.tile_row;
+}
+
+std::uint64_t MeshPyramidWriter::finish() {
+  if (row_ != topo_.rows) throw Error(fmt::format("cannot write '{}': {} of the grid's {} rows given", path_, row_,
+                                                  topo_.rows));
+  const int n_levels = int(grids_.size());
   Out h;
   h.bytes.append(kMagic, 8);
   h.put(kVersion);
   h.put(std::uint64_t(0));  // the header's bytes, index included: set below
-  h.put(std::uint32_t(B));
-  h.put(std::uint64_t(mesh.topo.rows));
-  h.put(std::uint64_t(mesh.topo.cols));
-  for (double v : {mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z, mesh.geo.dx, mesh.geo.dy}) h.put(v);
-  h.put(std::int32_t(mesh.geo.epsg));
-  h.put(std::uint32_t(mesh.geo.crs_wkt.size()));
-  h.bytes += mesh.geo.crs_wkt;
+  h.put(std::uint32_t(block_));
+  h.put(std::uint64_t(topo_.rows));
+  h.put(std::uint64_t(topo_.cols));
+  for (double v : {geo_.origin_x, geo_.origin_y, geo_.origin_z, geo_.dx, geo_.dy}) h.put(v);
+  h.put(std::int32_t(geo_.epsg));
+  h.put(std::uint32_t(geo_.crs_wkt.size()));
+  h.bytes += geo_.crs_wkt;
   h.put(std::uint32_t(n_levels));
-  for (const MeshLevelBlock& b : levels.blocks) {
+  for (const MeshLevelBlock& b : levels_.blocks) {
     for (int k = 0; k < 3; ++k) h.put(b.lo[k]);
     for (int k = 0; k < 3; ++k) h.put(b.hi[k]);
     h.put(std::uint32_t(b.levels()));
     for (float e : b.error) h.put(e);
   }
   std::size_t n_tiles = 0;
-  for (const auto& t : tiles) n_tiles += t.size();
+  for (const auto& v : grids_) n_tiles += v->bytes.size();
   // The index: per level its tile counts, then per tile offset, bytes, CRC-32.
   const std::uint64_t index_bytes = std::uint64_t(n_levels) * 16 + std::uint64_t(n_tiles) * 16;
   const std::uint64_t header_bytes = h.bytes.size() + index_bytes;
+  if (header_bytes != header_bytes_) throw Error("internal: the pyramid header's size changed");
   std::memcpy(h.bytes.data() + 12, &header_bytes, 8);
   std::uint64_t offset = header_bytes;
-  for (int l = 0; l < n_levels; ++l) {
-    h.put(std::uint64_t(counts[std::size_t(l)][0]));
-    h.put(std::uint64_t(counts[std::size_t(l)][1]));
-    for (const std::string& t : tiles[std::size_t(l)]) {
+  for (auto& v : grids_) {
+    if (v->bytes.size() != v->tiles_r * v->tiles_c) throw Error("internal: a pyramid level's tiles are missing");
+    h.put(std::uint64_t(v->tiles_r));
+    h.put(std::uint64_t(v->tiles_c));
+    for (std::size_t k = 0; k < v->bytes.size(); ++k) {
       h.put(offset);
-      h.put(std::uint32_t(t.size()));
-      h.put(crc_of(t));
-      offset += t.size();
+      h.put(v->bytes[k]);
+      h.put(v->crc[k]);
+      offset += v->bytes[k];
+    }
+    if (v->file.empty()) continue;
+    v->out.close();
+    if (!v->out) throw Error("cannot write '" + v->file.string() + "' (disk full?)");
+  }
+  // The coarser levels after level 0, then the header before it.
+  std::vector<char> buf(std::size_t(1) << 20);
+  for (const auto& v : grids_) {
+    if (v->file.empty()) continue;
+    std::ifstream in(v->file, std::ios::binary);
+    while (in) {
+      in.read(buf.data(), std::streamsize(buf.size()));
+      out_.write(buf.data(), in.gcount());
     }
   }
-  write_stream_atomic(path, [&](std::ostream& os) {
-    os.write(h.bytes.data(), std::streamsize(h.bytes.size()));
-    for (const auto& level : tiles)
-      for (const std::string& t : level) os.write(t.data(), std::streamsize(t.size()));
-  });
+  out_.seekp(0);
+  out_.write(h.bytes.data(), std::streamsize(h.bytes.size()));
+  out_.close();
+  if (!out_) throw Error("cannot write '" + path_ + "': write failed (disk full?)");
+  file_->commit();
   return offset;
+}
+
+std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const std::string& path, std::size_t block) {
+  if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != mesh.topo.n_vertices())
+    throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
+  MeshPyramidWriter w(mesh.topo, mesh.geo, path, block);
+  w.add_rows(mesh.positions.data(), mesh.normals.data(), mesh.topo.rows);
+  return w.finish();
 }
 
 bool is_mesh_pyramid(const std::string& path) {

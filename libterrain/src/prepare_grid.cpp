@@ -167,17 +167,19 @@ Box requested_box(const Lattice& l, const GridRequest& req) {
 // The source samples the kernel reads: the source coordinates of the target's boundary
 // samples bound those of all (the map is smooth and one-to-one), plus the cubic kernel's
 // reach (2) and one sample of rounding; at least 2 x 2 (read_dem's minimum), inside the source.
-RasterWindow source_window(const GridPlan& out, std::size_t src_rows, std::size_t src_cols) {
+// Of the plan's rows r0 .. r0 + nr - 1.
+RasterWindow source_window(const GridPlan& out, std::size_t src_rows, std::size_t src_cols, std::size_t r0,
+                           std::size_t nr) {
   const Georef& tg = out.target;
-  const long rows = long(out.rows), cols = long(out.cols);
+  const long first = long(r0), last = long(r0 + nr) - 1, cols = long(out.cols);
   double rmin = 1e300, rmax = -1e300, cmin = 1e300, cmax = -1e300;
   auto include = [&](long r, long c) {
     double sr, sc;
     out.to_source(tg.x_of_col(double(c)), tg.y_of_row(double(r)), sr, sc);
     rmin = std::min(rmin, sr), rmax = std::max(rmax, sr), cmin = std::min(cmin, sc), cmax = std::max(cmax, sc);
   };
-  for (long c = 0; c < cols; ++c) include(0, c), include(rows - 1, c);
-  for (long r = 0; r < rows; ++r) include(r, 0), include(r, cols - 1);
+  for (long c = 0; c < cols; ++c) include(first, c), include(last, c);
+  for (long r = first; r <= last; ++r) include(r, 0), include(r, cols - 1);
   constexpr double margin = 3.0;
   auto clamp = [](double v, std::size_t n) { return std::size_t(std::clamp(v, 0.0, double(n - 1))); };
   const std::size_t wr0 = clamp(std::floor(rmin - margin), src_rows), wr1 = clamp(std::ceil(rmax + margin), src_rows);
@@ -218,24 +220,24 @@ GridPlan plan_grid(const Georef& sg, std::size_t src_rows, std::size_t src_cols,
   tg.dy = l.sy;
   out.rows = std::size_t(rows);
   out.cols = std::size_t(cols);
-  out.source_window = source_window(out, src_rows, src_cols);
+  out.source_window = source_window(out, src_rows, src_cols, 0, out.rows);
   return out;
 }
 
-PreparedGrid resample_to_plan(const Grid& samples, const GridPlan& plan, const GridRequest& req,
-                              const Progress& progress) {
-  const RasterWindow& w = plan.source_window;
-  if (samples.rows != w.rows || samples.cols != w.cols)
-    throw Error("resample_to_plan: the samples are not the plan's source window");
-  if (samples.count_nodata() == samples.size())
-    throw Error("the DEM has no valid elevation: every sample is no-data");
-  PreparedGrid out;
-  out.warnings = plan.warnings;
+RasterWindow band_window(const GridPlan& plan, std::size_t r0, std::size_t nr, std::size_t src_rows,
+                         std::size_t src_cols) {
+  if (nr == 0 || r0 + nr > plan.rows) throw Error("band_window: rows outside the plan");
+  return source_window(plan, src_rows, src_cols, r0, nr);
+}
+
+namespace {
+
+// Rows r0 .. r0 + g.rows - 1 of the plan's grid into g, from the samples of window w.
+void resample_rows_into(const Grid& samples, const RasterWindow& w, const GridPlan& plan, const GridRequest& req,
+                        long r0, Grid& g, const Progress& progress) {
   const Georef& tg = plan.target;
-  const long rows = long(plan.rows), cols = long(plan.cols);
+  const long rows = long(g.rows), cols = long(plan.cols);
   const double dr = double(w.row0), dc = double(w.col0);
-  Grid& g = out.grid;
-  g = Grid(std::size_t(rows), std::size_t(cols), tg);
   // A separable map: each column's taps once (sample_grid's values exactly).
   std::vector<SampleTaps> column_taps;
   if (plan.separable) {
@@ -251,7 +253,7 @@ PreparedGrid resample_to_plan(const Grid& samples, const GridPlan& plan, const G
     const long re = std::min(rows, rb + block);
 #pragma omp parallel for schedule(static)
     for (long r = rb; r < re; ++r) {
-      const double y = tg.y_of_row(double(r));
+      const double y = tg.y_of_row(double(r0 + r));
       if (!column_taps.empty()) {
         double sr, sc;
         plan.to_source(tg.x_of_col(0), y, sr, sc);
@@ -268,6 +270,38 @@ PreparedGrid resample_to_plan(const Grid& samples, const GridPlan& plan, const G
     }
     report(progress, double(re) / double(rows));
   }
+}
+
+}  // namespace
+
+Grid resample_rows(const Grid& samples, const RasterWindow& w, const GridPlan& plan, std::size_t r0, std::size_t nr,
+                   const GridRequest& req) {
+  if (samples.rows != w.rows || samples.cols != w.cols)
+    throw Error("resample_rows: the samples are not the window's");
+  Georef geo = plan.target;
+  geo.y0 = plan.target.y0 - double(r0) * plan.target.dy;  // for the caller's reference; values use the plan's rows
+  Grid g(nr, plan.cols, geo);
+  resample_rows_into(samples, w, plan, req, long(r0), g, {});
+  if (const std::size_t missing = g.count_nodata(); missing > 0)
+    throw NodataError(fmt::format("{} no-data samples inside the chosen area (in rows {}-{} of {}); crop them away "
+                                  "(--fill-nodata needs the whole grid: run without --tile-size)",
+                                  missing, r0, r0 + nr - 1, plan.rows));
+  return g;
+}
+
+PreparedGrid resample_to_plan(const Grid& samples, const GridPlan& plan, const GridRequest& req,
+                              const Progress& progress) {
+  const RasterWindow& w = plan.source_window;
+  if (samples.rows != w.rows || samples.cols != w.cols)
+    throw Error("resample_to_plan: the samples are not the plan's source window");
+  if (samples.count_nodata() == samples.size())
+    throw Error("the DEM has no valid elevation: every sample is no-data");
+  PreparedGrid out;
+  out.warnings = plan.warnings;
+  const Georef& tg = plan.target;
+  Grid& g = out.grid;
+  g = Grid(plan.rows, plan.cols, tg);
+  resample_rows_into(samples, w, plan, req, 0, g, progress);
 
   const std::size_t missing = g.count_nodata();
   if (missing > 0) {

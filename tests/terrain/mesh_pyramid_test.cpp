@@ -38,7 +38,7 @@ TEST(MeshPyramid, WindowsEqualTheMeshAtEveryLevel) {
   const terrain::MeshLevels levels = terrain::build_mesh_levels(m, 16);
   terrain::test::ScratchDir dir;
   const std::string path = dir.path("m.tpyr");
-  const std::uint64_t bytes = terrain::write_mesh_pyramid(m, levels, path);
+  const std::uint64_t bytes = terrain::write_mesh_pyramid(m, path, 16);
   EXPECT_EQ(bytes, std::filesystem::file_size(path));
   ASSERT_TRUE(terrain::is_mesh_pyramid(path));
   terrain::MeshPyramid p(path);
@@ -89,7 +89,7 @@ TEST(MeshPyramid, AWindowReadsOnlyTheTilesUnderIt) {
   const terrain::GridMesh m = bumps(257, 257);
   terrain::test::ScratchDir dir;
   const std::string path = dir.path("m.tpyr");
-  const std::uint64_t bytes = terrain::write_mesh_pyramid(m, terrain::build_mesh_levels(m, 32), path);
+  const std::uint64_t bytes = terrain::write_mesh_pyramid(m, path, 32);
   terrain::MeshPyramid p(path);
   const std::uint64_t opened = p.bytes_read();
   EXPECT_LT(double(opened), 0.05 * double(bytes));
@@ -111,7 +111,7 @@ TEST(MeshPyramid, DamagedFilesAreRefused) {
   const terrain::GridMesh m = bumps(70, 70);
   terrain::test::ScratchDir dir;
   const std::string path = dir.path("m.tpyr");
-  const std::uint64_t bytes = terrain::write_mesh_pyramid(m, terrain::build_mesh_levels(m, 16), path);
+  const std::uint64_t bytes = terrain::write_mesh_pyramid(m, path, 16);
   const std::string good = terrain::test::file_bytes(path);
   auto write = [&](const std::string& name, const std::string& s) {
     std::ofstream(dir.path(name), std::ios::binary) << s;
@@ -154,7 +154,7 @@ TEST(MeshPyramid, TheMeshReadFromItsPyramidIsThePly) {
   EXPECT_FALSE(terrain::read_mesh_via_pyramid(ply, why));
   EXPECT_EQ(why, "");  // no pyramid: nothing to say
   const terrain::MeshLevels levels = terrain::build_mesh_levels(m);
-  terrain::write_mesh_pyramid(m, levels, pyr);
+  terrain::write_mesh_pyramid(m, pyr);
   const std::optional<terrain::PyramidMesh> got = terrain::read_mesh_via_pyramid(ply, why);
   ASSERT_TRUE(got) << why;
   const terrain::GridMesh from_ply = terrain::read_mesh_ply(ply);
@@ -175,7 +175,7 @@ TEST(MeshPyramid, TheMeshReadFromItsPyramidIsThePly) {
   EXPECT_FALSE(terrain::read_mesh_via_pyramid(ply, why));
   EXPECT_NE(why.find("older than the mesh"), std::string::npos) << why;
   // A pyramid of another grid.
-  terrain::write_mesh_pyramid(bumps(150, 130), terrain::build_mesh_levels(bumps(150, 130)), pyr);
+  terrain::write_mesh_pyramid(bumps(150, 130), pyr);
   std::filesystem::last_write_time(pyr, later + std::chrono::seconds(2));
   EXPECT_FALSE(terrain::read_mesh_via_pyramid(ply, why));
   EXPECT_NE(why.find("another grid"), std::string::npos) << why;
@@ -183,7 +183,7 @@ TEST(MeshPyramid, TheMeshReadFromItsPyramidIsThePly) {
   m.filled.assign(m.n_vertices(), 0);
   m.filled[7] = 1;
   terrain::write_mesh_ply(m, ply);
-  terrain::write_mesh_pyramid(m, levels, pyr);
+  terrain::write_mesh_pyramid(m, pyr);
   std::filesystem::last_write_time(pyr, std::filesystem::last_write_time(ply) + std::chrono::seconds(2));
   EXPECT_FALSE(terrain::read_mesh_via_pyramid(ply, why));
   EXPECT_NE(why.find("'filled'"), std::string::npos) << why;

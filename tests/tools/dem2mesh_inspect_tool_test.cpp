@@ -313,6 +313,42 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
   EXPECT_TRUE(test::file_bytes(dir.path("f.png")) == png) << "the frames differ";
 }
 
+// dem2mesh in bands of rows (--tile-size, --memory), for DEMs larger than memory: the same
+// PLY (but for its provenance line, which records the command) and the same pyramid, byte
+// for byte, as one run: a projected DEM resampled bilinearly in bands of 7 rows (not a
+// divisor of the 64-cell tiles), a geographic one reprojected onto UTM with the cubic
+// kernel in bands of 5. What needs the whole grid is refused.
+TEST(Dem2mesh, BandsEqualOneRun) {
+  test::ScratchDir dir;
+  auto without_provenance = [](std::string ply) {
+    const std::size_t at = ply.find("comment provenance ");
+    if (at != std::string::npos) ply.erase(at, ply.find('\n', at) - at + 1);
+    return ply;
+  };
+  const std::pair<std::string, std::string> cases[] = {
+      {data("msh_2007_utm10n_10m.tif") + " --spacing 20", "--tile-size 7"},
+      {data("eno_nad83_geographic_crop.tif") + " --spacing 10 --resample cubic", "--tile-size 5"},
+      {data("msh_2007_utm10n_10m.tif") + " --spacing 20", "--memory 16"}};
+  for (const auto& [input, bands] : cases) {
+    const auto one = run(tool("dem2mesh") + " " + input + " " + dir.path("one.ply") + " --pyramid");
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    const auto banded = run(tool("dem2mesh") + " " + input + " " + dir.path("bands.ply") + " --pyramid " + bands + " -v");
+    ASSERT_EQ(banded.exit_code, 0) << banded.err;
+    EXPECT_NE(banded.err.find("mesh in bands of"), std::string::npos) << banded.err;
+    EXPECT_TRUE(test::file_bytes(dir.path("one.tpyr")) == test::file_bytes(dir.path("bands.tpyr"))) << bands;
+    const std::string a = test::file_bytes(dir.path("one.ply")), b = test::file_bytes(dir.path("bands.ply"));
+    EXPECT_NE(b.find(bands), std::string::npos);  // the provenance names the bands
+    EXPECT_TRUE(without_provenance(a) == without_provenance(b)) << bands;
+  }
+  for (const std::string& whole : {std::string("--fill-nodata"), std::string("--fit-normals"), std::string("--grid-out g.tif")}) {
+    const auto r = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + dir.path("x.ply") +
+                       " --spacing 50 --tile-size 8 " + whole);
+    EXPECT_NE(r.exit_code, 0) << whole;
+    EXPECT_NE(r.err.find("make the mesh in bands, but"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir.path("x.ply")));
+  }
+}
+
 TEST(Dem2mesh, HelpShowsAnExample) {
   const auto r = run(tool("dem2mesh") + " --help");
   EXPECT_EQ(r.exit_code, 0);

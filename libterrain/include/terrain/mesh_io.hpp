@@ -15,6 +15,7 @@
 // The PLY body is written and read by OpenMesh's PLY codec through an exporter and an
 // importer over our arrays (no half-edge mesh is built); the comment lines are added to
 // and read from the header text around it. Documented in docs/formats.md.
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -49,6 +50,26 @@ struct PyramidMesh {
   MeshLevels levels;
 };
 std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, std::string& why);
+
+// A terrain PLY written row by row, for meshes larger than memory (dem2mesh --tile-size):
+// the header of `header` (its grid, georeference, provenance; its vertex arrays are not
+// read), the vertex rows as add_rows gives them, then the grid's faces (finish): the bytes
+// write_mesh_ply writes for the whole mesh without optional data. Writes `path` in place
+// (a path staged by an OutputSet: atomic through it).
+class PlyRowWriter {
+ public:
+  PlyRowWriter(const GridMesh& header, const std::string& path);
+  ~PlyRowWriter();
+  PlyRowWriter(const PlyRowWriter&) = delete;
+  PlyRowWriter& operator=(const PlyRowWriter&) = delete;
+  // The next n vertex rows: positions and normals, header.topo.cols each.
+  void add_rows(const Eigen::Vector3f* positions, const Eigen::Vector3f* normals, std::size_t n);
+  void finish();  // after the last row: the faces, and the file closed
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 // Writes the mesh as Wavefront OBJ (vertices, vertex normals, faces) through OpenMesh's
 // OBJ writer, in local coordinates; leading '#' comment lines give the origin, CRS and

@@ -7,11 +7,13 @@
 #include <algorithm>
 #include <cstdint>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "terrain/atomic_file.hpp"
 #include "terrain/grid_mesh.hpp"
 
 struct ZSTD_DCtx_s;
@@ -60,11 +62,51 @@ inline std::size_t level_index(std::size_t k, std::size_t cells, int l) {
   return std::min(k << l, cells);
 }
 
-// Writes the pyramid of `mesh` at `path` (atomically): its georeference, `levels`'
-// blocks (boxes, errors), and for each level 0 .. (the coarsest of any block) its grid in
-// tiles of kLevelBlock cells a side (their border vertices in both neighbours), each tile
-// its positions and normals compressed with zstd. Returns the bytes written.
-std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const MeshLevels& levels, const std::string& path);
+// Writes a mesh pyramid (docs/formats.md) from the mesh's vertex rows given in order,
+// holding about one tile row of each level (B + 1 of its rows) and one block row of the
+// fine mesh: for meshes larger than memory (dem2mesh --tile-size). It measures each block's
+// box and errors (build_mesh_levels' values) as its rows pass and compresses each level's
+// tiles as their rows complete: level 0's into the file after the room for its header
+// (whose size the grid fixes), the coarser levels' into temporary files beside `path`;
+// finish() appends those and writes the header and index, and the file appears
+// atomically (AtomicFile). The same file, byte for byte, whatever the rows' grouping into
+// add_rows calls.
+class MeshPyramidWriter {
+ public:
+  MeshPyramidWriter(const GridTopology& topo, const MeshGeoref& geo, const std::string& path,
+                    std::size_t block = kLevelBlock);
+  ~MeshPyramidWriter();  // removes the temporary files
+  MeshPyramidWriter(const MeshPyramidWriter&) = delete;
+  MeshPyramidWriter& operator=(const MeshPyramidWriter&) = delete;
+  // The next n rows of the grid: positions and normals, topo.cols each, local frame.
+  void add_rows(const Eigen::Vector3f* positions, const Eigen::Vector3f* normals, std::size_t n);
+  // After the last row: writes the file; returns its bytes.
+  std::uint64_t finish();
+  const MeshLevels& levels() const { return levels_; }  // complete after the last row
+
+ private:
+  struct Level;
+  void measure_block_row(const std::vector<Eigen::Vector3f>& pos, const std::vector<Eigen::Vector3f>& nrm,
+                         std::size_t nr);
+  void flush_tile_row(Level& v, int l, std::size_t nr);
+  GridTopology topo_;
+  MeshGeoref geo_;
+  std::string path_;
+  std::size_t block_;
+  MeshLevels levels_;
+  std::vector<std::unique_ptr<Level>> grids_;
+  std::size_t row_ = 0, block_rows_measured_ = 0;
+  std::uint64_t header_bytes_ = 0;
+  std::unique_ptr<AtomicFile> file_;
+  std::fstream out_;
+};
+
+// Writes the pyramid of `mesh` at `path` (atomically) through MeshPyramidWriter: its
+// georeference, its blocks of `block` cells (boxes, errors: build_mesh_levels'), and for
+// each level 0 .. (the coarsest of any block) its grid in tiles of `block` cells a side
+// (their border vertices in both neighbours), each tile its positions and normals
+// compressed with zstd. Returns the bytes written.
+std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const std::string& path, std::size_t block = kLevelBlock);
 
 // Whether the file at `path` starts as a mesh pyramid does (by content, not by name).
 bool is_mesh_pyramid(const std::string& path);

@@ -72,4 +72,14 @@ GridPlan plan_grid(const Georef& source, std::size_t source_rows, std::size_t so
 PreparedGrid resample_to_plan(const Grid& window_samples, const GridPlan& plan, const GridRequest& request,
                               const Progress& progress = {});
 
+// Rows r0 .. r0 + nr - 1 of the plan's grid alone, for grids larger than memory (dem2mesh
+// --tile-size): the source window they read (band_window: source_window's rule over those
+// rows), and those rows resampled from it (resample_rows: resample_to_plan's values
+// exactly; the grid's georeference is of its first row). No-data among them is a
+// NodataError: filling (--fill-nodata) needs the whole grid.
+RasterWindow band_window(const GridPlan& plan, std::size_t r0, std::size_t nr, std::size_t source_rows,
+                         std::size_t source_cols);
+Grid resample_rows(const Grid& window_samples, const RasterWindow& window, const GridPlan& plan, std::size_t r0,
+                   std::size_t nr, const GridRequest& request);
+
 }  // namespace terrain
