@@ -798,4 +798,15 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
   return out;
 }
 
+GridMesh read_terrain_mesh(const std::string& ply_path, std::string& source, MeshLevels* levels) {
+  std::string why;
+  if (std::optional<PyramidMesh> p = read_mesh_via_pyramid(ply_path, why)) {
+    source = "'" + pyramid_path_of(ply_path) + "' (its pyramid)";
+    if (levels) *levels = std::move(p->levels);
+    return std::move(p->mesh);
+  }
+  source = why.empty() ? "the PLY" : "the PLY: " + why;
+  return read_mesh_ply(ply_path);
+}
+
 }  // namespace terrain

@@ -29,15 +29,9 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const CreaseRules& rules) {
   auto t0 = Clock::now();
   Scene s;
-  std::string why;
-  if (std::optional<terrain::PyramidMesh> p = terrain::read_mesh_via_pyramid(mesh_path, why)) {
-    s.mesh = std::move(p->mesh);
-    s.levels = std::make_shared<const LodHierarchy>(std::move(p->levels));
-    s.mesh_source = "'" + terrain::pyramid_path_of(mesh_path) + "' (its pyramid)";
-  } else {
-    s.mesh = terrain::read_mesh_ply(mesh_path);
-    s.mesh_source = why.empty() ? "the PLY" : "the PLY: " + why;
-  }
+  LodHierarchy levels;
+  s.mesh = terrain::read_terrain_mesh(mesh_path, s.mesh_source, &levels);
+  if (!levels.blocks.empty()) s.levels = std::make_shared<const LodHierarchy>(std::move(levels));
   s.mesh_seconds = since(t0);
   if (dv_path.empty()) return s;
   t0 = Clock::now();

@@ -306,11 +306,17 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
   ASSERT_EQ(via.exit_code, 0) << via.err;
   EXPECT_NE(via.err.find("from '" + dir.path("m.tpyr") + "' (its pyramid)"), std::string::npos) << via.err;
   const std::string png = test::file_bytes(dir.path("f.png"));
+  // build-drainage too (its mesh read from the pyramid): the same database.
+  const std::string drain = tool("build-drainage") + " " + dir.path("m.ply") + " " + dir.path("d.dv") + " -q";
+  ASSERT_EQ(run(drain).exit_code, 0);
+  const std::string dv = test::file_bytes(dir.path("d.dv"));
   std::filesystem::rename(dir.path("m.tpyr"), dir.path("away.tpyr"));
   const auto direct = run(frame);
   ASSERT_EQ(direct.exit_code, 0) << direct.err;
   EXPECT_NE(direct.err.find("from the PLY"), std::string::npos) << direct.err;
   EXPECT_TRUE(test::file_bytes(dir.path("f.png")) == png) << "the frames differ";
+  ASSERT_EQ(run(drain).exit_code, 0);
+  EXPECT_TRUE(test::file_bytes(dir.path("d.dv")) == dv) << "the databases differ";
 }
 
 // dem2mesh in bands of rows (--tile-size, --memory), for DEMs larger than memory: the same

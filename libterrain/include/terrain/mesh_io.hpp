@@ -50,6 +50,11 @@ struct PyramidMesh {
   MeshLevels levels;
 };
 std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, std::string& why);
+// A terrain mesh as the tools read it: from its pyramid when that is current
+// (read_mesh_via_pyramid), else from the PLY (read_mesh_ply). `source` says which, and why
+// not the pyramid: "'MESH.tpyr' (its pyramid)", "the PLY", "the PLY: <why>". `levels`,
+// when given, receives the pyramid's levels of detail (left empty from a PLY).
+GridMesh read_terrain_mesh(const std::string& ply_path, std::string& source, MeshLevels* levels = nullptr);
 
 // A terrain PLY written row by row, for meshes larger than memory (dem2mesh --tile-size):
 // the header of `header` (its grid, georeference, provenance; its vertex arrays are not
