@@ -38,13 +38,13 @@ void flip_rows(std::vector<T>& v, int width, int height, int channels) {
 
 // What the option table cannot know (options.hpp checks every option's range, and
 // validate the drawn widths): the mesh, and the frame size for callers without the table.
-void check_inputs(const terrain::GridMesh& mesh, int width, int height, const Layers& layers) {
+void check_inputs(const terrain::GridMesh& mesh, int width, int height, const Layers& layers, bool whole) {
   if (width < kMinFrameSide || height < kMinFrameSide || width > kMaxFrameSide || height > kMaxFrameSide)
     throw terrain::Error(fmt::format("image size {} x {} is outside {} .. {} pixels", width, height, kMinFrameSide,
                                      kMaxFrameSide));
   if (mesh.topo.rows < 2 || mesh.topo.cols < 2) throw terrain::Error("the mesh has no faces");
-  if (mesh.n_faces() * 3 > std::size_t(std::numeric_limits<GLsizei>::max()))
-    throw terrain::Error("the mesh has too many faces for one draw call");
+  if (whole && mesh.n_faces() * 3 > std::size_t(std::numeric_limits<GLsizei>::max()))  // one index list of them all
+    throw terrain::Error("the mesh has too many faces to draw whole; draw it in levels of detail (--lod-error > 0)");
   if (layers.pels && mesh.voronoi.empty())
     throw terrain::Error("--layers pels needs the mesh's Voronoi weights: make it with denoise-normals "
                          "(--iterations 0 only adds them)");
@@ -207,7 +207,7 @@ void check_frame_size(const GlContext& context, int width, int height) {
 TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases,
                                  int width, int height, const Layers& layers, const Style& style,
                                  std::shared_ptr<const LodHierarchy> levels) {
-  check_inputs(mesh, width, height, layers);
+  check_inputs(mesh, width, height, layers, !drawn_vertices_only(style, mesh, layers));
   check_frame_size(context, width, height);
   const auto out_of_memory = [&] {
     return terrain::Error(fmt::format("cannot allocate a {} x {} frame on this OpenGL device ({}): out of its memory; "
