@@ -22,6 +22,7 @@ namespace renderer {
 // > 0 where the surface is concave across the slope (valleys, hollows), < 0 on spurs and
 // ridges, 0 on planes; 0 on the mesh's boundary and where the slope is below 1e-6. #V.
 std::vector<float> plan_curvature(const terrain::GridMesh& mesh);
+float plan_curvature_at(const terrain::GridMesh& mesh, std::size_t v);  // of vertex v alone
 // A per-vertex field of `mesh` (plan_curvature's) at local x, y: bilinear between the four
 // vertices about it, clamped to the grid.
 double vertex_field_at(const terrain::GridMesh& mesh, const std::vector<float>& field, double x, double y);

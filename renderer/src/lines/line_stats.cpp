@@ -10,22 +10,24 @@
 
 namespace renderer {
 
-std::vector<float> plan_curvature(const terrain::GridMesh& mesh) {
-  const long R = long(mesh.topo.rows), C = long(mesh.topo.cols);
+float plan_curvature_at(const terrain::GridMesh& mesh, std::size_t v) {
+  const long R = long(mesh.topo.rows), C = long(mesh.topo.cols), r = long(v) / C, c = long(v) % C;
+  if (r < 1 || c < 1 || r + 1 >= R || c + 1 >= C) return 0.0f;
   const double dx = mesh.geo.dx, dy = mesh.geo.dy;
+  auto z = [&](long rr, long cc) { return double(mesh.positions[std::size_t(rr * C + cc)].z()); };
+  // Row r - 1 is north (+y).
+  const double p = (z(r, c + 1) - z(r, c - 1)) / (2 * dx), q = (z(r - 1, c) - z(r + 1, c)) / (2 * dy);
+  const double rr = (z(r, c + 1) - 2 * z(r, c) + z(r, c - 1)) / (dx * dx);
+  const double tt = (z(r - 1, c) - 2 * z(r, c) + z(r + 1, c)) / (dy * dy);
+  const double ss = (z(r - 1, c + 1) - z(r - 1, c - 1) - z(r + 1, c + 1) + z(r + 1, c - 1)) / (4 * dx * dy);
+  const double g2 = p * p + q * q;
+  if (g2 < 1e-12) return 0.0f;
+  return float((q * q * rr - 2 * p * q * ss + p * p * tt) / std::pow(g2, 1.5));
+}
+
+std::vector<float> plan_curvature(const terrain::GridMesh& mesh) {
   std::vector<float> k(mesh.n_vertices(), 0.0f);
-  auto z = [&](long r, long c) { return double(mesh.positions[std::size_t(r * C + c)].z()); };
-  for (long r = 1; r + 1 < R; ++r)
-    for (long c = 1; c + 1 < C; ++c) {
-      // Row r - 1 is north (+y).
-      const double p = (z(r, c + 1) - z(r, c - 1)) / (2 * dx), q = (z(r - 1, c) - z(r + 1, c)) / (2 * dy);
-      const double rr = (z(r, c + 1) - 2 * z(r, c) + z(r, c - 1)) / (dx * dx);
-      const double tt = (z(r - 1, c) - 2 * z(r, c) + z(r + 1, c)) / (dy * dy);
-      const double ss = (z(r - 1, c + 1) - z(r - 1, c - 1) - z(r + 1, c + 1) + z(r + 1, c - 1)) / (4 * dx * dy);
-      const double g2 = p * p + q * q;
-      if (g2 < 1e-12) continue;
-      k[std::size_t(r * C + c)] = float((q * q * rr - 2 * p * q * ss + p * p * tt) / std::pow(g2, 1.5));
-    }
+  for (std::size_t v = 0; v < k.size(); ++v) k[v] = plan_curvature_at(mesh, v);
   return k;
 }
 
@@ -35,7 +37,6 @@ double vertex_field_at(const terrain::GridMesh& mesh, const std::vector<float>& 
 
 SegmentTraits segment_traits(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
                              const CreaseGeometry& g, int margin) {
-  const std::vector<float> kp = plan_curvature(mesh);
   const std::size_t ns = g.n_segments();
   SegmentTraits t;
   t.boundary.resize(ns), t.flat.resize(ns), t.valley.resize(ns), t.open_end.resize(ns);
@@ -58,7 +59,9 @@ SegmentTraits segment_traits(const terrain::GridMesh& mesh, const terrain::Drain
                                       double(links.accumulated[pb]) >= kClosedBasinShare * double(valid));
     t.flat[s] = links.z[g.source[b]] >= links.z[g.source[a]];
     const Eigen::Vector3f mid = 0.5f * (g.positions[a] + g.positions[b]);
-    t.valley[s] = vertex_field_at(mesh, kp, mid.x(), mid.y()) > 0;
+    // The curvature of the four vertices about the midpoint only (not an array over the
+    // mesh: 1.4 GB of it at Logan's 2 m).
+    t.valley[s] = vertex_value_at(mesh, [&](std::size_t v) { return plan_curvature_at(mesh, v); }, mid.x(), mid.y()) > 0;
   }
   return t;
 }
