@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "common.hpp"
+#include "mesh/banded.hpp"
 #include "mesh/grid_input.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
@@ -42,7 +43,7 @@ struct Options {
   double memory_mib = 0;      // --memory
   terrain::NormalFitOptions fit_opt;
   CLI::Option *spacing_opt = nullptr, *bbox_opt = nullptr, *center_opt = nullptr, *interp_opt = nullptr,
-              *max_edge_opt = nullptr, *dequantize_opt = nullptr;
+              *max_edge_opt = nullptr;
 };
 
 // INPUT, OUTPUT and the grid: spacing, crop, zone, kernel, no-data, integer heights, normals.
@@ -71,17 +72,8 @@ void add_grid_options(CLI::App& app, Options& o) {
   app.add_flag("--pyramid", o.pyramid,
                "Also write the mesh pyramid beside the mesh (OUTPUT with .tpyr): its levels of detail in tiles of "
                "64 x 64 cells, read by the view's windows (docs/formats.md)");
-  app.add_option("--tile-size", o.tile_size,
-                 "Make and write the mesh N rows at a time (bands of N rows, the grid's whole width), for DEMs\n"
-                 "larger than memory: the same PLY and pyramid as one run; a raster input without --fit-normals,\n"
-                 "--fill-nodata, --grid-out or dequantizing")
-      ->check(CLI::Range(std::size_t(1), std::size_t(1) << 30));
-  app.add_option("--memory", o.memory_mib,
-                 "Like --tile-size, with bands as large as about this much memory allows (MiB); one band when the\n"
-                 "whole grid fits")
-      ->check(CLI::Range(16.0, 1e9))
-      ->excludes("--tile-size");
-  o.dequantize_opt = app.add_option("--dequantize", o.dequantize,
+  terrain::tools::mesh::add_band_options(app, o.tile_size, o.memory_mib);
+  app.add_option("--dequantize", o.dequantize,
                  "Integer heights (whole metres: SRTM, many national DEMs) terrace gentle slopes into flats: heights "
                  "interpolated between the terraces' edges (the contours half-way between two values), smoothed "
                  "within 0.1 of that; auto: when every height is a whole number")
@@ -163,104 +155,6 @@ terrain::GridRequest request_of(const Options& o) {
   return req;
 }
 
-// stdout's 'key: value' lines of the mesh written (and of the fit).
-void print_summary(const Options& o, const terrain::Georef& g, const terrain::GridTopology& topo,
-                   terrain::NormalWeighting nw, const terrain::NormalFitReport* fit) {
-  std::cout << "output: " << o.output << "\n"
-            << "crs: " << terrain::crs_name(g) << (g.epsg ? fmt::format(" (EPSG:{})", g.epsg) : "") << "\n"
-            << "grid: " << topo.cols << " x " << topo.rows << " (columns x rows)\n"
-            << fmt::format("spacing: {} {}\n", g.dx, g.dy)
-            << fmt::format("extent: {:.3f} {:.3f} {:.3f} {:.3f}\n", g.x0, g.y0 - double(topo.rows) * g.dy,
-                           g.x0 + double(topo.cols) * g.dx, g.y0)
-            << "vertices: " << topo.n_vertices() << "\n"
-            << "faces: " << topo.n_faces() << "\n"
-            << "normal_weighting: " << terrain::to_string(nw) << "\n";
-  if (fit)
-    std::cout << fmt::format("normals: fitted\nfit_samples: {}\nfit_rmse_before: {:.4f}\nfit_rmse_after: {:.4f}\n"
-                             "fit_max_before: {:.4f}\nfit_max_after: {:.4f}\nfit_seconds: {:.2f}\n",
-                             fit->after.samples, fit->before.rmse, fit->after.rmse, fit->before.max_abs,
-                             fit->after.max_abs, fit->seconds);
-}
-
-// What a run in bands cannot do: each of these needs the whole grid at once.
-void check_banded(const Options& o, bool points) {
-  const char* why = points                        ? "scattered points are triangulated as a whole"
-                    : o.fit                       ? "--fit-normals fits the whole mesh"
-                    : o.req.fill_nodata           ? "--fill-nodata fills across the whole grid"
-                    : !o.grid_out.empty()         ? "--grid-out writes the whole grid"
-                    : o.dequantize == "on"        ? "dequantizing integer heights reads the whole DEM"
-                                                  : nullptr;
-  if (why) throw terrain::Error(std::string("--tile-size and --memory make the mesh in bands, but ") + why +
-                                "; run without them");
-}
-
-// The run in bands of rows (--tile-size, --memory): each band's source window read,
-// resampled, meshed with a row of margin above and below (so its normals are the whole
-// mesh's) and appended to the PLY and the pyramid; only one band is held.
-int run_banded(const Options& o, const std::string& provenance, const tt::Verbosity& verb, const std::string& pyramid) {
-  const terrain::GridRequest req = request_of(o);
-  const terrain::NormalWeighting nw = terrain::parse_normal_weighting(o.weighting);
-  auto t0 = Clock::now();
-  terrain::DemInfo info = terrain::read_dem_info(o.input);
-  if (!o.src_crs.empty()) terrain::assign_crs(info.geo, o.src_crs);
-  const terrain::GridPlan plan = terrain::plan_grid(info.geo, info.rows, info.cols, req);
-  for (const auto& w : plan.warnings) tt::warn(verb, w);
-  const terrain::Georef& tg = plan.target;
-  const std::size_t rows = plan.rows, cols = plan.cols;
-  // A row's bytes while it is made: its source samples (about one source row per row at
-  // the source's spacing), the grid, positions and normals, the writers' copies.
-  const double row_bytes = double(cols) * 64.0;
-  std::size_t band = o.tile_size;
-  if (band == 0) band = std::size_t(std::clamp(o.memory_mib * 1048576.0 / row_bytes, 1.0, double(rows)));
-  terrain::check_memory(double(std::min(rows, band + 2)) * row_bytes,
-                        fmt::format("bands of {} rows of a {} x {} mesh", band, cols, rows),
-                        "give a smaller --tile-size or --memory");
-  terrain::GridMesh header;
-  header.topo = {rows, cols};
-  header.geo.crs_wkt = tg.crs_wkt, header.geo.epsg = tg.epsg;
-  header.geo.origin_x = tg.x_of_col(0), header.geo.origin_y = tg.y_of_row(0), header.geo.origin_z = 0.0;
-  header.geo.dx = tg.dx, header.geo.dy = tg.dy;
-  header.provenance = provenance;
-  terrain::OutputSet outputs;
-  std::uint64_t pyramid_bytes = 0;
-  outputs.write([&] {
-    terrain::PlyRowWriter ply(header, outputs.stage(o.output));
-    std::optional<terrain::MeshPyramidWriter> levels;
-    if (!pyramid.empty()) levels.emplace(header.topo, header.geo, outputs.stage(pyramid));
-    const auto progress = tt::terminal_progress(verb, "mesh in bands");
-    for (std::size_t r0 = 0; r0 < rows; r0 += band) {
-      const std::size_t r1 = std::min(rows, r0 + band);               // the band's rows
-      const std::size_t a = r0 > 0 ? r0 - 1 : 0, b = std::min(rows, r1 + 1);  // with the margins
-      const terrain::RasterWindow w = terrain::band_window(plan, a, b - a, info.rows, info.cols);
-      terrain::Grid source = terrain::read_dem(o.input, {}, w);
-      if (!o.src_crs.empty()) terrain::assign_crs(source.geo, o.src_crs);
-      if (r0 == 0 && o.dequantize == "auto" && terrain::is_integer_dem(source))
-        throw terrain::Error("--tile-size and --memory make the mesh in bands, but these integer heights need "
-                             "dequantizing, which reads the whole DEM; give --dequantize off or run without them");
-      const terrain::Grid g = terrain::resample_rows(source, w, plan, a, b - a, req);
-      // Vertices as make_grid_mesh places them (whole-grid rows), normals over the band.
-      terrain::BigVector<Eigen::Vector3f> positions(g.size());
-      for (std::size_t r = a; r < b; ++r)
-        for (std::size_t c = 0; c < cols; ++c)
-          positions[(r - a) * cols + c] =
-              Eigen::Vector3f(float(double(c) * tg.dx), float(-double(r) * tg.dy), g.at(r - a, c));
-      const terrain::BigVector<Eigen::Vector3f> normals =
-          terrain::vertex_normals(positions, terrain::GridTopology{b - a, cols}, nw);
-      const std::size_t skip = (r0 - a) * cols;
-      ply.add_rows(positions.data() + skip, normals.data() + skip, r1 - r0);
-      if (levels) levels->add_rows(positions.data() + skip, normals.data() + skip, r1 - r0);
-      terrain::report(progress, double(r1) / double(rows));
-    }
-    ply.finish();
-    if (levels) pyramid_bytes = levels->finish();
-  });
-  outputs.commit();
-  tt::step(verb, fmt::format("{} x {} mesh in bands of {} rows: {:.2f} s", cols, rows, band, since(t0)));
-  print_summary(o, tg, header.topo, nw, nullptr);
-  if (!pyramid.empty()) std::cout << "pyramid: " << pyramid << fmt::format(" ({:.1f} MB)\n", double(pyramid_bytes) / 1e6);
-  return 0;
-}
-
 // The run: grid, mesh and normals (fitted with --fit-normals), written with --grid-out.
 int run(const Options& o, const std::string& provenance, const tt::Verbosity& verb) {
   const std::string &output = o.output, &grid_out = o.grid_out;
@@ -271,12 +165,21 @@ int run(const Options& o, const std::string& provenance, const tt::Verbosity& ve
   terrain::check_output_path(output);
   if (!pyramid.empty()) terrain::check_output_path(pyramid);
   if (!grid_out.empty()) terrain::check_output_path(grid_out);
-  if (o.tile_size > 0 || o.memory_mib > 0) {
-    check_banded(o, o.input_kind == "points" || (o.input_kind == "auto" && terrain::is_point_input(o.input)));
-    return run_banded(o, provenance, verb, pyramid);
+  const terrain::NormalWeighting nw = terrain::parse_normal_weighting(o.weighting);
+  if (o.tile_size > 0 || o.memory_mib > 0) {  // in bands of rows (mesh/banded.hpp)
+    namespace tm = terrain::tools::mesh;
+    tm::check_banded({o.input_kind == "points" || (o.input_kind == "auto" && terrain::is_point_input(o.input)), o.fit,
+                      o.req.fill_nodata, !grid_out.empty(), o.dequantize});
+    const auto t0 = Clock::now();
+    const tm::BandedResult r = tm::mesh_in_bands(
+        {o.input, output, pyramid, o.src_crs, o.dequantize, request_of(o), nw, o.tile_size, o.memory_mib, provenance},
+        verb);
+    tt::step(verb, fmt::format("{} x {} mesh in bands of {} rows: {:.2f} s", r.topo.cols, r.topo.rows, r.band_rows,
+                               since(t0)));
+    tm::print_mesh_summary(output, r.geo, r.topo, nw, nullptr, pyramid, r.pyramid_bytes);
+    return 0;
   }
   const terrain::GridRequest req = request_of(o);
-  const terrain::NormalWeighting nw = terrain::parse_normal_weighting(o.weighting);
   terrain::Grid source_dem;
   terrain::SourceSamples source_points;
   bool points = false;
@@ -310,8 +213,8 @@ int run(const Options& o, const std::string& provenance, const tt::Verbosity& ve
     tt::step(verb, fmt::format("levels of detail and {}: {:.2f} s", pyramid, since(t0)));
   }
   outputs.commit();
-  print_summary(o, grid.geo, mesh.topo, nw, o.fit ? &fit_rep : nullptr);
-  if (!pyramid.empty()) std::cout << "pyramid: " << pyramid << fmt::format(" ({:.1f} MB)\n", double(pyramid_bytes) / 1e6);
+  terrain::tools::mesh::print_mesh_summary(output, grid.geo, mesh.topo, nw, o.fit ? &fit_rep : nullptr, pyramid,
+                                           pyramid_bytes);
   return 0;
 }
 

@@ -105,4 +105,24 @@ terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& 
   return std::move(r.grid);
 }
 
+void print_mesh_summary(const std::string& output, const terrain::Georef& g, const terrain::GridTopology& topo,
+                        terrain::NormalWeighting nw, const terrain::NormalFitReport* fit, const std::string& pyramid,
+                        std::uint64_t pyramid_bytes) {
+  std::cout << "output: " << output << "\n"
+            << "crs: " << terrain::crs_name(g) << (g.epsg ? fmt::format(" (EPSG:{})", g.epsg) : "") << "\n"
+            << "grid: " << topo.cols << " x " << topo.rows << " (columns x rows)\n"
+            << fmt::format("spacing: {} {}\n", g.dx, g.dy)
+            << fmt::format("extent: {:.3f} {:.3f} {:.3f} {:.3f}\n", g.x0, g.y0 - double(topo.rows) * g.dy,
+                           g.x0 + double(topo.cols) * g.dx, g.y0)
+            << "vertices: " << topo.n_vertices() << "\n"
+            << "faces: " << topo.n_faces() << "\n"
+            << "normal_weighting: " << terrain::to_string(nw) << "\n";
+  if (fit)
+    std::cout << fmt::format("normals: fitted\nfit_samples: {}\nfit_rmse_before: {:.4f}\nfit_rmse_after: {:.4f}\n"
+                             "fit_max_before: {:.4f}\nfit_max_after: {:.4f}\nfit_seconds: {:.2f}\n",
+                             fit->after.samples, fit->before.rmse, fit->after.rmse, fit->before.max_abs,
+                             fit->after.max_abs, fit->seconds);
+  if (!pyramid.empty()) std::cout << "pyramid: " << pyramid << fmt::format(" ({:.1f} MB)\n", double(pyramid_bytes) / 1e6);
+}
+
 }  // namespace terrain::tools::mesh

@@ -7,6 +7,7 @@
 #include "common.hpp"
 #include "terrain/fit_normals.hpp"
 #include "terrain/grid.hpp"
+#include "terrain/grid_mesh.hpp"
 #include "terrain/prepare_grid.hpp"
 
 namespace terrain::tools::mesh {
@@ -30,5 +31,11 @@ struct PointOptions {
 // --fill-nodata, as for rasters; `filled` as for rasters.
 terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& req, const PointOptions& o,
                           const Verbosity& verb, terrain::SourceSamples* source, std::vector<std::uint8_t>& filled);
+
+// stdout's 'key: value' lines of the mesh written (and of the fit, and of the pyramid
+// when `pyramid` is not empty).
+void print_mesh_summary(const std::string& output, const terrain::Georef& g, const terrain::GridTopology& topo,
+                        terrain::NormalWeighting nw, const terrain::NormalFitReport* fit, const std::string& pyramid,
+                        std::uint64_t pyramid_bytes);
 
 }  // namespace terrain::tools::mesh
