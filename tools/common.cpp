@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <set>
 
 #include "terrain/temp_files.hpp"
 
@@ -115,11 +116,12 @@ void check_distinct_paths(const std::vector<std::string>& inputs, const std::vec
 }
 
 void warn_stale_temporaries(const Verbosity& v, const std::vector<std::string>& outputs) {
-  for (const std::string& out : outputs) {
-    if (out.empty()) continue;
-    for (const std::filesystem::path& p : terrain::stale_temporaries(out))
-      warn(v, "stale temporary '" + p.string() + "' of a run that was killed; remove it (rm -r '" + p.string() + "')");
-  }
+  std::set<std::filesystem::path> stale;  // once each: outputs of one stem (m.ply, m.tpyr) find the same
+  for (const std::string& out : outputs)
+    if (!out.empty())
+      for (const std::filesystem::path& p : terrain::stale_temporaries(out)) stale.insert(p);
+  for (const std::filesystem::path& p : stale)
+    warn(v, "stale temporary '" + p.string() + "' of a run that was killed; remove it (rm -r '" + p.string() + "')");
 }
 
 int mpi_launcher_size() {

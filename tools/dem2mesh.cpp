@@ -22,6 +22,7 @@
 #include "terrain/scattered.hpp"
 
 namespace tt = terrain::tools;
+namespace tmesh = terrain::tools::mesh;
 using terrain::tools::mesh::points_grid;
 using terrain::tools::mesh::raster_grid;
 
@@ -72,7 +73,7 @@ void add_grid_options(CLI::App& app, Options& o) {
   app.add_flag("--pyramid", o.pyramid,
                "Also write the mesh pyramid beside the mesh (OUTPUT with .tpyr): its levels of detail in tiles of "
                "64 x 64 cells, read by the view's windows (docs/formats.md)");
-  terrain::tools::mesh::add_band_options(app, o.tile_size, o.memory_mib);
+  tmesh::add_band_options(app, o.tile_size, o.memory_mib);
   app.add_option("--dequantize", o.dequantize,
                  "Integer heights (whole metres: SRTM, many national DEMs) terrace gentle slopes into flats: heights "
                  "interpolated between the terraces' edges (the contours half-way between two values), smoothed "
@@ -167,16 +168,15 @@ int run(const Options& o, const std::string& provenance, const tt::Verbosity& ve
   if (!grid_out.empty()) terrain::check_output_path(grid_out);
   const terrain::NormalWeighting nw = terrain::parse_normal_weighting(o.weighting);
   if (o.tile_size > 0 || o.memory_mib > 0) {  // in bands of rows (mesh/banded.hpp)
-    namespace tm = terrain::tools::mesh;
-    tm::check_banded({o.input_kind == "points" || (o.input_kind == "auto" && terrain::is_point_input(o.input)), o.fit,
+    tmesh::check_banded({o.input_kind == "points" || (o.input_kind == "auto" && terrain::is_point_input(o.input)), o.fit,
                       o.req.fill_nodata, !grid_out.empty(), o.dequantize});
     const auto t0 = Clock::now();
-    const tm::BandedResult r = tm::mesh_in_bands(
+    const tmesh::BandedResult r = tmesh::mesh_in_bands(
         {o.input, output, pyramid, o.src_crs, o.dequantize, request_of(o), nw, o.tile_size, o.memory_mib, provenance},
         verb);
     tt::step(verb, fmt::format("{} x {} mesh in bands of {} rows: {:.2f} s", r.topo.cols, r.topo.rows, r.band_rows,
                                since(t0)));
-    tm::print_mesh_summary(output, r.geo, r.topo, nw, nullptr, pyramid, r.pyramid_bytes);
+    tmesh::print_mesh_summary(output, r.geo, r.topo, nw, nullptr, pyramid, r.pyramid_bytes);
     return 0;
   }
   const terrain::GridRequest req = request_of(o);
@@ -209,12 +209,12 @@ int run(const Options& o, const std::string& provenance, const tt::Verbosity& ve
   std::uint64_t pyramid_bytes = 0;
   if (!pyramid.empty()) {
     t0 = Clock::now();
-    outputs.write([&] { pyramid_bytes = terrain::write_mesh_pyramid(mesh, outputs.stage(pyramid)); });
+    outputs.write(
+        [&] { pyramid_bytes = terrain::write_mesh_pyramid(mesh, outputs.stage(pyramid), terrain::kLevelBlock, pyramid); });
     tt::step(verb, fmt::format("levels of detail and {}: {:.2f} s", pyramid, since(t0)));
   }
   outputs.commit();
-  terrain::tools::mesh::print_mesh_summary(output, grid.geo, mesh.topo, nw, o.fit ? &fit_rep : nullptr, pyramid,
-                                           pyramid_bytes);
+  tmesh::print_mesh_summary(output, grid.geo, mesh.topo, nw, o.fit ? &fit_rep : nullptr, pyramid, pyramid_bytes);
   return 0;
 }
 

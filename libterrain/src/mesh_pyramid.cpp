@@ -143,7 +143,7 @@ struct MeshPyramidWriter::Level {
 };
 
 MeshPyramidWriter::MeshPyramidWriter(const GridTopology& topo, const MeshGeoref& geo, const std::string& path,
-                                     std::size_t block)
+                                     std::size_t block, const std::string& name_like)
     : topo_(topo), geo_(geo), path_(path), block_(block) {
   if (topo.rows < 2 || topo.cols < 2 || block < 2) throw Error("cannot write '" + path + "': no cells");
   const std::size_t cells_r = topo.rows - 1, cells_c = topo.cols - 1;
@@ -178,7 +178,7 @@ MeshPyramidWriter::MeshPyramidWriter(const GridTopology& topo, const MeshGeoref&
   if (!out_) throw Error("cannot write '" + path + "'");
   for (int l = 1; l < n_levels; ++l) {
     Level& v = *grids_[std::size_t(l)];
-    v.file = temporary_sibling(path);
+    v.file = temporary_sibling(name_like.empty() ? path : name_like);
     v.registration = TempRegistration(v.file);
     v.out.open(v.file, std::ios::binary | std::ios::trunc);
     if (!v.out) throw Error("cannot write '" + v.file.string() + "'");
@@ -331,10 +331,11 @@ std::uint64_t MeshPyramidWriter::finish() {
   return offset;
 }
 
-std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const std::string& path, std::size_t block) {
+std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const std::string& path, std::size_t block,
+                                 const std::string& name_like) {
   if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != mesh.topo.n_vertices())
     throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
-  MeshPyramidWriter w(mesh.topo, mesh.geo, path, block);
+  MeshPyramidWriter w(mesh.topo, mesh.geo, path, block, name_like);
   w.add_rows(mesh.positions.data(), mesh.normals.data(), mesh.topo.rows);
   return w.finish();
 }

@@ -64,7 +64,7 @@ BandedResult mesh_in_bands(const BandedRequest& q, const Verbosity& verb) {
   outputs.write([&] {
     terrain::PlyRowWriter ply(header, outputs.stage(q.output));
     std::optional<terrain::MeshPyramidWriter> levels;
-    if (!q.pyramid.empty()) levels.emplace(header.topo, header.geo, outputs.stage(q.pyramid));
+    if (!q.pyramid.empty()) levels.emplace(header.topo, header.geo, outputs.stage(q.pyramid), terrain::kLevelBlock, q.pyramid);
     const auto progress = terminal_progress(verb, "mesh in bands");
     for (std::size_t r0 = 0; r0 < rows; r0 += band) {
       const std::size_t r1 = std::min(rows, r0 + band);                       // the band's rows

@@ -73,8 +73,11 @@ inline std::size_t level_index(std::size_t k, std::size_t cells, int l) {
 // add_rows calls.
 class MeshPyramidWriter {
  public:
+  // `name_like`: the target the temporary files are named after (DIR/.STEM.tmpPID-N.tpyr,
+  // temp_files.hpp), so that a later run finds any a killed run left; `path` when empty
+  // (give the final name when `path` is an OutputSet's staged one).
   MeshPyramidWriter(const GridTopology& topo, const MeshGeoref& geo, const std::string& path,
-                    std::size_t block = kLevelBlock);
+                    std::size_t block = kLevelBlock, const std::string& name_like = {});
   ~MeshPyramidWriter();  // removes the temporary files
   MeshPyramidWriter(const MeshPyramidWriter&) = delete;
   MeshPyramidWriter& operator=(const MeshPyramidWriter&) = delete;
@@ -106,7 +109,8 @@ class MeshPyramidWriter {
 // each level 0 .. (the coarsest of any block) its grid in tiles of `block` cells a side
 // (their border vertices in both neighbours), each tile its positions and normals
 // compressed with zstd. Returns the bytes written.
-std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const std::string& path, std::size_t block = kLevelBlock);
+std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const std::string& path, std::size_t block = kLevelBlock,
+                                 const std::string& name_like = {});
 
 // Whether the file at `path` starts as a mesh pyramid does (by content, not by name).
 bool is_mesh_pyramid(const std::string& path);
