@@ -214,7 +214,6 @@ void MeshPyramidWriter::add_rows(const Eigen::Vector3f* positions, const Eigen::
       flush_tile_row(v, int(l), nr);
     }
   }
-  (void)cols;
 }
 
 void MeshPyramidWriter::measure_block_row(const std::vector<Eigen::Vector3f>& pos,
