@@ -301,13 +301,15 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
   EXPECT_EQ(differ, 0u);
   // terrain-render reads the mesh from the pyramid beside it, and draws the same frame as
   // from the PLY alone (the PNG's bytes, its description naming the same command).
-  const std::string frame = tool("terrain-render") + " frame " + dir.path("m.ply") + " -o " + dir.path("f.png") + " -v";
+  const std::string frame =
+      tool("terrain-render") + " frame " + dir.path("m.ply") + " -o " + dir.path("f.png") + " --size 480x270 -v";
   const auto via = run(frame);
   ASSERT_EQ(via.exit_code, 0) << via.err;
   EXPECT_NE(via.err.find("from '" + dir.path("m.tpyr") + "' (its pyramid)"), std::string::npos) << via.err;
   const std::string png = test::file_bytes(dir.path("f.png"));
   // build-drainage too (its mesh read from the pyramid): the same database.
-  const std::string drain = tool("build-drainage") + " " + dir.path("m.ply") + " " + dir.path("d.dv") + " -q";
+  const std::string drain =
+      tool("build-drainage") + " " + dir.path("m.ply") + " " + dir.path("d.dv") + " --spacing 20 -q";
   ASSERT_EQ(run(drain).exit_code, 0);
   const std::string dv = test::file_bytes(dir.path("d.dv"));
   std::filesystem::rename(dir.path("m.tpyr"), dir.path("away.tpyr"));
