@@ -316,11 +316,11 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
                          std::to_string(g.epsg) + ") are in different CRSs");
   const Eigen::Vector3d shift = links.origin - Eigen::Vector3d(g.origin_x, g.origin_y, g.origin_z);
   const std::size_t n = links.size();
- const BasinFlow flow = basin_flow(links, rules.edge_basin_min_share, rules.log_flow);
+  const BasinFlow flow = basin_flow(links, rules.edge_basin_min_share, rules.log_flow);
   const std::vector<std::uint8_t> off_flat =
       rules.one_line_per_flat ? off_main_flat_path(links) : std::vector<std::uint8_t>(n, 0);
 
- std::vector<std::uint8_t> keep = kept_links(mesh, links, rules, off_flat, shift, flow.share);
+  std::vector<std::uint8_t> keep = kept_links(mesh, links, rules, off_flat, shift, flow.share);
   // Only the vertices of kept segments, in the points' order: the DM pass scores every
   // vertex each frame, and most points of a network are on no crease (the paper's scene:
   // 355,216 points, 13,882 segments; Logan at 10 m: 14.3 M points, 0.54 M kept). Their
@@ -348,7 +348,7 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
     out.segments.push_back(compact(links.downstream[i]));
   }
 
- pn_normals_above(out, mesh);
+  pn_normals_above(out, mesh);
   if (rules.smooth_spacings > 0 && std::min(links.dx, links.dy) > 0)
     smooth_crease_lines(out, mesh,
                         std::max(rules.smooth_spacings * std::min(g.dx, g.dy) / std::min(links.dx, links.dy),
