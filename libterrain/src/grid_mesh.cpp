@@ -133,8 +133,8 @@ GridMesh make_grid_mesh(const Grid& grid, NormalWeighting weighting) {
 #pragma omp parallel for schedule(static)
   for (long r = 0; r < rows; ++r)
     for (long c = 0; c < cols; ++c)
-      m.positions[std::size_t(r * cols + c)] = Eigen::Vector3f(
-          float(double(c) * grid.geo.dx), float(-double(r) * grid.geo.dy), grid.at(std::size_t(r), std::size_t(c)));
+      m.positions[std::size_t(r * cols + c)] = grid_vertex(std::size_t(r), std::size_t(c), grid.geo.dx, grid.geo.dy,
+                                                           grid.at(std::size_t(r), std::size_t(c)));
   m.normals = vertex_normals(m.positions, m.topo, weighting);
   return m;
 }

@@ -727,16 +727,27 @@ void read_optional(const std::string& path, GridMeshImporter& importer, GridMesh
 
 }  // namespace
 
-GridMesh read_mesh_ply(const std::string& path) {
+namespace {
+
+// A terrain PLY's header, checked, and the mesh it describes (no vertices yet).
+GridMesh read_terrain_header(const std::string& path, PlyHeader& header) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot read '" + path + "': no such file or not readable");
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a directory");
-  const PlyHeader header = read_ply_header(in, path);
+  header = read_ply_header(in, path);
   in.close();
   GridMesh m = mesh_of_header(header, path);
   check_mesh_georef(m, "cannot read '" + path + "'");
   check_terrain_ply(header, m.topo, std::filesystem::file_size(path, ec), path);
+  return m;
+}
+
+}  // namespace
+
+GridMesh read_mesh_ply(const std::string& path) {
+  PlyHeader header;
+  GridMesh m = read_terrain_header(path, header);
   silence_openmesh();
 
   GridMeshImporter importer(m);
@@ -765,14 +776,9 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
     why = "'" + pyr + "' is older than the mesh";
     return std::nullopt;
   }
-  std::ifstream in(ply_path, std::ios::binary);
-  if (!in) throw Error("cannot read '" + ply_path + "': no such file or not readable");
-  const PlyHeader header = read_ply_header(in, ply_path);
-  in.close();
-  PyramidMesh out{mesh_of_header(header, ply_path), {}};
+  PlyHeader header;
+  PyramidMesh out{read_terrain_header(ply_path, header), {}};
   GridMesh& m = out.mesh;
-  check_mesh_georef(m, "cannot read '" + ply_path + "'");
-  check_terrain_ply(header, m.topo, fs::file_size(ply_path, ec), ply_path);
   for (const PlyElement& e : header.elements)
     for (const PlyProperty& p : e.properties)
       if (!(e.name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z" || p.name == "nx" || p.name == "ny" ||
@@ -798,14 +804,14 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
   return out;
 }
 
-GridMesh read_terrain_mesh(const std::string& ply_path, std::string& source, MeshLevels* levels) {
+GridMesh read_terrain_mesh(const std::string& ply_path, std::string* source, MeshLevels* levels) {
   std::string why;
   if (std::optional<PyramidMesh> p = read_mesh_via_pyramid(ply_path, why)) {
-    source = "'" + pyramid_path_of(ply_path) + "' (its pyramid)";
+    if (source) *source = "'" + pyramid_path_of(ply_path) + "' (its pyramid)";
     if (levels) *levels = std::move(p->levels);
     return std::move(p->mesh);
   }
-  source = why.empty() ? "the PLY" : "the PLY: " + why;
+  if (source) *source = why.empty() ? "the PLY" : "the PLY: " + why;
   return read_mesh_ply(ply_path);
 }
 

@@ -30,7 +30,7 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
   auto t0 = Clock::now();
   Scene s;
   LodHierarchy levels;
-  s.mesh = terrain::read_terrain_mesh(mesh_path, s.mesh_source, &levels);
+  s.mesh = terrain::read_terrain_mesh(mesh_path, &s.mesh_source, &levels);
   if (!levels.blocks.empty()) s.levels = std::make_shared<const LodHierarchy>(std::move(levels));
   s.mesh_seconds = since(t0);
   if (dv_path.empty()) return s;

@@ -80,8 +80,7 @@ BandedResult mesh_in_bands(const BandedRequest& q, const Verbosity& verb) {
       terrain::BigVector<Eigen::Vector3f> positions(g.size());
       for (std::size_t r = a; r < b; ++r)
         for (std::size_t c = 0; c < cols; ++c)
-          positions[(r - a) * cols + c] =
-              Eigen::Vector3f(float(double(c) * tg.dx), float(-double(r) * tg.dy), g.at(r - a, c));
+          positions[(r - a) * cols + c] = terrain::grid_vertex(r, c, tg.dx, tg.dy, g.at(r - a, c));
       const terrain::BigVector<Eigen::Vector3f> normals =
           terrain::vertex_normals(positions, terrain::GridTopology{b - a, cols}, q.weighting);
       const std::size_t skip = (r0 - a) * cols;

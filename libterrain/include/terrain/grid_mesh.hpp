@@ -138,6 +138,11 @@ const char* to_string(NormalWeighting w);
 // two triangles per cell, vertex normals by `weighting`. The CRS and spacing come from
 // grid.geo.
 GridMesh make_grid_mesh(const Grid& grid, NormalWeighting weighting);
+// The vertex of grid row r, column c at height z, as make_grid_mesh places it (local frame:
+// x east, y north of the first sample); dem2mesh's bands place theirs with it too.
+inline Eigen::Vector3f grid_vertex(std::size_t r, std::size_t c, double dx, double dy, float z) {
+  return {float(double(c) * dx), float(-double(r) * dy), z};
+}
 
 // The mesh's vertex elevations back on its grid (rows x cols) with its georeferencing.
 Grid mesh_to_grid(const GridMesh& mesh);

@@ -54,7 +54,7 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
 // (read_mesh_via_pyramid), else from the PLY (read_mesh_ply). `source` says which, and why
 // not the pyramid: "'MESH.tpyr' (its pyramid)", "the PLY", "the PLY: <why>". `levels`,
 // when given, receives the pyramid's levels of detail (left empty from a PLY).
-GridMesh read_terrain_mesh(const std::string& ply_path, std::string& source, MeshLevels* levels = nullptr);
+GridMesh read_terrain_mesh(const std::string& ply_path, std::string* source = nullptr, MeshLevels* levels = nullptr);
 
 // A terrain PLY written row by row, for meshes larger than memory (dem2mesh --tile-size):
 // the header of `header` (its grid, georeference, provenance; its vertex arrays are not

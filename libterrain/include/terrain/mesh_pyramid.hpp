@@ -85,7 +85,6 @@ class MeshPyramidWriter {
   void add_rows(const Eigen::Vector3f* positions, const Eigen::Vector3f* normals, std::size_t n);
   // After the last row: writes the file; returns its bytes.
   std::uint64_t finish();
-  const MeshLevels& levels() const { return levels_; }  // complete after the last row
 
  private:
   struct Level;
