@@ -10,6 +10,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdio>
@@ -674,7 +675,10 @@ GridMesh mesh_of_header(const PlyHeader& header, const std::string& path) {
 
 // Every vertex finite, every normal of unit length, every vertex on the lattice the grid
 // comment states.
-void check_vertices(const GridMesh& m, const std::string& path) {
+// `level` > 0: m holds that level of a pyramid (read_mesh_via_pyramid), whose vertex
+// (r, c) is the mesh's (level_index(r), level_index(c)) on the lattice of `fine`, the mesh's
+// own grid and spacing.
+void check_vertices(const GridMesh& m, const std::string& path, int level = 0, const GridMesh* fine = nullptr) {
   for (std::size_t i = 0; i < m.n_vertices(); ++i) {
     if (!m.positions[i].allFinite())
       throw Error(fmt::format("cannot read '{}': vertex {} (row {}, column {}) is not a finite number", path, i,
@@ -685,17 +689,19 @@ void check_vertices(const GridMesh& m, const std::string& path) {
   // The vertices lie on the lattice the grid comment states (x = column * dx, y = -row * dy
   // about the origin), within 1 % of a spacing and float rounding: a spacing that disagrees
   // with the vertices would place and index every sample wrongly downstream.
-  const double tol_x = 0.01 * m.geo.dx, tol_y = 0.01 * m.geo.dy;
+  const GridMesh& f = fine ? *fine : m;
+  const double tol_x = 0.01 * f.geo.dx, tol_y = 0.01 * f.geo.dy;
   for (std::size_t r = 0; r < m.topo.rows; ++r)
     for (std::size_t c = 0; c < m.topo.cols; ++c) {
       const Eigen::Vector3f& p = m.positions[r * m.topo.cols + c];
-      const double x = double(c) * m.geo.dx, y = -double(r) * m.geo.dy;
+      const double x = double(level_index(c, f.topo.cols - 1, level)) * f.geo.dx,
+                   y = -double(level_index(r, f.topo.rows - 1, level)) * f.geo.dy;
       if (std::abs(double(p.x()) - x) > tol_x + 1e-6 * std::abs(x) ||
           std::abs(double(p.y()) - y) > tol_y + 1e-6 * std::abs(y))
         throw Error(fmt::format("cannot read '{}': vertex {} (row {}, column {}) at ({:g}, {:g}) is not on the grid "
                                 "comment's {:g} x {:g} m lattice (expected ({:g}, {:g})): the header disagrees with "
                                 "the vertices",
-                                path, r * m.topo.cols + c, r, c, p.x(), p.y(), m.geo.dx, m.geo.dy, x, y));
+                                path, r * m.topo.cols + c, r, c, p.x(), p.y(), f.geo.dx, f.geo.dy, x, y));
     }
 
 }
@@ -766,7 +772,8 @@ GridMesh read_mesh_ply(const std::string& path) {
   return m;
 }
 
-std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, std::string& why) {
+std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, std::string& why,
+                                                 const std::function<int(const MeshPyramid&)>& level) {
   namespace fs = std::filesystem;
   why.clear();
   const std::string pyr = pyramid_path_of(ply_path);
@@ -796,11 +803,21 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
     why = "'" + pyr + "' describes another grid than the mesh's";
     return std::nullopt;
   }
+  const int l = level ? std::clamp(level(pyramid), 0, pyramid.level_count() - 1) : 0;
+  GridMesh fine;  // the mesh's own grid and spacing, when a coarser level is read
+  if (l > 0) {
+    fine.topo = m.topo, fine.geo = m.geo;
+    const std::size_t rows = pyramid.rows(l), cols = pyramid.cols(l);
+    m.geo.dx *= double(m.topo.cols - 1) / double(cols - 1);
+    m.geo.dy *= double(m.topo.rows - 1) / double(rows - 1);
+    m.topo = GridTopology{rows, cols};
+  }
   m.positions.resize(m.topo.n_vertices());
   m.normals.resize(m.topo.n_vertices());
-  pyramid.read_level(0, m.positions.data(), m.normals.data());
-  check_vertices(m, pyr);
+  pyramid.read_level(l, m.positions.data(), m.normals.data());
+  check_vertices(m, pyr, l, l > 0 ? &fine : nullptr);
   out.levels = pyramid.levels();
+  out.levels.base = l;
   return out;
 }
 

@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <optional>
 
 #include "drainage/dv_views.hpp"
 #include "renderer/hachures.hpp"
@@ -18,6 +20,7 @@
 #include "renderer/stroke_visibility.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/mesh_io.hpp"
+#include "terrain/mesh_pyramid.hpp"
 
 namespace renderer {
 
@@ -26,16 +29,12 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 }  // namespace
 
-Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const CreaseRules& rules) {
-  auto t0 = Clock::now();
-  Scene s;
-  LodHierarchy levels;
-  s.mesh = terrain::read_terrain_mesh(mesh_path, &s.mesh_source, &levels);
-  if (!levels.blocks.empty()) s.levels = std::make_shared<const LodHierarchy>(std::move(levels));
-  s.mesh_seconds = since(t0);
-  if (dv_path.empty()) return s;
-  t0 = Clock::now();
-  // Only the database's points under the mesh: a large (tiled) .dv is read block by block.
+namespace {
+
+// The database's points under the mesh (a large tiled .dv is read block by block) and
+// their creases, on scene.mesh.
+void build_creases(Scene& s, const std::string& dv_path, const CreaseRules& rules) {
+  const auto t0 = Clock::now();
   const auto& g = s.mesh.geo;
   const terrain::DrainageLinks links =
       drainage::drainage_links_in(dv_path, g.origin_x, g.origin_y - double(s.mesh.topo.rows - 1) * g.dy,
@@ -47,7 +46,93 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
   s.traits = segment_traits(s.mesh, links, *s.creases);
   s.chains = segment_chains(*s.creases);
   s.creases_seconds = since(t0);
+}
+
+constexpr std::uint64_t kVertexBytes = 2 * sizeof(Eigen::Vector3f);  // a position and a normal
+
+std::uint64_t level_bytes(const terrain::MeshPyramid& p, int l) {
+  return std::uint64_t(p.rows(l)) * p.cols(l) * kVertexBytes;
+}
+
+// The finest level of `p` whose vertices take at most `bytes` (the coarsest when none does).
+int finest_within(const terrain::MeshPyramid& p, std::uint64_t bytes) {
+  int l = 0;
+  while (l + 1 < p.level_count() && level_bytes(p, l) > bytes) ++l;
+  return l;
+}
+
+// Reads scene.mesh from its pyramid at the level `level` chooses; false when the pyramid
+// is not current (scene.mesh_source says why).
+bool read_level(Scene& s, const std::string& mesh_path, const std::function<int(const terrain::MeshPyramid&)>& level) {
+  std::string why;
+  std::optional<terrain::PyramidMesh> p = terrain::read_mesh_via_pyramid(mesh_path, why, level);
+  if (!p) {
+    s.mesh_source = why.empty() ? "the PLY" : "the PLY: " + why;
+    return false;
+  }
+  s.mesh = std::move(p->mesh);
+  s.mesh_level = p->levels.base;
+  s.levels = std::make_shared<const LodHierarchy>(std::move(p->levels));
+  s.mesh_source = fmt::format("'{}' (its pyramid{})", terrain::pyramid_path_of(mesh_path),
+                              s.mesh_level > 0 ? fmt::format(", level {}", s.mesh_level) : "");
+  return true;
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const CreaseRules& rules,
+                 std::uint64_t vertex_bytes) {
+  auto t0 = Clock::now();
+  Scene s;
+  bool preview = false;
+  if (vertex_bytes > 0)
+    preview = read_level(s, mesh_path, [&](const terrain::MeshPyramid& p) {
+      return level_bytes(p, 0) > vertex_bytes ? finest_within(p, vertex_bytes / 4) : 0;
+    });
+  if (!preview || s.mesh_level == 0) {
+    if (!preview) {
+      LodHierarchy levels;
+      s.mesh = terrain::read_terrain_mesh(mesh_path, &s.mesh_source, &levels);
+      if (!levels.blocks.empty()) s.levels = std::make_shared<const LodHierarchy>(std::move(levels));
+    }
+    s.mesh_seconds = since(t0);
+    if (!dv_path.empty()) build_creases(s, dv_path, rules);
+    return s;
+  }
+  s.mesh_seconds = since(t0);
+  s.deferred = Scene::Deferred{mesh_path, dv_path, rules, vertex_bytes};
   return s;
+}
+
+std::string focus_scene(Scene& s, const Camera& camera, int width, int height, const Style& style) {
+  if (!s.deferred) return {};
+  const Scene::Deferred d = *s.deferred;
+  s.deferred.reset();
+  const int preview = s.mesh_level;
+  std::string note;
+  const auto t0 = Clock::now();
+  const bool read = read_level(s, d.mesh_path, [&](const terrain::MeshPyramid& p) {
+    if (!(style.lod_error > 0)) {
+      s.mesh = {};  // the preview goes before the level is read
+      return 0;
+    }
+    LodHierarchy h = p.levels();  // the mesh's own levels, base 0
+    const View view = make_view(camera, Eigen::Vector3d(s.mesh.geo.origin_x, s.mesh.geo.origin_y, s.mesh.geo.origin_z),
+                                levels_box(h, style.exaggeration), width, height);
+    const std::vector<std::uint8_t> drawn = select_lod(h, view, style.exaggeration, style.lod_error);
+    const int needed = drawn.empty() ? 0 : int(*std::min_element(drawn.begin(), drawn.end()));
+    const int within = finest_within(p, d.vertex_bytes);
+    const int l = std::max(needed, within);
+    note = fmt::format("the view draws level {} at its finest{}", needed,
+                       l > needed ? fmt::format("; level {} read, the finest within the memory bound", l) : "");
+    s.mesh = {};  // the preview goes before the level is read
+    return l;
+  });
+  if (!read) throw terrain::Error("the mesh's pyramid changed while it was read: " + s.mesh_source);
+  s.mesh_seconds += since(t0);
+  if (!d.dv_path.empty()) build_creases(s, d.dv_path, d.rules);
+  return fmt::format("mesh read at level {} of its pyramid after the preview at level {}: {}", s.mesh_level, preview,
+                     note.empty() ? "--lod-error 0 draws every cell" : note);
 }
 
 std::shared_ptr<const LodHierarchy> scene_levels(Scene& scene, const Style& style) {

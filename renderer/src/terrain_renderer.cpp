@@ -71,15 +71,18 @@ Box exaggerated_box(const terrain::GridMesh& mesh, double exaggeration) {
 
 }  // namespace
 
-// Levels of detail are used with a positive bound on a mesh of more than one block.
-static bool uses_lod(const Style& style, const terrain::GridMesh& mesh) {
+// Levels of detail are used with a positive bound on a mesh of more than one block, and
+// always on a coarser level of a pyramid read in the mesh's place (LodHierarchy::base).
+static bool uses_lod(const Style& style, const terrain::GridMesh& mesh, const LodHierarchy* levels) {
+  if (levels && levels->base > 0) return true;
   return style.lod_error > 0 && mesh.topo.rows > kLodBlock + 1 && mesh.topo.cols > kLodBlock + 1;
 }
 
 // Without the PEL and edge layers, which read the whole mesh on the GPU, levels of detail
 // keep only the drawn vertices there (SceneGpu::set_lod_mesh).
-static bool drawn_vertices_only(const Style& style, const terrain::GridMesh& mesh, const Layers& layers) {
-  return uses_lod(style, mesh) && !layers.pels && !layers.edges;
+static bool drawn_vertices_only(const Style& style, const terrain::GridMesh& mesh, const LodHierarchy* levels,
+                                const Layers& layers) {
+  return uses_lod(style, mesh, levels) && !layers.pels && !layers.edges;
 }
 
 struct TerrainRenderer::Impl {
@@ -87,13 +90,14 @@ struct TerrainRenderer::Impl {
        const Layers& layers, const Style& style, std::shared_ptr<const LodHierarchy> levels)
       : layers(layers),
         style(style),
-        box(exaggerated_box(mesh, style.exaggeration)),
+        box(levels && levels->base > 0 ? levels_box(*levels, style.exaggeration)
+                                       : exaggerated_box(mesh, style.exaggeration)),
         origin(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z),
         cell(mesh.geo.dx, mesh.geo.dy),
         lift(crease_lift(style, mesh)),
         visibility(stroke_visibility_rule(style, mesh)),
-        scene(mesh, width, height, context.has_clip_control(), layers.hachures, !uses_lod(style, mesh),
-              !drawn_vertices_only(style, mesh, layers)),
+        scene(mesh, width, height, context.has_clip_control(), layers.hachures, !uses_lod(style, mesh, levels.get()),
+              !drawn_vertices_only(style, mesh, levels.get(), layers)),
         toward(scene),
         away(scene, layers.silhouettes && !layers.adjacency),
         ids(scene, layers.adjacency, id_capacity(width, height)),
@@ -107,11 +111,14 @@ struct TerrainRenderer::Impl {
                     Eigen::Vector4f(0, -float(double(mesh.topo.rows - 1) * mesh.geo.dy),
                                     float(double(mesh.topo.cols - 1) * mesh.geo.dx), 0)),
         composite(scene, layers, style, this->creases, pels, edges, silhouettes) {
-    if (uses_lod(style, mesh)) {
-      if (levels && !(levels->topo.rows == mesh.topo.rows && levels->topo.cols == mesh.topo.cols))
+    if (uses_lod(style, mesh, levels.get())) {
+      if (levels && !(terrain::level_count(levels->topo.rows - 1, levels->base) == mesh.topo.rows &&
+                      terrain::level_count(levels->topo.cols - 1, levels->base) == mesh.topo.cols))
         throw terrain::Error("internal: levels of detail of another mesh");
+      if (levels && levels->base > 0 && !(style.lod_error > 0))
+        throw terrain::Error("internal: a coarser level of the mesh is held, but --lod-error 0 asks for every cell");
+      if (drawn_vertices_only(style, mesh, levels.get(), layers)) source = &mesh;
       lod = levels ? std::move(levels) : std::make_shared<const LodHierarchy>(build_lod(mesh));
-      if (drawn_vertices_only(style, mesh, layers)) source = &mesh;
     }
     GLint max_gen = 64;
     glGetIntegerv(GL_MAX_TESS_GEN_LEVEL, &max_gen);
@@ -207,7 +214,7 @@ void check_frame_size(const GlContext& context, int width, int height) {
 TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases,
                                  int width, int height, const Layers& layers, const Style& style,
                                  std::shared_ptr<const LodHierarchy> levels) {
-  check_inputs(mesh, width, height, layers, !drawn_vertices_only(style, mesh, layers));
+  check_inputs(mesh, width, height, layers, !drawn_vertices_only(style, mesh, levels.get(), layers));
   check_frame_size(context, width, height);
   const auto out_of_memory = [&] {
     return terrain::Error(fmt::format("cannot allocate a {} x {} frame on this OpenGL device ({}): out of its memory; "

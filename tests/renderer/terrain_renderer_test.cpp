@@ -18,6 +18,7 @@
 #include "renderer/frames.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/line_stats.hpp"
+#include "renderer/lod.hpp"
 #include "renderer/shader.hpp"
 #include "renderer/silhouette.hpp"
 #include "renderer/stroke_visibility.hpp"
@@ -26,6 +27,8 @@
 #include "terrain/dem_io.hpp"
 #include "terrain/error.hpp"
 #include "terrain/hillshade.hpp"
+#include "terrain/mesh_io.hpp"
+#include "terrain/mesh_pyramid.hpp"
 #include "terrain/pn_surface.hpp"
 #include "terrain/voronoi.hpp"
 #include "renderer/pel.hpp"
@@ -1207,4 +1210,75 @@ TEST(RendererGl, LevelsOfDetailLeaveNoCrack) {
   full.lod_error = 0;
   TerrainRenderer f(ctx, mesh, nullptr, w, h, renderer::Layers{false, true, false, false}, full);
   EXPECT_EQ(f.render(FrameParams{}).patches, mesh.n_faces());
+}
+
+// A coarser level of the mesh's pyramid held in the mesh's place (terrain-render --memory;
+// read_mesh_via_pyramid's level, LodHierarchy::base) draws the same frame as the whole
+// mesh wherever the view draws no block finer than that level: the same patches, depth and
+// silhouettes, pixel for pixel. The mesh (299 x 270 cells: partial blocks at the right and
+// bottom, whose last row and column the level grid keeps closer) is read back at level 2,
+// a sixteenth of its vertices; seen from straight above at a bound that draws every block
+// at level 2 or coarser. Seen obliquely from near, where the whole mesh draws finer
+// blocks, the held level is drawn instead (fewer patches), and without a crack.
+TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
+  const terrain::GridMesh mesh = terrain::test::function_mesh(300, 271, 10.0, [](double x, double y) {
+    return 0.05 * x + 40 * std::sin(x / 90) * std::cos(y / 70) + 8 * std::sin(x / 23 + y / 31);
+  });
+  terrain::test::ScratchDir dir;
+  terrain::write_mesh_ply(mesh, dir.path("m.ply"));
+  terrain::write_mesh_pyramid(mesh, dir.path("m.tpyr"));
+  std::string why;
+  const auto whole = terrain::read_mesh_via_pyramid(dir.path("m.ply"), why);
+  const auto coarse = terrain::read_mesh_via_pyramid(dir.path("m.ply"), why, [](const terrain::MeshPyramid&) { return 2; });
+  ASSERT_TRUE(whole && coarse) << why;
+  ASSERT_EQ(coarse->levels.base, 2);
+  EXPECT_EQ(coarse->mesh.topo.rows, 76u);  // 299 cells: rows 0, 4, ..., 296 and 299
+  EXPECT_EQ(coarse->mesh.topo.cols, 69u);  // 270 cells: 0, 4, ..., 268 and 270
+  EXPECT_EQ(coarse->mesh.positions[75 * 69 + 68], mesh.positions[299 * 271 + 270]);
+  EXPECT_EQ(coarse->mesh.positions[74 * 69 + 67], mesh.positions[296 * 271 + 268]);
+  auto fine_levels = std::make_shared<const renderer::LodHierarchy>(whole->levels);
+  auto held_levels = std::make_shared<const renderer::LodHierarchy>(coarse->levels);
+
+  renderer::GlContext ctx;
+  const int w = 480, h = 360;
+  renderer::Style style = test_style();
+  style.lod_error = 16;
+  const renderer::Layers layers{false, true, false, false};
+  TerrainRenderer a(ctx, whole->mesh, nullptr, w, h, layers, style, fine_levels);
+  TerrainRenderer b(ctx, coarse->mesh, nullptr, w, h, layers, style, held_levels);
+  FrameParams top;
+  top.camera.orthographic = true;
+  top.camera.view_az = 0;
+  top.camera.view_alt = 90;
+  const auto ra = a.render(top);
+  const auto levels = renderer::select_lod(*fine_levels, ra.view, style.exaggeration, style.lod_error);
+  ASSERT_GE(*std::min_element(levels.begin(), levels.end()), 2) << "the view draws a block finer than the held level";
+  const auto fa = a.read_buffers();
+  const auto rb = b.render(top);
+  const auto fb = b.read_buffers();
+  EXPECT_EQ(ra.patches, rb.patches);
+  std::size_t depth_differ = 0, silhouette_differ = 0, drawn = 0;
+  for (std::size_t i = 0; i < fa.toward_depth.size(); ++i) {
+    depth_differ += fa.toward_depth[i] != fb.toward_depth[i];
+    drawn += renderer::far_depth(ra.view.reversed_z, fa.toward_depth[i]) < 1.0f;
+  }
+  for (std::size_t i = 0; i < fa.silhouette_opacity.size(); ++i)
+    silhouette_differ += fa.silhouette_opacity[i] != fb.silhouette_opacity[i];
+  EXPECT_EQ(depth_differ, 0u);
+  EXPECT_EQ(silhouette_differ, 0u);
+  EXPECT_GT(drawn, fa.toward_depth.size() / 4);
+
+  FrameParams near;
+  near.camera.eye = Vector3d(1350, -200, 400);
+  near.camera.view_az = 180;
+  near.camera.view_alt = 30;
+  const auto na = a.render(near);
+  const auto near_levels = renderer::select_lod(*fine_levels, na.view, style.exaggeration, style.lod_error);
+  ASSERT_LT(*std::min_element(near_levels.begin(), near_levels.end()), 2);
+  const auto nb = b.render(near);
+  EXPECT_LT(nb.patches, na.patches);
+  const auto depth = b.read_buffers().toward_depth;
+  std::size_t terrain = 0;
+  for (const float d : depth) terrain += renderer::far_depth(nb.view.reversed_z, d) < 1.0f;
+  EXPECT_GT(terrain, depth.size() / 4);
 }

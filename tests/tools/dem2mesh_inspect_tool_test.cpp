@@ -307,6 +307,29 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
   ASSERT_EQ(via.exit_code, 0) << via.err;
   EXPECT_NE(via.err.find("from '" + dir.path("m.tpyr") + "' (its pyramid)"), std::string::npos) << via.err;
   const std::string png = test::file_bytes(dir.path("f.png"));
+  // Under a memory bound the mesh does not fit (--memory 0.25: 256 KiB; the mesh's 151 x 221
+  // vertices take 0.8 MB), terrain-render reads a preview level (level 2, within a quarter
+  // of the bound), then the finest level the view draws: a map at 30 m a pixel with a
+  // 2-pixel error bound draws no block finer than level 1, so the surface and its
+  // silhouettes are the same, pixel for pixel, as from the whole mesh. A 0.25-pixel bound
+  // draws level 0 there: level 1 (the finest within the bound) is drawn instead, and says so.
+  const std::string map = tool("terrain-render") + " frame " + dir.path("m.ply") + " --size 480x270 --view top " +
+                          "--map-scale 30 --layers mask,silhouettes -v -o ";
+  ASSERT_EQ(run(map + dir.path("whole.png") + " --lod-error 2").exit_code, 0);
+  const auto bounded = run(map + dir.path("bounded.png") + " --lod-error 2 --memory 0.25");
+  ASSERT_EQ(bounded.exit_code, 0) << bounded.err;
+  EXPECT_NE(bounded.err.find("(its pyramid, level 2)"), std::string::npos) << bounded.err;  // the preview
+  EXPECT_NE(bounded.err.find("mesh read at level 1 of its pyramid after the preview at level 2: the view draws level 1"),
+            std::string::npos)
+      << bounded.err;
+  EXPECT_EQ(run("oiiotool --fail 0 --failpercent 0 --diff " + dir.path("whole.png") + " " + dir.path("bounded.png"))
+                .exit_code,
+            0);
+  const auto finer = run(map + dir.path("finer.png") + " --memory 0.25");
+  ASSERT_EQ(finer.exit_code, 0) << finer.err;
+  EXPECT_NE(finer.err.find("the view draws level 0 at its finest; level 1 read, the finest within the memory bound"),
+            std::string::npos)
+      << finer.err;
   // build-drainage too (its mesh read from the pyramid): the same database.
   const std::string drain =
       tool("build-drainage") + " " + dir.path("m.ply") + " " + dir.path("d.dv") + " --spacing 20 -q";

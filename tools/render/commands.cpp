@@ -36,15 +36,21 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-rr::Scene scene_of(const std::string& mesh, const std::string& dv, const rr::RenderSettings& s, const tt::Verbosity& v) {
-  if (!dv.empty() && !drainage::is_dv_file(dv)) throw terrain::Error("'" + dv + "' is not a drainage database (.dv)");
-  rr::Scene scene = rr::load_scene(mesh, dv, s.rules);
-  tt::step(v, fmt::format("read mesh {} x {} ({} patches) from {}: {:.2f} s", scene.mesh.topo.cols, scene.mesh.topo.rows,
-                          scene.mesh.n_faces(), scene.mesh_source, scene.mesh_seconds));
+void report_creases(const rr::Scene& scene, const std::string& dv, const tt::Verbosity& v) {
   for (const std::string& w : scene.warnings) tt::warn(v, w);
   if (scene.creases)
     tt::step(v, fmt::format("read {} and its PN normals: {} vertices, {} segments: {:.2f} s", dv,
                             scene.creases->positions.size(), scene.creases->n_segments(), scene.creases_seconds));
+}
+
+// `vertex_bytes`: load_scene's bound on the mesh's vertices (0: none).
+rr::Scene scene_of(const std::string& mesh, const std::string& dv, const rr::RenderSettings& s, const tt::Verbosity& v,
+                   std::uint64_t vertex_bytes = 0) {
+  if (!dv.empty() && !drainage::is_dv_file(dv)) throw terrain::Error("'" + dv + "' is not a drainage database (.dv)");
+  rr::Scene scene = rr::load_scene(mesh, dv, s.rules, vertex_bytes);
+  tt::step(v, fmt::format("read mesh {} x {} ({} patches) from {}: {:.2f} s", scene.mesh.topo.cols, scene.mesh.topo.rows,
+                          scene.mesh.n_faces(), scene.mesh_source, scene.mesh_seconds));
+  report_creases(scene, dv, v);
   return scene;
 }
 
@@ -92,6 +98,12 @@ void add_output_options(CLI::App* cmd, OutputArgs& o, bool batch) {
       ->check(CLI::IsMember({"none", "mask", "shaded"}));
   if (batch)
     cmd->add_option("--format", o.formats, "Files per frame, a comma list of png, svg, pdf")->capture_default_str();
+  else
+    cmd->add_option("--memory", o.memory_mib,
+                    "MiB the mesh's vertices may take: a larger mesh with a pyramid beside it (dem2mesh --pyramid) is "
+                    "read at the finest level the view draws, within this")
+        ->check(CLI::Range(0.001, 16777216.0))
+        ->capture_default_str();
 }
 
 // The write times at -v.
@@ -110,12 +122,17 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   tt::warn_stale_temporaries(verb, {out});
   terrain::check_output_path(out);
   check_line_stats(a, s, dv);
-  const rr::Scene scene = scene_of(mesh, dv, s, verb);
+  rr::Scene scene = scene_of(mesh, dv, s, verb, std::uint64_t(o.memory_mib * 1048576.0));
   const rr::GivenOption given = [&](const std::string& n) { return a.was_given(n); };
   const std::string exaggeration = rr::resolve_settings(s, scene.mesh, given);
   const rr::ResolvedFrame f = rr::resolve_frame(s, scene.mesh, given);
   if (!f.description.empty()) tt::step(verb, f.description);
   const rr::FrameParams& fp = f.frame;
+  if (const std::string focus = rr::focus_scene(scene, fp.camera, s.width, s.height, f.style); !focus.empty()) {
+    tt::step(verb, fmt::format("{}: {} x {} vertices, {:.2f} s", focus, scene.mesh.topo.cols, scene.mesh.topo.rows,
+                               scene.mesh_seconds));
+    report_creases(scene, dv, verb);
+  }
   auto t0 = Clock::now();
   rr::GlContext ctx;
   if (rr::is_vector_path(out)) rr::check_vector_memory(ctx, s.width, s.height);

@@ -11,10 +11,12 @@
 
 namespace terrain::tools::render {
 
-// The output files' options besides the render options: vector page and underlay, formats.
+// The options besides the render options' table: vector page and underlay, formats; the
+// frame's memory bound on the mesh.
 struct OutputArgs {
   renderer::VectorOptions vector;
   std::string formats = "png";
+  double memory_mib = 1024;
 };
 void add_output_options(CLI::App* cmd, OutputArgs& o, bool batch);
 

@@ -16,6 +16,7 @@
 // importer over our arrays (no half-edge mesh is built); the comment lines are added to
 // and read from the header text around it. Documented in docs/formats.md.
 #include <memory>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -45,11 +46,18 @@ GridMesh read_mesh_ply(const std::string& path);
 // pyramid does not keep (Voronoi weights, normal change, filled flags). Otherwise nullopt,
 // and `why` says why (empty when there is no pyramid at all). Throws Error on a bad PLY
 // header or a damaged pyramid.
+//
+// `level`, when given, picks the pyramid level read as the mesh from the open pyramid (its
+// grid sizes; 0: the mesh itself): level l's grid, every 2^l-th row and column and the
+// last ones, as a grid mesh of its own whose geo.dx and dy are the mesh's extent over its
+// cells (so its extent is the mesh's; its last row and column are the closer ones). The
+// levels of detail stay the mesh's, with MeshLevels::base = l.
 struct PyramidMesh {
   GridMesh mesh;
   MeshLevels levels;
 };
-std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, std::string& why);
+std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, std::string& why,
+                                                 const std::function<int(const MeshPyramid&)>& level = {});
 // A terrain mesh as the tools read it: from its pyramid when that is current
 // (read_mesh_via_pyramid), else from the PLY (read_mesh_ply). `source` says which, and why
 // not the pyramid: "'MESH.tpyr' (its pyramid)", "the PLY", "the PLY: <why>". `levels`,

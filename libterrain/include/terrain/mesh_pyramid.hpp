@@ -41,6 +41,10 @@ struct MeshLevels {
   GridTopology topo;
   std::size_t block = kLevelBlock, block_rows = 0, block_cols = 0;
   std::vector<MeshLevelBlock> blocks;  // row-major
+  // The level whose grid the drawn mesh holds (read_mesh_via_pyramid's `level`): 0, the
+  // mesh itself, unless a level of its pyramid was read in its place; no block is drawn
+  // finer (renderer/lod.hpp).
+  int base = 0;
 };
 
 MeshLevels build_mesh_levels(const GridMesh& mesh, std::size_t block = kLevelBlock);

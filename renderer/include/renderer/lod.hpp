@@ -33,8 +33,13 @@ inline LodHierarchy build_lod(const terrain::GridMesh& mesh, std::size_t block =
 
 // Per block, the coarsest level l with error[l] x exaggeration <= bound_px pixels at the
 // block's nearest point (View::pixel_size of its distance along the line of sight; the
-// eye inside the box: level 0).
+// eye inside the box: level 0); never finer than h.base (the grid held), unless that is
+// coarser than the block's coarsest.
 std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double exaggeration, double bound_px);
+
+// The box of the mesh the levels describe (the union of their blocks' boxes), heights times
+// `exaggeration`: the mesh's own box, also when a coarser level of it is held (base > 0).
+Box levels_box(const LodHierarchy& h, double exaggeration);
 
 // The patches (3 vertex indices each, counter-clockwise as GridTopology::face) of every
 // block at its level, joined without cracks (above). All blocks at level 0: the mesh's

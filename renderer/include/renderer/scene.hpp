@@ -3,6 +3,7 @@
 // database's creases under it, loaded once (load_scene); and the line statistics of a
 // drawn frame (frame_line_stats). Built as its own library (terrain::renderer_scene),
 // since it reads .dv files through libdrainage, which the GL renderer itself does not need.
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -23,18 +24,42 @@ struct Scene {
   // from one, else made by scene_levels on first use; shared by every renderer of it.
   std::shared_ptr<const LodHierarchy> levels;
   std::string mesh_source;  // how the mesh was read: "MESH.tpyr (its pyramid)", or why not
+  // The level of the mesh's pyramid that `mesh` holds: 0, the mesh itself, unless
+  // load_scene's memory bound made it read a coarser one (then levels->base too).
+  int mesh_level = 0;
   std::optional<CreaseGeometry> creases;  // with a database
   SegmentTraits traits;                   // of the creases' segments
   SegmentChains chains;                   // the strokes they follow, as the DM pass holds them
   std::vector<std::string> warnings;      // "'x.dv': ..." for the tool to print
   double mesh_seconds = 0, creases_seconds = 0;
+  // What focus_scene needs of a scene read at a coarser level: the creases wait for it.
+  struct Deferred {
+    std::string mesh_path, dv_path;
+    CreaseRules rules;
+    std::uint64_t vertex_bytes = 0;
+  };
+  std::optional<Deferred> deferred;
 };
 
 // Reads the mesh and, when `dv_path` is not empty, the database's points under it (a large
 // tiled .dv is read block by block) and builds their creases with `rules`.
 // The mesh comes from its pyramid when one is current beside it (terrain::read_mesh_via_pyramid:
 // the tiles read in parallel, the levels of detail with them), else from the PLY.
-Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const CreaseRules& rules);
+//
+// `vertex_bytes` (0: no bound) bounds what the mesh's vertices take (24 bytes each, the
+// position and the normal): when the mesh takes more and has a current pyramid, the mesh
+// read is the finest level of the pyramid within a quarter of the bound, a preview to
+// resolve the view on (the automatic view and exaggeration), and the creases wait for
+// focus_scene.
+Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const CreaseRules& rules,
+                 std::uint64_t vertex_bytes = 0);
+
+// For a scene that load_scene read at a coarser level (Scene::deferred; else nothing):
+// reads, in the preview's place, the finest level that any block of the view is drawn at
+// (select_lod with the style's bound: what the frame draws, unchanged) or, when that level
+// takes more than the bound, the finest within it (the nearest blocks then drawn coarser;
+// every level with --lod-error 0), and builds the creases on it. Returns a line for -v.
+std::string focus_scene(Scene& scene, const Camera& camera, int width, int height, const Style& style);
 
 // The scene's levels of detail for `style`: none without levels of detail
 // (Style::lod_error 0), else Scene::levels, made here once when the mesh brought none.

@@ -3,6 +3,7 @@
 #include <array>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace renderer {
 
@@ -42,12 +43,33 @@ std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, do
     while (l + 1 < b.levels() && double(b.error[std::size_t(l + 1)]) <= allowed) ++l;
     levels[k] = std::uint8_t(l);
   }
+  if (h.base > 0)  // nothing finer than the grid held (its coarsest level at most)
+    for (std::size_t k = 0; k < h.blocks.size(); ++k)
+      levels[k] = std::max(levels[k], std::uint8_t(std::min(h.base, h.blocks[k].levels() - 1)));
   return levels;
+}
+
+Box levels_box(const LodHierarchy& h, double exaggeration) {
+  Box box{Eigen::Vector3d::Constant(std::numeric_limits<double>::max()),
+          Eigen::Vector3d::Constant(-std::numeric_limits<double>::max())};
+  for (const LodBlock& b : h.blocks) {
+    box.lo = box.lo.cwiseMin(Eigen::Vector3d(b.lo.x(), b.lo.y(), double(b.lo.z()) * exaggeration));
+    box.hi = box.hi.cwiseMax(Eigen::Vector3d(b.hi.x(), b.hi.y(), double(b.hi.z()) * exaggeration));
+  }
+  return box;
 }
 
 LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels) {
   LodMesh out;
-  const std::size_t cols = h.topo.cols;
+  // A vertex's index in the grid held: level h.base's (every 2^base-th row and column and
+  // the last ones; a drawn block's lines are among them, see select_lod).
+  const std::size_t rows0 = h.topo.rows - 1, cols0 = h.topo.cols - 1;
+  const std::size_t cols = terrain::level_count(cols0, h.base);
+  auto held = [&](std::size_t r, std::size_t c) {
+    const std::size_t hr = r == rows0 ? terrain::level_count(rows0, h.base) - 1 : r >> h.base;
+    const std::size_t hc = c == cols0 ? cols - 1 : c >> h.base;
+    return std::uint32_t(hr * cols + hc);
+  };
   auto step = [&](std::size_t br, std::size_t bc) { return std::uint32_t(1) << levels[br * h.block_cols + bc]; };
   for (std::size_t br = 0; br < h.block_rows; ++br)
     for (std::size_t bc = 0; bc < h.block_cols; ++bc) {
@@ -64,7 +86,7 @@ LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels)
       // multiple of this one, and the last line is kept).
       const auto base = std::uint32_t(out.vertices.size());
       for (const std::uint32_t r : rs)
-        for (const std::uint32_t c : cs) out.vertices.push_back(std::uint32_t((std::size_t(b.r0) + r) * cols + b.c0 + c));
+        for (const std::uint32_t c : cs) out.vertices.push_back(held(std::size_t(b.r0) + r, std::size_t(b.c0) + c));
       auto line = [&](std::uint32_t p, std::uint32_t n, std::size_t count) {
         return p == n ? std::uint32_t(count - 1) : p >> l;
       };
@@ -88,7 +110,7 @@ LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels)
 
 std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<std::uint8_t>& levels) {
   std::vector<std::uint32_t> out;
-  if (std::all_of(levels.begin(), levels.end(), [](std::uint8_t l) { return l == 0; })) {
+  if (h.base == 0 && std::all_of(levels.begin(), levels.end(), [](std::uint8_t l) { return l == 0; })) {
     out.resize(3 * h.topo.n_faces());
     for (std::size_t f = 0; f < h.topo.n_faces(); ++f) {
       const auto t = h.topo.face(f);
