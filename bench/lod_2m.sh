@@ -2,8 +2,9 @@
 # Issue 52's second row (docs/performance.md, "Logan at 2 m"): Logan resampled to 2 m
 # (gdalwarp -r cubic -tr 2 2: 14 450 x 24 900 = 360 M samples), meshed in bands with its
 # pyramid (dem2mesh --memory 1024 --pyramid), drained at 10 m (build-drainage --breach 10),
-# drawn at the Logan 100 m mesh's automatic view without and with the .dv; the Logan 100 m
-# mesh's frames at the same camera beside them. Prints wall seconds, peak resident memory
+# drawn at the Logan 100 m mesh's automatic view without and with the .dv (terrain-render's
+# default --memory 1024: the mesh read at the level the view draws), and from the whole mesh;
+# the Logan 100 m mesh's frames at the same camera beside them. Prints wall seconds, peak resident memory
 # and the frame's passes for each step, and the files' sizes. Steps whose outputs exist in
 # WORKDIR are not run again (their rows then say so).
 # Usage: bench/lod_2m.sh WORKDIR   (about 28 GB of disk; about 8 minutes on 2 cores)
@@ -36,10 +37,22 @@ else timed "build-drainage --breach 10" "$bin/build-drainage" "$work/logan_2.ply
 timed "frame, 2 m mesh" "$bin/terrain-render" frame "$work/logan_2.ply" -o "$work/f2.png" $camera -v
 # shellcheck disable=SC2086
 timed "frame, 2 m mesh and .dv" "$bin/terrain-render" frame "$work/logan_2.ply" "$work/logan_2.dv" -o "$work/g2.png" $camera -v
+# The same frame from the whole mesh (a bound it fits in): what the default bound saves, and
+# the creases' agreement between the two (bench/line_agreement.py, the creases drawn apart).
+# shellcheck disable=SC2086
+timed "frame, 2 m mesh and .dv, whole (--memory 65536)" "$bin/terrain-render" frame "$work/logan_2.ply" \
+  "$work/logan_2.dv" -o "$work/g2w.png" $camera --memory 65536 -v
+for m in 1024 65536; do
+  # shellcheck disable=SC2086
+  "$bin/terrain-render" frame "$work/logan_2.ply" "$work/logan_2.dv" -o "$work/c2_$m.png" --layers mask,creases \
+    --memory "$m" $camera -q > /dev/null
+done
+agreement=$(/usr/bin/python3 "$root/bench/line_agreement.py" "$work/c2_1024.png" "$work/c2_65536.png")
 # shellcheck disable=SC2086
 timed "frame, 100 m mesh" "$bin/terrain-render" frame "$work/logan_100.ply" -o "$work/f100.png" $camera -v
 # shellcheck disable=SC2086
 timed "frame, 100 m mesh and .dv" "$bin/terrain-render" frame "$work/logan_100.ply" "$work/logan_100.dv" -o "$work/g100.png" \
   $camera -v
 echo
+echo "creases at the default bound against the whole mesh (within 1 px, both ways; line px): $agreement"
 echo "disk: PLY $(du -m "$work/logan_2.ply" | cut -f1) MB, pyramid $(du -m "$work/logan_2.tpyr" | cut -f1) MB, .dv $(du -m "$work/logan_2.dv" | cut -f1) MB"
