@@ -445,6 +445,7 @@ INSTANTIATE_TEST_SUITE_P(
         Row{tr + "frame IN/m.ply -o OUT/f.png --view IN/none.csv:1 -q", 1, "none.csv"},
         Row{tr + "frame IN/m.ply -o OUT/f.png --view IN/inf.csv -q", 1, "inf.csv:2: field 'view_alt': 'inf' is not a number"},
         Row{tr + "frame IN/m.ply -o OUT/f.png --size 0x0", 2, "--size"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --memory 0", 2, "--memory: Value 0 not in range"},
         Row{tr + "frame IN/m.ply -o OUT/f.png --size 100000x100000", 2, "--size"},
         Row{tr + "frame IN/m.ply -o OUT/f.png --layers shaded,contours -q", 2, "unknown layer 'contours'"},
         Row{tr + "frame IN/m.ply IN/zero.dv -o OUT/f.png -q", 1, "is not a drainage database"},
