@@ -94,6 +94,12 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
       LodHierarchy levels;
       s.mesh = terrain::read_terrain_mesh(mesh_path, &s.mesh_source, &levels);
       if (!levels.blocks.empty()) s.levels = std::make_shared<const LodHierarchy>(std::move(levels));
+      if (vertex_bytes > 0 && s.mesh.n_vertices() * kVertexBytes > vertex_bytes)
+        s.warnings.push_back(fmt::format("'{}': its vertices take {:.1f} MB, more than the memory bound ({:.1f} MB), "
+                                         "and no current pyramid is beside it ({}): read whole; dem2mesh --pyramid "
+                                         "makes one",
+                                         mesh_path, double(s.mesh.n_vertices() * kVertexBytes) / 1e6,
+                                         double(vertex_bytes) / 1e6, s.mesh_source));
     }
     s.mesh_seconds = since(t0);
     if (!dv_path.empty()) build_creases(s, dv_path, rules);

@@ -336,6 +336,16 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
   ASSERT_EQ(run(drain).exit_code, 0);
   const std::string dv = test::file_bytes(dir.path("d.dv"));
   std::filesystem::rename(dir.path("m.tpyr"), dir.path("away.tpyr"));
+  // Over the bound without a pyramid: read whole, with a warning that names the remedy.
+  const auto no_pyramid = run(map + dir.path("plain.png") + " --lod-error 2 --memory 0.25");
+  ASSERT_EQ(no_pyramid.exit_code, 0) << no_pyramid.err;
+  EXPECT_NE(no_pyramid.err.find("more than the memory bound (0.3 MB), and no current pyramid is beside it (the PLY): "
+                                "read whole; dem2mesh --pyramid makes one"),
+            std::string::npos)
+      << no_pyramid.err;
+  EXPECT_EQ(run("oiiotool --fail 0 --failpercent 0 --diff " + dir.path("whole.png") + " " + dir.path("plain.png"))
+                .exit_code,
+            0);
   const auto direct = run(frame);
   ASSERT_EQ(direct.exit_code, 0) << direct.err;
   EXPECT_NE(direct.err.find("from the PLY"), std::string::npos) << direct.err;
