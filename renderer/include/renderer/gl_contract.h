@@ -80,6 +80,7 @@
 #define TR_SSBO_AWAY_PATCHES 31
 #define TR_SSBO_AWAY_DRAWS 32
 #define TR_SSBO_HACHURE_FIELD 33
+#define TR_SSBO_FLAT_PATCHES 34
 
 /* Crease strokes: "no segment" in the chains (renderer::kNoSegment), and how many
    segments a stroke's run is followed each way (renderer::kStrokeReach). */
@@ -192,5 +193,7 @@
    31 to 34), the tone (1 light, 0 slope). */
 #define TR_LOC_HACHURE_INVERSE 31
 #define TR_LOC_HACHURE_TONE 35
+/* TFT's flat patches (surface_flat.vert.glsl): 1 for the coarse ones. */
+#define TR_LOC_FLAT_COARSE 36
 
 #endif

@@ -34,6 +34,8 @@ enum class ProgramId {
   TileRects,         // SIL and LAY: the rectangles of pixels near marked tiles they draw
   SurfaceCull,       // AFT: the patches that may face away in view, listed for the draw
   HachureField,      // hachures: the fall-line field of the frame (after TFT; not a timed pass)
+  SurfaceSplit,      // TFT: the patches in view, split into flat ones (one triangle each) and tessellated ones
+  SurfaceFlat,       // TFT: the flat patches as triangles, without the tessellation stages
 };
 inline constexpr std::array kAllPrograms = {
     ProgramId::Surface,          ProgramId::PnCapture,   ProgramId::CreaseScore,          ProgramId::CreaseBridge,
@@ -41,7 +43,8 @@ inline constexpr std::array kAllPrograms = {
     ProgramId::CompositeSilhouettes, ProgramId::PelFields, ProgramId::PelExtract,         ProgramId::PelDraw,
     ProgramId::SurfaceId,        ProgramId::Adjacency,   ProgramId::EdgeClassify,         ProgramId::EdgeDraw,
     ProgramId::SilhouettePieces, ProgramId::PelPieces,   ProgramId::CreaseVisibility,     ProgramId::AwayTiles,
-    ProgramId::TileRects,        ProgramId::SurfaceCull, ProgramId::HachureField};
+    ProgramId::TileRects,        ProgramId::SurfaceCull, ProgramId::HachureField,         ProgramId::SurfaceSplit,
+    ProgramId::SurfaceFlat};
 
 struct ProgramSpec {
   const char* name;

@@ -60,6 +60,10 @@ const ProgramSpec& program_spec(ProgramId id) {
         {"tile_rects", compute({"tile_rects_list.glsl", "tile_rects.comp.glsl"}), {}},
         {"surface_cull", compute({"pn_control.glsl", "surface_cull.comp.glsl"}), {}},
         {"hachure_field", compute({"hachure_field.comp.glsl"}), {}},
+        {"surface_split", compute({"surface_split.comp.glsl"}), {}},
+        {"surface_flat",
+         {{GL_VERTEX_SHADER, {c, "surface_flat.vert.glsl"}}, {GL_FRAGMENT_SHADER, {c, "surface.frag.glsl"}}},
+         {}},
     };
   }();
   return specs.at(std::size_t(id));

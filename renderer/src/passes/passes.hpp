@@ -127,6 +127,9 @@ class PassBase {
 };
 
 // TFT: surface colour and toward depth.
+// TFT: shaded colour and toward depth. The patches in view are split first
+// (surface_split.comp.glsl): those that tessellate into their own flat triangle are drawn
+// as triangles (surface_flat.vert.glsl), the others tessellated.
 class TowardPass : public PassBase {
  public:
   explicit TowardPass(const SceneGpu& scene);
@@ -135,6 +138,9 @@ class TowardPass : public PassBase {
   void execute(const FrameInputs&) override;
   const SceneGpu& s_;
   GlObject fbo_;
+  GlObject split_prog_, flat_prog_;
+  GlObject tess_, tess_draws_, flat_;  // the tessellated patches and their draws; the flat ones
+  std::size_t capacity_ = 0;
 };
 
 // AFT: away depth (only when silhouettes are drawn; cleared always).

@@ -1,6 +1,7 @@
 // TFT and AFT: the PN surface, toward-facing fragments to colour and toward depth, away-
 // facing fragments to the away depth.
 #include <algorithm>
+#include <cstdint>
 
 #include "passes.hpp"
 #include "renderer/gl_contract.hpp"
@@ -12,7 +13,9 @@ TowardPass::TowardPass(const SceneGpu& scene)
     : PassBase(TFT),
       s_(scene),
       fbo_(make_framebuffer(&scene.surface_colour, &scene.toward_depth,
-                            scene.surface_normal.id() ? &scene.surface_normal : nullptr)) {}
+                            scene.surface_normal.id() ? &scene.surface_normal : nullptr)),
+      split_prog_(build_program(ProgramId::SurfaceSplit)),
+      flat_prog_(build_program(ProgramId::SurfaceFlat)) {}
 
 void TowardPass::execute(const FrameInputs&) {
   const float zero4[4] = {0, 0, 0, 0}, far_depth = s_.clear_depth();
@@ -20,8 +23,40 @@ void TowardPass::execute(const FrameInputs&) {
   glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero4);
   if (s_.surface_normal.id()) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 1, zero4);
   glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &far_depth);
+  const std::size_t n = s_.n_patches, n_draws = (n + kPatchesPerDraw - 1) / kPatchesPerDraw;
+  if (!tess_.id() || s_.patch_capacity > capacity_) {
+    capacity_ = std::max<std::size_t>(s_.patch_capacity, 1);
+    tess_ = make_buffer(16 + 12 * capacity_, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    tess_draws_ = make_buffer(20 * ((capacity_ + kPatchesPerDraw - 1) / kPatchesPerDraw), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    flat_ = make_buffer(40 + 24 * capacity_, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  }
+  // The two lists' draw commands: no index yet, one instance, the first index of each list.
+  const GLuint zero = 0, commands[10] = {0, 1, 10, 0, 0, 0, 1, GLuint(10 + 3 * n), 0, 0};
+  glNamedBufferSubData(tess_.id(), 0, 4, &zero);
+  glClearNamedBufferData(tess_draws_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  glNamedBufferSubData(flat_.id(), 0, sizeof commands, commands);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_MESH_POSITIONS, s_.pos_buf.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_SURFACE_INDICES, s_.index_buf.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_AWAY_PATCHES, tess_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_AWAY_DRAWS, tess_draws_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_FLAT_PATCHES, flat_.id());
+  glUseProgram(split_prog_.id());
+  glProgramUniform1ui(split_prog_.id(), TR_LOC_PATCH_COUNT, GLuint(n));
+  glDispatchCompute(dispatch_groups_x(n), dispatch_groups_y(n), 1);
+  glMemoryBarrier(GL_ELEMENT_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   s_.depth_state();
-  s_.draw_surface(0);
+  s_.draw_patch_list(s_.surface_prog, 0, tess_, tess_draws_, n_draws);
+  glUseProgram(flat_prog_.id());
+  glProgramUniform1i(flat_prog_.id(), TR_LOC_SURFACE_MODE, 0);
+  glBindVertexArray(s_.vao.id());
+  glVertexArrayElementBuffer(s_.vao.id(), flat_.id());
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, flat_.id());
+  for (const int coarse : {0, 1}) {
+    glProgramUniform1f(flat_prog_.id(), TR_LOC_FLAT_COARSE, float(coarse));
+    glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(std::uintptr_t(20 * coarse)));
+  }
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  glVertexArrayElementBuffer(s_.vao.id(), s_.index_buf.id());
 }
 
 AwayPass::AwayPass(const SceneGpu& scene, bool enabled)

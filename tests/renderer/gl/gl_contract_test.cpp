@@ -34,7 +34,7 @@ const std::map<std::string, int> kStorageBlocks = {
     {"PelSmoothed", TR_SSBO_PEL_SMOOTHED},       {"CreaseSamples", TR_SSBO_CREASE_SAMPLES},
     {"TileRects", TR_SSBO_TILE_RECTS},           {"SurfaceIndices", TR_SSBO_SURFACE_INDICES},
     {"AwayPatches", TR_SSBO_AWAY_PATCHES},       {"AwayDraws", TR_SSBO_AWAY_DRAWS},
-    {"HachureField", TR_SSBO_HACHURE_FIELD}};
+    {"HachureField", TR_SSBO_HACHURE_FIELD},     {"FlatPatches", TR_SSBO_FLAT_PATCHES}};
 const std::map<std::string, int> kSamplers = {
     {"u_toward", TR_TEX_TOWARD_DEPTH},       {"u_away", TR_TEX_AWAY_DEPTH},
     {"u_surface_colour", TR_TEX_SURFACE_COLOUR}, {"u_crease", TR_TEX_CREASE_COLOUR},
@@ -49,6 +49,7 @@ const std::map<std::string, int> kImages = {{"u_opacity", TR_IMG_SILHOUETTE_OPAC
                                             {"u_away_tiles", TR_IMG_AWAY_TILES}};
 const std::map<std::string, int> kUniformLocations = {
     {"u_mode", TR_LOC_SURFACE_MODE},
+    {"u_flat_coarse", TR_LOC_FLAT_COARSE},
     {"u_layers", TR_LOC_LAYERS},
     {"u_background", TR_LOC_BACKGROUND},
     {"u_mask_colour", TR_LOC_MASK_COLOUR},
@@ -173,7 +174,7 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
     }
   }
   // The checks ran on the interfaces there are (a program could lose them silently).
-  EXPECT_EQ(computes, 13u);
+  EXPECT_EQ(computes, 14u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
   EXPECT_EQ(samplers, 30u);  // silhouette 2, away tiles 1, tile rects 2, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1, hachure field 2
