@@ -98,7 +98,7 @@ struct TerrainRenderer::Impl {
         visibility(stroke_visibility_rule(style, mesh)),
         scene(mesh, width, height, context.has_clip_control(), layers.hachures, !uses_lod(style, mesh, levels.get()),
               !drawn_vertices_only(style, mesh, levels.get(), layers)),
-        toward(scene),
+        toward(scene, style.flat_patches),
         away(scene, layers.silhouettes && !layers.adjacency),
         ids(scene, layers.adjacency, id_capacity(width, height)),
         creases(scene, creases, layers.creases, style.antialias),

@@ -1282,3 +1282,53 @@ TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
   for (const float d : depth) terrain += renderer::far_depth(nb.view.reversed_z, d) < 1.0f;
   EXPECT_GT(terrain, depth.size() / 4);
 }
+
+// TFT's flat patches (drawn as triangles without the tessellation stages) against every
+// patch tessellated (Style::flat_patches false): on a bumpy analytic surface seen obliquely
+// from near, so that near patches tessellate finer and far ones into their own triangle,
+// with levels of detail (coarse patches, which face by their geometry) and without, the
+// terrain covers the same pixels, its depth is the same to float rounding, its shading
+// within 1/255, and the silhouettes are the same, pixel for pixel.
+TEST(RendererGl, FlatPatchesDrawWhatTheTessellatorDraws) {
+  const terrain::GridMesh mesh = terrain::test::function_mesh(300, 271, 10.0, [](double x, double y) {
+    return 0.05 * x + 40 * std::sin(x / 90) * std::cos(y / 70) + 8 * std::sin(x / 23 + y / 31);
+  });
+  renderer::GlContext ctx;
+  const int w = 480, h = 360;
+  FrameParams near;
+  near.camera.eye = Vector3d(1350, 300, 500);
+  near.camera.view_az = 180;
+  near.camera.view_alt = 25;
+  for (const double lod : {0.0, 4.0}) {
+    renderer::Style style = test_style();
+    style.lod_error = lod;
+    renderer::Style tessellated = style;
+    tessellated.flat_patches = false;
+    const renderer::Layers layers{false, true, false, false};
+    TerrainRenderer a(ctx, mesh, nullptr, w, h, layers, style);
+    TerrainRenderer b(ctx, mesh, nullptr, w, h, layers, tessellated);
+    const auto ra = a.render(near), rb = b.render(near);
+    const auto fa = a.read_buffers(), fb = b.read_buffers();
+    EXPECT_EQ(ra.patches, rb.patches);
+    std::size_t coverage = 0, terrain = 0, silhouettes = 0;
+    float depth = 0;
+    int colour = 0;
+    for (std::size_t i = 0; i < fa.toward_depth.size(); ++i) {
+      const bool in_a = renderer::far_depth(ra.view.reversed_z, fa.toward_depth[i]) < 1.0f;
+      const bool in_b = renderer::far_depth(rb.view.reversed_z, fb.toward_depth[i]) < 1.0f;
+      coverage += in_a != in_b;
+      terrain += in_a;
+      if (in_a && in_b) depth = std::max(depth, std::abs(fa.toward_depth[i] - fb.toward_depth[i]));
+      for (int k = 0; k < 3; ++k)
+        colour = std::max(colour, std::abs(int(fa.surface_rgba[4 * i + std::size_t(k)]) -
+                                           int(fb.surface_rgba[4 * i + std::size_t(k)])));
+    }
+    for (std::size_t i = 0; i < fa.silhouette_opacity.size(); ++i)
+      silhouettes += fa.silhouette_opacity[i] != fb.silhouette_opacity[i];
+    EXPECT_EQ(coverage, 0u) << "lod " << lod;
+    EXPECT_GT(terrain, fa.toward_depth.size() / 3) << "lod " << lod;
+    EXPECT_LE(depth, 1e-6f) << "lod " << lod;
+    EXPECT_LE(colour, 1) << "lod " << lod;
+    EXPECT_EQ(silhouettes, 0u) << "lod " << lod;
+  }
+}

@@ -150,6 +150,10 @@ struct Style {
   double exaggeration = 1.0;                          // vertical exaggeration
   double crease_lift = -1;        // metres towards the eye, for the depth test only; < 0: 0.5 x mesh spacing
   double pixels_per_edge = 6.0;   // tessellation target: screen length of a triangle edge
+  // TFT draws the patches that tessellate into their own flat triangle (every edge within
+  // pixels_per_edge) as triangles, without the tessellation stages; false tessellates
+  // every patch (the test of the two ways against each other). Not an option.
+  bool flat_patches = true;
   // Levels of detail (renderer/lod.hpp): each block of patches is drawn at the coarsest
   // level whose error spans at most this many pixels; 0: every patch at full detail.
   double lod_error = 0.25;

@@ -127,16 +127,17 @@ class PassBase {
 };
 
 // TFT: surface colour and toward depth.
-// TFT: shaded colour and toward depth. The patches in view are split first
-// (surface_split.comp.glsl): those that tessellate into their own flat triangle are drawn
-// as triangles (surface_flat.vert.glsl), the others tessellated.
+// TFT: shaded colour and toward depth. With `flat_patches` the patches in view are split
+// first (surface_split.comp.glsl): those that tessellate into their own flat triangle are
+// drawn as triangles (surface_flat.vert.glsl), the others tessellated.
 class TowardPass : public PassBase {
  public:
-  explicit TowardPass(const SceneGpu& scene);
+  TowardPass(const SceneGpu& scene, bool flat_patches);
 
  private:
   void execute(const FrameInputs&) override;
   const SceneGpu& s_;
+  bool flat_patches_;
   GlObject fbo_;
   GlObject split_prog_, flat_prog_;
   GlObject tess_, tess_draws_, flat_;  // the tessellated patches and their draws; the flat ones

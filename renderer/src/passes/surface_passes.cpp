@@ -9,13 +9,16 @@
 
 namespace renderer::passes {
 
-TowardPass::TowardPass(const SceneGpu& scene)
+TowardPass::TowardPass(const SceneGpu& scene, bool flat_patches)
     : PassBase(TFT),
       s_(scene),
+      flat_patches_(flat_patches),
       fbo_(make_framebuffer(&scene.surface_colour, &scene.toward_depth,
-                            scene.surface_normal.id() ? &scene.surface_normal : nullptr)),
-      split_prog_(build_program(ProgramId::SurfaceSplit)),
-      flat_prog_(build_program(ProgramId::SurfaceFlat)) {}
+                            scene.surface_normal.id() ? &scene.surface_normal : nullptr)) {
+  if (!flat_patches_) return;
+  split_prog_ = build_program(ProgramId::SurfaceSplit);
+  flat_prog_ = build_program(ProgramId::SurfaceFlat);
+}
 
 void TowardPass::execute(const FrameInputs&) {
   const float zero4[4] = {0, 0, 0, 0}, far_depth = s_.clear_depth();
@@ -23,6 +26,11 @@ void TowardPass::execute(const FrameInputs&) {
   glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero4);
   if (s_.surface_normal.id()) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 1, zero4);
   glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &far_depth);
+  if (!flat_patches_) {
+    s_.depth_state();
+    s_.draw_surface(0);
+    return;
+  }
   const std::size_t n = s_.n_patches, n_draws = (n + kPatchesPerDraw - 1) / kPatchesPerDraw;
   if (!tess_.id() || s_.patch_capacity > capacity_) {
     capacity_ = std::max<std::size_t>(s_.patch_capacity, 1);
