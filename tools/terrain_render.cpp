@@ -29,6 +29,8 @@ int main(int argc, char** argv) {
       "  terrain-render frame out/msh_50m.ply -o edges.png --layers mask,edges --edges contour,crease --crease-angle 20\n"
       "  terrain-render frame out/msh_50m.ply out/msh.dv -o pen.svg --layers mask,hachures,creases,silhouettes\n"
       "  terrain-render frame out/msh_50m.ply out/msh.dv -o map.png --view top --map-scale 5   # a map: north up, 5 m a pixel, map.pgw\n"
+      "  terrain-render frame logan_2m.ply logan_2m.dv -o l.png --memory 1024   # over 1 GiB of vertices: read from\n"
+      "                                 # logan_2m.tpyr (dem2mesh --pyramid) at the level the view draws\n"
       "  terrain-render --device\n\n"
       "See docs/terrain-render.md for the passes, the crease score and the camera conventions.");
   app.set_version_flag("--version", tt::version());
