@@ -110,7 +110,7 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
   return s;
 }
 
-std::string focus_scene(Scene& s, const Camera& camera, int width, int height, const Style& style) {
+std::string focus_scene(Scene& s, const std::vector<Camera>& cameras, int width, int height, const Style& style) {
   if (!s.deferred) return {};
   const Scene::Deferred d = *s.deferred;
   s.deferred.reset();
@@ -122,14 +122,18 @@ std::string focus_scene(Scene& s, const Camera& camera, int width, int height, c
       s.mesh = {};  // the preview goes before the level is read
       return 0;
     }
-    LodHierarchy h = p.levels();  // the mesh's own levels, base 0
-    const View view = make_view(camera, Eigen::Vector3d(s.mesh.geo.origin_x, s.mesh.geo.origin_y, s.mesh.geo.origin_z),
-                                levels_box(h, style.exaggeration), width, height);
-    const std::vector<std::uint8_t> drawn = select_lod(h, view, style.exaggeration, style.lod_error);
-    const int needed = drawn.empty() ? 0 : int(*std::min_element(drawn.begin(), drawn.end()));
+    const LodHierarchy& h = p.levels();  // the mesh's own levels, base 0
+    const Eigen::Vector3d origin(s.mesh.geo.origin_x, s.mesh.geo.origin_y, s.mesh.geo.origin_z);
+    const Box box = levels_box(h, style.exaggeration);
+    int needed = p.level_count() - 1;
+    for (const Camera& camera : cameras) {
+      const std::vector<std::uint8_t> drawn =
+          select_lod(h, make_view(camera, origin, box, width, height), style.exaggeration, style.lod_error);
+      for (const std::uint8_t l : drawn) needed = std::min(needed, int(l));
+    }
     const int within = finest_within(p, d.vertex_bytes);
     const int l = std::max(needed, within);
-    note = fmt::format("the view draws level {} at its finest{}", needed,
+    note = fmt::format("{} level {} at its finest{}", cameras.size() > 1 ? "the views draw" : "the view draws", needed,
                        l > needed ? fmt::format("; level {} read, the finest within the memory bound", l) : "");
     s.mesh = {};  // the preview goes before the level is read
     return l;

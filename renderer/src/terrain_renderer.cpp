@@ -78,6 +78,14 @@ static bool uses_lod(const Style& style, const terrain::GridMesh& mesh, const Lo
   return style.lod_error > 0 && mesh.topo.rows > kLodBlock + 1 && mesh.topo.cols > kLodBlock + 1;
 }
 
+// The mesh's own spacing (metres): level 0's when a coarser level of it is held
+// (LodHierarchy::base), whose grid mesh's spacing is that level's.
+static Eigen::Vector2d fine_spacing(const terrain::GridMesh& mesh, const LodHierarchy* levels) {
+  if (!levels || levels->base == 0) return {mesh.geo.dx, mesh.geo.dy};
+  return {mesh.geo.dx * double(mesh.topo.cols - 1) / double(levels->topo.cols - 1),
+          mesh.geo.dy * double(mesh.topo.rows - 1) / double(levels->topo.rows - 1)};
+}
+
 // Without the PEL and edge layers, which read the whole mesh on the GPU, levels of detail
 // keep only the drawn vertices there (SceneGpu::set_lod_mesh).
 static bool drawn_vertices_only(const Style& style, const terrain::GridMesh& mesh, const LodHierarchy* levels,
@@ -93,7 +101,7 @@ struct TerrainRenderer::Impl {
         box(levels && levels->base > 0 ? levels_box(*levels, style.exaggeration)
                                        : exaggerated_box(mesh, style.exaggeration)),
         origin(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z),
-        cell(mesh.geo.dx, mesh.geo.dy),
+        cell(fine_spacing(mesh, levels.get())),
         lift(crease_lift(style, mesh)),
         visibility(stroke_visibility_rule(style, mesh)),
         scene(mesh, width, height, context.has_clip_control(), layers.hachures, !uses_lod(style, mesh, levels.get()),
@@ -107,7 +115,7 @@ struct TerrainRenderer::Impl {
         edges(scene, layers.edges, style),
         silhouettes(scene, layers.silhouettes, style.antialias ? style.silhouette_min_length * height : 0.0,
                     layers.adjacency ? &ids : nullptr,
-                    1e-3 * std::min(mesh.geo.dx, mesh.geo.dy),
+                    1e-3 * std::min(cell.x(), cell.y()),
                     Eigen::Vector4f(0, -float(double(mesh.topo.rows - 1) * mesh.geo.dy),
                                     float(double(mesh.topo.cols - 1) * mesh.geo.dx), 0)),
         composite(scene, layers, style, this->creases, pels, edges, silhouettes) {
@@ -129,7 +137,7 @@ struct TerrainRenderer::Impl {
   Style style;
   Box box;
   Eigen::Vector3d origin;
-  Eigen::Vector2d cell;  // the mesh's spacing, metres
+  Eigen::Vector2d cell;  // the mesh's spacing, metres (level 0's: fine_spacing)
   double lift = 0;
   StrokeVisibilityRule visibility;
   int max_level = 32;

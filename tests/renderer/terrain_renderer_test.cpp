@@ -1217,8 +1217,9 @@ TEST(RendererGl, LevelsOfDetailLeaveNoCrack) {
 // mesh wherever the view draws no block finer than that level: the same patches, depth and
 // silhouettes, pixel for pixel. The mesh (299 x 270 cells: partial blocks at the right and
 // bottom, whose last row and column the level grid keeps closer) is read back at level 2,
-// a sixteenth of its vertices; seen from straight above at a bound that draws every block
-// at level 2 or coarser. Seen obliquely from near, where the whole mesh draws finer
+// a sixteenth of its vertices; seen from straight above and obliquely from far, at a bound
+// that draws every block at level 2 or coarser (the coarse patches, which face by their
+// geometry, are found by the mesh's own spacing, not the held level's). Seen obliquely from near, where the whole mesh draws finer
 // blocks, the held level is drawn instead (fewer patches), and without a crack.
 TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
   const terrain::GridMesh mesh = terrain::test::function_mesh(300, 271, 10.0, [](double x, double y) {
@@ -1243,30 +1244,38 @@ TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
   const int w = 480, h = 360;
   renderer::Style style = test_style();
   style.lod_error = 16;
-  const renderer::Layers layers{false, true, false, false};
+  const renderer::Layers layers{false, true, false, true};  // the mask and the silhouettes
   TerrainRenderer a(ctx, whole->mesh, nullptr, w, h, layers, style, fine_levels);
   TerrainRenderer b(ctx, coarse->mesh, nullptr, w, h, layers, style, held_levels);
-  FrameParams top;
+  FrameParams top, far;
   top.camera.orthographic = true;
   top.camera.view_az = 0;
   top.camera.view_alt = 90;
-  const auto ra = a.render(top);
-  const auto levels = renderer::select_lod(*fine_levels, ra.view, style.exaggeration, style.lod_error);
-  ASSERT_GE(*std::min_element(levels.begin(), levels.end()), 2) << "the view draws a block finer than the held level";
-  const auto fa = a.read_buffers();
-  const auto rb = b.render(top);
-  const auto fb = b.read_buffers();
-  EXPECT_EQ(ra.patches, rb.patches);
-  std::size_t depth_differ = 0, silhouette_differ = 0, drawn = 0;
-  for (std::size_t i = 0; i < fa.toward_depth.size(); ++i) {
-    depth_differ += fa.toward_depth[i] != fb.toward_depth[i];
-    drawn += renderer::far_depth(ra.view.reversed_z, fa.toward_depth[i]) < 1.0f;
+  far.camera.eye = Vector3d(1350, 5000, 700);  // far to the north, looking south over the surface
+  far.camera.view_az = 180;
+  far.camera.view_alt = 8;
+  for (const FrameParams& fp : {top, far}) {
+    const auto ra = a.render(fp);
+    const auto levels = renderer::select_lod(*fine_levels, ra.view, style.exaggeration, style.lod_error);
+    ASSERT_GE(*std::min_element(levels.begin(), levels.end()), 2) << "the view draws a block finer than the held level";
+    const auto fa = a.read_buffers();
+    const auto rb = b.render(fp);
+    const auto fb = b.read_buffers();
+    EXPECT_EQ(ra.patches, rb.patches);
+    std::size_t depth_differ = 0, silhouette_differ = 0, silhouette = 0, drawn = 0;
+    for (std::size_t i = 0; i < fa.toward_depth.size(); ++i) {
+      depth_differ += fa.toward_depth[i] != fb.toward_depth[i];
+      drawn += renderer::far_depth(ra.view.reversed_z, fa.toward_depth[i]) < 1.0f;
+    }
+    for (std::size_t i = 0; i < fa.silhouette_opacity.size(); ++i) {
+      silhouette_differ += fa.silhouette_opacity[i] != fb.silhouette_opacity[i];
+      silhouette += fa.silhouette_opacity[i] > 0;
+    }
+    EXPECT_EQ(depth_differ, 0u) << fp.camera.view_alt;
+    EXPECT_EQ(silhouette_differ, 0u) << fp.camera.view_alt;
+    EXPECT_GT(drawn, fa.toward_depth.size() / 40) << fp.camera.view_alt;
+    if (!fp.camera.orthographic) EXPECT_GT(silhouette, 100u);  // the far view's ridges
   }
-  for (std::size_t i = 0; i < fa.silhouette_opacity.size(); ++i)
-    silhouette_differ += fa.silhouette_opacity[i] != fb.silhouette_opacity[i];
-  EXPECT_EQ(depth_differ, 0u);
-  EXPECT_EQ(silhouette_differ, 0u);
-  EXPECT_GT(drawn, fa.toward_depth.size() / 4);
 
   FrameParams near;
   near.camera.eye = Vector3d(1350, -200, 400);
@@ -1304,7 +1313,7 @@ TEST(RendererGl, FlatPatchesDrawWhatTheTessellatorDraws) {
     style.lod_error = lod;
     renderer::Style tessellated = style;
     tessellated.flat_patches = false;
-    const renderer::Layers layers{false, true, false, false};
+    const renderer::Layers layers{false, true, false, true};  // the mask and the silhouettes
     TerrainRenderer a(ctx, mesh, nullptr, w, h, layers, style);
     TerrainRenderer b(ctx, mesh, nullptr, w, h, layers, tessellated);
     const auto ra = a.render(near), rb = b.render(near);
@@ -1330,5 +1339,8 @@ TEST(RendererGl, FlatPatchesDrawWhatTheTessellatorDraws) {
     EXPECT_LE(depth, 1e-6f) << "lod " << lod;
     EXPECT_LE(colour, 1) << "lod " << lod;
     EXPECT_EQ(silhouettes, 0u) << "lod " << lod;
+    EXPECT_GT(std::count_if(fa.silhouette_opacity.begin(), fa.silhouette_opacity.end(), [](std::uint8_t o) { return o > 0; }),
+              100)
+        << "lod " << lod;
   }
 }

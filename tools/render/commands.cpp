@@ -98,12 +98,13 @@ void add_output_options(CLI::App* cmd, OutputArgs& o, bool batch) {
       ->check(CLI::IsMember({"none", "mask", "shaded"}));
   if (batch)
     cmd->add_option("--format", o.formats, "Files per frame, a comma list of png, svg, pdf")->capture_default_str();
-  else
-    cmd->add_option("--memory", o.memory_mib,
-                    "MiB the mesh's vertices may take: a larger mesh with a pyramid beside it (dem2mesh --pyramid) is "
-                    "read at the finest level the view draws, within this")
-        ->check(CLI::Range(0.001, 16777216.0))
-        ->capture_default_str();
+  cmd->add_option("--memory", o.memory_mib,
+                  batch ? "MiB the mesh's vertices may take: a larger mesh with a pyramid beside it (dem2mesh --pyramid) "
+                          "is read at the finest level any frame's view draws, within this"
+                        : "MiB the mesh's vertices may take: a larger mesh with a pyramid beside it (dem2mesh --pyramid) "
+                          "is read at the finest level the view draws, within this")
+      ->check(CLI::Range(0.001, 16777216.0))
+      ->capture_default_str();
 }
 
 // The write times at -v.
@@ -215,8 +216,16 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   terrain::check_output_path(dir / "timings.csv");
   tt::warn_stale_temporaries(verb, outputs);
   check_line_stats(a, s, dv_path);
-  const rr::Scene scene = scene_of(mesh_path, dv_path, s, verb);
+  rr::Scene scene = scene_of(mesh_path, dv_path, s, verb, std::uint64_t(o.memory_mib * 1048576.0));
   tt::step(verb, rr::resolve_settings(s, scene.mesh, [&](const std::string& n) { return a.was_given(n); }));
+  std::vector<rr::Camera> cameras;
+  for (const rr::FrameParams& fp : frames) cameras.push_back(fp.camera);
+  if (const std::string focus = rr::focus_scene(scene, cameras, s.width, s.height, rr::drawn_frame(s).style);
+      !focus.empty()) {
+    tt::step(verb, fmt::format("{}: {} x {} vertices, {:.2f} s", focus, scene.mesh.topo.cols, scene.mesh.topo.rows,
+                               scene.mesh_seconds));
+    report_creases(scene, dv_path, verb);
+  }
   for (std::size_t i = 0; i < frames.size(); ++i) {
     try {
       if (frames[i].camera.eye) rr::check_eye_above_terrain(scene.mesh, *frames[i].camera.eye, s.style.exaggeration);
