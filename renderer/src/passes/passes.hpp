@@ -130,6 +130,7 @@ class PassBase {
 // TFT: shaded colour and toward depth. With `flat_patches` the patches in view are split
 // first (surface_split.comp.glsl): those that tessellate into their own flat triangle are
 // drawn as triangles (surface_flat.vert.glsl), the others tessellated.
+inline constexpr std::size_t kMaxSplitPatches = std::size_t(4) << 20;  // TFT splits frames of at most 4 M patches
 class TowardPass : public PassBase {
  public:
   TowardPass(const SceneGpu& scene, bool flat_patches);

@@ -26,7 +26,10 @@ void TowardPass::execute(const FrameInputs&) {
   glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero4);
   if (s_.surface_normal.id()) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 1, zero4);
   glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &far_depth);
-  if (!flat_patches_) {
+  // The lists take 36 bytes a patch: a frame of more patches than kMaxSplitPatches (a large
+  // mesh drawn whole, --lod-error 0) tessellates them all, as without the split, rather
+  // than hold a gigabyte of lists (Logan 10 m whole: 28.6 M patches).
+  if (!flat_patches_ || s_.n_patches > kMaxSplitPatches) {
     s_.depth_state();
     s_.draw_surface(0);
     return;
