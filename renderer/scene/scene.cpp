@@ -82,31 +82,29 @@ bool read_level(Scene& s, const std::string& mesh_path, const std::function<int(
 
 Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const CreaseRules& rules,
                  std::uint64_t vertex_bytes) {
-  auto t0 = Clock::now();
+  const auto t0 = Clock::now();
   Scene s;
-  bool preview = false;
-  if (vertex_bytes > 0)
-    preview = read_level(s, mesh_path, [&](const terrain::MeshPyramid& p) {
-      return level_bytes(p, 0) > vertex_bytes ? finest_within(p, vertex_bytes / 4) : 0;
-    });
-  if (!preview || s.mesh_level == 0) {
-    if (!preview) {
-      LodHierarchy levels;
-      s.mesh = terrain::read_terrain_mesh(mesh_path, &s.mesh_source, &levels);
-      if (!levels.blocks.empty()) s.levels = std::make_shared<const LodHierarchy>(std::move(levels));
-      if (vertex_bytes > 0 && s.mesh.n_vertices() * kVertexBytes > vertex_bytes)
-        s.warnings.push_back(fmt::format("'{}': its vertices take {:.1f} MB, more than the memory bound ({:.1f} MB), "
-                                         "and no current pyramid is beside it ({}): read whole; dem2mesh --pyramid "
-                                         "makes one",
-                                         mesh_path, double(s.mesh.n_vertices() * kVertexBytes) / 1e6,
-                                         double(vertex_bytes) / 1e6, s.mesh_source));
-    }
-    s.mesh_seconds = since(t0);
-    if (!dv_path.empty()) build_creases(s, dv_path, rules);
+  const bool from_pyramid = vertex_bytes > 0 && read_level(s, mesh_path, [&](const terrain::MeshPyramid& p) {
+    return level_bytes(p, 0) > vertex_bytes ? finest_within(p, vertex_bytes / 4) : 0;
+  });
+  s.mesh_seconds = since(t0);
+  if (s.mesh_level > 0) {  // a preview: the creases wait for focus_scene
+    s.deferred = Scene::Deferred{mesh_path, dv_path, rules, vertex_bytes};
     return s;
   }
-  s.mesh_seconds = since(t0);
-  s.deferred = Scene::Deferred{mesh_path, dv_path, rules, vertex_bytes};
+  if (!from_pyramid) {
+    LodHierarchy levels;
+    s.mesh = terrain::read_terrain_mesh(mesh_path, &s.mesh_source, &levels);
+    if (!levels.blocks.empty()) s.levels = std::make_shared<const LodHierarchy>(std::move(levels));
+    s.mesh_seconds = since(t0);
+    if (vertex_bytes > 0 && s.mesh.n_vertices() * kVertexBytes > vertex_bytes)
+      s.warnings.push_back(fmt::format("'{}': its vertices take {:.1f} MB, more than the memory bound ({:.1f} MB), "
+                                       "and no current pyramid is beside it ({}): read whole; dem2mesh --pyramid "
+                                       "makes one",
+                                       mesh_path, double(s.mesh.n_vertices() * kVertexBytes) / 1e6,
+                                       double(vertex_bytes) / 1e6, s.mesh_source));
+  }
+  if (!dv_path.empty()) build_creases(s, dv_path, rules);
   return s;
 }
 

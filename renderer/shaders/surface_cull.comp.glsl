@@ -3,18 +3,13 @@
 // control stage that culls them on one). A patch is left out only where surface.tesc.glsl
 // would cull it too, with a margin for rounding: all its control points beyond one side
 // of the view or behind the eye, or every product n_j . (eye - b_k) clearly positive (it
-// faces the eye everywhere). The listed patches' indices follow a counter (4 uints) in
-// AwayPatches; draw d of AwayDraws (5 uints: count, instances, first index, base vertex,
-// base instance) holds listed patches 64 d .. 64 d + 63 (llvmpipe drops patches from a
-// draw that tessellates into more than 65536 triangles; kPatchesPerDraw). The control points
+// faces the eye everywhere). They are listed as patch_list.glsl lists them. The control points
 // are assembled here as surface.tesc.glsl assembles them, not through a shared function:
 // moved into one, the control stage's surface changed by 1/255 at a few pixels a frame.
 layout(local_size_x = TR_LOCAL_SIZE) in;
 layout(std430, binding = TR_SSBO_MESH_POSITIONS) readonly buffer MeshPositions { float pos[]; };
 layout(std430, binding = TR_SSBO_MESH_NORMALS) readonly buffer MeshNormals { float nrm[]; };
 layout(std430, binding = TR_SSBO_SURFACE_INDICES) readonly buffer SurfaceIndices { uint tri[]; };
-layout(std430, binding = TR_SSBO_AWAY_PATCHES) buffer AwayPatches { uint away_tri[]; };
-layout(std430, binding = TR_SSBO_AWAY_DRAWS) buffer AwayDraws { uint away_draw[]; };
 layout(location = TR_LOC_PATCH_COUNT) uniform uint u_patches;
 vec3 mesh_pos(uint v) { return vec3(pos[3u * v], pos[3u * v + 1u], pos[3u * v + 2u]); }
 vec3 mesh_nrm(uint v) { return vec3(nrm[3u * v], nrm[3u * v + 1u], nrm[3u * v + 2u]); }
@@ -60,10 +55,5 @@ void main() {
     }
     keep = !(any(all_out) || all_behind || all_toward);
   }
-  if (!keep) return;
-  uint slot = atomicAdd(away_tri[0], 1u), d = slot / TR_PATCHES_PER_DRAW;
-  away_tri[4u + 3u * slot] = v1, away_tri[5u + 3u * slot] = v2, away_tri[6u + 3u * slot] = v3;
-  atomicAdd(away_draw[5u * d], 3u);
-  away_draw[5u * d + 1u] = 1u;
-  away_draw[5u * d + 2u] = 4u + 3u * TR_PATCHES_PER_DRAW * d;
+  if (keep) list_patch(v1, v2, v3);
 }

@@ -4,8 +4,8 @@
 // edge and the inside one segment) tessellates into its own flat triangle, the corners
 // (gl_TessCoord (1, 0, 0) ...: the PN patch's corner points and normals): it is listed in
 // FlatPatches and drawn as that triangle, without the tessellation stages (which llvmpipe
-// runs on one thread, about 1 us a patch whatever its level). Every other patch is listed in
-// AwayPatches / AwayDraws, as surface_cull.comp.glsl lists AFT's, and tessellated; the
+// runs on one thread, about 1 us a patch whatever its level). Every other patch is listed
+// (patch_list.glsl, as surface_cull.comp.glsl lists AFT's) and tessellated; the
 // control stage culls those as before. A flat patch entirely beyond one side of the view is
 // left out (its triangle would draw nothing); one facing away is drawn and its fragments
 // discarded, as the control stage's facing cull would have dropped them. FlatPatches: two
@@ -15,8 +15,6 @@
 layout(local_size_x = TR_LOCAL_SIZE) in;
 layout(std430, binding = TR_SSBO_MESH_POSITIONS) readonly buffer MeshPositions { float pos[]; };
 layout(std430, binding = TR_SSBO_SURFACE_INDICES) readonly buffer SurfaceIndices { uint tri[]; };
-layout(std430, binding = TR_SSBO_AWAY_PATCHES) buffer AwayPatches { uint away_tri[]; };
-layout(std430, binding = TR_SSBO_AWAY_DRAWS) buffer AwayDraws { uint away_draw[]; };
 layout(std430, binding = TR_SSBO_FLAT_PATCHES) buffer FlatPatches { uint flat_tri[]; };
 layout(location = TR_LOC_PATCH_COUNT) uniform uint u_patches;
 vec3 mesh_pos(uint v) { return vec3(pos[3u * v], pos[3u * v + 1u], pos[3u * v + 2u]); }
@@ -33,11 +31,7 @@ void main() {
   vec3 p3 = exaggerate_position(mesh_pos(v3));
   vec4 c1 = u_view_proj * vec4(p1, 1.0), c2 = u_view_proj * vec4(p2, 1.0), c3 = u_view_proj * vec4(p3, 1.0);
   if (tess_override() > 0.0 || !(one_segment(c2, c3) && one_segment(c3, c1) && one_segment(c1, c2))) {
-    uint slot = atomicAdd(away_tri[0], 1u), d = slot / TR_PATCHES_PER_DRAW;
-    away_tri[4u + 3u * slot] = v1, away_tri[5u + 3u * slot] = v2, away_tri[6u + 3u * slot] = v3;
-    atomicAdd(away_draw[5u * d], 3u);
-    away_draw[5u * d + 1u] = 1u;
-    away_draw[5u * d + 2u] = 4u + 3u * TR_PATCHES_PER_DRAW * d;
+    list_patch(v1, v2, v3);
     return;
   }
   if ((c1.x < -c1.w && c2.x < -c2.w && c3.x < -c3.w) || (c1.x > c1.w && c2.x > c2.w && c3.x > c3.w) ||

@@ -43,6 +43,17 @@ void report_creases(const rr::Scene& scene, const std::string& dv, const tt::Ver
                             scene.creases->positions.size(), scene.creases->n_segments(), scene.creases_seconds));
 }
 
+// A scene read at a coarser level (--memory) read again at the level `cameras`' views draw,
+// with its creases; reported at -v. Nothing for a scene read whole.
+void focus(rr::Scene& scene, const std::vector<rr::Camera>& cameras, const rr::RenderSettings& s, const rr::Style& style,
+           const std::string& dv, const tt::Verbosity& v) {
+  const std::string note = rr::focus_scene(scene, cameras, s.width, s.height, style);
+  if (note.empty()) return;
+  tt::step(v, fmt::format("{}: {} x {} vertices, {:.2f} s", note, scene.mesh.topo.cols, scene.mesh.topo.rows,
+                          scene.mesh_seconds));
+  report_creases(scene, dv, v);
+}
+
 // `vertex_bytes`: load_scene's bound on the mesh's vertices (0: none).
 rr::Scene scene_of(const std::string& mesh, const std::string& dv, const rr::RenderSettings& s, const tt::Verbosity& v,
                    std::uint64_t vertex_bytes = 0) {
@@ -129,11 +140,7 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   const rr::ResolvedFrame f = rr::resolve_frame(s, scene.mesh, given);
   if (!f.description.empty()) tt::step(verb, f.description);
   const rr::FrameParams& fp = f.frame;
-  if (const std::string focus = rr::focus_scene(scene, fp.camera, s.width, s.height, f.style); !focus.empty()) {
-    tt::step(verb, fmt::format("{}: {} x {} vertices, {:.2f} s", focus, scene.mesh.topo.cols, scene.mesh.topo.rows,
-                               scene.mesh_seconds));
-    report_creases(scene, dv, verb);
-  }
+  focus(scene, {fp.camera}, s, f.style, dv, verb);
   auto t0 = Clock::now();
   rr::GlContext ctx;
   if (rr::is_vector_path(out)) rr::check_vector_memory(ctx, s.width, s.height);
@@ -220,12 +227,7 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   tt::step(verb, rr::resolve_settings(s, scene.mesh, [&](const std::string& n) { return a.was_given(n); }));
   std::vector<rr::Camera> cameras;
   for (const rr::FrameParams& fp : frames) cameras.push_back(fp.camera);
-  if (const std::string focus = rr::focus_scene(scene, cameras, s.width, s.height, rr::drawn_frame(s).style);
-      !focus.empty()) {
-    tt::step(verb, fmt::format("{}: {} x {} vertices, {:.2f} s", focus, scene.mesh.topo.cols, scene.mesh.topo.rows,
-                               scene.mesh_seconds));
-    report_creases(scene, dv_path, verb);
-  }
+  focus(scene, cameras, s, rr::drawn_frame(s).style, dv_path, verb);
   for (std::size_t i = 0; i < frames.size(); ++i) {
     try {
       if (frames[i].camera.eye) rr::check_eye_above_terrain(scene.mesh, *frames[i].camera.eye, s.style.exaggeration);

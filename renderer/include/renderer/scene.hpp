@@ -61,9 +61,6 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
 // every level with --lod-error 0), and builds the creases on it. Returns a line for -v.
 // With several cameras (a batch's frames), the finest level any of their views draws.
 std::string focus_scene(Scene& scene, const std::vector<Camera>& cameras, int width, int height, const Style& style);
-inline std::string focus_scene(Scene& scene, const Camera& camera, int width, int height, const Style& style) {
-  return focus_scene(scene, std::vector<Camera>{camera}, width, height, style);
-}
 
 // The scene's levels of detail for `style`: none without levels of detail
 // (Style::lod_error 0), else Scene::levels, made here once when the mesh brought none.

@@ -126,7 +126,17 @@ class PassBase {
   GlObject query_;
 };
 
-// TFT: surface colour and toward depth.
+// A list of patches that a compute pass writes (patch_list.glsl) and draw_patch_list
+// draws: a counter and the patches' indices, and draws of kPatchesPerDraw patches each.
+struct PatchList {
+  GlObject indices, draws;
+  std::size_t capacity = 0;  // patches they hold; they grow with the scene's
+  // Room for the scene's patches, the list emptied, bound where patch_list.glsl writes.
+  void reset(const SceneGpu& scene);
+  // Draws the listed patches with `program` in `mode` (after the compute pass's barrier).
+  void draw(const SceneGpu& scene, const GlObject& program, int mode) const;
+};
+
 // TFT: shaded colour and toward depth. With `flat_patches` the patches in view are split
 // first (surface_split.comp.glsl): those that tessellate into their own flat triangle are
 // drawn as triangles (surface_flat.vert.glsl), the others tessellated.
@@ -141,8 +151,9 @@ class TowardPass : public PassBase {
   bool flat_patches_;
   GlObject fbo_;
   GlObject split_prog_, flat_prog_;
-  GlObject tess_, tess_draws_, flat_;  // the tessellated patches and their draws; the flat ones
-  std::size_t capacity_ = 0;
+  PatchList tess_;  // the patches tessellated
+  GlObject flat_;   // the flat ones (surface_split.comp.glsl's FlatPatches)
+  std::size_t flat_capacity_ = 0;
 };
 
 // AFT: away depth (only when silhouettes are drawn; cleared always).
@@ -155,10 +166,8 @@ class AwayPass : public PassBase {
   const SceneGpu& s_;
   bool enabled_;
   GlObject fbo_;
-  // The patches that may face away in view (surface_cull.comp.glsl): their indices after a
-  // counter, and the draws of 64 of them each.
-  GlObject cull_prog_, patches_, draws_;
-  std::size_t capacity_ = 0;  // patches that patches_ and draws_ hold; they grow with the scene's
+  GlObject cull_prog_;
+  PatchList patches_;  // the patches that may face away in view (surface_cull.comp.glsl)
 };
 
 // DM: crease vertices scored, segments selected (indirect draw), drawn as quads.

@@ -9,6 +9,23 @@
 
 namespace renderer::passes {
 
+void PatchList::reset(const SceneGpu& s) {
+  if (!indices.id() || s.patch_capacity > capacity) {
+    capacity = std::max<std::size_t>(s.patch_capacity, 1);
+    indices = make_buffer(16 + 12 * capacity, nullptr, GL_DYNAMIC_STORAGE_BIT);
+    draws = make_buffer(20 * ((capacity + kPatchesPerDraw - 1) / kPatchesPerDraw), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  }
+  const GLuint zero = 0;
+  glNamedBufferSubData(indices.id(), 0, 4, &zero);
+  glClearNamedBufferData(draws.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_AWAY_PATCHES, indices.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_AWAY_DRAWS, draws.id());
+}
+
+void PatchList::draw(const SceneGpu& s, const GlObject& program, int mode) const {
+  s.draw_patch_list(program, mode, indices, draws, (s.n_patches + kPatchesPerDraw - 1) / kPatchesPerDraw);
+}
+
 TowardPass::TowardPass(const SceneGpu& scene, bool flat_patches)
     : PassBase(TFT),
       s_(scene),
@@ -34,29 +51,24 @@ void TowardPass::execute(const FrameInputs&) {
     s_.draw_surface(0);
     return;
   }
-  const std::size_t n = s_.n_patches, n_draws = (n + kPatchesPerDraw - 1) / kPatchesPerDraw;
-  if (!tess_.id() || s_.patch_capacity > capacity_) {
-    capacity_ = std::max<std::size_t>(s_.patch_capacity, 1);
-    tess_ = make_buffer(16 + 12 * capacity_, nullptr, GL_DYNAMIC_STORAGE_BIT);
-    tess_draws_ = make_buffer(20 * ((capacity_ + kPatchesPerDraw - 1) / kPatchesPerDraw), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    flat_ = make_buffer(40 + 24 * capacity_, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  const std::size_t n = s_.n_patches;
+  tess_.reset(s_);
+  if (!flat_.id() || s_.patch_capacity > flat_capacity_) {
+    flat_capacity_ = std::max<std::size_t>(s_.patch_capacity, 1);
+    flat_ = make_buffer(40 + 24 * flat_capacity_, nullptr, GL_DYNAMIC_STORAGE_BIT);
   }
   // The two lists' draw commands: no index yet, one instance, the first index of each list.
-  const GLuint zero = 0, commands[10] = {0, 1, 10, 0, 0, 0, 1, GLuint(10 + 3 * n), 0, 0};
-  glNamedBufferSubData(tess_.id(), 0, 4, &zero);
-  glClearNamedBufferData(tess_draws_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  const GLuint commands[10] = {0, 1, 10, 0, 0, 0, 1, GLuint(10 + 3 * n), 0, 0};
   glNamedBufferSubData(flat_.id(), 0, sizeof commands, commands);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_MESH_POSITIONS, s_.pos_buf.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_SURFACE_INDICES, s_.index_buf.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_AWAY_PATCHES, tess_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_AWAY_DRAWS, tess_draws_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_FLAT_PATCHES, flat_.id());
   glUseProgram(split_prog_.id());
   glProgramUniform1ui(split_prog_.id(), TR_LOC_PATCH_COUNT, GLuint(n));
   glDispatchCompute(dispatch_groups_x(n), dispatch_groups_y(n), 1);
   glMemoryBarrier(GL_ELEMENT_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   s_.depth_state();
-  s_.draw_patch_list(s_.surface_prog, 0, tess_, tess_draws_, n_draws);
+  tess_.draw(s_, s_.surface_prog, 0);
   glUseProgram(flat_prog_.id());
   glProgramUniform1i(flat_prog_.id(), TR_LOC_SURFACE_MODE, 0);
   glBindVertexArray(s_.vao.id());
@@ -83,27 +95,17 @@ void AwayPass::execute(const FrameInputs&) {
   if (!enabled_) return;
   // The patches that may face away in view (all threads), then only those drawn: the
   // tessellation control stage that culls the others runs on one thread in llvmpipe.
-  const std::size_t n = s_.n_patches, n_draws = (n + kPatchesPerDraw - 1) / kPatchesPerDraw;
-  if (!patches_.id() || s_.patch_capacity > capacity_) {
-    capacity_ = s_.patch_capacity;
-    patches_ = make_buffer(16 + 12 * std::max<std::size_t>(capacity_, 1), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    draws_ = make_buffer(20 * std::max<std::size_t>((capacity_ + kPatchesPerDraw - 1) / kPatchesPerDraw, 1), nullptr,
-                         GL_DYNAMIC_STORAGE_BIT);
-  }
-  const GLuint zero = 0;
-  glNamedBufferSubData(patches_.id(), 0, 4, &zero);
-  glClearNamedBufferData(draws_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  const std::size_t n = s_.n_patches;
+  patches_.reset(s_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_MESH_POSITIONS, s_.pos_buf.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_MESH_NORMALS, s_.nrm_buf.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_SURFACE_INDICES, s_.index_buf.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_AWAY_PATCHES, patches_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_AWAY_DRAWS, draws_.id());
   glUseProgram(cull_prog_.id());
   glProgramUniform1ui(cull_prog_.id(), TR_LOC_PATCH_COUNT, GLuint(n));
   glDispatchCompute(dispatch_groups_x(n), dispatch_groups_y(n), 1);
   glMemoryBarrier(GL_ELEMENT_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   s_.depth_state();
-  s_.draw_patch_list(s_.surface_prog, 1, patches_, draws_, n_draws);
+  patches_.draw(s_, s_.surface_prog, 1);
 }
 
 }  // namespace renderer::passes
