@@ -45,6 +45,12 @@ void build_creases(Scene& s, const std::string& dv_path, const CreaseRules& rule
   if (!w.empty()) s.warnings.push_back("'" + dv_path + "': " + w);
   s.traits = segment_traits(s.mesh, links, *s.creases);
   s.chains = segment_chains(*s.creases);
+  s.merged_creases.clear();
+  for (CreaseLevel& l : coarser_crease_levels(*s.creases)) {
+    SegmentTraits traits = merged_traits(s.traits, l);
+    SegmentChains chains = segment_chains(l.geometry);
+    s.merged_creases.push_back({std::move(l), std::move(traits), std::move(chains)});
+  }
   s.creases_seconds = since(t0);
 }
 
@@ -149,23 +155,33 @@ std::shared_ptr<const LodHierarchy> scene_levels(Scene& scene, const Style& styl
   return scene.levels;
 }
 
+SceneCreases frame_creases(const Scene& scene, const FrameResult& res) {
+  if (!scene.creases) throw terrain::Error("internal: a frame's creases asked of a scene without them");
+  if (res.crease_level == 0) return {*scene.creases, scene.traits, scene.chains};
+  if (std::size_t(res.crease_level) > scene.merged_creases.size())
+    throw terrain::Error("internal: a frame drawn at a crease level the scene does not hold");
+  const Scene::MergedCreases& m = scene.merged_creases[std::size_t(res.crease_level - 1)];
+  return {m.level.geometry, m.traits, m.chains};
+}
+
 std::vector<float> frame_opacity(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                                  const FrameParams& fp, const Style& style) {
   const CreaseScoreParams score = resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.viewpoint());
   const double fade = style.antialias ? style.crease_fade : 0.0;
-  return segment_opacity(*scene.creases, res.view.viewpoint(), terrain::light_direction(fp.light.azimuth, fp.light.altitude),
-                         style.exaggeration, score, fade,
+  return segment_opacity(frame_creases(scene, res).geometry, res.view.viewpoint(),
+                         terrain::light_direction(fp.light.azimuth, fp.light.altitude), style.exaggeration, score, fade,
                          stroke_rule(style, page_scale(res.view, r.box())));
 }
 
 FrameLines frame_lines(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                        const FrameBuffers& buffers, const FrameParams& fp, const Style& style) {
   const double exaggeration = style.exaggeration;
-  const CreaseGeometry& g = *scene.creases;
+  const SceneCreases c = frame_creases(scene, res);
+  const CreaseGeometry& g = c.geometry;
   FrameLines lines{frame_opacity(scene, r, res, fp, style), {}};
   const double lift = crease_lift(style, scene.mesh);
   if (style.antialias) {
-    lines.pixels = shown_pixels(stroke_visibility(g, scene.chains, lines.drawn, res.view, exaggeration, lift,
+    lines.pixels = shown_pixels(stroke_visibility(g, c.chains, lines.drawn, res.view, exaggeration, lift,
                                                   buffers.toward_depth, stroke_visibility_rule(style, scene.mesh)));
     return lines;
   }
@@ -200,13 +216,14 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
     art.layers.push_back(std::move(l));
   }
   if (layers.creases && scene.creases) {
+    const SceneCreases c = frame_creases(scene, res);
     const std::vector<float> drawn = frame_opacity(scene, r, res, fp, style);
     std::vector<SegmentSamples> samples = r.read_crease_samples();
     if (samples.empty())  // pixel-exact lines: the CPU reference of the anti-aliased test
-      samples = stroke_visibility(*scene.creases, scene.chains, drawn, res.view, e, lift, buffers.toward_depth,
+      samples = stroke_visibility(c.geometry, c.chains, drawn, res.view, e, lift, buffers.toward_depth,
                                   stroke_visibility_rule(style, scene.mesh));
     VectorLayer l{"creases", style.crease_colour, LineCap::Round, {}, 0};
-    l.paths = crease_paths(*scene.creases, drawn, samples, res.view, e, style.crease_width, style.crease_width_max,
+    l.paths = crease_paths(c.geometry, drawn, samples, res.view, e, style.crease_width, style.crease_width_max,
                            &l.strokes);
     art.layers.push_back(std::move(l));
   }
@@ -308,9 +325,10 @@ FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const 
   const FrameBuffers buffers = r.read_buffers();
   FrameStats st;
   st.lines = frame_lines(scene, r, res, buffers, fp, style);
-  st.creases = line_stats(*scene.creases, scene.traits, st.lines.drawn, st.lines.pixels);
-  st.creases.connected = connected_share(*scene.creases, scene.traits, st.lines.drawn,
-                                         segment_pixels(*scene.creases, res.view, style.exaggeration));
+  const SceneCreases c = frame_creases(scene, res);
+  st.creases = line_stats(c.geometry, c.traits, st.lines.drawn, st.lines.pixels);
+  st.creases.connected = connected_share(c.geometry, c.traits, st.lines.drawn,
+                                         segment_pixels(c.geometry, res.view, style.exaggeration));
   if (layers.silhouettes) st.silhouettes = silhouette_stats(buffers.silhouette_opacity, res.width, res.height);
   if (layers.hachures) {  // as write_frame_files traced them, or traced here (deterministic)
     std::optional<TracedHachures> own;

@@ -109,7 +109,7 @@ struct TerrainRenderer::Impl {
         toward(scene, style.flat_patches),
         away(scene, layers.silhouettes && !layers.adjacency),
         ids(scene, layers.adjacency, id_capacity(width, height)),
-        creases(scene, creases, layers.creases, style.antialias),
+        creases(scene, creases, layers.creases, style.antialias, layers.creases && style.lod_error > 0),
         pels(scene, mesh, layers.pels, style.pel_width, style.antialias,
              style.pel_min_length * std::min(mesh.geo.dx, mesh.geo.dy), style.pel_smooth),
         edges(scene, layers.edges, style),
@@ -265,6 +265,11 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
     }
   }
   res.patches = m.scene.n_patches;
+  if (!m.creases.level_errors().empty())
+    m.creases.set_level(select_crease_level(m.creases.level_errors(),
+                                            nearest_pixel_metres(m.lod.get(), m.box, res.view, m.style.exaggeration),
+                                            kCreaseErrorPerLod * m.style.lod_error));
+  res.crease_level = m.creases.level();
   const Eigen::Vector3d light = terrain::light_direction(frame.light.azimuth, frame.light.altitude);
   const FrameBlock fb = m.frame_block(frame, res.view, light);
   glNamedBufferSubData(m.scene.ubo.id(), 0, sizeof fb, &fb);

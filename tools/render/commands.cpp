@@ -70,6 +70,14 @@ void check_line_stats(const TableArgs& a, const rr::RenderSettings& s, const std
     throw CLI::ValidationError("--line-stats", "measures creases: give a .dv and keep the creases layer");
 }
 
+// " (of ..., merged: one vertex in 4 along their runs, ...)" for a frame drawn at a coarser crease level.
+std::string crease_level_text(const rr::Scene& scene, const rr::FrameResult& res) {
+  if (res.crease_level == 0 || std::size_t(res.crease_level) > scene.merged_creases.size()) return "";
+  const rr::CreaseLevel& l = scene.merged_creases[std::size_t(res.crease_level - 1)].level;
+  return fmt::format(" (of {}, merged: one vertex in {} along their runs, within {:.1f} m)", l.geometry.n_segments(),
+                     l.step, l.error_metres);
+}
+
 void print_device(const rr::GlContext& ctx) {
   std::cout << "renderer: " << ctx.info().renderer << " (" << ctx.info().platform << ", OpenGL " << ctx.info().version
             << ")\n";
@@ -163,7 +171,7 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
                                   fp.camera.view_alt, res.view.map_scale)
                     : fmt::format("view: az {:g} alt {:g} fov {:g}\n", fp.camera.view_az, fp.camera.view_alt, fp.camera.fov))
             << fmt::format("light: az {:g} alt {:g}\n", fp.light.azimuth, fp.light.altitude) << exaggeration << "\n"
-            << "crease segments drawn: " << res.crease_segments << "\n"
+            << "crease segments drawn: " << res.crease_segments << crease_level_text(scene, res) << "\n"
             << "pel segments drawn: " << res.pel_segments << "\n"
             << "edges drawn: " << res.edges << "\n"
             << "surface patches drawn: " << res.patches << " of " << scene.mesh.n_faces() << "\n";

@@ -224,6 +224,37 @@ std::vector<double> segment_metres(const CreaseGeometry& g);
 std::vector<float> segment_opacity(const CreaseGeometry& g, const Viewpoint& viewer, const Eigen::Vector3d& light,
                                    double exaggeration, const CreaseScoreParams& params, double fade,
                                    const StrokeRule& rule = {});
+// Levels of detail for the creases (issue 52; docs/terrain-render.md, "Levels of detail"):
+// a network sampled at 10 m drawn at 40 m a pixel has segments of a third of a pixel, and
+// DM's cost follows them. A level merges the segments of each run (a path between its
+// breaks: channel heads, junctions, outlets, where a vertex has not exactly one segment in
+// and one out) into segments of `step` of them (the run's last one shorter): it keeps the
+// breaks and every step-th vertex along each run, with their own positions, normals, flow
+// and areas, so every segment lies on the fine line's vertices and the strokes start, join
+// and end where the fine ones do. Segments in the order of the fine segment they begin with.
+struct CreaseLevel {
+  CreaseGeometry geometry;
+  std::vector<std::uint32_t> first, last;  // #S the fine segments each one begins and ends with
+  // Its error: the largest distance (metres, local frame) of a dropped vertex from the
+  // segment that replaces it.
+  double error_metres = 0;
+  int step = 1;
+};
+CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step);
+// The levels a renderer holds: steps 2, 4, 8, ... up to kMaxCreaseStep, while a level has at
+// most kCreaseLevelShrink of the previous level's segments (networks of short runs stop early).
+inline constexpr int kMaxCreaseStep = 32;
+inline constexpr double kCreaseLevelShrink = 0.75;
+std::vector<CreaseLevel> coarser_crease_levels(const CreaseGeometry& g);
+// The level a frame draws: the coarsest (1 + its index in `error_metres`, the coarser
+// levels' CreaseLevel::error_metres; 0 the fine creases) whose error spans at most bound_px
+// pixels of `pixel_metres` (the pixel's size at the nearest surface in view; 0 or less: the
+// fine creases).
+int select_crease_level(const std::vector<double>& error_metres, double pixel_metres, double bound_px);
+// The renderer's bound: kCreaseErrorPerLod x Style::lod_error pixels, half a pixel at the
+// default 0.25: a line within half a pixel of the fine one, half a 1 px line's width.
+inline constexpr double kCreaseErrorPerLod = 2.0;
+
 // How many (accepted_segments).
 std::size_t count_accepted_segments(const CreaseGeometry& g, const Viewpoint& viewer, const Eigen::Vector3d& light,
                                     double exaggeration, const CreaseScoreParams& params);

@@ -52,6 +52,11 @@ inline constexpr double kClosedBasinShare = 0.01;
 SegmentTraits segment_traits(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
                              const CreaseGeometry& g, int margin = 3);
 
+// The traits of a level of merged creases (merge_crease_runs) from its fine segments':
+// boundary, flat and valley those of the first fine segment it replaces, open_end that of
+// its last (where the line ends).
+SegmentTraits merged_traits(const SegmentTraits& fine, const CreaseLevel& level);
+
 // Screen length in pixels of each segment in `view` as the DM pass draws it (heights
 // scaled by `exaggeration`; drawn where its ends lie on the surface, the lift moves only
 // their depth), clipped to the image; 0 where an end lies behind the near plane. #S.

@@ -37,6 +37,16 @@ inline LodHierarchy build_lod(const terrain::GridMesh& mesh, std::size_t block =
 // coarser than the block's coarsest.
 std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double exaggeration, double bound_px);
 
+// The nearest depth of `box` along the line of sight of `view`: infinity when it is out of
+// view or behind the eye, 0 when it reaches the eye (perspective).
+double nearest_depth(const Box& box, const View& view);
+
+// The metres a pixel spans at the nearest surface in view: at the nearest block of `h` in
+// view (heights times `exaggeration`), or of `box` without levels (h null); 0 when the
+// surface reaches the eye or none is in view. What the creases' level is chosen by
+// (select_crease_level).
+double nearest_pixel_metres(const LodHierarchy* h, const Box& box, const View& view, double exaggeration);
+
 // The box of the mesh the levels describe (the union of their blocks' boxes), heights times
 // `exaggeration`: the mesh's own box, also when a coarser level of it is held (base > 0).
 Box levels_box(const LodHierarchy& h, double exaggeration);

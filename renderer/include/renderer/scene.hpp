@@ -30,6 +30,14 @@ struct Scene {
   std::optional<CreaseGeometry> creases;  // with a database
   SegmentTraits traits;                   // of the creases' segments
   SegmentChains chains;                   // the strokes they follow, as the DM pass holds them
+  // Their coarser levels (coarser_crease_levels), each with its traits and chains: a frame
+  // drawn at one (FrameResult::crease_level) is followed on its segments (frame_creases).
+  struct MergedCreases {
+    CreaseLevel level;
+    SegmentTraits traits;
+    SegmentChains chains;
+  };
+  std::vector<MergedCreases> merged_creases;
   std::vector<std::string> warnings;      // "'x.dv': ..." for the tool to print
   double mesh_seconds = 0, creases_seconds = 0;
   // What focus_scene needs of a scene read at a coarser level: the creases wait for it.
@@ -65,6 +73,15 @@ std::string focus_scene(Scene& scene, const std::vector<Camera>& cameras, int wi
 // The scene's levels of detail for `style`: none without levels of detail
 // (Style::lod_error 0), else Scene::levels, made here once when the mesh brought none.
 std::shared_ptr<const LodHierarchy> scene_levels(Scene& scene, const Style& style);
+
+// The creases the frame `res` drew: the scene's own, or the coarser level the DM pass drew
+// (FrameResult::crease_level). The CPU references below follow its segments; #S is theirs.
+struct SceneCreases {
+  const CreaseGeometry& geometry;
+  const SegmentTraits& traits;
+  const SegmentChains& chains;
+};
+SceneCreases frame_creases(const Scene& scene, const FrameResult& res);
 
 // Each crease segment's opacity in the frame `res` (#S): what the DM pass draws, as the
 // GL-free score, fade and stroke rule give it (segment_opacity).

@@ -50,6 +50,9 @@ struct FrameResult {
   std::size_t pel_segments = 0;     // segments the PEL pass drew
   std::size_t edges = 0;            // object-space edges the EDGE pass drew
   std::size_t patches = 0;          // surface patches drawn (the mesh's faces, fewer with levels of detail)
+  // The creases' level the DM pass drew (select_crease_level): 0 the creases as given, l > 0
+  // coarser_crease_levels(creases)[l - 1], whose segments the CPU references then follow.
+  int crease_level = 0;
   View view;                        // the view used (for projection by callers)
 };
 

@@ -563,3 +563,84 @@ std::string surface_warning(const terrain::GridMesh& mesh, const CreaseGeometry&
 }
 
 }  // namespace renderer
+
+namespace renderer {
+
+CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step) {
+  if (step < 1) throw terrain::Error("merge_crease_runs: the step must be at least 1");
+  const std::size_t nv = g.positions.size(), ns = g.n_segments();
+  std::vector<std::uint32_t> in(nv, 0), out(nv, 0), leaving(nv, kNoSegment);
+  for (std::uint32_t s = 0; s < ns; ++s) {
+    ++out[g.segments[2 * s]], ++in[g.segments[2 * s + 1]];
+    leaving[g.segments[2 * s]] = s;
+  }
+  const auto is_break = [&](std::uint32_t v) { return in[v] != 1 || out[v] != 1; };
+  // Each vertex's place along its run, from the run's first vertex (a break) down.
+  std::vector<std::uint32_t> place(nv, 0);
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    if (!is_break(v) || out[v] != 1) continue;
+    std::uint32_t k = 0;
+    for (std::uint32_t u = g.segments[2 * leaving[v] + 1]; !is_break(u); u = g.segments[2 * leaving[u] + 1])
+      place[u] = ++k;
+  }
+  const auto kept = [&](std::uint32_t v) { return is_break(v) || place[v] % std::uint32_t(step) == 0; };
+  CreaseLevel level;
+  level.step = step;
+  std::vector<std::uint32_t> index(nv, kNoSegment);  // fine vertex -> kept vertex
+  CreaseGeometry& c = level.geometry;
+  const auto keep = [&](std::uint32_t v) {
+    if (index[v] != kNoSegment) return index[v];
+    index[v] = std::uint32_t(c.positions.size());
+    c.positions.push_back(g.positions[v]);
+    c.normals.push_back(g.normals[v]);
+    c.flow.push_back(g.flow[v]);
+    if (!g.source.empty()) c.source.push_back(g.source[v]);  // optional, as area and share
+    if (!g.share.empty()) c.share.push_back(g.share[v]);
+    if (!g.area.empty()) c.area.push_back(g.area[v]);
+    return index[v];
+  };
+  std::vector<std::uint32_t> dropped;
+  for (std::uint32_t s = 0; s < ns; ++s) {
+    const std::uint32_t a = g.segments[2 * s];
+    if (!kept(a)) continue;
+    std::uint32_t t = s, b = g.segments[2 * s + 1];
+    dropped.clear();
+    while (!kept(b)) {
+      dropped.push_back(b);
+      t = leaving[b];
+      b = g.segments[2 * t + 1];
+    }
+    const Eigen::Vector3f pa = g.positions[a], ab = g.positions[b] - pa;
+    for (const std::uint32_t v : dropped) {  // its distance from the segment a-b
+      const float u = std::clamp((g.positions[v] - pa).dot(ab) / std::max(ab.squaredNorm(), 1e-12f), 0.0f, 1.0f);
+      level.error_metres = std::max(level.error_metres, double((pa + u * ab - g.positions[v]).norm()));
+    }
+    c.segments.push_back(keep(a));
+    c.segments.push_back(keep(b));
+    level.first.push_back(s);
+    level.last.push_back(t);
+  }
+  c.median_surface_offset = g.median_surface_offset;
+  return level;
+}
+
+std::vector<CreaseLevel> coarser_crease_levels(const CreaseGeometry& g) {
+  std::vector<CreaseLevel> levels;
+  std::size_t previous = g.n_segments();
+  for (int step = 2; step <= kMaxCreaseStep && previous > 0; step *= 2) {
+    CreaseLevel l = merge_crease_runs(g, step);
+    if (double(l.geometry.n_segments()) > kCreaseLevelShrink * double(previous)) break;
+    previous = l.geometry.n_segments();
+    levels.push_back(std::move(l));
+  }
+  return levels;
+}
+
+int select_crease_level(const std::vector<double>& error_metres, double pixel_metres, double bound_px) {
+  int l = 0;
+  while (pixel_metres > 0 && std::size_t(l) < error_metres.size() && error_metres[std::size_t(l)] <= bound_px * pixel_metres)
+    ++l;
+  return l;
+}
+
+}  // namespace renderer

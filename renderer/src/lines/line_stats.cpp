@@ -96,6 +96,18 @@ std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> screen_segment(const 
 
 }  // namespace
 
+SegmentTraits merged_traits(const SegmentTraits& fine, const CreaseLevel& level) {
+  const std::size_t ns = level.first.size();
+  SegmentTraits t;
+  t.boundary.resize(ns), t.flat.resize(ns), t.valley.resize(ns), t.open_end.resize(ns);
+  for (std::size_t s = 0; s < ns; ++s) {
+    const std::uint32_t a = level.first[s];
+    t.boundary[s] = fine.boundary[a], t.flat[s] = fine.flat[a], t.valley[s] = fine.valley[a];
+    t.open_end[s] = fine.open_end[level.last[s]];
+  }
+  return t;
+}
+
 std::vector<double> segment_pixels(const CreaseGeometry& g, const View& view, double exaggeration) {
   std::vector<double> px(g.n_segments(), 0.0);
   for (std::size_t s = 0; s < px.size(); ++s)

@@ -173,12 +173,19 @@ class AwayPass : public PassBase {
 // DM: crease vertices scored, segments selected (indirect draw), drawn as quads.
 class CreasePass : public PassBase {
  public:
-  // `creases` may be null or empty: the pass then only clears its targets.
-  CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled, bool antialias);
-  bool active() const { return enabled_ && n_segments_ > 0; }
+  // `creases` may be null or empty: the pass then only clears its targets. With `merged`,
+  // it holds the coarser levels of the creases too (coarser_crease_levels), one of which
+  // each frame draws (set_level).
+  CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled, bool antialias, bool merged);
+  bool active() const { return enabled_ && n_segments() > 0; }
   std::size_t segments_drawn() const;  // of the last frame
-  std::size_t n_segments() const { return n_segments_; }
-  std::size_t n_vertices() const { return n_vertices_; }
+  // The level the next frame draws: 0 the creases as given, l > 0 coarser_crease_levels' l - 1.
+  void set_level(int level) { level_ = level; }
+  int level() const { return level_; }
+  // Each coarser level's CreaseLevel::error_metres (select_crease_level).
+  const std::vector<double>& level_errors() const { return errors_; }
+  std::size_t n_segments() const { return levels_.empty() ? 0 : levels_[std::size_t(level_)].n_segments; }
+  std::size_t n_vertices() const { return levels_.empty() ? 0 : levels_[std::size_t(level_)].n_vertices; }
   const GlObject& colour() const { return target_.colour; }
   const GlObject& depth() const { return target_.depth; }
   // Anti-aliased lines: every segment's samples of the last frame (stroke_visibility.hpp;
@@ -187,10 +194,17 @@ class CreasePass : public PassBase {
 
  private:
   void execute(const FrameInputs&) override;
+  struct Level {  // what the GPU holds of one level
+    std::size_t n_vertices = 0, n_segments = 0;
+    GlObject cv, seg, chain;
+  };
+  Level upload(const CreaseGeometry& creases) const;
   const SceneGpu& s_;
   bool enabled_, antialias_;
-  std::size_t n_vertices_ = 0, n_segments_ = 0;
-  GlObject cv_buf_, seg_buf_, chain_buf_, score_buf_, opacity_buf_, cmd_buf_, selected_buf_, samples_buf_;
+  std::vector<Level> levels_;  // the creases as given, then the coarser levels
+  std::vector<double> errors_;
+  int level_ = 0;
+  GlObject score_buf_, opacity_buf_, cmd_buf_, selected_buf_, samples_buf_;  // sized for level 0, the largest
   GlObject score_prog_, bridge_prog_, select_prog_, draw_prog_, visibility_prog_;
   LineTarget target_;
 };

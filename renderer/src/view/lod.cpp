@@ -16,28 +16,37 @@ std::uint32_t snap(std::uint32_t p, std::uint32_t n, std::uint32_t s) {
   return p - lower <= upper - p ? lower : upper;
 }
 
+Box block_box(const LodBlock& b, double e) {
+  return Box{{b.lo.x(), b.lo.y(), e * b.lo.z()}, {b.hi.x(), b.hi.y(), e * b.hi.z()}};
+}
+
 }  // namespace
+
+double nearest_depth(const Box& box, const View& view) {
+  const Eigen::Matrix4d vp = view.view_projection();
+  double nearest = 1e300, farthest = -1e300;
+  bool left = true, right = true, below = true, above = true;
+  for (const Eigen::Vector3d& p : box_corners(box)) {
+    const double depth = (p - view.eye).dot(view.forward);
+    nearest = std::min(nearest, depth), farthest = std::max(farthest, depth);
+    const Eigen::Vector4d c = vp * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.0);
+    left = left && c.x() < -c.w(), right = right && c.x() > c.w(), below = below && c.y() < -c.w(),
+    above = above && c.y() > c.w();
+  }
+  if (left || right || below || above || farthest <= 0) return std::numeric_limits<double>::infinity();
+  return !view.orthographic() && !(nearest > view.near) ? 0.0 : nearest;
+}
 
 std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double e, double bound_px) {
   std::vector<std::uint8_t> levels(h.blocks.size(), 0);
-  const Eigen::Matrix4d vp = view.view_projection();
   for (std::size_t k = 0; k < h.blocks.size(); ++k) {
     const LodBlock& b = h.blocks[k];
-    double nearest = 1e300, farthest = -1e300;
-    bool left = true, right = true, below = true, above = true;
-    const Box box{{b.lo.x(), b.lo.y(), e * b.lo.z()}, {b.hi.x(), b.hi.y(), e * b.hi.z()}};
-    for (const Eigen::Vector3d& p : box_corners(box)) {
-      const double depth = (p - view.eye).dot(view.forward);
-      nearest = std::min(nearest, depth), farthest = std::max(farthest, depth);
-      const Eigen::Vector4d c = vp * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.0);
-      left = left && c.x() < -c.w(), right = right && c.x() > c.w(), below = below && c.y() < -c.w(),
-      above = above && c.y() > c.w();
-    }
-    if (left || right || below || above || farthest <= 0) {  // out of view or behind the eye: nothing of it is drawn
+    const double nearest = nearest_depth(block_box(b, e), view);
+    if (std::isinf(nearest)) {  // out of view or behind the eye: nothing of it is drawn
       levels[k] = std::uint8_t(b.levels() - 1);
       continue;
     }
-    if (!view.orthographic() && !(nearest > view.near)) continue;  // reaches the eye: full detail
+    if (nearest == 0) continue;  // reaches the eye: full detail
     const double allowed = bound_px * view.pixel_size(nearest) / std::max(e, 1e-12);
     int l = 0;
     while (l + 1 < b.levels() && double(b.error[std::size_t(l + 1)]) <= allowed) ++l;
@@ -47,6 +56,15 @@ std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, do
     for (std::size_t k = 0; k < h.blocks.size(); ++k)
       levels[k] = std::max(levels[k], std::uint8_t(std::min(h.base, h.blocks[k].levels() - 1)));
   return levels;
+}
+
+double nearest_pixel_metres(const LodHierarchy* h, const Box& box, const View& view, double e) {
+  double nearest = std::numeric_limits<double>::infinity();
+  if (h)
+    for (const LodBlock& b : h->blocks) nearest = std::min(nearest, nearest_depth(block_box(b, e), view));
+  else
+    nearest = nearest_depth(box, view);
+  return std::isinf(nearest) || nearest == 0 ? 0.0 : view.pixel_size(nearest);
 }
 
 Box levels_box(const LodHierarchy& h, double exaggeration) {

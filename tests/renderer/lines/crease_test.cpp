@@ -144,3 +144,115 @@ TEST(CreaseScore, ChannelsBeginAtThePagesArea) {
 // image and the eye is above the terrain; the light comes from the left of the view.
 
 }  // namespace
+
+namespace {
+
+// A main stem of 17 vertices along an arc (radius 100 m, 0.05 rad apart) from a channel
+// head (0) to an outlet (16), and a straight tributary 17 -> 18 -> 19 joining it at 8.
+CreaseGeometry branching_network() {
+  CreaseGeometry g;
+  auto add = [&](const Eigen::Vector3f& p) {
+    g.source.push_back(std::uint32_t(g.positions.size()));
+    g.positions.push_back(p);
+    g.normals.push_back(Eigen::Vector3f(0, 0, 1));
+    g.flow.push_back(0.05f * float(g.flow.size()));
+    g.share.push_back(0.01f * float(g.share.size()));
+    g.area.push_back(100.0f * float(g.area.size()));
+  };
+  for (int i = 0; i <= 16; ++i) add(Eigen::Vector3f(100 * std::cos(0.05 * i), 100 * std::sin(0.05 * i), 0));
+  for (int i = 0; i < 16; ++i) g.segments.insert(g.segments.end(), {std::uint32_t(i), std::uint32_t(i + 1)});
+  const Eigen::Vector3f junction = g.positions[8];
+  for (int i = 3; i >= 1; --i) add(junction + Eigen::Vector3f(10.0f * float(i), 0, 0));
+  g.segments.insert(g.segments.end(), {17, 18, 18, 19, 19, 8});
+  return g;
+}
+
+}  // namespace
+
+// Levels of detail for the creases: a level keeps the breaks (heads, junctions, outlets)
+// and every step-th vertex along each run, with their own attributes; its segments cover
+// every fine segment once, in the order of the fine segments they begin with; its error is
+// the arc's sagitta over the merged chord (R (1 - cos(step theta / 2))), 0 on the straight
+// tributary.
+TEST(CreaseLevels, MergedRunsKeepTheBreaksAndEveryStepthVertex) {
+  const CreaseGeometry g = branching_network();
+  const renderer::CreaseLevel l4 = renderer::merge_crease_runs(g, 4);
+  // Kept: 0, 4, 8, 12, 16 on the stem, 17 (the tributary's head); numbered as first met.
+  EXPECT_EQ(l4.geometry.n_segments(), 5u);
+  EXPECT_EQ(l4.first, (std::vector<std::uint32_t>{0, 4, 8, 12, 16}));
+  EXPECT_EQ(l4.last, (std::vector<std::uint32_t>{3, 7, 11, 15, 18}));
+  ASSERT_EQ(l4.geometry.positions.size(), 6u);
+  for (std::size_t s = 0; s < 5; ++s) {
+    for (int end = 0; end < 2; ++end) {
+      const std::uint32_t c = l4.geometry.segments[2 * s + std::size_t(end)];
+      const std::uint32_t f = g.segments[2 * (end ? l4.last[s] : l4.first[s]) + std::size_t(end)];
+      EXPECT_EQ(l4.geometry.positions[c], g.positions[f]);
+      EXPECT_EQ(l4.geometry.source[c], g.source[f]);
+      EXPECT_EQ(l4.geometry.flow[c], g.flow[f]);
+      EXPECT_EQ(l4.geometry.share[c], g.share[f]);
+      EXPECT_EQ(l4.geometry.area[c], g.area[f]);
+    }
+  }
+  EXPECT_NEAR(l4.error_metres, 100 * (1 - std::cos(0.1)), 1e-4);
+  // Every fine segment is in exactly one merged run (first .. last along the links).
+  for (const int step : {1, 2, 3, 4, 8, 32}) {
+    const renderer::CreaseLevel l = renderer::merge_crease_runs(g, step);
+    std::vector<int> covered(g.n_segments(), 0);
+    for (std::size_t s = 0; s < l.first.size(); ++s)
+      for (std::uint32_t t = l.first[s];; ) {
+        ++covered[t];
+        if (t == l.last[s]) break;
+        const std::uint32_t b = g.segments[2 * t + 1];
+        t = 0;
+        while (g.segments[2 * t] != b) ++t;
+      }
+    EXPECT_EQ(covered, std::vector<int>(g.n_segments(), 1)) << "step " << step;
+    if (step == 1) {
+      EXPECT_EQ(l.geometry.segments, g.segments);
+      EXPECT_EQ(l.error_metres, 0.0);
+    }
+  }
+  EXPECT_EQ(renderer::merge_crease_runs(g, 32).geometry.n_segments(), 3u);  // one a run
+  EXPECT_THROW(renderer::merge_crease_runs(g, 0), terrain::Error);
+}
+
+// The levels a renderer holds halve the segments while they shrink by a quarter at least
+// (19 -> 10 -> 5 -> 3; 16 would leave 3), their errors grow, and a frame draws the
+// coarsest whose error spans at most the bound in pixels at the nearest surface.
+TEST(CreaseLevels, HeldWhileTheyShrinkAndChosenByTheirErrorOnScreen) {
+  const auto levels = renderer::coarser_crease_levels(branching_network());
+  ASSERT_EQ(levels.size(), 3u);
+  EXPECT_EQ(levels[0].step, 2);
+  EXPECT_EQ(levels[2].step, 8);
+  EXPECT_EQ(levels[0].geometry.n_segments(), 10u);
+  EXPECT_EQ(levels[1].geometry.n_segments(), 5u);
+  EXPECT_EQ(levels[2].geometry.n_segments(), 3u);
+  EXPECT_LT(levels[0].error_metres, levels[1].error_metres);
+  EXPECT_LT(levels[1].error_metres, levels[2].error_metres);
+  const std::vector<double> errors{0.5, 2, 8};
+  EXPECT_EQ(renderer::select_crease_level(errors, 10, 0.5), 2);   // 5 m allowed
+  EXPECT_EQ(renderer::select_crease_level(errors, 4, 0.5), 2);    // 2 m: at the bound
+  EXPECT_EQ(renderer::select_crease_level(errors, 3.9, 0.5), 1);
+  EXPECT_EQ(renderer::select_crease_level(errors, 0.5, 0.5), 0);
+  EXPECT_EQ(renderer::select_crease_level(errors, 100, 0.5), 3);
+  EXPECT_EQ(renderer::select_crease_level(errors, 0, 0.5), 0);   // the surface reaches the eye
+  EXPECT_EQ(renderer::select_crease_level({}, 100, 0.5), 0);
+}
+
+// A merged segment's traits: where it begins (boundary, flat, valley), where it ends (open_end).
+TEST(CreaseLevels, MergedTraitsFollowTheirFineSegments) {
+  const CreaseGeometry g = branching_network();
+  renderer::SegmentTraits fine;
+  for (std::size_t s = 0; s < g.n_segments(); ++s) {
+    fine.boundary.push_back(std::uint8_t(s % 2)), fine.flat.push_back(s % 3 == 0), fine.valley.push_back(s % 4 == 0);
+    fine.open_end.push_back(s == 15);
+  }
+  const renderer::CreaseLevel l = renderer::merge_crease_runs(g, 4);
+  const renderer::SegmentTraits t = renderer::merged_traits(fine, l);
+  for (std::size_t s = 0; s < l.first.size(); ++s) {
+    EXPECT_EQ(t.boundary[s], fine.boundary[l.first[s]]);
+    EXPECT_EQ(t.flat[s], fine.flat[l.first[s]]);
+    EXPECT_EQ(t.valley[s], fine.valley[l.first[s]]);
+  }
+  EXPECT_EQ(t.open_end, (std::vector<std::uint8_t>{0, 0, 0, 1, 0}));
+}
