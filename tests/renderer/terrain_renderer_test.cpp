@@ -1347,3 +1347,66 @@ TEST(RendererGl, FlatPatchesDrawWhatTheTessellatorDraws) {
         << "lod " << lod;
   }
 }
+
+// The creases' levels of detail (merge_crease_runs): on a map of MSH at 7.6 m a pixel, its
+// creases (a network sampled at 5 m) are drawn at a coarser level (--lod-error 0.5); the
+// DM pass draws that level's segments as its CPU reference scores them (samples and all),
+// and its lines lie where the full-detail lines do (>= 95 % of each one's crease pixels
+// within 1 px of the other's; 100 % here). Seen from near, the creases as given.
+TEST(RendererGl, MergedCreasesDrawWhereTheFullDetailLinesLie) {
+  const auto& sc = msh_scene();
+  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false});
+  const auto levels = renderer::coarser_crease_levels(g);
+  ASSERT_GE(levels.size(), 2u);
+  renderer::GlContext ctx;
+  renderer::Style style = test_style();
+  style.antialias = true;
+  style.lod_error = 0.5;  // merged runs within a pixel of the line
+  renderer::Style full = style;
+  full.lod_error = 0;
+  const int w = 160, h = 120;
+  const renderer::Layers layers{false, true, true, false};
+  TerrainRenderer merged(ctx, sc.mesh, &g, w, h, layers, style), whole(ctx, sc.mesh, &g, w, h, layers, full);
+  FrameParams fp;  // a map: one scale throughout
+  fp.camera.orthographic = true;
+  fp.camera.view_alt = 90;
+  fp.score.min_score = 0.05;
+  const auto res = merged.render(fp);
+  const auto m_buffers = merged.read_buffers();
+  const auto res0 = whole.render(fp);
+  const auto w_buffers = whole.read_buffers();
+  EXPECT_EQ(res0.crease_level, 0);
+  ASSERT_GE(res.crease_level, 1);
+  const CreaseGeometry& lg = levels[std::size_t(res.crease_level - 1)].geometry;
+  EXPECT_LT(lg.n_segments(), g.n_segments() / 2);
+  const Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
+  const auto score = renderer::resolve_distances(fp.score, merged.box().lo, merged.box().hi, res.view.viewpoint());
+  const auto drawn = renderer::segment_opacity(lg, res.view.viewpoint(), light, 1.0, score, style.crease_fade,
+                                               renderer::stroke_rule(style, renderer::page_scale(res.view, merged.box())));
+  const auto cpu = std::size_t(std::count_if(drawn.begin(), drawn.end(), [](float o) { return o > 0; }));
+  EXPECT_NEAR(double(res.crease_segments), double(cpu), std::max(2.0, 1e-3 * double(lg.n_segments())));
+  const auto gpu = merged.read_crease_samples();
+  ASSERT_EQ(gpu.size(), lg.n_segments());
+  const renderer::SampleComparison c = renderer::compare_samples(
+      renderer::stroke_visibility(lg, renderer::segment_chains(lg), drawn, res.view, 1.0,
+                                  renderer::crease_lift(style, sc.mesh), m_buffers.toward_depth,
+                                  renderer::stroke_visibility_rule(style, sc.mesh)),
+      gpu);
+  EXPECT_GT(c.segments, 100u);
+  EXPECT_LE(double(c.other_count), 0.005 * double(c.segments));
+  for (int j = 0; j < 4; ++j) EXPECT_LE(double(c.differ[j]), 1e-3 * double(c.samples)) << "mask " << j;
+  std::size_t missing = 0, extra = 0;
+  const double found = covered_within_one(w_buffers.crease, m_buffers.crease, w, h, missing);
+  const double placed = covered_within_one(m_buffers.crease, w_buffers.crease, w, h, extra);
+  EXPECT_GE(found, 0.95);
+  EXPECT_GE(placed, 0.95);
+  std::printf("level %d (%zu of %zu segments): %.1f %% of the full-detail crease pixels within 1 px, %.1f %% of the "
+              "merged ones\n", res.crease_level, lg.n_segments(), g.n_segments(), 100 * found, 100 * placed);
+  FrameParams near = fp;  // 50 m above its highest point, over its south edge, looking north
+  near.camera.orthographic = false;
+  near.camera.eye = Vector3d(sc.mesh.geo.origin_x + 320, sc.mesh.geo.origin_y - 630,
+                             sc.mesh.geo.origin_z + merged.box().hi.z() + 50);
+  near.camera.view_az = 0;
+  near.camera.view_alt = 10;
+  EXPECT_EQ(merged.render(near).crease_level, 0);
+}
