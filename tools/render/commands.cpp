@@ -70,11 +70,11 @@ void check_line_stats(const TableArgs& a, const rr::RenderSettings& s, const std
     throw CLI::ValidationError("--line-stats", "measures creases: give a .dv and keep the creases layer");
 }
 
-// " (of ..., merged: one vertex in 4 along their runs, ...)" for a frame drawn at a coarser crease level.
+// " (of ..., merged: up to 8 segments in one, within ... m)" for a frame drawn at a coarser crease level.
 std::string crease_level_text(const rr::Scene& scene, const rr::FrameResult& res) {
   if (res.crease_level == 0 || std::size_t(res.crease_level) > scene.merged_creases.size()) return "";
   const rr::CreaseLevel& l = scene.merged_creases[std::size_t(res.crease_level - 1)].level;
-  return fmt::format(" (of {}, merged: one vertex in {} along their runs, within {:.1f} m)", l.geometry.n_segments(),
+  return fmt::format(" (of {}, merged: up to {} segments in one, within {:.1f} m)", l.geometry.n_segments(),
                      l.step, l.error_metres);
 }
 

@@ -173,10 +173,15 @@ bool output_command(Viewer& v, const ReplayArgs& a, const std::string& line) {
     std::cout << v.line_stats();
   } else if (cmd == "timings") {
     a.expect(0, 0, "timings");
+    const auto passes = [](const rr::FrameResult& f) {  // the passes' own times
+      std::string t;
+      for (int p = 0; p < rr::kPassCount; ++p) t += fmt::format("{}{} {:.1f}", p ? ", " : "", rr::pass_name(p), f.timings.gpu_ms[p]);
+      return t;
+    };
     const rr::FrameResult& f = v.render(false);
-    std::cout << fmt::format("full frame {}x{}: {:.1f} ms\n", f.width, f.height, v.full_ms());
-    v.render(true);
-    std::cout << fmt::format("cheap frame {}x{}: {:.1f} ms\n", v.last().width, v.last().height, v.cheap_ms());
+    std::cout << fmt::format("full frame {}x{}: {:.1f} ms ({})\n", f.width, f.height, v.full_ms(), passes(f));
+    const rr::FrameResult& c = v.render(true);
+    std::cout << fmt::format("cheap frame {}x{}: {:.1f} ms ({})\n", c.width, c.height, v.cheap_ms(), passes(c));
   } else {
     return false;
   }

@@ -224,26 +224,35 @@ std::vector<double> segment_metres(const CreaseGeometry& g);
 std::vector<float> segment_opacity(const CreaseGeometry& g, const Viewpoint& viewer, const Eigen::Vector3d& light,
                                    double exaggeration, const CreaseScoreParams& params, double fade,
                                    const StrokeRule& rule = {});
-// Levels of detail for the creases (issue 52; docs/terrain-render.md, "Levels of detail"):
-// a network sampled at 10 m drawn at 40 m a pixel has segments of a third of a pixel, and
-// DM's cost follows them. A level merges the segments of each run (a path between its
-// breaks: channel heads, junctions, outlets, where a vertex has not exactly one segment in
-// and one out) into segments of `step` of them (the run's last one shorter): it keeps the
-// breaks and every step-th vertex along each run, with their own positions, normals, flow
-// and areas, so every segment lies on the fine line's vertices and the strokes start, join
-// and end where the fine ones do. Segments in the order of the fine segment they begin with.
+// Levels of detail for the creases (issue 52; docs/terrain-render.md, "The creases' levels
+// of detail"): a network sampled at 10 m drawn at 40 m a pixel has segments of a third of a
+// pixel, and DM's cost follows them. A level merges the segments of each run (a path
+// between its breaks: channel heads, junctions, outlets, where a vertex has not exactly one
+// segment in and one out): from the run's first vertex, it keeps the farthest vertex within
+// `step` segments whose dropped vertices all lie within `tolerance` (metres) of the segment
+// to it, and so on down the run. Kept vertices keep their own positions, so every segment
+// joins two vertices of the fine line and the strokes start, join and end where the fine
+// ones do; straight runs merge `step` segments, bends fewer. A kept vertex is scored (its
+// normal, flow and area) as the middle vertex of the run its leaving segment replaces, so
+// that a merged segment is drawn where the middle of that run is: scored at its own upstream
+// vertex, a segment that begins a channel would wait for that vertex to drain the page's
+// area, and lines would begin up to a merged segment late. Shares (the widths) and sources
+// stay the vertex's own. Segments in the order of the fine segment they begin with.
 struct CreaseLevel {
   CreaseGeometry geometry;
   std::vector<std::uint32_t> first, last;  // #S the fine segments each one begins and ends with
   // Its error: the largest distance (metres, local frame) of a dropped vertex from the
-  // segment that replaces it.
+  // segment that replaces it (at most the tolerance).
   double error_metres = 0;
   int step = 1;
 };
-CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step);
-// The levels a renderer holds: steps 2, 4, 8, ... up to kMaxCreaseStep, while a level has at
-// most kCreaseLevelShrink of the previous level's segments (networks of short runs stop early).
+CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step, double tolerance);
+// The levels a renderer holds: steps 2, 4, 8, ... up to kMaxCreaseStep, each with a
+// tolerance of kCreaseTolerance x step x the median fine segment's length (1.5 m a step for
+// a 10 m network), while a level has at most kCreaseLevelShrink of the previous level's
+// segments (networks of short runs stop early).
 inline constexpr int kMaxCreaseStep = 32;
+inline constexpr double kCreaseTolerance = 0.125;
 inline constexpr double kCreaseLevelShrink = 0.75;
 std::vector<CreaseLevel> coarser_crease_levels(const CreaseGeometry& g);
 // The level a frame draws: the coarsest (1 + its index in `error_metres`, the coarser

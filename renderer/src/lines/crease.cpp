@@ -566,7 +566,18 @@ std::string surface_warning(const terrain::GridMesh& mesh, const CreaseGeometry&
 
 namespace renderer {
 
-CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step) {
+namespace {
+
+// The distance of p from the segment a-b.
+float segment_distance(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
+  const Eigen::Vector3f ab = b - a;
+  const float u = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12f), 0.0f, 1.0f);
+  return (a + u * ab - p).norm();
+}
+
+}  // namespace
+
+CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step, double tolerance) {
   if (step < 1) throw terrain::Error("merge_crease_runs: the step must be at least 1");
   const std::size_t nv = g.positions.size(), ns = g.n_segments();
   std::vector<std::uint32_t> in(nv, 0), out(nv, 0), leaving(nv, kNoSegment);
@@ -575,15 +586,28 @@ CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step) {
     leaving[g.segments[2 * s]] = s;
   }
   const auto is_break = [&](std::uint32_t v) { return in[v] != 1 || out[v] != 1; };
-  // Each vertex's place along its run, from the run's first vertex (a break) down.
-  std::vector<std::uint32_t> place(nv, 0);
-  for (std::uint32_t v = 0; v < nv; ++v) {
-    if (!is_break(v) || out[v] != 1) continue;
-    std::uint32_t k = 0;
-    for (std::uint32_t u = g.segments[2 * leaving[v] + 1]; !is_break(u); u = g.segments[2 * leaving[u] + 1])
-      place[u] = ++k;
+  // The vertices kept: the breaks; along each run, from its first vertex, the farthest
+  // vertex within `step` segments whose dropped vertices all lie within `tolerance` of the
+  // segment to it, in turn. A vertex no run reaches (on a cycle, which D8 does not make) is kept.
+  std::vector<std::uint8_t> kept(nv, 1);
+  std::vector<std::uint32_t> run;
+  for (std::uint32_t s = 0; s < ns; ++s) {
+    if (!is_break(g.segments[2 * s])) continue;
+    run.assign({g.segments[2 * s], g.segments[2 * s + 1]});
+    while (!is_break(run.back())) run.push_back(g.segments[2 * leaving[run.back()] + 1]);
+    for (std::size_t k = 1; k + 1 < run.size(); ++k) kept[run[k]] = 0;
+    for (std::size_t a = 0; a + 1 < run.size();) {
+      std::size_t b = std::min(a + std::size_t(step), run.size() - 1);
+      const auto within = [&](std::size_t e) {
+        for (std::size_t k = a + 1; k < e; ++k)
+          if (segment_distance(g.positions[run[k]], g.positions[run[a]], g.positions[run[e]]) > tolerance) return false;
+        return true;
+      };
+      while (b > a + 1 && !within(b)) --b;
+      kept[run[b]] = 1;
+      a = b;
+    }
   }
-  const auto kept = [&](std::uint32_t v) { return is_break(v) || place[v] % std::uint32_t(step) == 0; };
   CreaseLevel level;
   level.step = step;
   std::vector<std::uint32_t> index(nv, kNoSegment);  // fine vertex -> kept vertex
@@ -602,21 +626,24 @@ CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step) {
   std::vector<std::uint32_t> dropped;
   for (std::uint32_t s = 0; s < ns; ++s) {
     const std::uint32_t a = g.segments[2 * s];
-    if (!kept(a)) continue;
+    if (!kept[a]) continue;
     std::uint32_t t = s, b = g.segments[2 * s + 1];
     dropped.clear();
-    while (!kept(b)) {
+    while (!kept[b]) {
       dropped.push_back(b);
       t = leaving[b];
       b = g.segments[2 * t + 1];
     }
-    const Eigen::Vector3f pa = g.positions[a], ab = g.positions[b] - pa;
-    for (const std::uint32_t v : dropped) {  // its distance from the segment a-b
-      const float u = std::clamp((g.positions[v] - pa).dot(ab) / std::max(ab.squaredNorm(), 1e-12f), 0.0f, 1.0f);
-      level.error_metres = std::max(level.error_metres, double((pa + u * ab - g.positions[v]).norm()));
-    }
+    for (const std::uint32_t v : dropped)
+      level.error_metres = std::max(level.error_metres, double(segment_distance(g.positions[v], g.positions[a], g.positions[b])));
     c.segments.push_back(keep(a));
     c.segments.push_back(keep(b));
+    if (!dropped.empty()) {  // scored where the run it replaces is, at its middle vertex
+      const std::uint32_t m = dropped[(dropped.size() - 1) / 2], k = index[a];
+      c.normals[k] = g.normals[m];
+      c.flow[k] = g.flow[m];
+      if (!g.area.empty()) c.area[k] = g.area[m];
+    }
     level.first.push_back(s);
     level.last.push_back(t);
   }
@@ -626,9 +653,13 @@ CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step) {
 
 std::vector<CreaseLevel> coarser_crease_levels(const CreaseGeometry& g) {
   std::vector<CreaseLevel> levels;
+  std::vector<double> length = segment_metres(g);
+  if (length.empty()) return levels;
+  std::nth_element(length.begin(), length.begin() + std::ptrdiff_t(length.size() / 2), length.end());
+  const double median = length[length.size() / 2];
   std::size_t previous = g.n_segments();
-  for (int step = 2; step <= kMaxCreaseStep && previous > 0; step *= 2) {
-    CreaseLevel l = merge_crease_runs(g, step);
+  for (int step = 2; step <= kMaxCreaseStep; step *= 2) {
+    CreaseLevel l = merge_crease_runs(g, step, kCreaseTolerance * step * median);
     if (double(l.geometry.n_segments()) > kCreaseLevelShrink * double(previous)) break;
     previous = l.geometry.n_segments();
     levels.push_back(std::move(l));

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <numbers>
 
 #include "drainage/dv_file.hpp"
@@ -169,56 +170,74 @@ CreaseGeometry branching_network() {
 
 }  // namespace
 
-// Levels of detail for the creases: a level keeps the breaks (heads, junctions, outlets)
-// and every step-th vertex along each run, with their own attributes; its segments cover
-// every fine segment once, in the order of the fine segments they begin with; its error is
-// the arc's sagitta over the merged chord (R (1 - cos(step theta / 2))), 0 on the straight
-// tributary.
-TEST(CreaseLevels, MergedRunsKeepTheBreaksAndEveryStepthVertex) {
+// Levels of detail for the creases: with no tolerance to stop it, a level keeps the breaks
+// (heads, junctions, outlets) and every step-th vertex along each run, at their own
+// positions, each scored (normal, flow, area) as the middle vertex of the run its leaving
+// segment replaces; its segments cover every fine segment once, in the order of the fine
+// segments they begin with; its error is the arc's sagitta over the merged chord
+// (R (1 - cos(step theta / 2))), 0 on the straight tributary. A tolerance between the
+// sagittas of 3 and 4 segments merges the arc's segments 3 at a time.
+TEST(CreaseLevels, MergedRunsKeepTheBreaksAndVerticesWithinTheTolerance) {
   const CreaseGeometry g = branching_network();
-  const renderer::CreaseLevel l4 = renderer::merge_crease_runs(g, 4);
-  // Kept: 0, 4, 8, 12, 16 on the stem, 17 (the tributary's head); numbered as first met.
+  const double none = std::numeric_limits<double>::infinity();
+  const renderer::CreaseLevel l4 = renderer::merge_crease_runs(g, 4, none);
   EXPECT_EQ(l4.geometry.n_segments(), 5u);
   EXPECT_EQ(l4.first, (std::vector<std::uint32_t>{0, 4, 8, 12, 16}));
   EXPECT_EQ(l4.last, (std::vector<std::uint32_t>{3, 7, 11, 15, 18}));
-  ASSERT_EQ(l4.geometry.positions.size(), 6u);
+  ASSERT_EQ(l4.geometry.positions.size(), 6u);  // 0, 4, 8, 12, 16 on the stem, 17 (the tributary's head)
+  // The fine vertex downstream of fine segment t, and the middle one of a merged segment's run.
+  const auto below = [&](std::uint32_t t) { return g.segments[2 * t + 1]; };
+  const auto next = [&](std::uint32_t t) {
+    std::uint32_t u = 0;
+    while (g.segments[2 * u] != below(t)) ++u;
+    return u;
+  };
   for (std::size_t s = 0; s < 5; ++s) {
-    for (int end = 0; end < 2; ++end) {
-      const std::uint32_t c = l4.geometry.segments[2 * s + std::size_t(end)];
-      const std::uint32_t f = g.segments[2 * (end ? l4.last[s] : l4.first[s]) + std::size_t(end)];
-      EXPECT_EQ(l4.geometry.positions[c], g.positions[f]);
-      EXPECT_EQ(l4.geometry.source[c], g.source[f]);
-      EXPECT_EQ(l4.geometry.flow[c], g.flow[f]);
-      EXPECT_EQ(l4.geometry.share[c], g.share[f]);
-      EXPECT_EQ(l4.geometry.area[c], g.area[f]);
-    }
+    const std::uint32_t a = l4.geometry.segments[2 * s], b = l4.geometry.segments[2 * s + 1];
+    const std::uint32_t fa = g.segments[2 * l4.first[s]], fb = below(l4.last[s]);
+    EXPECT_EQ(l4.geometry.positions[a], g.positions[fa]);
+    EXPECT_EQ(l4.geometry.positions[b], g.positions[fb]);
+    EXPECT_EQ(l4.geometry.source[a], g.source[fa]);
+    EXPECT_EQ(l4.geometry.share[a], g.share[fa]);
+    std::vector<std::uint32_t> dropped;
+    for (std::uint32_t t = l4.first[s]; t != l4.last[s]; t = next(t)) dropped.push_back(below(t));
+    const std::uint32_t m = dropped[(dropped.size() - 1) / 2];
+    EXPECT_EQ(l4.geometry.flow[a], g.flow[m]) << s;
+    EXPECT_EQ(l4.geometry.area[a], g.area[m]) << s;
+    EXPECT_EQ(l4.geometry.normals[a], g.normals[m]) << s;
   }
+  const std::uint32_t outlet = l4.geometry.segments[2 * 3 + 1];  // no segment leaves it: its own
+  EXPECT_EQ(l4.geometry.flow[outlet], g.flow[16]);
   EXPECT_NEAR(l4.error_metres, 100 * (1 - std::cos(0.1)), 1e-4);
   // Every fine segment is in exactly one merged run (first .. last along the links).
-  for (const int step : {1, 2, 3, 4, 8, 32}) {
-    const renderer::CreaseLevel l = renderer::merge_crease_runs(g, step);
-    std::vector<int> covered(g.n_segments(), 0);
-    for (std::size_t s = 0; s < l.first.size(); ++s)
-      for (std::uint32_t t = l.first[s];; ) {
-        ++covered[t];
-        if (t == l.last[s]) break;
-        const std::uint32_t b = g.segments[2 * t + 1];
-        t = 0;
-        while (g.segments[2 * t] != b) ++t;
+  for (const int step : {1, 2, 3, 4, 8, 32})
+    for (const double tolerance : {none, 0.3, 0.0}) {
+      const renderer::CreaseLevel l = renderer::merge_crease_runs(g, step, tolerance);
+      std::vector<int> covered(g.n_segments(), 0);
+      for (std::size_t s = 0; s < l.first.size(); ++s)
+        for (std::uint32_t t = l.first[s];; t = next(t)) {
+          ++covered[t];
+          if (t == l.last[s]) break;
+        }
+      EXPECT_EQ(covered, std::vector<int>(g.n_segments(), 1)) << "step " << step << " tolerance " << tolerance;
+      EXPECT_LE(l.error_metres, tolerance);
+      if (step == 1 || tolerance == 0) {  // nothing on the arc merged
+        EXPECT_EQ(l.error_metres, 0.0);
+        EXPECT_GE(l.geometry.n_segments(), 17u);
       }
-    EXPECT_EQ(covered, std::vector<int>(g.n_segments(), 1)) << "step " << step;
-    if (step == 1) {
-      EXPECT_EQ(l.geometry.segments, g.segments);
-      EXPECT_EQ(l.error_metres, 0.0);
     }
-  }
-  EXPECT_EQ(renderer::merge_crease_runs(g, 32).geometry.n_segments(), 3u);  // one a run
-  EXPECT_THROW(renderer::merge_crease_runs(g, 0), terrain::Error);
+  EXPECT_EQ(renderer::merge_crease_runs(g, 32, none).geometry.n_segments(), 3u);  // one a run
+  EXPECT_EQ(renderer::merge_crease_runs(g, 32, 0.0).geometry.n_segments(), 17u);  // the straight tributary merged
+  const renderer::CreaseLevel l3 = renderer::merge_crease_runs(g, 4, 0.3);
+  EXPECT_EQ(l3.first, (std::vector<std::uint32_t>{0, 3, 6, 8, 11, 14, 16}));
+  EXPECT_NEAR(l3.error_metres, 100 * (std::cos(0.025) - std::cos(0.075)), 1e-4);
+  EXPECT_THROW(renderer::merge_crease_runs(g, 0, none), terrain::Error);
 }
 
 // The levels a renderer holds halve the segments while they shrink by a quarter at least
-// (19 -> 10 -> 5 -> 3; 16 would leave 3), their errors grow, and a frame draws the
-// coarsest whose error spans at most the bound in pixels at the nearest surface.
+// (19 -> 10 -> 5 -> 3; 16 would leave 3; the tolerances, 0.625 m a step, hold the arc's
+// sagittas), their errors grow, and a frame draws the coarsest whose error spans at most
+// the bound in pixels at the nearest surface.
 TEST(CreaseLevels, HeldWhileTheyShrinkAndChosenByTheirErrorOnScreen) {
   const auto levels = renderer::coarser_crease_levels(branching_network());
   ASSERT_EQ(levels.size(), 3u);
@@ -247,7 +266,7 @@ TEST(CreaseLevels, MergedTraitsFollowTheirFineSegments) {
     fine.boundary.push_back(std::uint8_t(s % 2)), fine.flat.push_back(s % 3 == 0), fine.valley.push_back(s % 4 == 0);
     fine.open_end.push_back(s == 15);
   }
-  const renderer::CreaseLevel l = renderer::merge_crease_runs(g, 4);
+  const renderer::CreaseLevel l = renderer::merge_crease_runs(g, 4, std::numeric_limits<double>::infinity());
   const renderer::SegmentTraits t = renderer::merged_traits(fine, l);
   for (std::size_t s = 0; s < l.first.size(); ++s) {
     EXPECT_EQ(t.boundary[s], fine.boundary[l.first[s]]);
