@@ -191,6 +191,26 @@ FrameLines frame_lines(const Scene& scene, const TerrainRenderer& r, const Frame
   return lines;
 }
 
+FrameLines fine_lines(const Scene& scene, const FrameResult& res, FrameLines lines) {
+  if (res.crease_level == 0) return lines;
+  const CreaseLevel& l = scene.merged_creases.at(std::size_t(res.crease_level - 1)).level;
+  const std::vector<double> metres = segment_metres(*scene.creases);
+  FrameLines fine{std::vector<float>(metres.size(), 0.0f), std::vector<double>(metres.size(), 0.0)};
+  for (std::size_t s = 0; s < l.first.size(); ++s) {
+    double run = 0;
+    for (std::uint32_t t = l.first[s];; t = scene.chains.next[t]) {
+      run += metres[t];
+      if (t == l.last[s]) break;
+    }
+    for (std::uint32_t t = l.first[s];; t = scene.chains.next[t]) {
+      fine.drawn[t] = lines.drawn[s];
+      fine.pixels[t] = run > 0 ? lines.pixels[s] * metres[t] / run : 0.0;
+      if (t == l.last[s]) break;
+    }
+  }
+  return fine;
+}
+
 VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                            const FrameBuffers& buffers, const FrameParams& fp, const Style& style,
                            const Layers& layers, VectorUnderlay underlay) {

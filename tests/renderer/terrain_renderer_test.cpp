@@ -716,7 +716,9 @@ TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
   const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false, .smooth_spacings = 0});
   ASSERT_GT(g.n_segments(), 10000u);
   renderer::GlContext ctx;
-  TerrainRenderer r(ctx, sc.mesh, &g, 160, 120, renderer::Layers{false, true, true, false}, test_style());
+  renderer::Style style = test_style();
+  style.lod_error = 0;  // the creases as given, not a coarser level's (CPU references of g)
+  TerrainRenderer r(ctx, sc.mesh, &g, 160, 120, renderer::Layers{false, true, true, false}, style);
   const Vector3d light = terrain::light_direction(315, 45);
   for (const double signed_falloff : {0.0, 0.5, -0.5}) {  // -0.5: 0.5 orthographic (distance from the eye plane)
     const double falloff = std::abs(signed_falloff);
@@ -757,6 +759,7 @@ TEST(RendererGl, StrokeRuleMatchesCpu) {
   style.crease_bridge = 10.0;
   style.crease_min_stroke_px = 6.0;
   style.page_min_area = 20000.0;
+  style.lod_error = 0;  // the creases as given, not a coarser level's (CPU references of g)
   TerrainRenderer r(ctx, sc.mesh, &g, 160, 120, renderer::Layers{false, true, true, false}, style);
   const Vector3d light = terrain::light_direction(315, 45);
   std::size_t changed = 0;
@@ -794,6 +797,7 @@ TEST(RendererGl, StrokeVisibilityMatchesCpu) {
   renderer::GlContext ctx;
   renderer::Style style = test_style();
   style.antialias = true;
+  style.lod_error = 0;  // the creases as given, not a coarser level's (CPU references of g)
   const int w = 480, h = 270;
   TerrainRenderer r(ctx, sc.mesh, &g, w, h, renderer::Layers{false, true, true, false}, style);
   for (const bool orthographic : {false, true}) {  // depth linear from the eye plane, the lift along the sight

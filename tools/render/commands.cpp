@@ -269,8 +269,9 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
       rr::FrameStats st = rr::frame_line_stats(scene, r, res, f.frame, f.style, f.layers,
                                                f.layers.hachures ? &traced : nullptr, i ? &previous_hachures : nullptr);
       stats_csv += rr::line_stats_csv_row(i, st);
-      drawn.push_back(std::move(st.lines.drawn));
-      pixels.push_back(std::move(st.lines.pixels));
+      rr::FrameLines fine = rr::fine_lines(scene, res, std::move(st.lines));  // frames may draw other levels
+      drawn.push_back(std::move(fine.drawn));
+      pixels.push_back(std::move(fine.pixels));
       if (st.hachures) previous_hachures = std::move(st.hachures->surface);
       coherence.counted += st.hachure_coherence.counted, coherence.near += st.hachure_coherence.near;
     }

@@ -98,6 +98,11 @@ struct FrameLines {
 FrameLines frame_lines(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                        const FrameBuffers& buffers, const FrameParams& fp, const Style& style);
 
+// A frame's lines on the scene's own (fine) segments, what a flight compares from frame to
+// frame whatever level each drew (flicker): a merged segment's opacity on each fine
+// segment it replaces, its pixels shared among them by their lengths. As given at level 0.
+FrameLines fine_lines(const Scene& scene, const FrameResult& res, FrameLines lines);
+
 // The line art of the frame `res` just drawn by `r` (its buffers: r.read_buffers()), for
 // the SVG / PDF writer (vector_file.hpp): the layers the composite draws, bottom up (PELs,
 // creases, edges, silhouettes), from the strokes, samples, segments and masks the frame

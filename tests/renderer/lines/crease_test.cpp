@@ -18,6 +18,7 @@
 #include "renderer/frames.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/line_stats.hpp"
+#include "renderer/scene.hpp"
 #include "renderer/shader.hpp"
 #include "renderer/silhouette.hpp"
 #include "renderer/stroke_visibility.hpp"
@@ -274,4 +275,33 @@ TEST(CreaseLevels, MergedTraitsFollowTheirFineSegments) {
     EXPECT_EQ(t.valley[s], fine.valley[l.first[s]]);
   }
   EXPECT_EQ(t.open_end, (std::vector<std::uint8_t>{0, 0, 0, 1, 0}));
+}
+
+// A flight compares its frames' lines segment by segment whatever level each drew
+// (fine_lines): a merged segment's opacity goes to each fine segment it replaces and its
+// pixels are shared among them by their lengths, so a frame's drawn length is conserved.
+TEST(CreaseLevels, AFramesLinesOnTheFineSegments) {
+  renderer::Scene scene;
+  scene.creases = branching_network();
+  scene.chains = renderer::segment_chains(*scene.creases);
+  scene.merged_creases.push_back({renderer::merge_crease_runs(*scene.creases, 4, std::numeric_limits<double>::infinity()), {}, {}});
+  const renderer::CreaseLevel& l = scene.merged_creases[0].level;
+  renderer::FrameResult res;
+  res.crease_level = 1;
+  const renderer::FrameLines merged{{1.0f, 0.5f, 0.0f, 1.0f, 0.25f}, {8.0, 4.0, 0.0, 2.0, 6.0}};
+  const renderer::FrameLines fine = renderer::fine_lines(scene, res, merged);
+  ASSERT_EQ(fine.drawn.size(), scene.creases->n_segments());
+  double merged_ink = 0, fine_ink = 0;
+  for (std::size_t s = 0; s < 5; ++s) merged_ink += merged.drawn[s] * merged.pixels[s];
+  for (std::size_t t = 0; t < fine.drawn.size(); ++t) fine_ink += fine.drawn[t] * fine.pixels[t];
+  EXPECT_NEAR(fine_ink, merged_ink, 1e-9);
+  const std::vector<double> metres = renderer::segment_metres(*scene.creases);
+  for (std::size_t s = 0; s < 5; ++s) {
+    EXPECT_EQ(fine.drawn[l.first[s]], merged.drawn[s]);
+    EXPECT_EQ(fine.drawn[l.last[s]], merged.drawn[s]);
+  }
+  EXPECT_NEAR(fine.pixels[16] / fine.pixels[18], metres[16] / metres[18], 1e-9);  // the tributary, 6 px over 3 links
+  EXPECT_NEAR(fine.pixels[16] + fine.pixels[17] + fine.pixels[18], 6.0, 1e-9);
+  res.crease_level = 0;
+  EXPECT_EQ(renderer::fine_lines(scene, res, merged).drawn, merged.drawn);  // as given
 }
