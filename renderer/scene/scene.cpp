@@ -45,12 +45,9 @@ void build_creases(Scene& s, const std::string& dv_path, const CreaseRules& rule
   if (!w.empty()) s.warnings.push_back("'" + dv_path + "': " + w);
   s.traits = segment_traits(s.mesh, links, *s.creases);
   s.chains = segment_chains(*s.creases);
-  s.merged_creases.clear();
-  for (CreaseLevel& l : coarser_crease_levels(*s.creases)) {
-    SegmentTraits traits = merged_traits(s.traits, l);
-    SegmentChains chains = segment_chains(l.geometry);
-    s.merged_creases.push_back({std::move(l), std::move(traits), std::move(chains)});
-  }
+  s.crease_levels = std::make_shared<const std::vector<CreaseLevel>>(coarser_crease_levels(*s.creases));
+  s.crease_level_traits.clear();
+  for (const CreaseLevel& l : *s.crease_levels) s.crease_level_traits.push_back(merged_traits(s.traits, l));
   s.creases_seconds = since(t0);
 }
 
@@ -158,10 +155,10 @@ std::shared_ptr<const LodHierarchy> scene_levels(Scene& scene, const Style& styl
 SceneCreases frame_creases(const Scene& scene, const FrameResult& res) {
   if (!scene.creases) throw terrain::Error("internal: a frame's creases asked of a scene without them");
   if (res.crease_level == 0) return {*scene.creases, scene.traits, scene.chains};
-  if (std::size_t(res.crease_level) > scene.merged_creases.size())
+  const std::size_t l = std::size_t(res.crease_level - 1);
+  if (!scene.crease_levels || l >= scene.crease_levels->size())
     throw terrain::Error("internal: a frame drawn at a crease level the scene does not hold");
-  const Scene::MergedCreases& m = scene.merged_creases[std::size_t(res.crease_level - 1)];
-  return {m.level.geometry, m.traits, m.chains};
+  return {(*scene.crease_levels)[l].geometry, scene.crease_level_traits[l], (*scene.crease_levels)[l].chains};
 }
 
 std::vector<float> frame_opacity(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
@@ -193,7 +190,7 @@ FrameLines frame_lines(const Scene& scene, const TerrainRenderer& r, const Frame
 
 FrameLines fine_lines(const Scene& scene, const FrameResult& res, FrameLines lines) {
   if (res.crease_level == 0) return lines;
-  const CreaseLevel& l = scene.merged_creases.at(std::size_t(res.crease_level - 1)).level;
+  const CreaseLevel& l = scene.crease_levels->at(std::size_t(res.crease_level - 1));
   const std::vector<double> metres = segment_metres(*scene.creases);
   FrameLines fine{std::vector<float>(metres.size(), 0.0f), std::vector<double>(metres.size(), 0.0)};
   for (std::size_t s = 0; s < l.first.size(); ++s) {

@@ -95,7 +95,8 @@ static bool drawn_vertices_only(const Style& style, const terrain::GridMesh& mes
 
 struct TerrainRenderer::Impl {
   Impl(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases, int width, int height,
-       const Layers& layers, const Style& style, std::shared_ptr<const LodHierarchy> levels)
+       const Layers& layers, const Style& style, std::shared_ptr<const LodHierarchy> levels,
+       std::shared_ptr<const std::vector<CreaseLevel>> crease_levels)
       : layers(layers),
         style(style),
         box(levels && levels->base > 0 ? levels_box(*levels, style.exaggeration)
@@ -109,7 +110,8 @@ struct TerrainRenderer::Impl {
         toward(scene, style.flat_patches),
         away(scene, layers.silhouettes && !layers.adjacency),
         ids(scene, layers.adjacency, id_capacity(width, height)),
-        creases(scene, creases, layers.creases, style.antialias, layers.creases && style.lod_error > 0),
+        creases(scene, creases, layers.creases, style.antialias,
+                layers.creases && style.lod_error > 0 ? std::move(crease_levels) : nullptr, style.lod_error > 0),
         pels(scene, mesh, layers.pels, style.pel_width, style.antialias,
              style.pel_min_length * std::min(mesh.geo.dx, mesh.geo.dy), style.pel_smooth),
         edges(scene, layers.edges, style),
@@ -221,7 +223,8 @@ void check_frame_size(const GlContext& context, int width, int height) {
 
 TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases,
                                  int width, int height, const Layers& layers, const Style& style,
-                                 std::shared_ptr<const LodHierarchy> levels) {
+                                 std::shared_ptr<const LodHierarchy> levels,
+                                 std::shared_ptr<const std::vector<CreaseLevel>> crease_levels) {
   check_inputs(mesh, width, height, layers, !drawn_vertices_only(style, mesh, levels.get(), layers));
   check_frame_size(context, width, height);
   const auto out_of_memory = [&] {
@@ -230,7 +233,8 @@ TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMe
                                       width, height, context.info().renderer));
   };
   try {
-    impl_ = std::make_unique<Impl>(context, mesh, creases, width, height, layers, style, std::move(levels));
+    impl_ = std::make_unique<Impl>(context, mesh, creases, width, height, layers, style, std::move(levels),
+                                   std::move(crease_levels));
   } catch (const terrain::Error& e) {  // a render target the device could not allocate
     if (std::string(e.what()).find("incomplete framebuffer") == std::string::npos && glGetError() != GL_OUT_OF_MEMORY) throw;
     throw out_of_memory();

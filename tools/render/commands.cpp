@@ -72,8 +72,9 @@ void check_line_stats(const TableArgs& a, const rr::RenderSettings& s, const std
 
 // " (of ..., merged: up to 8 segments in one, within ... m)" for a frame drawn at a coarser crease level.
 std::string crease_level_text(const rr::Scene& scene, const rr::FrameResult& res) {
-  if (res.crease_level == 0 || std::size_t(res.crease_level) > scene.merged_creases.size()) return "";
-  const rr::CreaseLevel& l = scene.merged_creases[std::size_t(res.crease_level - 1)].level;
+  if (res.crease_level == 0 || !scene.crease_levels || std::size_t(res.crease_level) > scene.crease_levels->size())
+    return "";
+  const rr::CreaseLevel& l = (*scene.crease_levels)[std::size_t(res.crease_level - 1)];
   return fmt::format(" (of {}, merged: up to {} segments in one, within {:.1f} m)", l.geometry.n_segments(),
                      l.step, l.error_metres);
 }
@@ -153,7 +154,7 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   rr::GlContext ctx;
   if (rr::is_vector_path(out)) rr::check_vector_memory(ctx, s.width, s.height);
   rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, f.layers, f.style,
-                        scene.levels);
+                        scene.levels, scene.crease_levels);
   tt::step(verb, fmt::format("OpenGL set-up ({}): {:.2f} s", ctx.info().renderer, since(t0)));
   t0 = Clock::now();
   const rr::FrameResult res = r.render(fp);
@@ -247,7 +248,7 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   rr::ResolvedFrame f = rr::drawn_frame(s);
   if (formats != std::vector<std::string>{"png"}) rr::check_vector_memory(ctx, s.width, s.height);
   rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, f.layers,
-                        f.style, scene.levels);
+                        f.style, scene.levels, scene.crease_levels);
   std::vector<rr::FrameTimings> timings;
   std::string stats_csv = rr::line_stats_csv_header();
   std::vector<std::vector<float>> drawn;

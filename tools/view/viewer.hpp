@@ -100,7 +100,8 @@ class Viewer {
     gl_.make_current();
     const rr::CreaseGeometry* creases = scene_.creases ? &*scene_.creases : nullptr;
     full_ = std::make_unique<rr::TerrainRenderer>(gl_, scene_.mesh, creases, s_.width, s_.height, s_.layers,
-                                                  rr::drawn_style(s_), rr::scene_levels(scene_, rr::drawn_style(s_)));
+                                                  rr::drawn_style(s_), rr::scene_levels(scene_, rr::drawn_style(s_)),
+                                                  scene_.crease_levels);
     cheap_.reset();  // made when a cheap frame is first drawn
   }
 
@@ -116,7 +117,8 @@ class Viewer {
       layers.hachures = false;  // cheap frames go without (no normals target)
       cheap_ = std::make_unique<rr::TerrainRenderer>(gl_, scene_.mesh, scene_.creases ? &*scene_.creases : nullptr,
                                                      std::max(16, s_.width / 2), std::max(16, s_.height / 2), layers,
-                                                     rr::drawn_style(s_), rr::scene_levels(scene_, rr::drawn_style(s_)));
+                                                     rr::drawn_style(s_), rr::scene_levels(scene_, rr::drawn_style(s_)),
+                                                  scene_.crease_levels);
     }
     const auto t0 = Clock::now();
     last_ = (cheap ? cheap_ : full_)->render(s_.frame);
@@ -226,7 +228,7 @@ class Viewer {
       gl_.make_current();
       if (rr::is_vector_path(path)) rr::check_vector_memory(gl_, at.width, at.height);
       rr::TerrainRenderer r(gl_, scene_.mesh, scene_.creases ? &*scene_.creases : nullptr, at.width, at.height, f.layers,
-                            f.style, rr::scene_levels(scene_, f.style));
+                            f.style, rr::scene_levels(scene_, f.style), scene_.crease_levels);
       last_ = r.render(at.frame);
       write(r);
     }

@@ -240,6 +240,7 @@ std::vector<float> segment_opacity(const CreaseGeometry& g, const Viewpoint& vie
 // stay the vertex's own. Segments in the order of the fine segment they begin with.
 struct CreaseLevel {
   CreaseGeometry geometry;
+  SegmentChains chains;                    // segment_chains(geometry)
   std::vector<std::uint32_t> first, last;  // #S the fine segments each one begins and ends with
   // Its error: the largest distance (metres, local frame) of a dropped vertex from the
   // segment that replaces it (at most the tolerance).

@@ -30,14 +30,11 @@ struct Scene {
   std::optional<CreaseGeometry> creases;  // with a database
   SegmentTraits traits;                   // of the creases' segments
   SegmentChains chains;                   // the strokes they follow, as the DM pass holds them
-  // Their coarser levels (coarser_crease_levels), each with its traits and chains: a frame
-  // drawn at one (FrameResult::crease_level) is followed on its segments (frame_creases).
-  struct MergedCreases {
-    CreaseLevel level;
-    SegmentTraits traits;
-    SegmentChains chains;
-  };
-  std::vector<MergedCreases> merged_creases;
+  // Their coarser levels (coarser_crease_levels), shared with every renderer of them
+  // (TerrainRenderer's last argument), and each one's traits: a frame drawn at one
+  // (FrameResult::crease_level) is followed on its segments (frame_creases).
+  std::shared_ptr<const std::vector<CreaseLevel>> crease_levels;
+  std::vector<SegmentTraits> crease_level_traits;
   std::vector<std::string> warnings;      // "'x.dv': ..." for the tool to print
   double mesh_seconds = 0, creases_seconds = 0;
   // What focus_scene needs of a scene read at a coarser level: the creases wait for it.

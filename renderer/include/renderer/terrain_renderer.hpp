@@ -75,10 +75,12 @@ class TerrainRenderer {
   // with levels of detail (Style::lod_error, renderer/lod.hpp) and neither the PEL nor the
   // edge layer, only the vertices a frame draws go to the GPU, from `mesh` at each frame
   // whose levels change. `levels`: the mesh's levels of detail when already made (the
-  // mesh pyramid's, or another renderer's: LodHierarchy), else they are built here.
+  // mesh pyramid's, or another renderer's: LodHierarchy), else they are built here; so
+  // too `crease_levels`, the creases' coarser levels (coarser_crease_levels(*creases)).
   TerrainRenderer(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases,
                   int width, int height, const Layers& layers, const Style& style,
-                  std::shared_ptr<const LodHierarchy> levels = nullptr);
+                  std::shared_ptr<const LodHierarchy> levels = nullptr,
+                  std::shared_ptr<const std::vector<CreaseLevel>> crease_levels = nullptr);
   ~TerrainRenderer();
   TerrainRenderer(const TerrainRenderer&) = delete;
   TerrainRenderer& operator=(const TerrainRenderer&) = delete;

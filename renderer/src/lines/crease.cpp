@@ -648,6 +648,7 @@ CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step, double toleranc
     level.last.push_back(t);
   }
   c.median_surface_offset = g.median_surface_offset;
+  level.chains = segment_chains(c);
   return level;
 }
 

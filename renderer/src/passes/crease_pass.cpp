@@ -16,7 +16,7 @@
 
 namespace renderer::passes {
 
-CreasePass::Level CreasePass::upload(const CreaseGeometry& creases) const {
+CreasePass::Level CreasePass::upload(const CreaseGeometry& creases, const SegmentChains& chains) const {
   Level l;
   l.n_vertices = creases.positions.size();
   l.n_segments = creases.n_segments();
@@ -33,22 +33,24 @@ CreasePass::Level CreasePass::upload(const CreaseGeometry& creases) const {
   }
   l.cv = make_buffer(cv.size() * 4, cv.data(), 0);
   l.seg = make_buffer(creases.segments.size() * 4, creases.segments.data(), 0);
-  const SegmentChains chains = segment_chains(creases);
   std::vector<std::uint32_t> chain(2 * l.n_segments);
   for (std::size_t s = 0; s < l.n_segments; ++s) chain[2 * s] = chains.prev[s], chain[2 * s + 1] = chains.next[s];
   l.chain = make_buffer(chain.size() * 4, chain.data(), 0);
   return l;
 }
 
-CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled, bool antialias, bool merged)
+CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled, bool antialias,
+                       std::shared_ptr<const std::vector<CreaseLevel>> levels, bool merged)
     : PassBase(DM), s_(scene), enabled_(enabled), antialias_(antialias), target_(scene, antialias) {
   if (!creases || creases->n_segments() == 0) return;
-  levels_.push_back(upload(*creases));
-  if (merged)
-    for (const CreaseLevel& l : coarser_crease_levels(*creases)) {
-      levels_.push_back(upload(l.geometry));
+  levels_.push_back(upload(*creases, segment_chains(*creases)));
+  if (merged) {
+    if (!levels) levels = std::make_shared<const std::vector<CreaseLevel>>(coarser_crease_levels(*creases));
+    for (const CreaseLevel& l : *levels) {
+      levels_.push_back(upload(l.geometry, l.chains));
       errors_.push_back(l.error_metres);
     }
+  }
   const std::size_t nv = levels_[0].n_vertices, ns = levels_[0].n_segments;
   score_buf_ = make_buffer(nv * 4, nullptr, 0);
   opacity_buf_ = make_buffer(ns * 4, nullptr, 0);

@@ -4,6 +4,7 @@
 // order: TFT, AFT, DM, PEL, EDGE, SIL, LAY. Internal to the renderer library.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -174,9 +175,10 @@ class AwayPass : public PassBase {
 class CreasePass : public PassBase {
  public:
   // `creases` may be null or empty: the pass then only clears its targets. With `merged`,
-  // it holds the coarser levels of the creases too (coarser_crease_levels), one of which
-  // each frame draws (set_level).
-  CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled, bool antialias, bool merged);
+  // it holds the coarser levels of the creases too, one of which each frame draws
+  // (set_level): `levels` (coarser_crease_levels(*creases)), made here when null.
+  CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled, bool antialias,
+             std::shared_ptr<const std::vector<CreaseLevel>> levels, bool merged);
   bool active() const { return enabled_ && n_segments() > 0; }
   std::size_t segments_drawn() const;  // of the last frame
   // The level the next frame draws: 0 the creases as given, l > 0 coarser_crease_levels' l - 1.
@@ -198,7 +200,7 @@ class CreasePass : public PassBase {
     std::size_t n_vertices = 0, n_segments = 0;
     GlObject cv, seg, chain;
   };
-  Level upload(const CreaseGeometry& creases) const;
+  Level upload(const CreaseGeometry& creases, const SegmentChains& chains) const;
   const SceneGpu& s_;
   bool enabled_, antialias_;
   std::vector<Level> levels_;  // the creases as given, then the coarser levels

@@ -284,8 +284,9 @@ TEST(CreaseLevels, AFramesLinesOnTheFineSegments) {
   renderer::Scene scene;
   scene.creases = branching_network();
   scene.chains = renderer::segment_chains(*scene.creases);
-  scene.merged_creases.push_back({renderer::merge_crease_runs(*scene.creases, 4, std::numeric_limits<double>::infinity()), {}, {}});
-  const renderer::CreaseLevel& l = scene.merged_creases[0].level;
+  scene.crease_levels = std::make_shared<const std::vector<renderer::CreaseLevel>>(
+      1, renderer::merge_crease_runs(*scene.creases, 4, std::numeric_limits<double>::infinity()));
+  const renderer::CreaseLevel& l = (*scene.crease_levels)[0];
   renderer::FrameResult res;
   res.crease_level = 1;
   const renderer::FrameLines merged{{1.0f, 0.5f, 0.0f, 1.0f, 0.25f}, {8.0, 4.0, 0.0, 2.0, 6.0}};
