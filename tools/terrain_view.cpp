@@ -35,10 +35,12 @@ int main(int argc, char** argv) {
       "Examples:\n"
       "  terrain-view out/msh_50m.ply out/msh_breached.dv\n"
       "  terrain-view out/msh_50m.ply out/msh_breached.dv --replay tour.txt --offscreen\n"
+      "  terrain-view logan_2m.ply logan_2m.dv --memory 512   # a mesh larger than that, read from its pyramid\n"
       "  terrain-view --list-options\n\n"
       "See docs/terrain-view.md.");
   app.set_version_flag("--version", tt::version());
   std::string mesh, dv, replay_path, frames_path, save_dir = ".";
+  double memory_mib = 1024;
   bool offscreen = false, list = false;
   tt::Verbosity verb;
   tt::TableArgs opts;
@@ -49,6 +51,11 @@ int main(int argc, char** argv) {
   app.add_option("--frames", frames_path, "A frames CSV to step through (N, or next-frame)");
   app.add_option("--save-dir", save_dir, "Where the panel's Save buttons write")->capture_default_str();
   app.add_flag("--list-options", list, "Print the panel's options (name, group, type, default) and exit");
+  app.add_option("--memory", memory_mib,
+                 "MiB the mesh's vertices may take: a larger mesh with a pyramid beside it (dem2mesh --pyramid) is "
+                 "read at the finest level the view draws, within this (again when a view comes nearer)")
+      ->check(CLI::Range(0.001, 16777216.0))
+      ->capture_default_str();
   tt::add_verbosity_flags(app, verb);
   tt::add_table_options(&app, opts, false);
 
@@ -61,7 +68,8 @@ int main(int argc, char** argv) {
     if (mesh.empty()) throw CLI::ValidationError("MESH", "give a mesh (.ply)");
     if (offscreen && replay_path.empty()) throw CLI::ValidationError("--offscreen", "needs --replay FILE");
     const std::vector<std::string> replay = replay_path.empty() ? std::vector<std::string>{} : terrain::tools::view::read_replay(replay_path);
-    Viewer v(mesh, dv, tt::settings_of(opts), [&opts](const std::string& n) { return opts.was_given(n); }, verb);
+    Viewer v(mesh, dv, tt::settings_of(opts), [&opts](const std::string& n) { return opts.was_given(n); }, verb,
+             std::uint64_t(memory_mib * 1048576.0));
     v.inputs = {mesh, dv, replay_path};
     if (!frames_path.empty()) v.load_frames(frames_path);
     return offscreen ? terrain::tools::view::run_offscreen(v, replay) : terrain::tools::view::run_window(v, replay, save_dir);

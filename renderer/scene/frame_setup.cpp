@@ -39,9 +39,12 @@ ResolvedFrame resolve_frame(const RenderSettings& s, const terrain::GridMesh& me
     camera.map_scale = map_scale;
     if (!given("light-az") && !given("light-alt")) f.frame.light = dv.light;
     f.description = dv.description;
+  } else if (camera.eye && s.view == ViewMode::Top && camera.view_az == 0 && camera.view_alt == 90) {
+    camera.orthographic = true;  // the map centred under the eye: a panned map, as terrain-view saves one
   }
   if (given("map-scale") && !camera.orthographic)
-    throw terrain::Error("--map-scale needs the orthographic view: --view top, without --eye or --view-az");
+    throw terrain::Error("--map-scale needs the orthographic view: --view top, with no --eye or one straight down, north "
+                         "up (--view-az 0 --view-alt 90)");
   if (camera.eye) check_eye_above_terrain(mesh, *camera.eye, s.style.exaggeration);
   return f;
 }

@@ -92,7 +92,7 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
   });
   s.mesh_seconds = since(t0);
   if (s.mesh_level > 0) {  // a preview: the creases wait for focus_scene
-    s.deferred = Scene::Deferred{mesh_path, dv_path, rules, vertex_bytes};
+    s.deferred = s.bounded = Scene::Deferred{mesh_path, dv_path, rules, vertex_bytes};
     return s;
   }
   if (!from_pyramid) {
@@ -144,6 +144,22 @@ std::string focus_scene(Scene& s, const std::vector<Camera>& cameras, int width,
   if (!d.dv_path.empty()) build_creases(s, d.dv_path, d.rules);
   return fmt::format("mesh read at level {} of its pyramid after the preview at level {}: {}", s.mesh_level, preview,
                      note.empty() ? "--lod-error 0 draws every cell" : note);
+}
+
+std::string refocus_scene(Scene& s, const Camera& camera, int width, int height, const Style& style) {
+  if (!s.bounded || s.mesh_level == 0 || !s.levels || !(style.lod_error > 0)) return {};
+  const LodHierarchy& h = *s.levels;
+  int within = s.mesh_level;  // the finest level within the bound
+  while (within > 0 && std::uint64_t(terrain::level_count(h.topo.rows - 1, within - 1)) *
+                               terrain::level_count(h.topo.cols - 1, within - 1) * kVertexBytes <=
+                           s.bounded->vertex_bytes)
+    --within;
+  if (within == s.mesh_level) return {};
+  const Eigen::Vector3d origin(s.mesh.geo.origin_x, s.mesh.geo.origin_y, s.mesh.geo.origin_z);
+  const View view = make_view(camera, origin, levels_box(h, style.exaggeration), width, height);
+  if (finest_wanted_level(h, view, style.exaggeration, style.lod_error) >= s.mesh_level) return {};
+  s.deferred = s.bounded;
+  return "the view came nearer: " + focus_scene(s, {camera}, width, height, style);
 }
 
 std::shared_ptr<const LodHierarchy> scene_levels(Scene& scene, const Style& style) {

@@ -547,6 +547,7 @@ INSTANTIATE_TEST_SUITE_P(
         Row{tv + "IN/meshdir/frame_00000.png IN/m.dv --replay IN/r_window_mesh.txt", 1, "frame_00000.png' is the input"},
         Row{tv + "IN/m.ply IN/m.dv --frames IN/shot.png.csv --replay IN/r_view_frames.txt", 1, "shot.png.csv' is the input"},
         Row{tv + "IN/m.ply IN/m.dv --replay IN/r_keys_self.txt", 1, "replay line 4: the output '"},
+        Row{tv + "IN/m.ply IN/m.dv --replay IN/r_keys_self.txt --memory 0", 2, "--memory: Value 0 not in range"},
         Row{tv + "IN/m.ply IN/m.dv --replay IN/r_keys_frames.txt --frames IN/shot.png.csv", 1, "replay line 3: the output '"},
         Row{tv + "IN/m.ply IN/m.dv --replay IN/r_keys_huge.txt", 1, "replay line 4: save-keyframes: N: 1000000000 is outside 2 .. 100000"},
         Row{tv + "IN/m.ply IN/m.dv --replay IN/r_keys_zero.txt", 1, "save-keyframes: N: 0 is outside 2 .. 100000"},

@@ -160,6 +160,45 @@ TEST(Viewer, WindowUnderXvfbDrawsWhatTerrainRenderDraws) { check_viewer(true); }
 
 TEST(Viewer, OffscreenReplayDrawsWhatTerrainRenderDraws) { check_viewer(false); }
 
+// A mesh larger than --memory, with its pyramid (MSH at 20 m: 151 x 221 vertices, 0.8 MB;
+// --memory 0.25 holds 256 KiB): the viewer reads the level its start view draws (a map at
+// 60 m a pixel, a 2 px bound: level 3), as terrain-render frame does, and when the view comes
+// nearer than that level serves (15 m a pixel: level 0), its full frame reads a finer one
+// within the bound (level 1). Each saved view's command line carries the bound, and run,
+// draws the same PNG, pixel for pixel (a saved map's command line, --view top with the
+// eye, used to be refused: --map-scale needs the orthographic view).
+TEST(Viewer, AMeshLargerThanTheMemoryBoundFollowsTheView) {
+  terrain::test::ScratchDir dir;
+  const std::string mesh = dir.path("m.ply");
+  ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh + " --spacing 20 --pyramid -q")
+                .exit_code,
+            0);
+  std::ofstream(dir.path("replay.txt")) << "save-view " + dir.path("far.png") + "\nset map-scale 15\nsave-view " +
+                                               dir.path("near.png") + "\nquit\n";
+  const auto v = run(tool("terrain-view") + " " + mesh + " --size 320x180 --view top --map-scale 60 --lod-error 2 " +
+                     "--layers mask,silhouettes --memory 0.25 -v --offscreen --replay " + dir.path("replay.txt"));
+  ASSERT_EQ(v.exit_code, 0) << v.err;
+  EXPECT_NE(v.err.find("mesh read at level 3 of its pyramid after the preview at level 2: the view draws level 3"),
+            std::string::npos)
+      << v.err;
+  EXPECT_NE(v.err.find("the view came nearer: mesh read at level 1 of its pyramid after the preview at level 3: the "
+                       "view draws level 0 at its finest; level 1 read, the finest within the memory bound"),
+            std::string::npos)
+      << v.err;
+  for (const std::string saved : {"far", "near"}) {
+    std::string cmd = file_bytes(dir.path(saved + ".png.txt"));
+    ASSERT_NE(cmd.find(" --memory 0.25"), std::string::npos) << cmd;
+    cmd.replace(cmd.find("terrain-render"), 14, tool("terrain-render"));
+    cmd.replace(cmd.find(dir.path(saved + ".png")), dir.path(saved + ".png").size(), dir.path("cmd.png"));
+    cmd.pop_back();  // the newline
+    ASSERT_EQ(run(cmd + " -q").exit_code, 0) << cmd;
+    EXPECT_EQ(run("oiiotool --fail 0 --failpercent 0 --diff " + dir.path(saved + ".png") + " " + dir.path("cmd.png"))
+                  .exit_code,
+              0)
+        << cmd;
+  }
+}
+
 TEST(Viewer, ListsEveryOptionOfTheTable) {
   const auto r = run(tool("terrain-view") + " --list-options");
   ASSERT_EQ(r.exit_code, 0) << r.err;

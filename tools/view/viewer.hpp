@@ -39,18 +39,25 @@ class Viewer {
  public:
   // `given`: the table options given on the command line (the automatic view chooses the
   // rest, as terrain-render frame's).
-  Viewer(std::string mesh, std::string dv, rr::RenderSettings s, rr::GivenOption given, const tt::Verbosity& verb)
+  // `vertex_bytes` (0: no bound) bounds what the mesh's vertices take, as terrain-render
+  // frame's --memory: a larger mesh with a pyramid is read at the finest level the start view
+  // draws within it (load_scene, then focus_scene); a full frame of a view nearer than that
+  // level serves reads a finer one first, within the bound (refocus_scene).
+  Viewer(std::string mesh, std::string dv, rr::RenderSettings s, rr::GivenOption given, const tt::Verbosity& verb,
+         std::uint64_t vertex_bytes = 0)
       : mesh_path_(std::move(mesh)),
         dv_path_(std::move(dv)),
         s_(std::move(s)),
         start_(s_),
         given_(std::move(given)),
         verb_(verb),
-        scene_(rr::load_scene(mesh_path_, dv_path_, s_.rules)) {
+        vertex_bytes_(vertex_bytes),
+        scene_(rr::load_scene(mesh_path_, dv_path_, s_.rules, vertex_bytes_)) {
     for (const std::string& w : scene_.warnings) tt::warn(verb_, w);
     tt::step(verb_, rr::resolve_settings(s_, scene_.mesh, given_));
     start_.style.exaggeration = s_.style.exaggeration;
     home();
+    focus();
     stale_ = true;  // the renderers are made for the first frame: a bad replay line fails before
   }
 
@@ -89,8 +96,18 @@ class Viewer {
     else if (!o->per_frame && o->name != "eye") stale_ = true;
   }
 
+  // A scene read at a coarser level (the memory bound) read again at the level the current
+  // view draws, with its creases; -v says which.
+  void focus() {
+    const std::string note = rr::focus_scene(scene_, {s_.frame.camera}, s_.width, s_.height, rr::drawn_style(s_));
+    if (!note.empty()) tt::step(verb_, note);
+  }
+
   void bring_up_to_date() {
-    if (creases_stale_) scene_ = rr::load_scene(mesh_path_, dv_path_, s_.rules);
+    if (creases_stale_) {
+      scene_ = rr::load_scene(mesh_path_, dv_path_, s_.rules, vertex_bytes_);
+      focus();
+    }
     if (stale_) rebuild();
     creases_stale_ = stale_ = false;
   }
@@ -109,6 +126,10 @@ class Viewer {
   // shows them as terrain-render draws them (renderer/hachures.hpp); a cheap frame, while
   // moving, goes without.
   const rr::FrameResult& render(bool cheap) {
+    if (!cheap) {  // a view nearer than the level held serves: a finer level, within the memory bound
+      const std::string note = rr::refocus_scene(scene_, s_.frame.camera, s_.width, s_.height, rr::drawn_style(s_));
+      if (!note.empty()) tt::step(verb_, note), stale_ = true;
+    }
     bring_up_to_date();
     if (before_gl) before_gl();
     gl_.make_current();
@@ -147,8 +168,9 @@ class Viewer {
 
   // The exact terrain-render command line of view `s` writing `png`.
   std::string command_line(const std::string& png, const rr::RenderSettings& s) const {
+    const double mib = double(vertex_bytes_) / 1048576.0;  // terrain-render frame's --memory, 1024 unless given
     return "terrain-render frame " + quoted(mesh_path_) + (dv_path_.empty() ? "" : " " + quoted(dv_path_)) + " -o " +
-           quoted(png) + rr::changed_options(s);
+           quoted(png) + rr::changed_options(s) + (mib != 1024 ? fmt::format(" --memory {:g}", mib) : "");
   }
 
   // screenshot: the full frame of the current view as a PNG, at the window's size or at
@@ -243,6 +265,7 @@ class Viewer {
   rr::GivenOption given_;                  // which table options the command line gave
   std::set<std::string> set_since_start_;  // options set through the panel or the replay
   const tt::Verbosity& verb_;
+  std::uint64_t vertex_bytes_;  // the memory bound on the mesh's vertices (0: none)
   rr::GlContext gl_;
   rr::Scene scene_;
   std::unique_ptr<rr::TerrainRenderer> full_, cheap_;

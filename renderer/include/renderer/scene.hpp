@@ -44,6 +44,8 @@ struct Scene {
     std::uint64_t vertex_bytes = 0;
   };
   std::optional<Deferred> deferred;
+  std::optional<Deferred> bounded;  // the same, kept after focus_scene: what refocus_scene reads again
+
 };
 
 // Reads the mesh and, when `dv_path` is not empty, the database's points under it (a large
@@ -66,6 +68,14 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
 // every level with --lod-error 0), and builds the creases on it. Returns a line for -v.
 // With several cameras (a batch's frames), the finest level any of their views draws.
 std::string focus_scene(Scene& scene, const std::vector<Camera>& cameras, int width, int height, const Style& style);
+
+// For a scene read at a coarser level than its mesh under load_scene's memory bound: when
+// `camera`'s view would draw a block finer than the level held (finest_wanted_level) and a
+// finer level fits the bound, reads the finest level the view draws within it, with its
+// creases (focus_scene), and returns focus_scene's line; else nothing (no read). terrain-view
+// calls it before each full frame, so a view that comes nearer is drawn in the detail it
+// needs, within the bound.
+std::string refocus_scene(Scene& scene, const Camera& camera, int width, int height, const Style& style);
 
 // The scene's levels of detail for `style`: none without levels of detail
 // (Style::lod_error 0), else Scene::levels, made here once when the mesh brought none.

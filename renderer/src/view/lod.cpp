@@ -37,7 +37,10 @@ double nearest_depth(const Box& box, const View& view) {
   return !view.orthographic() && !(nearest > view.near) ? 0.0 : nearest;
 }
 
-std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double e, double bound_px) {
+namespace {
+
+// select_lod's levels before the held grid's clamp (LodHierarchy::base).
+std::vector<std::uint8_t> wanted_levels(const LodHierarchy& h, const View& view, double e, double bound_px) {
   std::vector<std::uint8_t> levels(h.blocks.size(), 0);
   for (std::size_t k = 0; k < h.blocks.size(); ++k) {
     const LodBlock& b = h.blocks[k];
@@ -52,10 +55,23 @@ std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, do
     while (l + 1 < b.levels() && double(b.error[std::size_t(l + 1)]) <= allowed) ++l;
     levels[k] = std::uint8_t(l);
   }
+  return levels;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double e, double bound_px) {
+  std::vector<std::uint8_t> levels = wanted_levels(h, view, e, bound_px);
   if (h.base > 0)  // nothing finer than the grid held (its coarsest level at most)
     for (std::size_t k = 0; k < h.blocks.size(); ++k)
       levels[k] = std::max(levels[k], std::uint8_t(std::min(h.base, h.blocks[k].levels() - 1)));
   return levels;
+}
+
+int finest_wanted_level(const LodHierarchy& h, const View& view, double e, double bound_px) {
+  int finest = std::numeric_limits<int>::max();
+  for (const std::uint8_t l : wanted_levels(h, view, e, bound_px)) finest = std::min(finest, int(l));
+  return finest;
 }
 
 double nearest_pixel_metres(const LodHierarchy* h, const Box& box, const View& view, double e) {
