@@ -39,8 +39,11 @@ ResolvedFrame resolve_frame(const RenderSettings& s, const terrain::GridMesh& me
     camera.map_scale = map_scale;
     if (!given("light-az") && !given("light-alt")) f.frame.light = dv.light;
     f.description = dv.description;
-  } else if (camera.eye && s.view == ViewMode::Top && camera.view_az == 0 && camera.view_alt == 90) {
+  } else if (camera.eye && s.view == ViewMode::Top && (!given("view-az") || camera.view_az == 0) &&
+             (!given("view-alt") || camera.view_alt == 90)) {
     camera.orthographic = true;  // the map centred under the eye: a panned map, as terrain-view saves one
+    camera.view_az = 0;
+    camera.view_alt = 90;
   }
   if (given("map-scale") && !camera.orthographic)
     throw terrain::Error("--map-scale needs the orthographic view: --view top, with no --eye or one straight down, north "

@@ -472,6 +472,17 @@ TEST(TerrainRender, TopViewIsAMapInMapCoordinates) {
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.err.find("--map-scale needs the orthographic view"), std::string::npos) << bad.err;
   EXPECT_FALSE(std::filesystem::exists(in.dir.path("b.png")));
+  // A panned map (--view top with the eye, as terrain-view saves one): centred under the eye,
+  // 500 m east of the image's centre above, its geotransform 500 m east; looking elsewhere
+  // than straight down, north up, it is not a map.
+  const std::string eye = fmt::format(" --eye {:.3f} {:.3f} 9000", x0 + 320 * 10 + 500, y0 - 240 * 10);
+  const auto panned = run(frame + in.dir.path("p.png") + eye);
+  ASSERT_EQ(panned.exit_code, 0) << panned.err;
+  EXPECT_NE(panned.out.find(fmt::format("geotransform: {:.3f} 10 0 {:.3f} 0 -10", x0 + 500, y0)), std::string::npos)
+      << panned.out;
+  const auto oblique = run(frame + in.dir.path("o.png") + eye + " --view-alt 60");
+  EXPECT_NE(oblique.exit_code, 0);
+  EXPECT_NE(oblique.err.find("--map-scale needs the orthographic view"), std::string::npos) << oblique.err;
 }
 
 // A mesh's plan-view hachure map (terrain-inspect export --layers hachures): the GeoPackage
