@@ -175,7 +175,8 @@ bool output_command(Viewer& v, const ReplayArgs& a, const std::string& line) {
     a.expect(0, 0, "timings");
     const auto passes = [](const rr::FrameResult& f) {  // the passes' own times
       std::string t;
-      for (int p = 0; p < rr::kPassCount; ++p) t += fmt::format("{}{} {:.1f}", p ? ", " : "", rr::pass_name(p), f.timings.gpu_ms[p]);
+      for (int p = 0; p < rr::kPassCount; ++p)
+        t += fmt::format("{}{} {:.1f}", p ? ", " : "", rr::pass_name(p), f.timings.gpu_ms[p]);
       return t;
     };
     const rr::FrameResult& f = v.render(false);

@@ -45,7 +45,6 @@ struct Scene {
   };
   std::optional<Deferred> deferred;
   std::optional<Deferred> bounded;  // the same, kept after focus_scene: what refocus_scene reads again
-
 };
 
 // Reads the mesh and, when `dv_path` is not empty, the database's points under it (a large

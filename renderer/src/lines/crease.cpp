@@ -562,10 +562,6 @@ std::string surface_warning(const terrain::GridMesh& mesh, const CreaseGeometry&
                      g.median_surface_offset, 100 * g.median_surface_offset / spacing, spacing);
 }
 
-}  // namespace renderer
-
-namespace renderer {
-
 namespace {
 
 // The distance of p from the segment a-b.
