@@ -53,15 +53,20 @@ void build_creases(Scene& s, const std::string& dv_path, const CreaseRules& rule
 
 constexpr std::uint64_t kVertexBytes = 2 * sizeof(Eigen::Vector3f);  // a position and a normal
 
-std::uint64_t level_bytes(const terrain::MeshPyramid& p, int l) {
-  return std::uint64_t(p.rows(l)) * p.cols(l) * kVertexBytes;
+// What level l's vertices take, of a mesh of grid `t` (its level 0).
+std::uint64_t level_bytes(const terrain::GridTopology& t, int l) {
+  return std::uint64_t(terrain::level_count(t.rows - 1, l)) * terrain::level_count(t.cols - 1, l) * kVertexBytes;
 }
 
-// The finest level of `p` whose vertices take at most `bytes` (the coarsest when none does).
-int finest_within(const terrain::MeshPyramid& p, std::uint64_t bytes) {
+// The finest of levels 0 .. count - 1 of a mesh of grid `t` whose vertices take at most
+// `bytes` (the coarsest when none does).
+int finest_within(const terrain::GridTopology& t, int count, std::uint64_t bytes) {
   int l = 0;
-  while (l + 1 < p.level_count() && level_bytes(p, l) > bytes) ++l;
+  while (l + 1 < count && level_bytes(t, l) > bytes) ++l;
   return l;
+}
+int finest_within(const terrain::MeshPyramid& p, std::uint64_t bytes) {
+  return finest_within(p.levels().topo, p.level_count(), bytes);
 }
 
 // Reads scene.mesh from its pyramid at the level `level` chooses; false when the pyramid
@@ -88,7 +93,7 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
   const auto t0 = Clock::now();
   Scene s;
   const bool from_pyramid = vertex_bytes > 0 && read_level(s, mesh_path, [&](const terrain::MeshPyramid& p) {
-    return level_bytes(p, 0) > vertex_bytes ? finest_within(p, vertex_bytes / 4) : 0;
+    return level_bytes(p.levels().topo, 0) > vertex_bytes ? finest_within(p, vertex_bytes / 4) : 0;
   });
   s.mesh_seconds = since(t0);
   if (s.mesh_level > 0) {  // a preview: the creases wait for focus_scene
@@ -149,12 +154,7 @@ std::string focus_scene(Scene& s, const std::vector<Camera>& cameras, int width,
 std::string refocus_scene(Scene& s, const Camera& camera, int width, int height, const Style& style) {
   if (!s.bounded || s.mesh_level == 0 || !s.levels || !(style.lod_error > 0)) return {};
   const LodHierarchy& h = *s.levels;
-  int within = s.mesh_level;  // the finest level within the bound
-  while (within > 0 && std::uint64_t(terrain::level_count(h.topo.rows - 1, within - 1)) *
-                               terrain::level_count(h.topo.cols - 1, within - 1) * kVertexBytes <=
-                           s.bounded->vertex_bytes)
-    --within;
-  if (within == s.mesh_level) return {};
+  if (finest_within(h.topo, s.mesh_level + 1, s.bounded->vertex_bytes) == s.mesh_level) return {};  // none finer fits
   const Eigen::Vector3d origin(s.mesh.geo.origin_x, s.mesh.geo.origin_y, s.mesh.geo.origin_z);
   const View view = make_view(camera, origin, levels_box(h, style.exaggeration), width, height);
   if (finest_wanted_level(h, view, style.exaggeration, style.lod_error) >= s.mesh_level) return {};
