@@ -4,13 +4,17 @@
 #include <zlib.h>
 #include <zstd.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
+#include <utility>
 
 #include "terrain/atomic_file.hpp"
 #include "terrain/error.hpp"
@@ -21,15 +25,27 @@ namespace terrain {
 
 namespace {
 
-// The largest vertical distance between the block's vertices and the PN surface of its
-// cells at step s (the cell's two faces as GridTopology's: NW-SW-SE and NW-SE-NE).
-float level_error(const GridMesh& mesh, const MeshLevelBlock& b, std::uint32_t s) {
+// The steepest gradient (|n_xy| / n_z) of the plane through a, b, c; infinity when it
+// stands vertical or turns over (counter-clockwise seen from above: n_z > 0).
+double plane_slope(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  return n.z() > 0 ? n.head<2>().norm() / n.z() : std::numeric_limits<double>::infinity();
+}
+
+// Level `s`'s error and slope over a block (MeshLevelBlock::error and ::slope): the largest
+// vertical distance between the block's vertices and the PN surface of its cells at step s
+// (the cell's two faces as GridTopology's: NW-SW-SE and NW-SE-NE), and the steepest
+// gradient of that surface: of the planes through each face's corners and through the
+// surface's samples at the same parameters (each fine cell's two faces).
+std::pair<float, float> level_measure(const GridMesh& mesh, const MeshLevelBlock& b, std::uint32_t s) {
   const std::size_t cols = mesh.topo.cols;
   const auto rs = level_lines(b.nr, s), cs = level_lines(b.nc, s);
   auto at = [&](std::uint32_t r, std::uint32_t c) { return (std::size_t(b.r0) + r) * cols + b.c0 + c; };
   auto p = [&](std::size_t v) { return Eigen::Vector3d(mesh.positions[v].cast<double>()); };
   auto n = [&](std::size_t v) { return Eigen::Vector3d(mesh.normals[v].cast<double>()); };
   float worst = 0;
+  double steepest = 0;
+  std::vector<Eigen::Vector3d> q;
   for (std::size_t i = 0; i + 1 < rs.size(); ++i)
     for (std::size_t j = 0; j + 1 < cs.size(); ++j) {
       const std::uint32_t ra = rs[i], rb = rs[i + 1], ca = cs[j], cb = cs[j + 1];
@@ -37,29 +53,63 @@ float level_error(const GridMesh& mesh, const MeshLevelBlock& b, std::uint32_t s
       // The cubic's control points only (the surface's normals are not needed here).
       const auto lower = pn_control_points<double>(p(nw), p(sw), p(se), n(nw), n(sw), n(se));
       const auto upper = pn_control_points<double>(p(nw), p(se), p(ne), n(nw), n(se), n(ne));
+      // The planes of its two faces' corners (what a patch drawn flat draws), then those
+      // through the cubic's samples.
+      steepest = std::max({steepest, plane_slope(p(nw), p(sw), p(se)), plane_slope(p(nw), p(se), p(ne))});
+      const std::size_t w = cb - ca + 1;
+      q.resize((rb - ra + 1) * w);
       for (std::uint32_t r = ra; r <= rb; ++r)
         for (std::uint32_t c = ca; c <= cb; ++c) {
           const double u = double(c - ca) / double(cb - ca), v = double(r - ra) / double(rb - ra);
-          const Eigen::Vector3d q =
-              v >= u ? pn_cubic<double>(lower, 1 - v, v - u, u) : pn_cubic<double>(upper, 1 - u, v, u - v);
-          worst = std::max(worst, float(std::abs(q.z() - double(mesh.positions[at(r, c)].z()))));
+          Eigen::Vector3d& x = q[(r - ra) * w + (c - ca)];
+          x = v >= u ? pn_cubic<double>(lower, 1 - v, v - u, u) : pn_cubic<double>(upper, 1 - u, v, u - v);
+          worst = std::max(worst, float(std::abs(x.z() - double(mesh.positions[at(r, c)].z()))));
+        }
+      for (std::size_t r = 0; r + 1 < rb - ra + 1; ++r)
+        for (std::size_t c = 0; c + 1 < w; ++c) {
+          const Eigen::Vector3d &a = q[r * w + c], &d = q[(r + 1) * w + c], &e = q[(r + 1) * w + c + 1],
+                                &f = q[r * w + c + 1];
+          steepest = std::max({steepest, plane_slope(a, d, e), plane_slope(a, e, f)});
         }
     }
-  return worst;
+  return {worst, float(steepest)};
 }
 
-// A block's box and its levels' errors, from `mesh`'s vertices at the block's rows and
-// columns (b.r0, b.c0, b.nr, b.nc set).
+// A block's box and its levels' errors and slopes, from `mesh`'s vertices at the block's
+// rows and columns (b.r0, b.c0, b.nr, b.nc set).
 void measure_block(const GridMesh& mesh, MeshLevelBlock& b) {
   b.lo = Eigen::Vector3f::Constant(1e30f), b.hi = -b.lo;
+  float steepest = 0;
   for (std::uint32_t r = 0; r <= b.nr; ++r)
     for (std::uint32_t c = 0; c <= b.nc; ++c) {
-      const Eigen::Vector3f& q = mesh.positions[(std::size_t(b.r0) + r) * mesh.topo.cols + b.c0 + c];
+      const std::size_t v = (std::size_t(b.r0) + r) * mesh.topo.cols + b.c0 + c;
+      const Eigen::Vector3f &q = mesh.positions[v], &n = mesh.normals[v];
       b.lo = b.lo.cwiseMin(q), b.hi = b.hi.cwiseMax(q);
+      steepest = n.z() > 0 ? std::max(steepest, n.head<2>().norm() / n.z()) : std::numeric_limits<float>::infinity();
+    }
+  // The mid-edge coefficients of the fine patches' quadratic normals (make_pn_patch's n110,
+  // n011, n101) over every edge of its cells: a fine patch's normal is a blend of these and
+  // its corners' normals with weights >= 0, so none is steeper than the steepest of them.
+  auto mid_slope = [&](std::size_t i, std::size_t j) {
+    const Eigen::Vector3f e = mesh.positions[j] - mesh.positions[i], sum = mesh.normals[i] + mesh.normals[j];
+    const float ee = e.squaredNorm();
+    const Eigen::Vector3f h = ee > 0 ? Eigen::Vector3f(sum - 2.0f * e.dot(sum) / ee * e) : sum;
+    return h.z() > 0 ? h.head<2>().norm() / h.z() : std::numeric_limits<float>::infinity();
+  };
+  for (std::uint32_t r = 0; r <= b.nr; ++r)
+    for (std::uint32_t c = 0; c <= b.nc; ++c) {
+      const std::size_t v = (std::size_t(b.r0) + r) * mesh.topo.cols + b.c0 + c, cols = mesh.topo.cols;
+      if (c < b.nc) steepest = std::max(steepest, mid_slope(v, v + 1));
+      if (r < b.nr) steepest = std::max(steepest, mid_slope(v, v + cols));
+      if (r < b.nr && c < b.nc) steepest = std::max(steepest, mid_slope(v, v + cols + 1));
     }
   b.error = {0.0f};
-  for (std::uint32_t s = 2; s / 2 < std::max(b.nr, b.nc); s *= 2)
-    b.error.push_back(std::max(b.error.back(), level_error(mesh, b, s)));
+  b.slope = {steepest};
+  for (std::uint32_t s = 2; s / 2 < std::max(b.nr, b.nc); s *= 2) {
+    const auto [error, slope] = level_measure(mesh, b, s);
+    b.error.push_back(std::max(b.error.back(), error));
+    b.slope.push_back(slope);
+  }
 }
 
 // A block's level count (measure_block's): level 0, then one per step s = 2, 4, ... with
@@ -71,7 +121,7 @@ int block_levels(std::uint32_t nr, std::uint32_t nc) {
 }
 
 constexpr char kMagic[8] = {'T', 'P', 'Y', 'R', 'A', 'M', 'I', 'D'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;  // 2: the blocks' slopes
 
 // Little-endian scalars (this project's machines are; the format says so).
 struct Out {
@@ -163,7 +213,7 @@ MeshPyramidWriter::MeshPyramidWriter(const GridTopology& topo, const MeshGeoref&
   // the file after it, in the index's order; the coarser levels' into temporary files,
   // appended at the end (a third of level 0's size at most).
   header_bytes_ = 20 + 4 + 16 + 40 + 4 + 4 + geo.crs_wkt.size() + 4;
-  for (const MeshLevelBlock& b : levels_.blocks) header_bytes_ += 28 + 4 * std::uint64_t(block_levels(b.nr, b.nc));
+  for (const MeshLevelBlock& b : levels_.blocks) header_bytes_ += 28 + 8 * std::uint64_t(block_levels(b.nr, b.nc));
   for (int l = 0; l < n_levels; ++l) {
     auto v = std::make_unique<Level>();
     v->rows = level_count(cells_r, l), v->cols = level_count(cells_c, l);
@@ -231,7 +281,7 @@ void MeshPyramidWriter::measure_block_row(const std::vector<Eigen::Vector3f>& po
     MeshLevelBlock local = b;
     local.r0 = 0;
     measure_block(band, local);
-    b.lo = local.lo, b.hi = local.hi, b.error = std::move(local.error);
+    b.lo = local.lo, b.hi = local.hi, b.error = std::move(local.error), b.slope = std::move(local.slope);
   }
 }
 
@@ -289,6 +339,7 @@ std::uint64_t MeshPyramidWriter::finish() {
     for (int k = 0; k < 3; ++k) h.put(b.hi[k]);
     h.put(std::uint32_t(b.levels()));
     for (float e : b.error) h.put(e);
+    for (float e : b.slope) h.put(e);
   }
   std::size_t n_tiles = 0;
   for (const auto& v : grids_) n_tiles += v->bytes.size();
@@ -360,7 +411,8 @@ MeshPyramid::MeshPyramid(const std::string& path) : path_(path) {
   if (!f.read(bytes.data(), 20) || std::memcmp(bytes.data(), kMagic, 8) != 0)
     throw Error("'" + path + "' is not a mesh pyramid (.tpyr)");
   In in{bytes, path_, 8};
-  if (in.get<std::uint32_t>() != kVersion) throw Error("'" + path + "': a newer mesh pyramid version");
+  const std::uint32_t version = in.get<std::uint32_t>();
+  if (version < 1 || version > kVersion) throw Error("'" + path + "': a newer mesh pyramid version");
   const std::uint64_t header_bytes = in.get<std::uint64_t>();
   if (header_bytes < 20 || header_bytes > size) throw Error("cannot read '" + path + "': truncated mesh pyramid");
   bytes.resize(std::size_t(header_bytes));
@@ -393,6 +445,10 @@ MeshPyramid::MeshPyramid(const std::string& path) : path_(path) {
     if (nl < 1 || int(nl) > n_levels) throw Error("cannot read '" + path + "': corrupt mesh pyramid (a block)");
     b.error.resize(nl);
     for (float& e : b.error) e = in.get<float>();
+    if (version >= 2) {  // version 1: not known
+      b.slope.resize(nl);
+      for (float& e : b.slope) e = in.get<float>();
+    }
   }
   tiles_.assign(std::size_t(n_levels), {});
   for (int l = 0; l < n_levels; ++l) {

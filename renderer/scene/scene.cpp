@@ -134,7 +134,8 @@ std::string focus_scene(Scene& s, const std::vector<Camera>& cameras, int width,
     int needed = p.level_count() - 1;
     for (const Camera& camera : cameras) {
       const std::vector<std::uint8_t> drawn =
-          select_lod(h, make_view(camera, origin, box, width, height), style.exaggeration, style.lod_error);
+          select_lod(h, make_view(camera, origin, box, width, height), style.exaggeration, style.lod_error,
+                     lod_cell_px(style));
       for (const std::uint8_t l : drawn) needed = std::min(needed, int(l));
     }
     const int within = finest_within(p, d.vertex_bytes);
@@ -157,7 +158,7 @@ std::string refocus_scene(Scene& s, const Camera& camera, int width, int height,
   if (finest_within(h.topo, s.mesh_level + 1, s.bounded->vertex_bytes) == s.mesh_level) return {};  // none finer fits
   const Eigen::Vector3d origin(s.mesh.geo.origin_x, s.mesh.geo.origin_y, s.mesh.geo.origin_z);
   const View view = make_view(camera, origin, levels_box(h, style.exaggeration), width, height);
-  if (finest_wanted_level(h, view, style.exaggeration, style.lod_error) >= s.mesh_level) return {};
+  if (finest_wanted_level(h, view, style.exaggeration, style.lod_error, lod_cell_px(style)) >= s.mesh_level) return {};
   s.deferred = s.bounded;
   return "the view came nearer: " + focus_scene(s, {camera}, width, height, style);
 }

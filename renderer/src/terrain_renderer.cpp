@@ -157,6 +157,7 @@ struct TerrainRenderer::Impl {
   std::shared_ptr<const LodHierarchy> lod;  // levels of detail (style.lod_error > 0, a mesh of more than one block)
   const terrain::GridMesh* source = nullptr;  // the mesh the drawn vertices come from, when only they are on the GPU
   std::vector<std::uint8_t> lod_levels;  // the levels scene's patches are at (none before the first frame)
+  std::vector<std::uint8_t> lod_facing;  // and the blocks marked facing among them (facing_blocks)
 
   // In the order they run.
   std::array<passes::PassBase*, kPassCount> sequence() {
@@ -261,11 +262,18 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
   res.height = m.scene.height;
   res.view = make_view(frame.camera, m.origin, m.box, res.width, res.height, m.scene.reversed);
   if (m.lod) {
-    std::vector<std::uint8_t> levels = select_lod(*m.lod, res.view, m.style.exaggeration, m.style.lod_error);
-    if (levels != m.lod_levels) {
-      if (m.source) m.scene.set_lod_mesh(lod_mesh(*m.lod, levels), *m.source);
-      else m.scene.set_patches(lod_patches(*m.lod, levels));
-      m.lod_levels = std::move(levels);
+    std::vector<std::uint8_t> levels =
+        select_lod(*m.lod, res.view, m.style.exaggeration, m.style.lod_error, lod_cell_px(m.style));
+    std::vector<std::uint8_t> facing = facing_blocks(*m.lod, res.view, m.style.exaggeration, levels);
+    if (levels != m.lod_levels || facing != m.lod_facing) {
+      if (m.source) {
+        m.scene.set_lod_mesh(lod_mesh(*m.lod, levels, facing), *m.source);
+      } else {
+        std::size_t may_face_away = 0;
+        const std::vector<std::uint32_t> patches = lod_patches(*m.lod, levels, facing, &may_face_away);
+        m.scene.set_patches(patches, may_face_away);
+      }
+      m.lod_levels = std::move(levels), m.lod_facing = std::move(facing);
     }
   }
   res.patches = m.scene.n_patches;

@@ -1177,39 +1177,44 @@ TEST(RendererGl, LevelsOfDetailLeaveNoCrack) {
   renderer::GlContext ctx;
   const int w = 480, h = 360;
   renderer::Style style = test_style();
-  style.lod_error = 16;
-  TerrainRenderer r(ctx, mesh, nullptr, w, h, renderer::Layers{false, true, false, false}, style);
-  for (const bool orthographic : {true, false}) {
-    FrameParams fp;
-    fp.camera.orthographic = orthographic;
-    fp.camera.view_az = orthographic ? 0 : 200;
-    fp.camera.view_alt = orthographic ? 90 : 35;
-    const auto res = r.render(fp);
-    EXPECT_LT(res.patches, mesh.n_faces() / 8) << orthographic;
-    EXPECT_GT(res.patches, 32u) << orthographic;
-    const auto depth = r.read_buffers().toward_depth;
-    std::vector<std::uint8_t> outside(depth.size(), 0);
-    std::vector<std::size_t> stack;
-    auto empty = [&](std::size_t i) { return renderer::far_depth(res.view.reversed_z, depth[i]) >= 1.0f; };
-    for (int x = 0; x < w; ++x)
-      for (int y : {0, h - 1}) stack.push_back(std::size_t(y * w + x));
-    for (int y = 0; y < h; ++y)
-      for (int x : {0, w - 1}) stack.push_back(std::size_t(y * w + x));
-    while (!stack.empty()) {
-      const std::size_t i = stack.back();
-      stack.pop_back();
-      if (outside[i] || !empty(i)) continue;
-      outside[i] = 1;
-      const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
-      if (x > 0) stack.push_back(i - 1);
-      if (x + 1 < w) stack.push_back(i + 1);
-      if (y > 0) stack.push_back(i - std::size_t(w));
-      if (y + 1 < h) stack.push_back(i + std::size_t(w));
+  style.lod_error = 4;  // 16 px where a level faces the eye throughout (kFacingLodFactor)
+  // Without the cells' cap (coarse levels, tessellated), then with it (flat patches).
+  for (const double cell : {0.0, -1.0}) {
+    style.lod_cell = cell;
+    TerrainRenderer r(ctx, mesh, nullptr, w, h, renderer::Layers{false, true, false, false}, style);
+    for (const bool orthographic : {true, false}) {
+      FrameParams fp;
+      fp.camera.orthographic = orthographic;
+      fp.camera.view_az = orthographic ? 0 : 200;
+      fp.camera.view_alt = orthographic ? 90 : 35;
+      const auto res = r.render(fp);
+      EXPECT_LT(res.patches, cell == 0 ? mesh.n_faces() / 8 : mesh.n_faces() / 2) << orthographic;
+      EXPECT_GT(res.patches, 32u) << orthographic;
+      const auto depth = r.read_buffers().toward_depth;
+      std::vector<std::uint8_t> outside(depth.size(), 0);
+      std::vector<std::size_t> stack;
+      auto empty = [&](std::size_t i) { return renderer::far_depth(res.view.reversed_z, depth[i]) >= 1.0f; };
+      for (int x = 0; x < w; ++x)
+        for (int y : {0, h - 1}) stack.push_back(std::size_t(y * w + x));
+      for (int y = 0; y < h; ++y)
+        for (int x : {0, w - 1}) stack.push_back(std::size_t(y * w + x));
+      while (!stack.empty()) {
+        const std::size_t i = stack.back();
+        stack.pop_back();
+        if (outside[i] || !empty(i)) continue;
+        outside[i] = 1;
+        const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
+        if (x > 0) stack.push_back(i - 1);
+        if (x + 1 < w) stack.push_back(i + 1);
+        if (y > 0) stack.push_back(i - std::size_t(w));
+        if (y + 1 < h) stack.push_back(i + std::size_t(w));
+      }
+      std::size_t enclosed = 0, terrain = 0;
+      for (std::size_t i = 0; i < depth.size(); ++i) enclosed += empty(i) && !outside[i], terrain += !empty(i);
+      EXPECT_EQ(enclosed, 0u) << (orthographic ? "orthographic" : "oblique") << " patches " << res.patches
+                              << " cell " << cell;
+      EXPECT_GT(terrain, depth.size() / 4);
     }
-    std::size_t enclosed = 0, terrain = 0;
-    for (std::size_t i = 0; i < depth.size(); ++i) enclosed += empty(i) && !outside[i], terrain += !empty(i);
-    EXPECT_EQ(enclosed, 0u) << (orthographic ? "orthographic" : "oblique") << " patches " << res.patches;
-    EXPECT_GT(terrain, depth.size() / 4);
   }
   renderer::Style full = style;
   full.lod_error = 0;
@@ -1249,6 +1254,7 @@ TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
   const int w = 480, h = 360;
   renderer::Style style = test_style();
   style.lod_error = 16;
+  style.lod_cell = 0;  // no cap on the cells: every block at level 2 or coarser from far
   const renderer::Layers layers{false, true, false, true};  // the mask and the silhouettes
   TerrainRenderer a(ctx, whole->mesh, nullptr, w, h, layers, style, fine_levels);
   TerrainRenderer b(ctx, coarse->mesh, nullptr, w, h, layers, style, held_levels);
@@ -1261,7 +1267,8 @@ TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
   far.camera.view_alt = 8;
   for (const FrameParams& fp : {top, far}) {
     const auto ra = a.render(fp);
-    const auto levels = renderer::select_lod(*fine_levels, ra.view, style.exaggeration, style.lod_error);
+    const auto levels = renderer::select_lod(*fine_levels, ra.view, style.exaggeration, style.lod_error,
+                                               renderer::lod_cell_px(style));
     ASSERT_GE(*std::min_element(levels.begin(), levels.end()), 2) << "the view draws a block finer than the held level";
     const auto fa = a.read_buffers();
     const auto rb = b.render(fp);
@@ -1289,7 +1296,8 @@ TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
   near.camera.view_az = 180;
   near.camera.view_alt = 30;
   const auto na = a.render(near);
-  const auto near_levels = renderer::select_lod(*fine_levels, na.view, style.exaggeration, style.lod_error);
+  const auto near_levels = renderer::select_lod(*fine_levels, na.view, style.exaggeration, style.lod_error,
+                                                    renderer::lod_cell_px(style));
   ASSERT_LT(*std::min_element(near_levels.begin(), near_levels.end()), 2);
   const auto nb = b.render(near);
   EXPECT_LT(nb.patches, na.patches);
@@ -1303,7 +1311,8 @@ TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
 // patch tessellated (Style::flat_patches false): on a bumpy analytic surface seen obliquely
 // from near, so that near patches tessellate finer and far ones into their own triangle,
 // with levels of detail (coarse patches, which face by their geometry) and without, the
-// terrain covers the same pixels, its depth is the same to float rounding, its shading
+// terrain covers the same pixels, its depth is the same to float rounding (a pixel or two
+// seen edge on aside), its shading
 // within 1/255, and the silhouettes are the same, pixel for pixel.
 TEST(RendererGl, FlatPatchesDrawWhatTheTessellatorDraws) {
   const terrain::GridMesh mesh = terrain::test::function_mesh(300, 271, 10.0, [](double x, double y) {
@@ -1326,7 +1335,7 @@ TEST(RendererGl, FlatPatchesDrawWhatTheTessellatorDraws) {
     const auto ra = a.render(near), rb = b.render(near);
     const auto fa = a.read_buffers(), fb = b.read_buffers();
     EXPECT_EQ(ra.patches, rb.patches);
-    std::size_t coverage = 0, terrain = 0, silhouettes = 0;
+    std::size_t coverage = 0, terrain = 0, silhouettes = 0, grazing = 0;
     float depth = 0;
     int colour = 0;
     for (std::size_t i = 0; i < fa.toward_depth.size(); ++i) {
@@ -1335,6 +1344,7 @@ TEST(RendererGl, FlatPatchesDrawWhatTheTessellatorDraws) {
       coverage += in_a != in_b;
       terrain += in_a;
       if (in_a && in_b) depth = std::max(depth, std::abs(fa.toward_depth[i] - fb.toward_depth[i]));
+      grazing += in_a && in_b && std::abs(fa.toward_depth[i] - fb.toward_depth[i]) > 1e-6f;
       for (int k = 0; k < 3; ++k)
         colour = std::max(colour, std::abs(int(fa.surface_rgba[4 * i + std::size_t(k)]) -
                                            int(fb.surface_rgba[4 * i + std::size_t(k)])));
@@ -1343,7 +1353,10 @@ TEST(RendererGl, FlatPatchesDrawWhatTheTessellatorDraws) {
       silhouettes += fa.silhouette_opacity[i] != fb.silhouette_opacity[i];
     EXPECT_EQ(coverage, 0u) << "lod " << lod;
     EXPECT_GT(terrain, fa.toward_depth.size() / 3) << "lod " << lod;
-    EXPECT_LE(depth, 1e-6f) << "lod " << lod;
+    // Float rounding, but for a pixel or two where the surface is seen edge on (a ridge
+    // against the one behind it), whose steep depth gradient magnifies it.
+    EXPECT_LE(grazing, 2u) << "lod " << lod;
+    EXPECT_LE(depth, 1e-4f) << "lod " << lod;
     EXPECT_LE(colour, 1) << "lod " << lod;
     EXPECT_EQ(silhouettes, 0u) << "lod " << lod;
     EXPECT_GT(std::count_if(fa.silhouette_opacity.begin(), fa.silhouette_opacity.end(), [](std::uint8_t o) { return o > 0; }),

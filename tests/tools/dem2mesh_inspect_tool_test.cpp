@@ -310,7 +310,9 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
   // Under a memory bound the mesh does not fit (--memory 0.25: 256 KiB; the mesh's 151 x 221
   // vertices take 0.8 MB), terrain-render reads a preview level (level 2, within a quarter
   // of the bound), then the finest level the view draws: a map at 30 m a pixel with a
-  // 2-pixel error bound draws no block finer than level 1, so the surface and its
+  // 2-pixel error bound (8 where the level faces the eye: everywhere from straight above)
+  // draws no block finer than level 2 (cells of 3.8 px; level 3's 7.5 px exceed the
+  // tessellation target, lod_cell_px), so the surface and its
   // silhouettes are the same, pixel for pixel, as from the whole mesh. A 0.25-pixel bound
   // draws level 0 there: level 1 (the finest within the bound) is drawn instead, and says so.
   auto same_pixels = [](const std::string& a, const std::string& b) {
@@ -322,7 +324,7 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
   const auto bounded = run(map + dir.path("bounded.png") + " --lod-error 2 --memory 0.25");
   ASSERT_EQ(bounded.exit_code, 0) << bounded.err;
   EXPECT_NE(bounded.err.find("(its pyramid, level 2)"), std::string::npos) << bounded.err;  // the preview
-  EXPECT_NE(bounded.err.find("mesh read at level 1 of its pyramid after the preview at level 2: the view draws level 1"),
+  EXPECT_NE(bounded.err.find("mesh read at level 2 of its pyramid after the preview at level 2: the view draws level 2"),
             std::string::npos)
       << bounded.err;
   EXPECT_TRUE(same_pixels(dir.path("whole.png"), dir.path("bounded.png")));

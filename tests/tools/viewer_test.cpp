@@ -163,7 +163,8 @@ TEST(Viewer, OffscreenReplayDrawsWhatTerrainRenderDraws) { check_viewer(false); 
 // A mesh larger than --memory, with its pyramid (MSH at 20 m: 151 x 221 vertices, 0.8 MB;
 // --memory 0.25 holds 256 KiB): the viewer reads the level its start view draws (a map at
 // 60 m a pixel, a 2 px bound: level 3), as terrain-render frame does, and when the view comes
-// nearer than that level serves (15 m a pixel: level 0), its full frame reads a finer one
+// nearer than that level serves (5 m a pixel: level 0, whose cells span 5.7 px, level 1's
+// 11 px exceeding the tessellation target), its full frame reads a finer one
 // within the bound (level 1). Each saved view's command line carries the bound, and run,
 // draws the same PNG, pixel for pixel (a saved map's command line, --view top with the
 // eye, used to be refused: --map-scale needs the orthographic view).
@@ -173,7 +174,7 @@ TEST(Viewer, AMeshLargerThanTheMemoryBoundFollowsTheView) {
   ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh + " --spacing 20 --pyramid -q")
                 .exit_code,
             0);
-  std::ofstream(dir.path("replay.txt")) << "save-view " + dir.path("far.png") + "\nset map-scale 15\nsave-view " +
+  std::ofstream(dir.path("replay.txt")) << "save-view " + dir.path("far.png") + "\nset map-scale 5\nsave-view " +
                                                dir.path("near.png") + "\nquit\n";
   const auto v = run(tool("terrain-view") + " " + mesh + " --size 320x180 --view top --map-scale 60 --lod-error 2 " +
                      "--layers mask,silhouettes --memory 0.25 -v --offscreen --replay " + dir.path("replay.txt"));

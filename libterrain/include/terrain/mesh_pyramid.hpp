@@ -34,6 +34,16 @@ struct MeshLevelBlock {
   // the block.
   std::vector<float> error;
   Eigen::Vector3f lo, hi;  // its vertices' bounding box, local frame, heights not exaggerated
+  // slope[l]: the steepest gradient of level l's surface over the block, heights not
+  // exaggerated: at level 0 its PN patches' normals' (max |n_xy| / n_z over the vertex
+  // normals and the quadratic normals' mid-edge coefficients, of which each patch's normal
+  // is a blend with weights >= 0); at l > 0 its
+  // patches' geometry: the planes through each patch's corners (a patch drawn flat) and
+  // through its PN cubic's samples at the block's vertices' parameters (each fine cell's
+  // two faces); infinity where one does not point up. Empty when not known (a pyramid of
+  // version 1). What tells the renderer that no silhouette can cross the block drawn at a
+  // level (renderer/lod.hpp).
+  std::vector<float> slope;
   int levels() const { return int(error.size()); }
 };
 

@@ -157,6 +157,9 @@ struct Style {
   // Levels of detail (renderer/lod.hpp): each block of patches is drawn at the coarsest
   // level whose error spans at most this many pixels; 0: every patch at full detail.
   double lod_error = 0.25;
+  // And no coarser than a level whose cell spans this many pixels (lod_cell_px): < 0 the
+  // tessellation target, pixels_per_edge; 0 none (tests of the levels' joins). Not an option.
+  double lod_cell = -1;
   Eigen::Vector3f pel_colour{0x8c / 255.f, 0x1a / 255.f, 0x1a / 255.f};  // #8c1a1a
   double pel_width = 1.0;         // pixels
   // PEL pieces (anti-aliased lines only; renderer::pel_piece_opacity), in mesh spacings: a
@@ -175,6 +178,12 @@ struct Style {
   double edge_width = 1.5;        // pixels
   Eigen::Vector3f edge_colour{0x26 / 255.f, 0x26 / 255.f, 0x26 / 255.f};  // #262626
 };
+
+// The largest screen span of a level's cell (its plan diagonal at the block's nearest
+// point) that select_lod draws: by default the tessellation target, since a patch over a
+// larger cell is tessellated, at about twenty times a flat patch's cost on llvmpipe, and
+// one within it is drawn as its own flat triangle.
+inline double lod_cell_px(const Style& s) { return s.lod_cell < 0 ? s.pixels_per_edge : s.lod_cell; }
 
 // Parses "contour,boundary,crease" into EdgeKind bits; Error on an unknown or empty list.
 std::uint8_t parse_edge_kinds(const std::string& list);

@@ -31,16 +31,31 @@ inline LodHierarchy build_lod(const terrain::GridMesh& mesh, std::size_t block =
   return terrain::build_mesh_levels(mesh, block);
 }
 
-// Per block, the coarsest level l with error[l] x exaggeration <= bound_px pixels at the
-// block's nearest point (View::pixel_size of its distance along the line of sight; the
+// A block's level that no silhouette can cross is held to kFacingLodFactor times the
+// bound: there its error moves shading and depth only, not the silhouettes, whose places
+// the strict bound keeps. It can cross none when the eye's elevation seen from anywhere in
+// the block's box (its tangent: at its least from the box's top at its farthest corner;
+// the view's own in the orthographic view) exceeds kFacingMargin times the exaggeration
+// times the level's steepest gradient (LodBlock::slope, measured at exaggeration 1): then
+// every normal the level draws faces the eye. The margin covers what the slope does not
+// measure: a tessellated triangle is a chord of the PN cubic, which the slope samples at
+// the fine vertices' parameters, and the exaggerated cubic is not the cubic exaggerated.
+inline constexpr double kFacingLodFactor = 4, kFacingMargin = 1.25;
+
+// Per block, the coarsest level l with error[l] x exaggeration <= bound_px pixels (times
+// kFacingLodFactor where level l faces the eye throughout) and, with cell_px > 0, whose
+// cell's plan diagonal spans at most cell_px pixels (Style's lod_cell_px) at the block's
+// nearest point (View::pixel_size of its distance along the line of sight; the
 // eye inside the box: level 0); never finer than h.base (the grid held), unless that is
 // coarser than the block's coarsest.
-std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double exaggeration, double bound_px);
+std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double exaggeration, double bound_px,
+                                     double cell_px = 0);
 
 // The finest level any block of the view is drawn at by select_lod's rule, were the whole
 // mesh held (h.base ignored): what a scene held at a coarser level would need
 // (refocus_scene). INT_MAX without blocks.
-int finest_wanted_level(const LodHierarchy& h, const View& view, double exaggeration, double bound_px);
+int finest_wanted_level(const LodHierarchy& h, const View& view, double exaggeration, double bound_px,
+                        double cell_px = 0);
 
 // The nearest depth of `box` along the line of sight of `view`: infinity when it is out of
 // view or behind the eye, 0 when it reaches the eye (perspective).
@@ -56,10 +71,20 @@ double nearest_pixel_metres(const LodHierarchy* h, const Box& box, const View& v
 // `exaggeration`: the mesh's own box, also when a coarser level of it is held (base > 0).
 Box levels_box(const LodHierarchy& h, double exaggeration);
 
+// Per block, 1 where it faces the eye throughout at its level (levels[k]) by the test
+// select_lod's looser bound uses: no fragment of it faces away, so AFT need not look at its
+// patches.
+std::vector<std::uint8_t> facing_blocks(const LodHierarchy& h, const View& view, double exaggeration,
+                                        const std::vector<std::uint8_t>& levels);
+
 // The patches (3 vertex indices each, counter-clockwise as GridTopology::face) of every
-// block at its level, joined without cracks (above). All blocks at level 0: the mesh's
-// own faces.
-std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<std::uint8_t>& levels);
+// block at its level, joined without cracks (above): first those that may face away
+// (*may_face_away of them), then those of the blocks marked in `facing` (facing_blocks;
+// empty: none) but for their cells on a side snapped to a coarser neighbour, whose thin
+// triangles are not the level's. All blocks at level 0: the mesh's own faces, in order.
+std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<std::uint8_t>& levels,
+                                       const std::vector<std::uint8_t>& facing = {},
+                                       std::size_t* may_face_away = nullptr);
 
 // The same patches as a mesh of their own, what the GPU holds when the whole mesh is not
 // resident: `vertices` lists mesh vertex indices, each block's level grid in turn (a
@@ -67,7 +92,9 @@ std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<
 // a patch, in lod_patches' order. So the vertices drawn follow the view, not the mesh.
 struct LodMesh {
   std::vector<std::uint32_t> vertices, patches;
+  std::size_t may_face_away = 0;  // the leading patches that may face away (lod_patches)
 };
-LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels);
+LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels,
+                 const std::vector<std::uint8_t>& facing = {});
 
 }  // namespace renderer

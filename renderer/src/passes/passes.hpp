@@ -46,7 +46,10 @@ struct SceneGpu {
   // The patches drawn: the mesh's faces, or (levels of detail, renderer/lod.hpp) fewer,
   // set by set_patches into index_buf.
   std::size_t n_patches = 0, patch_capacity = 0;
-  void set_patches(const std::vector<std::uint32_t>& indices);  // index_buf grows as needed
+  // The leading patches that may face away (renderer::facing_blocks): AFT looks at those.
+  std::size_t n_away_patches = 0;
+  // index_buf grows as needed; `may_face_away`: n_away_patches (all when larger).
+  void set_patches(const std::vector<std::uint32_t>& indices, std::size_t may_face_away = SIZE_MAX);
   // The vertices drawn, `m.vertices` of `mesh`, into pos_buf and nrm_buf (they grow as
   // needed), and m.patches as the patches: the scene made without `resident`.
   void set_lod_mesh(const LodMesh& m, const terrain::GridMesh& mesh);

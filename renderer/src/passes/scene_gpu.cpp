@@ -25,7 +25,7 @@ SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev, bool n
       std::copy(t.begin(), t.end(), idx.begin() + long(3 * f));
     }
   index_buf = make_buffer(idx.size() * 4, idx.data(), GL_DYNAMIC_STORAGE_BIT);
-  n_patches = patch_capacity = all_patches ? mesh.n_faces() : 0;
+  n_patches = patch_capacity = n_away_patches = all_patches ? mesh.n_faces() : 0;
   vao = GlObject(GlKind::VertexArray);
   for (const auto& [a, buf] :
        {std::pair<GLuint, const GlObject*>{TR_ATTR_POSITION, &pos_buf}, {TR_ATTR_NORMAL, &nrm_buf}}) {
@@ -71,9 +71,10 @@ void SceneGpu::depth_state() const {
   glDepthMask(GL_TRUE);
 }
 
-void SceneGpu::set_patches(const std::vector<std::uint32_t>& indices) {
+void SceneGpu::set_patches(const std::vector<std::uint32_t>& indices, std::size_t may_face_away) {
   if (indices.size() > 3 * topo.n_faces()) throw terrain::Error("internal: more patches than the mesh's faces");
   n_patches = indices.size() / 3;
+  n_away_patches = std::min(n_patches, may_face_away);
   if (n_patches > patch_capacity) {  // a quarter more room, so that a moving view seldom grows it again
     patch_capacity = std::min(topo.n_faces(), n_patches + n_patches / 4);
     index_buf = make_buffer(3 * patch_capacity * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -96,7 +97,7 @@ void SceneGpu::set_lod_mesh(const LodMesh& m, const terrain::GridMesh& mesh) {
     for (std::size_t i = 0; i < n; ++i) gathered[i] = (*source)[m.vertices[i]];
     glNamedBufferSubData(buf->id(), 0, GLsizeiptr(n * sizeof(Eigen::Vector3f)), gathered.data());
   }
-  set_patches(m.patches);
+  set_patches(m.patches, m.may_face_away);
 }
 
 void SceneGpu::draw_surface(int mode) const { draw_patches(surface_prog, mode); }

@@ -94,8 +94,10 @@ void AwayPass::execute(const FrameInputs&) {
   glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &far_depth);
   if (!enabled_) return;
   // The patches that may face away in view (all threads), then only those drawn: the
-  // tessellation control stage that culls the others runs on one thread in llvmpipe.
-  const std::size_t n = s_.n_patches;
+  // tessellation control stage that culls the others runs on one thread in llvmpipe. The
+  // patches of blocks that face the eye throughout come last and are not looked at
+  // (SceneGpu::n_away_patches).
+  const std::size_t n = s_.n_away_patches;
   patches_.reset(s_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_MESH_POSITIONS, s_.pos_buf.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_MESH_NORMALS, s_.nrm_buf.id());

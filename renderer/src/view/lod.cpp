@@ -39,8 +39,28 @@ double nearest_depth(const Box& box, const View& view) {
 
 namespace {
 
+// Whether a surface over the block's box whose steepest gradient is `slope` faces the eye
+// everywhere with the margin kFacingMargin: the eye's elevation seen from anywhere in the
+// box (its tangent, at its least: from the box's top at its farthest corner) exceeds the
+// margin times the gradient. Then no silhouette crosses it.
+bool faces_eye(const LodBlock& b, float slope, const View& view, double e) {
+  if (!std::isfinite(slope)) return false;
+  double rise, run;
+  if (view.orthographic()) {
+    rise = -view.forward.z(), run = view.forward.head<2>().norm();
+  } else {
+    rise = view.eye.z() - e * double(b.hi.z());
+    run = 0;
+    for (const double x : {double(b.lo.x()), double(b.hi.x())})
+      for (const double y : {double(b.lo.y()), double(b.hi.y())})
+        run = std::max(run, std::hypot(view.eye.x() - x, view.eye.y() - y));
+  }
+  return rise > kFacingMargin * e * double(slope) * run;
+}
+
 // select_lod's levels before the held grid's clamp (LodHierarchy::base).
-std::vector<std::uint8_t> wanted_levels(const LodHierarchy& h, const View& view, double e, double bound_px) {
+std::vector<std::uint8_t> wanted_levels(const LodHierarchy& h, const View& view, double e, double bound_px,
+                                        double cell_px) {
   std::vector<std::uint8_t> levels(h.blocks.size(), 0);
   for (std::size_t k = 0; k < h.blocks.size(); ++k) {
     const LodBlock& b = h.blocks[k];
@@ -50,9 +70,17 @@ std::vector<std::uint8_t> wanted_levels(const LodHierarchy& h, const View& view,
       continue;
     }
     if (nearest == 0) continue;  // reaches the eye: full detail
-    const double allowed = bound_px * view.pixel_size(nearest) / std::max(e, 1e-12);
+    const double metres = view.pixel_size(nearest), allowed = bound_px * metres / std::max(e, 1e-12);
+    // A level-0 cell's plan diagonal (the box spans the block's cells).
+    const double diagonal = std::hypot(double(b.hi.x() - b.lo.x()) / std::max(b.nc, 1u),
+                                       double(b.hi.y() - b.lo.y()) / std::max(b.nr, 1u));
+    auto fits = [&](std::size_t l) {
+      if (cell_px > 0 && double(std::size_t(1) << l) * diagonal > cell_px * metres) return false;
+      const bool facing = l < b.slope.size() && faces_eye(b, b.slope[l], view, e);
+      return double(b.error[l]) <= (facing ? kFacingLodFactor : 1.0) * allowed;
+    };
     int l = 0;
-    while (l + 1 < b.levels() && double(b.error[std::size_t(l + 1)]) <= allowed) ++l;
+    while (l + 1 < b.levels() && fits(std::size_t(l + 1))) ++l;
     levels[k] = std::uint8_t(l);
   }
   return levels;
@@ -60,17 +88,18 @@ std::vector<std::uint8_t> wanted_levels(const LodHierarchy& h, const View& view,
 
 }  // namespace
 
-std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double e, double bound_px) {
-  std::vector<std::uint8_t> levels = wanted_levels(h, view, e, bound_px);
+std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double e, double bound_px,
+                                     double cell_px) {
+  std::vector<std::uint8_t> levels = wanted_levels(h, view, e, bound_px, cell_px);
   if (h.base > 0)  // nothing finer than the grid held (its coarsest level at most)
     for (std::size_t k = 0; k < h.blocks.size(); ++k)
       levels[k] = std::max(levels[k], std::uint8_t(std::min(h.base, h.blocks[k].levels() - 1)));
   return levels;
 }
 
-int finest_wanted_level(const LodHierarchy& h, const View& view, double e, double bound_px) {
+int finest_wanted_level(const LodHierarchy& h, const View& view, double e, double bound_px, double cell_px) {
   int finest = std::numeric_limits<int>::max();
-  for (const std::uint8_t l : wanted_levels(h, view, e, bound_px)) finest = std::min(finest, int(l));
+  for (const std::uint8_t l : wanted_levels(h, view, e, bound_px, cell_px)) finest = std::min(finest, int(l));
   return finest;
 }
 
@@ -93,7 +122,8 @@ Box levels_box(const LodHierarchy& h, double exaggeration) {
   return box;
 }
 
-LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels) {
+LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels,
+                 const std::vector<std::uint8_t>& facing) {
   LodMesh out;
   // A vertex's index in the grid held: level h.base's (every 2^base-th row and column and
   // the last ones; a drawn block's lines are among them, see select_lod).
@@ -105,11 +135,17 @@ LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels)
     return std::uint32_t(hr * cols + hc);
   };
   auto step = [&](std::size_t br, std::size_t bc) { return std::uint32_t(1) << levels[br * h.block_cols + bc]; };
+  // The patches of blocks that face the eye throughout (facing_blocks) go after the others,
+  // but for the cells on a side snapped to a coarser neighbour: their thin triangles are
+  // not the level's, whose slope the block was found facing by.
+  std::vector<std::uint32_t> facing_patches;
   for (std::size_t br = 0; br < h.block_rows; ++br)
     for (std::size_t bc = 0; bc < h.block_cols; ++bc) {
-      const LodBlock& b = h.blocks[br * h.block_cols + bc];
+      const std::size_t k = br * h.block_cols + bc;
+      const LodBlock& b = h.blocks[k];
       const std::uint32_t s = step(br, bc);
-      const int l = levels[br * h.block_cols + bc];
+      const int l = levels[k];
+      const bool facing_block = k < facing.size() && facing[k] != 0;
       // Each side's step: the coarser of this block's and the neighbour's across it.
       const std::uint32_t north = br > 0 ? std::max(s, step(br - 1, bc)) : s;
       const std::uint32_t south = br + 1 < h.block_rows ? std::max(s, step(br + 1, bc)) : s;
@@ -135,14 +171,20 @@ LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels)
         for (std::size_t j = 0; j + 1 < cs.size(); ++j) {
           const std::uint32_t nw = vertex(rs[i], cs[j]), sw = vertex(rs[i + 1], cs[j]);
           const std::uint32_t se = vertex(rs[i + 1], cs[j + 1]), ne = vertex(rs[i], cs[j + 1]);
+          const bool snapped = (i == 0 && north > s) || (i + 2 == rs.size() && south > s) ||
+                               (j == 0 && west > s) || (j + 2 == cs.size() && east > s);
+          std::vector<std::uint32_t>& to = facing_block && !snapped ? facing_patches : out.patches;
           for (const std::array<std::uint32_t, 3>& t : {std::array{nw, sw, se}, std::array{nw, se, ne}})
-            if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) out.patches.insert(out.patches.end(), t.begin(), t.end());
+            if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) to.insert(to.end(), t.begin(), t.end());
         }
     }
+  out.may_face_away = out.patches.size() / 3;
+  out.patches.insert(out.patches.end(), facing_patches.begin(), facing_patches.end());
   return out;
 }
 
-std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<std::uint8_t>& levels) {
+std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<std::uint8_t>& levels,
+                                       const std::vector<std::uint8_t>& facing, std::size_t* may_face_away) {
   std::vector<std::uint32_t> out;
   if (h.base == 0 && std::all_of(levels.begin(), levels.end(), [](std::uint8_t l) { return l == 0; })) {
     out.resize(3 * h.topo.n_faces());
@@ -150,11 +192,24 @@ std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<
       const auto t = h.topo.face(f);
       std::copy(t.begin(), t.end(), out.begin() + long(3 * f));
     }
+    if (may_face_away) *may_face_away = h.topo.n_faces();
     return out;
   }
-  LodMesh m = lod_mesh(h, levels);
+  LodMesh m = lod_mesh(h, levels, facing);
   for (std::uint32_t& v : m.patches) v = m.vertices[v];
+  if (may_face_away) *may_face_away = m.may_face_away;
   return std::move(m.patches);
+}
+
+std::vector<std::uint8_t> facing_blocks(const LodHierarchy& h, const View& view, double e,
+                                        const std::vector<std::uint8_t>& levels) {
+  std::vector<std::uint8_t> facing(h.blocks.size(), 0);
+  for (std::size_t k = 0; k < h.blocks.size(); ++k) {
+    const LodBlock& b = h.blocks[k];
+    const std::size_t l = levels[k];
+    facing[k] = l < b.slope.size() && faces_eye(b, b.slope[l], view, e);
+  }
+  return facing;
 }
 
 }  // namespace renderer

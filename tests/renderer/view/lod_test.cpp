@@ -3,7 +3,10 @@
 // coarsens with distance and keeps full detail at bound 0.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <random>
@@ -11,6 +14,7 @@
 
 #include "renderer/camera.hpp"
 #include "renderer/lod.hpp"
+#include "terrain/pn_triangle.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -51,8 +55,8 @@ bool on_rim(const terrain::GridTopology& g, std::uint32_t v) {
 }  // namespace
 
 // All blocks at level 0 give the mesh's own faces. Any mix of levels (random, and every
-// block one level apart from its neighbours' extremes) covers the mesh's extent exactly
-// once: every patch is counter-clockwise with positive area, the areas sum to the extent,
+// block one level apart from its neighbours' extremes, and with any blocks marked facing)
+// covers the mesh's extent exactly once: every patch is counter-clockwise with positive area, the areas sum to the extent,
 // and every edge inside the mesh is used once in each direction (an edge used once, a
 // T-junction, would be a crack between two blocks).
 TEST(Lod, AnyMixOfLevelsJoinsWithoutCracks) {
@@ -88,6 +92,21 @@ TEST(Lod, AnyMixOfLevelsJoinsWithoutCracks) {
     }
     ASSERT_EQ(lm.patches.size(), idx.size());
     for (std::size_t k = 0; k < idx.size(); ++k) ASSERT_EQ(lm.vertices.at(lm.patches[k]), idx[k]);
+    // Blocks marked facing (facing_blocks) only move their patches after the others: the
+    // same patches, the first may_face_away of them those of the blocks not marked.
+    std::vector<std::uint8_t> facing(h.blocks.size());
+    for (auto& f : facing) f = std::uint8_t(rng() % 2);
+    std::size_t away = 0;
+    auto sorted = [](std::vector<std::uint32_t> v) {
+      std::vector<std::array<std::uint32_t, 3>> t(v.size() / 3);
+      for (std::size_t i = 0; i < t.size(); ++i) t[i] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
+      std::sort(t.begin(), t.end());
+      return t;
+    };
+    const auto ordered = renderer::lod_patches(h, levels, facing, &away);
+    EXPECT_EQ(sorted(ordered), sorted(idx));
+    EXPECT_GT(away, 0u);
+    EXPECT_LT(away, ordered.size() / 3);
     EXPECT_LT(idx.size(), full.size());
     EXPECT_GT(p.smallest, 0.0) << "trial " << trial;
     EXPECT_NEAR(p.area, extent, 1e-6 * extent) << "trial " << trial;
@@ -153,4 +172,122 @@ TEST(Lod, SelectionCoarsensWithDistance) {
   // Raising the bound never makes a block finer.
   const auto coarse = renderer::select_lod(h, v, 1.0, 4.0);
   for (std::size_t k = 0; k < levels.size(); ++k) EXPECT_GE(coarse[k], levels[k]);
+}
+
+// A plane's slope is its gradient at every level (the vertex normals, the mid-edge
+// coefficients, the corner planes and the cubic's samples are all the plane's); on relief
+// the slopes are finite and positive.
+TEST(Lod, SlopesOfAPlaneAreItsGradientAtEveryLevel) {
+  const terrain::GridMesh plane =
+      terrain::test::function_mesh(70, 70, 10.0, [](double x, double y) { return 100 + 0.2 * x - 0.1 * y; });
+  for (const auto& b : renderer::build_lod(plane, 32).blocks) {
+    ASSERT_EQ(b.slope.size(), b.error.size());
+    for (float s : b.slope) EXPECT_NEAR(s, std::sqrt(0.05), 1e-5);
+  }
+  for (const auto& b : renderer::build_lod(bumps(129, 129), 32).blocks)
+    for (float s : b.slope) EXPECT_TRUE(s > 0 && std::isfinite(s)) << s;
+}
+
+// A block faces the eye when the eye's elevation seen from anywhere in its box exceeds
+// kFacingMargin (1.25) times its slope: a plane of gradient 0.5 over one block (640 m
+// square, z up to 320 m) seen from 2000 m south of its northern edge, whose farthest top
+// corner is 2025 m away in plan, faces an eye above 320 + 1.25 x 0.5 x 2025 = 1586 m, not
+// one below; exaggerated twice, an eye above 640 + 1.25 x 1.0 x 2025 = 3172 m. From
+// straight above (the orthographic map) it always faces.
+TEST(Lod, ABlockFacesTheEyeAboveItsSlopeTimesTheMargin) {
+  const terrain::GridMesh plane =
+      terrain::test::function_mesh(65, 65, 10.0, [](double x, double) { return 0.5 * x; });
+  const renderer::LodHierarchy h = renderer::build_lod(plane);
+  ASSERT_EQ(h.blocks.size(), 1u);
+  const renderer::Box box{{0, -640, 0}, {640, 0, 640}};
+  auto view_from = [&](double height, bool orthographic = false) {
+    renderer::Camera cam;
+    cam.eye = Vector3d(320, -2000, height);
+    cam.view_az = 0;
+    cam.view_alt = 30;
+    cam.orthographic = orthographic;
+    if (orthographic) cam.view_alt = 90, cam.map_scale = 2;
+    return renderer::make_view(cam, Vector3d::Zero(), box, 640, 480);
+  };
+  const std::vector<std::uint8_t> level0{0};
+  EXPECT_EQ(renderer::facing_blocks(h, view_from(1600), 1.0, level0)[0], 1);
+  EXPECT_EQ(renderer::facing_blocks(h, view_from(1570), 1.0, level0)[0], 0);
+  EXPECT_EQ(renderer::facing_blocks(h, view_from(3190), 2.0, level0)[0], 1);
+  EXPECT_EQ(renderer::facing_blocks(h, view_from(3150), 2.0, level0)[0], 0);
+  EXPECT_EQ(renderer::facing_blocks(h, view_from(1000, true), 8.0, level0)[0], 1);
+  // A plane has no error: every level fits, facing or not.
+  EXPECT_EQ(renderer::select_lod(h, view_from(1570), 1.0, 0.25)[0], h.blocks[0].levels() - 1);
+}
+
+// What a level marked facing draws faces the eye: on relief seen obliquely from several
+// sides, for every patch of the facing blocks (lod_patches' tail) the PN normal of a fine
+// patch, and the cubic's geometric normal and its corners' plane for a coarse one, face the
+// eye at every sampled point (exaggeration 1, where the slope measures what is drawn).
+// The blocks marked facing are some, not all (15 and 38 of 64 at 3000 and 4000 m up), so
+// both sides of the rule are exercised (3500 m up here). (The thin triangles of a cell snapped to a coarser
+// neighbour, which lod_patches keeps among those that may face away, failed it.)
+TEST(Lod, WhatALevelMarkedFacingDrawsFacesTheEye) {
+  const terrain::GridMesh m = bumps(257, 257);
+  const renderer::LodHierarchy h = renderer::build_lod(m, 32);
+  const renderer::Box box{{0, -2560, -60}, {2560, 0, 200}};
+  for (const double az : {0.0, 100.0, 215.0}) {
+    renderer::Camera cam;
+    const double a = az * 3.141592653589793 / 180;
+    cam.eye = Vector3d(1280 - 3000 * std::sin(a), -1280 - 3000 * std::cos(a), 3500);
+    cam.view_az = az;
+    cam.view_alt = 35;
+    const renderer::View v = renderer::make_view(cam, Vector3d::Zero(), box, 960, 540);
+    const auto levels = renderer::select_lod(h, v, 1.0, 0.5, 6);
+    const auto facing = renderer::facing_blocks(h, v, 1.0, levels);
+    const auto marked = std::count(facing.begin(), facing.end(), std::uint8_t(1));
+    EXPECT_GT(marked, 0) << az;
+    EXPECT_LT(marked, std::ptrdiff_t(facing.size())) << az;
+    std::size_t away = 0;
+    const auto idx = renderer::lod_patches(h, levels, facing, &away);
+    ASSERT_LT(away, idx.size() / 3);
+    const double cell = 10 * std::sqrt(2.0) * 1.001;
+    std::size_t checked = 0;
+    for (std::size_t t = away; t < idx.size() / 3; ++t) {
+      Vector3d p[3], n[3];
+      for (std::size_t k = 0; k < 3; ++k) {
+        p[k] = m.positions[idx[3 * t + k]].cast<double>();
+        n[k] = m.normals[idx[3 * t + k]].cast<double>();
+      }
+      const bool coarse = std::max({(p[1] - p[0]).head<2>().norm(), (p[2] - p[1]).head<2>().norm(),
+                                    (p[0] - p[2]).head<2>().norm()}) > cell;
+      const terrain::PnPatch patch = terrain::make_pn_patch(p[0], p[1], p[2], n[0], n[1], n[2]);
+      if (coarse) EXPECT_GT((p[1] - p[0]).cross(p[2] - p[0]).dot(v.eye - p[0]), 0) << az << " patch " << t;
+      for (int i = 0; i <= 6; ++i)
+        for (int j = 0; i + j <= 6; ++j) {
+          const double b2 = i / 6.0, b3 = j / 6.0, b1 = 1 - b2 - b3;
+          const Vector3d q = terrain::pn_position(patch, b1, b2, b3);
+          Vector3d normal;
+          if (coarse) {
+            Vector3d ds, dt;
+            terrain::pn_derivatives(patch, b1, b2, b3, ds, dt);
+            normal = ds.cross(dt);
+          } else {
+            normal = terrain::pn_normal(patch, b1, b2, b3);
+          }
+          EXPECT_GT(normal.dot(v.eye - q), 0) << az << " patch " << t;
+          ++checked;
+        }
+    }
+    EXPECT_GT(checked, 1000u) << az;
+  }
+}
+
+// The cells' cap: a map at 5 m a pixel of a 10 m mesh (cells of 14.1 m diagonal, 2.8 px)
+// with any error bound draws no level coarser than 1 (5.7 px) under a 6 px cap, and its
+// plane's coarsest without it.
+TEST(Lod, NoLevelCoarserThanTheCellCap) {
+  const terrain::GridMesh plane =
+      terrain::test::function_mesh(129, 129, 10.0, [](double x, double y) { return 0.1 * x + 0.05 * y; });
+  const renderer::LodHierarchy h = renderer::build_lod(plane);
+  renderer::Camera cam;
+  cam.eye = Vector3d(640, -640, 5000);
+  cam.orthographic = true, cam.view_alt = 90, cam.view_az = 0, cam.map_scale = 5;
+  const renderer::View v = renderer::make_view(cam, Vector3d::Zero(), {{0, -1280, 0}, {1280, 0, 200}}, 256, 256);
+  for (const std::uint8_t l : renderer::select_lod(h, v, 1.0, 100, 6)) EXPECT_EQ(l, 1);
+  for (const std::uint8_t l : renderer::select_lod(h, v, 1.0, 100)) EXPECT_EQ(l, 6);
 }
