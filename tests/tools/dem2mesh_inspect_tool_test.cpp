@@ -288,6 +288,7 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
   ASSERT_EQ(info.exit_code, 0) << info.err;
   EXPECT_NE(info.out.find("type: mesh pyramid"), std::string::npos) << info.out;
   EXPECT_NE(info.out.find("levels: 7"), std::string::npos) << info.out;  // 64-cell blocks: steps 1 .. 64
+  EXPECT_NE(info.out.find("slopes: each block's at each level"), std::string::npos) << info.out;
   const GridMesh m = read_mesh_ply(dir.path("m.ply"));
   MeshPyramid p(dir.path("m.tpyr"));
   ASSERT_EQ(p.rows(0), m.topo.rows);

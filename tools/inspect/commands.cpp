@@ -288,6 +288,11 @@ void info_pyramid(const std::string& path) {
             << "block: " << p.levels().block << " cells\n"
             << "blocks: " << p.levels().block_cols << " x " << p.levels().block_rows << "\n"
             << "tiles: " << tiles << "\n"
+            << "slopes: "
+            << (!p.levels().blocks.empty() && p.levels().blocks[0].slope.empty()
+                    ? "not stored (a version-1 pyramid: dem2mesh --pyramid writes them)"
+                    : "each block's at each level")
+            << "\n"
             << "bytes: " << std::filesystem::file_size(path) << "\n";
   for (int l = 0; l < p.level_count(); ++l)
     std::cout << fmt::format("level_{}: {} x {} vertices\n", l, p.cols(l), p.rows(l));
