@@ -69,6 +69,11 @@ int finest_within(const terrain::MeshPyramid& p, std::uint64_t bytes) {
   return finest_within(p.levels().topo, p.level_count(), bytes);
 }
 
+// A pyramid of version 1 has no slopes: every level is then held to the strict bound.
+constexpr const char* kNoSlopes =
+    "a version-1 pyramid (no slopes): the levels that face the eye are drawn as finely as the others; "
+    "dem2mesh --pyramid again makes frames faster";
+
 // Reads scene.mesh from its pyramid at the level `level` chooses; false when the pyramid
 // is not current (scene.mesh_source says why).
 bool read_level(Scene& s, const std::string& mesh_path, const std::function<int(const terrain::MeshPyramid&)>& level) {
@@ -83,6 +88,9 @@ bool read_level(Scene& s, const std::string& mesh_path, const std::function<int(
   s.levels = std::make_shared<const LodHierarchy>(std::move(p->levels));
   s.mesh_source = fmt::format("'{}' (its pyramid{})", terrain::pyramid_path_of(mesh_path),
                               s.mesh_level > 0 ? fmt::format(", level {}", s.mesh_level) : "");
+  if (!s.levels->blocks.empty() && s.levels->blocks[0].slope.empty() &&
+      std::find(s.warnings.begin(), s.warnings.end(), kNoSlopes) == s.warnings.end())
+    s.warnings.push_back(fmt::format("'{}': {}", terrain::pyramid_path_of(mesh_path), kNoSlopes));
   return true;
 }
 

@@ -143,50 +143,14 @@ TEST(MeshPyramid, DamagedFilesAreRefused) {
 
 // A pyramid of version 1 (before the blocks' slopes) still reads: the same grid, blocks,
 // errors and tiles, its slopes not known (empty: the renderer then holds every level to
-// the strict bound). Made from a version-2 file by taking the slopes out of its header and
-// moving the index's offsets by the bytes they took.
+// the strict bound). Made from a version-2 file (pyramid_as_version1).
 TEST(MeshPyramid, AVersionOnePyramidReadsWithoutSlopes) {
   const terrain::GridMesh m = bumps(70, 70);
   terrain::test::ScratchDir dir;
   const std::string path = dir.path("m.tpyr");
   terrain::write_mesh_pyramid(m, path, 16);
-  std::string v2 = terrain::test::file_bytes(path);
   terrain::MeshPyramid p2(path);
-  auto u32 = [&](std::size_t at) { std::uint32_t v; std::memcpy(&v, v2.data() + at, 4); return v; };
-  std::size_t at = 8 + 4 + 8 + 4 + 16 + 40 + 4;
-  at += 4 + u32(at);                      // the CRS
-  const std::uint32_t n_levels = u32(at);
-  at += 4;
-  std::string v1 = v2.substr(0, at);
-  std::size_t removed = 0;
-  for (std::size_t k = 0; k < p2.levels().blocks.size(); ++k) {
-    const std::uint32_t n = u32(at + 24);
-    v1 += v2.substr(at, 28 + 4 * std::size_t(n));  // box, n, errors
-    at += 28 + 8 * std::size_t(n);                 // ... and the slopes, left out
-    removed += 4 * std::size_t(n);
-  }
-  const std::size_t index = at;
-  std::size_t tiles = 0;
-  for (std::uint32_t l = 0; l < n_levels; ++l) {
-    std::uint64_t tr, tc;
-    std::memcpy(&tr, v2.data() + at + tiles * 16 + 16 * l, 8);
-    std::memcpy(&tc, v2.data() + at + tiles * 16 + 16 * l + 8, 8);
-    for (std::uint64_t t = 0; t < tr * tc; ++t) {
-      const std::size_t entry = at + 16 * (l + 1) + 16 * (tiles + t);
-      std::uint64_t offset;
-      std::memcpy(&offset, v2.data() + entry, 8);
-      offset -= removed;
-      std::memcpy(v2.data() + entry, &offset, 8);
-    }
-    tiles += std::size_t(tr * tc);
-  }
-  v1 += v2.substr(index);
-  const std::uint32_t one = 1;
-  std::memcpy(v1.data() + 8, &one, 4);
-  std::uint64_t header;
-  std::memcpy(&header, v1.data() + 12, 8);
-  header -= removed;
-  std::memcpy(v1.data() + 12, &header, 8);
+  const std::string v1 = terrain::test::pyramid_as_version1(terrain::test::file_bytes(path));
   std::ofstream(dir.path("v1.tpyr"), std::ios::binary) << v1;
   terrain::MeshPyramid p1(dir.path("v1.tpyr"));
   ASSERT_EQ(p1.levels().blocks.size(), p2.levels().blocks.size());

@@ -357,6 +357,15 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
       tool("build-drainage") + " " + dir.path("m.ply") + " " + dir.path("d.dv") + " --spacing 20 -q";
   ASSERT_EQ(run(drain).exit_code, 0);
   const std::string dv = test::file_bytes(dir.path("d.dv"));
+  // A version-1 pyramid (no slopes) is still read, with a warning that names the remedy.
+  const std::string v2 = test::file_bytes(dir.path("m.tpyr"));
+  std::ofstream(dir.path("m.tpyr"), std::ios::binary | std::ios::trunc) << test::pyramid_as_version1(v2);
+  const auto old = run(frame);
+  ASSERT_EQ(old.exit_code, 0) << old.err;
+  EXPECT_NE(old.err.find("(its pyramid)"), std::string::npos) << old.err;
+  EXPECT_NE(old.err.find("a version-1 pyramid (no slopes)"), std::string::npos) << old.err;
+  EXPECT_NE(old.err.find("dem2mesh --pyramid again"), std::string::npos) << old.err;
+  std::ofstream(dir.path("m.tpyr"), std::ios::binary | std::ios::trunc) << v2;
   std::filesystem::rename(dir.path("m.tpyr"), dir.path("away.tpyr"));
   // Over the bound without a pyramid: read whole, with a warning that names the remedy.
   const auto no_pyramid = run(map + dir.path("plain.png") + " --lod-error 2 --memory 0.25");
