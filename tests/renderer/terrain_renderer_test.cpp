@@ -1222,6 +1222,58 @@ TEST(RendererGl, LevelsOfDetailLeaveNoCrack) {
   EXPECT_EQ(f.render(FrameParams{}).patches, mesh.n_faces());
 }
 
+// AFT looks only at the patches that may face away (SceneGpu::n_away_patches): those of
+// the blocks whose level faces the eye throughout (facing_blocks) come last and are
+// skipped. Skipping them changes nothing: on hills that grow from gentle to steep, seen
+// 20 degrees down from three sides, at a bound that draws every block at its coarsest
+// either way, the away depth and the silhouettes are the same, pixel for pixel, as with
+// the levels' slopes taken away (no block facing, AFT over every patch), while 102 to 111
+// of the 256 blocks face and 576 to 1506 pixels face away.
+TEST(RendererGl, AftSkipsOnlyPatchesThatFaceTheEye) {
+  // Hills that grow from the west (gentle) to the east (steep).
+  const terrain::GridMesh mesh = terrain::test::function_mesh(257, 257, 10.0, [](double x, double y) {
+    const double grow = x / 2560 * x / 2560;
+    return 80 * grow * std::sin(x / 90) * std::cos(y / 70) + 16 * grow * std::sin(x / 23 + y / 31);
+  });
+  auto levels = std::make_shared<const renderer::LodHierarchy>(renderer::build_lod(mesh, 16));
+  renderer::LodHierarchy plain = *levels;
+  for (auto& b : plain.blocks) b.slope.clear();
+  auto no_slopes = std::make_shared<const renderer::LodHierarchy>(std::move(plain));
+  renderer::GlContext ctx;
+  const int w = 480, h = 360;
+  renderer::Style style = test_style();
+  style.lod_error = 1e6;  // every block at its coarsest, facing or not
+  style.lod_cell = 0;
+  const renderer::Layers layers{false, true, false, true};  // the mask and the silhouettes
+  TerrainRenderer a(ctx, mesh, nullptr, w, h, layers, style, levels);
+  TerrainRenderer b(ctx, mesh, nullptr, w, h, layers, style, no_slopes);
+  for (const double az : {0.0, 120.0, 240.0}) {
+    FrameParams fp;
+    fp.camera.view_az = az;
+    fp.camera.view_alt = 20;
+    const auto ra = a.render(fp);
+    const auto fa = a.read_buffers();
+    const auto rb = b.render(fp);
+    const auto fb = b.read_buffers();
+    ASSERT_EQ(ra.patches, rb.patches) << az;
+    const auto facing = renderer::facing_blocks(*levels, ra.view, style.exaggeration,
+                                                renderer::select_lod(*levels, ra.view, style.exaggeration, style.lod_error));
+    const auto marked = std::count(facing.begin(), facing.end(), std::uint8_t(1));
+    EXPECT_GT(marked, 0) << az;
+    EXPECT_LT(marked, std::ptrdiff_t(facing.size())) << az;
+    std::size_t away = 0, away_differ = 0, silhouette_differ = 0;
+    for (std::size_t i = 0; i < fa.away_depth.size(); ++i) {
+      away += renderer::far_depth(ra.view.reversed_z, fa.away_depth[i]) < 1.0f;
+      away_differ += fa.away_depth[i] != fb.away_depth[i];
+    }
+    for (std::size_t i = 0; i < fa.silhouette_opacity.size(); ++i)
+      silhouette_differ += fa.silhouette_opacity[i] != fb.silhouette_opacity[i];
+    EXPECT_GT(away, 100u) << az;
+    EXPECT_EQ(away_differ, 0u) << az;
+    EXPECT_EQ(silhouette_differ, 0u) << az;
+  }
+}
+
 // A coarser level of the mesh's pyramid held in the mesh's place (terrain-render --memory;
 // read_mesh_via_pyramid's level, LodHierarchy::base) draws the same frame as the whole
 // mesh wherever the view draws no block finer than that level: the same patches, depth and
