@@ -88,9 +88,11 @@ bool read_level(Scene& s, const std::string& mesh_path, const std::function<int(
   s.levels = std::make_shared<const LodHierarchy>(std::move(p->levels));
   s.mesh_source = fmt::format("'{}' (its pyramid{})", terrain::pyramid_path_of(mesh_path),
                               s.mesh_level > 0 ? fmt::format(", level {}", s.mesh_level) : "");
+  // Once, though a bounded scene reads its pyramid again (focus_scene).
+  const std::string no_slopes = fmt::format("'{}': {}", terrain::pyramid_path_of(mesh_path), kNoSlopes);
   if (!s.levels->blocks.empty() && s.levels->blocks[0].slope.empty() &&
-      std::find(s.warnings.begin(), s.warnings.end(), kNoSlopes) == s.warnings.end())
-    s.warnings.push_back(fmt::format("'{}': {}", terrain::pyramid_path_of(mesh_path), kNoSlopes));
+      std::find(s.warnings.begin(), s.warnings.end(), no_slopes) == s.warnings.end())
+    s.warnings.push_back(no_slopes);
   return true;
 }
 
@@ -218,16 +220,15 @@ FrameLines fine_lines(const Scene& scene, const FrameResult& res, FrameLines lin
   const CreaseLevel& l = scene.crease_levels->at(std::size_t(res.crease_level - 1));
   const std::vector<double> metres = segment_metres(*scene.creases);
   FrameLines fine{std::vector<float>(metres.size(), 0.0f), std::vector<double>(metres.size(), 0.0)};
+  std::vector<std::uint32_t> run;  // the fine segments merged segment s replaces
   for (std::size_t s = 0; s < l.first.size(); ++s) {
-    double run = 0;
-    for (std::uint32_t t = l.first[s];; t = scene.chains.next[t]) {
-      run += metres[t];
-      if (t == l.last[s]) break;
-    }
-    for (std::uint32_t t = l.first[s];; t = scene.chains.next[t]) {
+    run.assign(1, l.first[s]);
+    while (run.back() != l.last[s]) run.push_back(scene.chains.next[run.back()]);
+    double length = 0;
+    for (const std::uint32_t t : run) length += metres[t];
+    for (const std::uint32_t t : run) {
       fine.drawn[t] = lines.drawn[s];
-      fine.pixels[t] = run > 0 ? lines.pixels[s] * metres[t] / run : 0.0;
-      if (t == l.last[s]) break;
+      fine.pixels[t] = length > 0 ? lines.pixels[s] * metres[t] / length : 0.0;
     }
   }
   return fine;

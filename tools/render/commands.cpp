@@ -36,8 +36,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-void report_creases(const rr::Scene& scene, const std::string& dv, const tt::Verbosity& v) {
-  for (const std::string& w : scene.warnings) tt::warn(v, w);
+// The scene's warnings from the `first` on (those not reported yet), and its creases.
+void report_creases(const rr::Scene& scene, const std::string& dv, const tt::Verbosity& v, std::size_t first = 0) {
+  for (std::size_t i = first; i < scene.warnings.size(); ++i) tt::warn(v, scene.warnings[i]);
   if (scene.creases)
     tt::step(v, fmt::format("read {} and its PN normals: {} vertices, {} segments: {:.2f} s", dv,
                             scene.creases->positions.size(), scene.creases->n_segments(), scene.creases_seconds));
@@ -47,11 +48,12 @@ void report_creases(const rr::Scene& scene, const std::string& dv, const tt::Ver
 // with its creases; reported at -v. Nothing for a scene read whole.
 void focus(rr::Scene& scene, const std::vector<rr::Camera>& cameras, const rr::RenderSettings& s, const rr::Style& style,
            const std::string& dv, const tt::Verbosity& v) {
+  const std::size_t reported = scene.warnings.size();  // by scene_of
   const std::string note = rr::focus_scene(scene, cameras, s.width, s.height, style);
   if (note.empty()) return;
   tt::step(v, fmt::format("{}: {} x {} vertices, {:.2f} s", note, scene.mesh.topo.cols, scene.mesh.topo.rows,
                           scene.mesh_seconds));
-  report_creases(scene, dv, v);
+  report_creases(scene, dv, v, reported);
 }
 
 // `vertex_bytes`: load_scene's bound on the mesh's vertices (0: none).

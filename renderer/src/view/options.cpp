@@ -471,8 +471,9 @@ void add_look_options(std::vector<OptionSpec>& t, const GroupNames& g) {
   t.push_back(number(
       "lod-error", surface, 0, 64, "pixels", "0.25",
       "Levels of detail: each block of 64 x 64 cells is drawn at the coarsest level (every 2nd, 4th, ... row and "
-      "column) whose height error spans at most this on the screen, and the creases merged along their runs within "
-      "twice this; 0 draws every cell and crease segment",
+      "column) whose height error spans at most this on the screen (four times this where that level faces the "
+      "eye throughout), and the creases merged along their runs within twice this; 0 draws every cell and crease "
+      "segment",
       [](auto& s) -> auto& { return s.style.lod_error; }));
 }
 
