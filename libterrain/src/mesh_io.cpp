@@ -773,7 +773,7 @@ GridMesh read_mesh_ply(const std::string& path) {
 }
 
 std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, std::string& why,
-                                                 const std::function<int(const MeshPyramid&)>& level) {
+                                                 const std::function<PyramidPart(const MeshPyramid&)>& part) {
   namespace fs = std::filesystem;
   why.clear();
   const std::string pyr = pyramid_path_of(ply_path);
@@ -803,21 +803,55 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
     why = "'" + pyr + "' describes another grid than the mesh's";
     return std::nullopt;
   }
-  const int l = level ? std::clamp(level(pyramid), 0, pyramid.level_count() - 1) : 0;
-  GridMesh fine;  // the mesh's own grid and spacing, when a coarser level is read
-  if (l > 0) {
-    fine.topo = m.topo, fine.geo = m.geo;
-    const std::size_t rows = pyramid.rows(l), cols = pyramid.cols(l);
-    m.geo.dx *= double(m.topo.cols - 1) / double(cols - 1);
-    m.geo.dy *= double(m.topo.rows - 1) / double(rows - 1);
-    m.topo = GridTopology{rows, cols};
-  }
+  const PyramidPart want = part ? part(pyramid) : PyramidPart{};
+  const int l = std::clamp(want.level, 0, pyramid.level_count() - 1);
+  const MeshLevels& all = pyramid.levels();
+  const std::size_t B = all.block, rows0 = m.topo.rows - 1, cols0 = m.topo.cols - 1;
+  // The window's blocks, and its level-0 cells: whole blocks, so level l's lines (B is a
+  // multiple of 2^l; a level too coarse for that reads the whole level).
+  const std::size_t br0 = std::min(want.br0, all.block_rows - 1), br1 = std::clamp(want.br1, br0 + 1, all.block_rows);
+  const std::size_t bc0 = std::min(want.bc0, all.block_cols - 1), bc1 = std::clamp(want.bc1, bc0 + 1, all.block_cols);
+  const bool window = (br0 > 0 || bc0 > 0 || br1 < all.block_rows || bc1 < all.block_cols) && B % (std::size_t(1) << l) == 0;
+  const std::size_t R0 = window ? br0 * B : 0, C0 = window ? bc0 * B : 0;
+  const std::size_t R1 = window ? std::min(br1 * B, rows0) : rows0, C1 = window ? std::min(bc1 * B, cols0) : cols0;
+  GridMesh fine;  // the grid held at level 0, what its vertices are checked against
+  fine.topo = GridTopology{R1 - R0 + 1, C1 - C0 + 1}, fine.geo = m.geo;
+  const std::size_t r0 = R0 >> l, c0 = C0 >> l;  // level l's first row and column of the window
+  const std::size_t rows = (R1 == rows0 ? pyramid.rows(l) - 1 : R1 >> l) - r0 + 1;
+  const std::size_t cols = (C1 == cols0 ? pyramid.cols(l) - 1 : C1 >> l) - c0 + 1;
+  // The whole level's spacing: its extent over its cells.
+  m.geo.dx *= double(cols0) / double(pyramid.cols(l) - 1);
+  m.geo.dy *= double(rows0) / double(pyramid.rows(l) - 1);
+  m.topo = GridTopology{rows, cols};
   m.positions.resize(m.topo.n_vertices());
   m.normals.resize(m.topo.n_vertices());
-  pyramid.read_level(l, m.positions.data(), m.normals.data());
-  check_vertices(m, pyr, l, l > 0 ? &fine : nullptr);
-  out.levels = pyramid.levels();
+  pyramid.read_window(l, r0, c0, rows, cols, m.positions.data(), m.normals.data());
+  out.levels = all;
   out.levels.base = l;
+  if (window) {
+    // The window's frame: its first vertex at the origin.
+    const Eigen::Vector3f shift(float(double(C0) * fine.geo.dx), float(-double(R0) * fine.geo.dy), 0.0f);
+    MeshLevels::Window w{R0, C0, all.topo, fine.geo, {}, {}};
+    for (std::size_t i = 0; i < m.n_vertices(); ++i) m.positions[i] -= shift;
+    m.geo.origin_x += double(C0) * fine.geo.dx;
+    m.geo.origin_y -= double(R0) * fine.geo.dy;
+    fine.geo.origin_x = m.geo.origin_x, fine.geo.origin_y = m.geo.origin_y;
+    w.lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
+    w.hi = -w.lo;
+    for (const MeshLevelBlock& b : all.blocks) w.lo = w.lo.cwiseMin(b.lo - shift), w.hi = w.hi.cwiseMax(b.hi - shift);
+    out.levels.topo = fine.topo;
+    out.levels.block_rows = br1 - br0, out.levels.block_cols = bc1 - bc0;
+    out.levels.blocks.clear();
+    for (std::size_t br = br0; br < br1; ++br)
+      for (std::size_t bc = bc0; bc < bc1; ++bc) {
+        MeshLevelBlock b = all.blocks[br * all.block_cols + bc];
+        b.r0 -= std::uint32_t(R0), b.c0 -= std::uint32_t(C0);
+        b.lo -= shift, b.hi -= shift;
+        out.levels.blocks.push_back(std::move(b));
+      }
+    out.levels.window = w;
+  }
+  check_vertices(m, pyr, l, &fine);
   return out;
 }
 

@@ -489,39 +489,24 @@ std::vector<Eigen::Vector3f> MeshPyramid::decode_tile(int l, std::size_t tr, std
 }
 
 MeshWindow MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc) {
-  if (l < 0 || l >= level_count() || nr == 0 || nc == 0 || r0 + nr > rows(l) || c0 + nc > cols(l))
-    throw Error(fmt::format("'{}': no window of {} x {} at {}, {} in level {}", path_, nr, nc, r0, c0, l));
-  const LevelTiles& lt = tiles_[std::size_t(l)];
-  const std::size_t B = levels_.block;
   MeshWindow w;
   w.rows = nr, w.cols = nc;
   w.positions.resize(nr * nc);
   w.normals.resize(nr * nc);
-  std::ifstream f(path_, std::ios::binary);
-  if (!f) throw Error("cannot open '" + path_ + "'");
-  // Every tile the window touches (a vertex on a tile border is in both; the lower one is read).
-  const std::size_t tr0 = std::min(r0 / B, lt.tiles_r - 1), tr1 = std::min((r0 + nr - 1) / B, lt.tiles_r - 1);
-  const std::size_t tc0 = std::min(c0 / B, lt.tiles_c - 1), tc1 = std::min((c0 + nc - 1) / B, lt.tiles_c - 1);
-  std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
-  for (std::size_t tr = tr0; tr <= tr1; ++tr)
-    for (std::size_t tc = tc0; tc <= tc1; ++tc) {
-      const TileRange t = tile_range(rows(l), cols(l), B, tr, tc);
-      const std::vector<Eigen::Vector3f> raw = decode_tile(l, tr, tc, f, ctx.get(), bytes_read_);
-      ++tiles_read_;
-      for (std::size_t r = std::max(r0, t.r0); r < std::min(r0 + nr, t.r0 + t.nr); ++r)
-        for (std::size_t c = std::max(c0, t.c0); c < std::min(c0 + nc, t.c0 + t.nc); ++c) {
-          const std::size_t i = (r - r0) * nc + (c - c0), j = (r - t.r0) * t.nc + (c - t.c0);
-          w.positions[i] = raw[j];
-          w.normals[i] = raw[t.nr * t.nc + j];
-        }
-    }
+  read_window(l, r0, c0, nr, nc, w.positions.data(), w.normals.data());
   return w;
 }
 
-void MeshPyramid::read_level(int l, Eigen::Vector3f* positions, Eigen::Vector3f* normals) {
-  if (l < 0 || l >= level_count()) throw Error(fmt::format("'{}': no level {}", path_, l));
+void MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc,
+                              Eigen::Vector3f* positions, Eigen::Vector3f* normals) {
+  if (l < 0 || l >= level_count() || nr == 0 || nc == 0 || r0 + nr > rows(l) || c0 + nc > cols(l))
+    throw Error(fmt::format("'{}': no window of {} x {} at {}, {} in level {}", path_, nr, nc, r0, c0, l));
   const LevelTiles& lt = tiles_[std::size_t(l)];
-  const std::size_t B = levels_.block, cols_l = cols(l), n_tiles = lt.tiles.size();
+  const std::size_t B = levels_.block;
+  // Every tile the window touches (a vertex on a tile border is in both, the same in both).
+  const std::size_t tr0 = std::min(r0 / B, lt.tiles_r - 1), tr1 = std::min((r0 + nr - 1) / B, lt.tiles_r - 1);
+  const std::size_t tc0 = std::min(c0 / B, lt.tiles_c - 1), tc1 = std::min((c0 + nc - 1) / B, lt.tiles_c - 1);
+  const std::size_t across = tc1 - tc0 + 1, n_tiles = (tr1 - tr0 + 1) * across;
   std::string failed;
   std::uint64_t bytes = 0;
 #pragma omp parallel reduction(+ : bytes)
@@ -532,13 +517,14 @@ void MeshPyramid::read_level(int l, Eigen::Vector3f* positions, Eigen::Vector3f*
     for (std::size_t k = 0; k < n_tiles; ++k) {
       try {
         if (!f) throw Error("cannot open '" + path_ + "'");
-        const std::size_t tr = k / lt.tiles_c, tc = k % lt.tiles_c;
-        const TileRange t = tile_range(rows(l), cols_l, B, tr, tc);
+        const std::size_t tr = tr0 + k / across, tc = tc0 + k % across;
+        const TileRange t = tile_range(rows(l), cols(l), B, tr, tc);
         const std::vector<Eigen::Vector3f> raw = decode_tile(l, tr, tc, f, ctx.get(), bytes);
-        for (std::size_t r = 0; r < t.nr; ++r) {  // a border vertex twice, the same both times
-          const std::size_t v = (t.r0 + r) * cols_l + t.c0;
-          std::copy_n(raw.begin() + long(r * t.nc), t.nc, positions + v);
-          std::copy_n(raw.begin() + long(t.nr * t.nc + r * t.nc), t.nc, normals + v);
+        const std::size_t ca = std::max(c0, t.c0), cb = std::min(c0 + nc, t.c0 + t.nc);
+        for (std::size_t r = std::max(r0, t.r0); r < std::min(r0 + nr, t.r0 + t.nr); ++r) {
+          const std::size_t to = (r - r0) * nc + (ca - c0), from = (r - t.r0) * t.nc + (ca - t.c0);
+          std::copy_n(raw.begin() + long(from), cb - ca, positions + to);
+          std::copy_n(raw.begin() + long(t.nr * t.nc + from), cb - ca, normals + to);
         }
       } catch (const std::exception& e) {
 #pragma omp critical
@@ -549,6 +535,11 @@ void MeshPyramid::read_level(int l, Eigen::Vector3f* positions, Eigen::Vector3f*
   if (!failed.empty()) throw Error(failed);
   bytes_read_ += bytes;
   tiles_read_ += n_tiles;
+}
+
+void MeshPyramid::read_level(int l, Eigen::Vector3f* positions, Eigen::Vector3f* normals) {
+  if (l < 0 || l >= level_count()) throw Error(fmt::format("'{}': no level {}", path_, l));
+  read_window(l, 0, 0, rows(l), cols(l), positions, normals);
 }
 
 }  // namespace terrain

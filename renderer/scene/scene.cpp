@@ -32,15 +32,21 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 namespace {
 
 // The database's points under the mesh (a large tiled .dv is read block by block) and
-// their creases, on scene.mesh.
+// their creases, on scene.mesh. Under the whole mesh when a window of it is held
+// (LodHierarchy::window): the rules see the basins, flats and channels of the network the
+// mesh's frame draws, not the window's pieces of them (its flow normalized by a basin cut
+// at the window's edge); the lines outside the window are out of view.
 void build_creases(Scene& s, const std::string& dv_path, const CreaseRules& rules) {
   const auto t0 = Clock::now();
-  const auto& g = s.mesh.geo;
-  const terrain::DrainageLinks links =
-      drainage::drainage_links_in(dv_path, g.origin_x, g.origin_y - double(s.mesh.topo.rows - 1) * g.dy,
-                                  g.origin_x + double(s.mesh.topo.cols - 1) * g.dx, g.origin_y);
+  const bool window = s.levels && s.levels->window;
+  const auto& g = window ? s.levels->window->geo : s.mesh.geo;
+  const terrain::GridTopology& t = window ? s.levels->window->whole : s.mesh.topo;
+  const terrain::DrainageLinks links = drainage::drainage_links_in(
+      dv_path, g.origin_x, g.origin_y - double(t.rows - 1) * g.dy, g.origin_x + double(t.cols - 1) * g.dx, g.origin_y);
   s.creases = build_crease_geometry(s.mesh, links, rules);
-  std::string w = coverage_warning(s.mesh, links);
+  terrain::GridMesh extent;  // the mesh's grid, what the database should cover
+  extent.geo = g, extent.topo = t;
+  std::string w = coverage_warning(extent, links);
   if (w.empty()) w = surface_warning(s.mesh, *s.creases);  // one warning: the extent says it already
   if (!w.empty()) s.warnings.push_back("'" + dv_path + "': " + w);
   s.traits = segment_traits(s.mesh, links, *s.creases);
@@ -76,7 +82,8 @@ constexpr const char* kNoSlopes =
 
 // Reads scene.mesh from its pyramid at the level `level` chooses; false when the pyramid
 // is not current (scene.mesh_source says why).
-bool read_level(Scene& s, const std::string& mesh_path, const std::function<int(const terrain::MeshPyramid&)>& level) {
+bool read_level(Scene& s, const std::string& mesh_path,
+                const std::function<terrain::PyramidPart(const terrain::MeshPyramid&)>& level) {
   std::string why;
   std::optional<terrain::PyramidMesh> p = terrain::read_mesh_via_pyramid(mesh_path, why, level);
   if (!p) {
@@ -86,8 +93,13 @@ bool read_level(Scene& s, const std::string& mesh_path, const std::function<int(
   s.mesh = std::move(p->mesh);
   s.mesh_level = p->levels.base;
   s.levels = std::make_shared<const LodHierarchy>(std::move(p->levels));
-  s.mesh_source = fmt::format("'{}' (its pyramid{})", terrain::pyramid_path_of(mesh_path),
-                              s.mesh_level > 0 ? fmt::format(", level {}", s.mesh_level) : "");
+  const auto& w = s.levels->window;
+  s.mesh_source =
+      fmt::format("'{}' (its pyramid{}{})", terrain::pyramid_path_of(mesh_path),
+                  s.mesh_level > 0 ? fmt::format(", level {}", s.mesh_level) : "",
+                  w ? fmt::format(", the window of rows {} .. {}, columns {} .. {}", w->r0, w->r0 + s.levels->topo.rows - 1,
+                                  w->c0, w->c0 + s.levels->topo.cols - 1)
+                    : "");
   // Once, though a bounded scene reads its pyramid again (focus_scene).
   const std::string no_slopes = fmt::format("'{}': {}", terrain::pyramid_path_of(mesh_path), kNoSlopes);
   if (!s.levels->blocks.empty() && s.levels->blocks[0].slope.empty() &&
@@ -126,14 +138,28 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
   return s;
 }
 
-std::string focus_scene(Scene& s, const std::vector<Camera>& cameras, int width, int height, const Style& style) {
+namespace {
+
+// What level l of the blocks in `r` takes: its grid's vertices over them.
+std::uint64_t window_bytes(const LodHierarchy& h, const BlockRange& r, int l) {
+  const std::size_t rows0 = h.topo.rows - 1, cols0 = h.topo.cols - 1, B = h.block;
+  auto count = [&](std::size_t a, std::size_t b, std::size_t n) {  // level l's lines over cells a*B .. min(b*B, n)
+    return terrain::level_count(std::min(b * B, n), l) - ((a * B) >> l);
+  };
+  return std::uint64_t(count(r.br0, r.br1, rows0)) * count(r.bc0, r.bc1, cols0) * kVertexBytes;
+}
+
+}  // namespace
+
+std::string focus_scene(Scene& s, const std::vector<Camera>& cameras, int width, int height, const Style& style,
+                        bool window) {
   if (!s.deferred) return {};
   const Scene::Deferred d = *s.deferred;
   s.deferred.reset();
   const int preview = s.mesh_level;
   std::string note;
   const auto t0 = Clock::now();
-  const bool read = read_level(s, d.mesh_path, [&](const terrain::MeshPyramid& p) {
+  const bool read = read_level(s, d.mesh_path, [&](const terrain::MeshPyramid& p) -> terrain::PyramidPart {
     if (!(style.lod_error > 0)) {
       s.mesh = {};  // the preview goes before the level is read
       return 0;
@@ -142,18 +168,26 @@ std::string focus_scene(Scene& s, const std::vector<Camera>& cameras, int width,
     const Eigen::Vector3d origin(s.mesh.geo.origin_x, s.mesh.geo.origin_y, s.mesh.geo.origin_z);
     const Box box = levels_box(h, style.exaggeration);
     int needed = p.level_count() - 1;
+    std::vector<View> views;
     for (const Camera& camera : cameras) {
+      views.push_back(make_view(camera, origin, box, width, height));
       const std::vector<std::uint8_t> drawn =
-          select_lod(h, make_view(camera, origin, box, width, height), style.exaggeration, style.lod_error,
-                     lod_cell_px(style));
+          select_lod(h, views.back(), style.exaggeration, style.lod_error, lod_cell_px(style));
       for (const std::uint8_t l : drawn) needed = std::min(needed, int(l));
     }
-    const int within = finest_within(p, d.vertex_bytes);
-    const int l = std::max(needed, within);
-    note = fmt::format("{} level {} at its finest{}", cameras.size() > 1 ? "the views draw" : "the view draws", needed,
+    const BlockRange all{0, 0, h.block_rows, h.block_cols};
+    const BlockRange in_view = window ? blocks_in_view(h, views, style.exaggeration) : all;
+    const BlockRange r = in_view.empty() ? all : in_view;
+    int l = needed;  // the finest level whose grid over the blocks read fits the bound
+    while (l + 1 < p.level_count() && window_bytes(h, r, l) > d.vertex_bytes) ++l;
+    const bool part = r.br0 > 0 || r.bc0 > 0 || r.br1 < h.block_rows || r.bc1 < h.block_cols;
+    note = fmt::format("{} level {} at its finest{}{}", cameras.size() > 1 ? "the views draw" : "the view draws", needed,
+                       part ? fmt::format("; the blocks in view, rows {} .. {} and columns {} .. {} of {} x {}, read",
+                                          r.br0, r.br1 - 1, r.bc0, r.bc1 - 1, h.block_rows, h.block_cols)
+                            : "",
                        l > needed ? fmt::format("; level {} read, the finest within the memory bound", l) : "");
     s.mesh = {};  // the preview goes before the level is read
-    return l;
+    return {l, r.br0, r.bc0, r.br1, r.bc1};
   });
   if (!read) throw terrain::Error("the mesh's pyramid changed while it was read: " + s.mesh_source);
   s.mesh_seconds += since(t0);
@@ -333,7 +367,12 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
   // while the camera moves a little (cells of 1/2, 1, 2 and 4 spacings: the flight's
   // coherence over its first 20 frames 0.55, 0.61, 0.63, 0.64; docs/terrain-render.md).
   const double cell = std::exp2(std::round(std::log2(std::max(1e-3, 2.0 * scale * rule.spacing))));
-  const std::vector<Eigen::Vector2f> seeds = surface_seeds(res.view, buffers.toward_depth, rule.spacing, cell);
+  Eigen::Vector2d anchor = Eigen::Vector2d::Zero();  // the held window's origin in the mesh's frame
+  if (scene.levels && scene.levels->window) {
+    const auto& w = *scene.levels->window;
+    anchor = {double(w.c0) * w.geo.dx, -double(w.r0) * w.geo.dy};
+  }
+  const std::vector<Eigen::Vector2f> seeds = surface_seeds(res.view, buffers.toward_depth, rule.spacing, cell, anchor);
   std::vector<Hachure> hachures = trace_hachures(field, rule, seeds);
   return {std::move(field), rule, std::move(hachures)};
 }

@@ -74,7 +74,7 @@ Box exaggerated_box(const terrain::GridMesh& mesh, double exaggeration) {
 // Levels of detail are used with a positive bound on a mesh of more than one block, and
 // always on a coarser level of a pyramid read in the mesh's place (LodHierarchy::base).
 static bool uses_lod(const Style& style, const terrain::GridMesh& mesh, const LodHierarchy* levels) {
-  if (levels && levels->base > 0) return true;
+  if (levels && (levels->base > 0 || levels->window)) return true;
   return style.lod_error > 0 && mesh.topo.rows > kLodBlock + 1 && mesh.topo.cols > kLodBlock + 1;
 }
 
@@ -82,8 +82,20 @@ static bool uses_lod(const Style& style, const terrain::GridMesh& mesh, const Lo
 // (LodHierarchy::base), whose grid mesh's spacing is that level's.
 static Eigen::Vector2d fine_spacing(const terrain::GridMesh& mesh, const LodHierarchy* levels) {
   if (!levels || levels->base == 0) return {mesh.geo.dx, mesh.geo.dy};
+  if (levels->window) return {levels->window->geo.dx, levels->window->geo.dy};
   return {mesh.geo.dx * double(mesh.topo.cols - 1) / double(levels->topo.cols - 1),
           mesh.geo.dy * double(mesh.topo.rows - 1) / double(levels->topo.rows - 1)};
+}
+
+// The whole mesh's extent in the local frame, xmin, ymin, xmax, ymax: also when only a
+// window of it is held (LodHierarchy::window; `cell`: fine_spacing).
+static Eigen::Vector4f local_extent(const terrain::GridMesh& mesh, const LodHierarchy* levels,
+                                    const Eigen::Vector2d& cell) {
+  if (!levels || !levels->window)
+    return {0, -float(double(mesh.topo.rows - 1) * mesh.geo.dy), float(double(mesh.topo.cols - 1) * mesh.geo.dx), 0};
+  const auto& w = *levels->window;
+  return {-float(double(w.c0) * cell.x()), -float(double(w.whole.rows - 1 - w.r0) * cell.y()),
+          float(double(w.whole.cols - 1 - w.c0) * cell.x()), float(double(w.r0) * cell.y())};
 }
 
 // Without the PEL and edge layers, which read the whole mesh on the GPU, levels of detail
@@ -99,7 +111,7 @@ struct TerrainRenderer::Impl {
        std::shared_ptr<const std::vector<CreaseLevel>> crease_levels)
       : layers(layers),
         style(style),
-        box(levels && levels->base > 0 ? levels_box(*levels, style.exaggeration)
+        box(levels && (levels->base > 0 || levels->window) ? levels_box(*levels, style.exaggeration)
                                        : exaggerated_box(mesh, style.exaggeration)),
         origin(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z),
         cell(fine_spacing(mesh, levels.get())),
@@ -118,8 +130,7 @@ struct TerrainRenderer::Impl {
         silhouettes(scene, layers.silhouettes, style.antialias ? style.silhouette_min_length * height : 0.0,
                     layers.adjacency ? &ids : nullptr,
                     1e-3 * std::min(cell.x(), cell.y()),
-                    Eigen::Vector4f(0, -float(double(mesh.topo.rows - 1) * mesh.geo.dy),
-                                    float(double(mesh.topo.cols - 1) * mesh.geo.dx), 0)),
+                    local_extent(mesh, levels.get(), cell)),
         composite(scene, layers, style, this->creases, pels, edges, silhouettes) {
     if (uses_lod(style, mesh, levels.get())) {
       if (levels && !(terrain::level_count(levels->topo.rows - 1, levels->base) == mesh.topo.rows &&

@@ -1359,6 +1359,75 @@ TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
   EXPECT_GT(terrain, depth.size() / 4);
 }
 
+// A window of the mesh's blocks held in its place (terrain-render frame under --memory:
+// focus_scene reads the blocks in view and one more around them, LodHierarchy::window)
+// draws the frame of the whole mesh: the terrain outside cannot show, for what hides a
+// point of the view lies between it and the eye, in view too, and the scene's box (the
+// view's planes, the page scale) stays the mesh's. A near view past the north-west corner
+// of a 5 x 5-block mesh needs at most 3 x 3 blocks (2 x 2 here); at level 0 and at level 2
+// held, the window covers the same pixels at the same depth (to 1e-4) and draws the same
+// silhouettes as the whole level. Not asserted bit for bit: the window's local frame is
+// moved, so the GPU's float rounding may differ (a pixel or two).
+TEST(RendererGl, AWindowOfBlocksInViewDrawsTheSameFrame) {
+  const terrain::GridMesh mesh = terrain::test::function_mesh(300, 271, 10.0, [](double x, double y) {
+    return 0.05 * x + 40 * std::sin(x / 90) * std::cos(y / 70) + 8 * std::sin(x / 23 + y / 31);
+  });
+  terrain::test::ScratchDir dir;
+  terrain::write_mesh_ply(mesh, dir.path("m.ply"));
+  terrain::write_mesh_pyramid(mesh, dir.path("m.tpyr"));
+  renderer::GlContext ctx;
+  const int w = 480, h = 360;
+  renderer::Style style = test_style();
+  const renderer::Layers layers{false, true, false, true};  // the mask and the silhouettes
+  FrameParams near;
+  near.camera.eye = Vector3d(500, -500, 200);  // over the north-west corner, looking past it
+  near.camera.view_az = 315;
+  near.camera.view_alt = 15;
+  near.camera.fov = 40;
+  for (const int level : {0, 2}) {
+    SCOPED_TRACE(::testing::Message() << "level " << level);
+    std::string why;
+    const auto whole = terrain::read_mesh_via_pyramid(dir.path("m.ply"), why, [&](const terrain::MeshPyramid&) { return level; });
+    ASSERT_TRUE(whole) << why;
+    auto whole_levels = std::make_shared<const renderer::LodHierarchy>(whole->levels);
+    TerrainRenderer a(ctx, whole->mesh, nullptr, w, h, layers, style, whole_levels);
+    const auto ra = a.render(near);
+    const auto fa = a.read_buffers();
+    const renderer::BlockRange r = renderer::blocks_in_view(*whole_levels, {ra.view}, style.exaggeration);
+    ASSERT_FALSE(r.empty());
+    EXPECT_EQ(r.br0, 0u);
+    EXPECT_EQ(r.bc0, 0u);
+    EXPECT_LE((r.br1 - r.br0) * (r.bc1 - r.bc0), 9u) << "the view needs more than 3 x 3 of the 5 x 5 blocks";
+    const auto part = terrain::read_mesh_via_pyramid(dir.path("m.ply"), why, [&](const terrain::MeshPyramid&) {
+      return terrain::PyramidPart{level, r.br0, r.bc0, r.br1, r.bc1};
+    });
+    ASSERT_TRUE(part && part->levels.window) << why;
+    auto part_levels = std::make_shared<const renderer::LodHierarchy>(part->levels);
+    TerrainRenderer b(ctx, part->mesh, nullptr, w, h, layers, style, part_levels);
+    EXPECT_EQ(b.box().lo, a.box().lo - Vector3d(part->mesh.geo.origin_x - whole->mesh.geo.origin_x,
+                                              part->mesh.geo.origin_y - whole->mesh.geo.origin_y, 0));
+    const auto rb = b.render(near);
+    const auto fb = b.read_buffers();
+    std::size_t drawn_a = 0, drawn_b = 0, covered_differ = 0, depth_differ = 0, sil_a = 0, sil_b = 0, sil_differ = 0;
+    for (std::size_t i = 0; i < fa.toward_depth.size(); ++i) {
+      const bool da = renderer::far_depth(ra.view.reversed_z, fa.toward_depth[i]) < 1.0f;
+      const bool db = renderer::far_depth(rb.view.reversed_z, fb.toward_depth[i]) < 1.0f;
+      drawn_a += da, drawn_b += db, covered_differ += da != db;
+      depth_differ += da && db && std::abs(fa.toward_depth[i] - fb.toward_depth[i]) > 1e-4f * std::abs(fa.toward_depth[i]);
+    }
+    for (std::size_t i = 0; i < fa.silhouette_opacity.size(); ++i) {
+      const bool sa = fa.silhouette_opacity[i] > 0, sb = fb.silhouette_opacity[i] > 0;
+      sil_a += sa, sil_b += sb, sil_differ += sa != sb;
+    }
+    EXPECT_GT(drawn_a, fa.toward_depth.size() / 4);
+    EXPECT_LT(drawn_a, fa.toward_depth.size() * 9 / 10);  // the mesh's corner against the background
+    EXPECT_LE(covered_differ, 2u) << drawn_a << " " << drawn_b;
+    EXPECT_LE(depth_differ, 2u);
+    EXPECT_GT(sil_a, 50u);
+    EXPECT_LE(sil_differ, 4u) << sil_a << " " << sil_b;
+  }
+}
+
 // TFT's flat patches (drawn as triangles without the tessellation stages) against every
 // patch tessellated (Style::flat_patches false): on a bumpy analytic surface seen obliquely
 // from near, so that near patches tessellate finer and far ones into their own triangle,

@@ -216,3 +216,76 @@ TEST(MeshPyramid, TheMeshReadFromItsPyramidIsThePly) {
   EXPECT_FALSE(terrain::read_mesh_via_pyramid(ply, why));
   EXPECT_NE(why.find("'filled'"), std::string::npos) << why;
 }
+
+// A window of the mesh's blocks read through read_mesh_via_pyramid (PyramidPart: what a
+// frame of a near view reads, focus_scene) is that part of the level, a grid mesh of its
+// own: at level 0 and level 2, in the middle and at the far corner (the partial blocks,
+// whose last row and column level 2 keeps closer), its vertices are the whole level's
+// there moved by the window's corner (exactly: a 10 m lattice), its origin the corner's,
+// its spacing the whole level's; its blocks are the window's, moved the same; the whole
+// mesh's box comes with it. (It is read by MeshPyramid::read_window, whose accounting
+// AWindowReadsOnlyTheTilesUnderIt checks.)
+TEST(MeshPyramid, AWindowOfBlocksIsThatPartOfTheLevel) {
+  terrain::GridMesh m = bumps(300, 271);  // 299 x 270 cells: 5 x 5 blocks of 64, the last partial
+  m.geo.crs_wkt.clear();
+  terrain::test::ScratchDir dir;
+  const std::string ply = dir.path("m.ply");
+  terrain::write_mesh_ply(m, ply);
+  terrain::write_mesh_pyramid(m, dir.path("m.tpyr"));
+  struct Case {
+    int level;
+    std::size_t br0, bc0, br1, bc1;
+  };
+  for (const Case c : {Case{0, 1, 2, 3, 4}, Case{2, 1, 2, 3, 4}, Case{2, 3, 3, 9, 9}, Case{0, 4, 1, 5, 5}}) {
+    SCOPED_TRACE(::testing::Message() << "level " << c.level << ", blocks " << c.br0 << ", " << c.bc0);
+    std::string why;
+    const auto whole = terrain::read_mesh_via_pyramid(ply, why, [&](const terrain::MeshPyramid&) { return c.level; });
+    const auto part = terrain::read_mesh_via_pyramid(ply, why, [&](const terrain::MeshPyramid&) {
+      return terrain::PyramidPart{c.level, c.br0, c.bc0, c.br1, c.bc1};
+    });
+    ASSERT_TRUE(whole && part) << why;
+    ASSERT_FALSE(whole->levels.window);
+    ASSERT_TRUE(part->levels.window);
+    const auto& w = *part->levels.window;
+    const std::size_t br1 = std::min<std::size_t>(c.br1, 5), bc1 = std::min<std::size_t>(c.bc1, 5);
+    EXPECT_EQ(w.r0, 64 * c.br0);
+    EXPECT_EQ(w.c0, 64 * c.bc0);
+    EXPECT_EQ(part->levels.topo.rows, std::min<std::size_t>(64 * br1, 299) - w.r0 + 1);
+    EXPECT_EQ(part->levels.topo.cols, std::min<std::size_t>(64 * bc1, 270) - w.c0 + 1);
+    EXPECT_EQ(w.whole.rows, 300u);
+    EXPECT_EQ(w.geo.origin_x, m.geo.origin_x);
+    EXPECT_EQ(part->levels.base, c.level);
+    EXPECT_EQ(part->mesh.geo.dx, whole->mesh.geo.dx);
+    EXPECT_EQ(part->mesh.geo.origin_x, m.geo.origin_x + 10.0 * double(w.c0));
+    EXPECT_EQ(part->mesh.geo.origin_y, m.geo.origin_y - 10.0 * double(w.r0));
+    // Level l's rows and columns of the window.
+    const std::size_t r0 = w.r0 >> c.level, c0 = w.c0 >> c.level;
+    ASSERT_EQ(part->mesh.topo.rows, terrain::level_count(part->levels.topo.rows - 1, c.level));
+    ASSERT_EQ(part->mesh.topo.cols, terrain::level_count(part->levels.topo.cols - 1, c.level));
+    ASSERT_LE(r0 + part->mesh.topo.rows, whole->mesh.topo.rows);
+    const Eigen::Vector3f shift(float(10.0 * double(w.c0)), -float(10.0 * double(w.r0)), 0);
+    std::size_t differ = 0;
+    for (std::size_t r = 0; r < part->mesh.topo.rows; ++r)
+      for (std::size_t col = 0; col < part->mesh.topo.cols; ++col) {
+        const std::size_t i = r * part->mesh.topo.cols + col, j = (r0 + r) * whole->mesh.topo.cols + c0 + col;
+        differ += !same(part->mesh.positions[i] + shift, whole->mesh.positions[j]) ||
+                  !same(part->mesh.normals[i], whole->mesh.normals[j]);
+      }
+    EXPECT_EQ(differ, 0u);
+    // Its blocks, moved; the whole box.
+    ASSERT_EQ(part->levels.block_rows, br1 - c.br0);
+    ASSERT_EQ(part->levels.block_cols, bc1 - c.bc0);
+    for (std::size_t br = 0; br < part->levels.block_rows; ++br)
+      for (std::size_t bc = 0; bc < part->levels.block_cols; ++bc) {
+        const auto& a = part->levels.blocks[br * part->levels.block_cols + bc];
+        const auto& b = whole->levels.blocks[(c.br0 + br) * 5 + c.bc0 + bc];
+        EXPECT_EQ(a.r0 + w.r0, b.r0);
+        EXPECT_EQ(a.c0 + w.c0, b.c0);
+        EXPECT_TRUE(same(a.lo + shift, b.lo) && same(a.hi + shift, b.hi));
+        EXPECT_EQ(a.error, b.error);
+      }
+    Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e30f), hi = -lo;
+    for (const auto& b : whole->levels.blocks) lo = lo.cwiseMin(b.lo), hi = hi.cwiseMax(b.hi);
+    EXPECT_TRUE(same(w.lo + shift, lo) && same(w.hi + shift, hi));
+  }
+}

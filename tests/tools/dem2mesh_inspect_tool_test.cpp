@@ -357,6 +357,23 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
       tool("build-drainage") + " " + dir.path("m.ply") + " " + dir.path("d.dv") + " --spacing 20 -q";
   ASSERT_EQ(run(drain).exit_code, 0);
   const std::string dv = test::file_bytes(dir.path("d.dv"));
+  // A near view under a bound that the mesh exceeds but the blocks in its view fit
+  // (--memory 0.75: 768 KiB; the mesh's vertices 801 KB, the 3 x 3 blocks north of the eye
+  // and around it, 151 x 193 vertices, 700 KB) reads only those blocks, at level 0, and
+  // draws the creases of the whole mesh's network: the frame of the whole mesh, pixel for
+  // pixel (creases, hachures, silhouettes; a 20 m lattice moves exactly).
+  const std::string near = tool("terrain-render") + " frame " + dir.path("m.ply") + " " + dir.path("d.dv") +
+                           " --eye 562800 5117200 2300 --view-az 0 --view-alt 10 --fov 40 --size 480x270 -v -o ";
+  ASSERT_EQ(run(near + dir.path("near_whole.png")).exit_code, 0);
+  const auto near_window = run(near + dir.path("near_window.png") + " --memory 0.75");
+  ASSERT_EQ(near_window.exit_code, 0) << near_window.err;
+  EXPECT_NE(near_window.err.find("mesh read at level 0 of its pyramid after the preview at level 2: the view draws "
+                                 "level 0 at its finest; the blocks in view, rows 0 .. 2 and columns 0 .. 2 of 4 x 3, "
+                                 "read: 151 x 193 vertices"),
+            std::string::npos)
+      << near_window.err;
+  EXPECT_GT(test::count(test::ink_of(dir.path("near_whole.png"))), 2000u);
+  EXPECT_TRUE(same_pixels(dir.path("near_whole.png"), dir.path("near_window.png")));
   // A version-1 pyramid (no slopes) is still read, with a warning that names the remedy.
   const std::string v2 = test::file_bytes(dir.path("m.tpyr"));
   std::ofstream(dir.path("m.tpyr"), std::ios::binary | std::ios::trunc) << test::pyramid_as_version1(v2);

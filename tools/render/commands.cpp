@@ -45,11 +45,12 @@ void report_creases(const rr::Scene& scene, const std::string& dv, const tt::Ver
 }
 
 // A scene read at a coarser level (--memory) read again at the level `cameras`' views draw,
-// with its creases; reported at -v. Nothing for a scene read whole.
+// with its creases (with `window`, only its blocks in view: focus_scene); reported at -v. Nothing
+// for a scene read whole.
 void focus(rr::Scene& scene, const std::vector<rr::Camera>& cameras, const rr::RenderSettings& s, const rr::Style& style,
-           const std::string& dv, const tt::Verbosity& v) {
+           const std::string& dv, const tt::Verbosity& v, bool window = false) {
   const std::size_t reported = scene.warnings.size();  // by scene_of
-  const std::string note = rr::focus_scene(scene, cameras, s.width, s.height, style);
+  const std::string note = rr::focus_scene(scene, cameras, s.width, s.height, style, window);
   if (note.empty()) return;
   tt::step(v, fmt::format("{}: {} x {} vertices, {:.2f} s", note, scene.mesh.topo.cols, scene.mesh.topo.rows,
                           scene.mesh_seconds));
@@ -151,7 +152,7 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   const rr::ResolvedFrame f = rr::resolve_frame(s, scene.mesh, given);
   if (!f.description.empty()) tt::step(verb, f.description);
   const rr::FrameParams& fp = f.frame;
-  focus(scene, {fp.camera}, s, f.style, dv, verb);
+  focus(scene, {fp.camera}, s, f.style, dv, verb, true);
   auto t0 = Clock::now();
   rr::GlContext ctx;
   if (rr::is_vector_path(out)) rr::check_vector_memory(ctx, s.width, s.height);

@@ -47,17 +47,31 @@ GridMesh read_mesh_ply(const std::string& path);
 // and `why` says why (empty when there is no pyramid at all). Throws Error on a bad PLY
 // header or a damaged pyramid.
 //
-// `level`, when given, picks the pyramid level read as the mesh from the open pyramid (its
+// `part`, when given, picks the pyramid level read as the mesh from the open pyramid (its
 // grid sizes; 0: the mesh itself): level l's grid, every 2^l-th row and column and the
 // last ones, as a grid mesh of its own whose geo.dx and dy are the mesh's extent over its
 // cells (so its extent is the mesh's; its last row and column are the closer ones). The
 // levels of detail stay the mesh's, with MeshLevels::base = l.
+//
+// `part` may also name a window of the mesh's blocks (rows br0 .. br1 - 1, columns bc0 ..
+// bc1 - 1 of MeshLevels' blocks; clamped to them): then only the tiles of level l under it
+// are read, and the mesh is that window, a grid mesh of its own: its origin at its first
+// vertex (positions moved by as much; exactly on a lattice of dyadic spacing), its spacing
+// the whole level's, and levels.window says where it lies (its blocks and topology are the
+// window's). A window of every block reads the whole level.
+struct PyramidPart {
+  int level = 0;
+  std::size_t br0 = 0, bc0 = 0, br1 = std::size_t(-1), bc1 = std::size_t(-1);  // blocks; default: all
+  PyramidPart(int l = 0) : level(l) {}  // NOLINT: a level alone reads the whole of it
+  PyramidPart(int l, std::size_t r0, std::size_t c0, std::size_t r1, std::size_t c1)
+      : level(l), br0(r0), bc0(c0), br1(r1), bc1(c1) {}
+};
 struct PyramidMesh {
   GridMesh mesh;
   MeshLevels levels;
 };
 std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, std::string& why,
-                                                 const std::function<int(const MeshPyramid&)>& level = {});
+                                                 const std::function<PyramidPart(const MeshPyramid&)>& part = {});
 // A terrain mesh as the tools read it: from its pyramid when that is current
 // (read_mesh_via_pyramid), else from the PLY (read_mesh_ply). `source` says which, and why
 // not the pyramid: "'MESH.tpyr' (its pyramid)", "the PLY", "the PLY: <why>". `levels`,

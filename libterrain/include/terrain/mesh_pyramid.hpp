@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,16 @@ struct MeshLevels {
   // mesh itself, unless a level of its pyramid was read in its place; no block is drawn
   // finer (renderer/lod.hpp).
   int base = 0;
+  // Set when only a window of the mesh's blocks is held (read_mesh_via_pyramid's `part`):
+  // then topo, block_rows, block_cols and blocks are the window's, in its frame (its first
+  // vertex at the local origin), and this says where it lies in the whole mesh.
+  struct Window {
+    std::size_t r0 = 0, c0 = 0;  // its first level-0 vertex row and column in the mesh
+    GridTopology whole;          // the mesh's level-0 grid
+    MeshGeoref geo;              // the mesh's own (its origin and spacing, level 0's)
+    Eigen::Vector3f lo, hi;      // the whole mesh's box, the window's frame, heights not exaggerated
+  };
+  std::optional<Window> window;
 };
 
 MeshLevels build_mesh_levels(const GridMesh& mesh, std::size_t block = kLevelBlock);
@@ -150,8 +161,12 @@ class MeshPyramid {
   std::size_t cols(int l) const { return terrain::level_count(levels_.topo.cols - 1, l); }
   // The vertices of level l's grid rows r0 .. r0 + nr - 1 and columns c0 .. c0 + nc - 1.
   MeshWindow read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc);
+  // The same into `positions` and `normals` (nr x nc each, row-major), its tiles decoded in
+  // parallel.
+  void read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc, Eigen::Vector3f* positions,
+                   Eigen::Vector3f* normals);
   // The whole of level l's grid, rows(l) x cols(l) vertices row-major into `positions` and
-  // `normals`, its tiles decoded in parallel.
+  // `normals` (read_window's).
   void read_level(int l, Eigen::Vector3f* positions, Eigen::Vector3f* normals);
   // Accounting since the file was opened: bytes read (header and index included) and
   // tiles decoded.

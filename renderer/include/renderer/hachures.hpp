@@ -97,9 +97,12 @@ Coherence hachure_coherence(const std::vector<Eigen::Vector3f>& previous, const 
 // every cell a pixel of the grid a third of `spacing` apart falls in, the pixel whose ground
 // point (surface_point of the frame's `toward_depth`) lies nearest the cell's centre is its
 // seed, and the seeds are ordered by a hash of their cell. The same cells win in the next
-// frame, their seeds moved with the ground: the hachures move with it.
+// frame, their seeds moved with the ground: the hachures move with it. The cells are
+// those of the mesh's own frame, `anchor` (the local frame's origin in it; a window of the
+// mesh held, LodHierarchy::window) added to the ground points: the same seeds whatever
+// part of the mesh is held.
 std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<float>& toward_depth, double spacing,
-                                           double cell);
+                                           double cell, const Eigen::Vector2d& anchor = Eigen::Vector2d::Zero());
 
 // The field of a frame: each pixel whose toward depth (`toward_depth`, the frame's TFT
 // buffer, row 0 at the top) shows surface is unprojected to the mesh's local frame (heights

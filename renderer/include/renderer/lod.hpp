@@ -68,8 +68,20 @@ double nearest_depth(const Box& box, const View& view);
 double nearest_pixel_metres(const LodHierarchy* h, const Box& box, const View& view, double exaggeration);
 
 // The box of the mesh the levels describe (the union of their blocks' boxes), heights times
-// `exaggeration`: the mesh's own box, also when a coarser level of it is held (base > 0).
+// `exaggeration`: the mesh's own box, also when a coarser level of it is held (base > 0),
+// and the whole mesh's when only a window of it is held (LodHierarchy::window).
 Box levels_box(const LodHierarchy& h, double exaggeration);
+
+// The blocks (rows br0 .. br1 - 1, columns bc0 .. bc1 - 1 of h's) that hold every block in
+// any of `views` (nearest_depth finite, heights times `exaggeration`) and one more around
+// them, for a PN patch's bulge past its block's box; empty (br1 = 0) when none is in view.
+// What a frame needs of the mesh (focus_scene's window): the terrain that hides a point of
+// the view lies between it and the eye, in the view too.
+struct BlockRange {
+  std::size_t br0 = 0, bc0 = 0, br1 = 0, bc1 = 0;
+  bool empty() const { return br1 == 0; }
+};
+BlockRange blocks_in_view(const LodHierarchy& h, const std::vector<View>& views, double exaggeration);
 
 // Per block, 1 where it faces the eye throughout at its level (levels[k]) by the test
 // select_lod's looser bound uses: no fragment of it faces away, so AFT need not look at its

@@ -66,7 +66,15 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
 // takes more than the bound, the finest within it (the nearest blocks then drawn coarser;
 // every level with --lod-error 0), and builds the creases on it. Returns a line for -v.
 // With several cameras (a batch's frames), the finest level any of their views draws.
-std::string focus_scene(Scene& scene, const std::vector<Camera>& cameras, int width, int height, const Style& style);
+// With `window`, only the blocks in view are read (terrain-render frame): those of any
+// block any view draws (nearest_depth), one block more around them, as a window of the mesh
+// (terrain::read_mesh_via_pyramid's part, LodHierarchy::window), so the bound applies to
+// them and a near view of a large mesh is read at the level it draws. What lies outside
+// cannot show: the terrain that hides a point of the view lies between it and the eye, in
+// the view too. The scene's box stays the whole mesh's (levels_box), and with it the
+// view, the page scale and the strokes. A viewer, whose views move, reads whole levels.
+std::string focus_scene(Scene& scene, const std::vector<Camera>& cameras, int width, int height, const Style& style,
+                        bool window = false);
 
 // For a scene read at a coarser level than its mesh under load_scene's memory bound: when
 // `camera`'s view would draw a block finer than the level held (finest_wanted_level) and a

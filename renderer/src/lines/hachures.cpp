@@ -286,7 +286,7 @@ Coherence hachure_coherence(const std::vector<Eigen::Vector3f>& previous, const 
 }
 
 std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<float>& depth, double spacing,
-                                           double cell) {
+                                           double cell, const Eigen::Vector2d& anchor) {
   struct Best {
     Vector2f seed;
     float d2;
@@ -298,9 +298,9 @@ std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<f
     for (double u = 0.5 * step; u < view.width; u += step) {
       const auto q = surface_point(view, inverse, depth, u, v);
       if (!q) continue;
-      const Vector2f g = q->head<2>().cast<float>();
+      const Eigen::Vector2d g = Eigen::Vector2d(q->head<2>().cast<float>().cast<double>()) + anchor;
       const double cx = std::floor(g.x() / cell), cy = std::floor(g.y() / cell);
-      const float d2 = float((Eigen::Vector2d(g.cast<double>()) - cell * Eigen::Vector2d(cx + 0.5, cy + 0.5)).squaredNorm());
+      const float d2 = float((g - cell * Eigen::Vector2d(cx + 0.5, cy + 0.5)).squaredNorm());
       const std::uint64_t key = (std::uint64_t(std::int64_t(cx)) << 32) ^ std::uint64_t(std::uint32_t(std::int64_t(cy)));
       const auto [it, fresh] = best.try_emplace(key, Best{Vector2f(float(u), float(v)), d2});
       if (!fresh && d2 < it->second.d2) it->second = {Vector2f(float(u), float(v)), d2};

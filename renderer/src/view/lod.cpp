@@ -113,6 +113,10 @@ double nearest_pixel_metres(const LodHierarchy* h, const Box& box, const View& v
 }
 
 Box levels_box(const LodHierarchy& h, double exaggeration) {
+  if (h.window) {
+    const Eigen::Vector3f &lo = h.window->lo, &hi = h.window->hi;
+    return Box{{lo.x(), lo.y(), double(lo.z()) * exaggeration}, {hi.x(), hi.y(), double(hi.z()) * exaggeration}};
+  }
   Box box{Eigen::Vector3d::Constant(std::numeric_limits<double>::max()),
           Eigen::Vector3d::Constant(-std::numeric_limits<double>::max())};
   for (const LodBlock& b : h.blocks) {
@@ -199,6 +203,21 @@ std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<
   for (std::uint32_t& v : m.patches) v = m.vertices[v];
   if (may_face_away) *may_face_away = m.may_face_away;
   return std::move(m.patches);
+}
+
+BlockRange blocks_in_view(const LodHierarchy& h, const std::vector<View>& views, double e) {
+  BlockRange r{h.block_rows, h.block_cols, 0, 0};
+  for (std::size_t k = 0; k < h.blocks.size(); ++k) {
+    const Box box = block_box(h.blocks[k], e);
+    if (std::none_of(views.begin(), views.end(), [&](const View& v) { return std::isfinite(nearest_depth(box, v)); }))
+      continue;
+    const std::size_t br = k / h.block_cols, bc = k % h.block_cols;
+    r.br0 = std::min(r.br0, br), r.bc0 = std::min(r.bc0, bc);
+    r.br1 = std::max(r.br1, br + 1), r.bc1 = std::max(r.bc1, bc + 1);
+  }
+  if (r.empty()) return {};
+  return {r.br0 > 0 ? r.br0 - 1 : 0, r.bc0 > 0 ? r.bc0 - 1 : 0, std::min(r.br1 + 1, h.block_rows),
+          std::min(r.bc1 + 1, h.block_cols)};
 }
 
 std::vector<std::uint8_t> facing_blocks(const LodHierarchy& h, const View& view, double e,

@@ -256,7 +256,9 @@ TEST(Lod, WhatALevelMarkedFacingDrawsFacesTheEye) {
       const bool coarse = std::max({(p[1] - p[0]).head<2>().norm(), (p[2] - p[1]).head<2>().norm(),
                                     (p[0] - p[2]).head<2>().norm()}) > cell;
       const terrain::PnPatch patch = terrain::make_pn_patch(p[0], p[1], p[2], n[0], n[1], n[2]);
-      if (coarse) EXPECT_GT((p[1] - p[0]).cross(p[2] - p[0]).dot(v.eye - p[0]), 0) << az << " patch " << t;
+      if (coarse) {
+        EXPECT_GT((p[1] - p[0]).cross(p[2] - p[0]).dot(v.eye - p[0]), 0) << az << " patch " << t;
+      }
       for (int i = 0; i <= 6; ++i)
         for (int j = 0; i + j <= 6; ++j) {
           const double b2 = i / 6.0, b3 = j / 6.0, b1 = 1 - b2 - b3;
