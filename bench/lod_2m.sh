@@ -7,7 +7,8 @@
 # the Logan 100 m mesh's frames at the same camera beside them. Prints wall seconds, peak resident memory
 # and the frame's passes for each step, and the files' sizes. Steps whose outputs exist in
 # WORKDIR are not run again (their rows then say so).
-# Usage: bench/lod_2m.sh WORKDIR   (about 28 GB of disk; about 8 minutes on 2 cores)
+# Then a near view of the 2 m mesh, of which terrain-render reads only the blocks in view.
+# Usage: bench/lod_2m.sh WORKDIR   (about 28 GB of disk; about 10 minutes on 2 cores)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${TERRAIN_BIN:-$root/build/bin}"
@@ -53,6 +54,23 @@ timed "frame, 100 m mesh" "$bin/terrain-render" frame "$work/logan_100.ply" -o "
 # shellcheck disable=SC2086
 timed "frame, 100 m mesh and .dv" "$bin/terrain-render" frame "$work/logan_100.ply" "$work/logan_100.dv" -o "$work/g100.png" \
   $camera -v
+# A near view (2.5 km south of Logan Peak, looking north, 25 degrees down): the mesh over
+# the bound and the view's blocks a fraction of it, terrain-render frame reads only the
+# blocks in view, at the level the view draws (focus_scene's window); against the whole
+# mesh at the same camera.
+near="--eye 446000 4630000 3800 --view-az 0 --view-alt 25 --fov 35"
+# shellcheck disable=SC2086
+timed "near frame, 2 m mesh and .dv" "$bin/terrain-render" frame "$work/logan_2.ply" "$work/logan_2.dv" -o "$work/n2.png" \
+  $near -v
+read_line=$(grep -m1 "mesh read at level" "$work/out.txt" || true)
+for m in 1024 65536; do
+  # shellcheck disable=SC2086
+  "$bin/terrain-render" frame "$work/logan_2.ply" "$work/logan_2.dv" -o "$work/nc2_$m.png" --layers mask,creases \
+    --memory "$m" $near -q > /dev/null
+done
+near_agreement=$(/usr/bin/python3 "$root/bench/line_agreement.py" "$work/nc2_1024.png" "$work/nc2_65536.png")
 echo
 echo "creases at the default bound against the whole mesh (within 1 px, both ways; line px): $agreement"
+echo "near view: $read_line"
+echo "near view, creases against the whole mesh (within 1 px, both ways; line px): $near_agreement"
 echo "disk: PLY $(du -m "$work/logan_2.ply" | cut -f1) MB, pyramid $(du -m "$work/logan_2.tpyr" | cut -f1) MB, .dv $(du -m "$work/logan_2.dv" | cut -f1) MB"

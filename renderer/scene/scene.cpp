@@ -85,13 +85,19 @@ constexpr const char* kNoSlopes =
 bool read_level(Scene& s, const std::string& mesh_path,
                 const std::function<terrain::PyramidPart(const terrain::MeshPyramid&)>& level) {
   std::string why;
-  std::optional<terrain::PyramidMesh> p = terrain::read_mesh_via_pyramid(mesh_path, why, level);
+  std::shared_ptr<const LodHierarchy> own;
+  std::optional<terrain::PyramidMesh> p =
+      terrain::read_mesh_via_pyramid(mesh_path, why, [&](const terrain::MeshPyramid& pyramid) {
+        own = std::make_shared<const LodHierarchy>(pyramid.levels());
+        return level(pyramid);
+      });
   if (!p) {
     s.mesh_source = why.empty() ? "the PLY" : "the PLY: " + why;
     return false;
   }
   s.mesh = std::move(p->mesh);
   s.mesh_level = p->levels.base;
+  s.mesh_levels = std::move(own);
   s.levels = std::make_shared<const LodHierarchy>(std::move(p->levels));
   const auto& w = s.levels->window;
   s.mesh_source =
@@ -151,60 +157,129 @@ std::uint64_t window_bytes(const LodHierarchy& h, const BlockRange& r, int l) {
 
 }  // namespace
 
-std::string focus_scene(Scene& s, const std::vector<Camera>& cameras, int width, int height, const Style& style,
-                        bool window) {
+namespace {
+
+// What focus_scene reads for `views` over the mesh's own levels `h` (base 0): the finest
+// level any block of them is drawn at (`needed`), over the blocks in view (`range`, with
+// `window`; else all), coarser (`level`) while that takes more than `bytes`.
+struct FocusPlan {
+  int level = 0, needed = 0;
+  BlockRange range;
+  bool part = false;  // range is not every block
+};
+FocusPlan focus_plan(const LodHierarchy& h, const std::vector<View>& views, const Style& style, bool window,
+                     std::uint64_t bytes) {
+  int count = 1;  // the pyramid's levels: to the coarsest of any block
+  for (const LodBlock& b : h.blocks) count = std::max(count, b.levels());
+  FocusPlan f;
+  f.needed = count - 1;
+  for (const View& v : views)
+    for (const std::uint8_t l : select_lod(h, v, style.exaggeration, style.lod_error, lod_cell_px(style)))
+      f.needed = std::min(f.needed, int(l));
+  const BlockRange all{0, 0, h.block_rows, h.block_cols};
+  const BlockRange in_view = window ? blocks_in_view(h, views, style.exaggeration) : all;
+  f.range = in_view.empty() ? all : in_view;
+  f.part = f.range.br0 > 0 || f.range.bc0 > 0 || f.range.br1 < h.block_rows || f.range.bc1 < h.block_cols;
+  f.level = f.needed;
+  while (f.level + 1 < count && window_bytes(h, f.range, f.level) > bytes) ++f.level;
+  return f;
+}
+
+// The views of `cameras` over the whole mesh of the levels `h` (its frame's world origin
+// `g`).
+std::vector<View> whole_views(const LodHierarchy& h, const terrain::MeshGeoref& g, const std::vector<Camera>& cameras,
+                              int width, int height, double exaggeration) {
+  const Eigen::Vector3d origin(g.origin_x, g.origin_y, g.origin_z);
+  const Box box = levels_box(h, exaggeration);
+  std::vector<View> views;
+  for (const Camera& camera : cameras) views.push_back(make_view(camera, origin, box, width, height));
+  return views;
+}
+
+// The blocks of the mesh that the scene holds (its window, or all).
+BlockRange held_blocks(const Scene& s) {
+  const LodHierarchy& h = *s.mesh_levels;
+  if (!s.levels || !s.levels->window) return {0, 0, h.block_rows, h.block_cols};
+  const auto& w = *s.levels->window;
+  return {w.r0 / h.block, w.c0 / h.block, w.r0 / h.block + s.levels->block_rows, w.c0 / h.block + s.levels->block_cols};
+}
+
+bool covers(const BlockRange& a, const BlockRange& b) {
+  return a.br0 <= b.br0 && a.bc0 <= b.bc0 && a.br1 >= b.br1 && a.bc1 >= b.bc1;
+}
+
+// The world origin of the whole mesh's frame (a held window's is its own).
+const terrain::MeshGeoref& mesh_geo(const Scene& s) {
+  return s.levels && s.levels->window ? s.levels->window->geo : s.mesh.geo;
+}
+
+}  // namespace
+
+namespace {
+
+// focus_scene's read, in place of a preview (load_scene's) or of a level held before.
+std::string read_for_views(Scene& s, const std::vector<Camera>& cameras, int width, int height, const Style& style,
+                           bool window, bool preview) {
   if (!s.deferred) return {};
   const Scene::Deferred d = *s.deferred;
   s.deferred.reset();
-  const int preview = s.mesh_level;
+  const int held = s.mesh_level;
   std::string note;
   const auto t0 = Clock::now();
   const bool read = read_level(s, d.mesh_path, [&](const terrain::MeshPyramid& p) -> terrain::PyramidPart {
-    if (!(style.lod_error > 0)) {
-      s.mesh = {};  // the preview goes before the level is read
-      return 0;
-    }
+    s.mesh = {};  // the level held goes before the next is read
+    if (!(style.lod_error > 0)) return 0;
     const LodHierarchy& h = p.levels();  // the mesh's own levels, base 0
-    const Eigen::Vector3d origin(s.mesh.geo.origin_x, s.mesh.geo.origin_y, s.mesh.geo.origin_z);
-    const Box box = levels_box(h, style.exaggeration);
-    int needed = p.level_count() - 1;
-    std::vector<View> views;
-    for (const Camera& camera : cameras) {
-      views.push_back(make_view(camera, origin, box, width, height));
-      const std::vector<std::uint8_t> drawn =
-          select_lod(h, views.back(), style.exaggeration, style.lod_error, lod_cell_px(style));
-      for (const std::uint8_t l : drawn) needed = std::min(needed, int(l));
-    }
-    const BlockRange all{0, 0, h.block_rows, h.block_cols};
-    const BlockRange in_view = window ? blocks_in_view(h, views, style.exaggeration) : all;
-    const BlockRange r = in_view.empty() ? all : in_view;
-    int l = needed;  // the finest level whose grid over the blocks read fits the bound
-    while (l + 1 < p.level_count() && window_bytes(h, r, l) > d.vertex_bytes) ++l;
-    const bool part = r.br0 > 0 || r.bc0 > 0 || r.br1 < h.block_rows || r.bc1 < h.block_cols;
-    note = fmt::format("{} level {} at its finest{}{}", cameras.size() > 1 ? "the views draw" : "the view draws", needed,
-                       part ? fmt::format("; the blocks in view, rows {} .. {} and columns {} .. {} of {} x {}, read",
-                                          r.br0, r.br1 - 1, r.bc0, r.bc1 - 1, h.block_rows, h.block_cols)
-                            : "",
-                       l > needed ? fmt::format("; level {} read, the finest within the memory bound", l) : "");
-    s.mesh = {};  // the preview goes before the level is read
-    return {l, r.br0, r.bc0, r.br1, r.bc1};
+    const std::vector<View> views = whole_views(h, p.georef(), cameras, width, height, style.exaggeration);
+    const FocusPlan f = focus_plan(h, views, style, window, d.vertex_bytes);
+    const BlockRange& r = f.range;
+    note = fmt::format("{} level {} at its finest{}{}", cameras.size() > 1 ? "the views draw" : "the view draws",
+                       f.needed,
+                       f.part ? fmt::format("; the blocks in view, rows {} .. {} and columns {} .. {} of {} x {}, read",
+                                            r.br0, r.br1 - 1, r.bc0, r.bc1 - 1, h.block_rows, h.block_cols)
+                              : "",
+                       f.level > f.needed ? fmt::format("; level {} read, the finest within the memory bound", f.level)
+                                          : "");
+    return {f.level, r.br0, r.bc0, r.br1, r.bc1};
   });
   if (!read) throw terrain::Error("the mesh's pyramid changed while it was read: " + s.mesh_source);
   s.mesh_seconds += since(t0);
   if (!d.dv_path.empty()) build_creases(s, d.dv_path, d.rules);
-  return fmt::format("mesh read at level {} of its pyramid after the preview at level {}: {}", s.mesh_level, preview,
+  return fmt::format("mesh read at level {} of its pyramid {} level {}: {}", s.mesh_level,
+                     preview ? "after the preview at" : "in place of", held,
                      note.empty() ? "--lod-error 0 draws every cell" : note);
 }
 
+}  // namespace
+
+std::string focus_scene(Scene& s, const std::vector<Camera>& cameras, int width, int height, const Style& style,
+                        bool window) {
+  return read_for_views(s, cameras, width, height, style, window, true);
+}
+
 std::string refocus_scene(Scene& s, const Camera& camera, int width, int height, const Style& style) {
-  if (!s.bounded || s.mesh_level == 0 || !s.levels || !(style.lod_error > 0)) return {};
-  const LodHierarchy& h = *s.levels;
-  if (finest_within(h.topo, s.mesh_level + 1, s.bounded->vertex_bytes) == s.mesh_level) return {};  // none finer fits
-  const Eigen::Vector3d origin(s.mesh.geo.origin_x, s.mesh.geo.origin_y, s.mesh.geo.origin_z);
-  const View view = make_view(camera, origin, levels_box(h, style.exaggeration), width, height);
-  if (finest_wanted_level(h, view, style.exaggeration, style.lod_error, lod_cell_px(style)) >= s.mesh_level) return {};
+  if (!s.bounded || !s.mesh_levels || !(style.lod_error > 0)) return {};
+  const LodHierarchy& h = *s.mesh_levels;
+  const std::vector<View> views = whole_views(h, mesh_geo(s), {camera}, width, height, style.exaggeration);
+  const FocusPlan f = focus_plan(h, views, style, true, s.bounded->vertex_bytes);
+  // What is held draws what focus_scene would read when it holds the blocks in view at
+  // that level, or at a finer one where that level is the finest the view draws (no
+  // block drawn finer than it wants).
+  const int held = s.mesh_level;
+  if (covers(held_blocks(s), f.range) && (held == f.level || (held < f.level && f.level == f.needed))) return {};
   s.deferred = s.bounded;
-  return "the view came nearer: " + focus_scene(s, {camera}, width, height, style);
+  return (f.level < held ? "the view came nearer: " : "the view moved: ") +
+         read_for_views(s, {camera}, width, height, style, true, false);
+}
+
+std::string cover_view(Scene& s, const Camera& camera, int width, int height, const Style& style) {
+  if (!s.bounded || !s.mesh_levels || !s.levels || !s.levels->window) return {};
+  const LodHierarchy& h = *s.mesh_levels;
+  const std::vector<View> views = whole_views(h, mesh_geo(s), {camera}, width, height, style.exaggeration);
+  const BlockRange r = blocks_in_view(h, views, style.exaggeration);
+  if (r.empty() || covers(held_blocks(s), r)) return {};
+  s.deferred = s.bounded;
+  return "the view left the blocks held: " + read_for_views(s, {camera}, width, height, style, false, false);
 }
 
 std::shared_ptr<const LodHierarchy> scene_levels(Scene& scene, const Style& style) {

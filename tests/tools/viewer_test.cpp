@@ -182,7 +182,7 @@ TEST(Viewer, AMeshLargerThanTheMemoryBoundFollowsTheView) {
   EXPECT_NE(v.err.find("mesh read at level 3 of its pyramid after the preview at level 2: the view draws level 3"),
             std::string::npos)
       << v.err;
-  EXPECT_NE(v.err.find("the view came nearer: mesh read at level 1 of its pyramid after the preview at level 3: the "
+  EXPECT_NE(v.err.find("the view came nearer: mesh read at level 1 of its pyramid in place of level 3: the "
                        "view draws level 0 at its finest; level 1 read, the finest within the memory bound"),
             std::string::npos)
       << v.err;
@@ -192,6 +192,32 @@ TEST(Viewer, AMeshLargerThanTheMemoryBoundFollowsTheView) {
     cmd.replace(cmd.find("terrain-render"), 14, tool("terrain-render"));
     cmd.replace(cmd.find(dir.path(saved + ".png")), dir.path(saved + ".png").size(), dir.path("cmd.png"));
     cmd.pop_back();  // the newline
+    ASSERT_EQ(run(cmd + " -q").exit_code, 0) << cmd;
+    EXPECT_EQ(run("oiiotool --fail 0 --failpercent 0 --diff " + dir.path(saved + ".png") + " " + dir.path("cmd.png"))
+                  .exit_code,
+              0)
+        << cmd;
+  }
+  // A near view under a bound the mesh exceeds but the blocks in view fit (--memory 0.75):
+  // the viewer reads those blocks, as terrain-render frame does, and its saved view's
+  // command line draws the same PNG; turned to look south, its full frame reads what frame
+  // reads for that view, and its command line draws the same PNG too.
+  std::ofstream(dir.path("near.txt")) << "save-view " + dir.path("window.png") + "\ncamera 562800 5117200 2300 180 10\nsave-view " +
+                                            dir.path("back.png") + "\nquit\n";
+  const auto w = run(tool("terrain-view") + " " + mesh + " --size 320x180 --eye 562800 5117200 2300 --view-az 0 " +
+                     "--view-alt 10 --fov 40 --layers mask,silhouettes --memory 0.75 -v --offscreen --replay " +
+                     dir.path("near.txt"));
+  ASSERT_EQ(w.exit_code, 0) << w.err;
+  EXPECT_NE(w.err.find("the view draws level 0 at its finest; the blocks in view, rows 0 .. 2 and columns 0 .. 2 of "
+                       "4 x 3, read"),
+            std::string::npos)
+      << w.err;
+  EXPECT_NE(w.err.find("the view moved: mesh read at level"), std::string::npos) << w.err;
+  for (const std::string saved : {"window", "back"}) {
+    std::string cmd = file_bytes(dir.path(saved + ".png.txt"));
+    cmd.replace(cmd.find("terrain-render"), 14, tool("terrain-render"));
+    cmd.replace(cmd.find(dir.path(saved + ".png")), dir.path(saved + ".png").size(), dir.path("cmd.png"));
+    cmd.pop_back();
     ASSERT_EQ(run(cmd + " -q").exit_code, 0) << cmd;
     EXPECT_EQ(run("oiiotool --fail 0 --failpercent 0 --diff " + dir.path(saved + ".png") + " " + dir.path("cmd.png"))
                   .exit_code,

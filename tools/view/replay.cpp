@@ -97,7 +97,7 @@ bool camera_command(Viewer& v, const ReplayArgs& a) {
     cam.zoom(c, centre(), a.number(0, "zoom: SHARE", -10, 0.95));
   } else if (cmd == "key") {
     a.expect(1, 1, "key home|w|a|s|d|q|e|k");
-    const double step = 0.02 * double(v.scene().mesh.topo.cols) * v.scene().mesh.geo.dx;
+    const double step = 0.02 * double(v.surface().topo.cols) * v.surface().geo.dx;
     // Forward, right, up per key (W/S, D/A, E/Q), as the window's keys move.
     static const std::map<std::string, std::array<double, 3>> fly = {
         {"w", {1, 0, 0}}, {"s", {-1, 0, 0}}, {"d", {0, 1, 0}}, {"a", {0, -1, 0}}, {"e", {0, 0, 1}}, {"q", {0, 0, -1}}};

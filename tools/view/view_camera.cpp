@@ -34,10 +34,13 @@ void angles_of(const Eigen::Vector3d& f, double& az, double& alt) {
 }  // namespace
 
 std::optional<double> ViewCamera::surface(double x, double y) const {
-  const auto& g = mesh.geo;
-  const auto p = terrain::pn_point_above(mesh, x - g.origin_x, y - g.origin_y);
-  if (!p) return std::nullopt;
-  return g.origin_z + exaggeration * p->position.z();
+  for (const terrain::GridMesh* m : {&mesh, outside}) {
+    if (!m) continue;
+    const auto& g = m->geo;
+    if (const auto p = terrain::pn_point_above(*m, x - g.origin_x, y - g.origin_y))
+      return g.origin_z + exaggeration * p->position.z();
+  }
+  return std::nullopt;
 }
 
 std::optional<Eigen::Vector3d> ViewCamera::pick(const renderer::Camera& c, double px, double py) const {
@@ -49,7 +52,8 @@ std::optional<Eigen::Vector3d> ViewCamera::pick(const renderer::Camera& c, doubl
   const Eigen::Vector3d dir =
       (f + t * ((2 * (px + 0.5) / width - 1) * aspect * right + (1 - 2 * (py + 0.5) / height) * up)).normalized();
   const auto& g = mesh.geo;
-  const double w = double(mesh.topo.cols - 1) * g.dx, h = double(mesh.topo.rows - 1) * g.dy;
+  const terrain::GridMesh& whole = outside ? *outside : mesh;
+  const double w = double(whole.topo.cols - 1) * whole.geo.dx, h = double(whole.topo.rows - 1) * whole.geo.dy;
   const double step = 0.5 * std::min(g.dx, g.dy), reach = 4 * std::hypot(w, h) + std::abs(c.eye->z());
   Eigen::Vector3d prev = *c.eye;
   for (double s = step; s < reach; s += step) {

@@ -17,8 +17,12 @@ struct ViewCamera {
   const terrain::GridMesh& mesh;
   double exaggeration;  // the frame's (given by the viewer: its settings)
   int width, height;
+  // Where `mesh` is a window of the mesh (renderer::refocus_scene's read): the whole mesh at
+  // a coarser level, the surface beyond the window.
+  const terrain::GridMesh* outside = nullptr;
 
-  // The (exaggerated) surface's height under world x, y; nullopt off the mesh.
+  // The (exaggerated) surface's height under world x, y (the window's where it holds x, y,
+  // else `outside`'s); nullopt off the mesh.
   std::optional<double> surface(double x, double y) const;
   // The first point where the ray from the eye through pixel (px, py) (row 0 at the top)
   // meets the surface; nullopt when it does not within the scene.

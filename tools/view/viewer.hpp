@@ -40,9 +40,12 @@ class Viewer {
   // `given`: the table options given on the command line (the automatic view chooses the
   // rest, as terrain-render frame's).
   // `vertex_bytes` (0: no bound) bounds what the mesh's vertices take, as terrain-render
-  // frame's --memory: a larger mesh with a pyramid is read at the finest level the start view
-  // draws within it (load_scene, then focus_scene); a full frame of a view nearer than that
-  // level serves reads a finer one first, within the bound (refocus_scene).
+  // frame's --memory: a larger mesh with a pyramid is read as terrain-render frame reads it
+  // (load_scene, then focus_scene: the level the start view draws, over the blocks in view,
+  // within the bound); before a full frame whose view the mesh held does not serve so, what
+  // it needs is read (refocus_scene); before a cheap frame whose view leaves the blocks
+  // held, the whole mesh at the level the view draws, or the finest within the bound
+  // (cover_view). The camera moves over the preview beyond a window held (keep_preview).
   Viewer(std::string mesh, std::string dv, rr::RenderSettings s, rr::GivenOption given, const tt::Verbosity& verb,
          std::uint64_t vertex_bytes = 0)
       : mesh_path_(std::move(mesh)),
@@ -53,6 +56,7 @@ class Viewer {
         verb_(verb),
         vertex_bytes_(vertex_bytes),
         scene_(rr::load_scene(mesh_path_, dv_path_, s_.rules, vertex_bytes_)) {
+    keep_preview();
     for (const std::string& w : scene_.warnings) tt::warn(verb_, w);
     tt::step(verb_, rr::resolve_settings(s_, scene_.mesh, given_));
     start_.style.exaggeration = s_.style.exaggeration;
@@ -64,7 +68,11 @@ class Viewer {
   rr::RenderSettings& settings() { return s_; }
   const rr::Scene& scene() const { return scene_; }
   const rr::GlContext& gl() const { return gl_; }
-  tt::ViewCamera camera() const { return {scene_.mesh, s_.style.exaggeration, s_.width, s_.height}; }
+  tt::ViewCamera camera() const {
+    return {scene_.mesh, s_.style.exaggeration, s_.width, s_.height, windowed() ? preview_.get() : nullptr};
+  }
+  // The whole mesh's surface: the mesh held, or the preview while a window of it is held.
+  const terrain::GridMesh& surface() const { return windowed() ? *preview_ : scene_.mesh; }
 
   // The view the viewer started with, resolved as terrain-render frame resolves it
   // (resolve_frame) with today's options: the camera given at start (or the automatic view
@@ -74,7 +82,7 @@ class Viewer {
     const double fov = h.frame.camera.fov;
     h.frame.camera = start_.frame.camera;
     h.frame.camera.fov = fov;
-    s_.frame = rr::resolve_frame(h, scene_.mesh, [this](const std::string& n) {
+    s_.frame = rr::resolve_frame(h, surface(), [this](const std::string& n) {
                  return given_(n) || ((n == "light-az" || n == "light-alt") && set_since_start_.count(n));
                }).frame;
   }
@@ -98,14 +106,25 @@ class Viewer {
 
   // A scene read at a coarser level (the memory bound) read again at the level the current
   // view draws, with its creases; -v says which.
+  // Only the blocks in view, as terrain-render frame reads them.
   void focus() {
-    const std::string note = rr::focus_scene(scene_, {s_.frame.camera}, s_.width, s_.height, rr::drawn_style(s_));
+    const std::string note =
+        rr::focus_scene(scene_, {s_.frame.camera}, s_.width, s_.height, rr::drawn_style(s_), true);
     if (!note.empty()) tt::step(verb_, note);
   }
+
+  // The preview of a scene read under the bound (the whole mesh at a coarser level), kept
+  // for the camera's moves while a window of the mesh is held.
+  void keep_preview() {
+    preview_.reset();
+    if (scene_.deferred) preview_ = std::make_shared<const terrain::GridMesh>(scene_.mesh);
+  }
+  bool windowed() const { return preview_ && scene_.levels && scene_.levels->window; }
 
   void bring_up_to_date() {
     if (creases_stale_) {
       scene_ = rr::load_scene(mesh_path_, dv_path_, s_.rules, vertex_bytes_);
+      keep_preview();
       focus();
     }
     if (stale_) rebuild();
@@ -126,8 +145,12 @@ class Viewer {
   // shows them as terrain-render draws them (renderer/hachures.hpp); a cheap frame, while
   // moving, goes without.
   const rr::FrameResult& render(bool cheap) {
-    if (!cheap) {  // a view nearer than the level held serves: a finer level, within the memory bound
-      const std::string note = rr::refocus_scene(scene_, s_.frame.camera, s_.width, s_.height, rr::drawn_style(s_));
+    {  // a full frame reads what terrain-render frame reads (the level and the blocks its view
+       // draws, within the memory bound); a cheap one the whole level when the view leaves
+       // the blocks held
+      const rr::Style style = rr::drawn_style(s_);
+      const std::string note = cheap ? rr::cover_view(scene_, s_.frame.camera, s_.width, s_.height, style)
+                                     : rr::refocus_scene(scene_, s_.frame.camera, s_.width, s_.height, style);
       if (!note.empty()) tt::step(verb_, note), stale_ = true;
     }
     bring_up_to_date();
@@ -183,7 +206,7 @@ class Viewer {
 
   // Throws unless `eye` is above the terrain and near enough to draw it (as terrain-render).
   void check_eye(const Eigen::Vector3d& eye) const {
-    rr::check_eye_above_terrain(scene_.mesh, eye, s_.style.exaggeration);
+    rr::check_eye_above_terrain(surface(), eye, s_.style.exaggeration);
   }
 
   // Throws unless every path in `outputs` differs from every file the viewer reads (the
@@ -268,6 +291,7 @@ class Viewer {
   std::uint64_t vertex_bytes_;  // the memory bound on the mesh's vertices (0: none)
   rr::GlContext gl_;
   rr::Scene scene_;
+  std::shared_ptr<const terrain::GridMesh> preview_;  // keep_preview
   std::unique_ptr<rr::TerrainRenderer> full_, cheap_;
   rr::FrameResult last_;   // as the renderer drew it
   rr::FrameResult shown_;  // a full frame with hachures drawn over it

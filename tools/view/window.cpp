@@ -180,7 +180,7 @@ class Window {
     last_x_ = mx, last_y_ = my;
     if (io.WantCaptureKeyboard) return;
     // Per drawn frame: 0.5 % of the terrain's width (Shift: 2.5 %), as a replay's key moves 2 %.
-    const double step = (io.KeyShift ? 0.025 : 0.005) * double(v_.scene().mesh.topo.cols) * v_.scene().mesh.geo.dx;
+    const double step = (io.KeyShift ? 0.025 : 0.005) * double(v_.surface().topo.cols) * v_.surface().geo.dx;
     const auto down = [&](int k) { return glfwGetKey(window_, k) == GLFW_PRESS; };
     cam.fly(c, step * (down(GLFW_KEY_W) - down(GLFW_KEY_S)), step * (down(GLFW_KEY_D) - down(GLFW_KEY_A)),
             step * (down(GLFW_KEY_E) - down(GLFW_KEY_Q)));

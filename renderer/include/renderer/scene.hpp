@@ -27,6 +27,10 @@ struct Scene {
   // The level of the mesh's pyramid that `mesh` holds: 0, the mesh itself, unless
   // load_scene's memory bound made it read a coarser one (then levels->base too).
   int mesh_level = 0;
+  // The mesh's own levels (its pyramid's, base 0, every block) when the mesh was read from
+  // its pyramid: what refocus_scene and cover_view plan on while a coarser level or a window
+  // of it is held.
+  std::shared_ptr<const LodHierarchy> mesh_levels;
   std::optional<CreaseGeometry> creases;  // with a database
   SegmentTraits traits;                   // of the creases' segments
   SegmentChains chains;                   // the strokes they follow, as the DM pass holds them
@@ -72,17 +76,26 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
 // them and a near view of a large mesh is read at the level it draws. What lies outside
 // cannot show: the terrain that hides a point of the view lies between it and the eye, in
 // the view too. The scene's box stays the whole mesh's (levels_box), and with it the
-// view, the page scale and the strokes. A viewer, whose views move, reads whole levels.
+// view, the page scale and the strokes.
 std::string focus_scene(Scene& scene, const std::vector<Camera>& cameras, int width, int height, const Style& style,
                         bool window = false);
 
-// For a scene read at a coarser level than its mesh under load_scene's memory bound: when
-// `camera`'s view would draw a block finer than the level held (finest_wanted_level) and a
-// finer level fits the bound, reads the finest level the view draws within it, with its
-// creases (focus_scene), and returns focus_scene's line; else nothing (no read). terrain-view
-// calls it before each full frame, so a view that comes nearer is drawn in the detail it
-// needs, within the bound.
+// For a scene read under load_scene's memory bound (Scene::bounded): when what it holds
+// would not draw `camera`'s view as focus_scene with `window` reads it (terrain-render
+// frame's read: the level the view draws, over the blocks in view, within the bound), reads
+// that, with its creases, and returns focus_scene's line ("the view came nearer: ..." or
+// "the view moved: ..."); else nothing (no read). What is held serves when it holds the
+// blocks in view at that level, or at a finer one where that level is the finest the view
+// draws. terrain-view calls it before each full frame: a still view is drawn as
+// terrain-render frame draws it, in the detail it needs, within the bound.
 std::string refocus_scene(Scene& scene, const Camera& camera, int width, int height, const Style& style);
+
+// For a scene holding a window of its mesh (refocus_scene's read): when `camera`'s view has
+// blocks outside it, reads the level focus_scene reads without a window (the whole mesh at
+// the level the view draws, or the finest within the bound) and returns its line; else
+// nothing. terrain-view calls it before each cheap frame: a moving view never shows the
+// terrain cut at the window's edge (one read, when it first leaves the window).
+std::string cover_view(Scene& scene, const Camera& camera, int width, int height, const Style& style);
 
 // The scene's levels of detail for `style`: none without levels of detail
 // (Style::lod_error 0), else Scene::levels, made here once when the mesh brought none.

@@ -14,6 +14,8 @@
 
 #include "renderer/camera.hpp"
 #include "renderer/lod.hpp"
+#include "renderer/scene.hpp"
+#include "terrain/mesh_io.hpp"
 #include "terrain/pn_triangle.hpp"
 #include "test_support.hpp"
 
@@ -292,4 +294,49 @@ TEST(Lod, NoLevelCoarserThanTheCellCap) {
   const renderer::View v = renderer::make_view(cam, Vector3d::Zero(), {{0, -1280, 0}, {1280, 0, 200}}, 256, 256);
   for (const std::uint8_t l : renderer::select_lod(h, v, 1.0, 100, 6)) EXPECT_EQ(l, 1);
   for (const std::uint8_t l : renderer::select_lod(h, v, 1.0, 100)) EXPECT_EQ(l, 6);
+}
+
+// What terrain-view reads of a mesh over its memory bound (renderer/scene.hpp): at the start
+// and before each full frame, what terrain-render frame reads (focus_scene with its window:
+// a near view past the north-west corner of 5 x 5 blocks, the 2 x 2 blocks in view at level
+// 0, 400 KB of the 1 MB bound; the whole level 0 takes 1.95 MB); nothing while what it holds
+// serves the view; before a cheap frame whose view leaves those blocks (turned to look over
+// the mesh), the whole mesh at the finest level within the bound (level 1, 490 KB); the
+// full frame of that view then reads nothing (the whole of level 1 is what frame reads for
+// it); back at the near view, its window again.
+TEST(Lod, AViewerReadsTheBlocksInViewAndTheWholeMeshWhenTheViewLeavesThem) {
+  const terrain::GridMesh mesh = bumps(300, 271);
+  terrain::test::ScratchDir dir;
+  terrain::write_mesh_ply(mesh, dir.path("m.ply"));
+  terrain::write_mesh_pyramid(mesh, dir.path("m.tpyr"));
+  const std::uint64_t bound = 1 << 20;
+  renderer::Scene s = renderer::load_scene(dir.path("m.ply"), "", renderer::CreaseRules{}, bound);
+  ASSERT_TRUE(s.deferred);
+  EXPECT_EQ(s.mesh_level, 2);  // the preview, within a quarter of the bound
+  renderer::Style style;
+  renderer::Camera near;
+  near.eye = Vector3d(500, -500, 200);
+  near.view_az = 315;
+  near.view_alt = 15;
+  near.fov = 40;
+  renderer::Camera over = near;
+  over.view_az = 135;
+  const int w = 480, h = 360;
+  const std::string start = renderer::focus_scene(s, {near}, w, h, style, true);
+  EXPECT_NE(start.find("the blocks in view, rows 0 .. 1 and columns 0 .. 1 of 5 x 5, read"), std::string::npos) << start;
+  ASSERT_TRUE(s.levels && s.levels->window);
+  EXPECT_EQ(s.mesh_level, 0);
+  EXPECT_EQ(s.mesh.n_vertices(), 129u * 129u);
+  EXPECT_EQ(renderer::refocus_scene(s, near, w, h, style), "");
+  EXPECT_EQ(renderer::cover_view(s, near, w, h, style), "");
+  const std::string left = renderer::cover_view(s, over, w, h, style);
+  EXPECT_NE(left.find("the view left the blocks held: mesh read at level 1"), std::string::npos) << left;
+  EXPECT_FALSE(s.levels->window);
+  EXPECT_EQ(s.mesh_level, 1);
+  EXPECT_EQ(renderer::refocus_scene(s, over, w, h, style), "");
+  EXPECT_EQ(renderer::cover_view(s, over, w, h, style), "");  // whole: nothing to leave
+  const std::string back = renderer::refocus_scene(s, near, w, h, style);
+  EXPECT_NE(back.find("the view came nearer: mesh read at level 0"), std::string::npos) << back;
+  ASSERT_TRUE(s.levels->window);
+  EXPECT_EQ(s.mesh.n_vertices(), 129u * 129u);
 }
