@@ -73,4 +73,4 @@ echo
 echo "creases at the default bound against the whole mesh (within 1 px, both ways; line px): $agreement"
 echo "near view: $read_line"
 echo "near view, creases against the whole mesh (within 1 px, both ways; line px): $near_agreement"
-echo "disk: PLY $(du -m "$work/logan_2.ply" | cut -f1) MB, pyramid $(du -m "$work/logan_2.tpyr" | cut -f1) MB, .dv $(du -m "$work/logan_2.dv" | cut -f1) MB"
+echo "disk: PLY $(du -m "$work/logan_2.ply" | cut -f1) MB, pyramid $(du -m "$work/logan_2.tpyr" | cut -f1) MB, .dv $(du -mL "$work/logan_2.dv" | cut -f1) MB"

@@ -811,7 +811,8 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
   // multiple of 2^l; a level too coarse for that reads the whole level).
   const std::size_t br0 = std::min(want.br0, all.block_rows - 1), br1 = std::clamp(want.br1, br0 + 1, all.block_rows);
   const std::size_t bc0 = std::min(want.bc0, all.block_cols - 1), bc1 = std::clamp(want.bc1, bc0 + 1, all.block_cols);
-  const bool window = (br0 > 0 || bc0 > 0 || br1 < all.block_rows || bc1 < all.block_cols) && B % (std::size_t(1) << l) == 0;
+  const bool window =
+      (br0 > 0 || bc0 > 0 || br1 < all.block_rows || bc1 < all.block_cols) && B % (std::size_t(1) << l) == 0;
   const std::size_t R0 = window ? br0 * B : 0, C0 = window ? bc0 * B : 0;
   const std::size_t R1 = window ? std::min(br1 * B, rows0) : rows0, C1 = window ? std::min(bc1 * B, cols0) : cols0;
   GridMesh fine;  // the grid held at level 0, what its vertices are checked against

@@ -100,12 +100,11 @@ bool read_level(Scene& s, const std::string& mesh_path,
   s.mesh_levels = std::move(own);
   s.levels = std::make_shared<const LodHierarchy>(std::move(p->levels));
   const auto& w = s.levels->window;
-  s.mesh_source =
-      fmt::format("'{}' (its pyramid{}{})", terrain::pyramid_path_of(mesh_path),
-                  s.mesh_level > 0 ? fmt::format(", level {}", s.mesh_level) : "",
-                  w ? fmt::format(", the window of rows {} .. {}, columns {} .. {}", w->r0, w->r0 + s.levels->topo.rows - 1,
-                                  w->c0, w->c0 + s.levels->topo.cols - 1)
-                    : "");
+  s.mesh_source = fmt::format("'{}' (its pyramid{}{})", terrain::pyramid_path_of(mesh_path),
+                              s.mesh_level > 0 ? fmt::format(", level {}", s.mesh_level) : "",
+                              w ? fmt::format(", the window of rows {} .. {}, columns {} .. {}", w->r0,
+                                              w->r0 + s.levels->topo.rows - 1, w->c0, w->c0 + s.levels->topo.cols - 1)
+                                : "");
   // Once, though a bounded scene reads its pyramid again (focus_scene).
   const std::string no_slopes = fmt::format("'{}': {}", terrain::pyramid_path_of(mesh_path), kNoSlopes);
   if (!s.levels->blocks.empty() && s.levels->blocks[0].slope.empty() &&
@@ -233,13 +232,12 @@ std::string read_for_views(Scene& s, const std::vector<Camera>& cameras, int wid
     const std::vector<View> views = whole_views(h, p.georef(), cameras, width, height, style.exaggeration);
     const FocusPlan f = focus_plan(h, views, style, window, d.vertex_bytes);
     const BlockRange& r = f.range;
-    note = fmt::format("{} level {} at its finest{}{}", cameras.size() > 1 ? "the views draw" : "the view draws",
-                       f.needed,
-                       f.part ? fmt::format("; the blocks in view, rows {} .. {} and columns {} .. {} of {} x {}, read",
-                                            r.br0, r.br1 - 1, r.bc0, r.bc1 - 1, h.block_rows, h.block_cols)
-                              : "",
-                       f.level > f.needed ? fmt::format("; level {} read, the finest within the memory bound", f.level)
-                                          : "");
+    note = fmt::format(
+        "{} level {} at its finest{}{}", cameras.size() > 1 ? "the views draw" : "the view draws", f.needed,
+        f.part ? fmt::format("; the blocks in view, rows {} .. {} and columns {} .. {} of {} x {}, read", r.br0,
+                             r.br1 - 1, r.bc0, r.bc1 - 1, h.block_rows, h.block_cols)
+               : "",
+        f.level > f.needed ? fmt::format("; level {} read, the finest within the memory bound", f.level) : "");
     return {f.level, r.br0, r.bc0, r.br1, r.bc1};
   });
   if (!read) throw terrain::Error("the mesh's pyramid changed while it was read: " + s.mesh_source);

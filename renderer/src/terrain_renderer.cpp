@@ -112,7 +112,7 @@ struct TerrainRenderer::Impl {
       : layers(layers),
         style(style),
         box(levels && (levels->base > 0 || levels->window) ? levels_box(*levels, style.exaggeration)
-                                       : exaggerated_box(mesh, style.exaggeration)),
+                                                           : exaggerated_box(mesh, style.exaggeration)),
         origin(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z),
         cell(fine_spacing(mesh, levels.get())),
         lift(crease_lift(style, mesh)),
@@ -128,8 +128,7 @@ struct TerrainRenderer::Impl {
              style.pel_min_length * std::min(mesh.geo.dx, mesh.geo.dy), style.pel_smooth),
         edges(scene, layers.edges, style),
         silhouettes(scene, layers.silhouettes, style.antialias ? style.silhouette_min_length * height : 0.0,
-                    layers.adjacency ? &ids : nullptr,
-                    1e-3 * std::min(cell.x(), cell.y()),
+                    layers.adjacency ? &ids : nullptr, 1e-3 * std::min(cell.x(), cell.y()),
                     local_extent(mesh, levels.get(), cell)),
         composite(scene, layers, style, this->creases, pels, edges, silhouettes) {
     if (uses_lod(style, mesh, levels.get())) {

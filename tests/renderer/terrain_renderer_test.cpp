@@ -1387,7 +1387,8 @@ TEST(RendererGl, AWindowOfBlocksInViewDrawsTheSameFrame) {
   for (const int level : {0, 2}) {
     SCOPED_TRACE(::testing::Message() << "level " << level);
     std::string why;
-    const auto whole = terrain::read_mesh_via_pyramid(dir.path("m.ply"), why, [&](const terrain::MeshPyramid&) { return level; });
+    const auto whole =
+        terrain::read_mesh_via_pyramid(dir.path("m.ply"), why, [&](const terrain::MeshPyramid&) { return level; });
     ASSERT_TRUE(whole) << why;
     auto whole_levels = std::make_shared<const renderer::LodHierarchy>(whole->levels);
     TerrainRenderer a(ctx, whole->mesh, nullptr, w, h, layers, style, whole_levels);
@@ -1405,7 +1406,7 @@ TEST(RendererGl, AWindowOfBlocksInViewDrawsTheSameFrame) {
     auto part_levels = std::make_shared<const renderer::LodHierarchy>(part->levels);
     TerrainRenderer b(ctx, part->mesh, nullptr, w, h, layers, style, part_levels);
     EXPECT_EQ(b.box().lo, a.box().lo - Vector3d(part->mesh.geo.origin_x - whole->mesh.geo.origin_x,
-                                              part->mesh.geo.origin_y - whole->mesh.geo.origin_y, 0));
+                                                part->mesh.geo.origin_y - whole->mesh.geo.origin_y, 0));
     const auto rb = b.render(near);
     const auto fb = b.read_buffers();
     std::size_t drawn_a = 0, drawn_b = 0, covered_differ = 0, depth_differ = 0, sil_a = 0, sil_b = 0, sil_differ = 0;
@@ -1413,7 +1414,8 @@ TEST(RendererGl, AWindowOfBlocksInViewDrawsTheSameFrame) {
       const bool da = renderer::far_depth(ra.view.reversed_z, fa.toward_depth[i]) < 1.0f;
       const bool db = renderer::far_depth(rb.view.reversed_z, fb.toward_depth[i]) < 1.0f;
       drawn_a += da, drawn_b += db, covered_differ += da != db;
-      depth_differ += da && db && std::abs(fa.toward_depth[i] - fb.toward_depth[i]) > 1e-4f * std::abs(fa.toward_depth[i]);
+      depth_differ +=
+          da && db && std::abs(fa.toward_depth[i] - fb.toward_depth[i]) > 1e-4f * std::abs(fa.toward_depth[i]);
     }
     for (std::size_t i = 0; i < fa.silhouette_opacity.size(); ++i) {
       const bool sa = fa.silhouette_opacity[i] > 0, sb = fb.silhouette_opacity[i] > 0;

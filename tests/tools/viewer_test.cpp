@@ -202,8 +202,9 @@ TEST(Viewer, AMeshLargerThanTheMemoryBoundFollowsTheView) {
   // the viewer reads those blocks, as terrain-render frame does, and its saved view's
   // command line draws the same PNG; turned to look south, its full frame reads what frame
   // reads for that view, and its command line draws the same PNG too.
-  std::ofstream(dir.path("near.txt")) << "save-view " + dir.path("window.png") + "\ncamera 562800 5117200 2300 180 10\nsave-view " +
-                                            dir.path("back.png") + "\nquit\n";
+  std::ofstream(dir.path("near.txt")) << "save-view " + dir.path("window.png") +
+                                            "\ncamera 562800 5117200 2300 180 10\nsave-view " + dir.path("back.png") +
+                                            "\nquit\n";
   const auto w = run(tool("terrain-view") + " " + mesh + " --size 320x180 --eye 562800 5117200 2300 --view-az 0 " +
                      "--view-alt 10 --fov 40 --layers mask,silhouettes --memory 0.75 -v --offscreen --replay " +
                      dir.path("near.txt"));

@@ -125,7 +125,7 @@ void add_output_options(CLI::App* cmd, OutputArgs& o, bool batch) {
                   batch ? "MiB the mesh's vertices may take: a larger mesh with a pyramid beside it (dem2mesh --pyramid) "
                           "is read at the finest level any frame's view draws, within this"
                         : "MiB the mesh's vertices may take: a larger mesh with a pyramid beside it (dem2mesh --pyramid) "
-                          "is read at the finest level the view draws, within this")
+                          "is read at the finest level the view draws over the blocks in view, within this")
       ->check(CLI::Range(0.001, 16777216.0))
       ->capture_default_str();
 }

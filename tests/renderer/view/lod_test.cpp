@@ -323,7 +323,8 @@ TEST(Lod, AViewerReadsTheBlocksInViewAndTheWholeMeshWhenTheViewLeavesThem) {
   over.view_az = 135;
   const int w = 480, h = 360;
   const std::string start = renderer::focus_scene(s, {near}, w, h, style, true);
-  EXPECT_NE(start.find("the blocks in view, rows 0 .. 1 and columns 0 .. 1 of 5 x 5, read"), std::string::npos) << start;
+  EXPECT_NE(start.find("the blocks in view, rows 0 .. 1 and columns 0 .. 1 of 5 x 5, read"), std::string::npos)
+      << start;
   ASSERT_TRUE(s.levels && s.levels->window);
   EXPECT_EQ(s.mesh_level, 0);
   EXPECT_EQ(s.mesh.n_vertices(), 129u * 129u);
