@@ -24,6 +24,6 @@ rm -rf "$work/flight10"
 mkdir -p "$work/flight10"
 /usr/bin/time -f "%e %M" -o "$work/flight10_time.txt" "$bin/terrain-render" batch "$work/logan_10.ply" \
   "$work/logan_10.dv" "$work/flight10.csv" -o "$work/flight10" --size 1280x720 > "$work/flight10_out.txt"
-grep -E "^renderer:|^(TFT|AFT|DM|SIL|LAY|TOTAL)" "$work/flight10_out.txt" || cat "$work/flight10_out.txt"
+sed -n '/^renderer:/,$p' "$work/flight10_out.txt"
 read -r wall kb < "$work/flight10_time.txt"
 echo "process: $wall s, peak $((kb / 1024)) MB, $frames frames"

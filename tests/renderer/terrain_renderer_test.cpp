@@ -44,6 +44,14 @@ using renderer::TerrainRenderer;
 
 // ---------------------------------------------------------------- scenes
 
+// Hills of several wavelengths on a tilt, 299 x 270 cells of 10 m: 5 x 5 blocks of levels
+// of detail, the last row and column of them partial.
+terrain::GridMesh bumpy_blocks() {
+  return terrain::test::function_mesh(300, 271, 10.0, [](double x, double y) {
+    return 0.05 * x + 40 * std::sin(x / 90) * std::cos(y / 70) + 8 * std::sin(x / 23 + y / 31);
+  });
+}
+
 // Pixel-exact lines: the tests below count pixels of exactly the line colour.
 renderer::Style test_style() {
   renderer::Style s;
@@ -1284,9 +1292,7 @@ TEST(RendererGl, AftSkipsOnlyPatchesThatFaceTheEye) {
 // geometry, are found by the mesh's own spacing, not the held level's). Seen obliquely from near, where the whole mesh draws finer
 // blocks, the held level is drawn instead (fewer patches), and without a crack.
 TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
-  const terrain::GridMesh mesh = terrain::test::function_mesh(300, 271, 10.0, [](double x, double y) {
-    return 0.05 * x + 40 * std::sin(x / 90) * std::cos(y / 70) + 8 * std::sin(x / 23 + y / 31);
-  });
+  const terrain::GridMesh mesh = bumpy_blocks();
   terrain::test::ScratchDir dir;
   terrain::write_mesh_ply(mesh, dir.path("m.ply"));
   terrain::write_mesh_pyramid(mesh, dir.path("m.tpyr"));
@@ -1369,9 +1375,7 @@ TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
 // silhouettes as the whole level. Not asserted bit for bit: the window's local frame is
 // moved, so the GPU's float rounding may differ (a pixel or two).
 TEST(RendererGl, AWindowOfBlocksInViewDrawsTheSameFrame) {
-  const terrain::GridMesh mesh = terrain::test::function_mesh(300, 271, 10.0, [](double x, double y) {
-    return 0.05 * x + 40 * std::sin(x / 90) * std::cos(y / 70) + 8 * std::sin(x / 23 + y / 31);
-  });
+  const terrain::GridMesh mesh = bumpy_blocks();
   terrain::test::ScratchDir dir;
   terrain::write_mesh_ply(mesh, dir.path("m.ply"));
   terrain::write_mesh_pyramid(mesh, dir.path("m.tpyr"));
@@ -1438,9 +1442,7 @@ TEST(RendererGl, AWindowOfBlocksInViewDrawsTheSameFrame) {
 // seen edge on aside), its shading
 // within 1/255, and the silhouettes are the same, pixel for pixel.
 TEST(RendererGl, FlatPatchesDrawWhatTheTessellatorDraws) {
-  const terrain::GridMesh mesh = terrain::test::function_mesh(300, 271, 10.0, [](double x, double y) {
-    return 0.05 * x + 40 * std::sin(x / 90) * std::cos(y / 70) + 8 * std::sin(x / 23 + y / 31);
-  });
+  const terrain::GridMesh mesh = bumpy_blocks();
   renderer::GlContext ctx;
   const int w = 480, h = 360;
   FrameParams near;
