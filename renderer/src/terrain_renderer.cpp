@@ -72,14 +72,16 @@ Box exaggerated_box(const terrain::GridMesh& mesh, double exaggeration) {
 }  // namespace
 
 // Levels of detail are used with a positive bound on a mesh of more than one block, and
-// always on a coarser level of a pyramid read in the mesh's place (LodHierarchy::base).
+// always on a coarser level or a window of a pyramid read in the mesh's place
+// (LodHierarchy::base, ::window).
 static bool uses_lod(const Style& style, const terrain::GridMesh& mesh, const LodHierarchy* levels) {
   if (levels && (levels->base > 0 || levels->window)) return true;
   return style.lod_error > 0 && mesh.topo.rows > kLodBlock + 1 && mesh.topo.cols > kLodBlock + 1;
 }
 
 // The mesh's own spacing (metres): level 0's when a coarser level of it is held
-// (LodHierarchy::base), whose grid mesh's spacing is that level's.
+// (LodHierarchy::base), whose grid mesh's spacing is that level's; the mesh's own when a
+// window of it is held.
 static Eigen::Vector2d fine_spacing(const terrain::GridMesh& mesh, const LodHierarchy* levels) {
   if (!levels || levels->base == 0) return {mesh.geo.dx, mesh.geo.dy};
   if (levels->window) return {levels->window->geo.dx, levels->window->geo.dy};
