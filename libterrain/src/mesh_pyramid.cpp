@@ -79,26 +79,24 @@ std::pair<float, float> level_measure(const GridMesh& mesh, const MeshLevelBlock
 // rows and columns (b.r0, b.c0, b.nr, b.nc set).
 void measure_block(const GridMesh& mesh, MeshLevelBlock& b) {
   b.lo = Eigen::Vector3f::Constant(1e30f), b.hi = -b.lo;
-  float steepest = 0;
-  for (std::uint32_t r = 0; r <= b.nr; ++r)
-    for (std::uint32_t c = 0; c <= b.nc; ++c) {
-      const std::size_t v = (std::size_t(b.r0) + r) * mesh.topo.cols + b.c0 + c;
-      const Eigen::Vector3f &q = mesh.positions[v], &n = mesh.normals[v];
-      b.lo = b.lo.cwiseMin(q), b.hi = b.hi.cwiseMax(q);
-      steepest = n.z() > 0 ? std::max(steepest, n.head<2>().norm() / n.z()) : std::numeric_limits<float>::infinity();
-    }
-  // The mid-edge coefficients of the fine patches' quadratic normals (make_pn_patch's n110,
-  // n011, n101) over every edge of its cells: a fine patch's normal is a blend of these and
-  // its corners' normals with weights >= 0, so none is steeper than the steepest of them.
+  // The steepest of the vertex normals and of the mid-edge coefficients of the fine
+  // patches' quadratic normals (make_pn_patch's n110, n011, n101) over every edge of its
+  // cells: a fine patch's normal is a blend of these and its corners' normals with weights
+  // >= 0, so none is steeper than the steepest of them.
+  const auto slope = [](const Eigen::Vector3f& n) {
+    return n.z() > 0 ? n.head<2>().norm() / n.z() : std::numeric_limits<float>::infinity();
+  };
   auto mid_slope = [&](std::size_t i, std::size_t j) {
     const Eigen::Vector3f e = mesh.positions[j] - mesh.positions[i], sum = mesh.normals[i] + mesh.normals[j];
     const float ee = e.squaredNorm();
-    const Eigen::Vector3f h = ee > 0 ? Eigen::Vector3f(sum - 2.0f * e.dot(sum) / ee * e) : sum;
-    return h.z() > 0 ? h.head<2>().norm() / h.z() : std::numeric_limits<float>::infinity();
+    return slope(ee > 0 ? Eigen::Vector3f(sum - 2.0f * e.dot(sum) / ee * e) : sum);
   };
+  float steepest = 0;
   for (std::uint32_t r = 0; r <= b.nr; ++r)
     for (std::uint32_t c = 0; c <= b.nc; ++c) {
-      const std::size_t v = (std::size_t(b.r0) + r) * mesh.topo.cols + b.c0 + c, cols = mesh.topo.cols;
+      const std::size_t cols = mesh.topo.cols, v = (std::size_t(b.r0) + r) * cols + b.c0 + c;
+      b.lo = b.lo.cwiseMin(mesh.positions[v]), b.hi = b.hi.cwiseMax(mesh.positions[v]);
+      steepest = std::max(steepest, slope(mesh.normals[v]));
       if (c < b.nc) steepest = std::max(steepest, mid_slope(v, v + 1));
       if (r < b.nr) steepest = std::max(steepest, mid_slope(v, v + cols));
       if (r < b.nr && c < b.nc) steepest = std::max(steepest, mid_slope(v, v + cols + 1));
@@ -106,9 +104,9 @@ void measure_block(const GridMesh& mesh, MeshLevelBlock& b) {
   b.error = {0.0f};
   b.slope = {steepest};
   for (std::uint32_t s = 2; s / 2 < std::max(b.nr, b.nc); s *= 2) {
-    const auto [error, slope] = level_measure(mesh, b, s);
+    const auto [error, level_slope] = level_measure(mesh, b, s);
     b.error.push_back(std::max(b.error.back(), error));
-    b.slope.push_back(slope);
+    b.slope.push_back(level_slope);
   }
 }
 

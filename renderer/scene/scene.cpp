@@ -59,21 +59,24 @@ void build_creases(Scene& s, const std::string& dv_path, const CreaseRules& rule
 
 constexpr std::uint64_t kVertexBytes = 2 * sizeof(Eigen::Vector3f);  // a position and a normal
 
-// What level l's vertices take, of a mesh of grid `t` (its level 0).
-std::uint64_t level_bytes(const terrain::GridTopology& t, int l) {
-  return std::uint64_t(terrain::level_count(t.rows - 1, l)) * terrain::level_count(t.cols - 1, l) * kVertexBytes;
+// What level l of the blocks in `r` takes: its grid's vertices over them.
+std::uint64_t window_bytes(const LodHierarchy& h, const BlockRange& r, int l) {
+  const std::size_t rows0 = h.topo.rows - 1, cols0 = h.topo.cols - 1, B = h.block;
+  auto count = [&](std::size_t a, std::size_t b, std::size_t n) {  // level l's lines over cells a*B .. min(b*B, n)
+    return terrain::level_count(std::min(b * B, n), l) - ((a * B) >> l);
+  };
+  return std::uint64_t(count(r.br0, r.br1, rows0)) * count(r.bc0, r.bc1, cols0) * kVertexBytes;
 }
 
-// The finest of levels 0 .. count - 1 of a mesh of grid `t` whose vertices take at most
+// The finest of levels `from` .. count - 1 whose grid over the blocks in `r` takes at most
 // `bytes` (the coarsest when none does).
-int finest_within(const terrain::GridTopology& t, int count, std::uint64_t bytes) {
-  int l = 0;
-  while (l + 1 < count && level_bytes(t, l) > bytes) ++l;
+int finest_within(const LodHierarchy& h, const BlockRange& r, int from, int count, std::uint64_t bytes) {
+  int l = from;
+  while (l + 1 < count && window_bytes(h, r, l) > bytes) ++l;
   return l;
 }
-int finest_within(const terrain::MeshPyramid& p, std::uint64_t bytes) {
-  return finest_within(p.levels().topo, p.level_count(), bytes);
-}
+
+BlockRange all_blocks(const LodHierarchy& h) { return {0, 0, h.block_rows, h.block_cols}; }
 
 // A pyramid of version 1 has no slopes: every level is then held to the strict bound.
 constexpr const char* kNoSlopes =
@@ -120,7 +123,10 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
   const auto t0 = Clock::now();
   Scene s;
   const bool from_pyramid = vertex_bytes > 0 && read_level(s, mesh_path, [&](const terrain::MeshPyramid& p) {
-    return level_bytes(p.levels().topo, 0) > vertex_bytes ? finest_within(p, vertex_bytes / 4) : 0;
+    const LodHierarchy& h = p.levels();
+    return window_bytes(h, all_blocks(h), 0) > vertex_bytes
+               ? finest_within(h, all_blocks(h), 0, p.level_count(), vertex_bytes / 4)
+               : 0;
   });
   s.mesh_seconds = since(t0);
   if (s.mesh_level > 0) {  // a preview: the creases wait for focus_scene
@@ -145,19 +151,6 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
 
 namespace {
 
-// What level l of the blocks in `r` takes: its grid's vertices over them.
-std::uint64_t window_bytes(const LodHierarchy& h, const BlockRange& r, int l) {
-  const std::size_t rows0 = h.topo.rows - 1, cols0 = h.topo.cols - 1, B = h.block;
-  auto count = [&](std::size_t a, std::size_t b, std::size_t n) {  // level l's lines over cells a*B .. min(b*B, n)
-    return terrain::level_count(std::min(b * B, n), l) - ((a * B) >> l);
-  };
-  return std::uint64_t(count(r.br0, r.br1, rows0)) * count(r.bc0, r.bc1, cols0) * kVertexBytes;
-}
-
-}  // namespace
-
-namespace {
-
 // What focus_scene reads for `views` over the mesh's own levels `h` (base 0): the finest
 // level any block of them is drawn at (`needed`), over the blocks in view (`range`, with
 // `window`; else all), coarser (`level`) while that takes more than `bytes`.
@@ -175,12 +168,10 @@ FocusPlan focus_plan(const LodHierarchy& h, const std::vector<View>& views, cons
   for (const View& v : views)
     for (const std::uint8_t l : select_lod(h, v, style.exaggeration, style.lod_error, lod_cell_px(style)))
       f.needed = std::min(f.needed, int(l));
-  const BlockRange all{0, 0, h.block_rows, h.block_cols};
-  const BlockRange in_view = window ? blocks_in_view(h, views, style.exaggeration) : all;
-  f.range = in_view.empty() ? all : in_view;
+  const BlockRange in_view = window ? blocks_in_view(h, views, style.exaggeration) : all_blocks(h);
+  f.range = in_view.empty() ? all_blocks(h) : in_view;
   f.part = f.range.br0 > 0 || f.range.bc0 > 0 || f.range.br1 < h.block_rows || f.range.bc1 < h.block_cols;
-  f.level = f.needed;
-  while (f.level + 1 < count && window_bytes(h, f.range, f.level) > bytes) ++f.level;
+  f.level = finest_within(h, f.range, f.needed, count, bytes);
   return f;
 }
 
@@ -198,7 +189,7 @@ std::vector<View> whole_views(const LodHierarchy& h, const terrain::MeshGeoref& 
 // The blocks of the mesh that the scene holds (its window, or all).
 BlockRange held_blocks(const Scene& s) {
   const LodHierarchy& h = *s.mesh_levels;
-  if (!s.levels || !s.levels->window) return {0, 0, h.block_rows, h.block_cols};
+  if (!s.levels || !s.levels->window) return all_blocks(h);
   const auto& w = *s.levels->window;
   return {w.r0 / h.block, w.c0 / h.block, w.r0 / h.block + s.levels->block_rows, w.c0 / h.block + s.levels->block_cols};
 }
@@ -211,10 +202,6 @@ bool covers(const BlockRange& a, const BlockRange& b) {
 const terrain::MeshGeoref& mesh_geo(const Scene& s) {
   return s.levels && s.levels->window ? s.levels->window->geo : s.mesh.geo;
 }
-
-}  // namespace
-
-namespace {
 
 // focus_scene's read, in place of a preview (load_scene's) or of a level held before.
 std::string read_for_views(Scene& s, const std::vector<Camera>& cameras, int width, int height, const Style& style,

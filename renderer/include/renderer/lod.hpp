@@ -51,12 +51,6 @@ inline constexpr double kFacingLodFactor = 4, kFacingMargin = 1.25;
 std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double exaggeration, double bound_px,
                                      double cell_px = 0);
 
-// The finest level any block of the view is drawn at by select_lod's rule, were the whole
-// mesh held (h.base ignored): what a scene held at a coarser level would need
-// (refocus_scene). INT_MAX without blocks.
-int finest_wanted_level(const LodHierarchy& h, const View& view, double exaggeration, double bound_px,
-                        double cell_px = 0);
-
 // The nearest depth of `box` along the line of sight of `view`: infinity when it is out of
 // view or behind the eye, 0 when it reaches the eye (perspective).
 double nearest_depth(const Box& box, const View& view);

@@ -97,12 +97,6 @@ std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, do
   return levels;
 }
 
-int finest_wanted_level(const LodHierarchy& h, const View& view, double e, double bound_px, double cell_px) {
-  int finest = std::numeric_limits<int>::max();
-  for (const std::uint8_t l : wanted_levels(h, view, e, bound_px, cell_px)) finest = std::min(finest, int(l));
-  return finest;
-}
-
 double nearest_pixel_metres(const LodHierarchy* h, const Box& box, const View& view, double e) {
   double nearest = std::numeric_limits<double>::infinity();
   if (h)
