@@ -31,6 +31,16 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 
 namespace {
 
+// The whole mesh's grid, without vertices: its origin, spacing and size (the mesh held,
+// or the whole of which a window is held, LodHierarchy::window).
+terrain::GridMesh whole_grid(const Scene& s) {
+  terrain::GridMesh g;
+  const bool window = s.levels && s.levels->window;
+  g.geo = window ? s.levels->window->geo : s.mesh.geo;
+  g.topo = window ? s.levels->window->whole : s.mesh.topo;
+  return g;
+}
+
 // The database's points under the mesh (a large tiled .dv is read block by block) and
 // their creases, on scene.mesh. Under the whole mesh when a window of it is held
 // (LodHierarchy::window): the rules see the basins, flats and channels of the network the
@@ -38,14 +48,12 @@ namespace {
 // at the window's edge); the lines outside the window are out of view.
 void build_creases(Scene& s, const std::string& dv_path, const CreaseRules& rules) {
   const auto t0 = Clock::now();
-  const bool window = s.levels && s.levels->window;
-  const auto& g = window ? s.levels->window->geo : s.mesh.geo;
-  const terrain::GridTopology& t = window ? s.levels->window->whole : s.mesh.topo;
+  const terrain::GridMesh extent = whole_grid(s);  // what the database should cover
+  const terrain::MeshGeoref& g = extent.geo;
+  const terrain::GridTopology& t = extent.topo;
   const terrain::DrainageLinks links = drainage::drainage_links_in(
       dv_path, g.origin_x, g.origin_y - double(t.rows - 1) * g.dy, g.origin_x + double(t.cols - 1) * g.dx, g.origin_y);
   s.creases = build_crease_geometry(s.mesh, links, rules);
-  terrain::GridMesh extent;  // the mesh's grid, what the database should cover
-  extent.geo = g, extent.topo = t;
   std::string w = coverage_warning(extent, links);
   if (w.empty()) w = surface_warning(s.mesh, *s.creases);  // one warning: the extent says it already
   if (!w.empty()) s.warnings.push_back("'" + dv_path + "': " + w);
@@ -198,11 +206,6 @@ bool covers(const BlockRange& a, const BlockRange& b) {
   return a.br0 <= b.br0 && a.bc0 <= b.bc0 && a.br1 >= b.br1 && a.bc1 >= b.bc1;
 }
 
-// The world origin of the whole mesh's frame (a held window's is its own).
-const terrain::MeshGeoref& mesh_geo(const Scene& s) {
-  return s.levels && s.levels->window ? s.levels->window->geo : s.mesh.geo;
-}
-
 // focus_scene's read, in place of a preview (load_scene's) or of a level held before.
 std::string read_for_views(Scene& s, const std::vector<Camera>& cameras, int width, int height, const Style& style,
                            bool window, bool preview) {
@@ -245,7 +248,7 @@ std::string focus_scene(Scene& s, const std::vector<Camera>& cameras, int width,
 std::string refocus_scene(Scene& s, const Camera& camera, int width, int height, const Style& style) {
   if (!s.bounded || !s.mesh_levels || !(style.lod_error > 0)) return {};
   const LodHierarchy& h = *s.mesh_levels;
-  const std::vector<View> views = whole_views(h, mesh_geo(s), {camera}, width, height, style.exaggeration);
+  const std::vector<View> views = whole_views(h, whole_grid(s).geo, {camera}, width, height, style.exaggeration);
   const FocusPlan f = focus_plan(h, views, style, true, s.bounded->vertex_bytes);
   // What is held draws what focus_scene would read when it holds the blocks in view at
   // that level, or at a finer one where that level is the finest the view draws (no
@@ -260,7 +263,7 @@ std::string refocus_scene(Scene& s, const Camera& camera, int width, int height,
 std::string cover_view(Scene& s, const Camera& camera, int width, int height, const Style& style) {
   if (!s.bounded || !s.mesh_levels || !s.levels || !s.levels->window) return {};
   const LodHierarchy& h = *s.mesh_levels;
-  const std::vector<View> views = whole_views(h, mesh_geo(s), {camera}, width, height, style.exaggeration);
+  const std::vector<View> views = whole_views(h, whole_grid(s).geo, {camera}, width, height, style.exaggeration);
   const BlockRange r = blocks_in_view(h, views, style.exaggeration);
   if (r.empty() || covers(held_blocks(s), r)) return {};
   s.deferred = s.bounded;
