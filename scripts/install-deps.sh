@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build ccache pkg-config git
   libcgal-dev libopenmesh-dev libgeographiclib-dev
   libopenimageio-dev libopencv-core-dev openimageio-tools
-  libceres-dev libgdal-dev gdal-bin libeigen3-dev zlib1g-dev libzstd-dev
+  libceres-dev libgdal-dev gdal-bin libeigen3-dev zlib1g-dev libzstd-dev libxxhash-dev   # xxhash: the mesh digest that ties a pyramid to its PLY
   libcli11-dev nlohmann-json3-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libegl-dev libgl-dev libepoxy-dev libglm-dev libtbb-dev

@@ -19,9 +19,9 @@ inline std::string file_bytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// A mesh pyramid's bytes (docs/formats.md, version 2) as version 1 wrote them: the blocks'
-// slopes taken out of the header, the header's size and the index's tile offsets moved
-// by the bytes they took, the version set to 1.
+// A mesh pyramid's bytes (docs/formats.md, version 3) as version 1 wrote them: the mesh's
+// digest, the blocks' slopes and the header's CRC taken out of the header, the header's
+// size and the index's tile offsets moved by the bytes they took, the version set to 1.
 std::string pyramid_as_version1(std::string v2);
 
 // A fresh directory under the system temp dir, removed at destruction.

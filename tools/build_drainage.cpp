@@ -47,7 +47,7 @@ void add_options(CLI::App& app, Options& o) {
                  "Mesh mode: spacing in metres of the grid on which the PN surface is sampled (not the\n"
                  "mesh's own spacing; finer than it, typically 1/5). Not with --raster: a raster is used\n"
                  "on its own grid")
-      ->check(CLI::PositiveNumber)
+      ->check(tt::kPositive)
       ->capture_default_str();
   app.add_option("--raster", o.raster, "Raster mode: run on this DEM's own grid (no PN surface)");
   app.add_option("--d8-input", o.d8_input, "Accumulate these D8 directions instead of computing them");
@@ -61,7 +61,7 @@ void add_options(CLI::App& app, Options& o) {
                                 "metres deep, and fill what remains below that (Lindsay 2016). Mesh mode's default\n"
                                 "is --breach " + fmt::format("{:g}", drainage::kMeshBreachDepth) +
                                     "; raster mode conditions nothing unless told. Untiled runs")
-                     ->check(CLI::NonNegativeNumber)
+                     ->check(tt::kNonNegative)
                      ->type_name("DEPTH")
                      ->excludes(fill_flag);
   app.add_flag("--keep-pits", o.keep_pits, "Mesh mode: condition nothing, every pit is a basin (the paper's rule)")
@@ -74,7 +74,7 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--snap-distance", o.snap_distance,
                  "Move each outlet to the cell of highest accumulation within this many metres (TauDEM's\n"
                  "moveoutletstostreams); 0: the cell holding the point")
-      ->check(CLI::NonNegativeNumber)
+      ->check(tt::kNonNegative)
       ->capture_default_str();
   app.add_option("--watersheds", o.watersheds,
                  "With --outlets: the GeoPackage to write (layers outlets and watersheds) and, beside it with\n"
@@ -223,6 +223,7 @@ int build_drainage(int argc, char** argv, const drainage::TileComm& comm) {
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     tt::step(verb, fmt::format("{} run ({} tiles, {} process(es)): {:.2f} s, peak RSS {:.0f} MiB (rank 0)",
                                job.tile_size > 0 ? "tiled" : "untiled", s.tiles, comm.size(), secs, tt::peak_rss_mib()));
+    for (const std::string& w : s.warnings) tt::warn(verb, w);
     if (s.pn_fallbacks > 0)
       tt::warn(verb, fmt::format("{} samples used the flat triangle (PN patch folds over)", s.pn_fallbacks));
     if (comm.root()) std::cout << drainage::summary_text(job, s);

@@ -9,7 +9,9 @@
 #include <iostream>
 #include <memory>
 #include <set>
+#include <stdexcept>
 
+#include "terrain/memory.hpp"
 #include "terrain/temp_files.hpp"
 
 namespace terrain::tools {
@@ -97,6 +99,24 @@ void reject_non_finite(const CLI::App& app) {
 
 }  // namespace
 
+namespace {
+
+CLI::Validator number_check(bool zero, const char* name) {
+  return CLI::Validator(
+      [zero](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !(zero ? v >= 0 : v > 0))
+          return "'" + text + "' is not a " + (zero ? "non-negative" : "positive") + " number";
+        return {};
+      },
+      name);
+}
+
+}  // namespace
+
+const CLI::Validator kPositive = number_check(false, "POSITIVE"), kNonNegative = number_check(true, "NONNEGATIVE");
+
 void check_distinct_paths(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
   namespace fs = std::filesystem;
   auto same = [](const std::string& a, const std::string& b) {
@@ -151,6 +171,7 @@ int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& b
     return 2;
   }
   try {
+    if (std::getenv("TERRAIN_MEMORY_MIB")) (void)terrain::available_memory();  // a bad value is an error at once
     return body();
   } catch (const CLI::ParseError& e) {  // validation done after parsing is a usage error too
     std::cerr << name << ": usage error: " << e.what() << " (see " << name << " --help)\n";
@@ -159,6 +180,9 @@ int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& b
     std::cerr << name << ": error: " << e.what() << "\n";
   } catch (const std::bad_alloc&) {
     std::cerr << name << ": error: out of memory\n";
+  } catch (const std::length_error&) {  // a size past what can be allocated at all
+    std::cerr << name << ": error: out of memory (a size larger than can be allocated: check the grid's size and "
+                         "spacing)\n";
   } catch (const std::exception& e) {
     std::cerr << name << ": error: " << e.what() << "\n";
   }

@@ -51,6 +51,10 @@ inline constexpr int kMaxThreads = 1024;
 // Empty strings are skipped.
 void check_distinct_paths(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
 
+// Option checks for a number > 0 and >= 0 whose message names the value (CLI11's
+// PositiveNumber and NonNegativeNumber print the largest double in full).
+extern const CLI::Validator kPositive, kNonNegative;
+
 // Warns (-q silences it) of each temporary file or scratch folder beside an output that a
 // run on it left when it was killed (SIGKILL, a power cut: temp_files.hpp), with the
 // command that removes it. Empty strings are skipped.

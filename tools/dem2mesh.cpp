@@ -52,7 +52,7 @@ void add_grid_options(CLI::App& app, Options& o) {
   app.add_option("INPUT", o.input, "DEM in any raster format GDAL reads (band 1), or scattered points")->required();
   app.add_option("OUTPUT", o.output, "Mesh file to write (.ply)")->required();
   o.spacing_opt = app.add_option("--spacing", o.spacing, "Grid spacing in metres (default: the DEM's own spacing)")
-                          ->check(CLI::PositiveNumber);
+                          ->check(tt::kPositive);
   o.bbox_opt = app.add_option("--bbox", o.bbox, "Crop to XMIN YMIN XMAX YMAX in the output CRS (metres)");
   o.center_opt = app.add_option("--center", o.center, "Crop centre E N in the output CRS (with --size)");
   auto* size_opt = app.add_option("--size", o.size, "Crop width and height W H in metres (with --center)");
@@ -93,7 +93,7 @@ void add_input_options(CLI::App& app, Options& o) {
   o.max_edge_opt = app.add_option("--max-edge", o.max_edge,
                                       "Scattered points: samples in Delaunay triangles with an edge longer than this "
                                       "(metres) are no-data, like those outside the convex hull")
-                           ->check(CLI::PositiveNumber);
+                           ->check(tt::kPositive);
   app.add_option("--src-crs", o.src_crs,
                  "The input's CRS (EPSG:4326, EPSG:32610, WKT, PROJ string) where the file has none (XYZ text, CSV, "
                  "an .asc without .prj), or instead of the file's (as gdalwarp -s_srs)");

@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
   app.add_option("--sigma-s", o.sigma_s,
                  "Spatial width in metres (face-centroid distance); default: the mean distance between the "
                  "centroids of edge-adjacent faces")
-      ->check(CLI::PositiveNumber);
+      ->check(tt::kPositive);
   app.add_option("--sigma-r", o.sigma_r, "Range width on the normal difference |n_i - n_j| (0..2)")
       ->check(CLI::Range(0.01, 2.0))
       ->capture_default_str();

@@ -47,7 +47,9 @@ RasterInput read_input(const DrainageJob& job, NetworkDetail detail, std::uint32
                           "--tile-size 4096");
     return read_raster_input(job.raster, job.d8_input, job.encoding);
   }
-  const terrain::GridMesh mesh = terrain::read_terrain_mesh(job.mesh);  // from its pyramid when current
+  std::string unused;  // why a pyramid beside it was not used
+  const terrain::GridMesh mesh = terrain::read_terrain_mesh(job.mesh, nullptr, nullptr, &unused);
+  if (!unused.empty()) summary.warnings.push_back(unused);
   const auto [nx, ny] = terrain::sampled_size(mesh, job.spacing);
   const double cells = double(nx) * double(ny);
   terrain::check_memory(cells * per_cell, fmt::format("sampling the mesh at {:g} m ({:.0f} points)", job.spacing, cells),

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
@@ -44,17 +45,26 @@ double available_memory() {
   if (max > 0.0 && max - current < available) available = std::max(0.0, max - current);
   // TERRAIN_MEMORY_MIB caps it (a share of a machine others use too; tests).
   if (const char* cap = std::getenv("TERRAIN_MEMORY_MIB")) {
-    const double mib = std::atof(cap);
-    if (mib > 0.0) available = std::min(available > 0.0 ? available : mib * 1048576.0, mib * 1048576.0);
+    char* end = nullptr;
+    const double mib = std::strtod(cap, &end);
+    if (end == cap || *end != '\0' || !(mib >= 1.0 && mib <= kMaxMemoryMib))
+      throw Error(fmt::format("TERRAIN_MEMORY_MIB='{}' is not a number of MiB from 1 to {:g}", cap, kMaxMemoryMib));
+    available = std::min(available > 0.0 ? available : mib * 1048576.0, mib * 1048576.0);
   }
   return available;
+}
+
+std::string bytes_text(double bytes) {
+  if (bytes >= 1073741824.0) return fmt::format("{:.1f} GiB", bytes / 1073741824.0);
+  if (bytes >= 1048576.0) return fmt::format("{:.1f} MiB", bytes / 1048576.0);
+  return fmt::format("{:.0f} KiB", std::ceil(bytes / 1024.0));
 }
 
 void check_memory(double bytes, const std::string& what, const std::string& advice) {
   const double available = available_memory();
   if (available > 0 && bytes > available)
-    throw Error(fmt::format("{} needs {:.1f} GiB, more than this machine's memory available now ({:.1f} GiB); {}", what,
-                            bytes / 1073741824.0, available / 1073741824.0, advice));
+    throw Error(fmt::format("{} needs {}, more than this machine's memory available now ({}); {}", what,
+                            bytes_text(bytes), bytes_text(available), advice));
 }
 
 }  // namespace terrain

@@ -20,11 +20,15 @@
 #include <fstream>
 #include <functional>
 #include <future>
+#include <charconv>
 #include <sstream>
 #include <streambuf>
+#include <string_view>
+#include <optional>
 
 #include "terrain/atomic_file.hpp"
 #include "terrain/error.hpp"
+#include "terrain/mesh_digest.hpp"
 #include "terrain/ply_header.hpp"
 
 namespace terrain {
@@ -329,7 +333,10 @@ std::string unescape_ascii(const std::string& text) {
   return out;
 }
 
-std::string header_comments(const GridMesh& m) {
+// The line that carries the mesh's digest (mesh_digest.hpp), its 16 digits last.
+constexpr std::string_view kDigestComment = "comment mesh_digest ";
+
+std::string header_comments(const GridMesh& m, std::optional<std::uint64_t> digest) {
   std::string out = fmt::format("comment terrain-mesh {}\n", kFormatVersion);
   out += fmt::format("comment grid {} {} {:.17g} {:.17g}\n", m.topo.rows, m.topo.cols, m.geo.dx, m.geo.dy);
   out += fmt::format("comment origin {:.17g} {:.17g} {:.17g}\n", m.geo.origin_x, m.geo.origin_y, m.geo.origin_z);
@@ -345,6 +352,7 @@ std::string header_comments(const GridMesh& m) {
     out += "comment crs_wkt " + wkt.substr(i, n) + "\n";
     i += n;
   }
+  if (digest) out += std::string(kDigestComment) + digest_text(*digest) + "\n";
   if (m.normal_fit.fitted)
     out += fmt::format("comment normals_fitted {:.6g} {:.6g} {:.6g} {:.6g} {}\n", m.normal_fit.rmse_before,
                        m.normal_fit.max_before, m.normal_fit.rmse_after, m.normal_fit.max_after, m.normal_fit.samples);
@@ -457,14 +465,14 @@ void write_with(const OM::IO::BaseWriter& writer, OM::IO::Options opt, const Gri
 
 void write_mesh_ply_openmesh(const GridMesh& mesh, const std::string& path) {
   write_with(OM::IO::PLYWriter(), OM::IO::Options::Binary | OM::IO::Options::LSB | OM::IO::Options::VertexNormal,
-             mesh, path, header_comments(mesh), 2);
+             mesh, path, header_comments(mesh, mesh_digest(mesh)), 2);
 }
 
 namespace {
 
 // The header as OpenMesh writes it: custom properties in the order they were added.
-std::string ply_header(const GridMesh& mesh, bool voronoi, bool change, bool filled) {
-  std::string header = "ply\nformat binary_little_endian 1.0\n" + header_comments(mesh);
+std::string ply_header(const GridMesh& mesh, std::uint64_t digest, bool voronoi, bool change, bool filled) {
+  std::string header = "ply\nformat binary_little_endian 1.0\n" + header_comments(mesh, digest);
   header += fmt::format("element vertex {}\n", mesh.topo.n_vertices());
   for (const char* name : {"x", "y", "z", "nx", "ny", "nz"}) header += fmt::format("property float {}\n", name);
   if (voronoi) {
@@ -535,7 +543,7 @@ void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
     throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
   check_mesh_georef(mesh, "cannot write '" + path + "'");
   const bool voronoi = !mesh.voronoi.empty(), change = mesh.normal_change.size() == nv, filled = mesh.filled.size() == nv;
-  const std::string header = ply_header(mesh, voronoi, change, filled);
+  const std::string header = ply_header(mesh, mesh_digest(mesh), voronoi, change, filled);
   // The body in chunks of whole rows (vertex rows, then cell rows of two faces each).
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
   const std::size_t vertex_bytes = 24 + (voronoi ? 16 : 0) + (change ? 4 : 0) + (filled ? 4 : 0),
@@ -574,6 +582,8 @@ struct PlyRowWriter::Impl {
   std::ofstream out;
   std::vector<char> buf;
   std::size_t rows = 0;
+  MeshDigest digest;
+  std::size_t digest_at = 0;  // the header's digest digits, written by finish()
 };
 
 PlyRowWriter::PlyRowWriter(const GridMesh& header, const std::string& path) : impl_(std::make_unique<Impl>()) {
@@ -586,7 +596,8 @@ PlyRowWriter::PlyRowWriter(const GridMesh& header, const std::string& path) : im
   m.buf.resize(std::size_t(1) << 20);
   m.out.rdbuf()->pubsetbuf(m.buf.data(), std::streamsize(m.buf.size()));
   m.out.open(path, std::ios::binary | std::ios::trunc);
-  const std::string h = ply_header(m.header, false, false, false);
+  const std::string h = ply_header(m.header, 0, false, false, false);
+  m.digest_at = h.find(kDigestComment) + kDigestComment.size();
   m.out.write(h.data(), std::streamsize(h.size()));
   if (!m.out) throw Error("cannot write '" + path + "'");
 }
@@ -598,6 +609,7 @@ void PlyRowWriter::add_rows(const Eigen::Vector3f* positions, const Eigen::Vecto
   const std::size_t cols = m.header.topo.cols;
   if (m.rows + n > m.header.topo.rows) throw Error("cannot write '" + m.path + "': more rows than the grid's");
   std::vector<char> row(24 * cols);
+  m.digest.add(positions, normals, n * cols);
   for (std::size_t r = 0; r < n; ++r) {
     for (std::size_t c = 0; c < cols; ++c) {
       std::memcpy(&row[24 * c], positions[r * cols + c].data(), 12);
@@ -619,13 +631,16 @@ void PlyRowWriter::finish() {
     const std::size_t n = fill_ply_chunk(m.header, {true, r, std::min(rows - 1, r + frows)}, false, false, false, buf.data());
     m.out.write(buf.data(), std::streamsize(n));
   }
+  const std::string digest = digest_text(m.digest.value());
+  m.out.seekp(std::streamoff(m.digest_at));
+  m.out.write(digest.data(), std::streamsize(digest.size()));
   m.out.close();
   if (!m.out) throw Error("cannot write '" + m.path + "': write failed (disk full?)");
 }
 
 void write_mesh_obj(const GridMesh& mesh, const std::string& path) {
   // The PLY comment block, as OBJ comments.
-  std::istringstream lines(header_comments(mesh));
+  std::istringstream lines(header_comments(mesh, std::nullopt));
   std::string comments, line;
   while (std::getline(lines, line)) comments += "# " + line.substr(8) + "\n";
   write_with(OM::IO::OBJWriter(), OM::IO::Options::VertexNormal, mesh, path, comments, 0);
@@ -735,30 +750,49 @@ void read_optional(const std::string& path, GridMeshImporter& importer, GridMesh
 
 namespace {
 
-// A terrain PLY's header, checked, and the mesh it describes (no vertices yet).
-GridMesh read_terrain_header(const std::string& path, PlyHeader& header) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read '" + path + "': no such file or not readable");
+// A terrain PLY's header, checked, and the mesh it describes (no vertices yet), read from
+// `in`, opened here on `path`: its size is that same file's, and its body is read from it
+// too (a file renamed over the path meanwhile is not seen).
+GridMesh read_terrain_header(const std::string& path, PlyHeader& header, std::ifstream& in) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a directory");
+  in.open(path, std::ios::binary);
+  if (!in) throw Error("cannot read '" + path + "': no such file or not readable");
+  in.seekg(0, std::ios::end);
+  const auto size = std::uint64_t(in.tellg());
+  in.seekg(0);
   header = read_ply_header(in, path);
-  in.close();
   GridMesh m = mesh_of_header(header, path);
   check_mesh_georef(m, "cannot read '" + path + "'");
-  check_terrain_ply(header, m.topo, std::filesystem::file_size(path, ec), path);
+  check_terrain_ply(header, m.topo, size, path);
+  in.clear();
+  in.seekg(0);
   return m;
+}
+
+// The digest the header states (comment mesh_digest), if any.
+std::optional<std::uint64_t> header_digest(const PlyHeader& header) {
+  const std::string key(kDigestComment.substr(8));  // without "comment "
+  for (const std::string& c : header.comments)
+    if (c.starts_with(key) && c.size() == key.size() + 16) {
+      std::uint64_t d = 0;
+      const char* first = c.data() + key.size();
+      if (std::from_chars(first, first + 16, d, 16).ptr == first + 16) return d;
+    }
+  return std::nullopt;
 }
 
 }  // namespace
 
 GridMesh read_mesh_ply(const std::string& path) {
   PlyHeader header;
-  GridMesh m = read_terrain_header(path, header);
+  std::ifstream in;
+  GridMesh m = read_terrain_header(path, header, in);
   silence_openmesh();
 
   GridMeshImporter importer(m);
   OM::IO::Options opt(OM::IO::Options::VertexNormal | OM::IO::Options::Custom);
-  if (!OM::IO::PLYReader().read(path, importer, opt))
+  if (!OM::IO::PLYReader().read(in, importer, opt))
     throw Error("cannot read '" + path + "': OpenMesh's PLY reader failed (corrupt or truncated file)");
   if (!opt.vertex_has_normal()) throw Error("cannot read '" + path + "': it has no vertex normals");
   if (m.positions.size() != m.topo.n_vertices())
@@ -779,12 +813,10 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
   const std::string pyr = pyramid_path_of(ply_path);
   std::error_code ec;
   if (pyr == ply_path || !fs::is_regular_file(pyr, ec) || !is_mesh_pyramid(pyr)) return std::nullopt;
-  if (fs::last_write_time(pyr, ec) < fs::last_write_time(ply_path, ec)) {
-    why = "'" + pyr + "' is older than the mesh";
-    return std::nullopt;
-  }
   PlyHeader header;
-  PyramidMesh out{read_terrain_header(ply_path, header), {}};
+  std::ifstream in;
+  PyramidMesh out{read_terrain_header(ply_path, header, in), {}, 0};
+  in.close();
   GridMesh& m = out.mesh;
   for (const PlyElement& e : header.elements)
     for (const PlyProperty& p : e.properties)
@@ -795,6 +827,20 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
         return std::nullopt;
       }
   MeshPyramid pyramid(pyr);
+  // The pair is one when the pyramid was made from the vertices the PLY holds: both carry
+  // the digest of those vertices (dem2mesh writes it into both).
+  const std::optional<std::uint64_t> digest = header_digest(header);
+  if (!pyramid.digest()) {
+    why = fmt::format("'{}' (version {}) does not say which mesh it was made from; dem2mesh --pyramid makes one "
+                      "that does",
+                      pyr, pyramid.version());
+    return std::nullopt;
+  }
+  if (!digest || *digest != *pyramid.digest()) {
+    why = "'" + pyr + "' was made from another mesh than this one (their digests differ; dem2mesh --pyramid again)";
+    return std::nullopt;
+  }
+  out.digest = *digest;
   const MeshGeoref& g = pyramid.georef();
   auto same = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(1.0, std::abs(a)); };
   if (pyramid.topology().rows != m.topo.rows || pyramid.topology().cols != m.topo.cols ||
@@ -856,7 +902,8 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
   return out;
 }
 
-GridMesh read_terrain_mesh(const std::string& ply_path, std::string* source, MeshLevels* levels) {
+GridMesh read_terrain_mesh(const std::string& ply_path, std::string* source, MeshLevels* levels,
+                           std::string* warning) {
   std::string why;
   if (std::optional<PyramidMesh> p = read_mesh_via_pyramid(ply_path, why)) {
     if (source) *source = "'" + pyramid_path_of(ply_path) + "' (its pyramid)";
@@ -864,6 +911,7 @@ GridMesh read_terrain_mesh(const std::string& ply_path, std::string* source, Mes
     return std::move(p->mesh);
   }
   if (source) *source = why.empty() ? "the PLY" : "the PLY: " + why;
+  if (warning) *warning = why.empty() ? std::string() : "'" + ply_path + "' read whole, not its pyramid: " + why;
   return read_mesh_ply(ply_path);
 }
 

@@ -4,6 +4,12 @@
 #include <zlib.h>
 #include <zstd.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -119,7 +125,8 @@ int block_levels(std::uint32_t nr, std::uint32_t nc) {
 }
 
 constexpr char kMagic[8] = {'T', 'P', 'Y', 'R', 'A', 'M', 'I', 'D'};
-constexpr std::uint32_t kVersion = 2;  // 2: the blocks' slopes
+// 2: the blocks' slopes; 3: the mesh's digest and the header's CRC-32.
+constexpr std::uint32_t kVersion = 3;
 
 // Little-endian scalars (this project's machines are; the format says so).
 struct Out {
@@ -210,7 +217,7 @@ MeshPyramidWriter::MeshPyramidWriter(const GridTopology& topo, const MeshGeoref&
   // The header's size is known now (finish() writes it): level 0's tiles go straight into
   // the file after it, in the index's order; the coarser levels' into temporary files,
   // appended at the end (a third of level 0's size at most).
-  header_bytes_ = 20 + 4 + 16 + 40 + 4 + 4 + geo.crs_wkt.size() + 4;
+  header_bytes_ = 20 + 4 + 16 + 40 + 4 + 4 + geo.crs_wkt.size() + 8 + 4 + 4;  // ... digest, levels, CRC
   for (const MeshLevelBlock& b : levels_.blocks) header_bytes_ += 28 + 8 * std::uint64_t(block_levels(b.nr, b.nc));
   for (int l = 0; l < n_levels; ++l) {
     auto v = std::make_unique<Level>();
@@ -247,6 +254,7 @@ void MeshPyramidWriter::add_rows(const Eigen::Vector3f* positions, const Eigen::
   for (std::size_t k = 0; k < n; ++k, ++row_) {
     if (row_ >= topo_.rows) throw Error("cannot write '" + path_ + "': more rows than the grid's");
     const Eigen::Vector3f *p = positions + k * cols, *q = normals + k * cols;
+    digest_.add(p, q, cols);
     for (std::size_t l = 0; l < grids_.size(); ++l) {
       Level& v = *grids_[l];
       if (v.next >= v.rows || row_ != level_index(v.next, cells_r, int(l))) continue;
@@ -331,6 +339,7 @@ std::uint64_t MeshPyramidWriter::finish() {
   h.put(std::int32_t(geo_.epsg));
   h.put(std::uint32_t(geo_.crs_wkt.size()));
   h.bytes += geo_.crs_wkt;
+  h.put(digest_.value());
   h.put(std::uint32_t(n_levels));
   for (const MeshLevelBlock& b : levels_.blocks) {
     for (int k = 0; k < 3; ++k) h.put(b.lo[k]);
@@ -342,7 +351,7 @@ std::uint64_t MeshPyramidWriter::finish() {
   std::size_t n_tiles = 0;
   for (const auto& v : grids_) n_tiles += v->bytes.size();
   // The index: per level its tile counts, then per tile offset, bytes, CRC-32.
-  const std::uint64_t index_bytes = std::uint64_t(n_levels) * 16 + std::uint64_t(n_tiles) * 16;
+  const std::uint64_t index_bytes = std::uint64_t(n_levels) * 16 + std::uint64_t(n_tiles) * 16 + 4;  // and the CRC
   const std::uint64_t header_bytes = h.bytes.size() + index_bytes;
   if (header_bytes != header_bytes_) throw Error("internal: the pyramid header's size changed");
   std::memcpy(h.bytes.data() + 12, &header_bytes, 8);
@@ -361,6 +370,7 @@ std::uint64_t MeshPyramidWriter::finish() {
     v->out.close();
     if (!v->out) throw Error("cannot write '" + v->file.string() + "' (disk full?)");
   }
+  h.put(crc_of(h.bytes));  // of every header byte before it
   // The coarser levels after level 0, then the header before it.
   std::vector<char> buf(std::size_t(1) << 20);
   for (const auto& v : grids_) {
@@ -389,6 +399,8 @@ std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const std::string& path, 
 }
 
 bool is_mesh_pyramid(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
   std::ifstream f(path, std::ios::binary);
   char m[8] = {};
   return f.read(m, 8) && std::memcmp(m, kMagic, 8) == 0;
@@ -399,68 +411,140 @@ std::string pyramid_path_of(const std::string& mesh_path) {
 }
 
 MeshPyramid::MeshPyramid(const std::string& path) : path_(path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw Error("cannot open '" + path + "'");
-  f.seekg(0, std::ios::end);
-  const auto size = std::uint64_t(f.tellg());
-  f.seekg(0);
+  fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd_ < 0) throw Error("cannot open '" + path + "': " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd_);
+    throw Error("cannot read '" + path + "': not a regular file");
+  }
+  const auto size = std::uint64_t(st.st_size);
+  try {
+    read_header(size);
+  } catch (...) {
+    ::close(fd_);
+    throw;
+  }
+}
+
+MeshPyramid::~MeshPyramid() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+void MeshPyramid::read_at(void* to, std::size_t n, std::uint64_t offset) const {
+  auto* at = static_cast<char*>(to);
+  while (n > 0) {
+    const ssize_t got = ::pread(fd_, at, n, off_t(offset));
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) throw Error("cannot read '" + path_ + "': truncated mesh pyramid");
+    at += got, n -= std::size_t(got), offset += std::uint64_t(got);
+  }
+}
+
+void MeshPyramid::read_header(std::uint64_t size) {
+  const std::string& path = path_;
+  const auto corrupt = [&](const char* what) { return Error(fmt::format("cannot read '{}': corrupt mesh pyramid ({})", path, what)); };
   // The magic, the version and the header's size, then the header and index whole.
   std::string bytes(20, '\0');
-  if (!f.read(bytes.data(), 20) || std::memcmp(bytes.data(), kMagic, 8) != 0)
-    throw Error("'" + path + "' is not a mesh pyramid (.tpyr)");
+  if (size < 20) throw Error("'" + path + "' is not a mesh pyramid (.tpyr)");
+  read_at(bytes.data(), 20, 0);
+  if (std::memcmp(bytes.data(), kMagic, 8) != 0) throw Error("'" + path + "' is not a mesh pyramid (.tpyr)");
   In in{bytes, path_, 8};
   const std::uint32_t version = in.get<std::uint32_t>();
-  if (version < 1 || version > kVersion) throw Error("'" + path + "': a newer mesh pyramid version");
+  if (version > kVersion)
+    throw Error(fmt::format("cannot read '{}': mesh pyramid version {} is newer than this tool's ({})", path, version,
+                            kVersion));
+  if (version < 1) throw Error(fmt::format("cannot read '{}': corrupt mesh pyramid (version {})", path, version));
+  version_ = int(version);
   const std::uint64_t header_bytes = in.get<std::uint64_t>();
   if (header_bytes < 20 || header_bytes > size) throw Error("cannot read '" + path + "': truncated mesh pyramid");
   bytes.resize(std::size_t(header_bytes));
-  f.read(bytes.data() + 20, std::streamsize(header_bytes - 20));
+  read_at(bytes.data() + 20, std::size_t(header_bytes - 20), 20);
+  if (version >= 3) {  // the CRC-32 of the header before it, in its last 4 bytes
+    if (header_bytes < 24) throw corrupt("its header");
+    std::uint32_t crc = 0;
+    std::memcpy(&crc, bytes.data() + header_bytes - 4, 4);
+    if (crc_of(bytes.substr(0, std::size_t(header_bytes - 4))) != crc) throw corrupt("its header's checksum");
+    bytes.resize(std::size_t(header_bytes - 4));
+  }
   const std::size_t B = in.get<std::uint32_t>();
-  const std::size_t rows = in.get<std::uint64_t>(), cols = in.get<std::uint64_t>();
-  if (B < 2 || rows < 2 || cols < 2 || rows * cols >= (std::uint64_t(1) << 32))
-    throw Error("cannot read '" + path + "': corrupt mesh pyramid (its grid)");
+  const std::uint64_t rows = in.get<std::uint64_t>(), cols = in.get<std::uint64_t>();
+  if (B < 2 || B > (1u << 16) || rows < 2 || cols < 2 || rows > (1u << 30) || cols > (1u << 30) ||
+      rows * cols >= (std::uint64_t(1) << 32))
+    throw corrupt("its grid");
   geo_.origin_x = in.get<double>(), geo_.origin_y = in.get<double>(), geo_.origin_z = in.get<double>();
   geo_.dx = in.get<double>(), geo_.dy = in.get<double>();
   geo_.epsg = in.get<std::int32_t>();
+  // What a mesh's header may hold (mesh_io.cpp's check_mesh_georef).
+  if (!(geo_.dx >= 1e-3 && geo_.dx <= 1e6 && geo_.dy >= 1e-3 && geo_.dy <= 1e6) ||
+      !(std::abs(geo_.origin_x) <= 1e8 && std::abs(geo_.origin_y) <= 1e8 && std::abs(geo_.origin_z) <= 1e8) ||
+      double(cols - 1) * geo_.dx > 1e8 || double(rows - 1) * geo_.dy > 1e8 || geo_.epsg < 0)
+    throw corrupt("its georeference");
   const std::size_t wkt = in.get<std::uint32_t>();
-  if (in.at + wkt > bytes.size()) throw Error("cannot read '" + path + "': truncated mesh pyramid");
+  if (wkt > bytes.size() - in.at) throw Error("cannot read '" + path + "': truncated mesh pyramid");
   geo_.crs_wkt = bytes.substr(in.at, wkt);
   in.at += wkt;
-  const int n_levels = int(in.get<std::uint32_t>());
-  if (n_levels < 1 || n_levels > 32) throw Error("cannot read '" + path + "': corrupt mesh pyramid (its levels)");
-  levels_.topo = GridTopology{rows, cols};
+  if (version >= 3) digest_ = in.get<std::uint64_t>();
+  const std::uint32_t n_levels = in.get<std::uint32_t>();
+  if (n_levels < 1 || n_levels > 32) throw corrupt("its levels");
+  levels_.topo = GridTopology{std::size_t(rows), std::size_t(cols)};
   levels_.block = B;
-  levels_.block_rows = (rows - 1 + B - 1) / B;
-  levels_.block_cols = (cols - 1 + B - 1) / B;
-  levels_.blocks.resize(levels_.block_rows * levels_.block_cols);
+  levels_.block_rows = (std::size_t(rows) - 1 + B - 1) / B;
+  levels_.block_cols = (std::size_t(cols) - 1 + B - 1) / B;
+  // Every count against the bytes left before anything is allocated: a block takes at
+  // least 28 + 4 (version 1) or 28 + 8 bytes, a level's index 16 and a tile 16.
+  const std::uint64_t n_blocks = std::uint64_t(levels_.block_rows) * levels_.block_cols;
+  if (n_blocks > (bytes.size() - in.at) / 32) throw Error("cannot read '" + path + "': truncated mesh pyramid");
+  levels_.blocks.resize(std::size_t(n_blocks));
   for (std::size_t k = 0; k < levels_.blocks.size(); ++k) {
     MeshLevelBlock& b = levels_.blocks[k];
     b.r0 = std::uint32_t(k / levels_.block_cols * B), b.c0 = std::uint32_t(k % levels_.block_cols * B);
-    b.nr = std::uint32_t(std::min(B, rows - 1 - b.r0)), b.nc = std::uint32_t(std::min(B, cols - 1 - b.c0));
+    b.nr = std::uint32_t(std::min<std::uint64_t>(B, rows - 1 - b.r0));
+    b.nc = std::uint32_t(std::min<std::uint64_t>(B, cols - 1 - b.c0));
     for (int j = 0; j < 3; ++j) b.lo[j] = in.get<float>();
     for (int j = 0; j < 3; ++j) b.hi[j] = in.get<float>();
+    if (!b.lo.allFinite() || !b.hi.allFinite() || (b.lo.array() > b.hi.array()).any()) throw corrupt("a block's box");
     const std::uint32_t nl = in.get<std::uint32_t>();
-    if (nl < 1 || int(nl) > n_levels) throw Error("cannot read '" + path + "': corrupt mesh pyramid (a block)");
+    if (nl < 1 || nl > n_levels || int(nl) != block_levels(b.nr, b.nc)) throw corrupt("a block's levels");
+    if (std::uint64_t(nl) * (version >= 2 ? 8 : 4) > bytes.size() - in.at)
+      throw Error("cannot read '" + path + "': truncated mesh pyramid");
     b.error.resize(nl);
     for (float& e : b.error) e = in.get<float>();
+    // Errors: 0 at level 0, finite and non-decreasing; slopes >= 0 (infinite where a
+    // surface turns over).
+    for (std::size_t j = 0; j < nl; ++j)
+      if (!std::isfinite(b.error[j]) || (j == 0 ? b.error[j] != 0 : !(b.error[j] >= b.error[j - 1])))
+        throw corrupt("a block's errors");
     if (version >= 2) {  // version 1: not known
       b.slope.resize(nl);
       for (float& e : b.slope) e = in.get<float>();
+      for (const float e : b.slope)
+        if (!(e >= 0)) throw corrupt("a block's slopes");
     }
   }
-  tiles_.assign(std::size_t(n_levels), {});
-  for (int l = 0; l < n_levels; ++l) {
-    LevelTiles& t = tiles_[std::size_t(l)];
+  int coarsest = 1;
+  for (const MeshLevelBlock& b : levels_.blocks) coarsest = std::max(coarsest, b.levels());
+  if (int(n_levels) != coarsest) throw corrupt("its levels");
+  tiles_.assign(n_levels, {});
+  std::uint64_t end = header_bytes;  // the tiles follow the header, one after another
+  for (std::uint32_t l = 0; l < n_levels; ++l) {
+    LevelTiles& t = tiles_[l];
     t.tiles_r = in.get<std::uint64_t>(), t.tiles_c = in.get<std::uint64_t>();
-    if (t.tiles_r != (this->rows(l) - 1 + B - 1) / B || t.tiles_c != (this->cols(l) - 1 + B - 1) / B)
-      throw Error("cannot read '" + path + "': corrupt mesh pyramid (its tile counts)");
+    if (t.tiles_r != (this->rows(int(l)) - 1 + B - 1) / B || t.tiles_c != (this->cols(int(l)) - 1 + B - 1) / B)
+      throw corrupt("its tile counts");
+    if (t.tiles_r * t.tiles_c > (bytes.size() - in.at) / 16) throw Error("cannot read '" + path + "': truncated mesh pyramid");
     t.tiles.resize(t.tiles_r * t.tiles_c);
     for (Tile& tile : t.tiles) {
       tile.offset = in.get<std::uint64_t>(), tile.bytes = in.get<std::uint32_t>(), tile.crc = in.get<std::uint32_t>();
-      if (tile.offset + tile.bytes > size) throw Error("cannot read '" + path + "': truncated mesh pyramid");
+      if (tile.offset > size || tile.bytes > size - tile.offset)
+        throw Error("cannot read '" + path + "': truncated mesh pyramid");
+      if (version >= 3 && tile.offset != end) throw corrupt("its tile index");
+      end = tile.offset + tile.bytes;
     }
   }
-  bytes_read_ = in.at;
+  if (in.at != bytes.size()) throw corrupt("its header's size");
+  if (version >= 3 && end != size) throw Error("cannot read '" + path + "': truncated mesh pyramid, or bytes after its tiles");
+  bytes_read_ = header_bytes;
 }
 
 std::uint32_t MeshPyramid::tile_bytes(int l, std::size_t tr, std::size_t tc) const {
@@ -468,20 +552,38 @@ std::uint32_t MeshPyramid::tile_bytes(int l, std::size_t tr, std::size_t tc) con
   return t.tiles.at(tr * t.tiles_c + tc).bytes;
 }
 
-std::vector<Eigen::Vector3f> MeshPyramid::decode_tile(int l, std::size_t tr, std::size_t tc, std::ifstream& f,
-                                                      ZSTD_DCtx* ctx, std::uint64_t& bytes) const {
+std::vector<Eigen::Vector3f> MeshPyramid::decode_tile(int l, std::size_t tr, std::size_t tc, ZSTD_DCtx* ctx,
+                                                      std::uint64_t& bytes) const {
   const LevelTiles& lt = tiles_[std::size_t(l)];
   const Tile& tile = lt.tiles[tr * lt.tiles_c + tc];
   const TileRange t = tile_range(rows(l), cols(l), levels_.block, tr, tc);
+  const auto bad = [&](const char* why) {
+    return Error(fmt::format("cannot read '{}': tile {}, {} of level {} is corrupt ({})", path_, tr, tc, l, why));
+  };
   std::string z(tile.bytes, '\0');
-  f.seekg(std::streamoff(tile.offset));
-  f.read(z.data(), std::streamsize(z.size()));
-  if (!f || crc_of(z) != tile.crc)
-    throw Error(fmt::format("cannot read '{}': tile {}, {} of level {} is corrupt", path_, tr, tc, l));
+  read_at(z.data(), z.size(), tile.offset);
+  if (crc_of(z) != tile.crc) throw bad("its checksum");
   std::vector<Eigen::Vector3f> raw(2 * t.nr * t.nc);  // positions, then normals
   const std::size_t got = ZSTD_decompressDCtx(ctx, raw.data(), raw.size() * sizeof raw[0], z.data(), z.size());
-  if (ZSTD_isError(got) || got != raw.size() * sizeof raw[0])
-    throw Error(fmt::format("cannot read '{}': tile {}, {} of level {} is corrupt", path_, tr, tc, l));
+  if (ZSTD_isError(got) || got != raw.size() * sizeof raw[0]) throw bad("its data");
+  // Its vertices within its blocks' boxes: at level 0 a tile is one block, and its box is
+  // that of these very vertices; a coarser level's vertices are some of the fine ones.
+  const std::size_t s = std::size_t(1) << l;
+  const std::size_t br0 = tr * s, bc0 = tc * s;
+  const std::size_t br1 = std::min(levels_.block_rows, br0 + s), bc1 = std::min(levels_.block_cols, bc0 + s);
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::infinity()), hi = -lo;
+  for (std::size_t br = br0; br < br1; ++br)
+    for (std::size_t bc = bc0; bc < bc1; ++bc) {
+      const MeshLevelBlock& b = levels_.blocks[br * levels_.block_cols + bc];
+      lo = lo.cwiseMin(b.lo), hi = hi.cwiseMax(b.hi);
+    }
+  Eigen::Vector3f tlo = lo, thi = hi;
+  if (t.nr * t.nc > 0) tlo = thi = raw[0];
+  for (std::size_t i = 0; i < t.nr * t.nc; ++i) tlo = tlo.cwiseMin(raw[i]), thi = thi.cwiseMax(raw[i]);
+  const bool exact = l == 0;
+  if (!tlo.allFinite() || !thi.allFinite() || (exact ? (tlo != lo || thi != hi)
+                                                     : ((tlo.array() < lo.array()).any() || (thi.array() > hi.array()).any())))
+    throw bad("its vertices are not in its block's box");
   bytes += tile.bytes;
   return raw;
 }
@@ -509,15 +611,13 @@ void MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t
   std::uint64_t bytes = 0;
 #pragma omp parallel reduction(+ : bytes)
   {
-    std::ifstream f(path_, std::ios::binary);
     std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
 #pragma omp for schedule(dynamic, 16)
     for (std::size_t k = 0; k < n_tiles; ++k) {
       try {
-        if (!f) throw Error("cannot open '" + path_ + "'");
         const std::size_t tr = tr0 + k / across, tc = tc0 + k % across;
         const TileRange t = tile_range(rows(l), cols(l), B, tr, tc);
-        const std::vector<Eigen::Vector3f> raw = decode_tile(l, tr, tc, f, ctx.get(), bytes);
+        const std::vector<Eigen::Vector3f> raw = decode_tile(l, tr, tc, ctx.get(), bytes);
         const std::size_t ca = std::max(c0, t.c0), cb = std::min(c0 + nc, t.c0 + t.nc);
         for (std::size_t r = std::max(r0, t.r0); r < std::min(r0 + nr, t.r0 + t.nr); ++r) {
           const std::size_t to = (r - r0) * nc + (ca - c0), from = (r - t.r0) * t.nc + (ca - t.c0);
@@ -533,6 +633,32 @@ void MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t
   if (!failed.empty()) throw Error(failed);
   bytes_read_ += bytes;
   tiles_read_ += n_tiles;
+}
+
+std::size_t MeshPyramid::check_tiles() {
+  std::size_t n = 0;
+  std::string failed;
+  std::uint64_t bytes = 0;
+  for (int l = 0; l < level_count(); ++l) {
+    const LevelTiles& lt = tiles_[std::size_t(l)];
+#pragma omp parallel reduction(+ : bytes)
+    {
+      std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
+#pragma omp for schedule(dynamic, 16)
+      for (std::size_t k = 0; k < lt.tiles.size(); ++k) {
+        try {
+          (void)decode_tile(l, k / lt.tiles_c, k % lt.tiles_c, ctx.get(), bytes);
+        } catch (const std::exception& e) {
+#pragma omp critical
+          if (failed.empty()) failed = e.what();
+        }
+      }
+    }
+    if (!failed.empty()) throw Error(failed);
+    n += lt.tiles.size();
+  }
+  bytes_read_ += bytes;
+  return n;
 }
 
 void MeshPyramid::read_level(int l, Eigen::Vector3f* positions, Eigen::Vector3f* normals) {

@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <optional>
 
@@ -64,6 +66,51 @@ void check_frame_path(const std::string& path) {
     throw terrain::Error("the output must be a .png, .svg or .pdf file: '" + path + "'");
 }
 
+double terrain_share(const terrain::GridMesh& mesh, const View& view, double e) {
+  const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
+  const std::size_t sr = std::max<std::size_t>(1, (rows - 1) / 128), sc = std::max<std::size_t>(1, (cols - 1) / 128);
+  double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300;
+  const auto take = [&](std::size_t r, std::size_t c) {
+    const Eigen::Vector3f& p = mesh.positions[r * cols + c];
+    const Projected q = project(view, Eigen::Vector3d(p.x(), p.y(), double(p.z()) * e));
+    if (!q.in_front || !std::isfinite(q.u) || !std::isfinite(q.v)) return;
+    u0 = std::min(u0, q.u), v0 = std::min(v0, q.v), u1 = std::max(u1, q.u), v1 = std::max(v1, q.v);
+  };
+  const auto lines = [](std::size_t n, std::size_t step) {  // 0, step, 2 step, ... and n - 1
+    std::vector<std::size_t> v;
+    for (std::size_t k = 0; k < n - 1; k += step) v.push_back(k);
+    v.push_back(n - 1);
+    return v;
+  };
+  const std::vector<std::size_t> rs = lines(rows, sr), cs = lines(cols, sc);
+  for (const std::size_t r : rs)
+    for (const std::size_t c : cs) take(r, c);
+  const double w = std::min(u1, double(view.width)) - std::max(u0, 0.0),
+               h = std::min(v1, double(view.height)) - std::max(v0, 0.0);
+  if (!(w > 0 && h > 0)) return 0;
+  return std::max(w, 1.0) * std::max(h, 1.0) / (double(view.width) * double(view.height));
+}
+
+std::string no_terrain_problem(const terrain::GridMesh& mesh, const View& view, double e) {
+  const double share = terrain_share(mesh, view, e);
+  if (share >= kMinTerrainShare) return {};
+  const std::string what = fmt::format("the frame shows {} of the terrain (about {:.2g} % of its {} x {} pixels)",
+                                       share > 0 ? "almost nothing" : "nothing", 100 * share, view.width, view.height);
+  if (view.orthographic() && share == 0)
+    return what + ": the map's centre (--eye) lies off the terrain; move it onto the terrain, or give no --eye";
+  if (view.orthographic())
+    return what + fmt::format(": --map-scale {:g} is too coarse; give {:.3g} or less", view.map_scale,
+                              view.map_scale * std::sqrt(std::max(share, 1e-12) / 0.25));
+  if (share > 0) return what + ": the eye is too far from it; bring --eye nearer or give a narrower --fov";
+  return what + ": the view looks away from it; turn it toward the terrain (--view-az, --view-alt), or give no "
+                "camera options for the automatic view";
+}
+
+std::vector<std::string> frame_files(const std::string& path, bool map) {
+  if (!map || is_vector_path(path)) return {path};
+  return {path, std::filesystem::path(path).replace_extension(".pgw").string()};
+}
+
 WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene& scene, const TerrainRenderer& r,
                              const FrameResult& res, const ResolvedFrame& f, const VectorOptions& o,
                              const std::string& frame_description, TracedHachures* traced) {
@@ -104,8 +151,13 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
       t.hachure_draw_ms = ms(t0);
     }
     for (const std::string& p : pngs) {
-      terrain::write_png(p, res.width, res.height, 4, hachures ? drawn : res.rgba, description);
-      if (gt) terrain::write_file_atomic(std::filesystem::path(p).replace_extension(".pgw"), world_file(*gt));
+      const std::vector<std::string> files = frame_files(p, bool(gt));
+      terrain::OutputSet outputs;  // the PNG and its world file
+      outputs.write([&] {
+        terrain::write_png(outputs.stage(p), res.width, res.height, 4, hachures ? drawn : res.rgba, description);
+        if (files.size() > 1) terrain::write_file_atomic(outputs.stage(files[1]), world_file(*gt));
+      });
+      outputs.commit();
     }
   }
   if (vectors.empty()) return t;

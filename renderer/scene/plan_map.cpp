@@ -9,6 +9,7 @@
 #include "renderer/scene.hpp"
 #include "terrain/gpkg.hpp"
 #include "terrain/hillshade.hpp"
+#include "terrain/memory.hpp"
 
 namespace renderer {
 
@@ -20,9 +21,24 @@ double default_plan_scale(const terrain::GridMesh& mesh) {
   return 10.0 * decade;
 }
 
+void check_plan_memory(const PlanView& p) {
+  // The field (its fall line, slope, tone and height: 20 bytes), the occupancy grid, the
+  // tracer's points and a vector file's raster: 28 bytes a pixel were measured at 145 M
+  // pixels (4.1 GB).
+  constexpr double kBytesPerPixel = 32;
+  const double pixels = double(p.width) * double(p.height), available = terrain::available_memory();
+  if (!(available > 0) || pixels * kBytesPerPixel <= available) return;
+  const double fits = p.scale * std::sqrt(pixels * kBytesPerPixel / available);  // the scale whose map fits
+  const double step = std::pow(10.0, std::floor(std::log10(fits)) - 1);
+  terrain::check_memory(pixels * kBytesPerPixel, fmt::format("a map of {} x {} pixels at {:g} m a pixel", p.width,
+                                                             p.height, p.scale),
+                        fmt::format("give --scale {:g} or coarser", std::ceil(fits / step) * step));
+}
+
 PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptions& o) {
   PlanHachures out;
   out.plan = plan_view(mesh, o.scale > 0 ? o.scale : default_plan_scale(mesh));
+  check_plan_memory(out.plan);
   const Eigen::Vector3d light = terrain::light_direction(o.light_azimuth, o.light_altitude);
   HachureField field = plan_hachure_field(mesh, out.plan, o.light_tone ? &light : nullptr);
   HachureRule rule;

@@ -86,11 +86,6 @@ int finest_within(const LodHierarchy& h, const BlockRange& r, int from, int coun
 
 BlockRange all_blocks(const LodHierarchy& h) { return {0, 0, h.block_rows, h.block_cols}; }
 
-// A pyramid of version 1 has no slopes: every level is then held to the strict bound.
-constexpr const char* kNoSlopes =
-    "a version-1 pyramid (no slopes): the levels that face the eye are drawn as finely as the others; "
-    "dem2mesh --pyramid again makes frames faster";
-
 // Reads scene.mesh from its pyramid at the level `level` chooses; false when the pyramid
 // is not current (scene.mesh_source says why).
 bool read_level(Scene& s, const std::string& mesh_path,
@@ -106,6 +101,11 @@ bool read_level(Scene& s, const std::string& mesh_path,
     s.mesh_source = why.empty() ? "the PLY" : "the PLY: " + why;
     return false;
   }
+  // A scene that reads its pyramid again (focus_scene) reads the pair it read first.
+  if (s.digest && *s.digest != p->digest)
+    throw terrain::Error("'" + mesh_path + "' and its pyramid changed while they were read (rewritten by dem2mesh?); "
+                         "run again");
+  s.digest = p->digest;
   s.mesh = std::move(p->mesh);
   s.mesh_level = p->levels.base;
   s.mesh_levels = std::move(own);
@@ -116,11 +116,6 @@ bool read_level(Scene& s, const std::string& mesh_path,
                               w ? fmt::format(", the window of rows {} .. {}, columns {} .. {}", w->r0,
                                               w->r0 + s.levels->topo.rows - 1, w->c0, w->c0 + s.levels->topo.cols - 1)
                                 : "");
-  // Once, though a bounded scene reads its pyramid again (focus_scene).
-  const std::string no_slopes = fmt::format("'{}': {}", terrain::pyramid_path_of(mesh_path), kNoSlopes);
-  if (!s.levels->blocks.empty() && s.levels->blocks[0].slope.empty() &&
-      std::find(s.warnings.begin(), s.warnings.end(), no_slopes) == s.warnings.end())
-    s.warnings.push_back(no_slopes);
   return true;
 }
 
@@ -143,7 +138,9 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
   }
   if (!from_pyramid) {
     LodHierarchy levels;
-    s.mesh = terrain::read_terrain_mesh(mesh_path, &s.mesh_source, &levels);
+    std::string unused;  // why a pyramid beside it was not used
+    s.mesh = terrain::read_terrain_mesh(mesh_path, &s.mesh_source, &levels, &unused);
+    if (!unused.empty()) s.warnings.push_back(unused);
     if (!levels.blocks.empty()) s.levels = std::make_shared<const LodHierarchy>(std::move(levels));
     s.mesh_seconds = since(t0);
     if (vertex_bytes > 0 && s.mesh.n_vertices() * kVertexBytes > vertex_bytes)

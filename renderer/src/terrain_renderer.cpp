@@ -227,9 +227,9 @@ void check_frame_size(const GlContext& context, int width, int height) {
   if (available > 0 && bytes > available) {
     const double shrink = std::sqrt(available / bytes);
     throw terrain::Error(fmt::format(
-        "a {} x {} frame needs about {:.1f} GiB on {} (a CPU renderer: its textures are this machine's memory), more "
-        "than the memory available now ({:.1f} GiB); the largest frame of this shape that fits is about {} x {}",
-        width, height, bytes / 1073741824.0, context.info().renderer, available / 1073741824.0,
+        "a {} x {} frame needs about {} on {} (a CPU renderer: its textures are this machine's memory), more "
+        "than the memory available now ({}); the largest frame of this shape that fits is about {} x {}",
+        width, height, terrain::bytes_text(bytes), context.info().renderer, terrain::bytes_text(available),
         int(double(width) * shrink), int(double(height) * shrink)));
   }
 }

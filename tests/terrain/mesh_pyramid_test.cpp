@@ -197,16 +197,28 @@ TEST(MeshPyramid, TheMeshReadFromItsPyramidIsThePly) {
   ASSERT_EQ(got->levels.blocks.size(), levels.blocks.size());
   for (std::size_t k = 0; k < levels.blocks.size(); ++k) EXPECT_EQ(got->levels.blocks[k].error, levels.blocks[k].error);
 
-  // The PLY written again after its pyramid: the pyramid may be stale.
+  // The pair is tied by content, not by time: a PLY touched after its pyramid (or copied
+  // with cp -p, tar, rsync -t) still reads its pyramid.
   const auto later = std::filesystem::last_write_time(pyr) + std::chrono::seconds(2);
   std::filesystem::last_write_time(ply, later);
+  EXPECT_TRUE(terrain::read_mesh_via_pyramid(ply, why)) << why;
+  // The PLY rewritten with other heights on the same grid, its old pyramid left beside it
+  // with the same time (a stale pair the old rule took): refused, and the PLY read.
+  terrain::GridMesh other = m;
+  other.positions[4321].z() += 0.5f;
+  terrain::write_mesh_ply(other, ply);
+  std::filesystem::last_write_time(pyr, std::filesystem::last_write_time(ply));
   EXPECT_FALSE(terrain::read_mesh_via_pyramid(ply, why));
-  EXPECT_NE(why.find("older than the mesh"), std::string::npos) << why;
-  // A pyramid of another grid.
+  EXPECT_NE(why.find("made from another mesh"), std::string::npos) << why;
+  std::string source, warning;
+  const terrain::GridMesh read = terrain::read_terrain_mesh(ply, &source, nullptr, &warning);
+  EXPECT_EQ(read.positions[4321].z(), other.positions[4321].z());
+  EXPECT_NE(warning.find("read whole, not its pyramid"), std::string::npos) << warning;
+  // Another DEM's pyramid beside it, newer: refused.
   terrain::write_mesh_pyramid(bumps(150, 130), pyr);
   std::filesystem::last_write_time(pyr, later + std::chrono::seconds(2));
   EXPECT_FALSE(terrain::read_mesh_via_pyramid(ply, why));
-  EXPECT_NE(why.find("another grid"), std::string::npos) << why;
+  EXPECT_NE(why.find("made from another mesh"), std::string::npos) << why;
   // Data the pyramid does not keep: the filled flags of dem2mesh --fill-nodata.
   m.filled.assign(m.n_vertices(), 0);
   m.filled[7] = 1;

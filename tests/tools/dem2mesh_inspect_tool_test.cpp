@@ -374,15 +374,18 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
       << near_window.err;
   EXPECT_GT(test::count(test::ink_of(dir.path("near_whole.png"))), 2000u);
   EXPECT_TRUE(same_pixels(dir.path("near_whole.png"), dir.path("near_window.png")));
-  // A version-1 pyramid (no slopes) is still read, with a warning that names the remedy.
-  const std::string v2 = test::file_bytes(dir.path("m.tpyr"));
-  std::ofstream(dir.path("m.tpyr"), std::ios::binary | std::ios::trunc) << test::pyramid_as_version1(v2);
+  // A pyramid from before version 3 does not say which mesh it was made from: the PLY is
+  // read instead, with a warning that names the remedy, and draws the same frame.
+  const std::string v3 = test::file_bytes(dir.path("m.tpyr"));
+  std::ofstream(dir.path("m.tpyr"), std::ios::binary | std::ios::trunc) << test::pyramid_as_version1(v3);
   const auto old = run(frame);
   ASSERT_EQ(old.exit_code, 0) << old.err;
-  EXPECT_NE(old.err.find("(its pyramid)"), std::string::npos) << old.err;
-  EXPECT_NE(old.err.find("a version-1 pyramid (no slopes)"), std::string::npos) << old.err;
-  EXPECT_NE(old.err.find("dem2mesh --pyramid again"), std::string::npos) << old.err;
-  std::ofstream(dir.path("m.tpyr"), std::ios::binary | std::ios::trunc) << v2;
+  EXPECT_NE(old.err.find("read whole, not its pyramid"), std::string::npos) << old.err;
+  EXPECT_NE(old.err.find("(version 1) does not say which mesh it was made from; dem2mesh --pyramid"),
+            std::string::npos)
+      << old.err;
+  EXPECT_TRUE(test::file_bytes(dir.path("f.png")) == png) << "the frames differ";
+  std::ofstream(dir.path("m.tpyr"), std::ios::binary | std::ios::trunc) << v3;
   std::filesystem::rename(dir.path("m.tpyr"), dir.path("away.tpyr"));
   // Over the bound without a pyramid: read whole, with a warning that names the remedy.
   const auto no_pyramid = run(map + dir.path("plain.png") + " --lod-error 2 --memory 0.25");

@@ -222,7 +222,7 @@ void add_preview_options(CLI::App* preview, PreviewArgs& a) {
       ->check(CLI::IsMember({"shade", "voronoi", "normal-change"}))
       ->capture_default_str();
   preview->add_option("--z-factor", a.zfactor, "Vertical exaggeration (DEMs only)")
-      ->check(CLI::PositiveNumber)
+      ->check(tt::kPositive)
       ->capture_default_str();
   preview->add_option("--min-flow", a.min_flow,
                       ".dv: draw points with at least this accumulated flow (default: the top 4 % of points, at least 20)");
@@ -253,7 +253,7 @@ void add_export_options(CLI::App* exp, ExportArgs& a) {
   exp->add_option("--scale", a.scale,
                   "A mesh's hachure map: metres a pixel (default: a round scale that makes the longer side at most 2048 "
                   "pixels)")
-      ->check(CLI::PositiveNumber);
+      ->check(tt::kPositive);
   exp->add_option("--hachure-spacing", a.hachure_spacing, "Hachure map: pixels between hachures where the tone is black")
       ->check(CLI::Range(1.0, 256.0))
       ->capture_default_str();
@@ -293,9 +293,13 @@ void info_pyramid(const std::string& path) {
                     ? "not stored (a version-1 pyramid: dem2mesh --pyramid writes them)"
                     : "each block's at each level")
             << "\n"
-            << "bytes: " << std::filesystem::file_size(path) << "\n";
+            << "bytes: " << std::filesystem::file_size(path) << "\n"
+            << "version: " << p.version() << "\n"
+            << "mesh_digest: " << (p.digest() ? terrain::digest_text(*p.digest()) : "none (before version 3)") << "\n";
   for (int l = 0; l < p.level_count(); ++l)
     std::cout << fmt::format("level_{}: {} x {} vertices\n", l, p.cols(l), p.rows(l));
+  // Every tile read and checked (its CRC-32, its data, its vertices in its blocks' boxes).
+  std::cout << "tiles_checked: " << p.check_tiles() << " (all)\n";
 }
 
 void run_info(const std::string& file) {
@@ -379,7 +383,15 @@ void run_export(ExportArgs& a, const std::string& provenance, const Verbosity& v
     for (const std::string& t : targets) std::cout << "layer: " << t << "\n";
     return;
   }
-  if (out.empty()) out = std::filesystem::path(file).replace_extension(to).string();
+  // A mesh's map and a .dv's layers default to different GeoPackages (M_map.gpkg, M.gpkg);
+  // either adds its layers to a GeoPackage already there (terrain/gpkg.hpp).
+  if (out.empty())
+    out = is_mesh && to == "gpkg" ? (std::filesystem::path(file).parent_path() /
+                                     (std::filesystem::path(file).stem().string() + "_map.gpkg"))
+                                        .string()
+                                  : std::filesystem::path(file).replace_extension(to).string();
+  if (to == "gpkg" && !out.ends_with(".gpkg"))  // the svg and pdf writers check theirs
+    throw terrain::Error("--to gpkg writes a GeoPackage: give -o a name ending in .gpkg, not '" + out + "'");
   tt::check_distinct_paths({file}, {out});
   tt::warn_stale_temporaries(verb, {out});
   terrain::check_output_path(out);

@@ -152,6 +152,10 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   const rr::ResolvedFrame f = rr::resolve_frame(s, scene.mesh, given);
   if (!f.description.empty()) tt::step(verb, f.description);
   const rr::FrameParams& fp = f.frame;
+  const std::vector<std::string> files = rr::frame_files(out, fp.camera.orthographic);  // with a map's world file
+  tt::check_distinct_paths({mesh, dv}, files);
+  tt::warn_stale_temporaries(verb, {files.begin() + 1, files.end()});
+  for (const std::string& file : files) terrain::check_output_path(file);
   focus(scene, {fp.camera}, s, f.style, dv, verb, true);
   auto t0 = Clock::now();
   rr::GlContext ctx;
@@ -162,6 +166,8 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   t0 = Clock::now();
   const rr::FrameResult res = r.render(fp);
   tt::step(verb, fmt::format("frame: {:.0f} ms", 1e3 * since(t0)));
+  if (const std::string why = rr::no_terrain_problem(scene.mesh, res.view, f.style.exaggeration); !why.empty())
+    throw terrain::Error(why);
   rr::TracedHachures traced;  // traced once: for the file and for --line-stats
   const rr::WriteTimes wt = rr::write_frame_files({out}, scene, r, res, f, o.vector, prov + "; " + exaggeration,
                                                   a.line_stats ? &traced : nullptr);
@@ -259,10 +265,15 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   std::vector<Eigen::Vector3f> previous_hachures;  // the last frame's, on the surface
   rr::Coherence coherence;
   const auto progress = tt::terminal_progress(verb, "render");
+  std::size_t blank = 0;  // frames that show no terrain
   for (std::size_t i = 0; i < frames.size(); ++i) {
     f.frame = frames[i];
     const rr::FrameResult res = r.render(f.frame);
     timings.push_back(res.timings);
+    if (const std::string why = rr::no_terrain_problem(scene.mesh, res.view, f.style.exaggeration); !why.empty()) {
+      tt::warn(verb, fmt::format("{}: frame {}: {}", csv, i + 1, why));
+      ++blank;
+    }
     std::vector<std::string> paths;
     for (const std::string& format : formats) paths.push_back((dir / frame_name(i, format)).string());
     rr::TracedHachures traced;  // traced once: for the files and for --line-stats
@@ -285,6 +296,7 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   if (a.line_stats) terrain::write_file_atomic(dir / "line_stats.csv", stats_csv);
   std::cout << "output: " << out_dir << "\nframes: " << frames.size() << "\nsize: " << s.width << " x " << s.height
             << "\n";
+  if (blank > 0) std::cout << "frames without terrain: " << blank << "\n";
   print_device(ctx);
   std::cout << rr::timing_tables(timings);
   if (a.line_stats) std::cout << fmt::format("crease flicker: {:.4f}\n", rr::flicker(drawn, pixels));

@@ -255,12 +255,13 @@ class Viewer {
     else if (!path.ends_with(".png"))
       throw terrain::Error("a screenshot is a PNG image: give a .png name, not '" + path + "' (save-view also writes .svg "
                            "and .pdf)");
-    check_output(with_command ? std::vector<std::string>{path, path + ".txt", path + ".csv"}
-                              : std::vector<std::string>{path});
-    bring_up_to_date();
     rr::RenderSettings at = s_;
     if (!size.empty()) rr::set_option(at, *rr::find_option("size"), size);
     const rr::ResolvedFrame f = rr::drawn_frame(at);
+    std::vector<std::string> files = rr::frame_files(path, f.frame.camera.orthographic);  // with a map's world file
+    if (with_command) files.insert(files.end(), {path + ".txt", path + ".csv"});
+    check_output(files);
+    bring_up_to_date();
     const std::string cmd = command_line(path, at);
     const auto write = [&](const rr::TerrainRenderer& r) {
       (void)rr::write_frame_files({path}, scene_, r, last_, f, {}, "terrain-view: " + cmd);

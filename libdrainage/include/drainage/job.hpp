@@ -54,6 +54,7 @@ struct RunSummary {
   std::size_t pn_fallbacks = 0;                              // mesh mode: samples on the flat triangle
   std::vector<Watershed> watersheds;
   std::vector<std::pair<std::string, double>> timings;      // seconds per step, for -v
+  std::vector<std::string> warnings;                         // for the tool to print
 };
 
 // A progress callback for a step named `label` (the tool's terminal progress).

@@ -9,12 +9,14 @@
 //     comment origin <x> <y> <z>                  world = origin + local (CRS units)
 //     comment crs_epsg <code>                     0 when unknown
 //     comment crs_wkt <text>                      WKT2, split over lines of <= 200 chars
+//     comment mesh_digest <16 hex digits>         XXH3-64 of the vertices (mesh_digest.hpp)
 //     comment normals_fitted <rmse_before> <max_before> <rmse_after> <max_after> <samples>
 //                                                 only for fitted normals (fit_normals.hpp)
 //     comment provenance <text>                   tool, version and command line
 // The PLY body is written and read by OpenMesh's PLY codec through an exporter and an
 // importer over our arrays (no half-edge mesh is built); the comment lines are added to
 // and read from the header text around it. Documented in docs/formats.md.
+#include <cstdint>
 #include <memory>
 #include <functional>
 #include <optional>
@@ -41,11 +43,12 @@ GridMesh read_mesh_ply(const std::string& path);
 // The mesh of `ply_path` read from the mesh pyramid beside it (pyramid_path_of; dem2mesh
 // --pyramid), which holds the same vertices in zstd tiles read in parallel, with its levels
 // of detail (the blocks and their errors): of the PLY only the header is read (the grid,
-// the georeference, the provenance). Used only when the pyramid is current: not older than
-// the PLY, of the same grid and georeference, and the PLY has no vertex or face data the
-// pyramid does not keep (Voronoi weights, normal change, filled flags). Otherwise nullopt,
-// and `why` says why (empty when there is no pyramid at all). Throws Error on a bad PLY
-// header or a damaged pyramid.
+// the georeference, the provenance). Used only when the pyramid is the PLY's: both state the
+// same digest of the mesh's vertices (mesh_digest.hpp, written by dem2mesh into both), of
+// the same grid and georeference, and the PLY has no vertex or face data the pyramid does
+// not keep (Voronoi weights, normal change, filled flags). Otherwise nullopt, and `why`
+// says why (empty when there is no pyramid at all). Throws Error on a bad PLY header or a
+// damaged pyramid.
 //
 // `part`, when given, picks the pyramid level read as the mesh from the open pyramid (its
 // grid sizes; 0: the mesh itself): level l's grid, every 2^l-th row and column and the
@@ -69,14 +72,18 @@ struct PyramidPart {
 struct PyramidMesh {
   GridMesh mesh;
   MeshLevels levels;
+  std::uint64_t digest = 0;  // the mesh's and the pyramid's (mesh_digest.hpp)
 };
 std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, std::string& why,
                                                  const std::function<PyramidPart(const MeshPyramid&)>& part = {});
 // A terrain mesh as the tools read it: from its pyramid when that is current
 // (read_mesh_via_pyramid), else from the PLY (read_mesh_ply). `source` says which, and why
 // not the pyramid: "'MESH.tpyr' (its pyramid)", "the PLY", "the PLY: <why>". `levels`,
-// when given, receives the pyramid's levels of detail (left empty from a PLY).
-GridMesh read_terrain_mesh(const std::string& ply_path, std::string* source = nullptr, MeshLevels* levels = nullptr);
+// when given, receives the pyramid's levels of detail (left empty from a PLY). `warning`,
+// when given, receives why a pyramid beside the PLY was not used (empty when none is there
+// or it was used): the tools print it.
+GridMesh read_terrain_mesh(const std::string& ply_path, std::string* source = nullptr, MeshLevels* levels = nullptr,
+                           std::string* warning = nullptr);
 
 // A terrain PLY written row by row, for meshes larger than memory (dem2mesh --tile-size):
 // the header of `header` (its grid, georeference, provenance; its vertex arrays are not

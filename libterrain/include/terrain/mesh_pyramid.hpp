@@ -16,6 +16,7 @@
 
 #include "terrain/atomic_file.hpp"
 #include "terrain/grid_mesh.hpp"
+#include "terrain/mesh_digest.hpp"
 
 struct ZSTD_DCtx_s;
 typedef struct ZSTD_DCtx_s ZSTD_DCtx;
@@ -123,6 +124,7 @@ class MeshPyramidWriter {
   MeshLevels levels_;
   std::vector<std::unique_ptr<Level>> grids_;
   std::size_t row_ = 0, block_rows_measured_ = 0;
+  MeshDigest digest_;  // of the rows given: the mesh's (mesh_digest.hpp)
   std::uint64_t header_bytes_ = 0;
   std::unique_ptr<AtomicFile> file_;
   std::fstream out_;
@@ -148,11 +150,22 @@ struct MeshWindow {
 };
 
 // A pyramid file opened for windowed reads: the header, the blocks and the tile index are
-// read at once; tiles only when a window needs them, and only those.
+// read at once and checked (every count and size against the file's size before anything
+// is allocated, the grid and georeference as a mesh's header, the boxes, errors and slopes
+// as their definitions allow, and from version 3 the header's CRC-32); tiles only when a
+// window needs them, and only those, each checked by its CRC-32 and against its blocks'
+// boxes. Every read goes through the one descriptor opened here: a file renamed over the
+// path meanwhile is not seen.
 class MeshPyramid {
  public:
   explicit MeshPyramid(const std::string& path);  // terrain::Error on a bad file
+  ~MeshPyramid();
+  MeshPyramid(const MeshPyramid&) = delete;
+  MeshPyramid& operator=(const MeshPyramid&) = delete;
   const MeshGeoref& georef() const { return geo_; }  // the mesh's
+  int version() const { return version_; }
+  // The digest of the mesh it was made from (mesh_digest.hpp); none before version 3.
+  std::optional<std::uint64_t> digest() const { return digest_; }
   const GridTopology& topology() const { return levels_.topo; }
   const MeshLevels& levels() const { return levels_; }
   int level_count() const { return int(tiles_.size()); }
@@ -174,6 +187,9 @@ class MeshPyramid {
   std::size_t tiles_read() const { return tiles_read_; }
   // The stored bytes of tile (tr, tc) of level l.
   std::uint32_t tile_bytes(int l, std::size_t tr, std::size_t tc) const;
+  // Decodes and checks every tile of every level (terrain::Error on the first bad one);
+  // returns how many.
+  std::size_t check_tiles();
 
  private:
   struct Tile {
@@ -184,11 +200,16 @@ class MeshPyramid {
     std::size_t tiles_r = 0, tiles_c = 0;
     std::vector<Tile> tiles;
   };
-  // Tile (tr, tc) of level l read from `f` and checked: positions, then normals; its
-  // stored bytes added to `bytes`.
-  std::vector<Eigen::Vector3f> decode_tile(int l, std::size_t tr, std::size_t tc, std::ifstream& f, ZSTD_DCtx* ctx,
+  // Tile (tr, tc) of level l read and checked: positions, then normals; its stored bytes
+  // added to `bytes`.
+  std::vector<Eigen::Vector3f> decode_tile(int l, std::size_t tr, std::size_t tc, ZSTD_DCtx* ctx,
                                            std::uint64_t& bytes) const;
+  void read_header(std::uint64_t size);
+  void read_at(void* to, std::size_t n, std::uint64_t offset) const;  // n bytes at offset, or Error
   std::string path_;
+  int fd_ = -1;
+  int version_ = 0;
+  std::optional<std::uint64_t> digest_;
   MeshGeoref geo_;
   MeshLevels levels_;
   std::vector<LevelTiles> tiles_;

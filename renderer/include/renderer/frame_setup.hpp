@@ -81,4 +81,18 @@ void check_vector_memory(const GlContext& ctx, int width, int height);
 // The output extensions a frame can be written as: .png, .svg or .pdf; throws otherwise.
 void check_frame_path(const std::string& path);
 
+// About the share of the frame's pixels that show the terrain: the box, clipped to the
+// frame, of the mesh's vertices (up to 129 x 129 of them, heights exaggerated by `e`)
+// projected in front of the eye; 0 when none is.
+double terrain_share(const terrain::GridMesh& mesh, const View& view, double e);
+// Empty when the frame shows the terrain (a share of kMinTerrainShare or more); else why not
+// and what to change, one line.
+inline constexpr double kMinTerrainShare = 1e-3;
+std::string no_terrain_problem(const terrain::GridMesh& mesh, const View& view, double e);
+
+// The files a frame written to `path` makes: the file and, for a map (`map`: the
+// orthographic top view) written as a PNG, its world file beside it (NAME.pgw). The PNG and
+// its world file land together or not at all. Tools check all of them against their inputs.
+std::vector<std::string> frame_files(const std::string& path, bool map);
+
 }  // namespace renderer

@@ -153,7 +153,9 @@ struct PlanView {
   double x0 = 0, y0 = 0, scale = 1;  // local coordinates of the top-left corner; metres a pixel
   int width = 0, height = 0;
 };
-// Throws terrain::Error for a scale <= 0 or a map of more than 2^31 pixels.
+// Throws terrain::Error for a scale <= 0, a map of more than 2^31 pixels, or one whose
+// longer side is under kMinPlanSide pixels (nothing of the terrain would show).
+inline constexpr double kMinPlanSide = 16;
 PlanView plan_view(const terrain::GridMesh& mesh, double scale);
 inline Eigen::Vector2d plan_to_local(const PlanView& p, const Eigen::Vector2f& px) {
   return {p.x0 + double(px.x()) * p.scale, p.y0 - double(px.y()) * p.scale};

@@ -33,6 +33,11 @@ struct PlanHachures {
 // 2, 2.5 or 5 times a power of ten metres a pixel (MSH: 2.5 m, Logan: 100 m).
 double default_plan_scale(const terrain::GridMesh& mesh);
 
+// Throws terrain::Error, before anything is allocated, when the map would not fit in the
+// memory available now (terrain::check_memory), naming the --scale that fits.
+void check_plan_memory(const PlanView& plan);
+
+// The map's hachures (plan_view's size; check_plan_memory first).
 PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptions& o);
 
 // The map's geotransform, GDAL's order: x0, scale, 0, y0, 0, -scale (world coordinates).

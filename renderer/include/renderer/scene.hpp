@@ -31,6 +31,9 @@ struct Scene {
   // its pyramid: what refocus_scene and cover_view plan on while a coarser level or a window
   // of it is held.
   std::shared_ptr<const LodHierarchy> mesh_levels;
+  // The digest of the mesh and pyramid read (terrain::PyramidMesh): a later read of the
+  // pyramid must find the same pair.
+  std::optional<std::uint64_t> digest;
   std::optional<CreaseGeometry> creases;  // with a database
   SegmentTraits traits;                   // of the creases' segments
   SegmentChains chains;                   // the strokes they follow, as the DM pass holds them

@@ -102,13 +102,23 @@ struct Tracer {
   }
   bool free(const Vector2f& p, long self, long r) const { return !occupied.near(p, rule.test_share, spacing(p), self, r); }
 
-  // From `seed` along the fall line (sign +1 downhill, -1 uphill), the points after it.
+  // From `seed` along the fall line (sign +1 downhill, -1 uphill), the points after it. A
+  // trace ends within twice the frame's diagonal, and where it comes back to where it was
+  // (a fall line that loops, on a surface steeper than the field resolves).
   std::vector<Vector2f> run(const Vector2f& seed, float sign, long self, double length) const {
     constexpr float kStep = 0.5f;
+    constexpr std::size_t kLoopSteps = 4;  // a point this many steps back is not its neighbour
     std::vector<Vector2f> out;
     Vector2f p = seed, last = sign * fall_at(f, seed);
     const long r = row(seed);
-    while (length < rule.max_length) {
+    const double longest = std::min(rule.max_length, 2.0 * std::hypot(double(f.width), double(f.height)));
+    static thread_local std::unordered_map<std::uint64_t, std::size_t> visited;  // half-pixel cell -> its last point
+    visited.clear();
+    const auto cell = [](const Vector2f& q) {
+      return (std::uint64_t(std::uint32_t(long(2 * q.x()))) << 32) | std::uint32_t(long(2 * q.y()));
+    };
+    visited[cell(seed)] = 0;
+    while (length < longest) {
       const Vector2f d1 = sign * fall_at(f, p);
       const Vector2f mid = p + 0.5f * kStep * d1;
       if (!usable(mid)) break;
@@ -120,6 +130,9 @@ struct Tracer {
         if (!out.empty()) out.pop_back();
         break;
       }
+      const auto [it, fresh] = visited.try_emplace(cell(next), out.size() + 1);
+      if (!fresh && out.size() + 1 - it->second > kLoopSteps) break;  // back where it was
+      it->second = out.size() + 1;
       out.push_back(next);
       p = next, last = d2, length += kStep;
     }
@@ -232,7 +245,11 @@ PlanView plan_view(const terrain::GridMesh& mesh, double scale) {
   p.scale = scale;
   const double pw = std::ceil(w / scale), ph = std::ceil(h / scale);
   if (pw * ph > double(std::numeric_limits<int>::max()) || pw < 1 || ph < 1)
-    throw terrain::Error(fmt::format("a map of {:.0f} x {:.0f} pixels at {} m a pixel is too large", pw, ph, scale));
+    throw terrain::Error(fmt::format("a map of {:.0f} x {:.0f} pixels at {:g} m a pixel is too large", pw, ph, scale));
+  if (std::max(pw, ph) < kMinPlanSide)
+    throw terrain::Error(fmt::format("a map of {:.0f} x {:.0f} pixels at {:g} m a pixel is too small to show the "
+                                     "terrain: give a --scale of at most {:.3g}",
+                                     pw, ph, scale, std::max(w, h) / kMinPlanSide));
   p.width = int(pw), p.height = int(ph);
   p.x0 = 0.5 * (w - pw * scale), p.y0 = -0.5 * (h - ph * scale);  // centred on the mesh
   return p;

@@ -103,7 +103,10 @@ void add_frame_options(std::vector<OptionSpec>& t, const GroupNames& g) {
   t.push_back(choice(
       "size", frame, OptionType::Size, {}, "1280x720", "Image size WIDTHxHEIGHT in pixels",
       [](const RenderSettings& s) { return fmt::format("{}x{}", s.width, s.height); },
-      [](RenderSettings& s, const std::string& v) { std::sscanf(v.c_str(), "%dx%d", &s.width, &s.height); }));
+      [](RenderSettings& s, const std::string& v) {  // checked by set_option: WxH or WXH
+        char x = 0;
+        std::sscanf(v.c_str(), "%d%c%d", &s.width, &x, &s.height);
+      }));
   t.push_back(number(
       "line-scale", frame, 0.1, 20, "", "1",
       "Every line width (creases, silhouettes, PELs, edges) and the crease strokes' pixel lengths (hidden gap, "
