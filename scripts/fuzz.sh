@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-600}
 shift || true
 harnesses=("$@")
-[ ${#harnesses[@]} -gt 0 ] || harnesses=(dv ply frames d8 points)
+[ ${#harnesses[@]} -gt 0 ] || harnesses=(dv ply frames d8 points pyramid)
 scripts/install-deps.sh >/dev/null
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTERRAIN_FUZZ=ON \
   -DTERRAIN_SANITIZE=address,undefined -DTERRAIN_BUILD_TESTS=OFF >/dev/null

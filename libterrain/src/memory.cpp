@@ -48,7 +48,7 @@ double available_memory() {
     char* end = nullptr;
     const double mib = std::strtod(cap, &end);
     if (end == cap || *end != '\0' || !(mib >= 1.0 && mib <= kMaxMemoryMib))
-      throw Error(fmt::format("TERRAIN_MEMORY_MIB='{}' is not a number of MiB from 1 to {:g}", cap, kMaxMemoryMib));
+      throw Error(fmt::format("TERRAIN_MEMORY_MIB='{}' is not a number of MiB from 1 to {:.0f}", cap, kMaxMemoryMib));
     available = std::min(available > 0.0 ? available : mib * 1048576.0, mib * 1048576.0);
   }
   return available;

@@ -406,6 +406,38 @@ bool is_mesh_pyramid(const std::string& path) {
   return f.read(m, 8) && std::memcmp(m, kMagic, 8) == 0;
 }
 
+void pyramid_fix_checksums(std::string& bytes) {
+  const auto get = [&](std::size_t at, auto v) {
+    if (at + sizeof v <= bytes.size()) std::memcpy(&v, bytes.data() + at, sizeof v);
+    return v;
+  };
+  std::uint32_t version = get(8, std::uint32_t(0));
+  const std::uint64_t header = get(12, std::uint64_t(0));
+  if (bytes.size() < 20 || version != 3 || header < 24 || header > bytes.size()) return;
+  const std::uint64_t B = get(20, std::uint32_t(0)), rows = get(24, std::uint64_t(0)), cols = get(32, std::uint64_t(0));
+  if (B < 2 || rows < 2 || cols < 2 || rows > (1u << 30) || cols > (1u << 30)) return;
+  std::uint64_t at = 84;  // after magic, version, size, B, grid, georeference, EPSG
+  at += 4 + std::uint64_t(get(at, std::uint32_t(0))) + 8;  // the CRS, the digest
+  const std::uint32_t n_levels = get(at, std::uint32_t(0));
+  at += 4;
+  const std::uint64_t n_blocks = ((rows - 1 + B - 1) / B) * ((cols - 1 + B - 1) / B);
+  for (std::uint64_t k = 0; k < n_blocks && at < header; ++k) at += 28 + 8 * std::uint64_t(get(at + 24, std::uint32_t(0)));
+  for (std::uint32_t l = 0; l < n_levels && at + 16 <= header - 4; ++l) {
+    const std::uint64_t tiles = get(at, std::uint64_t(0)) * get(at + 8, std::uint64_t(0));
+    at += 16;
+    for (std::uint64_t t = 0; t < tiles && at + 16 <= header - 4; ++t, at += 16) {
+      const std::uint64_t offset = get(at, std::uint64_t(0));
+      const std::uint32_t n = get(at + 8, std::uint32_t(0));
+      if (offset <= bytes.size() && n <= bytes.size() - offset) {
+        const std::uint32_t crc = crc_of(bytes.substr(std::size_t(offset), n));
+        std::memcpy(bytes.data() + at + 12, &crc, 4);
+      }
+    }
+  }
+  const std::uint32_t crc = crc_of(bytes.substr(0, std::size_t(header - 4)));
+  std::memcpy(bytes.data() + header - 4, &crc, 4);
+}
+
 std::string pyramid_path_of(const std::string& mesh_path) {
   return (mesh_path.ends_with(".ply") ? mesh_path.substr(0, mesh_path.size() - 4) : mesh_path) + ".tpyr";
 }

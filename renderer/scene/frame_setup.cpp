@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <optional>
 
@@ -68,13 +69,21 @@ void check_frame_path(const std::string& path) {
 
 double terrain_share(const terrain::GridMesh& mesh, const View& view, double e) {
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
-  const std::size_t sr = std::max<std::size_t>(1, (rows - 1) / 128), sc = std::max<std::size_t>(1, (cols - 1) / 128);
-  double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300;
+  const std::size_t sr = std::max<std::size_t>(1, (rows - 1) / 256), sc = std::max<std::size_t>(1, (cols - 1) / 256);
+  // The frame's cells of kCell x kCell pixels that a vertex facing the eye projects into.
+  constexpr int kCell = 16;
+  const int cw = (view.width + kCell - 1) / kCell, ch = (view.height + kCell - 1) / kCell;
+  std::vector<std::uint8_t> hit(std::size_t(cw) * std::size_t(ch), 0);
   const auto take = [&](std::size_t r, std::size_t c) {
     const Eigen::Vector3f& p = mesh.positions[r * cols + c];
-    const Projected q = project(view, Eigen::Vector3d(p.x(), p.y(), double(p.z()) * e));
-    if (!q.in_front || !std::isfinite(q.u) || !std::isfinite(q.v)) return;
-    u0 = std::min(u0, q.u), v0 = std::min(v0, q.v), u1 = std::max(u1, q.u), v1 = std::max(v1, q.v);
+    const Eigen::Vector3d x(p.x(), p.y(), double(p.z()) * e);
+    const Eigen::Vector3f& n = mesh.normals[r * cols + c];
+    const Eigen::Vector3d ne(n.x(), n.y(), double(n.z()) / e);  // the drawn surface's
+    const Eigen::Vector3d to_eye = view.orthographic() ? Eigen::Vector3d(-view.forward) : Eigen::Vector3d(view.eye - x);
+    if (to_eye.dot(ne) <= 0) return;  // seen from behind (from below the terrain)
+    const Projected q = project(view, x);
+    if (!q.in_front || !(q.u >= 0 && q.u < view.width && q.v >= 0 && q.v < view.height)) return;
+    hit[std::size_t(int(q.v) / kCell) * std::size_t(cw) + std::size_t(int(q.u) / kCell)] = 1;
   };
   const auto lines = [](std::size_t n, std::size_t step) {  // 0, step, 2 step, ... and n - 1
     std::vector<std::size_t> v;
@@ -85,25 +94,32 @@ double terrain_share(const terrain::GridMesh& mesh, const View& view, double e) 
   const std::vector<std::size_t> rs = lines(rows, sr), cs = lines(cols, sc);
   for (const std::size_t r : rs)
     for (const std::size_t c : cs) take(r, c);
-  const double w = std::min(u1, double(view.width)) - std::max(u0, 0.0),
-               h = std::min(v1, double(view.height)) - std::max(v0, 0.0);
-  if (!(w > 0 && h > 0)) return 0;
-  return std::max(w, 1.0) * std::max(h, 1.0) / (double(view.width) * double(view.height));
+  return double(std::count(hit.begin(), hit.end(), 1)) / double(hit.size());
 }
 
 std::string no_terrain_problem(const terrain::GridMesh& mesh, const View& view, double e) {
+  if (!view.orthographic()) {  // an eye below the lowest vertex sees the terrain's underside
+    float lowest = std::numeric_limits<float>::infinity();
+    for (const Eigen::Vector3f& p : mesh.positions) lowest = std::min(lowest, p.z());
+    if (view.eye.z() < double(lowest) * e)
+      return fmt::format("the eye lies {:.0f} m below the terrain's lowest point and sees only its underside: look "
+                         "down at it (a --view-alt above 0), or give an --eye above it",
+                         double(lowest) * e - view.eye.z());
+  }
   const double share = terrain_share(mesh, view, e);
   if (share >= kMinTerrainShare) return {};
   const std::string what = fmt::format("the frame shows {} of the terrain (about {:.2g} % of its {} x {} pixels)",
                                        share > 0 ? "almost nothing" : "nothing", 100 * share, view.width, view.height);
   if (view.orthographic() && share == 0)
     return what + ": the map's centre (--eye) lies off the terrain; move it onto the terrain, or give no --eye";
-  if (view.orthographic())
-    return what + fmt::format(": --map-scale {:g} is too coarse; give {:.3g} or less", view.map_scale,
-                              view.map_scale * std::sqrt(std::max(share, 1e-12) / 0.25));
+  if (view.orthographic()) {  // the scale at which the terrain's extent fills the frame
+    const double fill = std::max(double(mesh.topo.cols - 1) * mesh.geo.dx / view.width,
+                                 double(mesh.topo.rows - 1) * mesh.geo.dy / view.height);
+    return what + fmt::format(": --map-scale {:g} is too coarse; give {:.3g} or less", view.map_scale, fill);
+  }
   if (share > 0) return what + ": the eye is too far from it; bring --eye nearer or give a narrower --fov";
-  return what + ": the view looks away from it; turn it toward the terrain (--view-az, --view-alt), or give no "
-                "camera options for the automatic view";
+  return what + ": the view looks away from it, or at it from below; turn it toward the terrain from above "
+                "(--eye, --view-az, --view-alt), or give no camera options for the automatic view";
 }
 
 std::vector<std::string> frame_files(const std::string& path, bool map) {

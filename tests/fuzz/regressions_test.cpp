@@ -15,6 +15,7 @@
 #include "drainage/rasters.hpp"
 #include "mesh_target.hpp"
 #include "points_target.hpp"
+#include "pyramid_target.hpp"
 #include "renderer/frames.hpp"
 #include "terrain/error.hpp"
 #include "terrain/mesh_io.hpp"
@@ -56,6 +57,40 @@ std::string slurp(const std::string& path) {
 TEST(FuzzRegressions, MeshReader) {
   read_all("ply", [](const std::string& p) { terrain::fuzz::mesh_target(p); });
   for (const fs::path& p : files("corpus/ply")) EXPECT_NO_THROW(terrain::fuzz::mesh_target(p.string())) << p;
+}
+
+// The crafted pyramids of the probe (regressions/pyramid/README) and what the
+// fuzzer found: each refused with a terrain::Error, never a crash or a huge allocation.
+TEST(FuzzRegressions, PyramidReader) {
+  const fs::path scratch = fs::temp_directory_path() / ("fuzz_regression_" + std::to_string(::getpid()) + ".tpyr");
+  // The crafted cases (make_pyramid_regressions.py), each with the check that refuses it.
+  const std::vector<std::pair<std::string, std::string>> crafted = {
+      {"block_levels_max", "corrupt mesh pyramid (a block's levels)"},
+      {"levels_max", "corrupt mesh pyramid (its levels)"},
+      {"tiny_blocks_big_grid", "truncated mesh pyramid"},
+      {"origin_inf", "corrupt mesh pyramid (its georeference)"},
+      {"box_zero", "are not in its block's box"},
+      {"error_nan", "corrupt mesh pyramid (a block's errors)"},
+      {"wkt_huge", "truncated mesh pyramid"},
+      {"version_0", "corrupt mesh pyramid (version 0)"},
+      {"version_99", "mesh pyramid version 99 is newer than this tool's (3)"},
+      {"header_past_end", "truncated mesh pyramid"},
+      {"truncated", "truncated mesh pyramid"},
+  };
+  for (const auto& [name, why] : crafted) {
+    const std::string p = std::string(TERRAIN_FUZZ_DIR) + "/regressions/pyramid/crafted_" + name + ".tpyr";
+    try {
+      terrain::fuzz::pyramid_target(slurp(p), scratch.string());
+      ADD_FAILURE() << name << ": read";
+    } catch (const terrain::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << name << ": " << e.what();
+    }
+  }
+  EXPECT_EQ(read_all("pyramid", [&](const std::string& p) { terrain::fuzz::pyramid_target(slurp(p), scratch.string()); }),
+            0u);
+  for (const fs::path& p : files("corpus/pyramid"))
+    EXPECT_NO_THROW(terrain::fuzz::pyramid_target(slurp(p.string()), scratch.string())) << p;
+  fs::remove(scratch);
 }
 
 TEST(FuzzRegressions, DvReader) {

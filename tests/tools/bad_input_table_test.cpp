@@ -236,6 +236,20 @@ class BadInput : public ::testing::TestWithParam<Row> {
     std::ofstream(in("line_stats.csv")) << "view_az,view_alt\n200,30\n";  // a frames CSV named like batch's output
     fs::create_directories(in("meshdir"));
     fs::copy_file(in("m.ply"), in("meshdir/frame_00000.png"));  // a mesh named like batch's first frame
+    // Issue 63: a mesh and a .dv named like a map's world file; a file named like a
+    // GeoPackage that is not one; a pyramid with a damaged tile and one of version 0.
+    fs::copy_file(in("m.ply"), in("map.pgw"));
+    fs::copy_file(in("m.dv"), in("dvmap.pgw"));
+    std::ofstream(in("notgpkg.gpkg")) << "not a GeoPackage\n";
+    sh(tool("dem2mesh") + " " + msh + " " + in("p.ply") + " --spacing 50 --pyramid -q");
+    {
+      std::string bytes = terrain::test::file_bytes(in("p.tpyr"));
+      bytes[bytes.size() - 50] ^= 0x5a;  // in the last tile
+      std::ofstream(in("flipped_tile.tpyr"), std::ios::binary) << bytes;
+      bytes = terrain::test::file_bytes(in("p.tpyr"));
+      bytes[8] = 0;  // the version
+      std::ofstream(in("version0.tpyr"), std::ios::binary) << bytes;
+    }
     // Issue 48: rough, degree-valued and too-wide DEMs; outlets in degrees; crafted headers.
     {
       std::vector<float> checker(40 * 40);
@@ -276,6 +290,8 @@ class BadInput : public ::testing::TestWithParam<Row> {
     auto replay = [&](const std::string& name, const std::string& text) { std::ofstream(in(name)) << text; };
     auto at = [&](const std::string& n) { return final + n; };
     replay("r_shot_mesh.txt", "screenshot " + at("meshdir/frame_00000.png") + "\nquit\n");
+    replay("r_top.pgw", "screenshot " + at("r_top.png") + "\nquit\n");      // its own world file
+    replay("r_top_mesh.txt", "save-view " + at("map.png") + "\nquit\n");  // the mesh's name
     replay("r_window_mesh.txt", "window-shot " + at("meshdir/frame_00000.png") + "\nquit\n");
     replay("r_view_frames.txt", "save-view " + at("shot.png") + "\nquit\n");
     replay("r_keys_self.txt", "keyframe\norbit 30 0\nkeyframe\nsave-keyframes " + at("r_keys_self.txt") + "\n");
@@ -563,7 +579,35 @@ INSTANTIATE_TEST_SUITE_P(
         Row{tv + "IN/m.ply IN/m.dv --replay IN/r_shot_nopath.txt", 1, "expected screenshot PATH [WxH]"},
         Row{tv + "IN/m.ply IN/m.dv --replay IN/r_shot_svg.txt", 1, "give a .png name"},
         Row{tv + "IN/m.ply IN/m.dv --replay IN/r_binary.txt", 1, "replay line 1: unknown replay command '????"},
-        Row{tv + "IN/m.ply IN/m.dv --frames IN/far_eye.csv --replay IN/r_alt.txt", 1, "far_eye.csv: frame 1: the eye"}),
+        Row{tv + "IN/m.ply IN/m.dv --frames IN/far_eye.csv --replay IN/r_alt.txt", 1, "far_eye.csv: frame 1: the eye"},
+        // issue 63: a map's world file is an output; GeoPackages; pictures without terrain; messages
+        Row{tr + "frame IN/map.pgw IN/m.dv --view top -o IN/map.png -q", 1, "map.pgw' is the input"},
+        Row{tr + "frame IN/m.ply IN/dvmap.pgw --view top -o IN/dvmap.png -q", 1, "dvmap.pgw' is the input"},
+        Row{tv + "IN/m.ply IN/m.dv --view top --replay IN/r_top.pgw", 1, "r_top.pgw' is the input"},
+        Row{tv + "IN/map.pgw IN/m.dv --view top --replay IN/r_top_mesh.txt", 1, "map.pgw' is the input"},
+        Row{ti + "export IN/m.dv --to gpkg -o OUT/x.png", 1, "give -o a name ending in .gpkg, not"},
+        Row{ti + "export IN/m.ply --to gpkg -o OUT/x.png", 1, "give -o a name ending in .gpkg, not"},
+        Row{ti + "export IN/m.dv --to gpkg -o IN/notgpkg.gpkg", 1, "it exists and is not a GeoPackage"},
+        Row{ti + "export IN/m.ply --to svg --scale 1e6 -o OUT/s.svg", 1, "too small to show the terrain: give a --scale"},
+        Row{ti + "export IN/m.ply --to pdf --scale 1e6 -o OUT/s.pdf", 1, "too small to show the terrain"},
+        Row{"env TERRAIN_MEMORY_MIB=200 " + ti + "export IN/m.ply --to svg --scale 0.08 -o OUT/s.svg", 1,
+            "more than this machine's memory available now (200.0 MiB); give --scale"},
+        Row{tr + "frame IN/m.ply IN/m.dv --view top --map-scale 1e4 -o OUT/f.png -q", 1,
+            "--map-scale 10000 is too coarse; give"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --view-alt -60 -q", 1, "sees only its underside"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --eye 562500 5117000 4000 --view-alt -60 -q", 1,
+            "the frame shows nothing of the terrain"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --eye 1562500 5117000 5000 --view-alt 0 --view-az 270 -q", 1,
+            "the eye is too far from it"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --size 320X240", 0, "size: 320 x 240"},
+        Row{bd + "IN/m.ply OUT/o.dv --breach -1", 2, "--breach: '-1' is not a non-negative number (see"},
+        Row{"env TERRAIN_MEMORY_MIB=abc " + bd + "IN/m.ply OUT/o.dv -q", 1, "TERRAIN_MEMORY_MIB='abc' is not a number"},
+        Row{"env TERRAIN_MEMORY_MIB=-5 " + d2m + msh + "OUT/o.ply -q", 1, "TERRAIN_MEMORY_MIB='-5' is not a number"},
+        Row{"env TERRAIN_MEMORY_MIB=1e99 " + ti + "info IN/m.ply", 1, "TERRAIN_MEMORY_MIB='1e99' is not a number"},
+        Row{"env TERRAIN_MEMORY_MIB=1 " + d2m + msh + "OUT/o.ply -q", 1, "memory available now (1.0 MiB)"},
+        Row{ti + "info IN/flipped_tile.tpyr", 1, "is corrupt (its checksum)"},
+        Row{ti + "info IN/version0.tpyr", 1, "corrupt mesh pyramid (version 0)"},
+        Row{ti + "info IN/p.tpyr", 0, "tiles_checked: "}),
     row_name);
 
 }  // namespace

@@ -141,6 +141,12 @@ std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const std::string& path, 
 // Whether the file at `path` starts as a mesh pyramid does (by content, not by name).
 bool is_mesh_pyramid(const std::string& path);
 
+// Sets every checksum of a pyramid image (version 3) to match its bytes: each tile's CRC in
+// the index (where the index and the tile lie inside the image), then the header's. For
+// fuzzing and tests that patch a file; an image that does not hold a version-3 header's
+// fields is left as it is.
+void pyramid_fix_checksums(std::string& bytes);
+
 // The pyramid's path beside a mesh: MESH.ply -> MESH.tpyr.
 std::string pyramid_path_of(const std::string& mesh_path);
 

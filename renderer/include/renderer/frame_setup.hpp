@@ -81,9 +81,9 @@ void check_vector_memory(const GlContext& ctx, int width, int height);
 // The output extensions a frame can be written as: .png, .svg or .pdf; throws otherwise.
 void check_frame_path(const std::string& path);
 
-// About the share of the frame's pixels that show the terrain: the box, clipped to the
-// frame, of the mesh's vertices (up to 129 x 129 of them, heights exaggerated by `e`)
-// projected in front of the eye; 0 when none is.
+// About the share of the frame that shows the terrain: of its cells of 16 x 16 pixels,
+// those that a vertex of the mesh (up to 257 x 257 of them, heights exaggerated by `e`)
+// facing the eye projects into.
 double terrain_share(const terrain::GridMesh& mesh, const View& view, double e);
 // Empty when the frame shows the terrain (a share of kMinTerrainShare or more); else why not
 // and what to change, one line.
