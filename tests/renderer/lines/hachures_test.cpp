@@ -80,6 +80,37 @@ TEST(Hachures, FollowTheFallLineAtAnEvenSpacing) {
   EXPECT_LT(length, 1.5 * 160 * 120 / 8);
 }
 
+// A fall line that loops (a field turning about the centre, as a surface steeper than the
+// field resolves gives: issue 63's tracer ran to the 1e9-pixel cap, 9 GB in 4 minutes):
+// every trace ends, none is longer than twice the frame's diagonal, and none comes back to
+// where it was: it turns by at most about one turn each way from its seed (a trace that
+// went on would turn once a lap).
+TEST(Hachures, ALoopingFallLineEnds) {
+  HachureField f = field(200, 160, Vector2f(1, 0), [](int, int) { return 1.2f; }, [](int, int) { return 1.0f; });
+  for (int v = 0; v < f.height; ++v)
+    for (int u = 0; u < f.width; ++u) {
+      const Vector2f r(float(u) + 0.5f - 100.0f, float(v) + 0.5f - 80.0f);
+      const Vector2f t(-r.y(), r.x());  // circles about the centre
+      f.fall[std::size_t(v) * 200 + std::size_t(u)] = t.norm() > 0 ? Vector2f(t.normalized()) : Vector2f(1, 0);
+    }
+  renderer::HachureRule rule;
+  rule.spacing = 1;  // one pixel: no other hachure stops a trace
+  const auto hs = renderer::trace_hachures(f, rule);
+  ASSERT_GT(hs.size(), 10u);
+  const double diagonal = std::hypot(200.0, 160.0);
+  double most = 0;
+  for (const Hachure& h : hs) {
+    EXPECT_LE(0.5 * double(h.points.size() - 1), 2 * 2 * diagonal + 1);  // two runs from its seed
+    double turning = 0;
+    for (std::size_t k = 2; k < h.points.size(); ++k) {
+      const Vector2f a = h.points[k - 1] - h.points[k - 2], b = h.points[k] - h.points[k - 1];
+      turning += std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)));
+    }
+    most = std::max(most, turning);
+  }
+  EXPECT_LE(most, 2 * (2 * std::numbers::pi + 1)) << "a hachure goes round more than once";
+}
+
 // Flats stay white: no hachure point where the slope is below the rule's least.
 TEST(Hachures, FlatsStayWhite) {
   const HachureField f = field(
