@@ -235,8 +235,10 @@ void add_export_options(CLI::App* exp, ExportArgs& a) {
       ->required()
       ->check(CLI::IsMember({"obj", "tif", "gpkg", "svg", "pdf"}));
   exp->add_option("-o,--output", a.out,
-                  "Output file (default: FILE with the new extension); a .dv to tif: a directory (default: FILE's name "
-                  "without .dv, then _rasters), created if missing");
+                  "Output file (default: FILE with the new extension; a mesh's map to gpkg: FILE's name, then "
+                  "_map.gpkg); a GeoPackage already there gets this export's layers added or replaced, its others "
+                  "kept; a .dv to tif: a directory (default: FILE's name without .dv, then _rasters), created if "
+                  "missing");
   exp->add_option("--d8-encoding", a.d8_encoding, "A .dv to tif: the codes of d8.tif")
       ->check(CLI::IsMember({"taudem", "esri"}))
       ->capture_default_str();
