@@ -1,5 +1,6 @@
 #include "renderer/frame_setup.hpp"
 
+#include <Eigen/LU>
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -92,8 +93,36 @@ double terrain_share(const terrain::GridMesh& mesh, const View& view, double e) 
     return v;
   };
   const std::vector<std::size_t> rs = lines(rows, sr), cs = lines(cols, sc);
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
   for (const std::size_t r : rs)
-    for (const std::size_t c : cs) take(r, c);
+    for (const std::size_t c : cs) {
+      take(r, c);
+      lo = std::min(lo, mesh.positions[r * cols + c].z()), hi = std::max(hi, mesh.positions[r * cols + c].z());
+    }
+  // A view nearer than the vertices' spacing holds none of them: a cell whose centre's line
+  // of sight crosses the terrain's box, in front of the eye, counts too (slabs).
+  const Eigen::Vector3d box_lo(0, -double(rows - 1) * mesh.geo.dy, double(lo) * e),
+      box_hi(double(cols - 1) * mesh.geo.dx, 0, double(hi) * e);
+  const Eigen::Matrix4d inverse = view.view_projection().inverse();
+  for (int j = 0; j < ch; ++j)
+    for (int i = 0; i < cw; ++i) {
+      std::uint8_t& h = hit[std::size_t(j) * std::size_t(cw) + std::size_t(i)];
+      if (h) continue;
+      const double u = std::min((i + 0.5) * kCell, view.width - 0.5), v = std::min((j + 0.5) * kCell, view.height - 0.5);
+      const Eigen::Vector3d a = unproject(view, inverse, u, v, view.reversed_z ? 1.0 : 0.0);
+      const Eigen::Vector3d d = unproject(view, inverse, u, v, 0.5) - a;
+      double t0 = 0, t1 = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < 3 && t0 <= t1; ++k) {
+        if (std::abs(d[k]) < 1e-300) {
+          if (a[k] < box_lo[k] || a[k] > box_hi[k]) t0 = 1, t1 = 0;
+          continue;
+        }
+        double ta = (box_lo[k] - a[k]) / d[k], tb = (box_hi[k] - a[k]) / d[k];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+      }
+      h = t0 <= t1;
+    }
   return double(std::count(hit.begin(), hit.end(), 1)) / double(hit.size());
 }
 

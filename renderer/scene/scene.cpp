@@ -227,7 +227,9 @@ std::string read_for_views(Scene& s, const std::vector<Camera>& cameras, int wid
         f.level > f.needed ? fmt::format("; level {} read, the finest within the memory bound", f.level) : "");
     return {f.level, r.br0, r.bc0, r.br1, r.bc1};
   });
-  if (!read) throw terrain::Error("the mesh's pyramid changed while it was read: " + s.mesh_source);
+  if (!read)
+    throw terrain::Error("'" + d.mesh_path + "' and its pyramid changed while they were read (" + s.mesh_source +
+                         "); run again");
   s.mesh_seconds += since(t0);
   if (!d.dv_path.empty()) build_creases(s, d.dv_path, d.rules);
   return fmt::format("mesh read at level {} of its pyramid {} level {}: {}", s.mesh_level,

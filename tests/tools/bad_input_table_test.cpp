@@ -600,6 +600,7 @@ INSTANTIATE_TEST_SUITE_P(
         Row{tr + "frame IN/m.ply -o OUT/f.png --eye 1562500 5117000 5000 --view-alt 0 --view-az 270 -q", 1,
             "the eye is too far from it"},
         Row{tr + "frame IN/m.ply -o OUT/f.png --size 320X240", 0, "size: 320 x 240"},
+        Row{tr + "frame IN/m.ply -o OUT/f.png --size 320x240 --view top --map-scale 0.001", 0, "0.001 m a pixel"},
         Row{bd + "IN/m.ply OUT/o.dv --breach -1", 2, "--breach: '-1' is not a non-negative number (see"},
         Row{"env TERRAIN_MEMORY_MIB=abc " + bd + "IN/m.ply OUT/o.dv -q", 1, "TERRAIN_MEMORY_MIB='abc' is not a number"},
         Row{"env TERRAIN_MEMORY_MIB=-5 " + d2m + msh + "OUT/o.ply -q", 1, "TERRAIN_MEMORY_MIB='-5' is not a number"},
