@@ -235,7 +235,9 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   std::vector<std::string> outputs = {(dir / "timings.csv").string()};
   if (a.line_stats) outputs.push_back((dir / "line_stats.csv").string());
   for (std::size_t i = 0; i < frames.size(); ++i)
-    for (const std::string& f : formats) outputs.push_back((dir / frame_name(i, f)).string());
+    for (const std::string& f : formats)
+      for (const std::string& file : rr::frame_files((dir / frame_name(i, f)).string(), frames[i].camera.orthographic))
+        outputs.push_back(file);  // with a map's world file
   for (const std::string& out : outputs) tt::check_distinct_paths(inputs, {out});
   std::filesystem::create_directories(dir);
   terrain::check_output_path(dir / "timings.csv");

@@ -50,7 +50,10 @@ struct HachureRule {
   double test_share = 0.5;    // a hachure stops this share of its spacing from another one
   double min_slope = 0.05;    // radians: flatter ground stays white (about 3 degrees)
   double min_length = 4.0;    // pixels: shorter traces are dropped
-  double max_length = 1e9;    // pixels: a hachure ends after this long
+  // Pixels: a hachure ends after this long; each run from its seed ends within twice the
+  // field's diagonal in any case, and where its fall line comes back to a half-pixel cell
+  // it passed more than 4 steps before (a loop).
+  double max_length = 1e9;
   // Imhof's rows (--hachure-style rows): with an interval > 0 (metres), each hachure runs
   // between two form lines, the contours at multiples of the interval (HachureField::elevation),
   // and ends half a pixel short of them (a white seam along the contour); the spacing test
