@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include <fmt/format.h>
 #include <ogrsf_frmts.h>
@@ -12,6 +13,11 @@
 #include "terrain/memory.hpp"
 
 namespace renderer {
+
+namespace {
+// A GeoPackage's lines are simplified within this many map pixels (Douglas-Peucker).
+constexpr double kSimplifyPixels = 0.5;
+}  // namespace
 
 double default_plan_scale(const terrain::GridMesh& mesh) {
   const double w = double(mesh.topo.cols - 1) * mesh.geo.dx, h = double(mesh.topo.rows - 1) * mesh.geo.dy;
@@ -43,6 +49,8 @@ PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptio
   HachureField field = plan_hachure_field(mesh, out.plan, o.light_tone ? &light : nullptr);
   HachureRule rule;
   rule.spacing = o.spacing;
+  rule.min_slope = std::max(rule.min_slope, o.min_slope_share * slope_percentile(field, 0.99));
+  out.min_slope = rule.min_slope;
   stretch_tone(field, rule.min_slope);
   if (o.rows) rule.row_interval = row_interval_for(out.plan.scale, o.spacing, median_slope(field, rule.min_slope));
   out.row_interval = rule.row_interval;
@@ -74,21 +82,24 @@ std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachure
                                {{"slope_deg", OFTReal}, {"tone", OFTReal}, {"length_m", OFTReal}, {"row_m", OFTReal}});
   gpkg.begin();
   for (const Hachure& hh : h.hachures) {
-    OGRLineString line;
+    OGRLineString traced;
     double slope = 0, tone = 0, length = 0;
     for (std::size_t k = 0; k < hh.points.size(); ++k) {
       const Eigen::Vector2d q = plan_to_local(h.plan, hh.points[k]);
-      line.addPoint(mesh.geo.origin_x + q.x(), mesh.geo.origin_y + q.y());
+      traced.addPoint(mesh.geo.origin_x + q.x(), mesh.geo.origin_y + q.y());
       slope += hh.slope[k], tone += hh.tone[k];
       if (k) length += double((hh.points[k] - hh.points[k - 1]).norm()) * h.plan.scale;
     }
+    // Simplified to the map's pixel: the tracer's half-pixel steps are 4 vertices a pixel.
+    std::unique_ptr<OGRGeometry> simple(traced.Simplify(kSimplifyPixels * h.plan.scale));
+    const OGRGeometry& line = simple && !simple->IsEmpty() ? *simple : static_cast<const OGRGeometry&>(traced);
     const double n = double(std::max<std::size_t>(hh.points.size(), 1));
     OGRFeature f(layer->GetLayerDefn());
     f.SetField("slope_deg", slope / n * 180.0 / M_PI);
     f.SetField("tone", tone / n);
     f.SetField("length_m", length);
     if (h.row_interval > 0) f.SetField("row_m", double(hh.row + 1) * h.row_interval);
-    f.SetGeometry(&line);
+    f.SetGeometry(&line);  // copied
     gpkg.add(layer, f);
   }
   gpkg.commit();

@@ -191,6 +191,7 @@ void export_hachure_map(const ExportArgs& a, const std::string& provenance) {
   renderer::PlanHachureOptions o;
   o.scale = a.scale, o.spacing = a.hachure_spacing, o.width = a.hachure_width;
   o.light_tone = a.hachure_tone == "light", o.rows = a.hachure_style == "rows";
+  o.min_slope_share = a.hachure_min_slope / 100.0;
   const renderer::PlanHachures h = renderer::plan_hachures(m, o);
   const std::array<double, 6> gt = renderer::plan_geotransform(m, h.plan);
   if (a.to == "gpkg") {
@@ -263,9 +264,15 @@ void add_export_options(CLI::App* exp, ExportArgs& a) {
       ->check(CLI::Range(0.1, 20.0))
       ->capture_default_str();
   exp->add_option("--hachure-tone", a.hachure_tone,
-                  "Hachure map: light (the shadow under a light from the north-west, 45 degrees high) or slope "
-                  "(Lehmann: black at 45 degrees)")
+                  "Hachure map: slope (Lehmann: denser where steeper, black at 45 degrees) or light (the shadow under "
+                  "a light from the north-west, 45 degrees high)")
       ->check(CLI::IsMember({"light", "slope"}))
+      ->capture_default_str();
+  exp->add_option("--hachure-min-slope", a.hachure_min_slope,
+                  "Hachure map: ground flatter than this percentage of the map's steep slopes (the 99th percentile of "
+                  "its slopes) stays white, as the QGIS Hachures script's relative slope threshold; 0: only ground "
+                  "under 3 degrees")
+      ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   exp->add_option("--hachure-style", a.hachure_style,
                   "Hachure map: lines (continuous slope lines) or rows (Imhof's rows between form lines)")

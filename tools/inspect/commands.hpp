@@ -27,8 +27,8 @@ struct ExportArgs {
   int min_order = 1;
   std::vector<std::string> gpkg_layers = {"branches", "basins", "divides"};
   // A mesh's plan-view hachure map (--layers hachures; renderer/plan_map.hpp).
-  double scale = 0, hachure_spacing = 6, hachure_width = 0.8;
-  std::string hachure_tone = "light", hachure_style = "lines";
+  double scale = 0, hachure_spacing = 6, hachure_width = 0.8, hachure_min_slope = 20;
+  std::string hachure_tone = "slope", hachure_style = "lines";
 };
 void add_export_options(CLI::App* cmd, ExportArgs& a);
 // export FILE --to obj|tif|gpkg|svg|pdf.

@@ -148,6 +148,9 @@ void stretch_tone(HachureField& field, double min_slope);
 // (0 where none is).
 double median_slope(const HachureField& field, double min_slope);
 
+// The q-quantile (0 .. 1) of the slopes of the field's terrain pixels (0 where none is).
+double slope_percentile(const HachureField& field, double q);
+
 // Plan view (a map: terrain-inspect export --layers hachures): north up, `scale` metres a
 // pixel, covering the mesh's extent. Pixel (u, v) has its corner at local (x0 + u scale,
 // y0 - v scale), so the map's geotransform is (origin_x + x0, scale, 0, origin_y + y0, 0,

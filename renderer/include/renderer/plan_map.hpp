@@ -19,12 +19,18 @@ namespace renderer {
 struct PlanHachureOptions {
   double scale = 0;               // metres a pixel; 0: default_plan_scale
   double spacing = 6, width = 0.8;  // pixels (at the map's scale), as --hachure-spacing and --hachure-width
-  bool light_tone = true, rows = false;
+  bool light_tone = false, rows = false;  // light_tone: density by the shadow, else by the slope
   double light_azimuth = 315, light_altitude = 45;  // the cartographer's light: north-west, 45 degrees high
+  // Figure and ground (--hachure-min-slope): ground flatter than this share of the map's
+  // steep slopes (the 99th percentile of its pixels' slopes) stays white, as the QGIS
+  // Hachures script leaves ground under a share of its slope range; never under
+  // HachureRule::min_slope. 0: that rule's absolute threshold alone.
+  double min_slope_share = 0.2;
 };
 
 struct PlanHachures {
   PlanView plan;
+  double min_slope = 0;     // radians: the white ground's (PlanHachureOptions::min_slope_share)
   double row_interval = 0;  // metres, 0 unless rows
   std::vector<Hachure> hachures;
 };

@@ -238,6 +238,16 @@ double median_slope(const HachureField& f, double min_slope) {
   return s[s.size() / 2];
 }
 
+double slope_percentile(const HachureField& f, double q) {
+  std::vector<float> s;
+  for (const float x : f.slope)
+    if (!std::isnan(x)) s.push_back(x);
+  if (s.empty()) return 0;
+  const std::size_t k = std::min(s.size() - 1, std::size_t(std::clamp(q, 0.0, 1.0) * double(s.size())));
+  std::nth_element(s.begin(), s.begin() + std::ptrdiff_t(k), s.end());
+  return s[k];
+}
+
 PlanView plan_view(const terrain::GridMesh& mesh, double scale) {
   if (!(scale > 0)) throw terrain::Error("the map's scale must be positive metres a pixel");
   const double w = double(mesh.topo.cols - 1) * mesh.geo.dx, h = double(mesh.topo.rows - 1) * mesh.geo.dy;

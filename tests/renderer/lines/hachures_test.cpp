@@ -2,6 +2,7 @@
 // line, keep their spacing, leave flats white, stop at drawn lines, follow the tone; the
 // field of a frame points down a cone's flanks.
 #include "renderer/hachures.hpp"
+#include "renderer/plan_map.hpp"
 
 #include <gtest/gtest.h>
 
@@ -356,6 +357,32 @@ TEST(Hachures, PlanViewOfAConeRunsDownItInMapCoordinates) {
   EXPECT_GE(double(along), 0.95 * double(steps));
   EXPECT_GE(double(slope_ok), 0.95 * double(points));
   EXPECT_THROW(renderer::plan_view(cone, 0), terrain::Error);
+}
+
+// Figure and ground on a plan map (issue 64): a valley side whose slope grows across it,
+// z = a x^2 (x east, 0 .. 1000 m: 0 to 45 degrees), mapped with no option. No hachure
+// reaches ground flatter than the relative threshold (PlanHachureOptions::min_slope_share
+// of the 99th-percentile slope), and the ink per area grows with the slope (Lehmann's
+// rule, the plan map's default): the steepest fifth carries at least 3 times the ink of the
+// fifth just above the threshold.
+TEST(Hachures, PlanMapsLeaveGentleGroundWhiteAndInkTheSteep) {
+  auto side = terrain::test::function_mesh(101, 101, 10, [](double x, double) { return 0.0005 * x * x; });
+  const renderer::PlanHachures h = renderer::plan_hachures(side, {});
+  ASSERT_GT(h.hachures.size(), 20u);
+  // The threshold: 0.2 of the 99th percentile of slopes (atan(2 a x) at x = 990 m: 44.7 deg).
+  EXPECT_NEAR(h.min_slope, 0.2 * std::atan(0.001 * 990), 0.01);
+  const double x_min = std::tan(h.min_slope) / 0.001;  // where the slope reaches it
+  std::vector<double> ink(5, 0.0);                      // length in each fifth of x_min .. 1000
+  for (const Hachure& hh : h.hachures)
+    for (std::size_t k = 0; k < hh.points.size(); ++k) {
+      const Eigen::Vector2d q = renderer::plan_to_local(h.plan, hh.points[k]);
+      EXPECT_GE(q.x(), x_min - 2 * h.plan.scale) << "a hachure on ground under the threshold";
+      if (k == 0) continue;
+      const double len = (q - renderer::plan_to_local(h.plan, hh.points[k - 1])).norm();
+      const int fifth = std::clamp(int((q.x() - x_min) / (1000 - x_min) * 5), 0, 4);
+      ink[std::size_t(fifth)] += len;
+    }
+  EXPECT_GE(ink[4], 3 * ink[0]) << ink[0] << " " << ink[4];
 }
 
 }  // namespace
