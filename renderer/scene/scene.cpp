@@ -406,18 +406,42 @@ void leave_out_filled(HachureField& field, const terrain::GridMesh& mesh, const 
     }
 }
 
+// Pixels within `r` of one without terrain lose their terrain (slope NaN): a hachure, as
+// wide as its pen, ends before the terrain's outline rather than over the background.
+void keep_off_the_outline(HachureField& field, int r) {
+  const int w = field.width, h = field.height;
+  for (int pass = 0; pass < r; ++pass) {
+    std::vector<std::uint8_t> off(field.slope.size(), 0);
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u)
+        if (field.terrain(u, v))
+          for (int dv = -1; dv <= 1 && !off[std::size_t(v) * std::size_t(w) + std::size_t(u)]; ++dv)
+            for (int du = -1; du <= 1; ++du)
+              if (!field.terrain(u + du, v + dv)) {
+                off[std::size_t(v) * std::size_t(w) + std::size_t(u)] = 1;
+                break;
+              }
+    for (std::size_t i = 0; i < off.size(); ++i)
+      if (off[i]) field.slope[i] = std::numeric_limits<float>::quiet_NaN();
+  }
+}
+
 }  // namespace
 
 TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                                     const FrameBuffers& buffers, const Style& style) {
   HachureField field = r.hachure_field(res.view, style.hachure_light_tone);  // on the GPU
   if (!scene.mesh.filled.empty()) leave_out_filled(field, scene.mesh, res.view, buffers.toward_depth);
+  // The widest hachure is 1.5 times the width (hachure_paths: by its tone); its cap reaches
+  // half that past its end.
+  keep_off_the_outline(field, int(std::ceil(0.75 * style.hachure_width)));
   field.blocked.assign(field.slope.size(), 0);
   for (std::size_t i = 0; i < field.blocked.size(); ++i)
     field.blocked[i] = (i < buffers.crease.size() && buffers.crease[i]) ||
                        (i < buffers.silhouette.size() && buffers.silhouette[i]);
   HachureRule rule;
   rule.spacing = style.hachure_spacing;
+  rule.min_slope = std::max(rule.min_slope, style.hachure_min_slope_percent / 100 * slope_percentile(field, 0.99));
   stretch_tone(field, rule.min_slope);
   const double scale = page_scale(res.view, r.box());
   if (style.hachure_rows)  // form lines at an interval from the page's scale (true metres)

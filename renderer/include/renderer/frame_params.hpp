@@ -134,7 +134,11 @@ struct Style {
   // Hachures (Layers::hachures): spacing where the tone is black (pixels), width, colour,
   // the tone: the light's (true: shadowed slopes dark) or the slope's (Lehmann), and the
   // style: Imhof's rows between form lines (true) or continuous slope lines.
-  double hachure_spacing = 6.0, hachure_width = 0.8;
+  double hachure_spacing = 3.0, hachure_width = 1.5;
+  // Figure and ground: ground flatter than this percentage of the frame's steep slopes (the
+  // 99th percentile of its pixels' drawn slopes) gets no hachure (HachureRule::min_slope
+  // at least).
+  double hachure_min_slope_percent = 20;
   Eigen::Vector3f hachure_colour{0.2f, 0.2f, 0.2f};
   bool hachure_light_tone = true, hachure_rows = false;
   // Hidden runs and peeks (anti-aliased lines only; renderer::StrokeVisibilityRule): a

@@ -368,11 +368,11 @@ void add_strokes_options(std::vector<OptionSpec>& t, const GroupNames& g) {
 void add_hachure_options(std::vector<OptionSpec>& t, const GroupNames& g) {
   const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] = g;
   t.push_back(number(
-      "hachure-spacing", hachure, 1, 256, "pixels", "6",
+      "hachure-spacing", hachure, 1, 256, "pixels", "3",
       "--layers hachures: the spacing of the hachures where the tone is black; six times it where white",
       [](auto& s) -> auto& { return s.style.hachure_spacing; }));
   t.push_back(number(
-      "hachure-width", hachure, 0.1, 20, "pixels", "0.8", "--layers hachures: the width of a hachure",
+      "hachure-width", hachure, 0.1, 20, "pixels", "1.5", "--layers hachures: the width of a hachure",
       [](auto& s) -> auto& { return s.style.hachure_width; }));
   t.push_back(choice(
       "hachure-tone", hachure, OptionType::Enum, {"light", "slope"}, "light",
@@ -380,6 +380,12 @@ void add_hachure_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "light dark); slope, the steepness (Lehmann: tan of the slope, black at 45 degrees)",
       [](const RenderSettings& s) { return std::string(s.style.hachure_light_tone ? "light" : "slope"); },
       [](RenderSettings& s, const std::string& v) { s.style.hachure_light_tone = v == "light"; }));
+  t.push_back(number(
+      "hachure-min-slope", hachure, 0, 100, "%", "20",
+      "--layers hachures: ground flatter than this percentage of the frame's steep slopes (the 99th percentile of "
+      "its slopes as drawn) stays white, as the QGIS Hachures script's relative slope threshold; 0: only ground "
+      "under 3 degrees",
+      [](auto& s) -> auto& { return s.style.hachure_min_slope_percent; }));
   t.push_back(choice(
       "hachure-style", hachure, OptionType::Enum, {"lines", "rows"}, "lines",
       "--layers hachures: lines, continuous slope lines (Buchin et al.), or rows, Imhof's rows between form lines "
