@@ -3,6 +3,7 @@
 // field of a frame points down a cone's flanks.
 #include "renderer/hachures.hpp"
 #include "renderer/plan_map.hpp"
+#include "renderer/scene.hpp"
 
 #include <gtest/gtest.h>
 
@@ -383,6 +384,49 @@ TEST(Hachures, PlanMapsLeaveGentleGroundWhiteAndInkTheSteep) {
       ink[std::size_t(fifth)] += len;
     }
   EXPECT_GE(ink[4], 3 * ink[0]) << ink[0] << " " << ink[4];
+}
+
+// Figure and ground in a frame (issue 64): the same valley side, z = a x^2, seen obliquely
+// with the default hachures: the frame's threshold is a fifth of its 99th-percentile drawn
+// slope, no hachure point lies on flatter ground, and none reaches the terrain's outline
+// (every point three quarters of a pen's width inside it).
+TEST(Hachures, FramesLeaveGentleGroundWhiteAndStayInsideTheOutline) {
+  auto side = terrain::test::function_mesh(101, 101, 10, [](double x, double) { return 0.0005 * x * x; });
+  renderer::GlContext ctx;
+  renderer::Style style;
+  renderer::Layers layers;
+  layers.hachures = true;
+  renderer::TerrainRenderer r(ctx, side, nullptr, 480, 270, layers, style);
+  renderer::FrameParams fp;
+  fp.camera.view_az = 90;  // looking east, up the side
+  fp.camera.view_alt = 40;
+  const auto res = r.render(fp);
+  const renderer::FrameBuffers buffers = r.read_buffers();
+  renderer::Scene scene;
+  scene.mesh = side;
+  const renderer::TracedHachures t = renderer::trace_frame_hachures(scene, r, res, buffers, style);
+  ASSERT_GT(t.hachures.size(), 20u);
+  EXPECT_NEAR(t.rule.min_slope, 0.2 * renderer::slope_percentile(t.field, 0.99), 0.02);
+  EXPECT_GT(t.rule.min_slope, 0.1);  // well above the absolute 3 degrees (0.05)
+  const int margin = int(std::ceil(0.75 * style.hachure_width));
+  std::size_t below = 0, near_outline = 0, points = 0;
+  for (const Hachure& h : t.hachures)
+    for (std::size_t k = 0; k < h.points.size(); ++k) {
+      ++points;
+      below += h.slope[k] < t.rule.min_slope - 1e-4f;
+      const long u = long(h.points[k].x()), v = long(h.points[k].y());
+      bool outline = false;
+      for (long dv = -margin; dv <= margin; ++dv)
+        for (long du = -margin; du <= margin; ++du) {
+          const long x = u + du, y = v + dv;
+          const bool sky = x < 0 || y < 0 || x >= 480 || y >= 270 ||
+                           renderer::far_depth(res.view.reversed_z, buffers.toward_depth[std::size_t(y * 480 + x)]) >= 1;
+          outline = outline || sky;
+        }
+      near_outline += outline;
+    }
+  EXPECT_EQ(below, 0u) << "of " << points;
+  EXPECT_EQ(near_outline, 0u) << "of " << points;
 }
 
 }  // namespace
