@@ -6,8 +6,10 @@
 # ink follows the shaded frame's darkness (bench/bandpass_r.py): the band-pass r (a
 # difference of Gaussians, 3 px - 12 px: the forms) and r8 (both blurred by 8 px: the tone);
 # and the silhouettes' mean piece. A DEM dem2mesh refuses with no option (no-data inside
-# its extent) is meshed with --fill-nodata, and the table says so.
+# its extent) is meshed with --fill-nodata, one in degrees without a CRS with --src-crs
+# EPSG:4326, and the table says so.
 # Usage: bench/pictures.sh [WORKDIR] [EXTRA RENDER OPTIONS...]   (a markdown table)
+#   PICTURES_DEMS="a.tif b.asc" bench/pictures.sh W   # only these DEMs; TERRAIN_BIN=DIR: other tools
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${TERRAIN_BIN:-$root/build/bin}"
@@ -18,13 +20,16 @@ shared="$root/../shared/data"
 r() { /usr/bin/python3 "$root/bench/bandpass_r.py" "$1" "$2"; }
 echo "| DEM | mesh | picture band-pass | picture r8 | hachures band-pass | creases band-pass | silhouettes band-pass | silhouette mean piece px | crease connected | frame s |"
 echo "|---|---|---|---|---|---|---|---|---|---|"
-for src in "$shared"/*.tif "$shared"/*.asc "$shared"/*.bil; do
+for src in ${PICTURES_DEMS:-"$shared"/*.tif "$shared"/*.asc "$shared"/*.bil}; do
   name=$(basename "${src%.*}")
   case "$name" in *taudem* | *aread8* | *d8dir*) continue ;; esac  # TauDEM's outputs, not DEMs
   m="$work/$name.ply" d="$work/$name.dv" how="no option"
   if [ ! -f "$m" ] && ! "$bin/dem2mesh" "$src" "$m" -q > /dev/null 2> "$work/$name.err"; then
+    # The option dem2mesh's refusal names: --fill-nodata, or the CRS of a DEM in degrees
+    # without one (the SRTM Front Range tile).
     how="--fill-nodata"
-    "$bin/dem2mesh" "$src" "$m" --fill-nodata -q > /dev/null 2>> "$work/$name.err" || {
+    grep -q -- "--src-crs EPSG:4326" "$work/$name.err" && how="--src-crs EPSG:4326"
+    "$bin/dem2mesh" "$src" "$m" $how -q > /dev/null 2>> "$work/$name.err" || {
       echo "| $name | refused: $(tail -1 "$work/$name.err") | | | | | | | | |"
       continue
     }
