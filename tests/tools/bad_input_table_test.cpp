@@ -241,6 +241,7 @@ class BadInput : public ::testing::TestWithParam<Row> {
     fs::copy_file(in("m.ply"), in("map.pgw"));
     fs::copy_file(in("m.dv"), in("dvmap.pgw"));
     std::ofstream(in("notgpkg.gpkg")) << "not a GeoPackage\n";
+    std::ofstream(in("away.csv")) << "view_az,view_alt\n200,30\n200,-60\n";  // the second looks up at the terrain
     sh(tool("dem2mesh") + " " + msh + " " + in("p.ply") + " --spacing 50 --pyramid -q");
     {
       std::string bytes = terrain::test::file_bytes(in("p.tpyr"));
@@ -600,6 +601,7 @@ INSTANTIATE_TEST_SUITE_P(
         Row{tr + "frame IN/m.ply -o OUT/f.png --eye 1562500 5117000 5000 --view-alt 0 --view-az 270 -q", 1,
             "the eye is too far from it"},
         Row{tr + "frame IN/m.ply -o OUT/f.png --size 320X240", 0, "size: 320 x 240"},
+        Row{tr + "batch IN/m.ply IN/away.csv -o OUT/ --size 160x120 -q", 0, "frames without terrain: 1"},
         Row{tr + "frame IN/m.ply -o OUT/f.png --size 320x240 --view top --map-scale 0.001", 0, "0.001 m a pixel"},
         Row{bd + "IN/m.ply OUT/o.dv --breach -1", 2, "--breach: '-1' is not a non-negative number (see"},
         Row{"env TERRAIN_MEMORY_MIB=abc " + bd + "IN/m.ply OUT/o.dv -q", 1, "TERRAIN_MEMORY_MIB='abc' is not a number"},
