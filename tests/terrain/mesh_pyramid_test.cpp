@@ -139,6 +139,20 @@ TEST(MeshPyramid, DamagedFilesAreRefused) {
     EXPECT_NE(std::string(e.what()).find("is corrupt"), std::string::npos) << e.what();
   }
   EXPECT_THROW(p.read_window(0, 0, 0, p.rows(0) + 1, 1), terrain::Error);
+  // Every header byte is under its CRC (version 3): a block's box, an error, the digest, a
+  // tile's offset in the index, each changed by one bit, is refused at opening.
+  const std::size_t header = first_tile;
+  for (const std::size_t at : {std::size_t(40), std::size_t(100), header / 2, header - 20, header - 5}) {
+    std::string bad = good;
+    bad[at] = char(bad[at] ^ 0x01);
+    try {
+      terrain::MeshPyramid q(write("header.tpyr", bad));
+      ADD_FAILURE() << "a header with byte " << at << " changed opened";
+    } catch (const terrain::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("corrupt mesh pyramid (its header's checksum)"), std::string::npos)
+          << at << ": " << e.what();
+    }
+  }
 }
 
 // A pyramid of version 1 (before the blocks' slopes) still reads: the same grid, blocks,
