@@ -8,6 +8,12 @@
 
 namespace terrain {
 
+bool georef_in_range(const GridTopology& topo, const MeshGeoref& geo) {
+  return geo.dx >= 1e-3 && geo.dy >= 1e-3 && geo.dx <= 1e6 && geo.dy <= 1e6 &&
+         double(topo.cols - 1) * geo.dx <= 1e8 && double(topo.rows - 1) * geo.dy <= 1e8 &&
+         std::abs(geo.origin_x) <= 1e8 && std::abs(geo.origin_y) <= 1e8 && std::abs(geo.origin_z) <= 1e8;
+}
+
 Eigen::Vector3d face_normal(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
                             const Eigen::Vector3d& p2) {
   const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);

@@ -430,13 +430,10 @@ void silence_openmesh() {
 
 // Throws "WHAT: ..." unless every header field that sizes or places something is what a
 // projected mesh can be (the lattice itself is checked against the vertices on reading):
-// spacings from 1 mm to 1000 km, an extent and origin within 1e8 m (UTM coordinates are
-// below 1e7), and a CRS whose WKT and EPSG code agree. The writer checks the same, so no
+// georef_in_range, and a CRS whose WKT and EPSG code agree. The writer checks the same, so no
 // tool writes a mesh that another refuses.
 void check_mesh_georef(const GridMesh& m, const std::string& what) {
-  if (m.geo.dx < 1e-3 || m.geo.dy < 1e-3 || m.geo.dx > 1e6 || m.geo.dy > 1e6 ||
-      double(m.topo.cols - 1) * m.geo.dx > 1e8 || double(m.topo.rows - 1) * m.geo.dy > 1e8 ||
-      !(std::abs(m.geo.origin_x) <= 1e8) || !(std::abs(m.geo.origin_y) <= 1e8) || !(std::abs(m.geo.origin_z) <= 1e8))
+  if (!georef_in_range(m.topo, m.geo))
     throw Error(fmt::format("{}: its grid comment (spacing {:g} x {:g} m, {} x {} vertices) or origin "
                             "({:g}, {:g}, {:g}) is outside what a terrain mesh can be",
                             what, m.geo.dx, m.geo.dy, m.topo.cols, m.topo.rows, m.geo.origin_x, m.geo.origin_y,

@@ -18,6 +18,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <utility>
@@ -507,10 +508,7 @@ void MeshPyramid::read_header(std::uint64_t size) {
   geo_.origin_x = in.get<double>(), geo_.origin_y = in.get<double>(), geo_.origin_z = in.get<double>();
   geo_.dx = in.get<double>(), geo_.dy = in.get<double>();
   geo_.epsg = in.get<std::int32_t>();
-  // What a mesh's header may hold (mesh_io.cpp's check_mesh_georef).
-  if (!(geo_.dx >= 1e-3 && geo_.dx <= 1e6 && geo_.dy >= 1e-3 && geo_.dy <= 1e6) ||
-      !(std::abs(geo_.origin_x) <= 1e8 && std::abs(geo_.origin_y) <= 1e8 && std::abs(geo_.origin_z) <= 1e8) ||
-      double(cols - 1) * geo_.dx > 1e8 || double(rows - 1) * geo_.dy > 1e8 || geo_.epsg < 0)
+  if (!georef_in_range(GridTopology{std::size_t(rows), std::size_t(cols)}, geo_) || geo_.epsg < 0)
     throw corrupt("its georeference");
   const std::size_t wkt = in.get<std::uint32_t>();
   if (wkt > bytes.size() - in.at) throw Error("cannot read '" + path + "': truncated mesh pyramid");
@@ -609,9 +607,8 @@ std::vector<Eigen::Vector3f> MeshPyramid::decode_tile(int l, std::size_t tr, std
       const MeshLevelBlock& b = levels_.blocks[br * levels_.block_cols + bc];
       lo = lo.cwiseMin(b.lo), hi = hi.cwiseMax(b.hi);
     }
-  Eigen::Vector3f tlo = lo, thi = hi;
-  if (t.nr * t.nc > 0) tlo = thi = raw[0];
-  for (std::size_t i = 0; i < t.nr * t.nc; ++i) tlo = tlo.cwiseMin(raw[i]), thi = thi.cwiseMax(raw[i]);
+  Eigen::Vector3f tlo = raw[0], thi = raw[0];  // a tile holds at least 2 x 2 vertices
+  for (std::size_t i = 1; i < t.nr * t.nc; ++i) tlo = tlo.cwiseMin(raw[i]), thi = thi.cwiseMax(raw[i]);
   const bool exact = l == 0;
   if (!tlo.allFinite() || !thi.allFinite() || (exact ? (tlo != lo || thi != hi)
                                                      : ((tlo.array() < lo.array()).any() || (thi.array() > hi.array()).any())))
@@ -629,16 +626,9 @@ MeshWindow MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::
   return w;
 }
 
-void MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc,
-                              Eigen::Vector3f* positions, Eigen::Vector3f* normals) {
-  if (l < 0 || l >= level_count() || nr == 0 || nc == 0 || r0 + nr > rows(l) || c0 + nc > cols(l))
-    throw Error(fmt::format("'{}': no window of {} x {} at {}, {} in level {}", path_, nr, nc, r0, c0, l));
-  const LevelTiles& lt = tiles_[std::size_t(l)];
-  const std::size_t B = levels_.block;
-  // Every tile the window touches (a vertex on a tile border is in both, the same in both).
-  const std::size_t tr0 = std::min(r0 / B, lt.tiles_r - 1), tr1 = std::min((r0 + nr - 1) / B, lt.tiles_r - 1);
-  const std::size_t tc0 = std::min(c0 / B, lt.tiles_c - 1), tc1 = std::min((c0 + nc - 1) / B, lt.tiles_c - 1);
-  const std::size_t across = tc1 - tc0 + 1, n_tiles = (tr1 - tr0 + 1) * across;
+void MeshPyramid::decode_tiles(int l, std::size_t tr0, std::size_t tc0, std::size_t tr1, std::size_t tc1,
+                               const std::function<void(std::size_t, std::size_t, const std::vector<Eigen::Vector3f>&)>& use) {
+  const std::size_t across = tc1 - tc0, n_tiles = (tr1 - tr0) * across;
   std::string failed;
   std::uint64_t bytes = 0;
 #pragma omp parallel reduction(+ : bytes)
@@ -648,14 +638,7 @@ void MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t
     for (std::size_t k = 0; k < n_tiles; ++k) {
       try {
         const std::size_t tr = tr0 + k / across, tc = tc0 + k % across;
-        const TileRange t = tile_range(rows(l), cols(l), B, tr, tc);
-        const std::vector<Eigen::Vector3f> raw = decode_tile(l, tr, tc, ctx.get(), bytes);
-        const std::size_t ca = std::max(c0, t.c0), cb = std::min(c0 + nc, t.c0 + t.nc);
-        for (std::size_t r = std::max(r0, t.r0); r < std::min(r0 + nr, t.r0 + t.nr); ++r) {
-          const std::size_t to = (r - r0) * nc + (ca - c0), from = (r - t.r0) * t.nc + (ca - t.c0);
-          std::copy_n(raw.begin() + long(from), cb - ca, positions + to);
-          std::copy_n(raw.begin() + long(t.nr * t.nc + from), cb - ca, normals + to);
-        }
+        use(tr, tc, decode_tile(l, tr, tc, ctx.get(), bytes));
       } catch (const std::exception& e) {
 #pragma omp critical
         if (failed.empty()) failed = e.what();
@@ -667,29 +650,33 @@ void MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t
   tiles_read_ += n_tiles;
 }
 
+void MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc,
+                              Eigen::Vector3f* positions, Eigen::Vector3f* normals) {
+  if (l < 0 || l >= level_count() || nr == 0 || nc == 0 || r0 + nr > rows(l) || c0 + nc > cols(l))
+    throw Error(fmt::format("'{}': no window of {} x {} at {}, {} in level {}", path_, nr, nc, r0, c0, l));
+  const LevelTiles& lt = tiles_[std::size_t(l)];
+  const std::size_t B = levels_.block;
+  // Every tile the window touches (a vertex on a tile border is in both, the same in both).
+  const std::size_t tr0 = std::min(r0 / B, lt.tiles_r - 1), tr1 = std::min((r0 + nr - 1) / B, lt.tiles_r - 1);
+  const std::size_t tc0 = std::min(c0 / B, lt.tiles_c - 1), tc1 = std::min((c0 + nc - 1) / B, lt.tiles_c - 1);
+  decode_tiles(l, tr0, tc0, tr1 + 1, tc1 + 1, [&](std::size_t tr, std::size_t tc, const std::vector<Eigen::Vector3f>& raw) {
+    const TileRange t = tile_range(rows(l), cols(l), B, tr, tc);
+    const std::size_t ca = std::max(c0, t.c0), cb = std::min(c0 + nc, t.c0 + t.nc);
+    for (std::size_t r = std::max(r0, t.r0); r < std::min(r0 + nr, t.r0 + t.nr); ++r) {
+      const std::size_t to = (r - r0) * nc + (ca - c0), from = (r - t.r0) * t.nc + (ca - t.c0);
+      std::copy_n(raw.begin() + long(from), cb - ca, positions + to);
+      std::copy_n(raw.begin() + long(t.nr * t.nc + from), cb - ca, normals + to);
+    }
+  });
+}
+
 std::size_t MeshPyramid::check_tiles() {
   std::size_t n = 0;
-  std::string failed;
-  std::uint64_t bytes = 0;
   for (int l = 0; l < level_count(); ++l) {
     const LevelTiles& lt = tiles_[std::size_t(l)];
-#pragma omp parallel reduction(+ : bytes)
-    {
-      std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
-#pragma omp for schedule(dynamic, 16)
-      for (std::size_t k = 0; k < lt.tiles.size(); ++k) {
-        try {
-          (void)decode_tile(l, k / lt.tiles_c, k % lt.tiles_c, ctx.get(), bytes);
-        } catch (const std::exception& e) {
-#pragma omp critical
-          if (failed.empty()) failed = e.what();
-        }
-      }
-    }
-    if (!failed.empty()) throw Error(failed);
+    decode_tiles(l, 0, 0, lt.tiles_r, lt.tiles_c, [](std::size_t, std::size_t, const std::vector<Eigen::Vector3f>&) {});
     n += lt.tiles.size();
   }
-  bytes_read_ += bytes;
   return n;
 }
 

@@ -68,7 +68,7 @@ void check_frame_path(const std::string& path) {
     throw terrain::Error("the output must be a .png, .svg or .pdf file: '" + path + "'");
 }
 
-double terrain_share(const terrain::GridMesh& mesh, const View& view, double e) {
+double terrain_share(const terrain::GridMesh& mesh, const View& view, const Box& box, double e) {
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
   const std::size_t sr = std::max<std::size_t>(1, (rows - 1) / 256), sc = std::max<std::size_t>(1, (cols - 1) / 256);
   // The frame's cells of kCell x kCell pixels that a vertex facing the eye projects into.
@@ -93,16 +93,11 @@ double terrain_share(const terrain::GridMesh& mesh, const View& view, double e) 
     return v;
   };
   const std::vector<std::size_t> rs = lines(rows, sr), cs = lines(cols, sc);
-  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
   for (const std::size_t r : rs)
-    for (const std::size_t c : cs) {
-      take(r, c);
-      lo = std::min(lo, mesh.positions[r * cols + c].z()), hi = std::max(hi, mesh.positions[r * cols + c].z());
-    }
+    for (const std::size_t c : cs) take(r, c);
   // A view nearer than the vertices' spacing holds none of them: a cell whose centre's line
   // of sight crosses the terrain's box, in front of the eye, counts too (slabs).
-  const Eigen::Vector3d box_lo(0, -double(rows - 1) * mesh.geo.dy, double(lo) * e),
-      box_hi(double(cols - 1) * mesh.geo.dx, 0, double(hi) * e);
+  const Eigen::Vector3d &box_lo = box.lo, &box_hi = box.hi;
   const Eigen::Matrix4d inverse = view.view_projection().inverse();
   for (int j = 0; j < ch; ++j)
     for (int i = 0; i < cw; ++i) {
@@ -126,16 +121,13 @@ double terrain_share(const terrain::GridMesh& mesh, const View& view, double e) 
   return double(std::count(hit.begin(), hit.end(), 1)) / double(hit.size());
 }
 
-std::string no_terrain_problem(const terrain::GridMesh& mesh, const View& view, double e) {
-  if (!view.orthographic()) {  // an eye below the lowest vertex sees the terrain's underside
-    float lowest = std::numeric_limits<float>::infinity();
-    for (const Eigen::Vector3f& p : mesh.positions) lowest = std::min(lowest, p.z());
-    if (view.eye.z() < double(lowest) * e)
-      return fmt::format("the eye lies {:.0f} m below the terrain's lowest point and sees only its underside: look "
-                         "down at it (a --view-alt above 0), or give an --eye above it",
-                         double(lowest) * e - view.eye.z());
-  }
-  const double share = terrain_share(mesh, view, e);
+std::string no_terrain_problem(const terrain::GridMesh& mesh, const View& view, const Box& box, double e) {
+  // An eye below the lowest vertex sees the terrain's underside.
+  if (!view.orthographic() && view.eye.z() < box.lo.z())
+    return fmt::format("the eye lies {:.0f} m below the terrain's lowest point and sees only its underside: look "
+                       "down at it (a --view-alt above 0), or give an --eye above it",
+                       box.lo.z() - view.eye.z());
+  const double share = terrain_share(mesh, view, box, e);
   if (share >= kMinTerrainShare) return {};
   const std::string what = fmt::format("the frame shows {} of the terrain (about {:.2g} % of its {} x {} pixels)",
                                        share > 0 ? "almost nothing" : "nothing", 100 * share, view.width, view.height);

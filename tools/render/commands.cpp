@@ -166,7 +166,7 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, 
   t0 = Clock::now();
   const rr::FrameResult res = r.render(fp);
   tt::step(verb, fmt::format("frame: {:.0f} ms", 1e3 * since(t0)));
-  if (const std::string why = rr::no_terrain_problem(scene.mesh, res.view, f.style.exaggeration); !why.empty())
+  if (const std::string why = rr::no_terrain_problem(scene.mesh, res.view, r.box(), f.style.exaggeration); !why.empty())
     throw terrain::Error(why);
   rr::TracedHachures traced;  // traced once: for the file and for --line-stats
   const rr::WriteTimes wt = rr::write_frame_files({out}, scene, r, res, f, o.vector, prov + "; " + exaggeration,
@@ -272,7 +272,7 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
     f.frame = frames[i];
     const rr::FrameResult res = r.render(f.frame);
     timings.push_back(res.timings);
-    if (const std::string why = rr::no_terrain_problem(scene.mesh, res.view, f.style.exaggeration); !why.empty()) {
+    if (const std::string why = rr::no_terrain_problem(scene.mesh, res.view, r.box(), f.style.exaggeration); !why.empty()) {
       tt::warn(verb, fmt::format("{}: frame {}: {}", csv, i + 1, why));
       ++blank;
     }

@@ -82,6 +82,11 @@ struct MeshGeoref {
   double dx = 1.0, dy = 1.0;                              // grid spacing, metres
 };
 
+// Whether a grid of `topo` placed by `geo` is what a projected terrain mesh can be:
+// spacings from 1 mm to 1000 km, an extent and an origin within 1e8 m (UTM coordinates
+// are below 1e7), all finite. What the mesh's PLY header and its pyramid's are checked by.
+bool georef_in_range(const GridTopology& topo, const MeshGeoref& geo);
+
 // Precomputed inputs of photic extremum lines (voronoi.hpp), stored in the mesh file.
 struct VoronoiWeights {
   BigVector<Eigen::Vector3f> corner_areas;  // #F: mixed Voronoi area of each corner, in face(f) order

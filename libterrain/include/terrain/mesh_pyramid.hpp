@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -210,6 +211,10 @@ class MeshPyramid {
   // added to `bytes`.
   std::vector<Eigen::Vector3f> decode_tile(int l, std::size_t tr, std::size_t tc, ZSTD_DCtx* ctx,
                                            std::uint64_t& bytes) const;
+  // Tiles rows tr0 .. tr1 - 1, columns tc0 .. tc1 - 1 of level l decoded and checked in
+  // parallel, each given to `use` (from any thread); the first failure thrown after.
+  void decode_tiles(int l, std::size_t tr0, std::size_t tc0, std::size_t tr1, std::size_t tc1,
+                    const std::function<void(std::size_t, std::size_t, const std::vector<Eigen::Vector3f>&)>& use);
   void read_header(std::uint64_t size);
   void read_at(void* to, std::size_t n, std::uint64_t offset) const;  // n bytes at offset, or Error
   std::string path_;

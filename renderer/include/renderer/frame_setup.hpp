@@ -84,12 +84,13 @@ void check_frame_path(const std::string& path);
 // About the share of the frame that shows the terrain: of its cells of 16 x 16 pixels,
 // those that a vertex of the mesh (up to 257 x 257 of them, heights exaggerated by `e`)
 // facing the eye projects into, or whose centre's line of sight crosses the terrain's box
-// (a view nearer than the vertices' spacing).
-double terrain_share(const terrain::GridMesh& mesh, const View& view, double e);
-// Empty when the frame shows the terrain (a share of kMinTerrainShare or more); else why not
-// and what to change, one line.
+// `box` (TerrainRenderer::box: the exaggerated local frame; a view nearer than the
+// vertices' spacing).
+double terrain_share(const terrain::GridMesh& mesh, const View& view, const Box& box, double e);
+// Empty when the frame shows the terrain (a share of kMinTerrainShare or more) from above
+// its lowest point; else why not and what to change, one line.
 inline constexpr double kMinTerrainShare = 1e-3;
-std::string no_terrain_problem(const terrain::GridMesh& mesh, const View& view, double e);
+std::string no_terrain_problem(const terrain::GridMesh& mesh, const View& view, const Box& box, double e);
 
 // The files a frame written to `path` makes: the file and, for a map (`map`: the
 // orthographic top view) written as a PNG, its world file beside it (NAME.pgw). The PNG and
