@@ -8,7 +8,8 @@
 //   paper's test draws that ridge as dashes;
 // - specks dropped: a silhouette pixel with fewer than 3 silhouette pixels (itself
 //   included) in its 5 x 5 window, where the surface only grazes the eye's rays.
-// Each silhouette pixel is listed for the piece rule (silhouette_list.glsl).
+// Each silhouette pixel is listed for the piece rule (silhouette_list.glsl); a formulated
+// silhouette pixel (formulated.glsl) was written and listed by its own pass already.
 layout(binding = TR_TEX_TOWARD_DEPTH) uniform sampler2D u_toward;
 layout(binding = TR_TEX_AWAY_DEPTH) uniform sampler2D u_away;
 layout(location = 0) out vec4 o_mask;
@@ -36,6 +37,7 @@ void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
   ivec2 size = textureSize(u_toward, 0);
   bool s = silhouette(p, size);
+  if (s && formulated(p, size)) discard;
   // The mask was cleared to 0, so a pixel that is no silhouette writes nothing (on
   // llvmpipe the speck test's loops then end at once for its lanes: SIL 44 -> 37 ms).
   if (!s) discard;

@@ -1,12 +1,13 @@
 // SIL, pieces (anti-aliased lines; renderer::silhouette_piece_opacity is the CPU
-// reference): the silhouette pixels joined by their 8-neighbours into pieces, and each
+// reference): the silhouette pixels joined to those within TR_SILHOUETTE_JOIN pixels into pieces, and each
 // pixel's opacity from its piece's size n: clamp((n - m/2) / (m/2), 0, 1), m = u_piece_min
 // pixels. Union-find (union_find.glsl) over pixel indices on the pixels the silhouette
 // pass listed (silhouette_list.glsl), one listed pixel per invocation (the labels are
 // cleared, the sizes and the opacity set to 0 before the silhouette pass). Stages
 // (u_piece_stage), an indirect dispatch each:
-//   1 each silhouette pixel joined to its silhouette neighbours west, south-west, south and
-//     south-east (every 8-neighbour pair once), by atomicMin on the larger root's label;
+//   1 each silhouette pixel joined to the silhouette pixels of the half of its window
+//     before it (rows below, and west on its row: every pair once), by atomicMin on the
+//     larger root's label;
 //   2 each silhouette pixel's label set to its root, the root's size counted;
 //   3 the opacity written.
 // (Included after silhouette_list.glsl and union_find.glsl.)
@@ -17,12 +18,14 @@ layout(binding = TR_IMG_SILHOUETTE_OPACITY, r8) uniform writeonly image2D u_opac
 void piece_stage(uint i, ivec2 size) {
   ivec2 p = ivec2(int(i % uint(size.x)), int(i / uint(size.x)));
   if (u_piece_stage == 1) {
-    const ivec2 earlier[4] = ivec2[4](ivec2(-1, 0), ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1));
-    for (int k = 0; k < 4; ++k) {
-      ivec2 q = p + earlier[k];
-      if (q.x < 0 || q.y < 0 || q.x >= size.x) continue;
-      if (texelFetch(u_silhouette, q, 0).r > 0.0) unite(i, uint(q.y) * uint(size.x) + uint(q.x));
-    }
+    const int j = TR_SILHOUETTE_JOIN;
+    for (int dy = -j; dy <= 0; ++dy)
+      for (int dx = -j; dx <= j; ++dx) {
+        if (dy == 0 && dx >= 0) break;
+        ivec2 q = p + ivec2(dx, dy);
+        if (q.x < 0 || q.y < 0 || q.x >= size.x) continue;
+        if (texelFetch(u_silhouette, q, 0).r > 0.0) unite(i, uint(q.y) * uint(size.x) + uint(q.x));
+      }
   } else if (u_piece_stage == 2) {
     atomicAdd(piece_size[compress_label(i)], 1u);
   } else {

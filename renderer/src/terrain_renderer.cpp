@@ -107,6 +107,16 @@ static bool drawn_vertices_only(const Style& style, const terrain::GridMesh& mes
   return uses_lod(style, mesh, levels) && !layers.pels && !layers.edges;
 }
 
+// Formulated silhouettes are drawn with the Toward/Away silhouettes (SIL reads the drawn
+// surface's normals, which TFT then writes).
+static bool draws_formulated(const Layers& layers, const Style& style) {
+  return layers.silhouettes && !layers.adjacency && style.formulated;
+}
+static Style formulated_style(const Layers& layers, Style style) {
+  style.formulated = draws_formulated(layers, style);
+  return style;
+}
+
 struct TerrainRenderer::Impl {
   Impl(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases, int width, int height,
        const Layers& layers, const Style& style, std::shared_ptr<const LodHierarchy> levels,
@@ -119,7 +129,8 @@ struct TerrainRenderer::Impl {
         cell(fine_spacing(mesh, levels.get())),
         lift(crease_lift(style, mesh)),
         visibility(stroke_visibility_rule(style, mesh)),
-        scene(mesh, width, height, context.has_clip_control(), layers.hachures, !uses_lod(style, mesh, levels.get()),
+        scene(mesh, width, height, context.has_clip_control(), layers.hachures || draws_formulated(layers, style),
+              !uses_lod(style, mesh, levels.get()),
               !drawn_vertices_only(style, mesh, levels.get(), layers)),
         toward(scene, style.flat_patches),
         away(scene, layers.silhouettes && !layers.adjacency),
@@ -130,7 +141,7 @@ struct TerrainRenderer::Impl {
              style.pel_min_length * std::min(mesh.geo.dx, mesh.geo.dy), style.pel_smooth),
         edges(scene, layers.edges, style),
         silhouettes(scene, layers.silhouettes, style.antialias ? style.silhouette_min_length * height : 0.0,
-                    layers.adjacency ? &ids : nullptr, 1e-3 * std::min(cell.x(), cell.y()),
+                    formulated_style(layers, style), layers.adjacency ? &ids : nullptr, 1e-3 * std::min(cell.x(), cell.y()),
                     local_extent(mesh, levels.get(), cell)),
         composite(scene, layers, style, this->creases, pels, edges, silhouettes) {
     if (uses_lod(style, mesh, levels.get())) {
@@ -382,6 +393,11 @@ FrameBuffers TerrainRenderer::read_buffers() const {
   bytes(m.silhouettes.opacity(), b.silhouette_opacity);
   red(m.creases.colour(), b.crease);
   red(m.edges.colour(), b.edge);
+  if (m.scene.surface_normal.id()) {
+    b.surface_normal.resize(4 * n);
+    glGetTextureImage(m.scene.surface_normal.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(16 * n), b.surface_normal.data());
+    flip_rows(b.surface_normal, w, h, 4);
+  }
   b.surface_rgba.resize(4 * n);
   glGetTextureImage(m.scene.surface_colour.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, GLsizei(4 * n), b.surface_rgba.data());
   flip_rows(b.surface_rgba, w, h, 4);

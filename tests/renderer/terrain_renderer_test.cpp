@@ -64,6 +64,8 @@ renderer::Style test_style() {
   s.background = {1, 1, 1};
   s.crease_colour = {1, 0, 0};
   s.silhouette_colour = {0, 0, 0};
+  // The Toward/Away rule alone (formulated silhouettes have tests of their own).
+  s.formulated = false;
   return s;
 }
 
@@ -1104,24 +1106,68 @@ TEST(RendererGl, SilhouettesFollowTheCpuRuleAndCloseGaps) {
   EXPECT_GE(beside, 0.95);
 }
 
-// The piece rule on a mask whose pieces are known: 8-neighbours join (a diagonal line is
-// one piece, two pieces touching at a corner are one), and a piece of n pixels gets
+// Formulated silhouettes on Mount St. Helens at 50 m (the default style's eye lowered to 5
+// degrees), seen obliquely and from straight above: the SIL pass's mask is exactly the CPU
+// rules applied to the frame's own buffers, Toward/Away's on its depths united with
+// renderer::formulated_silhouettes on its drawn normals. From above there is no Toward/Away
+// silhouette at all, and the formulated ones are there.
+TEST(RendererGl, FormulatedSilhouettesFollowTheCpuRule) {
+  const terrain::GridMesh& mesh = terrain::test::msh_50m_mesh();
+  renderer::GlContext ctx;
+  const int w = 640, h = 360;
+  for (const double alt : {30.0, 90.0}) {
+    SCOPED_TRACE(alt);
+    renderer::Style style = test_style();
+    style.formulated = true;
+    TerrainRenderer r(ctx, mesh, nullptr, w, h, renderer::Layers{false, true, false, true}, style);
+    FrameParams fp;
+    fp.camera.view_az = 200;
+    fp.camera.view_alt = alt;
+    const auto res = r.render(fp);
+    const auto b = r.read_buffers();
+    ASSERT_EQ(b.surface_normal.size(), 4u * w * h);
+    const auto ta = renderer::toward_away_silhouettes(b.toward_depth, b.away_depth, w, h, res.view.reversed_z, false);
+    const auto f = renderer::formulated_silhouettes(
+        b.surface_normal, w, h, renderer::formulated_view(res.view, style.formulated_altitude, style.formulated_strength));
+    std::size_t differ = 0, n_ta = 0, n_f = 0;
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      differ += std::uint8_t(ta[i] || f[i]) != b.silhouette[i];
+      n_ta += ta[i], n_f += f[i];
+    }
+    std::printf("view altitude %.0f: Toward/Away %zu px, formulated %zu px\n", alt, n_ta, n_f);
+    EXPECT_EQ(differ, 0u);
+    EXPECT_GT(n_f, alt == 90.0 ? 300u : 50u);  // 558 and 71 px
+    if (alt == 90.0) EXPECT_EQ(n_ta, 0u);
+  }
+}
+
+// The piece rule on a mask whose pieces are known: pixels within kSilhouetteJoin (3)
+// pixels join (a diagonal line is one piece, two pieces touching at a corner are one, two
+// runs 2 pixels apart are one, 3 apart two), and a piece of n pixels gets
 // clamp((n - m/2) / (m/2), 0, 1).
 TEST(SilhouettePieces, OpacityFromThePieceSize) {
-  const int w = 40, h = 12;
+  const int w = 40, h = 24;
   std::vector<std::uint8_t> m(std::size_t(w * h), 0);
   auto set = [&](int x, int y) { m[std::size_t(y * w + x)] = 1; };
-  for (int x = 0; x < 30; ++x) set(x, 1);       // 30 px: in full
-  for (int k = 0; k < 8; ++k) set(2 + k, 3 + k);  // diagonal, 8 px...
-  for (int k = 0; k < 7; ++k) set(10 + k, 10);    // ...and 7 px from its corner: 15 px
-  set(35, 5), set(36, 5), set(35, 6);             // 3 px: gone
+  for (int x = 0; x < 30; ++x) set(x, 1);         // 30 px: in full
+  for (int k = 0; k < 8; ++k) set(2 + k, 6 + k);  // diagonal, 8 px...
+  for (int k = 0; k < 7; ++k) set(10 + k, 13);    // ...and 7 px from its corner: 15 px
+  set(35, 6), set(36, 6), set(35, 7);             // 3 px: gone
+  for (int x = 0; x < 6; ++x) set(x, 20), set(x + 8, 20);  // 6 + 6 px, a gap of 2: one piece of 12
+  for (int x = 0; x < 6; ++x) set(x + 20, 20), set(x + 29, 20);  // a gap of 3: two pieces of 6
   const std::vector<float> o = renderer::silhouette_piece_opacity(m, w, h, 20.0);
   auto at = [&](int x, int y) { return o[std::size_t(y * w + x)]; };
   EXPECT_FLOAT_EQ(at(0, 1), 1.0f);
   EXPECT_FLOAT_EQ(at(29, 1), 1.0f);
-  EXPECT_FLOAT_EQ(at(2, 3), 0.5f);  // (15 - 10) / 10
-  EXPECT_FLOAT_EQ(at(16, 10), 0.5f);
-  EXPECT_FLOAT_EQ(at(35, 6), 0.0f);
+  EXPECT_FLOAT_EQ(at(2, 6), 0.5f);  // (15 - 10) / 10
+  EXPECT_FLOAT_EQ(at(16, 13), 0.5f);
+  EXPECT_FLOAT_EQ(at(35, 7), 0.0f);
+  EXPECT_FLOAT_EQ(at(0, 20), 0.2f);  // (12 - 10) / 10
+  EXPECT_FLOAT_EQ(at(13, 20), 0.2f);
+  EXPECT_FLOAT_EQ(at(20, 20), 0.0f);
+  EXPECT_FLOAT_EQ(at(34, 20), 0.0f);
+  EXPECT_EQ(renderer::mask_pieces(m, w, h, 1).size.size(), 7u);
+  EXPECT_EQ(renderer::mask_pieces(m, w, h, renderer::kSilhouetteJoin).size.size(), 6u);
   for (std::size_t i = 0; i < m.size(); ++i) {
     if (!m[i]) {
       EXPECT_EQ(o[i], 0.0f) << i;

@@ -151,6 +151,12 @@ struct Style {
   // piece of silhouette pixels shorter than this share of the frame's height fades out,
   // to nothing at half of it (18 pixels in full at 720 rows, 9 gone); 0 keeps every piece.
   double silhouette_min_length = 0.025;
+  // Formulated silhouettes (renderer::formulated_view; Toward/Away method only): drawn with
+  // the silhouettes, from an eye lowered to formulated_altitude degrees below the horizon
+  // on the view's bearing, where the far side falls at least formulated_strength degrees
+  // more steeply than that sight line.
+  bool formulated = true;
+  double formulated_altitude = 5.0, formulated_strength = 5.0;
   double exaggeration = 1.0;                          // vertical exaggeration
   double crease_lift = -1;        // metres towards the eye, for the depth test only; < 0: 0.5 x mesh spacing
   double pixels_per_edge = 6.0;   // tessellation target: screen length of a triangle edge

@@ -99,6 +99,12 @@
    follow it). */
 #define TR_SILHOUETTE_BAND 0.8
 
+/* Silhouette pieces join pixels within this Chebyshev distance (renderer::kSilhouetteJoin);
+   formulated silhouettes look this many pixels behind a pixel for its far side
+   (renderer::kFormulatedReach). */
+#define TR_SILHOUETTE_JOIN 3
+#define TR_FORMULATED_REACH 4
+
 /* The frame block's u_lines.z and .w by name (common.glsl: tess_override(), reversed_z()). */
 
 /* Piece rules (union_find.glsl): the label of a root. */
@@ -195,5 +201,9 @@
 #define TR_LOC_HACHURE_TONE 35
 /* TFT's flat patches (surface_flat.vert.glsl): 1 for the coarse ones. */
 #define TR_LOC_FLAT_COARSE 36
+/* Formulated silhouettes (formulated.glsl): the lowered line of sight (xyz) and the
+   strength (w); the step behind a pixel (window pixels, y up; (0, 0): none drawn). */
+#define TR_LOC_FORMULATED 37
+#define TR_LOC_FORMULATED_STEP 38
 
 #endif

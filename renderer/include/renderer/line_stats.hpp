@@ -107,7 +107,8 @@ LineStats line_stats(const CreaseGeometry& g, const SegmentTraits& traits, const
                      const std::vector<double>& pixels);
 
 // The silhouettes a frame draws: `opacity` (w x h, 0..255, FrameBuffers::silhouette_opacity)
-// in pieces of drawn pixels joined by their 8-neighbours (mask_pieces of silhouette.hpp).
+// in pieces of drawn pixels, as the piece rule joins them (mask_pieces of silhouette.hpp, joined
+// across gaps: kSilhouetteJoin), formulated silhouettes included.
 struct SilhouetteStats {
   double pixels = 0;          // opacity-weighted
   std::size_t pieces = 0;

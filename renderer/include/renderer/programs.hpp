@@ -36,6 +36,7 @@ enum class ProgramId {
   HachureField,      // hachures: the fall-line field of the frame (after TFT; not a timed pass)
   SurfaceSplit,      // TFT: the patches in view, split into flat ones (one triangle each) and tessellated ones
   SurfaceFlat,       // TFT: the flat patches as triangles, without the tessellation stages
+  Formulated,        // SIL: formulated silhouettes, full screen, before Toward/Away
 };
 inline constexpr std::array kAllPrograms = {
     ProgramId::Surface,          ProgramId::PnCapture,   ProgramId::CreaseScore,          ProgramId::CreaseBridge,
@@ -44,7 +45,7 @@ inline constexpr std::array kAllPrograms = {
     ProgramId::SurfaceId,        ProgramId::Adjacency,   ProgramId::EdgeClassify,         ProgramId::EdgeDraw,
     ProgramId::SilhouettePieces, ProgramId::PelPieces,   ProgramId::CreaseVisibility,     ProgramId::AwayTiles,
     ProgramId::TileRects,        ProgramId::SurfaceCull, ProgramId::HachureField,         ProgramId::SurfaceSplit,
-    ProgramId::SurfaceFlat};
+    ProgramId::SurfaceFlat,      ProgramId::Formulated};
 
 struct ProgramSpec {
   const char* name;

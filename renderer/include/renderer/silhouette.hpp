@@ -6,6 +6,10 @@
 #include <cstdint>
 #include <vector>
 
+#include <Eigen/Core>
+
+#include "renderer/camera.hpp"
+
 namespace renderer {
 
 // The silhouette mask (w x h, 0/1) from the window depths of the nearest toward-facing
@@ -22,17 +26,55 @@ namespace renderer {
 std::vector<std::uint8_t> toward_away_silhouettes(const std::vector<float>& toward, const std::vector<float>& away,
                                                   int w, int h, bool reversed_z, bool antialias);
 
-// The pieces of a mask (w x h, non-zero: on): its on pixels joined by their 8-neighbours.
+// Formulated silhouettes (Whelan & Visvalingam 2003, "Formulated silhouettes for sketching
+// terrain"; docs/algorithms.md 9.2): seen from above, a hill has few occluding contours, so
+// the lines drawn are those that would be silhouettes were the eye lowered: on the visible
+// surface, where it turns from facing a lower line of sight to facing away from it. The
+// lowered line of sight: the view's bearing (the horizontal part of its forward + up
+// vectors, so that the top view looks towards the image's top), `altitude` degrees below
+// the horizon, one direction for the frame (a parallel lowered eye). `step`: the
+// 8-neighbour offset (window pixels, y up) nearest the image of that bearing, the way
+// "behind" on the screen; (0, 0) when the bearing has no image (the line of sight
+// horizontal): then nothing is drawn. `strength` = sin(degrees): how much steeper than the
+// lowered sight line the far side must fall - how much the line would hide.
+struct FormulatedView {
+  Eigen::Vector3f direction{0, 0, -1};  // unit, mesh frame, from the lowered eye
+  int step_x = 0, step_up = 0;
+  float strength = 0;
+  bool active() const { return step_x != 0 || step_up != 0; }
+};
+FormulatedView formulated_view(const View& view, double altitude_deg, double strength_deg);
+
+// How far behind a pixel its far side is looked for, pixels along `step` (TR_FORMULATED_REACH).
+inline constexpr int kFormulatedReach = 4;
+
+// The formulated silhouette mask (w x h, 0/1) from the drawn surface's unit normals
+// (`normals`: 4 floats a pixel, rows from the top, the 4th 1 where the terrain is drawn),
+// the rule the SIL pass applies (formulated.glsl): with g(q) = -n(q) . direction (> 0: q
+// faces the lowered eye; 2 off the terrain or the image), p is on when g(p) > 0, g(p + s)
+// <= 0 for the step s, and min g over p + s .. p + kFormulatedReach s <= -strength: a
+// visible slope facing the lowered eye in front of one falling away behind it, steeply
+// enough. The line lies on the near side of the crest, one pixel wide along the step.
+std::vector<std::uint8_t> formulated_silhouettes(const std::vector<float>& normals, int w, int h,
+                                                 const FormulatedView& f);
+
+// The pieces of a mask (w x h, non-zero: on): its on pixels joined to those within `join`
+// pixels (Chebyshev distance; 1: the 8-neighbours, 3: across gaps of up to 2 pixels).
 // piece: per pixel, 0 off, else 1 + the index of its piece; size: pixels per piece.
 struct MaskPieces {
   std::vector<std::uint32_t> piece;
   std::vector<std::size_t> size;
 };
-MaskPieces mask_pieces(const std::vector<std::uint8_t>& mask, int w, int h);
+MaskPieces mask_pieces(const std::vector<std::uint8_t>& mask, int w, int h, int join = 1);
+
+// Silhouette pieces join across gaps of up to kSilhouetteJoin - 1 pixels (TR_SILHOUETTE_JOIN):
+// one contour broken where it grazes the rays, or a formulated line where it crosses a
+// saddle, is one stroke for the piece rule and the line statistics.
+inline constexpr int kSilhouetteJoin = 3;
 
 // Pieces, the rule the SIL pass applies after either silhouette method when lines are
-// anti-aliased: the silhouette pixels of `mask` (w x h, non-zero: silhouette) joined by
-// their 8-neighbours. A piece of n pixels is drawn with opacity clamp((n - m/2) / (m/2),
+// anti-aliased: the silhouette pixels of `mask` (w x h, non-zero: silhouette) joined to
+// those within kSilhouetteJoin pixels. A piece of n pixels is drawn with opacity clamp((n - m/2) / (m/2),
 // 0, 1), m = min_pixels: in full from m pixels, fading out to nothing at m/2 (a piece
 // that grows or shrinks from frame to frame fades instead of popping). Where a surface
 // only grazes the eye's rays (rolling ridges seen from above) the away-facing ground is

@@ -62,6 +62,9 @@ struct FrameBuffers {
   std::vector<std::uint8_t> silhouette, crease, edge;          // 0/1 masks before compositing
   std::vector<std::uint8_t> silhouette_opacity;  // what LAY draws of the silhouettes (0..255; the piece rule)
   std::vector<std::uint8_t> surface_rgba;        // the shaded surface TFT drew (RGBA; where toward_depth shows surface)
+  // The drawn surface's unit normal (4 floats a pixel, the 4th 1 on the terrain), when TFT
+  // writes it (hachures, formulated silhouettes); else empty.
+  std::vector<float> surface_normal;
   // Adjacency silhouettes only: the triangle ID per pixel (0 none, 0xFFFFFFFF unknown) and
   // the triangle list (9 floats per ID from 1: three vertices, exaggerated mesh frame).
   std::vector<std::uint32_t> triangle_id;

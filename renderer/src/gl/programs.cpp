@@ -34,7 +34,7 @@ const ProgramSpec& program_spec(ProgramId id) {
          {}},
         {"silhouette",
          {{GL_VERTEX_SHADER, {c, "tile_rects_list.glsl", "tile_rects.vert.glsl"}},
-          {GL_FRAGMENT_SHADER, {c, "silhouette_list.glsl", "silhouette.frag.glsl"}}},
+          {GL_FRAGMENT_SHADER, {c, "silhouette_list.glsl", "formulated.glsl", "silhouette.frag.glsl"}}},
          {}},
         {"composite", fullscreen({"composite.frag.glsl"}), {}},
         {"composite_silhouettes",
@@ -64,6 +64,7 @@ const ProgramSpec& program_spec(ProgramId id) {
         {"surface_flat",
          {{GL_VERTEX_SHADER, {c, "surface_flat.vert.glsl"}}, {GL_FRAGMENT_SHADER, {c, "surface.frag.glsl"}}},
          {}},
+        {"formulated", fullscreen({"silhouette_list.glsl", "formulated.glsl", "formulated.frag.glsl"}), {}},
     };
   }();
   return specs.at(std::size_t(id));

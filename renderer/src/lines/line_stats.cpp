@@ -222,7 +222,7 @@ LineStats line_stats(const CreaseGeometry& g, const SegmentTraits& traits, const
 
 SilhouetteStats silhouette_stats(const std::vector<std::uint8_t>& opacity, int w, int h) {
   SilhouetteStats st;
-  st.pieces = mask_pieces(opacity, w, h).size.size();
+  st.pieces = mask_pieces(opacity, w, h, kSilhouetteJoin).size.size();
   for (const std::uint8_t o : opacity) st.pixels += double(o) / 255.0;
   if (st.pieces > 0) st.mean_piece_px = st.pixels / double(st.pieces);
   return st;

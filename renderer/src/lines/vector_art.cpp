@@ -127,7 +127,7 @@ std::vector<VectorPath> silhouette_paths(const std::vector<std::uint8_t>& opacit
                                          std::size_t* pieces) {
   std::vector<std::uint8_t> mask(opacity.size());
   for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = opacity[i] > 0;
-  if (pieces) *pieces = mask_pieces(mask, w, h).size.size();
+  if (pieces) *pieces = mask_pieces(mask, w, h, kSilhouetteJoin).size.size();
   std::vector<VectorPath> out;
   for (Polyline& line : chain_mask(mask, w, h)) {
     double sum = 0;

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include "passes.hpp"
 #include "renderer/gl_contract.hpp"
@@ -42,8 +43,8 @@ std::size_t TriangleIdPass::triangles_drawn() const {
   return n;
 }
 
-SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece_min_px, const TriangleIdPass* ids,
-                               double tolerance, const Eigen::Vector4f& extent)
+SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece_min_px, const Style& style,
+                               const TriangleIdPass* ids, double tolerance, const Eigen::Vector4f& extent)
     : PassBase(SIL),
       s_(scene),
       enabled_(enabled),
@@ -58,6 +59,15 @@ SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece
   if (!ids_) {
     away_tiles_ = scene.make_tile_texture();
     away_prog_ = build_program(ProgramId::AwayTiles);
+    formulated_ = enabled && style.formulated;
+    if (formulated_ && !scene.surface_normal.id())
+      throw std::logic_error("formulated silhouettes need the scene's normals");
+    formulated_altitude_ = style.formulated_altitude;
+    formulated_strength_ = style.formulated_strength;
+    if (formulated_) {
+      formulated_prog_ = build_program(ProgramId::Formulated);
+      glProgramUniform1f(formulated_prog_.id(), TR_LOC_PIECE_MIN, float(piece_min_px_));
+    }
   }
   glProgramUniform1f(prog_.id(), TR_LOC_PIECE_MIN, float(piece_min_px_));
   if (piece_min_px_ <= 0) return;
@@ -95,9 +105,8 @@ void SilhouettePass::pieces() const {
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
 }
 
-void SilhouettePass::draw(double pixel_angle) const {
+void SilhouettePass::draw(double pixel_angle, const FormulatedView& formulated) const {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-  glUseProgram(prog_.id());
   glClearTexImage(tiles_.id(), 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
   glBindImageTexture(TR_IMG_SILHOUETTE_TILES, tiles_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
   if (piece_min_px_ > 0) {
@@ -105,6 +114,22 @@ void SilhouettePass::draw(double pixel_angle) const {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_SIZES, sizes_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_LIST, list_.id());
   }
+  if (!ids_) {
+    // The formulated silhouettes first, every pixel; the Toward/Away test then leaves theirs.
+    const FormulatedView f = formulated_ ? formulated : FormulatedView{};
+    for (const GLuint p : {prog_.id(), formulated_ ? formulated_prog_.id() : 0u}) {
+      if (!p) continue;
+      glProgramUniform4f(p, TR_LOC_FORMULATED, f.direction.x(), f.direction.y(), f.direction.z(), f.strength);
+      glProgramUniform2i(p, TR_LOC_FORMULATED_STEP, f.step_x, f.step_up);
+    }
+    if (f.active()) {
+      glBindTextureUnit(TR_TEX_SURFACE_NORMAL, s_.surface_normal.id());
+      glUseProgram(formulated_prog_.id());
+      glBindVertexArray(s_.empty_vao.id());
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+  }
+  glUseProgram(prog_.id());
   if (ids_) {
     glProgramUniform2f(prog_.id(), TR_LOC_ADJ_TOLERANCE, float(tolerance_), float(pixel_angle));
     glProgramUniform4fv(prog_.id(), TR_LOC_ADJ_EXTENT, 1, extent_.data());
@@ -136,7 +161,7 @@ void SilhouettePass::execute(const FrameInputs& in) {
   if (piece_min_px_ > 0) clear_pieces();
   // The angle one pixel spans at the image centre (vertical field of view over the height);
   // orthographic: the metres it spans.
-  draw(in.view.pixel_size(1.0));
+  draw(in.view.pixel_size(1.0), formulated_view(in.view, formulated_altitude_, formulated_strength_));
   if (piece_min_px_ > 0) pieces();
 }
 
@@ -147,7 +172,7 @@ void SilhouettePass::warm_up_timer() const {
   glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero4);
   glBindBufferBase(GL_UNIFORM_BUFFER, TR_UBO_FRAME, s_.ubo.id());
   if (piece_min_px_ > 0) clear_pieces();
-  draw(0.0);
+  draw(0.0, FormulatedView{});
   glEndQuery(GL_TIME_ELAPSED);
   GLuint64 ns = 0;
   glGetQueryObjectui64v(q.id(), GL_QUERY_RESULT, &ns);

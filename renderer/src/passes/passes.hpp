@@ -15,6 +15,7 @@
 #include "renderer/gl_contract.hpp"
 #include "renderer/gl_objects.hpp"
 #include "renderer/lod.hpp"
+#include "renderer/silhouette.hpp"
 #include "renderer/stroke_visibility.hpp"
 #include "renderer/timing.hpp"
 #include "terrain/grid_mesh.hpp"
@@ -292,8 +293,11 @@ class TriangleIdPass : public PassBase {
 // renderer::silhouette_piece_opacity): each pixel's opacity from the size of its piece.
 class SilhouettePass : public PassBase {
  public:
-  SilhouettePass(const SceneGpu& scene, bool enabled, double piece_min_px, const TriangleIdPass* ids = nullptr,
-                 double tolerance = 0, const Eigen::Vector4f& extent = Eigen::Vector4f::Zero());
+  // With `style.formulated` (Toward/Away only; the scene made with normals), the formulated
+  // silhouettes (formulated.frag.glsl) first, into the same mask.
+  SilhouettePass(const SceneGpu& scene, bool enabled, double piece_min_px, const Style& style,
+                 const TriangleIdPass* ids = nullptr, double tolerance = 0,
+                 const Eigen::Vector4f& extent = Eigen::Vector4f::Zero());
   // The silhouette pixels (0/1), before the piece rule.
   const GlObject& mask() const { return mask_; }
   // What LAY draws: each pixel's opacity (the mask itself without the piece rule).
@@ -306,7 +310,7 @@ class SilhouettePass : public PassBase {
 
  private:
   void execute(const FrameInputs&) override;
-  void draw(double pixel_angle) const;
+  void draw(double pixel_angle, const FormulatedView& formulated) const;
   void clear_pieces() const;
   void pieces() const;
   const SceneGpu& s_;
@@ -317,6 +321,9 @@ class SilhouettePass : public PassBase {
   Eigen::Vector4f extent_;  // the mesh's local extent: xmin, ymin, xmax, ymax
   GlObject mask_, fbo_, prog_, tiles_;
   GlObject away_tiles_, away_prog_;  // Toward/Away: the tiles SIL draws (not with Adjacency)
+  bool formulated_ = false;
+  double formulated_altitude_ = 0, formulated_strength_ = 0;
+  GlObject formulated_prog_;
   GlObject opacity_, labels_, sizes_, list_, pieces_prog_;  // the piece rule (piece_min_px > 0)
 };
 

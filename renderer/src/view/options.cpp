@@ -411,6 +411,23 @@ void add_lines_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "piece; anti-aliased lines only)",
       [](auto& s) -> auto& { return s.style.silhouette_min_length; }));
   t.push_back(choice(
+      "formulated", sil, OptionType::Enum, {"on", "off"}, "on",
+      "Formulated silhouettes (Whelan and Visvalingam), drawn with the silhouettes: on the visible surface, "
+      "the lines that would be silhouettes were the eye lowered to --formulated-altitude (crests and the "
+      "near rims of valleys, which a view from above has few silhouettes to show)",
+      [](const RenderSettings& s) { return std::string(s.style.formulated ? "on" : "off"); },
+      [](RenderSettings& s, const std::string& v) { s.style.formulated = v == "on"; }));
+  t.push_back(number(
+      "formulated-altitude", sil, 0, 89, "degrees", "5",
+      "Formulated silhouettes: the lowered eye's line of sight, degrees below the horizon on the view's "
+      "bearing (the top view looks towards the image's top)",
+      [](auto& s) -> auto& { return s.style.formulated_altitude; }));
+  t.push_back(number(
+      "formulated-strength", sil, 0, 89, "degrees", "5",
+      "Formulated silhouettes: a line is drawn where the far side falls at least this many degrees more "
+      "steeply than the lowered sight line (how much it would hide)",
+      [](auto& s) -> auto& { return s.style.formulated_strength; }));
+  t.push_back(choice(
       "pel-light", pel, OptionType::Enum, {"headlight", "scene"}, "headlight",
       "PELs: f = max(0, n . L) with L the headlight (towards the eye) or the scene light (--light-az/alt)",
       [](const RenderSettings& s) { return std::string(s.frame.pel.headlight ? "headlight" : "scene"); },
