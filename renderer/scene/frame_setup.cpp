@@ -165,7 +165,8 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
       gt ? frame_description + "; map: orthographic, " + map_note(*gt, scene.mesh.geo.epsg) : frame_description;
   std::optional<FrameBuffers> buffers;
   auto t0 = Clock::now();
-  if (f.layers.hachures || !vectors.empty()) {
+  const bool ridges = f.layers.ridges && !scene.ridges.empty();
+  if (f.layers.hachures || ridges || !vectors.empty()) {
     buffers = r.read_buffers();
     t.readback_ms = ms(t0);
   }
@@ -179,19 +180,24 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
     if (traced) *traced = std::move(h);
   }
   t.paths_ms = t.hachure_ms = ms(t0);
+  // Ridge lines: over every other line of the PNG, the top layer of the vector files.
+  std::optional<VectorLayer> ridge_lines;
+  if (ridges) ridge_lines = ridge_layer(scene, r, res, *buffers, f.style);
+  const bool over = hachures || ridge_lines;
   if (!pngs.empty()) {
     std::vector<std::uint8_t> drawn;
-    if (hachures) {
+    if (over) {
       t0 = Clock::now();
       drawn = res.rgba;
-      draw_on_rgba(*hachures, res.width, res.height, drawn);
+      if (hachures) draw_on_rgba(*hachures, res.width, res.height, drawn);
+      if (ridge_lines) draw_on_rgba(*ridge_lines, res.width, res.height, drawn);
       t.hachure_draw_ms = ms(t0);
     }
     for (const std::string& p : pngs) {
       const std::vector<std::string> files = frame_files(p, bool(gt));
       terrain::OutputSet outputs;  // the PNG and its world file
       outputs.write([&] {
-        terrain::write_png(outputs.stage(p), res.width, res.height, 4, hachures ? drawn : res.rgba, description);
+        terrain::write_png(outputs.stage(p), res.width, res.height, 4, over ? drawn : res.rgba, description);
         if (files.size() > 1) terrain::write_file_atomic(outputs.stage(files[1]), world_file(*gt));
       });
       outputs.commit();
@@ -202,6 +208,7 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
   const std::string underlay = !o.underlay.empty() ? o.underlay : f.layers.shaded ? "shaded" : "mask";
   VectorArt art = frame_vector_art(scene, r, res, *buffers, f.frame, f.style, f.layers, parse_underlay(underlay));
   if (hachures) art.layers.insert(art.layers.begin(), std::move(*hachures));
+  if (ridge_lines) art.layers.push_back(std::move(*ridge_lines));
   if (art.layers.empty() && art.underlay == VectorUnderlay::None)
     throw terrain::Error(std::string("the vector file would be empty: --layers draws no lines") +
                          (f.layers.creases && !scene.creases ? " (creases need a .dv)" : "") +

@@ -11,9 +11,12 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
+#include <numeric>
 #include <optional>
 
 #include "drainage/dv_views.hpp"
+#include "drainage/ridges.hpp"
 #include "renderer/hachures.hpp"
 #include "renderer/lod.hpp"
 #include "renderer/vector_lines.hpp"
@@ -58,6 +61,13 @@ void build_creases(Scene& s, const std::string& dv_path, const CreaseRules& rule
   if (w.empty()) w = surface_warning(s.mesh, *s.creases);  // one warning: the extent says it already
   if (!w.empty()) s.warnings.push_back("'" + dv_path + "': " + w);
   s.traits = segment_traits(s.mesh, links, *s.creases);
+  s.ridges.clear();
+  const Eigen::Vector3d shift = links.origin - Eigen::Vector3d(g.origin_x, g.origin_y, g.origin_z);
+  for (drainage::RidgeLine& l : drainage::ridge_lines(links, kRidgeChannelArea, kRidgeMinBasin)) {
+    SceneRidge ridge{{}, float(l.basin_area), float(l.relief)};
+    for (const Eigen::Vector3d& p : l.points) ridge.points.push_back((p + shift).cast<float>());
+    s.ridges.push_back(std::move(ridge));
+  }
   s.chains = segment_chains(*s.creases);
   s.crease_levels = std::make_shared<const std::vector<CreaseLevel>>(coarser_crease_levels(*s.creases));
   s.crease_level_traits.clear();
@@ -466,6 +476,55 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
 VectorLayer hachure_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                           const FrameBuffers& buffers, const Style& style) {
   return hachure_paths(trace_frame_hachures(scene, r, res, buffers, style).hachures, style);
+}
+
+VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                        const FrameBuffers& buffers, const Style& style) {
+  VectorLayer l{"ridges", style.ridge_colour, LineCap::Round, {}, 0};
+  const double e = style.exaggeration;
+  const double scale = std::max(page_scale(res.view, r.box()), 1e-9);
+  const double min_area = style.ridge_min_area * std::sqrt(scale / 10.0);
+  const double min_relief = style.ridge_min_relief * (r.box().hi.z() - r.box().lo.z()) / std::max(e, 1e-9);
+  // The ridges kept, joined where they share an end (a crest is chained in pieces between
+  // the corners where three basins meet): a line shorter than kRidgeMinPixels in plan on the
+  // page is a stub, no crest.
+  std::vector<std::size_t> kept;
+  for (std::size_t i = 0; i < scene.ridges.size(); ++i)
+    if (scene.ridges[i].basin_area >= min_area && scene.ridges[i].relief >= min_relief && scene.ridges[i].points.size() >= 2)
+      kept.push_back(i);
+  std::vector<std::size_t> root(kept.size());
+  std::iota(root.begin(), root.end(), std::size_t(0));
+  auto find = [&](std::size_t x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  std::map<std::pair<long, long>, std::size_t> ends;  // an end, to the centimetre -> the first piece there
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    const auto& pts = scene.ridges[kept[k]].points;
+    for (const Eigen::Vector3f& p : {pts.front(), pts.back()}) {
+      const auto key = std::make_pair(std::lround(p.x() * 100.0), std::lround(p.y() * 100.0));
+      const auto [it, fresh] = ends.try_emplace(key, k);
+      if (!fresh) root[find(k)] = find(it->second);
+    }
+  }
+  std::vector<double> length(kept.size(), 0.0);
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    const auto& pts = scene.ridges[kept[k]].points;
+    for (std::size_t j = 0; j + 1 < pts.size(); ++j) length[find(k)] += (pts[j + 1] - pts[j]).head<2>().norm();
+  }
+  std::vector<SceneSegment> segs;
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    if (length[find(k)] < kRidgeMinPixels * scale) continue;
+    const SceneRidge& ridge = scene.ridges[kept[k]];
+    for (std::size_t k = 0; k + 1 < ridge.points.size(); ++k) {
+      const Eigen::Vector3f a = ridge.points[k], b = ridge.points[k + 1];
+      segs.push_back({Eigen::Vector3d(a.x(), a.y(), double(a.z()) * e), Eigen::Vector3d(b.x(), b.y(), double(b.z()) * e),
+                      1.0f});
+    }
+  }
+  l.paths = segment_paths(segs, res.view, crease_lift(style, scene.mesh), buffers.toward_depth, style.antialias,
+                          float(style.ridge_width), &l.strokes);
+  return l;
 }
 
 VectorLayer hachure_paths(const std::vector<Hachure>& hachures, const Style& style) {

@@ -141,9 +141,9 @@ class Viewer {
     cheap_.reset();  // made when a cheap frame is first drawn
   }
 
-  // A frame: full size, or the cheap half-size one. With the hachures layer, a full frame
-  // shows them as terrain-render draws them (renderer/hachures.hpp); a cheap frame, while
-  // moving, goes without.
+  // A frame: full size, or the cheap half-size one. With the hachures and ridges layers, a
+  // full frame shows them as terrain-render draws them (renderer/hachures.hpp,
+  // renderer::ridge_layer); a cheap frame, while moving, goes without.
   const rr::FrameResult& render(bool cheap) {
     {  // a full frame reads what terrain-render frame reads (the level and the blocks its view
        // draws, within the memory bound); a cheap one the whole level when the view leaves
@@ -167,18 +167,24 @@ class Viewer {
     const auto t0 = Clock::now();
     last_ = (cheap ? cheap_ : full_)->render(s_.frame);
     last_cheap_ = cheap;
-    shown_hachures_ = !cheap && s_.layers.hachures;
+    const bool ridges = s_.layers.ridges && !scene_.ridges.empty();
+    shown_hachures_ = !cheap && (s_.layers.hachures || ridges);
     if (!shown_hachures_) {
       (cheap ? cheap_ms_ : full_ms_) = ms_since(t0);
       return last_;
     }
     shown_ = last_;
-    rr::draw_on_rgba(rr::hachure_layer(scene_, *full_, last_, full_->read_buffers(), rr::drawn_style(s_)),
-                     shown_.width, shown_.height, shown_.rgba);
+    const rr::FrameBuffers buffers = full_->read_buffers();
+    const rr::Style style = rr::drawn_style(s_);
+    if (s_.layers.hachures)
+      rr::draw_on_rgba(rr::hachure_layer(scene_, *full_, last_, buffers, style), shown_.width, shown_.height,
+                       shown_.rgba);
+    if (ridges)
+      rr::draw_on_rgba(rr::ridge_layer(scene_, *full_, last_, buffers, style), shown_.width, shown_.height, shown_.rgba);
     full_ms_ = ms_since(t0);
     return shown_;
   }
-  // The frame as shown (with hachures where drawn).
+  // The frame as shown (with hachures and ridges where drawn).
   const rr::FrameResult& last() const { return shown_hachures_ ? shown_ : last_; }
   bool last_was_cheap() const { return last_cheap_; }
   double full_ms() const { return full_ms_; }

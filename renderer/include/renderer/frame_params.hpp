@@ -73,6 +73,10 @@ struct Layers {
   // or as their own layer (SVG, PDF). On by default: without them the picture does not
   // show the relief (docs/terrain-render.md, "The default picture").
   bool hachures = true;
+  // Ridge lines (renderer::ridge_layer): the crests between the basins of the frame's .dv,
+  // selected by the page, drawn over the other lines (PNG) or as their own top layer (SVG,
+  // PDF). On by default with a .dv: the crest carries the heaviest line (Imhof).
+  bool ridges = true;
 };
 // The layers by name, in the order --layers lists them (the one list of names: the option
 // table's choices, parse_layers and layers_text read it).
@@ -84,7 +88,8 @@ inline constexpr LayerName kLayerNames[] = {
     {"shaded", &Layers::shaded},         {"mask", &Layers::mask},
     {"creases", &Layers::creases},       {"silhouettes", &Layers::silhouettes},
     {"silhouettes-adjacency", &Layers::adjacency}, {"pels", &Layers::pels},
-    {"edges", &Layers::edges},           {"hachures", &Layers::hachures}};
+    {"edges", &Layers::edges},           {"hachures", &Layers::hachures},
+    {"ridges", &Layers::ridges}};
 // Parses "shaded,creases,..." (kLayerNames); Error on an unknown name, an empty list, both
 // shaded and mask, or both silhouette methods.
 Layers parse_layers(const std::string& list);
@@ -140,6 +145,12 @@ struct Style {
   // at least).
   double hachure_min_slope_percent = 20;
   Eigen::Vector3f hachure_colour{0.2f, 0.2f, 0.2f};
+  // Ridge lines (Layers::ridges): a crest is drawn where the smaller basin it parts drains
+  // at least ridge_min_area x sqrt(page scale / 10 m a pixel) m^2 (Topfer's law, as the
+  // creases' page_min_area) and it rises at least ridge_min_relief of the scene's relief
+  // above that basin's outlet; width (pixels) and colour.
+  double ridge_min_area = 2e6, ridge_min_relief = 0.05, ridge_width = 1.8;
+  Eigen::Vector3f ridge_colour{0x3b / 255.f, 0x29 / 255.f, 0x1a / 255.f};  // #3b291a
   bool hachure_light_tone = true, hachure_rows = false;
   // Hidden runs and peeks (anti-aliased lines only; renderer::StrokeVisibilityRule): a
   // hidden run of a stroke up to crease_hidden_gap pixels long between shown parts, none of

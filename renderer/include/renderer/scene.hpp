@@ -18,6 +18,13 @@
 
 namespace renderer {
 
+// A ridge line of the scene's .dv (drainage::ridge_lines), in the mesh's local frame (not
+// exaggerated), with what selects it for a page.
+struct SceneRidge {
+  std::vector<Eigen::Vector3f> points;
+  float basin_area = 0, relief = 0;  // m^2, m
+};
+
 struct Scene {
   terrain::GridMesh mesh;
   // The mesh's levels of detail (renderer/lod.hpp): its pyramid's when the mesh was read
@@ -42,6 +49,9 @@ struct Scene {
   // (FrameResult::crease_level) is followed on its segments (frame_creases).
   std::shared_ptr<const std::vector<CreaseLevel>> crease_levels;
   std::vector<SegmentTraits> crease_level_traits;
+  // With a database: its ridge lines between the catchments of branches draining at least
+  // kRidgeChannelArea, parting basins of at least kRidgeMinBasin (a frame selects further).
+  std::vector<SceneRidge> ridges;
   std::vector<std::string> warnings;      // "'x.dv': ..." for the tool to print
   double mesh_seconds = 0, creases_seconds = 0;
   // What focus_scene needs of a scene read at a coarser level: the creases wait for it.
@@ -158,6 +168,16 @@ struct TracedHachures {
 };
 TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                                     const FrameBuffers& buffers, const Style& style);
+// The ridge lines the frame `res` draws (Layers::ridges, Style::ridge_*): the scene's ridges
+// whose smaller basin drains at least ridge_min_area x sqrt(page scale / 10) m^2 and that rise
+// at least ridge_min_relief of the scene's relief above its outlet, and at least
+// kRidgeMinPixels long in plan at the page's scale (no stubs), their hidden parts
+// removed against the frame's toward depth (segment_paths), one path per visible run.
+inline constexpr double kRidgeChannelArea = 1e5, kRidgeMinBasin = 2e5;  // m^2
+inline constexpr double kRidgeMinPixels = 12;
+VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                        const FrameBuffers& buffers, const Style& style);
+
 // The paths of traced hachures (pixel coordinates), each as wide as its mean tone asks:
 // 0.5 to 1.5 times Style::hachure_width (pen pressure).
 VectorLayer hachure_paths(const std::vector<Hachure>& hachures, const Style& style);

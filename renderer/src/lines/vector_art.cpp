@@ -123,13 +123,48 @@ std::vector<VectorPath> crease_paths(const CreaseGeometry& g, const std::vector<
   return out;
 }
 
+namespace {
+
+// Open lines whose ends lie within `reach` pixels joined end to end, nearest ends first, as
+// the piece rule joins their pixels (kSilhouetteJoin): one stroke of the pen, not dashes.
+void join_across_gaps(std::vector<Polyline>& lines, float reach) {
+  for (;;) {
+    float best = reach;
+    std::size_t bi = 0, bj = 0;
+    int bend = -1;  // 0: i's back to j's front, 1: back to back, 2: front to front, 3: front to back
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      if (lines[i].closed || lines[i].points.empty()) continue;
+      for (std::size_t j = i + 1; j < lines.size(); ++j) {
+        if (lines[j].closed || lines[j].points.empty()) continue;
+        const auto &a = lines[i].points, &b = lines[j].points;
+        const float d[4] = {(a.back() - b.front()).norm(), (a.back() - b.back()).norm(),
+                            (a.front() - b.front()).norm(), (a.front() - b.back()).norm()};
+        for (int k = 0; k < 4; ++k)
+          if (d[k] <= best) best = d[k], bi = i, bj = j, bend = k;
+      }
+    }
+    if (bend < 0) return;
+    auto& a = lines[bi].points;
+    auto b = std::move(lines[bj].points);
+    lines[bj].points.clear();
+    if (bend == 1 || bend == 3) std::reverse(b.begin(), b.end());
+    if (bend >= 2) std::reverse(a.begin(), a.end());  // joined at a's front: a reversed first
+    a.insert(a.end(), b.begin(), b.end());
+  }
+}
+
+}  // namespace
+
 std::vector<VectorPath> silhouette_paths(const std::vector<std::uint8_t>& opacity, int w, int h, float width,
                                          std::size_t* pieces) {
   std::vector<std::uint8_t> mask(opacity.size());
   for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = opacity[i] > 0;
   if (pieces) *pieces = mask_pieces(mask, w, h, kSilhouetteJoin).size.size();
   std::vector<VectorPath> out;
-  for (Polyline& line : chain_mask(mask, w, h)) {
+  std::vector<Polyline> lines = chain_mask(mask, w, h);
+  join_across_gaps(lines, float(kSilhouetteJoin) * 1.415f);
+  for (Polyline& line : lines) {
+    if (line.points.empty()) continue;
     double sum = 0;
     for (const Eigen::Vector2f& p : line.points)
       sum += opacity[std::size_t(std::floor(p.y())) * std::size_t(w) + std::size_t(std::floor(p.x()))];

@@ -94,7 +94,7 @@ std::string edges_text(std::uint8_t kinds) {
 struct GroupNames {
   std::string frame = "Frame", camera = "Camera and light", score = "Crease score", rules = "Crease network",
               strokes = "Crease strokes", sil = "Silhouettes", pel = "PELs", edges = "Edges", colours = "Colours",
-              surface = "Surface", hachure = "Hachures";
+              surface = "Surface", hachure = "Hachures and ridges";
 };
 
 // The options of the frame: size, line scale, layers, view.
@@ -114,11 +114,12 @@ void add_frame_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       [](auto& s) -> auto& { return s.line_scale; }));
   t.push_back(choice(
       "layers", frame, OptionType::List, layer_names(),
-      "mask,creases,silhouettes,hachures",
+      "mask,creases,silhouettes,hachures,ridges",
       "Layers to draw (comma list): shaded (relief), mask (white surface), creases, silhouettes "
-      "(Toward/Away) or silhouettes-adjacency, pels (photic extremum lines; needs a mesh from "
-      "denoise-normals), edges (object-space edges of the mesh facets), hachures (strokes down the "
-      "slopes, denser where the relief is in shadow)",
+      "(Toward/Away, with the formulated ones) or silhouettes-adjacency, pels (photic extremum lines; "
+      "needs a mesh from denoise-normals), edges (object-space edges of the mesh facets), hachures "
+      "(strokes down the slopes, denser where the relief is in shadow), ridges (the crests between "
+      "the .dv's basins)",
       [](const RenderSettings& s) { return layers_text(s.layers); },
       [](RenderSettings& s, const std::string& v) { s.layers = parse_layers(v); }));
 }
@@ -395,6 +396,21 @@ void add_hachure_options(std::vector<OptionSpec>& t, const GroupNames& g) {
   t.push_back(colour(
       "hachure-colour", hachure, "#333333", "--layers hachures: their colour",
       [](auto& s) -> auto& { return s.style.hachure_colour; }));
+  t.push_back(number(
+      "ridge-min-area", hachure, 0, 1e12, "m^2", "2e+06",
+      "--layers ridges: a crest is drawn where the smaller basin it parts drains at least this area times "
+      "sqrt(the page's metres a pixel / 10) (Topfer's law: fewer crests on a smaller-scale page)",
+      [](auto& s) -> auto& { return s.style.ridge_min_area; }));
+  t.push_back(number(
+      "ridge-min-relief", hachure, 0, 1, "of the scene's relief", "0.05",
+      "--layers ridges: and where it rises at least this share of the scene's relief above that basin's outlet",
+      [](auto& s) -> auto& { return s.style.ridge_min_relief; }));
+  t.push_back(number(
+      "ridge-width", hachure, 0.1, 20, "pixels", "1.8", "--layers ridges: the width of a ridge line",
+      [](auto& s) -> auto& { return s.style.ridge_width; }));
+  t.push_back(colour(
+      "ridge-colour", hachure, "#3b291a", "--layers ridges: their colour",
+      [](auto& s) -> auto& { return s.style.ridge_colour; }));
 }
 
 void add_lines_options(std::vector<OptionSpec>& t, const GroupNames& g) {
@@ -520,7 +536,7 @@ std::vector<OptionSpec> make_table() {
   const std::map<std::string, OptionSpec::Range> drawn = {
       {"silhouette-width", {1, 9}}, {"edge-width", {0, 64}}, {"crease-hidden-gap", {0, 256}}, {"crease-min-peek", {0, 256}},
       {"crease-bridge-px", {0, 256}}, {"crease-min-stroke-px", {0, 256}},
-      {"hachure-spacing", {1, 256}},  {"hachure-width", {0.1, 64}}};
+      {"hachure-spacing", {1, 256}},  {"hachure-width", {0.1, 64}}, {"ridge-width", {0.1, 64}}};
   for (OptionSpec& o : t) {
     if (const auto d = drawn.find(o.name); d != drawn.end()) {
       o.drawn = d->second;
@@ -546,6 +562,7 @@ Style drawn_style(const RenderSettings& s) {
   st.crease_bridge_px *= k;
   st.hachure_spacing *= k;
   st.hachure_width *= k;
+  st.ridge_width *= k;
   st.crease_min_stroke_px *= k;
   return st;
 }
