@@ -172,17 +172,18 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
   }
   // Hachures are traced on the CPU from the frame's depth (renderer/hachures.hpp), once:
   // drawn over the PNG, and the lowest line layer of the vector files.
+  // Ridge lines: over every other line of the PNG, the top layer of the vector files; the
+  // hachures stop at them.
+  std::optional<VectorLayer> ridge_lines;
+  if (ridges) ridge_lines = ridge_layer(scene, r, res, *buffers, f.style);
   std::optional<VectorLayer> hachures;
   t0 = Clock::now();
   if (f.layers.hachures) {
-    TracedHachures h = trace_frame_hachures(scene, r, res, *buffers, f.style);
+    TracedHachures h = trace_frame_hachures(scene, r, res, *buffers, f.style, ridge_lines ? &*ridge_lines : nullptr);
     hachures = hachure_paths(h.hachures, f.style);
     if (traced) *traced = std::move(h);
   }
   t.paths_ms = t.hachure_ms = ms(t0);
-  // Ridge lines: over every other line of the PNG, the top layer of the vector files.
-  std::optional<VectorLayer> ridge_lines;
-  if (ridges) ridge_lines = ridge_layer(scene, r, res, *buffers, f.style);
   const bool over = hachures || ridge_lines;
   if (!pngs.empty()) {
     std::vector<std::uint8_t> drawn;

@@ -19,6 +19,7 @@
 #include "drainage/ridges.hpp"
 #include "renderer/hachures.hpp"
 #include "renderer/lod.hpp"
+#include "renderer/vector_file.hpp"
 #include "renderer/vector_lines.hpp"
 #include "renderer/stroke_visibility.hpp"
 #include "terrain/hillshade.hpp"
@@ -439,7 +440,8 @@ void keep_off_the_outline(HachureField& field, int r) {
 }  // namespace
 
 TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                                    const FrameBuffers& buffers, const Style& style) {
+                                    const FrameBuffers& buffers, const Style& style,
+                                    const VectorLayer* ridges) {
   HachureField field = r.hachure_field(res.view, style.hachure_light_tone);  // on the GPU
   if (!scene.mesh.filled.empty()) leave_out_filled(field, scene.mesh, res.view, buffers.toward_depth);
   // The widest hachure is 1.5 times the width (hachure_paths: by its tone); its cap reaches
@@ -449,6 +451,11 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
   for (std::size_t i = 0; i < field.blocked.size(); ++i)
     field.blocked[i] = (i < buffers.crease.size() && buffers.crease[i]) ||
                        (i < buffers.silhouette.size() && buffers.silhouette[i]);
+  if (ridges && !ridges->paths.empty()) {  // the ridge lines' pixels, as drawn
+    std::vector<std::uint8_t> ink(4 * field.blocked.size(), 0);
+    draw_on_rgba(*ridges, field.width, field.height, ink);
+    for (std::size_t i = 0; i < field.blocked.size(); ++i) field.blocked[i] |= ink[4 * i + 3] > 0;
+  }
   HachureRule rule;
   rule.spacing = style.hachure_spacing;
   rule.min_slope = std::max(rule.min_slope, style.hachure_min_slope_percent / 100 * slope_percentile(field, 0.99));
@@ -474,8 +481,9 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
 }
 
 VectorLayer hachure_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                          const FrameBuffers& buffers, const Style& style) {
-  return hachure_paths(trace_frame_hachures(scene, r, res, buffers, style).hachures, style);
+                          const FrameBuffers& buffers, const Style& style,
+                          const VectorLayer* ridges) {
+  return hachure_paths(trace_frame_hachures(scene, r, res, buffers, style, ridges).hachures, style);
 }
 
 VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,

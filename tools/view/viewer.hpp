@@ -6,6 +6,7 @@
 #include <functional>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -176,11 +177,12 @@ class Viewer {
     shown_ = last_;
     const rr::FrameBuffers buffers = full_->read_buffers();
     const rr::Style style = rr::drawn_style(s_);
+    std::optional<rr::VectorLayer> ridge_lines;
+    if (ridges) ridge_lines = rr::ridge_layer(scene_, *full_, last_, buffers, style);
     if (s_.layers.hachures)
-      rr::draw_on_rgba(rr::hachure_layer(scene_, *full_, last_, buffers, style), shown_.width, shown_.height,
-                       shown_.rgba);
-    if (ridges)
-      rr::draw_on_rgba(rr::ridge_layer(scene_, *full_, last_, buffers, style), shown_.width, shown_.height, shown_.rgba);
+      rr::draw_on_rgba(rr::hachure_layer(scene_, *full_, last_, buffers, style, ridge_lines ? &*ridge_lines : nullptr),
+                       shown_.width, shown_.height, shown_.rgba);
+    if (ridge_lines) rr::draw_on_rgba(*ridge_lines, shown_.width, shown_.height, shown_.rgba);
     full_ms_ = ms_since(t0);
     return shown_;
   }

@@ -159,15 +159,19 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
 // scale); one path per hachure. write_frame_files draws it over the PNG and puts it under
 // frame_vector_art's layers. The renderer `r` drew `res` (the field is its GPU's).
 VectorLayer hachure_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                          const FrameBuffers& buffers, const Style& style);
+                          const FrameBuffers& buffers, const Style& style,
+                          const VectorLayer* ridges = nullptr);
 // What hachure_layer draws, before it becomes paths: the field, the rule and the hachures.
+// With `ridges` (ridge_layer's), the hachures stop at the ridge lines too: they hang from
+// the crest, which stands clear of them.
 struct TracedHachures {
   HachureField field;
   HachureRule rule;
   std::vector<Hachure> hachures;
 };
 TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                                    const FrameBuffers& buffers, const Style& style);
+                                    const FrameBuffers& buffers, const Style& style,
+                                    const VectorLayer* ridges = nullptr);
 // The ridge lines the frame `res` draws (Layers::ridges, Style::ridge_*): the scene's ridges
 // whose smaller basin drains at least ridge_min_area x sqrt(page scale / 10) m^2 and that rise
 // at least ridge_min_relief of the scene's relief above its outlet, and at least

@@ -406,7 +406,7 @@ void add_hachure_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "--layers ridges: and where it rises at least this share of the scene's relief above that basin's outlet",
       [](auto& s) -> auto& { return s.style.ridge_min_relief; }));
   t.push_back(number(
-      "ridge-width", hachure, 0.1, 20, "pixels", "1.8", "--layers ridges: the width of a ridge line",
+      "ridge-width", hachure, 0.1, 20, "pixels", "2.2", "--layers ridges: the width of a ridge line",
       [](auto& s) -> auto& { return s.style.ridge_width; }));
   t.push_back(colour(
       "ridge-colour", hachure, "#3b291a", "--layers ridges: their colour",
