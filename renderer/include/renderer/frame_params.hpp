@@ -93,7 +93,7 @@ inline constexpr LayerName kLayerNames[] = {
 // Parses "shaded,creases,..." (kLayerNames); Error on an unknown name, an empty list, both
 // shaded and mask, or both silhouette methods.
 Layers parse_layers(const std::string& list);
-// "mask,creases,silhouettes,hachures": what parse_layers reads back.
+// "mask,creases,silhouettes,hachures,ridges": what parse_layers reads back.
 std::string layers_text(const Layers& l);
 
 // The one number reader of options and frames CSVs: the whole of `text` a finite decimal

@@ -177,7 +177,7 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
 // at least ridge_min_relief of the scene's relief above its outlet, and at least
 // kRidgeMinPixels long in plan at the page's scale (no stubs), their hidden parts
 // removed against the frame's toward depth (segment_paths), one path per visible run.
-inline constexpr double kRidgeChannelArea = 1e5, kRidgeMinBasin = 2e5;  // m^2
+inline constexpr double kRidgeChannelArea = 1e6, kRidgeMinBasin = 2e6;  // m^2
 inline constexpr double kRidgeMinPixels = 12;
 VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                         const FrameBuffers& buffers, const Style& style);

@@ -91,7 +91,7 @@ TEST(Layers, Parse) {
                                             std::string(m.name) == "silhouettes"))
           << n.name << " sets " << m.name;
   }
-  EXPECT_EQ(renderer::layers_text(renderer::Layers{}), "mask,creases,silhouettes,hachures");
+  EXPECT_EQ(renderer::layers_text(renderer::Layers{}), "mask,creases,silhouettes,hachures,ridges");
   EXPECT_THROW(renderer::parse_layers("mask,contours"), terrain::Error);
   EXPECT_TRUE(renderer::parse_layers("mask,pels").pels);
   EXPECT_THROW(renderer::parse_layers("shaded,mask"), terrain::Error);
