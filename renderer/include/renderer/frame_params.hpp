@@ -149,7 +149,7 @@ struct Style {
   // at least ridge_min_area x sqrt(page scale / 10 m a pixel) m^2 (Topfer's law, as the
   // creases' page_min_area) and it rises at least ridge_min_relief of the scene's relief
   // above that basin's outlet; width (pixels) and colour.
-  double ridge_min_area = 2e6, ridge_min_relief = 0.05, ridge_width = 2.2;
+  double ridge_min_area = 1e7, ridge_min_relief = 0.05, ridge_width = 2.2;
   Eigen::Vector3f ridge_colour{0x3b / 255.f, 0x29 / 255.f, 0x1a / 255.f};  // #3b291a
   bool hachure_light_tone = true, hachure_rows = false;
   // Hidden runs and peeks (anti-aliased lines only; renderer::StrokeVisibilityRule): a

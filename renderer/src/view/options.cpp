@@ -397,7 +397,7 @@ void add_hachure_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "hachure-colour", hachure, "#333333", "--layers hachures: their colour",
       [](auto& s) -> auto& { return s.style.hachure_colour; }));
   t.push_back(number(
-      "ridge-min-area", hachure, 0, 1e12, "m^2", "2e+06",
+      "ridge-min-area", hachure, 0, 1e12, "m^2", "1e+07",
       "--layers ridges: a crest is drawn where the smaller basin it parts drains at least this area times "
       "sqrt(the page's metres a pixel / 10) (Topfer's law: fewer crests on a smaller-scale page)",
       [](auto& s) -> auto& { return s.style.ridge_min_area; }));
