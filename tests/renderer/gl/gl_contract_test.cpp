@@ -49,7 +49,8 @@ const std::map<std::string, int> kImages = {{"u_opacity", TR_IMG_SILHOUETTE_OPAC
                                             {"u_away_tiles", TR_IMG_AWAY_TILES}};
 const std::map<std::string, int> kUniformLocations = {
     {"u_mode", TR_LOC_SURFACE_MODE},
-    {"u_flat_coarse", TR_LOC_FLAT_COARSE},
+    {"u_flat_coarse", TR_LOC_FLAT_COARSE},    {"u_formulated", TR_LOC_FORMULATED},
+    {"u_formulated_step", TR_LOC_FORMULATED_STEP},
     {"u_layers", TR_LOC_LAYERS},
     {"u_background", TR_LOC_BACKGROUND},
     {"u_mask_colour", TR_LOC_MASK_COLOUR},
@@ -177,8 +178,8 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
   EXPECT_EQ(computes, 14u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 30u);  // silhouette 2, away tiles 1, tile rects 2, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1, hachure field 2
-  EXPECT_EQ(images, 4u);     // pieces (opacity), silhouette and adjacency (tiles), away tiles
+  EXPECT_EQ(samplers, 32u);  // silhouette 3, formulated 1, away tiles 1, tile rects 2, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1, hachure field 2
+  EXPECT_EQ(images, 5u);     // pieces (opacity), silhouette, formulated and adjacency (tiles), away tiles
   EXPECT_GE(locations, 14u);
 }
 
