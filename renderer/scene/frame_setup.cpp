@@ -165,40 +165,30 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
       gt ? frame_description + "; map: orthographic, " + map_note(*gt, scene.mesh.geo.epsg) : frame_description;
   std::optional<FrameBuffers> buffers;
   auto t0 = Clock::now();
-  const bool ridges = f.layers.ridges && !scene.ridges.empty();
-  if (f.layers.hachures || ridges || !vectors.empty()) {
+  if (draws_overlays(scene, f.layers) || !vectors.empty()) {
     buffers = r.read_buffers();
     t.readback_ms = ms(t0);
   }
-  // Hachures are traced on the CPU from the frame's depth (renderer/hachures.hpp), once:
-  // drawn over the PNG, and the lowest line layer of the vector files.
-  // Ridge lines: over every other line of the PNG, the top layer of the vector files; the
-  // hachures stop at them.
-  std::optional<VectorLayer> ridge_lines;
-  if (ridges) ridge_lines = ridge_layer(scene, r, res, *buffers, f.style);
-  std::optional<VectorLayer> hachures;
+  // The hachures and ridge lines are made on the CPU from the frame's depth, once: drawn
+  // over the PNG; the lowest and the top line layers of the vector files.
   t0 = Clock::now();
-  if (f.layers.hachures) {
-    TracedHachures h = trace_frame_hachures(scene, r, res, *buffers, f.style, ridge_lines ? &*ridge_lines : nullptr);
-    hachures = hachure_paths(h.hachures, f.style);
-    if (traced) *traced = std::move(h);
-  }
+  FrameOverlays over;
+  if (buffers) over = frame_overlays(scene, r, res, *buffers, f.style, f.layers);
+  if (traced && over.traced) *traced = std::move(*over.traced);
   t.paths_ms = t.hachure_ms = ms(t0);
-  const bool over = hachures || ridge_lines;
   if (!pngs.empty()) {
     std::vector<std::uint8_t> drawn;
-    if (over) {
+    if (over.any()) {
       t0 = Clock::now();
       drawn = res.rgba;
-      if (hachures) draw_on_rgba(*hachures, res.width, res.height, drawn);
-      if (ridge_lines) draw_on_rgba(*ridge_lines, res.width, res.height, drawn);
+      draw_overlays(over, res.width, res.height, drawn);
       t.hachure_draw_ms = ms(t0);
     }
     for (const std::string& p : pngs) {
       const std::vector<std::string> files = frame_files(p, bool(gt));
       terrain::OutputSet outputs;  // the PNG and its world file
       outputs.write([&] {
-        terrain::write_png(outputs.stage(p), res.width, res.height, 4, over ? drawn : res.rgba, description);
+        terrain::write_png(outputs.stage(p), res.width, res.height, 4, over.any() ? drawn : res.rgba, description);
         if (files.size() > 1) terrain::write_file_atomic(outputs.stage(files[1]), world_file(*gt));
       });
       outputs.commit();
@@ -208,8 +198,8 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
   t0 = Clock::now();
   const std::string underlay = !o.underlay.empty() ? o.underlay : f.layers.shaded ? "shaded" : "mask";
   VectorArt art = frame_vector_art(scene, r, res, *buffers, f.frame, f.style, f.layers, parse_underlay(underlay));
-  if (hachures) art.layers.insert(art.layers.begin(), std::move(*hachures));
-  if (ridge_lines) art.layers.push_back(std::move(*ridge_lines));
+  if (over.hachures) art.layers.insert(art.layers.begin(), std::move(*over.hachures));
+  if (over.ridges) art.layers.push_back(std::move(*over.ridges));
   if (art.layers.empty() && art.underlay == VectorUnderlay::None)
     throw terrain::Error(std::string("the vector file would be empty: --layers draws no lines") +
                          (f.layers.creases && !scene.creases ? " (creases need a .dv)" : "") +

@@ -480,12 +480,6 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
   return {std::move(field), rule, std::move(hachures)};
 }
 
-VectorLayer hachure_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                          const FrameBuffers& buffers, const Style& style,
-                          const VectorLayer* ridges) {
-  return hachure_paths(trace_frame_hachures(scene, r, res, buffers, style, ridges).hachures, style);
-}
-
 VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                         const FrameBuffers& buffers, const Style& style) {
   VectorLayer l{"ridges", style.ridge_colour, LineCap::Round, {}, 0};
@@ -524,8 +518,8 @@ VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const Fram
   for (std::size_t k = 0; k < kept.size(); ++k) {
     if (length[find(k)] < kRidgeMinPixels * scale) continue;
     const SceneRidge& ridge = scene.ridges[kept[k]];
-    for (std::size_t k = 0; k + 1 < ridge.points.size(); ++k) {
-      const Eigen::Vector3f a = ridge.points[k], b = ridge.points[k + 1];
+    for (std::size_t j = 0; j + 1 < ridge.points.size(); ++j) {
+      const Eigen::Vector3f a = ridge.points[j], b = ridge.points[j + 1];
       segs.push_back({Eigen::Vector3d(a.x(), a.y(), double(a.z()) * e), Eigen::Vector3d(b.x(), b.y(), double(b.z()) * e),
                       1.0f});
     }
@@ -533,6 +527,26 @@ VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const Fram
   l.paths = segment_paths(segs, res.view, crease_lift(style, scene.mesh), buffers.toward_depth, style.antialias,
                           float(style.ridge_width), &l.strokes);
   return l;
+}
+
+bool draws_overlays(const Scene& scene, const Layers& layers) {
+  return layers.hachures || (layers.ridges && !scene.ridges.empty());
+}
+
+FrameOverlays frame_overlays(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                             const FrameBuffers& buffers, const Style& style, const Layers& layers) {
+  FrameOverlays o;
+  if (layers.ridges && !scene.ridges.empty()) o.ridges = ridge_layer(scene, r, res, buffers, style);
+  if (layers.hachures) {
+    o.traced = trace_frame_hachures(scene, r, res, buffers, style, o.ridges ? &*o.ridges : nullptr);
+    o.hachures = hachure_paths(o.traced->hachures, style);
+  }
+  return o;
+}
+
+void draw_overlays(const FrameOverlays& o, int width, int height, std::vector<std::uint8_t>& rgba) {
+  if (o.hachures) draw_on_rgba(*o.hachures, width, height, rgba);
+  if (o.ridges) draw_on_rgba(*o.ridges, width, height, rgba);
 }
 
 VectorLayer hachure_paths(const std::vector<Hachure>& hachures, const Style& style) {

@@ -112,10 +112,6 @@ static bool drawn_vertices_only(const Style& style, const terrain::GridMesh& mes
 static bool draws_formulated(const Layers& layers, const Style& style) {
   return layers.silhouettes && !layers.adjacency && style.formulated;
 }
-static Style formulated_style(const Layers& layers, Style style) {
-  style.formulated = draws_formulated(layers, style);
-  return style;
-}
 
 struct TerrainRenderer::Impl {
   Impl(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases, int width, int height,
@@ -141,7 +137,7 @@ struct TerrainRenderer::Impl {
              style.pel_min_length * std::min(mesh.geo.dx, mesh.geo.dy), style.pel_smooth),
         edges(scene, layers.edges, style),
         silhouettes(scene, layers.silhouettes, style.antialias ? style.silhouette_min_length * height : 0.0,
-                    formulated_style(layers, style), layers.adjacency ? &ids : nullptr, 1e-3 * std::min(cell.x(), cell.y()),
+                    style, layers.adjacency ? &ids : nullptr, 1e-3 * std::min(cell.x(), cell.y()),
                     local_extent(mesh, levels.get(), cell)),
         composite(scene, layers, style, this->creases, pels, edges, silhouettes) {
     if (uses_lod(style, mesh, levels.get())) {

@@ -6,7 +6,6 @@
 #include <functional>
 #include <iostream>
 #include <memory>
-#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -168,21 +167,14 @@ class Viewer {
     const auto t0 = Clock::now();
     last_ = (cheap ? cheap_ : full_)->render(s_.frame);
     last_cheap_ = cheap;
-    const bool ridges = s_.layers.ridges && !scene_.ridges.empty();
-    shown_hachures_ = !cheap && (s_.layers.hachures || ridges);
+    shown_hachures_ = !cheap && rr::draws_overlays(scene_, s_.layers);
     if (!shown_hachures_) {
       (cheap ? cheap_ms_ : full_ms_) = ms_since(t0);
       return last_;
     }
     shown_ = last_;
-    const rr::FrameBuffers buffers = full_->read_buffers();
-    const rr::Style style = rr::drawn_style(s_);
-    std::optional<rr::VectorLayer> ridge_lines;
-    if (ridges) ridge_lines = rr::ridge_layer(scene_, *full_, last_, buffers, style);
-    if (s_.layers.hachures)
-      rr::draw_on_rgba(rr::hachure_layer(scene_, *full_, last_, buffers, style, ridge_lines ? &*ridge_lines : nullptr),
-                       shown_.width, shown_.height, shown_.rgba);
-    if (ridge_lines) rr::draw_on_rgba(*ridge_lines, shown_.width, shown_.height, shown_.rgba);
+    rr::draw_overlays(rr::frame_overlays(scene_, *full_, last_, full_->read_buffers(), rr::drawn_style(s_), s_.layers),
+                      shown_.width, shown_.height, shown_.rgba);
     full_ms_ = ms_since(t0);
     return shown_;
   }

@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
+#include <limits>
+#include <tuple>
 
 #include "drainage/d8.hpp"
 #include "drainage/gis_layers.hpp"

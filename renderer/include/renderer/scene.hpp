@@ -155,15 +155,9 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
 // The hachures of the frame `res` (issue 51; renderer/hachures.hpp): the fall-line field of
 // its toward depth (the light's tone with Style::hachure_light_tone, else the slope's),
 // traced at Style::hachure_spacing, stopped at the crease and silhouette pixels the frame
-// drew, in rows with Style::hachure_rows (form lines at row_interval_for the page's
-// scale); one path per hachure. write_frame_files draws it over the PNG and puts it under
-// frame_vector_art's layers. The renderer `r` drew `res` (the field is its GPU's).
-VectorLayer hachure_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                          const FrameBuffers& buffers, const Style& style,
-                          const VectorLayer* ridges = nullptr);
-// What hachure_layer draws, before it becomes paths: the field, the rule and the hachures.
-// With `ridges` (ridge_layer's), the hachures stop at the ridge lines too: they hang from
-// the crest, which stands clear of them.
+// drew and, given `ridges` (ridge_layer's), at the ridge lines (they hang from the crest,
+// which stands clear of them), in rows with Style::hachure_rows (form lines at
+// row_interval_for the page's scale). The renderer `r` drew `res` (the field is its GPU's).
 struct TracedHachures {
   HachureField field;
   HachureRule rule;
@@ -181,6 +175,22 @@ inline constexpr double kRidgeChannelArea = 1e6, kRidgeMinBasin = 2e6;  // m^2
 inline constexpr double kRidgeMinPixels = 12;
 VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                         const FrameBuffers& buffers, const Style& style);
+
+// The lines a frame draws on the CPU over the GL picture, made once for the PNG, the vector
+// files and the viewer: the ridge lines, then the hachures stopped at them (traced, and as
+// one path per hachure). Each is empty where `layers` does not draw it (the ridges also
+// without a database).
+struct FrameOverlays {
+  std::optional<TracedHachures> traced;
+  std::optional<VectorLayer> hachures, ridges;
+  bool any() const { return hachures || ridges; }
+};
+// Whether a frame of `layers` over `scene` has any (it needs the frame's buffers).
+bool draws_overlays(const Scene& scene, const Layers& layers);
+FrameOverlays frame_overlays(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                             const FrameBuffers& buffers, const Style& style, const Layers& layers);
+// Draws them over `rgba` (width x height): the hachures, the ridges on top.
+void draw_overlays(const FrameOverlays& o, int width, int height, std::vector<std::uint8_t>& rgba);
 
 // The paths of traced hachures (pixel coordinates), each as wide as its mean tone asks:
 // 0.5 to 1.5 times Style::hachure_width (pen pressure).

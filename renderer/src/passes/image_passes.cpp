@@ -59,7 +59,7 @@ SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece
   if (!ids_) {
     away_tiles_ = scene.make_tile_texture();
     away_prog_ = build_program(ProgramId::AwayTiles);
-    formulated_ = enabled && style.formulated;
+    formulated_ = enabled && style.formulated;  // Toward/Away only
     if (formulated_ && !scene.surface_normal.id())
       throw std::logic_error("formulated silhouettes need the scene's normals");
     formulated_altitude_ = style.formulated_altitude;
@@ -115,14 +115,16 @@ void SilhouettePass::draw(double pixel_angle, const FormulatedView& formulated) 
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_LIST, list_.id());
   }
   if (!ids_) {
-    // The formulated silhouettes first, every pixel; the Toward/Away test then leaves theirs.
+    // The formulated silhouettes first, every pixel; the Toward/Away test then leaves theirs
+    // (it reads the same uniforms: none when the step is 0).
     const FormulatedView f = formulated_ ? formulated : FormulatedView{};
-    for (const GLuint p : {prog_.id(), formulated_ ? formulated_prog_.id() : 0u}) {
-      if (!p) continue;
-      glProgramUniform4f(p, TR_LOC_FORMULATED, f.direction.x(), f.direction.y(), f.direction.z(), f.strength);
-      glProgramUniform2i(p, TR_LOC_FORMULATED_STEP, f.step_x, f.step_up);
-    }
+    auto set = [&](const GlObject& program) {
+      glProgramUniform4f(program.id(), TR_LOC_FORMULATED, f.direction.x(), f.direction.y(), f.direction.z(), f.strength);
+      glProgramUniform2i(program.id(), TR_LOC_FORMULATED_STEP, f.step_x, f.step_up);
+    };
+    set(prog_);
     if (f.active()) {
+      set(formulated_prog_);
       glBindTextureUnit(TR_TEX_SURFACE_NORMAL, s_.surface_normal.id());
       glUseProgram(formulated_prog_.id());
       glBindVertexArray(s_.empty_vao.id());

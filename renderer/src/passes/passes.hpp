@@ -293,8 +293,8 @@ class TriangleIdPass : public PassBase {
 // renderer::silhouette_piece_opacity): each pixel's opacity from the size of its piece.
 class SilhouettePass : public PassBase {
  public:
-  // With `style.formulated` (Toward/Away only; the scene made with normals), the formulated
-  // silhouettes (formulated.frag.glsl) first, into the same mask.
+  // With `style.formulated` and without `ids` (Toward/Away; the scene then made with
+  // normals), the formulated silhouettes (formulated.frag.glsl) first, into the same mask.
   SilhouettePass(const SceneGpu& scene, bool enabled, double piece_min_px, const Style& style,
                  const TriangleIdPass* ids = nullptr, double tolerance = 0,
                  const Eigen::Vector4f& extent = Eigen::Vector4f::Zero());
