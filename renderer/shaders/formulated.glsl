@@ -29,9 +29,17 @@ float formulated_facing(ivec2 q, ivec2 size) {
   return sum / count;
 }
 
+bool on_terrain(ivec2 q, ivec2 size) {
+  return all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size)) && texelFetch(u_normal, q, 0).w > 0.5;
+}
+
 bool formulated(ivec2 p, ivec2 size) {
   if (u_formulated_step == ivec2(0)) return false;
   if (!(formulated_facing(p, size) > 0.0)) return false;
+  // Ground in front, as far as the far side is looked for: where the data is cut (the
+  // mesh's edge nearest the eye) the ground ends, no crest hides what lies behind it.
+  for (int j = 1; j <= TR_FORMULATED_REACH; ++j)
+    if (!on_terrain(p - j * u_formulated_step, size)) return false;
   ivec2 q = p + u_formulated_step;
   float m = formulated_facing(q, size);
   if (!(m <= 0.0)) return false;

@@ -52,9 +52,11 @@ inline constexpr int kFormulatedReach = 4;
 // (`normals`: 4 floats a pixel, rows from the top, the 4th 1 where the terrain is drawn),
 // the rule the SIL pass applies (formulated.glsl): with g(q) = -n(q) . direction (> 0: q
 // faces the lowered eye; 2 off the terrain or the image), p is on when g(p) > 0, g(p + s)
-// <= 0 for the step s, and min g over p + s .. p + kFormulatedReach s <= -strength: a
-// visible slope facing the lowered eye in front of one falling away behind it, steeply
-// enough. The line lies on the near side of the crest, one pixel wide along the step.
+// <= 0 for the step s, min g over p + s .. p + kFormulatedReach s <= -strength, and
+// p - s .. p - kFormulatedReach s are terrain: a visible slope facing the lowered eye in
+// front of one falling away behind it, steeply enough, with ground in front of it (not the
+// cut edge of the data). The line lies on the near side of the crest, one pixel wide along
+// the step. g(q) is the mean over the terrain pixels of q's 3 x 3 window.
 std::vector<std::uint8_t> formulated_silhouettes(const std::vector<float>& normals, int w, int h,
                                                  const FormulatedView& f);
 

@@ -82,9 +82,14 @@ std::vector<std::uint8_t> formulated_silhouettes(const std::vector<float>& norma
     return sum / count;
   };
   const int dx = f.step_x, dy = -f.step_up;  // rows from the top
+  auto ground_in_front = [&](int x, int y) {
+    for (int j = 1; j <= kFormulatedReach; ++j)
+      if (!on(x - j * dx, y - j * dy)) return false;
+    return true;
+  };
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      if (!(g(x, y) > 0.0f)) continue;
+      if (!(g(x, y) > 0.0f) || !ground_in_front(x, y)) continue;
       float m = g(x + dx, y + dy);
       if (!(m <= 0.0f)) continue;
       for (int j = 2; j <= kFormulatedReach && m > -f.strength; ++j) m = std::min(m, g(x + j * dx, y + j * dy));

@@ -64,6 +64,15 @@ TEST(FormulatedSilhouettes, ATentIsDrawnAlongItsCrestOnly) {
   EXPECT_EQ(on(formulated_silhouettes(tent(12, true), w, h, f)), std::size_t(w));
   EXPECT_EQ(on(formulated_silhouettes(tent(8, true), w, h, f)), 0u);
   EXPECT_EQ(on(formulated_silhouettes(tent(30, false), w, h, f)), 0u);
+  // A crest 2 pixels from the image's near (bottom) edge: the ground in front of it ends
+  // there (the cut edge of the data, as a DEM's near edge that rises to its cut), and it is
+  // not drawn; 6 pixels in, it is.
+  auto crest_at = [&](double Y0) {
+    const double s = std::tan(20 * kDeg);
+    return normals_of(w, h, [=](double, double Y) { return Eigen::Vector3d(0, Y > Y0 ? s : -s, 1); });
+  };
+  EXPECT_EQ(on(formulated_silhouettes(crest_at(2.0 - 0.5 * h), w, h, f)), 0u);
+  EXPECT_EQ(on(formulated_silhouettes(crest_at(6.0 - 0.5 * h), w, h, f)), std::size_t(w));
   // Off the terrain (the normals' 4th component 0) nothing is drawn.
   auto none = tent(20, true);
   for (std::size_t i = 3; i < none.size(); i += 4) none[i] = 0;
