@@ -24,7 +24,10 @@ for src in ${PICTURES_DEMS:-"$shared"/*.tif "$shared"/*.asc "$shared"/*.bil}; do
   name=$(basename "${src%.*}")
   case "$name" in *taudem* | *aread8* | *d8dir*) continue ;; esac  # TauDEM's outputs, not DEMs
   m="$work/$name.ply" d="$work/$name.dv" how="no option"
-  if [ ! -f "$m" ] && ! "$bin/dem2mesh" "$src" "$m" -q > /dev/null 2> "$work/$name.err"; then
+  # A mesh made before (WORKDIR reused) is kept, with the option it was made with.
+  if [ -f "$m" ] && [ -f "$work/$name.how" ]; then
+    how=$(cat "$work/$name.how")
+  elif ! "$bin/dem2mesh" "$src" "$m" -q > /dev/null 2> "$work/$name.err"; then
     # The option dem2mesh's refusal names: --fill-nodata, or the CRS of a DEM in degrees
     # without one (the SRTM Front Range tile).
     how="--fill-nodata"
@@ -34,6 +37,7 @@ for src in ${PICTURES_DEMS:-"$shared"/*.tif "$shared"/*.asc "$shared"/*.bil}; do
       continue
     }
   fi
+  echo "$how" > "$work/$name.how"
   [ -f "$d" ] || "$bin/build-drainage" "$m" "$d" -q > /dev/null
   t0=$(date +%s.%N)
   stats=$("$bin/terrain-render" frame "$m" "$d" -o "$work/$name.png" --line-stats "$@")

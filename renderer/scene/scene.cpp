@@ -63,12 +63,14 @@ void build_creases(Scene& s, const std::string& dv_path, const CreaseRules& rule
   if (!w.empty()) s.warnings.push_back("'" + dv_path + "': " + w);
   s.traits = segment_traits(s.mesh, links, *s.creases);
   s.ridges.clear();
+  const auto t_ridges = Clock::now();
   const Eigen::Vector3d shift = links.origin - Eigen::Vector3d(g.origin_x, g.origin_y, g.origin_z);
   for (drainage::RidgeLine& l : drainage::ridge_lines(links, kRidgeChannelArea, kRidgeMinBasin)) {
     SceneRidge ridge{{}, float(l.basin_area), float(l.relief)};
     for (const Eigen::Vector3d& p : l.points) ridge.points.push_back((p + shift).cast<float>());
     s.ridges.push_back(std::move(ridge));
   }
+  s.ridges_seconds = since(t_ridges);
   s.chains = segment_chains(*s.creases);
   s.crease_levels = std::make_shared<const std::vector<CreaseLevel>>(coarser_crease_levels(*s.creases));
   s.crease_level_traits.clear();

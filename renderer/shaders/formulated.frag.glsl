@@ -4,7 +4,7 @@
 layout(location = 0) out vec4 o_mask;
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
-  ivec2 size = textureSize(u_normal, 0);
+  ivec2 size = textureSize(u_facing, 0);
   if (!formulated(p, size)) discard;
   list_silhouette_pixel(p, size);
   mark_silhouette_tile(p);

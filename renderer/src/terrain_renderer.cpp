@@ -363,7 +363,7 @@ HachureField TerrainRenderer::hachure_field(const View& view, bool light_tone) c
   return f;
 }
 
-FrameBuffers TerrainRenderer::read_buffers() const {
+FrameBuffers TerrainRenderer::read_buffers(bool normals) const {
   const auto& m = *impl_;
   const int w = m.scene.width, h = m.scene.height;
   const std::size_t n = std::size_t(w) * std::size_t(h);
@@ -389,7 +389,7 @@ FrameBuffers TerrainRenderer::read_buffers() const {
   bytes(m.silhouettes.opacity(), b.silhouette_opacity);
   red(m.creases.colour(), b.crease);
   red(m.edges.colour(), b.edge);
-  if (m.scene.surface_normal.id()) {
+  if (normals && m.scene.surface_normal.id()) {
     b.surface_normal.resize(4 * n);
     glGetTextureImage(m.scene.surface_normal.id(), 0, GL_RGBA, GL_FLOAT, GLsizei(16 * n), b.surface_normal.data());
     flip_rows(b.surface_normal, w, h, 4);

@@ -1124,7 +1124,7 @@ TEST(RendererGl, FormulatedSilhouettesFollowTheCpuRule) {
     fp.camera.view_az = 200;
     fp.camera.view_alt = alt;
     const auto res = r.render(fp);
-    const auto b = r.read_buffers();
+    const auto b = r.read_buffers(true);
     ASSERT_EQ(b.surface_normal.size(), 4u * w * h);
     const auto ta = renderer::toward_away_silhouettes(b.toward_depth, b.away_depth, w, h, res.view.reversed_z, false);
     const auto f = renderer::formulated_silhouettes(

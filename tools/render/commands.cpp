@@ -40,8 +40,10 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 void report_creases(const rr::Scene& scene, const std::string& dv, const tt::Verbosity& v, std::size_t first = 0) {
   for (std::size_t i = first; i < scene.warnings.size(); ++i) tt::warn(v, scene.warnings[i]);
   if (scene.creases)
-    tt::step(v, fmt::format("read {} and its PN normals: {} vertices, {} segments: {:.2f} s", dv,
-                            scene.creases->positions.size(), scene.creases->n_segments(), scene.creases_seconds));
+    tt::step(v, fmt::format("read {} and its PN normals: {} vertices, {} segments, {} ridge lines: {:.2f} s "
+                            "(the ridge lines {:.2f} s)",
+                            dv, scene.creases->positions.size(), scene.creases->n_segments(), scene.ridges.size(),
+                            scene.creases_seconds, scene.ridges_seconds));
 }
 
 // A scene read at a coarser level (--memory) read again at the level `cameras`' views draw,

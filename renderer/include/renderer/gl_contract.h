@@ -141,6 +141,7 @@
 #define TR_TEX_AWAY_TILES 10
 #define TR_TEX_TILE_MARKS 11
 #define TR_TEX_SURFACE_NORMAL 12
+#define TR_TEX_FORMULATED_FACING 13
 
 /* Image units: the silhouette opacity the piece rule writes (r8); the tiles of
    TR_SILHOUETTE_TILE x TR_SILHOUETTE_TILE pixels that hold a silhouette pixel (r8, 1),

@@ -37,6 +37,7 @@ enum class ProgramId {
   SurfaceSplit,      // TFT: the patches in view, split into flat ones (one triangle each) and tessellated ones
   SurfaceFlat,       // TFT: the flat patches as triangles, without the tessellation stages
   Formulated,        // SIL: formulated silhouettes, full screen, before Toward/Away
+  FormulatedFacing,  // SIL: the smoothed facing towards the lowered eye, full screen, before Formulated
 };
 inline constexpr std::array kAllPrograms = {
     ProgramId::Surface,          ProgramId::PnCapture,   ProgramId::CreaseScore,          ProgramId::CreaseBridge,
@@ -45,7 +46,7 @@ inline constexpr std::array kAllPrograms = {
     ProgramId::SurfaceId,        ProgramId::Adjacency,   ProgramId::EdgeClassify,         ProgramId::EdgeDraw,
     ProgramId::SilhouettePieces, ProgramId::PelPieces,   ProgramId::CreaseVisibility,     ProgramId::AwayTiles,
     ProgramId::TileRects,        ProgramId::SurfaceCull, ProgramId::HachureField,         ProgramId::SurfaceSplit,
-    ProgramId::SurfaceFlat,      ProgramId::Formulated};
+    ProgramId::SurfaceFlat,      ProgramId::Formulated,  ProgramId::FormulatedFacing};
 
 struct ProgramSpec {
   const char* name;

@@ -53,7 +53,8 @@ struct Scene {
   // kRidgeChannelArea, parting basins of at least kRidgeMinBasin (a frame selects further).
   std::vector<SceneRidge> ridges;
   std::vector<std::string> warnings;      // "'x.dv': ..." for the tool to print
-  double mesh_seconds = 0, creases_seconds = 0;
+  double mesh_seconds = 0, creases_seconds = 0;  // creases_seconds includes ridges_seconds
+  double ridges_seconds = 0;
   // What focus_scene needs of a scene read at a coarser level: the creases wait for it.
   struct Deferred {
     std::string mesh_path, dv_path;

@@ -62,8 +62,8 @@ struct FrameBuffers {
   std::vector<std::uint8_t> silhouette, crease, edge;          // 0/1 masks before compositing
   std::vector<std::uint8_t> silhouette_opacity;  // what LAY draws of the silhouettes (0..255; the piece rule)
   std::vector<std::uint8_t> surface_rgba;        // the shaded surface TFT drew (RGBA; where toward_depth shows surface)
-  // The drawn surface's unit normal (4 floats a pixel, the 4th 1 on the terrain), when TFT
-  // writes it (hachures, formulated silhouettes); else empty.
+  // The drawn surface's unit normal (4 floats a pixel, the 4th 1 on the terrain), when asked
+  // for and TFT writes it (hachures, formulated silhouettes); else empty.
   std::vector<float> surface_normal;
   // Adjacency silhouettes only: the triangle ID per pixel (0 none, 0xFFFFFFFF unknown) and
   // the triangle list (9 floats per ID from 1: three vertices, exaggerated mesh frame).
@@ -89,7 +89,8 @@ class TerrainRenderer {
   TerrainRenderer& operator=(const TerrainRenderer&) = delete;
 
   FrameResult render(const FrameParams& frame);
-  FrameBuffers read_buffers() const;
+  // With `normals`, FrameBuffers::surface_normal too (16 bytes a pixel; the tests').
+  FrameBuffers read_buffers(bool normals = false) const;
   // The hachures' field of the last frame (`view`: its FrameResult::view), computed on the
   // GPU (hachure_field.comp.glsl) from TFT's depth and the normals it drew; the tone the
   // light's (light_tone) or the slope's. The renderer must have been made with the hachures

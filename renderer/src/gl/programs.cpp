@@ -65,6 +65,7 @@ const ProgramSpec& program_spec(ProgramId id) {
          {{GL_VERTEX_SHADER, {c, "surface_flat.vert.glsl"}}, {GL_FRAGMENT_SHADER, {c, "surface.frag.glsl"}}},
          {}},
         {"formulated", fullscreen({"silhouette_list.glsl", "formulated.glsl", "formulated.frag.glsl"}), {}},
+        {"formulated_facing", fullscreen({"formulated_facing.frag.glsl"}), {}},
     };
   }();
   return specs.at(std::size_t(id));

@@ -66,6 +66,9 @@ SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece
     formulated_strength_ = style.formulated_strength;
     if (formulated_) {
       formulated_prog_ = build_program(ProgramId::Formulated);
+      facing_prog_ = build_program(ProgramId::FormulatedFacing);
+      facing_ = make_texture(GL_R32F, scene.width, scene.height);
+      facing_fbo_ = make_framebuffer(&facing_, nullptr);
       glProgramUniform1f(formulated_prog_.id(), TR_LOC_PIECE_MIN, float(piece_min_px_));
     }
   }
@@ -118,16 +121,23 @@ void SilhouettePass::draw(double pixel_angle, const FormulatedView& formulated) 
     // The formulated silhouettes first, every pixel; the Toward/Away test then leaves theirs
     // (it reads the same uniforms: none when the step is 0).
     const FormulatedView f = formulated_ ? formulated : FormulatedView{};
-    auto set = [&](const GlObject& program) {
+    auto set = [&](const GlObject& program, bool step) {
       glProgramUniform4f(program.id(), TR_LOC_FORMULATED, f.direction.x(), f.direction.y(), f.direction.z(), f.strength);
-      glProgramUniform2i(program.id(), TR_LOC_FORMULATED_STEP, f.step_x, f.step_up);
+      if (step) glProgramUniform2i(program.id(), TR_LOC_FORMULATED_STEP, f.step_x, f.step_up);
     };
-    set(prog_);
+    set(prog_, true);
     if (f.active()) {
-      set(formulated_prog_);
-      glBindTextureUnit(TR_TEX_SURFACE_NORMAL, s_.surface_normal.id());
-      glUseProgram(formulated_prog_.id());
+      // The smoothed facing of every pixel, once; then the test over it.
+      set(facing_prog_, false);
+      set(formulated_prog_, true);
       glBindVertexArray(s_.empty_vao.id());
+      glBindFramebuffer(GL_FRAMEBUFFER, facing_fbo_.id());
+      glBindTextureUnit(TR_TEX_SURFACE_NORMAL, s_.surface_normal.id());
+      glUseProgram(facing_prog_.id());
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+      glBindTextureUnit(TR_TEX_FORMULATED_FACING, facing_.id());
+      glUseProgram(formulated_prog_.id());
       glDrawArrays(GL_TRIANGLES, 0, 3);
     }
   }

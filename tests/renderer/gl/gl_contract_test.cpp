@@ -43,7 +43,8 @@ const std::map<std::string, int> kSamplers = {
     {"u_ids", TR_TEX_TRIANGLE_ID},           {"u_id_depth", TR_TEX_ID_DEPTH},
     {"u_edge", TR_TEX_EDGE_COLOUR},          {"u_edge_depth", TR_TEX_EDGE_DEPTH},
     {"u_silhouette_tiles", TR_TEX_SILHOUETTE_TILES}, {"u_away_tiles", TR_TEX_AWAY_TILES},
-    {"u_marks", TR_TEX_TILE_MARKS},          {"u_normal", TR_TEX_SURFACE_NORMAL}};
+    {"u_marks", TR_TEX_TILE_MARKS},          {"u_normal", TR_TEX_SURFACE_NORMAL},
+    {"u_facing", TR_TEX_FORMULATED_FACING}};
 const std::map<std::string, int> kImages = {{"u_opacity", TR_IMG_SILHOUETTE_OPACITY},
                                             {"u_tiles", TR_IMG_SILHOUETTE_TILES},
                                             {"u_away_tiles", TR_IMG_AWAY_TILES}};
@@ -178,7 +179,7 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
   EXPECT_EQ(computes, 14u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 32u);  // silhouette 3, formulated 1, away tiles 1, tile rects 2, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1, hachure field 2
+  EXPECT_EQ(samplers, 33u);  // silhouette 3, formulated 1, formulated facing 1, away tiles 1, tile rects 2, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1, hachure field 2
   EXPECT_EQ(images, 5u);     // pieces (opacity), silhouette, formulated and adjacency (tiles), away tiles
   EXPECT_GE(locations, 14u);
 }
