@@ -1106,8 +1106,8 @@ TEST(RendererGl, SilhouettesFollowTheCpuRuleAndCloseGaps) {
   EXPECT_GE(beside, 0.95);
 }
 
-// Formulated silhouettes on Mount St. Helens at 50 m (the default style's eye lowered to 5
-// degrees), seen obliquely and from straight above: the SIL pass's mask is exactly the CPU
+// Formulated silhouettes on Mount St. Helens at 50 m (the eye lowered to 5 degrees, a
+// strength of 5 degrees), seen obliquely and from straight above: the SIL pass's mask is exactly the CPU
 // rules applied to the frame's own buffers, Toward/Away's on its depths united with
 // renderer::formulated_silhouettes on its drawn normals. From above there is no Toward/Away
 // silhouette at all, and the formulated ones are there.
@@ -1119,6 +1119,7 @@ TEST(RendererGl, FormulatedSilhouettesFollowTheCpuRule) {
     SCOPED_TRACE(alt);
     renderer::Style style = test_style();
     style.formulated = true;
+    style.formulated_altitude = style.formulated_strength = 5;  // enough lines on this view to compare
     TerrainRenderer r(ctx, mesh, nullptr, w, h, renderer::Layers{false, true, false, true}, style);
     FrameParams fp;
     fp.camera.view_az = 200;

@@ -167,7 +167,7 @@ struct Style {
   // on the view's bearing, where the far side falls at least formulated_strength degrees
   // more steeply than that sight line.
   bool formulated = true;
-  double formulated_altitude = 5.0, formulated_strength = 5.0;
+  double formulated_altitude = 5.0, formulated_strength = 10.0;
   double exaggeration = 1.0;                          // vertical exaggeration
   double crease_lift = -1;        // metres towards the eye, for the depth test only; < 0: 0.5 x mesh spacing
   double pixels_per_edge = 6.0;   // tessellation target: screen length of a triangle edge

@@ -439,7 +439,7 @@ void add_lines_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "bearing (the top view looks towards the image's top)",
       [](auto& s) -> auto& { return s.style.formulated_altitude; }));
   t.push_back(number(
-      "formulated-strength", sil, 0, 89, "degrees", "5",
+      "formulated-strength", sil, 0, 89, "degrees", "10",
       "Formulated silhouettes: a line is drawn where the far side falls at least this many degrees more "
       "steeply than the lowered sight line (how much it would hide)",
       [](auto& s) -> auto& { return s.style.formulated_strength; }));
