@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include <fmt/format.h>
 #include <ogrsf_frmts.h>
 
 #include "renderer/scene.hpp"
+#include "renderer/vector_file.hpp"
 #include "terrain/gpkg.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/memory.hpp"
@@ -41,12 +43,46 @@ void check_plan_memory(const PlanView& p) {
                         fmt::format("give --scale {:g} or coarser", std::ceil(fits / step) * step));
 }
 
-PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptions& o) {
+namespace {
+
+// The ridges a map of `plan` draws (select_ridges at its scale), in its pixels.
+std::vector<PlanRidge> plan_ridges(const terrain::GridMesh& mesh, const PlanView& plan,
+                                   const std::vector<SceneRidge>& ridges, const PlanHachureOptions& o) {
+  float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
+  for (const Eigen::Vector3f& p : mesh.positions) lo = std::min(lo, p.z()), hi = std::max(hi, p.z());
+  const double min_area = o.ridge_min_area * std::sqrt(plan.scale / 10.0);
+  std::vector<PlanRidge> out;
+  for (const std::size_t k : select_ridges(ridges, plan.scale, min_area, o.ridge_min_relief * double(hi - lo))) {
+    PlanRidge r{{}, ridges[k].basin_area, ridges[k].relief};
+    for (const Eigen::Vector3f& p : ridges[k].points)
+      r.points.emplace_back(float((double(p.x()) - plan.x0) / plan.scale), float((plan.y0 - double(p.y())) / plan.scale));
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+VectorLayer ridge_paths(const std::vector<PlanRidge>& ridges, double width) {
+  VectorLayer l{"ridges", Style{}.ridge_colour, LineCap::Round, {}, ridges.size()};
+  for (const PlanRidge& r : ridges) l.paths.push_back({{r.points, false}, float(width), 1.0f, {}});
+  return l;
+}
+
+}  // namespace
+
+PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptions& o,
+                           const std::vector<SceneRidge>& ridges) {
   PlanHachures out;
   out.plan = plan_view(mesh, o.scale > 0 ? o.scale : default_plan_scale(mesh));
   check_plan_memory(out.plan);
   const Eigen::Vector3d light = terrain::light_direction(o.light_azimuth, o.light_altitude);
   HachureField field = plan_hachure_field(mesh, out.plan, o.light_tone ? &light : nullptr);
+  out.ridges = plan_ridges(mesh, out.plan, ridges, o);
+  if (!out.ridges.empty()) {  // the hachures stop at the ridge lines' pixels, as drawn
+    std::vector<std::uint8_t> ink(4 * field.slope.size(), 0);
+    draw_on_rgba(ridge_paths(out.ridges, o.ridge_width), field.width, field.height, ink);
+    field.blocked.assign(field.slope.size(), 0);
+    for (std::size_t i = 0; i < field.blocked.size(); ++i) field.blocked[i] = ink[4 * i + 3] > 0;
+  }
   HachureRule rule;
   rule.spacing = o.spacing;
   rule.min_slope = std::max(rule.min_slope, o.min_slope_share * slope_percentile(field, 0.99));
@@ -80,6 +116,9 @@ std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachure
   terrain::Gpkg gpkg(path, mesh.geo.crs_wkt);
   OGRLayer* layer = gpkg.layer("hachures", wkbLineString,
                                {{"slope_deg", OFTReal}, {"tone", OFTReal}, {"length_m", OFTReal}, {"row_m", OFTReal}});
+  OGRLayer* rl = h.ridges.empty() ? nullptr
+                                  : gpkg.layer("ridges", wkbLineString,
+                                               {{"basin_m2", OFTReal}, {"relief_m", OFTReal}, {"length_m", OFTReal}});
   gpkg.begin();
   for (const Hachure& hh : h.hachures) {
     OGRLineString traced;
@@ -102,6 +141,22 @@ std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachure
     f.SetGeometry(&line);  // copied
     gpkg.add(layer, f);
   }
+  if (rl)
+    for (const PlanRidge& r : h.ridges) {
+      OGRLineString line;
+      double length = 0;
+      for (std::size_t k = 0; k < r.points.size(); ++k) {
+        const Eigen::Vector2d q = plan_to_local(h.plan, r.points[k]);
+        line.addPoint(mesh.geo.origin_x + q.x(), mesh.geo.origin_y + q.y());
+        if (k) length += double((r.points[k] - r.points[k - 1]).norm()) * h.plan.scale;
+      }
+      OGRFeature f(rl->GetLayerDefn());
+      f.SetField("basin_m2", r.basin_area);
+      f.SetField("relief_m", r.relief);
+      f.SetField("length_m", length);
+      f.SetGeometry(&line);
+      gpkg.add(rl, f);
+    }
   gpkg.commit();
   return h.hachures.size();
 }
@@ -113,6 +168,7 @@ VectorArt plan_vector_art(const PlanHachures& h, const PlanHachureOptions& o) {
   Style style;
   style.hachure_width = o.width;
   art.layers.push_back(hachure_paths(h.hachures, style));
+  if (!h.ridges.empty()) art.layers.push_back(ridge_paths(h.ridges, o.ridge_width));
   return art;
 }
 

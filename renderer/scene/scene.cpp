@@ -45,31 +45,83 @@ terrain::GridMesh whole_grid(const Scene& s) {
   return g;
 }
 
-// The database's points under the mesh (a large tiled .dv is read block by block) and
-// their creases, on scene.mesh. Under the whole mesh when a window of it is held
+// The database's points under a mesh's grid (a large tiled .dv is read block by block).
+terrain::DrainageLinks links_under(const std::string& dv_path, const terrain::GridMesh& grid) {
+  const terrain::MeshGeoref& g = grid.geo;
+  const terrain::GridTopology& t = grid.topo;
+  return drainage::drainage_links_in(dv_path, g.origin_x, g.origin_y - double(t.rows - 1) * g.dy,
+                                     g.origin_x + double(t.cols - 1) * g.dx, g.origin_y);
+}
+
+}  // namespace
+
+std::vector<SceneRidge> scene_ridges(const terrain::DrainageLinks& links, const terrain::MeshGeoref& g) {
+  std::vector<SceneRidge> out;
+  const Eigen::Vector3d shift = links.origin - Eigen::Vector3d(g.origin_x, g.origin_y, g.origin_z);
+  for (drainage::RidgeLine& l : drainage::ridge_lines(links, kRidgeChannelArea, kRidgeMinBasin)) {
+    SceneRidge ridge{{}, float(l.basin_area), float(l.relief)};
+    for (const Eigen::Vector3d& p : l.points) ridge.points.push_back((p + shift).cast<float>());
+    out.push_back(std::move(ridge));
+  }
+  return out;
+}
+
+std::vector<SceneRidge> read_ridges(const std::string& dv_path, const terrain::GridMesh& mesh) {
+  return scene_ridges(links_under(dv_path, mesh), mesh.geo);
+}
+
+std::vector<std::size_t> select_ridges(const std::vector<SceneRidge>& ridges, double scale, double min_area,
+                                       double min_relief) {
+  // The ridges kept, joined where they share an end (a crest is chained in pieces between
+  // the corners where three basins meet): a line shorter than kRidgeMinPixels in plan on the
+  // page is a stub, no crest.
+  std::vector<std::size_t> kept;
+  for (std::size_t i = 0; i < ridges.size(); ++i)
+    if (ridges[i].basin_area >= min_area && ridges[i].relief >= min_relief && ridges[i].points.size() >= 2)
+      kept.push_back(i);
+  std::vector<std::size_t> root(kept.size());
+  std::iota(root.begin(), root.end(), std::size_t(0));
+  auto find = [&](std::size_t x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  std::map<std::pair<long, long>, std::size_t> ends;  // an end, to the centimetre -> the first piece there
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    const auto& pts = ridges[kept[k]].points;
+    for (const Eigen::Vector3f& p : {pts.front(), pts.back()}) {
+      const auto key = std::make_pair(std::lround(p.x() * 100.0), std::lround(p.y() * 100.0));
+      const auto [it, fresh] = ends.try_emplace(key, k);
+      if (!fresh) root[find(k)] = find(it->second);
+    }
+  }
+  std::vector<double> length(kept.size(), 0.0);
+  for (std::size_t k = 0; k < kept.size(); ++k) {
+    const auto& pts = ridges[kept[k]].points;
+    for (std::size_t j = 0; j + 1 < pts.size(); ++j) length[find(k)] += (pts[j + 1] - pts[j]).head<2>().norm();
+  }
+  std::vector<std::size_t> out;
+  for (std::size_t k = 0; k < kept.size(); ++k)
+    if (length[find(k)] >= kRidgeMinPixels * scale) out.push_back(kept[k]);
+  return out;
+}
+
+namespace {
+
+// The database's points under the mesh and their creases, on scene.mesh. Under the whole mesh when a window of it is held
 // (LodHierarchy::window): the rules see the basins, flats and channels of the network the
 // mesh's frame draws, not the window's pieces of them (its flow normalized by a basin cut
 // at the window's edge); the lines outside the window are out of view.
 void build_creases(Scene& s, const std::string& dv_path, const CreaseRules& rules) {
   const auto t0 = Clock::now();
   const terrain::GridMesh extent = whole_grid(s);  // what the database should cover
-  const terrain::MeshGeoref& g = extent.geo;
-  const terrain::GridTopology& t = extent.topo;
-  const terrain::DrainageLinks links = drainage::drainage_links_in(
-      dv_path, g.origin_x, g.origin_y - double(t.rows - 1) * g.dy, g.origin_x + double(t.cols - 1) * g.dx, g.origin_y);
+  const terrain::DrainageLinks links = links_under(dv_path, extent);
   s.creases = build_crease_geometry(s.mesh, links, rules);
   std::string w = coverage_warning(extent, links);
   if (w.empty()) w = surface_warning(s.mesh, *s.creases);  // one warning: the extent says it already
   if (!w.empty()) s.warnings.push_back("'" + dv_path + "': " + w);
   s.traits = segment_traits(s.mesh, links, *s.creases);
-  s.ridges.clear();
   const auto t_ridges = Clock::now();
-  const Eigen::Vector3d shift = links.origin - Eigen::Vector3d(g.origin_x, g.origin_y, g.origin_z);
-  for (drainage::RidgeLine& l : drainage::ridge_lines(links, kRidgeChannelArea, kRidgeMinBasin)) {
-    SceneRidge ridge{{}, float(l.basin_area), float(l.relief)};
-    for (const Eigen::Vector3d& p : l.points) ridge.points.push_back((p + shift).cast<float>());
-    s.ridges.push_back(std::move(ridge));
-  }
+  s.ridges = scene_ridges(links, extent.geo);
   s.ridges_seconds = since(t_ridges);
   s.chains = segment_chains(*s.creases);
   s.crease_levels = std::make_shared<const std::vector<CreaseLevel>>(coarser_crease_levels(*s.creases));
@@ -489,37 +541,9 @@ VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const Fram
   const double scale = std::max(page_scale(res.view, r.box()), 1e-9);
   const double min_area = style.ridge_min_area * std::sqrt(scale / 10.0);
   const double min_relief = style.ridge_min_relief * (r.box().hi.z() - r.box().lo.z()) / std::max(e, 1e-9);
-  // The ridges kept, joined where they share an end (a crest is chained in pieces between
-  // the corners where three basins meet): a line shorter than kRidgeMinPixels in plan on the
-  // page is a stub, no crest.
-  std::vector<std::size_t> kept;
-  for (std::size_t i = 0; i < scene.ridges.size(); ++i)
-    if (scene.ridges[i].basin_area >= min_area && scene.ridges[i].relief >= min_relief && scene.ridges[i].points.size() >= 2)
-      kept.push_back(i);
-  std::vector<std::size_t> root(kept.size());
-  std::iota(root.begin(), root.end(), std::size_t(0));
-  auto find = [&](std::size_t x) {
-    while (root[x] != x) x = root[x] = root[root[x]];
-    return x;
-  };
-  std::map<std::pair<long, long>, std::size_t> ends;  // an end, to the centimetre -> the first piece there
-  for (std::size_t k = 0; k < kept.size(); ++k) {
-    const auto& pts = scene.ridges[kept[k]].points;
-    for (const Eigen::Vector3f& p : {pts.front(), pts.back()}) {
-      const auto key = std::make_pair(std::lround(p.x() * 100.0), std::lround(p.y() * 100.0));
-      const auto [it, fresh] = ends.try_emplace(key, k);
-      if (!fresh) root[find(k)] = find(it->second);
-    }
-  }
-  std::vector<double> length(kept.size(), 0.0);
-  for (std::size_t k = 0; k < kept.size(); ++k) {
-    const auto& pts = scene.ridges[kept[k]].points;
-    for (std::size_t j = 0; j + 1 < pts.size(); ++j) length[find(k)] += (pts[j + 1] - pts[j]).head<2>().norm();
-  }
   std::vector<SceneSegment> segs;
-  for (std::size_t k = 0; k < kept.size(); ++k) {
-    if (length[find(k)] < kRidgeMinPixels * scale) continue;
-    const SceneRidge& ridge = scene.ridges[kept[k]];
+  for (const std::size_t k : select_ridges(scene.ridges, scale, min_area, min_relief)) {
+    const SceneRidge& ridge = scene.ridges[k];
     for (std::size_t j = 0; j + 1 < ridge.points.size(); ++j) {
       const Eigen::Vector3f a = ridge.points[j], b = ridge.points[j + 1];
       segs.push_back({Eigen::Vector3d(a.x(), a.y(), double(a.z()) * e), Eigen::Vector3d(b.x(), b.y(), double(b.z()) * e),

@@ -553,6 +553,69 @@ TEST(TerrainInspect, HachureMapsInMapCoordinates) {
   }
 }
 
+// A plan map with its .dv draws the ridge lines (issue 64): on a tent 10 km long whose
+// flanks fall 30 % from its crest to valleys 2.5 km away on both sides, the map's ridges layer (GeoPackage, SVG) lies
+// along the crest over most of its length, and the hachures stop at it: every hachure
+// lies on one side of the crest and keeps off the ridge line's ink (2.2 px wide at 25 m a
+// pixel: 27.5 m from its centre, less the half pixel the lines are simplified within), and
+// both sides have hachures. Without --dv the map is
+// as before (no ridges layer).
+TEST(TerrainInspect, PlanMapsDrawTheRidgeLinesAndTheHachuresStopAtThem) {
+  terrain::test::ScratchDir dir;
+  terrain::Georef geo = terrain::read_dem_info(data("logan_utm12n_100m.tif")).geo;
+  terrain::Grid g(100, 60, geo);  // 100 m cells
+  for (std::size_t r = 0; r < g.rows; ++r)
+    for (std::size_t c = 0; c < g.cols; ++c)
+      g.at(r, c) = float(900 - 0.3 * (2500 - std::abs(2500 - std::abs(double(c) * 100 + 50 - 3000))) -
+                         0.02 * double(r) * 100);
+  terrain::write_geotiff(g, dir.path("tent.tif"));
+  const std::string mesh = dir.path("tent.ply"), dv = dir.path("tent.dv");
+  ASSERT_EQ(run(tool("dem2mesh") + " " + dir.path("tent.tif") + " " + mesh + " -q").exit_code, 0);
+  ASSERT_EQ(run(tool("build-drainage") + " " + mesh + " " + dv + " --spacing 50 -q").exit_code, 0);
+  const std::string ex = tool("terrain-inspect") + " export " + mesh + " --scale 25 ";
+  const auto e = run(ex + "--dv " + dv + " --to gpkg -o " + dir.path("t.gpkg"));
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  EXPECT_NE(e.out.find("ridges: "), std::string::npos) << e.out;
+  const double crest = geo.x0 + 3000;
+  terrain::ensure_gdal();
+  std::unique_ptr<GDALDataset> ds(GDALDataset::Open(dir.path("t.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  ASSERT_TRUE(ds);
+  OGRLayer* ridges = ds->GetLayerByName("ridges");
+  ASSERT_TRUE(ridges);
+  double along = 0;
+  OGRMultiLineString crests;
+  for (auto& f : *ridges) {
+    crests.addGeometry(f->GetGeometryRef());
+    const OGRLineString* line = f->GetGeometryRef()->toLineString();
+    for (int k = 0; k < line->getNumPoints(); ++k) EXPECT_NEAR(line->getX(k), crest, 60.0);
+    along += line->get_Length();
+    EXPECT_GT(f->GetFieldAsDouble("basin_m2"), 1e7);
+  }
+  EXPECT_GT(along, 7000.0) << "the crest is 10 km long";
+  std::size_t west = 0, east = 0;
+  for (auto& f : *ds->GetLayerByName("hachures")) {
+    const OGRLineString* line = f->GetGeometryRef()->toLineString();
+    bool w = false, eo = false;
+    for (int k = 0; k < line->getNumPoints(); ++k) (line->getX(k) < crest ? w : eo) = true;
+    EXPECT_FALSE(w && eo) << "a hachure crosses the ridge line";
+    EXPECT_GT(line->Distance(&crests), 15.0) << "a hachure on the ridge line's ink";
+    west += w, east += eo;
+  }
+  EXPECT_GT(west, 20u);
+  EXPECT_GT(east, 20u);
+  ASSERT_EQ(run(ex + "--dv " + dv + " --to svg -o " + dir.path("t.svg")).exit_code, 0);
+  std::ifstream svg(dir.path("t.svg"));
+  const std::string text((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("inkscape:label=\"ridges\""), std::string::npos);
+  ASSERT_EQ(run(ex + "--to gpkg -o " + dir.path("plain.gpkg")).exit_code, 0);
+  std::unique_ptr<GDALDataset> plain(GDALDataset::Open(dir.path("plain.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  ASSERT_TRUE(plain);
+  EXPECT_EQ(plain->GetLayerByName("ridges"), nullptr);
+  const auto bad = run(ex + "--dv " + mesh + " --to gpkg -o " + dir.path("bad.gpkg"));
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("is not a drainage database"), std::string::npos) << bad.err;
+}
+
 TEST(TerrainRender, FlowScale) {
   Inputs in;
   const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + in.dir.path("f.png") +

@@ -187,12 +187,15 @@ void export_hachure_map(const ExportArgs& a, const std::string& provenance) {
   for (const std::string& l : a.gpkg_layers)
     if (layers_given && l != "hachures")
       throw terrain::Error("--layers " + l + ": a .dv's layer; a mesh exports only hachures");
+  if (!a.dv.empty() && !drainage::is_dv_file(a.dv))
+    throw terrain::Error("--dv '" + a.dv + "' is not a drainage database (.dv)");
   const terrain::GridMesh m = terrain::read_mesh_ply(a.file);
   renderer::PlanHachureOptions o;
   o.scale = a.scale, o.spacing = a.hachure_spacing, o.width = a.hachure_width;
   o.light_tone = a.hachure_tone == "light", o.rows = a.hachure_style == "rows";
   o.min_slope_share = a.hachure_min_slope / 100.0;
-  const renderer::PlanHachures h = renderer::plan_hachures(m, o);
+  const renderer::PlanHachures h =
+      renderer::plan_hachures(m, o, a.dv.empty() ? std::vector<renderer::SceneRidge>{} : renderer::read_ridges(a.dv, m));
   const std::array<double, 6> gt = renderer::plan_geotransform(m, h.plan);
   if (a.to == "gpkg") {
     renderer::write_hachures_gpkg(m, h, a.out);
@@ -206,6 +209,7 @@ void export_hachure_map(const ExportArgs& a, const std::string& provenance) {
             << "geotransform: " << renderer::geotransform_text(gt) << "\n";
   if (h.row_interval > 0) std::cout << "form lines: every " << h.row_interval << " m\n";
   std::cout << "hachures: " << h.hachures.size() << "\n";
+  if (!a.dv.empty()) std::cout << "ridges: " << h.ridges.size() << "\n";
 }
 
 }  // namespace
@@ -278,6 +282,11 @@ void add_export_options(CLI::App* exp, ExportArgs& a) {
                   "Hachure map: lines (continuous slope lines) or rows (Imhof's rows between form lines)")
       ->check(CLI::IsMember({"lines", "rows"}))
       ->capture_default_str();
+  exp->add_option("--dv", a.dv,
+                  "A mesh's hachure map: the mesh's drainage database; its ridge lines are drawn (a layer ridges of "
+                  "the gpkg, svg or pdf), selected by the map's scale as terrain-render's, and the hachures stop at "
+                  "them")
+      ->check(CLI::ExistingFile);
 }
 
 void info_pyramid(const std::string& path) {
@@ -401,7 +410,9 @@ void run_export(ExportArgs& a, const std::string& provenance, const Verbosity& v
                                   : std::filesystem::path(file).replace_extension(to).string();
   if (to == "gpkg" && !out.ends_with(".gpkg"))  // the svg and pdf writers check theirs
     throw terrain::Error("--to gpkg writes a GeoPackage: give -o a name ending in .gpkg, not '" + out + "'");
-  tt::check_distinct_paths({file}, {out});
+  if (!a.dv.empty() && !(is_mesh && (to == "gpkg" || to == "svg" || to == "pdf")))
+    throw terrain::Error("--dv: only a mesh's hachure map (--to gpkg, svg or pdf) draws a .dv's ridge lines");
+  tt::check_distinct_paths(a.dv.empty() ? std::vector<std::string>{file} : std::vector<std::string>{file, a.dv}, {out});
   tt::warn_stale_temporaries(verb, {out});
   terrain::check_output_path(out);
   if (is_mesh && (to == "gpkg" || to == "svg" || to == "pdf")) {

@@ -29,6 +29,7 @@ struct ExportArgs {
   // A mesh's plan-view hachure map (--layers hachures; renderer/plan_map.hpp).
   double scale = 0, hachure_spacing = 6, hachure_width = 0.8, hachure_min_slope = 20;
   std::string hachure_tone = "slope", hachure_style = "lines";
+  std::string dv;  // the mesh's .dv: its ridge lines on the map
 };
 void add_export_options(CLI::App* cmd, ExportArgs& a);
 // export FILE --to obj|tif|gpkg|svg|pdf.

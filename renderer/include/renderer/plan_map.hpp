@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "renderer/hachures.hpp"
+#include "renderer/scene.hpp"
 #include "renderer/vector_art.hpp"
 #include "terrain/grid_mesh.hpp"
 
@@ -26,6 +27,16 @@ struct PlanHachureOptions {
   // Hachures script leaves ground under a share of its slope range; never under
   // HachureRule::min_slope. 0: that rule's absolute threshold alone.
   double min_slope_share = 0.2;
+  // Ridge lines (given a .dv: plan_hachures' `ridges`), selected as a frame selects them
+  // (select_ridges at the map's scale; terrain-render's --ridge-min-area, --ridge-min-relief
+  // as a share of the mesh's relief) and drawn ridge_width pixels wide.
+  double ridge_min_area = 1e7, ridge_min_relief = 0.05, ridge_width = 2.2;
+};
+
+// A ridge line of a map, in its pixels (u right, v down), with what selected it.
+struct PlanRidge {
+  std::vector<Eigen::Vector2f> points;
+  double basin_area = 0, relief = 0;  // m^2, m (SceneRidge's)
 };
 
 struct PlanHachures {
@@ -33,6 +44,7 @@ struct PlanHachures {
   double min_slope = 0;     // radians: the white ground's (PlanHachureOptions::min_slope_share)
   double row_interval = 0;  // metres, 0 unless rows
   std::vector<Hachure> hachures;
+  std::vector<PlanRidge> ridges;  // those the map draws; the hachures stop at them
 };
 
 // The scale a map takes when none is given: its longer side at most 2048 pixels, at 1,
@@ -43,8 +55,11 @@ double default_plan_scale(const terrain::GridMesh& mesh);
 // memory available now (terrain::check_memory), naming the --scale that fits.
 void check_plan_memory(const PlanView& plan);
 
-// The map's hachures (plan_view's size; check_plan_memory first).
-PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptions& o);
+// The map's hachures (plan_view's size; check_plan_memory first) and, given the ridge lines
+// of the mesh's .dv (read_ridges), those the map's scale selects, the hachures stopped at
+// them as a frame's are (the crest stands clear of its slopes).
+PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptions& o,
+                           const std::vector<SceneRidge>& ridges = {});
 
 // The map's geotransform, GDAL's order: x0, scale, 0, y0, 0, -scale (world coordinates).
 std::array<double, 6> plan_geotransform(const terrain::GridMesh& mesh, const PlanView& plan);
@@ -61,11 +76,13 @@ std::string world_file(const std::array<double, 6>& gt);
 
 // Writes the GeoPackage `path` with a line layer "hachures" in the mesh's CRS: one feature
 // a hachure, in world coordinates, with its mean slope (degrees), mean tone (0..1),
-// length (metres) and row_m (rows only: the form line above it, metres). Returns the count.
+// length (metres) and row_m (rows only: the form line above it, metres); and, where the
+// map has ridge lines, a line layer "ridges" (basin_m2: the smaller basin it parts, relief_m:
+// its rise above that basin's outlet, length_m). Returns the hachures' count.
 std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachures& h, const std::string& path);
 
-// The map as line art: one layer "hachures" on a white page of plan.width x plan.height
-// pixels.
+// The map as line art on a white page of plan.width x plan.height pixels: a layer
+// "hachures" and, where the map has ridge lines, a layer "ridges" over it.
 VectorArt plan_vector_art(const PlanHachures& h, const PlanHachureOptions& o);
 
 }  // namespace renderer

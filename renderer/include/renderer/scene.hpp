@@ -14,6 +14,7 @@
 #include "renderer/hachures.hpp"
 #include "renderer/terrain_renderer.hpp"
 #include "renderer/vector_art.hpp"
+#include "terrain/drainage_links.hpp"
 #include "terrain/grid_mesh.hpp"
 
 namespace renderer {
@@ -174,6 +175,17 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
 // removed against the frame's toward depth (segment_paths), one path per visible run.
 inline constexpr double kRidgeChannelArea = 1e6, kRidgeMinBasin = 2e6;  // m^2
 inline constexpr double kRidgeMinPixels = 12;
+// The ridge lines of a database's links (drainage::ridge_lines at kRidgeChannelArea and
+// kRidgeMinBasin), in the local frame of a mesh georeferenced by `g`.
+std::vector<SceneRidge> scene_ridges(const terrain::DrainageLinks& links, const terrain::MeshGeoref& g);
+// The ridge lines of the .dv at `dv_path` under `mesh`'s grid, in its local frame.
+std::vector<SceneRidge> read_ridges(const std::string& dv_path, const terrain::GridMesh& mesh);
+// Which of `ridges` a page of `scale` metres a pixel draws (Topfer's law, as the creases'):
+// those parting a smaller basin of at least `min_area` m^2 and rising `min_relief` m above
+// its outlet, joined where they share an end, whole lines under kRidgeMinPixels on the page
+// dropped (stubs, no crests). Indices, in order.
+std::vector<std::size_t> select_ridges(const std::vector<SceneRidge>& ridges, double scale, double min_area,
+                                       double min_relief);
 VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                         const FrameBuffers& buffers, const Style& style);
 
