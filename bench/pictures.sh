@@ -5,7 +5,8 @@
 # (`--layers shaded`), and each line layer alone (`--layers mask,L`). For each, how well its
 # ink follows the shaded frame's darkness (bench/bandpass_r.py): the band-pass r (a
 # difference of Gaussians, 3 px - 12 px: the forms) and r8 (both blurred by 8 px: the tone);
-# and the silhouettes' mean piece. A DEM dem2mesh refuses with no option (no-data inside
+# the silhouettes' mean piece; and the balance of the layers, each layer's share of the
+# picture's ink (bench/ink_share.py: creases, hachures, silhouettes). A DEM dem2mesh refuses with no option (no-data inside
 # its extent) is meshed with --fill-nodata, one in degrees without a CRS with --src-crs
 # EPSG:4326, and the table says so.
 # Usage: bench/pictures.sh [WORKDIR] [EXTRA RENDER OPTIONS...]   (a markdown table)
@@ -18,8 +19,8 @@ shift || true
 mkdir -p "$work"
 shared="$root/../shared/data"
 r() { /usr/bin/python3 "$root/bench/bandpass_r.py" "$1" "$2"; }
-echo "| DEM | mesh | picture band-pass | picture r8 | hachures band-pass | creases band-pass | silhouettes band-pass | silhouette mean piece px | crease connected | frame s |"
-echo "|---|---|---|---|---|---|---|---|---|---|"
+echo "| DEM | mesh | picture band-pass | picture r8 | hachures band-pass | creases band-pass | silhouettes band-pass | silhouette mean piece px | crease connected | ink: creases / hachures / silhouettes | frame s |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|"
 for src in ${PICTURES_DEMS:-"$shared"/*.tif "$shared"/*.asc "$shared"/*.bil}; do
   name=$(basename "${src%.*}")
   case "$name" in *taudem* | *aread8* | *d8dir*) continue ;; esac  # TauDEM's outputs, not DEMs
@@ -33,7 +34,7 @@ for src in ${PICTURES_DEMS:-"$shared"/*.tif "$shared"/*.asc "$shared"/*.bil}; do
     how="--fill-nodata"
     grep -q -- "--src-crs EPSG:4326" "$work/$name.err" && how="--src-crs EPSG:4326"
     "$bin/dem2mesh" "$src" "$m" $how -q > /dev/null 2>> "$work/$name.err" || {
-      echo "| $name | refused: $(tail -1 "$work/$name.err") | | | | | | | | |"
+      echo "| $name | refused: $(tail -1 "$work/$name.err") | | | | | | | | | |"
       continue
     }
   fi
@@ -50,6 +51,7 @@ for src in ${PICTURES_DEMS:-"$shared"/*.tif "$shared"/*.asc "$shared"/*.bil}; do
   read -r hb _ _ < <(r "$work/${name}_hachures.png" "$work/${name}_shaded.png")
   read -r cb _ _ < <(r "$work/${name}_creases.png" "$work/${name}_shaded.png")
   read -r sb _ _ < <(r "$work/${name}_silhouettes.png" "$work/${name}_shaded.png")
+  share() { /usr/bin/python3 "$root/bench/ink_share.py" "$work/${name}_$1.png" "$work/$name.png"; }
   get() { echo "$stats" | awk -F': ' -v k="$1" '$1==k{print $2}'; }
-  echo "| $name | $how | $band | $r8 | $hb | $cb | $sb | $(get 'silhouette mean piece px') | $(get 'crease connected share') | $(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.1f", b-a}') |"
+  echo "| $name | $how | $band | $r8 | $hb | $cb | $sb | $(get 'silhouette mean piece px') | $(get 'crease connected share') | $(share creases) / $(share hachures) / $(share silhouettes) | $(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.1f", b-a}') |"
 done

@@ -165,7 +165,7 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
       gt ? frame_description + "; map: orthographic, " + map_note(*gt, scene.mesh.geo.epsg) : frame_description;
   std::optional<FrameBuffers> buffers;
   auto t0 = Clock::now();
-  if (draws_overlays(scene, f.layers) || !vectors.empty()) {
+  if (draws_overlays(scene, f.layers, f.style) || !vectors.empty()) {
     buffers = r.read_buffers();
     t.readback_ms = ms(t0);
   }

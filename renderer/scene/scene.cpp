@@ -2,6 +2,7 @@
 
 #include "renderer/camera.hpp"
 #include "renderer/gl_contract.hpp"
+#include "renderer/silhouette.hpp"
 
 #include <Eigen/LU>
 #include <fmt/format.h>
@@ -440,14 +441,29 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
     l.paths = segment_paths(segs, res.view, lift, buffers.toward_depth, false, float(style.edge_width), &l.strokes);
     art.layers.push_back(std::move(l));
   }
-  if (layers.silhouettes) {
-    // The composite's band: TR_SILHOUETTE_BAND px wider than the silhouette width when anti-aliased.
-    const float width = float(style.silhouette_width) + (style.antialias ? float(TR_SILHOUETTE_BAND) : 0.0f);
-    VectorLayer l{"silhouettes", style.silhouette_colour, LineCap::Round, {}, 0};
-    l.paths = silhouette_paths(buffers.silhouette_opacity, res.width, res.height, width, &l.strokes);
-    art.layers.push_back(std::move(l));
-  }
+  if (layers.silhouettes) art.layers.push_back(silhouette_layer(res, buffers, style));
   return art;
+}
+
+VectorLayer silhouette_layer(const FrameResult& res, const FrameBuffers& buffers, const Style& style) {
+  // The composite's band: TR_SILHOUETTE_BAND px wider than the silhouette width when anti-aliased.
+  const float width = float(style.silhouette_width) + (style.antialias ? float(TR_SILHOUETTE_BAND) : 0.0f);
+  VectorLayer l{"silhouettes", style.silhouette_colour, LineCap::Round, {}, 0};
+  std::vector<float> hidden;
+  if (style.antialias && style.silhouette_depth_width > 0) {
+    std::vector<float> distance(buffers.toward_depth.size());
+    for (std::size_t i = 0; i < distance.size(); ++i) {
+      const double d = buffers.toward_depth[i];
+      distance[i] = far_depth(res.view.reversed_z, d) >= 1.0 ? std::numeric_limits<float>::infinity()
+                                                             : float(res.view.depth_distance(d));
+    }
+    std::vector<std::uint8_t> mask(buffers.silhouette_opacity.size());
+    for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = buffers.silhouette_opacity[i] > 0;
+    hidden = silhouette_hidden_share(mask, distance, res.width, res.height);
+  }
+  l.paths = silhouette_paths(buffers.silhouette_opacity, res.width, res.height, width, &l.strokes,
+                             hidden.empty() ? nullptr : &hidden, float(style.silhouette_depth_width));
+  return l;
 }
 
 namespace {
@@ -495,7 +511,7 @@ void keep_off_the_outline(HachureField& field, int r) {
 
 TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                                     const FrameBuffers& buffers, const Style& style,
-                                    const VectorLayer* ridges) {
+                                    const std::vector<const VectorLayer*>& over) {
   HachureField field = r.hachure_field(res.view, style.hachure_light_tone);  // on the GPU
   if (!scene.mesh.filled.empty()) leave_out_filled(field, scene.mesh, res.view, buffers.toward_depth);
   // The widest hachure is 1.5 times the width (hachure_paths: by its tone); its cap reaches
@@ -505,11 +521,12 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
   for (std::size_t i = 0; i < field.blocked.size(); ++i)
     field.blocked[i] = (i < buffers.crease.size() && buffers.crease[i]) ||
                        (i < buffers.silhouette.size() && buffers.silhouette[i]);
-  if (ridges && !ridges->paths.empty()) {  // the ridge lines' pixels, as drawn
-    std::vector<std::uint8_t> ink(4 * field.blocked.size(), 0);
-    draw_on_rgba(*ridges, field.width, field.height, ink);
-    for (std::size_t i = 0; i < field.blocked.size(); ++i) field.blocked[i] |= ink[4 * i + 3] > 0;
-  }
+  for (const VectorLayer* l : over)  // the pixels of the lines drawn over it (ridges, silhouettes)
+    if (l && !l->paths.empty()) {
+      std::vector<std::uint8_t> ink(4 * field.blocked.size(), 0);
+      draw_on_rgba(*l, field.width, field.height, ink);
+      for (std::size_t i = 0; i < field.blocked.size(); ++i) field.blocked[i] |= ink[4 * i + 3] > 0;
+    }
   HachureRule rule;
   rule.spacing = style.hachure_spacing;
   rule.min_slope = std::max(rule.min_slope, style.hachure_min_slope_percent / 100 * slope_percentile(field, 0.99));
@@ -555,16 +572,30 @@ VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const Fram
   return l;
 }
 
-bool draws_overlays(const Scene& scene, const Layers& layers) {
-  return layers.hachures || (layers.ridges && !scene.ridges.empty());
+namespace {
+// Whether a frame draws heavier silhouettes over its picture (Style::silhouette_depth_width).
+bool heavier_silhouettes(const Layers& layers, const Style& style) {
+  return layers.silhouettes && style.antialias && style.silhouette_depth_width > 0;
+}
+}  // namespace
+
+bool draws_overlays(const Scene& scene, const Layers& layers, const Style& style) {
+  return layers.hachures || (layers.ridges && !scene.ridges.empty()) || heavier_silhouettes(layers, style);
 }
 
 FrameOverlays frame_overlays(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                              const FrameBuffers& buffers, const Style& style, const Layers& layers) {
   FrameOverlays o;
   if (layers.ridges && !scene.ridges.empty()) o.ridges = ridge_layer(scene, r, res, buffers, style);
+  if (heavier_silhouettes(layers, style)) {  // the lines wider than the composite's band, drawn again over it
+    VectorLayer l = silhouette_layer(res, buffers, style);
+    const float band = float(style.silhouette_width) + float(TR_SILHOUETTE_BAND);
+    std::erase_if(l.paths, [&](const VectorPath& p) { return p.width < band + 0.2f; });
+    if (!l.paths.empty()) o.silhouettes = std::move(l);
+  }
   if (layers.hachures) {
-    o.traced = trace_frame_hachures(scene, r, res, buffers, style, o.ridges ? &*o.ridges : nullptr);
+    o.traced = trace_frame_hachures(scene, r, res, buffers, style,
+                                    {o.ridges ? &*o.ridges : nullptr, o.silhouettes ? &*o.silhouettes : nullptr});
     o.hachures = hachure_paths(o.traced->hachures, style);
   }
   return o;
@@ -572,6 +603,7 @@ FrameOverlays frame_overlays(const Scene& scene, const TerrainRenderer& r, const
 
 void draw_overlays(const FrameOverlays& o, int width, int height, std::vector<std::uint8_t>& rgba) {
   if (o.hachures) draw_on_rgba(*o.hachures, width, height, rgba);
+  if (o.silhouettes) draw_on_rgba(*o.silhouettes, width, height, rgba);
   if (o.ridges) draw_on_rgba(*o.ridges, width, height, rgba);
 }
 

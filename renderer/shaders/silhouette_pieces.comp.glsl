@@ -1,7 +1,7 @@
 // SIL, pieces (anti-aliased lines; renderer::silhouette_piece_opacity is the CPU
 // reference): the silhouette pixels joined to those within TR_SILHOUETTE_JOIN pixels into pieces, and each
-// pixel's opacity from its piece's size n: clamp((n - m/2) / (m/2), 0, 1), m = u_piece_min
-// pixels. Union-find (union_find.glsl) over pixel indices on the pixels the silhouette
+// pixel's opacity from its piece's size n: clamp((n - (1 - f) m) / (f m), 0, 1), m = u_piece_min
+// pixels, f = TR_SILHOUETTE_FADE. Union-find (union_find.glsl) over pixel indices on the pixels the silhouette
 // pass listed (silhouette_list.glsl), one listed pixel per invocation (the labels are
 // cleared, the sizes and the opacity set to 0 before the silhouette pass). Stages
 // (u_piece_stage), an indirect dispatch each:
@@ -30,8 +30,8 @@ void piece_stage(uint i, ivec2 size) {
     atomicAdd(piece_size[compress_label(i)], 1u);
   } else {
     uint r = root_of(i);
-    float half_min = 0.5 * u_piece_min;
-    imageStore(u_opacity, p, vec4(clamp((float(piece_size[r]) - half_min) / half_min, 0.0, 1.0)));
+    float band = TR_SILHOUETTE_FADE * u_piece_min;
+    imageStore(u_opacity, p, vec4(clamp((float(piece_size[r]) - (u_piece_min - band)) / band, 0.0, 1.0)));
   }
 }
 

@@ -1138,35 +1138,37 @@ TEST(RendererGl, FormulatedSilhouettesFollowTheCpuRule) {
     std::printf("view altitude %.0f: Toward/Away %zu px, formulated %zu px\n", alt, n_ta, n_f);
     EXPECT_EQ(differ, 0u);
     EXPECT_GT(n_f, alt == 90.0 ? 300u : 50u);  // 558 and 71 px
-    if (alt == 90.0) EXPECT_EQ(n_ta, 0u);
+    if (alt == 90.0) {
+      EXPECT_EQ(n_ta, 0u);
+    }
   }
 }
 
-// The piece rule on a mask whose pieces are known: pixels within kSilhouetteJoin (3)
+// The piece rule on a mask whose pieces are known: pixels within kSilhouetteJoin (5)
 // pixels join (a diagonal line is one piece, two pieces touching at a corner are one, two
-// runs 2 pixels apart are one, 3 apart two), and a piece of n pixels gets
-// clamp((n - m/2) / (m/2), 0, 1).
+// runs 4 pixels apart are one, 5 apart two), and a piece of n pixels gets
+// piece_opacity(n, m, kSilhouetteFade) = clamp((n - 3m/4) / (m/4), 0, 1).
 TEST(SilhouettePieces, OpacityFromThePieceSize) {
-  const int w = 40, h = 24;
+  const int w = 48, h = 30;
   std::vector<std::uint8_t> m(std::size_t(w * h), 0);
   auto set = [&](int x, int y) { m[std::size_t(y * w + x)] = 1; };
   for (int x = 0; x < 30; ++x) set(x, 1);         // 30 px: in full
-  for (int k = 0; k < 8; ++k) set(2 + k, 6 + k);  // diagonal, 8 px...
-  for (int k = 0; k < 7; ++k) set(10 + k, 13);    // ...and 7 px from its corner: 15 px
+  for (int k = 0; k < 8; ++k) set(2 + k, 7 + k);  // diagonal, 8 px...
+  for (int k = 0; k < 10; ++k) set(10 + k, 14);   // ...and 10 px from its corner: 18 px
   set(35, 6), set(36, 6), set(35, 7);             // 3 px: gone
-  for (int x = 0; x < 6; ++x) set(x, 20), set(x + 8, 20);  // 6 + 6 px, a gap of 2: one piece of 12
-  for (int x = 0; x < 6; ++x) set(x + 20, 20), set(x + 29, 20);  // a gap of 3: two pieces of 6
+  for (int x = 0; x < 8; ++x) set(x, 20), set(x + 12, 20);  // 8 + 8 px, a gap of 4: one piece of 16
+  for (int x = 0; x < 8; ++x) set(x + 22, 26), set(x + 35, 26);  // a gap of 5: two pieces of 8
   const std::vector<float> o = renderer::silhouette_piece_opacity(m, w, h, 20.0);
   auto at = [&](int x, int y) { return o[std::size_t(y * w + x)]; };
   EXPECT_FLOAT_EQ(at(0, 1), 1.0f);
   EXPECT_FLOAT_EQ(at(29, 1), 1.0f);
-  EXPECT_FLOAT_EQ(at(2, 6), 0.5f);  // (15 - 10) / 10
-  EXPECT_FLOAT_EQ(at(16, 13), 0.5f);
+  EXPECT_FLOAT_EQ(at(2, 7), 0.6f);  // (18 - 15) / 5
+  EXPECT_FLOAT_EQ(at(19, 14), 0.6f);
   EXPECT_FLOAT_EQ(at(35, 7), 0.0f);
-  EXPECT_FLOAT_EQ(at(0, 20), 0.2f);  // (12 - 10) / 10
-  EXPECT_FLOAT_EQ(at(13, 20), 0.2f);
-  EXPECT_FLOAT_EQ(at(20, 20), 0.0f);
-  EXPECT_FLOAT_EQ(at(34, 20), 0.0f);
+  EXPECT_FLOAT_EQ(at(0, 20), 0.2f);  // (16 - 15) / 5
+  EXPECT_FLOAT_EQ(at(19, 20), 0.2f);
+  EXPECT_FLOAT_EQ(at(22, 26), 0.0f);
+  EXPECT_FLOAT_EQ(at(42, 26), 0.0f);
   EXPECT_EQ(renderer::mask_pieces(m, w, h, 1).size.size(), 7u);
   EXPECT_EQ(renderer::mask_pieces(m, w, h, renderer::kSilhouetteJoin).size.size(), 6u);
   for (std::size_t i = 0; i < m.size(); ++i) {
@@ -1177,8 +1179,10 @@ TEST(SilhouettePieces, OpacityFromThePieceSize) {
   // Off: every silhouette pixel in full.
   const std::vector<float> all = renderer::silhouette_piece_opacity(m, w, h, 0.0);
   for (std::size_t i = 0; i < m.size(); ++i) EXPECT_EQ(all[i], float(m[i])) << i;
-  EXPECT_FLOAT_EQ(renderer::piece_opacity(10, 20.0), 0.0f);
+  EXPECT_FLOAT_EQ(renderer::piece_opacity(10, 20.0), 0.0f);  // the PELs' rule: fading over half the minimum
+  EXPECT_FLOAT_EQ(renderer::piece_opacity(15, 20.0), 0.5f);
   EXPECT_FLOAT_EQ(renderer::piece_opacity(20, 20.0), 1.0f);
+  EXPECT_FLOAT_EQ(renderer::piece_opacity(17.5, 20.0, renderer::kSilhouetteFade), 0.5f);
   EXPECT_FLOAT_EQ(renderer::piece_opacity(1, 1.0), 1.0f);
 }
 
@@ -1193,7 +1197,7 @@ TEST(RendererGl, SilhouettePiecesFollowTheCpuRule) {
     SCOPED_TRACE(adjacency ? "Adjacency" : "Toward/Away");
     renderer::Style style = test_style();
     style.antialias = true;
-    style.silhouette_min_length = 0.1;  // 36 px in full, gone below 18
+    style.silhouette_min_length = 0.15;  // 54 px in full, gone below 40.5
     renderer::Layers layers{false, true, false, true};
     layers.adjacency = adjacency;
     TerrainRenderer r(ctx, mesh, nullptr, w, h, layers, style);
@@ -1202,7 +1206,7 @@ TEST(RendererGl, SilhouettePiecesFollowTheCpuRule) {
     fp.camera.view_alt = 15;
     r.render(fp);
     const auto b = r.read_buffers();
-    const std::vector<float> cpu = renderer::silhouette_piece_opacity(b.silhouette, w, h, 0.1 * h);
+    const std::vector<float> cpu = renderer::silhouette_piece_opacity(b.silhouette, w, h, 0.15 * h);
     std::size_t differ = 0, dropped = 0, faded = 0, full = 0;
     for (std::size_t i = 0; i < cpu.size(); ++i) {
       const int gpu = b.silhouette_opacity[i], want = int(std::lround(255.0 * cpu[i]));

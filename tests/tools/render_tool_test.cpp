@@ -665,12 +665,15 @@ TEST(TerrainRender, LineStats) {
     EXPECT_GE(value(r->out, "crease mean stroke px, opacity-weighted"), value(r->out, "crease mean stroke px") - 0.1);
   }
   EXPECT_GT(value(seed.out, "crease boundary share"), value(ours.out, "crease boundary share"));
-  // Silhouettes: the piece rule only removes or fades pieces.
+  // Silhouettes: the piece rule only removes or fades pieces; each piece drawn is at least
+  // three quarters of the minimum (8 % of the 240 rows), and the mean weighs each piece by its
+  // opacity (at least the plain mean).
   const auto every = run(frame + " --silhouette-min-length 0");
   ASSERT_EQ(every.exit_code, 0) << every.err;
   EXPECT_GE(value(ours.out, "silhouette pieces"), 1.0);
-  EXPECT_NEAR(value(ours.out, "silhouette mean piece px"),
-              value(ours.out, "silhouette px") / value(ours.out, "silhouette pieces"), 0.1);
+  EXPECT_GE(value(ours.out, "silhouette mean piece px"),
+            value(ours.out, "silhouette px") / value(ours.out, "silhouette pieces") - 0.1);
+  EXPECT_GE(value(ours.out, "silhouette mean piece px"), 0.75 * 0.08 * 240 - 0.1);
   EXPECT_LE(value(ours.out, "silhouette pieces"), value(every.out, "silhouette pieces"));
   EXPECT_LE(value(ours.out, "silhouette px"), value(every.out, "silhouette px"));
 

@@ -167,7 +167,7 @@ class Viewer {
     const auto t0 = Clock::now();
     last_ = (cheap ? cheap_ : full_)->render(s_.frame);
     last_cheap_ = cheap;
-    shown_hachures_ = !cheap && rr::draws_overlays(scene_, s_.layers);
+    shown_hachures_ = !cheap && rr::draws_overlays(scene_, s_.layers, rr::drawn_style(s_));
     if (!shown_hachures_) {
       (cheap ? cheap_ms_ : full_ms_) = ms_since(t0);
       return last_;

@@ -160,8 +160,14 @@ struct Style {
   int silhouette_width = 1;                           // pixels
   // Silhouette pieces (anti-aliased lines only; renderer::silhouette_piece_opacity): a
   // piece of silhouette pixels shorter than this share of the frame's height fades out,
-  // to nothing at half of it (18 pixels in full at 720 rows, 9 gone); 0 keeps every piece.
-  double silhouette_min_length = 0.025;
+  // to nothing at three quarters of it (kSilhouetteFade; 58 pixels in full at 720 rows, 43
+  // gone); 0 keeps every piece.
+  double silhouette_min_length = 0.08;
+  // Silhouettes as strokes weighted by what they hide (anti-aliased lines only;
+  // renderer::silhouette_hidden_share): a silhouette line is this many pixels wider times the
+  // mean hidden_weight of its pixels (in full where the surface behind it lies a quarter
+  // farther than the line, and at the skyline), drawn over the picture; 0: all as wide.
+  double silhouette_depth_width = 1.5;
   // Formulated silhouettes (renderer::formulated_view; Toward/Away method only): drawn with
   // the silhouettes, from an eye lowered to formulated_altitude degrees below the horizon
   // on the view's bearing, where the far side falls at least formulated_strength degrees

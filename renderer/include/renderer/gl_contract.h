@@ -102,8 +102,11 @@
 /* Silhouette pieces join pixels within this Chebyshev distance (renderer::kSilhouetteJoin);
    formulated silhouettes look this many pixels behind a pixel for its far side
    (renderer::kFormulatedReach). */
-#define TR_SILHOUETTE_JOIN 3
+#define TR_SILHOUETTE_JOIN 5
 #define TR_FORMULATED_REACH 4
+/* A silhouette piece fades in over this share of --silhouette-min-length below it
+   (renderer::kSilhouetteFade): strokes, not dashes that fade out. */
+#define TR_SILHOUETTE_FADE 0.25
 
 /* The frame block's u_lines.z and .w by name (common.glsl: tess_override(), reversed_z()). */
 

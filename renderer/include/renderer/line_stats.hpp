@@ -109,10 +109,12 @@ LineStats line_stats(const CreaseGeometry& g, const SegmentTraits& traits, const
 // The silhouettes a frame draws: `opacity` (w x h, 0..255, FrameBuffers::silhouette_opacity)
 // in pieces of drawn pixels, as the piece rule joins them (mask_pieces of silhouette.hpp, joined
 // across gaps: kSilhouetteJoin), formulated silhouettes included.
+// mean_piece_px: the pieces' mean size, each weighted by its opacity (as the creases'
+// weighted_mean_stroke_px): a piece the piece rule draws at opacity o counts as o of a piece.
 struct SilhouetteStats {
   double pixels = 0;          // opacity-weighted
   std::size_t pieces = 0;
-  double mean_piece_px = 0;   // pixels / pieces
+  double mean_piece_px = 0;   // pixels / the pieces' summed opacity
 };
 SilhouetteStats silhouette_stats(const std::vector<std::uint8_t>& opacity, int w, int h);
 

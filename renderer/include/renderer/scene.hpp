@@ -157,8 +157,8 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
 // The hachures of the frame `res` (issue 51; renderer/hachures.hpp): the fall-line field of
 // its toward depth (the light's tone with Style::hachure_light_tone, else the slope's),
 // traced at Style::hachure_spacing, stopped at the crease and silhouette pixels the frame
-// drew and, given `ridges` (ridge_layer's), at the ridge lines (they hang from the crest,
-// which stands clear of them), in rows with Style::hachure_rows (form lines at
+// drew and at the lines of `over` drawn over it (the ridge lines, ridge_layer's: they hang
+// from the crest, which stands clear of them; the heavier silhouettes), in rows with Style::hachure_rows (form lines at
 // row_interval_for the page's scale). The renderer `r` drew `res` (the field is its GPU's).
 struct TracedHachures {
   HachureField field;
@@ -167,7 +167,7 @@ struct TracedHachures {
 };
 TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                                     const FrameBuffers& buffers, const Style& style,
-                                    const VectorLayer* ridges = nullptr);
+                                    const std::vector<const VectorLayer*>& over = {});
 // The ridge lines the frame `res` draws (Layers::ridges, Style::ridge_*): the scene's ridges
 // whose smaller basin drains at least ridge_min_area x sqrt(page scale / 10) m^2 and that rise
 // at least ridge_min_relief of the scene's relief above its outlet, and at least
@@ -190,19 +190,24 @@ VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const Fram
                         const FrameBuffers& buffers, const Style& style);
 
 // The lines a frame draws on the CPU over the GL picture, made once for the PNG, the vector
-// files and the viewer: the ridge lines, then the hachures stopped at them (traced, and as
-// one path per hachure). Each is empty where `layers` does not draw it (the ridges also
-// without a database).
+// files and the viewer: the ridge lines, the silhouettes that hide most drawn heavier
+// (silhouette_layer's paths wider than the composite's band), then the hachures stopped at
+// both (traced, and as one path per hachure). Each is empty where `layers` and `style` do
+// not draw it (the ridges also without a database).
 struct FrameOverlays {
   std::optional<TracedHachures> traced;
-  std::optional<VectorLayer> hachures, ridges;
-  bool any() const { return hachures || ridges; }
+  std::optional<VectorLayer> hachures, ridges, silhouettes;
+  bool any() const { return hachures || ridges || silhouettes; }
 };
 // Whether a frame of `layers` over `scene` has any (it needs the frame's buffers).
-bool draws_overlays(const Scene& scene, const Layers& layers);
+bool draws_overlays(const Scene& scene, const Layers& layers, const Style& style);
 FrameOverlays frame_overlays(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                              const FrameBuffers& buffers, const Style& style, const Layers& layers);
-// Draws them over `rgba` (width x height): the hachures, the ridges on top.
+// The silhouettes of the frame `res` as lines (silhouette_paths): the composite's band
+// wide, and wider by Style::silhouette_depth_width times the depth they hide
+// (silhouette_hidden_share of the frame's toward depth) when anti-aliased.
+VectorLayer silhouette_layer(const FrameResult& res, const FrameBuffers& buffers, const Style& style);
+// Draws them over `rgba` (width x height): the hachures, the heavier silhouettes, the ridges on top.
 void draw_overlays(const FrameOverlays& o, int width, int height, std::vector<std::uint8_t>& rgba);
 
 // The paths of traced hachures (pixel coordinates), each as wide as its mean tone asks:

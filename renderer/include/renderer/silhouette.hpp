@@ -2,6 +2,7 @@
 // Toward/Away silhouettes (Mower 2015; docs/algorithms.md 9.2), GL-free: the rule the SIL
 // pass (silhouette.frag.glsl) applies to the TFT and AFT depth buffers, as its test
 // reference.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -71,23 +72,42 @@ MaskPieces mask_pieces(const std::vector<std::uint8_t>& mask, int w, int h, int 
 
 // Silhouette pieces join across gaps of up to kSilhouetteJoin - 1 pixels (TR_SILHOUETTE_JOIN):
 // one contour broken where it grazes the rays, or a formulated line where it crosses a
-// saddle, is one stroke for the piece rule and the line statistics.
-inline constexpr int kSilhouetteJoin = 3;
+// saddle or a spur, is one stroke for the piece rule and the line statistics.
+inline constexpr int kSilhouetteJoin = 5;
+// A silhouette piece fades in over this share of the piece rule's minimum below it
+// (TR_SILHOUETTE_FADE): a stroke or nothing, with a short fade so that a piece growing
+// across the minimum in a flight does not pop.
+inline constexpr double kSilhouetteFade = 0.25;
 
 // Pieces, the rule the SIL pass applies after either silhouette method when lines are
 // anti-aliased: the silhouette pixels of `mask` (w x h, non-zero: silhouette) joined to
-// those within kSilhouetteJoin pixels. A piece of n pixels is drawn with opacity clamp((n - m/2) / (m/2),
-// 0, 1), m = min_pixels: in full from m pixels, fading out to nothing at m/2 (a piece
-// that grows or shrinks from frame to frame fades instead of popping). Where a surface
+// those within kSilhouetteJoin pixels. A piece of n pixels is drawn with opacity
+// piece_opacity(n, m, kSilhouetteFade), m = min_pixels: in full from m pixels, fading out to
+// nothing at 3/4 m (a piece that grows or shrinks from frame to frame fades instead of
+// popping). Where a surface
 // only grazes the eye's rays (rolling ridges seen from above) the away-facing ground is
 // patchy and its silhouette a scatter of short dashes; a pen draws the long lines only.
 // min_pixels <= 0: every silhouette pixel 1. Non-silhouette pixels 0.
 std::vector<float> silhouette_piece_opacity(const std::vector<std::uint8_t>& mask, int w, int h, double min_pixels);
 
-// The piece rule's opacity of a piece of size n (pixels here; metres for PELs, pel.hpp).
-inline float piece_opacity(double n, double min_size) {
+// The depth a silhouette hides (Imhof: the skyline and the crests carry the heaviest line):
+// at each pixel of `mask` (w x h, non-zero: silhouette), from `distance` (w x h, metres along
+// the line of sight to the drawn surface, +infinity where nothing is drawn), the share by
+// which the farthest surface within kHiddenReach pixels lies beyond the pixel's own,
+// (d_far - d) / d: 0 where nothing lies behind, +infinity at the skyline. 0 off the mask.
+inline constexpr int kHiddenReach = 3;
+std::vector<float> silhouette_hidden_share(const std::vector<std::uint8_t>& mask, const std::vector<float>& distance,
+                                           int w, int h);
+// The weight of a hidden share in a silhouette's width: 0 at none, 1 from kHiddenFull on (a
+// surface a quarter farther than the line, or the sky).
+inline constexpr double kHiddenFull = 0.25;
+inline float hidden_weight(float share) { return float(std::min(1.0, std::max(0.0, double(share) / kHiddenFull))); }
+
+// The piece rule's opacity of a piece of size n (pixels here; metres for PELs, pel.hpp): in
+// full from min_size, fading to nothing over the `fade` share of it below.
+inline float piece_opacity(double n, double min_size, double fade = 0.5) {
   if (!(min_size > 0)) return 1.0f;
-  const double half = 0.5 * min_size, o = (n - half) / half;
+  const double band = fade * min_size, o = (n - (min_size - band)) / band;
   return float(o < 0 ? 0 : o > 1 ? 1 : o);
 }
 

@@ -67,9 +67,12 @@ std::vector<VectorPath> crease_paths(const CreaseGeometry& g, const std::vector<
                                      std::size_t* strokes = nullptr);
 
 // Silhouettes: `opacity` (w x h, 0..255, FrameBuffers::silhouette_opacity) as lines of
-// `width` pixels.
+// `width` pixels; given `hidden` (silhouette_hidden_share of their pixels), each line
+// `heavier` pixels wider times the mean hidden_weight of its pixels (the skyline and the
+// lines that hide most the heaviest).
 std::vector<VectorPath> silhouette_paths(const std::vector<std::uint8_t>& opacity, int w, int h, float width,
-                                         std::size_t* pieces = nullptr);
+                                         std::size_t* pieces = nullptr, const std::vector<float>* hidden = nullptr,
+                                         float heavier = 0);
 
 // Segments in the mesh's local frame (already exaggerated), each with an opacity; the parts
 // that show are kept: anti-aliased lines (PELs) by line.frag's test (not behind the

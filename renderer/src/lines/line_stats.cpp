@@ -2,6 +2,7 @@
 #include "renderer/camera.hpp"
 
 #include <algorithm>
+#include <numeric>
 #include <cmath>
 #include <optional>
 
@@ -222,9 +223,15 @@ LineStats line_stats(const CreaseGeometry& g, const SegmentTraits& traits, const
 
 SilhouetteStats silhouette_stats(const std::vector<std::uint8_t>& opacity, int w, int h) {
   SilhouetteStats st;
-  st.pieces = mask_pieces(opacity, w, h, kSilhouetteJoin).size.size();
-  for (const std::uint8_t o : opacity) st.pixels += double(o) / 255.0;
-  if (st.pieces > 0) st.mean_piece_px = st.pixels / double(st.pieces);
+  const MaskPieces m = mask_pieces(opacity, w, h, kSilhouetteJoin);
+  st.pieces = m.size.size();
+  std::vector<double> piece_opacity(st.pieces, 0.0);  // the piece rule's: one opacity a piece
+  for (std::size_t i = 0; i < opacity.size(); ++i) {
+    st.pixels += double(opacity[i]) / 255.0;
+    if (m.piece[i]) piece_opacity[m.piece[i] - 1] = std::max(piece_opacity[m.piece[i] - 1], double(opacity[i]) / 255.0);
+  }
+  const double weighted = std::accumulate(piece_opacity.begin(), piece_opacity.end(), 0.0);
+  if (weighted > 0) st.mean_piece_px = st.pixels / weighted;
   return st;
 }
 

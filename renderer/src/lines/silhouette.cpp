@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <numbers>
 
 namespace renderer {
@@ -126,11 +127,29 @@ MaskPieces mask_pieces(const std::vector<std::uint8_t>& mask, int w, int h, int 
   return m;
 }
 
+std::vector<float> silhouette_hidden_share(const std::vector<std::uint8_t>& mask, const std::vector<float>& distance,
+                                           int w, int h) {
+  std::vector<float> out(mask.size(), 0.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
+      if (!mask[i] || !(distance[i] < std::numeric_limits<float>::infinity())) continue;
+      float far = distance[i];
+      for (int dy = -kHiddenReach; dy <= kHiddenReach; ++dy)
+        for (int dx = -kHiddenReach; dx <= kHiddenReach; ++dx) {
+          const int xx = x + dx, yy = y + dy;
+          if (xx >= 0 && yy >= 0 && xx < w && yy < h) far = std::max(far, distance[std::size_t(yy) * std::size_t(w) + std::size_t(xx)]);
+        }
+      out[i] = (far - distance[i]) / distance[i];
+    }
+  return out;
+}
+
 std::vector<float> silhouette_piece_opacity(const std::vector<std::uint8_t>& mask, int w, int h, double min_pixels) {
   const MaskPieces m = mask_pieces(mask, w, h, kSilhouetteJoin);
   std::vector<float> opacity(m.piece.size(), 0.0f);
   for (std::size_t i = 0; i < opacity.size(); ++i)
-    if (m.piece[i]) opacity[i] = piece_opacity(double(m.size[m.piece[i] - 1]), min_pixels);
+    if (m.piece[i]) opacity[i] = piece_opacity(double(m.size[m.piece[i] - 1]), min_pixels, kSilhouetteFade);
   return opacity;
 }
 

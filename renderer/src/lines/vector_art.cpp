@@ -156,7 +156,7 @@ void join_across_gaps(std::vector<Polyline>& lines, float reach) {
 }  // namespace
 
 std::vector<VectorPath> silhouette_paths(const std::vector<std::uint8_t>& opacity, int w, int h, float width,
-                                         std::size_t* pieces) {
+                                         std::size_t* pieces, const std::vector<float>* hidden, float heavier) {
   std::vector<std::uint8_t> mask(opacity.size());
   for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = opacity[i] > 0;
   if (pieces) *pieces = mask_pieces(mask, w, h, kSilhouetteJoin).size.size();
@@ -165,11 +165,16 @@ std::vector<VectorPath> silhouette_paths(const std::vector<std::uint8_t>& opacit
   join_across_gaps(lines, float(kSilhouetteJoin) * 1.415f);
   for (Polyline& line : lines) {
     if (line.points.empty()) continue;
-    double sum = 0;
-    for (const Eigen::Vector2f& p : line.points)
-      sum += opacity[std::size_t(std::floor(p.y())) * std::size_t(w) + std::size_t(std::floor(p.x()))];
+    double sum = 0, weight = 0;
+    for (const Eigen::Vector2f& p : line.points) {
+      const std::size_t i = std::size_t(std::floor(p.y())) * std::size_t(w) + std::size_t(std::floor(p.x()));
+      sum += opacity[i];
+      if (hidden) weight += hidden_weight((*hidden)[i]);
+    }
     const float o = quantise(float(sum / double(line.points.size()) / 255.0), kOpacityQuantum);
     if (!(o > 0)) continue;
+    const float line_width =
+        width + quantise(heavier * float(weight / double(line.points.size())), kWidthQuantum);
     // Smoothed as the composite's band smooths the pixel staircase: two passes of the
     // (1, 2, 1) / 4 filter along the line, its ends kept (a ring's every point moves).
     auto& p = line.points;
@@ -181,7 +186,7 @@ std::vector<VectorPath> silhouette_paths(const std::vector<std::uint8_t>& opacit
         p[i] = 0.25f * q[(i + n - 1) % n] + 0.5f * q[i] + 0.25f * q[(i + 1) % n];
       }
     }
-    out.push_back({simplify(line, kTolerance), width, o, {}});
+    out.push_back({simplify(line, kTolerance), line_width, o, {}});
   }
   return out;
 }

@@ -421,11 +421,17 @@ void add_lines_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "pixels)",
       [](auto& s) -> auto& { return s.style.silhouette_width; }));
   t.push_back(number(
-      "silhouette-min-length", sil, 0, 1, "of the frame's height", "0.025",
-      "Silhouette pieces (connected pixels) shorter than this share of the frame's height fade out, to "
-      "nothing at half of it: the scattered dashes of rolling ground seen from above (0: keep every "
-      "piece; anti-aliased lines only)",
+      "silhouette-min-length", sil, 0, 1, "of the frame's height", "0.08",
+      "Silhouette pieces (pixels joined across gaps of up to 4 pixels) shorter than this share of the frame's "
+      "height fade out, to nothing at three quarters of it: strokes, not the scattered dashes of rolling "
+      "ground seen from above (0: keep every piece; anti-aliased lines only)",
       [](auto& s) -> auto& { return s.style.silhouette_min_length; }));
+  t.push_back(number(
+      "silhouette-depth-width", sil, 0, 10, "pixels", "1.5",
+      "Silhouettes are this many pixels wider where they hide most: in full where the ground behind lies a "
+      "quarter farther than the line, and at the skyline (Imhof: the skyline carries the heaviest line); less "
+      "by the depth hidden; 0: every silhouette as wide (anti-aliased lines only)",
+      [](auto& s) -> auto& { return s.style.silhouette_depth_width; }));
   t.push_back(choice(
       "formulated", sil, OptionType::Enum, {"on", "off"}, "on",
       "Formulated silhouettes (Whelan and Visvalingam), drawn with the silhouettes: on the visible surface, "

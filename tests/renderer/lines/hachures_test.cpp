@@ -9,6 +9,7 @@
 
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <numbers>
@@ -156,6 +157,35 @@ TEST(Hachures, DarkerToneDrawsDenser) {
   ASSERT_GT(white, 0.0);
   EXPECT_GT(black / white, 4.0);
   EXPECT_LT(black / white, 8.0);
+}
+
+// No fans (issue 64): where the fall lines converge (a bowl, a valley head) a hachure ends
+// when it comes within test_share of the spacing of another one, so no two hachures come
+// nearer than that anywhere (less the tracer's half-pixel step), and the convergence
+// thins out: the ink near the centre stays at most about what the spacing allows.
+TEST(Hachures, ConvergingFallLinesThinOutInsteadOfFanning) {
+  const int w = 160, h = 160;
+  const Vector2f centre(80, 80);
+  HachureField f = field(w, h, Vector2f(1, 0), [](int, int) { return 0.4f; }, [](int, int) { return 1.0f; });
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      const Vector2f to = centre - Vector2f(float(u) + 0.5f, float(v) + 0.5f);
+      f.fall[std::size_t(v * w + u)] = to.norm() > 1e-3f ? to.normalized() : Vector2f(1, 0);
+    }
+  renderer::HachureRule rule;
+  rule.spacing = 6;
+  const auto hs = renderer::trace_hachures(f, rule);
+  ASSERT_GT(hs.size(), 30u);
+  const auto near = neighbour_distances(hs);
+  const double least = *std::min_element(near.begin(), near.end());
+  EXPECT_GE(least, rule.test_share * rule.spacing - 0.5) << "two hachures closer than the stop share";
+  // Within 20 px of the centre, a circle's circumference holds at most 2 pi r / (share x
+  // spacing) hachures: count the hachures that reach inside it.
+  std::size_t inside = 0;
+  for (const Hachure& hh : hs)
+    inside += std::any_of(hh.points.begin(), hh.points.end(), [&](const Vector2f& p) { return (p - centre).norm() < 20; });
+  EXPECT_LE(double(inside), 2 * std::numbers::pi * 20 / (rule.test_share * rule.spacing) + 1);
+  std::cout << hs.size() << " hachures, " << inside << " reach 20 px of the centre, nearest pair " << least << " px\n";
 }
 
 // The field of a frame: a cone seen from straight above (the renderer's TFT depth), every

@@ -5,10 +5,13 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
+#include <map>
 #include <numbers>
 
 #include "renderer/silhouette.hpp"
 #include "renderer/top_view.hpp"
+#include "renderer/vector_art.hpp"
 
 namespace renderer {
 namespace {
@@ -107,6 +110,39 @@ TEST(FormulatedSilhouettes, AConeIsDrawnAlongItsTwoGenerators) {
   EXPECT_EQ(off, 0u);
   EXPECT_GE(east, 10u);
   EXPECT_GE(west, 10u);
+}
+
+
+// Silhouettes weighted by what they hide (issue 64: the skyline and the crests heaviest):
+// a far ridge stands against the sky (its skyline at row 10) 10 % beyond a near slope whose
+// occluding contour is row 25; on the near slope a formulated line (row 33) hides almost
+// nothing. The hidden shares are the sky's (infinite), 0.084 and 0.003; the lines' widths
+// are the band's plus 1.5 px times their weights: 1, 0.33 (quantised to a quarter pixel) and 0.
+TEST(SilhouetteDepth, TheSkylineIsHeaviestAndALineThatHidesNothingLightest) {
+  const int w = 60, h = 40;
+  std::vector<float> distance(std::size_t(w * h));
+  std::vector<std::uint8_t> mask(distance.size(), 0), opacity(distance.size(), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = std::size_t(y * w + x);
+      distance[i] = y < 10 ? std::numeric_limits<float>::infinity() : y < 25 ? 1100.0f : 1000.0f + float(40 - y);
+      if ((y == 10 || y == 25 || y == 33) && x >= 5 && x < 55) mask[i] = 1, opacity[i] = 255;
+    }
+  const std::vector<float> hidden = silhouette_hidden_share(mask, distance, w, h);
+  EXPECT_EQ(hidden[std::size_t(10 * w + 30)], std::numeric_limits<float>::infinity());
+  EXPECT_NEAR(hidden[std::size_t(25 * w + 30)], 1100.0 / 1015.0 - 1.0, 1e-6);  // rows 22 .. 24 behind it
+  EXPECT_NEAR(hidden[std::size_t(33 * w + 30)], 1010.0 / 1007.0 - 1.0, 1e-6);  // row 30, its own slope
+  EXPECT_EQ(hidden[std::size_t(5 * w + 30)], 0.0f);                           // off the mask
+  EXPECT_FLOAT_EQ(hidden_weight(hidden[std::size_t(10 * w + 30)]), 1.0f);
+  EXPECT_FLOAT_EQ(hidden_weight(0.1f), 0.4f);
+  const auto paths = silhouette_paths(opacity, w, h, 1.8f, nullptr, &hidden, 1.5f);
+  ASSERT_EQ(paths.size(), 3u);
+  std::map<int, float> width_at_row;
+  for (const VectorPath& p : paths) width_at_row[int(std::lround(p.line.points.front().y() - 0.5))] = p.width;
+  EXPECT_FLOAT_EQ(width_at_row[10], 1.8f + 1.5f);
+  EXPECT_FLOAT_EQ(width_at_row[25], 1.8f + 0.5f);  // 1.5 x 0.335 to the quarter pixel
+  EXPECT_FLOAT_EQ(width_at_row[33], 1.8f);
+  for (const VectorPath& p : silhouette_paths(opacity, w, h, 1.8f)) EXPECT_FLOAT_EQ(p.width, 1.8f);  // not weighted
 }
 
 }  // namespace
