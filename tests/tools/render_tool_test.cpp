@@ -560,8 +560,9 @@ TEST(TerrainInspect, HachureMapsInMapCoordinates) {
 // pixel: 27.5 m from its centre, less the half pixel the lines are simplified within), and
 // both sides have hachures. Without --dv the map is
 // as before (no ridges layer).
-TEST(TerrainInspect, PlanMapsDrawTheRidgeLinesAndTheHachuresStopAtThem) {
-  terrain::test::ScratchDir dir;
+// The tent's mesh (dir/tent.ply, 100 m cells) and its drainage at 50 m (dir/tent.dv); returns
+// the crest's easting.
+double make_tent(const terrain::test::ScratchDir& dir) {
   terrain::Georef geo = terrain::read_dem_info(data("logan_utm12n_100m.tif")).geo;
   terrain::Grid g(100, 60, geo);  // 100 m cells
   for (std::size_t r = 0; r < g.rows; ++r)
@@ -569,14 +570,21 @@ TEST(TerrainInspect, PlanMapsDrawTheRidgeLinesAndTheHachuresStopAtThem) {
       g.at(r, c) = float(900 - 0.3 * (2500 - std::abs(2500 - std::abs(double(c) * 100 + 50 - 3000))) -
                          0.02 * double(r) * 100);
   terrain::write_geotiff(g, dir.path("tent.tif"));
+  EXPECT_EQ(run(tool("dem2mesh") + " " + dir.path("tent.tif") + " " + dir.path("tent.ply") + " -q").exit_code, 0);
+  EXPECT_EQ(run(tool("build-drainage") + " " + dir.path("tent.ply") + " " + dir.path("tent.dv") + " --spacing 50 -q")
+                .exit_code,
+            0);
+  return geo.x0 + 3000;
+}
+
+TEST(TerrainInspect, PlanMapsDrawTheRidgeLinesAndTheHachuresStopAtThem) {
+  terrain::test::ScratchDir dir;
+  const double crest = make_tent(dir);
   const std::string mesh = dir.path("tent.ply"), dv = dir.path("tent.dv");
-  ASSERT_EQ(run(tool("dem2mesh") + " " + dir.path("tent.tif") + " " + mesh + " -q").exit_code, 0);
-  ASSERT_EQ(run(tool("build-drainage") + " " + mesh + " " + dv + " --spacing 50 -q").exit_code, 0);
   const std::string ex = tool("terrain-inspect") + " export " + mesh + " --scale 25 ";
   const auto e = run(ex + "--dv " + dv + " --to gpkg -o " + dir.path("t.gpkg"));
   ASSERT_EQ(e.exit_code, 0) << e.err;
   EXPECT_NE(e.out.find("ridges: "), std::string::npos) << e.out;
-  const double crest = geo.x0 + 3000;
   terrain::ensure_gdal();
   std::unique_ptr<GDALDataset> ds(GDALDataset::Open(dir.path("t.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
   ASSERT_TRUE(ds);
@@ -614,6 +622,40 @@ TEST(TerrainInspect, PlanMapsDrawTheRidgeLinesAndTheHachuresStopAtThem) {
   const auto bad = run(ex + "--dv " + mesh + " --to gpkg -o " + dir.path("bad.gpkg"));
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.err.find("is not a drainage database"), std::string::npos) << bad.err;
+}
+
+// The default picture's layers in its vector files (issue 64): the tent seen across its crest
+// with its .dv, as SVG and PDF: the SVG's layers in drawing order (hachures, creases,
+// silhouettes, ridges on top), the ridge line drawn, the skyline's silhouette heavier than
+// the composite's band (the depth it hides: the sky), and the PDF the same picture as the SVG
+// (>= 90 % of either's ink within 1 px of the other's).
+TEST(TerrainRender, TheDefaultPicturesLayersInSvgAndPdf) {
+  terrain::test::ScratchDir dir;
+  make_tent(dir);
+  const std::string frame = tool("terrain-render") + " frame " + dir.path("tent.ply") + " " + dir.path("tent.dv") +
+                            " --size 480x270 --view-az 90 --view-alt 10 -q -o ";
+  ASSERT_EQ(run(frame + dir.path("t.svg")).exit_code, 0);
+  ASSERT_EQ(run(frame + dir.path("t.pdf")).exit_code, 0);
+  const std::string svg = terrain::test::file_bytes(dir.path("t.svg"));
+  std::vector<std::size_t> at;
+  for (const char* layer : {"hachures", "creases", "silhouettes", "ridges"}) {
+    at.push_back(svg.find(std::string("inkscape:label=\"") + layer + "\""));
+    ASSERT_NE(at.back(), std::string::npos) << layer;
+  }
+  EXPECT_TRUE(std::is_sorted(at.begin(), at.end()));
+  EXPECT_NE(svg.find("<path", at[3]), std::string::npos) << "no ridge line";
+  double widest = 0;
+  const std::string sil = svg.substr(at[2], at[3] - at[2]);
+  const std::regex width(R"(stroke-width[=:]"?([0-9.]+))");
+  for (std::sregex_iterator it(sil.begin(), sil.end(), width), end; it != end; ++it)
+    widest = std::max(widest, std::stod((*it)[1]));
+  EXPECT_GT(widest, 1.8 + 1.0) << "the skyline is drawn no heavier than the band";
+  ASSERT_EQ(run("rsvg-convert -b white " + dir.path("t.svg") + " -o " + dir.path("svg.png")).exit_code, 0);
+  ASSERT_EQ(run("pdftoppm -png -r 96 -singlefile " + dir.path("t.pdf") + " " + dir.path("pdf")).exit_code, 0);
+  const auto a = terrain::test::ink_of(dir.path("svg.png")), b = terrain::test::ink_of(dir.path("pdf.png"));
+  EXPECT_GT(terrain::test::count(a), 1000u);
+  EXPECT_GE(terrain::test::near_share(a, b, 1), 0.9);
+  EXPECT_GE(terrain::test::near_share(b, a, 1), 0.9);
 }
 
 TEST(TerrainRender, FlowScale) {
