@@ -451,15 +451,24 @@ VectorLayer silhouette_layer(const FrameResult& res, const FrameBuffers& buffers
   VectorLayer l{"silhouettes", style.silhouette_colour, LineCap::Round, {}, 0};
   std::vector<float> hidden;
   if (style.antialias && style.silhouette_depth_width > 0) {
-    std::vector<float> distance(buffers.toward_depth.size());
-    for (std::size_t i = 0; i < distance.size(); ++i) {
-      const double d = buffers.toward_depth[i];
-      distance[i] = far_depth(res.view.reversed_z, d) >= 1.0 ? std::numeric_limits<float>::infinity()
-                                                             : float(res.view.depth_distance(d));
-    }
+    // The distances the hidden share reads: about the silhouette pixels (0 elsewhere, unread).
+    const int w = res.width, h = res.height, reach = kHiddenReach;
+    std::vector<float> distance(buffers.toward_depth.size(), 0.0f);
     std::vector<std::uint8_t> mask(buffers.silhouette_opacity.size());
-    for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = buffers.silhouette_opacity[i] > 0;
-    hidden = silhouette_hidden_share(mask, distance, res.width, res.height);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
+        if (!(mask[i] = buffers.silhouette_opacity[i] > 0)) continue;
+        for (int yy = std::max(0, y - reach); yy <= std::min(h - 1, y + reach); ++yy)
+          for (int xx = std::max(0, x - reach); xx <= std::min(w - 1, x + reach); ++xx) {
+            const std::size_t j = std::size_t(yy) * std::size_t(w) + std::size_t(xx);
+            const double d = buffers.toward_depth[j];
+            if (distance[j] == 0.0f)
+              distance[j] = far_depth(res.view.reversed_z, d) >= 1.0 ? std::numeric_limits<float>::infinity()
+                                                                      : float(res.view.depth_distance(d));
+          }
+      }
+    hidden = silhouette_hidden_share(mask, distance, w, h);
   }
   l.paths = silhouette_paths(buffers.silhouette_opacity, res.width, res.height, width, &l.strokes,
                              hidden.empty() ? nullptr : &hidden, float(style.silhouette_depth_width));
@@ -490,20 +499,23 @@ void leave_out_filled(HachureField& field, const terrain::GridMesh& mesh, const 
 // Pixels within `r` of one without terrain lose their terrain (slope NaN): a hachure, as
 // wide as its pen, ends before the terrain's outline rather than over the background.
 void keep_off_the_outline(HachureField& field, int r) {
-  const int w = field.width, h = field.height;
+  const std::size_t w = std::size_t(field.width), h = std::size_t(field.height);
+  if (w == 0 || h == 0) return;
+  std::vector<std::uint8_t> off(w * h), row(w * h);
   for (int pass = 0; pass < r; ++pass) {
-    std::vector<std::uint8_t> off(field.slope.size(), 0);
-    for (int v = 0; v < h; ++v)
-      for (int u = 0; u < w; ++u)
-        if (field.terrain(u, v))
-          for (int dv = -1; dv <= 1 && !off[std::size_t(v) * std::size_t(w) + std::size_t(u)]; ++dv)
-            for (int du = -1; du <= 1; ++du)
-              if (!field.terrain(u + du, v + dv)) {
-                off[std::size_t(v) * std::size_t(w) + std::size_t(u)] = 1;
-                break;
-              }
-    for (std::size_t i = 0; i < off.size(); ++i)
-      if (off[i]) field.slope[i] = std::numeric_limits<float>::quiet_NaN();
+    // Each pass: the pixels with a pixel off the terrain (or off the image) in their 3 x 3
+    // window, by a dilation of the off-terrain pixels along the rows, then the columns.
+    for (std::size_t i = 0; i < off.size(); ++i) off[i] = std::isnan(field.slope[i]);
+    for (std::size_t v = 0; v < h; ++v)
+      for (std::size_t u = 0; u < w; ++u) {
+        const std::size_t i = v * w + u;
+        row[i] = u == 0 || u + 1 == w || off[i - 1] || off[i] || off[i + 1];
+      }
+    for (std::size_t v = 0; v < h; ++v)
+      for (std::size_t u = 0; u < w; ++u) {
+        const std::size_t i = v * w + u;
+        if (v == 0 || v + 1 == h || row[i - w] || row[i] || row[i + w]) field.slope[i] = std::numeric_limits<float>::quiet_NaN();
+      }
   }
 }
 
@@ -521,12 +533,14 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
   for (std::size_t i = 0; i < field.blocked.size(); ++i)
     field.blocked[i] = (i < buffers.crease.size() && buffers.crease[i]) ||
                        (i < buffers.silhouette.size() && buffers.silhouette[i]);
-  for (const VectorLayer* l : over)  // the pixels of the lines drawn over it (ridges, silhouettes)
+  std::vector<std::uint8_t> ink;  // the pixels of the lines drawn over it (ridges, silhouettes)
+  for (const VectorLayer* l : over)
     if (l && !l->paths.empty()) {
-      std::vector<std::uint8_t> ink(4 * field.blocked.size(), 0);
+      if (ink.empty()) ink.assign(4 * field.blocked.size(), 0);
       draw_on_rgba(*l, field.width, field.height, ink);
-      for (std::size_t i = 0; i < field.blocked.size(); ++i) field.blocked[i] |= ink[4 * i + 3] > 0;
     }
+  if (!ink.empty())
+    for (std::size_t i = 0; i < field.blocked.size(); ++i) field.blocked[i] |= ink[4 * i + 3] > 0;
   HachureRule rule;
   rule.spacing = style.hachure_spacing;
   rule.min_slope = std::max(rule.min_slope, style.hachure_min_slope_percent / 100 * slope_percentile(field, 0.99));

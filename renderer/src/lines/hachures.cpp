@@ -63,6 +63,49 @@ class Occupancy {
   std::vector<std::vector<Entry>> cells_;
 };
 
+// The half-pixel cells a trace passed, each with the index of its last point there: an
+// open-addressing table kept from trace to trace (a generation stamp clears it), as a
+// trace's few hundred steps each look one up (an unordered_map's node per step cost more
+// than the step).
+class Visited {
+ public:
+  void clear() {
+    if (++generation_ == 0) std::fill(stamp_.begin(), stamp_.end(), 0u), generation_ = 1;
+    size_ = 0;
+  }
+  // The slot of `key`: its index (fresh: false), or a new slot holding `index` (fresh: true).
+  std::pair<std::uint32_t*, bool> try_emplace(std::uint64_t key, std::uint32_t index) {
+    if (2 * (size_ + 1) > stamp_.size()) grow();
+    const std::size_t mask = stamp_.size() - 1;
+    for (std::size_t s = hash(key) & mask;; s = (s + 1) & mask) {
+      if (stamp_[s] != generation_) {
+        stamp_[s] = generation_, key_[s] = key, value_[s] = index, ++size_;
+        return {&value_[s], true};
+      }
+      if (key_[s] == key) return {&value_[s], false};
+    }
+  }
+
+ private:
+  static std::size_t hash(std::uint64_t k) {
+    k ^= k >> 33, k *= 0xff51afd7ed558ccdull, k ^= k >> 33;
+    return std::size_t(k);
+  }
+  void grow() {
+    std::vector<std::uint64_t> keys;
+    std::vector<std::uint32_t> values;
+    for (std::size_t s = 0; s < stamp_.size(); ++s)
+      if (stamp_[s] == generation_) keys.push_back(key_[s]), values.push_back(value_[s]);
+    const std::size_t n = std::max<std::size_t>(1024, 2 * stamp_.size());
+    key_.assign(n, 0), value_.assign(n, 0), stamp_.assign(n, 0), generation_ = 1, size_ = 0;
+    for (std::size_t k = 0; k < keys.size(); ++k) try_emplace(keys[k], values[k]);
+  }
+  std::vector<std::uint64_t> key_;
+  std::vector<std::uint32_t> value_, stamp_;
+  std::uint32_t generation_ = 1;
+  std::size_t size_ = 0;
+};
+
 // The fall line at p, bilinear between the four nearest pixel centres (pixels without
 // terrain add nothing), normalized; zero where none has a direction.
 Vector2f fall_at(const HachureField& f, const Vector2f& p) {
@@ -112,12 +155,12 @@ struct Tracer {
     Vector2f p = seed, last = sign * fall_at(f, seed);
     const long r = row(seed);
     const double longest = std::min(rule.max_length, 2.0 * std::hypot(double(f.width), double(f.height)));
-    static thread_local std::unordered_map<std::uint64_t, std::size_t> visited;  // half-pixel cell -> its last point
+    static thread_local Visited visited;  // half-pixel cell -> its last point
     visited.clear();
     const auto cell = [](const Vector2f& q) {
       return (std::uint64_t(std::uint32_t(long(2 * q.x()))) << 32) | std::uint32_t(long(2 * q.y()));
     };
-    visited[cell(seed)] = 0;
+    visited.try_emplace(cell(seed), 0);
     while (length < longest) {
       const Vector2f d1 = sign * fall_at(f, p);
       const Vector2f mid = p + 0.5f * kStep * d1;
@@ -130,9 +173,9 @@ struct Tracer {
         if (!out.empty()) out.pop_back();
         break;
       }
-      const auto [it, fresh] = visited.try_emplace(cell(next), out.size() + 1);
-      if (!fresh && out.size() + 1 - it->second > kLoopSteps) break;  // back where it was
-      it->second = out.size() + 1;
+      const auto [last_here, fresh] = visited.try_emplace(cell(next), std::uint32_t(out.size() + 1));
+      if (!fresh && out.size() + 1 - *last_here > kLoopSteps) break;  // back where it was
+      *last_here = std::uint32_t(out.size() + 1);
       out.push_back(next);
       p = next, last = d2, length += kStep;
     }
@@ -321,11 +364,25 @@ std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<f
   std::unordered_map<std::uint64_t, Best> best;
   const double step = std::max(1.0, spacing / 3.0);
   const Eigen::Matrix4d inverse = view.view_projection().inverse();
-  for (double v = 0.5 * step; v < view.height; v += step)
-    for (double u = 0.5 * step; u < view.width; u += step) {
-      const auto q = surface_point(view, inverse, depth, u, v);
-      if (!q) continue;
-      const Eigen::Vector2d g = Eigen::Vector2d(q->head<2>().cast<float>().cast<double>()) + anchor;
+  // The candidates' ground points, unprojected in parallel (NaN off the terrain), then
+  // taken in the grid's order.
+  std::vector<double> us, vs;
+  for (double v = 0.5 * step; v < view.height; v += step) vs.push_back(v);
+  for (double u = 0.5 * step; u < view.width; u += step) us.push_back(u);
+  std::vector<Eigen::Vector2f> ground(us.size() * vs.size());
+#pragma omp parallel for schedule(static)
+  for (long iv = 0; iv < long(vs.size()); ++iv)
+    for (std::size_t iu = 0; iu < us.size(); ++iu) {
+      const auto q = surface_point(view, inverse, depth, us[iu], vs[std::size_t(iv)]);
+      ground[std::size_t(iv) * us.size() + iu] =
+          q ? Eigen::Vector2f(q->head<2>().cast<float>()) : Eigen::Vector2f::Constant(std::numeric_limits<float>::quiet_NaN());
+    }
+  for (std::size_t iv = 0; iv < vs.size(); ++iv)
+    for (std::size_t iu = 0; iu < us.size(); ++iu) {
+      const double u = us[iu], v = vs[iv];
+      const Eigen::Vector2f& q = ground[iv * us.size() + iu];
+      if (std::isnan(q.x())) continue;
+      const Eigen::Vector2d g = q.cast<double>() + anchor;
       const double cx = std::floor(g.x() / cell), cy = std::floor(g.y() / cell);
       const float d2 = float((g - cell * Eigen::Vector2d(cx + 0.5, cy + 0.5)).squaredNorm());
       const std::uint64_t key = (std::uint64_t(std::int64_t(cx)) << 32) ^ std::uint64_t(std::uint32_t(std::int64_t(cy)));

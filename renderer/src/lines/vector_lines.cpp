@@ -50,25 +50,27 @@ std::vector<std::pair<std::vector<int>, bool>> trace(const Adjacency& adj) {
 // Zhang-Suen thinning (1984) of a binary image, in place.
 void thin(std::vector<std::uint8_t>& m, int w, int h) {
   auto at = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h && m[std::size_t(y * w + x)] != 0; };
-  std::vector<std::size_t> drop;
+  std::vector<std::size_t> drop, on;  // on: the pixels still ink (a pass looks at those alone)
+  for (std::size_t i = 0; i < m.size(); ++i)
+    if (m[i]) on.push_back(i);
   for (bool changed = true; changed;) {
     changed = false;
     for (int pass = 0; pass < 2; ++pass) {
       drop.clear();
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-          if (!at(x, y)) continue;
-          // P2..P9 clockwise from north.
-          const bool p[8] = {at(x, y - 1), at(x + 1, y - 1), at(x + 1, y), at(x + 1, y + 1),
-                             at(x, y + 1), at(x - 1, y + 1), at(x - 1, y), at(x - 1, y - 1)};
-          int b = 0, a = 0;
-          for (int k = 0; k < 8; ++k) b += p[k], a += !p[k] && p[(k + 1) % 8];
-          if (b < 2 || b > 6 || a != 1) continue;
-          const bool c1 = pass == 0 ? !(p[0] && p[2] && p[4]) : !(p[0] && p[2] && p[6]);
-          const bool c2 = pass == 0 ? !(p[2] && p[4] && p[6]) : !(p[0] && p[4] && p[6]);
-          if (c1 && c2) drop.push_back(std::size_t(y * w + x));
-        }
+      for (const std::size_t i : on) {
+        const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
+        // P2..P9 clockwise from north.
+        const bool p[8] = {at(x, y - 1), at(x + 1, y - 1), at(x + 1, y), at(x + 1, y + 1),
+                           at(x, y + 1), at(x - 1, y + 1), at(x - 1, y), at(x - 1, y - 1)};
+        int b = 0, a = 0;
+        for (int k = 0; k < 8; ++k) b += p[k], a += !p[k] && p[(k + 1) % 8];
+        if (b < 2 || b > 6 || a != 1) continue;
+        const bool c1 = pass == 0 ? !(p[0] && p[2] && p[4]) : !(p[0] && p[2] && p[6]);
+        const bool c2 = pass == 0 ? !(p[2] && p[4] && p[6]) : !(p[0] && p[4] && p[6]);
+        if (c1 && c2) drop.push_back(i);
+      }
       for (const std::size_t i : drop) m[i] = 0;
+      std::erase_if(on, [&](std::size_t i) { return !m[i]; });
       changed = changed || !drop.empty();
     }
   }
@@ -103,25 +105,25 @@ std::vector<Polyline> chain_mask(const std::vector<std::uint8_t>& mask, int w, i
   thin(m, w, h);
   std::vector<int> id(m.size(), -1);
   std::vector<Eigen::Vector2f> centre;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (m[std::size_t(y * w + x)]) {
-        id[std::size_t(y * w + x)] = int(centre.size());
-        centre.emplace_back(float(x) + 0.5f, float(y) + 0.5f);
-      }
+  std::vector<std::size_t> on;  // the thinned ink, in row order
+  for (std::size_t i = 0; i < m.size(); ++i)
+    if (m[i]) {
+      id[i] = int(centre.size());
+      on.push_back(i);
+      centre.emplace_back(float(i % std::size_t(w)) + 0.5f, float(i / std::size_t(w)) + 0.5f);
+    }
   auto ink = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h && m[std::size_t(y * w + x)] != 0; };
   Adjacency adj(centre.size());
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      if (!ink(x, y)) continue;
-      const int a = id[std::size_t(y * w + x)];
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          if ((dx == 0 && dy == 0) || !ink(x + dx, y + dy)) continue;
-          if (dx != 0 && dy != 0 && (ink(x + dx, y) || ink(x, y + dy))) continue;  // the staircase goes orthogonally
-          adj[std::size_t(a)].push_back(id[std::size_t((y + dy) * w + x + dx)]);
-        }
-    }
+  for (const std::size_t i : on) {
+    const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
+    const int a = id[i];
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        if ((dx == 0 && dy == 0) || !ink(x + dx, y + dy)) continue;
+        if (dx != 0 && dy != 0 && (ink(x + dx, y) || ink(x, y + dy))) continue;  // the staircase goes orthogonally
+        adj[std::size_t(a)].push_back(id[std::size_t((y + dy) * w + x + dx)]);
+      }
+  }
   std::vector<Polyline> out;
   for (const auto& [path, closed] : trace(adj)) {
     Polyline p;
