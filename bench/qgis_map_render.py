@@ -15,16 +15,13 @@ from qgis.PyQt.QtCore import QSize  # noqa: E402
 from qgis.PyQt.QtGui import QColor  # noqa: E402
 
 
-def main():
-    dem_path, out, width = sys.argv[1], sys.argv[2], int(sys.argv[3])
-    app = QgsApplication([], False)
-    app.initQgis()
+def render(dem_path, out, width, specs):
     dem = QgsRasterLayer(dem_path, "DEM")
     shade = QgsHillshadeRenderer(dem.dataProvider(), 1, 315, 45)
     shade.setOpacity(0.35)
     dem.setRenderer(shade)
     layers = []
-    for spec in sys.argv[4:]:
+    for spec in specs:
         path, name, mm = spec.rsplit(":", 2)
         v = QgsVectorLayer(f"{path}|layername={name}", name, "ogr")
         if not v.isValid():
@@ -42,6 +39,12 @@ def main():
     job.start()
     job.waitForFinished()
     job.renderedImage().save(out, "png")
+
+
+def main():
+    app = QgsApplication([], False)
+    app.initQgis()
+    render(sys.argv[1], sys.argv[2], int(sys.argv[3]), sys.argv[4:])  # its layers gone before QGIS exits
     app.exitQgis()
 
 

@@ -26,7 +26,7 @@ struct PlanHachureOptions {
   // steep slopes (the 99th percentile of its pixels' slopes) stays white, as the QGIS
   // Hachures script leaves ground under a share of its slope range; never under
   // HachureRule::min_slope. 0: that rule's absolute threshold alone.
-  double min_slope_share = 0.2;
+  double min_slope_share = 0.3;
   // Ridge lines (given a .dv: plan_hachures' `ridges`), selected as a frame selects them
   // (select_ridges at the map's scale; terrain-render's --ridge-min-area, --ridge-min-relief
   // as a share of the mesh's relief) and drawn ridge_width pixels wide.
