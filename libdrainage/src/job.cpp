@@ -135,6 +135,7 @@ RunSummary run_tiled_job(const DrainageJob& job, const ProgressFor& progress, co
   step("tiled run");
   s.rows = r.rows, s.cols = r.cols, s.dx = r.dx, s.dy = r.dy, s.tiles = r.tiles;
   s.points = r.totals.points, s.basins = r.totals.pits.size(), s.branches = r.totals.branches, s.filled = r.filled;
+  s.pits = r.pits, s.ridges = r.ridges, s.channels = r.channels, s.junctions = r.junctions;  // counted per tile
   if (!comm.root()) return s;
   outputs.write([&] {
     if (!job.rasters_dir.empty())
@@ -142,11 +143,9 @@ RunSummary run_tiled_job(const DrainageJob& job, const ProgressFor& progress, co
           run.write_to, [&](const std::string& name) { return outputs.stage(std::filesystem::path(job.rasters_dir) / name); },
           run.encoding, run.provenance);
     if (!job.outlets.empty()) s.watersheds = stage_watersheds(job, run.write_to, outputs, progress);
-    const DvSummary d = summarize_dv_file(run.write_to);  // the classes, streamed from the file
-    s.pits = d.pits, s.ridges = d.ridges, s.channels = d.channels, s.junctions = d.junctions;
   });
   outputs.commit();
-  step("layers and classes from the .dv");
+  step("layers from the .dv");
   return s;
 }
 

@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -457,6 +459,59 @@ class TiledDrainage {
     return h;
   }
 
+  // The classes of a tile's points, on the tile's thread, as the .dv's reader derives them
+  // (classify): a pit where the flow ends (no code, an outlet, or cut), else a ridge,
+  // channel or junction by the neighbours whose codes enter it, those of the tiles around
+  // from the codes of the one-sample ring about the tile (a code entering a valid point is
+  // never cut; outside the grid, no code).
+  void count_classes(const NetworkTile& tile) const {
+    const terrain::RasterWindow& w = tile.window;
+    const std::size_t H = w.rows + 2, W = w.cols + 2;  // the tile and its ring
+    D8Codes halo(H * W, kNodata);
+    for (std::size_t r = 0; r < w.rows; ++r)
+      std::copy_n(&tile.dirs[r * w.cols], w.cols, &halo[(r + 1) * W + 1]);
+    // The ring, as four strips read where they lie in the grid.
+    const auto strip = [&](long row, long col, std::size_t rows, std::size_t cols) {
+      const long r0 = std::max(0L, row), c0 = std::max(0L, col);
+      const long r1 = std::min(long(info_.rows), row + long(rows)), c1 = std::min(long(info_.cols), col + long(cols));
+      if (r1 <= r0 || c1 <= c0) return;
+      const D8Codes s = codes_({std::size_t(r0), std::size_t(c0), std::size_t(r1 - r0), std::size_t(c1 - c0)});
+      for (long r = r0; r < r1; ++r)
+        for (long c = c0; c < c1; ++c)
+          halo[std::size_t(r - long(w.row0) + 1) * W + std::size_t(c - long(w.col0) + 1)] =
+              s[std::size_t(r - r0) * std::size_t(c1 - c0) + std::size_t(c - c0)];
+    };
+    const long row0 = long(w.row0), col0 = long(w.col0);
+    strip(row0 - 1, col0 - 1, 1, W), strip(row0 + long(w.rows), col0 - 1, 1, W);
+    strip(row0, col0 - 1, w.rows, 1), strip(row0, col0 + long(w.cols), w.rows, 1);
+    const Neighbours nb{long(H), long(W)};
+    std::uint64_t n[4] = {0, 0, 0, 0};
+    for (std::size_t r = 0; r < w.rows; ++r)
+      for (std::size_t c = 0; c < w.cols; ++c) {
+        const std::size_t i = r * w.cols + c;
+        if (tile.dirs[i] == kNodata) continue;
+        if (tile.dirs[i] >= 8 || tile.cut[i]) {
+          ++n[0];
+          continue;
+        }
+        int in = 0;
+        nb.inflows(long(r + 1), long(c + 1), [&](std::size_t j, int k) { in += halo[j] == std::uint8_t(k); });
+        ++n[in == 0 ? 1 : in == 1 ? 2 : 3];
+      }
+    classes_[0] += n[0], classes_[1] += n[1], classes_[2] += n[2], classes_[3] += n[3];
+  }
+
+  // Every rank's class counts, summed into the summary.
+  void gather_classes() {
+    std::uint64_t sum[4] = {0, 0, 0, 0};
+    const std::array<std::uint64_t, 4> mine = {classes_[0].load(), classes_[1].load(), classes_[2].load(), classes_[3].load()};
+    for (const std::string& rank : comm_.all_gather(Packer().put(mine).take())) {
+      const auto theirs = Unpacker(rank).get<std::array<std::uint64_t, 4>>();
+      for (int k = 0; k < 4; ++k) sum[k] += theirs[std::size_t(k)];
+    }
+    summary_.pits = sum[0], summary_.ridges = sum[1], summary_.channels = sum[2], summary_.junctions = sum[3];
+  }
+
   // A tile's .dv block, encoded on the tile's thread.
   void encode(NetworkTile& tile) const {
     const std::size_t m = tile.dirs.size();
@@ -502,7 +557,11 @@ class TiledDrainage {
           }
           terrain::report(progress_, 0.3 + 0.7 * double(t + 1) / double(tiles_.count()));
         },
-        comm_, [this](std::size_t, NetworkTile& tile) { encode(tile); });
+        comm_, [this](std::size_t, NetworkTile& tile) {
+          count_classes(tile);
+          encode(tile);
+        });
+    gather_classes();
     if (summary_.totals.points == 0)  // thrown inside the write: no output is left
       throw terrain::Error("'" + input_ + "' has no valid sample (every cell is no-data)");
     if (comm_.size() == 1) return;
@@ -548,6 +607,7 @@ class TiledDrainage {
   std::uint32_t flags_ = 0;
   std::function<terrain::Grid(const terrain::RasterWindow&)> surface_;
   CodeReader codes_;
+  mutable std::atomic<std::uint64_t> classes_[4] = {0, 0, 0, 0};  // this rank's: pits, ridges, channels, junctions
   std::unique_ptr<ScratchArray<float>> filled_;
   std::unique_ptr<ScratchArray<std::uint8_t>> resolved_;
 };
