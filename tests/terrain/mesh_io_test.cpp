@@ -169,6 +169,35 @@ std::string read_error(const PlyParts& parts, const test::ScratchDir& dir) {
   return "";
 }
 
+// Every face is checked against the grid triangulation, by both readers: the plain layout's
+// block reader (read_plain_body) and OpenMesh's (a mesh with optional data, here a
+// normal-change property): one vertex index changed, or a face of four, is refused with
+// the count of faces that differ; the vertex block reads back bit for bit.
+TEST(MeshIo, BothReadersCheckEveryFace) {
+  test::ScratchDir dir;
+  GridMesh plain = msh_mesh();
+  GridMesh changed = plain;
+  changed.normal_change.assign(changed.n_vertices(), 0.5f);
+  for (const GridMesh* m : {&plain, &changed}) {
+    write_mesh_ply(*m, dir.path("m.ply"));
+    const GridMesh back = read_mesh_ply(dir.path("m.ply"));
+    EXPECT_EQ(back.positions, m->positions);
+    EXPECT_EQ(back.normals, m->normals);
+    const std::size_t record = 24 + (m->normal_change.empty() ? 0 : 4);
+    PlyParts parts = split_ply(dir.path("m.ply"));
+    const std::size_t faces = m->n_vertices() * record;
+    PlyParts index = parts, count = parts;
+    index.body[faces + 5 * 13 + 1 + 4] ^= 1;  // face 5's second vertex index
+    count.body[faces + 7 * 13] = 4;            // face 7 has four corners
+    const std::string e = read_error(index, dir);
+    EXPECT_NE(e.find("faces are not the"), std::string::npos) << e;
+    EXPECT_NE(read_error(count, dir), "");
+    if (m == &plain) {
+      EXPECT_NE(e.find("1 differ"), std::string::npos) << e;
+    }
+  }
+}
+
 // Damaged headers found by probing and fuzzing the reader (each crashed, hung or
 // exhausted memory inside OpenMesh's PLY parser before the header was validated).
 TEST(MeshIo, DamagedHeadersAreOneClearError) {
