@@ -4,6 +4,7 @@
 // is resolved on a graph of the tile perimeters (Barnes, Lehman & Mulla 2016, "Parallel
 // Priority-Flood depression filling for trillion cell digital elevation models").
 // The results equal the single-grid functions exactly (tests/drainage/tiled_test.cpp).
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -74,6 +75,9 @@ struct NetworkTile {
   terrain::BigVector<std::uint32_t> basin;       // as Network::basin (global ids)
   terrain::BigVector<std::uint8_t> order;        // as Network::order
   std::vector<char> prepared;                    // what the caller's `prepare` made of it
+  // Its points by class, as the .dv's reader derives them (pits, outlets included; ridges;
+  // channels; junctions): the inflows of its edge cells from the tiles around included.
+  std::array<std::uint64_t, 4> classes{};
 };
 
 // What the whole network has that no tile has alone.

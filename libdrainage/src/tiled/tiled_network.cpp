@@ -50,6 +50,7 @@ struct LocalNetwork {
   terrain::BigVector<std::uint32_t> down, acc;  // acc: 1 + inflows not influenced (final where not influenced)
   std::vector<std::uint32_t> topo;              // upstream before downstream
   std::vector<std::uint64_t> target;            // of each leaving cell, in cell order: global index downstream
+  std::array<std::uint64_t, 4> classes{};       // NetworkTile::classes
 };
 
 // Kahn within the tile, chain by chain as analyze_network walks; a cell is complete when
@@ -132,6 +133,24 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
         L.down[i] = std::uint32_t(rr * nc + cc);
         ++indeg[L.down[i]];
       }
+    }
+  // The classes, as the .dv's reader derives them (classify): a pit where the flow ends,
+  // else by the codes entering the cell, in the tile (indeg) and, on its edge, from the halo.
+  for (long r = 0; r < nr; ++r)
+    for (long c = 0; c < nc; ++c) {
+      const std::size_t i = std::size_t(r * nc + c);
+      if (L.dirs[i] == kNodata) continue;
+      if (L.pit[i]) {
+        ++L.classes[0];
+        continue;
+      }
+      int in = indeg[i];
+      if (r == 0 || c == 0 || r == nr - 1 || c == nc - 1)
+        around.inflows(r + dr, c + dc, [&](std::size_t j, int q) {
+          const long rr = long(j) / HC - dr, cc = long(j) % HC - dc;
+          in += (rr < 0 || cc < 0 || rr >= nr || cc >= nc) && halo[j] == std::uint8_t(q);
+        });
+      ++L.classes[in == 0 ? 1 : in == 1 ? 2 : 3];
     }
   std::vector<std::uint8_t> inflows_influenced(n, 0);
   walk_tile(L, indeg, inflows_influenced);
@@ -481,6 +500,7 @@ DoneTile complete_tile(const TileGrid& tiles, std::size_t t, const CodeReader& r
   tile_heads(L, d);
   out.dirs = std::move(L.dirs);
   out.cut = std::move(L.cut);
+  out.classes = L.classes;
   if (prepare) {  // then only what it made waits for `done`
     prepare(t, out);
     out.dirs = {}, out.cut = {}, out.accumulated = {}, out.basin = {}, out.order = {};

@@ -459,48 +459,6 @@ class TiledDrainage {
     return h;
   }
 
-  // The classes of a tile's points, on the tile's thread, as the .dv's reader derives them
-  // (classify): a pit where the flow ends (no code, an outlet, or cut), else a ridge,
-  // channel or junction by the neighbours whose codes enter it, those of the tiles around
-  // from the codes of the one-sample ring about the tile (a code entering a valid point is
-  // never cut; outside the grid, no code).
-  void count_classes(const NetworkTile& tile) const {
-    const terrain::RasterWindow& w = tile.window;
-    const std::size_t H = w.rows + 2, W = w.cols + 2;  // the tile and its ring
-    D8Codes halo(H * W, kNodata);
-    for (std::size_t r = 0; r < w.rows; ++r)
-      std::copy_n(&tile.dirs[r * w.cols], w.cols, &halo[(r + 1) * W + 1]);
-    // The ring, as four strips read where they lie in the grid.
-    const auto strip = [&](long row, long col, std::size_t rows, std::size_t cols) {
-      const long r0 = std::max(0L, row), c0 = std::max(0L, col);
-      const long r1 = std::min(long(info_.rows), row + long(rows)), c1 = std::min(long(info_.cols), col + long(cols));
-      if (r1 <= r0 || c1 <= c0) return;
-      const D8Codes s = codes_({std::size_t(r0), std::size_t(c0), std::size_t(r1 - r0), std::size_t(c1 - c0)});
-      for (long r = r0; r < r1; ++r)
-        for (long c = c0; c < c1; ++c)
-          halo[std::size_t(r - long(w.row0) + 1) * W + std::size_t(c - long(w.col0) + 1)] =
-              s[std::size_t(r - r0) * std::size_t(c1 - c0) + std::size_t(c - c0)];
-    };
-    const long row0 = long(w.row0), col0 = long(w.col0);
-    strip(row0 - 1, col0 - 1, 1, W), strip(row0 + long(w.rows), col0 - 1, 1, W);
-    strip(row0, col0 - 1, w.rows, 1), strip(row0, col0 + long(w.cols), w.rows, 1);
-    const Neighbours nb{long(H), long(W)};
-    std::uint64_t n[4] = {0, 0, 0, 0};
-    for (std::size_t r = 0; r < w.rows; ++r)
-      for (std::size_t c = 0; c < w.cols; ++c) {
-        const std::size_t i = r * w.cols + c;
-        if (tile.dirs[i] == kNodata) continue;
-        if (tile.dirs[i] >= 8 || tile.cut[i]) {
-          ++n[0];
-          continue;
-        }
-        int in = 0;
-        nb.inflows(long(r + 1), long(c + 1), [&](std::size_t j, int k) { in += halo[j] == std::uint8_t(k); });
-        ++n[in == 0 ? 1 : in == 1 ? 2 : 3];
-      }
-    classes_[0] += n[0], classes_[1] += n[1], classes_[2] += n[2], classes_[3] += n[3];
-  }
-
   // Every rank's class counts, summed into the summary.
   void gather_classes() {
     std::uint64_t sum[4] = {0, 0, 0, 0};
@@ -558,7 +516,7 @@ class TiledDrainage {
           terrain::report(progress_, 0.3 + 0.7 * double(t + 1) / double(tiles_.count()));
         },
         comm_, [this](std::size_t, NetworkTile& tile) {
-          count_classes(tile);
+          for (int k = 0; k < 4; ++k) classes_[k] += tile.classes[std::size_t(k)];
           encode(tile);
         });
     gather_classes();
