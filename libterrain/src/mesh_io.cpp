@@ -964,12 +964,12 @@ GridMesh read_terrain_mesh(const std::string& ply_path, std::string* source, Mes
                            std::string* warning) {
   std::string why;
   if (std::optional<PyramidMesh> p = read_mesh_via_pyramid(ply_path, why)) {
-    if (source) *source = "'" + pyramid_path_of(ply_path) + "' (its pyramid)";
+    if (source) *source = fmt::format("'{}' (its pyramid)", pyramid_path_of(ply_path));
     if (levels) *levels = std::move(p->levels);
     return std::move(p->mesh);
   }
-  if (source) *source = why.empty() ? "the PLY" : "the PLY: " + why;
-  if (warning) *warning = why.empty() ? std::string() : "'" + ply_path + "' read whole, not its pyramid: " + why;
+  if (source) *source = why.empty() ? std::string("the PLY") : fmt::format("the PLY: {}", why);
+  if (warning) *warning = why.empty() ? std::string() : fmt::format("'{}' read whole, not its pyramid: {}", ply_path, why);
   return read_mesh_ply(ply_path);
 }
 

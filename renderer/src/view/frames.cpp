@@ -71,7 +71,9 @@ std::string layers_text(const Layers& l) {
   for (const LayerName& n : kLayerNames) {
     // silhouettes-adjacency sets both flags: it is written alone.
     if (n.flag == &Layers::silhouettes && l.adjacency) continue;
-    if (l.*(n.flag)) out += (out.empty() ? "" : ",") + std::string(n.name);
+    if (!(l.*(n.flag))) continue;
+    if (!out.empty()) out += ',';
+    out += n.name;
   }
   return out;
 }
