@@ -4,7 +4,7 @@
 # and tiled (--tile-size TILE, default 2048); and at 10 m the mesh pipeline (the Logan mesh
 # sampled at 10 m through the PN surface). Prints wall times, peak memory, bytes per point,
 # the ratios. Needs a built tree (scripts/build.sh) and, for the GRASS figures, the Debian
-# package grass-core (installed here when missing and we are root).
+# package grass-core (bench/r_watershed.sh installs it when missing and we are root).
 # Usage: bench/build_drainage_vs_grass.sh [RES ...]     e.g. bench/build_drainage_vs_grass.sh 10
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,12 +14,6 @@ bin=build/bin
 TILE=${TILE:-2048}
 resolutions=("$@")
 [ ${#resolutions[@]} -gt 0 ] || resolutions=(10 5)
-if ! command -v grass >/dev/null; then
-  if [ "$(id -u)" -eq 0 ]; then
-    echo "installing grass-core for the comparison ..." >&2
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends grass-core >/dev/null
-  fi
-fi
 
 measure() {  # prints "wall_s peak_kb"; the command's stdout/stderr go to $tmp/out, $tmp/err
   /usr/bin/time -f "%e %M" -o "$tmp/time" "$@" >"$tmp/out" 2>"$tmp/err"
@@ -48,19 +42,11 @@ for res in "${resolutions[@]}"; do
     awk -v a="$rw" -v b="$first_wall" -v n="$points" -v m="$first_points" \
       'BEGIN { printf "  time ratio to the first size: %.2f for %.2f x the points\n", a / b, n / m }'
   fi
-  if command -v grass >/dev/null; then
-    cat >"$tmp/ws.sh" <<'GRASS'
-r.in.gdal --quiet -o input="$1" output=dem
-g.region raster=dem
-/usr/bin/time -f "%e %M" -o "$2" r.watershed -s --quiet memory=8000 elevation=dem accumulation=acc drainage=dir
-GRASS
-    gw="n/a"
-    grass --tmp-location EPSG:26912 --exec bash "$tmp/ws.sh" "$dem" "$tmp/grass_time" >/dev/null 2>&1 \
-      && read -r gw gkb <"$tmp/grass_time"
-    if [ "$gw" != "n/a" ]; then
-      row "GRASS r.watershed -s (memory=8000)" "$gw" "$gkb" "$points"
-      awk -v g="$gw" -v w="$rw" 'BEGIN { printf "  ratio r.watershed / build-drainage --raster: %.2f\n", g / w }'
-    fi
+  gw=""
+  read -r gw gkb < <(bench/r_watershed.sh "$dem") || true
+  if [ -n "$gw" ]; then
+    row "GRASS r.watershed -s (memory=8000)" "$gw" "$gkb" "$points"
+    awk -v g="$gw" -v w="$rw" 'BEGIN { printf "  ratio r.watershed / build-drainage --raster: %.2f\n", g / w }'
   fi
   rm -f "$dem" "$tmp/raster.dv" "$tmp/tiled.dv"
 done

@@ -44,17 +44,8 @@ echo "|---|---|---|---|---|"
 
 # build-drainage against r.watershed -s.
 read -r u10 u10k < <(best "$bin/build-drainage" --raster "$work/l10.tif" "$work/u.dv" -q)
-if ! command -v grass > /dev/null && [ "$(id -u)" -eq 0 ]; then
-  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends grass-core > /dev/null 2>&1 || true
-fi
-if command -v grass > /dev/null; then
-  cat > "$work/ws.sh" << 'GRASS'
-r.in.gdal --quiet -o input="$1" output=dem
-g.region raster=dem
-/usr/bin/time -f "%e %M" -o "$2" r.watershed -s --quiet memory=8000 elevation=dem accumulation=acc drainage=dir
-GRASS
-  grass --tmp-location EPSG:26912 --exec bash "$work/ws.sh" "$work/l10.tif" "$work/grass_time" > /dev/null 2>&1
-  read -r g10 _ < "$work/grass_time"
+read -r g10 _ < <("$root/bench/r_watershed.sh" "$work/l10.tif") || true
+if [ -n "${g10:-}" ]; then
   echo "| build-drainage --raster, Logan 10 m (14.4 M points) | $u10 s | r.watershed -s $g10 s | $(ratio "$g10" "$u10")x faster | keep it (12.3x) |"
 else
   echo "| build-drainage --raster, Logan 10 m | $u10 s | r.watershed: GRASS not installed | | |"
