@@ -969,7 +969,8 @@ GridMesh read_terrain_mesh(const std::string& ply_path, std::string* source, Mes
     return std::move(p->mesh);
   }
   if (source) *source = why.empty() ? std::string("the PLY") : fmt::format("the PLY: {}", why);
-  if (warning) *warning = why.empty() ? std::string() : fmt::format("'{}' read whole, not its pyramid: {}", ply_path, why);
+  if (warning)
+    *warning = why.empty() ? std::string() : fmt::format("'{}' read whole, not its pyramid: {}", ply_path, why);
   return read_mesh_ply(ply_path);
 }
 

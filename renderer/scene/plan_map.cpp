@@ -55,7 +55,8 @@ std::vector<PlanRidge> plan_ridges(const terrain::GridMesh& mesh, const PlanView
   for (const std::size_t k : select_ridges(ridges, plan.scale, min_area, o.ridge_min_relief * double(hi - lo))) {
     PlanRidge r{{}, ridges[k].basin_area, ridges[k].relief};
     for (const Eigen::Vector3f& p : ridges[k].points)
-      r.points.emplace_back(float((double(p.x()) - plan.x0) / plan.scale), float((plan.y0 - double(p.y())) / plan.scale));
+      r.points.emplace_back(float((double(p.x()) - plan.x0) / plan.scale),
+                            float((plan.y0 - double(p.y())) / plan.scale));
     out.push_back(std::move(r));
   }
   return out;

@@ -108,8 +108,8 @@ std::vector<std::size_t> select_ridges(const std::vector<SceneRidge>& ridges, do
 
 namespace {
 
-// The database's points under the mesh and their creases, on scene.mesh. Under the whole mesh when a window of it is held
-// (LodHierarchy::window): the rules see the basins, flats and channels of the network the
+// The database's points under the mesh and their creases, on scene.mesh. Under the whole
+// mesh when a window of it is held (LodHierarchy::window): the rules see the basins, flats and channels of the network the
 // mesh's frame draws, not the window's pieces of them (its flow normalized by a basin cut
 // at the window's edge); the lines outside the window are out of view.
 void build_creases(Scene& s, const std::string& dv_path, const CreaseRules& rules) {
@@ -514,7 +514,8 @@ void keep_off_the_outline(HachureField& field, int r) {
     for (std::size_t v = 0; v < h; ++v)
       for (std::size_t u = 0; u < w; ++u) {
         const std::size_t i = v * w + u;
-        if (v == 0 || v + 1 == h || row[i - w] || row[i] || row[i + w]) field.slope[i] = std::numeric_limits<float>::quiet_NaN();
+        if (v == 0 || v + 1 == h || row[i - w] || row[i] || row[i + w])
+          field.slope[i] = std::numeric_limits<float>::quiet_NaN();
       }
   }
 }

@@ -616,7 +616,8 @@ TEST(TerrainInspect, PlanMapsDrawTheRidgeLinesAndTheHachuresStopAtThem) {
   const std::string text((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("inkscape:label=\"ridges\""), std::string::npos);
   ASSERT_EQ(run(ex + "--to gpkg -o " + dir.path("plain.gpkg")).exit_code, 0);
-  std::unique_ptr<GDALDataset> plain(GDALDataset::Open(dir.path("plain.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  std::unique_ptr<GDALDataset> plain(
+      GDALDataset::Open(dir.path("plain.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
   ASSERT_TRUE(plain);
   EXPECT_EQ(plain->GetLayerByName("ridges"), nullptr);
   const auto bad = run(ex + "--dv " + mesh + " --to gpkg -o " + dir.path("bad.gpkg"));

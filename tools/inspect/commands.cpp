@@ -194,8 +194,9 @@ void export_hachure_map(const ExportArgs& a, const std::string& provenance) {
   o.scale = a.scale, o.spacing = a.hachure_spacing, o.width = a.hachure_width;
   o.light_tone = a.hachure_tone == "light", o.rows = a.hachure_style == "rows";
   o.min_slope_share = a.hachure_min_slope / 100.0;
-  const renderer::PlanHachures h =
-      renderer::plan_hachures(m, o, a.dv.empty() ? std::vector<renderer::SceneRidge>{} : renderer::read_ridges(a.dv, m));
+  const std::vector<renderer::SceneRidge> ridges = a.dv.empty() ? std::vector<renderer::SceneRidge>{}
+                                                                 : renderer::read_ridges(a.dv, m);
+  const renderer::PlanHachures h = renderer::plan_hachures(m, o, ridges);
   const std::array<double, 6> gt = renderer::plan_geotransform(m, h.plan);
   if (a.to == "gpkg") {
     renderer::write_hachures_gpkg(m, h, a.out);

@@ -462,7 +462,8 @@ class TiledDrainage {
   // Every rank's class counts, summed into the summary.
   void gather_classes() {
     std::uint64_t sum[4] = {0, 0, 0, 0};
-    const std::array<std::uint64_t, 4> mine = {classes_[0].load(), classes_[1].load(), classes_[2].load(), classes_[3].load()};
+    const std::array<std::uint64_t, 4> mine = {classes_[0].load(), classes_[1].load(), classes_[2].load(),
+                                               classes_[3].load()};
     for (const std::string& rank : comm_.all_gather(Packer().put(mine).take())) {
       const auto theirs = Unpacker(rank).get<std::array<std::uint64_t, 4>>();
       for (int k = 0; k < 4; ++k) sum[k] += theirs[std::size_t(k)];

@@ -374,8 +374,8 @@ std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<f
   for (long iv = 0; iv < long(vs.size()); ++iv)
     for (std::size_t iu = 0; iu < us.size(); ++iu) {
       const auto q = surface_point(view, inverse, depth, us[iu], vs[std::size_t(iv)]);
-      ground[std::size_t(iv) * us.size() + iu] =
-          q ? Eigen::Vector2f(q->head<2>().cast<float>()) : Eigen::Vector2f::Constant(std::numeric_limits<float>::quiet_NaN());
+      ground[std::size_t(iv) * us.size() + iu] = q ? Eigen::Vector2f(q->head<2>().cast<float>())
+                                                   : Eigen::Vector2f::Constant(std::numeric_limits<float>::quiet_NaN());
     }
   for (std::size_t iv = 0; iv < vs.size(); ++iv)
     for (std::size_t iu = 0; iu < us.size(); ++iu) {

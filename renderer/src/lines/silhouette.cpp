@@ -138,7 +138,8 @@ std::vector<float> silhouette_hidden_share(const std::vector<std::uint8_t>& mask
       for (int dy = -kHiddenReach; dy <= kHiddenReach; ++dy)
         for (int dx = -kHiddenReach; dx <= kHiddenReach; ++dx) {
           const int xx = x + dx, yy = y + dy;
-          if (xx >= 0 && yy >= 0 && xx < w && yy < h) far = std::max(far, distance[std::size_t(yy) * std::size_t(w) + std::size_t(xx)]);
+          if (xx >= 0 && yy >= 0 && xx < w && yy < h)
+            far = std::max(far, distance[std::size_t(yy) * std::size_t(w) + std::size_t(xx)]);
         }
       out[i] = (far - distance[i]) / distance[i];
     }

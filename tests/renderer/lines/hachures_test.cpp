@@ -183,7 +183,8 @@ TEST(Hachures, ConvergingFallLinesThinOutInsteadOfFanning) {
   // spacing) hachures: count the hachures that reach inside it.
   std::size_t inside = 0;
   for (const Hachure& hh : hs)
-    inside += std::any_of(hh.points.begin(), hh.points.end(), [&](const Vector2f& p) { return (p - centre).norm() < 20; });
+    inside += std::any_of(hh.points.begin(), hh.points.end(),
+                          [&](const Vector2f& p) { return (p - centre).norm() < 20; });
   EXPECT_LE(double(inside), 2 * std::numbers::pi * 20 / (rule.test_share * rule.spacing) + 1);
   std::cout << hs.size() << " hachures, " << inside << " reach 20 px of the centre, nearest pair " << least << " px\n";
 }
