@@ -21,7 +21,9 @@ int main(int argc, char** argv) {
       "  terrain-inspect preview out/msh.dv -o msh_drainage.png\n"
       "  terrain-inspect export out/msh.dv --to gpkg --min-order 2\n"
       "  terrain-inspect export out/msh.dv --to gpkg --layers basins,divides -o msh_basins.gpkg\n"
-      "  terrain-inspect export out/msh.dv --to tif -o msh_rasters");
+      "  terrain-inspect export out/msh.dv --to tif -o msh_rasters\n"
+      "  terrain-inspect export out/msh_10m.ply --to svg                      # a plan-view hachure map\n"
+      "  terrain-inspect export out/logan_100m.ply --dv out/logan.dv --to gpkg  # with its ridge lines");
   app.set_version_flag("--version", tt::version());
   app.require_subcommand(1);
   app.fallthrough();  // -q / -v also after the subcommand's arguments
