@@ -144,7 +144,8 @@ RunSummary run_tiled_job(const DrainageJob& job, const ProgressFor& progress, co
   step("tiled run");
   s.rows = r.rows, s.cols = r.cols, s.dx = r.dx, s.dy = r.dy, s.tiles = r.tiles;
   s.points = r.totals.points, s.basins = r.totals.pits.size(), s.branches = r.totals.branches, s.filled = r.filled;
-  s.pits = r.pits, s.ridges = r.ridges, s.channels = r.channels, s.junctions = r.junctions;  // counted per tile
+  const auto& n = r.totals.classes;  // counted tile by tile in the network's second pass
+  s.pits = n[0], s.ridges = n[1], s.channels = n[2], s.junctions = n[3];
   if (!comm.root()) return s;
   outputs.write([&] {
     if (!job.rasters_dir.empty())

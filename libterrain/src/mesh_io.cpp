@@ -779,6 +779,13 @@ std::optional<std::uint64_t> header_digest(const PlyHeader& header) {
   return std::nullopt;
 }
 
+// A file whose faces are not the grid's triangulation: `read` faces, `differ` of them not as
+// GridTopology::face has them (both readers).
+Error faces_error(const std::string& path, const GridTopology& topo, std::size_t read, std::size_t differ) {
+  return Error(fmt::format("cannot read '{}': its faces are not the {} x {} grid triangulation ({} faces, {} differ)",
+                           path, topo.rows, topo.cols, read, differ));
+}
+
 // The body of a PLY in the toolkit's own plain layout (write_mesh_ply without optional
 // data: binary little-endian, the vertices' x y z nx ny nz as floats, the faces as uchar-int
 // lists, nothing else), read in large blocks from `in` at the body: its vertices, and its
@@ -831,8 +838,7 @@ bool read_plain_body(std::ifstream& in, const PlyHeader& h, GridMesh& m, const s
     }
   }
   if (bad != 0)
-    throw Error(fmt::format("cannot read '{}': its faces are not the {} x {} grid triangulation ({} faces, {} differ)",
-                            path, m.topo.rows, m.topo.cols, nf, bad));
+    throw faces_error(path, m.topo, nf, bad);
   return true;
 }
 
@@ -857,8 +863,7 @@ GridMesh read_mesh_ply(const std::string& path) {
     throw Error(fmt::format("cannot read '{}': {} vertices, but its {} x {} grid needs {}", path, m.positions.size(),
                             m.topo.rows, m.topo.cols, m.topo.n_vertices()));
   if (importer.faces_read != m.topo.n_faces() || importer.bad_faces != 0)
-    throw Error(fmt::format("cannot read '{}': its faces are not the {} x {} grid triangulation ({} faces, {} differ)",
-                            path, m.topo.rows, m.topo.cols, importer.faces_read, importer.bad_faces));
+    throw faces_error(path, m.topo, importer.faces_read, importer.bad_faces);
   check_vertices(m, path);
   read_optional(path, importer, m);
   return m;

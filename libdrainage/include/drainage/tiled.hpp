@@ -75,14 +75,14 @@ struct NetworkTile {
   terrain::BigVector<std::uint32_t> basin;       // as Network::basin (global ids)
   terrain::BigVector<std::uint8_t> order;        // as Network::order
   std::vector<char> prepared;                    // what the caller's `prepare` made of it
-  // Its points by class, as the .dv's reader derives them (pits, outlets included; ridges;
-  // channels; junctions): the inflows of its edge cells from the tiles around included.
-  std::array<std::uint64_t, 4> classes{};
 };
 
 // What the whole network has that no tile has alone.
 struct NetworkTotals {
   std::size_t points = 0, branches = 0;
+  // The points by class, as the .dv's reader derives them: pits (outlets included),
+  // ridges, channels, junctions.
+  std::array<std::uint64_t, 4> classes{};
   std::vector<std::uint32_t> pits, pit_accumulated;  // by basin id: as Network::pits, and their flow
 };
 

@@ -38,10 +38,6 @@ struct TiledSummary {
   std::size_t rows = 0, cols = 0, tiles = 0, filled = 0;
   double dx = 0, dy = 0;
   NetworkTotals totals;
-  // The points of each class (the .dv's, as its reader derives them), counted tile by tile
-  // as the tiles are written, every rank's: pits (outlets included), ridges, channels,
-  // junctions.
-  std::uint64_t pits = 0, ridges = 0, channels = 0, junctions = 0;
   std::vector<std::pair<const char*, double>> timings;  // wall seconds per step (rank 0's), for -v
 };
 // About the peak memory of a tiled run (one process) of `info`'s grid in tiles of `side` on

@@ -50,7 +50,7 @@ struct LocalNetwork {
   terrain::BigVector<std::uint32_t> down, acc;  // acc: 1 + inflows not influenced (final where not influenced)
   std::vector<std::uint32_t> topo;              // upstream before downstream
   std::vector<std::uint64_t> target;            // of each leaving cell, in cell order: global index downstream
-  std::array<std::uint64_t, 4> classes{};       // NetworkTile::classes
+  std::array<std::uint64_t, 4> classes{};       // NetworkTotals::classes of the tile (pass 2 only)
 };
 
 // Kahn within the tile, chain by chain as analyze_network walks; a cell is complete when
@@ -83,7 +83,7 @@ void walk_tile(LocalNetwork& L, std::vector<std::uint8_t>& indeg, std::vector<st
   }
 }
 
-LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReader& read) {
+LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReader& read, bool count_classes = false) {
   LocalNetwork L;
   L.w = tiles.window(t);
   const terrain::RasterWindow& w = L.w;
@@ -136,7 +136,7 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
     }
   // The classes, as the .dv's reader derives them (classify): a pit where the flow ends,
   // else by the codes entering the cell, in the tile (indeg) and, on its edge, from the halo.
-  for (long r = 0; r < nr; ++r)
+  for (long r = 0; count_classes && r < nr; ++r)
     for (long c = 0; c < nc; ++c) {
       const std::size_t i = std::size_t(r * nc + c);
       if (L.dirs[i] == kNodata) continue;
@@ -407,6 +407,7 @@ struct RingCell {  // a cell on a tile's edge: its order, inflows of that order,
 struct DoneTile {  // one tile, complete, and what it adds to the totals
   NetworkTile out;
   std::uint64_t points = 0, branches = 0;
+  std::array<std::uint64_t, 4> classes{};
   std::vector<PitEntry> pits;
   std::vector<RingCell> ring;
 };
@@ -484,7 +485,7 @@ void tile_heads(const LocalNetwork& L, DoneTile& d) {
 DoneTile complete_tile(const TileGrid& tiles, std::size_t t, const CodeReader& read, const RankSolution& sol,
                        const std::function<void(std::size_t, NetworkTile&)>& prepare) {
   DoneTile d;
-  LocalNetwork L = local_network(tiles, t, read);
+  LocalNetwork L = local_network(tiles, t, read, true);
   const std::size_t n = L.nr * L.nc;
   NetworkTile& out = d.out;
   out.window = L.w;
@@ -500,7 +501,7 @@ DoneTile complete_tile(const TileGrid& tiles, std::size_t t, const CodeReader& r
   tile_heads(L, d);
   out.dirs = std::move(L.dirs);
   out.cut = std::move(L.cut);
-  out.classes = L.classes;
+  d.classes = L.classes;
   if (prepare) {  // then only what it made waits for `done`
     prepare(t, out);
     out.dirs = {}, out.cut = {}, out.accumulated = {}, out.basin = {}, out.order = {};
@@ -514,7 +515,7 @@ NetworkTotals finish_totals(const TileGrid& tiles, const TileComm& comm, std::ui
                             std::vector<PitEntry>& my_pits, std::vector<std::vector<RingCell>>& rings) {
   const std::size_t nt = tiles.count(), ntc = tiles.tile_cols();
   Packer pack;
-  pack.put(std::uint64_t(mine.points)).put(std::uint64_t(mine.branches)).put_vector(my_pits);
+  pack.put(std::uint64_t(mine.points)).put(std::uint64_t(mine.branches)).put(mine.classes).put_vector(my_pits);
   for (std::size_t t = 0; t < nt; ++t)
     if (comm.owns(t)) pack.put(std::uint64_t(t)).put_vector(rings[t]);
   std::vector<PitEntry>().swap(my_pits);
@@ -529,6 +530,8 @@ NetworkTotals finish_totals(const TileGrid& tiles, const TileComm& comm, std::ui
     Unpacker in(bytes);
     totals.points += in.get<std::uint64_t>();
     totals.branches += in.get<std::uint64_t>();
+    const auto classes = in.get<std::array<std::uint64_t, 4>>();
+    for (std::size_t k = 0; k < 4; ++k) totals.classes[k] += classes[k];
     for (const PitEntry& e : in.get_vector<PitEntry>()) {
       if (e.basin >= n_pits) throw terrain::Error("tiled network: a rank sent a basin out of range");
       totals.pits[e.basin] = e.pit, totals.pit_accumulated[e.basin] = e.accumulated;
@@ -556,11 +559,16 @@ NetworkTotals finish_totals(const TileGrid& tiles, const TileComm& comm, std::ui
     for (const RingCell& x : ring) totals.branches += x.valid && x.same != 1;
   if (comm.size() > 1) {  // rank 0's counts to every rank
     const std::string counts =
-        comm.all_gather(comm.root() ? Packer().put(std::uint64_t(totals.points)).put(std::uint64_t(totals.branches)).take()
+        comm.all_gather(comm.root() ? Packer()
+                                          .put(std::uint64_t(totals.points))
+                                          .put(std::uint64_t(totals.branches))
+                                          .put(totals.classes)
+                                          .take()
                                     : std::string())[0];
     Unpacker in(counts);
     totals.points = in.get<std::uint64_t>();
     totals.branches = in.get<std::uint64_t>();
+    totals.classes = in.get<std::array<std::uint64_t, 4>>();
   }
   return totals;
 }
@@ -584,6 +592,7 @@ NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
       comm, nt, [&](std::size_t t) { return complete_tile(tiles, t, read, solution, prepare); },
       [&](std::size_t t, DoneTile&& d) {
         mine.points += d.points, mine.branches += d.branches;
+        for (std::size_t k = 0; k < 4; ++k) mine.classes[k] += d.classes[k];
         my_pits.insert(my_pits.end(), d.pits.begin(), d.pits.end());
         rings[t] = std::move(d.ring);
         done(t, d.out);

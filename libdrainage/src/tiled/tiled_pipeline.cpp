@@ -3,8 +3,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <array>
-#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -459,18 +457,6 @@ class TiledDrainage {
     return h;
   }
 
-  // Every rank's class counts, summed into the summary.
-  void gather_classes() {
-    std::uint64_t sum[4] = {0, 0, 0, 0};
-    const std::array<std::uint64_t, 4> mine = {classes_[0].load(), classes_[1].load(), classes_[2].load(),
-                                               classes_[3].load()};
-    for (const std::string& rank : comm_.all_gather(Packer().put(mine).take())) {
-      const auto theirs = Unpacker(rank).get<std::array<std::uint64_t, 4>>();
-      for (int k = 0; k < 4; ++k) sum[k] += theirs[std::size_t(k)];
-    }
-    summary_.pits = sum[0], summary_.ridges = sum[1], summary_.channels = sum[2], summary_.junctions = sum[3];
-  }
-
   // A tile's .dv block, encoded on the tile's thread.
   void encode(NetworkTile& tile) const {
     const std::size_t m = tile.dirs.size();
@@ -516,11 +502,7 @@ class TiledDrainage {
           }
           terrain::report(progress_, 0.3 + 0.7 * double(t + 1) / double(tiles_.count()));
         },
-        comm_, [this](std::size_t, NetworkTile& tile) {
-          for (int k = 0; k < 4; ++k) classes_[k] += tile.classes[std::size_t(k)];
-          encode(tile);
-        });
-    gather_classes();
+        comm_, [this](std::size_t, NetworkTile& tile) { encode(tile); });
     if (summary_.totals.points == 0)  // thrown inside the write: no output is left
       throw terrain::Error("'" + input_ + "' has no valid sample (every cell is no-data)");
     if (comm_.size() == 1) return;
@@ -566,7 +548,6 @@ class TiledDrainage {
   std::uint32_t flags_ = 0;
   std::function<terrain::Grid(const terrain::RasterWindow&)> surface_;
   CodeReader codes_;
-  mutable std::atomic<std::uint64_t> classes_[4] = {0, 0, 0, 0};  // this rank's: pits, ridges, channels, junctions
   std::unique_ptr<ScratchArray<float>> filled_;
   std::unique_ptr<ScratchArray<std::uint8_t>> resolved_;
 };

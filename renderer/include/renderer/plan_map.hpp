@@ -29,8 +29,9 @@ struct PlanHachureOptions {
   double min_slope_share = 0.3;
   // Ridge lines (given a .dv: plan_hachures' `ridges`), selected as a frame selects them
   // (select_ridges at the map's scale; terrain-render's --ridge-min-area, --ridge-min-relief
-  // as a share of the mesh's relief) and drawn ridge_width pixels wide.
-  double ridge_min_area = 1e7, ridge_min_relief = 0.05, ridge_width = 2.2;
+  // as a share of the mesh's relief) and drawn ridge_width pixels wide: a frame's defaults.
+  double ridge_min_area = Style{}.ridge_min_area, ridge_min_relief = Style{}.ridge_min_relief,
+         ridge_width = Style{}.ridge_width;
 };
 
 // A ridge line of a map, in its pixels (u right, v down), with what selected it.

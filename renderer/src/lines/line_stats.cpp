@@ -225,12 +225,12 @@ SilhouetteStats silhouette_stats(const std::vector<std::uint8_t>& opacity, int w
   SilhouetteStats st;
   const MaskPieces m = mask_pieces(opacity, w, h, kSilhouetteJoin);
   st.pieces = m.size.size();
-  std::vector<double> piece_opacity(st.pieces, 0.0);  // the piece rule's: one opacity a piece
+  std::vector<double> of_piece(st.pieces, 0.0);  // the piece rule's opacity, one a piece
   for (std::size_t i = 0; i < opacity.size(); ++i) {
     st.pixels += double(opacity[i]) / 255.0;
-    if (m.piece[i]) piece_opacity[m.piece[i] - 1] = std::max(piece_opacity[m.piece[i] - 1], double(opacity[i]) / 255.0);
+    if (m.piece[i]) of_piece[m.piece[i] - 1] = std::max(of_piece[m.piece[i] - 1], double(opacity[i]) / 255.0);
   }
-  const double weighted = std::accumulate(piece_opacity.begin(), piece_opacity.end(), 0.0);
+  const double weighted = std::accumulate(of_piece.begin(), of_piece.end(), 0.0);
   if (weighted > 0) st.mean_piece_px = st.pixels / weighted;
   return st;
 }
