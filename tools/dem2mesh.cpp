@@ -188,10 +188,15 @@ int run(const Options& o, const std::string& provenance, const tt::Verbosity& ve
   terrain::OutputSet outputs;  // the mesh and the grid land together, or neither does
   if (!grid_out.empty()) outputs.write([&] { terrain::write_geotiff(grid, outputs.stage(grid_out), provenance); });
   auto t0 = Clock::now();
-  terrain::GridMesh mesh = terrain::make_grid_mesh(grid, nw);
+  terrain::GridMesh mesh = terrain::grid_mesh_frame(grid);
   mesh.provenance = provenance;
   mesh.filled.assign(filled.begin(), filled.end());
-  tt::step(verb, fmt::format("mesh and normals: {:.2f} s", since(t0)));
+  const bool whole = o.fit || !pyramid.empty();  // else the rows are made as they are written
+  if (whole) {
+    terrain::GridMesh made = terrain::make_grid_mesh(grid, nw);
+    mesh.positions = std::move(made.positions), mesh.normals = std::move(made.normals);
+    tt::step(verb, fmt::format("mesh and normals: {:.2f} s", since(t0)));
+  }
   terrain::NormalFitReport fit_rep;
   if (o.fit) {
     t0 = Clock::now();
@@ -204,7 +209,10 @@ int run(const Options& o, const std::string& provenance, const tt::Verbosity& ve
                                fit_rep.after.rmse, fit_rep.before.max_abs, fit_rep.after.max_abs, since(t0)));
   }
   t0 = Clock::now();
-  outputs.write([&] { terrain::write_mesh_ply(mesh, outputs.stage(output)); });
+  outputs.write([&] {
+    whole ? terrain::write_mesh_ply(mesh, outputs.stage(output))
+          : terrain::write_grid_mesh_ply(mesh, grid, nw, outputs.stage(output));
+  });
   tt::step(verb, fmt::format("write {}: {:.2f} s", output, since(t0)));
   std::uint64_t pyramid_bytes = 0;
   if (!pyramid.empty()) {

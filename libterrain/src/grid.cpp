@@ -13,8 +13,12 @@ std::vector<std::uint8_t> Grid::nodata_mask() const {
 }
 
 std::size_t Grid::count_nodata() const {
-  return static_cast<std::size_t>(
-      std::count_if(z.begin(), z.end(), [](float v) { return std::isnan(v); }));
+  std::size_t n = 0;
+  const float* v = z.data();
+  const std::size_t size = z.size();
+#pragma omp simd reduction(+ : n)
+  for (std::size_t i = 0; i < size; ++i) n += std::size_t(v[i] != v[i]);  // NaN: no data
+  return n;
 }
 
 ElevationStats elevation_stats(std::span<const float> z) {

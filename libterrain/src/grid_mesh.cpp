@@ -56,7 +56,7 @@ struct FaceTerms {
 };
 
 // Terms of both faces of every cell of cell row `cr`: out[2*c + k].
-void cell_row_terms(const BigVector<Eigen::Vector3f>& positions, const GridTopology& topo, std::size_t cr,
+void cell_row_terms(const Eigen::Vector3f* positions, const GridTopology& topo, std::size_t cr,
                     NormalWeighting w, std::vector<FaceTerms>& out) {
   out.resize(2 * (topo.cols - 1));
   for (std::size_t c = 0; c + 1 < topo.cols; ++c)
@@ -82,6 +82,85 @@ void cell_row_terms(const BigVector<Eigen::Vector3f>& positions, const GridTopol
     }
 }
 
+// Unit normals of both faces of every cell of cell row `cr`, lane 2*c + k: cell_row_terms'
+// `unit` with the same operations in the same order (the same doubles), a face per SIMD
+// lane - the Uniform rule's whole cost.
+struct UnitRow {
+  std::vector<double> x, y, z;
+  Eigen::Vector3d at(std::size_t i) const { return {x[i], y[i], z[i]}; }
+};
+
+void cell_row_units(const Eigen::Vector3f* positions, std::size_t cols, std::size_t cr, UnitRow& out) {
+  const std::size_t n = 2 * (cols - 1);
+  out.x.resize(n), out.y.resize(n), out.z.resize(n);
+  double *ux = out.x.data(), *uy = out.y.data(), *uz = out.z.data();
+  const float* p = positions[cr * cols].data();  // rows cr and cr + 1, xyz interleaved
+  const std::size_t below = 3 * cols;
+#pragma omp simd
+  for (std::size_t i = 0; i < n; ++i) {
+    // Face i of the row: cell c = i / 2, (NW, SW, SE) when i is even, else (NW, SE, NE).
+    const std::size_t c = i / 2, nw = 3 * c, f1 = (i % 2 == 0) ? below + nw : below + nw + 3,
+                      f2 = (i % 2 == 0) ? below + nw + 3 : nw + 3;
+    const double x0 = p[nw], y0 = p[nw + 1], z0 = p[nw + 2];
+    const double e1x = p[f1] - x0, e1y = p[f1 + 1] - y0, e1z = p[f1 + 2] - z0;
+    const double e2x = p[f2] - x0, e2y = p[f2 + 1] - y0, e2z = p[f2 + 2] - z0;
+    const double cx = e1y * e2z - e1z * e2y, cy = e1z * e2x - e1x * e2z, cz = e1x * e2y - e1y * e2x;
+    const double len = std::sqrt(cx * cx + cy * cy + cz * cz);
+    const bool ok = len > 0.0;  // degenerate or no-data: contributes nothing
+    ux[i] = ok ? cx / len : 0.0;
+    uy[i] = ok ? cy / len : 0.0;
+    uz[i] = ok ? cz / len : 0.0;
+  }
+}
+
+// Normals of vertex rows [r_begin, r_end) of the grid mesh `positions` into normals[r * cols + c]
+// (serial). A window of two cell rows (above and below the vertex row) slides down the band,
+// so every face is evaluated about once. term(row, i, k): face i's term at its corner k.
+template <class Row, class Fill, class Term>
+void normals_of_rows(const GridTopology& topo, std::size_t r_begin, std::size_t r_end, Eigen::Vector3f* normals,
+                     const Fill& fill, const Term& term) {
+  const std::size_t rows = topo.rows, cols = topo.cols;
+  Row above, below;
+  if (r_begin < r_end && r_begin > 0) fill(r_begin - 1, above);
+  for (std::size_t r = r_begin; r < r_end; ++r) {
+    if (r + 1 < rows) fill(r, below);
+    for (std::size_t c = 0; c < cols; ++c) {
+      // Faces around vertex (r, c) and the vertex's corner in each (grid_mesh.hpp):
+      // cell (r-1,c-1): SE of both faces (corner 2 of face 0, corner 1 of face 1);
+      // cell (r-1,c): SW, face 0 corner 1; cell (r,c-1): NE, face 1 corner 2;
+      // cell (r,c): NW, corner 0 of both faces.
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      if (r > 0 && c > 0) sum += term(above, 2 * (c - 1), 2) + term(above, 2 * (c - 1) + 1, 1);
+      if (r > 0 && c + 1 < cols) sum += term(above, 2 * c, 1);
+      if (r + 1 < rows && c > 0) sum += term(below, 2 * (c - 1) + 1, 2);
+      if (r + 1 < rows && c + 1 < cols) sum += term(below, 2 * c, 0) + term(below, 2 * c + 1, 0);
+      const double len = sum.norm();
+      normals[r * cols + c] = len > 0.0 ? Eigen::Vector3f((sum / len).cast<float>()) : Eigen::Vector3f(0, 0, 1);
+    }
+    std::swap(above, below);
+  }
+}
+
+void normals_of_rows(const Eigen::Vector3f* positions, const GridTopology& topo, NormalWeighting w,
+                     std::size_t r_begin, std::size_t r_end, Eigen::Vector3f* normals) {
+  if (w == NormalWeighting::Uniform) {
+    normals_of_rows<UnitRow>(
+        topo, r_begin, r_end, normals, [&](std::size_t cr, UnitRow& row) { cell_row_units(positions, topo.cols, cr, row); },
+        [](const UnitRow& row, std::size_t i, int) { return row.at(i); });
+    return;
+  }
+  normals_of_rows<std::vector<FaceTerms>>(
+      topo, r_begin, r_end, normals,
+      [&](std::size_t cr, std::vector<FaceTerms>& row) { cell_row_terms(positions, topo, cr, w, row); },
+      [w](const std::vector<FaceTerms>& row, std::size_t i, int k) { return row[i].at_corner(k, w); });
+}
+
+void check_meshable(const Grid& grid) {
+  if (grid.rows < 2 || grid.cols < 2) throw Error("a mesh needs at least 2 x 2 samples");
+  if (const std::size_t nd = grid.count_nodata(); nd > 0)
+    throw Error("cannot mesh a grid with " + std::to_string(nd) + " no-data samples");
+}
+
 }  // namespace
 
 BigVector<Eigen::Vector3f> vertex_normals(const BigVector<Eigen::Vector3f>& positions,
@@ -89,42 +168,37 @@ BigVector<Eigen::Vector3f> vertex_normals(const BigVector<Eigen::Vector3f>& posi
   if (positions.size() != topo.n_vertices() || topo.rows < 2 || topo.cols < 2)
     throw Error("vertex_normals: positions do not match the grid topology");
   BigVector<Eigen::Vector3f> normals(positions.size());
-  const std::size_t rows = topo.rows, cols = topo.cols;
-  // Each thread takes a contiguous band of vertex rows and slides a window of two cell
-  // rows (above and below the vertex row) over it, so every face is evaluated about once.
+  // Each thread takes a contiguous band of vertex rows.
 #pragma omp parallel
   {
     const std::size_t nt = std::size_t(omp_get_num_threads()), t = std::size_t(omp_get_thread_num());
-    const std::size_t r_begin = rows * t / nt, r_end = rows * (t + 1) / nt;
-    std::vector<FaceTerms> above, below;
-    if (r_begin < r_end && r_begin > 0) cell_row_terms(positions, topo, r_begin - 1, weighting, above);
-    for (std::size_t r = r_begin; r < r_end; ++r) {
-      if (r + 1 < rows) cell_row_terms(positions, topo, r, weighting, below);
-      for (std::size_t c = 0; c < cols; ++c) {
-        // Faces around vertex (r, c) and the vertex's corner in each (grid_mesh.hpp):
-        // cell (r-1,c-1): SE of both faces (corner 2 of face 0, corner 1 of face 1);
-        // cell (r-1,c): SW, face 0 corner 1; cell (r,c-1): NE, face 1 corner 2;
-        // cell (r,c): NW, corner 0 of both faces.
-        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-        if (r > 0 && c > 0)
-          sum += above[2 * (c - 1)].at_corner(2, weighting) + above[2 * (c - 1) + 1].at_corner(1, weighting);
-        if (r > 0 && c + 1 < cols) sum += above[2 * c].at_corner(1, weighting);
-        if (r + 1 < rows && c > 0) sum += below[2 * (c - 1) + 1].at_corner(2, weighting);
-        if (r + 1 < rows && c + 1 < cols)
-          sum += below[2 * c].at_corner(0, weighting) + below[2 * c + 1].at_corner(0, weighting);
-        const double len = sum.norm();
-        normals[r * cols + c] = len > 0.0 ? Eigen::Vector3f((sum / len).cast<float>()) : Eigen::Vector3f(0, 0, 1);
-      }
-      std::swap(above, below);
-    }
+    normals_of_rows(positions.data(), topo, weighting, topo.rows * t / nt, topo.rows * (t + 1) / nt, normals.data());
   }
   return normals;
 }
 
-GridMesh make_grid_mesh(const Grid& grid, NormalWeighting weighting) {
-  if (grid.rows < 2 || grid.cols < 2) throw Error("a mesh needs at least 2 x 2 samples");
-  if (const std::size_t nd = grid.count_nodata(); nd > 0)
-    throw Error("cannot mesh a grid with " + std::to_string(nd) + " no-data samples");
+GridMeshRows::GridMeshRows(const Grid& grid, NormalWeighting weighting) : grid_(grid), weighting_(weighting) {
+  check_meshable(grid);
+}
+
+void GridMeshRows::rows(std::size_t r0, std::size_t r1, Eigen::Vector3f* positions, Eigen::Vector3f* normals) {
+  const std::size_t cols = grid_.cols, a = r0 > 0 ? r0 - 1 : 0, b = std::min(grid_.rows, r1 + 1);
+  if (r0 >= r1 || r1 > grid_.rows) throw Error("GridMeshRows: rows outside the grid");
+  // The band with a row of halo on each side: its own normals equal the whole grid's on
+  // every row but the halo's, as a vertex's normal needs only the cell rows beside it.
+  window_.resize((b - a) * cols);
+  for (std::size_t r = a; r < b; ++r)
+    for (std::size_t c = 0; c < cols; ++c)
+      window_[(r - a) * cols + c] = grid_vertex(r, c, grid_.geo.dx, grid_.geo.dy, grid_.at(r, c));
+  window_normals_.resize(window_.size());
+  normals_of_rows(window_.data(), GridTopology{b - a, cols}, weighting_, r0 - a, r1 - a, window_normals_.data());
+  std::copy(window_.begin() + std::ptrdiff_t((r0 - a) * cols), window_.begin() + std::ptrdiff_t((r1 - a) * cols),
+            positions);
+  std::copy(window_normals_.begin() + std::ptrdiff_t((r0 - a) * cols),
+            window_normals_.begin() + std::ptrdiff_t((r1 - a) * cols), normals);
+}
+
+GridMesh grid_mesh_frame(const Grid& grid) {
   GridMesh m;
   m.topo = {grid.rows, grid.cols};
   m.geo.crs_wkt = grid.geo.crs_wkt;
@@ -134,6 +208,12 @@ GridMesh make_grid_mesh(const Grid& grid, NormalWeighting weighting) {
   m.geo.origin_z = 0.0;
   m.geo.dx = grid.geo.dx;
   m.geo.dy = grid.geo.dy;
+  return m;
+}
+
+GridMesh make_grid_mesh(const Grid& grid, NormalWeighting weighting) {
+  check_meshable(grid);
+  GridMesh m = grid_mesh_frame(grid);
   m.positions.resize(grid.size());
   const long rows = long(grid.rows), cols = long(grid.cols);
 #pragma omp parallel for schedule(static)

@@ -490,19 +490,21 @@ struct PlyChunk {
   std::size_t r0, r1;
 };
 
-// Fills `buf` with a chunk's records; returns the byte count.
-std::size_t fill_ply_chunk(const GridMesh& mesh, const PlyChunk& ch, bool voronoi, bool change, bool filled,
-                           char* buf) {
+// Fills `buf` with a chunk's records; returns the byte count. A vertex chunk's positions
+// and normals are p[0..] and n[0..] (rows r0 .. r1 - 1), its optional data the mesh's.
+std::size_t fill_ply_chunk(const GridMesh& mesh, const PlyChunk& ch, const Eigen::Vector3f* p,
+                           const Eigen::Vector3f* n, bool voronoi, bool change, bool filled, char* buf) {
   const std::size_t cols = mesh.topo.cols;
   char* at = buf;
-  auto put = [&](const void* p, std::size_t n) {
-    std::memcpy(at, p, n);
-    at += n;
+  auto put = [&](const void* q, std::size_t bytes) {
+    std::memcpy(at, q, bytes);
+    at += bytes;
   };
   if (!ch.faces) {
-    for (std::size_t i = ch.r0 * cols; i < ch.r1 * cols; ++i) {
-      put(mesh.positions[i].data(), 12);
-      put(mesh.normals[i].data(), 12);
+    const std::size_t first = ch.r0 * cols;
+    for (std::size_t i = first; i < ch.r1 * cols; ++i) {
+      put(p[i - first].data(), 12);
+      put(n[i - first].data(), 12);
       if (voronoi) {
         put(&mesh.voronoi.vertex_areas[i], 4);
         put(mesh.voronoi.tangents[i].data(), 12);
@@ -531,22 +533,29 @@ std::size_t fill_ply_chunk(const GridMesh& mesh, const PlyChunk& ch, bool vorono
   return std::size_t(at - buf);
 }
 
-}  // namespace
+// Chunks filled at once: one written, two being filled (both cores busy while one writes).
+constexpr std::size_t kSlots = 3;
 
-void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
+// A vertex chunk's positions and normals: rows(r0, r1, slot, p, n) points p and n at rows
+// r0 .. r1 - 1, valid while buffer `slot` (0 .. kSlots - 1) is not filled again.
+using VertexRows = std::function<void(std::size_t r0, std::size_t r1, int slot, const Eigen::Vector3f*& p,
+                                      const Eigen::Vector3f*& n)>;
+
+// The PLY of `mesh` (its grid, georeference and optional arrays; the positions and normals
+// from `rows`), its digest taken as the vertices go out and written into the header last.
+void write_ply(const GridMesh& mesh, const VertexRows& rows_of, const std::string& path) {
   static_assert(std::endian::native == std::endian::little, "the PLY body is written as the host's floats");
-  const std::size_t nv = mesh.n_vertices();
-  if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != nv)
-    throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
+  const std::size_t nv = mesh.topo.n_vertices();
   check_mesh_georef(mesh, "cannot write '" + path + "'");
   const bool voronoi = !mesh.voronoi.empty(), change = mesh.normal_change.size() == nv, filled = mesh.filled.size() == nv;
-  const std::string header = ply_header(mesh, mesh_digest(mesh), voronoi, change, filled);
+  const std::string header = ply_header(mesh, 0, voronoi, change, filled);
+  const std::size_t digest_at = header.find(kDigestComment) + kDigestComment.size();
   // The body in chunks of whole rows (vertex rows, then cell rows of two faces each).
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
   const std::size_t vertex_bytes = 24 + (voronoi ? 16 : 0) + (change ? 4 : 0) + (filled ? 4 : 0),
                     face_bytes = 13 + (voronoi ? 12 : 0);
-  // 1 MiB: 4 MiB chunks tripled the kernel's time in write(2) on ext4 (Logan 10 m: 0.27 ->
-  // 0.8-1.3 s), 256 KiB ones spend it on the helper threads (0.41-0.60 s).
+  // 1 MiB: 4 MiB chunks tripled the kernel's time in write(2) on ext4, 256 KiB ones spend
+  // it on the helper threads.
   constexpr std::size_t kChunkBytes = std::size_t(1) << 20;
   const std::size_t vrow_bytes = cols * vertex_bytes, frow_bytes = 2 * (cols - 1) * face_bytes;
   const std::size_t vrows = std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(1, vrow_bytes));
@@ -554,23 +563,76 @@ void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
   std::vector<PlyChunk> chunks;
   for (std::size_t r = 0; r < rows; r += vrows) chunks.push_back({false, r, std::min(rows, r + vrows)});
   for (std::size_t r = 0; r + 1 < rows; r += frows) chunks.push_back({true, r, std::min(rows - 1, r + frows)});
-  const auto fill = [&](const PlyChunk& ch, char* buf) { return fill_ply_chunk(mesh, ch, voronoi, change, filled, buf); };
+  // What the helper gives back: the chunk's byte count and its vertices for the digest.
+  struct Filled {
+    std::size_t bytes = 0;
+    const Eigen::Vector3f *p = nullptr, *n = nullptr;
+  };
+  const auto fill = [&](std::size_t i, char* buf) {
+    Filled f;
+    if (!chunks[i].faces) rows_of(chunks[i].r0, chunks[i].r1, int(i % kSlots), f.p, f.n);
+    f.bytes = fill_ply_chunk(mesh, chunks[i], f.p, f.n, voronoi, change, filled, buf);
+    return f;
+  };
+  MeshDigest digest;
   write_stream_atomic(path, [&](std::ostream& out) {
     out.write(header.data(), std::streamsize(header.size()));
-    // Two buffers: a helper thread fills the next chunk while this one writes.
-    std::vector<char> bufs[2];
+    // kSlots buffers: helper threads fill the next ones while this one writes and digests.
+    std::vector<char> bufs[kSlots];
     for (auto& b : bufs) b.resize(std::max(vrows * vrow_bytes, frows * frow_bytes));
-    std::size_t n = chunks.empty() ? 0 : fill(chunks[0], bufs[0].data());
+    std::future<Filled> filling[kSlots];
+    const auto launch = [&](std::size_t i) {
+      if (i < chunks.size()) filling[i % kSlots] = std::async(std::launch::async, fill, i, bufs[i % kSlots].data());
+    };
+    for (std::size_t i = 0; i + 1 < kSlots; ++i) launch(i);
     for (std::size_t i = 0; i < chunks.size() && out; ++i) {
-      std::future<std::size_t> next;
-      if (i + 1 < chunks.size())
-        next = std::async(std::launch::async, fill, std::cref(chunks[i + 1]), bufs[(i + 1) % 2].data());
-      out.write(bufs[i % 2].data(), std::streamsize(n));
-      if (next.valid()) n = next.get();
+      const Filled now = filling[i % kSlots].get();
+      launch(i + kSlots - 1);
+      out.write(bufs[i % kSlots].data(), std::streamsize(now.bytes));
+      if (!chunks[i].faces) digest.add(now.p, now.n, (chunks[i].r1 - chunks[i].r0) * cols);
     }
+    for (auto& f : filling)
+      if (f.valid()) f.wait();  // after a failed write: no helper left writing into a buffer
+    const std::string text = digest_text(digest.value());
+    out.seekp(std::streamoff(digest_at));
+    out.write(text.data(), std::streamsize(text.size()));
     out.flush();
     if (!out) throw Error("cannot write '" + path + "': write failed (disk full?)");
   });
+}
+
+}  // namespace
+
+void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
+  if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != mesh.positions.size())
+    throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
+  const std::size_t cols = mesh.topo.cols;
+  write_ply(
+      mesh,
+      [&](std::size_t r0, std::size_t, int, const Eigen::Vector3f*& p, const Eigen::Vector3f*& n) {
+        p = mesh.positions.data() + r0 * cols;
+        n = mesh.normals.data() + r0 * cols;
+      },
+      path);
+}
+
+void write_grid_mesh_ply(const GridMesh& frame, const Grid& grid, NormalWeighting weighting, const std::string& path) {
+  if (frame.topo.rows != grid.rows || frame.topo.cols != grid.cols)
+    throw Error("cannot write '" + path + "': the mesh's frame and the grid differ");
+  // One row source and one pair of arrays per buffer slot.
+  const GridMeshRows checked(grid, weighting);
+  GridMeshRows sources[kSlots] = {checked, checked, checked};
+  std::vector<Eigen::Vector3f> p[kSlots], n[kSlots];
+  write_ply(
+      frame,
+      [&](std::size_t r0, std::size_t r1, int slot, const Eigen::Vector3f*& pp, const Eigen::Vector3f*& nn) {
+        p[slot].resize((r1 - r0) * grid.cols);
+        n[slot].resize(p[slot].size());
+        sources[slot].rows(r0, r1, p[slot].data(), n[slot].data());
+        pp = p[slot].data();
+        nn = n[slot].data();
+      },
+      path);
 }
 
 struct PlyRowWriter::Impl {
@@ -625,7 +687,8 @@ void PlyRowWriter::finish() {
   const std::size_t rows = m.header.topo.rows, frows = std::max<std::size_t>(1, (std::size_t(1) << 20) / (26 * m.header.topo.cols));
   std::vector<char> buf(frows * 26 * m.header.topo.cols);
   for (std::size_t r = 0; r + 1 < rows; r += frows) {
-    const std::size_t n = fill_ply_chunk(m.header, {true, r, std::min(rows - 1, r + frows)}, false, false, false, buf.data());
+    const std::size_t n = fill_ply_chunk(m.header, {true, r, std::min(rows - 1, r + frows)}, nullptr, nullptr, false,
+                                         false, false, buf.data());
     m.out.write(buf.data(), std::streamsize(n));
   }
   const std::string digest = digest_text(m.digest.value());

@@ -91,6 +91,42 @@ TEST(GridMesh, WorkedExampleVertexNormals) {
   }
 }
 
+// Uniform weighting is computed a face per SIMD lane; here the rule itself, face by face:
+// every vertex normal is the normalized sum of its incident faces' unit normals.
+TEST(GridMesh, UniformNormalsAreTheNormalizedSumOfTheFacesNormals) {
+  Grid g = analytic_grid(60, 47, 100.0, [](double x, double y) { return 300 * std::sin(x / 700) * std::cos(y / 450); });
+  g.at(10, 10) = g.at(11, 10) = g.at(11, 11) = 5;  // a flat cell among slopes
+  const GridMesh m = make_grid_mesh(g, NormalWeighting::Uniform);
+  std::vector<Eigen::Vector3d> sum(m.n_vertices(), Eigen::Vector3d::Zero());
+  for (std::size_t f = 0; f < m.n_faces(); ++f) {
+    const auto v = m.topo.face(f);
+    const Eigen::Vector3d n = face_normal(m.positions[v[0]].cast<double>(), m.positions[v[1]].cast<double>(),
+                                          m.positions[v[2]].cast<double>());
+    for (auto i : v) sum[i] += n;
+  }
+  for (std::size_t i = 0; i < m.n_vertices(); ++i)
+    ASSERT_LT((m.normals[i].cast<double>() - sum[i].normalized()).norm(), 1e-6) << "vertex " << i;
+}
+
+// GridMeshRows gives make_grid_mesh's floats for any band: the first and last rows, one
+// row, the whole grid, bands that meet.
+TEST(GridMesh, RowsInBandsEqualTheWholeMesh) {
+  const Grid g = analytic_grid(23, 17, 30.0, [](double x, double y) { return 0.002 * x * y + 40 * std::sin(x / 90); });
+  for (NormalWeighting w : {NormalWeighting::Uniform, NormalWeighting::Angle, NormalWeighting::Area}) {
+    const GridMesh m = make_grid_mesh(g, w);
+    GridMeshRows rows(g, w);
+    for (auto [r0, r1] : {std::pair<std::size_t, std::size_t>{0, 1}, {0, 5}, {5, 6}, {6, 22}, {22, 23}, {0, 23}}) {
+      std::vector<Eigen::Vector3f> p((r1 - r0) * g.cols), n(p.size());
+      rows.rows(r0, r1, p.data(), n.data());
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        ASSERT_EQ(p[i], m.positions[r0 * g.cols + i]) << to_string(w) << " rows " << r0 << ".." << r1 << " " << i;
+        ASSERT_EQ(n[i], m.normals[r0 * g.cols + i]) << to_string(w) << " rows " << r0 << ".." << r1 << " " << i;
+      }
+    }
+    EXPECT_THROW(rows.rows(20, 24, nullptr, nullptr), Error);
+  }
+}
+
 TEST(GridMesh, MeshToGridRestoresTheGrid) {
   const Grid g = read_dem(test::data("logan_utm12n_100m.tif"));
   const GridMesh m = make_grid_mesh(g, NormalWeighting::Area);
@@ -105,6 +141,7 @@ TEST(GridMesh, RejectsNodata) {
   Grid g = analytic_grid(3, 3, 1.0, [](double, double) { return 1.0; });
   g.at(1, 1) = std::numeric_limits<float>::quiet_NaN();
   EXPECT_THROW(make_grid_mesh(g, NormalWeighting::Uniform), Error);
+  EXPECT_THROW(GridMeshRows(g, NormalWeighting::Uniform), Error);
 }
 
 }  // namespace

@@ -90,6 +90,37 @@ TEST(MeshIo, BlockWriterWritesOpenMeshsBytes) {
   }
 }
 
+// dem2mesh's streaming writer: the bytes of the whole mesh's, in one chunk and in several,
+// with and without the filled flags, for each normal rule.
+TEST(MeshIo, GridWriterWritesTheMeshWritersBytes) {
+  test::ScratchDir dir;
+  GridRequest req;
+  req.spacing = 30.0;
+  const Grid msh = prepare_grid(read_dem(test::data("msh_2007_utm10n_10m.tif")), req).grid;
+  const Grid large = mesh_to_grid(test::function_mesh(400, 313, 10.0, [](double x, double y) {
+    return std::sin(x / 300) * y / 50;
+  }));
+  int k = 0;
+  for (const Grid* g : {&msh, &large})
+    for (NormalWeighting w : {NormalWeighting::Uniform, NormalWeighting::Angle})
+      for (bool filled : {false, true}) {
+        GridMesh whole = make_grid_mesh(*g, w);
+        GridMesh frame = grid_mesh_frame(*g);
+        whole.provenance = frame.provenance = "mesh_io_test";
+        if (filled) {
+          whole.filled.assign(whole.n_vertices(), 0);
+          for (std::size_t i = 0; i < whole.filled.size(); i += 5) whole.filled[i] = 1;
+          frame.filled.assign(whole.filled.begin(), whole.filled.end());
+        }
+        const std::string n = std::to_string(k++) + ".ply";
+        std::string a = "a", b = "b";
+        a = dir.path(a += n), b = dir.path(b += n);
+        write_mesh_ply(whole, a);
+        write_grid_mesh_ply(frame, *g, w, b);
+        EXPECT_TRUE(test::file_bytes(a) == test::file_bytes(b)) << "grid " << g->cols << " " << to_string(w) << " " << filled;
+      }
+}
+
 TEST(MeshIo, RejectsBadFiles) {
   test::ScratchDir dir;
   const GridMesh m = msh_mesh();

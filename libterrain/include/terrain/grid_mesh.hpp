@@ -143,6 +143,23 @@ const char* to_string(NormalWeighting w);
 // two triangles per cell, vertex normals by `weighting`. The CRS and spacing come from
 // grid.geo.
 GridMesh make_grid_mesh(const Grid& grid, NormalWeighting weighting);
+// The mesh's grid and georeferencing as make_grid_mesh sets them, without vertices.
+GridMesh grid_mesh_frame(const Grid& grid);
+
+// make_grid_mesh's positions and normals a band of rows at a time, for a writer that
+// streams them (write_grid_mesh_ply): the same floats, without the whole mesh in memory.
+// Throws Error where make_grid_mesh does. One object per thread.
+class GridMeshRows {
+ public:
+  GridMeshRows(const Grid& grid, NormalWeighting weighting);
+  // Vertex rows [r0, r1): (r1 - r0) * cols positions and normals, row-major.
+  void rows(std::size_t r0, std::size_t r1, Eigen::Vector3f* positions, Eigen::Vector3f* normals);
+
+ private:
+  const Grid& grid_;
+  NormalWeighting weighting_;
+  std::vector<Eigen::Vector3f> window_, window_normals_;  // the band and a row each side
+};
 // The vertex of grid row r, column c at height z, as make_grid_mesh places it (local frame:
 // x east, y north of the first sample); dem2mesh's bands place theirs with it too.
 inline Eigen::Vector3f grid_vertex(std::size_t r, std::size_t c, double dx, double dy, float z) {

@@ -31,6 +31,10 @@ namespace terrain {
 // PLY written from the mesh's arrays in blocks (a regular grid needs no half-edge
 // structure): the header, comments, properties and bytes of OpenMesh's PLY writer.
 void write_mesh_ply(const GridMesh& mesh, const std::string& path);
+// The same bytes as write_mesh_ply(make_grid_mesh(grid, weighting) with frame's comments
+// and optional `filled`), the vertices made a band at a time while earlier ones are
+// written: no whole-mesh arrays. frame: grid_mesh_frame(grid) with provenance (and filled).
+void write_grid_mesh_ply(const GridMesh& frame, const Grid& grid, NormalWeighting weighting, const std::string& path);
 // The same file through OpenMesh's PLY writer (the writer before issue 40, 3.15 s of
 // dem2mesh's 4.5 s on Logan at 10 m): the fast writer's test reference.
 void write_mesh_ply_openmesh(const GridMesh& mesh, const std::string& path);
