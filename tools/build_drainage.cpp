@@ -94,7 +94,7 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--memory", o.memory_mib,
                  "Raster mode within about this much memory (MiB): untiled when the grid fits (40 bytes per\n"
                  "point), else tiled with the largest tiles that fit (100 bytes per tile point per thread, or\n"
-                 "430 per tile-edge cell for the perimeter graphs, + 64 MiB; docs/build-drainage.md)")
+                 "300 per tile-edge cell for the perimeter graphs, + 64 MiB; docs/build-drainage.md)")
       ->check(CLI::Range(64.0, 1e9))
       ->excludes("--tile-size");
   app.add_option("--threads", o.threads, "Threads (default: all cores); the output does not depend on it")

@@ -66,4 +66,19 @@ rr::RenderSettings settings_of(const TableArgs& a) {
   return s;
 }
 
+void add_vector_options(CLI::App* app, rr::VectorOptions& o) {
+  app->add_option("--dpi", o.dpi, "SVG / PDF: pixels per inch of the page (the frame's size in pixels is the page)")
+      ->check(CLI::Range(1.0, 10000.0))
+      ->capture_default_str();
+  app->add_option("--vector-underlay", o.underlay,
+                  "SVG / PDF: what lies under the lines: none, mask (the surface as filled regions) or shaded (the "
+                  "shaded relief as an embedded image); default: shaded when --layers has shaded, else mask")
+      ->check(CLI::IsMember({"none", "mask", "shaded"}));
+}
+
+std::string vector_options_text(const rr::VectorOptions& o) {
+  return (o.dpi != rr::VectorOptions{}.dpi ? fmt::format(" --dpi {:g}", o.dpi) : std::string()) +
+         (o.underlay.empty() ? std::string() : " --vector-underlay " + o.underlay);
+}
+
 }  // namespace terrain::tools

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/frame_setup.hpp"
 #include "renderer/options.hpp"
 
 namespace terrain::tools {
@@ -27,5 +28,11 @@ void add_table_options(CLI::App* app, TableArgs& a, bool per_frame_only);
 // The settings the command line gives: the table's defaults and every option given, then
 // renderer::validate.
 renderer::RenderSettings settings_of(const TableArgs& a);
+
+// --dpi and --vector-underlay: how an SVG or PDF is written (terrain-render frame and
+// batch, terrain-view's save-view).
+void add_vector_options(CLI::App* app, renderer::VectorOptions& o);
+// The same as command-line text, where they differ from the defaults (" --dpi 300").
+std::string vector_options_text(const renderer::VectorOptions& o);
 
 }  // namespace terrain::tools

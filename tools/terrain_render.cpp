@@ -11,7 +11,7 @@
 
 namespace tt = terrain::tools;
 using tt::TableArgs;
-using namespace terrain::tools::render;
+namespace tr = terrain::tools::render;
 
 int main(int argc, char** argv) {
   CLI::App app{"Render PN-triangle terrain with drainage creases and Toward/Away silhouettes, headless\n"
@@ -51,8 +51,8 @@ int main(int argc, char** argv) {
   frame_cmd->add_option("DV", dv, "Drainage database (.dv from build-drainage); no creases without it");
   frame_cmd->add_option("-o,--output", out, "Output file: .png, or .svg / .pdf (the lines as vector paths)")->required();
   frame_cmd->add_flag("--line-stats", fa.line_stats, stats_help);
-  OutputArgs fo, bo;
-  add_output_options(frame_cmd, fo, false);
+  tr::OutputArgs fo, bo;
+  tr::add_output_options(frame_cmd, fo, false);
   add_table_options(frame_cmd, fa, false);
 
   auto* batch_cmd = app.add_subcommand("batch", "Render every frame of a CSV list; write PNGs and timings.csv");
@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
       ->expected(2, 3);
   batch_cmd->add_option("-o,--output", dir, "Output directory (created if missing)")->required();
   batch_cmd->add_flag("--line-stats", ba.line_stats, stats_help);
-  add_output_options(batch_cmd, bo, true);
+  tr::add_output_options(batch_cmd, bo, true);
   add_table_options(batch_cmd, ba, false);
 
   auto* path_cmd = app.add_subcommand("path", "Write a straight flight path as a frame list (CSV)");
@@ -81,11 +81,11 @@ int main(int argc, char** argv) {
   add_table_options(path_cmd, pa, true);  // the per-frame options; --view-az default: along the path
 
   return tt::run_main(app, argc, argv, [&]() -> int {
-    if (list_devices_flag) return list_devices();
+    if (list_devices_flag) return tr::list_devices();
     const std::string prov = tt::provenance(argc, argv);
-    if (path_cmd->parsed()) return run_path(pa, from, to, frames, path_out, prov);
-    if (frame_cmd->parsed()) return run_frame(fa, fo, mesh, dv, out, prov, verb);
-    if (batch_cmd->parsed()) return run_batch(ba, bo, inputs, dir, prov, verb);
+    if (path_cmd->parsed()) return tr::run_path(pa, from, to, frames, path_out, prov);
+    if (frame_cmd->parsed()) return tr::run_frame(fa, fo, mesh, dv, out, prov, verb);
+    if (batch_cmd->parsed()) return tr::run_batch(ba, bo, inputs, dir, prov, verb);
     throw CLI::ValidationError("terrain-render", "give a subcommand: frame, batch or path (or --device)");
   });
 }

@@ -59,6 +59,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   tt::add_verbosity_flags(app, verb);
   tt::add_table_options(&app, opts, false);
+  renderer::VectorOptions vector;
+  tt::add_vector_options(&app, vector);
 
   return tt::run_main(app, argc, argv, [&]() -> int {
     if (list) {
@@ -72,6 +74,7 @@ int main(int argc, char** argv) {
     Viewer v(mesh, dv, tt::settings_of(opts), [&opts](const std::string& n) { return opts.was_given(n); }, verb,
              std::uint64_t(memory_mib * 1048576.0));
     v.inputs = {mesh, dv, replay_path};
+    v.vector = vector;
     if (!frames_path.empty()) v.load_frames(frames_path);
     return offscreen ? terrain::tools::view::run_offscreen(v, replay) : terrain::tools::view::run_window(v, replay, save_dir);
   });

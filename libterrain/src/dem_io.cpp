@@ -52,7 +52,7 @@ DatasetPtr wrap_in_mem_dataset(Grid& grid) {
   if (!ds) throw Error("cannot create an in-memory raster: " + last_gdal_error());
   // CPLPrintPointer does not terminate what it prints: the buffer starts zeroed and it may
   // fill all but the last byte (an unterminated pointer string made MEM read a random
-  // address, issue 41).
+  // address).
   char ptr[64] = {};
   CPLPrintPointer(ptr, grid.z.data(), sizeof(ptr) - 1);
   std::string opt = std::string("DATAPOINTER=") + ptr;

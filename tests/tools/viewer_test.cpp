@@ -156,6 +156,29 @@ TEST(Viewer, StartViewIsTerrainRendersFrameForEveryOptionSet) {
   }
 }
 
+// save-view's SVG takes --dpi and --vector-underlay as terrain-render frame does, and the
+// command line it records (SVG.txt) carries them.
+TEST(Viewer, SaveViewTakesTheVectorOptions) {
+  terrain::test::ScratchDir dir;
+  const std::string mesh = dir.path("m.ply"), dv = dir.path("m.dv");
+  ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh + " --spacing 100 -q").exit_code, 0);
+  ASSERT_EQ(run(tool("build-drainage") + " " + mesh + " " + dv + " --spacing 20 -q").exit_code, 0);
+  const std::string options = " --size 192x108 --dpi 300 --vector-underlay mask";
+  std::ofstream(dir.path("r.txt")) << "save-view " << dir.path("view.svg") << "\nquit\n";
+  const auto v = run(tool("terrain-view") + " " + mesh + " " + dv + options + " --offscreen -q --replay " + dir.path("r.txt"));
+  ASSERT_EQ(v.exit_code, 0) << v.err;
+  const std::string render = tool("terrain-render") + " frame " + mesh + " " + dv + " -q -o ";
+  ASSERT_EQ(run(render + dir.path("cli.svg") + options).exit_code, 0);
+  ASSERT_EQ(run(render + dir.path("plain.svg") + " --size 192x108").exit_code, 0);
+  const std::regex desc("<desc>[^<]*</desc>");
+  const auto text = [&](const char* f) { return std::regex_replace(file_bytes(dir.path(f)), desc, ""); };
+  EXPECT_TRUE(text("view.svg") == text("cli.svg")) << "save-view's SVG is not terrain-render's with the same options";
+  EXPECT_FALSE(text("plain.svg") == text("cli.svg")) << "the options changed nothing";
+  const std::string cmd = file_bytes(dir.path("view.svg.txt"));
+  EXPECT_NE(cmd.find(" --dpi 300"), std::string::npos) << cmd;
+  EXPECT_NE(cmd.find(" --vector-underlay mask"), std::string::npos) << cmd;
+}
+
 TEST(Viewer, WindowUnderXvfbDrawsWhatTerrainRenderDraws) { check_viewer(true); }
 
 TEST(Viewer, OffscreenReplayDrawsWhatTerrainRenderDraws) { check_viewer(false); }

@@ -114,13 +114,7 @@ int run_path(const TableArgs& a, const std::vector<double>& from, const std::vec
 }
 
 void add_output_options(CLI::App* cmd, OutputArgs& o, bool batch) {
-  cmd->add_option("--dpi", o.vector.dpi, "SVG / PDF: pixels per inch of the page (the frame's size in pixels is the page)")
-      ->check(CLI::Range(1.0, 10000.0))
-      ->capture_default_str();
-  cmd->add_option("--vector-underlay", o.vector.underlay,
-                  "SVG / PDF: what lies under the lines: none, mask (the surface as filled regions) or shaded (the "
-                  "shaded relief as an embedded image); default: shaded when --layers has shaded, else mask")
-      ->check(CLI::IsMember({"none", "mask", "shaded"}));
+  add_vector_options(cmd, o.vector);
   if (batch)
     cmd->add_option("--format", o.formats, "Files per frame, a comma list of png, svg, pdf")->capture_default_str();
   cmd->add_option("--memory", o.memory_mib,

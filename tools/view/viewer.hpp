@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "common.hpp"
+#include "render_cli.hpp"
 #include "renderer/camera.hpp"
 #include "renderer/frame_setup.hpp"
 #include "renderer/frames.hpp"
@@ -193,7 +194,8 @@ class Viewer {
   std::string command_line(const std::string& png, const rr::RenderSettings& s) const {
     const double mib = double(vertex_bytes_) / 1048576.0;  // terrain-render frame's --memory, 1024 unless given
     return "terrain-render frame " + quoted(mesh_path_) + (dv_path_.empty() ? "" : " " + quoted(dv_path_)) + " -o " +
-           quoted(png) + rr::changed_options(s) + (mib != 1024 ? fmt::format(" --memory {:g}", mib) : "");
+           quoted(png) + rr::changed_options(s) + (mib != 1024 ? fmt::format(" --memory {:g}", mib) : "") +
+           (rr::is_vector_path(png) ? tt::vector_options_text(vector) : "");
   }
 
   // screenshot: the full frame of the current view as a PNG, at the window's size or at
@@ -240,6 +242,7 @@ class Viewer {
   }
 
   std::vector<std::string> inputs;  // every file read: outputs must be none of them
+  rr::VectorOptions vector;         // --dpi, --vector-underlay: save-view's SVG and PDF
   std::vector<rr::FrameParams> keyframes, frames;
   std::size_t frame_index = 0;
   std::string window_shot;          // window-shot PATH: the window (panel included) after its next draw
@@ -264,7 +267,7 @@ class Viewer {
     bring_up_to_date();
     const std::string cmd = command_line(path, at);
     const auto write = [&](const rr::TerrainRenderer& r) {
-      (void)rr::write_frame_files({path}, scene_, r, last_, f, {}, "terrain-view: " + cmd);
+      (void)rr::write_frame_files({path}, scene_, r, last_, f, vector, "terrain-view: " + cmd);
     };
     if (at.width == s_.width && at.height == s_.height) {
       render(false);

@@ -319,7 +319,7 @@ double tiled_run_bytes(const terrain::DemInfo& info, std::size_t side, int threa
   const double edge_cells = 4.0 * cells / s;  // every tile's perimeter ring, about
   // The tiles in flight and the perimeter graphs peak in different steps (the graphs are
   // solved between the passes over the tiles).
-  return double(64 << 20) + std::max(100.0 * double(std::max(1, threads)) * s * s, 430.0 * edge_cells);
+  return double(64 << 20) + std::max(100.0 * double(std::max(1, threads)) * s * s, 300.0 * edge_cells);
 }
 
 std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes, int threads) {

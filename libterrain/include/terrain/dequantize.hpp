@@ -1,7 +1,7 @@
 #pragma once
 // Integer DEMs (SRTM, many national DEMs store whole metres) terrace gentle slopes into flats
 // one unit high: the drainage finds flats where the ground slopes, and creases run across
-// them in parallel D8 tracks (issue 38). The true height of a sample stored as integer k lies
+// them in parallel D8 tracks. The true height of a sample stored as integer k lies
 // in [k - 0.5, k + 0.5], and the edge between two terraces is the contour half-way between
 // them: heights interpolated between those contours remove the steps, keep every valley
 // floor descending and come closer to the true surface than any smoothing of the steps

@@ -35,8 +35,8 @@ void write_mesh_ply(const GridMesh& mesh, const std::string& path);
 // and optional `filled`), the vertices made a band at a time while earlier ones are
 // written: no whole-mesh arrays. frame: grid_mesh_frame(grid) with provenance (and filled).
 void write_grid_mesh_ply(const GridMesh& frame, const Grid& grid, NormalWeighting weighting, const std::string& path);
-// The same file through OpenMesh's PLY writer (the writer before issue 40, 3.15 s of
-// dem2mesh's 4.5 s on Logan at 10 m): the fast writer's test reference.
+// The same file through OpenMesh's PLY writer (slow and general): the fast writer's test
+// reference.
 void write_mesh_ply_openmesh(const GridMesh& mesh, const std::string& path);
 
 // Reads a mesh written by write_mesh_ply. Throws Error: missing or non-PLY file, no

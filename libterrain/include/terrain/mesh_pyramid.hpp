@@ -1,5 +1,5 @@
 #pragma once
-// The mesh's levels of detail (issue 52): the blocks of cells, the error of each level of
+// The mesh's levels of detail: the blocks of cells, the error of each level of
 // each block (build_mesh_levels; the renderer selects levels from them, renderer/lod.hpp),
 // and the mesh pyramid on disk (MESH.tpyr, docs/formats.md): every level's vertices in
 // tiles that a reader reads by window, so that what a view needs is read, not the mesh.

@@ -211,7 +211,7 @@ std::vector<float> apply_stroke_rule(const SegmentChains& chains, const std::vec
 // bridge = max(Style::crease_bridge, crease_bridge_px x scale), min_length likewise;
 // min_area = Style::page_min_area x sqrt(scale / 10 m), Topfer's radical law (below). The
 // mesh's spacing takes no part: a mesh of the same terrain at any spacing draws the same
-// strokes at one camera (issue 50).
+// strokes at one camera.
 inline constexpr double kPageAreaScale = 10.0;  // m a pixel at which page_min_area applies as it is
 StrokeRule stroke_rule(const Style& style, double page_scale);
 
@@ -224,7 +224,7 @@ std::vector<double> segment_metres(const CreaseGeometry& g);
 std::vector<float> segment_opacity(const CreaseGeometry& g, const Viewpoint& viewer, const Eigen::Vector3d& light,
                                    double exaggeration, const CreaseScoreParams& params, double fade,
                                    const StrokeRule& rule = {});
-// Levels of detail for the creases (issue 52; docs/terrain-render.md, "The creases' levels
+// Levels of detail for the creases (docs/terrain-render.md, "The creases' levels
 // of detail"): a network sampled at 10 m drawn at 40 m a pixel has segments of a third of a
 // pixel, and DM's cost follows them. A level merges the segments of each run (a path
 // between its breaks: channel heads, junctions, outlets, where a vertex has not exactly one

@@ -68,7 +68,7 @@ struct Layers {
   // Object-space feature edges of the mesh (McGuire & Hughes 2004): contour, boundary and
   // crease edges (Style::edge_kinds), drawn as screen-space quads with caps.
   bool edges = false;
-  // Hachures (issue 51; renderer/hachures.hpp): strokes along the fall line, denser where
+  // Hachures (renderer/hachures.hpp): strokes along the fall line, denser where
   // the tone is darker, traced on the CPU from the frame's depth and drawn over it (PNG)
   // or as their own layer (SVG, PDF). On by default: without them the picture does not
   // show the relief (docs/terrain-render.md, "The default picture").

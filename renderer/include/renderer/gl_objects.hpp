@@ -27,8 +27,6 @@ class GlObject {
 
   GLuint id() const { return id_; }
   void reset();
-  // Adopts an existing name (programs come from glCreateProgram).
-  static GlObject adopt(GlKind kind, GLuint id);
 
  private:
   GlKind kind_ = GlKind::Buffer;

@@ -1,5 +1,5 @@
 #pragma once
-// Hachures (issue 51; docs/terrain-render.md, "Hachures"), GL-free: strokes along the
+// Hachures (docs/terrain-render.md, "Hachures"), GL-free: strokes along the
 // projected fall line of the surface, seeded and spaced in screen space; the tracer, and
 // the CPU reference of the field that the GPU computes (TerrainRenderer::hachure_field).
 //
@@ -81,7 +81,7 @@ std::vector<Hachure> trace_hachures(const HachureField& field, const HachureRule
 std::optional<Eigen::Vector3d> surface_point(const View& view, const Eigen::Matrix4d& inverse,
                                              const std::vector<float>& toward_depth, double u, double v);
 
-// Coherence of hachures along a flight (issue 51; the crease flicker measure, applied to
+// Coherence of hachures along a flight (the crease flicker measure, applied to
 // hachures): the points `previous` (local frame, the hachures of frame k on its surface)
 // projected into frame k + 1 (`next`, its depth and its hachure ink, width x height); of
 // those that land in the image on surface that shows them (within 1 % of their distance
@@ -117,7 +117,7 @@ std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<f
 HachureField hachure_field(const terrain::GridMesh& mesh, const View& view, double exaggeration,
                            const std::vector<float>& toward_depth, const Eigen::Vector3d* light = nullptr);
 
-// The figures of traced hachures (--line-stats; issue 51's direction and spacing targets).
+// The figures of traced hachures (--line-stats; the direction and spacing figures).
 struct HachureStats {
   std::size_t hachures = 0, points = 0;
   double length_px = 0;

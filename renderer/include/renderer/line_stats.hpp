@@ -1,5 +1,5 @@
 #pragma once
-// Where the creases of a frame lie and how they read (issue 13), GL-free: the shares of
+// Where the creases of a frame lie and how they read, GL-free: the shares of
 // their length near the grid boundary, on flat ground and in valleys; how they join into
 // strokes; how much of them appears or vanishes between the frames of a flight.
 // terrain-render frame / batch --line-stats print them (docs/terrain-render.md, "Line
@@ -23,10 +23,8 @@ namespace renderer {
 // ridges, 0 on planes; 0 on the mesh's boundary and where the slope is below 1e-6. #V.
 std::vector<float> plan_curvature(const terrain::GridMesh& mesh);
 float plan_curvature_at(const terrain::GridMesh& mesh, std::size_t v);  // of vertex v alone
-// A per-vertex field of `mesh` (plan_curvature's) at local x, y: bilinear between the four
-// vertices about it, clamped to the grid.
-double vertex_field_at(const terrain::GridMesh& mesh, const std::vector<float>& field, double x, double y);
-// The same of any per-vertex value, `at(v)` the value of vertex v (no array of it held).
+// A per-vertex value of `mesh` at local x, y, `at(v)` the value of vertex v (no array of it
+// held): bilinear between the four vertices about it, clamped to the grid.
 template <class At>
 double vertex_value_at(const terrain::GridMesh& mesh, At at, double x, double y) {
   const long R = long(mesh.topo.rows), C = long(mesh.topo.cols);

@@ -1,5 +1,5 @@
 #pragma once
-// Levels of detail for the PN surface (issue 52; docs/terrain-render.md, "Levels of
+// Levels of detail for the PN surface (docs/terrain-render.md, "Levels of
 // detail"), GL-free. The grid's cells are grouped into square blocks (kLodBlock cells a
 // side; the last row and column of blocks may be smaller). Level l of a block keeps every
 // 2^l-th row and column of its vertices (and its last ones): the same vertices, with the

@@ -1,5 +1,5 @@
 #pragma once
-// Plan-view hachure maps (issue 51; docs/terrain-render.md, "Hachures", "Plan-view maps"):
+// Plan-view hachure maps (docs/terrain-render.md, "Hachures", "Plan-view maps"):
 // the hachures of a mesh seen from straight above, north up, at a scale in metres a pixel,
 // in the mesh's map coordinates: terrain-inspect export MESH --to gpkg|svg|pdf --layers
 // hachures. From straight above nothing of a height field is hidden, so the field is the

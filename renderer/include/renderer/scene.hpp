@@ -154,7 +154,7 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
                            const FrameBuffers& buffers, const FrameParams& fp, const Style& style,
                            const Layers& layers, VectorUnderlay underlay);
 
-// The hachures of the frame `res` (issue 51; renderer/hachures.hpp): the fall-line field of
+// The hachures of the frame `res` (renderer/hachures.hpp): the fall-line field of
 // its toward depth (the light's tone with Style::hachure_light_tone, else the slope's),
 // traced at Style::hachure_spacing, stopped at the crease and silhouette pixels the frame
 // drew and at the lines of `over` drawn over it (the ridge lines, ridge_layer's: they hang

@@ -1,5 +1,5 @@
 #pragma once
-// A frame's line art as stroked paths in screen coordinates (issue 37), GL-free: what the
+// A frame's line art as stroked paths in screen coordinates, GL-free: what the
 // SVG / PDF writer (vector_file.hpp) draws, built from the same strokes, masks and
 // segments the PNG's passes draw (docs/terrain-render.md, "Vector output").
 //   creases      one path per visible run of each drawn stroke (crease_strokes), where the

@@ -13,13 +13,6 @@ GlObject::GlObject(GlKind kind, GLenum target) : kind_(kind) {
   }
 }
 
-GlObject GlObject::adopt(GlKind kind, GLuint id) {
-  GlObject o;
-  o.kind_ = kind;
-  o.id_ = id;
-  return o;
-}
-
 void GlObject::reset() {
   if (id_ == 0) return;
   switch (kind_) {

@@ -263,7 +263,7 @@ std::vector<std::uint8_t> kept_links(const terrain::GridMesh& mesh, const terrai
       if (keep[i] && double(w[i]) < least) keep[i] = 0;
   }
   // A channel, once begun, goes on downstream to where it joins another or leaves the
-  // terrain (issue 50, connected creases): the width and flat rules choose where channels
+  // terrain (connected creases): the width and flat rules choose where channels
   // begin, not where they stop. A contributing width can fall below the threshold further
   // down (the longest flow path grows faster than the area), and a tributary that reaches
   // a flat joins the flat's main path along the flat's resolved D8 path; left out, both

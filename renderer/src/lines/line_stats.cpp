@@ -32,10 +32,6 @@ std::vector<float> plan_curvature(const terrain::GridMesh& mesh) {
   return k;
 }
 
-double vertex_field_at(const terrain::GridMesh& mesh, const std::vector<float>& field, double x, double y) {
-  return vertex_value_at(mesh, [&](std::size_t v) { return field[v]; }, x, y);
-}
-
 SegmentTraits segment_traits(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
                              const CreaseGeometry& g, int margin) {
   const std::size_t ns = g.n_segments();
