@@ -1,6 +1,6 @@
 // SIL, formulated silhouettes (Whelan & Visvalingam 2003; renderer::formulated_silhouettes
 // is the CPU reference): on the visible surface, the lines that would be silhouettes seen
-// from a lowered eye. g(q), formulated_facing.comp.glsl's smoothed facing of the drawn
+// from a lowered eye. g(q), formulated_facing.frag.glsl's smoothed facing of the drawn
 // surface towards the lowered line of sight (> 0: facing the lowered eye; 2 off the
 // terrain or the image). Pixel p is on when g(p) > 0, g(p + step) <= 0, the least g over
 // p + step .. p + TR_FORMULATED_REACH step is <= -strength (u_formulated.w), and p - step

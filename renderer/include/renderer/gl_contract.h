@@ -149,13 +149,10 @@
 /* Image units: the silhouette opacity the piece rule writes (r8); the tiles of
    TR_SILHOUETTE_TILE x TR_SILHOUETTE_TILE pixels that hold a silhouette pixel (r8, 1),
    where LAY looks for silhouettes near a pixel before its window; the tiles that hold an
-   away-facing surface pixel (r8, 1), where SIL looks for silhouettes; the formulated
-   silhouettes' smoothed facing (r32f) and the tiles where their test may pass (r8, 1). */
+   away-facing surface pixel (r8, 1), where SIL looks for silhouettes. */
 #define TR_IMG_SILHOUETTE_OPACITY 0
 #define TR_IMG_SILHOUETTE_TILES 1
 #define TR_IMG_AWAY_TILES 2
-#define TR_IMG_FORMULATED_FACING 3
-#define TR_IMG_FORMULATED_TILES 4
 #define TR_SILHOUETTE_TILE 8
 
 /* Vertex attributes of the surface. */

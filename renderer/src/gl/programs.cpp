@@ -64,11 +64,8 @@ const ProgramSpec& program_spec(ProgramId id) {
         {"surface_flat",
          {{GL_VERTEX_SHADER, {c, "surface_flat.vert.glsl"}}, {GL_FRAGMENT_SHADER, {c, "surface.frag.glsl"}}},
          {}},
-        {"formulated",
-         {{GL_VERTEX_SHADER, {c, "tile_rects_list.glsl", "tile_rects.vert.glsl"}},
-          {GL_FRAGMENT_SHADER, {c, "silhouette_list.glsl", "formulated.glsl", "formulated.frag.glsl"}}},
-         {}},
-        {"formulated_facing", compute({"formulated_facing.comp.glsl"}), {}},
+        {"formulated", fullscreen({"silhouette_list.glsl", "formulated.glsl", "formulated.frag.glsl"}), {}},
+        {"formulated_facing", fullscreen({"formulated_facing.frag.glsl"}), {}},
     };
   }();
   return specs.at(std::size_t(id));

@@ -10,9 +10,6 @@
 
 namespace renderer::passes {
 
-constexpr int kFacingTile = 16;  // TR_FACING_TILE of formulated_facing.comp.glsl
-static_assert(kFacingTile * kFacingTile == TR_LOCAL_SIZE, "a facing tile is a work group, a pixel an invocation");
-
 TriangleIdPass::TriangleIdPass(const SceneGpu& scene, bool enabled, std::size_t capacity)
     : PassBase(AFT), s_(scene), enabled_(enabled), capacity_(enabled ? capacity : 0) {
   if (!enabled_) return;
@@ -71,7 +68,7 @@ SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece
       formulated_prog_ = build_program(ProgramId::Formulated);
       facing_prog_ = build_program(ProgramId::FormulatedFacing);
       facing_ = make_texture(GL_R32F, scene.width, scene.height);
-      formulated_tiles_ = scene.make_tile_texture();
+      facing_fbo_ = make_framebuffer(&facing_, nullptr);
       glProgramUniform1f(formulated_prog_.id(), TR_LOC_PIECE_MIN, float(piece_min_px_));
     }
   }
@@ -130,20 +127,18 @@ void SilhouettePass::draw(double pixel_angle, const FormulatedView& formulated) 
     };
     set(prog_, true);
     if (f.active()) {
-      // The smoothed facing of every pixel, once, and the tiles where the test may pass;
-      // then the test there.
-      set(facing_prog_, true);
+      // The smoothed facing of every pixel, once; then the test over it.
+      set(facing_prog_, false);
       set(formulated_prog_, true);
-      glClearTexImage(formulated_tiles_.id(), 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
+      glBindVertexArray(s_.empty_vao.id());
+      glBindFramebuffer(GL_FRAMEBUFFER, facing_fbo_.id());
       glBindTextureUnit(TR_TEX_SURFACE_NORMAL, s_.surface_normal.id());
-      glBindImageTexture(TR_IMG_FORMULATED_FACING, facing_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-      glBindImageTexture(TR_IMG_FORMULATED_TILES, formulated_tiles_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
       glUseProgram(facing_prog_.id());
-      glDispatchCompute(GLuint(s_.width + kFacingTile - 1) / kFacingTile, GLuint(s_.height + kFacingTile - 1) / kFacingTile,
-                        1);
-      glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
       glBindTextureUnit(TR_TEX_FORMULATED_FACING, facing_.id());
-      s_.draw_near_tiles(formulated_tiles_, 0, formulated_prog_);
+      glUseProgram(formulated_prog_.id());
+      glDrawArrays(GL_TRIANGLES, 0, 3);
     }
   }
   glUseProgram(prog_.id());

@@ -323,8 +323,7 @@ class SilhouettePass : public PassBase {
   GlObject away_tiles_, away_prog_;  // Toward/Away: the tiles SIL draws (not with Adjacency)
   bool formulated_ = false;
   double formulated_altitude_ = 0, formulated_strength_ = 0;
-  GlObject formulated_prog_, facing_prog_, facing_;  // facing_: formulated_facing.comp.glsl's (r32f)
-  GlObject formulated_tiles_;  // the tiles the formulated test is drawn on
+  GlObject formulated_prog_, facing_prog_, facing_, facing_fbo_;  // facing_: formulated_facing.frag.glsl's (r32f)
   GlObject opacity_, labels_, sizes_, list_, pieces_prog_;  // the piece rule (piece_min_px > 0)
 };
 

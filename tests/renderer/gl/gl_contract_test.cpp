@@ -47,9 +47,7 @@ const std::map<std::string, int> kSamplers = {
     {"u_facing", TR_TEX_FORMULATED_FACING}};
 const std::map<std::string, int> kImages = {{"u_opacity", TR_IMG_SILHOUETTE_OPACITY},
                                             {"u_tiles", TR_IMG_SILHOUETTE_TILES},
-                                            {"u_away_tiles", TR_IMG_AWAY_TILES},
-                                            {"u_facing_out", TR_IMG_FORMULATED_FACING},
-                                            {"u_formulated_tiles", TR_IMG_FORMULATED_TILES}};
+                                            {"u_away_tiles", TR_IMG_AWAY_TILES}};
 const std::map<std::string, int> kUniformLocations = {
     {"u_mode", TR_LOC_SURFACE_MODE},
     {"u_flat_coarse", TR_LOC_FLAT_COARSE},    {"u_formulated", TR_LOC_FORMULATED},
@@ -178,12 +176,11 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
     }
   }
   // The checks ran on the interfaces there are (a program could lose them silently).
-  EXPECT_EQ(computes, 15u);
+  EXPECT_EQ(computes, 14u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 34u);  // silhouette 3, formulated 2, formulated facing 1, away tiles 1, tile rects 2, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1, hachure field 2
-  EXPECT_EQ(images, 7u);     // pieces (opacity), silhouette, formulated and adjacency (tiles), away tiles,
-                             // formulated facing (facing, tiles)
+  EXPECT_EQ(samplers, 33u);  // silhouette 3, formulated 1, formulated facing 1, away tiles 1, tile rects 2, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1, hachure field 2
+  EXPECT_EQ(images, 5u);     // pieces (opacity), silhouette, formulated and adjacency (tiles), away tiles
   EXPECT_GE(locations, 14u);
 }
 
