@@ -410,9 +410,7 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
   if (f.width <= 0 || f.height <= 0 || !(rule.spacing > 0)) return out;
   if (rule.row_interval > 0 && f.elevation.size() != f.slope.size())
     throw terrain::Error("hachure rows need the field's heights");
-  // Cells as wide as the nearest a step may come to another hachure: a step's test looks
-  // at the 3 x 3 cells about it (a seed's, at twice that, 5 x 5), not at 9 spacings' area.
-  Occupancy occupied(f.width, f.height, std::max(1.0, std::min(1.0, rule.test_share) * rule.spacing));
+  Occupancy occupied(f.width, f.height, std::max(1.0, rule.spacing));
   const Tracer tracer{f, rule, occupied};
   // A seed is traced where the field is usable there and no hachure lies within its spacing.
   const auto trace_from = [&](const Vector2f& seed) {
