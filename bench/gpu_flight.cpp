@@ -29,19 +29,22 @@ int main(int argc, char** argv) {
     const std::vector<FrameParams> frames = read_frames_csv(args[1], s.frame);
     GlContext ctx;
     const Style style = drawn_style(s);
-    TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height, s.layers, style);
+    TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width, s.height,
+                      s.layers, style);
     std::vector<FrameTimings> timings;
     for (const FrameParams& f : frames) timings.push_back(r.render(f).timings);
-    std::printf("renderer: %s (%s, OpenGL %s)\n", ctx.info().renderer.c_str(), ctx.info().platform.c_str(),
-                ctx.info().version.c_str());
+    std::printf("renderer: %s (%s, OpenGL %s)\n", ctx.info().renderer.c_str(),
+                ctx.info().platform.c_str(), ctx.info().version.c_str());
     std::printf("scene: %zu vertices, %zu faces, %zu crease segments; %zu frames at %d x %d\n",
-                scene.mesh.n_vertices(), scene.mesh.n_faces(), scene.creases ? scene.creases->n_segments() : std::size_t(0),
-                frames.size(), s.width, s.height);
+                scene.mesh.n_vertices(), scene.mesh.n_faces(),
+                scene.creases ? scene.creases->n_segments() : std::size_t(0), frames.size(),
+                s.width, s.height);
     std::fputs(timing_tables(timings).c_str(), stdout);
     if (s.layers.pels && frames.size() > 3) {
       const TimingSummary t = summarize(timings, 3, timings.size(), false);
-      std::printf("PEL pass, frames 4-N (GL timer): %.3f ms, %.1f M triangles/s (%zu triangles)\n", t.mean_ms[PEL],
-                  double(scene.mesh.n_faces()) / (t.mean_ms[PEL] * 1e3), scene.mesh.n_faces());
+      std::printf("PEL pass, frames 4-N (GL timer): %.3f ms, %.1f M triangles/s (%zu triangles)\n",
+                  t.mean_ms[PEL], double(scene.mesh.n_faces()) / (t.mean_ms[PEL] * 1e3),
+                  scene.mesh.n_faces());
     }
     return 0;
   } catch (const std::exception& e) {

@@ -13,10 +13,12 @@ int main(int argc, char** argv) {
     renderer::RenderSettings s;
     const auto args = gpu_scene::parse_args(argc, argv, s);
     if (args.size() < 2 || args.size() > 3) {
-      std::fprintf(stderr, "usage: gpu-flight-scene MESH [DV] OUT.scene [terrain-render options]\n");
+      std::fprintf(stderr,
+                   "usage: gpu-flight-scene MESH [DV] OUT.scene [terrain-render options]\n");
       return 2;
     }
-    const renderer::Scene scene = renderer::load_scene(args[0], args.size() == 3 ? args[1] : "", s.rules);
+    const renderer::Scene scene =
+        renderer::load_scene(args[0], args.size() == 3 ? args[1] : "", s.rules);
     gpu_scene::write(args.back(), scene.mesh, scene.creases ? &*scene.creases : nullptr);
     std::printf("scene: %zu vertices, %zu crease segments -> %s\n", scene.mesh.n_vertices(),
                 scene.creases ? scene.creases->n_segments() : std::size_t(0), args.back().c_str());

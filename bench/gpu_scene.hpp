@@ -30,11 +30,14 @@ struct Scene {
 
 class Writer {
  public:
-  explicit Writer(const std::string& path) : out_(path, std::ios::binary | std::ios::trunc), path_(path) {
+  explicit Writer(const std::string& path)
+      : out_(path, std::ios::binary | std::ios::trunc), path_(path) {
     if (!out_) throw std::runtime_error("cannot write '" + path + "'");
   }
   template <class T>
-  void pod(const T& v) { out_.write(reinterpret_cast<const char*>(&v), sizeof v); }
+  void pod(const T& v) {
+    out_.write(reinterpret_cast<const char*>(&v), sizeof v);
+  }
   template <class V>
   void array(const V& v) {
     pod(std::uint64_t(v.size()));
@@ -64,7 +67,8 @@ class Reader {
   void array(V& v) {
     std::uint64_t n = 0;
     pod(n);
-    if (n > (std::uint64_t(1) << 34) / sizeof(v[0])) throw std::runtime_error("'" + path_ + "' is not a scene file");
+    if (n > (std::uint64_t(1) << 34) / sizeof(v[0]))
+      throw std::runtime_error("'" + path_ + "' is not a scene file");
     v.resize(n);
     in_.read(reinterpret_cast<char*>(v.data()), std::streamsize(n * sizeof(v[0])));
     if (!in_) throw std::runtime_error("'" + path_ + "' is truncated");
@@ -75,18 +79,20 @@ class Reader {
   std::string path_;
 };
 
-inline void write_to(const std::string& path, const terrain::GridMesh& m, const renderer::CreaseGeometry* c) {
+inline void write_to(const std::string& path, const terrain::GridMesh& m,
+                     const renderer::CreaseGeometry* c) {
   Writer w(path);
   w.pod(kMagic);
   w.pod(std::uint64_t(m.topo.rows)), w.pod(std::uint64_t(m.topo.cols));
-  w.pod(m.geo.epsg), w.pod(m.geo.origin_x), w.pod(m.geo.origin_y), w.pod(m.geo.origin_z), w.pod(m.geo.dx),
-      w.pod(m.geo.dy);
+  w.pod(m.geo.epsg), w.pod(m.geo.origin_x), w.pod(m.geo.origin_y), w.pod(m.geo.origin_z),
+      w.pod(m.geo.dx), w.pod(m.geo.dy);
   w.array(m.geo.crs_wkt);
   w.array(m.positions), w.array(m.normals);
   w.array(m.voronoi.corner_areas), w.array(m.voronoi.vertex_areas), w.array(m.voronoi.tangents);
   w.pod(std::uint8_t(c ? 1 : 0));
   if (c) {
-    w.array(c->positions), w.array(c->source), w.array(c->normals), w.array(c->flow), w.array(c->share);
+    w.array(c->positions), w.array(c->source), w.array(c->normals), w.array(c->flow),
+        w.array(c->share);
     w.array(c->segments);
     w.pod(c->median_surface_offset);
   }
@@ -94,7 +100,8 @@ inline void write_to(const std::string& path, const terrain::GridMesh& m, const 
 }
 
 // Written to a temporary file of this process beside `path`, renamed onto it when whole.
-inline void write(const std::string& path, const terrain::GridMesh& m, const renderer::CreaseGeometry* c) {
+inline void write(const std::string& path, const terrain::GridMesh& m,
+                  const renderer::CreaseGeometry* c) {
   const std::string temp = path + ".partial." + std::to_string(::getpid());
   try {
     write_to(temp, m, c);
@@ -111,14 +118,15 @@ inline Scene read(const std::string& path) {
   char magic[8];
   r.pod(magic);
   if (std::memcmp(magic, kMagic, 8) != 0)
-    throw std::runtime_error("'" + path + "' is not a scene file of this build (make it with gpu-flight-scene)");
+    throw std::runtime_error("'" + path +
+                             "' is not a scene file of this build (make it with gpu-flight-scene)");
   Scene s;
   terrain::GridMesh& m = s.mesh;
   std::uint64_t rows = 0, cols = 0;
   r.pod(rows), r.pod(cols);
   m.topo.rows = std::size_t(rows), m.topo.cols = std::size_t(cols);
-  r.pod(m.geo.epsg), r.pod(m.geo.origin_x), r.pod(m.geo.origin_y), r.pod(m.geo.origin_z), r.pod(m.geo.dx),
-      r.pod(m.geo.dy);
+  r.pod(m.geo.epsg), r.pod(m.geo.origin_x), r.pod(m.geo.origin_y), r.pod(m.geo.origin_z),
+      r.pod(m.geo.dx), r.pod(m.geo.dy);
   r.array(m.geo.crs_wkt);
   r.array(m.positions), r.array(m.normals);
   r.array(m.voronoi.corner_areas), r.array(m.voronoi.vertex_areas), r.array(m.voronoi.tangents);
@@ -149,11 +157,16 @@ inline std::vector<std::string> parse_args(int argc, char** argv, renderer::Rend
     const auto eq = name.find('=');
     if (eq != std::string::npos) value = name.substr(eq + 1), name = name.substr(0, eq);
     const renderer::OptionSpec* o = renderer::find_option(name);
-    if (!o) throw std::runtime_error("unknown option --" + name + " (terrain-render's options are taken)");
+    if (!o)
+      throw std::runtime_error("unknown option --" + name +
+                               " (terrain-render's options are taken)");
     if (eq == std::string::npos) {
-      if (o->type == renderer::OptionType::Bool) value = "true";
-      else if (i + 1 < argc) value = argv[++i];
-      else throw std::runtime_error("--" + name + " needs a value");
+      if (o->type == renderer::OptionType::Bool)
+        value = "true";
+      else if (i + 1 < argc)
+        value = argv[++i];
+      else
+        throw std::runtime_error("--" + name + " needs a value");
     }
     try {
       renderer::set_option(s, *o, value);

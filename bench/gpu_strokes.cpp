@@ -22,7 +22,8 @@
 using namespace renderer;
 int main() {
   GlContext ctx;
-  std::printf("renderer: %s (%s, %s)\n", ctx.info().renderer.c_str(), ctx.info().platform.c_str(), ctx.info().version.c_str());
+  std::printf("renderer: %s (%s, %s)\n", ctx.info().renderer.c_str(), ctx.info().platform.c_str(),
+              ctx.info().version.c_str());
   for (ProgramId id : kAllPrograms) build_program(id);
   std::printf("all %zu programs built\n", kAllPrograms.size());
   const std::size_t R = 201, C = 201;
@@ -33,7 +34,10 @@ int main() {
   geo.y0 = 0.5 * h;
   geo.crs_kind = terrain::CrsKind::Projected;
   terrain::Grid grid(R, C, geo);
-  auto f = [](double x, double y) { return 300 * std::sin(x / 500) * std::cos(y / 700) + 120 * std::abs(std::sin(x / 230 + y / 410)) + 0.05 * y; };
+  auto f = [](double x, double y) {
+    return 300 * std::sin(x / 500) * std::cos(y / 700) +
+           120 * std::abs(std::sin(x / 230 + y / 410)) + 0.05 * y;
+  };
   for (std::size_t r = 0; r < R; ++r)
     for (std::size_t c = 0; c < C; ++c) grid.at(r, c) = float(f(double(c) * h, -double(r) * h));
   const auto mesh = terrain::make_grid_mesh(grid, terrain::NormalWeighting::Area);
@@ -49,7 +53,9 @@ int main() {
       g.flow.push_back(float(i + 1) / float(n));
       g.share.push_back(g.flow.back());
       g.source.push_back(first + std::uint32_t(i));
-      if (i > 0) g.segments.insert(g.segments.end(), {first + std::uint32_t(i) - 1, first + std::uint32_t(i)});
+      if (i > 0)
+        g.segments.insert(g.segments.end(),
+                          {first + std::uint32_t(i) - 1, first + std::uint32_t(i)});
     }
   }
   Style style;
@@ -66,26 +72,31 @@ int main() {
   FrameResult res;
   for (int k = 0; k < 6; ++k) {
     res = r.render(fp);
-    std::printf("anti-aliased, frame %d: DM %.3f ms (GL timer), crease segments %zu\n", k, res.timings.gpu_ms[DM],
-                res.crease_segments);
+    std::printf("anti-aliased, frame %d: DM %.3f ms (GL timer), crease segments %zu\n", k,
+                res.timings.gpu_ms[DM], res.crease_segments);
   }
   const auto gpu = r.read_crease_samples();
   const auto buffers = r.read_buffers();
   const Eigen::Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
   const auto score = resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.viewpoint());
   const auto drawn = segment_opacity(g, res.view.viewpoint(), light, 1.0, score, style.crease_fade,
-                                      stroke_rule(style, page_scale(res.view, r.box())));
-  const auto cpu = stroke_visibility(g, segment_chains(g), drawn, res.view, 1.0, crease_lift(style, mesh),
-                                     buffers.toward_depth, stroke_visibility_rule(style, mesh));
+                                     stroke_rule(style, page_scale(res.view, r.box())));
+  const auto cpu =
+      stroke_visibility(g, segment_chains(g), drawn, res.view, 1.0, crease_lift(style, mesh),
+                        buffers.toward_depth, stroke_visibility_rule(style, mesh));
   const SampleComparison c = compare_samples(cpu, gpu);
-  std::printf("%zu segments drawn, %zu with another sample count; of %zu samples: %zu / %zu / %zu / %zu differ "
-              "(visible, bridgeable, closed, shown); %zu hidden drawn, %zu peek samples left out\n",
-              c.segments, c.other_count, c.samples, c.differ[0], c.differ[1], c.differ[2], c.differ[3],
-              c.hidden_drawn, c.peeks);
+  std::printf(
+      "%zu segments drawn, %zu with another sample count; of %zu samples: %zu / %zu / %zu / %zu "
+      "differ "
+      "(visible, bridgeable, closed, shown); %zu hidden drawn, %zu peek samples left out\n",
+      c.segments, c.other_count, c.samples, c.differ[0], c.differ[1], c.differ[2], c.differ[3],
+      c.hidden_drawn, c.peeks);
   Style aliased = style;
   aliased.antialias = false;
   TerrainRenderer ra(ctx, mesh, &g, w, hgt, Layers{false, true, true, false}, aliased);
-  for (int k = 0; k < 3; ++k) std::printf("pixel-exact, frame %d: DM %.3f ms (GL timer)\n", k, ra.render(fp).timings.gpu_ms[DM]);
+  for (int k = 0; k < 3; ++k)
+    std::printf("pixel-exact, frame %d: DM %.3f ms (GL timer)\n", k,
+                ra.render(fp).timings.gpu_ms[DM]);
   bool agree = c.segments > 0 && double(c.other_count) <= 0.005 * double(c.segments);
   for (int j = 0; j < 4; ++j) agree = agree && double(c.differ[j]) <= 1e-4 * double(c.samples);
   return agree ? 0 : 1;

@@ -13,7 +13,8 @@
 namespace drainage::test {
 
 // A rows x cols grid of square cells of `h` metres from row-major values (row 0 north).
-inline terrain::Grid grid_of(std::size_t rows, std::size_t cols, std::initializer_list<float> values, double h = 1.0) {
+inline terrain::Grid grid_of(std::size_t rows, std::size_t cols,
+                             std::initializer_list<float> values, double h = 1.0) {
   terrain::Georef geo;
   geo.dx = geo.dy = h;
   terrain::Grid g(rows, cols, geo);
@@ -22,14 +23,16 @@ inline terrain::Grid grid_of(std::size_t rows, std::size_t cols, std::initialize
 }
 
 // z = f(x, y) sampled at cell centres, x east and y north, with (0, 0) at the centre sample.
-inline terrain::Grid analytic(std::size_t n, double h, const std::function<double(double, double)>& f) {
+inline terrain::Grid analytic(std::size_t n, double h,
+                              const std::function<double(double, double)>& f) {
   terrain::Georef geo;
   geo.dx = geo.dy = h;
   geo.x0 = -double(n) * h / 2;
   geo.y0 = double(n) * h / 2;
   terrain::Grid g(n, n, geo);
   for (std::size_t r = 0; r < n; ++r)
-    for (std::size_t c = 0; c < n; ++c) g.at(r, c) = float(f(geo.x_of_col(double(c)), geo.y_of_row(double(r))));
+    for (std::size_t c = 0; c < n; ++c)
+      g.at(r, c) = float(f(geo.x_of_col(double(c)), geo.y_of_row(double(r))));
   return g;
 }
 

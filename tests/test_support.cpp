@@ -7,9 +7,9 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdint>
 #include <cstring>
-#include <csignal>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -20,7 +20,8 @@ namespace fs = std::filesystem;
 
 ScratchDir::ScratchDir() {
   std::random_device rd;
-  dir_ = fs::temp_directory_path() / ("terrain_test_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
+  dir_ = fs::temp_directory_path() /
+         ("terrain_test_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
   fs::create_directories(dir_);
 }
 
@@ -33,7 +34,8 @@ std::size_t ScratchDir::n_entries() const {
   return std::size_t(std::distance(fs::directory_iterator(dir_), fs::directory_iterator{}));
 }
 
-GridMesh function_mesh(std::size_t rows, std::size_t cols, double h, const std::function<double(double, double)>& f) {
+GridMesh function_mesh(std::size_t rows, std::size_t cols, double h,
+                       const std::function<double(double, double)>& f) {
   Georef geo;
   geo.dx = geo.dy = h;
   geo.x0 = -0.5 * h;  // sample (0, 0) at the world origin
@@ -63,7 +65,8 @@ RunResult run(const std::string& command_line) {
 }
 
 Background::Background(const std::string& command_line) {
-  const std::string sh = "exec env " + command_line + " >" + logs_.path("stdout") + " 2>" + logs_.path("stderr");
+  const std::string sh =
+      "exec env " + command_line + " >" + logs_.path("stdout") + " 2>" + logs_.path("stderr");
   pid_ = ::fork();
   if (pid_ == 0) {
     ::execl("/bin/sh", "sh", "-c", sh.c_str(), static_cast<char*>(nullptr));
@@ -95,8 +98,10 @@ std::string Background::err() const { return file_bytes(logs_.path("stderr")); }
 #ifdef TERRAIN_MPIEXEC
 std::string mpirun(int ranks) {
   return "ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" "
-         "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl_vader_single_copy_mechanism=none "
-         "OMPI_MCA_btl=self,vader " TERRAIN_MPIEXEC " --oversubscribe -np " + std::to_string(ranks) + " ";
+         "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+         "OMPI_MCA_btl_vader_single_copy_mechanism=none "
+         "OMPI_MCA_btl=self,vader " TERRAIN_MPIEXEC " --oversubscribe -np " +
+         std::to_string(ranks) + " ";
 }
 #endif
 
@@ -104,7 +109,8 @@ const GridMesh& msh_50m_mesh() {
   static const GridMesh mesh = [] {
     GridRequest req;
     req.spacing = 50.0;
-    return make_grid_mesh(prepare_grid(read_dem(data("msh_2007_utm10n_10m.tif")), req).grid, NormalWeighting::Uniform);
+    return make_grid_mesh(prepare_grid(read_dem(data("msh_2007_utm10n_10m.tif")), req).grid,
+                          NormalWeighting::Uniform);
   }();
   return mesh;
 }
@@ -114,8 +120,9 @@ std::string pyramid_as_version1(std::string v3) {
     std::memcpy(&value, v3.data() + at, sizeof value);
     return value;
   };
-  std::size_t at = 8 + 4 + 8 + 4 + 16 + 40 + 4;  // magic, version, header bytes, B, grid, georeference, EPSG
-  at += 4 + get(at, std::uint32_t(0));          // the CRS
+  std::size_t at =
+      8 + 4 + 8 + 4 + 16 + 40 + 4;      // magic, version, header bytes, B, grid, georeference, EPSG
+  at += 4 + get(at, std::uint32_t(0));  // the CRS
   std::string v1 = v3.substr(0, at);
   at += 8;  // the digest, left out
   std::uint64_t removed = 8;
@@ -136,7 +143,8 @@ std::string pyramid_as_version1(std::string v3) {
   std::string index = v3.substr(at, header - 4 - at);
   std::size_t entry = 0;
   for (std::uint32_t l = 0; l < n_levels; ++l) {
-    const std::uint64_t tiles = get(at + entry, std::uint64_t(0)) * get(at + entry + 8, std::uint64_t(0));
+    const std::uint64_t tiles =
+        get(at + entry, std::uint64_t(0)) * get(at + entry + 8, std::uint64_t(0));
     entry += 16;
     for (std::uint64_t t = 0; t < tiles; ++t, entry += 16) {
       const std::uint64_t offset = get(at + entry, std::uint64_t(0)) - removed;

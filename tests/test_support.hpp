@@ -13,7 +13,9 @@ namespace terrain::test {
 
 // Appended, not `"..." + name`: GCC 12 warns (-Warray-bounds, -Wrestrict) about the
 // inlined copies of a literal-plus-string concatenation, wrongly.
-inline std::string in_dir(std::string dir, const std::string& name) { return dir.append(1, '/').append(name); }
+inline std::string in_dir(std::string dir, const std::string& name) {
+  return dir.append(1, '/').append(name);
+}
 inline std::string data(const std::string& name) { return in_dir(TERRAIN_DATA_DIR, name); }
 inline std::string tool(const std::string& name) { return in_dir(TERRAIN_BIN_DIR, name); }
 // A file's whole contents, bytes as they are ("" when it cannot be read).
@@ -79,7 +81,8 @@ std::string mpirun(int ranks);
 // The mesh (area-weighted normals) of z = f(x, y) on rows x cols samples h metres apart,
 // in its local frame: sample (r, c) at x = c h, y = -r h, the origin at sample (0, 0).
 // f is called row by row, west to east, so a seeded random term is reproducible.
-GridMesh function_mesh(std::size_t rows, std::size_t cols, double h, const std::function<double(double, double)>& f);
+GridMesh function_mesh(std::size_t rows, std::size_t cols, double h,
+                       const std::function<double(double, double)>& f);
 
 // The demo's Mount St. Helens mesh: the bundled 2007 DEM resampled to 50 m (dem2mesh
 // --spacing 50), uniform vertex normals. Built once.

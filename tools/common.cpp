@@ -1,11 +1,11 @@
 #include "common.hpp"
 
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
-#include <filesystem>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <set>
@@ -26,7 +26,9 @@ std::string provenance(int argc, char** argv) {
   // different thread counts or verbosity are byte-identical.
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "-q" || a == "--quiet" || a == "-v" || a == "--verbose" || a.rfind("--threads=", 0) == 0) continue;
+    if (a == "-q" || a == "--quiet" || a == "-v" || a == "--verbose" ||
+        a.rfind("--threads=", 0) == 0)
+      continue;
     if (a == "--threads") {
       ++i;
       continue;
@@ -49,8 +51,10 @@ terrain::Progress terminal_progress(const Verbosity& v, const std::string& label
     if (*last < 0) std::fprintf(stderr, "%s: ", label.c_str());
     while (*last < tick && *last < 40) {
       ++*last;
-      if (*last % 4 == 0) std::fprintf(stderr, "%d", *last * 10 / 4);
-      else std::fputc('.', stderr);
+      if (*last % 4 == 0)
+        std::fprintf(stderr, "%d", *last * 10 / 4);
+      else
+        std::fputc('.', stderr);
     }
     if (tick >= 40 && *last == 40) {
       std::fputs(" - done.\n", stderr);
@@ -115,9 +119,11 @@ CLI::Validator number_check(bool zero, const char* name) {
 
 }  // namespace
 
-const CLI::Validator kPositive = number_check(false, "POSITIVE"), kNonNegative = number_check(true, "NONNEGATIVE");
+const CLI::Validator kPositive = number_check(false, "POSITIVE"),
+                     kNonNegative = number_check(true, "NONNEGATIVE");
 
-void check_distinct_paths(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
+void check_distinct_paths(const std::vector<std::string>& inputs,
+                          const std::vector<std::string>& outputs) {
   namespace fs = std::filesystem;
   auto same = [](const std::string& a, const std::string& b) {
     std::error_code ec1, ec2;
@@ -128,20 +134,24 @@ void check_distinct_paths(const std::vector<std::string>& inputs, const std::vec
     if (outputs[o].empty()) continue;
     for (const std::string& in : inputs)
       if (!in.empty() && same(in, outputs[o]))
-        throw terrain::Error("the output '" + outputs[o] + "' is the input '" + in + "': give another output name");
+        throw terrain::Error("the output '" + outputs[o] + "' is the input '" + in +
+                             "': give another output name");
     for (std::size_t k = 0; k < o; ++k)
       if (!outputs[k].empty() && same(outputs[k], outputs[o]))
-        throw terrain::Error("two outputs are the same file: '" + outputs[k] + "' and '" + outputs[o] + "'");
+        throw terrain::Error("two outputs are the same file: '" + outputs[k] + "' and '" +
+                             outputs[o] + "'");
   }
 }
 
 void warn_stale_temporaries(const Verbosity& v, const std::vector<std::string>& outputs) {
-  std::set<std::filesystem::path> stale;  // once each: outputs of one stem (m.ply, m.tpyr) find the same
+  std::set<std::filesystem::path>
+      stale;  // once each: outputs of one stem (m.ply, m.tpyr) find the same
   for (const std::string& out : outputs)
     if (!out.empty())
       for (const std::filesystem::path& p : terrain::stale_temporaries(out)) stale.insert(p);
   for (const std::filesystem::path& p : stale)
-    warn(v, "stale temporary '" + p.string() + "' of a run that was killed; remove it (rm -r '" + p.string() + "')");
+    warn(v, "stale temporary '" + p.string() + "' of a run that was killed; remove it (rm -r '" +
+                p.string() + "')");
 }
 
 int mpi_launcher_size() {
@@ -171,7 +181,8 @@ int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& b
     return 2;
   }
   try {
-    if (std::getenv("TERRAIN_MEMORY_MIB")) (void)terrain::available_memory();  // a bad value is an error at once
+    if (std::getenv("TERRAIN_MEMORY_MIB"))
+      (void)terrain::available_memory();  // a bad value is an error at once
     return body();
   } catch (const CLI::ParseError& e) {  // validation done after parsing is a usage error too
     std::cerr << name << ": usage error: " << e.what() << " (see " << name << " --help)\n";
@@ -181,8 +192,10 @@ int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& b
   } catch (const std::bad_alloc&) {
     std::cerr << name << ": error: out of memory\n";
   } catch (const std::length_error&) {  // a size past what can be allocated at all
-    std::cerr << name << ": error: out of memory (a size larger than can be allocated: check the grid's size and "
-                         "spacing)\n";
+    std::cerr
+        << name
+        << ": error: out of memory (a size larger than can be allocated: check the grid's size and "
+           "spacing)\n";
   } catch (const std::exception& e) {
     std::cerr << name << ": error: " << e.what() << "\n";
   }

@@ -49,7 +49,8 @@ inline constexpr int kMaxThreads = 1024;
 // Throws Error unless every output differs from every input and from every other output
 // (same resolved path, or the same file through another name: a hard or symbolic link).
 // Empty strings are skipped.
-void check_distinct_paths(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
+void check_distinct_paths(const std::vector<std::string>& inputs,
+                          const std::vector<std::string>& outputs);
 
 // Option checks for a number > 0 and >= 0 whose message names the value (CLI11's
 // PositiveNumber and NonNegativeNumber print the largest double in full).

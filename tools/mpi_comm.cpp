@@ -40,11 +40,12 @@ std::vector<std::string> MpiSession::all_gather(std::string mine) const {
     }
     round.resize(std::size_t(total));
     const int mine_count = counts[std::size_t(rank_)];
-    MPI_Allgatherv(mine.data() + (mine_count ? at : 0), mine_count, MPI_BYTE, round.data(), counts.data(), displs.data(),
-                   MPI_BYTE, MPI_COMM_WORLD);
+    MPI_Allgatherv(mine.data() + (mine_count ? at : 0), mine_count, MPI_BYTE, round.data(),
+                   counts.data(), displs.data(), MPI_BYTE, MPI_COMM_WORLD);
     for (int r = 0; r < size_; ++r)
       if (counts[std::size_t(r)])
-        all[std::size_t(r)].replace(at, std::size_t(counts[std::size_t(r)]), round, std::size_t(displs[std::size_t(r)]),
+        all[std::size_t(r)].replace(at, std::size_t(counts[std::size_t(r)]), round,
+                                    std::size_t(displs[std::size_t(r)]),
                                     std::size_t(counts[std::size_t(r)]));
   }
   return all;
@@ -58,15 +59,16 @@ void send_bytes(const std::string& s, int to) {
   const std::uint64_t n = s.size();
   MPI_Send(&n, 1, MPI_UINT64_T, to, 0, MPI_COMM_WORLD);
   for (std::uint64_t at = 0; at < n; at += std::uint64_t(INT_MAX))
-    MPI_Send(s.data() + at, int(std::min<std::uint64_t>(INT_MAX, n - at)), MPI_BYTE, to, 1, MPI_COMM_WORLD);
+    MPI_Send(s.data() + at, int(std::min<std::uint64_t>(INT_MAX, n - at)), MPI_BYTE, to, 1,
+             MPI_COMM_WORLD);
 }
 std::string receive_bytes(int from) {
   std::uint64_t n = 0;
   MPI_Recv(&n, 1, MPI_UINT64_T, from, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   std::string s(n, '\0');
   for (std::uint64_t at = 0; at < n; at += std::uint64_t(INT_MAX))
-    MPI_Recv(s.data() + at, int(std::min<std::uint64_t>(INT_MAX, n - at)), MPI_BYTE, from, 1, MPI_COMM_WORLD,
-             MPI_STATUS_IGNORE);
+    MPI_Recv(s.data() + at, int(std::min<std::uint64_t>(INT_MAX, n - at)), MPI_BYTE, from, 1,
+             MPI_COMM_WORLD, MPI_STATUS_IGNORE);
   return s;
 }
 

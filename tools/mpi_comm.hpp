@@ -7,7 +7,8 @@
 namespace terrain::tools {
 
 // MPI_Init on construction (only when mpi_launcher_size() says a launcher started this
-// process: a plain start never initializes MPI), MPI_Finalize on destruction; the session is the world.
+// process: a plain start never initializes MPI), MPI_Finalize on destruction; the session is the
+// world.
 class MpiSession : public drainage::TileComm {
  public:
   MpiSession(int& argc, char**& argv);

@@ -21,10 +21,10 @@ void add_table_options(CLI::App* app, TableArgs& a, bool per_frame_only) {
       opt = app->add_option(flag, a.eye, o.help)->expected(3);
     } else {
       const bool numeric = o.type == rr::OptionType::Number || o.type == rr::OptionType::Integer;
-      const std::string range = !numeric ? std::string()
-                                : o.unbounded()
-                                    ? o.unit
-                                    : fmt::format("{:g} .. {:g}{}", o.min, o.max, o.unit.empty() ? "" : " " + o.unit);
+      const std::string range = !numeric        ? std::string()
+                                : o.unbounded() ? o.unit
+                                                : fmt::format("{:g} .. {:g}{}", o.min, o.max,
+                                                              o.unit.empty() ? "" : " " + o.unit);
       opt = app->add_option(flag, a.text[o.name], o.help)->default_str(o.default_text);
       opt->check(CLI::Validator(
           [&o](std::string& v) {
@@ -38,8 +38,10 @@ void add_table_options(CLI::App* app, TableArgs& a, bool per_frame_only) {
           },
           range));
     }
-    opt->group(o.group)->type_name(o.type == rr::OptionType::Bool ? "" : rr::option_type_name(o.type));
-    if (o.type == rr::OptionType::Enum) opt->type_name("{" + fmt::format("{}", fmt::join(o.choices, ",")) + "}");
+    opt->group(o.group)->type_name(o.type == rr::OptionType::Bool ? ""
+                                                                  : rr::option_type_name(o.type));
+    if (o.type == rr::OptionType::Enum)
+      opt->type_name("{" + fmt::format("{}", fmt::join(o.choices, ",")) + "}");
     a.given[o.name] = opt;
   }
 }
@@ -49,9 +51,10 @@ rr::RenderSettings settings_of(const TableArgs& a) {
   rr::RenderSettings s;
   for (const rr::OptionSpec& o : rr::render_options()) {
     if (!a.was_given(o.name)) continue;
-    const std::string v = o.type == rr::OptionType::Bool    ? std::string(a.flags.at(o.name) ? "true" : "false")
-                          : o.type == rr::OptionType::Point ? fmt::format("{} {} {}", a.eye[0], a.eye[1], a.eye[2])
-                                                            : a.text.at(o.name);
+    const std::string v =
+        o.type == rr::OptionType::Bool    ? std::string(a.flags.at(o.name) ? "true" : "false")
+        : o.type == rr::OptionType::Point ? fmt::format("{} {} {}", a.eye[0], a.eye[1], a.eye[2])
+                                          : a.text.at(o.name);
     try {
       rr::set_option(s, o, v);
     } catch (const terrain::Error& e) {
@@ -67,12 +70,15 @@ rr::RenderSettings settings_of(const TableArgs& a) {
 }
 
 void add_vector_options(CLI::App* app, rr::VectorOptions& o) {
-  app->add_option("--dpi", o.dpi, "SVG / PDF: pixels per inch of the page (the frame's size in pixels is the page)")
+  app->add_option("--dpi", o.dpi,
+                  "SVG / PDF: pixels per inch of the page (the frame's size in pixels is the page)")
       ->check(CLI::Range(1.0, 10000.0))
       ->capture_default_str();
-  app->add_option("--vector-underlay", o.underlay,
-                  "SVG / PDF: what lies under the lines: none, mask (the surface as filled regions) or shaded (the "
-                  "shaded relief as an embedded image); default: shaded when --layers has shaded, else mask")
+  app->add_option(
+         "--vector-underlay", o.underlay,
+         "SVG / PDF: what lies under the lines: none, mask (the surface as filled regions) or "
+         "shaded (the "
+         "shaded relief as an embedded image); default: shaded when --layers has shaded, else mask")
       ->check(CLI::IsMember({"none", "mask", "shaded"}));
 }
 

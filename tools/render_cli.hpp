@@ -18,7 +18,9 @@ struct TableArgs {
   std::vector<double> eye;
   std::map<std::string, CLI::Option*> given;
   bool line_stats = false;
-  bool was_given(const std::string& name) const { return given.count(name) && given.at(name)->count() > 0; }
+  bool was_given(const std::string& name) const {
+    return given.count(name) && given.at(name)->count() > 0;
+  }
 };
 
 // One option per table row (only the per-frame ones with `per_frame_only`), in the table's

@@ -20,22 +20,29 @@ using terrain::tools::view::Viewer;
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "Interactive terrain viewer: draws what terrain-render frame draws, with every render option\n"
+      "Interactive terrain viewer: draws what terrain-render frame draws, with every render "
+      "option\n"
       "on a panel, camera moves, saved views and keyframes.",
       "terrain-view"};
   app.footer(
-      "Mouse: left drag orbits about the terrain point under the cursor, right or middle drag pans, the wheel\n"
-      "zooms towards it. Keys: W/A/S/D fly, Q/E down/up (Shift: faster), Home: the default view, K: a\n"
+      "Mouse: left drag orbits about the terrain point under the cursor, right or middle drag "
+      "pans, the wheel\n"
+      "zooms towards it. Keys: W/A/S/D fly, Q/E down/up (Shift: faster), Home: the default view, "
+      "K: a\n"
       "keyframe, N: the next frame of --frames.\n\n"
-      "Replay commands (--replay FILE, one a line): camera E N Z AZ ALT [FOV] | orbit D_AZ D_ALT | zoom SHARE |\n"
-      "set NAME VALUE | layer NAME on|off | key home|w|a|s|d|q|e|k | keyframe | save-keyframes PATH [N] |\n"
-      "load-frames PATH | next-frame | wait N | screenshot PATH.png [WxH] | window-shot PATH.png |\n"
+      "Replay commands (--replay FILE, one a line): camera E N Z AZ ALT [FOV] | orbit D_AZ D_ALT | "
+      "zoom SHARE |\n"
+      "set NAME VALUE | layer NAME on|off | key home|w|a|s|d|q|e|k | keyframe | save-keyframes "
+      "PATH [N] |\n"
+      "load-frames PATH | next-frame | wait N | screenshot PATH.png [WxH] | window-shot PATH.png "
+      "|\n"
       "save-view PATH.png|.svg|.pdf [WxH] | line-stats |\n"
       "timings | quit\n\n"
       "Examples:\n"
       "  terrain-view out/msh_50m.ply out/msh_breached.dv\n"
       "  terrain-view out/msh_50m.ply out/msh_breached.dv --replay tour.txt --offscreen\n"
-      "  terrain-view logan_2m.ply logan_2m.dv --memory 512   # a mesh larger than that, read from its pyramid\n"
+      "  terrain-view logan_2m.ply logan_2m.dv --memory 512   # a mesh larger than that, read from "
+      "its pyramid\n"
       "  terrain-view --list-options\n\n"
       "See docs/terrain-view.md.");
   app.set_version_flag("--version", tt::version());
@@ -47,14 +54,20 @@ int main(int argc, char** argv) {
   app.add_option("MESH", mesh, "Mesh (.ply from dem2mesh)");
   app.add_option("DV", dv, "Drainage database (.dv from build-drainage); no creases without it");
   app.add_option("--replay", replay_path, "Run the commands of this file (see below)");
-  app.add_flag("--offscreen", offscreen, "No window: run the replay through EGL only (a machine without a display)");
+  app.add_flag("--offscreen", offscreen,
+               "No window: run the replay through EGL only (a machine without a display)");
   app.add_option("--frames", frames_path, "A frames CSV to step through (N, or next-frame)");
-  app.add_option("--save-dir", save_dir, "Where the panel's Save buttons write")->capture_default_str();
-  app.add_flag("--list-options", list, "Print the panel's options (name, group, type, default) and exit");
+  app.add_option("--save-dir", save_dir, "Where the panel's Save buttons write")
+      ->capture_default_str();
+  app.add_flag("--list-options", list,
+               "Print the panel's options (name, group, type, default) and exit");
   app.add_option("--memory", memory_mib,
-                 "MiB the mesh's vertices may take: a larger mesh with a pyramid beside it (dem2mesh --pyramid) is "
-                 "read as terrain-render frame reads it (the level the view draws over the blocks in view, within "
-                 "this), again when a still view needs more, and whole when a moving view leaves the blocks held")
+                 "MiB the mesh's vertices may take: a larger mesh with a pyramid beside it "
+                 "(dem2mesh --pyramid) is "
+                 "read as terrain-render frame reads it (the level the view draws over the blocks "
+                 "in view, within "
+                 "this), again when a still view needs more, and whole when a moving view leaves "
+                 "the blocks held")
       ->check(CLI::Range(0.001, 16777216.0))
       ->capture_default_str();
   tt::add_verbosity_flags(app, verb);
@@ -65,17 +78,24 @@ int main(int argc, char** argv) {
   return tt::run_main(app, argc, argv, [&]() -> int {
     if (list) {
       for (const rr::OptionSpec& o : rr::render_options())
-        std::cout << o.name << "\t" << o.group << "\t" << rr::option_type_name(o.type) << "\t" << o.default_text << "\n";
+        std::cout << o.name << "\t" << o.group << "\t" << rr::option_type_name(o.type) << "\t"
+                  << o.default_text << "\n";
       return 0;
     }
     if (mesh.empty()) throw CLI::ValidationError("MESH", "give a mesh (.ply)");
-    if (offscreen && replay_path.empty()) throw CLI::ValidationError("--offscreen", "needs --replay FILE");
-    const std::vector<std::string> replay = replay_path.empty() ? std::vector<std::string>{} : terrain::tools::view::read_replay(replay_path);
-    Viewer v(mesh, dv, tt::settings_of(opts), [&opts](const std::string& n) { return opts.was_given(n); }, verb,
-             std::uint64_t(memory_mib * 1048576.0));
+    if (offscreen && replay_path.empty())
+      throw CLI::ValidationError("--offscreen", "needs --replay FILE");
+    const std::vector<std::string> replay = replay_path.empty()
+                                                ? std::vector<std::string>{}
+                                                : terrain::tools::view::read_replay(replay_path);
+    Viewer v(
+        mesh, dv, tt::settings_of(opts),
+        [&opts](const std::string& n) { return opts.was_given(n); }, verb,
+        std::uint64_t(memory_mib * 1048576.0));
     v.inputs = {mesh, dv, replay_path};
     v.vector = vector;
     if (!frames_path.empty()) v.load_frames(frames_path);
-    return offscreen ? terrain::tools::view::run_offscreen(v, replay) : terrain::tools::view::run_window(v, replay, save_dir);
+    return offscreen ? terrain::tools::view::run_offscreen(v, replay)
+                     : terrain::tools::view::run_window(v, replay, save_dir);
   });
 }

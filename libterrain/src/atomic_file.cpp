@@ -19,9 +19,11 @@ void check_output_path(const fs::path& path) {
   if (dir.empty()) dir = ".";
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
-    throw Error("cannot write '" + path.string() + "': directory '" + dir.string() + "' does not exist");
+    throw Error("cannot write '" + path.string() + "': directory '" + dir.string() +
+                "' does not exist");
   if (::access(dir.c_str(), W_OK) != 0)
-    throw Error("cannot write '" + path.string() + "': directory '" + dir.string() + "' is not writable");
+    throw Error("cannot write '" + path.string() + "': directory '" + dir.string() +
+                "' is not writable");
   const fs::file_status st = fs::status(path, ec);
   if (fs::is_directory(st)) throw Error("cannot write '" + path.string() + "': it is a directory");
   if (fs::exists(st) && !fs::is_regular_file(st))
@@ -47,13 +49,15 @@ AtomicFile::~AtomicFile() {
   if (!committed_) {
     std::error_code ec;
     fs::remove(temp_, ec);
-    for (const char* suffix : {"-journal", "-wal", "-shm"}) fs::remove(temp_.string() + suffix, ec);  // SQLite's
+    for (const char* suffix : {"-journal", "-wal", "-shm"})
+      fs::remove(temp_.string() + suffix, ec);  // SQLite's
   }
 }
 
 void AtomicFile::commit() {
   std::error_code ec;
-  if (!fs::is_regular_file(temp_, ec)) throw Error("cannot write '" + target_.string() + "': nothing was written");
+  if (!fs::is_regular_file(temp_, ec))
+    throw Error("cannot write '" + target_.string() + "': nothing was written");
   if (in_place_) {
     committed_ = true;
     return;
@@ -75,7 +79,9 @@ void write_stream_atomic(const fs::path& path, const std::function<void(std::ost
     file.rdbuf()->pubsetbuf(buffer.data(), std::streamsize(buffer.size()));
     errno = 0;
     file.open(out.temp_path(), std::ios::binary | std::ios::trunc);
-    if (!file) throw Error("cannot write '" + path.string() + "': cannot create the file (" + std::strerror(errno) + ")");
+    if (!file)
+      throw Error("cannot write '" + path.string() + "': cannot create the file (" +
+                  std::strerror(errno) + ")");
     errno = 0;
     write(file);
     file.flush();
@@ -83,13 +89,15 @@ void write_stream_atomic(const fs::path& path, const std::function<void(std::ost
     file.close();
     if (!written || !file)
       throw Error("cannot write '" + path.string() + "': " +
-                  (errno != 0 ? std::string(std::strerror(errno)) : std::string("write failed (disk full?)")));
+                  (errno != 0 ? std::string(std::strerror(errno))
+                              : std::string("write failed (disk full?)")));
   }
   out.commit();
 }
 
 void write_file_atomic(const fs::path& path, std::string_view bytes) {
-  write_stream_atomic(path, [&](std::ostream& os) { os.write(bytes.data(), std::streamsize(bytes.size())); });
+  write_stream_atomic(
+      path, [&](std::ostream& os) { os.write(bytes.data(), std::streamsize(bytes.size())); });
 }
 
 std::string OutputSet::stage(const fs::path& target) {
@@ -104,7 +112,8 @@ void OutputSet::write(const std::function<void()>& write) {
     std::string msg = e.what();
     for (const auto& f : files_) {
       const std::string temp = f->temp_path().string(), target = f->target().string();
-      for (std::size_t at; (at = msg.find(temp)) != std::string::npos;) msg.replace(at, temp.size(), target);
+      for (std::size_t at; (at = msg.find(temp)) != std::string::npos;)
+        msg.replace(at, temp.size(), target);
     }
     throw Error(msg);
   }

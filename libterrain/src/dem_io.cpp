@@ -16,10 +16,10 @@
 #include <memory>
 #include <mutex>
 
+#include "crs_info.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/error.hpp"
 #include "terrain/memory.hpp"
-#include "crs_info.hpp"
 
 namespace terrain {
 
@@ -71,7 +71,9 @@ CrsInfo crs_info(const OGRSpatialReference& srs) {
   const char* opts[] = {"FORMAT=WKT2_2019", "MULTILINE=NO", nullptr};
   if (srs.exportToWkt(&wkt, opts) == OGRERR_NONE && wkt) c.wkt = wkt;
   CPLFree(wkt);
-  c.kind = srs.IsGeographic() ? CrsKind::Geographic : srs.IsProjected() ? CrsKind::Projected : CrsKind::None;
+  c.kind = srs.IsGeographic()  ? CrsKind::Geographic
+           : srs.IsProjected() ? CrsKind::Projected
+                               : CrsKind::None;
   OGRSpatialReference copy(srs);
   if (copy.GetAuthorityName(nullptr) == nullptr) copy.AutoIdentifyEPSG();
   const char* auth = copy.GetAuthorityName(nullptr);
@@ -85,9 +87,11 @@ CrsInfo crs_info(const OGRSpatialReference& srs) {
 void assign_crs(Georef& geo, const std::string& user_crs) {
   ensure_gdal();
   OGRSpatialReference srs;
-  if (srs.SetFromUserInput(user_crs.c_str()) != OGRERR_NONE) throw Error("cannot understand the CRS '" + user_crs + "'");
+  if (srs.SetFromUserInput(user_crs.c_str()) != OGRERR_NONE)
+    throw Error("cannot understand the CRS '" + user_crs + "'");
   const CrsInfo crs = crs_info(srs);
-  if (crs.kind == CrsKind::None) throw Error("the CRS '" + user_crs + "' is neither geographic nor projected");
+  if (crs.kind == CrsKind::None)
+    throw Error("the CRS '" + user_crs + "' is neither geographic nor projected");
   if (!crs.non_metre_unit.empty())
     throw Error("the CRS '" + user_crs + "' is in " + crs.non_metre_unit + ", not metres");
   geo.crs_wkt = crs.wkt, geo.epsg = crs.epsg, geo.crs_kind = crs.kind;
@@ -109,18 +113,21 @@ std::string crs_fields_problem(const std::string& wkt, int epsg) {
 static std::string crs_fields_check(const std::string& wkt, int epsg) {
   ensure_gdal();
   OGRSpatialReference from_wkt, from_code;
-  if (!wkt.empty() && from_wkt.importFromWkt(wkt.c_str()) != OGRERR_NONE) return "its CRS WKT does not parse";
+  if (!wkt.empty() && from_wkt.importFromWkt(wkt.c_str()) != OGRERR_NONE)
+    return "its CRS WKT does not parse";
   if (epsg != 0 && (epsg < 0 || from_code.importFromEPSG(epsg) != OGRERR_NONE))
     return "EPSG:" + std::to_string(epsg) + " is no CRS PROJ knows";
   if (wkt.empty() || epsg == 0) return "";
   const char* auth = from_wkt.GetAuthorityName(nullptr);
   const char* code = from_wkt.GetAuthorityCode(nullptr);
   if (auth && code && std::string(auth) == "EPSG" && std::atoi(code) != epsg)
-    return "its CRS WKT says EPSG:" + std::string(code) + " but its EPSG field says " + std::to_string(epsg);
+    return "its CRS WKT says EPSG:" + std::string(code) + " but its EPSG field says " +
+           std::to_string(epsg);
   if (bool(from_wkt.IsGeographic()) != bool(from_code.IsGeographic()) ||
       bool(from_wkt.IsProjected()) != bool(from_code.IsProjected()))
-    return std::string("its CRS WKT is ") + (from_wkt.IsGeographic() ? "geographic" : "not geographic") +
-           " but its EPSG field (" + std::to_string(epsg) + ") is " +
+    return std::string("its CRS WKT is ") +
+           (from_wkt.IsGeographic() ? "geographic" : "not geographic") + " but its EPSG field (" +
+           std::to_string(epsg) + ") is " +
            (from_code.IsGeographic() ? "geographic" : "not geographic");
   return "";
 }
@@ -147,42 +154,49 @@ bool is_gdal_special(const std::string& path) {
 OpenRaster open_raster(const std::string& path) {
   ensure_gdal();
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a directory");
+  if (std::filesystem::is_directory(path, ec))
+    throw Error("cannot read '" + path + "': it is a directory");
   CPLErrorReset();
   OpenRaster r;
   r.ds.reset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
   if (!r.ds) {
     if (!is_gdal_special(path) && !std::filesystem::exists(path, ec))
       throw Error("cannot read '" + path + "': no such file");
-    throw Error("cannot read '" + path + "': not a raster GDAL can open (" + last_gdal_error() + ")");
+    throw Error("cannot read '" + path + "': not a raster GDAL can open (" + last_gdal_error() +
+                ")");
   }
   if (r.ds->GetRasterCount() < 1) throw Error("cannot read '" + path + "': it has no raster band");
   const int cols = r.ds->GetRasterXSize(), rows = r.ds->GetRasterYSize();
   if (cols < 2 || rows < 2)
-    throw Error("cannot use '" + path + "': " + std::to_string(cols) + " x " + std::to_string(rows) +
-                " samples; a DEM needs at least 2 x 2");
+    throw Error("cannot use '" + path + "': " + std::to_string(cols) + " x " +
+                std::to_string(rows) + " samples; a DEM needs at least 2 x 2");
   r.rows = std::size_t(rows);
   r.cols = std::size_t(cols);
   double gt[6];
   if (r.ds->GetGeoTransform(gt) != CE_None && r.ds->GetGCPCount() > 0)
     // GDAL stores a geotransform it cannot invert (a zero pixel width or height) as ground
     // control points: placing the DEM at pixel coordinates would be silently wrong.
-    throw Error("cannot use '" + path + "': it is georeferenced by ground control points, not a geotransform (or its "
-                "geotransform is invalid, e.g. a zero pixel width); warp it onto a grid first (gdalwarp)");
-  if (r.ds->GetGeoTransform(gt) != CE_None) {  // no georeferencing: pixel coordinates, row 0 at the top
+    throw Error(
+        "cannot use '" + path +
+        "': it is georeferenced by ground control points, not a geotransform (or its "
+        "geotransform is invalid, e.g. a zero pixel width); warp it onto a grid first (gdalwarp)");
+  if (r.ds->GetGeoTransform(gt) !=
+      CE_None) {  // no georeferencing: pixel coordinates, row 0 at the top
     // Except for picture formats: a PNG or JPEG without a world file is a picture, not a DEM.
     const std::string driver = r.ds->GetDriver() ? r.ds->GetDriver()->GetDescription() : "";
     for (const char* image : {"PNG", "JPEG", "GIF", "BMP", "WEBP"})
       if (driver == image)
         throw Error("cannot use '" + path + "': an image without georeferencing (" + driver +
-                    "), not a DEM; give it a world file or georeference it (gdal_translate -a_ullr -a_srs)");
+                    "), not a DEM; give it a world file or georeference it (gdal_translate -a_ullr "
+                    "-a_srs)");
     const double pixel[6] = {0.0, 1.0, 0.0, double(rows), 0.0, -1.0};
     std::copy(pixel, pixel + 6, gt);
   }
   if (gt[2] != 0.0 || gt[4] != 0.0)
-    throw Error("cannot use '" + path + "': rotated or sheared geotransform; warp it north-up first (gdalwarp)");
-  if (!(gt[1] > 0.0) || gt[5] == 0.0 || !std::isfinite(gt[0]) || !std::isfinite(gt[3]) || !std::isfinite(gt[1]) ||
-      !std::isfinite(gt[5]))
+    throw Error("cannot use '" + path +
+                "': rotated or sheared geotransform; warp it north-up first (gdalwarp)");
+  if (!(gt[1] > 0.0) || gt[5] == 0.0 || !std::isfinite(gt[0]) || !std::isfinite(gt[3]) ||
+      !std::isfinite(gt[1]) || !std::isfinite(gt[5]))
     throw Error("cannot use '" + path + "': invalid pixel size or origin in the geotransform");
   // South-up rasters (positive pixel height) are read flipped to the north-up convention.
   if (gt[5] > 0.0) {
@@ -209,10 +223,12 @@ OpenRaster open_raster(const std::string& path) {
     // a cell); longitudes -180..360 cover both conventions.
     const double north = r.geo.y0, south = r.geo.y0 - double(rows) * r.geo.dy;
     const double west = r.geo.x0, east = r.geo.x0 + double(cols) * r.geo.dx;
-    if (north > 90.0 + r.geo.dy || south < -90.0 - r.geo.dy || west < -180.0 - r.geo.dx || east > 360.0 + r.geo.dx)
-      throw Error(fmt::format("cannot use '{}': its geographic extent (longitude {:g} .. {:g}, latitude {:g} .. {:g}) "
-                              "lies outside the globe (-180 .. 360, -90 .. 90); is its CRS or geotransform right?",
-                              path, west, east, south, north));
+    if (north > 90.0 + r.geo.dy || south < -90.0 - r.geo.dy || west < -180.0 - r.geo.dx ||
+        east > 360.0 + r.geo.dx)
+      throw Error(fmt::format(
+          "cannot use '{}': its geographic extent (longitude {:g} .. {:g}, latitude {:g} .. {:g}) "
+          "lies outside the globe (-180 .. 360, -90 .. 90); is its CRS or geotransform right?",
+          path, west, east, south, north));
   }
   return r;
 }
@@ -235,7 +251,8 @@ DemInfo read_dem_info(const std::string& path) {
   return {r.geo, r.rows, r.cols};
 }
 
-Grid read_dem(const std::string& path, const Progress& progress, std::optional<RasterWindow> window) {
+Grid read_dem(const std::string& path, const Progress& progress,
+              std::optional<RasterWindow> window) {
   OpenRaster r = open_raster(path);
   RasterWindow w = window.value_or(RasterWindow{0, 0, r.rows, r.cols});
   if (w.rows < 1 || w.cols < 1 || w.row0 > r.rows || w.col0 > r.cols || w.rows > r.rows - w.row0 ||
@@ -243,7 +260,8 @@ Grid read_dem(const std::string& path, const Progress& progress, std::optional<R
     throw Error("cannot read '" + path + "': window outside the raster");
   check_memory(double(w.rows) * double(w.cols) * sizeof(float),
                fmt::format("cannot read '{}': {} x {} samples", path, w.cols, w.rows),
-               "crop it (dem2mesh --bbox reads only what it needs; build-drainage --tile-size reads a tile at a time)");
+               "crop it (dem2mesh --bbox reads only what it needs; build-drainage --tile-size "
+               "reads a tile at a time)");
   Grid grid;
   grid.rows = w.rows;
   grid.cols = w.cols;
@@ -259,15 +277,16 @@ Grid read_dem(const std::string& path, const Progress& progress, std::optional<R
   extra.pProgressData = &gdal_progress_data;
   const std::size_t file_row0 = r.south_up ? r.rows - w.row0 - w.rows : w.row0;
   CPLErrorReset();
-  if (band->RasterIO(GF_Read, int(w.col0), int(file_row0), int(w.cols), int(w.rows), grid.z.data(), int(w.cols),
-                     int(w.rows), GDT_Float32, 0, 0, &extra) != CE_None) {
+  if (band->RasterIO(GF_Read, int(w.col0), int(file_row0), int(w.cols), int(w.rows), grid.z.data(),
+                     int(w.cols), int(w.rows), GDT_Float32, 0, 0, &extra) != CE_None) {
     if (gdal_progress_data.cancelled) throw Cancelled();
     throw Error("cannot read '" + path + "': " + last_gdal_error());
   }
   report(progress, 1.0);  // GDAL does not report every read (small VRT windows)
   if (r.south_up)
     for (std::size_t row = 0; row < grid.rows / 2; ++row)
-      std::swap_ranges(grid.z.begin() + long(row * grid.cols), grid.z.begin() + long((row + 1) * grid.cols),
+      std::swap_ranges(grid.z.begin() + long(row * grid.cols),
+                       grid.z.begin() + long((row + 1) * grid.cols),
                        grid.z.begin() + long((grid.rows - 1 - row) * grid.cols));
 
   int has_nodata = 0;
@@ -276,13 +295,16 @@ Grid read_dem(const std::string& path, const Progress& progress, std::optional<R
   std::size_t infinite = 0, first_inf = 0;
   for (std::size_t i = 0; i < grid.z.size(); ++i) {
     float& v = grid.z[i];
-    if (has_nodata && (v == nd || (std::isnan(nodata) && std::isnan(v)))) v = std::numeric_limits<float>::quiet_NaN();
-    else if (std::isinf(v) && infinite++ == 0) first_inf = i;
+    if (has_nodata && (v == nd || (std::isnan(nodata) && std::isnan(v))))
+      v = std::numeric_limits<float>::quiet_NaN();
+    else if (std::isinf(v) && infinite++ == 0)
+      first_inf = i;
   }
   if (infinite > 0)
-    throw Error(fmt::format("cannot use '{}': {} samples are infinite (the first at row {}, column {}); mark them as "
-                            "no-data (gdal_translate -a_nodata) or fix the DEM",
-                            path, infinite, w.row0 + first_inf / grid.cols, w.col0 + first_inf % grid.cols));
+    throw Error(fmt::format(
+        "cannot use '{}': {} samples are infinite (the first at row {}, column {}); mark them as "
+        "no-data (gdal_translate -a_nodata) or fix the DEM",
+        path, infinite, w.row0 + first_inf / grid.cols, w.col0 + first_inf % grid.cols));
   // Heights are single-precision floats: above 2^24 they step by 2 or more, so the values
   // of a wider band type (UInt32 near 4e9 steps by 256 there) would lose their steps.
   const GDALDataType type = band->GetRasterDataType();
@@ -291,11 +313,12 @@ Grid read_dem(const std::string& path, const Progress& progress, std::optional<R
     for (const float v : grid.z)
       if (std::abs(v) > top) top = std::abs(v);  // NaN compares false
     if (top > float(1 << 24))
-      throw Error(fmt::format("cannot use '{}': its {} heights reach {:.10g}, where single-precision floats step by "
-                              "{:g}, so its steps would be lost; subtract an offset first (gdal_calc.py --calc "
-                              "\"A-{:.0f}\" --type Float32)",
-                              path, GDALGetDataTypeName(type), double(top),
-                              double(std::nextafter(top, INFINITY) - top), std::floor(double(top) / 1e6) * 1e6));
+      throw Error(fmt::format(
+          "cannot use '{}': its {} heights reach {:.10g}, where single-precision floats step by "
+          "{:g}, so its steps would be lost; subtract an offset first (gdal_calc.py --calc "
+          "\"A-{:.0f}\" --type Float32)",
+          path, GDALGetDataTypeName(type), double(top), double(std::nextafter(top, INFINITY) - top),
+          std::floor(double(top) / 1e6) * 1e6));
   }
   return grid;
 }
@@ -314,14 +337,15 @@ struct RasterWriter::Impl {
   explicit Impl(const std::string& p) : path(p), out(p) {}
 };
 
-RasterWriter::RasterWriter(const std::string& path, const Georef& geo, std::size_t rows, std::size_t cols,
-                           RasterType type, std::optional<double> nodata, const std::string& metadata)
+RasterWriter::RasterWriter(const std::string& path, const Georef& geo, std::size_t rows,
+                           std::size_t cols, RasterType type, std::optional<double> nodata,
+                           const std::string& metadata)
     : impl_(std::make_unique<Impl>(path)) {
   ensure_gdal();
   Impl& m = *impl_;
   m.rows = rows, m.cols = cols;
-  m.gdt = type == RasterType::Byte    ? GDT_Byte
-          : type == RasterType::Int16 ? GDT_Int16
+  m.gdt = type == RasterType::Byte     ? GDT_Byte
+          : type == RasterType::Int16  ? GDT_Int16
           : type == RasterType::UInt32 ? GDT_UInt32
                                        : GDT_Float32;
   GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
@@ -348,9 +372,11 @@ RasterWriter::~RasterWriter() = default;
 
 void RasterWriter::write_rows(std::size_t row0, std::size_t n, const void* data) {
   Impl& m = *impl_;
-  if (!m.ds || row0 + n > m.rows) throw Error("RasterWriter: rows out of range or written after commit");
-  if (m.ds->GetRasterBand(1)->RasterIO(GF_Write, 0, int(row0), int(m.cols), int(n), const_cast<void*>(data),
-                                       int(m.cols), int(n), m.gdt, 0, 0) != CE_None)
+  if (!m.ds || row0 + n > m.rows)
+    throw Error("RasterWriter: rows out of range or written after commit");
+  if (m.ds->GetRasterBand(1)->RasterIO(GF_Write, 0, int(row0), int(m.cols), int(n),
+                                       const_cast<void*>(data), int(m.cols), int(n), m.gdt, 0,
+                                       0) != CE_None)
     throw Error("cannot write '" + m.path + "': " + last_gdal_error());
 }
 
@@ -359,12 +385,14 @@ void RasterWriter::commit() {
   // Closing flushes; a failure there (disk full) must not be committed.
   CPLErrorReset();
   m.ds.reset();
-  if (CPLGetLastErrorType() >= CE_Failure) throw Error("cannot write '" + m.path + "': " + last_gdal_error());
+  if (CPLGetLastErrorType() >= CE_Failure)
+    throw Error("cannot write '" + m.path + "': " + last_gdal_error());
   m.out.commit();
 }
 
 void write_raster(const std::string& path, const Georef& geo, std::size_t rows, std::size_t cols,
-                  RasterType type, const void* data, std::optional<double> nodata, const std::string& metadata) {
+                  RasterType type, const void* data, std::optional<double> nodata,
+                  const std::string& metadata) {
   RasterWriter w(path, geo, rows, cols, type, nodata, metadata);
   w.write_rows(0, rows, data);
   w.commit();
@@ -374,7 +402,8 @@ void write_geotiff(const Grid& grid, const std::string& path, const std::string&
   BigVector<float> values(grid.z);
   for (float& v : values)
     if (std::isnan(v)) v = float(kGeoTiffNodata);
-  write_raster(path, grid.geo, grid.rows, grid.cols, RasterType::Float32, values.data(), kGeoTiffNodata, metadata);
+  write_raster(path, grid.geo, grid.rows, grid.cols, RasterType::Float32, values.data(),
+               kGeoTiffNodata, metadata);
 }
 
 std::size_t fill_nodata(Grid& grid) {

@@ -59,15 +59,17 @@ BigVector<Vector3f> face_normals(const GridMesh& m) {
 #pragma omp parallel for schedule(static)
   for (std::size_t f = 0; f < m.n_faces(); ++f) {
     const auto t = m.topo.face(f);
-    const Vector3d fn = face_normal(m.positions[t[0]].cast<double>(), m.positions[t[1]].cast<double>(),
-                                    m.positions[t[2]].cast<double>());
+    const Vector3d fn =
+        face_normal(m.positions[t[0]].cast<double>(), m.positions[t[1]].cast<double>(),
+                    m.positions[t[2]].cast<double>());
     n[f] = fn.squaredNorm() > 0 ? fn.cast<float>() : Vector3f(0, 0, 1);
   }
   return n;
 }
 
 BigVector<Vector3f> bilateral_filter_normals(const GridMesh& m, const BigVector<Vector3f>& normals,
-                                             const DenoiseOptions& o, double& sigma_s_used, const Progress& progress) {
+                                             const DenoiseOptions& o, double& sigma_s_used,
+                                             const Progress& progress) {
   const std::size_t nf = m.n_faces();
   if (normals.size() != nf) throw Error("bilateral_filter_normals: one normal per face expected");
   std::vector<FaceGeom> geom(nf);
@@ -84,7 +86,8 @@ BigVector<Vector3f> bilateral_filter_normals(const GridMesh& m, const BigVector<
       std::array<int, 18> shared;
       const int k = face_neighbours(m.topo, f, nb, shared);
       for (int i = 0; i < k; ++i)
-        if (shared[std::size_t(i)] == 2) sum += (geom[f].centroid - geom[nb[std::size_t(i)]].centroid).norm(), ++count;
+        if (shared[std::size_t(i)] == 2)
+          sum += (geom[f].centroid - geom[nb[std::size_t(i)]].centroid).norm(), ++count;
     }
     sigma_s = count ? sum / double(count) : 1.0;
   }
@@ -120,7 +123,8 @@ BigVector<Vector3f> bilateral_filter_normals(const GridMesh& m, const BigVector<
 DenoiseStats denoise_normals(GridMesh& m, const DenoiseOptions& o, const Progress& progress) {
   if (o.iterations < 0 || o.vertex_iterations < 0) throw Error("iterations must be >= 0");
   if (!(o.sigma_s >= 0) || !std::isfinite(o.sigma_s))
-    throw Error("sigma_s must be a finite width in metres > 0 (or 0 for the default), not " + std::to_string(o.sigma_s));
+    throw Error("sigma_s must be a finite width in metres > 0 (or 0 for the default), not " +
+                std::to_string(o.sigma_s));
   if (!(o.sigma_r >= 0) || !std::isfinite(o.sigma_r))
     throw Error("sigma_r must be a finite width >= 0, not " + std::to_string(o.sigma_r));
   DenoiseStats stats;
@@ -129,8 +133,8 @@ DenoiseStats denoise_normals(GridMesh& m, const DenoiseOptions& o, const Progres
   // of weighting (dem2mesh's default is uniform weights).
   const BigVector<Vector3f> before =
       o.iterations > 0 ? vertex_normals(m.positions, m.topo, NormalWeighting::Area) : m.normals;
-  const BigVector<Vector3f> filtered =
-      bilateral_filter_normals(m, face_normals(m), o, stats.sigma_s, sub_progress(progress, 0, 0.8));
+  const BigVector<Vector3f> filtered = bilateral_filter_normals(
+      m, face_normals(m), o, stats.sigma_s, sub_progress(progress, 0, 0.8));
   const std::size_t nv = m.n_vertices(), rows = m.topo.rows, cols = m.topo.cols;
   if (o.update_vertices && o.iterations > 0) {
     const BigVector<Vector3f> original = m.positions;
@@ -158,7 +162,8 @@ DenoiseStats denoise_normals(GridMesh& m, const DenoiseOptions& o, const Progres
       std::swap(m.positions, next);  // both hold the same x, y and boundary z
     }
     for (std::size_t v = 0; v < nv; ++v)
-      stats.max_vertex_shift = std::max(stats.max_vertex_shift, double((m.positions[v] - original[v]).norm()));
+      stats.max_vertex_shift =
+          std::max(stats.max_vertex_shift, double((m.positions[v] - original[v]).norm()));
     m.normals = vertex_normals(m.positions, m.topo, NormalWeighting::Area);
   } else if (o.iterations > 0) {
 #pragma omp parallel for schedule(static)
@@ -168,7 +173,8 @@ DenoiseStats denoise_normals(GridMesh& m, const DenoiseOptions& o, const Progres
       const int k = m.topo.vertex_faces(v, faces, corners);
       Vector3d sum = Vector3d::Zero();
       for (int i = 0; i < k; ++i)
-        sum += face_geom(m, faces[std::size_t(i)]).area * filtered[faces[std::size_t(i)]].cast<double>();
+        sum += face_geom(m, faces[std::size_t(i)]).area *
+               filtered[faces[std::size_t(i)]].cast<double>();
       if (sum.norm() > 0) m.normals[v] = sum.normalized().cast<float>();
     }
   }

@@ -37,7 +37,8 @@ std::vector<double> terrace_interpolation(const Grid& grid, double h) {
         if (best < inf) d[r * C + c] = best, heap.emplace(best, std::uint32_t(r * C + c));
       }
     while (!heap.empty()) {
-      const double di = heap.top().first;  // (not structured bindings: clang 14 cannot capture them)
+      const double di =
+          heap.top().first;  // (not structured bindings: clang 14 cannot capture them)
       const std::uint32_t i = heap.top().second;
       heap.pop();
       if (di > d[i]) continue;
@@ -65,7 +66,8 @@ std::vector<double> terrace_interpolation(const Grid& grid, double h) {
       if (lo[i] < inf) mlo = std::max(mlo, lo[i]);
       if (hi[i] < inf) mhi = std::max(mhi, hi[i]);
       around.each(std::size_t(i), [&](std::size_t j, int) {
-        if (grid.z[j] == grid.z[i] && label[j] != id) label[j] = id, stack.push_back(std::uint32_t(j));
+        if (grid.z[j] == grid.z[i] && label[j] != id)
+          label[j] = id, stack.push_back(std::uint32_t(j));
       });
     }
     max_lo.push_back(mlo), max_hi.push_back(mhi);
@@ -74,10 +76,14 @@ std::vector<double> terrace_interpolation(const Grid& grid, double h) {
   for (std::size_t i = 0; i < n; ++i) {
     if (std::isnan(grid.z[i])) continue;
     const double k = grid.z[i];
-    if (lo[i] < inf && hi[i] < inf) z[i] = k - h + 2 * h * lo[i] / (lo[i] + hi[i]);
-    else if (lo[i] < inf) z[i] = k - h + 2 * h * lo[i] / (max_lo[label[i]] + 0.5);
-    else if (hi[i] < inf) z[i] = k + h - 2 * h * hi[i] / (max_hi[label[i]] + 0.5);
-    else z[i] = k;
+    if (lo[i] < inf && hi[i] < inf)
+      z[i] = k - h + 2 * h * lo[i] / (lo[i] + hi[i]);
+    else if (lo[i] < inf)
+      z[i] = k - h + 2 * h * lo[i] / (max_lo[label[i]] + 0.5);
+    else if (hi[i] < inf)
+      z[i] = k + h - 2 * h * hi[i] / (max_hi[label[i]] + 0.5);
+    else
+      z[i] = k;
   }
   return z;
 }
@@ -99,7 +105,9 @@ double dequantize(Grid& grid, double half_step, double within) {
   std::vector<double> z = ref;
   // Summed-area tables of the valid values and of their count: a box mean in O(1).
   std::vector<double> sum((R + 1) * (C + 1)), cnt((R + 1) * (C + 1));
-  auto at = [&](std::vector<double>& t, std::size_t r, std::size_t c) -> double& { return t[r * (C + 1) + c]; };
+  auto at = [&](std::vector<double>& t, std::size_t r, std::size_t c) -> double& {
+    return t[r * (C + 1) + c];
+  };
   for (const int radius : {16, 8, 4, 2, 1})
     for (int round = 0; round < (radius == 1 ? 16 : 4); ++round) {
       for (std::size_t r = 0; r < R; ++r) {

@@ -9,10 +9,9 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
-#include <exception>
 #include <cmath>
+#include <exception>
 #include <memory>
-
 
 #include "terrain/pn_surface.hpp"
 #include "terrain/pn_triangle.hpp"
@@ -30,12 +29,14 @@ using Eigen::Vector3d;
 // the logged cost rose between iterations.
 class FaceCost : public ceres::CostFunction {
  public:
-  FaceCost(const std::array<Vector3d, 3>& corner, std::vector<Vector3d> samples, const std::array<const double*, 3>& n)
+  FaceCost(const std::array<Vector3d, 3>& corner, std::vector<Vector3d> samples,
+           const std::array<const double*, 3>& n)
       : corner_(corner), samples_(std::move(samples)) {
     set_num_residuals(int(samples_.size()));
     *mutable_parameter_block_sizes() = {3, 3, 3};
     std::vector<double> r(samples_.size());
-    pn_face_residuals(corner_, samples_, n, r.data(), {nullptr, nullptr, nullptr}, nullptr, &start_);
+    pn_face_residuals(corner_, samples_, n, r.data(), {nullptr, nullptr, nullptr}, nullptr,
+                      &start_);
   }
   bool Evaluate(double const* const* n, double* residuals, double** jacobians) const override {
     std::array<double*, 3> jac{nullptr, nullptr, nullptr};
@@ -43,7 +44,8 @@ class FaceCost : public ceres::CostFunction {
     // The Jacobian is evaluated at accepted iterates only: their solutions start the
     // trial steps from there.
     const bool accepted = jac[0] || jac[1] || jac[2];
-    pn_face_residuals(corner_, samples_, {n[0], n[1], n[2]}, residuals, jac, &start_, accepted ? &solved_ : nullptr);
+    pn_face_residuals(corner_, samples_, {n[0], n[1], n[2]}, residuals, jac, &start_,
+                      accepted ? &solved_ : nullptr);
     if (accepted) start_.swap(solved_);
     return true;
   }
@@ -121,7 +123,8 @@ SurfaceError locate(const GridMesh& mesh, const std::vector<Vector3d>& local, As
 std::vector<Vector3d> to_local(const GridMesh& mesh, const SourceSamples& s) {
   std::vector<Vector3d> out(s.size());
   for (std::size_t i = 0; i < s.size(); ++i)
-    out[i] = Vector3d(s.x[i] - mesh.geo.origin_x, s.y[i] - mesh.geo.origin_y, s.z[i] - mesh.geo.origin_z);
+    out[i] = Vector3d(s.x[i] - mesh.geo.origin_x, s.y[i] - mesh.geo.origin_y,
+                      s.z[i] - mesh.geo.origin_z);
   return out;
 }
 
@@ -133,9 +136,12 @@ bool inside(const GridMesh& mesh, double wx, double wy) {
 
 }  // namespace
 
-void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner, const std::vector<Eigen::Vector3d>& samples,
-                       const std::array<const double*, 3>& n, double* residuals, const std::array<double*, 3>& jacobians,
-                       const std::vector<Eigen::Vector2d>* start, std::vector<Eigen::Vector2d>* solved) {
+void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner,
+                       const std::vector<Eigen::Vector3d>& samples,
+                       const std::array<const double*, 3>& n, double* residuals,
+                       const std::array<double*, 3>& jacobians,
+                       const std::vector<Eigen::Vector2d>* start,
+                       std::vector<Eigen::Vector2d>* solved) {
   if (solved) solved->resize(samples.size());
   PnPatch pd;
   std::array<Eigen::Matrix<double, 3, 9>, 10> m;  // d b_k / d(n1, n2, n3)
@@ -145,16 +151,17 @@ void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner, const std::
     Vec3<J> nj[3];
     for (int j = 0; j < 3; ++j)
       for (int k = 0; k < 3; ++k) nj[j][k] = J(n[std::size_t(j)][k], 3 * j + k);
-    const auto b =
-        pn_control_points<J>(corner[0].cast<J>(), corner[1].cast<J>(), corner[2].cast<J>(), nj[0], nj[1], nj[2]);
+    const auto b = pn_control_points<J>(corner[0].cast<J>(), corner[1].cast<J>(),
+                                        corner[2].cast<J>(), nj[0], nj[1], nj[2]);
     for (std::size_t k = 0; k < 10; ++k)
       for (int r = 0; r < 3; ++r) {
         pd.b[k][r] = b[k][r].a;
         m[k].row(r) = b[k][r].v.transpose();
       }
   } else {
-    const auto b = pn_control_points<double>(corner[0], corner[1], corner[2], Eigen::Map<const Vector3d>(n[0]),
-                                             Eigen::Map<const Vector3d>(n[1]), Eigen::Map<const Vector3d>(n[2]));
+    const auto b = pn_control_points<double>(
+        corner[0], corner[1], corner[2], Eigen::Map<const Vector3d>(n[0]),
+        Eigen::Map<const Vector3d>(n[1]), Eigen::Map<const Vector3d>(n[2]));
     for (std::size_t k = 0; k < 10; ++k) pd.b[k] = b[k];
   }
   const PnPolynomial poly = to_polynomial(pd);
@@ -173,8 +180,10 @@ void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner, const std::
     const Vector3d p0 = sol.converged ? sol.position : poly.at(s0, t0);
     // dP/ds, dP/dt from the monomial form (PnPolynomial's order).
     const double ss = s0 * s0, st = s0 * t0, tt = t0 * t0;
-    const Vector3d dpds = c[1] + 2 * s0 * c[3] + t0 * c[4] + 3 * ss * c[6] + 2 * st * c[7] + tt * c[8];
-    const Vector3d dpdt = c[2] + s0 * c[4] + 2 * t0 * c[5] + ss * c[7] + 2 * st * c[8] + 3 * tt * c[9];
+    const Vector3d dpds =
+        c[1] + 2 * s0 * c[3] + t0 * c[4] + 3 * ss * c[6] + 2 * st * c[7] + tt * c[8];
+    const Vector3d dpdt =
+        c[2] + s0 * c[4] + 2 * t0 * c[5] + ss * c[7] + 2 * st * c[8] + 3 * tt * c[9];
     Eigen::Matrix2d jm;
     jm << dpds.x(), dpdt.x(), dpds.y(), dpdt.y();
     const Eigen::RowVector2d g = Eigen::RowVector2d(dpds.z(), dpdt.z()) * jm.inverse();
@@ -187,8 +196,16 @@ void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner, const std::
     // normal only (B210 and B201 with n1, B120 and B021 with n2, B012 and B102 with n3); the
     // centre B111 = 1.5 mean(edge points) - 0.5 mean(corners) moves with a quarter of each.
     const double b9 = 1.5 * u * v * x;  // 6 u v x / 4
-    const double bw[10] = {0, 0, 0, 3 * u * u * v + b9, 3 * u * v * v + b9, 3 * v * v * x + b9, 3 * v * x * x + b9,
-                           3 * u * x * x + b9, 3 * u * u * x + b9, 0};
+    const double bw[10] = {0,
+                           0,
+                           0,
+                           3 * u * u * v + b9,
+                           3 * u * v * v + b9,
+                           3 * v * v * x + b9,
+                           3 * v * x * x + b9,
+                           3 * u * x * x + b9,
+                           3 * u * u * x + b9,
+                           0};
     constexpr std::size_t kEdge[3][2] = {{B210, B201}, {B120, B021}, {B012, B102}};
     for (std::size_t j = 0; j < 3; ++j) {
       if (!jacobians[j]) continue;
@@ -204,7 +221,8 @@ void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner, const std::
 SourceSamples dem_samples_for_mesh(const Grid& dem, const GridMesh& mesh) {
   std::unique_ptr<OGRCoordinateTransformation> ct;
   if (dem.geo.crs_kind == CrsKind::Geographic) {
-    if (mesh.geo.crs_wkt.empty()) throw Error("the DEM is geographic but the mesh has no CRS: cannot relate them");
+    if (mesh.geo.crs_wkt.empty())
+      throw Error("the DEM is geographic but the mesh has no CRS: cannot relate them");
     OGRSpatialReference src, dst;
     if (src.importFromWkt(dem.geo.crs_wkt.c_str()) != OGRERR_NONE ||
         dst.importFromWkt(mesh.geo.crs_wkt.c_str()) != OGRERR_NONE)
@@ -221,7 +239,8 @@ SourceSamples dem_samples_for_mesh(const Grid& dem, const GridMesh& mesh) {
       xs[c] = dem.geo.x_of_col(double(c));
       ys[c] = dem.geo.y_of_row(double(r));
     }
-    if (ct && !ct->Transform(dem.cols, xs.data(), ys.data())) throw Error("cannot project the DEM's samples");
+    if (ct && !ct->Transform(dem.cols, xs.data(), ys.data()))
+      throw Error("cannot project the DEM's samples");
     for (std::size_t c = 0; c < dem.cols; ++c) {
       const float z = dem.at(r, c);
       if (std::isnan(z) || !inside(mesh, xs[c], ys[c])) continue;
@@ -274,8 +293,10 @@ std::size_t solve_block(const BlockRound& k, std::size_t b) {
   std::vector<Vector3d> nb = k.snapshot;
   const std::size_t r0 = (b / nbc) * brows, c0 = (b % nbc) * bcols;
   const std::size_t r1 = std::min(topo.rows, r0 + brows), c1 = std::min(topo.cols, c0 + bcols);
-  const std::size_t er0 = r0 > opt.overlap ? r0 - opt.overlap : 0, ec0 = c0 > opt.overlap ? c0 - opt.overlap : 0;
-  const std::size_t er1 = std::min(topo.rows, r1 + opt.overlap), ec1 = std::min(topo.cols, c1 + opt.overlap);
+  const std::size_t er0 = r0 > opt.overlap ? r0 - opt.overlap : 0,
+                    ec0 = c0 > opt.overlap ? c0 - opt.overlap : 0;
+  const std::size_t er1 = std::min(topo.rows, r1 + opt.overlap),
+                    ec1 = std::min(topo.cols, c1 + opt.overlap);
   const auto in_ext = [&](std::size_t v) {
     const std::size_t r = v / topo.cols, c = v % topo.cols;
     return r >= er0 && r < er1 && c >= ec0 && c < ec1;
@@ -293,31 +314,34 @@ std::size_t solve_block(const BlockRound& k, std::size_t b) {
         if (a.offset[f] == a.offset[f + 1]) continue;
         const auto fv = topo.face(f);
         std::array<Vector3d, 3> corner;
-        for (int j = 0; j < 3; ++j) corner[std::size_t(j)] = mesh.positions[fv[std::size_t(j)]].cast<double>();
+        for (int j = 0; j < 3; ++j)
+          corner[std::size_t(j)] = mesh.positions[fv[std::size_t(j)]].cast<double>();
         const std::size_t count = a.offset[f + 1] - a.offset[f];
         const std::size_t take = opt.face_samples ? std::min(count, opt.face_samples) : count;
         std::vector<Vector3d> picked;
         for (std::size_t j = 0; j < take; ++j)  // evenly strided over the face's samples
           picked.push_back(local[a.sample[a.offset[f] + j * count / take]]);
-        problem.AddResidualBlock(new FaceCost(corner, std::move(picked),
-                                              {nb[fv[0]].data(), nb[fv[1]].data(), nb[fv[2]].data()}),
-                                 nullptr, nb[fv[0]].data(),
-                                 nb[fv[1]].data(), nb[fv[2]].data());
+        problem.AddResidualBlock(
+            new FaceCost(corner, std::move(picked),
+                         {nb[fv[0]].data(), nb[fv[1]].data(), nb[fv[2]].data()}),
+            nullptr, nb[fv[0]].data(), nb[fv[1]].data(), nb[fv[2]].data());
       }
   for (std::size_t r = er0; r < er1; ++r)
     for (std::size_t c = ec0; c < ec1; ++c) {
       const std::size_t v = r * topo.cols + c;
       if (k.pull > 0)
         problem.AddResidualBlock(
-            new ceres::AutoDiffCostFunction<PullCost, 3, 3>(new PullCost{k.start[v], k.pull}), nullptr,
-            nb[v].data());
+            new ceres::AutoDiffCostFunction<PullCost, 3, 3>(new PullCost{k.start[v], k.pull}),
+            nullptr, nb[v].data());
     }
   std::vector<double*> blocks;
   problem.GetParameterBlocks(&blocks);
   for (double* p : blocks) {
     const std::size_t v = std::size_t((reinterpret_cast<Vector3d*>(p)) - nb.data());
-    if (in_ext(v)) problem.SetManifold(p, &k.sphere);
-    else problem.SetParameterBlockConstant(p);
+    if (in_ext(v))
+      problem.SetManifold(p, &k.sphere);
+    else
+      problem.SetParameterBlockConstant(p);
   }
   ceres::Solver::Options so;
   // Conjugate gradients on the normal equations (Jacobi preconditioner): the blocks are
@@ -344,20 +368,24 @@ std::size_t solve_block(const BlockRound& k, std::size_t b) {
   return summary.iterations.size() > 0 ? summary.iterations.size() - 1 : 0;
 }
 
-NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, const NormalFitOptions& opt,
-                               const Progress& progress) {
+NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples,
+                               const NormalFitOptions& opt, const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!(opt.regularization >= 0) || opt.max_iterations < 1 || opt.rounds < 1 || opt.block < 2)
-    throw Error("fit_pn_normals: regularization >= 0, iterations, rounds >= 1 and a block of >= 2 vertices");
+    throw Error(
+        "fit_pn_normals: regularization >= 0, iterations, rounds >= 1 and a block of >= 2 "
+        "vertices");
   NormalFitReport rep;
   const std::vector<Vector3d> local = to_local(mesh, samples);
   Assignment a;
   rep.before = locate(mesh, local, &a);  // and the first round's assignment
-  if (rep.before.samples == 0) throw Error("no source sample lies under the mesh: nothing to fit the normals to");
+  if (rep.before.samples == 0)
+    throw Error("no source sample lies under the mesh: nothing to fit the normals to");
   const GridTopology& topo = mesh.topo;
   const std::size_t nv = mesh.n_vertices();
   std::vector<Vector3d> normal(nv), start(nv);
-  for (std::size_t v = 0; v < nv; ++v) normal[v] = start[v] = mesh.normals[v].cast<double>().normalized();
+  for (std::size_t v = 0; v < nv; ++v)
+    normal[v] = start[v] = mesh.normals[v].cast<double>().normalized();
   const double pull = opt.regularization * mesh.geo.dx;
 
   // Blocks of vertices: cores tile the grid.
@@ -379,7 +407,8 @@ NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, con
     const int per_block = std::max(1, threads / side_by_side);
     std::exception_ptr error;
     std::size_t blocks_done = 0;
-    const BlockRound k{mesh, a, local, opt, snapshot, start, pull, brows, bcols, nbc, per_block, sphere, rep, normal};
+    const BlockRound k{mesh,  a,     local, opt,       snapshot, start, pull,
+                       brows, bcols, nbc,   per_block, sphere,   rep,   normal};
 #pragma omp parallel for schedule(dynamic) num_threads(side_by_side)
     for (std::size_t b = 0; b < rep.blocks; ++b) {
       try {
@@ -388,7 +417,8 @@ NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, con
         {
           rep.iterations += iterations;
           ++blocks_done;
-          report(progress, (double(round) + double(blocks_done) / double(rep.blocks)) / double(opt.rounds));
+          report(progress,
+                 (double(round) + double(blocks_done) / double(rep.blocks)) / double(opt.rounds));
         }
       } catch (...) {
 #pragma omp critical(fit_normals_block)
@@ -399,7 +429,8 @@ NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, con
     for (std::size_t v = 0; v < nv; ++v) mesh.normals[v] = normal[v].normalized().cast<float>();
   }
   rep.after = locate(mesh, local, nullptr);
-  mesh.normal_fit = {true, rep.before.rmse, rep.before.max_abs, rep.after.rmse, rep.after.max_abs, rep.after.samples};
+  mesh.normal_fit = {true,           rep.before.rmse,   rep.before.max_abs,
+                     rep.after.rmse, rep.after.max_abs, rep.after.samples};
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }

@@ -39,14 +39,18 @@ Gpkg::Gpkg(const std::string& path, const std::string& crs_wkt) : path_(path), o
   std::error_code ec;
   updated_ = fs::exists(path, ec);
   if (updated_ && !starts_as_gpkg(path))
-    throw Error("cannot write '" + path + "': it exists and is not a GeoPackage (give another name)");
+    throw Error("cannot write '" + path +
+                "': it exists and is not a GeoPackage (give another name)");
   errors_ = std::make_unique<Errors>();
   CPLErrorReset();
   if (updated_) {  // a copy of it, updated
     fs::copy_file(path, out_.temp_path(), fs::copy_options::overwrite_existing, ec);
-    if (ec) throw Error("cannot write '" + path + "': cannot copy it to update it (" + ec.message() + ")");
+    if (ec)
+      throw Error("cannot write '" + path + "': cannot copy it to update it (" + ec.message() +
+                  ")");
     const char* drivers[] = {"GPKG", nullptr};
-    ds_.reset(GDALDataset::Open(out_.temp_path().c_str(), GDAL_OF_VECTOR | GDAL_OF_UPDATE, drivers));
+    ds_.reset(
+        GDALDataset::Open(out_.temp_path().c_str(), GDAL_OF_VECTOR | GDAL_OF_UPDATE, drivers));
   } else {
     GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("GPKG");
     if (!drv) throw Error("GDAL has no GPKG driver");
@@ -60,7 +64,8 @@ Gpkg::~Gpkg() {
   ds_.reset();  // closed before the temporary is removed
 }
 
-OGRLayer* Gpkg::layer(const char* name, OGRwkbGeometryType type, std::initializer_list<GpkgField> fields) {
+OGRLayer* Gpkg::layer(const char* name, OGRwkbGeometryType type,
+                      std::initializer_list<GpkgField> fields) {
   for (int i = 0; i < ds_->GetLayerCount(); ++i)
     if (EQUAL(ds_->GetLayer(i)->GetName(), name)) {
       if (ds_->DeleteLayer(i) != OGRERR_NONE) fail();
@@ -92,7 +97,8 @@ void Gpkg::commit() {
 }
 
 void Gpkg::fail() const {
-  std::string why = errors_ && !errors_->first.empty() ? errors_->first : std::string(CPLGetLastErrorMsg());
+  std::string why =
+      errors_ && !errors_->first.empty() ? errors_->first : std::string(CPLGetLastErrorMsg());
   if (why.find("disk I/O error") != std::string::npos || why.find("full") != std::string::npos)
     why += " (disk full, or over the file size limit?)";
   throw Error("cannot write '" + path_ + "': " + why);

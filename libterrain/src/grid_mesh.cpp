@@ -1,8 +1,8 @@
 #include "terrain/grid_mesh.hpp"
 
+#include <omp.h>
 #include <Eigen/Geometry>
 #include <cmath>
-#include <omp.h>
 
 #include "terrain/error.hpp"
 
@@ -11,7 +11,8 @@ namespace terrain {
 bool georef_in_range(const GridTopology& topo, const MeshGeoref& geo) {
   return geo.dx >= 1e-3 && geo.dy >= 1e-3 && geo.dx <= 1e6 && geo.dy <= 1e6 &&
          double(topo.cols - 1) * geo.dx <= 1e8 && double(topo.rows - 1) * geo.dy <= 1e8 &&
-         std::abs(geo.origin_x) <= 1e8 && std::abs(geo.origin_y) <= 1e8 && std::abs(geo.origin_z) <= 1e8;
+         std::abs(geo.origin_x) <= 1e8 && std::abs(geo.origin_y) <= 1e8 &&
+         std::abs(geo.origin_z) <= 1e8;
 }
 
 Eigen::Vector3d face_normal(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
@@ -30,9 +31,12 @@ NormalWeighting parse_normal_weighting(const std::string& name) {
 
 const char* to_string(NormalWeighting w) {
   switch (w) {
-    case NormalWeighting::Uniform: return "uniform";
-    case NormalWeighting::Angle: return "angle";
-    case NormalWeighting::Area: return "area";
+    case NormalWeighting::Uniform:
+      return "uniform";
+    case NormalWeighting::Angle:
+      return "angle";
+    case NormalWeighting::Area:
+      return "area";
   }
   return "?";
 }
@@ -47,9 +51,12 @@ struct FaceTerms {
 
   Eigen::Vector3d at_corner(int k, NormalWeighting w) const {
     switch (w) {
-      case NormalWeighting::Uniform: return unit;
-      case NormalWeighting::Area: return cross;
-      case NormalWeighting::Angle: return unit * angle[k];
+      case NormalWeighting::Uniform:
+        return unit;
+      case NormalWeighting::Area:
+        return cross;
+      case NormalWeighting::Angle:
+        return unit * angle[k];
     }
     return unit;
   }
@@ -90,7 +97,8 @@ struct UnitRow {
   Eigen::Vector3d at(std::size_t i) const { return {x[i], y[i], z[i]}; }
 };
 
-void cell_row_units(const Eigen::Vector3f* positions, std::size_t cols, std::size_t cr, UnitRow& out) {
+void cell_row_units(const Eigen::Vector3f* positions, std::size_t cols, std::size_t cr,
+                    UnitRow& out) {
   const std::size_t n = 2 * (cols - 1);
   out.x.resize(n), out.y.resize(n), out.z.resize(n);
   double *ux = out.x.data(), *uy = out.y.data(), *uz = out.z.data();
@@ -117,8 +125,8 @@ void cell_row_units(const Eigen::Vector3f* positions, std::size_t cols, std::siz
 // (serial). A window of two cell rows (above and below the vertex row) slides down the band,
 // so every face is evaluated about once. term(row, i, k): face i's term at its corner k.
 template <class Row, class Fill, class Term>
-void normals_of_rows(const GridTopology& topo, std::size_t r_begin, std::size_t r_end, Eigen::Vector3f* normals,
-                     const Fill& fill, const Term& term) {
+void normals_of_rows(const GridTopology& topo, std::size_t r_begin, std::size_t r_end,
+                     Eigen::Vector3f* normals, const Fill& fill, const Term& term) {
   const std::size_t rows = topo.rows, cols = topo.cols;
   Row above, below;
   if (r_begin < r_end && r_begin > 0) fill(r_begin - 1, above);
@@ -135,7 +143,8 @@ void normals_of_rows(const GridTopology& topo, std::size_t r_begin, std::size_t 
       if (r + 1 < rows && c > 0) sum += term(below, 2 * (c - 1) + 1, 2);
       if (r + 1 < rows && c + 1 < cols) sum += term(below, 2 * c, 0) + term(below, 2 * c + 1, 0);
       const double len = sum.norm();
-      normals[r * cols + c] = len > 0.0 ? Eigen::Vector3f((sum / len).cast<float>()) : Eigen::Vector3f(0, 0, 1);
+      normals[r * cols + c] =
+          len > 0.0 ? Eigen::Vector3f((sum / len).cast<float>()) : Eigen::Vector3f(0, 0, 1);
     }
     std::swap(above, below);
   }
@@ -145,14 +154,19 @@ void normals_of_rows(const Eigen::Vector3f* positions, const GridTopology& topo,
                      std::size_t r_begin, std::size_t r_end, Eigen::Vector3f* normals) {
   if (w == NormalWeighting::Uniform) {
     normals_of_rows<UnitRow>(
-        topo, r_begin, r_end, normals, [&](std::size_t cr, UnitRow& row) { cell_row_units(positions, topo.cols, cr, row); },
+        topo, r_begin, r_end, normals,
+        [&](std::size_t cr, UnitRow& row) { cell_row_units(positions, topo.cols, cr, row); },
         [](const UnitRow& row, std::size_t i, int) { return row.at(i); });
     return;
   }
   normals_of_rows<std::vector<FaceTerms>>(
       topo, r_begin, r_end, normals,
-      [&](std::size_t cr, std::vector<FaceTerms>& row) { cell_row_terms(positions, topo, cr, w, row); },
-      [w](const std::vector<FaceTerms>& row, std::size_t i, int k) { return row[i].at_corner(k, w); });
+      [&](std::size_t cr, std::vector<FaceTerms>& row) {
+        cell_row_terms(positions, topo, cr, w, row);
+      },
+      [w](const std::vector<FaceTerms>& row, std::size_t i, int k) {
+        return row[i].at_corner(k, w);
+      });
 }
 
 void check_meshable(const Grid& grid) {
@@ -164,24 +178,28 @@ void check_meshable(const Grid& grid) {
 }  // namespace
 
 BigVector<Eigen::Vector3f> vertex_normals(const BigVector<Eigen::Vector3f>& positions,
-                                            const GridTopology& topo, NormalWeighting weighting) {
+                                          const GridTopology& topo, NormalWeighting weighting) {
   if (positions.size() != topo.n_vertices() || topo.rows < 2 || topo.cols < 2)
     throw Error("vertex_normals: positions do not match the grid topology");
   BigVector<Eigen::Vector3f> normals(positions.size());
   // Each thread takes a contiguous band of vertex rows.
 #pragma omp parallel
   {
-    const std::size_t nt = std::size_t(omp_get_num_threads()), t = std::size_t(omp_get_thread_num());
-    normals_of_rows(positions.data(), topo, weighting, topo.rows * t / nt, topo.rows * (t + 1) / nt, normals.data());
+    const std::size_t nt = std::size_t(omp_get_num_threads()),
+                      t = std::size_t(omp_get_thread_num());
+    normals_of_rows(positions.data(), topo, weighting, topo.rows * t / nt, topo.rows * (t + 1) / nt,
+                    normals.data());
   }
   return normals;
 }
 
-GridMeshRows::GridMeshRows(const Grid& grid, NormalWeighting weighting) : grid_(grid), weighting_(weighting) {
+GridMeshRows::GridMeshRows(const Grid& grid, NormalWeighting weighting)
+    : grid_(grid), weighting_(weighting) {
   check_meshable(grid);
 }
 
-void GridMeshRows::rows(std::size_t r0, std::size_t r1, Eigen::Vector3f* positions, Eigen::Vector3f* normals) {
+void GridMeshRows::rows(std::size_t r0, std::size_t r1, Eigen::Vector3f* positions,
+                        Eigen::Vector3f* normals) {
   const std::size_t cols = grid_.cols, a = r0 > 0 ? r0 - 1 : 0, b = std::min(grid_.rows, r1 + 1);
   if (r0 >= r1 || r1 > grid_.rows) throw Error("GridMeshRows: rows outside the grid");
   // The band with a row of halo on each side: its own normals equal the whole grid's on
@@ -191,9 +209,10 @@ void GridMeshRows::rows(std::size_t r0, std::size_t r1, Eigen::Vector3f* positio
     for (std::size_t c = 0; c < cols; ++c)
       window_[(r - a) * cols + c] = grid_vertex(r, c, grid_.geo.dx, grid_.geo.dy, grid_.at(r, c));
   window_normals_.resize(window_.size());
-  normals_of_rows(window_.data(), GridTopology{b - a, cols}, weighting_, r0 - a, r1 - a, window_normals_.data());
-  std::copy(window_.begin() + std::ptrdiff_t((r0 - a) * cols), window_.begin() + std::ptrdiff_t((r1 - a) * cols),
-            positions);
+  normals_of_rows(window_.data(), GridTopology{b - a, cols}, weighting_, r0 - a, r1 - a,
+                  window_normals_.data());
+  std::copy(window_.begin() + std::ptrdiff_t((r0 - a) * cols),
+            window_.begin() + std::ptrdiff_t((r1 - a) * cols), positions);
   std::copy(window_normals_.begin() + std::ptrdiff_t((r0 - a) * cols),
             window_normals_.begin() + std::ptrdiff_t((r1 - a) * cols), normals);
 }
@@ -219,8 +238,9 @@ GridMesh make_grid_mesh(const Grid& grid, NormalWeighting weighting) {
 #pragma omp parallel for schedule(static)
   for (long r = 0; r < rows; ++r)
     for (long c = 0; c < cols; ++c)
-      m.positions[std::size_t(r * cols + c)] = grid_vertex(std::size_t(r), std::size_t(c), grid.geo.dx, grid.geo.dy,
-                                                           grid.at(std::size_t(r), std::size_t(c)));
+      m.positions[std::size_t(r * cols + c)] =
+          grid_vertex(std::size_t(r), std::size_t(c), grid.geo.dx, grid.geo.dy,
+                      grid.at(std::size_t(r), std::size_t(c)));
   m.normals = vertex_normals(m.positions, m.topo, weighting);
   return m;
 }

@@ -10,8 +10,10 @@ namespace terrain {
 
 void write_png(const std::string& path, int width, int height, int channels,
                const std::vector<std::uint8_t>& pixels, const std::string& description) {
-  if (width <= 0 || height <= 0 || pixels.size() != std::size_t(width) * std::size_t(height) * std::size_t(channels))
-    throw Error("write_png: pixel buffer does not match " + std::to_string(width) + " x " + std::to_string(height));
+  if (width <= 0 || height <= 0 ||
+      pixels.size() != std::size_t(width) * std::size_t(height) * std::size_t(channels))
+    throw Error("write_png: pixel buffer does not match " + std::to_string(width) + " x " +
+                std::to_string(height));
   // Encoded in memory (OpenImageIO's PNG writer does not report failed file writes), then
   // written through the checked atomic writer.
   std::vector<unsigned char> bytes;
@@ -25,7 +27,8 @@ void write_png(const std::string& path, int width, int height, int channels,
         !image->write_image(OIIO::TypeDesc::UINT8, pixels.data()) || !image->close())
       throw Error("cannot write '" + path + "': " + image->geterror());
   }
-  write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  write_file_atomic(path,
+                    std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 }  // namespace terrain

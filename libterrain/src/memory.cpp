@@ -48,7 +48,8 @@ double available_memory() {
     char* end = nullptr;
     const double mib = std::strtod(cap, &end);
     if (end == cap || *end != '\0' || !(mib >= 1.0 && mib <= kMaxMemoryMib))
-      throw Error(fmt::format("TERRAIN_MEMORY_MIB='{}' is not a number of MiB from 1 to {:.0f}", cap, kMaxMemoryMib));
+      throw Error(fmt::format("TERRAIN_MEMORY_MIB='{}' is not a number of MiB from 1 to {:.0f}",
+                              cap, kMaxMemoryMib));
     available = std::min(available > 0.0 ? available : mib * 1048576.0, mib * 1048576.0);
   }
   return available;
@@ -63,8 +64,8 @@ std::string bytes_text(double bytes) {
 void check_memory(double bytes, const std::string& what, const std::string& advice) {
   const double available = available_memory();
   if (available > 0 && bytes > available)
-    throw Error(fmt::format("{} needs {}, more than this machine's memory available now ({}); {}", what,
-                            bytes_text(bytes), bytes_text(available), advice));
+    throw Error(fmt::format("{} needs {}, more than this machine's memory available now ({}); {}",
+                            what, bytes_text(bytes), bytes_text(available), advice));
 }
 
 }  // namespace terrain

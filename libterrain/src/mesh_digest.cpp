@@ -19,8 +19,10 @@ struct MeshDigest::State {
 MeshDigest::MeshDigest() : state_(std::make_unique<State>()) { XXH3_64bits_reset(&state_->xxh); }
 MeshDigest::~MeshDigest() = default;
 
-void MeshDigest::add(const Eigen::Vector3f* positions, const Eigen::Vector3f* normals, std::size_t n) {
-  static_assert(std::endian::native == std::endian::little, "the digest is of little-endian floats");
+void MeshDigest::add(const Eigen::Vector3f* positions, const Eigen::Vector3f* normals,
+                     std::size_t n) {
+  static_assert(std::endian::native == std::endian::little,
+                "the digest is of little-endian floats");
   constexpr std::size_t kChunk = 2048;  // vertices interleaved at a time
   std::array<char, 24 * kChunk> buf;
   for (std::size_t i = 0; i < n; i += kChunk) {
@@ -37,7 +39,8 @@ std::uint64_t MeshDigest::value() const { return XXH3_64bits_digest(&state_->xxh
 
 std::uint64_t mesh_digest(const GridMesh& mesh) {
   MeshDigest d;
-  d.add(mesh.positions.data(), mesh.normals.data(), std::min(mesh.positions.size(), mesh.normals.size()));
+  d.add(mesh.positions.data(), mesh.normals.data(),
+        std::min(mesh.positions.size(), mesh.normals.size()));
   return d.value();
 }
 

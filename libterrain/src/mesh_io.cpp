@@ -1,6 +1,7 @@
 #include "terrain/mesh_io.hpp"
 #include "terrain/dem_io.hpp"
 
+#include <fmt/format.h>
 #include <OpenMesh/Core/IO/exporter/BaseExporter.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/IO/reader/PLYReader.hh>
@@ -8,23 +9,22 @@
 #include <OpenMesh/Core/IO/writer/PLYWriter.hh>
 #include <OpenMesh/Core/Mesh/BaseKernel.hh>
 #include <OpenMesh/Core/System/omstream.hh>
-#include <fmt/format.h>
 
 #include <algorithm>
 #include <bit>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <limits>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <future>
-#include <charconv>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <streambuf>
 #include <string_view>
-#include <optional>
 
 #include "terrain/atomic_file.hpp"
 #include "terrain/error.hpp"
@@ -95,18 +95,24 @@ class GridMeshExporter : public BaseExporter {
   explicit GridMeshExporter(const GridMesh& m) : m_(m), kernel_(m.n_vertices(), m.n_faces()) {
     const std::size_t nv = m.n_vertices(), nf = m.n_faces();
     if (!m.voronoi.empty()) {
-      kernel_.add_vertex_floats("voronoi_area", nv, [&](std::size_t i) { return m.voronoi.vertex_areas[i]; });
+      kernel_.add_vertex_floats("voronoi_area", nv,
+                                [&](std::size_t i) { return m.voronoi.vertex_areas[i]; });
       for (int k = 0; k < 3; ++k)
-        kernel_.add_vertex_floats(kTangent[k], nv, [&](std::size_t i) { return m.voronoi.tangents[i][k]; });
+        kernel_.add_vertex_floats(kTangent[k], nv,
+                                  [&](std::size_t i) { return m.voronoi.tangents[i][k]; });
       for (int k = 0; k < 3; ++k)
-        kernel_.add_face_floats(kCornerArea[k], nf, [&](std::size_t i) { return m.voronoi.corner_areas[i][k]; });
+        kernel_.add_face_floats(kCornerArea[k], nf,
+                                [&](std::size_t i) { return m.voronoi.corner_areas[i][k]; });
     }
     if (m.normal_change.size() == nv)
-      kernel_.add_vertex_floats("normal_change", nv, [&](std::size_t i) { return m.normal_change[i]; });
-    if (m.filled.size() == nv) kernel_.add_vertex_floats("filled", nv, [&](std::size_t i) { return float(m.filled[i]); });
+      kernel_.add_vertex_floats("normal_change", nv,
+                                [&](std::size_t i) { return m.normal_change[i]; });
+    if (m.filled.size() == nv)
+      kernel_.add_vertex_floats("filled", nv, [&](std::size_t i) { return float(m.filled[i]); });
   }
   bool has_custom() const {
-    return !m_.voronoi.empty() || m_.normal_change.size() == m_.n_vertices() || m_.filled.size() == m_.n_vertices();
+    return !m_.voronoi.empty() || m_.normal_change.size() == m_.n_vertices() ||
+           m_.filled.size() == m_.n_vertices();
   }
 
   OM::Vec3f point(OM::VertexHandle v) const override {
@@ -123,7 +129,8 @@ class GridMeshExporter : public BaseExporter {
   bool is_normal_double() const override { return false; }
   unsigned int get_vhandles(OM::FaceHandle f, std::vector<OM::VertexHandle>& vh) const override {
     const auto t = m_.topo.face(std::size_t(f.idx()));
-    vh.assign({OM::VertexHandle(int(t[0])), OM::VertexHandle(int(t[1])), OM::VertexHandle(int(t[2]))});
+    vh.assign(
+        {OM::VertexHandle(int(t[0])), OM::VertexHandle(int(t[1])), OM::VertexHandle(int(t[2]))});
     return 3;
   }
   OM::BaseKernel* kernel() override { return &kernel_; }
@@ -142,8 +149,12 @@ class GridMeshExporter : public BaseExporter {
   OM::Vec4f colorAf(OM::VertexHandle) const override { return OM::Vec4f(0); }
   OM::Vec2f texcoord(OM::VertexHandle) const override { return OM::Vec2f(0); }
   OM::Vec2f texcoord(OM::HalfedgeHandle) const override { return OM::Vec2f(0); }
-  OM::Attributes::StatusInfo status(OM::VertexHandle) const override { return OM::Attributes::StatusInfo(); }
-  OM::HalfedgeHandle getHeh(OM::FaceHandle, OM::VertexHandle) const override { return OM::HalfedgeHandle(); }
+  OM::Attributes::StatusInfo status(OM::VertexHandle) const override {
+    return OM::Attributes::StatusInfo();
+  }
+  OM::HalfedgeHandle getHeh(OM::FaceHandle, OM::VertexHandle) const override {
+    return OM::HalfedgeHandle();
+  }
   unsigned int get_face_texcoords(std::vector<OM::Vec2f>&) const override { return 0; }
   OM::Vec3f normal(OM::FaceHandle) const override { return OM::Vec3f(0); }
   OM::Vec3d normald(OM::FaceHandle) const override { return OM::Vec3d(0); }
@@ -153,20 +164,26 @@ class GridMeshExporter : public BaseExporter {
   OM::Vec4ui colorAi(OM::FaceHandle) const override { return OM::Vec4ui(0); }
   OM::Vec3f colorf(OM::FaceHandle) const override { return OM::Vec3f(0); }
   OM::Vec4f colorAf(OM::FaceHandle) const override { return OM::Vec4f(0); }
-  OM::Attributes::StatusInfo status(OM::FaceHandle) const override { return OM::Attributes::StatusInfo(); }
+  OM::Attributes::StatusInfo status(OM::FaceHandle) const override {
+    return OM::Attributes::StatusInfo();
+  }
   OM::Vec3uc color(OM::EdgeHandle) const override { return OM::Vec3uc(0); }
   OM::Vec4uc colorA(OM::EdgeHandle) const override { return OM::Vec4uc(0); }
   OM::Vec3ui colori(OM::EdgeHandle) const override { return OM::Vec3ui(0); }
   OM::Vec4ui colorAi(OM::EdgeHandle) const override { return OM::Vec4ui(0); }
   OM::Vec3f colorf(OM::EdgeHandle) const override { return OM::Vec3f(0); }
   OM::Vec4f colorAf(OM::EdgeHandle) const override { return OM::Vec4f(0); }
-  OM::Attributes::StatusInfo status(OM::EdgeHandle) const override { return OM::Attributes::StatusInfo(); }
+  OM::Attributes::StatusInfo status(OM::EdgeHandle) const override {
+    return OM::Attributes::StatusInfo();
+  }
   int get_halfedge_id(OM::VertexHandle) override { return -1; }
   int get_halfedge_id(OM::FaceHandle) override { return -1; }
   int get_next_halfedge_id(OM::HalfedgeHandle) override { return -1; }
   int get_to_vertex_id(OM::HalfedgeHandle) override { return -1; }
   int get_face_id(OM::HalfedgeHandle) override { return -1; }
-  OM::Attributes::StatusInfo status(OM::HalfedgeHandle) const override { return OM::Attributes::StatusInfo(); }
+  OM::Attributes::StatusInfo status(OM::HalfedgeHandle) const override {
+    return OM::Attributes::StatusInfo();
+  }
 
  private:
   const GridMesh& m_;
@@ -215,10 +232,14 @@ class GridMeshImporter : public BaseImporter {
   size_t n_edges() const override { return 0; }
 
   // Data we do not keep.
-  OM::HalfedgeHandle add_edge(OM::VertexHandle, OM::VertexHandle) override { return OM::HalfedgeHandle(); }
+  OM::HalfedgeHandle add_edge(OM::VertexHandle, OM::VertexHandle) override {
+    return OM::HalfedgeHandle();
+  }
   OM::FaceHandle add_face(OM::HalfedgeHandle) override { return OM::FaceHandle(); }
-  void add_face_texcoords(OM::FaceHandle, OM::VertexHandle, const std::vector<OM::Vec2f>&) override {}
-  void add_face_texcoords(OM::FaceHandle, OM::VertexHandle, const std::vector<OM::Vec3f>&) override {}
+  void add_face_texcoords(OM::FaceHandle, OM::VertexHandle,
+                          const std::vector<OM::Vec2f>&) override {}
+  void add_face_texcoords(OM::FaceHandle, OM::VertexHandle,
+                          const std::vector<OM::Vec3f>&) override {}
   void set_face_texindex(OM::FaceHandle, int) override {}
   void set_halfedge(OM::VertexHandle, OM::HalfedgeHandle) override {}
   void set_color(OM::VertexHandle, const OM::Vec3uc&) override {}
@@ -249,7 +270,9 @@ class GridMeshImporter : public BaseImporter {
   void add_texture_information(int, std::string) override {}
 
  private:
-  bool valid(OM::VertexHandle v) const { return v.idx() >= 0 && std::size_t(v.idx()) < m_.positions.size(); }
+  bool valid(OM::VertexHandle v) const {
+    return v.idx() >= 0 && std::size_t(v.idx()) < m_.positions.size();
+  }
   GridMesh& m_;
   PropertyKernel kernel_;
 };
@@ -280,7 +303,8 @@ class CommentInjector : public std::streambuf {
 
  private:
   void inject() {
-    ok_ = ok_ && dest_->sputn(text_.data(), std::streamsize(text_.size())) == std::streamsize(text_.size());
+    ok_ = ok_ && dest_->sputn(text_.data(), std::streamsize(text_.size())) ==
+                     std::streamsize(text_.size());
     done_ = true;
   }
   bool flush_buffer() {
@@ -313,8 +337,10 @@ std::string escape_ascii(const std::string& text) {
   std::string out;
   for (const char ch : text) {
     const auto u = static_cast<unsigned char>(ch);
-    if (u >= 0x80 || ch == '\\' || ch == '\n' || ch == '\r') out += fmt::format("\\x{:02X}", u);
-    else out += ch;
+    if (u >= 0x80 || ch == '\\' || ch == '\n' || ch == '\r')
+      out += fmt::format("\\x{:02X}", u);
+    else
+      out += ch;
   }
   return out;
 }
@@ -323,7 +349,8 @@ std::string unescape_ascii(const std::string& text) {
   std::string out;
   for (std::size_t i = 0; i < text.size(); ++i) {
     if (text[i] == '\\' && i + 3 < text.size() && text[i + 1] == 'x' &&
-        std::isxdigit(static_cast<unsigned char>(text[i + 2])) && std::isxdigit(static_cast<unsigned char>(text[i + 3]))) {
+        std::isxdigit(static_cast<unsigned char>(text[i + 2])) &&
+        std::isxdigit(static_cast<unsigned char>(text[i + 3]))) {
       out += char(std::stoi(text.substr(i + 2, 2), nullptr, 16));
       i += 3;
     } else {
@@ -338,13 +365,16 @@ constexpr std::string_view kDigestComment = "comment mesh_digest ";
 
 std::string header_comments(const GridMesh& m, std::optional<std::uint64_t> digest) {
   std::string out = fmt::format("comment terrain-mesh {}\n", kFormatVersion);
-  out += fmt::format("comment grid {} {} {:.17g} {:.17g}\n", m.topo.rows, m.topo.cols, m.geo.dx, m.geo.dy);
-  out += fmt::format("comment origin {:.17g} {:.17g} {:.17g}\n", m.geo.origin_x, m.geo.origin_y, m.geo.origin_z);
+  out += fmt::format("comment grid {} {} {:.17g} {:.17g}\n", m.topo.rows, m.topo.cols, m.geo.dx,
+                     m.geo.dy);
+  out += fmt::format("comment origin {:.17g} {:.17g} {:.17g}\n", m.geo.origin_x, m.geo.origin_y,
+                     m.geo.origin_z);
   out += fmt::format("comment crs_epsg {}\n", m.geo.epsg);
   const std::string wkt = escape_ascii(m.geo.crs_wkt);
   for (std::size_t i = 0; i < wkt.size();) {
     std::size_t n = std::min(kWktChunk, wkt.size() - i);
-    for (std::size_t k = 1; k <= 3 && k < n && i + n < wkt.size(); ++k)  // never split a \xHH escape
+    for (std::size_t k = 1; k <= 3 && k < n && i + n < wkt.size();
+         ++k)  // never split a \xHH escape
       if (wkt[i + n - k] == '\\') {
         n -= k;
         break;
@@ -354,14 +384,16 @@ std::string header_comments(const GridMesh& m, std::optional<std::uint64_t> dige
   }
   if (digest) out += std::string(kDigestComment) + digest_text(*digest) + "\n";
   if (m.normal_fit.fitted)
-    out += fmt::format("comment normals_fitted {:.6g} {:.6g} {:.6g} {:.6g} {}\n", m.normal_fit.rmse_before,
-                       m.normal_fit.max_before, m.normal_fit.rmse_after, m.normal_fit.max_after, m.normal_fit.samples);
+    out += fmt::format("comment normals_fitted {:.6g} {:.6g} {:.6g} {:.6g} {}\n",
+                       m.normal_fit.rmse_before, m.normal_fit.max_before, m.normal_fit.rmse_after,
+                       m.normal_fit.max_after, m.normal_fit.samples);
   if (!m.provenance.empty()) out += "comment provenance " + escape_ascii(m.provenance) + "\n";
   return out;
 }
 
 std::uint64_t checked_mul(std::uint64_t a, std::uint64_t b) {
-  if (a != 0 && b > std::numeric_limits<std::uint64_t>::max() / a) return std::numeric_limits<std::uint64_t>::max();
+  if (a != 0 && b > std::numeric_limits<std::uint64_t>::max() / a)
+    return std::numeric_limits<std::uint64_t>::max();
   return a * b;
 }
 
@@ -369,20 +401,25 @@ std::uint64_t checked_mul(std::uint64_t a, std::uint64_t b) {
 // (binary little-endian; elements vertex and face only; float x y z nx ny nz; faces as one
 // list of 4-byte indices) and that the file's size is what those counts need, before
 // OpenMesh's reader sees the file.
-void check_terrain_ply(const PlyHeader& h, const GridTopology& topo, std::uint64_t file_size, const std::string& path) {
+void check_terrain_ply(const PlyHeader& h, const GridTopology& topo, std::uint64_t file_size,
+                       const std::string& path) {
   auto fail = [&](const std::string& why) { return Error("cannot read '" + path + "': " + why); };
   if (h.format != "binary_little_endian")
-    throw fail("a PLY file in " + h.format + " format; terrain meshes are binary little-endian PLY (written by dem2mesh)");
+    throw fail("a PLY file in " + h.format +
+               " format; terrain meshes are binary little-endian PLY (written by dem2mesh)");
   for (const PlyElement& e : h.elements)
     if (e.name != "vertex" && e.name != "face")
-      throw fail("unexpected PLY element '" + e.name + "' (a terrain mesh has only vertex and face)");
+      throw fail("unexpected PLY element '" + e.name +
+                 "' (a terrain mesh has only vertex and face)");
   const PlyElement* v = h.find("vertex");
   const PlyElement* f = h.find("face");
-  if (!v || !f || h.elements.front().name != "vertex") throw fail("the PLY header needs element vertex, then element face");
+  if (!v || !f || h.elements.front().name != "vertex")
+    throw fail("the PLY header needs element vertex, then element face");
   for (const char* name : {"x", "y", "z", "nx", "ny", "nz"}) {
     const PlyProperty* p = v->find(name);
     if (!p) throw fail(std::string("the vertices have no property '") + name + "'");
-    if (p->count_size || !p->is_float || p->size != 4) throw fail(std::string("vertex property '") + name + "' is not a float");
+    if (p->count_size || !p->is_float || p->size != 4)
+      throw fail(std::string("vertex property '") + name + "' is not a float");
   }
   for (const PlyProperty& p : v->properties)
     if (p.count_size) throw fail("vertex property '" + p.name + "' is a list");
@@ -393,15 +430,18 @@ void check_terrain_ply(const PlyHeader& h, const GridTopology& topo, std::uint64
   for (const PlyProperty& p : f->properties)
     if (p.count_size && &p != idx) throw fail("face property '" + p.name + "' is a second list");
   if (v->count != topo.n_vertices())
-    throw fail(fmt::format("{} vertices, but its {} x {} grid needs {}", v->count, topo.rows, topo.cols, topo.n_vertices()));
+    throw fail(fmt::format("{} vertices, but its {} x {} grid needs {}", v->count, topo.rows,
+                           topo.cols, topo.n_vertices()));
   if (f->count != topo.n_faces())
-    throw fail(fmt::format("{} faces, but its {} x {} grid has {}", f->count, topo.rows, topo.cols, topo.n_faces()));
+    throw fail(fmt::format("{} faces, but its {} x {} grid has {}", f->count, topo.rows, topo.cols,
+                           topo.n_faces()));
   const std::uint64_t body = checked_mul(v->count, v->record_bytes(3));
   const std::uint64_t faces = checked_mul(f->count, f->record_bytes(3));
   const std::uint64_t expected = h.header_bytes + body + faces;
   if (expected < body || file_size < expected)
     throw fail(fmt::format("truncated ({} bytes, its counts need {})", file_size, expected));
-  if (file_size > expected) throw fail(fmt::format("{} unexpected bytes after the faces", file_size - expected));
+  if (file_size > expected)
+    throw fail(fmt::format("{} unexpected bytes after the faces", file_size - expected));
 }
 
 }  // namespace
@@ -434,16 +474,19 @@ void silence_openmesh() {
 // tool writes a mesh that another refuses.
 void check_mesh_georef(const GridMesh& m, const std::string& what) {
   if (!georef_in_range(m.topo, m.geo))
-    throw Error(fmt::format("{}: its grid comment (spacing {:g} x {:g} m, {} x {} vertices) or origin "
-                            "({:g}, {:g}, {:g}) is outside what a terrain mesh can be",
-                            what, m.geo.dx, m.geo.dy, m.topo.cols, m.topo.rows, m.geo.origin_x, m.geo.origin_y,
-                            m.geo.origin_z));
-  if (const std::string crs = crs_fields_problem(m.geo.crs_wkt, m.geo.epsg); !crs.empty()) throw Error(what + ": " + crs);
+    throw Error(
+        fmt::format("{}: its grid comment (spacing {:g} x {:g} m, {} x {} vertices) or origin "
+                    "({:g}, {:g}, {:g}) is outside what a terrain mesh can be",
+                    what, m.geo.dx, m.geo.dy, m.topo.cols, m.topo.rows, m.geo.origin_x,
+                    m.geo.origin_y, m.geo.origin_z));
+  if (const std::string crs = crs_fields_problem(m.geo.crs_wkt, m.geo.epsg); !crs.empty())
+    throw Error(what + ": " + crs);
 }
 
 void write_with(const OM::IO::BaseWriter& writer, OM::IO::Options opt, const GridMesh& mesh,
                 const std::string& path, const std::string& comments, int after) {
-  if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != mesh.positions.size())
+  if (mesh.positions.size() != mesh.topo.n_vertices() ||
+      mesh.normals.size() != mesh.positions.size())
     throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
   check_mesh_georef(mesh, "cannot write '" + path + "'");
   silence_openmesh();
@@ -451,7 +494,8 @@ void write_with(const OM::IO::BaseWriter& writer, OM::IO::Options opt, const Gri
     CommentInjector injector(file.rdbuf(), comments, after);
     std::ostream stream(&injector);
     GridMeshExporter exporter(mesh);
-    if (exporter.has_custom() && dynamic_cast<const OM::IO::_PLYWriter_*>(&writer)) opt += OM::IO::Options::Custom;
+    if (exporter.has_custom() && dynamic_cast<const OM::IO::_PLYWriter_*>(&writer))
+      opt += OM::IO::Options::Custom;
     const bool wrote = writer.write(stream, exporter, opt, 9);
     stream.flush();  // a failed flush of the injector's buffer sets badbit
     if (!wrote || !stream) throw Error("cannot write '" + path + "': write failed (disk full?)");
@@ -461,24 +505,28 @@ void write_with(const OM::IO::BaseWriter& writer, OM::IO::Options opt, const Gri
 }  // namespace
 
 void write_mesh_ply_openmesh(const GridMesh& mesh, const std::string& path) {
-  write_with(OM::IO::PLYWriter(), OM::IO::Options::Binary | OM::IO::Options::LSB | OM::IO::Options::VertexNormal,
-             mesh, path, header_comments(mesh, mesh_digest(mesh)), 2);
+  write_with(OM::IO::PLYWriter(),
+             OM::IO::Options::Binary | OM::IO::Options::LSB | OM::IO::Options::VertexNormal, mesh,
+             path, header_comments(mesh, mesh_digest(mesh)), 2);
 }
 
 namespace {
 
 // The header as OpenMesh writes it: custom properties in the order they were added.
-std::string ply_header(const GridMesh& mesh, std::uint64_t digest, bool voronoi, bool change, bool filled) {
+std::string ply_header(const GridMesh& mesh, std::uint64_t digest, bool voronoi, bool change,
+                       bool filled) {
   std::string header = "ply\nformat binary_little_endian 1.0\n" + header_comments(mesh, digest);
   header += fmt::format("element vertex {}\n", mesh.topo.n_vertices());
-  for (const char* name : {"x", "y", "z", "nx", "ny", "nz"}) header += fmt::format("property float {}\n", name);
+  for (const char* name : {"x", "y", "z", "nx", "ny", "nz"})
+    header += fmt::format("property float {}\n", name);
   if (voronoi) {
     header += "property float voronoi_area\n";
     for (const char* name : kTangent) header += fmt::format("property float {}\n", name);
   }
   if (change) header += "property float normal_change\n";
   if (filled) header += "property float filled\n";
-  header += fmt::format("element face {}\nproperty list uchar int vertex_indices\n", mesh.n_faces());
+  header +=
+      fmt::format("element face {}\nproperty list uchar int vertex_indices\n", mesh.n_faces());
   if (voronoi)
     for (const char* name : kCornerArea) header += fmt::format("property float {}\n", name);
   return header + "end_header\n";
@@ -493,7 +541,8 @@ struct PlyChunk {
 // Fills `buf` with a chunk's records; returns the byte count. A vertex chunk's positions
 // and normals are p[0..] and n[0..] (rows r0 .. r1 - 1), its optional data the mesh's.
 std::size_t fill_ply_chunk(const GridMesh& mesh, const PlyChunk& ch, const Eigen::Vector3f* p,
-                           const Eigen::Vector3f* n, bool voronoi, bool change, bool filled, char* buf) {
+                           const Eigen::Vector3f* n, bool voronoi, bool change, bool filled,
+                           char* buf) {
   const std::size_t cols = mesh.topo.cols;
   char* at = buf;
   auto put = [&](const void* q, std::size_t bytes) {
@@ -519,7 +568,8 @@ std::size_t fill_ply_chunk(const GridMesh& mesh, const PlyChunk& ch, const Eigen
   }
   for (std::size_t r = ch.r0; r < ch.r1; ++r)
     for (std::size_t c = 0; c + 1 < cols; ++c) {
-      const auto nw = std::int32_t(r * cols + c), ne = nw + 1, sw = std::int32_t(nw + std::int32_t(cols)), se = sw + 1;
+      const auto nw = std::int32_t(r * cols + c), ne = nw + 1,
+                 sw = std::int32_t(nw + std::int32_t(cols)), se = sw + 1;
       const std::size_t f = mesh.topo.face_of_cell(r, c, 0);
       // GridTopology::face's order: (NW, SW, SE), then (NW, SE, NE).
       const std::int32_t tri[2][3] = {{nw, sw, se}, {nw, se, ne}};
@@ -538,16 +588,18 @@ constexpr std::size_t kSlots = 3;
 
 // A vertex chunk's positions and normals: rows(r0, r1, slot, p, n) points p and n at rows
 // r0 .. r1 - 1, valid while buffer `slot` (0 .. kSlots - 1) is not filled again.
-using VertexRows = std::function<void(std::size_t r0, std::size_t r1, int slot, const Eigen::Vector3f*& p,
-                                      const Eigen::Vector3f*& n)>;
+using VertexRows = std::function<void(std::size_t r0, std::size_t r1, int slot,
+                                      const Eigen::Vector3f*& p, const Eigen::Vector3f*& n)>;
 
 // The PLY of `mesh` (its grid, georeference and optional arrays; the positions and normals
 // from `rows`), its digest taken as the vertices go out and written into the header last.
 void write_ply(const GridMesh& mesh, const VertexRows& rows_of, const std::string& path) {
-  static_assert(std::endian::native == std::endian::little, "the PLY body is written as the host's floats");
+  static_assert(std::endian::native == std::endian::little,
+                "the PLY body is written as the host's floats");
   const std::size_t nv = mesh.topo.n_vertices();
   check_mesh_georef(mesh, "cannot write '" + path + "'");
-  const bool voronoi = !mesh.voronoi.empty(), change = mesh.normal_change.size() == nv, filled = mesh.filled.size() == nv;
+  const bool voronoi = !mesh.voronoi.empty(), change = mesh.normal_change.size() == nv,
+             filled = mesh.filled.size() == nv;
   const std::string header = ply_header(mesh, 0, voronoi, change, filled);
   const std::size_t digest_at = header.find(kDigestComment) + kDigestComment.size();
   // The body in chunks of whole rows (vertex rows, then cell rows of two faces each).
@@ -558,11 +610,15 @@ void write_ply(const GridMesh& mesh, const VertexRows& rows_of, const std::strin
   // it on the helper threads.
   constexpr std::size_t kChunkBytes = std::size_t(1) << 20;
   const std::size_t vrow_bytes = cols * vertex_bytes, frow_bytes = 2 * (cols - 1) * face_bytes;
-  const std::size_t vrows = std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(1, vrow_bytes));
-  const std::size_t frows = std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(1, frow_bytes));
+  const std::size_t vrows =
+      std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(1, vrow_bytes));
+  const std::size_t frows =
+      std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(1, frow_bytes));
   std::vector<PlyChunk> chunks;
-  for (std::size_t r = 0; r < rows; r += vrows) chunks.push_back({false, r, std::min(rows, r + vrows)});
-  for (std::size_t r = 0; r + 1 < rows; r += frows) chunks.push_back({true, r, std::min(rows - 1, r + frows)});
+  for (std::size_t r = 0; r < rows; r += vrows)
+    chunks.push_back({false, r, std::min(rows, r + vrows)});
+  for (std::size_t r = 0; r + 1 < rows; r += frows)
+    chunks.push_back({true, r, std::min(rows - 1, r + frows)});
   // What the helper gives back: the chunk's byte count and its vertices for the digest.
   struct Filled {
     std::size_t bytes = 0;
@@ -582,7 +638,8 @@ void write_ply(const GridMesh& mesh, const VertexRows& rows_of, const std::strin
     for (auto& b : bufs) b.resize(std::max(vrows * vrow_bytes, frows * frow_bytes));
     std::future<Filled> filling[kSlots];
     const auto launch = [&](std::size_t i) {
-      if (i < chunks.size()) filling[i % kSlots] = std::async(std::launch::async, fill, i, bufs[i % kSlots].data());
+      if (i < chunks.size())
+        filling[i % kSlots] = std::async(std::launch::async, fill, i, bufs[i % kSlots].data());
     };
     for (std::size_t i = 0; i + 1 < kSlots; ++i) launch(i);
     for (std::size_t i = 0; i < chunks.size() && out; ++i) {
@@ -604,7 +661,8 @@ void write_ply(const GridMesh& mesh, const VertexRows& rows_of, const std::strin
 }  // namespace
 
 void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
-  if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != mesh.positions.size())
+  if (mesh.positions.size() != mesh.topo.n_vertices() ||
+      mesh.normals.size() != mesh.positions.size())
     throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
   const std::size_t cols = mesh.topo.cols;
   write_ply(
@@ -616,7 +674,8 @@ void write_mesh_ply(const GridMesh& mesh, const std::string& path) {
       path);
 }
 
-void write_grid_mesh_ply(const GridMesh& frame, const Grid& grid, NormalWeighting weighting, const std::string& path) {
+void write_grid_mesh_ply(const GridMesh& frame, const Grid& grid, NormalWeighting weighting,
+                         const std::string& path) {
   if (frame.topo.rows != grid.rows || frame.topo.cols != grid.cols)
     throw Error("cannot write '" + path + "': the mesh's frame and the grid differ");
   // One row source and one pair of arrays per buffer slot.
@@ -625,7 +684,8 @@ void write_grid_mesh_ply(const GridMesh& frame, const Grid& grid, NormalWeightin
   std::vector<Eigen::Vector3f> p[kSlots], n[kSlots];
   write_ply(
       frame,
-      [&](std::size_t r0, std::size_t r1, int slot, const Eigen::Vector3f*& pp, const Eigen::Vector3f*& nn) {
+      [&](std::size_t r0, std::size_t r1, int slot, const Eigen::Vector3f*& pp,
+          const Eigen::Vector3f*& nn) {
         p[slot].resize((r1 - r0) * grid.cols);
         n[slot].resize(p[slot].size());
         sources[slot].rows(r0, r1, p[slot].data(), n[slot].data());
@@ -645,8 +705,10 @@ struct PlyRowWriter::Impl {
   std::size_t digest_at = 0;  // the header's digest digits, written by finish()
 };
 
-PlyRowWriter::PlyRowWriter(const GridMesh& header, const std::string& path) : impl_(std::make_unique<Impl>()) {
-  static_assert(std::endian::native == std::endian::little, "the PLY body is written as the host's floats");
+PlyRowWriter::PlyRowWriter(const GridMesh& header, const std::string& path)
+    : impl_(std::make_unique<Impl>()) {
+  static_assert(std::endian::native == std::endian::little,
+                "the PLY body is written as the host's floats");
   Impl& m = *impl_;
   m.header.topo = header.topo, m.header.geo = header.geo, m.header.provenance = header.provenance;
   m.header.normal_fit = header.normal_fit;
@@ -663,10 +725,12 @@ PlyRowWriter::PlyRowWriter(const GridMesh& header, const std::string& path) : im
 
 PlyRowWriter::~PlyRowWriter() = default;
 
-void PlyRowWriter::add_rows(const Eigen::Vector3f* positions, const Eigen::Vector3f* normals, std::size_t n) {
+void PlyRowWriter::add_rows(const Eigen::Vector3f* positions, const Eigen::Vector3f* normals,
+                            std::size_t n) {
   Impl& m = *impl_;
   const std::size_t cols = m.header.topo.cols;
-  if (m.rows + n > m.header.topo.rows) throw Error("cannot write '" + m.path + "': more rows than the grid's");
+  if (m.rows + n > m.header.topo.rows)
+    throw Error("cannot write '" + m.path + "': more rows than the grid's");
   std::vector<char> row(24 * cols);
   m.digest.add(positions, normals, n * cols);
   for (std::size_t r = 0; r < n; ++r) {
@@ -683,12 +747,15 @@ void PlyRowWriter::add_rows(const Eigen::Vector3f* positions, const Eigen::Vecto
 void PlyRowWriter::finish() {
   Impl& m = *impl_;
   if (m.rows != m.header.topo.rows)
-    throw Error(fmt::format("cannot write '{}': {} of the grid's {} rows given", m.path, m.rows, m.header.topo.rows));
-  const std::size_t rows = m.header.topo.rows, frows = std::max<std::size_t>(1, (std::size_t(1) << 20) / (26 * m.header.topo.cols));
+    throw Error(fmt::format("cannot write '{}': {} of the grid's {} rows given", m.path, m.rows,
+                            m.header.topo.rows));
+  const std::size_t rows = m.header.topo.rows,
+                    frows = std::max<std::size_t>(
+                        1, (std::size_t(1) << 20) / (26 * m.header.topo.cols));
   std::vector<char> buf(frows * 26 * m.header.topo.cols);
   for (std::size_t r = 0; r + 1 < rows; r += frows) {
-    const std::size_t n = fill_ply_chunk(m.header, {true, r, std::min(rows - 1, r + frows)}, nullptr, nullptr, false,
-                                         false, false, buf.data());
+    const std::size_t n = fill_ply_chunk(m.header, {true, r, std::min(rows - 1, r + frows)},
+                                         nullptr, nullptr, false, false, false, buf.data());
     m.out.write(buf.data(), std::streamsize(n));
   }
   const std::string digest = digest_text(m.digest.value());
@@ -717,17 +784,23 @@ GridMesh mesh_of_header(const PlyHeader& header, const std::string& path) {
     std::istringstream ss(c);
     std::string key;
     ss >> key;
-    const std::string rest = c.size() > key.size() + 1 ? c.substr(key.size() + 1) : std::string();  // after "key "
-    if (key == "terrain-mesh") ss >> version;
+    const std::string rest =
+        c.size() > key.size() + 1 ? c.substr(key.size() + 1) : std::string();  // after "key "
+    if (key == "terrain-mesh")
+      ss >> version;
     else if (key == "grid" || key == "origin") {
-      const bool ok = key == "grid" ? bool(ss >> m.topo.rows >> m.topo.cols >> m.geo.dx >> m.geo.dy)
-                                    : bool(ss >> m.geo.origin_x >> m.geo.origin_y >> m.geo.origin_z);
-      if (!ok) throw Error("cannot read '" + path + "': invalid '" + key + "' comment: '" + c + "'");
+      const bool ok = key == "grid"
+                          ? bool(ss >> m.topo.rows >> m.topo.cols >> m.geo.dx >> m.geo.dy)
+                          : bool(ss >> m.geo.origin_x >> m.geo.origin_y >> m.geo.origin_z);
+      if (!ok)
+        throw Error("cannot read '" + path + "': invalid '" + key + "' comment: '" + c + "'");
       (key == "grid" ? has_grid : has_origin) = true;
-    }
-    else if (key == "crs_epsg") ss >> m.geo.epsg;
-    else if (key == "crs_wkt") m.geo.crs_wkt += rest;
-    else if (key == "provenance") m.provenance = unescape_ascii(rest);
+    } else if (key == "crs_epsg")
+      ss >> m.geo.epsg;
+    else if (key == "crs_wkt")
+      m.geo.crs_wkt += rest;
+    else if (key == "provenance")
+      m.provenance = unescape_ascii(rest);
     else if (key == "normals_fitted") {
       NormalFitInfo& f = m.normal_fit;
       if (!(ss >> f.rmse_before >> f.max_before >> f.rmse_after >> f.max_after >> f.samples))
@@ -737,13 +810,17 @@ GridMesh mesh_of_header(const PlyHeader& header, const std::string& path) {
   }
   m.geo.crs_wkt = unescape_ascii(m.geo.crs_wkt);
   if (version < 0 || !has_grid || !has_origin)
-    throw Error("cannot read '" + path + "': a PLY file but not a terrain mesh (no georeferencing comments; make it with dem2mesh)");
+    throw Error(
+        "cannot read '" + path +
+        "': a PLY file but not a terrain mesh (no georeferencing comments; make it with dem2mesh)");
   if (version > kFormatVersion)
-    throw Error(fmt::format("cannot read '{}': terrain-mesh version {} is newer than this tool's ({})", path, version,
-                            kFormatVersion));
+    throw Error(
+        fmt::format("cannot read '{}': terrain-mesh version {} is newer than this tool's ({})",
+                    path, version, kFormatVersion));
   if (m.topo.rows < 2 || m.topo.cols < 2 || m.topo.rows > (1u << 30) || m.topo.cols > (1u << 30) ||
       !(m.geo.dx > 0) || !(m.geo.dy > 0) || !std::isfinite(m.geo.dx) || !std::isfinite(m.geo.dy) ||
-      !std::isfinite(m.geo.origin_x) || !std::isfinite(m.geo.origin_y) || !std::isfinite(m.geo.origin_z))
+      !std::isfinite(m.geo.origin_x) || !std::isfinite(m.geo.origin_y) ||
+      !std::isfinite(m.geo.origin_z))
     throw Error("cannot read '" + path + "': invalid grid or origin comment");
   return m;
 }
@@ -753,13 +830,16 @@ GridMesh mesh_of_header(const PlyHeader& header, const std::string& path) {
 // `level` > 0: m holds that level of a pyramid (read_mesh_via_pyramid), whose vertex
 // (r, c) is the mesh's (level_index(r), level_index(c)) on the lattice of `fine`, the mesh's
 // own grid and spacing.
-void check_vertices(const GridMesh& m, const std::string& path, int level = 0, const GridMesh* fine = nullptr) {
+void check_vertices(const GridMesh& m, const std::string& path, int level = 0,
+                    const GridMesh* fine = nullptr) {
   for (std::size_t i = 0; i < m.n_vertices(); ++i) {
     if (!m.positions[i].allFinite())
-      throw Error(fmt::format("cannot read '{}': vertex {} (row {}, column {}) is not a finite number", path, i,
-                              i / m.topo.cols, i % m.topo.cols));
+      throw Error(
+          fmt::format("cannot read '{}': vertex {} (row {}, column {}) is not a finite number",
+                      path, i, i / m.topo.cols, i % m.topo.cols));
     if (!(std::abs(m.normals[i].squaredNorm() - 1.0f) < 1e-3f))
-      throw Error(fmt::format("cannot read '{}': the normal of vertex {} is not unit length (corrupt file?)", path, i));
+      throw Error(fmt::format(
+          "cannot read '{}': the normal of vertex {} is not unit length (corrupt file?)", path, i));
   }
   // The vertices lie on the lattice the grid comment states (x = column * dx, y = -row * dy
   // about the origin), within 1 % of a spacing and float rounding: a spacing that disagrees
@@ -773,12 +853,12 @@ void check_vertices(const GridMesh& m, const std::string& path, int level = 0, c
                    y = -double(level_index(r, f.topo.rows - 1, level)) * f.geo.dy;
       if (std::abs(double(p.x()) - x) > tol_x + 1e-6 * std::abs(x) ||
           std::abs(double(p.y()) - y) > tol_y + 1e-6 * std::abs(y))
-        throw Error(fmt::format("cannot read '{}': vertex {} (row {}, column {}) at ({:g}, {:g}) is not on the grid "
-                                "comment's {:g} x {:g} m lattice (expected ({:g}, {:g})): the header disagrees with "
-                                "the vertices",
-                                path, r * m.topo.cols + c, r, c, p.x(), p.y(), f.geo.dx, f.geo.dy, x, y));
+        throw Error(fmt::format(
+            "cannot read '{}': vertex {} (row {}, column {}) at ({:g}, {:g}) is not on the grid "
+            "comment's {:g} x {:g} m lattice (expected ({:g}, {:g})): the header disagrees with "
+            "the vertices",
+            path, r * m.topo.cols + c, r, c, p.x(), p.y(), f.geo.dx, f.geo.dy, x, y));
     }
-
 }
 
 // The optional data: the Voronoi weights (all seven properties or none), the normal change.
@@ -789,10 +869,12 @@ void read_optional(const std::string& path, GridMeshImporter& importer, GridMesh
   w.vertex_areas.resize(m.n_vertices());
   w.tangents.resize(m.n_vertices());
   w.corner_areas.resize(m.n_faces());
-  int found = k.vertex_floats("voronoi_area", [&](std::size_t i, float v) { w.vertex_areas[i] = v; });
+  int found =
+      k.vertex_floats("voronoi_area", [&](std::size_t i, float v) { w.vertex_areas[i] = v; });
   for (int c = 0; c < 3; ++c) {
     found += k.vertex_floats(kTangent[c], [&](std::size_t i, float v) { w.tangents[i][c] = v; });
-    found += k.face_floats(kCornerArea[c], [&](std::size_t i, float v) { w.corner_areas[i][c] = v; });
+    found +=
+        k.face_floats(kCornerArea[c], [&](std::size_t i, float v) { w.corner_areas[i][c] = v; });
   }
   if (found != 0 && found != 7)
     throw Error("cannot read '" + path + "': it has only some of the Voronoi weight properties (" +
@@ -815,7 +897,8 @@ namespace {
 // too (a file renamed over the path meanwhile is not seen).
 GridMesh read_terrain_header(const std::string& path, PlyHeader& header, std::ifstream& in) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a directory");
+  if (std::filesystem::is_directory(path, ec))
+    throw Error("cannot read '" + path + "': it is a directory");
   in.open(path, std::ios::binary);
   if (!in) throw Error("cannot read '" + path + "': no such file or not readable");
   in.seekg(0, std::ios::end);
@@ -844,9 +927,11 @@ std::optional<std::uint64_t> header_digest(const PlyHeader& header) {
 
 // A file whose faces are not the grid's triangulation: `read` faces, `differ` of them not as
 // GridTopology::face has them (both readers).
-Error faces_error(const std::string& path, const GridTopology& topo, std::size_t read, std::size_t differ) {
-  return Error(fmt::format("cannot read '{}': its faces are not the {} x {} grid triangulation ({} faces, {} differ)",
-                           path, topo.rows, topo.cols, read, differ));
+Error faces_error(const std::string& path, const GridTopology& topo, std::size_t read,
+                  std::size_t differ) {
+  return Error(fmt::format(
+      "cannot read '{}': its faces are not the {} x {} grid triangulation ({} faces, {} differ)",
+      path, topo.rows, topo.cols, read, differ));
 }
 
 // The body of a PLY in the toolkit's own plain layout (write_mesh_ply without optional
@@ -858,8 +943,9 @@ Error faces_error(const std::string& path, const GridTopology& topo, std::size_t
 bool read_plain_body(std::ifstream& in, const PlyHeader& h, GridMesh& m, const std::string& path) {
   if constexpr (std::endian::native != std::endian::little) return false;
   const char* names[6] = {"x", "y", "z", "nx", "ny", "nz"};
-  if (h.format != "binary_little_endian" || h.elements.size() != 2 || h.elements[0].name != "vertex" ||
-      h.elements[0].properties.size() != 6 || h.elements[1].name != "face" || h.elements[1].properties.size() != 1)
+  if (h.format != "binary_little_endian" || h.elements.size() != 2 ||
+      h.elements[0].name != "vertex" || h.elements[0].properties.size() != 6 ||
+      h.elements[1].name != "face" || h.elements[1].properties.size() != 1)
     return false;
   for (int k = 0; k < 6; ++k) {
     const PlyProperty& p = h.elements[0].properties[std::size_t(k)];
@@ -868,7 +954,8 @@ bool read_plain_body(std::ifstream& in, const PlyHeader& h, GridMesh& m, const s
   const PlyProperty& f = h.elements[1].properties[0];
   if (f.name != "vertex_indices" || f.count_size != 1 || f.size != 4 || f.is_float) return false;
   const std::size_t nv = m.topo.n_vertices(), nf = m.topo.n_faces();
-  if (h.elements[0].count != nv || h.elements[1].count != nf) return false;  // check_terrain_ply says why
+  if (h.elements[0].count != nv || h.elements[1].count != nf)
+    return false;  // check_terrain_ply says why
   in.clear();
   in.seekg(std::streamoff(h.header_bytes));
   constexpr std::size_t kChunk = std::size_t(1) << 16;  // records a read
@@ -900,8 +987,7 @@ bool read_plain_body(std::ifstream& in, const PlyHeader& h, GridMesh& m, const s
              v[2] != std::int32_t(t[2]);
     }
   }
-  if (bad != 0)
-    throw faces_error(path, m.topo, nf, bad);
+  if (bad != 0) throw faces_error(path, m.topo, nf, bad);
   return true;
 }
 
@@ -920,11 +1006,12 @@ GridMesh read_mesh_ply(const std::string& path) {
   GridMeshImporter importer(m);
   OM::IO::Options opt(OM::IO::Options::VertexNormal | OM::IO::Options::Custom);
   if (!OM::IO::PLYReader().read(in, importer, opt))
-    throw Error("cannot read '" + path + "': OpenMesh's PLY reader failed (corrupt or truncated file)");
+    throw Error("cannot read '" + path +
+                "': OpenMesh's PLY reader failed (corrupt or truncated file)");
   if (!opt.vertex_has_normal()) throw Error("cannot read '" + path + "': it has no vertex normals");
   if (m.positions.size() != m.topo.n_vertices())
-    throw Error(fmt::format("cannot read '{}': {} vertices, but its {} x {} grid needs {}", path, m.positions.size(),
-                            m.topo.rows, m.topo.cols, m.topo.n_vertices()));
+    throw Error(fmt::format("cannot read '{}': {} vertices, but its {} x {} grid needs {}", path,
+                            m.positions.size(), m.topo.rows, m.topo.cols, m.topo.n_vertices()));
   if (importer.faces_read != m.topo.n_faces() || importer.bad_faces != 0)
     throw faces_error(path, m.topo, importer.faces_read, importer.bad_faces);
   check_vertices(m, path);
@@ -932,13 +1019,15 @@ GridMesh read_mesh_ply(const std::string& path) {
   return m;
 }
 
-std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, std::string& why,
-                                                 const std::function<PyramidPart(const MeshPyramid&)>& part) {
+std::optional<PyramidMesh> read_mesh_via_pyramid(
+    const std::string& ply_path, std::string& why,
+    const std::function<PyramidPart(const MeshPyramid&)>& part) {
   namespace fs = std::filesystem;
   why.clear();
   const std::string pyr = pyramid_path_of(ply_path);
   std::error_code ec;
-  if (pyr == ply_path || !fs::is_regular_file(pyr, ec) || !is_mesh_pyramid(pyr)) return std::nullopt;
+  if (pyr == ply_path || !fs::is_regular_file(pyr, ec) || !is_mesh_pyramid(pyr))
+    return std::nullopt;
   PlyHeader header;
   std::ifstream in;
   PyramidMesh out{read_terrain_header(ply_path, header, in), {}, 0};
@@ -946,10 +1035,11 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
   GridMesh& m = out.mesh;
   for (const PlyElement& e : header.elements)
     for (const PlyProperty& p : e.properties)
-      if (!(e.name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z" || p.name == "nx" || p.name == "ny" ||
-                                   p.name == "nz")) &&
+      if (!(e.name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z" ||
+                                   p.name == "nx" || p.name == "ny" || p.name == "nz")) &&
           !(e.name == "face" && p.name == "vertex_indices")) {
-        why = "the mesh has data its pyramid does not keep (" + e.name + " property '" + p.name + "')";
+        why = "the mesh has data its pyramid does not keep (" + e.name + " property '" + p.name +
+              "')";
         return std::nullopt;
       }
   MeshPyramid pyramid(pyr);
@@ -957,21 +1047,27 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
   // the digest of those vertices (dem2mesh writes it into both).
   const std::optional<std::uint64_t> digest = header_digest(header);
   if (!pyramid.digest()) {
-    why = fmt::format("'{}' (version {}) does not say which mesh it was made from; dem2mesh --pyramid makes one "
-                      "that does",
-                      pyr, pyramid.version());
+    why = fmt::format(
+        "'{}' (version {}) does not say which mesh it was made from; dem2mesh --pyramid makes one "
+        "that does",
+        pyr, pyramid.version());
     return std::nullopt;
   }
   if (!digest || *digest != *pyramid.digest()) {
-    why = "'" + pyr + "' was made from another mesh than this one (their digests differ; dem2mesh --pyramid again)";
+    why = "'" + pyr +
+          "' was made from another mesh than this one (their digests differ; dem2mesh --pyramid "
+          "again)";
     return std::nullopt;
   }
   out.digest = *digest;
   const MeshGeoref& g = pyramid.georef();
-  auto same = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(1.0, std::abs(a)); };
+  auto same = [](double a, double b) {
+    return std::abs(a - b) <= 1e-9 * std::max(1.0, std::abs(a));
+  };
   if (pyramid.topology().rows != m.topo.rows || pyramid.topology().cols != m.topo.cols ||
-      !same(g.origin_x, m.geo.origin_x) || !same(g.origin_y, m.geo.origin_y) || !same(g.origin_z, m.geo.origin_z) ||
-      !same(g.dx, m.geo.dx) || !same(g.dy, m.geo.dy) || g.epsg != m.geo.epsg) {
+      !same(g.origin_x, m.geo.origin_x) || !same(g.origin_y, m.geo.origin_y) ||
+      !same(g.origin_z, m.geo.origin_z) || !same(g.dx, m.geo.dx) || !same(g.dy, m.geo.dy) ||
+      g.epsg != m.geo.epsg) {
     why = "'" + pyr + "' describes another grid than the mesh's";
     return std::nullopt;
   }
@@ -981,12 +1077,15 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
   const std::size_t B = all.block, rows0 = m.topo.rows - 1, cols0 = m.topo.cols - 1;
   // The window's blocks, and its level-0 cells: whole blocks, so level l's lines (B is a
   // multiple of 2^l; a level too coarse for that reads the whole level).
-  const std::size_t br0 = std::min(want.br0, all.block_rows - 1), br1 = std::clamp(want.br1, br0 + 1, all.block_rows);
-  const std::size_t bc0 = std::min(want.bc0, all.block_cols - 1), bc1 = std::clamp(want.bc1, bc0 + 1, all.block_cols);
-  const bool window =
-      (br0 > 0 || bc0 > 0 || br1 < all.block_rows || bc1 < all.block_cols) && B % (std::size_t(1) << l) == 0;
+  const std::size_t br0 = std::min(want.br0, all.block_rows - 1),
+                    br1 = std::clamp(want.br1, br0 + 1, all.block_rows);
+  const std::size_t bc0 = std::min(want.bc0, all.block_cols - 1),
+                    bc1 = std::clamp(want.bc1, bc0 + 1, all.block_cols);
+  const bool window = (br0 > 0 || bc0 > 0 || br1 < all.block_rows || bc1 < all.block_cols) &&
+                      B % (std::size_t(1) << l) == 0;
   const std::size_t R0 = window ? br0 * B : 0, C0 = window ? bc0 * B : 0;
-  const std::size_t R1 = window ? std::min(br1 * B, rows0) : rows0, C1 = window ? std::min(bc1 * B, cols0) : cols0;
+  const std::size_t R1 = window ? std::min(br1 * B, rows0) : rows0,
+                    C1 = window ? std::min(bc1 * B, cols0) : cols0;
   GridMesh fine;  // the grid held at level 0, what its vertices are checked against
   fine.topo = GridTopology{R1 - R0 + 1, C1 - C0 + 1}, fine.geo = m.geo;
   const std::size_t r0 = R0 >> l, c0 = C0 >> l;  // level l's first row and column of the window
@@ -1003,7 +1102,8 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
   out.levels.base = l;
   if (window) {
     // The window's frame: its first vertex at the origin.
-    const Eigen::Vector3f shift(float(double(C0) * fine.geo.dx), float(-double(R0) * fine.geo.dy), 0.0f);
+    const Eigen::Vector3f shift(float(double(C0) * fine.geo.dx), float(-double(R0) * fine.geo.dy),
+                                0.0f);
     MeshLevels::Window w{R0, C0, all.topo, fine.geo, {}, {}};
     for (std::size_t i = 0; i < m.n_vertices(); ++i) m.positions[i] -= shift;
     m.geo.origin_x += double(C0) * fine.geo.dx;
@@ -1011,7 +1111,8 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, st
     fine.geo.origin_x = m.geo.origin_x, fine.geo.origin_y = m.geo.origin_y;
     w.lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
     w.hi = -w.lo;
-    for (const MeshLevelBlock& b : all.blocks) w.lo = w.lo.cwiseMin(b.lo - shift), w.hi = w.hi.cwiseMax(b.hi - shift);
+    for (const MeshLevelBlock& b : all.blocks)
+      w.lo = w.lo.cwiseMin(b.lo - shift), w.hi = w.hi.cwiseMax(b.hi - shift);
     out.levels.topo = fine.topo;
     out.levels.block_rows = br1 - br0, out.levels.block_cols = bc1 - bc0;
     out.levels.blocks.clear();
@@ -1038,7 +1139,8 @@ GridMesh read_terrain_mesh(const std::string& ply_path, std::string* source, Mes
   }
   if (source) *source = why.empty() ? std::string("the PLY") : fmt::format("the PLY: {}", why);
   if (warning)
-    *warning = why.empty() ? std::string() : fmt::format("'{}' read whole, not its pyramid: {}", ply_path, why);
+    *warning = why.empty() ? std::string()
+                           : fmt::format("'{}' read whole, not its pyramid: {}", ply_path, why);
   return read_mesh_ply(ply_path);
 }
 

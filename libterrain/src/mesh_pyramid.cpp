@@ -44,10 +44,13 @@ double plane_slope(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eig
 // (the cell's two faces as GridTopology's: NW-SW-SE and NW-SE-NE), and the steepest
 // gradient of that surface: of the planes through each face's corners and through the
 // surface's samples at the same parameters (each fine cell's two faces).
-std::pair<float, float> level_measure(const GridMesh& mesh, const MeshLevelBlock& b, std::uint32_t s) {
+std::pair<float, float> level_measure(const GridMesh& mesh, const MeshLevelBlock& b,
+                                      std::uint32_t s) {
   const std::size_t cols = mesh.topo.cols;
   const auto rs = level_lines(b.nr, s), cs = level_lines(b.nc, s);
-  auto at = [&](std::uint32_t r, std::uint32_t c) { return (std::size_t(b.r0) + r) * cols + b.c0 + c; };
+  auto at = [&](std::uint32_t r, std::uint32_t c) {
+    return (std::size_t(b.r0) + r) * cols + b.c0 + c;
+  };
   auto p = [&](std::size_t v) { return Eigen::Vector3d(mesh.positions[v].cast<double>()); };
   auto n = [&](std::size_t v) { return Eigen::Vector3d(mesh.normals[v].cast<double>()); };
   float worst = 0;
@@ -62,20 +65,22 @@ std::pair<float, float> level_measure(const GridMesh& mesh, const MeshLevelBlock
       const auto upper = pn_control_points<double>(p(nw), p(se), p(ne), n(nw), n(se), n(ne));
       // The planes of its two faces' corners (what a patch drawn flat draws), then those
       // through the cubic's samples.
-      steepest = std::max({steepest, plane_slope(p(nw), p(sw), p(se)), plane_slope(p(nw), p(se), p(ne))});
+      steepest =
+          std::max({steepest, plane_slope(p(nw), p(sw), p(se)), plane_slope(p(nw), p(se), p(ne))});
       const std::size_t w = cb - ca + 1;
       q.resize((rb - ra + 1) * w);
       for (std::uint32_t r = ra; r <= rb; ++r)
         for (std::uint32_t c = ca; c <= cb; ++c) {
           const double u = double(c - ca) / double(cb - ca), v = double(r - ra) / double(rb - ra);
           Eigen::Vector3d& x = q[(r - ra) * w + (c - ca)];
-          x = v >= u ? pn_cubic<double>(lower, 1 - v, v - u, u) : pn_cubic<double>(upper, 1 - u, v, u - v);
+          x = v >= u ? pn_cubic<double>(lower, 1 - v, v - u, u)
+                     : pn_cubic<double>(upper, 1 - u, v, u - v);
           worst = std::max(worst, float(std::abs(x.z() - double(mesh.positions[at(r, c)].z()))));
         }
       for (std::size_t r = 0; r + 1 < rb - ra + 1; ++r)
         for (std::size_t c = 0; c + 1 < w; ++c) {
-          const Eigen::Vector3d &a = q[r * w + c], &d = q[(r + 1) * w + c], &e = q[(r + 1) * w + c + 1],
-                                &f = q[r * w + c + 1];
+          const Eigen::Vector3d &a = q[r * w + c], &d = q[(r + 1) * w + c],
+                                &e = q[(r + 1) * w + c + 1], &f = q[r * w + c + 1];
           steepest = std::max({steepest, plane_slope(a, d, e), plane_slope(a, e, f)});
         }
     }
@@ -94,7 +99,8 @@ void measure_block(const GridMesh& mesh, MeshLevelBlock& b) {
     return n.z() > 0 ? n.head<2>().norm() / n.z() : std::numeric_limits<float>::infinity();
   };
   auto mid_slope = [&](std::size_t i, std::size_t j) {
-    const Eigen::Vector3f e = mesh.positions[j] - mesh.positions[i], sum = mesh.normals[i] + mesh.normals[j];
+    const Eigen::Vector3f e = mesh.positions[j] - mesh.positions[i],
+                          sum = mesh.normals[i] + mesh.normals[j];
     const float ee = e.squaredNorm();
     return slope(ee > 0 ? Eigen::Vector3f(sum - 2.0f * e.dot(sum) / ee * e) : sum);
   };
@@ -143,7 +149,8 @@ struct In {
   std::size_t at = 0;
   template <class T>
   T get() {
-    if (at + sizeof(T) > bytes.size()) throw Error("cannot read '" + path + "': truncated mesh pyramid");
+    if (at + sizeof(T) > bytes.size())
+      throw Error("cannot read '" + path + "': truncated mesh pyramid");
     T v;
     std::memcpy(&v, bytes.data() + at, sizeof v);
     at += sizeof v;
@@ -155,7 +162,8 @@ struct In {
 struct TileRange {
   std::size_t r0, c0, nr, nc;
 };
-TileRange tile_range(std::size_t rows_l, std::size_t cols_l, std::size_t block, std::size_t tr, std::size_t tc) {
+TileRange tile_range(std::size_t rows_l, std::size_t cols_l, std::size_t block, std::size_t tr,
+                     std::size_t tc) {
   const std::size_t r0 = tr * block, c0 = tc * block;
   return {r0, c0, std::min(block, rows_l - 1 - r0) + 1, std::min(block, cols_l - 1 - c0) + 1};
 }
@@ -179,29 +187,32 @@ MeshLevels build_mesh_levels(const GridMesh& mesh, std::size_t block) {
     MeshLevelBlock& b = h.blocks[std::size_t(k)];
     const std::size_t br = std::size_t(k) / h.block_cols, bc = std::size_t(k) % h.block_cols;
     b.r0 = std::uint32_t(br * block), b.c0 = std::uint32_t(bc * block);
-    b.nr = std::uint32_t(std::min(block, cells_r - b.r0)), b.nc = std::uint32_t(std::min(block, cells_c - b.c0));
+    b.nr = std::uint32_t(std::min(block, cells_r - b.r0)),
+    b.nc = std::uint32_t(std::min(block, cells_c - b.c0));
     measure_block(mesh, b);
   }
   return h;
 }
 
 struct MeshPyramidWriter::Level {
-  std::size_t rows = 0, cols = 0;              // the level's grid, vertices
+  std::size_t rows = 0, cols = 0;  // the level's grid, vertices
   std::size_t tiles_r = 0, tiles_c = 0;
-  std::size_t next = 0;                        // the next level row to take
-  std::size_t tile_row = 0;                    // the tile row being filled
-  std::vector<Eigen::Vector3f> pos, nrm;       // its rows tile_row B .. (B + 1 rows at most)
-  std::size_t held = 0;                        // rows held
-  std::vector<std::uint32_t> bytes, crc;       // per tile, row-major
-  std::filesystem::path file;                  // levels above 0: its tiles, one after another
+  std::size_t next = 0;                   // the next level row to take
+  std::size_t tile_row = 0;               // the tile row being filled
+  std::vector<Eigen::Vector3f> pos, nrm;  // its rows tile_row B .. (B + 1 rows at most)
+  std::size_t held = 0;                   // rows held
+  std::vector<std::uint32_t> bytes, crc;  // per tile, row-major
+  std::filesystem::path file;             // levels above 0: its tiles, one after another
   TempRegistration registration;
   std::ofstream out;
 };
 
-MeshPyramidWriter::MeshPyramidWriter(const GridTopology& topo, const MeshGeoref& geo, const std::string& path,
-                                     std::size_t block, const std::string& name_like)
+MeshPyramidWriter::MeshPyramidWriter(const GridTopology& topo, const MeshGeoref& geo,
+                                     const std::string& path, std::size_t block,
+                                     const std::string& name_like)
     : topo_(topo), geo_(geo), path_(path), block_(block) {
-  if (topo.rows < 2 || topo.cols < 2 || block < 2) throw Error("cannot write '" + path + "': no cells");
+  if (topo.rows < 2 || topo.cols < 2 || block < 2)
+    throw Error("cannot write '" + path + "': no cells");
   const std::size_t cells_r = topo.rows - 1, cells_c = topo.cols - 1;
   levels_.topo = topo;
   levels_.block = block;
@@ -211,15 +222,19 @@ MeshPyramidWriter::MeshPyramidWriter(const GridTopology& topo, const MeshGeoref&
   int n_levels = 1;
   for (std::size_t k = 0; k < levels_.blocks.size(); ++k) {
     MeshLevelBlock& b = levels_.blocks[k];
-    b.r0 = std::uint32_t(k / levels_.block_cols * block), b.c0 = std::uint32_t(k % levels_.block_cols * block);
-    b.nr = std::uint32_t(std::min(block, cells_r - b.r0)), b.nc = std::uint32_t(std::min(block, cells_c - b.c0));
+    b.r0 = std::uint32_t(k / levels_.block_cols * block),
+    b.c0 = std::uint32_t(k % levels_.block_cols * block);
+    b.nr = std::uint32_t(std::min(block, cells_r - b.r0)),
+    b.nc = std::uint32_t(std::min(block, cells_c - b.c0));
     n_levels = std::max(n_levels, block_levels(b.nr, b.nc));
   }
   // The header's size is known now (finish() writes it): level 0's tiles go straight into
   // the file after it, in the index's order; the coarser levels' into temporary files,
   // appended at the end (a third of level 0's size at most).
-  header_bytes_ = 20 + 4 + 16 + 40 + 4 + 4 + geo.crs_wkt.size() + 8 + 4 + 4;  // ... digest, levels, CRC
-  for (const MeshLevelBlock& b : levels_.blocks) header_bytes_ += 28 + 8 * std::uint64_t(block_levels(b.nr, b.nc));
+  header_bytes_ =
+      20 + 4 + 16 + 40 + 4 + 4 + geo.crs_wkt.size() + 8 + 4 + 4;  // ... digest, levels, CRC
+  for (const MeshLevelBlock& b : levels_.blocks)
+    header_bytes_ += 28 + 8 * std::uint64_t(block_levels(b.nr, b.nc));
   for (int l = 0; l < n_levels; ++l) {
     auto v = std::make_unique<Level>();
     v->rows = level_count(cells_r, l), v->cols = level_count(cells_c, l);
@@ -250,8 +265,10 @@ MeshPyramidWriter::~MeshPyramidWriter() {
   }
 }
 
-void MeshPyramidWriter::add_rows(const Eigen::Vector3f* positions, const Eigen::Vector3f* normals, std::size_t n) {
-  const std::size_t cells_r = topo_.rows - 1, cells_c = topo_.cols - 1, cols = topo_.cols, B = block_;
+void MeshPyramidWriter::add_rows(const Eigen::Vector3f* positions, const Eigen::Vector3f* normals,
+                                 std::size_t n) {
+  const std::size_t cells_r = topo_.rows - 1, cells_c = topo_.cols - 1, cols = topo_.cols,
+                    B = block_;
   for (std::size_t k = 0; k < n; ++k, ++row_) {
     if (row_ >= topo_.rows) throw Error("cannot write '" + path_ + "': more rows than the grid's");
     const Eigen::Vector3f *p = positions + k * cols, *q = normals + k * cols;
@@ -288,7 +305,8 @@ void MeshPyramidWriter::measure_block_row(const std::vector<Eigen::Vector3f>& po
     MeshLevelBlock local = b;
     local.r0 = 0;
     measure_block(band, local);
-    b.lo = local.lo, b.hi = local.hi, b.error = std::move(local.error), b.slope = std::move(local.slope);
+    b.lo = local.lo, b.hi = local.hi, b.error = std::move(local.error),
+    b.slope = std::move(local.slope);
   }
 }
 
@@ -305,9 +323,12 @@ void MeshPyramidWriter::flush_tile_row(Level& v, int l, std::size_t nr) {
         raw[nr * nc + r * nc + c] = v.nrm[r * v.cols + c0 + c];
       }
     std::string t(ZSTD_compressBound(raw.size() * sizeof raw[0]), '\0');
-    const std::size_t n = ZSTD_compress(t.data(), t.size(), raw.data(), raw.size() * sizeof raw[0], 3);
-    if (!ZSTD_isError(n)) t.resize(n);
-    else t.clear();
+    const std::size_t n =
+        ZSTD_compress(t.data(), t.size(), raw.data(), raw.size() * sizeof raw[0], 3);
+    if (!ZSTD_isError(n))
+      t.resize(n);
+    else
+      t.clear();
     z[std::size_t(tc)] = std::move(t);
   }
   std::ostream& out = l == 0 ? static_cast<std::ostream&>(out_) : v.out;
@@ -326,8 +347,9 @@ void MeshPyramidWriter::flush_tile_row(Level& v, int l, std::size_t nr) {
 }
 
 std::uint64_t MeshPyramidWriter::finish() {
-  if (row_ != topo_.rows) throw Error(fmt::format("cannot write '{}': {} of the grid's {} rows given", path_, row_,
-                                                  topo_.rows));
+  if (row_ != topo_.rows)
+    throw Error(
+        fmt::format("cannot write '{}': {} of the grid's {} rows given", path_, row_, topo_.rows));
   const int n_levels = int(grids_.size());
   Out h;
   h.bytes.append(kMagic, 8);
@@ -352,13 +374,15 @@ std::uint64_t MeshPyramidWriter::finish() {
   std::size_t n_tiles = 0;
   for (const auto& v : grids_) n_tiles += v->bytes.size();
   // The index: per level its tile counts, then per tile offset, bytes, CRC-32.
-  const std::uint64_t index_bytes = std::uint64_t(n_levels) * 16 + std::uint64_t(n_tiles) * 16 + 4;  // and the CRC
+  const std::uint64_t index_bytes =
+      std::uint64_t(n_levels) * 16 + std::uint64_t(n_tiles) * 16 + 4;  // and the CRC
   const std::uint64_t header_bytes = h.bytes.size() + index_bytes;
   if (header_bytes != header_bytes_) throw Error("internal: the pyramid header's size changed");
   std::memcpy(h.bytes.data() + 12, &header_bytes, 8);
   std::uint64_t offset = header_bytes;
   for (auto& v : grids_) {
-    if (v->bytes.size() != v->tiles_r * v->tiles_c) throw Error("internal: a pyramid level's tiles are missing");
+    if (v->bytes.size() != v->tiles_r * v->tiles_c)
+      throw Error("internal: a pyramid level's tiles are missing");
     h.put(std::uint64_t(v->tiles_r));
     h.put(std::uint64_t(v->tiles_c));
     for (std::size_t k = 0; k < v->bytes.size(); ++k) {
@@ -392,7 +416,8 @@ std::uint64_t MeshPyramidWriter::finish() {
 
 std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const std::string& path, std::size_t block,
                                  const std::string& name_like) {
-  if (mesh.positions.size() != mesh.topo.n_vertices() || mesh.normals.size() != mesh.topo.n_vertices())
+  if (mesh.positions.size() != mesh.topo.n_vertices() ||
+      mesh.normals.size() != mesh.topo.n_vertices())
     throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
   MeshPyramidWriter w(mesh.topo, mesh.geo, path, block, name_like);
   w.add_rows(mesh.positions.data(), mesh.normals.data(), mesh.topo.rows);
@@ -415,14 +440,16 @@ void pyramid_fix_checksums(std::string& bytes) {
   std::uint32_t version = get(8, std::uint32_t(0));
   const std::uint64_t header = get(12, std::uint64_t(0));
   if (bytes.size() < 20 || version != 3 || header < 24 || header > bytes.size()) return;
-  const std::uint64_t B = get(20, std::uint32_t(0)), rows = get(24, std::uint64_t(0)), cols = get(32, std::uint64_t(0));
+  const std::uint64_t B = get(20, std::uint32_t(0)), rows = get(24, std::uint64_t(0)),
+                      cols = get(32, std::uint64_t(0));
   if (B < 2 || rows < 2 || cols < 2 || rows > (1u << 30) || cols > (1u << 30)) return;
   std::uint64_t at = 84;  // after magic, version, size, B, grid, georeference, EPSG
   at += 4 + std::uint64_t(get(at, std::uint32_t(0))) + 8;  // the CRS, the digest
   const std::uint32_t n_levels = get(at, std::uint32_t(0));
   at += 4;
   const std::uint64_t n_blocks = ((rows - 1 + B - 1) / B) * ((cols - 1 + B - 1) / B);
-  for (std::uint64_t k = 0; k < n_blocks && at < header; ++k) at += 28 + 8 * std::uint64_t(get(at + 24, std::uint32_t(0)));
+  for (std::uint64_t k = 0; k < n_blocks && at < header; ++k)
+    at += 28 + 8 * std::uint64_t(get(at + 24, std::uint32_t(0)));
   for (std::uint32_t l = 0; l < n_levels && at + 16 <= header - 4; ++l) {
     const std::uint64_t tiles = get(at, std::uint64_t(0)) * get(at + 8, std::uint64_t(0));
     at += 16;
@@ -440,7 +467,8 @@ void pyramid_fix_checksums(std::string& bytes) {
 }
 
 std::string pyramid_path_of(const std::string& mesh_path) {
-  return (mesh_path.ends_with(".ply") ? mesh_path.substr(0, mesh_path.size() - 4) : mesh_path) + ".tpyr";
+  return (mesh_path.ends_with(".ply") ? mesh_path.substr(0, mesh_path.size() - 4) : mesh_path) +
+         ".tpyr";
 }
 
 MeshPyramid::MeshPyramid(const std::string& path) : path_(path) {
@@ -476,28 +504,35 @@ void MeshPyramid::read_at(void* to, std::size_t n, std::uint64_t offset) const {
 
 void MeshPyramid::read_header(std::uint64_t size) {
   const std::string& path = path_;
-  const auto corrupt = [&](const char* what) { return Error(fmt::format("cannot read '{}': corrupt mesh pyramid ({})", path, what)); };
+  const auto corrupt = [&](const char* what) {
+    return Error(fmt::format("cannot read '{}': corrupt mesh pyramid ({})", path, what));
+  };
   // The magic, the version and the header's size, then the header and index whole.
   std::string bytes(20, '\0');
   if (size < 20) throw Error("'" + path + "' is not a mesh pyramid (.tpyr)");
   read_at(bytes.data(), 20, 0);
-  if (std::memcmp(bytes.data(), kMagic, 8) != 0) throw Error("'" + path + "' is not a mesh pyramid (.tpyr)");
+  if (std::memcmp(bytes.data(), kMagic, 8) != 0)
+    throw Error("'" + path + "' is not a mesh pyramid (.tpyr)");
   In in{bytes, path_, 8};
   const std::uint32_t version = in.get<std::uint32_t>();
   if (version > kVersion)
-    throw Error(fmt::format("cannot read '{}': mesh pyramid version {} is newer than this tool's ({})", path, version,
-                            kVersion));
-  if (version < 1) throw Error(fmt::format("cannot read '{}': corrupt mesh pyramid (version {})", path, version));
+    throw Error(
+        fmt::format("cannot read '{}': mesh pyramid version {} is newer than this tool's ({})",
+                    path, version, kVersion));
+  if (version < 1)
+    throw Error(fmt::format("cannot read '{}': corrupt mesh pyramid (version {})", path, version));
   version_ = int(version);
   const std::uint64_t header_bytes = in.get<std::uint64_t>();
-  if (header_bytes < 20 || header_bytes > size) throw Error("cannot read '" + path + "': truncated mesh pyramid");
+  if (header_bytes < 20 || header_bytes > size)
+    throw Error("cannot read '" + path + "': truncated mesh pyramid");
   bytes.resize(std::size_t(header_bytes));
   read_at(bytes.data() + 20, std::size_t(header_bytes - 20), 20);
   if (version >= 3) {  // the CRC-32 of the header before it, in its last 4 bytes
     if (header_bytes < 24) throw corrupt("its header");
     std::uint32_t crc = 0;
     std::memcpy(&crc, bytes.data() + header_bytes - 4, 4);
-    if (crc_of(bytes.substr(0, std::size_t(header_bytes - 4))) != crc) throw corrupt("its header's checksum");
+    if (crc_of(bytes.substr(0, std::size_t(header_bytes - 4))) != crc)
+      throw corrupt("its header's checksum");
     bytes.resize(std::size_t(header_bytes - 4));
   }
   const std::size_t B = in.get<std::uint32_t>();
@@ -505,7 +540,8 @@ void MeshPyramid::read_header(std::uint64_t size) {
   if (B < 2 || B > (1u << 16) || rows < 2 || cols < 2 || rows > (1u << 30) || cols > (1u << 30) ||
       rows * cols >= (std::uint64_t(1) << 32))
     throw corrupt("its grid");
-  geo_.origin_x = in.get<double>(), geo_.origin_y = in.get<double>(), geo_.origin_z = in.get<double>();
+  geo_.origin_x = in.get<double>(), geo_.origin_y = in.get<double>(),
+  geo_.origin_z = in.get<double>();
   geo_.dx = in.get<double>(), geo_.dy = in.get<double>();
   geo_.epsg = in.get<std::int32_t>();
   if (!georef_in_range(GridTopology{std::size_t(rows), std::size_t(cols)}, geo_) || geo_.epsg < 0)
@@ -524,18 +560,22 @@ void MeshPyramid::read_header(std::uint64_t size) {
   // Every count against the bytes left before anything is allocated: a block takes at
   // least 28 + 4 (version 1) or 28 + 8 bytes, a level's index 16 and a tile 16.
   const std::uint64_t n_blocks = std::uint64_t(levels_.block_rows) * levels_.block_cols;
-  if (n_blocks > (bytes.size() - in.at) / 32) throw Error("cannot read '" + path + "': truncated mesh pyramid");
+  if (n_blocks > (bytes.size() - in.at) / 32)
+    throw Error("cannot read '" + path + "': truncated mesh pyramid");
   levels_.blocks.resize(std::size_t(n_blocks));
   for (std::size_t k = 0; k < levels_.blocks.size(); ++k) {
     MeshLevelBlock& b = levels_.blocks[k];
-    b.r0 = std::uint32_t(k / levels_.block_cols * B), b.c0 = std::uint32_t(k % levels_.block_cols * B);
+    b.r0 = std::uint32_t(k / levels_.block_cols * B),
+    b.c0 = std::uint32_t(k % levels_.block_cols * B);
     b.nr = std::uint32_t(std::min<std::uint64_t>(B, rows - 1 - b.r0));
     b.nc = std::uint32_t(std::min<std::uint64_t>(B, cols - 1 - b.c0));
     for (int j = 0; j < 3; ++j) b.lo[j] = in.get<float>();
     for (int j = 0; j < 3; ++j) b.hi[j] = in.get<float>();
-    if (!b.lo.allFinite() || !b.hi.allFinite() || (b.lo.array() > b.hi.array()).any()) throw corrupt("a block's box");
+    if (!b.lo.allFinite() || !b.hi.allFinite() || (b.lo.array() > b.hi.array()).any())
+      throw corrupt("a block's box");
     const std::uint32_t nl = in.get<std::uint32_t>();
-    if (nl < 1 || nl > n_levels || int(nl) != block_levels(b.nr, b.nc)) throw corrupt("a block's levels");
+    if (nl < 1 || nl > n_levels || int(nl) != block_levels(b.nr, b.nc))
+      throw corrupt("a block's levels");
     if (std::uint64_t(nl) * (version >= 2 ? 8 : 4) > bytes.size() - in.at)
       throw Error("cannot read '" + path + "': truncated mesh pyramid");
     b.error.resize(nl);
@@ -543,7 +583,8 @@ void MeshPyramid::read_header(std::uint64_t size) {
     // Errors: 0 at level 0, finite and non-decreasing; slopes >= 0 (infinite where a
     // surface turns over).
     for (std::size_t j = 0; j < nl; ++j)
-      if (!std::isfinite(b.error[j]) || (j == 0 ? b.error[j] != 0 : !(b.error[j] >= b.error[j - 1])))
+      if (!std::isfinite(b.error[j]) ||
+          (j == 0 ? b.error[j] != 0 : !(b.error[j] >= b.error[j - 1])))
         throw corrupt("a block's errors");
     if (version >= 2) {  // version 1: not known
       b.slope.resize(nl);
@@ -560,12 +601,15 @@ void MeshPyramid::read_header(std::uint64_t size) {
   for (std::uint32_t l = 0; l < n_levels; ++l) {
     LevelTiles& t = tiles_[l];
     t.tiles_r = in.get<std::uint64_t>(), t.tiles_c = in.get<std::uint64_t>();
-    if (t.tiles_r != (this->rows(int(l)) - 1 + B - 1) / B || t.tiles_c != (this->cols(int(l)) - 1 + B - 1) / B)
+    if (t.tiles_r != (this->rows(int(l)) - 1 + B - 1) / B ||
+        t.tiles_c != (this->cols(int(l)) - 1 + B - 1) / B)
       throw corrupt("its tile counts");
-    if (t.tiles_r * t.tiles_c > (bytes.size() - in.at) / 16) throw Error("cannot read '" + path + "': truncated mesh pyramid");
+    if (t.tiles_r * t.tiles_c > (bytes.size() - in.at) / 16)
+      throw Error("cannot read '" + path + "': truncated mesh pyramid");
     t.tiles.resize(t.tiles_r * t.tiles_c);
     for (Tile& tile : t.tiles) {
-      tile.offset = in.get<std::uint64_t>(), tile.bytes = in.get<std::uint32_t>(), tile.crc = in.get<std::uint32_t>();
+      tile.offset = in.get<std::uint64_t>(), tile.bytes = in.get<std::uint32_t>(),
+      tile.crc = in.get<std::uint32_t>();
       if (tile.offset > size || tile.bytes > size - tile.offset)
         throw Error("cannot read '" + path + "': truncated mesh pyramid");
       if (version >= 3 && tile.offset != end) throw corrupt("its tile index");
@@ -573,7 +617,8 @@ void MeshPyramid::read_header(std::uint64_t size) {
     }
   }
   if (in.at != bytes.size()) throw corrupt("its header's size");
-  if (version >= 3 && end != size) throw Error("cannot read '" + path + "': truncated mesh pyramid, or bytes after its tiles");
+  if (version >= 3 && end != size)
+    throw Error("cannot read '" + path + "': truncated mesh pyramid, or bytes after its tiles");
   bytes_read_ = header_bytes;
 }
 
@@ -582,25 +627,28 @@ std::uint32_t MeshPyramid::tile_bytes(int l, std::size_t tr, std::size_t tc) con
   return t.tiles.at(tr * t.tiles_c + tc).bytes;
 }
 
-std::vector<Eigen::Vector3f> MeshPyramid::decode_tile(int l, std::size_t tr, std::size_t tc, ZSTD_DCtx* ctx,
-                                                      std::uint64_t& bytes) const {
+std::vector<Eigen::Vector3f> MeshPyramid::decode_tile(int l, std::size_t tr, std::size_t tc,
+                                                      ZSTD_DCtx* ctx, std::uint64_t& bytes) const {
   const LevelTiles& lt = tiles_[std::size_t(l)];
   const Tile& tile = lt.tiles[tr * lt.tiles_c + tc];
   const TileRange t = tile_range(rows(l), cols(l), levels_.block, tr, tc);
   const auto bad = [&](const char* why) {
-    return Error(fmt::format("cannot read '{}': tile {}, {} of level {} is corrupt ({})", path_, tr, tc, l, why));
+    return Error(fmt::format("cannot read '{}': tile {}, {} of level {} is corrupt ({})", path_, tr,
+                             tc, l, why));
   };
   std::string z(tile.bytes, '\0');
   read_at(z.data(), z.size(), tile.offset);
   if (crc_of(z) != tile.crc) throw bad("its checksum");
   std::vector<Eigen::Vector3f> raw(2 * t.nr * t.nc);  // positions, then normals
-  const std::size_t got = ZSTD_decompressDCtx(ctx, raw.data(), raw.size() * sizeof raw[0], z.data(), z.size());
+  const std::size_t got =
+      ZSTD_decompressDCtx(ctx, raw.data(), raw.size() * sizeof raw[0], z.data(), z.size());
   if (ZSTD_isError(got) || got != raw.size() * sizeof raw[0]) throw bad("its data");
   // Its vertices within its blocks' boxes: at level 0 a tile is one block, and its box is
   // that of these very vertices; a coarser level's vertices are some of the fine ones.
   const std::size_t s = std::size_t(1) << l;
   const std::size_t br0 = tr * s, bc0 = tc * s;
-  const std::size_t br1 = std::min(levels_.block_rows, br0 + s), bc1 = std::min(levels_.block_cols, bc0 + s);
+  const std::size_t br1 = std::min(levels_.block_rows, br0 + s),
+                    bc1 = std::min(levels_.block_cols, bc0 + s);
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::infinity()), hi = -lo;
   for (std::size_t br = br0; br < br1; ++br)
     for (std::size_t bc = bc0; bc < bc1; ++bc) {
@@ -608,16 +656,19 @@ std::vector<Eigen::Vector3f> MeshPyramid::decode_tile(int l, std::size_t tr, std
       lo = lo.cwiseMin(b.lo), hi = hi.cwiseMax(b.hi);
     }
   Eigen::Vector3f tlo = raw[0], thi = raw[0];  // a tile holds at least 2 x 2 vertices
-  for (std::size_t i = 1; i < t.nr * t.nc; ++i) tlo = tlo.cwiseMin(raw[i]), thi = thi.cwiseMax(raw[i]);
+  for (std::size_t i = 1; i < t.nr * t.nc; ++i)
+    tlo = tlo.cwiseMin(raw[i]), thi = thi.cwiseMax(raw[i]);
   const bool exact = l == 0;
-  if (!tlo.allFinite() || !thi.allFinite() || (exact ? (tlo != lo || thi != hi)
-                                                     : ((tlo.array() < lo.array()).any() || (thi.array() > hi.array()).any())))
+  if (!tlo.allFinite() || !thi.allFinite() ||
+      (exact ? (tlo != lo || thi != hi)
+             : ((tlo.array() < lo.array()).any() || (thi.array() > hi.array()).any())))
     throw bad("its vertices are not in its block's box");
   bytes += tile.bytes;
   return raw;
 }
 
-MeshWindow MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc) {
+MeshWindow MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr,
+                                    std::size_t nc) {
   MeshWindow w;
   w.rows = nr, w.cols = nc;
   w.positions.resize(nr * nc);
@@ -626,8 +677,9 @@ MeshWindow MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::
   return w;
 }
 
-void MeshPyramid::decode_tiles(int l, std::size_t tr0, std::size_t tc0, std::size_t tr1, std::size_t tc1,
-                               const std::function<void(std::size_t, std::size_t, const std::vector<Eigen::Vector3f>&)>& use) {
+void MeshPyramid::decode_tiles(
+    int l, std::size_t tr0, std::size_t tc0, std::size_t tr1, std::size_t tc1,
+    const std::function<void(std::size_t, std::size_t, const std::vector<Eigen::Vector3f>&)>& use) {
   const std::size_t across = tc1 - tc0, n_tiles = (tr1 - tr0) * across;
   std::string failed;
   std::uint64_t bytes = 0;
@@ -653,28 +705,34 @@ void MeshPyramid::decode_tiles(int l, std::size_t tr0, std::size_t tc0, std::siz
 void MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc,
                               Eigen::Vector3f* positions, Eigen::Vector3f* normals) {
   if (l < 0 || l >= level_count() || nr == 0 || nc == 0 || r0 + nr > rows(l) || c0 + nc > cols(l))
-    throw Error(fmt::format("'{}': no window of {} x {} at {}, {} in level {}", path_, nr, nc, r0, c0, l));
+    throw Error(
+        fmt::format("'{}': no window of {} x {} at {}, {} in level {}", path_, nr, nc, r0, c0, l));
   const LevelTiles& lt = tiles_[std::size_t(l)];
   const std::size_t B = levels_.block;
   // Every tile the window touches (a vertex on a tile border is in both, the same in both).
-  const std::size_t tr0 = std::min(r0 / B, lt.tiles_r - 1), tr1 = std::min((r0 + nr - 1) / B, lt.tiles_r - 1);
-  const std::size_t tc0 = std::min(c0 / B, lt.tiles_c - 1), tc1 = std::min((c0 + nc - 1) / B, lt.tiles_c - 1);
-  decode_tiles(l, tr0, tc0, tr1 + 1, tc1 + 1, [&](std::size_t tr, std::size_t tc, const std::vector<Eigen::Vector3f>& raw) {
-    const TileRange t = tile_range(rows(l), cols(l), B, tr, tc);
-    const std::size_t ca = std::max(c0, t.c0), cb = std::min(c0 + nc, t.c0 + t.nc);
-    for (std::size_t r = std::max(r0, t.r0); r < std::min(r0 + nr, t.r0 + t.nr); ++r) {
-      const std::size_t to = (r - r0) * nc + (ca - c0), from = (r - t.r0) * t.nc + (ca - t.c0);
-      std::copy_n(raw.begin() + long(from), cb - ca, positions + to);
-      std::copy_n(raw.begin() + long(t.nr * t.nc + from), cb - ca, normals + to);
-    }
-  });
+  const std::size_t tr0 = std::min(r0 / B, lt.tiles_r - 1),
+                    tr1 = std::min((r0 + nr - 1) / B, lt.tiles_r - 1);
+  const std::size_t tc0 = std::min(c0 / B, lt.tiles_c - 1),
+                    tc1 = std::min((c0 + nc - 1) / B, lt.tiles_c - 1);
+  decode_tiles(l, tr0, tc0, tr1 + 1, tc1 + 1,
+               [&](std::size_t tr, std::size_t tc, const std::vector<Eigen::Vector3f>& raw) {
+                 const TileRange t = tile_range(rows(l), cols(l), B, tr, tc);
+                 const std::size_t ca = std::max(c0, t.c0), cb = std::min(c0 + nc, t.c0 + t.nc);
+                 for (std::size_t r = std::max(r0, t.r0); r < std::min(r0 + nr, t.r0 + t.nr); ++r) {
+                   const std::size_t to = (r - r0) * nc + (ca - c0),
+                                     from = (r - t.r0) * t.nc + (ca - t.c0);
+                   std::copy_n(raw.begin() + long(from), cb - ca, positions + to);
+                   std::copy_n(raw.begin() + long(t.nr * t.nc + from), cb - ca, normals + to);
+                 }
+               });
 }
 
 std::size_t MeshPyramid::check_tiles() {
   std::size_t n = 0;
   for (int l = 0; l < level_count(); ++l) {
     const LevelTiles& lt = tiles_[std::size_t(l)];
-    decode_tiles(l, 0, 0, lt.tiles_r, lt.tiles_c, [](std::size_t, std::size_t, const std::vector<Eigen::Vector3f>&) {});
+    decode_tiles(l, 0, 0, lt.tiles_r, lt.tiles_c,
+                 [](std::size_t, std::size_t, const std::vector<Eigen::Vector3f>&) {});
     n += lt.tiles.size();
   }
   return n;

@@ -18,7 +18,8 @@ int type_size(const std::string& t, bool* is_float) {
   *is_float = t == "float" || t == "float32" || t == "double" || t == "float64";
   if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
   if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-  if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32") return 4;
+  if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float" || t == "float32")
+    return 4;
   if (t == "double" || t == "float64") return 8;
   return 0;
 }
@@ -28,8 +29,9 @@ int type_size(const std::string& t, bool* is_float) {
 std::uint64_t PlyElement::record_bytes(int list_items) const {
   std::uint64_t n = 0;
   for (const PlyProperty& p : properties)
-    n += p.count_size ? std::uint64_t(p.count_size) + std::uint64_t(list_items) * std::uint64_t(p.size)
-                      : std::uint64_t(p.size);
+    n += p.count_size
+             ? std::uint64_t(p.count_size) + std::uint64_t(list_items) * std::uint64_t(p.size)
+             : std::uint64_t(p.size);
   return n;
 }
 
@@ -47,8 +49,8 @@ const PlyElement* PlyHeader::find(const std::string& element) const {
 
 PlyHeader read_ply_header(std::istream& in, const std::string& name) {
   auto fail = [&](const std::string& why, std::size_t line_no) -> Error {
-    return Error("cannot read '" + name + "': " + (line_no ? "PLY header line " + std::to_string(line_no) + ": " : "") +
-                 why);
+    return Error("cannot read '" + name + "': " +
+                 (line_no ? "PLY header line " + std::to_string(line_no) + ": " : "") + why);
   };
   PlyHeader h;
   std::string line;
@@ -100,17 +102,20 @@ PlyHeader read_ply_header(std::istream& in, const std::string& name) {
       if (!(ss >> a)) throw fail("expected 'property TYPE NAME'", line_no);
       if (a == "list") {
         bool count_float = false;
-        if (!(ss >> b >> c >> p.name) || (ss >> extra)) throw fail("expected 'property list COUNT_TYPE TYPE NAME'", line_no);
+        if (!(ss >> b >> c >> p.name) || (ss >> extra))
+          throw fail("expected 'property list COUNT_TYPE TYPE NAME'", line_no);
         p.count_size = type_size(b, &count_float);
         p.size = type_size(c, &p.is_float);
-        if (p.count_size == 0 || count_float || p.size == 0) throw fail("unknown list types '" + b + " " + c + "'", line_no);
+        if (p.count_size == 0 || count_float || p.size == 0)
+          throw fail("unknown list types '" + b + " " + c + "'", line_no);
       } else {
         if (!(ss >> p.name) || (ss >> extra)) throw fail("expected 'property TYPE NAME'", line_no);
         p.size = type_size(a, &p.is_float);
         if (p.size == 0) throw fail("unknown property type '" + a + "'", line_no);
       }
       PlyElement& e = h.elements.back();
-      if (e.find(p.name)) throw fail("property '" + p.name + "' appears twice in element '" + e.name + "'", line_no);
+      if (e.find(p.name))
+        throw fail("property '" + p.name + "' appears twice in element '" + e.name + "'", line_no);
       e.properties.push_back(p);
     } else {
       throw fail("unknown keyword '" + key + "'", line_no);

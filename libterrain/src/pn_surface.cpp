@@ -94,12 +94,15 @@ std::optional<SurfacePoint> pn_point_above(const GridMesh& mesh, double x, doubl
       hint);
   if (w.face == kNoFace) return std::nullopt;
   const PnXySolution& s = w.solution;
-  return SurfacePoint{w.face, s.b1, s.b2, s.b3, s.position, pn_normal(face_patch(mesh, w.face), s.b1, s.b2, s.b3)};
+  return SurfacePoint{w.face, s.b1,       s.b2,
+                      s.b3,   s.position, pn_normal(face_patch(mesh, w.face), s.b1, s.b2, s.b3)};
 }
 
 std::pair<std::size_t, std::size_t> sampled_size(const GridMesh& mesh, double spacing) {
-  const double width = double(mesh.topo.cols - 1) * mesh.geo.dx, height = double(mesh.topo.rows - 1) * mesh.geo.dy;
-  return {std::size_t(std::floor(width / spacing + 1e-9)) + 1, std::size_t(std::floor(height / spacing + 1e-9)) + 1};
+  const double width = double(mesh.topo.cols - 1) * mesh.geo.dx,
+               height = double(mesh.topo.rows - 1) * mesh.geo.dy;
+  return {std::size_t(std::floor(width / spacing + 1e-9)) + 1,
+          std::size_t(std::floor(height / spacing + 1e-9)) + 1};
 }
 
 namespace {
@@ -112,13 +115,16 @@ void drop_filled_cells(const GridMesh& mesh, Grid& grid) {
 #pragma omp parallel for schedule(static)
   for (long j = 0; j < long(grid.rows); ++j) {
     const double v = double(j) * s / mesh.geo.dy;  // cell rows from the top
-    const std::size_t r0 = std::size_t(std::max(0.0, std::ceil(v) - 1)), r1 = std::min(rows - 2, std::size_t(v));
+    const std::size_t r0 = std::size_t(std::max(0.0, std::ceil(v) - 1)),
+                      r1 = std::min(rows - 2, std::size_t(v));
     for (std::size_t i = 0; i < grid.cols; ++i) {
       const double u = double(i) * s / mesh.geo.dx;
-      const std::size_t c0 = std::size_t(std::max(0.0, std::ceil(u) - 1)), c1 = std::min(cols - 2, std::size_t(u));
+      const std::size_t c0 = std::size_t(std::max(0.0, std::ceil(u) - 1)),
+                        c1 = std::min(cols - 2, std::size_t(u));
       bool filled = false;
       for (std::size_t r = r0; r <= r1 + 1 && !filled; ++r)
-        for (std::size_t c = c0; c <= c1 + 1 && !filled; ++c) filled = mesh.filled[r * cols + c] != 0;
+        for (std::size_t c = c0; c <= c1 + 1 && !filled; ++c)
+          filled = mesh.filled[r * cols + c] != 0;
       if (filled) grid.z[std::size_t(j) * grid.cols + i] = std::numeric_limits<float>::quiet_NaN();
     }
   }
@@ -127,17 +133,22 @@ void drop_filled_cells(const GridMesh& mesh, Grid& grid) {
 }  // namespace
 
 SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Progress& progress) {
-  if (!(spacing > 0.0 && std::isfinite(spacing))) throw Error("the sampling spacing must be a positive number of metres");
-  const double width = double(mesh.topo.cols - 1) * mesh.geo.dx, height = double(mesh.topo.rows - 1) * mesh.geo.dy;
-  // Named variables, not a structured binding: clang 14 cannot use a binding inside the OpenMP region below.
+  if (!(spacing > 0.0 && std::isfinite(spacing)))
+    throw Error("the sampling spacing must be a positive number of metres");
+  const double width = double(mesh.topo.cols - 1) * mesh.geo.dx,
+               height = double(mesh.topo.rows - 1) * mesh.geo.dy;
+  // Named variables, not a structured binding: clang 14 cannot use a binding inside the OpenMP
+  // region below.
   const auto size = sampled_size(mesh, spacing);
   const std::size_t nx = size.first, ny = size.second;
   if (nx < 2 || ny < 2)
-    throw Error(fmt::format("sampling at {:g} m gives {} x {} points: the sampled surface needs at least 2 x 2; give a "
-                            "spacing at most the mesh's extent ({:g} x {:g} m)",
-                            spacing, nx, ny, width, height));
+    throw Error(fmt::format(
+        "sampling at {:g} m gives {} x {} points: the sampled surface needs at least 2 x 2; give a "
+        "spacing at most the mesh's extent ({:g} x {:g} m)",
+        spacing, nx, ny, width, height));
   if (double(nx) * double(ny) >= double(std::numeric_limits<std::uint32_t>::max()))
-    throw Error("sampling at " + std::to_string(spacing) + " m would give more than 2^32 - 1 points");
+    throw Error("sampling at " + std::to_string(spacing) +
+                " m would give more than 2^32 - 1 points");
   Georef geo;
   geo.dx = geo.dy = spacing;
   geo.x0 = mesh.geo.origin_x - spacing / 2;
@@ -168,7 +179,8 @@ SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Pro
         Slot& slot = cache[row % 3];
         if (slot.row != row) {
           slot.polys.resize(face_row);
-          for (std::size_t k = 0; k < face_row; ++k) slot.polys[k] = to_polynomial(face_patch(mesh, row * face_row + k));
+          for (std::size_t k = 0; k < face_row; ++k)
+            slot.polys[k] = to_polynomial(face_patch(mesh, row * face_row + k));
           slot.row = row;
         }
         last_face = f;
@@ -188,9 +200,11 @@ SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Pro
           } else {  // fold-over: the flat triangle under the point
             ++fallbacks;
             const auto v = mesh.topo.face(flat_face(mesh, x, y));
-            const Eigen::Vector3d a = mesh.positions[v[0]].cast<double>(), b = mesh.positions[v[1]].cast<double>(),
+            const Eigen::Vector3d a = mesh.positions[v[0]].cast<double>(),
+                                  b = mesh.positions[v[1]].cast<double>(),
                                   c = mesh.positions[v[2]].cast<double>();
-            const Eigen::Vector3d n = face_normal(a, b, c);  // equal normals: the patch is the flat triangle
+            const Eigen::Vector3d n =
+                face_normal(a, b, c);  // equal normals: the patch is the flat triangle
             z = pn_solve_xy(to_polynomial(make_pn_patch(a, b, c, n, n, n)), x, y).position.z();
           }
           out.grid.z[std::size_t(j) * nx + i] = float(z + mesh.geo.origin_z);

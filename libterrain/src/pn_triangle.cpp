@@ -19,14 +19,15 @@ Vector3d mid_normal(const Vector3d& pi, const Vector3d& pj, const Vector3d& ni, 
                     const Vector3d& face_n) {
   const Vector3d e = pj - pi;
   const double ee = e.dot(e);
-  const Vector3d h = ee > 0.0 ? Vector3d(ni + nj - 2.0 * e.dot(ni + nj) / ee * e) : Vector3d(ni + nj);
+  const Vector3d h =
+      ee > 0.0 ? Vector3d(ni + nj - 2.0 * e.dot(ni + nj) / ee * e) : Vector3d(ni + nj);
   return normalized_or(h, face_n);
 }
 
 }  // namespace
 
-PnPatch make_pn_patch(const Vector3d& p1, const Vector3d& p2, const Vector3d& p3, const Vector3d& n1,
-                      const Vector3d& n2, const Vector3d& n3) {
+PnPatch make_pn_patch(const Vector3d& p1, const Vector3d& p2, const Vector3d& p3,
+                      const Vector3d& n1, const Vector3d& n2, const Vector3d& n3) {
   PnPatch p;
   p.b = pn_control_points<double>(p1, p2, p3, n1, n2, n3);
 
@@ -41,24 +42,30 @@ PnPatch make_pn_patch(const Vector3d& p1, const Vector3d& p2, const Vector3d& p3
   return p;
 }
 
-Vector3d pn_position(const PnPatch& p, double b1, double b2, double b3) { return pn_cubic<double>(p.b, b1, b2, b3); }
+Vector3d pn_position(const PnPatch& p, double b1, double b2, double b3) {
+  return pn_cubic<double>(p.b, b1, b2, b3);
+}
 
 Vector3d pn_normal(const PnPatch& p, double b1, double b2, double b3) {
   const auto& n = p.n;
-  const Vector3d v = n[N200] * (b1 * b1) + n[N020] * (b2 * b2) + n[N002] * (b3 * b3) + n[N110] * (b1 * b2) +
-                     n[N011] * (b2 * b3) + n[N101] * (b1 * b3);
+  const Vector3d v = n[N200] * (b1 * b1) + n[N020] * (b2 * b2) + n[N002] * (b3 * b3) +
+                     n[N110] * (b1 * b2) + n[N011] * (b2 * b3) + n[N101] * (b1 * b3);
   return normalized_or(v, n[N200]);
 }
 
-void pn_derivatives(const PnPatch& p, double b1, double b2, double b3, Vector3d& dpds, Vector3d& dpdt) {
+void pn_derivatives(const PnPatch& p, double b1, double b2, double b3, Vector3d& dpds,
+                    Vector3d& dpdt) {
   const auto& b = p.b;
   // Partial derivatives of the homogeneous cubic (docs/algorithms.md 2.2).
-  const Vector3d d1 = 3.0 * (b[B300] * (b1 * b1) + b[B120] * (b2 * b2) + b[B102] * (b3 * b3) +
-                             2.0 * (b[B210] * (b1 * b2) + b[B201] * (b1 * b3) + b[B111] * (b2 * b3)));
-  const Vector3d d2 = 3.0 * (b[B210] * (b1 * b1) + b[B030] * (b2 * b2) + b[B012] * (b3 * b3) +
-                             2.0 * (b[B120] * (b1 * b2) + b[B111] * (b1 * b3) + b[B021] * (b2 * b3)));
-  const Vector3d d3 = 3.0 * (b[B201] * (b1 * b1) + b[B021] * (b2 * b2) + b[B003] * (b3 * b3) +
-                             2.0 * (b[B111] * (b1 * b2) + b[B102] * (b1 * b3) + b[B012] * (b2 * b3)));
+  const Vector3d d1 =
+      3.0 * (b[B300] * (b1 * b1) + b[B120] * (b2 * b2) + b[B102] * (b3 * b3) +
+             2.0 * (b[B210] * (b1 * b2) + b[B201] * (b1 * b3) + b[B111] * (b2 * b3)));
+  const Vector3d d2 =
+      3.0 * (b[B210] * (b1 * b1) + b[B030] * (b2 * b2) + b[B012] * (b3 * b3) +
+             2.0 * (b[B120] * (b1 * b2) + b[B111] * (b1 * b3) + b[B021] * (b2 * b3)));
+  const Vector3d d3 =
+      3.0 * (b[B201] * (b1 * b1) + b[B021] * (b2 * b2) + b[B003] * (b3 * b3) +
+             2.0 * (b[B111] * (b1 * b2) + b[B102] * (b1 * b3) + b[B012] * (b2 * b3)));
   dpds = d2 - d1;
   dpdt = d3 - d1;
 }
@@ -72,7 +79,8 @@ struct BasisTable {
   BasisTable() {
     const int exps[10][3] = {{3, 0, 0}, {0, 3, 0}, {0, 0, 3}, {2, 1, 0}, {1, 2, 0},
                              {0, 2, 1}, {0, 1, 2}, {1, 0, 2}, {2, 0, 1}, {1, 1, 1}};
-    const int mono[10][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}};
+    const int mono[10][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1},
+                             {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}};
     const double fact[4] = {1, 1, 2, 6};
     for (int term = 0; term < 10; ++term) {
       const int i = exps[term][0], j = exps[term][1], k = exps[term][2];
@@ -106,7 +114,8 @@ PnPolynomial to_polynomial(const PnPatch& p) {
   for (auto& c : out.c) c.setZero();
   for (int term = 0; term < 10; ++term)
     for (int mi = 0; mi < 10; ++mi)
-      if (kBasis.m[term][mi] != 0.0) out.c[std::size_t(mi)] += kBasis.m[term][mi] * p.b[std::size_t(term)];
+      if (kBasis.m[term][mi] != 0.0)
+        out.c[std::size_t(mi)] += kBasis.m[term][mi] * p.b[std::size_t(term)];
   return out;
 }
 
@@ -137,18 +146,21 @@ PnXySolution pn_solve_xy(const PnPolynomial& p, double x, double y, double toler
   return pn_solve_xy_from(p, x, y, s, t, tolerance);
 }
 
-PnXySolution pn_solve_xy_from(const PnPolynomial& p, double x, double y, double s, double t, double tolerance) {
+PnXySolution pn_solve_xy_from(const PnPolynomial& p, double x, double y, double s, double t,
+                              double tolerance) {
   const auto& c = p.c;
   // xy of P and its partial derivatives, from the monomial coefficients.
-  auto eval = [&](double s, double t, int d, double& fx, double& fy, double& sx, double& sy, double& tx,
-                  double& ty) {
+  auto eval = [&](double s, double t, int d, double& fx, double& fy, double& sx, double& sy,
+                  double& tx, double& ty) {
     const double ss = s * s, tt = t * t, st = s * t;
     auto comp = [&](int k, double& v, double& ds, double& dt) {
-      v = c[0][k] + c[1][k] * s + c[2][k] * t + c[3][k] * ss + c[4][k] * st + c[5][k] * tt + c[6][k] * ss * s +
-          c[7][k] * ss * t + c[8][k] * s * tt + c[9][k] * tt * t;
+      v = c[0][k] + c[1][k] * s + c[2][k] * t + c[3][k] * ss + c[4][k] * st + c[5][k] * tt +
+          c[6][k] * ss * s + c[7][k] * ss * t + c[8][k] * s * tt + c[9][k] * tt * t;
       if (d) {
-        ds = c[1][k] + 2 * c[3][k] * s + c[4][k] * t + 3 * c[6][k] * ss + 2 * c[7][k] * st + c[8][k] * tt;
-        dt = c[2][k] + c[4][k] * s + 2 * c[5][k] * t + c[7][k] * ss + 2 * c[8][k] * st + 3 * c[9][k] * tt;
+        ds = c[1][k] + 2 * c[3][k] * s + c[4][k] * t + 3 * c[6][k] * ss + 2 * c[7][k] * st +
+             c[8][k] * tt;
+        dt = c[2][k] + c[4][k] * s + 2 * c[5][k] * t + c[7][k] * ss + 2 * c[8][k] * st +
+             3 * c[9][k] * tt;
       }
     };
     comp(0, fx, sx, tx);

@@ -12,10 +12,10 @@
 
 #include <fmt/format.h>
 
+#include "crs_info.hpp"
 #include "terrain/error.hpp"
 #include "terrain/scattered.hpp"
 #include "terrain/utm.hpp"
-#include "crs_info.hpp"
 
 namespace terrain {
 
@@ -29,8 +29,10 @@ using Dataset = std::unique_ptr<GDALDataset, DatasetCloser>;
 // CSV columns GDAL's CSV driver takes as X, Y and Z.
 const char* const kCsvOptions[] = {"X_POSSIBLE_NAMES=x,easting,east,lon,longitude",
                                    "Y_POSSIBLE_NAMES=y,northing,north,lat,latitude",
-                                   "Z_POSSIBLE_NAMES=z,elevation,elev,height,alt", "KEEP_GEOM_COLUMNS=NO",
-                                   "AUTODETECT_TYPE=YES", nullptr};
+                                   "Z_POSSIBLE_NAMES=z,elevation,elev,height,alt",
+                                   "KEEP_GEOM_COLUMNS=NO",
+                                   "AUTODETECT_TYPE=YES",
+                                   nullptr};
 
 // A vector dataset; a CSV file is opened again with kCsvOptions. GDAL 3.6's CSV driver
 // crashes with those options when two columns' names differ only in case ("X" and "x",
@@ -39,19 +41,21 @@ Dataset open_vector(const std::string& path) {
   ensure_gdal();
   const auto open = [&](const char* const* options) {
     CPLPushErrorHandler(CPLQuietErrorHandler);
-    GDALDataset* ds =
-        GDALDataset::FromHandle(GDALOpenEx(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, options, nullptr));
+    GDALDataset* ds = GDALDataset::FromHandle(
+        GDALOpenEx(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, options, nullptr));
     CPLPopErrorHandler();
     return Dataset(ds);
   };
   Dataset plain = open(nullptr);
-  if (!plain || !plain->GetDriver() || !EQUAL(plain->GetDriver()->GetDescription(), "CSV")) return plain;
+  if (!plain || !plain->GetDriver() || !EQUAL(plain->GetDriver()->GetDescription(), "CSV"))
+    return plain;
   for (OGRLayer* layer : plain->GetLayers()) {
     const OGRFeatureDefn* defn = layer->GetLayerDefn();
     for (int i = 0; i < defn->GetFieldCount(); ++i)
       for (int j = 0; j < i; ++j)
         if (EQUAL(defn->GetFieldDefn(i)->GetNameRef(), defn->GetFieldDefn(j)->GetNameRef()))
-          throw Error(std::string("'") + path + "': CSV columns '" + defn->GetFieldDefn(j)->GetNameRef() + "' and '" +
+          throw Error(std::string("'") + path + "': CSV columns '" +
+                      defn->GetFieldDefn(j)->GetNameRef() + "' and '" +
                       defn->GetFieldDefn(i)->GetNameRef() + "' have the same name");
   }
   plain.reset();
@@ -102,7 +106,8 @@ std::string parse_numbers(const std::string& line, char sep, std::vector<double>
     const char* p = field.data() + (field[0] == '+' ? 1 : 0);  // from_chars takes no leading '+'
     double v = 0;
     const auto [next, ec] = std::from_chars(p, field.data() + field.size(), v);
-    if (ec != std::errc() || next != field.data() + field.size()) return "'" + field + "' is not a number";
+    if (ec != std::errc() || next != field.data() + field.size())
+      return "'" + field + "' is not a number";
     out.push_back(v);
     if (end == n) break;
     at = end + (sep == ' ' ? 0 : 1);
@@ -111,7 +116,8 @@ std::string parse_numbers(const std::string& line, char sep, std::vector<double>
 }
 
 bool is_comment_or_blank(const std::string& line) {
-  const auto it = std::find_if(line.begin(), line.end(), [](unsigned char c) { return !std::isspace(c); });
+  const auto it =
+      std::find_if(line.begin(), line.end(), [](unsigned char c) { return !std::isspace(c); });
   return it == line.end() || *it == '#';
 }
 
@@ -137,8 +143,9 @@ bool looks_like_xyz(const std::string& path) {
 
 void check_finite(const PointCloud& p, std::size_t i) {
   if (!std::isfinite(p.x[i]) || !std::isfinite(p.y[i]) || !std::isfinite(p.z[i]))
-    throw Error("point " + std::to_string(i + 1) + " has a non-finite coordinate (" + std::to_string(p.x[i]) + ", " +
-                std::to_string(p.y[i]) + ", " + std::to_string(p.z[i]) + ")");
+    throw Error("point " + std::to_string(i + 1) + " has a non-finite coordinate (" +
+                std::to_string(p.x[i]) + ", " + std::to_string(p.y[i]) + ", " +
+                std::to_string(p.z[i]) + ")");
 }
 
 void set_crs(PointCloud& p, const OGRSpatialReference* srs) {
@@ -152,7 +159,8 @@ void set_crs(PointCloud& p, const OGRSpatialReference* srs) {
                 ", not metres; reproject them first (ogr2ogr -t_srs EPSG:...)");
 }
 
-PointCloud read_ogr(GDALDataset& ds, OGRLayer& layer, const std::string& path, const Progress& progress) {
+PointCloud read_ogr(GDALDataset& ds, OGRLayer& layer, const std::string& path,
+                    const Progress& progress) {
   PointCloud p;
   p.format = ds.GetDriver() ? ds.GetDriver()->GetDescription() : "OGR";
   set_crs(p, layer.GetSpatialRef());
@@ -169,14 +177,17 @@ PointCloud read_ogr(GDALDataset& ds, OGRLayer& layer, const std::string& path, c
     // row's line (the CSV driver numbers data rows from 1 after the header line).
     const auto where = [&] {
       return EQUAL(p.format.c_str(), "CSV") ? fmt::format("line {}", feature->GetFID() + 1)
-                                             : fmt::format("feature {}", feature->GetFID());
+                                            : fmt::format("feature {}", feature->GetFID());
     };
-    if (!g) throw Error("'" + path + "' " + where() + ": no point (x or y is empty or not a number)");
+    if (!g)
+      throw Error("'" + path + "' " + where() + ": no point (x or y is empty or not a number)");
     auto add = [&](const OGRPoint& pt) {
       if (pt.IsEmpty()) throw Error("'" + path + "' " + where() + ": an empty point");
       double z = std::nan("");
-      if (pt.Is3D()) z = pt.getZ();
-      else if (z_field >= 0 && feature->IsFieldSetAndNotNull(z_field)) z = feature->GetFieldAsDouble(z_field);
+      if (pt.Is3D())
+        z = pt.getZ();
+      else if (z_field >= 0 && feature->IsFieldSetAndNotNull(z_field))
+        z = feature->GetFieldAsDouble(z_field);
       else
         throw Error("'" + path + "': point " + std::to_string(p.size() + 1) +
                     " has no z (no Z coordinate and no z / elevation field)");
@@ -186,7 +197,8 @@ PointCloud read_ogr(GDALDataset& ds, OGRLayer& layer, const std::string& path, c
       check_finite(p, p.size() - 1);
     };
     const OGRwkbGeometryType t = wkbFlatten(g->getGeometryType());
-    if (t == wkbPoint) add(*g->toPoint());
+    if (t == wkbPoint)
+      add(*g->toPoint());
     else if (t == wkbMultiPoint)
       for (const OGRPoint* pt : *g->toMultiPoint()) add(*pt);
     if (++n % 65536 == 0 && total > 0) report(progress, std::min(1.0, double(n) / double(total)));
@@ -213,11 +225,13 @@ PointCloud read_xyz(const std::string& path, const Progress& progress) {
     if (is_comment_or_blank(line)) continue;
     const std::string wrong = parse_numbers(line, sep ? sep : separator_of(line), v);
     if (!wrong.empty() || v.size() != 3) {
-      if (!wrong.empty() && !header_seen && p.size() == 0) {  // one header line (not numbers) before the data
+      if (!wrong.empty() && !header_seen &&
+          p.size() == 0) {  // one header line (not numbers) before the data
         header_seen = true;
         continue;
       }
-      throw Error(fmt::format("'{}' line {}: expected x y z, got '{}' ({})", path, line_no, line.substr(0, 60),
+      throw Error(fmt::format("'{}' line {}: expected x y z, got '{}' ({})", path, line_no,
+                              line.substr(0, 60),
                               !wrong.empty() ? wrong : fmt::format("{} fields", v.size())));
     }
     if (!sep) sep = separator_of(line);
@@ -225,7 +239,8 @@ PointCloud read_xyz(const std::string& path, const Progress& progress) {
     p.y.push_back(v[1]);
     p.z.push_back(v[2]);
     check_finite(p, p.size() - 1);
-    if (p.size() % 65536 == 0 && size > 0) report(progress, std::min(1.0, double(in.tellg()) / size));
+    if (p.size() % 65536 == 0 && size > 0)
+      report(progress, std::min(1.0, double(in.tellg()) / size));
   }
   return p;
 }
@@ -235,7 +250,8 @@ PointCloud read_xyz(const std::string& path, const Progress& progress) {
 std::string raster_driver(const std::string& path) {
   ensure_gdal();
   CPLPushErrorHandler(CPLQuietErrorHandler);
-  GDALDatasetH ds = GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr);
+  GDALDatasetH ds =
+      GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr);
   CPLPopErrorHandler();
   if (!ds) return {};
   const std::string name = GDALGetDriverShortName(GDALGetDatasetDriver(ds));
@@ -262,16 +278,18 @@ PointCloud read_points(const std::string& path, const Progress& progress) {
   }
   report(progress, 1.0);
   if (p.size() < 3)
-    throw Error("'" + path + "' has " + std::to_string(p.size()) + " point" + (p.size() == 1 ? "" : "s") +
-                "; a surface needs at least 3");
+    throw Error("'" + path + "' has " + std::to_string(p.size()) + " point" +
+                (p.size() == 1 ? "" : "s") + "; a surface needs at least 3");
   return p;
 }
 
-void project_points(PointCloud& p, const std::string& src_crs, const std::optional<std::string>& utm_zone) {
+void project_points(PointCloud& p, const std::string& src_crs,
+                    const std::optional<std::string>& utm_zone) {
   if (!src_crs.empty()) {
     ensure_gdal();
     OGRSpatialReference srs;
-    if (srs.SetFromUserInput(src_crs.c_str()) != OGRERR_NONE) throw Error("cannot understand the CRS '" + src_crs + "'");
+    if (srs.SetFromUserInput(src_crs.c_str()) != OGRERR_NONE)
+      throw Error("cannot understand the CRS '" + src_crs + "'");
     set_crs(p, &srs);
   }
   if (p.crs_kind == CrsKind::None)
@@ -281,9 +299,11 @@ void project_points(PointCloud& p, const std::string& src_crs, const std::option
   const auto [lo_lon, hi_lon] = std::minmax_element(p.x.begin(), p.x.end());
   const auto [lo_lat, hi_lat] = std::minmax_element(p.y.begin(), p.y.end());
   if (*lo_lat < -90 || *hi_lat > 90 || *lo_lon < -180 || *hi_lon > 360)
-    throw Error("geographic points outside latitude -90..90 / longitude -180..360: is the CRS right?");
+    throw Error(
+        "geographic points outside latitude -90..90 / longitude -180..360: is the CRS right?");
   const double lat_c = 0.5 * (*lo_lat + *hi_lat), lon_c = 0.5 * (*lo_lon + *hi_lon);
-  const UtmZone zone = utm_zone ? parse_utm_zone(*utm_zone, lat_c) : standard_utm_zone(lat_c, lon_c);
+  const UtmZone zone =
+      utm_zone ? parse_utm_zone(*utm_zone, lat_c) : standard_utm_zone(lat_c, lon_c);
   for (std::size_t i = 0; i < p.size(); ++i) utm_forward(zone, p.y[i], p.x[i], p.x[i], p.y[i]);
   p.crs_wkt = utm_crs_wkt(p.crs_wkt, zone, p.epsg);
   p.crs_kind = CrsKind::Projected;

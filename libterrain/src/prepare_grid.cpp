@@ -1,7 +1,7 @@
 #include "terrain/prepare_grid.hpp"
 
-#include <GeographicLib/UTMUPS.hpp>
 #include <fmt/format.h>
+#include <GeographicLib/UTMUPS.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -43,7 +43,8 @@ namespace {
 // The request's own consistency, and a DEM of at least 2 x 2.
 void check_request(std::size_t src_rows, std::size_t src_cols, const GridRequest& req) {
   if (src_rows < 2 || src_cols < 2)
-    throw Error(fmt::format("the DEM has {} x {} samples; a mesh needs at least 2 x 2", src_cols, src_rows));
+    throw Error(fmt::format("the DEM has {} x {} samples; a mesh needs at least 2 x 2", src_cols,
+                            src_rows));
   if (req.spacing && !(*req.spacing > 0.0 && std::isfinite(*req.spacing)))
     throw Error(fmt::format("spacing must be a positive number of metres (got {})", *req.spacing));
   if (req.bbox && (req.center || req.size))
@@ -59,15 +60,18 @@ void check_request(std::size_t src_rows, std::size_t src_cols, const GridRequest
 // A DEM without a CRS is taken as metres (a warning), unless its numbers are degrees: read
 // as metres they would make a mesh of millimetre cells that no tool can use, so an extent
 // within the globe's and cells under 0.1 are refused.
-void check_no_crs(const Georef& sg, std::size_t src_rows, std::size_t src_cols, std::vector<std::string>& warnings) {
+void check_no_crs(const Georef& sg, std::size_t src_rows, std::size_t src_cols,
+                  std::vector<std::string>& warnings) {
   const double west = sg.x0, east = sg.x0 + double(src_cols) * sg.dx;
   const double north = sg.y0, south = sg.y0 - double(src_rows) * sg.dy;
   if (west >= -180 && east <= 360 && south >= -90 && north <= 90 && sg.dx < 0.1 && sg.dy < 0.1)
-    throw Error(fmt::format("the DEM has no CRS and its coordinates look like degrees (x {:g}..{:g}, y {:g}..{:g}, "
-                            "cells of {:g} x {:g}): give its CRS with --src-crs EPSG:4326 (or gdal_translate "
-                            "-a_srs EPSG:4326)",
-                            west, east, south, north, sg.dx, sg.dy));
-  warnings.push_back("the DEM has no CRS: its coordinates are taken as metres (--src-crs gives one)");
+    throw Error(fmt::format(
+        "the DEM has no CRS and its coordinates look like degrees (x {:g}..{:g}, y {:g}..{:g}, "
+        "cells of {:g} x {:g}): give its CRS with --src-crs EPSG:4326 (or gdal_translate "
+        "-a_srs EPSG:4326)",
+        west, east, south, north, sg.dx, sg.dy));
+  warnings.push_back(
+      "the DEM has no CRS: its coordinates are taken as metres (--src-crs gives one)");
 }
 
 // The target's spacing, lattice anchor (a target cell corner) and the box where its sample
@@ -79,13 +83,14 @@ struct Lattice {
 
 // A geographic DEM onto UTM (the zone of its centre or req.utm_zone): out.target's CRS and
 // out.to_source set.
-Lattice geographic_lattice(const Georef& sg, std::size_t src_rows, std::size_t src_cols, const GridRequest& req,
-                           GridPlan& out) {
+Lattice geographic_lattice(const Georef& sg, std::size_t src_rows, std::size_t src_cols,
+                           const GridRequest& req, GridPlan& out) {
   Georef& tg = out.target;
   Lattice l;
   const double lat_c = sg.y_of_row((double(src_rows) - 1) / 2);
   const double lon_c = sg.x_of_col((double(src_cols) - 1) / 2);
-  const UtmZone zone = req.utm_zone ? parse_utm_zone(*req.utm_zone, lat_c) : standard_utm_zone(lat_c, lon_c);
+  const UtmZone zone =
+      req.utm_zone ? parse_utm_zone(*req.utm_zone, lat_c) : standard_utm_zone(lat_c, lon_c);
   tg.crs_wkt = utm_crs_wkt(sg.crs_wkt, zone, tg.epsg);
   tg.crs_kind = CrsKind::Projected;
   try {
@@ -113,8 +118,8 @@ Lattice geographic_lattice(const Georef& sg, std::size_t src_rows, std::size_t s
       valid.y0 = std::max(valid.y0, y);
     }
   } catch (const GeographicLib::GeographicErr& e) {
-    throw Error(fmt::format("cannot project the DEM into UTM zone {}{}: {}", zone.zone, zone.north ? "N" : "S",
-                            e.what()));
+    throw Error(fmt::format("cannot project the DEM into UTM zone {}{}: {}", zone.zone,
+                            zone.north ? "N" : "S", e.what()));
   }
   out.to_source = [zone, sg](double x, double y, double& row, double& col) {
     double lat, lon;
@@ -126,15 +131,16 @@ Lattice geographic_lattice(const Georef& sg, std::size_t src_rows, std::size_t s
 }
 
 // A projected DEM stays in its CRS, on its own cell lattice.
-Lattice projected_lattice(const Georef& sg, std::size_t src_rows, std::size_t src_cols, const GridRequest& req,
-                          GridPlan& out) {
+Lattice projected_lattice(const Georef& sg, std::size_t src_rows, std::size_t src_cols,
+                          const GridRequest& req, GridPlan& out) {
   out.target = sg;
   Lattice l;
   l.sx = req.spacing.value_or(sg.dx);
   l.sy = req.spacing.value_or(sg.dy);
   l.ax = sg.x0;
   l.ay = sg.y0;
-  l.valid = {sg.x_of_col(0), sg.y_of_row(double(src_rows - 1)), sg.x_of_col(double(src_cols - 1)), sg.y_of_row(0)};
+  l.valid = {sg.x_of_col(0), sg.y_of_row(double(src_rows - 1)), sg.x_of_col(double(src_cols - 1)),
+             sg.y_of_row(0)};
   out.to_source = [sg](double x, double y, double& row, double& col) {
     row = sg.row_of_y(y);
     col = sg.col_of_x(x);
@@ -155,11 +161,13 @@ Box requested_box(const Lattice& l, const GridRequest& req) {
             (*req.center)[0] + (*req.size)[0] / 2, (*req.center)[1] + (*req.size)[1] / 2};
   const Box extent{valid.x0 - sx / 2, valid.y0 - sy / 2, valid.x1 + sx / 2, valid.y1 + sy / 2};
   if (area.x1 <= extent.x0 || area.x0 >= extent.x1 || area.y1 <= extent.y0 || area.y0 >= extent.y1)
-    throw Error("the requested area (" + fmt_box(area) + ") lies outside the DEM (" + fmt_box(extent) + ")");
+    throw Error("the requested area (" + fmt_box(area) + ") lies outside the DEM (" +
+                fmt_box(extent) + ")");
   const double tol = 1e-6 * std::max(sx, sy);
   if (area.x0 < extent.x0 - tol || area.x1 > extent.x1 + tol || area.y0 < extent.y0 - tol ||
       area.y1 > extent.y1 + tol)
-    throw Error("the requested area (" + fmt_box(area) + ") reaches beyond the DEM (" + fmt_box(extent) + ")");
+    throw Error("the requested area (" + fmt_box(area) + ") reaches beyond the DEM (" +
+                fmt_box(extent) + ")");
   return {std::max(area.x0, valid.x0), std::max(area.y0, valid.y0), std::min(area.x1, valid.x1),
           std::min(area.y1, valid.y1)};
 }
@@ -168,29 +176,36 @@ Box requested_box(const Lattice& l, const GridRequest& req) {
 // samples bound those of all (the map is smooth and one-to-one), plus the cubic kernel's
 // reach (2) and one sample of rounding; at least 2 x 2 (read_dem's minimum), inside the source.
 // Of the plan's rows r0 .. r0 + nr - 1.
-RasterWindow source_window(const GridPlan& out, std::size_t src_rows, std::size_t src_cols, std::size_t r0,
-                           std::size_t nr) {
+RasterWindow source_window(const GridPlan& out, std::size_t src_rows, std::size_t src_cols,
+                           std::size_t r0, std::size_t nr) {
   const Georef& tg = out.target;
   const long first = long(r0), last = long(r0 + nr) - 1, cols = long(out.cols);
   double rmin = 1e300, rmax = -1e300, cmin = 1e300, cmax = -1e300;
   auto include = [&](long r, long c) {
     double sr, sc;
     out.to_source(tg.x_of_col(double(c)), tg.y_of_row(double(r)), sr, sc);
-    rmin = std::min(rmin, sr), rmax = std::max(rmax, sr), cmin = std::min(cmin, sc), cmax = std::max(cmax, sc);
+    rmin = std::min(rmin, sr), rmax = std::max(rmax, sr), cmin = std::min(cmin, sc),
+    cmax = std::max(cmax, sc);
   };
   for (long c = 0; c < cols; ++c) include(first, c), include(last, c);
   for (long r = first; r <= last; ++r) include(r, 0), include(r, cols - 1);
   constexpr double margin = 3.0;
-  auto clamp = [](double v, std::size_t n) { return std::size_t(std::clamp(v, 0.0, double(n - 1))); };
-  const std::size_t wr0 = clamp(std::floor(rmin - margin), src_rows), wr1 = clamp(std::ceil(rmax + margin), src_rows);
-  const std::size_t wc0 = clamp(std::floor(cmin - margin), src_cols), wc1 = clamp(std::ceil(cmax + margin), src_cols);
-  const std::size_t wrows = std::max<std::size_t>(wr1 - wr0 + 1, 2), wcols = std::max<std::size_t>(wc1 - wc0 + 1, 2);
+  auto clamp = [](double v, std::size_t n) {
+    return std::size_t(std::clamp(v, 0.0, double(n - 1)));
+  };
+  const std::size_t wr0 = clamp(std::floor(rmin - margin), src_rows),
+                    wr1 = clamp(std::ceil(rmax + margin), src_rows);
+  const std::size_t wc0 = clamp(std::floor(cmin - margin), src_cols),
+                    wc1 = clamp(std::ceil(cmax + margin), src_cols);
+  const std::size_t wrows = std::max<std::size_t>(wr1 - wr0 + 1, 2),
+                    wcols = std::max<std::size_t>(wc1 - wc0 + 1, 2);
   return {std::min(wr0, src_rows - wrows), std::min(wc0, src_cols - wcols), wrows, wcols};
 }
 
 }  // namespace
 
-GridPlan plan_grid(const Georef& sg, std::size_t src_rows, std::size_t src_cols, const GridRequest& req) {
+GridPlan plan_grid(const Georef& sg, std::size_t src_rows, std::size_t src_cols,
+                   const GridRequest& req) {
   GridPlan out;
   check_request(src_rows, src_cols, req);
   const bool geographic = sg.crs_kind == CrsKind::Geographic;
@@ -199,7 +214,8 @@ GridPlan plan_grid(const Georef& sg, std::size_t src_rows, std::size_t src_cols,
   if (sg.crs_kind == CrsKind::None) check_no_crs(sg, src_rows, src_cols, out.warnings);
   const Lattice l = geographic ? geographic_lattice(sg, src_rows, src_cols, req, out)
                                : projected_lattice(sg, src_rows, src_cols, req, out);
-  if (l.valid.x1 <= l.valid.x0 || l.valid.y1 <= l.valid.y0) throw Error("the DEM's footprint is empty after projection");
+  if (l.valid.x1 <= l.valid.x0 || l.valid.y1 <= l.valid.y0)
+    throw Error("the DEM's footprint is empty after projection");
   const Box take = requested_box(l, req);
   long c0, c1, r0, r1;
   const bool has_cols = lattice_range(l.ax, l.sx, take.x0, take.x1, c0, c1);
@@ -207,12 +223,14 @@ GridPlan plan_grid(const Georef& sg, std::size_t src_rows, std::size_t src_cols,
   const bool has_rows = lattice_range(-l.ay, l.sy, -take.y1, -take.y0, r0, r1);
   const long cols = has_cols ? c1 - c0 + 1 : 0, rows = has_rows ? r1 - r0 + 1 : 0;
   if (cols < 2 || rows < 2)
-    throw Error(fmt::format("the requested area holds {} x {} samples at {} m spacing; a mesh needs at least 2 x 2",
-                            std::max(cols, 0L), std::max(rows, 0L), l.sx));
+    throw Error(fmt::format(
+        "the requested area holds {} x {} samples at {} m spacing; a mesh needs at least 2 x 2",
+        std::max(cols, 0L), std::max(rows, 0L), l.sx));
   if (double(cols) * double(rows) > double(std::numeric_limits<std::int32_t>::max()))
-    throw Error(fmt::format("the output would have {} x {} = {:.3g} samples, more than a mesh file can index "
-                            "(2^31 - 1); use a larger spacing or a smaller area",
-                            cols, rows, double(cols) * double(rows)));
+    throw Error(fmt::format(
+        "the output would have {} x {} = {:.3g} samples, more than a mesh file can index "
+        "(2^31 - 1); use a larger spacing or a smaller area",
+        cols, rows, double(cols) * double(rows)));
   Georef& tg = out.target;
   tg.x0 = l.ax + double(c0) * l.sx;
   tg.y0 = l.ay - double(r0) * l.sy;
@@ -233,8 +251,8 @@ RasterWindow band_window(const GridPlan& plan, std::size_t r0, std::size_t nr, s
 namespace {
 
 // Rows r0 .. r0 + g.rows - 1 of the plan's grid into g, from the samples of window w.
-void resample_rows_into(const Grid& samples, const RasterWindow& w, const GridPlan& plan, const GridRequest& req,
-                        long r0, Grid& g, const Progress& progress) {
+void resample_rows_into(const Grid& samples, const RasterWindow& w, const GridPlan& plan,
+                        const GridRequest& req, long r0, Grid& g, const Progress& progress) {
   const Georef& tg = plan.target;
   const long rows = long(g.rows), cols = long(plan.cols);
   const double dr = double(w.row0), dc = double(w.col0);
@@ -259,13 +277,15 @@ void resample_rows_into(const Grid& samples, const RasterWindow& w, const GridPl
         plan.to_source(tg.x_of_col(0), y, sr, sc);
         const SampleTaps row_taps = sample_taps(sr - dr, samples.rows, req.resampling);
         for (long c = 0; c < cols; ++c)
-          g.at(std::size_t(r), std::size_t(c)) = sample_taps(samples, row_taps, column_taps[std::size_t(c)]);
+          g.at(std::size_t(r), std::size_t(c)) =
+              sample_taps(samples, row_taps, column_taps[std::size_t(c)]);
         continue;
       }
       for (long c = 0; c < cols; ++c) {
         double sr, sc;
         plan.to_source(tg.x_of_col(double(c)), y, sr, sc);
-        g.at(std::size_t(r), std::size_t(c)) = sample_grid(samples, sr - dr, sc - dc, req.resampling);
+        g.at(std::size_t(r), std::size_t(c)) =
+            sample_grid(samples, sr - dr, sc - dc, req.resampling);
       }
     }
     report(progress, double(re) / double(rows));
@@ -274,18 +294,20 @@ void resample_rows_into(const Grid& samples, const RasterWindow& w, const GridPl
 
 }  // namespace
 
-Grid resample_rows(const Grid& samples, const RasterWindow& w, const GridPlan& plan, std::size_t r0, std::size_t nr,
-                   const GridRequest& req) {
+Grid resample_rows(const Grid& samples, const RasterWindow& w, const GridPlan& plan, std::size_t r0,
+                   std::size_t nr, const GridRequest& req) {
   if (samples.rows != w.rows || samples.cols != w.cols)
     throw Error("resample_rows: the samples are not the window's");
   Georef geo = plan.target;
-  geo.y0 = plan.target.y0 - double(r0) * plan.target.dy;  // for the caller's reference; values use the plan's rows
+  geo.y0 = plan.target.y0 -
+           double(r0) * plan.target.dy;  // for the caller's reference; values use the plan's rows
   Grid g(nr, plan.cols, geo);
   resample_rows_into(samples, w, plan, req, long(r0), g, {});
   if (const std::size_t missing = g.count_nodata(); missing > 0)
-    throw NodataError(fmt::format("{} no-data samples inside the chosen area (in rows {}-{} of {}); crop them away "
-                                  "(--fill-nodata needs the whole grid: run without --tile-size)",
-                                  missing, r0, r0 + nr - 1, plan.rows));
+    throw NodataError(fmt::format(
+        "{} no-data samples inside the chosen area (in rows {}-{} of {}); crop them away "
+        "(--fill-nodata needs the whole grid: run without --tile-size)",
+        missing, r0, r0 + nr - 1, plan.rows));
   return g;
 }
 
@@ -325,7 +347,8 @@ PreparedGrid resample_to_plan(const Grid& samples, const GridPlan& plan, const G
   return out;
 }
 
-PreparedGrid prepare_grid(const Grid& source, const GridRequest& request, const Progress& progress) {
+PreparedGrid prepare_grid(const Grid& source, const GridRequest& request,
+                          const Progress& progress) {
   GridPlan plan = plan_grid(source.geo, source.rows, source.cols, request);
   plan.source_window = {0, 0, source.rows, source.cols};
   return resample_to_plan(source, plan, request, progress);

@@ -50,7 +50,8 @@ void remove_folder_in_handler(const char* path) {
           char name[1];
         };
         const auto* e = reinterpret_cast<const Entry*>(buf + at);
-        if (std::strcmp(e->name, ".") != 0 && std::strcmp(e->name, "..") != 0) ::unlinkat(fd, e->name, 0);
+        if (std::strcmp(e->name, ".") != 0 && std::strcmp(e->name, "..") != 0)
+          ::unlinkat(fd, e->name, 0);
         at += e->reclen;
       }
     }
@@ -104,7 +105,8 @@ std::pair<std::string, std::string> name_parts(const fs::path& target) {
   if (ext.size() > 16) stem += ext, ext.clear();  // not an extension a driver looks at
   // "." STEM ".scratch" PID(<= 10) "-" N or XXXXXX (<= 20) EXT
   constexpr std::size_t kFixed = 1 + 8 + 10 + 1 + 20;
-  // Appended piece by piece: `"." + std::string` trips GCC 12's -Wrestrict false positive (PR 105329).
+  // Appended piece by piece: `"." + std::string` trips GCC 12's -Wrestrict false positive (PR
+  // 105329).
   std::string prefix(".");
   prefix += cut(stem, NAME_MAX - kFixed - ext.size());
   prefix += '.';
@@ -141,7 +143,9 @@ TempRegistration::TempRegistration(const fs::path& path, bool folder) {
   if (p.size() >= PATH_MAX) return;  // the file system refuses such a path anyway
   for (int i = 0; i < kSlots; ++i) {
     int expected = kFree;
-    if (!slots[std::size_t(i)].state.compare_exchange_strong(expected, kFilling, std::memory_order_acq_rel)) continue;
+    if (!slots[std::size_t(i)].state.compare_exchange_strong(expected, kFilling,
+                                                             std::memory_order_acq_rel))
+      continue;
     std::memcpy(slots[std::size_t(i)].path, p.c_str(), p.size() + 1);
     slots[std::size_t(i)].state.store(folder ? kFolder : kFile, std::memory_order_release);
     slot_ = i;
@@ -177,10 +181,12 @@ fs::path temporary_sibling(const fs::path& target) {
 }
 
 ScratchDir::ScratchDir(const fs::path& near) {
-  const std::string name = name_parts(near).first + "scratch" + std::to_string(::getpid()) + "-XXXXXX";
+  const std::string name =
+      name_parts(near).first + "scratch" + std::to_string(::getpid()) + "-XXXXXX";
   std::string templ = (near.parent_path() / name).string();
   if (::mkdtemp(templ.data()) == nullptr)
-    throw Error("cannot create a scratch folder beside '" + near.string() + "': " + std::strerror(errno));
+    throw Error("cannot create a scratch folder beside '" + near.string() +
+                "': " + std::strerror(errno));
   path_ = templ;
   registration_ = TempRegistration(path_, true);
 }
@@ -192,7 +198,8 @@ ScratchDir::~ScratchDir() {
 
 NewDirectories::NewDirectories(const fs::path& path) {
   std::error_code ec;
-  for (fs::path p = fs::absolute(path).lexically_normal(); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+  for (fs::path p = fs::absolute(path).lexically_normal(); !p.empty() && !fs::exists(p, ec);
+       p = p.parent_path()) {
     created_.push_back(p);
     if (p == p.parent_path()) break;
   }

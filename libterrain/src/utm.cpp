@@ -1,8 +1,8 @@
 #include "terrain/utm.hpp"
 
+#include <ogr_spatialref.h>
 #include <GeographicLib/Geodesic.hpp>
 #include <GeographicLib/UTMUPS.hpp>
-#include <ogr_spatialref.h>
 
 #include <cctype>
 #include <charconv>
@@ -35,7 +35,8 @@ UtmZone parse_utm_zone(std::string_view text, double lat_hint) {
     z.north = h == 'N';
   }
   if (!ok)
-    throw Error("invalid UTM zone '" + std::string(text) + "' (expected 1..60, optionally followed by N or S)");
+    throw Error("invalid UTM zone '" + std::string(text) +
+                "' (expected 1..60, optionally followed by N or S)");
   return z;
 }
 
@@ -75,8 +76,10 @@ std::string utm_crs_wkt(const std::string& geographic_wkt, UtmZone zone, int& ep
   return out;
 }
 
-std::vector<MetricCellSize> metric_cell_sizes(const Georef& geo, std::size_t row0, std::size_t rows) {
-  if (geo.crs_kind != CrsKind::Geographic) return std::vector<MetricCellSize>(rows, MetricCellSize{geo.dx, geo.dy});
+std::vector<MetricCellSize> metric_cell_sizes(const Georef& geo, std::size_t row0,
+                                              std::size_t rows) {
+  if (geo.crs_kind != CrsKind::Geographic)
+    return std::vector<MetricCellSize>(rows, MetricCellSize{geo.dx, geo.dy});
   double a = GeographicLib::Constants::WGS84_a(), f = GeographicLib::Constants::WGS84_f();
   OGRSpatialReference srs;
   if (!geo.crs_wkt.empty() && srs.importFromWkt(geo.crs_wkt.c_str()) == OGRERR_NONE) {

@@ -45,12 +45,14 @@ VoronoiWeights voronoi_weights(const GridMesh& m) {
     std::array<std::uint8_t, 6> corners;
     const int k = m.topo.vertex_faces(v, faces, corners);
     double a = 0;
-    for (int i = 0; i < k; ++i) a += double(w.corner_areas[faces[std::size_t(i)]][corners[std::size_t(i)]]);
+    for (int i = 0; i < k; ++i)
+      a += double(w.corner_areas[faces[std::size_t(i)]][corners[std::size_t(i)]]);
     w.vertex_areas[v] = float(a);
     const Vector3d n = m.normals[v].cast<double>();
     const std::size_t c = v % cols;
-    const Vector3d e = c + 1 < cols ? Vector3d((m.positions[v + 1] - m.positions[v]).cast<double>())
-                                    : Vector3d((m.positions[v] - m.positions[v - 1]).cast<double>());
+    const Vector3d e = c + 1 < cols
+                           ? Vector3d((m.positions[v + 1] - m.positions[v]).cast<double>())
+                           : Vector3d((m.positions[v] - m.positions[v - 1]).cast<double>());
     Vector3d t = e - e.dot(n) * n;  // the edge projected into the tangent plane: t1 points east
     if (t.norm() < 1e-12) t = Vector3d::UnitX() - n.x() * n;
     w.tangents[v] = t.normalized().cast<float>();
@@ -64,7 +66,8 @@ std::pair<double, double> voronoi_area_sums(const GridMesh& m) {
     std::array<std::uint32_t, 6> faces;
     std::array<std::uint8_t, 6> corners;
     const int k = m.topo.vertex_faces(v, faces, corners);
-    for (int i = 0; i < k; ++i) vertex_sum += corners_of(m, faces[std::size_t(i)])[corners[std::size_t(i)]];
+    for (int i = 0; i < k; ++i)
+      vertex_sum += corners_of(m, faces[std::size_t(i)])[corners[std::size_t(i)]];
   }
   for (std::size_t f = 0; f < m.n_faces(); ++f) {
     const auto t = m.topo.face(f);

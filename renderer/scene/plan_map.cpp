@@ -22,7 +22,8 @@ constexpr double kSimplifyPixels = 0.5;
 }  // namespace
 
 double default_plan_scale(const terrain::GridMesh& mesh) {
-  const double w = double(mesh.topo.cols - 1) * mesh.geo.dx, h = double(mesh.topo.rows - 1) * mesh.geo.dy;
+  const double w = double(mesh.topo.cols - 1) * mesh.geo.dx,
+               h = double(mesh.topo.rows - 1) * mesh.geo.dy;
   const double raw = std::max(w, h) / 2048.0, decade = std::pow(10.0, std::floor(std::log10(raw)));
   for (const double m : {1.0, 2.0, 2.5, 5.0})
     if (m * decade >= raw * (1 - 1e-9)) return m * decade;
@@ -36,23 +37,28 @@ void check_plan_memory(const PlanView& p) {
   constexpr double kBytesPerPixel = 32;
   const double pixels = double(p.width) * double(p.height), available = terrain::available_memory();
   if (!(available > 0) || pixels * kBytesPerPixel <= available) return;
-  const double fits = p.scale * std::sqrt(pixels * kBytesPerPixel / available);  // the scale whose map fits
+  const double fits =
+      p.scale * std::sqrt(pixels * kBytesPerPixel / available);  // the scale whose map fits
   const double step = std::pow(10.0, std::floor(std::log10(fits)) - 1);
-  terrain::check_memory(pixels * kBytesPerPixel, fmt::format("a map of {} x {} pixels at {:g} m a pixel", p.width,
-                                                             p.height, p.scale),
-                        fmt::format("give --scale {:g} or coarser", std::ceil(fits / step) * step));
+  terrain::check_memory(
+      pixels * kBytesPerPixel,
+      fmt::format("a map of {} x {} pixels at {:g} m a pixel", p.width, p.height, p.scale),
+      fmt::format("give --scale {:g} or coarser", std::ceil(fits / step) * step));
 }
 
 namespace {
 
 // The ridges a map of `plan` draws (select_ridges at its scale), in its pixels.
 std::vector<PlanRidge> plan_ridges(const terrain::GridMesh& mesh, const PlanView& plan,
-                                   const std::vector<SceneRidge>& ridges, const PlanHachureOptions& o) {
+                                   const std::vector<SceneRidge>& ridges,
+                                   const PlanHachureOptions& o) {
   float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
-  for (const Eigen::Vector3f& p : mesh.positions) lo = std::min(lo, p.z()), hi = std::max(hi, p.z());
+  for (const Eigen::Vector3f& p : mesh.positions)
+    lo = std::min(lo, p.z()), hi = std::max(hi, p.z());
   const double min_area = o.ridge_min_area * std::sqrt(plan.scale / 10.0);
   std::vector<PlanRidge> out;
-  for (const std::size_t k : select_ridges(ridges, plan.scale, min_area, o.ridge_min_relief * double(hi - lo))) {
+  for (const std::size_t k :
+       select_ridges(ridges, plan.scale, min_area, o.ridge_min_relief * double(hi - lo))) {
     PlanRidge r{{}, ridges[k].basin_area, ridges[k].relief};
     for (const Eigen::Vector3f& p : ridges[k].points)
       r.points.emplace_back(float((double(p.x()) - plan.x0) / plan.scale),
@@ -89,7 +95,9 @@ PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptio
   rule.min_slope = std::max(rule.min_slope, o.min_slope_share * slope_percentile(field, 0.99));
   out.min_slope = rule.min_slope;
   stretch_tone(field, rule.min_slope);
-  if (o.rows) rule.row_interval = row_interval_for(out.plan.scale, o.spacing, median_slope(field, rule.min_slope));
+  if (o.rows)
+    rule.row_interval =
+        row_interval_for(out.plan.scale, o.spacing, median_slope(field, rule.min_slope));
   out.row_interval = rule.row_interval;
   out.hachures = trace_hachures(field, rule);
   return out;
@@ -109,17 +117,21 @@ std::string map_note(const std::array<double, 6>& gt, int epsg) {
 }
 
 std::string world_file(const std::array<double, 6>& gt) {
-  return fmt::format("{:.10g}\n{:.10g}\n{:.10g}\n{:.10g}\n{:.10g}\n{:.10g}\n", gt[1], gt[4], gt[2], gt[5],
-                     gt[0] + 0.5 * gt[1] + 0.5 * gt[2], gt[3] + 0.5 * gt[4] + 0.5 * gt[5]);
+  return fmt::format("{:.10g}\n{:.10g}\n{:.10g}\n{:.10g}\n{:.10g}\n{:.10g}\n", gt[1], gt[4], gt[2],
+                     gt[5], gt[0] + 0.5 * gt[1] + 0.5 * gt[2], gt[3] + 0.5 * gt[4] + 0.5 * gt[5]);
 }
 
-std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachures& h, const std::string& path) {
+std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachures& h,
+                                const std::string& path) {
   terrain::Gpkg gpkg(path, mesh.geo.crs_wkt);
-  OGRLayer* layer = gpkg.layer("hachures", wkbLineString,
-                               {{"slope_deg", OFTReal}, {"tone", OFTReal}, {"length_m", OFTReal}, {"row_m", OFTReal}});
-  OGRLayer* rl = h.ridges.empty() ? nullptr
-                                  : gpkg.layer("ridges", wkbLineString,
-                                               {{"basin_m2", OFTReal}, {"relief_m", OFTReal}, {"length_m", OFTReal}});
+  OGRLayer* layer = gpkg.layer(
+      "hachures", wkbLineString,
+      {{"slope_deg", OFTReal}, {"tone", OFTReal}, {"length_m", OFTReal}, {"row_m", OFTReal}});
+  OGRLayer* rl =
+      h.ridges.empty()
+          ? nullptr
+          : gpkg.layer("ridges", wkbLineString,
+                       {{"basin_m2", OFTReal}, {"relief_m", OFTReal}, {"length_m", OFTReal}});
   gpkg.begin();
   for (const Hachure& hh : h.hachures) {
     OGRLineString traced;
@@ -132,7 +144,8 @@ std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachure
     }
     // Simplified to the map's pixel: the tracer's half-pixel steps are 4 vertices a pixel.
     std::unique_ptr<OGRGeometry> simple(traced.Simplify(kSimplifyPixels * h.plan.scale));
-    const OGRGeometry& line = simple && !simple->IsEmpty() ? *simple : static_cast<const OGRGeometry&>(traced);
+    const OGRGeometry& line =
+        simple && !simple->IsEmpty() ? *simple : static_cast<const OGRGeometry&>(traced);
     const double n = double(std::max<std::size_t>(hh.points.size(), 1));
     OGRFeature f(layer->GetLayerDefn());
     f.SetField("slope_deg", slope / n * 180.0 / M_PI);

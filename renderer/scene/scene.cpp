@@ -4,8 +4,8 @@
 #include "renderer/gl_contract.hpp"
 #include "renderer/silhouette.hpp"
 
-#include <Eigen/LU>
 #include <fmt/format.h>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <chrono>
@@ -20,9 +20,9 @@
 #include "drainage/ridges.hpp"
 #include "renderer/hachures.hpp"
 #include "renderer/lod.hpp"
+#include "renderer/stroke_visibility.hpp"
 #include "renderer/vector_file.hpp"
 #include "renderer/vector_lines.hpp"
-#include "renderer/stroke_visibility.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/mesh_io.hpp"
 #include "terrain/mesh_pyramid.hpp"
@@ -31,7 +31,9 @@ namespace renderer {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 }  // namespace
 
 namespace {
@@ -56,7 +58,8 @@ terrain::DrainageLinks links_under(const std::string& dv_path, const terrain::Gr
 
 }  // namespace
 
-std::vector<SceneRidge> scene_ridges(const terrain::DrainageLinks& links, const terrain::MeshGeoref& g) {
+std::vector<SceneRidge> scene_ridges(const terrain::DrainageLinks& links,
+                                     const terrain::MeshGeoref& g) {
   std::vector<SceneRidge> out;
   const Eigen::Vector3d shift = links.origin - Eigen::Vector3d(g.origin_x, g.origin_y, g.origin_z);
   for (drainage::RidgeLine& l : drainage::ridge_lines(links, kRidgeChannelArea, kRidgeMinBasin)) {
@@ -71,14 +74,15 @@ std::vector<SceneRidge> read_ridges(const std::string& dv_path, const terrain::G
   return scene_ridges(links_under(dv_path, mesh), mesh.geo);
 }
 
-std::vector<std::size_t> select_ridges(const std::vector<SceneRidge>& ridges, double scale, double min_area,
-                                       double min_relief) {
+std::vector<std::size_t> select_ridges(const std::vector<SceneRidge>& ridges, double scale,
+                                       double min_area, double min_relief) {
   // The ridges kept, joined where they share an end (a crest is chained in pieces between
   // the corners where three basins meet): a line shorter than kRidgeMinPixels in plan on the
   // page is a stub, no crest.
   std::vector<std::size_t> kept;
   for (std::size_t i = 0; i < ridges.size(); ++i)
-    if (ridges[i].basin_area >= min_area && ridges[i].relief >= min_relief && ridges[i].points.size() >= 2)
+    if (ridges[i].basin_area >= min_area && ridges[i].relief >= min_relief &&
+        ridges[i].points.size() >= 2)
       kept.push_back(i);
   std::vector<std::size_t> root(kept.size());
   std::iota(root.begin(), root.end(), std::size_t(0));
@@ -86,7 +90,8 @@ std::vector<std::size_t> select_ridges(const std::vector<SceneRidge>& ridges, do
     while (root[x] != x) x = root[x] = root[root[x]];
     return x;
   };
-  std::map<std::pair<long, long>, std::size_t> ends;  // an end, to the centimetre -> the first piece there
+  std::map<std::pair<long, long>, std::size_t>
+      ends;  // an end, to the centimetre -> the first piece there
   for (std::size_t k = 0; k < kept.size(); ++k) {
     const auto& pts = ridges[kept[k]].points;
     for (const Eigen::Vector3f& p : {pts.front(), pts.back()}) {
@@ -98,7 +103,8 @@ std::vector<std::size_t> select_ridges(const std::vector<SceneRidge>& ridges, do
   std::vector<double> length(kept.size(), 0.0);
   for (std::size_t k = 0; k < kept.size(); ++k) {
     const auto& pts = ridges[kept[k]].points;
-    for (std::size_t j = 0; j + 1 < pts.size(); ++j) length[find(k)] += (pts[j + 1] - pts[j]).head<2>().norm();
+    for (std::size_t j = 0; j + 1 < pts.size(); ++j)
+      length[find(k)] += (pts[j + 1] - pts[j]).head<2>().norm();
   }
   std::vector<std::size_t> out;
   for (std::size_t k = 0; k < kept.size(); ++k)
@@ -109,25 +115,28 @@ std::vector<std::size_t> select_ridges(const std::vector<SceneRidge>& ridges, do
 namespace {
 
 // The database's points under the mesh and their creases, on scene.mesh. Under the whole
-// mesh when a window of it is held (LodHierarchy::window): the rules see the basins, flats and channels of the network the
-// mesh's frame draws, not the window's pieces of them (its flow normalized by a basin cut
-// at the window's edge); the lines outside the window are out of view.
+// mesh when a window of it is held (LodHierarchy::window): the rules see the basins, flats and
+// channels of the network the mesh's frame draws, not the window's pieces of them (its flow
+// normalized by a basin cut at the window's edge); the lines outside the window are out of view.
 void build_creases(Scene& s, const std::string& dv_path, const CreaseRules& rules) {
   const auto t0 = Clock::now();
   const terrain::GridMesh extent = whole_grid(s);  // what the database should cover
   const terrain::DrainageLinks links = links_under(dv_path, extent);
   s.creases = build_crease_geometry(s.mesh, links, rules);
   std::string w = coverage_warning(extent, links);
-  if (w.empty()) w = surface_warning(s.mesh, *s.creases);  // one warning: the extent says it already
+  if (w.empty())
+    w = surface_warning(s.mesh, *s.creases);  // one warning: the extent says it already
   if (!w.empty()) s.warnings.push_back("'" + dv_path + "': " + w);
   s.traits = segment_traits(s.mesh, links, *s.creases);
   const auto t_ridges = Clock::now();
   s.ridges = scene_ridges(links, extent.geo);
   s.ridges_seconds = since(t_ridges);
   s.chains = segment_chains(*s.creases);
-  s.crease_levels = std::make_shared<const std::vector<CreaseLevel>>(coarser_crease_levels(*s.creases));
+  s.crease_levels =
+      std::make_shared<const std::vector<CreaseLevel>>(coarser_crease_levels(*s.creases));
   s.crease_level_traits.clear();
-  for (const CreaseLevel& l : *s.crease_levels) s.crease_level_traits.push_back(merged_traits(s.traits, l));
+  for (const CreaseLevel& l : *s.crease_levels)
+    s.crease_level_traits.push_back(merged_traits(s.traits, l));
   s.creases_seconds = since(t0);
 }
 
@@ -136,7 +145,8 @@ constexpr std::uint64_t kVertexBytes = 2 * sizeof(Eigen::Vector3f);  // a positi
 // What level l of the blocks in `r` takes: its grid's vertices over them.
 std::uint64_t window_bytes(const LodHierarchy& h, const BlockRange& r, int l) {
   const std::size_t rows0 = h.topo.rows - 1, cols0 = h.topo.cols - 1, B = h.block;
-  auto count = [&](std::size_t a, std::size_t b, std::size_t n) {  // level l's lines over cells a*B .. min(b*B, n)
+  auto count = [&](std::size_t a, std::size_t b,
+                   std::size_t n) {  // level l's lines over cells a*B .. min(b*B, n)
     return terrain::level_count(std::min(b * B, n), l) - ((a * B) >> l);
   };
   return std::uint64_t(count(r.br0, r.br1, rows0)) * count(r.bc0, r.bc1, cols0) * kVertexBytes;
@@ -144,7 +154,8 @@ std::uint64_t window_bytes(const LodHierarchy& h, const BlockRange& r, int l) {
 
 // The finest of levels `from` .. count - 1 whose grid over the blocks in `r` takes at most
 // `bytes` (the coarsest when none does).
-int finest_within(const LodHierarchy& h, const BlockRange& r, int from, int count, std::uint64_t bytes) {
+int finest_within(const LodHierarchy& h, const BlockRange& r, int from, int count,
+                  std::uint64_t bytes) {
   int l = from;
   while (l + 1 < count && window_bytes(h, r, l) > bytes) ++l;
   return l;
@@ -169,7 +180,8 @@ bool read_level(Scene& s, const std::string& mesh_path,
   }
   // A scene that reads its pyramid again (focus_scene) reads the pair it read first.
   if (s.digest && *s.digest != p->digest)
-    throw terrain::Error("'" + mesh_path + "' and its pyramid changed while they were read (rewritten by dem2mesh?); "
+    throw terrain::Error("'" + mesh_path +
+                         "' and its pyramid changed while they were read (rewritten by dem2mesh?); "
                          "run again");
   s.digest = p->digest;
   s.mesh = std::move(p->mesh);
@@ -177,11 +189,12 @@ bool read_level(Scene& s, const std::string& mesh_path,
   s.mesh_levels = std::move(own);
   s.levels = std::make_shared<const LodHierarchy>(std::move(p->levels));
   const auto& w = s.levels->window;
-  s.mesh_source = fmt::format("'{}' (its pyramid{}{})", terrain::pyramid_path_of(mesh_path),
-                              s.mesh_level > 0 ? fmt::format(", level {}", s.mesh_level) : "",
-                              w ? fmt::format(", the window of rows {} .. {}, columns {} .. {}", w->r0,
-                                              w->r0 + s.levels->topo.rows - 1, w->c0, w->c0 + s.levels->topo.cols - 1)
-                                : "");
+  s.mesh_source = fmt::format(
+      "'{}' (its pyramid{}{})", terrain::pyramid_path_of(mesh_path),
+      s.mesh_level > 0 ? fmt::format(", level {}", s.mesh_level) : "",
+      w ? fmt::format(", the window of rows {} .. {}, columns {} .. {}", w->r0,
+                      w->r0 + s.levels->topo.rows - 1, w->c0, w->c0 + s.levels->topo.cols - 1)
+        : "");
   return true;
 }
 
@@ -191,12 +204,13 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
                  std::uint64_t vertex_bytes) {
   const auto t0 = Clock::now();
   Scene s;
-  const bool from_pyramid = vertex_bytes > 0 && read_level(s, mesh_path, [&](const terrain::MeshPyramid& p) {
-    const LodHierarchy& h = p.levels();
-    return window_bytes(h, all_blocks(h), 0) > vertex_bytes
-               ? finest_within(h, all_blocks(h), 0, p.level_count(), vertex_bytes / 4)
-               : 0;
-  });
+  const bool from_pyramid =
+      vertex_bytes > 0 && read_level(s, mesh_path, [&](const terrain::MeshPyramid& p) {
+        const LodHierarchy& h = p.levels();
+        return window_bytes(h, all_blocks(h), 0) > vertex_bytes
+                   ? finest_within(h, all_blocks(h), 0, p.level_count(), vertex_bytes / 4)
+                   : 0;
+      });
   s.mesh_seconds = since(t0);
   if (s.mesh_level > 0) {  // a preview: the creases wait for focus_scene
     s.deferred = s.bounded = Scene::Deferred{mesh_path, dv_path, rules, vertex_bytes};
@@ -210,11 +224,12 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
     if (!levels.blocks.empty()) s.levels = std::make_shared<const LodHierarchy>(std::move(levels));
     s.mesh_seconds = since(t0);
     if (vertex_bytes > 0 && s.mesh.n_vertices() * kVertexBytes > vertex_bytes)
-      s.warnings.push_back(fmt::format("'{}': its vertices take {:.1f} MB, more than the memory bound ({:.1f} MB), "
-                                       "and no current pyramid is beside it ({}): read whole; dem2mesh --pyramid "
-                                       "makes one",
-                                       mesh_path, double(s.mesh.n_vertices() * kVertexBytes) / 1e6,
-                                       double(vertex_bytes) / 1e6, s.mesh_source));
+      s.warnings.push_back(
+          fmt::format("'{}': its vertices take {:.1f} MB, more than the memory bound ({:.1f} MB), "
+                      "and no current pyramid is beside it ({}): read whole; dem2mesh --pyramid "
+                      "makes one",
+                      mesh_path, double(s.mesh.n_vertices() * kVertexBytes) / 1e6,
+                      double(vertex_bytes) / 1e6, s.mesh_source));
   }
   if (!dv_path.empty()) build_creases(s, dv_path, rules);
   return s;
@@ -230,30 +245,34 @@ struct FocusPlan {
   BlockRange range;
   bool part = false;  // range is not every block
 };
-FocusPlan focus_plan(const LodHierarchy& h, const std::vector<View>& views, const Style& style, bool window,
-                     std::uint64_t bytes) {
+FocusPlan focus_plan(const LodHierarchy& h, const std::vector<View>& views, const Style& style,
+                     bool window, std::uint64_t bytes) {
   int count = 1;  // the pyramid's levels: to the coarsest of any block
   for (const LodBlock& b : h.blocks) count = std::max(count, b.levels());
   FocusPlan f;
   f.needed = count - 1;
   for (const View& v : views)
-    for (const std::uint8_t l : select_lod(h, v, style.exaggeration, style.lod_error, lod_cell_px(style)))
+    for (const std::uint8_t l :
+         select_lod(h, v, style.exaggeration, style.lod_error, lod_cell_px(style)))
       f.needed = std::min(f.needed, int(l));
   const BlockRange in_view = window ? blocks_in_view(h, views, style.exaggeration) : all_blocks(h);
   f.range = in_view.empty() ? all_blocks(h) : in_view;
-  f.part = f.range.br0 > 0 || f.range.bc0 > 0 || f.range.br1 < h.block_rows || f.range.bc1 < h.block_cols;
+  f.part = f.range.br0 > 0 || f.range.bc0 > 0 || f.range.br1 < h.block_rows ||
+           f.range.bc1 < h.block_cols;
   f.level = finest_within(h, f.range, f.needed, count, bytes);
   return f;
 }
 
 // The views of `cameras` over the whole mesh of the levels `h` (its frame's world origin
 // `g`).
-std::vector<View> whole_views(const LodHierarchy& h, const terrain::MeshGeoref& g, const std::vector<Camera>& cameras,
-                              int width, int height, double exaggeration) {
+std::vector<View> whole_views(const LodHierarchy& h, const terrain::MeshGeoref& g,
+                              const std::vector<Camera>& cameras, int width, int height,
+                              double exaggeration) {
   const Eigen::Vector3d origin(g.origin_x, g.origin_y, g.origin_z);
   const Box box = levels_box(h, exaggeration);
   std::vector<View> views;
-  for (const Camera& camera : cameras) views.push_back(make_view(camera, origin, box, width, height));
+  for (const Camera& camera : cameras)
+    views.push_back(make_view(camera, origin, box, width, height));
   return views;
 }
 
@@ -262,7 +281,8 @@ BlockRange held_blocks(const Scene& s) {
   const LodHierarchy& h = *s.mesh_levels;
   if (!s.levels || !s.levels->window) return all_blocks(h);
   const auto& w = *s.levels->window;
-  return {w.r0 / h.block, w.c0 / h.block, w.r0 / h.block + s.levels->block_rows, w.c0 / h.block + s.levels->block_cols};
+  return {w.r0 / h.block, w.c0 / h.block, w.r0 / h.block + s.levels->block_rows,
+          w.c0 / h.block + s.levels->block_cols};
 }
 
 bool covers(const BlockRange& a, const BlockRange& b) {
@@ -270,32 +290,39 @@ bool covers(const BlockRange& a, const BlockRange& b) {
 }
 
 // focus_scene's read, in place of a preview (load_scene's) or of a level held before.
-std::string read_for_views(Scene& s, const std::vector<Camera>& cameras, int width, int height, const Style& style,
-                           bool window, bool preview) {
+std::string read_for_views(Scene& s, const std::vector<Camera>& cameras, int width, int height,
+                           const Style& style, bool window, bool preview) {
   if (!s.deferred) return {};
   const Scene::Deferred d = *s.deferred;
   s.deferred.reset();
   const int held = s.mesh_level;
   std::string note;
   const auto t0 = Clock::now();
-  const bool read = read_level(s, d.mesh_path, [&](const terrain::MeshPyramid& p) -> terrain::PyramidPart {
-    s.mesh = {};  // the level held goes before the next is read
-    if (!(style.lod_error > 0)) return 0;
-    const LodHierarchy& h = p.levels();  // the mesh's own levels, base 0
-    const std::vector<View> views = whole_views(h, p.georef(), cameras, width, height, style.exaggeration);
-    const FocusPlan f = focus_plan(h, views, style, window, d.vertex_bytes);
-    const BlockRange& r = f.range;
-    note = fmt::format(
-        "{} level {} at its finest{}{}", cameras.size() > 1 ? "the views draw" : "the view draws", f.needed,
-        f.part ? fmt::format("; the blocks in view, rows {} .. {} and columns {} .. {} of {} x {}, read", r.br0,
-                             r.br1 - 1, r.bc0, r.bc1 - 1, h.block_rows, h.block_cols)
-               : "",
-        f.level > f.needed ? fmt::format("; level {} read, the finest within the memory bound", f.level) : "");
-    return {f.level, r.br0, r.bc0, r.br1, r.bc1};
-  });
+  const bool read =
+      read_level(s, d.mesh_path, [&](const terrain::MeshPyramid& p) -> terrain::PyramidPart {
+        s.mesh = {};  // the level held goes before the next is read
+        if (!(style.lod_error > 0)) return 0;
+        const LodHierarchy& h = p.levels();  // the mesh's own levels, base 0
+        const std::vector<View> views =
+            whole_views(h, p.georef(), cameras, width, height, style.exaggeration);
+        const FocusPlan f = focus_plan(h, views, style, window, d.vertex_bytes);
+        const BlockRange& r = f.range;
+        note = fmt::format(
+            "{} level {} at its finest{}{}",
+            cameras.size() > 1 ? "the views draw" : "the view draws", f.needed,
+            f.part
+                ? fmt::format(
+                      "; the blocks in view, rows {} .. {} and columns {} .. {} of {} x {}, read",
+                      r.br0, r.br1 - 1, r.bc0, r.bc1 - 1, h.block_rows, h.block_cols)
+                : "",
+            f.level > f.needed
+                ? fmt::format("; level {} read, the finest within the memory bound", f.level)
+                : "");
+        return {f.level, r.br0, r.bc0, r.br1, r.bc1};
+      });
   if (!read)
-    throw terrain::Error("'" + d.mesh_path + "' and its pyramid changed while they were read (" + s.mesh_source +
-                         "); run again");
+    throw terrain::Error("'" + d.mesh_path + "' and its pyramid changed while they were read (" +
+                         s.mesh_source + "); run again");
   s.mesh_seconds += since(t0);
   if (!d.dv_path.empty()) build_creases(s, d.dv_path, d.rules);
   return fmt::format("mesh read at level {} of its pyramid {} level {}: {}", s.mesh_level,
@@ -305,21 +332,25 @@ std::string read_for_views(Scene& s, const std::vector<Camera>& cameras, int wid
 
 }  // namespace
 
-std::string focus_scene(Scene& s, const std::vector<Camera>& cameras, int width, int height, const Style& style,
-                        bool window) {
+std::string focus_scene(Scene& s, const std::vector<Camera>& cameras, int width, int height,
+                        const Style& style, bool window) {
   return read_for_views(s, cameras, width, height, style, window, true);
 }
 
-std::string refocus_scene(Scene& s, const Camera& camera, int width, int height, const Style& style) {
+std::string refocus_scene(Scene& s, const Camera& camera, int width, int height,
+                          const Style& style) {
   if (!s.bounded || !s.mesh_levels || !(style.lod_error > 0)) return {};
   const LodHierarchy& h = *s.mesh_levels;
-  const std::vector<View> views = whole_views(h, whole_grid(s).geo, {camera}, width, height, style.exaggeration);
+  const std::vector<View> views =
+      whole_views(h, whole_grid(s).geo, {camera}, width, height, style.exaggeration);
   const FocusPlan f = focus_plan(h, views, style, true, s.bounded->vertex_bytes);
   // What is held draws what focus_scene would read when it holds the blocks in view at
   // that level, or at a finer one where that level is the finest the view draws (no
   // block drawn finer than it wants).
   const int held = s.mesh_level;
-  if (covers(held_blocks(s), f.range) && (held == f.level || (held < f.level && f.level == f.needed))) return {};
+  if (covers(held_blocks(s), f.range) &&
+      (held == f.level || (held < f.level && f.level == f.needed)))
+    return {};
   s.deferred = s.bounded;
   return (f.level < held ? "the view came nearer: " : "the view moved: ") +
          read_for_views(s, {camera}, width, height, style, true, false);
@@ -328,11 +359,13 @@ std::string refocus_scene(Scene& s, const Camera& camera, int width, int height,
 std::string cover_view(Scene& s, const Camera& camera, int width, int height, const Style& style) {
   if (!s.bounded || !s.mesh_levels || !s.levels || !s.levels->window) return {};
   const LodHierarchy& h = *s.mesh_levels;
-  const std::vector<View> views = whole_views(h, whole_grid(s).geo, {camera}, width, height, style.exaggeration);
+  const std::vector<View> views =
+      whole_views(h, whole_grid(s).geo, {camera}, width, height, style.exaggeration);
   const BlockRange r = blocks_in_view(h, views, style.exaggeration);
   if (r.empty() || covers(held_blocks(s), r)) return {};
   s.deferred = s.bounded;
-  return "the view left the blocks held: " + read_for_views(s, {camera}, width, height, style, false, false);
+  return "the view left the blocks held: " +
+         read_for_views(s, {camera}, width, height, style, false, false);
 }
 
 std::shared_ptr<const LodHierarchy> scene_levels(Scene& scene, const Style& style) {
@@ -342,20 +375,25 @@ std::shared_ptr<const LodHierarchy> scene_levels(Scene& scene, const Style& styl
 }
 
 SceneCreases frame_creases(const Scene& scene, const FrameResult& res) {
-  if (!scene.creases) throw terrain::Error("internal: a frame's creases asked of a scene without them");
+  if (!scene.creases)
+    throw terrain::Error("internal: a frame's creases asked of a scene without them");
   if (res.crease_level == 0) return {*scene.creases, scene.traits, scene.chains};
   const std::size_t l = std::size_t(res.crease_level - 1);
   if (!scene.crease_levels || l >= scene.crease_levels->size())
     throw terrain::Error("internal: a frame drawn at a crease level the scene does not hold");
-  return {(*scene.crease_levels)[l].geometry, scene.crease_level_traits[l], (*scene.crease_levels)[l].chains};
+  return {(*scene.crease_levels)[l].geometry, scene.crease_level_traits[l],
+          (*scene.crease_levels)[l].chains};
 }
 
-std::vector<float> frame_opacity(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                                 const FrameParams& fp, const Style& style) {
-  const CreaseScoreParams score = resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.viewpoint());
+std::vector<float> frame_opacity(const Scene& scene, const TerrainRenderer& r,
+                                 const FrameResult& res, const FrameParams& fp,
+                                 const Style& style) {
+  const CreaseScoreParams score =
+      resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.viewpoint());
   const double fade = style.antialias ? style.crease_fade : 0.0;
   return segment_opacity(frame_creases(scene, res).geometry, res.view.viewpoint(),
-                         terrain::light_direction(fp.light.azimuth, fp.light.altitude), style.exaggeration, score, fade,
+                         terrain::light_direction(fp.light.azimuth, fp.light.altitude),
+                         style.exaggeration, score, fade,
                          stroke_rule(style, page_scale(res.view, r.box())));
 }
 
@@ -367,12 +405,14 @@ FrameLines frame_lines(const Scene& scene, const TerrainRenderer& r, const Frame
   FrameLines lines{frame_opacity(scene, r, res, fp, style), {}};
   const double lift = crease_lift(style, scene.mesh);
   if (style.antialias) {
-    lines.pixels = shown_pixels(stroke_visibility(g, c.chains, lines.drawn, res.view, exaggeration, lift,
-                                                  buffers.toward_depth, stroke_visibility_rule(style, scene.mesh)));
+    lines.pixels = shown_pixels(stroke_visibility(g, c.chains, lines.drawn, res.view, exaggeration,
+                                                  lift, buffers.toward_depth,
+                                                  stroke_visibility_rule(style, scene.mesh)));
     return lines;
   }
   lines.pixels = segment_pixels(g, res.view, exaggeration);
-  const auto visible = visible_fraction(g, res.view, exaggeration, lift, buffers.toward_depth, false);
+  const auto visible =
+      visible_fraction(g, res.view, exaggeration, lift, buffers.toward_depth, false);
   for (std::size_t s = 0; s < visible.size(); ++s) lines.pixels[s] *= visible[s];
   return lines;
 }
@@ -408,16 +448,19 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
   const std::size_t n = std::size_t(res.width) * std::size_t(res.height);
   art.surface.resize(n);
   const bool reversed = res.view.reversed_z;
-  for (std::size_t i = 0; i < n; ++i) art.surface[i] = far_depth(reversed, buffers.toward_depth[i]) < 1.0;
+  for (std::size_t i = 0; i < n; ++i)
+    art.surface[i] = far_depth(reversed, buffers.toward_depth[i]) < 1.0;
   if (underlay == VectorUnderlay::Shaded) art.shaded = buffers.surface_rgba;
   const double e = style.exaggeration, lift = crease_lift(style, scene.mesh);
   if (layers.pels) {
     std::vector<SceneSegment> segs;
     for (const auto& p : r.read_pels())
-      segs.push_back({Eigen::Vector3d(p.a.x(), p.a.y(), p.a.z() * e), Eigen::Vector3d(p.b.x(), p.b.y(), p.b.z() * e),
+      segs.push_back({Eigen::Vector3d(p.a.x(), p.a.y(), p.a.z() * e),
+                      Eigen::Vector3d(p.b.x(), p.b.y(), p.b.z() * e),
                       style.antialias ? p.opacity : 1.0f});
     VectorLayer l{"pels", style.pel_colour, LineCap::Round, {}, 0};
-    l.paths = segment_paths(segs, res.view, lift, buffers.toward_depth, style.antialias, float(style.pel_width), &l.strokes);
+    l.paths = segment_paths(segs, res.view, lift, buffers.toward_depth, style.antialias,
+                            float(style.pel_width), &l.strokes);
     art.layers.push_back(std::move(l));
   }
   if (layers.creases && scene.creases) {
@@ -425,29 +468,38 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
     const std::vector<float> drawn = frame_opacity(scene, r, res, fp, style);
     std::vector<SegmentSamples> samples = r.read_crease_samples();
     if (samples.empty())  // pixel-exact lines: the CPU reference of the anti-aliased test
-      samples = stroke_visibility(c.geometry, c.chains, drawn, res.view, e, lift, buffers.toward_depth,
-                                  stroke_visibility_rule(style, scene.mesh));
+      samples = stroke_visibility(c.geometry, c.chains, drawn, res.view, e, lift,
+                                  buffers.toward_depth, stroke_visibility_rule(style, scene.mesh));
     VectorLayer l{"creases", style.crease_colour, LineCap::Round, {}, 0};
-    l.paths = crease_paths(c.geometry, drawn, samples, res.view, e, style.crease_width, style.crease_width_max,
-                           &l.strokes);
+    l.paths = crease_paths(c.geometry, drawn, samples, res.view, e, style.crease_width,
+                           style.crease_width_max, &l.strokes);
     art.layers.push_back(std::move(l));
   }
   if (layers.edges) {
     std::vector<SceneSegment> segs;
     const auto& pos = scene.mesh.positions;
-    auto at = [&](std::uint32_t v) { return Eigen::Vector3d(pos[v].x(), pos[v].y(), double(pos[v].z()) * e); };
+    auto at = [&](std::uint32_t v) {
+      return Eigen::Vector3d(pos[v].x(), pos[v].y(), double(pos[v].z()) * e);
+    };
     for (const auto& d : r.read_edges().drawn) segs.push_back({at(d[0]), at(d[1]), 1.0f});
-    VectorLayer l{"edges", style.edge_colour, style.edge_caps == EdgeCaps::None ? LineCap::Butt : LineCap::Square, {}, 0};
-    l.paths = segment_paths(segs, res.view, lift, buffers.toward_depth, false, float(style.edge_width), &l.strokes);
+    VectorLayer l{"edges",
+                  style.edge_colour,
+                  style.edge_caps == EdgeCaps::None ? LineCap::Butt : LineCap::Square,
+                  {},
+                  0};
+    l.paths = segment_paths(segs, res.view, lift, buffers.toward_depth, false,
+                            float(style.edge_width), &l.strokes);
     art.layers.push_back(std::move(l));
   }
   if (layers.silhouettes) art.layers.push_back(silhouette_layer(res, buffers, style));
   return art;
 }
 
-VectorLayer silhouette_layer(const FrameResult& res, const FrameBuffers& buffers, const Style& style) {
+VectorLayer silhouette_layer(const FrameResult& res, const FrameBuffers& buffers,
+                             const Style& style) {
   // The composite's band: TR_SILHOUETTE_BAND px wider than the silhouette width when anti-aliased.
-  const float width = float(style.silhouette_width) + (style.antialias ? float(TR_SILHOUETTE_BAND) : 0.0f);
+  const float width =
+      float(style.silhouette_width) + (style.antialias ? float(TR_SILHOUETTE_BAND) : 0.0f);
   VectorLayer l{"silhouettes", style.silhouette_colour, LineCap::Round, {}, 0};
   std::vector<float> hidden;
   if (style.antialias && style.silhouette_depth_width > 0) {
@@ -464,14 +516,16 @@ VectorLayer silhouette_layer(const FrameResult& res, const FrameBuffers& buffers
             const std::size_t j = std::size_t(yy) * std::size_t(w) + std::size_t(xx);
             const double d = buffers.toward_depth[j];
             if (distance[j] == 0.0f)
-              distance[j] = far_depth(res.view.reversed_z, d) >= 1.0 ? std::numeric_limits<float>::infinity()
-                                                                      : float(res.view.depth_distance(d));
+              distance[j] = far_depth(res.view.reversed_z, d) >= 1.0
+                                ? std::numeric_limits<float>::infinity()
+                                : float(res.view.depth_distance(d));
           }
       }
     hidden = silhouette_hidden_share(mask, distance, w, h);
   }
-  l.paths = silhouette_paths(buffers.silhouette_opacity, res.width, res.height, width, &l.strokes,
-                             hidden.empty() ? nullptr : &hidden, float(style.silhouette_depth_width));
+  l.paths =
+      silhouette_paths(buffers.silhouette_opacity, res.width, res.height, width, &l.strokes,
+                       hidden.empty() ? nullptr : &hidden, float(style.silhouette_depth_width));
   return l;
 }
 
@@ -491,7 +545,8 @@ void leave_out_filled(HachureField& field, const terrain::GridMesh& mesh, const 
       const long c = std::clamp(long(std::floor(p.x() / mesh.geo.dx)), 0L, long(t.cols) - 2);
       const long r = std::clamp(long(std::floor(-p.y() / mesh.geo.dy)), 0L, long(t.rows) - 2);
       const std::size_t k = std::size_t(r) * t.cols + std::size_t(c);
-      if (mesh.filled[k] || mesh.filled[k + 1] || mesh.filled[k + t.cols] || mesh.filled[k + t.cols + 1])
+      if (mesh.filled[k] || mesh.filled[k + 1] || mesh.filled[k + t.cols] ||
+          mesh.filled[k + t.cols + 1])
         field.slope[i] = std::numeric_limits<float>::quiet_NaN();
     }
 }
@@ -522,11 +577,13 @@ void keep_off_the_outline(HachureField& field, int r) {
 
 }  // namespace
 
-TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                                    const FrameBuffers& buffers, const Style& style,
+TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r,
+                                    const FrameResult& res, const FrameBuffers& buffers,
+                                    const Style& style,
                                     const std::vector<const VectorLayer*>& over) {
   HachureField field = r.hachure_field(res.view, style.hachure_light_tone);  // on the GPU
-  if (!scene.mesh.filled.empty()) leave_out_filled(field, scene.mesh, res.view, buffers.toward_depth);
+  if (!scene.mesh.filled.empty())
+    leave_out_filled(field, scene.mesh, res.view, buffers.toward_depth);
   // The widest hachure is 1.5 times the width (hachure_paths: by its tone); its cap reaches
   // half that past its end.
   keep_off_the_outline(field, int(std::ceil(0.75 * style.hachure_width)));
@@ -544,13 +601,14 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
     for (std::size_t i = 0; i < field.blocked.size(); ++i) field.blocked[i] |= ink[4 * i + 3] > 0;
   HachureRule rule;
   rule.spacing = style.hachure_spacing;
-  rule.min_slope = std::max(rule.min_slope, style.hachure_min_slope_percent / 100 * slope_percentile(field, 0.99));
+  rule.min_slope = std::max(rule.min_slope,
+                            style.hachure_min_slope_percent / 100 * slope_percentile(field, 0.99));
   stretch_tone(field, rule.min_slope);
   const double scale = page_scale(res.view, r.box());
   if (style.hachure_rows)  // form lines at an interval from the page's scale (true metres)
-    rule.row_interval = row_interval_for(scale / style.exaggeration,
-                                         rule.spacing, std::atan(std::tan(median_slope(field, rule.min_slope)) /
-                                                                 style.exaggeration));
+    rule.row_interval = row_interval_for(
+        scale / style.exaggeration, rule.spacing,
+        std::atan(std::tan(median_slope(field, rule.min_slope)) / style.exaggeration));
   // Seeds that move with the ground first (frame-to-frame coherence): cells of about two
   // spacings at the page's scale, the size a power of two metres, so that it stays the same
   // while the camera moves a little (cells of 1/2, 1, 2 and 4 spacings: the flight's
@@ -561,7 +619,8 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
     const auto& w = *scene.levels->window;
     anchor = {double(w.c0) * w.geo.dx, -double(w.r0) * w.geo.dy};
   }
-  const std::vector<Eigen::Vector2f> seeds = surface_seeds(res.view, buffers.toward_depth, rule.spacing, cell, anchor);
+  const std::vector<Eigen::Vector2f> seeds =
+      surface_seeds(res.view, buffers.toward_depth, rule.spacing, cell, anchor);
   std::vector<Hachure> hachures = trace_hachures(field, rule, seeds);
   return {std::move(field), rule, std::move(hachures)};
 }
@@ -572,18 +631,19 @@ VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const Fram
   const double e = style.exaggeration;
   const double scale = std::max(page_scale(res.view, r.box()), 1e-9);
   const double min_area = style.ridge_min_area * std::sqrt(scale / 10.0);
-  const double min_relief = style.ridge_min_relief * (r.box().hi.z() - r.box().lo.z()) / std::max(e, 1e-9);
+  const double min_relief =
+      style.ridge_min_relief * (r.box().hi.z() - r.box().lo.z()) / std::max(e, 1e-9);
   std::vector<SceneSegment> segs;
   for (const std::size_t k : select_ridges(scene.ridges, scale, min_area, min_relief)) {
     const SceneRidge& ridge = scene.ridges[k];
     for (std::size_t j = 0; j + 1 < ridge.points.size(); ++j) {
       const Eigen::Vector3f a = ridge.points[j], b = ridge.points[j + 1];
-      segs.push_back({Eigen::Vector3d(a.x(), a.y(), double(a.z()) * e), Eigen::Vector3d(b.x(), b.y(), double(b.z()) * e),
-                      1.0f});
+      segs.push_back({Eigen::Vector3d(a.x(), a.y(), double(a.z()) * e),
+                      Eigen::Vector3d(b.x(), b.y(), double(b.z()) * e), 1.0f});
     }
   }
-  l.paths = segment_paths(segs, res.view, crease_lift(style, scene.mesh), buffers.toward_depth, style.antialias,
-                          float(style.ridge_width), &l.strokes);
+  l.paths = segment_paths(segs, res.view, crease_lift(style, scene.mesh), buffers.toward_depth,
+                          style.antialias, float(style.ridge_width), &l.strokes);
   return l;
 }
 
@@ -595,22 +655,26 @@ bool heavier_silhouettes(const Layers& layers, const Style& style) {
 }  // namespace
 
 bool draws_overlays(const Scene& scene, const Layers& layers, const Style& style) {
-  return layers.hachures || (layers.ridges && !scene.ridges.empty()) || heavier_silhouettes(layers, style);
+  return layers.hachures || (layers.ridges && !scene.ridges.empty()) ||
+         heavier_silhouettes(layers, style);
 }
 
 FrameOverlays frame_overlays(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                             const FrameBuffers& buffers, const Style& style, const Layers& layers) {
+                             const FrameBuffers& buffers, const Style& style,
+                             const Layers& layers) {
   FrameOverlays o;
   if (layers.ridges && !scene.ridges.empty()) o.ridges = ridge_layer(scene, r, res, buffers, style);
-  if (heavier_silhouettes(layers, style)) {  // the lines wider than the composite's band, drawn again over it
+  if (heavier_silhouettes(
+          layers, style)) {  // the lines wider than the composite's band, drawn again over it
     VectorLayer l = silhouette_layer(res, buffers, style);
     const float band = float(style.silhouette_width) + float(TR_SILHOUETTE_BAND);
     std::erase_if(l.paths, [&](const VectorPath& p) { return p.width < band + 0.2f; });
     if (!l.paths.empty()) o.silhouettes = std::move(l);
   }
   if (layers.hachures) {
-    o.traced = trace_frame_hachures(scene, r, res, buffers, style,
-                                    {o.ridges ? &*o.ridges : nullptr, o.silhouettes ? &*o.silhouettes : nullptr});
+    o.traced = trace_frame_hachures(
+        scene, r, res, buffers, style,
+        {o.ridges ? &*o.ridges : nullptr, o.silhouettes ? &*o.silhouettes : nullptr});
     o.hachures = hachure_paths(o.traced->hachures, style);
   }
   return o;
@@ -634,15 +698,17 @@ VectorLayer hachure_paths(const std::vector<Hachure>& hachures, const Style& sty
     // --hachure-width (one width a path: an outline per point made the MSH SVG 15 MB).
     double tone = 0;
     for (const float t : h.tone) tone += t;
-    p.width = float(style.hachure_width * (0.5 + tone / double(std::max<std::size_t>(h.tone.size(), 1))));
+    p.width =
+        float(style.hachure_width * (0.5 + tone / double(std::max<std::size_t>(h.tone.size(), 1))));
     l.paths.push_back(std::move(p));
   }
   l.strokes = l.paths.size();
   return l;
 }
 
-FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const FrameResult& res, const FrameParams& fp,
-                            const Style& style, const Layers& layers, const TracedHachures* traced,
+FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
+                            const FrameParams& fp, const Style& style, const Layers& layers,
+                            const TracedHachures* traced,
                             const std::vector<Eigen::Vector3f>* previous_hachures) {
   const FrameBuffers buffers = r.read_buffers();
   FrameStats st;
@@ -651,7 +717,8 @@ FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const 
   st.creases = line_stats(c.geometry, c.traits, st.lines.drawn, st.lines.pixels);
   st.creases.connected = connected_share(c.geometry, c.traits, st.lines.drawn,
                                          segment_pixels(c.geometry, res.view, style.exaggeration));
-  if (layers.silhouettes) st.silhouettes = silhouette_stats(buffers.silhouette_opacity, res.width, res.height);
+  if (layers.silhouettes)
+    st.silhouettes = silhouette_stats(buffers.silhouette_opacity, res.width, res.height);
   if (layers.hachures) {  // as write_frame_files traced them, or traced here (deterministic)
     std::optional<TracedHachures> own;
     if (!traced) own = trace_frame_hachures(scene, r, res, buffers, style);
@@ -663,7 +730,8 @@ FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const 
         if (const auto s = surface_point(res.view, inverse, buffers.toward_depth, p.x(), p.y()))
           st.hachures->surface.push_back(s->cast<float>());
     if (previous_hachures)
-      st.hachure_coherence = hachure_coherence(*previous_hachures, res.view, buffers.toward_depth, st.hachures->ink);
+      st.hachure_coherence =
+          hachure_coherence(*previous_hachures, res.view, buffers.toward_depth, st.hachures->ink);
   }
   return st;
 }
@@ -675,22 +743,27 @@ std::string line_stats_text(const FrameStats& s) {
       "crease valley share: {:.4f}\ncrease connected share: {:.4f}\ncrease strokes: {}\n"
       "crease mean stroke px: {:.1f}\ncrease strokes, opacity-weighted: {:.1f}\n"
       "crease mean stroke px, opacity-weighted: {:.1f}\n",
-      st.length_px, st.boundary, st.flat, st.valley, st.connected, st.strokes, st.mean_stroke_px, st.weighted_strokes,
-      st.weighted_mean_stroke_px);
+      st.length_px, st.boundary, st.flat, st.valley, st.connected, st.strokes, st.mean_stroke_px,
+      st.weighted_strokes, st.weighted_mean_stroke_px);
   if (s.silhouettes)
-    out += fmt::format("silhouette px: {:.0f}\nsilhouette pieces: {}\nsilhouette mean piece px: {:.1f}\n",
-                       s.silhouettes->pixels, s.silhouettes->pieces, s.silhouettes->mean_piece_px);
+    out += fmt::format(
+        "silhouette px: {:.0f}\nsilhouette pieces: {}\nsilhouette mean piece px: {:.1f}\n",
+        s.silhouettes->pixels, s.silhouettes->pieces, s.silhouettes->mean_piece_px);
   if (s.hachures)
-    out += fmt::format("hachures: {}\nhachure length px: {:.0f}\nhachure along share: {:.4f}\n"
-                       "hachure spacing share: {:.4f}\nhachure too close share: {:.4f}\nhachure too far share: {:.4f}\n",
-                       s.hachures->hachures, s.hachures->length_px, s.hachures->along_share, s.hachures->spacing_share,
-                       s.hachures->close_share, s.hachures->far_share);
+    out += fmt::format(
+        "hachures: {}\nhachure length px: {:.0f}\nhachure along share: {:.4f}\n"
+        "hachure spacing share: {:.4f}\nhachure too close share: {:.4f}\nhachure too far share: "
+        "{:.4f}\n",
+        s.hachures->hachures, s.hachures->length_px, s.hachures->along_share,
+        s.hachures->spacing_share, s.hachures->close_share, s.hachures->far_share);
   return out;
 }
 
 std::string line_stats_csv_header() {
-  return "frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px,silhouette_px,"
-         "silhouette_pieces,weighted_strokes,weighted_mean_stroke_px,connected_share,hachures,hachure_length_px,"
+  return "frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px,silhouette_"
+         "px,"
+         "silhouette_pieces,weighted_strokes,weighted_mean_stroke_px,connected_share,hachures,"
+         "hachure_length_px,"
          "hachure_along_share,hachure_spacing_share\n";
 }
 
@@ -698,10 +771,12 @@ std::string line_stats_csv_row(std::size_t i, const FrameStats& s) {
   const LineStats& c = s.creases;
   const SilhouetteStats ss = s.silhouettes.value_or(SilhouetteStats{});
   const HachureStats hs = s.hachures ? *s.hachures : HachureStats{};
-  return fmt::format("{},{:.1f},{:.5f},{:.5f},{:.5f},{},{:.2f},{:.0f},{},{:.2f},{:.2f},{:.5f},{},{:.0f},{:.5f},{:.5f}\n", i,
-                     c.length_px, c.boundary, c.flat, c.valley, c.strokes, c.mean_stroke_px, ss.pixels, ss.pieces,
-                     c.weighted_strokes, c.weighted_mean_stroke_px, c.connected, hs.hachures, hs.length_px,
-                     hs.along_share, hs.spacing_share);
+  return fmt::format(
+      "{},{:.1f},{:.5f},{:.5f},{:.5f},{},{:.2f},{:.0f},{},{:.2f},{:.2f},{:.5f},{},{:.0f},{:.5f},{:."
+      "5f}\n",
+      i, c.length_px, c.boundary, c.flat, c.valley, c.strokes, c.mean_stroke_px, ss.pixels,
+      ss.pieces, c.weighted_strokes, c.weighted_mean_stroke_px, c.connected, hs.hachures,
+      hs.length_px, hs.along_share, hs.spacing_share);
 }
 
 }  // namespace renderer

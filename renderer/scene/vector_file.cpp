@@ -61,7 +61,8 @@ void draw_surface(cairo_t* cr, const VectorArt& art) {
       const std::size_t i = std::size_t(y) * std::size_t(art.width) + std::size_t(x);
       const std::uint32_t a = art.surface[i] ? 255u : 0u;  // premultiplied: 0 or the colour
       const std::uint8_t* c = &art.shaded[4 * i];
-      const std::uint32_t px = (a << 24) | (a ? (std::uint32_t(c[0]) << 16) | (std::uint32_t(c[1]) << 8) | c[2] : 0);
+      const std::uint32_t px =
+          (a << 24) | (a ? (std::uint32_t(c[0]) << 16) | (std::uint32_t(c[1]) << 8) | c[2] : 0);
       std::memcpy(data + std::size_t(y) * std::size_t(stride) + 4 * std::size_t(x), &px, 4);
     }
   cairo_surface_mark_dirty(img);
@@ -87,7 +88,8 @@ void fill_outline(cairo_t* cr, const VectorPath& p) {
       const Eigen::Vector2d& c = ra >= rb ? a : b;
       cairo_arc_negative(cr, c.x(), c.y(), std::max(ra, rb), 2 * kPi, 0);
     } else {
-      const double phi = std::atan2(b.y() - a.y(), b.x() - a.x()), beta = 0.5 * kPi - std::asin((ra - rb) / d);
+      const double phi = std::atan2(b.y() - a.y(), b.x() - a.x()),
+                   beta = 0.5 * kPi - std::asin((ra - rb) / d);
       cairo_arc_negative(cr, b.x(), b.y(), rb, phi + beta, phi - beta);
       cairo_arc_negative(cr, a.x(), a.y(), ra, phi - beta, phi + beta);
     }
@@ -101,7 +103,8 @@ void draw_layer(cairo_t* cr, const VectorLayer& layer) {
   cairo_set_line_cap(cr, layer.cap == LineCap::Round    ? CAIRO_LINE_CAP_ROUND
                          : layer.cap == LineCap::Square ? CAIRO_LINE_CAP_SQUARE
                                                         : CAIRO_LINE_CAP_BUTT);
-  cairo_set_line_join(cr, layer.cap == LineCap::Round ? CAIRO_LINE_JOIN_ROUND : CAIRO_LINE_JOIN_MITER);
+  cairo_set_line_join(cr,
+                      layer.cap == LineCap::Round ? CAIRO_LINE_JOIN_ROUND : CAIRO_LINE_JOIN_MITER);
   for (const VectorPath& p : layer.paths) {
     if (p.line.points.empty()) continue;
     cairo_set_source_rgba(cr, layer.colour.x(), layer.colour.y(), layer.colour.z(), p.opacity);
@@ -112,8 +115,10 @@ void draw_layer(cairo_t* cr, const VectorLayer& layer) {
     cairo_set_line_width(cr, p.width);
     cairo_new_path(cr);
     cairo_move_to(cr, p.line.points[0].x(), p.line.points[0].y());
-    if (p.line.points.size() == 1) cairo_line_to(cr, p.line.points[0].x(), p.line.points[0].y());  // a dot
-    for (std::size_t k = 1; k < p.line.points.size(); ++k) cairo_line_to(cr, p.line.points[k].x(), p.line.points[k].y());
+    if (p.line.points.size() == 1)
+      cairo_line_to(cr, p.line.points[0].x(), p.line.points[0].y());  // a dot
+    for (std::size_t k = 1; k < p.line.points.size(); ++k)
+      cairo_line_to(cr, p.line.points[k].x(), p.line.points[k].y());
     if (p.line.closed) cairo_close_path(cr);
     cairo_stroke(cr);
   }
@@ -126,7 +131,8 @@ cairo_status_t append(void* closure, const unsigned char* data, unsigned int len
 
 void check(cairo_status_t status, const char* what) {
   if (status != CAIRO_STATUS_SUCCESS)
-    throw terrain::Error(fmt::format("cairo could not write the {}: {}", what, cairo_status_to_string(status)));
+    throw terrain::Error(
+        fmt::format("cairo could not write the {}: {}", what, cairo_status_to_string(status)));
 }
 
 // Draws on surface `s` with `draw`, finishes and frees it; Error naming `what` on a failure.
@@ -158,7 +164,8 @@ std::string svg_document(const VectorArt& art, Draw draw) {
 using Doc = std::unique_ptr<xmlDoc, decltype(&xmlFreeDoc)>;
 
 Doc parse(const std::string& text) {
-  Doc d(xmlReadMemory(text.data(), int(text.size()), "layer.svg", nullptr, XML_PARSE_NONET | XML_PARSE_HUGE),
+  Doc d(xmlReadMemory(text.data(), int(text.size()), "layer.svg", nullptr,
+                      XML_PARSE_NONET | XML_PARSE_HUGE),
         xmlFreeDoc);
   if (!d) throw terrain::Error("could not read back cairo's SVG");
   return d;
@@ -199,10 +206,14 @@ void rename(xmlNode* n, const std::string& prefix) {
       const std::string v = raw ? reinterpret_cast<const char*>(raw) : "";
       xmlFree(raw);
       std::string nv = v;
-      if (name == "id") nv = prefix + v;
-      else if (name == "href" && v.starts_with("#")) nv = "#" + prefix + v.substr(1);
-      else if (name == "d" && std::string(reinterpret_cast<const char*>(n->name)) == "path") nv = round_numbers(v);
-      for (std::size_t p = nv.find("url(#"); p != std::string::npos; p = nv.find("url(#", p + 5 + prefix.size()))
+      if (name == "id")
+        nv = prefix + v;
+      else if (name == "href" && v.starts_with("#"))
+        nv = "#" + prefix + v.substr(1);
+      else if (name == "d" && std::string(reinterpret_cast<const char*>(n->name)) == "path")
+        nv = round_numbers(v);
+      for (std::size_t p = nv.find("url(#"); p != std::string::npos;
+           p = nv.find("url(#", p + 5 + prefix.size()))
         nv.insert(p + 5, prefix);
       if (nv != v) xmlSetNsProp(n, a->ns, a->name, BAD_CAST nv.c_str());
     }
@@ -221,20 +232,24 @@ void move_children(xmlDoc* src, xmlNode* from, xmlDoc* dst, xmlNode* to) {
   for (xmlNode* c = from->children; c;) {
     xmlNode* next = c->next;
     xmlUnlinkNode(c);
-    if (xmlDOMWrapAdoptNode(nullptr, src, c, dst, to, 0) != 0) throw terrain::Error("could not join the SVG layers");
+    if (xmlDOMWrapAdoptNode(nullptr, src, c, dst, to, 0) != 0)
+      throw terrain::Error("could not join the SVG layers");
     xmlAddChild(to, c);
     c = next;
   }
 }
 
-std::string join_svg(const VectorArt& art, const std::vector<std::pair<std::string, std::string>>& parts, double dpi,
+std::string join_svg(const VectorArt& art,
+                     const std::vector<std::pair<std::string, std::string>>& parts, double dpi,
                      const std::string& description) {
   const std::string size =
       dpi == 96 ? fmt::format("width=\"{}px\" height=\"{}px\"", art.width, art.height)
-                : fmt::format("width=\"{:.4f}in\" height=\"{:.4f}in\"", art.width / dpi, art.height / dpi);
+                : fmt::format("width=\"{:.4f}in\" height=\"{:.4f}in\"", art.width / dpi,
+                              art.height / dpi);
   Doc doc = parse(fmt::format(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:xlink=\"http://www.w3.org/1999/xlink\" "
-      "xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\" {} viewBox=\"0 0 {} {}\" version=\"1.1\">"
+      "xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\" {} viewBox=\"0 0 {} {}\" "
+      "version=\"1.1\">"
       "<desc/><defs/></svg>",
       size, art.width, art.height));
   xmlNode* root = xmlDocGetRootElement(doc.get());
@@ -251,8 +266,10 @@ std::string join_svg(const VectorArt& art, const std::vector<std::pair<std::stri
     xmlNewNsProp(layer, inkscape, BAD_CAST "label", BAD_CAST name.c_str());
     for (xmlNode* c = proot->children; c; c = c->next) {
       if (c->type != XML_ELEMENT_NODE) continue;
-      if (xmlStrEqual(c->name, BAD_CAST "defs")) move_children(part.get(), c, doc.get(), defs);
-      else if (xmlStrEqual(c->name, BAD_CAST "g")) move_children(part.get(), c, doc.get(), layer);
+      if (xmlStrEqual(c->name, BAD_CAST "defs"))
+        move_children(part.get(), c, doc.get(), defs);
+      else if (xmlStrEqual(c->name, BAD_CAST "g"))
+        move_children(part.get(), c, doc.get(), layer);
     }
   }
   if (!defs->children) {
@@ -290,14 +307,17 @@ std::vector<Region> trace_regions(const std::vector<std::uint8_t>& mask, int w, 
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       if (mask[std::size_t(y) * std::size_t(w) + std::size_t(x)])
-        map[std::size_t(y) * std::size_t(dy) + std::size_t(x / kBits)] |= potrace_word(1) << (kBits - 1 - x % kBits);
+        map[std::size_t(y) * std::size_t(dy) + std::size_t(x / kBits)] |=
+            potrace_word(1) << (kBits - 1 - x % kBits);
   potrace_bitmap_t bm{w, h, dy, map.data()};
-  std::unique_ptr<potrace_param_t, decltype(&potrace_param_free)> param(potrace_param_default(), potrace_param_free);
+  std::unique_ptr<potrace_param_t, decltype(&potrace_param_free)> param(potrace_param_default(),
+                                                                        potrace_param_free);
   if (!param) throw terrain::Error("potrace: out of memory");
   param->turdsize = 2;
-  std::unique_ptr<potrace_state_t, decltype(&potrace_state_free)> st(potrace_trace(param.get(), &bm),
-                                                                     potrace_state_free);
-  if (!st || st->status != POTRACE_STATUS_OK) throw terrain::Error("potrace could not trace the surface mask");
+  std::unique_ptr<potrace_state_t, decltype(&potrace_state_free)> st(
+      potrace_trace(param.get(), &bm), potrace_state_free);
+  if (!st || st->status != POTRACE_STATUS_OK)
+    throw terrain::Error("potrace could not trace the surface mask");
   auto pt = [](const potrace_dpoint_t& p) { return Eigen::Vector2f(float(p.x), float(p.y)); };
   auto outline = [&](const potrace_path_t* p) {
     Outline o;
@@ -320,18 +340,21 @@ std::vector<Region> trace_regions(const std::vector<std::uint8_t>& mask, int w, 
   for (const potrace_path_t* p = st->plist; p; p = p->next) {
     if (p->sign != '+') continue;  // holes go with their region
     Region r{outline(p)};
-    for (const potrace_path_t* hole = p->childlist; hole; hole = hole->sibling) r.push_back(outline(hole));
+    for (const potrace_path_t* hole = p->childlist; hole; hole = hole->sibling)
+      r.push_back(outline(hole));
     out.push_back(std::move(r));
   }
   return out;
 }
 
-void draw_on_rgba(const VectorLayer& layer, int width, int height, std::vector<std::uint8_t>& rgba) {
+void draw_on_rgba(const VectorLayer& layer, int width, int height,
+                  std::vector<std::uint8_t>& rgba) {
   // cairo's ARGB32 is premultiplied BGRA in a little-endian word: opaque pixels need only
   // their red and blue swapped, both ways.
   const std::size_t n = std::size_t(width) * std::size_t(height);
   for (std::size_t i = 0; i < n; ++i) std::swap(rgba[4 * i], rgba[4 * i + 2]);
-  cairo_surface_t* s = cairo_image_surface_create_for_data(rgba.data(), CAIRO_FORMAT_ARGB32, width, height, width * 4);
+  cairo_surface_t* s = cairo_image_surface_create_for_data(rgba.data(), CAIRO_FORMAT_ARGB32, width,
+                                                           height, width * 4);
   cairo_t* cr = cairo_create(s);
   draw_layer(cr, layer);
   const cairo_status_t status = cairo_status(cr);
@@ -342,8 +365,10 @@ void draw_on_rgba(const VectorLayer& layer, int width, int height, std::vector<s
   check(status, "hachures");
 }
 
-std::string vector_bytes(const VectorArt& art, VectorFormat format, double dpi, const std::string& description) {
-  if (!(dpi > 0 && dpi <= 10000)) throw terrain::Error("the vector page's dpi must be in (0, 10000]");
+std::string vector_bytes(const VectorArt& art, VectorFormat format, double dpi,
+                         const std::string& description) {
+  if (!(dpi > 0 && dpi <= 10000))
+    throw terrain::Error("the vector page's dpi must be in (0, 10000]");
   if (format == VectorFormat::Svg) {
     std::vector<std::pair<std::string, std::string>> parts;
     parts.emplace_back("surface", svg_document(art, [&](cairo_t* cr) { draw_surface(cr, art); }));
@@ -353,7 +378,8 @@ std::string vector_bytes(const VectorArt& art, VectorFormat format, double dpi, 
   }
   std::string out;
   const double scale = 72.0 / dpi;  // points per pixel
-  cairo_surface_t* s = cairo_pdf_surface_create_for_stream(append, &out, art.width * scale, art.height * scale);
+  cairo_surface_t* s =
+      cairo_pdf_surface_create_for_stream(append, &out, art.width * scale, art.height * scale);
   cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_SUBJECT, description.c_str());
   cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_CREATOR, "terrain-render");
   draw_and_finish(

@@ -10,7 +10,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string path = terrain::fuzz::input_file(data, size, ".tif");
   try {
     terrain::Grid grid;
-    (void)drainage::read_d8_raster(path, size % 2 ? drainage::D8Encoding::Esri : drainage::D8Encoding::Taudem, grid);
+    (void)drainage::read_d8_raster(
+        path, size % 2 ? drainage::D8Encoding::Esri : drainage::D8Encoding::Taudem, grid);
   } catch (const terrain::Error&) {
   }
   return 0;

@@ -18,9 +18,11 @@ inline void points_target(const std::uint8_t* data, std::size_t size) {
   if (p.size() > 5000) return;  // keep each run short: the triangulation is not the reader
   const PointSurface s(p);
   const PointCloudSummary sum = summarize_points(p);
-  for (const auto m : {PointInterpolation::Linear, PointInterpolation::Natural, PointInterpolation::NaturalC0})
+  for (const auto m :
+       {PointInterpolation::Linear, PointInterpolation::Natural, PointInterpolation::NaturalC0})
     for (int k = 0; k <= 4; ++k) {
-      const double x = sum.xmin + (sum.xmax - sum.xmin) * k / 4, y = sum.ymin + (sum.ymax - sum.ymin) * (4 - k) / 4;
+      const double x = sum.xmin + (sum.xmax - sum.xmin) * k / 4,
+                   y = sum.ymin + (sum.ymax - sum.ymin) * (4 - k) / 4;
       (void)s.z_at(x, y, m);
       (void)s.z_at(x, y, m, 1.0);
     }

@@ -26,7 +26,8 @@ namespace fs = std::filesystem;
 
 std::vector<fs::path> files(const std::string& dir) {
   std::vector<fs::path> out;
-  for (const auto& e : fs::directory_iterator(std::string(TERRAIN_FUZZ_DIR) + "/" + dir)) out.push_back(e.path());
+  for (const auto& e : fs::directory_iterator(std::string(TERRAIN_FUZZ_DIR) + "/" + dir))
+    out.push_back(e.path());
   std::sort(out.begin(), out.end());
   return out;
 }
@@ -56,13 +57,15 @@ std::string slurp(const std::string& path) {
 
 TEST(FuzzRegressions, MeshReader) {
   read_all("ply", [](const std::string& p) { terrain::fuzz::mesh_target(p); });
-  for (const fs::path& p : files("corpus/ply")) EXPECT_NO_THROW(terrain::fuzz::mesh_target(p.string())) << p;
+  for (const fs::path& p : files("corpus/ply"))
+    EXPECT_NO_THROW(terrain::fuzz::mesh_target(p.string())) << p;
 }
 
 // The crafted pyramids of the probe (regressions/pyramid/README) and what the
 // fuzzer found: each refused with a terrain::Error, never a crash or a huge allocation.
 TEST(FuzzRegressions, PyramidReader) {
-  const fs::path scratch = fs::temp_directory_path() / ("fuzz_regression_" + std::to_string(::getpid()) + ".tpyr");
+  const fs::path scratch =
+      fs::temp_directory_path() / ("fuzz_regression_" + std::to_string(::getpid()) + ".tpyr");
   // The crafted cases (make_pyramid_regressions.py), each with the check that refuses it.
   const std::vector<std::pair<std::string, std::string>> crafted = {
       {"block_levels_max", "corrupt mesh pyramid (a block's levels)"},
@@ -78,7 +81,8 @@ TEST(FuzzRegressions, PyramidReader) {
       {"truncated", "truncated mesh pyramid"},
   };
   for (const auto& [name, why] : crafted) {
-    const std::string p = std::string(TERRAIN_FUZZ_DIR) + "/regressions/pyramid/crafted_" + name + ".tpyr";
+    const std::string p =
+        std::string(TERRAIN_FUZZ_DIR) + "/regressions/pyramid/crafted_" + name + ".tpyr";
     try {
       terrain::fuzz::pyramid_target(slurp(p), scratch.string());
       ADD_FAILURE() << name << ": read";
@@ -86,7 +90,10 @@ TEST(FuzzRegressions, PyramidReader) {
       EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << name << ": " << e.what();
     }
   }
-  EXPECT_EQ(read_all("pyramid", [&](const std::string& p) { terrain::fuzz::pyramid_target(slurp(p), scratch.string()); }),
+  EXPECT_EQ(read_all("pyramid",
+                     [&](const std::string& p) {
+                       terrain::fuzz::pyramid_target(slurp(p), scratch.string());
+                     }),
             0u);
   for (const fs::path& p : files("corpus/pyramid"))
     EXPECT_NO_THROW(terrain::fuzz::pyramid_target(slurp(p.string()), scratch.string())) << p;
@@ -95,7 +102,8 @@ TEST(FuzzRegressions, PyramidReader) {
 
 TEST(FuzzRegressions, DvReader) {
   // As the harness does: every checksum made to match first, then the reads it makes.
-  const fs::path fixed = fs::temp_directory_path() / ("fuzz_regression_" + std::to_string(::getpid()) + ".dv");
+  const fs::path fixed =
+      fs::temp_directory_path() / ("fuzz_regression_" + std::to_string(::getpid()) + ".dv");
   read_all("dv", [&](const std::string& p) {
     std::string bytes = slurp(p);
     drainage::dv_fix_checksums(bytes.data(), bytes.size());
@@ -106,11 +114,13 @@ TEST(FuzzRegressions, DvReader) {
     (void)drainage::read_dv_window(fixed.string(), db.header.rows / 3, db.header.cols / 4, 7, 5);
   });
   fs::remove(fixed);
-  for (const fs::path& p : files("corpus/dv")) EXPECT_NO_THROW((void)drainage::read_dv(p.string())) << p;
+  for (const fs::path& p : files("corpus/dv"))
+    EXPECT_NO_THROW((void)drainage::read_dv(p.string())) << p;
 }
 
 TEST(FuzzRegressions, FrameListParser) {
-  read_all("frames", [](const std::string& p) { (void)renderer::parse_frames_csv(slurp(p), {}, p); });
+  read_all("frames",
+           [](const std::string& p) { (void)renderer::parse_frames_csv(slurp(p), {}, p); });
   for (const fs::path& p : files("corpus/frames"))
     EXPECT_NO_THROW((void)renderer::parse_frames_csv(slurp(p.string()), {}, p.string())) << p;
 }
@@ -121,7 +131,8 @@ TEST(FuzzRegressions, D8RasterReader) {
     (void)drainage::read_d8_raster(p, drainage::D8Encoding::Taudem, g);
   });
   terrain::Grid g;
-  EXPECT_NO_THROW((void)drainage::read_d8_raster(files("corpus/d8")[0].string(), drainage::D8Encoding::Taudem, g));
+  EXPECT_NO_THROW((void)drainage::read_d8_raster(files("corpus/d8")[0].string(),
+                                                 drainage::D8Encoding::Taudem, g));
 }
 
 TEST(FuzzRegressions, PointReader) {

@@ -10,6 +10,7 @@
 #include <functional>
 #include <numbers>
 
+#include <map>
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
 #include "drainage/pipeline.hpp"
@@ -19,6 +20,7 @@
 #include "renderer/gl_context.hpp"
 #include "renderer/line_stats.hpp"
 #include "renderer/lod.hpp"
+#include "renderer/pel.hpp"
 #include "renderer/shader.hpp"
 #include "renderer/silhouette.hpp"
 #include "renderer/stroke_visibility.hpp"
@@ -31,8 +33,6 @@
 #include "terrain/mesh_pyramid.hpp"
 #include "terrain/pn_surface.hpp"
 #include "terrain/voronoi.hpp"
-#include "renderer/pel.hpp"
-#include <map>
 #include "test_support.hpp"
 
 namespace {
@@ -69,7 +69,8 @@ renderer::Style test_style() {
   return s;
 }
 
-std::size_t count_colour(const renderer::FrameResult& r, std::uint8_t red, std::uint8_t green, std::uint8_t blue) {
+std::size_t count_colour(const renderer::FrameResult& r, std::uint8_t red, std::uint8_t green,
+                         std::uint8_t blue) {
   std::size_t n = 0;
   for (std::size_t i = 0; i < r.rgba.size(); i += 4)
     n += r.rgba[i] == red && r.rgba[i + 1] == green && r.rgba[i + 2] == blue;
@@ -96,7 +97,8 @@ const MshScene& msh_scene() {
     const auto sampled = terrain::sample_pn_surface(s.mesh, 5.0);
     const auto result = drainage::compute_drainage(sampled.grid, {});
     terrain::test::ScratchDir dir;
-    const auto header = drainage::make_dv_header(result.surface, result.net, result.dv_flags, "test");
+    const auto header =
+        drainage::make_dv_header(result.surface, result.net, result.dv_flags, "test");
     drainage::write_dv(dir.path("msh.dv"), header, result.surface, result.dirs, result.net);
     s.links = drainage::drainage_links(drainage::read_dv(dir.path("msh.dv")));
     return s;
@@ -111,7 +113,8 @@ const MshScene& msh_scene() {
 TEST(RendererGl, RefusesWhatItCannotDrawAndDrawsAtTheLimits) {
   const auto& mesh = msh_scene().mesh;
   renderer::GlContext ctx;
-  auto message = [&](const terrain::GridMesh& m, int w, int h, const renderer::Layers& layers) -> std::string {
+  auto message = [&](const terrain::GridMesh& m, int w, int h,
+                     const renderer::Layers& layers) -> std::string {
     try {
       TerrainRenderer r(ctx, m, nullptr, w, h, layers, test_style());
       return {};
@@ -120,7 +123,8 @@ TEST(RendererGl, RefusesWhatItCannotDrawAndDrawsAtTheLimits) {
     }
   };
   const renderer::Layers plain{};
-  for (const auto& [w, h] : {std::pair{renderer::kMinFrameSide - 1, 64}, std::pair{64, renderer::kMaxFrameSide + 1}})
+  for (const auto& [w, h] :
+       {std::pair{renderer::kMinFrameSide - 1, 64}, std::pair{64, renderer::kMaxFrameSide + 1}})
     EXPECT_NE(message(mesh, w, h, plain).find("is outside"), std::string::npos) << w << " x " << h;
   EXPECT_EQ(message(mesh, renderer::kMinFrameSide, renderer::kMinFrameSide, plain), "");
   renderer::Layers pels = plain;
@@ -142,7 +146,8 @@ TEST(RendererGl, GlslPnEvaluationMatchesCpu) {
   for (const auto f : faces) EXPECT_EQ(per_face[f], int(samples.size() / faces.size()));
   // Scale of the positions: the mesh's extent (local coordinates, metres).
   double scale = 0;
-  for (std::size_t i = 0; i < mesh.n_vertices(); ++i) scale = std::max(scale, double(mesh.positions[i].norm()));
+  for (std::size_t i = 0; i < mesh.n_vertices(); ++i)
+    scale = std::max(scale, double(mesh.positions[i].norm()));
   double max_pos = 0, max_nrm = 0;
   for (const auto& s : samples) {
     ASSERT_LT(s.face, mesh.n_faces());
@@ -166,7 +171,7 @@ TEST(RendererGl, GlslPnEvaluationMatchesCpu) {
 // plain's far edge, which is no silhouette: no away surface there).
 struct RidgeCase {
   double eye_z;
-  bool adjacency;         // the Adjacency method instead of Toward/Away
+  bool adjacency;          // the Adjacency method instead of Toward/Away
   bool antialias = false;  // Toward/Away anti-aliased: gaps closed, specks dropped
 };
 class RidgeSilhouette : public ::testing::TestWithParam<RidgeCase> {};
@@ -193,7 +198,8 @@ TEST_P(RidgeSilhouette, WhereProjectionPredicts) {
   r.render(fp);
   const auto b = r.read_buffers();
   double best = -1e9;
-  for (double y = yr - 4 * s; y <= yr + 4 * s; y += 0.25) best = std::max(best, (z(0, y) - eye.z()) / (y - eye.y()));
+  for (double y = yr - 4 * s; y <= yr + 4 * s; y += 0.25)
+    best = std::max(best, (z(0, y) - eye.z()) / (y - eye.y()));
   const double f = 120 / std::tan(15 * std::numbers::pi / 180);
   const double row = 120 - f * best;  // in pixel units from the top edge
   const double tolerance = GetParam().adjacency ? 2.0 : 1.5;
@@ -222,16 +228,17 @@ TEST_P(RidgeSilhouette, WhereProjectionPredicts) {
   }
   EXPECT_LE(near_line, 2u * 320u);
 }
-INSTANTIATE_TEST_SUITE_P(SkylineAndOccludingEdge, RidgeSilhouette,
-                         ::testing::Values(RidgeCase{100.0, false},   // below the crest: the skyline
-                                           RidgeCase{400.0, false},   // above: the ridge against the plain behind
-                                           RidgeCase{100.0, true}, RidgeCase{400.0, true},
-                                           RidgeCase{100.0, false, true}, RidgeCase{400.0, false, true}),
-                         [](const auto& info) {
-                           return std::string(info.param.eye_z < 200 ? "Skyline" : "OccludingEdge") +
-                                  (info.param.adjacency ? "Adjacency" : "TowardAway") +
-                                  (info.param.antialias ? "Antialiased" : "");
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    SkylineAndOccludingEdge, RidgeSilhouette,
+    ::testing::Values(RidgeCase{100.0, false},  // below the crest: the skyline
+                      RidgeCase{400.0, false},  // above: the ridge against the plain behind
+                      RidgeCase{100.0, true}, RidgeCase{400.0, true}, RidgeCase{100.0, false, true},
+                      RidgeCase{400.0, false, true}),
+    [](const auto& info) {
+      return std::string(info.param.eye_z < 200 ? "Skyline" : "OccludingEdge") +
+             (info.param.adjacency ? "Adjacency" : "TowardAway") +
+             (info.param.antialias ? "Antialiased" : "");
+    });
 
 // The anti-aliased silhouette tests' terrain and view: ridges z = height exp(-(y - yr -
 // k (x - 1000))^2 / 2 s^2), s = 100 m, k = 0.15 (crests about 8.5 degrees off the image's
@@ -261,14 +268,17 @@ struct SlantedRidges {
   double tangent_row(double c, double t1) const {
     const double a = (c + 0.5 - W / 2.0) / f;
     double best = -1e9;
-    for (double t = 100; t <= t1; t += 0.25) best = std::max(best, (z(eye.x() + a * t, eye.y() + t) - eye.z()) / t);
+    for (double t = 100; t <= t1; t += 0.25)
+      best = std::max(best, (z(eye.x() + a * t, eye.y() + t) - eye.z()) / t);
     return H / 2.0 - f * best;
   }
   // The frame (RGBA) and its silhouette mask.
   std::pair<renderer::FrameResult, std::vector<std::uint8_t>> render() const {
-    const auto mesh = terrain::test::function_mesh(201, 101, 20, [this](double x, double y) { return z(x, y); });
+    const auto mesh =
+        terrain::test::function_mesh(201, 101, 20, [this](double x, double y) { return z(x, y); });
     renderer::GlContext ctx;
-    TerrainRenderer r(ctx, mesh, nullptr, W, H, renderer::Layers{false, true, false, true}, style());
+    TerrainRenderer r(ctx, mesh, nullptr, W, H, renderer::Layers{false, true, false, true},
+                      style());
     FrameParams fp;
     fp.camera.eye = eye;
     fp.camera.view_az = 0;
@@ -299,7 +309,8 @@ TEST(RendererGl, AntialiasedSilhouetteIsABandOfEvenWidth) {
   double sum_ratio = 0, worst = 0;
   int n = 0;
   for (int c = 20; c < W - 20; ++c) {  // away from the ridge's ends at the mesh's sides
-    const double predicted = predicted_row(c), slope = (predicted_row(c + 1) - predicted_row(c - 1)) / 2;
+    const double predicted = predicted_row(c),
+                 slope = (predicted_row(c + 1) - predicted_row(c - 1)) / 2;
     double cover = 0, moment = 0;
     for (int rr = 0; rr < Hh; ++rr) {
       const double cov = 1.0 - res.rgba[4 * (std::size_t(rr) * W + std::size_t(c))] / 255.0;
@@ -313,8 +324,8 @@ TEST(RendererGl, AntialiasedSilhouetteIsABandOfEvenWidth) {
     worst = std::max(worst, std::abs(ratio - 1));
     ++n;
   }
-  std::printf("silhouette band: coverage / ideal area %.3f on average, %.1f %% off at worst\n", sum_ratio / n,
-              100 * worst);
+  std::printf("silhouette band: coverage / ideal area %.3f on average, %.1f %% off at worst\n",
+              sum_ratio / n, 100 * worst);
   EXPECT_NEAR(sum_ratio / n, 1.0, 0.05);
   EXPECT_LT(worst, 0.15);
 }
@@ -339,7 +350,8 @@ TEST(RendererGl, AntialiasedSilhouettesCloseTogetherAreTwoBands) {
   double sum_ratio = 0, worst = 0;
   int n = 0;
   for (int c = 20; c < W - 20; ++c) {
-    // A's occluding edge in front of the saddle between the ridges (t < 1400), the skyline over all.
+    // A's occluding edge in front of the saddle between the ridges (t < 1400), the skyline over
+    // all.
     const double row_a = view.tangent_row(c, 1400), row_b = view.tangent_row(c, 3000);
     ASSERT_GT(row_a - row_b, 2.5) << "column " << c;
     ASSERT_LT(row_a - row_b, 3.5) << "column " << c;
@@ -353,8 +365,10 @@ TEST(RendererGl, AntialiasedSilhouettesCloseTogetherAreTwoBands) {
     ASSERT_EQ(gaps, 1u) << "column " << c;
     ASSERT_LE(rows[split] - rows[split - 1], 3) << "column " << c;
     for (std::size_t i = 0; i < rows.size(); ++i)
-      EXPECT_NEAR(rows[i] + 0.5, i < split ? row_b : row_a, 2.0) << "column " << c << " row " << rows[i];
-    const double mid = 0.5 * (rows[split - 1] + rows[split]);  // the gap's middle, a row or a border
+      EXPECT_NEAR(rows[i] + 0.5, i < split ? row_b : row_a, 2.0)
+          << "column " << c << " row " << rows[i];
+    const double mid =
+        0.5 * (rows[split - 1] + rows[split]);  // the gap's middle, a row or a border
     const double slope = (view.tangent_row(c + 1, 1400) - view.tangent_row(c - 1, 1400)) / 2;
     // The column's ink against two bands' ideal area; each line's ink-weighted centre (the
     // gap's middle row, shared, left out) within 2 px of its predicted row.
@@ -373,8 +387,8 @@ TEST(RendererGl, AntialiasedSilhouettesCloseTogetherAreTwoBands) {
     worst = std::max(worst, std::abs(ratio - 1));
     ++n;
   }
-  std::printf("two silhouettes: band coverage / ideal area %.3f on average, %.1f %% off at worst\n", sum_ratio / n,
-              100 * worst);
+  std::printf("two silhouettes: band coverage / ideal area %.3f on average, %.1f %% off at worst\n",
+              sum_ratio / n, 100 * worst);
   EXPECT_NEAR(sum_ratio / n, 1.0, 0.05);
   EXPECT_LT(worst, 0.15);
 }
@@ -390,9 +404,11 @@ TEST(RendererGl, FlatPlaneFromAboveHasNoSilhouette) {
     top.camera.view_alt = 90;
     adj.render(top);
     const auto ab = adj.read_buffers();
-    EXPECT_EQ(std::count(ab.silhouette.begin(), ab.silhouette.end(), 1), 0) << "adjacency " << adjacency;
+    EXPECT_EQ(std::count(ab.silhouette.begin(), ab.silhouette.end(), 1), 0)
+        << "adjacency " << adjacency;
   }
-  TerrainRenderer r(ctx, mesh, nullptr, 200, 200, renderer::Layers{false, true, false, true}, test_style());
+  TerrainRenderer r(ctx, mesh, nullptr, 200, 200, renderer::Layers{false, true, false, true},
+                    test_style());
   FrameParams fp;
   fp.camera.view_alt = 90;
   const auto res = r.render(fp);
@@ -409,7 +425,8 @@ TEST(RendererGl, FlatPlaneFromAboveHasNoSilhouette) {
 // 250 m up, every crease accepted (min score 0, no distance term).
 // A line's ink at pixel (u, v) of a W-wide frame: how far the line moved the green channel
 // from the frame drawn without it.
-double ink_at(const renderer::FrameResult& res, const renderer::FrameResult& bare, int W, int u, int v) {
+double ink_at(const renderer::FrameResult& res, const renderer::FrameResult& bare, int W, int u,
+              int v) {
   const std::size_t i = 4 * (std::size_t(v) * std::size_t(W) + std::size_t(u));
   return std::abs(double(res.rgba[i + 1]) - double(bare.rgba[i + 1]));
 }
@@ -437,7 +454,8 @@ FrameParams level_view_from_the_south() {
 TEST(RendererGl, RidgeHidesTheValleyCreases) {
   auto terrain_fn = [](double ridge) {
     return [ridge](double, double y) {
-      return ridge * std::exp(-0.5 * std::pow((y + 3000) / 100, 2)) - 50 * std::exp(-0.5 * std::pow((y + 2000) / 400, 2));
+      return ridge * std::exp(-0.5 * std::pow((y + 3000) / 100, 2)) -
+             50 * std::exp(-0.5 * std::pow((y + 2000) / 400, 2));
     };
   };
   // The channel (x from 300 to 1700 along y = -2000), and with `crossing` a line up the
@@ -453,7 +471,9 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
         g.normals.push_back(sp->normal.cast<float>());
         g.flow.push_back(float(i + 1) / float(n));
         g.share.push_back(g.flow.back());
-        if (i > 0) g.segments.insert(g.segments.end(), {first + std::uint32_t(i) - 1, first + std::uint32_t(i)});
+        if (i > 0)
+          g.segments.insert(g.segments.end(),
+                            {first + std::uint32_t(i) - 1, first + std::uint32_t(i)});
       }
     };
     line(Vector3d(300, -2000, 0), Vector3d(20, 0, 0), 71);
@@ -462,8 +482,8 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
   };
   constexpr std::size_t kChannel = 70;  // its segments come first
   // The share of the pixels of segments [first, last) that show, weighted by length.
-  auto shown = [](const CreaseGeometry& g, const renderer::View& view, const std::vector<double>& f, std::size_t first,
-                  std::size_t last) {
+  auto shown = [](const CreaseGeometry& g, const renderer::View& view, const std::vector<double>& f,
+                  std::size_t first, std::size_t last) {
     const auto px = renderer::segment_pixels(g, view, 1.0);
     double all = 0, seen = 0;
     for (std::size_t s = first; s < last; ++s) all += px[s], seen += px[s] * f[s];
@@ -478,7 +498,8 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
     style.lod_error = 0;  // the lines' own segments, not a coarser level's (kChannel counts them)
     std::size_t pixels[3] = {};
     for (int k = 0; k < 4; ++k) {
-      const auto mesh = terrain::test::function_mesh(201, 101, 20, terrain_fn(k == 0 || k == 3 ? 500.0 : 0.0));
+      const auto mesh =
+          terrain::test::function_mesh(201, 101, 20, terrain_fn(k == 0 || k == 3 ? 500.0 : 0.0));
       const auto g = creases_on(mesh, k == 3);
       TerrainRenderer r(ctx, mesh, &g, 320, 240, layers, style);
       FrameParams f = fp;
@@ -487,28 +508,35 @@ TEST(RendererGl, RidgeHidesTheValleyCreases) {
         f.camera.view_alt = 90;
       }
       const auto res = r.render(f);
-      EXPECT_EQ(res.crease_segments, g.n_segments());  // all drawn by DM ...
+      EXPECT_EQ(res.crease_segments, g.n_segments());       // all drawn by DM ...
       if (k < 3) pixels[k] = count_colour(res, 255, 0, 0);  // ... but visible only where not hidden
-      const auto fraction = renderer::visible_fraction(g, res.view, 1.0, renderer::crease_lift(style, mesh),
-                                                       r.read_buffers().toward_depth, antialias);
+      const auto fraction =
+          renderer::visible_fraction(g, res.view, 1.0, renderer::crease_lift(style, mesh),
+                                     r.read_buffers().toward_depth, antialias);
       const double channel = shown(g, res.view, fraction, 0, kChannel);
       if (antialias && (k == 0 || k == 3)) {  // nor drawn by the samples along its stroke
         const auto samples = r.read_crease_samples();
-        for (std::size_t s = 0; s < kChannel; ++s) EXPECT_EQ(samples[s].shown, 0u) << "view " << k << " segment " << s;
+        for (std::size_t s = 0; s < kChannel; ++s)
+          EXPECT_EQ(samples[s].shown, 0u) << "view " << k << " segment " << s;
       }
       if (k == 0 || k == 3) {
-        EXPECT_EQ(channel, 0.0) << "antialias " << antialias << " view " << k << ": hidden creases measured as drawn";
+        EXPECT_EQ(channel, 0.0) << "antialias " << antialias << " view " << k
+                                << ": hidden creases measured as drawn";
       } else {
         EXPECT_GT(channel, 0.95) << "antialias " << antialias << " view " << k;
       }
       if (k != 3) continue;
-      EXPECT_GT(shown(g, res.view, fraction, kChannel, g.n_segments()), 0.95) << "antialias " << antialias;
+      EXPECT_GT(shown(g, res.view, fraction, kChannel, g.n_segments()), 0.95)
+          << "antialias " << antialias;
       // The crossing line's ink lies on the hidden channel's projection.
       const auto q = renderer::project(res.view, g.positions[35].cast<double>());  // x = 1000
       int ink = 0;  // the most, of the pixel and its neighbours in the row
       for (int du = -1; du <= 1; ++du)
-        ink = std::max(ink, 255 - int(res.rgba[4 * (std::size_t(q.v) * 320 + std::size_t(int(q.u) + du)) + 1]));
-      EXPECT_GT(ink, 200) << "antialias " << antialias << ": no crease ink where the channel projects";
+        ink = std::max(
+            ink,
+            255 - int(res.rgba[4 * (std::size_t(q.v) * 320 + std::size_t(int(q.u) + du)) + 1]));
+      EXPECT_GT(ink, 200) << "antialias " << antialias
+                          << ": no crease ink where the channel projects";
     }
     if (antialias) continue;  // the pixel counts below are of exactly the line colour
     EXPECT_EQ(pixels[0], 0u) << "creases behind the ridge are visible";
@@ -550,7 +578,8 @@ TEST(RendererGl, CreasesAreDrawnWhereTheyLieOnTheSurface) {
     renderer::Style style = test_style();
     style.antialias = antialias;
     style.mask = {0.5f, 0.5f, 0.5f};
-    const auto bare = TerrainRenderer(ctx, mesh, nullptr, W, H, renderer::Layers{false, true, false, false}, style)
+    const auto bare = TerrainRenderer(ctx, mesh, nullptr, W, H,
+                                      renderer::Layers{false, true, false, false}, style)
                           .render(fp);
     std::vector<std::uint8_t> first;
     for (const double lift : {1.0, 150.0}) {
@@ -579,7 +608,8 @@ TEST(RendererGl, CreasesAreDrawnWhereTheyLieOnTheSurface) {
           if (antialias) window.push_back(res.rgba[4 * (std::size_t(v) * W + std::size_t(u)) + 1]);
         }
         ASSERT_GT(ink, 0) << "column " << u << " antialias " << antialias << " lift " << lift;
-        EXPECT_NEAR(moment / ink, row, antialias ? 0.6 : 1.0) << "column " << u << " antialias " << antialias << " lift " << lift;
+        EXPECT_NEAR(moment / ink, row, antialias ? 0.6 : 1.0)
+            << "column " << u << " antialias " << antialias << " lift " << lift;
         ++columns;
       }
       EXPECT_GT(columns, 50);
@@ -590,7 +620,8 @@ TEST(RendererGl, CreasesAreDrawnWhereTheyLieOnTheSurface) {
       }
       ASSERT_EQ(window.size(), first.size());
       std::size_t differ = 0;
-      for (std::size_t i = 0; i < first.size(); ++i) differ += std::abs(int(first[i]) - int(window[i])) > 2;
+      for (std::size_t i = 0; i < first.size(); ++i)
+        differ += std::abs(int(first[i]) - int(window[i])) > 2;
       EXPECT_EQ(differ, 0u);
     }
   }
@@ -608,9 +639,8 @@ TEST(RendererGl, CreasesAreDrawnWhereTheyLieOnTheSurface) {
 // floor is hidden.
 TEST(RendererGl, ALineOnAValleyFloorSeenAtAGrazingAngleIsNotHiddenByTheChords) {
   const double axis = 410;
-  const auto mesh = terrain::test::function_mesh(61, 41, 20, [axis](double x, double) {
-    return 0.01 * (x - axis) * (x - axis);
-  });
+  const auto mesh = terrain::test::function_mesh(
+      61, 41, 20, [axis](double x, double) { return 0.01 * (x - axis) * (x - axis); });
   FrameParams fp;
   fp.camera.eye = Vector3d(axis, -1300, 100);
   fp.camera.view_az = 0;
@@ -624,20 +654,23 @@ TEST(RendererGl, ALineOnAValleyFloorSeenAtAGrazingAngleIsNotHiddenByTheChords) {
   style.antialias = true;
   style.mask = {0.5f, 0.5f, 0.5f};
   style.pixels_per_edge = 100;  // tessellation level 1: the flat triangles
-  const auto bare = TerrainRenderer(ctx, mesh, nullptr, W, H, renderer::Layers{false, true, false, false}, style)
-                        .render(fp);
+  const auto bare =
+      TerrainRenderer(ctx, mesh, nullptr, W, H, renderer::Layers{false, true, false, false}, style)
+          .render(fp);
   for (const double below : {0.0, 20.0}) {
     CreaseGeometry g;
     for (double y = -800; y <= -600; y += 10) {
       const auto sp = terrain::pn_point_above(mesh, axis, y);
       ASSERT_TRUE(sp);
-      ASSERT_LT(sp->position.z(), 0.05) << sp->position.z();  // the PN floor; the flat triangles lie 1 m higher
+      ASSERT_LT(sp->position.z(), 0.05)
+          << sp->position.z();  // the PN floor; the flat triangles lie 1 m higher
       g.positions.emplace_back(float(axis), float(y), float(sp->position.z() - below));
       g.normals.push_back(sp->normal.cast<float>());
       g.flow.push_back(1.0f);
       g.share.push_back(1.0f);
     }
-    for (std::uint32_t i = 0; i + 1 < g.positions.size(); ++i) g.segments.insert(g.segments.end(), {i, i + 1});
+    for (std::uint32_t i = 0; i + 1 < g.positions.size(); ++i)
+      g.segments.insert(g.segments.end(), {i, i + 1});
     TerrainRenderer r(ctx, mesh, &g, W, H, renderer::Layers{false, true, true, false}, style);
     const auto res = r.render(fp);
     EXPECT_EQ(res.crease_segments, g.n_segments());
@@ -666,7 +699,8 @@ TEST(RendererGl, ALineOnAValleyFloorSeenAtAGrazingAngleIsNotHiddenByTheChords) {
 // within 5 %, for widths of 1 and 3 pixels and any direction; a faded segment covers its
 // opacity times that; consecutive segments of a polyline join without overlap (MAX blend).
 TEST(RendererGl, AntialiasedCoverageEqualsTheLineArea) {
-  const auto mesh = terrain::test::function_mesh(101, 101, 10, [](double, double) { return 100.0; });
+  const auto mesh =
+      terrain::test::function_mesh(101, 101, 10, [](double, double) { return 100.0; });
   renderer::GlContext ctx;
   renderer::Style style;
   style.background = {1, 1, 1};
@@ -690,20 +724,24 @@ TEST(RendererGl, AntialiasedCoverageEqualsTheLineArea) {
       g.flow.push_back(1.0f);
       g.share.push_back(share);
     }
-    for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) g.segments.insert(g.segments.end(), {i, i + 1});
+    for (std::uint32_t i = 0; i < std::uint32_t(n); ++i)
+      g.segments.insert(g.segments.end(), {i, i + 1});
     return g;
   };
   // Widths 1 and 3, and 1 + (3 - 1) sqrt(0.25) = 2 from the basin share.
-  for (const auto& [w0, w1, share] : {std::tuple{1.0, 1.0, 1.0f}, std::tuple{3.0, 3.0, 1.0f}, std::tuple{1.0, 3.0, 0.25f}}) {
+  for (const auto& [w0, w1, share] :
+       {std::tuple{1.0, 1.0, 1.0f}, std::tuple{3.0, 3.0, 1.0f}, std::tuple{1.0, 3.0, 0.25f}}) {
     style.crease_width = w0, style.crease_width_max = w1;
     const double width = w0 + (w1 - w0) * std::sqrt(double(share));
-    for (const auto& [a, b, n] : {std::tuple{Eigen::Vector2f(200, -500), Eigen::Vector2f(800, -500), 1},
-                                  std::tuple{Eigen::Vector2f(200, -200), Eigen::Vector2f(750, -700), 1},
-                                  std::tuple{Eigen::Vector2f(200, -200), Eigen::Vector2f(750, -700), 7}}) {
+    for (const auto& [a, b, n] :
+         {std::tuple{Eigen::Vector2f(200, -500), Eigen::Vector2f(800, -500), 1},
+          std::tuple{Eigen::Vector2f(200, -200), Eigen::Vector2f(750, -700), 1},
+          std::tuple{Eigen::Vector2f(200, -200), Eigen::Vector2f(750, -700), 7}}) {
       for (double opacity : {1.0, 0.5}) {
         fp.score.min_score = 1.0 - 0.2 * opacity;  // ... so the opacity is (1 - min) / fade
         const auto g = polyline(a, b, n, share);
-        TerrainRenderer r(ctx, mesh, &g, 400, 400, renderer::Layers{false, true, true, false}, style);
+        TerrainRenderer r(ctx, mesh, &g, 400, 400, renderer::Layers{false, true, true, false},
+                          style);
         const auto res = r.render(fp);
         double covered = 0;
         for (std::size_t i = 0; i < res.rgba.size(); i += 4) covered += 1.0 - res.rgba[i] / 255.0;
@@ -711,8 +749,8 @@ TEST(RendererGl, AntialiasedCoverageEqualsTheLineArea) {
         const auto p1 = renderer::project(res.view, g.positions.back().cast<double>());
         const double length = std::hypot(p1.u - p0.u, p1.v - p0.v);
         const double ideal = opacity * (length * width + std::numbers::pi * width * width / 4);
-        EXPECT_NEAR(covered, ideal, 0.05 * ideal) << "width " << width << " segments " << n << " opacity " << opacity
-                                                   << " length " << length;
+        EXPECT_NEAR(covered, ideal, 0.05 * ideal) << "width " << width << " segments " << n
+                                                  << " opacity " << opacity << " length " << length;
       }
     }
   }
@@ -723,14 +761,20 @@ TEST(RendererGl, AntialiasedCoverageEqualsTheLineArea) {
 // never grows with the min score.
 TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
   const auto& sc = msh_scene();
-  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false, .smooth_spacings = 0});
+  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links,
+                                                 {.min_area = 0,
+                                                  .min_width = 0,
+                                                  .off_edge_runs = false,
+                                                  .valley_branches = false,
+                                                  .smooth_spacings = 0});
   ASSERT_GT(g.n_segments(), 10000u);
   renderer::GlContext ctx;
   renderer::Style style = test_style();
   style.lod_error = 0;  // the creases as given, not a coarser level's (CPU references of g)
   TerrainRenderer r(ctx, sc.mesh, &g, 160, 120, renderer::Layers{false, true, true, false}, style);
   const Vector3d light = terrain::light_direction(315, 45);
-  for (const double signed_falloff : {0.0, 0.5, -0.5}) {  // -0.5: 0.5 orthographic (distance from the eye plane)
+  for (const double signed_falloff :
+       {0.0, 0.5, -0.5}) {  // -0.5: 0.5 orthographic (distance from the eye plane)
     const double falloff = std::abs(signed_falloff);
     std::size_t previous = g.n_segments() + 1;
     for (int i = 0; i <= 10; ++i) {
@@ -741,9 +785,11 @@ TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
       fp.score.falloff = falloff;
       fp.score.far_distance = 600;
       const auto res = r.render(fp);
-      const std::size_t cpu = renderer::count_accepted_segments(g, res.view.viewpoint(), light, 1.0, fp.score);
+      const std::size_t cpu =
+          renderer::count_accepted_segments(g, res.view.viewpoint(), light, 1.0, fp.score);
       const double tol = std::max(2.0, 1e-3 * double(g.n_segments()));
-      EXPECT_NEAR(double(res.crease_segments), double(cpu), tol) << "min " << fp.score.min_score << " falloff " << falloff;
+      EXPECT_NEAR(double(res.crease_segments), double(cpu), tol)
+          << "min " << fp.score.min_score << " falloff " << falloff;
       EXPECT_LE(res.crease_segments, previous);
       previous = res.crease_segments;
       if (i == 0 && falloff == 0) {
@@ -763,7 +809,12 @@ TEST(RendererGl, CreaseSelectionMatchesCpuAndIsMonotone) {
 // (Style::page_min_area), so every term runs on the GPU.
 TEST(RendererGl, StrokeRuleMatchesCpu) {
   const auto& sc = msh_scene();
-  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false, .smooth_spacings = 0});
+  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links,
+                                                 {.min_area = 0,
+                                                  .min_width = 0,
+                                                  .off_edge_runs = false,
+                                                  .valley_branches = false,
+                                                  .smooth_spacings = 0});
   renderer::GlContext ctx;
   renderer::Style style = test_style();
   style.crease_bridge = 10.0;
@@ -783,11 +834,14 @@ TEST(RendererGl, StrokeRuleMatchesCpu) {
     EXPECT_DOUBLE_EQ(rule.bridge, 10.0);
     EXPECT_DOUBLE_EQ(rule.min_length, 6.0 * scale);
     EXPECT_DOUBLE_EQ(rule.min_area, 20000.0 * std::sqrt(scale / renderer::kPageAreaScale));
-    const auto opacity = renderer::segment_opacity(g, res.view.viewpoint(), light, 1.0, fp.score, 0.0, rule);
-    const auto cpu = std::size_t(std::count_if(opacity.begin(), opacity.end(), [](float o) { return o > 0; }));
+    const auto opacity =
+        renderer::segment_opacity(g, res.view.viewpoint(), light, 1.0, fp.score, 0.0, rule);
+    const auto cpu =
+        std::size_t(std::count_if(opacity.begin(), opacity.end(), [](float o) { return o > 0; }));
     const double tol = std::max(2.0, 1e-3 * double(g.n_segments()));
     EXPECT_NEAR(double(res.crease_segments), double(cpu), tol) << "min score " << min_score;
-    changed += cpu != renderer::count_accepted_segments(g, res.view.viewpoint(), light, 1.0, fp.score);
+    changed +=
+        cpu != renderer::count_accepted_segments(g, res.view.viewpoint(), light, 1.0, fp.score);
   }
   EXPECT_GT(changed, 0u);
 }
@@ -803,57 +857,72 @@ TEST(RendererGl, StrokeRuleMatchesCpu) {
 // pixel.
 TEST(RendererGl, StrokeVisibilityMatchesCpu) {
   const auto& sc = msh_scene();
-  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false, .smooth_spacings = 0});
+  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links,
+                                                 {.min_area = 0,
+                                                  .min_width = 0,
+                                                  .off_edge_runs = false,
+                                                  .valley_branches = false,
+                                                  .smooth_spacings = 0});
   renderer::GlContext ctx;
   renderer::Style style = test_style();
   style.antialias = true;
   style.lod_error = 0;  // the creases as given, not a coarser level's (CPU references of g)
   const int w = 480, h = 270;
   TerrainRenderer r(ctx, sc.mesh, &g, w, h, renderer::Layers{false, true, true, false}, style);
-  for (const bool orthographic : {false, true}) {  // depth linear from the eye plane, the lift along the sight
-  SCOPED_TRACE(orthographic ? "orthographic" : "perspective");
-  FrameParams fp;
-  fp.camera.view_az = 200;
-  fp.camera.view_alt = 12;
-  fp.camera.orthographic = orthographic;
-  fp.score.min_score = 0.05;
-  const auto res = r.render(fp);
-  const auto gpu = r.read_crease_samples();
-  ASSERT_EQ(gpu.size(), g.n_segments());
-  const auto buffers = r.read_buffers();
-  const Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
-  const auto score = renderer::resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.viewpoint());
-  const auto drawn = renderer::segment_opacity(g, res.view.viewpoint(), light, 1.0, score, style.crease_fade,
-                                               renderer::stroke_rule(style, renderer::page_scale(res.view, r.box())));
-  const auto rule = renderer::stroke_visibility_rule(style, sc.mesh);
-  EXPECT_DOUBLE_EQ(rule.gap_depth, 1.5 * 10.0);
-  const auto cpu = renderer::stroke_visibility(g, renderer::segment_chains(g), drawn, res.view, 1.0,
-                                               renderer::crease_lift(style, sc.mesh), buffers.toward_depth, rule);
-  const renderer::SampleComparison c = renderer::compare_samples(cpu, gpu);
-  // Where the GPU draws a hidden sample, the crease layer has ink.
-  std::size_t inked = 0;
-  for (std::size_t s = 0; s < g.n_segments(); ++s) {
-    const std::uint32_t hidden_drawn = gpu[s].shown & ~gpu[s].visible;
-    if (!hidden_drawn) continue;
-    const auto p0 = renderer::project(res.view, g.positions[g.segments[2 * s]].cast<double>());
-    const auto p1 = renderer::project(res.view, g.positions[g.segments[2 * s + 1]].cast<double>());
-    for (std::uint32_t k = 0; k < gpu[s].n; ++k) {
-      if (!(hidden_drawn >> k & 1u)) continue;
-      const double t = (k + 0.5) / gpu[s].n;
-      const int u = int(std::floor(p0.u + t * (p1.u - p0.u))), v = int(std::floor(p0.v + t * (p1.v - p0.v)));
-      inked += u >= 0 && v >= 0 && u < w && v < h && buffers.crease[std::size_t(v * w + u)];
+  for (const bool orthographic :
+       {false, true}) {  // depth linear from the eye plane, the lift along the sight
+    SCOPED_TRACE(orthographic ? "orthographic" : "perspective");
+    FrameParams fp;
+    fp.camera.view_az = 200;
+    fp.camera.view_alt = 12;
+    fp.camera.orthographic = orthographic;
+    fp.score.min_score = 0.05;
+    const auto res = r.render(fp);
+    const auto gpu = r.read_crease_samples();
+    ASSERT_EQ(gpu.size(), g.n_segments());
+    const auto buffers = r.read_buffers();
+    const Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
+    const auto score =
+        renderer::resolve_distances(fp.score, r.box().lo, r.box().hi, res.view.viewpoint());
+    const auto drawn = renderer::segment_opacity(
+        g, res.view.viewpoint(), light, 1.0, score, style.crease_fade,
+        renderer::stroke_rule(style, renderer::page_scale(res.view, r.box())));
+    const auto rule = renderer::stroke_visibility_rule(style, sc.mesh);
+    EXPECT_DOUBLE_EQ(rule.gap_depth, 1.5 * 10.0);
+    const auto cpu = renderer::stroke_visibility(g, renderer::segment_chains(g), drawn, res.view,
+                                                 1.0, renderer::crease_lift(style, sc.mesh),
+                                                 buffers.toward_depth, rule);
+    const renderer::SampleComparison c = renderer::compare_samples(cpu, gpu);
+    // Where the GPU draws a hidden sample, the crease layer has ink.
+    std::size_t inked = 0;
+    for (std::size_t s = 0; s < g.n_segments(); ++s) {
+      const std::uint32_t hidden_drawn = gpu[s].shown & ~gpu[s].visible;
+      if (!hidden_drawn) continue;
+      const auto p0 = renderer::project(res.view, g.positions[g.segments[2 * s]].cast<double>());
+      const auto p1 =
+          renderer::project(res.view, g.positions[g.segments[2 * s + 1]].cast<double>());
+      for (std::uint32_t k = 0; k < gpu[s].n; ++k) {
+        if (!(hidden_drawn >> k & 1u)) continue;
+        const double t = (k + 0.5) / gpu[s].n;
+        const int u = int(std::floor(p0.u + t * (p1.u - p0.u))),
+                  v = int(std::floor(p0.v + t * (p1.v - p0.v)));
+        inked += u >= 0 && v >= 0 && u < w && v < h && buffers.crease[std::size_t(v * w + u)];
+      }
     }
-  }
-  EXPECT_GT(c.segments, 1000u);
-  EXPECT_LE(double(c.other_count), 0.005 * double(c.segments));
-  for (int j = 0; j < 4; ++j) EXPECT_LE(double(c.differ[j]), 1e-4 * double(c.samples)) << "mask " << j << " of " << c.samples;
-  EXPECT_GT(c.hidden_drawn, 20u);
-  EXPECT_GT(c.peeks, 5u);
-  EXPECT_GE(double(inked), 0.95 * double(c.hidden_drawn));
-  std::cout << c.segments << " segments drawn, " << c.other_count << " with another sample count; of " << c.samples
-            << " samples: " << c.differ[0] << " / " << c.differ[1] << " / " << c.differ[2] << " / " << c.differ[3]
-            << " differ (visible, bridgeable, closed, shown); " << c.hidden_drawn << " hidden drawn, " << c.peeks
-            << " peek samples left out, " << inked << " of the first inked\n";
+    EXPECT_GT(c.segments, 1000u);
+    EXPECT_LE(double(c.other_count), 0.005 * double(c.segments));
+    for (int j = 0; j < 4; ++j)
+      EXPECT_LE(double(c.differ[j]), 1e-4 * double(c.samples))
+          << "mask " << j << " of " << c.samples;
+    EXPECT_GT(c.hidden_drawn, 20u);
+    EXPECT_GT(c.peeks, 5u);
+    EXPECT_GE(double(inked), 0.95 * double(c.hidden_drawn));
+    std::cout << c.segments << " segments drawn, " << c.other_count
+              << " with another sample count; of " << c.samples << " samples: " << c.differ[0]
+              << " / " << c.differ[1] << " / " << c.differ[2] << " / " << c.differ[3]
+              << " differ (visible, bridgeable, closed, shown); " << c.hidden_drawn
+              << " hidden drawn, " << c.peeks << " peek samples left out, " << inked
+              << " of the first inked\n";
   }
 }
 
@@ -864,7 +933,12 @@ TEST(RendererGl, StrokeVisibilityMatchesCpu) {
 // (CreasesAreDrawnWhereTheyLieOnTheSurface).
 TEST(RendererGl, MinScoreZeroDrawsEveryVisibleVertex) {
   const auto& sc = msh_scene();
-  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false, .smooth_spacings = 0});
+  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links,
+                                                 {.min_area = 0,
+                                                  .min_width = 0,
+                                                  .off_edge_runs = false,
+                                                  .valley_branches = false,
+                                                  .smooth_spacings = 0});
   renderer::GlContext ctx;
   renderer::Style style = test_style();
   style.pixels_per_edge = 2;
@@ -875,9 +949,11 @@ TEST(RendererGl, MinScoreZeroDrawsEveryVisibleVertex) {
   fp.score.falloff = 0;
   const auto res = r.render(fp);
   std::size_t missing = 0, checked = 0;
-  const auto p0 = renderer::project(res.view, Vector3d(0, 0, 1800)), p1 = renderer::project(res.view, Vector3d(100, 0, 1800));
+  const auto p0 = renderer::project(res.view, Vector3d(0, 0, 1800)),
+             p1 = renderer::project(res.view, Vector3d(100, 0, 1800));
   const double margin = 1.5 * 100 / std::hypot(p1.u - p0.u, p1.v - p0.v);  // metres
-  const double east = double(sc.mesh.topo.cols - 1) * sc.mesh.geo.dx, south = -double(sc.mesh.topo.rows - 1) * sc.mesh.geo.dy;
+  const double east = double(sc.mesh.topo.cols - 1) * sc.mesh.geo.dx,
+               south = -double(sc.mesh.topo.rows - 1) * sc.mesh.geo.dy;
   for (std::size_t s = 0; s < g.n_segments(); ++s) {
     const Eigen::Vector3f p = g.positions[g.segments[2 * s]];
     if (p.x() < margin || p.y() > -margin || p.x() > east - margin || p.y() < south + margin)
@@ -891,8 +967,10 @@ TEST(RendererGl, MinScoreZeroDrawsEveryVisibleVertex) {
         const std::size_t i = 4 * (std::size_t(v + dv) * 400 + std::size_t(u + du));
         found = res.rgba[i] == 255 && res.rgba[i + 1] == 0;
       }
-    if (!found) ADD_FAILURE() << "vertex " << g.segments[2 * s] << " at pixel " << q.u << " " << q.v << " flow "
-                              << g.flow[g.segments[2 * s]] << " pos " << g.positions[g.segments[2 * s]].transpose();
+    if (!found)
+      ADD_FAILURE() << "vertex " << g.segments[2 * s] << " at pixel " << q.u << " " << q.v
+                    << " flow " << g.flow[g.segments[2 * s]] << " pos "
+                    << g.positions[g.segments[2 * s]].transpose();
     missing += !found;
     ++checked;
   }
@@ -923,7 +1001,8 @@ TEST(RendererGl, PelSegmentsMatchCpu) {
   renderer::GlContext ctx;
   TerrainRenderer r(ctx, mesh, nullptr, 160, 120, pel_layers(), test_style());
   double scale = 0;
-  for (std::size_t i = 0; i < mesh.n_vertices(); ++i) scale = std::max(scale, double(mesh.positions[i].norm()));
+  for (std::size_t i = 0; i < mesh.n_vertices(); ++i)
+    scale = std::max(scale, double(mesh.positions[i].norm()));
   for (double tau : {0.05, 0.2}) {
     FrameParams fp;
     fp.pel.headlight = false;
@@ -935,7 +1014,8 @@ TEST(RendererGl, PelSegmentsMatchCpu) {
     const auto fields = renderer::pel_fields(mesh, terrain::light_direction(135, 40));
     const auto cpu = renderer::extract_pels(mesh, fields, tau);
     ASSERT_GT(cpu.size(), 100u);
-    EXPECT_NEAR(double(gpu.size()), double(cpu.size()), 0.005 * double(cpu.size())) << "tau " << tau;
+    EXPECT_NEAR(double(gpu.size()), double(cpu.size()), 0.005 * double(cpu.size()))
+        << "tau " << tau;
     std::map<std::uint32_t, std::size_t> by_face;
     for (std::size_t i = 0; i < cpu.size(); ++i) by_face[cpu.faces[i]] = i;
     std::size_t matched = 0;
@@ -943,7 +1023,8 @@ TEST(RendererGl, PelSegmentsMatchCpu) {
       const auto it = by_face.find(s.face);
       if (it == by_face.end()) continue;
       const Eigen::Vector3f a = cpu.points[2 * it->second], b = cpu.points[2 * it->second + 1];
-      const double d = std::min(std::max((s.a - a).norm(), (s.b - b).norm()), std::max((s.a - b).norm(), (s.b - a).norm()));
+      const double d = std::min(std::max((s.a - a).norm(), (s.b - b).norm()),
+                                std::max((s.a - b).norm(), (s.b - a).norm()));
       matched += d <= 1e-4 * scale;
     }
     EXPECT_GE(double(matched), 0.995 * double(gpu.size())) << "tau " << tau;
@@ -975,7 +1056,8 @@ TEST(RendererGl, PelPiecesFollowTheCpuRule) {
   const auto cpu_opacity = renderer::pel_piece_opacity(renderer::pel_pieces(mesh.topo, fields, cpu),
                                                        8 * std::min(mesh.geo.dx, mesh.geo.dy));
   double scale = 0;
-  for (std::size_t i = 0; i < mesh.n_vertices(); ++i) scale = std::max(scale, double(mesh.positions[i].norm()));
+  for (std::size_t i = 0; i < mesh.n_vertices(); ++i)
+    scale = std::max(scale, double(mesh.positions[i].norm()));
   std::map<std::uint32_t, std::size_t> by_face;
   std::size_t dropped = 0, faded = 0, full = 0;
   for (std::size_t i = 0; i < cpu.size(); ++i) {
@@ -990,13 +1072,16 @@ TEST(RendererGl, PelPiecesFollowTheCpuRule) {
     const std::size_t i = it->second;
     ++matched;
     same += std::abs(sg.opacity - cpu_opacity[i]) <= 0.01f;
-    at += std::max((sg.a - cpu.points[2 * i]).norm(), (sg.b - cpu.points[2 * i + 1]).norm()) <= 1e-4 * scale;
-    moved += std::max((sg.a - raw.points[2 * i]).norm(), (sg.b - raw.points[2 * i + 1]).norm()) > 1e-3 * scale;
+    at += std::max((sg.a - cpu.points[2 * i]).norm(), (sg.b - cpu.points[2 * i + 1]).norm()) <=
+          1e-4 * scale;
+    moved += std::max((sg.a - raw.points[2 * i]).norm(), (sg.b - raw.points[2 * i + 1]).norm()) >
+             1e-3 * scale;
   }
   EXPECT_GE(double(matched), 0.995 * double(gpu.size()));
   EXPECT_GE(double(at), 0.995 * double(matched));
   EXPECT_GT(double(moved), 0.5 * double(matched));
-  EXPECT_GE(double(same), 0.99 * double(matched)) << "dropped " << dropped << " faded " << faded << " full " << full;
+  EXPECT_GE(double(same), 0.99 * double(matched))
+      << "dropped " << dropped << " faded " << faded << " full " << full;
   EXPECT_GT(dropped, 20u);
   EXPECT_GT(faded, 20u);
   EXPECT_GT(full, cpu.size() / 2);
@@ -1007,8 +1092,8 @@ TEST(RendererGl, PelPiecesFollowTheCpuRule) {
 namespace {
 
 // Share of the pixels of mask `a` that have a pixel of mask `b` within 1 px (8-neighbourhood).
-double covered_within_one(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b, int w, int h,
-                          std::size_t& uncovered) {
+double covered_within_one(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b,
+                          int w, int h, std::size_t& uncovered) {
   std::size_t total = 0, covered = 0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -1018,7 +1103,8 @@ double covered_within_one(const std::vector<std::uint8_t>& a, const std::vector<
       for (int dy = -1; dy <= 1 && !hit; ++dy)
         for (int dx = -1; dx <= 1 && !hit; ++dx) {
           const int xx = x + dx, yy = y + dy;
-          hit = xx >= 0 && yy >= 0 && xx < w && yy < h && b[std::size_t(yy) * std::size_t(w) + std::size_t(xx)];
+          hit = xx >= 0 && yy >= 0 && xx < w && yy < h &&
+                b[std::size_t(yy) * std::size_t(w) + std::size_t(xx)];
         }
       covered += hit;
     }
@@ -1036,14 +1122,16 @@ TEST(RendererGl, AdjacencyAgreesWithTowardAwayOnRealTerrain) {
   const terrain::GridMesh& mesh = terrain::test::msh_50m_mesh();
   renderer::GlContext ctx;
   const int w = 640, h = 360;
-  for (const bool orthographic : {false, true}) {  // the orthographic view: the pixel's size in metres
+  for (const bool orthographic :
+       {false, true}) {  // the orthographic view: the pixel's size in metres
     auto mask = [&](bool adjacency) {
       renderer::Layers layers{false, true, false, true};
       layers.adjacency = adjacency;
       TerrainRenderer r(ctx, mesh, nullptr, w, h, layers, test_style());
       FrameParams fp;
       fp.camera.orthographic = orthographic;
-      if (orthographic) fp.camera.view_alt = 15;  // parallel rays graze less: lower, for as many silhouettes
+      if (orthographic)
+        fp.camera.view_alt = 15;  // parallel rays graze less: lower, for as many silhouettes
       r.render(fp);
       return r.read_buffers().silhouette;
     };
@@ -1053,8 +1141,11 @@ TEST(RendererGl, AdjacencyAgreesWithTowardAwayOnRealTerrain) {
     covered_within_one(adjacency, toward_away, w, h, spurious);
     const auto n_ta = std::count(toward_away.begin(), toward_away.end(), 1);
     const auto n_adj = std::count(adjacency.begin(), adjacency.end(), 1);
-    std::printf("%s: Toward/Away %ld px, Adjacency %ld px; found %.1f %% of Toward/Away within 1 px; spurious %zu px\n",
-                orthographic ? "orthographic" : "perspective", long(n_ta), long(n_adj), 100 * found, spurious);
+    std::printf(
+        "%s: Toward/Away %ld px, Adjacency %ld px; found %.1f %% of Toward/Away within 1 px; "
+        "spurious %zu px\n",
+        orthographic ? "orthographic" : "perspective", long(n_ta), long(n_adj), 100 * found,
+        spurious);
     EXPECT_GT(n_ta, 500);
     EXPECT_GE(found, 0.90);
   }
@@ -1063,7 +1154,9 @@ TEST(RendererGl, AdjacencyAgreesWithTowardAwayOnRealTerrain) {
 namespace {
 
 // 8-connected pieces of a 0/1 mask.
-std::size_t pieces(const std::vector<std::uint8_t>& m, int w, int h) { return renderer::mask_pieces(m, w, h).size.size(); }
+std::size_t pieces(const std::vector<std::uint8_t>& m, int w, int h) {
+  return renderer::mask_pieces(m, w, h).size.size();
+}
 
 }  // namespace
 
@@ -1085,20 +1178,23 @@ TEST(RendererGl, SilhouettesFollowTheCpuRuleAndCloseGaps) {
     fp.camera.view_alt = 15;
     const auto res = r.render(fp);
     const auto b = r.read_buffers();
-    const auto cpu = renderer::toward_away_silhouettes(b.toward_depth, b.away_depth, w, h, res.view.reversed_z, antialias);
-    EXPECT_EQ(std::count(cpu.begin(), cpu.end(), 1), std::count(b.silhouette.begin(), b.silhouette.end(), 1));
+    const auto cpu = renderer::toward_away_silhouettes(b.toward_depth, b.away_depth, w, h,
+                                                       res.view.reversed_z, antialias);
+    EXPECT_EQ(std::count(cpu.begin(), cpu.end(), 1),
+              std::count(b.silhouette.begin(), b.silhouette.end(), 1));
     std::size_t differ = 0;
     for (std::size_t i = 0; i < cpu.size(); ++i) differ += cpu[i] != b.silhouette[i];
     EXPECT_EQ(differ, 0u) << (antialias ? "anti-aliased" : "pixel-exact");
     return b.silhouette;
   };
   const auto exact = mask(false), soft = mask(true);
-  const auto n_exact = std::count(exact.begin(), exact.end(), 1), n_soft = std::count(soft.begin(), soft.end(), 1);
+  const auto n_exact = std::count(exact.begin(), exact.end(), 1),
+             n_soft = std::count(soft.begin(), soft.end(), 1);
   const std::size_t p_exact = pieces(exact, w, h), p_soft = pieces(soft, w, h);
   std::size_t apart = 0;
   const double beside = covered_within_one(soft, exact, w, h, apart);
-  std::printf("silhouette pixels %ld -> %ld, pieces %zu -> %zu, %.1f %% beside the paper's\n", long(n_exact),
-              long(n_soft), p_exact, p_soft, 100 * beside);
+  std::printf("silhouette pixels %ld -> %ld, pieces %zu -> %zu, %.1f %% beside the paper's\n",
+              long(n_exact), long(n_soft), p_exact, p_soft, 100 * beside);
   EXPECT_GT(n_exact, 500);
   EXPECT_GT(n_soft, n_exact);
   // 61 -> 20 pieces; dropping the specks alone (the rule before the gaps were closed) left 39.
@@ -1107,8 +1203,8 @@ TEST(RendererGl, SilhouettesFollowTheCpuRuleAndCloseGaps) {
 }
 
 // Formulated silhouettes on Mount St. Helens at 50 m (the eye lowered to 5 degrees, a
-// strength of 5 degrees), seen obliquely and from straight above: the SIL pass's mask is exactly the CPU
-// rules applied to the frame's own buffers, Toward/Away's on its depths united with
+// strength of 5 degrees), seen obliquely and from straight above: the SIL pass's mask is exactly
+// the CPU rules applied to the frame's own buffers, Toward/Away's on its depths united with
 // renderer::formulated_silhouettes on its drawn normals. From above there is no Toward/Away
 // silhouette at all, and the formulated ones are there.
 TEST(RendererGl, FormulatedSilhouettesFollowTheCpuRule) {
@@ -1119,7 +1215,8 @@ TEST(RendererGl, FormulatedSilhouettesFollowTheCpuRule) {
     SCOPED_TRACE(alt);
     renderer::Style style = test_style();
     style.formulated = true;
-    style.formulated_altitude = style.formulated_strength = 5;  // enough lines on this view to compare
+    style.formulated_altitude = style.formulated_strength =
+        5;  // enough lines on this view to compare
     TerrainRenderer r(ctx, mesh, nullptr, w, h, renderer::Layers{false, true, false, true}, style);
     FrameParams fp;
     fp.camera.view_az = 200;
@@ -1127,9 +1224,11 @@ TEST(RendererGl, FormulatedSilhouettesFollowTheCpuRule) {
     const auto res = r.render(fp);
     const auto b = r.read_buffers(true);
     ASSERT_EQ(b.surface_normal.size(), 4u * w * h);
-    const auto ta = renderer::toward_away_silhouettes(b.toward_depth, b.away_depth, w, h, res.view.reversed_z, false);
+    const auto ta = renderer::toward_away_silhouettes(b.toward_depth, b.away_depth, w, h,
+                                                      res.view.reversed_z, false);
     const auto f = renderer::formulated_silhouettes(
-        b.surface_normal, w, h, renderer::formulated_view(res.view, style.formulated_altitude, style.formulated_strength));
+        b.surface_normal, w, h,
+        renderer::formulated_view(res.view, style.formulated_altitude, style.formulated_strength));
     std::size_t differ = 0, n_ta = 0, n_f = 0;
     for (std::size_t i = 0; i < f.size(); ++i) {
       differ += std::uint8_t(ta[i] || f[i]) != b.silhouette[i];
@@ -1152,10 +1251,10 @@ TEST(SilhouettePieces, OpacityFromThePieceSize) {
   const int w = 48, h = 30;
   std::vector<std::uint8_t> m(std::size_t(w * h), 0);
   auto set = [&](int x, int y) { m[std::size_t(y * w + x)] = 1; };
-  for (int x = 0; x < 30; ++x) set(x, 1);         // 30 px: in full
-  for (int k = 0; k < 8; ++k) set(2 + k, 7 + k);  // diagonal, 8 px...
-  for (int k = 0; k < 10; ++k) set(10 + k, 14);   // ...and 10 px from its corner: 18 px
-  set(35, 6), set(36, 6), set(35, 7);             // 3 px: gone
+  for (int x = 0; x < 30; ++x) set(x, 1);                   // 30 px: in full
+  for (int k = 0; k < 8; ++k) set(2 + k, 7 + k);            // diagonal, 8 px...
+  for (int k = 0; k < 10; ++k) set(10 + k, 14);             // ...and 10 px from its corner: 18 px
+  set(35, 6), set(36, 6), set(35, 7);                       // 3 px: gone
   for (int x = 0; x < 8; ++x) set(x, 20), set(x + 12, 20);  // 8 + 8 px, a gap of 4: one piece of 16
   for (int x = 0; x < 8; ++x) set(x + 22, 26), set(x + 35, 26);  // a gap of 5: two pieces of 8
   const std::vector<float> o = renderer::silhouette_piece_opacity(m, w, h, 20.0);
@@ -1179,7 +1278,8 @@ TEST(SilhouettePieces, OpacityFromThePieceSize) {
   // Off: every silhouette pixel in full.
   const std::vector<float> all = renderer::silhouette_piece_opacity(m, w, h, 0.0);
   for (std::size_t i = 0; i < m.size(); ++i) EXPECT_EQ(all[i], float(m[i])) << i;
-  EXPECT_FLOAT_EQ(renderer::piece_opacity(10, 20.0), 0.0f);  // the PELs' rule: fading over half the minimum
+  EXPECT_FLOAT_EQ(renderer::piece_opacity(10, 20.0),
+                  0.0f);  // the PELs' rule: fading over half the minimum
   EXPECT_FLOAT_EQ(renderer::piece_opacity(15, 20.0), 0.5f);
   EXPECT_FLOAT_EQ(renderer::piece_opacity(20, 20.0), 1.0f);
   EXPECT_FLOAT_EQ(renderer::piece_opacity(17.5, 20.0, renderer::kSilhouetteFade), 0.5f);
@@ -1230,9 +1330,10 @@ TEST(RendererGl, SilhouettePiecesFollowTheCpuRule) {
 // bounds 1 to 16 px), seen from straight above (orthographic) and obliquely. The patches
 // drawn are far fewer than the mesh's faces, and bound 0 draws them all.
 TEST(RendererGl, LevelsOfDetailLeaveNoCrack) {
-  const terrain::GridMesh mesh = terrain::test::function_mesh(257, 257, 10.0, [](double x, double y) {
-    return 0.05 * x + 40 * std::sin(x / 90) * std::cos(y / 70) + 8 * std::sin(x / 23 + y / 31);
-  });
+  const terrain::GridMesh mesh =
+      terrain::test::function_mesh(257, 257, 10.0, [](double x, double y) {
+        return 0.05 * x + 40 * std::sin(x / 90) * std::cos(y / 70) + 8 * std::sin(x / 23 + y / 31);
+      });
   renderer::GlContext ctx;
   const int w = 480, h = 360;
   renderer::Style style = test_style();
@@ -1252,7 +1353,9 @@ TEST(RendererGl, LevelsOfDetailLeaveNoCrack) {
       const auto depth = r.read_buffers().toward_depth;
       std::vector<std::uint8_t> outside(depth.size(), 0);
       std::vector<std::size_t> stack;
-      auto empty = [&](std::size_t i) { return renderer::far_depth(res.view.reversed_z, depth[i]) >= 1.0f; };
+      auto empty = [&](std::size_t i) {
+        return renderer::far_depth(res.view.reversed_z, depth[i]) >= 1.0f;
+      };
       for (int x = 0; x < w; ++x)
         for (int y : {0, h - 1}) stack.push_back(std::size_t(y * w + x));
       for (int y = 0; y < h; ++y)
@@ -1269,9 +1372,10 @@ TEST(RendererGl, LevelsOfDetailLeaveNoCrack) {
         if (y + 1 < h) stack.push_back(i + std::size_t(w));
       }
       std::size_t enclosed = 0, terrain = 0;
-      for (std::size_t i = 0; i < depth.size(); ++i) enclosed += empty(i) && !outside[i], terrain += !empty(i);
-      EXPECT_EQ(enclosed, 0u) << (orthographic ? "orthographic" : "oblique") << " patches " << res.patches
-                              << " cell " << cell;
+      for (std::size_t i = 0; i < depth.size(); ++i)
+        enclosed += empty(i) && !outside[i], terrain += !empty(i);
+      EXPECT_EQ(enclosed, 0u) << (orthographic ? "orthographic" : "oblique") << " patches "
+                              << res.patches << " cell " << cell;
       EXPECT_GT(terrain, depth.size() / 4);
     }
   }
@@ -1290,10 +1394,12 @@ TEST(RendererGl, LevelsOfDetailLeaveNoCrack) {
 // of the 256 blocks face and 576 to 1506 pixels face away.
 TEST(RendererGl, AftSkipsOnlyPatchesThatFaceTheEye) {
   // Hills that grow from the west (gentle) to the east (steep).
-  const terrain::GridMesh mesh = terrain::test::function_mesh(257, 257, 10.0, [](double x, double y) {
-    const double grow = x / 2560 * x / 2560;
-    return 80 * grow * std::sin(x / 90) * std::cos(y / 70) + 16 * grow * std::sin(x / 23 + y / 31);
-  });
+  const terrain::GridMesh mesh =
+      terrain::test::function_mesh(257, 257, 10.0, [](double x, double y) {
+        const double grow = x / 2560 * x / 2560;
+        return 80 * grow * std::sin(x / 90) * std::cos(y / 70) +
+               16 * grow * std::sin(x / 23 + y / 31);
+      });
   auto levels = std::make_shared<const renderer::LodHierarchy>(renderer::build_lod(mesh, 16));
   renderer::LodHierarchy plain = *levels;
   for (auto& b : plain.blocks) b.slope.clear();
@@ -1315,8 +1421,9 @@ TEST(RendererGl, AftSkipsOnlyPatchesThatFaceTheEye) {
     const auto rb = b.render(fp);
     const auto fb = b.read_buffers();
     ASSERT_EQ(ra.patches, rb.patches) << az;
-    const auto facing = renderer::facing_blocks(*levels, ra.view, style.exaggeration,
-                                                renderer::select_lod(*levels, ra.view, style.exaggeration, style.lod_error));
+    const auto facing = renderer::facing_blocks(
+        *levels, ra.view, style.exaggeration,
+        renderer::select_lod(*levels, ra.view, style.exaggeration, style.lod_error));
     const auto marked = std::count(facing.begin(), facing.end(), std::uint8_t(1));
     EXPECT_GT(marked, 0) << az;
     EXPECT_LT(marked, std::ptrdiff_t(facing.size())) << az;
@@ -1340,8 +1447,9 @@ TEST(RendererGl, AftSkipsOnlyPatchesThatFaceTheEye) {
 // bottom, whose last row and column the level grid keeps closer) is read back at level 2,
 // a sixteenth of its vertices; seen from straight above and obliquely from far, at a bound
 // that draws every block at level 2 or coarser (the coarse patches, which face by their
-// geometry, are found by the mesh's own spacing, not the held level's). Seen obliquely from near, where the whole mesh draws finer
-// blocks, the held level is drawn instead (fewer patches), and without a crack.
+// geometry, are found by the mesh's own spacing, not the held level's). Seen obliquely from near,
+// where the whole mesh draws finer blocks, the held level is drawn instead (fewer patches), and
+// without a crack.
 TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
   const terrain::GridMesh mesh = bumpy_blocks();
   terrain::test::ScratchDir dir;
@@ -1349,7 +1457,8 @@ TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
   terrain::write_mesh_pyramid(mesh, dir.path("m.tpyr"));
   std::string why;
   const auto whole = terrain::read_mesh_via_pyramid(dir.path("m.ply"), why);
-  const auto coarse = terrain::read_mesh_via_pyramid(dir.path("m.ply"), why, [](const terrain::MeshPyramid&) { return 2; });
+  const auto coarse = terrain::read_mesh_via_pyramid(dir.path("m.ply"), why,
+                                                     [](const terrain::MeshPyramid&) { return 2; });
   ASSERT_TRUE(whole && coarse) << why;
   ASSERT_EQ(coarse->levels.base, 2);
   EXPECT_EQ(coarse->mesh.topo.rows, 76u);  // 299 cells: rows 0, 4, ..., 296 and 299
@@ -1376,9 +1485,10 @@ TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
   far.camera.view_alt = 8;
   for (const FrameParams& fp : {top, far}) {
     const auto ra = a.render(fp);
-    const auto levels = renderer::select_lod(*fine_levels, ra.view, style.exaggeration, style.lod_error,
-                                               renderer::lod_cell_px(style));
-    ASSERT_GE(*std::min_element(levels.begin(), levels.end()), 2) << "the view draws a block finer than the held level";
+    const auto levels = renderer::select_lod(*fine_levels, ra.view, style.exaggeration,
+                                             style.lod_error, renderer::lod_cell_px(style));
+    ASSERT_GE(*std::min_element(levels.begin(), levels.end()), 2)
+        << "the view draws a block finer than the held level";
     const auto fa = a.read_buffers();
     const auto rb = b.render(fp);
     const auto fb = b.read_buffers();
@@ -1405,8 +1515,8 @@ TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
   near.camera.view_az = 180;
   near.camera.view_alt = 30;
   const auto na = a.render(near);
-  const auto near_levels = renderer::select_lod(*fine_levels, na.view, style.exaggeration, style.lod_error,
-                                                    renderer::lod_cell_px(style));
+  const auto near_levels = renderer::select_lod(*fine_levels, na.view, style.exaggeration,
+                                                style.lod_error, renderer::lod_cell_px(style));
   ASSERT_LT(*std::min_element(near_levels.begin(), near_levels.end()), 2);
   const auto nb = b.render(near);
   EXPECT_LT(nb.patches, na.patches);
@@ -1442,42 +1552,49 @@ TEST(RendererGl, AWindowOfBlocksInViewDrawsTheSameFrame) {
   for (const int level : {0, 2}) {
     SCOPED_TRACE(::testing::Message() << "level " << level);
     std::string why;
-    const auto whole =
-        terrain::read_mesh_via_pyramid(dir.path("m.ply"), why, [&](const terrain::MeshPyramid&) { return level; });
+    const auto whole = terrain::read_mesh_via_pyramid(
+        dir.path("m.ply"), why, [&](const terrain::MeshPyramid&) { return level; });
     ASSERT_TRUE(whole) << why;
     auto whole_levels = std::make_shared<const renderer::LodHierarchy>(whole->levels);
     TerrainRenderer a(ctx, whole->mesh, nullptr, w, h, layers, style, whole_levels);
     const auto ra = a.render(near);
     const auto fa = a.read_buffers();
-    const renderer::BlockRange r = renderer::blocks_in_view(*whole_levels, {ra.view}, style.exaggeration);
+    const renderer::BlockRange r =
+        renderer::blocks_in_view(*whole_levels, {ra.view}, style.exaggeration);
     ASSERT_FALSE(r.empty());
     EXPECT_EQ(r.br0, 0u);
     EXPECT_EQ(r.bc0, 0u);
-    EXPECT_LE((r.br1 - r.br0) * (r.bc1 - r.bc0), 9u) << "the view needs more than 3 x 3 of the 5 x 5 blocks";
-    const auto part = terrain::read_mesh_via_pyramid(dir.path("m.ply"), why, [&](const terrain::MeshPyramid&) {
-      return terrain::PyramidPart{level, r.br0, r.bc0, r.br1, r.bc1};
-    });
+    EXPECT_LE((r.br1 - r.br0) * (r.bc1 - r.bc0), 9u)
+        << "the view needs more than 3 x 3 of the 5 x 5 blocks";
+    const auto part =
+        terrain::read_mesh_via_pyramid(dir.path("m.ply"), why, [&](const terrain::MeshPyramid&) {
+          return terrain::PyramidPart{level, r.br0, r.bc0, r.br1, r.bc1};
+        });
     ASSERT_TRUE(part && part->levels.window) << why;
     auto part_levels = std::make_shared<const renderer::LodHierarchy>(part->levels);
     TerrainRenderer b(ctx, part->mesh, nullptr, w, h, layers, style, part_levels);
-    EXPECT_EQ(b.box().lo, a.box().lo - Vector3d(part->mesh.geo.origin_x - whole->mesh.geo.origin_x,
-                                                part->mesh.geo.origin_y - whole->mesh.geo.origin_y, 0));
+    EXPECT_EQ(b.box().lo,
+              a.box().lo - Vector3d(part->mesh.geo.origin_x - whole->mesh.geo.origin_x,
+                                    part->mesh.geo.origin_y - whole->mesh.geo.origin_y, 0));
     const auto rb = b.render(near);
     const auto fb = b.read_buffers();
-    std::size_t drawn_a = 0, drawn_b = 0, covered_differ = 0, depth_differ = 0, sil_a = 0, sil_b = 0, sil_differ = 0;
+    std::size_t drawn_a = 0, drawn_b = 0, covered_differ = 0, depth_differ = 0, sil_a = 0,
+                sil_b = 0, sil_differ = 0;
     for (std::size_t i = 0; i < fa.toward_depth.size(); ++i) {
       const bool da = renderer::far_depth(ra.view.reversed_z, fa.toward_depth[i]) < 1.0f;
       const bool db = renderer::far_depth(rb.view.reversed_z, fb.toward_depth[i]) < 1.0f;
       drawn_a += da, drawn_b += db, covered_differ += da != db;
       depth_differ +=
-          da && db && std::abs(fa.toward_depth[i] - fb.toward_depth[i]) > 1e-4f * std::abs(fa.toward_depth[i]);
+          da && db &&
+          std::abs(fa.toward_depth[i] - fb.toward_depth[i]) > 1e-4f * std::abs(fa.toward_depth[i]);
     }
     for (std::size_t i = 0; i < fa.silhouette_opacity.size(); ++i) {
       const bool sa = fa.silhouette_opacity[i] > 0, sb = fb.silhouette_opacity[i] > 0;
       sil_a += sa, sil_b += sb, sil_differ += sa != sb;
     }
     EXPECT_GT(drawn_a, fa.toward_depth.size() / 4);
-    EXPECT_LT(drawn_a, fa.toward_depth.size() * 9 / 10);  // the mesh's corner against the background
+    EXPECT_LT(drawn_a,
+              fa.toward_depth.size() * 9 / 10);  // the mesh's corner against the background
     EXPECT_LE(covered_differ, 2u) << drawn_a << " " << drawn_b;
     EXPECT_LE(depth_differ, 2u);
     EXPECT_GT(sil_a, 50u);
@@ -1535,7 +1652,8 @@ TEST(RendererGl, FlatPatchesDrawWhatTheTessellatorDraws) {
     EXPECT_LE(depth, 1e-4f) << "lod " << lod;
     EXPECT_LE(colour, 1) << "lod " << lod;
     EXPECT_EQ(silhouettes, 0u) << "lod " << lod;
-    EXPECT_GT(std::count_if(fa.silhouette_opacity.begin(), fa.silhouette_opacity.end(), [](std::uint8_t o) { return o > 0; }),
+    EXPECT_GT(std::count_if(fa.silhouette_opacity.begin(), fa.silhouette_opacity.end(),
+                            [](std::uint8_t o) { return o > 0; }),
               100)
         << "lod " << lod;
   }
@@ -1548,7 +1666,9 @@ TEST(RendererGl, FlatPatchesDrawWhatTheTessellatorDraws) {
 // within 1 px of the other's; 100 % here). Seen from near, the creases as given.
 TEST(RendererGl, MergedCreasesDrawWhereTheFullDetailLinesLie) {
   const auto& sc = msh_scene();
-  const auto g = renderer::build_crease_geometry(sc.mesh, sc.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false});
+  const auto g = renderer::build_crease_geometry(
+      sc.mesh, sc.links,
+      {.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false});
   const auto levels = renderer::coarser_crease_levels(g);
   ASSERT_GE(levels.size(), 2u);
   renderer::GlContext ctx;
@@ -1559,7 +1679,8 @@ TEST(RendererGl, MergedCreasesDrawWhereTheFullDetailLinesLie) {
   full.lod_error = 0;
   const int w = 160, h = 120;
   const renderer::Layers layers{false, true, true, false};
-  TerrainRenderer merged(ctx, sc.mesh, &g, w, h, layers, style), whole(ctx, sc.mesh, &g, w, h, layers, full);
+  TerrainRenderer merged(ctx, sc.mesh, &g, w, h, layers, style),
+      whole(ctx, sc.mesh, &g, w, h, layers, full);
   FrameParams fp;  // a map: one scale throughout
   fp.camera.orthographic = true;
   fp.camera.view_alt = 90;
@@ -1573,11 +1694,15 @@ TEST(RendererGl, MergedCreasesDrawWhereTheFullDetailLinesLie) {
   const CreaseGeometry& lg = levels[std::size_t(res.crease_level - 1)].geometry;
   EXPECT_LT(lg.n_segments(), g.n_segments() / 2);
   const Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
-  const auto score = renderer::resolve_distances(fp.score, merged.box().lo, merged.box().hi, res.view.viewpoint());
-  const auto drawn = renderer::segment_opacity(lg, res.view.viewpoint(), light, 1.0, score, style.crease_fade,
-                                               renderer::stroke_rule(style, renderer::page_scale(res.view, merged.box())));
-  const auto cpu = std::size_t(std::count_if(drawn.begin(), drawn.end(), [](float o) { return o > 0; }));
-  EXPECT_NEAR(double(res.crease_segments), double(cpu), std::max(2.0, 1e-3 * double(lg.n_segments())));
+  const auto score =
+      renderer::resolve_distances(fp.score, merged.box().lo, merged.box().hi, res.view.viewpoint());
+  const auto drawn = renderer::segment_opacity(
+      lg, res.view.viewpoint(), light, 1.0, score, style.crease_fade,
+      renderer::stroke_rule(style, renderer::page_scale(res.view, merged.box())));
+  const auto cpu =
+      std::size_t(std::count_if(drawn.begin(), drawn.end(), [](float o) { return o > 0; }));
+  EXPECT_NEAR(double(res.crease_segments), double(cpu),
+              std::max(2.0, 1e-3 * double(lg.n_segments())));
   const auto gpu = merged.read_crease_samples();
   ASSERT_EQ(gpu.size(), lg.n_segments());
   const renderer::SampleComparison c = renderer::compare_samples(
@@ -1587,14 +1712,18 @@ TEST(RendererGl, MergedCreasesDrawWhereTheFullDetailLinesLie) {
       gpu);
   EXPECT_GT(c.segments, 100u);
   EXPECT_LE(double(c.other_count), 0.005 * double(c.segments));
-  for (int j = 0; j < 4; ++j) EXPECT_LE(double(c.differ[j]), 1e-3 * double(c.samples)) << "mask " << j;
+  for (int j = 0; j < 4; ++j)
+    EXPECT_LE(double(c.differ[j]), 1e-3 * double(c.samples)) << "mask " << j;
   std::size_t missing = 0, extra = 0;
   const double found = covered_within_one(w_buffers.crease, m_buffers.crease, w, h, missing);
   const double placed = covered_within_one(m_buffers.crease, w_buffers.crease, w, h, extra);
   EXPECT_GE(found, 0.95);
   EXPECT_GE(placed, 0.95);
-  std::printf("level %d (%zu of %zu segments): %.1f %% of the full-detail crease pixels within 1 px, %.1f %% of the "
-              "merged ones\n", res.crease_level, lg.n_segments(), g.n_segments(), 100 * found, 100 * placed);
+  std::printf(
+      "level %d (%zu of %zu segments): %.1f %% of the full-detail crease pixels within 1 px, %.1f "
+      "%% of the "
+      "merged ones\n",
+      res.crease_level, lg.n_segments(), g.n_segments(), 100 * found, 100 * placed);
   FrameParams near = fp;  // 50 m above its highest point, over its south edge, looking north
   near.camera.orthographic = false;
   near.camera.eye = Vector3d(sc.mesh.geo.origin_x + 320, sc.mesh.geo.origin_y - 630,

@@ -13,7 +13,8 @@ inline View top_view(int w, int h, bool reversed = true) {
   camera.eye = Eigen::Vector3d(0, 0, 100);
   camera.view_az = 0;
   camera.view_alt = 90;
-  return make_view(camera, Eigen::Vector3d::Zero(), Box{{-30, -30, -60}, {30, 30, 60}}, w, h, reversed);
+  return make_view(camera, Eigen::Vector3d::Zero(), Box{{-30, -30, -60}, {30, 30, 60}}, w, h,
+                   reversed);
 }
 
 // Toward depths by column of a top_view (`columns`: one character a column): 'G' ground
@@ -24,8 +25,10 @@ inline std::vector<float> toward_of(const View& view, const std::string& columns
   for (int v = 0; v < view.height; ++v)
     for (int u = 0; u < view.width; ++u) {
       const char c = columns[std::size_t(u)];
-      t[std::size_t(v * view.width + u)] =
-          c == 'G' ? depth_at(0) : c == 'N' ? depth_at(10) : c == 'R' ? depth_at(50) : (view.reversed_z ? 0.0f : 1.0f);
+      t[std::size_t(v * view.width + u)] = c == 'G'   ? depth_at(0)
+                                           : c == 'N' ? depth_at(10)
+                                           : c == 'R' ? depth_at(50)
+                                                      : (view.reversed_z ? 0.0f : 1.0f);
     }
   return t;
 }

@@ -48,14 +48,18 @@ TEST(DemIo, RasterTypesRoundTrip) {
     shorts[i] = std::int16_t(int(i % 60000) - 30000);
     words[i] = std::uint32_t(i * 2654435761u);
   }
-  write_raster(dir.path("b.tif"), logan.geo, rows, cols, RasterType::Byte, bytes.data(), 255.0, "made by dem_io_test");
-  write_raster(dir.path("s.tif"), logan.geo, rows, cols, RasterType::Int16, shorts.data(), std::nullopt);
-  write_raster(dir.path("w.tif"), logan.geo, rows, cols, RasterType::UInt32, words.data(), std::nullopt);
+  write_raster(dir.path("b.tif"), logan.geo, rows, cols, RasterType::Byte, bytes.data(), 255.0,
+               "made by dem_io_test");
+  write_raster(dir.path("s.tif"), logan.geo, rows, cols, RasterType::Int16, shorts.data(),
+               std::nullopt);
+  write_raster(dir.path("w.tif"), logan.geo, rows, cols, RasterType::UInt32, words.data(),
+               std::nullopt);
   ensure_gdal();
   auto read_back = [&](const std::string& name, GDALDataType type, void* out) {
     std::unique_ptr<GDALDataset> ds(GDALDataset::Open(dir.path(name).c_str(), GDAL_OF_RASTER));
     ASSERT_TRUE(ds);
-    ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, int(cols), int(rows), out, int(cols), int(rows), type, 0, 0),
+    ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, int(cols), int(rows), out, int(cols),
+                                             int(rows), type, 0, 0),
               CE_None);
     double gt[6];
     ds->GetGeoTransform(gt);
@@ -94,8 +98,9 @@ TEST(DemIo, GdalNamesAndRefusedInputs) {
   {  // a name that is not a file: the DEM's bytes in GDAL's memory file system
     std::string bytes = test::file_bytes(data("logan_utm12n_100m.tif"));
     ensure_gdal();
-    VSILFILE* f = VSIFileFromMemBuffer("/vsimem/dem_io_test.tif", reinterpret_cast<GByte*>(bytes.data()),
-                                       vsi_l_offset(bytes.size()), FALSE);
+    VSILFILE* f =
+        VSIFileFromMemBuffer("/vsimem/dem_io_test.tif", reinterpret_cast<GByte*>(bytes.data()),
+                             vsi_l_offset(bytes.size()), FALSE);
     ASSERT_TRUE(f);
     VSIFCloseL(f);
     EXPECT_EQ(read_dem("/vsimem/dem_io_test.tif").z, logan.z);
@@ -110,13 +115,17 @@ TEST(DemIo, GdalNamesAndRefusedInputs) {
     return std::string();
   };
   EXPECT_NE(message(dir.path("missing.tif")).find("no such file"), std::string::npos);
-  EXPECT_NE(message("NETCDF:" + dir.path("missing.nc") + ":Band1").find("not a raster GDAL can open"),
-            std::string::npos);
+  EXPECT_NE(
+      message("NETCDF:" + dir.path("missing.nc") + ":Band1").find("not a raster GDAL can open"),
+      std::string::npos);
   EXPECT_NE(message(dir.path("")).find("it is a directory"), std::string::npos);
   Grid inf = logan;
   inf.at(7, 9) = -std::numeric_limits<float>::infinity();
-  write_raster(dir.path("inf.tif"), inf.geo, inf.rows, inf.cols, RasterType::Float32, inf.z.data(), std::nullopt);
-  EXPECT_NE(message(dir.path("inf.tif")).find("1 samples are infinite (the first at row 7, column 9)"), std::string::npos)
+  write_raster(dir.path("inf.tif"), inf.geo, inf.rows, inf.cols, RasterType::Float32, inf.z.data(),
+               std::nullopt);
+  EXPECT_NE(
+      message(dir.path("inf.tif")).find("1 samples are infinite (the first at row 7, column 9)"),
+      std::string::npos)
       << message(dir.path("inf.tif"));
 }
 
@@ -130,7 +139,8 @@ TEST(DemIo, FillNodataFillsOnlyTheHoles) {
   EXPECT_EQ(g.count_nodata(), 0u);
   float lo = 1e30f, hi = -1e30f;  // filled values lie within the surrounding range
   for (std::size_t r = 19; r < 26; ++r)
-    for (std::size_t c = 29; c < 34; ++c) lo = std::min(lo, original.at(r, c)), hi = std::max(hi, original.at(r, c));
+    for (std::size_t c = 29; c < 34; ++c)
+      lo = std::min(lo, original.at(r, c)), hi = std::max(hi, original.at(r, c));
   for (std::size_t i = 0; i < g.size(); ++i) {
     const std::size_t r = i / g.cols, c = i % g.cols;
     if (r >= 20 && r < 25 && c >= 30 && c < 33) {

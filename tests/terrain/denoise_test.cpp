@@ -17,11 +17,13 @@ using Eigen::Vector3d;
 using Eigen::Vector3f;
 
 double angle_deg(const Vector3f& a, const Vector3d& b) {
-  return std::acos(std::clamp(a.cast<double>().dot(b.normalized()), -1.0, 1.0)) * 180 / std::numbers::pi;
+  return std::acos(std::clamp(a.cast<double>().dot(b.normalized()), -1.0, 1.0)) * 180 /
+         std::numbers::pi;
 }
 
 // z = f(x, y) + Gaussian noise (seeded) on n x n samples 1 m apart.
-GridMesh noisy_mesh(std::size_t n, const std::function<double(double, double)>& f, double noise, unsigned seed) {
+GridMesh noisy_mesh(std::size_t n, const std::function<double(double, double)>& f, double noise,
+                    unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> gauss(0.0, noise);
   return test::function_mesh(n, n, 1.0, [&](double x, double y) { return f(x, y) + gauss(rng); });
@@ -30,7 +32,8 @@ GridMesh noisy_mesh(std::size_t n, const std::function<double(double, double)>& 
 // One round of the filter equals a brute-force evaluation of docs/algorithms.md 6.1 (every
 // other face sharing a vertex, area x spatial x range weights), on a random mesh.
 TEST(Denoise, OneRoundMatchesBruteForce) {
-  const GridMesh m = noisy_mesh(7, [](double x, double y) { return 0.5 * x - 0.2 * y; }, 0.3, 99);
+  const GridMesh m = noisy_mesh(
+      7, [](double x, double y) { return 0.5 * x - 0.2 * y; }, 0.3, 99);
   const auto n0 = face_normals(m);
   DenoiseOptions o;
   o.iterations = 1;
@@ -44,8 +47,10 @@ TEST(Denoise, OneRoundMatchesBruteForce) {
   };
   auto area = [&](std::size_t f) {
     const auto t = m.topo.face(f);
-    return 0.5 * (m.positions[t[1]] - m.positions[t[0]]).cast<double>().cross(
-                     (m.positions[t[2]] - m.positions[t[0]]).cast<double>()).norm();
+    return 0.5 * (m.positions[t[1]] - m.positions[t[0]])
+                     .cast<double>()
+                     .cross((m.positions[t[2]] - m.positions[t[0]]).cast<double>())
+                     .norm();
   };
   for (std::size_t i = 0; i < m.n_faces(); ++i) {
     Vector3d sum = Vector3d::Zero();
@@ -57,9 +62,10 @@ TEST(Denoise, OneRoundMatchesBruteForce) {
       for (auto a : ti)
         for (auto b : tj) shares = shares || a == b;
       if (!shares) continue;
-      const double dc = (centroid(i) - centroid(j)).norm(), dn = (n0[i] - n0[j]).cast<double>().norm();
-      sum += area(j) * std::exp(-dc * dc / (2 * 1.3 * 1.3)) * std::exp(-dn * dn / (2 * 0.35 * 0.35)) *
-             n0[j].cast<double>();
+      const double dc = (centroid(i) - centroid(j)).norm(),
+                   dn = (n0[i] - n0[j]).cast<double>().norm();
+      sum += area(j) * std::exp(-dc * dc / (2 * 1.3 * 1.3)) *
+             std::exp(-dn * dn / (2 * 0.35 * 0.35)) * n0[j].cast<double>();
     }
     EXPECT_LT((n1[i].cast<double>() - sum.normalized()).norm(), 1e-6) << "face " << i;
   }
@@ -68,7 +74,8 @@ TEST(Denoise, OneRoundMatchesBruteForce) {
 TEST(Denoise, PlaneNoiseErrorFallsByMoreThanHalf) {
   const Vector3d truth(-0.3, -0.1, 1.0);  // normal of z = 0.3 x + 0.1 y
   for (unsigned seed : {1u, 2u, 3u}) {
-    GridMesh m = noisy_mesh(60, [](double x, double y) { return 0.3 * x + 0.1 * y; }, 0.05, seed);
+    GridMesh m = noisy_mesh(
+        60, [](double x, double y) { return 0.3 * x + 0.1 * y; }, 0.05, seed);
     double before = 0, after = 0;
     for (const auto& n : m.normals) before += angle_deg(n, truth);
     const DenoiseStats s = denoise_normals(m, {});
@@ -108,7 +115,8 @@ TEST(Denoise, SharpRidgeSurvivesBetterThanPlainAveraging) {
 }
 
 TEST(Denoise, VertexUpdateKeepsTheGridAndItsBoundary) {
-  GridMesh m = noisy_mesh(30, [](double x, double) { return 0.2 * x; }, 0.05, 11);
+  GridMesh m = noisy_mesh(
+      30, [](double x, double) { return 0.2 * x; }, 0.05, 11);
   const GridMesh original = m;
   DenoiseOptions o;
   o.update_vertices = true;

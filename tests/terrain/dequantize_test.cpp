@@ -56,12 +56,13 @@ TEST(Dequantize, IntegerStepsOfARampWithAValleyAreSmoothedAndItsFloorDescends) {
   }
   EXPECT_GT(no_descent(rounded), R * C / 20);  // the terraces' flats
   EXPECT_LT(no_descent(smooth), R * C / 200);
-  std::printf("RMSE against the true ramp: stored %.4f, dequantized %.4f\n", std::sqrt(err_rounded / n),
-              std::sqrt(err_smooth / n));
+  std::printf("RMSE against the true ramp: stored %.4f, dequantized %.4f\n",
+              std::sqrt(err_rounded / n), std::sqrt(err_smooth / n));
   EXPECT_LT(std::sqrt(err_smooth / n), 0.5 * std::sqrt(err_rounded / n));
   // The valley floor (row 40) descends to the west at every step, away from the grid's edge.
   std::size_t floor_flat = 0;
-  for (std::size_t c = 2; c + 3 < C; ++c) floor_flat += !(smooth.z[40 * C + c] < smooth.z[40 * C + c + 1]);
+  for (std::size_t c = 2; c + 3 < C; ++c)
+    floor_flat += !(smooth.z[40 * C + c] < smooth.z[40 * C + c + 1]);
   EXPECT_EQ(floor_flat, 0u);
 }
 
@@ -73,7 +74,9 @@ TEST(Dequantize, TerraceInterpolationRebuildsARoundedPlane) {
   Georef geo;
   geo.dx = geo.dy = 10;
   Grid rounded(R, C, geo);
-  auto truth = [](std::size_t r, std::size_t c) { return 100.0 + 0.13 * double(c) + 0.07 * double(r); };
+  auto truth = [](std::size_t r, std::size_t c) {
+    return 100.0 + 0.13 * double(c) + 0.07 * double(r);
+  };
   for (std::size_t r = 0; r < R; ++r)
     for (std::size_t c = 0; c < C; ++c) rounded.z[r * C + c] = float(std::round(truth(r, c)));
   const std::vector<double> z = terrace_interpolation(rounded);
@@ -83,10 +86,11 @@ TEST(Dequantize, TerraceInterpolationRebuildsARoundedPlane) {
     for (std::size_t c = 8; c + 8 < C; ++c) {
       const std::size_t i = r * C + c;
       EXPECT_LE(std::abs(z[i] - rounded.z[i]), 0.5 + 1e-9);
-      err += std::pow(z[i] - truth(r, c), 2), err_rounded += std::pow(rounded.z[i] - truth(r, c), 2), ++n;
+      err += std::pow(z[i] - truth(r, c), 2),
+          err_rounded += std::pow(rounded.z[i] - truth(r, c), 2), ++n;
     }
-  std::printf("RMSE against the true plane: stored %.4f, interpolated %.4f\n", std::sqrt(err_rounded / n),
-              std::sqrt(err / n));
+  std::printf("RMSE against the true plane: stored %.4f, interpolated %.4f\n",
+              std::sqrt(err_rounded / n), std::sqrt(err / n));
   EXPECT_LT(std::sqrt(err / n), 0.1);
   EXPECT_GT(std::sqrt(err_rounded / n), 0.25);
 }

@@ -18,7 +18,9 @@
 namespace terrain {
 namespace {
 
-double quadratic(double x, double y) { return 100 + 0.1 * x - 0.05 * y + (x - 150) * (x - 150) / 800 - x * y / 3000; }
+double quadratic(double x, double y) {
+  return 100 + 0.1 * x - 0.05 * y + (x - 150) * (x - 150) / 800 - x * y / 3000;
+}
 
 // The mesh of the quadratic on a 50 m grid with its exact normals, and its own PN surface
 // sampled every 10 m: a source the PN surface reproduces exactly with these normals.
@@ -48,7 +50,8 @@ ExactCase exact_case() {
 double max_angle_deg(const GridMesh& a, const GridMesh& b) {
   double worst = 0;
   for (std::size_t v = 0; v < a.n_vertices(); ++v) {
-    const Eigen::Vector3d na = a.normals[v].cast<double>().normalized(), nb = b.normals[v].cast<double>().normalized();
+    const Eigen::Vector3d na = a.normals[v].cast<double>().normalized(),
+                          nb = b.normals[v].cast<double>().normalized();
     worst = std::max(worst, std::atan2(na.cross(nb).norm(), na.dot(nb)) * 180 / M_PI);
   }
   return worst;
@@ -73,7 +76,8 @@ TEST(FitNormals, AnalyticJacobianEqualsFiniteDifferences) {
     samples.emplace_back(50 * a, 50 * b, 10 + 8 * a - 6 * b + 2 * std::sin(7 * a * b));
   }
   const std::size_t m = samples.size();
-  auto residuals = [&](const std::array<Eigen::Vector3d, 3>& nn, std::array<std::vector<double>, 3>* jac) {
+  auto residuals = [&](const std::array<Eigen::Vector3d, 3>& nn,
+                       std::array<std::vector<double>, 3>* jac) {
     std::vector<double> r(m);
     std::array<double*, 3> j{nullptr, nullptr, nullptr};
     if (jac)
@@ -83,7 +87,8 @@ TEST(FitNormals, AnalyticJacobianEqualsFiniteDifferences) {
   };
   std::array<std::vector<double>, 3> jac;
   const std::vector<double> r0 = residuals(normal, &jac);
-  const std::vector<double> plain = residuals(normal, nullptr);  // the same residuals without the Jacobian
+  const std::vector<double> plain =
+      residuals(normal, nullptr);  // the same residuals without the Jacobian
   for (std::size_t i = 0; i < m; ++i) EXPECT_NEAR(r0[i], plain[i], 1e-9) << i;
   const double h = 1e-4;
   double worst = 0, largest = 0;
@@ -156,8 +161,8 @@ TEST(FitNormals, MountStHelensCostFallsMonotonically) {
   const NormalFitReport r = fit_pn_normals(mesh, s, o);
   ASSERT_GE(r.costs.size(), 3u);
   for (std::size_t i = 1; i < r.costs.size(); ++i) EXPECT_LE(r.costs[i], r.costs[i - 1]) << i;
-  std::printf("MSH crop at 50 m: RMSE %.3f -> %.3f m, max %.2f -> %.2f m, %zu iterations\n", r.before.rmse,
-              r.after.rmse, r.before.max_abs, r.after.max_abs, r.iterations);
+  std::printf("MSH crop at 50 m: RMSE %.3f -> %.3f m, max %.2f -> %.2f m, %zu iterations\n",
+              r.before.rmse, r.after.rmse, r.before.max_abs, r.after.max_abs, r.iterations);
   // A third less: 3.692 -> 2.461 m with sparse Cholesky steps to a function tolerance of
   // 1e-6 (until stop 43), 2.473 m (0.5 % more) with CGNR steps to 1e-5, 3.6x faster.
   EXPECT_LT(r.after.rmse, 0.68 * r.before.rmse);
@@ -182,7 +187,8 @@ TEST(FitNormals, GeographicSamplesLandOnTheMesh) {
   const SourceSamples s = dem_samples_for_mesh(dem, mesh);
   ASSERT_GT(s.size(), dem.size() / 2);
   const NormalFitReport r = fit_pn_normals(mesh, s);
-  std::printf("Eno (geographic) at 30 m: %zu samples, RMSE %.3f -> %.3f m\n", s.size(), r.before.rmse, r.after.rmse);
+  std::printf("Eno (geographic) at 30 m: %zu samples, RMSE %.3f -> %.3f m\n", s.size(),
+              r.before.rmse, r.after.rmse);
   EXPECT_LT(r.before.rmse, 2.0);
   EXPECT_LT(r.after.rmse, r.before.rmse);
 }

@@ -18,7 +18,8 @@ Grid analytic_grid(std::size_t rows, std::size_t cols, double h, double (*f)(dou
   geo.y0 = h / 2;
   Grid g(rows, cols, geo);
   for (std::size_t r = 0; r < rows; ++r)
-    for (std::size_t c = 0; c < cols; ++c) g.at(r, c) = float(f(geo.x_of_col(double(c)), geo.y_of_row(double(r))));
+    for (std::size_t c = 0; c < cols; ++c)
+      g.at(r, c) = float(f(geo.x_of_col(double(c)), geo.y_of_row(double(r))));
   return g;
 }
 
@@ -38,8 +39,9 @@ TEST(GridMesh, FacesAreCounterClockwiseSeenFromAbove) {
   const GridMesh m = make_grid_mesh(g, NormalWeighting::Uniform);
   for (std::size_t f = 0; f < m.n_faces(); ++f) {
     const auto v = m.topo.face(f);
-    const Eigen::Vector3d n = face_normal(m.positions[v[0]].cast<double>(), m.positions[v[1]].cast<double>(),
-                                          m.positions[v[2]].cast<double>());
+    const Eigen::Vector3d n =
+        face_normal(m.positions[v[0]].cast<double>(), m.positions[v[1]].cast<double>(),
+                    m.positions[v[2]].cast<double>());
     ASSERT_NEAR(n.z(), 1.0, 1e-12) << f;
   }
   // Local coordinates: vertex (r, c) at (c dx, -r dy); origin at sample (0,0).
@@ -50,18 +52,22 @@ TEST(GridMesh, FacesAreCounterClockwiseSeenFromAbove) {
 
 // On a plane z = a x + b y every face and vertex normal is the plane's normal.
 TEST(GridMesh, PlaneNormalsEqualThePlaneNormal) {
-  const Grid g = analytic_grid(7, 9, 25.0, [](double x, double y) { return 0.3 * x - 0.7 * y + 1500.0; });
+  const Grid g =
+      analytic_grid(7, 9, 25.0, [](double x, double y) { return 0.3 * x - 0.7 * y + 1500.0; });
   const Eigen::Vector3d expected = Eigen::Vector3d(-0.3, 0.7, 1.0).normalized();
-  for (NormalWeighting w : {NormalWeighting::Uniform, NormalWeighting::Angle, NormalWeighting::Area}) {
+  for (NormalWeighting w :
+       {NormalWeighting::Uniform, NormalWeighting::Angle, NormalWeighting::Area}) {
     const GridMesh m = make_grid_mesh(g, w);
     for (std::size_t f = 0; f < m.n_faces(); ++f) {
       const auto v = m.topo.face(f);
-      const Eigen::Vector3d n = face_normal(m.positions[v[0]].cast<double>(), m.positions[v[1]].cast<double>(),
-                                            m.positions[v[2]].cast<double>());
+      const Eigen::Vector3d n =
+          face_normal(m.positions[v[0]].cast<double>(), m.positions[v[1]].cast<double>(),
+                      m.positions[v[2]].cast<double>());
       ASSERT_LT((n - expected).norm(), 1e-6) << "face " << f;
     }
     for (std::size_t i = 0; i < m.n_vertices(); ++i)
-      ASSERT_LT((m.normals[i].cast<double>() - expected).norm(), 1e-6) << to_string(w) << " vertex " << i;
+      ASSERT_LT((m.normals[i].cast<double>() - expected).norm(), 1e-6)
+          << to_string(w) << " vertex " << i;
   }
 }
 
@@ -87,21 +93,25 @@ TEST(GridMesh, WorkedExampleVertexNormals) {
                         {NormalWeighting::Angle, {-0.167552, 0.084916, 0.982199}}};
   for (const Case& k : cases) {
     const GridMesh m = make_grid_mesh(centred, k.w);
-    EXPECT_LT((m.normals[4].cast<double>() - k.n).norm(), 2e-6) << to_string(k.w) << ": " << m.normals[4].transpose();
+    EXPECT_LT((m.normals[4].cast<double>() - k.n).norm(), 2e-6)
+        << to_string(k.w) << ": " << m.normals[4].transpose();
   }
 }
 
 // Uniform weighting is computed a face per SIMD lane; here the rule itself, face by face:
 // every vertex normal is the normalized sum of its incident faces' unit normals.
 TEST(GridMesh, UniformNormalsAreTheNormalizedSumOfTheFacesNormals) {
-  Grid g = analytic_grid(60, 47, 100.0, [](double x, double y) { return 300 * std::sin(x / 700) * std::cos(y / 450); });
+  Grid g = analytic_grid(60, 47, 100.0, [](double x, double y) {
+    return 300 * std::sin(x / 700) * std::cos(y / 450);
+  });
   g.at(10, 10) = g.at(11, 10) = g.at(11, 11) = 5;  // a flat cell among slopes
   const GridMesh m = make_grid_mesh(g, NormalWeighting::Uniform);
   std::vector<Eigen::Vector3d> sum(m.n_vertices(), Eigen::Vector3d::Zero());
   for (std::size_t f = 0; f < m.n_faces(); ++f) {
     const auto v = m.topo.face(f);
-    const Eigen::Vector3d n = face_normal(m.positions[v[0]].cast<double>(), m.positions[v[1]].cast<double>(),
-                                          m.positions[v[2]].cast<double>());
+    const Eigen::Vector3d n =
+        face_normal(m.positions[v[0]].cast<double>(), m.positions[v[1]].cast<double>(),
+                    m.positions[v[2]].cast<double>());
     for (auto i : v) sum[i] += n;
   }
   for (std::size_t i = 0; i < m.n_vertices(); ++i)
@@ -111,16 +121,21 @@ TEST(GridMesh, UniformNormalsAreTheNormalizedSumOfTheFacesNormals) {
 // GridMeshRows gives make_grid_mesh's floats for any band: the first and last rows, one
 // row, the whole grid, bands that meet.
 TEST(GridMesh, RowsInBandsEqualTheWholeMesh) {
-  const Grid g = analytic_grid(23, 17, 30.0, [](double x, double y) { return 0.002 * x * y + 40 * std::sin(x / 90); });
-  for (NormalWeighting w : {NormalWeighting::Uniform, NormalWeighting::Angle, NormalWeighting::Area}) {
+  const Grid g = analytic_grid(
+      23, 17, 30.0, [](double x, double y) { return 0.002 * x * y + 40 * std::sin(x / 90); });
+  for (NormalWeighting w :
+       {NormalWeighting::Uniform, NormalWeighting::Angle, NormalWeighting::Area}) {
     const GridMesh m = make_grid_mesh(g, w);
     GridMeshRows rows(g, w);
-    for (auto [r0, r1] : {std::pair<std::size_t, std::size_t>{0, 1}, {0, 5}, {5, 6}, {6, 22}, {22, 23}, {0, 23}}) {
+    for (auto [r0, r1] :
+         {std::pair<std::size_t, std::size_t>{0, 1}, {0, 5}, {5, 6}, {6, 22}, {22, 23}, {0, 23}}) {
       std::vector<Eigen::Vector3f> p((r1 - r0) * g.cols), n(p.size());
       rows.rows(r0, r1, p.data(), n.data());
       for (std::size_t i = 0; i < p.size(); ++i) {
-        ASSERT_EQ(p[i], m.positions[r0 * g.cols + i]) << to_string(w) << " rows " << r0 << ".." << r1 << " " << i;
-        ASSERT_EQ(n[i], m.normals[r0 * g.cols + i]) << to_string(w) << " rows " << r0 << ".." << r1 << " " << i;
+        ASSERT_EQ(p[i], m.positions[r0 * g.cols + i])
+            << to_string(w) << " rows " << r0 << ".." << r1 << " " << i;
+        ASSERT_EQ(n[i], m.normals[r0 * g.cols + i])
+            << to_string(w) << " rows " << r0 << ".." << r1 << " " << i;
       }
     }
     EXPECT_THROW(rows.rows(20, 24, nullptr, nullptr), Error);

@@ -17,9 +17,9 @@ TEST(GridConvention, SampleCentresAndRowsGrowSouth) {
   g.y0 = 2000.0;
   g.dx = 10.0;
   g.dy = 20.0;
-  EXPECT_DOUBLE_EQ(g.x_of_col(0), 1005.0);   // centre of the first cell
-  EXPECT_DOUBLE_EQ(g.y_of_row(0), 1990.0);   // row 0 is the northern row
-  EXPECT_DOUBLE_EQ(g.y_of_row(2), 1950.0);   // rows grow southwards
+  EXPECT_DOUBLE_EQ(g.x_of_col(0), 1005.0);  // centre of the first cell
+  EXPECT_DOUBLE_EQ(g.y_of_row(0), 1990.0);  // row 0 is the northern row
+  EXPECT_DOUBLE_EQ(g.y_of_row(2), 1950.0);  // rows grow southwards
   EXPECT_DOUBLE_EQ(g.col_of_x(1005.0), 0.0);
   EXPECT_DOUBLE_EQ(g.row_of_y(1950.0), 2.0);
 }

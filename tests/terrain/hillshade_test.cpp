@@ -15,7 +15,8 @@ TEST(Hillshade, GreyIsTheCosineToTheLight) {
   EXPECT_NEAR(l.x(), -0.5, 1e-12);
   EXPECT_NEAR(l.y(), 0.5, 1e-12);
   EXPECT_NEAR(l.z(), std::sqrt(0.5), 1e-12);
-  const std::vector<Eigen::Vector3f> normals = {l.cast<float>(), {0, 0, 1}, -l.cast<float>(), {0.5f, 0.5f, 0.0f}};
+  const std::vector<Eigen::Vector3f> normals = {
+      l.cast<float>(), {0, 0, 1}, -l.cast<float>(), {0.5f, 0.5f, 0.0f}};
   const auto grey = hillshade(normals, 315, 45);
   EXPECT_EQ(grey[0], 255);
   EXPECT_EQ(grey[1], std::lround(255 * std::sqrt(0.5)));  // 180
@@ -31,10 +32,12 @@ TEST(Hillshade, PlanesOfKnownShade) {
   Georef geo;
   geo.dx = geo.dy = 10;
   Grid facing(12, 15, geo), flat(12, 15, geo, 250.0f);
-  for (std::size_t r = 0; r < facing.rows; ++r)  // z = x - y: normal (-1, 1, 1) / sqrt(3), towards the NW
+  for (std::size_t r = 0; r < facing.rows;
+       ++r)  // z = x - y: normal (-1, 1, 1) / sqrt(3), towards the NW
     for (std::size_t c = 0; c < facing.cols; ++c)
       facing.at(r, c) = float(geo.x_of_col(double(c)) - geo.y_of_row(double(r)));
-  const double alt = std::asin(1 / std::sqrt(3.0)) * 180 / std::numbers::pi;  // the normal's altitude
+  const double alt =
+      std::asin(1 / std::sqrt(3.0)) * 180 / std::numbers::pi;  // the normal's altitude
   for (std::uint8_t g : hillshade_grid(facing, 315, alt)) EXPECT_GE(g, 254);
   for (double zf : {1.0, 3.0})
     for (std::uint8_t g : hillshade_grid(flat, 315, 30, zf)) EXPECT_EQ(g, std::lround(255 * 0.5));

@@ -2,8 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -20,8 +20,9 @@ namespace {
 GridMesh msh_mesh() {
   GridRequest req;
   req.spacing = 30.0;
-  GridMesh m = make_grid_mesh(prepare_grid(read_dem(test::data("msh_2007_utm10n_10m.tif")), req).grid,
-                              NormalWeighting::Angle);
+  GridMesh m =
+      make_grid_mesh(prepare_grid(read_dem(test::data("msh_2007_utm10n_10m.tif")), req).grid,
+                     NormalWeighting::Angle);
   m.provenance = "mesh_io_test: a provenance line";
   return m;
 }
@@ -61,7 +62,8 @@ TEST(MeshIo, BlockWriterWritesOpenMeshsBytes) {
   GridMesh denoised = plain;
   denoised.voronoi = voronoi_weights(denoised);
   denoised.normal_change.resize(denoised.n_vertices());
-  for (std::size_t i = 0; i < denoised.n_vertices(); ++i) denoised.normal_change[i] = float(i % 97) * 0.01f;
+  for (std::size_t i = 0; i < denoised.n_vertices(); ++i)
+    denoised.normal_change[i] = float(i % 97) * 0.01f;
   GridMesh only_change = plain;
   only_change.normal_change = denoised.normal_change;
   GridMesh fitted = plain;
@@ -69,15 +71,18 @@ TEST(MeshIo, BlockWriterWritesOpenMeshsBytes) {
   fitted.provenance = "caf\xc3\xa9 \\ line";
   // Several of the writer's chunks (1 MiB of whole rows: 139 vertex rows or 129 cell rows
   // of 313 columns, 83 and 67 with the Voronoi weights), the last ones part-filled.
-  GridMesh large = test::function_mesh(400, 313, 10.0, [](double x, double y) { return std::sin(x / 300) * y / 50; });
+  GridMesh large = test::function_mesh(
+      400, 313, 10.0, [](double x, double y) { return std::sin(x / 300) * y / 50; });
   GridMesh large_denoised = large;
   large_denoised.voronoi = voronoi_weights(large_denoised);
   GridMesh filled = denoised;
   filled.filled.assign(filled.n_vertices(), 0);
   for (std::size_t i = 0; i < filled.n_vertices(); i += 7) filled.filled[i] = 1;
   int k = 0;
-  for (const GridMesh* m : {&plain, &denoised, &only_change, &fitted, &large, &large_denoised, &filled}) {
-    const std::string n = std::to_string(k) + ".ply";  // appended: `"a" + std::string` trips GCC 12's -Wrestrict
+  for (const GridMesh* m :
+       {&plain, &denoised, &only_change, &fitted, &large, &large_denoised, &filled}) {
+    const std::string n =
+        std::to_string(k) + ".ply";  // appended: `"a" + std::string` trips GCC 12's -Wrestrict
     std::string a = "a", b = "b";
     a = dir.path(a += n), b = dir.path(b += n);
     write_mesh_ply(*m, a);
@@ -97,9 +102,8 @@ TEST(MeshIo, GridWriterWritesTheMeshWritersBytes) {
   GridRequest req;
   req.spacing = 30.0;
   const Grid msh = prepare_grid(read_dem(test::data("msh_2007_utm10n_10m.tif")), req).grid;
-  const Grid large = mesh_to_grid(test::function_mesh(400, 313, 10.0, [](double x, double y) {
-    return std::sin(x / 300) * y / 50;
-  }));
+  const Grid large = mesh_to_grid(test::function_mesh(
+      400, 313, 10.0, [](double x, double y) { return std::sin(x / 300) * y / 50; }));
   int k = 0;
   for (const Grid* g : {&msh, &large})
     for (NormalWeighting w : {NormalWeighting::Uniform, NormalWeighting::Angle})
@@ -117,7 +121,8 @@ TEST(MeshIo, GridWriterWritesTheMeshWritersBytes) {
         a = dir.path(a += n), b = dir.path(b += n);
         write_mesh_ply(whole, a);
         write_grid_mesh_ply(frame, *g, w, b);
-        EXPECT_TRUE(test::file_bytes(a) == test::file_bytes(b)) << "grid " << g->cols << " " << to_string(w) << " " << filled;
+        EXPECT_TRUE(test::file_bytes(a) == test::file_bytes(b))
+            << "grid " << g->cols << " " << to_string(w) << " " << filled;
       }
 }
 
@@ -127,16 +132,18 @@ TEST(MeshIo, RejectsBadFiles) {
   write_mesh_ply(m, dir.path("m.ply"));
   // Truncated.
   std::filesystem::copy_file(dir.path("m.ply"), dir.path("cut.ply"));
-  std::filesystem::resize_file(dir.path("cut.ply"), std::filesystem::file_size(dir.path("m.ply")) / 2);
+  std::filesystem::resize_file(dir.path("cut.ply"),
+                               std::filesystem::file_size(dir.path("m.ply")) / 2);
   EXPECT_THROW(read_mesh_ply(dir.path("cut.ply")), Error);
   // Not a PLY.
   std::ofstream(dir.path("text.ply")) << "hello\n";
   EXPECT_THROW(read_mesh_ply(dir.path("text.ply")), Error);
   // A PLY without our georeferencing.
-  std::ofstream(dir.path("plain.ply")) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
-                                          "property float y\nproperty float z\nelement face 1\n"
-                                          "property list uchar int vertex_indices\nend_header\n"
-                                          "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  std::ofstream(dir.path("plain.ply"))
+      << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+         "property float y\nproperty float z\nelement face 1\n"
+         "property list uchar int vertex_indices\nend_header\n"
+         "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   try {
     read_mesh_ply(dir.path("plain.ply"));
     FAIL();
@@ -219,7 +226,7 @@ TEST(MeshIo, BothReadersCheckEveryFace) {
     const std::size_t faces = m->n_vertices() * record;
     PlyParts index = parts, count = parts;
     index.body[faces + 5 * 13 + 1 + 4] ^= 1;  // face 5's second vertex index
-    count.body[faces + 7 * 13] = 4;            // face 7 has four corners
+    count.body[faces + 7 * 13] = 4;           // face 7 has four corners
     const std::string e = read_error(index, dir);
     EXPECT_NE(e.find("faces are not the"), std::string::npos) << e;
     EXPECT_NE(read_error(count, dir), "");
@@ -238,7 +245,8 @@ TEST(MeshIo, DamagedHeadersAreOneClearError) {
   ASSERT_EQ(read_error(good, dir), "");
   auto edit = [&](const std::string& line, const std::vector<std::string>& replacement) {
     PlyParts p = good;
-    auto it = std::find_if(p.header.begin(), p.header.end(), [&](const std::string& l) { return l.rfind(line, 0) == 0; });
+    auto it = std::find_if(p.header.begin(), p.header.end(),
+                           [&](const std::string& l) { return l.rfind(line, 0) == 0; });
     EXPECT_NE(it, p.header.end()) << line;
     it = p.header.erase(it);
     p.header.insert(it, replacement.begin(), replacement.end());
@@ -251,9 +259,11 @@ TEST(MeshIo, DamagedHeadersAreOneClearError) {
   }();
   const std::vector<std::pair<PlyParts, std::string>> cases = {
       {edit("element vertex", {}), "property before any element"},
-      {edit("element vertex", {"element vertex @36"}), "element 'vertex' has no valid count ('@36')"},
+      {edit("element vertex", {"element vertex @36"}),
+       "element 'vertex' has no valid count ('@36')"},
       {edit("element vertex", {"element vertex"}), "expected 'element NAME COUNT'"},
-      {edit("element vertex", {"element vertex 1099511627776"}), "element 'vertex' has no valid count"},
+      {edit("element vertex", {"element vertex 1099511627776"}),
+       "element 'vertex' has no valid count"},
       {edit("element vertex", {"element vertex 1099511627"}), "1099511627 vertices, but its"},
       {edit("element face", {face_line, face_line}), "element 'face' appears twice"},
       {edit("element face", {"element edge 0", face_line}), "unexpected PLY element 'edge'"},
@@ -275,7 +285,8 @@ TEST(MeshIo, DamagedHeadersAreOneClearError) {
 
   PlyParts trailing = good;
   trailing.body += "xx";
-  EXPECT_NE(read_error(trailing, dir).find("2 unexpected bytes after the faces"), std::string::npos);
+  EXPECT_NE(read_error(trailing, dir).find("2 unexpected bytes after the faces"),
+            std::string::npos);
   PlyParts cut = good;
   cut.body.resize(cut.body.size() - 1);
   EXPECT_NE(read_error(cut, dir).find("truncated"), std::string::npos);
@@ -283,7 +294,8 @@ TEST(MeshIo, DamagedHeadersAreOneClearError) {
   PlyParts nan = good;
   const float q = std::numeric_limits<float>::quiet_NaN();
   std::memcpy(nan.body.data() + 7 * 24 + 8, &q, 4);
-  EXPECT_NE(read_error(nan, dir).find("vertex 7 (row 0, column 7) is not a finite number"), std::string::npos)
+  EXPECT_NE(read_error(nan, dir).find("vertex 7 (row 0, column 7) is not a finite number"),
+            std::string::npos)
       << read_error(nan, dir);
 }
 

@@ -27,7 +27,9 @@ terrain::GridMesh bumps(std::size_t rows, std::size_t cols) {
   return m;
 }
 
-bool same(const Eigen::Vector3f& a, const Eigen::Vector3f& b) { return a.x() == b.x() && a.y() == b.y() && a.z() == b.z(); }
+bool same(const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
+  return a.x() == b.x() && a.y() == b.y() && a.z() == b.z();
+}
 
 }  // namespace
 
@@ -54,7 +56,8 @@ TEST(MeshPyramid, WindowsEqualTheMeshAtEveryLevel) {
   for (std::size_t k = 0; k < levels.blocks.size(); ++k) {
     EXPECT_EQ(p.levels().blocks[k].error, levels.blocks[k].error);
     EXPECT_EQ(p.levels().blocks[k].slope, levels.blocks[k].slope);
-    EXPECT_TRUE(same(p.levels().blocks[k].lo, levels.blocks[k].lo) && same(p.levels().blocks[k].hi, levels.blocks[k].hi));
+    EXPECT_TRUE(same(p.levels().blocks[k].lo, levels.blocks[k].lo) &&
+                same(p.levels().blocks[k].hi, levels.blocks[k].hi));
     EXPECT_EQ(p.levels().blocks[k].r0, levels.blocks[k].r0);
     EXPECT_EQ(p.levels().blocks[k].nc, levels.blocks[k].nc);
   }
@@ -67,10 +70,13 @@ TEST(MeshPyramid, WindowsEqualTheMeshAtEveryLevel) {
       std::size_t differ = 0;
       for (std::size_t r = 0; r < nr; ++r)
         for (std::size_t c = 0; c < nc; ++c) {
-          const std::size_t v = terrain::level_index(r0 + r, 149, l) * 131 + terrain::level_index(c0 + c, 130, l);
-          differ += !same(w.positions[r * nc + c], m.positions[v]) || !same(w.normals[r * nc + c], m.normals[v]);
+          const std::size_t v =
+              terrain::level_index(r0 + r, 149, l) * 131 + terrain::level_index(c0 + c, 130, l);
+          differ += !same(w.positions[r * nc + c], m.positions[v]) ||
+                    !same(w.normals[r * nc + c], m.normals[v]);
         }
-      EXPECT_EQ(differ, 0u) << "level " << l << " window " << r0 << " " << c0 << " " << nr << " " << nc;
+      EXPECT_EQ(differ, 0u) << "level " << l << " window " << r0 << " " << c0 << " " << nr << " "
+                            << nc;
     };
     check(0, 0, R, C);
     for (int k = 0; k < 5; ++k) {
@@ -79,8 +85,8 @@ TEST(MeshPyramid, WindowsEqualTheMeshAtEveryLevel) {
     }
   }
   // The last vertex of every level is the mesh's last.
-  const terrain::MeshWindow corner = p.read_window(p.level_count() - 1, p.rows(p.level_count() - 1) - 1,
-                                                   p.cols(p.level_count() - 1) - 1, 1, 1);
+  const terrain::MeshWindow corner = p.read_window(
+      p.level_count() - 1, p.rows(p.level_count() - 1) - 1, p.cols(p.level_count() - 1) - 1, 1, 1);
   EXPECT_TRUE(same(corner.positions[0], m.positions[150 * 131 - 1]));
 }
 
@@ -101,9 +107,9 @@ TEST(MeshPyramid, AWindowReadsOnlyTheTilesUnderIt) {
   EXPECT_EQ(p.bytes_read(), opened + p.tile_bytes(0, 1, 2));
   p.read_window(0, 60, 60, 10, 10);  // across the corner of tiles (1, 1), (1, 2), (2, 1), (2, 2)
   EXPECT_EQ(p.tiles_read(), 5u);
-  EXPECT_EQ(p.bytes_read(),
-            opened + p.tile_bytes(0, 1, 2) + p.tile_bytes(0, 1, 1) + p.tile_bytes(0, 1, 2) + p.tile_bytes(0, 2, 1) +
-                p.tile_bytes(0, 2, 2));
+  EXPECT_EQ(p.bytes_read(), opened + p.tile_bytes(0, 1, 2) + p.tile_bytes(0, 1, 1) +
+                                p.tile_bytes(0, 1, 2) + p.tile_bytes(0, 2, 1) +
+                                p.tile_bytes(0, 2, 2));
   p.read_window(3, 0, 0, p.rows(3), p.cols(3));  // level 3: 33 x 33 vertices, one tile
   EXPECT_EQ(p.tiles_read(), 6u);
 }
@@ -119,7 +125,8 @@ TEST(MeshPyramid, DamagedFilesAreRefused) {
     std::ofstream(dir.path(name), std::ios::binary) << s;
     return dir.path(name);
   };
-  EXPECT_FALSE(terrain::is_mesh_pyramid(write("ply.tpyr", "ply\nformat binary_little_endian 1.0\n")));
+  EXPECT_FALSE(
+      terrain::is_mesh_pyramid(write("ply.tpyr", "ply\nformat binary_little_endian 1.0\n")));
   EXPECT_THROW(terrain::MeshPyramid(dir.path("ply.tpyr")), terrain::Error);
   const std::string cut = write("cut.tpyr", good.substr(0, std::size_t(bytes / 2)));
   try {
@@ -129,7 +136,8 @@ TEST(MeshPyramid, DamagedFilesAreRefused) {
     EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
   }
   std::string flipped = good;
-  const std::size_t first_tile = std::size_t(terrain::MeshPyramid(path).bytes_read());  // level 0's first tile starts here
+  const std::size_t first_tile =
+      std::size_t(terrain::MeshPyramid(path).bytes_read());  // level 0's first tile starts here
   flipped[first_tile + 10] = char(flipped[first_tile + 10] ^ 0x5a);
   terrain::MeshPyramid p(write("flip.tpyr", flipped));
   try {
@@ -142,14 +150,16 @@ TEST(MeshPyramid, DamagedFilesAreRefused) {
   // Every header byte is under its CRC (version 3): a block's box, an error, the digest, a
   // tile's offset in the index, each changed by one bit, is refused at opening.
   const std::size_t header = first_tile;
-  for (const std::size_t at : {std::size_t(40), std::size_t(100), header / 2, header - 20, header - 5}) {
+  for (const std::size_t at :
+       {std::size_t(40), std::size_t(100), header / 2, header - 20, header - 5}) {
     std::string bad = good;
     bad[at] = char(bad[at] ^ 0x01);
     try {
       terrain::MeshPyramid q(write("header.tpyr", bad));
       ADD_FAILURE() << "a header with byte " << at << " changed opened";
     } catch (const terrain::Error& e) {
-      EXPECT_NE(std::string(e.what()).find("corrupt mesh pyramid (its header's checksum)"), std::string::npos)
+      EXPECT_NE(std::string(e.what()).find("corrupt mesh pyramid (its header's checksum)"),
+                std::string::npos)
           << at << ": " << e.what();
     }
   }
@@ -203,13 +213,15 @@ TEST(MeshPyramid, TheMeshReadFromItsPyramidIsThePly) {
   ASSERT_EQ(got->mesh.n_vertices(), from_ply.n_vertices());
   std::size_t differ = 0;
   for (std::size_t v = 0; v < from_ply.n_vertices(); ++v)
-    differ += !same(got->mesh.positions[v], from_ply.positions[v]) || !same(got->mesh.normals[v], from_ply.normals[v]);
+    differ += !same(got->mesh.positions[v], from_ply.positions[v]) ||
+              !same(got->mesh.normals[v], from_ply.normals[v]);
   EXPECT_EQ(differ, 0u);
   EXPECT_EQ(got->mesh.provenance, from_ply.provenance);
   EXPECT_EQ(got->mesh.geo.origin_y, from_ply.geo.origin_y);
   EXPECT_EQ(got->mesh.geo.crs_wkt, from_ply.geo.crs_wkt);
   ASSERT_EQ(got->levels.blocks.size(), levels.blocks.size());
-  for (std::size_t k = 0; k < levels.blocks.size(); ++k) EXPECT_EQ(got->levels.blocks[k].error, levels.blocks[k].error);
+  for (std::size_t k = 0; k < levels.blocks.size(); ++k)
+    EXPECT_EQ(got->levels.blocks[k].error, levels.blocks[k].error);
 
   // The pair is tied by content, not by time: a PLY touched after its pyramid (or copied
   // with cp -p, tar, rsync -t) still reads its pyramid.
@@ -238,7 +250,8 @@ TEST(MeshPyramid, TheMeshReadFromItsPyramidIsThePly) {
   m.filled[7] = 1;
   terrain::write_mesh_ply(m, ply);
   terrain::write_mesh_pyramid(m, pyr);
-  std::filesystem::last_write_time(pyr, std::filesystem::last_write_time(ply) + std::chrono::seconds(2));
+  std::filesystem::last_write_time(pyr,
+                                   std::filesystem::last_write_time(ply) + std::chrono::seconds(2));
   EXPECT_FALSE(terrain::read_mesh_via_pyramid(ply, why));
   EXPECT_NE(why.find("'filled'"), std::string::npos) << why;
 }
@@ -262,10 +275,13 @@ TEST(MeshPyramid, AWindowOfBlocksIsThatPartOfTheLevel) {
     int level;
     std::size_t br0, bc0, br1, bc1;
   };
-  for (const Case c : {Case{0, 1, 2, 3, 4}, Case{2, 1, 2, 3, 4}, Case{2, 3, 3, 9, 9}, Case{0, 4, 1, 5, 5}}) {
-    SCOPED_TRACE(::testing::Message() << "level " << c.level << ", blocks " << c.br0 << ", " << c.bc0);
+  for (const Case c :
+       {Case{0, 1, 2, 3, 4}, Case{2, 1, 2, 3, 4}, Case{2, 3, 3, 9, 9}, Case{0, 4, 1, 5, 5}}) {
+    SCOPED_TRACE(::testing::Message()
+                 << "level " << c.level << ", blocks " << c.br0 << ", " << c.bc0);
     std::string why;
-    const auto whole = terrain::read_mesh_via_pyramid(ply, why, [&](const terrain::MeshPyramid&) { return c.level; });
+    const auto whole = terrain::read_mesh_via_pyramid(
+        ply, why, [&](const terrain::MeshPyramid&) { return c.level; });
     const auto part = terrain::read_mesh_via_pyramid(ply, why, [&](const terrain::MeshPyramid&) {
       return terrain::PyramidPart{c.level, c.br0, c.bc0, c.br1, c.bc1};
     });
@@ -293,7 +309,8 @@ TEST(MeshPyramid, AWindowOfBlocksIsThatPartOfTheLevel) {
     std::size_t differ = 0;
     for (std::size_t r = 0; r < part->mesh.topo.rows; ++r)
       for (std::size_t col = 0; col < part->mesh.topo.cols; ++col) {
-        const std::size_t i = r * part->mesh.topo.cols + col, j = (r0 + r) * whole->mesh.topo.cols + c0 + col;
+        const std::size_t i = r * part->mesh.topo.cols + col,
+                          j = (r0 + r) * whole->mesh.topo.cols + c0 + col;
         differ += !same(part->mesh.positions[i] + shift, whole->mesh.positions[j]) ||
                   !same(part->mesh.normals[i], whole->mesh.normals[j]);
       }

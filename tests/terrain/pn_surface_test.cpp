@@ -6,8 +6,8 @@
 #include <omp.h>
 
 #include "terrain/dem_io.hpp"
-#include "terrain/prepare_grid.hpp"
 #include "terrain/pn_surface.hpp"
+#include "terrain/prepare_grid.hpp"
 #include "test_support.hpp"
 
 namespace terrain {
@@ -18,7 +18,8 @@ TEST(PnPointAbove, PlanarMeshGivesThePlane) {
   geo.dx = geo.dy = 50.0;
   Grid g(6, 8, geo);
   for (std::size_t r = 0; r < g.rows; ++r)
-    for (std::size_t c = 0; c < g.cols; ++c) g.at(r, c) = float(100.0 + 0.2 * double(c) * 50.0 + 0.1 * double(r) * 50.0);
+    for (std::size_t c = 0; c < g.cols; ++c)
+      g.at(r, c) = float(100.0 + 0.2 * double(c) * 50.0 + 0.1 * double(r) * 50.0);
   const GridMesh m = make_grid_mesh(g, NormalWeighting::Uniform);
   // Local coordinates: x = c * 50, y = -r * 50; z = 100 + 0.2 x - 0.1 y.
   std::mt19937 rng(3);
@@ -62,7 +63,8 @@ TEST(PnPointAbove, ACheckerboardNeverWalksOffTheMesh) {
 // On real, rough terrain the returned point is exactly above the request (1e-6 m), lies
 // inside its patch (or extrapolates a boundary patch), and is the patch's own point.
 TEST(PnPointAbove, MountStHelensXyMatchesTheRequest) {
-  const GridMesh m = make_grid_mesh(read_dem(test::data("msh_2007_utm10n_10m.tif")), NormalWeighting::Uniform);
+  const GridMesh m =
+      make_grid_mesh(read_dem(test::data("msh_2007_utm10n_10m.tif")), NormalWeighting::Uniform);
   const double w = double(m.topo.cols - 1) * m.geo.dx, h = double(m.topo.rows - 1) * m.geo.dy;
   const unsigned seed = 42;
   std::mt19937 rng(seed);
@@ -101,8 +103,9 @@ TEST(SamplePnSurface, SamplesArePointsAboveAndVerticesAtTheMeshSpacing) {
   GridRequest req;
   req.spacing = 50.0;
   req.bbox = std::array<double, 4>{561500, 5116000, 563500, 5118000};
-  const GridMesh m = make_grid_mesh(prepare_grid(read_dem(test::data("msh_2007_utm10n_10m.tif")), req).grid,
-                                    NormalWeighting::Uniform);
+  const GridMesh m =
+      make_grid_mesh(prepare_grid(read_dem(test::data("msh_2007_utm10n_10m.tif")), req).grid,
+                     NormalWeighting::Uniform);
   const SampledSurface fine = sample_pn_surface(m, 10.0);
   EXPECT_EQ(fine.fallbacks, 0u);
   ASSERT_EQ(fine.grid.cols, (m.topo.cols - 1) * 5 + 1);

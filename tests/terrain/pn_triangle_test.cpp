@@ -61,8 +61,10 @@ TEST(PnPatch, DerivativesMatchFiniteDifferences) {
   const double s = 0.3, t = 0.25, h = 1e-6;
   Vector3d ds, dt;
   pn_derivatives(p, 1 - s - t, s, t, ds, dt);
-  const Vector3d fs = (pn_position(p, 1 - s - h - t, s + h, t) - pn_position(p, 1 - s + h - t, s - h, t)) / (2 * h);
-  const Vector3d ft = (pn_position(p, 1 - s - t - h, s, t + h) - pn_position(p, 1 - s - t + h, s, t - h)) / (2 * h);
+  const Vector3d fs =
+      (pn_position(p, 1 - s - h - t, s + h, t) - pn_position(p, 1 - s + h - t, s - h, t)) / (2 * h);
+  const Vector3d ft =
+      (pn_position(p, 1 - s - t - h, s, t + h) - pn_position(p, 1 - s - t + h, s, t - h)) / (2 * h);
   expect_near(ds, fs, 1e-7, "dP/ds");
   expect_near(dt, ft, 1e-7, "dP/dt");
 }
@@ -94,8 +96,10 @@ TEST(PnPatch, NeighboursShareTheirEdgeCurve) {
     const PnPatch left = make_pn_patch(a, b, c, na, nb, nc);   // edge b -> c: corners 2, 3
     const PnPatch right = make_pn_patch(d, c, b, nd, nc, nb);  // edge c -> b: corners 2, 3
     for (double t = 0; t <= 1.0; t += 0.125) {
-      expect_near(pn_position(left, 0, 1 - t, t), pn_position(right, 0, t, 1 - t), 1e-12, "shared edge point");
-      expect_near(pn_normal(left, 0, 1 - t, t), pn_normal(right, 0, t, 1 - t), 1e-12, "shared edge normal");
+      expect_near(pn_position(left, 0, 1 - t, t), pn_position(right, 0, t, 1 - t), 1e-12,
+                  "shared edge point");
+      expect_near(pn_normal(left, 0, 1 - t, t), pn_normal(right, 0, t, 1 - t), 1e-12,
+                  "shared edge normal");
     }
   }
 }

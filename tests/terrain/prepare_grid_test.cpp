@@ -16,7 +16,9 @@
 
 namespace terrain {
 
-void PrintTo(Resampling r, std::ostream* os) { *os << (r == Resampling::Bilinear ? "bilinear" : "cubic"); }
+void PrintTo(Resampling r, std::ostream* os) {
+  *os << (r == Resampling::Bilinear ? "bilinear" : "cubic");
+}
 
 namespace {
 
@@ -25,7 +27,8 @@ using test::data;
 // docs/algorithms.md 10.3 worked numbers: 4 x 4 grid, sample at (row 1.25, col 1.5).
 TEST(SampleGrid, WorkedExample) {
   Grid g(4, 4, Georef{});
-  const float v[16] = {100, 102, 104, 106, 101, 104, 107, 110, 103, 107, 111, 115, 106, 111, 116, 121};
+  const float v[16] = {100, 102, 104, 106, 101, 104, 107, 110,
+                       103, 107, 111, 115, 106, 111, 116, 121};
   std::copy(v, v + 16, g.z.begin());
   EXPECT_NEAR(sample_grid(g, 1.25, 1.5, Resampling::Bilinear), 106.375, 1e-5);
   EXPECT_NEAR(sample_grid(g, 1.25, 1.5, Resampling::Cubic), 106.28125, 1e-5);
@@ -67,8 +70,8 @@ Grid gdalwarp(const std::string& src, std::vector<std::string> args) {
   EXPECT_NE(out, nullptr);
   auto* ds = GDALDataset::FromHandle(out);
   Grid g(std::size_t(ds->GetRasterYSize()), std::size_t(ds->GetRasterXSize()), Georef{});
-  EXPECT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, int(g.cols), int(g.rows), g.z.data(), int(g.cols),
-                                           int(g.rows), GDT_Float32, 0, 0),
+  EXPECT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, int(g.cols), int(g.rows), g.z.data(),
+                                           int(g.cols), int(g.rows), GDT_Float32, 0, 0),
             CE_None);
   GDALClose(out);
   GDALClose(in);
@@ -100,11 +103,13 @@ TEST_P(EnoVsGdalwarp, AgreesAtSampledCells) {
   EXPECT_GT(g.rows, 100u);
   EXPECT_GT(g.cols, 100u);
 
-  const double xmax = g.geo.x0 + double(g.cols) * g.geo.dx, ymin = g.geo.y0 - double(g.rows) * g.geo.dy;
-  const Grid ref = gdalwarp(data("eno_nad83_geographic_crop.tif"),
-                            {"-t_srs", "EPSG:26917", "-te", std::to_string(g.geo.x0), std::to_string(ymin),
-                             std::to_string(xmax), std::to_string(g.geo.y0), "-tr", "8", "8", "-r",
-                             method == Resampling::Bilinear ? "bilinear" : "cubic"});
+  const double xmax = g.geo.x0 + double(g.cols) * g.geo.dx,
+               ymin = g.geo.y0 - double(g.rows) * g.geo.dy;
+  const Grid ref =
+      gdalwarp(data("eno_nad83_geographic_crop.tif"),
+               {"-t_srs", "EPSG:26917", "-te", std::to_string(g.geo.x0), std::to_string(ymin),
+                std::to_string(xmax), std::to_string(g.geo.y0), "-tr", "8", "8", "-r",
+                method == Resampling::Bilinear ? "bilinear" : "cubic"});
   ASSERT_EQ(ref.rows, g.rows);
   ASSERT_EQ(ref.cols, g.cols);
   const unsigned seed = 20261122;
@@ -121,8 +126,11 @@ TEST_P(EnoVsGdalwarp, AgreesAtSampledCells) {
   RecordProperty("max_abs_difference_m", std::to_string(worst));
 }
 
-INSTANTIATE_TEST_SUITE_P(Kernels, EnoVsGdalwarp, ::testing::Values(Resampling::Bilinear, Resampling::Cubic),
-                         [](const auto& info) { return info.param == Resampling::Bilinear ? "bilinear" : "cubic"; });
+INSTANTIATE_TEST_SUITE_P(Kernels, EnoVsGdalwarp,
+                         ::testing::Values(Resampling::Bilinear, Resampling::Cubic),
+                         [](const auto& info) {
+                           return info.param == Resampling::Bilinear ? "bilinear" : "cubic";
+                         });
 
 TEST(PrepareGrid, EnoZoneOverride) {
   const Grid src = read_dem(data("eno_nad83_geographic_crop.tif"));
@@ -166,7 +174,8 @@ TEST(PrepareGrid, ResampleKeepsTheSourceLattice) {
   EXPECT_DOUBLE_EQ(std::fmod(p.grid.geo.x0 - src.geo.x0, 50.0), 0.0);
   EXPECT_EQ(p.grid.cols, 61u);
   EXPECT_EQ(p.grid.rows, 88u);
-  const double col = src.geo.col_of_x(p.grid.geo.x_of_col(3)), row = src.geo.row_of_y(p.grid.geo.y_of_row(4));
+  const double col = src.geo.col_of_x(p.grid.geo.x_of_col(3)),
+               row = src.geo.row_of_y(p.grid.geo.y_of_row(4));
   EXPECT_DOUBLE_EQ(col, 17.0);  // 25 m + 3*50 m from the corner: sample 17 (centre 175 m)
   EXPECT_DOUBLE_EQ(row, 22.0);
   EXPECT_EQ(p.grid.at(4, 3), src.at(22, 17));
@@ -196,7 +205,8 @@ TEST(PrepareGrid, SeparableTapsEqualSampleGridPerSample) {
       EXPECT_GT(taps.filled, 0u);
       EXPECT_EQ(taps.filled, each.filled);
       ASSERT_EQ(taps.grid.size(), each.grid.size());
-      EXPECT_EQ(std::memcmp(taps.grid.z.data(), each.grid.z.data(), taps.grid.size() * sizeof(float)), 0)
+      EXPECT_EQ(
+          std::memcmp(taps.grid.z.data(), each.grid.z.data(), taps.grid.size() * sizeof(float)), 0)
           << spacing << " m";
     }
 }
@@ -227,7 +237,8 @@ TEST(PrepareGrid, NodataIsAnErrorNamingCountAndPlace) {
     FAIL() << "expected an error";
   } catch (const Error& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find(std::to_string(src.count_nodata()) + " no-data samples"), std::string::npos) << msg;
+    EXPECT_NE(msg.find(std::to_string(src.count_nodata()) + " no-data samples"), std::string::npos)
+        << msg;
     EXPECT_NE(msg.find("rows 0-"), std::string::npos) << msg;
     EXPECT_NE(msg.find("--fill-nodata"), std::string::npos) << msg;
   }
@@ -239,8 +250,10 @@ TEST(PrepareGrid, NodataIsAnErrorNamingCountAndPlace) {
   // Valid samples are untouched; filled ones lie within the valid range.
   const ElevationStats s = elevation_stats(src.z);
   for (std::size_t i = 0; i < src.size(); ++i) {
-    if (src.valid(i)) ASSERT_EQ(p.grid.z[i], src.z[i]);
-    else ASSERT_TRUE(p.grid.z[i] >= s.min - 1e-3 && p.grid.z[i] <= s.max + 1e-3);
+    if (src.valid(i))
+      ASSERT_EQ(p.grid.z[i], src.z[i]);
+    else
+      ASSERT_TRUE(p.grid.z[i] >= s.min - 1e-3 && p.grid.z[i] <= s.max + 1e-3);
   }
   ASSERT_EQ(p.warnings.size(), 1u);  // no CRS: taken as metres
 }
@@ -256,7 +269,8 @@ TEST(PrepareGrid, ImpossibleRequests) {
   r = {};
   r.bbox = std::array<double, 4>{0.0, 0.0, 1000.0, 1000.0};  // outside
   fails(r);
-  r.bbox = std::array<double, 4>{561000.0, 5116000.0, 562000.0, 5117000.0};  // reaches beyond the west edge
+  r.bbox = std::array<double, 4>{561000.0, 5116000.0, 562000.0,
+                                 5117000.0};  // reaches beyond the west edge
   fails(r);
   r.bbox = std::array<double, 4>{562000.0, 5116000.0, 562005.0, 5117000.0};  // fewer than 2 columns
   fails(r);
@@ -303,7 +317,8 @@ TEST(PrepareGrid, WindowedReadEqualsTheWholeSource) {
   GridRequest d;  // geographic with a crop in UTM: the centre of the default area
   const PreparedGrid whole = prepare_grid(eno, d);
   const auto& g = whole.grid.geo;
-  d.center = std::array<double, 2>{g.x_of_col(double(whole.grid.cols) / 2), g.y_of_row(double(whole.grid.rows) / 2)};
+  d.center = std::array<double, 2>{g.x_of_col(double(whole.grid.cols) / 2),
+                                   g.y_of_row(double(whole.grid.rows) / 2)};
   d.size = std::array<double, 2>{300, 200};
   cases.push_back({"eno_nad83_geographic_crop.tif", d});
 

@@ -38,7 +38,9 @@ PointCloud random_points(std::size_t n, double size, const std::function<double(
 }
 
 double plane(double x, double y) { return 3.0 + 0.02 * x - 0.05 * y; }
-double paraboloid(double x, double y) { return ((x - 500) * (x - 500) + (y - 500) * (y - 500)) / 1000.0; }
+double paraboloid(double x, double y) {
+  return ((x - 500) * (x - 500) + (y - 500) * (y - 500)) / 1000.0;
+}
 
 // Both methods reproduce a plane (linear precision) to 1e-9 everywhere inside the hull.
 TEST(Scattered, PlaneIsReproducedExactly) {
@@ -47,7 +49,8 @@ TEST(Scattered, PlaneIsReproducedExactly) {
   std::uniform_real_distribution<double> u(150, 850);
   for (int i = 0; i < 2000; ++i) {
     const double x = u(rng), y = u(rng);
-    for (const auto m : {PointInterpolation::Linear, PointInterpolation::NaturalC0, PointInterpolation::Natural})
+    for (const auto m :
+         {PointInterpolation::Linear, PointInterpolation::NaturalC0, PointInterpolation::Natural})
       ASSERT_NEAR(s.z_at(x, y, m), plane(x, y), 1e-9) << x << " " << y;
   }
   EXPECT_TRUE(std::isnan(s.z_at(-10, 500, PointInterpolation::NaturalC0)));  // outside the hull
@@ -65,8 +68,8 @@ TEST(Scattered, NaturalReproducesTheParaboloid) {
   std::size_t n = 0;
   for (double y = 200; y <= 800; y += 10)
     for (double x = 200; x <= 800; x += 10) {
-      const PointInterpolation methods[3] = {PointInterpolation::Linear, PointInterpolation::NaturalC0,
-                                             PointInterpolation::Natural};
+      const PointInterpolation methods[3] = {
+          PointInterpolation::Linear, PointInterpolation::NaturalC0, PointInterpolation::Natural};
       for (int k = 0; k < 3; ++k) {
         const double e = s.z_at(x, y, methods[k]) - paraboloid(x, y);
         if (k < 2) {
@@ -79,8 +82,10 @@ TEST(Scattered, NaturalReproducesTheParaboloid) {
   for (std::size_t i = 0; i < 20; ++i)
     for (const auto m : {PointInterpolation::NaturalC0, PointInterpolation::Natural})
       EXPECT_NEAR(s.z_at(pts.x[i], pts.y[i], m), pts.z[i], 1e-9);
-  const double rmse[3] = {std::sqrt(se[0] / double(n)), std::sqrt(se[1] / double(n)), std::sqrt(se[2] / double(n))};
-  std::printf("paraboloid RMSE: linear %.4f m, natural-c0 %.4f m, natural %.3g m\n", rmse[0], rmse[1], rmse[2]);
+  const double rmse[3] = {std::sqrt(se[0] / double(n)), std::sqrt(se[1] / double(n)),
+                          std::sqrt(se[2] / double(n))};
+  std::printf("paraboloid RMSE: linear %.4f m, natural-c0 %.4f m, natural %.3g m\n", rmse[0],
+              rmse[1], rmse[2]);
   EXPECT_LT(rmse[2], 1e-6);
   EXPECT_LT(rmse[2], rmse[0]);
 }
@@ -105,7 +110,8 @@ TEST(Scattered, GridExtentHullAndMaxEdge) {
   EXPECT_GT(r.nodata, 0u);  // the bounding box's corners lie outside the hull
   for (std::size_t i = 0; i < r.grid.size(); ++i)
     if (r.grid.valid(i)) {
-      const double x = r.grid.geo.x_of_col(double(i % r.grid.cols)), y = r.grid.geo.y_of_row(double(i / r.grid.cols));
+      const double x = r.grid.geo.x_of_col(double(i % r.grid.cols)),
+                   y = r.grid.geo.y_of_row(double(i / r.grid.cols));
       EXPECT_NEAR(r.grid.z[i], plane(x, y), 1e-4);
     }
   // A gap: no points in the middle square; with max-edge 150 its samples are no-data.
@@ -151,16 +157,19 @@ TEST(Scattered, MountStHelensSubsetReproducesTheDem) {
   std::vector<double> gdal(dem.size());
   const double x0 = dem.geo.x0, x1 = dem.geo.x0 + double(dem.cols) * dem.geo.dx;
   const double y1 = dem.geo.y0, y0 = dem.geo.y0 - double(dem.rows) * dem.geo.dy;
-  ASSERT_EQ(GDALGridCreate(GGA_Linear, &opt, GUInt32(p.size()), p.x.data(), p.y.data(), p.z.data(), x0, x1, y1, y0,
-                           GUInt32(dem.cols), GUInt32(dem.rows), GDT_Float64, gdal.data(), nullptr, nullptr),
+  ASSERT_EQ(GDALGridCreate(GGA_Linear, &opt, GUInt32(p.size()), p.x.data(), p.y.data(), p.z.data(),
+                           x0, x1, y1, y0, GUInt32(dem.cols), GUInt32(dem.rows), GDT_Float64,
+                           gdal.data(), nullptr, nullptr),
             CE_None);
   // Squared errors over the cells not sampled where all three have a value.
   double se[4] = {0, 0, 0, 0};
   std::size_t n = 0;
   for (std::size_t i = 0; i < dem.size(); ++i) {
     if (sampled[i] || !dem.valid(i) || std::isnan(gdal[i])) continue;
-    const double x = dem.geo.x_of_col(double(i % dem.cols)), y = dem.geo.y_of_row(double(i / dem.cols));
-    const double zl = s.z_at(x, y, PointInterpolation::Linear), zn = s.z_at(x, y, PointInterpolation::NaturalC0);
+    const double x = dem.geo.x_of_col(double(i % dem.cols)),
+                 y = dem.geo.y_of_row(double(i / dem.cols));
+    const double zl = s.z_at(x, y, PointInterpolation::Linear),
+                 zn = s.z_at(x, y, PointInterpolation::NaturalC0);
     if (std::isnan(zl) || std::isnan(zn)) continue;
     se[0] += (zl - dem.z[i]) * (zl - dem.z[i]);
     se[1] += (zn - dem.z[i]) * (zn - dem.z[i]);
@@ -169,13 +178,17 @@ TEST(Scattered, MountStHelensSubsetReproducesTheDem) {
     se[3] += (zc - dem.z[i]) * (zc - dem.z[i]);
     ++n;
   }
-  const double rmse[3] = {std::sqrt(se[0] / double(n)), std::sqrt(se[1] / double(n)), std::sqrt(se[3] / double(n))};
+  const double rmse[3] = {std::sqrt(se[0] / double(n)), std::sqrt(se[1] / double(n)),
+                          std::sqrt(se[3] / double(n))};
   const double rmse_gdal = std::sqrt(se[2] / double(n));
   ASSERT_GT(n, dem.size() / 2);
-  std::printf("MSH 1-in-7 (%zu points) back at 10 m: RMSE linear %.3f m, natural-c0 %.3f m, natural %.3f m, "
-              "GDAL linear %.3f m\n", p.size(), rmse[0], rmse[1], rmse[2], rmse_gdal);
-  // Natural neighbours (both interpolants) beat GDAL's linear. Our linear is the same interpolant on another
-  // Delaunay triangulation: the sampled cells lie on a lattice, whose co-circular
+  std::printf(
+      "MSH 1-in-7 (%zu points) back at 10 m: RMSE linear %.3f m, natural-c0 %.3f m, natural %.3f "
+      "m, "
+      "GDAL linear %.3f m\n",
+      p.size(), rmse[0], rmse[1], rmse[2], rmse_gdal);
+  // Natural neighbours (both interpolants) beat GDAL's linear. Our linear is the same interpolant
+  // on another Delaunay triangulation: the sampled cells lie on a lattice, whose co-circular
   // quadruples CGAL (symbolic perturbation) and qhull split differently; within 1 %.
   EXPECT_LE(rmse[1], rmse_gdal);
   EXPECT_LE(rmse[2], rmse_gdal);
@@ -227,7 +240,8 @@ TEST(Scattered, ReadersRecogniseContent) {
   {
     std::ofstream xyz(dir.path("pts.dat"));
     xyz << "# survey\nE N H\n";
-    for (std::size_t i = 0; i < p.size(); ++i) xyz << fmt::format("{:.17g} {:.17g} {:.17g}\n", p.x[i], p.y[i], p.z[i]);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      xyz << fmt::format("{:.17g} {:.17g} {:.17g}\n", p.x[i], p.y[i], p.z[i]);
     std::ofstream csv(dir.path("pts.csv"));
     csv << "id,x,y,z\n";
     for (std::size_t i = 0; i < p.size(); ++i)

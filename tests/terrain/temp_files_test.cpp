@@ -87,7 +87,8 @@ TEST(TempFiles, InterruptRemovesSqliteSideFilesAndNewFolders) {
   ASSERT_EQ(::waitpid(pid, &status, 0), pid);
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << status;
   std::vector<std::string> left;
-  for (const auto& e : fs::recursive_directory_iterator(dir.path(""))) left.push_back(e.path().string());
+  for (const auto& e : fs::recursive_directory_iterator(dir.path("")))
+    left.push_back(e.path().string());
   EXPECT_TRUE(left.empty()) << "left: " << (left.empty() ? "" : left.front());
 }
 
@@ -95,7 +96,10 @@ TEST(TempFiles, InterruptRemovesSqliteSideFilesAndNewFolders) {
 TEST(TempFiles, NewDirectoriesGoUnlessKept) {
   terrain::test::ScratchDir dir;
   fs::create_directories(dir.path("old"));
-  { const NewDirectories made(dir.path("old/x/y")); EXPECT_TRUE(fs::is_directory(dir.path("old/x/y"))); }
+  {
+    const NewDirectories made(dir.path("old/x/y"));
+    EXPECT_TRUE(fs::is_directory(dir.path("old/x/y")));
+  }
   EXPECT_FALSE(fs::exists(dir.path("old/x")));
   EXPECT_TRUE(fs::is_directory(dir.path("old")));
   {
@@ -130,8 +134,10 @@ TEST(TempFiles, StaleTemporariesAreThoseOfDeadProcesses) {
   const std::string target = dir.path("out.dv");
   std::ofstream(dir.path(".out.tmp" + std::to_string(dead) + "-1.dv")) << "x";
   fs::create_directory(dir.path(".out.scratch" + std::to_string(dead) + "-abcdef"));
-  std::ofstream(dir.path(".out.tmp" + std::to_string(::getpid()) + "-1.dv")) << "x";  // ours: not stale
-  std::ofstream(dir.path(".other.tmp" + std::to_string(dead) + "-1.dv")) << "x";       // another output's
+  std::ofstream(dir.path(".out.tmp" + std::to_string(::getpid()) + "-1.dv"))
+      << "x";  // ours: not stale
+  std::ofstream(dir.path(".other.tmp" + std::to_string(dead) + "-1.dv"))
+      << "x";  // another output's
   const auto stale = stale_temporaries(target);
   EXPECT_EQ(stale.size(), 2u);
 }

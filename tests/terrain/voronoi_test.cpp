@@ -42,7 +42,8 @@ TEST(Voronoi, RegularPlanarGridInteriorVertexGetsOneCell) {
     const VoronoiWeights w = voronoi_weights(m);
     const double cell = 100.0 * std::sqrt(1 + sx * sx + sy * sy);
     for (std::size_t r = 1; r + 1 < 6; ++r)
-      for (std::size_t c = 1; c + 1 < 7; ++c) EXPECT_NEAR(w.vertex_areas[r * 7 + c], cell, 1e-3 * cell) << r << " " << c;
+      for (std::size_t c = 1; c + 1 < 7; ++c)
+        EXPECT_NEAR(w.vertex_areas[r * 7 + c], cell, 1e-3 * cell) << r << " " << c;
     // Tangents: unit, perpendicular to the normal, pointing east.
     for (std::size_t v = 0; v < m.n_vertices(); ++v) {
       EXPECT_NEAR(w.tangents[v].norm(), 1.0f, 1e-6f);
@@ -74,7 +75,8 @@ TEST(Voronoi, AreasSumToMeshArea) {
     for (std::size_t f = 0; f < m.n_faces(); ++f) {
       const auto t = m.topo.face(f);
       for (int k = 0; k < 3; ++k) {
-        const Eigen::Vector3f a = m.positions[t[std::size_t(k)]], b = m.positions[t[std::size_t((k + 1) % 3)]],
+        const Eigen::Vector3f a = m.positions[t[std::size_t(k)]],
+                              b = m.positions[t[std::size_t((k + 1) % 3)]],
                               c = m.positions[t[std::size_t((k + 2) % 3)]];
         obtuse += (b - a).dot(c - a) < 0;
       }
@@ -97,7 +99,8 @@ TEST(Voronoi, StoredInTheMeshFile) {
     EXPECT_EQ(back.voronoi.vertex_areas[v], m.voronoi.vertex_areas[v]);
     EXPECT_EQ(back.voronoi.tangents[v], m.voronoi.tangents[v]);
   }
-  for (std::size_t f = 0; f < m.n_faces(); ++f) EXPECT_EQ(back.voronoi.corner_areas[f], m.voronoi.corner_areas[f]);
+  for (std::size_t f = 0; f < m.n_faces(); ++f)
+    EXPECT_EQ(back.voronoi.corner_areas[f], m.voronoi.corner_areas[f]);
   ASSERT_EQ(back.normal_change.size(), m.n_vertices());
   EXPECT_EQ(back.normal_change[7], 12.5f);
   // A mesh without them reads back without them.

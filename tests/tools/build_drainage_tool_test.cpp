@@ -3,10 +3,10 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <sstream>
 #include <fstream>
 #include <iomanip>
 #include <map>
+#include <sstream>
 
 #include <gdal_priv.h>
 #include <ogrsf_frmts.h>
@@ -27,30 +27,39 @@ using terrain::test::file_bytes;
 using terrain::test::run;
 using terrain::test::tool;
 
-std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
+std::size_t lines(const std::string& s) {
+  return std::size_t(std::count(s.begin(), s.end(), '\n'));
+}
 
 TEST(BuildDrainage, MeshPipelineIsDeterministicAcrossThreadCounts) {
   terrain::test::ScratchDir dir;
-  const auto m = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + dir.path("m.ply") + " --spacing 50 -q");
+  const auto m = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " +
+                     dir.path("m.ply") + " --spacing 50 -q");
   ASSERT_EQ(m.exit_code, 0) << m.err;
-  const auto a = run(tool("build-drainage") + " " + dir.path("m.ply") + " " + dir.path("a.dv") + " --threads 1 -q");
+  const auto a = run(tool("build-drainage") + " " + dir.path("m.ply") + " " + dir.path("a.dv") +
+                     " --threads 1 -q");
   ASSERT_EQ(a.exit_code, 0) << a.err;
   // Same command line as far as the output is concerned: the same file name.
   std::filesystem::rename(dir.path("a.dv"), dir.path("first.dv"));
-  const auto b = run(tool("build-drainage") + " " + dir.path("m.ply") + " " + dir.path("a.dv") + " --threads 2 -q");
+  const auto b = run(tool("build-drainage") + " " + dir.path("m.ply") + " " + dir.path("a.dv") +
+                     " --threads 2 -q");
   ASSERT_EQ(b.exit_code, 0) << b.err;
   EXPECT_EQ(a.out, b.out);
-  EXPECT_TRUE(file_bytes(dir.path("first.dv")) == file_bytes(dir.path("a.dv"))) << "the .dv differs between 1 and 2 threads";
-  EXPECT_NE(a.out.find("points: 131236\n"), std::string::npos) << a.out;  // 301 x 436 samples at 10 m
+  EXPECT_TRUE(file_bytes(dir.path("first.dv")) == file_bytes(dir.path("a.dv")))
+      << "the .dv differs between 1 and 2 threads";
+  EXPECT_NE(a.out.find("points: 131236\n"), std::string::npos)
+      << a.out;  // 301 x 436 samples at 10 m
 
   const auto i = run(tool("terrain-inspect") + " info " + dir.path("a.dv"));
   ASSERT_EQ(i.exit_code, 0) << i.err;
   EXPECT_NE(i.out.find("points: 131236\n"), std::string::npos) << i.out;
   EXPECT_NE(i.out.find("source: PN surface of a mesh"), std::string::npos);
-  const auto p = run(tool("terrain-inspect") + " preview " + dir.path("a.dv") + " -o " + dir.path("a.png"));
+  const auto p =
+      run(tool("terrain-inspect") + " preview " + dir.path("a.dv") + " -o " + dir.path("a.png"));
   ASSERT_EQ(p.exit_code, 0) << p.err;
   EXPECT_TRUE(std::filesystem::exists(dir.path("a.png")));
-  const auto g = run(tool("terrain-inspect") + " export " + dir.path("a.dv") + " --to gpkg --min-order 2");
+  const auto g =
+      run(tool("terrain-inspect") + " export " + dir.path("a.dv") + " --to gpkg --min-order 2");
   ASSERT_EQ(g.exit_code, 0) << g.err;
   EXPECT_TRUE(std::filesystem::exists(dir.path("a.gpkg")));
 }
@@ -61,13 +70,16 @@ TEST(BuildDrainage, RastersAndD8InputRoundTrip) {
   terrain::test::ScratchDir dir;
   std::filesystem::create_directory(dir.path("r"));
   for (const std::string enc : {"taudem", "esri"}) {
-    const auto a = run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + dir.path("a.dv") +
-                       " --rasters " + dir.path("r") + " --d8-encoding " + enc + " -q");
+    const auto a =
+        run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " +
+            dir.path("a.dv") + " --rasters " + dir.path("r") + " --d8-encoding " + enc + " -q");
     ASSERT_EQ(a.exit_code, 0) << a.err;
-    for (const char* f : {"surface", "d8", "accumulation", "normalized_flow", "basin", "class", "order"})
+    for (const char* f :
+         {"surface", "d8", "accumulation", "normalized_flow", "basin", "class", "order"})
       EXPECT_TRUE(std::filesystem::exists(dir.path(std::string("r/") + f + ".tif"))) << f;
-    const auto b = run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " --d8-input " +
-                       dir.path("r/d8.tif") + " --d8-encoding " + enc + " " + dir.path("b.dv") + " -q");
+    const auto b =
+        run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " --d8-input " +
+            dir.path("r/d8.tif") + " --d8-encoding " + enc + " " + dir.path("b.dv") + " -q");
     ASSERT_EQ(b.exit_code, 0) << b.err;
     const DrainageDb da = read_dv(dir.path("a.dv")), db = read_dv(dir.path("b.dv"));
     ASSERT_EQ(da.vertices.size(), db.vertices.size());
@@ -76,7 +88,8 @@ TEST(BuildDrainage, RastersAndD8InputRoundTrip) {
       ASSERT_EQ(da.vertices[i].basin, db.vertices[i].basin);
     }
     const terrain::Grid acc = terrain::read_dem(dir.path("r/accumulation.tif"));
-    for (std::size_t i = 0; i < acc.size(); ++i) ASSERT_EQ(double(acc.z[i]), double(da.vertices[i].accumulated));
+    for (std::size_t i = 0; i < acc.size(); ++i)
+      ASSERT_EQ(double(acc.z[i]), double(da.vertices[i].accumulated));
   }
 }
 
@@ -90,16 +103,20 @@ void expect_same_db(const DrainageDb& a, const DrainageDb& b, const std::string&
   EXPECT_DOUBLE_EQ(a.header.origin_x, b.header.origin_x);
   for (std::size_t i = 0; i < a.vertices.size(); ++i) {
     const DvVertex &u = a.vertices[i], &v = b.vertices[i];
-    ASSERT_TRUE(u.z == v.z && u.accumulated == v.accumulated && u.normalized == v.normalized && u.basin == v.basin &&
-                u.downstream == v.downstream && u.point_class == v.point_class && u.order == v.order && u.d8 == v.d8)
+    ASSERT_TRUE(u.z == v.z && u.accumulated == v.accumulated && u.normalized == v.normalized &&
+                u.basin == v.basin && u.downstream == v.downstream &&
+                u.point_class == v.point_class && u.order == v.order && u.d8 == v.d8)
         << "vertex " << i;
   }
   ASSERT_EQ(a.branches.size(), b.branches.size());
   for (std::size_t k = 0; k < a.branches.size(); ++k)
-    ASSERT_TRUE(a.branches[k].first == b.branches[k].first && a.branches[k].count == b.branches[k].count &&
-                a.branches[k].drains_into == b.branches[k].drains_into && a.branches[k].order == b.branches[k].order)
+    ASSERT_TRUE(a.branches[k].first == b.branches[k].first &&
+                a.branches[k].count == b.branches[k].count &&
+                a.branches[k].drains_into == b.branches[k].drains_into &&
+                a.branches[k].order == b.branches[k].order)
         << "branch " << k;
-  EXPECT_TRUE(std::equal(a.branch_vertices.begin(), a.branch_vertices.end(), b.branch_vertices.begin()));
+  EXPECT_TRUE(
+      std::equal(a.branch_vertices.begin(), a.branch_vertices.end(), b.branch_vertices.begin()));
 }
 
 // --tile-size gives the untiled run's database exactly (every field), with tile sizes that
@@ -109,7 +126,8 @@ void expect_same_db(const DrainageDb& a, const DrainageDb& b, const std::string&
 // and the flats (counted by untiled runs only) equals the untiled run's.
 TEST(BuildDrainage, TiledAndUntiledRunsPrintTheSameSummary) {
   terrain::test::ScratchDir dir;
-  const std::string bd = tool("build-drainage") + " --raster " + data("med_01_01_10m.tif") + " --fill -q ";
+  const std::string bd =
+      tool("build-drainage") + " --raster " + data("med_01_01_10m.tif") + " --fill -q ";
   const auto u = run(bd + dir.path("u.dv"));
   const auto t = run(bd + dir.path("t.dv") + " --tile-size 100");
   ASSERT_EQ(u.exit_code, 0) << u.err;
@@ -117,7 +135,8 @@ TEST(BuildDrainage, TiledAndUntiledRunsPrintTheSameSummary) {
   auto lines = [](const std::string& out) {
     std::vector<std::pair<std::string, std::string>> kv;
     std::istringstream in(out);
-    for (std::string l; std::getline(in, l);) kv.emplace_back(l.substr(0, l.find(':')), l.substr(l.find(':') + 1));
+    for (std::string l; std::getline(in, l);)
+      kv.emplace_back(l.substr(0, l.find(':')), l.substr(l.find(':') + 1));
     return kv;
   };
   const auto a = lines(u.out), b = lines(t.out);
@@ -136,7 +155,8 @@ TEST(BuildDrainage, TiledRunsEqualTheUntiledRun) {
   terrain::test::ScratchDir dir;
   const std::string bd = tool("build-drainage") + " ";
   // MSH and MED (projected), the Eno crop (geographic: per-row metric cells in every window).
-  for (const char* name : {"msh_2007_utm10n_10m.tif", "med_01_01_10m.tif", "eno_nad83_geographic_crop.tif"}) {
+  for (const char* name :
+       {"msh_2007_utm10n_10m.tif", "med_01_01_10m.tif", "eno_nad83_geographic_crop.tif"}) {
     for (const std::string opts : {"", " --fill", " --keep-flats", " --keep-flats --fill"}) {
       const auto u = run(bd + "--raster " + data(name) + " " + dir.path("u.dv") + opts + " -q");
       ASSERT_EQ(u.exit_code, 0) << u.err;
@@ -144,26 +164,29 @@ TEST(BuildDrainage, TiledRunsEqualTheUntiledRun) {
       // Tiles of 128 (dividing the .dv's blocks) and 457 (dividing nothing); 100 (neither
       // either) is the MPI test's and the summary test's.
       for (const int side : {128, 457}) {
-        const auto t = run(bd + "--raster " + data(name) + " " + dir.path("t.dv") + opts + " --tile-size " +
-                           std::to_string(side) + " -q");
+        const auto t = run(bd + "--raster " + data(name) + " " + dir.path("t.dv") + opts +
+                           " --tile-size " + std::to_string(side) + " -q");
         ASSERT_EQ(t.exit_code, 0) << t.err;
-        expect_same_db(whole, read_dv(dir.path("t.dv")), std::string(name) + opts + " tiles " + std::to_string(side));
+        expect_same_db(whole, read_dv(dir.path("t.dv")),
+                       std::string(name) + opts + " tiles " + std::to_string(side));
         EXPECT_EQ(read_dv_header(dir.path("t.dv")).block_rows, std::uint32_t(side));
       }
     }
   }
   // From D8 codes: the d8.tif of an untiled run, accumulated in tiles.
   std::filesystem::create_directory(dir.path("r"));
-  const auto a = run(bd + "--raster " + data("logan_utm12n_100m.tif") + " " + dir.path("a.dv") + " --rasters " +
-                     dir.path("r") + " -q");
+  const auto a = run(bd + "--raster " + data("logan_utm12n_100m.tif") + " " + dir.path("a.dv") +
+                     " --rasters " + dir.path("r") + " -q");
   ASSERT_EQ(a.exit_code, 0) << a.err;
   const auto b = run(bd + "--d8-input " + dir.path("r/d8.tif") + " " + dir.path("b.dv") + " -q");
-  const auto c = run(bd + "--d8-input " + dir.path("r/d8.tif") + " " + dir.path("c.dv") + " --tile-size 77 -q");
+  const auto c = run(bd + "--d8-input " + dir.path("r/d8.tif") + " " + dir.path("c.dv") +
+                     " --tile-size 77 -q");
   ASSERT_EQ(b.exit_code, 0) << b.err;
   ASSERT_EQ(c.exit_code, 0) << c.err;
   expect_same_db(read_dv(dir.path("b.dv")), read_dv(dir.path("c.dv")), "d8 input");
   // Not in mesh mode; nothing left behind (temporary rasters included).
-  const auto f = run(bd + data("logan_utm12n_100m.tif") + " " + dir.path("f.dv") + " --tile-size 100 -q");
+  const auto f =
+      run(bd + data("logan_utm12n_100m.tif") + " " + dir.path("f.dv") + " --tile-size 100 -q");
   EXPECT_EQ(f.exit_code, 1);
   EXPECT_FALSE(std::filesystem::exists(dir.path("f.dv")));
   for (const auto& e : std::filesystem::directory_iterator(dir.path("")))
@@ -176,7 +199,10 @@ TEST(BuildDrainage, TiledRunsEqualTheUntiledRun) {
 TEST(BuildDrainage, TiledLogan10mEqualsTheUntiledRun) {
   terrain::test::ScratchDir dir;
   const std::string tif = dir.path("logan10.tif");
-  ASSERT_EQ(std::system(("gdalwarp -q -r cubic -tr 10 10 " + data("logan_utm12n_100m.tif") + " " + tif).c_str()), 0);
+  ASSERT_EQ(
+      std::system(
+          ("gdalwarp -q -r cubic -tr 10 10 " + data("logan_utm12n_100m.tif") + " " + tif).c_str()),
+      0);
   const std::string bd = tool("build-drainage") + " --raster " + tif + " --fill ";
   const auto u = run(bd + dir.path("u.dv") + " -q");
   ASSERT_EQ(u.exit_code, 0) << u.err;
@@ -198,8 +224,10 @@ terrain::Grid terrace_and_depression() {
   for (std::size_t r = 0; r < 80; ++r)
     for (std::size_t c = 0; c < 80; ++c) {
       float z = 10.0f + float(c);
-      if (r >= 8 && r < 24 && c >= 9 && c < 24) z = 19.0f;     // terrace over tiles (0,0) (0,1) (1,0) (1,1)
-      if (r >= 40 && r < 56 && c >= 56 && c < 72) z = 20.0f;   // depression over tiles (2,3) (2,4) (3,3) (3,4)
+      if (r >= 8 && r < 24 && c >= 9 && c < 24)
+        z = 19.0f;  // terrace over tiles (0,0) (0,1) (1,0) (1,1)
+      if (r >= 40 && r < 56 && c >= 56 && c < 72)
+        z = 20.0f;  // depression over tiles (2,3) (2,4) (3,3) (3,4)
       g.at(r, c) = z;
     }
   return g;
@@ -217,7 +245,8 @@ TEST(BuildDrainage, TiledFlatAndDepressionAcrossFourTiles) {
     const DrainageDb whole = read_dv(dir.path("u.dv"));
     // The terrace's 15 x 16 cells are one flat that drains west: no pit on it.
     for (std::size_t r = 8; r < 24; ++r)
-      for (std::size_t c = 9; c < 24; ++c) ASSERT_NE(whole.vertices[r * 80 + c].downstream, kNone) << r << " " << c;
+      for (std::size_t c = 9; c < 24; ++c)
+        ASSERT_NE(whole.vertices[r * 80 + c].downstream, kNone) << r << " " << c;
     // Filled, the depression drains too: every basin is one whose pit is on the west edge.
     if (!opts.empty()) {
       for (const DvVertex& v : whole.vertices) {
@@ -227,9 +256,11 @@ TEST(BuildDrainage, TiledFlatAndDepressionAcrossFourTiles) {
       }
     }
     for (const int side : {16, 13}) {
-      const auto t = run(bd + dir.path("t.dv") + opts + " --tile-size " + std::to_string(side) + " -q");
+      const auto t =
+          run(bd + dir.path("t.dv") + opts + " --tile-size " + std::to_string(side) + " -q");
       ASSERT_EQ(t.exit_code, 0) << t.err;
-      expect_same_db(whole, read_dv(dir.path("t.dv")), "terrace" + opts + " tiles " + std::to_string(side));
+      expect_same_db(whole, read_dv(dir.path("t.dv")),
+                     "terrace" + opts + " tiles " + std::to_string(side));
     }
   }
 }
@@ -243,13 +274,16 @@ struct Band {
 };
 Band band_of(const std::string& path) {
   terrain::ensure_gdal();
-  std::unique_ptr<GDALDataset> ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  std::unique_ptr<GDALDataset> ds(
+      GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
   EXPECT_TRUE(ds) << path;
   Band b;
   if (!ds) return b;
   const int w = ds->GetRasterXSize(), h = ds->GetRasterYSize();
   b.v.resize(std::size_t(w) * std::size_t(h));
-  EXPECT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, w, h, b.v.data(), w, h, GDT_Float64, 0, 0), CE_None);
+  EXPECT_EQ(
+      ds->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, w, h, b.v.data(), w, h, GDT_Float64, 0, 0),
+      CE_None);
   ds->GetGeoTransform(b.gt.data());
   b.nodata = ds->GetRasterBand(1)->GetNoDataValue();
   return b;
@@ -266,7 +300,8 @@ void expect_same_rasters(const std::string& a, const std::string& b, const std::
     std::size_t differ = 0;
     for (std::size_t i = 0; i < x.v.size(); ++i) differ += x.v[i] != y.v[i];
     EXPECT_EQ(differ, 0u);
-    for (int k = 0; k < 6; ++k) EXPECT_NEAR(x.gt[std::size_t(k)], y.gt[std::size_t(k)], 1e-9 * std::abs(x.gt[1])) << k;
+    for (int k = 0; k < 6; ++k)
+      EXPECT_NEAR(x.gt[std::size_t(k)], y.gt[std::size_t(k)], 1e-9 * std::abs(x.gt[1])) << k;
     EXPECT_EQ(x.nodata, y.nodata);
   }
 }
@@ -279,19 +314,23 @@ void expect_same_rasters(const std::string& a, const std::string& b, const std::
 // its 1,587,804 cells.
 TEST(BuildDrainage, EveryLayerOutOfAnyDvAndOfTiledRuns) {
   terrain::test::ScratchDir dir;
-  for (const char* d : {"u", "t100", "t77", "x2", "x1", "taudem"}) std::filesystem::create_directory(dir.path(d));
-  const std::string bd = tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " --fill ";
+  for (const char* d : {"u", "t100", "t77", "x2", "x1", "taudem"})
+    std::filesystem::create_directory(dir.path(d));
+  const std::string bd =
+      tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " --fill ";
   const auto u = run(bd + dir.path("u.dv") + " --rasters " + dir.path("u") + " -q");
   ASSERT_EQ(u.exit_code, 0) << u.err;
   const auto v1 = run(bd + dir.path("v1.dv") + " --dv-version 1 -q");
   ASSERT_EQ(v1.exit_code, 0) << v1.err;
   for (const std::string side : {"100", "77"}) {
-    const auto t = run(bd + dir.path("t.dv") + " --tile-size " + side + " --rasters " + dir.path("t" + side) + " -q");
+    const auto t = run(bd + dir.path("t.dv") + " --tile-size " + side + " --rasters " +
+                       dir.path("t" + side) + " -q");
     ASSERT_EQ(t.exit_code, 0) << t.err;
     expect_same_rasters(dir.path("u"), dir.path("t" + side), "tiles of " + side);
   }
   for (const std::string version : {"2", "1"}) {
-    const std::string dv = dir.path(version == "2" ? "u.dv" : "v1.dv"), out = dir.path("x" + version);
+    const std::string dv = dir.path(version == "2" ? "u.dv" : "v1.dv"),
+                      out = dir.path("x" + version);
     const auto e = run(tool("terrain-inspect") + " export " + dv + " --to tif -o " + out);
     ASSERT_EQ(e.exit_code, 0) << e.err;
     EXPECT_NE(e.out.find("points: 143922"), std::string::npos) << e.out;
@@ -299,12 +338,14 @@ TEST(BuildDrainage, EveryLayerOutOfAnyDvAndOfTiledRuns) {
   }
   // A file where the directory should be: one line, nothing written.
   std::ofstream(dir.path("file")) << "x";
-  const auto bad = run(tool("terrain-inspect") + " export " + dir.path("u.dv") + " --to tif -o " + dir.path("file"));
+  const auto bad = run(tool("terrain-inspect") + " export " + dir.path("u.dv") + " --to tif -o " +
+                       dir.path("file"));
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.err.find("is not a directory"), std::string::npos) << bad.err;
 
-  const auto a = run(tool("build-drainage") + " --d8-input " + data("logan_30m_taudem_d8dir.tif") + " " +
-                     dir.path("a.dv") + " --tile-size 300 --rasters " + dir.path("taudem") + " -q");
+  const auto a =
+      run(tool("build-drainage") + " --d8-input " + data("logan_30m_taudem_d8dir.tif") + " " +
+          dir.path("a.dv") + " --tile-size 300 --rasters " + dir.path("taudem") + " -q");
   ASSERT_EQ(a.exit_code, 0) << a.err;
   const Band acc = band_of(dir.path("taudem/accumulation.tif")),
              ref = band_of(data("logan_30m_taudem_aread8.tif"));
@@ -321,7 +362,8 @@ TEST(BuildDrainage, EveryLayerOutOfAnyDvAndOfTiledRuns) {
 
 std::unique_ptr<GDALDataset> open_vector(const std::string& path) {
   terrain::ensure_gdal();
-  std::unique_ptr<GDALDataset> ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  std::unique_ptr<GDALDataset> ds(
+      GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
   EXPECT_TRUE(ds) << path;
   return ds;
 }
@@ -332,8 +374,8 @@ std::unique_ptr<GDALDataset> open_vector(const std::string& path) {
 TEST(BuildDrainage, BasinsAndDividesAsGisLayers) {
   terrain::test::ScratchDir dir;
   std::filesystem::create_directory(dir.path("r"));
-  const auto b = run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + dir.path("l.dv") +
-                     " --fill --rasters " + dir.path("r") + " -q");
+  const auto b = run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " +
+                     dir.path("l.dv") + " --fill --rasters " + dir.path("r") + " -q");
   ASSERT_EQ(b.exit_code, 0) << b.err;
   const auto e = run(tool("terrain-inspect") + " export " + dir.path("l.dv") + " --to gpkg -q");
   ASSERT_EQ(e.exit_code, 0) << e.err;
@@ -353,7 +395,8 @@ TEST(BuildDrainage, BasinsAndDividesAsGisLayers) {
       const double u = basin.v[r * C + c];
       if (u == basin.nodata) continue;
       ++cells[std::uint32_t(u)];
-      for (const std::size_t j : {c + 1 < C ? r * C + c + 1 : SIZE_MAX, r + 1 < R ? (r + 1) * C + c : SIZE_MAX})
+      for (const std::size_t j :
+           {c + 1 < C ? r * C + c + 1 : SIZE_MAX, r + 1 < R ? (r + 1) * C + c : SIZE_MAX})
         if (j != SIZE_MAX && basin.v[j] != basin.nodata && basin.v[j] != u) ++edges;
     }
 
@@ -369,7 +412,9 @@ TEST(BuildDrainage, BasinsAndDividesAsGisLayers) {
     const std::int64_t id = f->GetFieldAsInteger64("id");
     const auto* poly = f->GetGeometryRef()->toMultiPolygon();
     area += poly->get_Area();
-    EXPECT_NEAR(poly->get_Area(), double(cells[std::uint32_t(id)]) * cell, 1e-12 * double(h.valid) * cell) << id;
+    EXPECT_NEAR(poly->get_Area(), double(cells[std::uint32_t(id)]) * cell,
+                1e-12 * double(h.valid) * cell)
+        << id;
     EXPECT_EQ(std::uint64_t(f->GetFieldAsInteger64("cells")), cells[std::uint32_t(id)]) << id;
     const double x = f->GetFieldAsDouble("outlet_x"), y = f->GetFieldAsDouble("outlet_y");
     OGRPoint outlet(x, y);
@@ -381,14 +426,16 @@ TEST(BuildDrainage, BasinsAndDividesAsGisLayers) {
     max_order[id] = f->GetFieldAsInteger("max_order");
     boundary[id].reset(poly->Boundary());
   }
-  EXPECT_NEAR(area, double(h.valid) * cell, 1e-9 * double(h.valid) * cell) << "polygon areas sum to the valid area";
+  EXPECT_NEAR(area, double(h.valid) * cell, 1e-9 * double(h.valid) * cell)
+      << "polygon areas sum to the valid area";
 
   OGRLayer* divides = ds->GetLayerByName("divides");
   ASSERT_TRUE(divides);
   double length = 0;
   std::size_t checked = 0;
   for (auto& f : *divides) {
-    const std::int64_t a = f->GetFieldAsInteger64("basin_a"), bb = f->GetFieldAsInteger64("basin_b");
+    const std::int64_t a = f->GetFieldAsInteger64("basin_a"),
+                       bb = f->GetFieldAsInteger64("basin_b");
     const auto* lines = f->GetGeometryRef()->toMultiLineString();
     EXPECT_LT(a, bb);
     EXPECT_NEAR(lines->get_Length(), f->GetFieldAsDouble("length_m"), 1e-6);
@@ -400,7 +447,8 @@ TEST(BuildDrainage, BasinsAndDividesAsGisLayers) {
     }
   }
   EXPECT_GT(checked, 100u);
-  EXPECT_NEAR(length, edges * h.dx, 1e-6 * length) << "divides run along every edge between two basins";
+  EXPECT_NEAR(length, edges * h.dx, 1e-6 * length)
+      << "divides run along every edge between two basins";
 }
 
 // Watersheds at outlets on TauDEM's D8 of Logan 30 m: each watershed's cells are TauDEM's
@@ -408,7 +456,8 @@ TEST(BuildDrainage, BasinsAndDividesAsGisLayers) {
 // tiled run; snapping picks the highest aread8 within the distance.
 TEST(BuildDrainage, WatershedsAtOutletsAreTauDemsUpstreamAreas) {
   terrain::test::ScratchDir dir;
-  const Band d8 = band_of(data("logan_30m_taudem_d8dir.tif")), acc = band_of(data("logan_30m_taudem_aread8.tif"));
+  const Band d8 = band_of(data("logan_30m_taudem_d8dir.tif")),
+             acc = band_of(data("logan_30m_taudem_aread8.tif"));
   const std::size_t C = 985, R = 1660;
   ASSERT_EQ(acc.v.size(), R * C);
   auto valid = [&](std::size_t i) { return acc.v[i] != acc.nodata && !std::isnan(acc.v[i]); };
@@ -417,9 +466,11 @@ TEST(BuildDrainage, WatershedsAtOutletsAreTauDemsUpstreamAreas) {
   // Outlets: the largest aread8, three interior cells of 300-3000 cells and, 60 steps down
   // TauDEM's D8 from each, a cell they nest in.
   std::vector<std::size_t> outlet;
-  outlet.push_back(std::size_t(std::max_element(acc.v.begin(), acc.v.end(),
-                                                [&](double p, double q) { return p < q; }) - acc.v.begin()));
-  const int dr[9] = {0, 0, -1, -1, -1, 0, 1, 1, 1}, dc[9] = {0, 1, 1, 0, -1, -1, -1, 0, 1};  // TauDEM 1..8
+  outlet.push_back(std::size_t(
+      std::max_element(acc.v.begin(), acc.v.end(), [&](double p, double q) { return p < q; }) -
+      acc.v.begin()));
+  const int dr[9] = {0, 0, -1, -1, -1, 0, 1, 1, 1},
+            dc[9] = {0, 1, 1, 0, -1, -1, -1, 0, 1};  // TauDEM 1..8
   for (const std::size_t row : {R / 4, R / 2, 3 * R / 4}) {
     std::size_t i = row * C + C / 3;  // away from the edges, where aread8 is left undefined
     while (i < (row + 1) * C && !(valid(i) && acc.v[i] >= 300 && acc.v[i] <= 3000)) ++i;
@@ -429,7 +480,9 @@ TEST(BuildDrainage, WatershedsAtOutletsAreTauDemsUpstreamAreas) {
       const int code = int(d8.v[i]);
       if (code < 1 || code > 8) break;
       const long r = long(i / C) + dr[code], c = long(i % C) + dc[code];
-      if (r < 0 || c < 0 || r >= long(R) || c >= long(C) || !valid(std::size_t(r) * C + std::size_t(c))) break;
+      if (r < 0 || c < 0 || r >= long(R) || c >= long(C) ||
+          !valid(std::size_t(r) * C + std::size_t(c)))
+        break;
       i = std::size_t(r) * C + std::size_t(c);
     }
     if (std::find(outlet.begin(), outlet.end(), i) == outlet.end()) outlet.push_back(i);
@@ -437,9 +490,11 @@ TEST(BuildDrainage, WatershedsAtOutletsAreTauDemsUpstreamAreas) {
   {
     std::ofstream csv(dir.path("outlets.csv"));
     csv << "name,x,y\n" << std::setprecision(17);
-    for (std::size_t k = 0; k < outlet.size(); ++k) csv << "o" << k << "," << x_of(outlet[k]) << "," << y_of(outlet[k]) << "\n";
+    for (std::size_t k = 0; k < outlet.size(); ++k)
+      csv << "o" << k << "," << x_of(outlet[k]) << "," << y_of(outlet[k]) << "\n";
   }
-  const std::string bd = tool("build-drainage") + " --d8-input " + data("logan_30m_taudem_d8dir.tif") + " ";
+  const std::string bd =
+      tool("build-drainage") + " --d8-input " + data("logan_30m_taudem_d8dir.tif") + " ";
   const auto u = run(bd + dir.path("u.dv") + " --outlets " + dir.path("outlets.csv") + " -q");
   ASSERT_EQ(u.exit_code, 0) << u.err;
   EXPECT_NE(u.out.find("watersheds: " + dir.path("u_watersheds.gpkg")), std::string::npos) << u.out;
@@ -457,7 +512,9 @@ TEST(BuildDrainage, WatershedsAtOutletsAreTauDemsUpstreamAreas) {
   std::vector<std::uint64_t> cells(outlet.size());
   for (auto& f : *points) {
     const std::size_t k = std::size_t(f->GetFieldAsInteger64("id"));
-    downstream.at(k) = f->IsFieldSetAndNotNull(f->GetFieldIndex("downstream")) ? f->GetFieldAsInteger64("downstream") : -1;
+    downstream.at(k) = f->IsFieldSetAndNotNull(f->GetFieldIndex("downstream"))
+                           ? f->GetFieldAsInteger64("downstream")
+                           : -1;
     cells[k] = std::uint64_t(f->GetFieldAsInteger64("cells"));
     EXPECT_EQ(f->GetFieldAsDouble("moved_m"), 0.0) << k;
     EXPECT_EQ(double(f->GetFieldAsInteger64("accumulated")), acc.v[outlet[k]]) << k;
@@ -475,10 +532,12 @@ TEST(BuildDrainage, WatershedsAtOutletsAreTauDemsUpstreamAreas) {
   ASSERT_TRUE(polygons);
   for (auto& f : *polygons)
     EXPECT_NEAR(f->GetGeometryRef()->toMultiPolygon()->get_Area(),
-                double(cells.at(std::size_t(f->GetFieldAsInteger64("id")))) * 900.0, 1e-3);  // of 10^5..10^9 m^2
+                double(cells.at(std::size_t(f->GetFieldAsInteger64("id")))) * 900.0,
+                1e-3);  // of 10^5..10^9 m^2
 
   // Tiled: the same raster.
-  const auto t = run(bd + dir.path("t.dv") + " --tile-size 300 --outlets " + dir.path("outlets.csv") + " -q");
+  const auto t =
+      run(bd + dir.path("t.dv") + " --tile-size 300 --outlets " + dir.path("outlets.csv") + " -q");
   ASSERT_EQ(t.exit_code, 0) << t.err;
   EXPECT_TRUE(band_of(dir.path("t_watersheds.tif")).v == shed.v);
 
@@ -492,16 +551,19 @@ TEST(BuildDrainage, WatershedsAtOutletsAreTauDemsUpstreamAreas) {
     const double d = std::hypot(x_of(i) - px, y_of(i) - py);
     if (d > 100) continue;
     ASSERT_TRUE(valid(i)) << "aread8 has no value within reach of the snapped point";
-    if (best == SIZE_MAX || acc.v[i] > acc.v[best] || (acc.v[i] == acc.v[best] && d < best_d)) best = i, best_d = d;
+    if (best == SIZE_MAX || acc.v[i] > acc.v[best] || (acc.v[i] == acc.v[best] && d < best_d))
+      best = i, best_d = d;
   }
   EXPECT_NE(best, near);
   {
     std::ofstream csv(dir.path("one.csv"));
     csv << "x,y\n" << std::setprecision(17) << px << "," << py << "\n";
   }
-  const auto s = run(bd + dir.path("s.dv") + " --outlets " + dir.path("one.csv") + " --snap-distance 100 -q");
+  const auto s =
+      run(bd + dir.path("s.dv") + " --outlets " + dir.path("one.csv") + " --snap-distance 100 -q");
   ASSERT_EQ(s.exit_code, 0) << s.err;
-  EXPECT_NE(s.out.find(fmt::format("outlet_0: row {}, column {}, moved {:.2f} m", best / C, best % C, best_d)),
+  EXPECT_NE(s.out.find(fmt::format("outlet_0: row {}, column {}, moved {:.2f} m", best / C,
+                                   best % C, best_d)),
             std::string::npos)
       << s.out << "expected row " << best / C << ", column " << best % C << ", " << best_d << " m";
 
@@ -510,7 +572,8 @@ TEST(BuildDrainage, WatershedsAtOutletsAreTauDemsUpstreamAreas) {
     std::ofstream csv(dir.path("off.csv"));
     csv << "x,y\n1000,1000\n";
   }
-  const auto off = run(bd + dir.path("off.dv") + " --outlets " + dir.path("off.csv") + " --snap-distance 50 -q");
+  const auto off =
+      run(bd + dir.path("off.dv") + " --outlets " + dir.path("off.csv") + " --snap-distance 50 -q");
   EXPECT_EQ(off.exit_code, 1);
   EXPECT_NE(off.err.find("lies outside the grid"), std::string::npos) << off.err;
   EXPECT_FALSE(std::filesystem::exists(dir.path("off.dv")));
@@ -521,9 +584,9 @@ TEST(BuildDrainage, WatershedsAtOutletsAreTauDemsUpstreamAreas) {
 using terrain::test::mpirun;
 
 // Skips the test where this machine cannot start 3 ranks at all (a launcher problem, not ours).
-#define SKIP_WITHOUT_MPI_LAUNCH()                                                         \
-  do {                                                                                    \
-    const auto probe = run(mpirun(3) + "true");                                          \
+#define SKIP_WITHOUT_MPI_LAUNCH()                                                                \
+  do {                                                                                           \
+    const auto probe = run(mpirun(3) + "true");                                                  \
     if (probe.exit_code != 0) GTEST_SKIP() << "mpirun cannot start 3 ranks here: " << probe.err; \
   } while (0)
 
@@ -540,7 +603,8 @@ TEST(BuildDrainage, MpiRanksEqualTheSingleProcessRun) {
     SCOPED_TRACE(input + opts + " tiles " + std::to_string(side));
     const auto u = run(bd + input + " " + dir.path("u.dv") + opts + " -q");
     ASSERT_EQ(u.exit_code, 0) << u.err;
-    const std::string tiled = input + " " + dir.path("t.dv") + opts + " --tile-size " + std::to_string(side) + " -q";
+    const std::string tiled =
+        input + " " + dir.path("t.dv") + opts + " --tile-size " + std::to_string(side) + " -q";
     const auto s = run(bd + tiled);
     ASSERT_EQ(s.exit_code, 0) << s.err;
     const std::string single = file_bytes(dir.path("t.dv"));
@@ -549,28 +613,33 @@ TEST(BuildDrainage, MpiRanksEqualTheSingleProcessRun) {
       const auto m = run(mpirun(ranks) + bd + tiled);
       ASSERT_EQ(m.exit_code, 0) << m.err;
       EXPECT_EQ(m.out, s.out) << ranks << " ranks";
-      expect_same_db(read_dv(dir.path("u.dv")), read_dv(dir.path("t.dv")), std::to_string(ranks) + " ranks");
-      EXPECT_TRUE(file_bytes(dir.path("t.dv")) == single) << ranks << " ranks: not the single-process file";
+      expect_same_db(read_dv(dir.path("u.dv")), read_dv(dir.path("t.dv")),
+                     std::to_string(ranks) + " ranks");
+      EXPECT_TRUE(file_bytes(dir.path("t.dv")) == single)
+          << ranks << " ranks: not the single-process file";
     }
   };
   // Each DEM with and without --fill, tiles of 64 and 100 in turn (each side meets each
   // option on some DEM; every pair on every DEM cost 30 s more of mpirun starts).
   int turn = 0;
-  for (const char* name : {"msh_2007_utm10n_10m.tif", "med_01_01_10m.tif", "eno_nad83_geographic_crop.tif"})
-    for (const std::string opts : {"", " --fill"}) check("--raster " + data(name), opts, turn++ % 3 == 1 ? 100 : 64);
+  for (const char* name :
+       {"msh_2007_utm10n_10m.tif", "med_01_01_10m.tif", "eno_nad83_geographic_crop.tif"})
+    for (const std::string opts : {"", " --fill"})
+      check("--raster " + data(name), opts, turn++ % 3 == 1 ? 100 : 64);
   check("--raster " + dir.path("terrace.tif"), " --fill", 16);
   check("--raster " + dir.path("terrace.tif"), "", 13);
   // From D8 codes.
   std::filesystem::create_directory(dir.path("r"));
-  const auto a = run(bd + "--raster " + data("logan_utm12n_100m.tif") + " " + dir.path("a.dv") + " --rasters " +
-                     dir.path("r") + " -q");
+  const auto a = run(bd + "--raster " + data("logan_utm12n_100m.tif") + " " + dir.path("a.dv") +
+                     " --rasters " + dir.path("r") + " -q");
   ASSERT_EQ(a.exit_code, 0) << a.err;
   check("--d8-input " + dir.path("r/d8.tif"), "", 77);
   // Nothing left behind: no scratch array, no rank's block file.
   for (const auto& e : std::filesystem::directory_iterator(dir.path("")))
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
   // Mesh mode does not run on several ranks: a clear error, every rank ended.
-  const auto mesh = run(mpirun(3) + bd + data("logan_utm12n_100m.tif") + " " + dir.path("f.dv") + " -q");
+  const auto mesh =
+      run(mpirun(3) + bd + data("logan_utm12n_100m.tif") + " " + dir.path("f.dv") + " -q");
   EXPECT_NE(mesh.exit_code, 0);
   EXPECT_NE(mesh.err.find("mesh mode runs on one process"), std::string::npos) << mesh.err;
   EXPECT_FALSE(std::filesystem::exists(dir.path("f.dv")));
@@ -581,11 +650,15 @@ TEST(BuildDrainage, MpiLogan10mEqualsTheUntiledRun) {
   SKIP_WITHOUT_MPI_LAUNCH();
   terrain::test::ScratchDir dir;
   const std::string tif = dir.path("logan10.tif");
-  ASSERT_EQ(std::system(("gdalwarp -q -r cubic -tr 10 10 " + data("logan_utm12n_100m.tif") + " " + tif).c_str()), 0);
+  ASSERT_EQ(
+      std::system(
+          ("gdalwarp -q -r cubic -tr 10 10 " + data("logan_utm12n_100m.tif") + " " + tif).c_str()),
+      0);
   const std::string args = "--raster " + tif + " --fill ";
   const auto u = run(tool("build-drainage") + " " + args + dir.path("u.dv") + " -q");
   ASSERT_EQ(u.exit_code, 0) << u.err;
-  const auto m = run(mpirun(3) + tool("build-drainage") + " " + args + dir.path("t.dv") + " --tile-size 1000 -q");
+  const auto m = run(mpirun(3) + tool("build-drainage") + " " + args + dir.path("t.dv") +
+                     " --tile-size 1000 -q");
   ASSERT_EQ(m.exit_code, 0) << m.err;
   expect_same_db(read_dv(dir.path("u.dv")), read_dv(dir.path("t.dv")), "logan 10 m, 3 ranks");
 }
@@ -596,15 +669,16 @@ TEST(BuildDrainage, MpiLogan10mEqualsTheUntiledRun) {
 TEST(BuildDrainage, BreachIsReportedAndRecorded) {
   terrain::test::ScratchDir dir;
   const std::string dem = data("logan_utm12n_100m.tif");
-  const auto r = run(tool("build-drainage") + " --raster " + dem + " " + dir.path("b.dv") + " --breach 5 -q --rasters " +
-                     dir.path(""));
+  const auto r = run(tool("build-drainage") + " --raster " + dem + " " + dir.path("b.dv") +
+                     " --breach 5 -q --rasters " + dir.path(""));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("carved: "), std::string::npos) << r.out;
   const auto info = run(tool("terrain-inspect") + " info " + dir.path("b.dv"));
   ASSERT_EQ(info.exit_code, 0) << info.err;
   EXPECT_NE(info.out.find("breached: yes"), std::string::npos) << info.out;
   EXPECT_NE(info.out.find("filled: no"), std::string::npos) << info.out;
-  const terrain::Grid original = terrain::read_dem(dem), surface = terrain::read_dem(dir.path("surface.tif"));
+  const terrain::Grid original = terrain::read_dem(dem),
+                      surface = terrain::read_dem(dir.path("surface.tif"));
   std::size_t lowered = 0;
   for (std::size_t i = 0; i < original.size(); ++i)
     if (original.valid(i)) lowered += surface.z[i] < original.z[i];
@@ -618,7 +692,8 @@ TEST(BuildDrainage, BreachIsReportedAndRecorded) {
 // mode's default stays unconditioned (the TauDEM references test it point by point).
 TEST(BuildDrainage, MeshModeBreachesByDefaultAndKeepPitsKeepsThePapersRule) {
   terrain::test::ScratchDir dir;
-  const auto m = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + dir.path("m.ply") + " --spacing 50 -q");
+  const auto m = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " +
+                     dir.path("m.ply") + " --spacing 50 -q");
   ASSERT_EQ(m.exit_code, 0) << m.err;
   const std::string bd = tool("build-drainage") + " " + dir.path("m.ply") + " ";
   const auto d = run(bd + dir.path("default.dv") + " -q");
@@ -643,9 +718,11 @@ TEST(BuildDrainage, BadInputFailsCleanly) {
   terrain::write_geotiff(bad, dir.path("bad_d8.tif"));
   bad.at(10, 10) = 1.0f;
   terrain::write_geotiff(bad, dir.path("good_d8.tif"));
-  const auto ok = run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + dir.path("ok.dv") + " -q");
+  const auto ok = run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " +
+                      dir.path("ok.dv") + " -q");
   ASSERT_EQ(ok.exit_code, 0);
-  std::filesystem::resize_file(dir.path("ok.dv"), std::filesystem::file_size(dir.path("ok.dv")) - 1);
+  std::filesystem::resize_file(dir.path("ok.dv"),
+                               std::filesystem::file_size(dir.path("ok.dv")) - 1);
   const std::size_t entries = dir.n_entries();
   struct Case {
     std::string command, message;
@@ -653,17 +730,21 @@ TEST(BuildDrainage, BadInputFailsCleanly) {
   };
   const std::string out = dir.path("out.dv");
   const Case cases[] = {
-      {tool("build-drainage") + " " + data("logan_utm12n_100m.tif") + " " + out, "not a PLY file", 1},
-      {tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " --d8-input " + dir.path("bad_d8.tif") +
-           " " + out,
+      {tool("build-drainage") + " " + data("logan_utm12n_100m.tif") + " " + out, "not a PLY file",
+       1},
+      {tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " --d8-input " +
+           dir.path("bad_d8.tif") + " " + out,
        "row 10, column 10: D8 code 9 is not a valid TauDEM code", 1},
-      {tool("build-drainage") + " --raster " + data("msh_2007_utm10n_10m.tif") + " --d8-input " + dir.path("good_d8.tif") +
-           " " + out,
+      {tool("build-drainage") + " --raster " + data("msh_2007_utm10n_10m.tif") + " --d8-input " +
+           dir.path("good_d8.tif") + " " + out,
        "mismatched grids", 1},
-      {tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + out + " --spacing 5",
+      {tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + out +
+           " --spacing 5",
        "--spacing applies to mesh mode only", 1},
       {tool("build-drainage") + " --raster " + data("missing.tif") + " " + out, "no such file", 1},
-      {tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + out + " --spacing 0", "--spacing", 2},
+      {tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + out +
+           " --spacing 0",
+       "--spacing", 2},
       {tool("terrain-inspect") + " info " + dir.path("ok.dv"), "truncated", 1},
   };
   for (const Case& c : cases) {

@@ -25,14 +25,16 @@ using test::data;
 using test::run;
 using test::tool;
 
-std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
+std::size_t lines(const std::string& s) {
+  return std::size_t(std::count(s.begin(), s.end(), '\n'));
+}
 
 TEST(Dem2mesh, MeshesMountStHelensAt50m) {
   test::ScratchDir dir;
-  const auto r = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + dir.path("m.ply") +
-                     " --spacing 50 --grid-out " + dir.path("g.tif") + " -q");
+  const auto r = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " +
+                     dir.path("m.ply") + " --spacing 50 --grid-out " + dir.path("g.tif") + " -q");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(r.err, "");  // -q: nothing on stderr
+  EXPECT_EQ(r.err, "");                                                   // -q: nothing on stderr
   EXPECT_NE(r.out.find("vertices: 5368\n"), std::string::npos) << r.out;  // 61 x 88
   EXPECT_NE(r.out.find("(EPSG:26910)"), std::string::npos) << r.out;
   const GridMesh m = read_mesh_ply(dir.path("m.ply"));
@@ -41,7 +43,8 @@ TEST(Dem2mesh, MeshesMountStHelensAt50m) {
   EXPECT_NE(m.provenance.find("--spacing 50"), std::string::npos);
 
   // export --to tif gives back exactly the resampled grid.
-  const auto e = run(tool("terrain-inspect") + " export " + dir.path("m.ply") + " --to tif -o " + dir.path("back.tif"));
+  const auto e = run(tool("terrain-inspect") + " export " + dir.path("m.ply") + " --to tif -o " +
+                     dir.path("back.tif"));
   ASSERT_EQ(e.exit_code, 0) << e.err;
   const Grid g = read_dem(dir.path("g.tif")), back = read_dem(dir.path("back.tif"));
   EXPECT_EQ(back.z, g.z);
@@ -54,7 +57,8 @@ TEST(Dem2mesh, MeshesMountStHelensAt50m) {
   EXPECT_NE(i.out.find("type: terrain mesh (PLY)"), std::string::npos);
   EXPECT_NE(i.out.find("grid: 61 x 88"), std::string::npos) << i.out;
 
-  for (const std::string& in : {dir.path("m.ply"), data("msh_2007_utm10n_10m.tif"), data("sinmap_crop_10m.asc")}) {
+  for (const std::string& in :
+       {dir.path("m.ply"), data("msh_2007_utm10n_10m.tif"), data("sinmap_crop_10m.asc")}) {
     const auto p = run(tool("terrain-inspect") + " preview " + in + " -o " + dir.path("p.png"));
     ASSERT_EQ(p.exit_code, 0) << p.err;
     ensure_gdal();  // GDAL reads PNG: check the size (read_dem refuses pictures as DEMs)
@@ -71,8 +75,9 @@ TEST(Dem2mesh, MeshesMountStHelensAt50m) {
 // and shown by terrain-inspect info; the mesh's PN surface is closer to the DEM.
 TEST(Dem2mesh, FitNormalsIsReportedAndRecorded) {
   test::ScratchDir dir;
-  const auto r = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + dir.path("m.ply") +
-                     " --spacing 50 --center 562700 5117000 --size 1000 1000 --fit-normals -q");
+  const auto r =
+      run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + dir.path("m.ply") +
+          " --spacing 50 --center 562700 5117000 --size 1000 1000 --fit-normals -q");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("normals: fitted\n"), std::string::npos) << r.out;
   const GridMesh m = read_mesh_ply(dir.path("m.ply"));
@@ -157,7 +162,8 @@ TEST(Dem2mesh, CropReadsOnlyItsWindow) {
 TEST(Dem2mesh, PointsOnALatticeAreReadAsPointsWhenAsked) {
   terrain::test::ScratchDir dir;
   const std::string xyz = dir.path("grid.xyz"), lattice = dir.path("lattice.xyz");
-  ASSERT_EQ(std::system(("gdal_translate -q -of XYZ -srcwin 0 0 60 60 " + data("msh_2007_utm10n_10m.tif") + " " + xyz)
+  ASSERT_EQ(std::system(("gdal_translate -q -of XYZ -srcwin 0 0 60 60 " +
+                         data("msh_2007_utm10n_10m.tif") + " " + xyz)
                             .c_str()),
             0);
   ASSERT_EQ(std::system(("awk 'NR % 5 != 0' " + xyz + " > " + lattice).c_str()), 0);  // holes
@@ -185,7 +191,10 @@ TEST(Dem2mesh, PointsOnALatticeAreReadAsPointsWhenAsked) {
 TEST(Dem2mesh, RastersWithoutACrsGiveMeshesEveryToolTakes) {
   terrain::test::ScratchDir dir;
   const std::string asc = dir.path("srtm.asc");
-  ASSERT_EQ(std::system(("gdal_translate -q -of AAIGrid " + data("eno_nad83_geographic_crop.tif") + " " + asc).c_str()), 0);
+  ASSERT_EQ(std::system(("gdal_translate -q -of AAIGrid " + data("eno_nad83_geographic_crop.tif") +
+                         " " + asc)
+                            .c_str()),
+            0);
   std::filesystem::remove(dir.path("srtm.prj"));
   const auto refused = run(tool("dem2mesh") + " " + asc + " " + dir.path("refused.ply") + " -q");
   EXPECT_EQ(refused.exit_code, 1);
@@ -200,10 +209,12 @@ TEST(Dem2mesh, RastersWithoutACrsGiveMeshesEveryToolTakes) {
     ASSERT_EQ(made.exit_code, 0) << made.err;
     for (const std::string& cmd :
          {tool("build-drainage") + " " + m + " " + dv + " --spacing 30 -q",
-          tool("terrain-render") + " frame " + m + " " + dv + " -o " + dir.path(name + ".png") + " --size 160x90 -q",
+          tool("terrain-render") + " frame " + m + " " + dv + " -o " + dir.path(name + ".png") +
+              " --size 160x90 -q",
           tool("terrain-inspect") + " info " + m, tool("terrain-inspect") + " info " + dv,
           tool("terrain-inspect") + " preview " + dv + " -o " + dir.path(name + "_dv.png"),
-          tool("denoise-normals") + " " + m + " " + dir.path(name + "_denoised.ply") + " --iterations 1 -q"}) {
+          tool("denoise-normals") + " " + m + " " + dir.path(name + "_denoised.ply") +
+              " --iterations 1 -q"}) {
       const auto r = run(cmd);
       EXPECT_EQ(r.exit_code, 0) << cmd << "\n" << r.err;
     }
@@ -229,8 +240,10 @@ TEST(Dem2mesh, FilledSamplesCarryNoDrainage) {
     }
   write_geotiff(dem, dir.path("dem.tif"));
   const std::string m = dir.path("m.ply"), dv = dir.path("m.dv");
-  ASSERT_EQ(run(tool("dem2mesh") + " " + dir.path("dem.tif") + " " + m + " -q").exit_code, 1);  // no-data: refused
-  const auto made = run(tool("dem2mesh") + " " + dir.path("dem.tif") + " " + m + " --fill-nodata -q");
+  ASSERT_EQ(run(tool("dem2mesh") + " " + dir.path("dem.tif") + " " + m + " -q").exit_code,
+            1);  // no-data: refused
+  const auto made =
+      run(tool("dem2mesh") + " " + dir.path("dem.tif") + " " + m + " --fill-nodata -q");
   ASSERT_EQ(made.exit_code, 0) << made.err;
   const GridMesh mesh = read_mesh_ply(m);
   ASSERT_EQ(mesh.topo.rows, 80u);
@@ -238,8 +251,11 @@ TEST(Dem2mesh, FilledSamplesCarryNoDrainage) {
   for (std::size_t r = 0; r < 80; ++r)
     for (std::size_t c = 0; c < 80; ++c)
       ASSERT_EQ(mesh.filled[r * 80 + c], r >= 30 && r < 50 && c >= 30 && c < 50) << r << " " << c;
-  EXPECT_NE(run(tool("terrain-inspect") + " info " + m).out.find("filled_vertices: 400\n"), std::string::npos);
-  ASSERT_EQ(run(tool("denoise-normals") + " " + m + " " + dir.path("d.ply") + " --iterations 1 -q").exit_code, 0);
+  EXPECT_NE(run(tool("terrain-inspect") + " info " + m).out.find("filled_vertices: 400\n"),
+            std::string::npos);
+  ASSERT_EQ(run(tool("denoise-normals") + " " + m + " " + dir.path("d.ply") + " --iterations 1 -q")
+                .exit_code,
+            0);
   EXPECT_TRUE(read_mesh_ply(dir.path("d.ply")).filled == mesh.filled);
   ASSERT_EQ(run(tool("build-drainage") + " " + m + " " + dv + " -q").exit_code, 0);
   const auto links = drainage::drainage_links(drainage::read_dv(dv));
@@ -247,21 +263,27 @@ TEST(Dem2mesh, FilledSamplesCarryNoDrainage) {
   ASSERT_EQ(links.cols, 80u);
   for (std::size_t r = 0; r < 80; ++r)
     for (std::size_t c = 0; c < 80; ++c)
-      EXPECT_EQ(bool(links.valid[r * 80 + c]), !(r >= 29 && r <= 50 && c >= 29 && c <= 50)) << r << " " << c;
+      EXPECT_EQ(bool(links.valid[r * 80 + c]), !(r >= 29 && r <= 50 && c >= 29 && c <= 50))
+          << r << " " << c;
   // Nor hachures (issue 51): from straight above, the slopes exaggerated 5 times (steeper
   // than the hachures' 0.05 rad), none inside the hole (its inner part, in the terrain's box
   // on the image), and some around it.
-  const std::string frame = tool("terrain-render") + " frame " + m + " --view top --size 400x400 --exaggeration 5 -q -o ";
+  const std::string frame =
+      tool("terrain-render") + " frame " + m + " --view top --size 400x400 --exaggeration 5 -q -o ";
   ASSERT_EQ(run(frame + dir.path("mask.png") + " --layers mask").exit_code, 0);
-  ASSERT_EQ(run(frame + dir.path("h.png") + " --layers mask,hachures --hachure-spacing 4").exit_code, 0);
-  const auto white = terrain::test::ink_of(dir.path("mask.png")), ink = terrain::test::ink_of(dir.path("h.png"));
-  int x0 = 400, x1 = 0, y0 = 400, y1 = 0;  // the terrain's box: the mask's pixels (not background, no ink)
+  ASSERT_EQ(
+      run(frame + dir.path("h.png") + " --layers mask,hachures --hachure-spacing 4").exit_code, 0);
+  const auto white = terrain::test::ink_of(dir.path("mask.png")),
+             ink = terrain::test::ink_of(dir.path("h.png"));
+  int x0 = 400, x1 = 0, y0 = 400,
+      y1 = 0;  // the terrain's box: the mask's pixels (not background, no ink)
   OIIO::ImageBuf mask(dir.path("mask.png"));
   for (int y = 0; y < 400; ++y)
     for (int x = 0; x < 400; ++x) {
       float px[3];
       mask.getpixel(x, y, px, 3);
-      if (px[0] > 0.99f && px[1] > 0.99f && px[2] > 0.99f) x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+      if (px[0] > 0.99f && px[1] > 0.99f && px[2] > 0.99f)
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
     }
   ASSERT_GT(x1 - x0, 200);
   ASSERT_EQ(terrain::test::count(white), 0u);
@@ -280,14 +302,15 @@ TEST(Dem2mesh, FilledSamplesCarryNoDrainage) {
 // levels of 64-cell blocks), and its level 0 read whole is the PLY's vertices, bit for bit.
 TEST(Dem2mesh, PyramidBesideTheMesh) {
   test::ScratchDir dir;
-  const auto r = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + dir.path("m.ply") +
-                     " --spacing 20 --pyramid");
+  const auto r = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " +
+                     dir.path("m.ply") + " --spacing 20 --pyramid");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("pyramid: " + dir.path("m.tpyr")), std::string::npos) << r.out;
   const auto info = run(tool("terrain-inspect") + " info " + dir.path("m.tpyr"));
   ASSERT_EQ(info.exit_code, 0) << info.err;
   EXPECT_NE(info.out.find("type: mesh pyramid"), std::string::npos) << info.out;
-  EXPECT_NE(info.out.find("levels: 7"), std::string::npos) << info.out;  // 64-cell blocks: steps 1 .. 64
+  EXPECT_NE(info.out.find("levels: 7"), std::string::npos)
+      << info.out;  // 64-cell blocks: steps 1 .. 64
   EXPECT_NE(info.out.find("slopes: each block's at each level"), std::string::npos) << info.out;
   const GridMesh m = read_mesh_ply(dir.path("m.ply"));
   MeshPyramid p(dir.path("m.tpyr"));
@@ -302,11 +325,12 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
   EXPECT_EQ(differ, 0u);
   // terrain-render reads the mesh from the pyramid beside it, and draws the same frame as
   // from the PLY alone (the PNG's bytes, its description naming the same command).
-  const std::string frame =
-      tool("terrain-render") + " frame " + dir.path("m.ply") + " -o " + dir.path("f.png") + " --size 480x270 -v";
+  const std::string frame = tool("terrain-render") + " frame " + dir.path("m.ply") + " -o " +
+                            dir.path("f.png") + " --size 480x270 -v";
   const auto via = run(frame);
   ASSERT_EQ(via.exit_code, 0) << via.err;
-  EXPECT_NE(via.err.find("from '" + dir.path("m.tpyr") + "' (its pyramid)"), std::string::npos) << via.err;
+  EXPECT_NE(via.err.find("from '" + dir.path("m.tpyr") + "' (its pyramid)"), std::string::npos)
+      << via.err;
   const std::string png = test::file_bytes(dir.path("f.png"));
   // Under a memory bound the mesh does not fit (--memory 0.25: 256 KiB; the mesh's 151 x 221
   // vertices take 0.8 MB), terrain-render reads a preview level (level 2, within a quarter
@@ -319,13 +343,16 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
   auto same_pixels = [](const std::string& a, const std::string& b) {
     return run("oiiotool --fail 0 --failpercent 0 --diff " + a + " " + b).exit_code == 0;
   };
-  const std::string map = tool("terrain-render") + " frame " + dir.path("m.ply") + " --size 480x270 --view top " +
+  const std::string map = tool("terrain-render") + " frame " + dir.path("m.ply") +
+                          " --size 480x270 --view top " +
                           "--map-scale 30 --layers mask,silhouettes -v -o ";
   ASSERT_EQ(run(map + dir.path("whole.png") + " --lod-error 2").exit_code, 0);
   const auto bounded = run(map + dir.path("bounded.png") + " --lod-error 2 --memory 0.25");
   ASSERT_EQ(bounded.exit_code, 0) << bounded.err;
-  EXPECT_NE(bounded.err.find("(its pyramid, level 2)"), std::string::npos) << bounded.err;  // the preview
-  EXPECT_NE(bounded.err.find("mesh read at level 2 of its pyramid after the preview at level 2: the view draws level 2"),
+  EXPECT_NE(bounded.err.find("(its pyramid, level 2)"), std::string::npos)
+      << bounded.err;  // the preview
+  EXPECT_NE(bounded.err.find("mesh read at level 2 of its pyramid after the preview at level 2: "
+                             "the view draws level 2"),
             std::string::npos)
       << bounded.err;
   EXPECT_TRUE(same_pixels(dir.path("whole.png"), dir.path("bounded.png")));
@@ -333,28 +360,33 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
   // draw the same surface and silhouettes as from the whole mesh (before the coarse patches
   // were found by the mesh's own spacing, not the held level's, 117 pixels of the first
   // frame differed).
-  const auto path = run(tool("terrain-render") + " path --from 558000 5110000 9000 --to 562000 5111000 9000 --frames 2 " +
+  const auto path = run(tool("terrain-render") +
+                        " path --from 558000 5110000 9000 --to 562000 5111000 9000 --frames 2 " +
                         "--view-alt 50 -o " + dir.path("p.csv"));
   ASSERT_EQ(path.exit_code, 0) << path.err;
-  const std::string batch = tool("terrain-render") + " batch " + dir.path("m.ply") + " " + dir.path("p.csv") +
+  const std::string batch = tool("terrain-render") + " batch " + dir.path("m.ply") + " " +
+                            dir.path("p.csv") +
                             " --size 480x270 --layers mask,silhouettes --lod-error 2 -v -o ";
   ASSERT_EQ(run(batch + dir.path("whole")).exit_code, 0);
   const auto bounded_batch = run(batch + dir.path("bounded") + " --memory 0.25");
   ASSERT_EQ(bounded_batch.exit_code, 0) << bounded_batch.err;
-  EXPECT_NE(bounded_batch.err.find("mesh read at level 1 of its pyramid after the preview at level 2: the views draw "
-                                   "level 1"),
+  EXPECT_NE(bounded_batch.err.find(
+                "mesh read at level 1 of its pyramid after the preview at level 2: the views draw "
+                "level 1"),
             std::string::npos)
       << bounded_batch.err;
   for (const std::string f : {"/frame_00000.png", "/frame_00001.png"})
     EXPECT_TRUE(same_pixels(dir.path("whole") + f, dir.path("bounded") + f)) << f;
   const auto finer = run(map + dir.path("finer.png") + " --memory 0.25");
   ASSERT_EQ(finer.exit_code, 0) << finer.err;
-  EXPECT_NE(finer.err.find("the view draws level 0 at its finest; level 1 read, the finest within the memory bound"),
-            std::string::npos)
+  EXPECT_NE(
+      finer.err.find(
+          "the view draws level 0 at its finest; level 1 read, the finest within the memory bound"),
+      std::string::npos)
       << finer.err;
   // build-drainage too (its mesh read from the pyramid): the same database.
-  const std::string drain =
-      tool("build-drainage") + " " + dir.path("m.ply") + " " + dir.path("d.dv") + " --spacing 20 -q";
+  const std::string drain = tool("build-drainage") + " " + dir.path("m.ply") + " " +
+                            dir.path("d.dv") + " --spacing 20 -q";
   ASSERT_EQ(run(drain).exit_code, 0);
   const std::string dv = test::file_bytes(dir.path("d.dv"));
   // A near view under a bound that the mesh exceeds but the blocks in its view fit
@@ -362,27 +394,32 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
   // and around it, 151 x 193 vertices, 700 KB) reads only those blocks, at level 0, and
   // draws the creases of the whole mesh's network: the frame of the whole mesh, pixel for
   // pixel (creases, hachures, silhouettes; a 20 m lattice moves exactly).
-  const std::string near = tool("terrain-render") + " frame " + dir.path("m.ply") + " " + dir.path("d.dv") +
-                           " --eye 562800 5117200 2300 --view-az 0 --view-alt 10 --fov 40 --size 480x270 -v -o ";
+  const std::string near =
+      tool("terrain-render") + " frame " + dir.path("m.ply") + " " + dir.path("d.dv") +
+      " --eye 562800 5117200 2300 --view-az 0 --view-alt 10 --fov 40 --size 480x270 -v -o ";
   ASSERT_EQ(run(near + dir.path("near_whole.png")).exit_code, 0);
   const auto near_window = run(near + dir.path("near_window.png") + " --memory 0.75");
   ASSERT_EQ(near_window.exit_code, 0) << near_window.err;
-  EXPECT_NE(near_window.err.find("mesh read at level 0 of its pyramid after the preview at level 2: the view draws "
-                                 "level 0 at its finest; the blocks in view, rows 0 .. 2 and columns 0 .. 2 of 4 x 3, "
-                                 "read: 151 x 193 vertices"),
-            std::string::npos)
+  EXPECT_NE(
+      near_window.err.find(
+          "mesh read at level 0 of its pyramid after the preview at level 2: the view draws "
+          "level 0 at its finest; the blocks in view, rows 0 .. 2 and columns 0 .. 2 of 4 x 3, "
+          "read: 151 x 193 vertices"),
+      std::string::npos)
       << near_window.err;
   EXPECT_GT(test::count(test::ink_of(dir.path("near_whole.png"))), 2000u);
   EXPECT_TRUE(same_pixels(dir.path("near_whole.png"), dir.path("near_window.png")));
   // A pyramid from before version 3 does not say which mesh it was made from: the PLY is
   // read instead, with a warning that names the remedy, and draws the same frame.
   const std::string v3 = test::file_bytes(dir.path("m.tpyr"));
-  std::ofstream(dir.path("m.tpyr"), std::ios::binary | std::ios::trunc) << test::pyramid_as_version1(v3);
+  std::ofstream(dir.path("m.tpyr"), std::ios::binary | std::ios::trunc)
+      << test::pyramid_as_version1(v3);
   const auto old = run(frame);
   ASSERT_EQ(old.exit_code, 0) << old.err;
   EXPECT_NE(old.err.find("read whole, not its pyramid"), std::string::npos) << old.err;
-  EXPECT_NE(old.err.find("(version 1) does not say which mesh it was made from; dem2mesh --pyramid"),
-            std::string::npos)
+  EXPECT_NE(
+      old.err.find("(version 1) does not say which mesh it was made from; dem2mesh --pyramid"),
+      std::string::npos)
       << old.err;
   EXPECT_TRUE(test::file_bytes(dir.path("f.png")) == png) << "the frames differ";
   std::ofstream(dir.path("m.tpyr"), std::ios::binary | std::ios::trunc) << v3;
@@ -390,9 +427,11 @@ TEST(Dem2mesh, PyramidBesideTheMesh) {
   // Over the bound without a pyramid: read whole, with a warning that names the remedy.
   const auto no_pyramid = run(map + dir.path("plain.png") + " --lod-error 2 --memory 0.25");
   ASSERT_EQ(no_pyramid.exit_code, 0) << no_pyramid.err;
-  EXPECT_NE(no_pyramid.err.find("more than the memory bound (0.3 MB), and no current pyramid is beside it (the PLY): "
-                                "read whole; dem2mesh --pyramid makes one"),
-            std::string::npos)
+  EXPECT_NE(
+      no_pyramid.err.find(
+          "more than the memory bound (0.3 MB), and no current pyramid is beside it (the PLY): "
+          "read whole; dem2mesh --pyramid makes one"),
+      std::string::npos)
       << no_pyramid.err;
   EXPECT_TRUE(same_pixels(dir.path("whole.png"), dir.path("plain.png")));
   const auto direct = run(frame);
@@ -422,17 +461,21 @@ TEST(Dem2mesh, BandsEqualOneRun) {
   for (const auto& [input, bands] : cases) {
     const auto one = run(tool("dem2mesh") + " " + input + " " + dir.path("one.ply") + " --pyramid");
     ASSERT_EQ(one.exit_code, 0) << one.err;
-    const auto banded = run(tool("dem2mesh") + " " + input + " " + dir.path("bands.ply") + " --pyramid " + bands + " -v");
+    const auto banded = run(tool("dem2mesh") + " " + input + " " + dir.path("bands.ply") +
+                            " --pyramid " + bands + " -v");
     ASSERT_EQ(banded.exit_code, 0) << banded.err;
     EXPECT_NE(banded.err.find("mesh in bands of"), std::string::npos) << banded.err;
-    EXPECT_TRUE(test::file_bytes(dir.path("one.tpyr")) == test::file_bytes(dir.path("bands.tpyr"))) << bands;
-    const std::string a = test::file_bytes(dir.path("one.ply")), b = test::file_bytes(dir.path("bands.ply"));
+    EXPECT_TRUE(test::file_bytes(dir.path("one.tpyr")) == test::file_bytes(dir.path("bands.tpyr")))
+        << bands;
+    const std::string a = test::file_bytes(dir.path("one.ply")),
+                      b = test::file_bytes(dir.path("bands.ply"));
     EXPECT_NE(b.find(bands), std::string::npos);  // the provenance names the bands
     EXPECT_TRUE(without_provenance(a) == without_provenance(b)) << bands;
   }
-  for (const std::string& whole : {std::string("--fill-nodata"), std::string("--fit-normals"), std::string("--grid-out g.tif")}) {
-    const auto r = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + dir.path("x.ply") +
-                       " --spacing 50 --tile-size 8 " + whole);
+  for (const std::string& whole : {std::string("--fill-nodata"), std::string("--fit-normals"),
+                                   std::string("--grid-out g.tif")}) {
+    const auto r = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " +
+                       dir.path("x.ply") + " --spacing 50 --tile-size 8 " + whole);
     EXPECT_NE(r.exit_code, 0) << whole;
     EXPECT_NE(r.err.find("make the mesh in bands, but"), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(dir.path("x.ply")));

@@ -15,7 +15,9 @@ using terrain::test::data;
 using terrain::test::run;
 using terrain::test::tool;
 
-std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
+std::size_t lines(const std::string& s) {
+  return std::size_t(std::count(s.begin(), s.end(), '\n'));
+}
 
 // Inputs made once for all cases: a 50 m MSH mesh, its drainage, its denoised copy and a
 // 3-frame list.
@@ -24,14 +26,19 @@ class FailedWrite : public ::testing::Test {
   static void SetUpTestSuite() {
     in_ = new terrain::test::ScratchDir;
     const std::string mesh = in_->path("m.ply");
-    const auto a = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh + " --spacing 50 -q");
+    const auto a = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh +
+                       " --spacing 50 -q");
     ASSERT_EQ(a.exit_code, 0) << a.err;
-    const auto b = run(tool("build-drainage") + " " + mesh + " " + in_->path("m.dv") + " --spacing 25 -q");
+    const auto b =
+        run(tool("build-drainage") + " " + mesh + " " + in_->path("m.dv") + " --spacing 25 -q");
     ASSERT_EQ(b.exit_code, 0) << b.err;
-    const auto c = run(tool("denoise-normals") + " " + mesh + " " + in_->path("d.ply") + " --iterations 0 -q");
+    const auto c =
+        run(tool("denoise-normals") + " " + mesh + " " + in_->path("d.ply") + " --iterations 0 -q");
     ASSERT_EQ(c.exit_code, 0) << c.err;
-    const auto d = run(tool("terrain-render") + " path --from 561500 5114000 2800 --to 563500 5116000 2700 "
-                                                "--frames 3 -o " + in_->path("f.csv"));
+    const auto d = run(tool("terrain-render") +
+                       " path --from 561500 5114000 2800 --to 563500 5116000 2700 "
+                       "--frames 3 -o " +
+                       in_->path("f.csv"));
     ASSERT_EQ(d.exit_code, 0) << d.err;
   }
   static void TearDownTestSuite() { delete in_; }
@@ -41,14 +48,17 @@ class FailedWrite : public ::testing::Test {
   void expect_clean_failure(const std::string& args) {
     terrain::test::ScratchDir out;
     std::string cmd = args;
-    for (std::size_t at; (at = cmd.find("OUT/")) != std::string::npos;) cmd.replace(at, 4, out.path(""));
+    for (std::size_t at; (at = cmd.find("OUT/")) != std::string::npos;)
+      cmd.replace(at, 4, out.path(""));
     const auto r = run("ulimit -f 8; exec " + cmd);  // 4 KiB: libomp needs 1 KiB in /dev/shm
     EXPECT_EQ(r.exit_code, 1) << cmd << "\n" << r.err;
     EXPECT_EQ(lines(r.err), 1u) << cmd << "\n" << r.err;
     EXPECT_NE(r.err.find("cannot write '" + out.path("")), std::string::npos) << r.err;
-    EXPECT_EQ(r.err.find(".tmp"), std::string::npos) << "the message names a temporary file: " << r.err;
+    EXPECT_EQ(r.err.find(".tmp"), std::string::npos)
+        << "the message names a temporary file: " << r.err;
     std::string left;
-    for (const auto& e : std::filesystem::directory_iterator(out.path(""))) left += e.path().filename().string() + " ";
+    for (const auto& e : std::filesystem::directory_iterator(out.path("")))
+      left += e.path().filename().string() + " ";
     EXPECT_EQ(left, "") << cmd;
   }
 
@@ -59,7 +69,8 @@ terrain::test::ScratchDir* FailedWrite::in_ = nullptr;
 TEST_F(FailedWrite, Dem2mesh) {
   const std::string dem = data("msh_2007_utm10n_10m.tif");
   expect_clean_failure(tool("dem2mesh") + " " + dem + " OUT/m.ply --spacing 50 -q");
-  expect_clean_failure(tool("dem2mesh") + " " + dem + " OUT/m.ply --spacing 50 --grid-out OUT/g.tif -q");
+  expect_clean_failure(tool("dem2mesh") + " " + dem +
+                       " OUT/m.ply --spacing 50 --grid-out OUT/g.tif -q");
 }
 
 TEST_F(FailedWrite, BuildDrainage) {
@@ -85,15 +96,17 @@ TEST_F(FailedWrite, TerrainInspect) {
 TEST_F(FailedWrite, TerrainRender) {
   const std::string tr = tool("terrain-render");
   expect_clean_failure(tr + " path --from 0 0 100 --to 1000 1000 100 --frames 200 -o OUT/p.csv");
-  expect_clean_failure(tr + " frame " + input("m.ply") + " " + input("m.dv") + " -o OUT/f.png --size 320x240 --layers shaded,creases -q");
-  expect_clean_failure(tr + " batch " + input("m.ply") + " " + input("m.dv") + " " + input("f.csv") +
-                       " -o OUT/ --size 320x240 --layers shaded,creases -q");
+  expect_clean_failure(tr + " frame " + input("m.ply") + " " + input("m.dv") +
+                       " -o OUT/f.png --size 320x240 --layers shaded,creases -q");
+  expect_clean_failure(tr + " batch " + input("m.ply") + " " + input("m.dv") + " " +
+                       input("f.csv") + " -o OUT/ --size 320x240 --layers shaded,creases -q");
 }
 
 // A device given as the output is refused before any work, and the device stays.
 TEST(OutputPaths, DevicesAreRefused) {
   for (const std::string dev : {"/dev/null", "/dev/full"}) {
-    const auto r = run(tool("terrain-render") + " path --from 0 0 100 --to 1000 1000 100 --frames 5 -o " + dev);
+    const auto r = run(tool("terrain-render") +
+                       " path --from 0 0 100 --to 1000 1000 100 --frames 5 -o " + dev);
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find("not a regular file"), std::string::npos) << r.err;

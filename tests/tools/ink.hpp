@@ -23,9 +23,11 @@ inline Ink ink_of(const std::string& png) {
   OIIO::ImageBuf buf(png);
   EXPECT_TRUE(buf.read(0, 0, true, OIIO::TypeDesc::UINT8)) << png;
   const auto& spec = buf.spec();
-  Ink ink{spec.width, spec.height, std::vector<std::uint8_t>(std::size_t(spec.width) * std::size_t(spec.height))};
+  Ink ink{spec.width, spec.height,
+          std::vector<std::uint8_t>(std::size_t(spec.width) * std::size_t(spec.height))};
   std::vector<std::uint8_t> px(std::size_t(spec.width) * std::size_t(spec.height) * 3);
-  buf.get_pixels(OIIO::ROI(0, spec.width, 0, spec.height, 0, 1, 0, 3), OIIO::TypeDesc::UINT8, px.data());
+  buf.get_pixels(OIIO::ROI(0, spec.width, 0, spec.height, 0, 1, 0, 3), OIIO::TypeDesc::UINT8,
+                 px.data());
   const int bg[3] = {0xdd, 0xe4, 0xec};
   for (std::size_t i = 0; i < ink.on.size(); ++i) {
     int d_bg = 0, d_mask = 0;
@@ -57,6 +59,8 @@ inline double near_share(const Ink& a, const Ink& b, int radius = 1) {
   return n ? double(near) / double(n) : 1.0;
 }
 
-inline std::size_t count(const Ink& a) { return std::size_t(std::count(a.on.begin(), a.on.end(), 1)); }
+inline std::size_t count(const Ink& a) {
+  return std::size_t(std::count(a.on.begin(), a.on.end(), 1));
+}
 
 }  // namespace terrain::test

@@ -47,7 +47,10 @@ const std::string& logan_at(int m) {
   if (!made.count(m)) {
     const std::string t = dir.path("logan" + std::to_string(m) + ".tif");
     const std::string tr = std::to_string(m) + " " + std::to_string(m);
-    EXPECT_EQ(std::system(("gdalwarp -q -r cubic -tr " + tr + " " + data("logan_utm12n_100m.tif") + " " + t).c_str()), 0);
+    EXPECT_EQ(std::system(
+                  ("gdalwarp -q -r cubic -tr " + tr + " " + data("logan_utm12n_100m.tif") + " " + t)
+                      .c_str()),
+              0);
     made[m] = t;
   }
   return made[m];
@@ -62,10 +65,12 @@ const std::string& logan30() { return logan_at(30); }
 // OUT.dv.d8.tmp (opened with O_TRUNC): the first failed or wrote a wrong database.
 TEST(Interrupt, TwoTiledRunsOnOneOutputShareNoScratch) {
   terrain::test::ScratchDir dir;
-  const std::string cmd = tool("build-drainage") + " --raster " + logan10() + " --fill --tile-size 1000 -q ";
+  const std::string cmd =
+      tool("build-drainage") + " --raster " + logan10() + " --fill --tile-size 1000 -q ";
   fs::create_directory(dir.path("d"));
   const std::string d = dir.path("d");
-  const auto clean = run(cmd + dir.path("d/out.dv"));  // the same command: the same provenance in the header
+  const auto clean =
+      run(cmd + dir.path("d/out.dv"));  // the same command: the same provenance in the header
   ASSERT_EQ(clean.exit_code, 0) << clean.err;
   fs::rename(dir.path("d/out.dv"), dir.path("clean.dv"));
   Background first(cmd + dir.path("d/out.dv"));
@@ -89,7 +94,8 @@ TEST(Interrupt, AnInputNamedLikeScratchSurvives) {
   fs::copy_file(data("msh_2007_utm10n_10m.tif"), in);
   const std::string bytes = file_bytes(in);
   for (const char* extra : {"", " --fill"}) {
-    const auto r = run(tool("build-drainage") + " --raster " + in + " " + dir.path("x.dv") + " --tile-size 16 -q" + extra);
+    const auto r = run(tool("build-drainage") + " --raster " + in + " " + dir.path("x.dv") +
+                       " --tile-size 16 -q" + extra);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(file_bytes(in) == bytes) << "the input changed";
   }
@@ -101,22 +107,31 @@ TEST(Interrupt, AnInputNamedLikeScratchSurvives) {
 TEST(Interrupt, SignalsLeaveNothingBehind) {
   const std::string msh = data("msh_2007_utm10n_10m.tif");
   struct Case {
-    std::string what, command, output, second = {};  // second: another output written with the first
+    std::string what, command, output,
+        second = {};  // second: another output written with the first
   };
   terrain::test::ScratchDir mesh_dir;
-  ASSERT_EQ(run(tool("dem2mesh") + " " + logan10() + " " + mesh_dir.path("l.ply") + " --spacing 20 -q").exit_code, 0);
+  ASSERT_EQ(
+      run(tool("dem2mesh") + " " + logan10() + " " + mesh_dir.path("l.ply") + " --spacing 20 -q")
+          .exit_code,
+      0);
   const std::vector<Case> cases = {
-      {"dem2mesh", tool("dem2mesh") + " " + logan10() + " OUT --spacing 20 --grid-out OUTDIR/g.tif -q", "o.ply",
+      {"dem2mesh",
+       tool("dem2mesh") + " " + logan10() + " OUT --spacing 20 --grid-out OUTDIR/g.tif -q", "o.ply",
        "g.tif"},
-      {"build-drainage --raster", tool("build-drainage") + " --raster " + logan10() + " OUT -q", "o.dv"},
-      {"build-drainage tiled", tool("build-drainage") + " --raster " + logan10() + " OUT --tile-size 700 --fill -q",
+      {"build-drainage --raster", tool("build-drainage") + " --raster " + logan10() + " OUT -q",
        "o.dv"},
-      {"build-drainage mesh", tool("build-drainage") + " " + mesh_dir.path("l.ply") + " OUT -q", "o.dv"},
+      {"build-drainage tiled",
+       tool("build-drainage") + " --raster " + logan10() + " OUT --tile-size 700 --fill -q",
+       "o.dv"},
+      {"build-drainage mesh", tool("build-drainage") + " " + mesh_dir.path("l.ply") + " OUT -q",
+       "o.dv"},
 #ifdef TERRAIN_MPIEXEC
       // mpirun sends the ranks SIGTERM, then SIGKILL after odls_base_sigkill_timeout (1 s);
       // 3 s here, so that a rank that a loaded machine schedules late still cleans up.
       {"build-drainage 2 ranks",
-       "OMPI_MCA_odls_base_sigkill_timeout=3 " + terrain::test::mpirun(2) + tool("build-drainage") + " --raster " + logan10() + " OUT --tile-size 700 --fill -q",
+       "OMPI_MCA_odls_base_sigkill_timeout=3 " + terrain::test::mpirun(2) + tool("build-drainage") +
+           " --raster " + logan10() + " OUT --tile-size 700 --fill -q",
        "o.dv"},
 #endif
   };
@@ -129,12 +144,14 @@ TEST(Interrupt, SignalsLeaveNothingBehind) {
         std::ofstream(out) << "old output\n";
         std::string cmd = c.command;
         cmd.replace(cmd.find("OUT"), 3, out);
-        if (const auto at = cmd.find("OUTDIR/"); at != std::string::npos) cmd.replace(at, 7, dir.path(""));
+        if (const auto at = cmd.find("OUTDIR/"); at != std::string::npos)
+          cmd.replace(at, 7, dir.path(""));
         Background b(cmd);
         std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
         b.signal(sig);
         const int code = b.wait();
-        const std::string what = c.what + ", signal " + std::to_string(sig) + " at " + std::to_string(delay_ms) + " ms";
+        const std::string what =
+            c.what + ", signal " + std::to_string(sig) + " at " + std::to_string(delay_ms) + " ms";
         ++runs;
         // The output is the old one, or the new one complete (the run finished its renames
         // before the signal came: terrain-inspect reads it), and nothing else is left.
@@ -142,13 +159,16 @@ TEST(Interrupt, SignalsLeaveNothingBehind) {
         if (replaced) {
           EXPECT_EQ(run(tool("terrain-inspect") + " info " + out).exit_code, 0) << what;
         }
-        EXPECT_TRUE(code == 0 || code == 128 + sig || (c.what.find("ranks") != std::string::npos && code != 0))
-            << what << ": exit " << code << "\n" << b.err();
+        EXPECT_TRUE(code == 0 || code == 128 + sig ||
+                    (c.what.find("ranks") != std::string::npos && code != 0))
+            << what << ": exit " << code << "\n"
+            << b.err();
         if (code == 0) {
           EXPECT_TRUE(replaced) << what;
         }
         std::set<std::string> expected{c.output};
-        if (!c.second.empty() && replaced) expected.insert(c.second);  // the outputs land together or not at all
+        if (!c.second.empty() && replaced)
+          expected.insert(c.second);  // the outputs land together or not at all
         // mpirun's ranks end (and clean up) after it: up to 10 s for the folder to settle.
         for (int k = 0; k < 200 && entries(dir.path("")) != expected; ++k)
           std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -164,18 +184,23 @@ TEST(Interrupt, TiledRunReplacesItsDvAndRastersTogether) {
   terrain::test::ScratchDir dir;
   const std::string out = dir.path("o.dv"), rasters = dir.path("r");
   fs::create_directories(rasters);
-  const std::string cmd = tool("build-drainage") + " --raster " + logan30() + " " + out + " --tile-size 400 --fill -q --rasters " + rasters;
+  const std::string cmd = tool("build-drainage") + " --raster " + logan30() + " " + out +
+                          " --tile-size 400 --fill -q --rasters " + rasters;
   for (const int sig : {SIGINT, SIGHUP}) {
     std::ofstream(out) << "old output\n";
     for (const auto& e : fs::directory_iterator(rasters)) fs::remove(e.path());
-    for (const char* n : {"surface.tif", "d8.tif", "accumulation.tif"}) std::ofstream(rasters + "/" + n) << "old raster\n";
+    for (const char* n : {"surface.tif", "d8.tif", "accumulation.tif"})
+      std::ofstream(rasters + "/" + n) << "old raster\n";
     Background b(cmd);
     // The raster phase: a staged raster appears beside the old ones.
     ASSERT_TRUE(wait_for_entries(rasters, 3, 120)) << "no raster was staged";
     b.signal(sig);
     EXPECT_EQ(b.wait(), 128 + sig) << b.err();
-    EXPECT_EQ(file_bytes(out), "old output\n") << "signal " << sig << ": the .dv was replaced without its rasters";
-    EXPECT_EQ(entries(rasters), (std::set<std::string>{"accumulation.tif", "d8.tif", "surface.tif"})) << sig;
+    EXPECT_EQ(file_bytes(out), "old output\n")
+        << "signal " << sig << ": the .dv was replaced without its rasters";
+    EXPECT_EQ(entries(rasters),
+              (std::set<std::string>{"accumulation.tif", "d8.tif", "surface.tif"}))
+        << sig;
     EXPECT_EQ(file_bytes(rasters + "/d8.tif"), "old raster\n") << sig;
     EXPECT_EQ(entries(dir.path("")), (std::set<std::string>{"o.dv", "r"})) << sig;
   }
@@ -190,12 +215,16 @@ TEST(Interrupt, TiledRunReplacesItsDvAndRastersTogether) {
 TEST(Interrupt, GeoPackageWritersLeaveNoJournal) {
   terrain::test::ScratchDir src;
   const std::string dv = src.path("l.dv");  // Logan at 100 m: its GeoPackage takes about a second
-  ASSERT_EQ(run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + dv + " --fill -q").exit_code, 0);
+  ASSERT_EQ(run(tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " " + dv +
+                " --fill -q")
+                .exit_code,
+            0);
   std::ofstream(src.path("outlet.csv")) << "x,y\n447000,4637000\n";
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"export --to gpkg", tool("terrain-inspect") + " export " + dv + " --to gpkg -o OUTDIR/e.gpkg -q"},
-      {"--outlets", tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") + " OUTDIR/w.dv --fill --outlets " +
-                        src.path("outlet.csv") + " -q"},
+      {"export --to gpkg",
+       tool("terrain-inspect") + " export " + dv + " --to gpkg -o OUTDIR/e.gpkg -q"},
+      {"--outlets", tool("build-drainage") + " --raster " + data("logan_utm12n_100m.tif") +
+                        " OUTDIR/w.dv --fill --outlets " + src.path("outlet.csv") + " -q"},
   };
   for (const auto& [what, command] : cases)
     for (const int sig : {SIGINT, SIGTERM, SIGHUP})
@@ -208,16 +237,20 @@ TEST(Interrupt, GeoPackageWritersLeaveNoJournal) {
         const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(120);
         bool writing = false;
         while (!writing && std::chrono::steady_clock::now() < until) {
-          for (const std::string& n : entries(dir.path(""))) writing = writing || n.find(".gpkg") != std::string::npos;
+          for (const std::string& n : entries(dir.path("")))
+            writing = writing || n.find(".gpkg") != std::string::npos;
           if (!writing) std::this_thread::sleep_for(std::chrono::milliseconds(1));
         }
         ASSERT_TRUE(writing) << what << ": no GeoPackage was written";
         std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
         b.signal(sig);
         const int code = b.wait();
-        const std::string label = what + ", signal " + std::to_string(sig) + " after " + std::to_string(delay_ms) + " ms";
-        EXPECT_TRUE(code == 0 || code == 128 + sig) << label << ": exit " << code << "\n" << b.err();
-        for (const std::string& n : entries(dir.path(""))) EXPECT_NE(n[0], '.') << label << ": left " << n;
+        const std::string label =
+            what + ", signal " + std::to_string(sig) + " after " + std::to_string(delay_ms) + " ms";
+        EXPECT_TRUE(code == 0 || code == 128 + sig) << label << ": exit " << code << "\n"
+                                                    << b.err();
+        for (const std::string& n : entries(dir.path("")))
+          EXPECT_NE(n[0], '.') << label << ": left " << n;
       }
 }
 
@@ -226,17 +259,21 @@ TEST(Interrupt, GeoPackageWritersLeaveNoJournal) {
 TEST(Interrupt, ALaterRunReportsWhatAKilledRunLeft) {
   terrain::test::ScratchDir dir;
   const std::string out = dir.path("o.dv");
-  Background b(tool("build-drainage") + " --raster " + logan10() + " " + out + " --tile-size 700 --fill -q");
+  Background b(tool("build-drainage") + " --raster " + logan10() + " " + out +
+               " --tile-size 700 --fill -q");
   ASSERT_TRUE(wait_for_entries(dir.path(""), 0));
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   b.signal(SIGKILL);
   EXPECT_EQ(b.wait(), 128 + SIGKILL);
   const std::set<std::string> left = entries(dir.path(""));
   ASSERT_FALSE(left.empty()) << "SIGKILL cannot be caught: its scratch stays";
-  const auto r = run(tool("build-drainage") + " --raster " + data("msh_2007_utm10n_10m.tif") + " " + out);
+  const auto r =
+      run(tool("build-drainage") + " --raster " + data("msh_2007_utm10n_10m.tif") + " " + out);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const std::string& name : left) {
-    EXPECT_NE(r.err.find("stale temporary '" + dir.path(name) + "'"), std::string::npos) << name << "\n" << r.err;
+    EXPECT_NE(r.err.find("stale temporary '" + dir.path(name) + "'"), std::string::npos)
+        << name << "\n"
+        << r.err;
   }
 }
 
@@ -246,12 +283,15 @@ TEST(Interrupt, LongOutputNamesWork) {
   const std::string msh = data("msh_2007_utm10n_10m.tif");
   for (const std::size_t length : {238u, 239u, 255u}) {
     const std::string stem(length - 4, 'a');
-    const std::string ply = dir.path(stem + ".ply"), dv = dir.path(stem.substr(0, length - 3) + ".dv");
-    auto r = run(tool("dem2mesh") + " " + msh + " " + ply + " --spacing 50 --grid-out " + dir.path(stem + ".tif") + " -q");
+    const std::string ply = dir.path(stem + ".ply"),
+                      dv = dir.path(stem.substr(0, length - 3) + ".dv");
+    auto r = run(tool("dem2mesh") + " " + msh + " " + ply + " --spacing 50 --grid-out " +
+                 dir.path(stem + ".tif") + " -q");
     EXPECT_EQ(r.exit_code, 0) << length << ": " << r.err;
     r = run(tool("build-drainage") + " --raster " + msh + " " + dv + " --tile-size 64 --fill -q");
     EXPECT_EQ(r.exit_code, 0) << length << ": " << r.err;
-    r = run(tool("build-drainage") + " " + ply + " " + dv + " --surface " + dir.path(stem + ".tif") + " -q");
+    r = run(tool("build-drainage") + " " + ply + " " + dv + " --surface " +
+            dir.path(stem + ".tif") + " -q");
     EXPECT_EQ(r.exit_code, 0) << length << ": " << r.err;
     for (const auto& name : entries(dir.path(""))) EXPECT_NE(name[0], '.') << "left: " << name;
     fs::remove_all(dir.path(""));
@@ -267,8 +307,9 @@ TEST(Interrupt, ScatteredPointsWithFillNodataNeverCrash) {
   const char* interpolants[] = {"natural", "linear", "natural-c0"};
   std::string first;
   for (int i = 0; i < 50; ++i) {
-    const auto r = run("cd " + dir.path("") + " && " + (i % 2 ? "OMP_NUM_THREADS=1 " : "") + tool("dem2mesh") + " " +
-                       data("scattered_60_utm10n.xyz") + " o.ply --spacing 5 --src-crs EPSG:32610 --fill-nodata -q " +
+    const auto r = run("cd " + dir.path("") + " && " + (i % 2 ? "OMP_NUM_THREADS=1 " : "") +
+                       tool("dem2mesh") + " " + data("scattered_60_utm10n.xyz") +
+                       " o.ply --spacing 5 --src-crs EPSG:32610 --fill-nodata -q " +
                        "--interpolation " + interpolants[i % 3]);
     ASSERT_EQ(r.exit_code, 0) << "run " << i << ": " << r.err;
     if (i == 0) first = file_bytes(dir.path("o.ply"));
@@ -276,7 +317,8 @@ TEST(Interrupt, ScatteredPointsWithFillNodataNeverCrash) {
       EXPECT_TRUE(file_bytes(dir.path("o.ply")) == first) << "run " << i << " differs";
     }
   }
-  EXPECT_EQ(entries(dir.path("")), std::set<std::string>{"o.ply"}) << "GDAL's fill work files left in the working directory";
+  EXPECT_EQ(entries(dir.path("")), std::set<std::string>{"o.ply"})
+      << "GDAL's fill work files left in the working directory";
 }
 
 }  // namespace

@@ -24,7 +24,8 @@ std::string layers_of(const std::string& gpkg) {
   const auto r = run("ogrinfo -q " + gpkg);
   std::string out;
   const std::regex line(R"(\d+: (\w+) \()");
-  for (std::sregex_iterator it(r.out.begin(), r.out.end(), line), end; it != end; ++it) out += (*it)[1].str() + " ";
+  for (std::sregex_iterator it(r.out.begin(), r.out.end(), line), end; it != end; ++it)
+    out += (*it)[1].str() + " ";
   return out;
 }
 long count_of(const std::string& gpkg, const std::string& layer) {
@@ -37,9 +38,12 @@ struct Inputs {
   terrain::test::ScratchDir dir;
   std::string mesh = dir.path("m.ply"), dv = dir.path("m.dv");
   Inputs() {
-    EXPECT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh + " --spacing 50 -q").exit_code,
+    EXPECT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh +
+                  " --spacing 50 -q")
+                  .exit_code,
               0);
-    EXPECT_EQ(run(tool("build-drainage") + " " + mesh + " " + dv + " --spacing 25 -q").exit_code, 0);
+    EXPECT_EQ(run(tool("build-drainage") + " " + mesh + " " + dv + " --spacing 25 -q").exit_code,
+              0);
   }
 };
 
@@ -70,15 +74,16 @@ TEST(OutputSets, AGeoPackageExportKeepsTheOtherLayers) {
   EXPECT_EQ(layers_of(both), "branches basins divides hachures ");
   // The drainage layers added to a map's GeoPackage under a file-size limit they exceed.
   const std::string map = in.dir.path("m_map.gpkg"), before = terrain::test::file_bytes(map);
-  const auto failed =
-      run("ulimit -f " + std::to_string(fs::file_size(map) / 512 + 8) + "; exec " + ti + in.dv + " --to gpkg -o " + map);
+  const auto failed = run("ulimit -f " + std::to_string(fs::file_size(map) / 512 + 8) + "; exec " +
+                          ti + in.dv + " --to gpkg -o " + map);
   EXPECT_EQ(failed.exit_code, 1) << failed.err;
   EXPECT_NE(failed.err.find("cannot write '" + map + "'"), std::string::npos) << failed.err;
   EXPECT_EQ(std::count(failed.err.begin(), failed.err.end(), '\n'), 1) << failed.err;
   EXPECT_TRUE(terrain::test::file_bytes(map) == before) << "a failed export changed the GeoPackage";
   std::string left;
   for (const auto& e : fs::directory_iterator(in.dir.path("")))
-    if (e.path().filename().string().find(".tmp") != std::string::npos) left += e.path().string() + " ";
+    if (e.path().filename().string().find(".tmp") != std::string::npos)
+      left += e.path().string() + " ";
   EXPECT_EQ(left, "");
 }
 
@@ -89,29 +94,33 @@ TEST(OutputSets, AMapsPngAndWorldFileLandTogether) {
   Inputs in;
   const std::string disk = in.dir.path("disk");
   fs::create_directory(disk);
-  if (::mount("tmpfs", disk.c_str(), "tmpfs", 0, "size=1m") != 0) GTEST_SKIP() << "cannot mount a tmpfs here";
+  if (::mount("tmpfs", disk.c_str(), "tmpfs", 0, "size=1m") != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here";
   struct Unmount {
     std::string at;
     ~Unmount() { ::umount(at.c_str()); }
   } unmount{disk};
-  const std::string frame =
-      tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " --view top --size 320x240 -q -o ";
+  const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
+                            " --view top --size 320x240 -q -o ";
   ASSERT_EQ(run(frame + in.dir.path("top.png")).exit_code, 0);
   ASSERT_TRUE(fs::exists(in.dir.path("top.pgw")));
   fs::copy_file(in.dir.path("top.png"), disk + "/top.png");
   fs::copy_file(in.dir.path("top.pgw"), disk + "/top.pgw");
   // Room for one PNG and its temporary: the old pair is replaced only when both fit.
   const auto df = run("df -B4096 --output=avail " + disk + " | tail -1");
-  const long pages = std::stol(df.out), png_pages = long(fs::file_size(in.dir.path("top.png")) + 4095) / 4096;
-  ASSERT_EQ(run("dd if=/dev/zero of=" + disk + "/fill bs=4096 count=" + std::to_string(pages - png_pages) +
-                " 2>/dev/null")
+  const long pages = std::stol(df.out),
+             png_pages = long(fs::file_size(in.dir.path("top.png")) + 4095) / 4096;
+  ASSERT_EQ(run("dd if=/dev/zero of=" + disk +
+                "/fill bs=4096 count=" + std::to_string(pages - png_pages) + " 2>/dev/null")
                 .exit_code,
             0);
-  const std::string png = terrain::test::file_bytes(disk + "/top.png"), pgw = terrain::test::file_bytes(disk + "/top.pgw");
+  const std::string png = terrain::test::file_bytes(disk + "/top.png"),
+                    pgw = terrain::test::file_bytes(disk + "/top.pgw");
   const auto r = run(frame + disk + "/top.png --map-scale 7");  // another map: other bytes
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
-  EXPECT_TRUE(terrain::test::file_bytes(disk + "/top.png") == png) << "the PNG was replaced without its world file";
+  EXPECT_TRUE(terrain::test::file_bytes(disk + "/top.png") == png)
+      << "the PNG was replaced without its world file";
   EXPECT_TRUE(terrain::test::file_bytes(disk + "/top.pgw") == pgw);
   std::string entries;
   for (const auto& e : fs::directory_iterator(disk)) entries += e.path().filename().string() + " ";
@@ -138,12 +147,14 @@ TEST(Races, ARenderWhileDem2meshRewritesItsMesh) {
   const std::string m = in.dir.path("r.ply");
   // --memory 0.05 (51 KiB, the mesh's 5,300 vertices take 127 KB): a preview level, then the
   // level the view draws, read from the pyramid in two reads.
-  const std::string frame = tool("terrain-render") + " frame " + m + " --size 160x120 --memory 0.05 -q -o ";
+  const std::string frame =
+      tool("terrain-render") + " frame " + m + " --size 160x120 --memory 0.05 -q -o ";
   // Each terrain drawn from its pyramid, and from its PLY alone (what a reader that finds
   // the pyramid not yet renamed over draws: the PLY, whole).
   std::vector<std::vector<unsigned char>> refs;
   for (const std::string w : {"uniform", "angle"}) {
-    ASSERT_EQ(run(d2m + m + " --spacing 50 --pyramid --normal-weighting " + w + " -q").exit_code, 0);
+    ASSERT_EQ(run(d2m + m + " --spacing 50 --pyramid --normal-weighting " + w + " -q").exit_code,
+              0);
     ASSERT_EQ(run(frame + in.dir.path("ref_" + w + ".png")).exit_code, 0);
     refs.push_back(pixels_of(in.dir.path("ref_" + w + ".png")));
     fs::rename(in.dir.path("r.tpyr"), in.dir.path("away.tpyr"));
@@ -151,7 +162,8 @@ TEST(Races, ARenderWhileDem2meshRewritesItsMesh) {
     refs.push_back(pixels_of(in.dir.path("ref_ply_" + w + ".png")));
   }
   ASSERT_NE(refs[0], refs[2]);
-  terrain::test::Background writer("sh -c 'while true; do " + d2m + m + " --spacing 50 --pyramid -q; " + d2m + m +
+  terrain::test::Background writer("sh -c 'while true; do " + d2m + m +
+                                   " --spacing 50 --pyramid -q; " + d2m + m +
                                    " --spacing 50 --pyramid --normal-weighting angle -q; done'");
   int drawn = 0, changed = 0;
   for (int i = 0; i < 10; ++i) {
@@ -159,7 +171,8 @@ TEST(Races, ARenderWhileDem2meshRewritesItsMesh) {
     const auto r = run(frame + out);
     if (r.exit_code == 0) {
       const auto px = pixels_of(out);
-      EXPECT_TRUE(std::find(refs.begin(), refs.end(), px) != refs.end()) << "render " << i << " drew neither terrain";
+      EXPECT_TRUE(std::find(refs.begin(), refs.end(), px) != refs.end())
+          << "render " << i << " drew neither terrain";
       ++drawn;
     } else {
       EXPECT_NE(r.err.find("changed while they were read"), std::string::npos) << r.err;

@@ -26,7 +26,9 @@ using terrain::test::data;
 using terrain::test::run;
 using terrain::test::tool;
 
-std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
+std::size_t lines(const std::string& s) {
+  return std::size_t(std::count(s.begin(), s.end(), '\n'));
+}
 
 void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
@@ -40,7 +42,8 @@ struct Inputs {
   terrain::test::ScratchDir dir;
   std::string mesh, dv;
   Inputs() : mesh(dir.path("m.ply")), dv(dir.path("m.dv")) {
-    const auto a = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh + " --spacing 50 -q");
+    const auto a = run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh +
+                       " --spacing 50 -q");
     EXPECT_EQ(a.exit_code, 0) << a.err;
     const auto b = run(tool("build-drainage") + " " + mesh + " " + dv + " --spacing 25 -q");
     EXPECT_EQ(b.exit_code, 0) << b.err;
@@ -50,12 +53,13 @@ struct Inputs {
 TEST(TerrainRender, BatchWritesFramesAndTimings) {
   Inputs in;
   const std::string csv = in.dir.path("frames.csv");
-  const auto p = run(tool("terrain-render") + " path --from 561500 5114000 2800 --to 563500 5116000 2700 --frames 3 -o " +
-                     csv);
+  const auto p =
+      run(tool("terrain-render") +
+          " path --from 561500 5114000 2800 --to 563500 5116000 2700 --frames 3 -o " + csv);
   ASSERT_EQ(p.exit_code, 0) << p.err;
   const std::string out = in.dir.path("frames");
-  const auto b = run(tool("terrain-render") + " batch " + in.mesh + " " + in.dv + " " + csv + " -o " + out +
-                     " --size 160x120 -q");
+  const auto b = run(tool("terrain-render") + " batch " + in.mesh + " " + in.dv + " " + csv +
+                     " -o " + out + " --size 160x120 -q");
   ASSERT_EQ(b.exit_code, 0) << b.err;
   EXPECT_TRUE(b.err.empty()) << b.err;
   for (int i = 0; i < 3; ++i)
@@ -93,15 +97,15 @@ TEST(TerrainRender, BatchWritesFramesAndTimings) {
     EXPECT_EQ(cmp.nfail, 0u) << "row " << row << ": max difference " << cmp.maxerror;
     EXPECT_FALSE(cmp.error) << row;
   }
-  const auto past = run(tool("terrain-render") + " frame " + in.mesh + " -o " + in.dir.path("past.png") +
-                        " --size 160x120 --view " + csv + ":3");
+  const auto past = run(tool("terrain-render") + " frame " + in.mesh + " -o " +
+                        in.dir.path("past.png") + " --size 160x120 --view " + csv + ":3");
   EXPECT_EQ(past.exit_code, 1);
   EXPECT_NE(past.err.find("has frames 0 .. 2, not 3"), std::string::npos) << past.err;
   EXPECT_FALSE(std::filesystem::exists(in.dir.path("past.png")));
 
   // A single frame with the default camera, with and without creases.
-  const auto f = run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + in.dir.path("f.png") +
-                     " --size 160x120");
+  const auto f = run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " +
+                     in.dir.path("f.png") + " --size 160x120");
   ASSERT_EQ(f.exit_code, 0) << f.err;
   EXPECT_NE(f.out.find("crease segments drawn: "), std::string::npos) << f.out;
   const auto g = run(tool("terrain-render") + " frame " + in.mesh + " -o " + in.dir.path("g.png") +
@@ -118,9 +122,11 @@ std::size_t white_pixels(const std::string& png) {
   OIIO::ImageBuf buf(png);
   EXPECT_TRUE(buf.read(0, 0, true, OIIO::TypeDesc::UINT8)) << png;
   std::vector<std::uint8_t> px(std::size_t(buf.spec().width) * std::size_t(buf.spec().height) * 3);
-  buf.get_pixels(OIIO::ROI(0, buf.spec().width, 0, buf.spec().height, 0, 1, 0, 3), OIIO::TypeDesc::UINT8, px.data());
+  buf.get_pixels(OIIO::ROI(0, buf.spec().width, 0, buf.spec().height, 0, 1, 0, 3),
+                 OIIO::TypeDesc::UINT8, px.data());
   std::size_t n = 0;
-  for (std::size_t i = 0; i < px.size(); i += 3) n += px[i] == 255 && px[i + 1] == 255 && px[i + 2] == 255;
+  for (std::size_t i = 0; i < px.size(); i += 3)
+    n += px[i] == 255 && px[i + 1] == 255 && px[i + 2] == 255;
   return n;
 }
 
@@ -134,8 +140,10 @@ TEST(TerrainRender, FineTessellationDrawsEveryPatch) {
   const char* ppe[2] = {"6", "1"};
   for (int i = 0; i < 2; ++i) {
     const std::string out = in.dir.path(std::string("t") + ppe[i] + ".png");
-    const auto r = run(tool("terrain-render") + " frame " + in.mesh + " -o " + out + " --layers mask --view-az 180 "
-                       "--pixels-per-edge " + ppe[i] + " -q");
+    const auto r = run(tool("terrain-render") + " frame " + in.mesh + " -o " + out +
+                       " --layers mask --view-az 180 "
+                       "--pixels-per-edge " +
+                       ppe[i] + " -q");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     px[i] = white_pixels(out);
   }
@@ -154,10 +162,14 @@ TEST(TerrainRender, InfoPrintsTheAutomaticView) {
   const std::string a = in.dir.path("a.png"), b = in.dir.path("b.png");
   // Without hachures: seeded on a pixel grid, they move with a camera printed to 0.1 m.
   const std::string layers = " --layers mask,creases,silhouettes";
-  ASSERT_EQ(run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + a + " -q " + m[1].str() + layers)
+  ASSERT_EQ(run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + a + " -q " +
+                m[1].str() + layers)
                 .exit_code,
             0);
-  ASSERT_EQ(run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + b + " -q" + layers).exit_code, 0);
+  ASSERT_EQ(
+      run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + b + " -q" + layers)
+          .exit_code,
+      0);
   OIIO::ImageBuf ia(a), ib(b);
   const auto cmp = OIIO::ImageBufAlgo::compare(ia, ib, 0.02f, 0.02f);
   EXPECT_LT(double(cmp.nfail), 0.001 * 1280 * 720) << m[1].str();
@@ -170,17 +182,22 @@ TEST(TerrainRender, InfoPrintsTheAutomaticView) {
 TEST(TerrainRender, AutomaticExaggerationIsPrintedAndReproduced) {
   Inputs in;
   const std::string eno = in.dir.path("eno.ply");
-  ASSERT_EQ(run(tool("dem2mesh") + " " + data("eno_nad83_geographic_crop.tif") + " " + eno + " -q").exit_code, 0);
+  ASSERT_EQ(run(tool("dem2mesh") + " " + data("eno_nad83_geographic_crop.tif") + " " + eno + " -q")
+                .exit_code,
+            0);
   for (const std::string& mesh : {eno, in.mesh}) {
     SCOPED_TRACE(mesh);
     const auto info = run(tool("terrain-inspect") + " info " + mesh);
     ASSERT_EQ(info.exit_code, 0) << info.err;
     std::smatch e, v;
-    ASSERT_TRUE(std::regex_search(info.out, e, std::regex("automatic_exaggeration: ([0-9.]+)"))) << info.out;
+    ASSERT_TRUE(std::regex_search(info.out, e, std::regex("automatic_exaggeration: ([0-9.]+)")))
+        << info.out;
     ASSERT_TRUE(std::regex_search(info.out, v, std::regex("automatic_view: ([^\n]+)"))) << info.out;
     const double auto_e = std::stod(e[1]);
-    if (mesh == eno) EXPECT_GE(auto_e, 2.0);
-    else EXPECT_EQ(auto_e, 1.0);
+    if (mesh == eno)
+      EXPECT_GE(auto_e, 2.0);
+    else
+      EXPECT_EQ(auto_e, 1.0);
     // Names of their own for each mesh: OIIO's image cache may hand back the first mesh's
     // pictures for a path written again within the same second (a flaky failure under load).
     const std::string tag = mesh == eno ? "eno" : "msh";
@@ -188,11 +205,14 @@ TEST(TerrainRender, AutomaticExaggerationIsPrintedAndReproduced) {
     // The line layers whose places do not hang on the last digit of the camera (hachures are
     // seeded on a pixel grid: a camera printed to 0.1 m moves some).
     const std::string layers = " --layers mask,creases,silhouettes";
-    const auto plain = run(tool("terrain-render") + " frame " + mesh + " -o " + a + " --size 320x180" + layers);
+    const auto plain =
+        run(tool("terrain-render") + " frame " + mesh + " -o " + a + " --size 320x180" + layers);
     ASSERT_EQ(plain.exit_code, 0) << plain.err;
-    EXPECT_NE(plain.out.find("exaggeration: " + e[1].str() + " (automatic)\n"), std::string::npos) << plain.out;
-    const auto given = run(tool("terrain-render") + " frame " + mesh + " -o " + b + " --size 320x180 " + v[1].str() +
-                           " --exaggeration " + e[1].str() + layers);
+    EXPECT_NE(plain.out.find("exaggeration: " + e[1].str() + " (automatic)\n"), std::string::npos)
+        << plain.out;
+    const auto given =
+        run(tool("terrain-render") + " frame " + mesh + " -o " + b + " --size 320x180 " +
+            v[1].str() + " --exaggeration " + e[1].str() + layers);
     ASSERT_EQ(given.exit_code, 0) << given.err;
     EXPECT_NE(given.out.find("exaggeration: " + e[1].str() + "\n"), std::string::npos) << given.out;
     OIIO::ImageBuf ia(a), ib(b);
@@ -216,21 +236,22 @@ TEST(TerrainRender, IntegerDemStepsAreSmoothedAwayFromTheCreases) {
     return m.empty() ? -1.0 : std::stod(m[1]);
   };
   for (int i = 0; i < 2; ++i) {
-    const std::string mesh = dir.path(std::string(mode[i]) + ".ply"), dv = dir.path(std::string(mode[i]) + ".dv");
-    const auto m = run(tool("dem2mesh") + " " + data("med_01_01_10m.tif") + " " + mesh + " --dequantize " + mode[i] +
-                       " -v");
+    const std::string mesh = dir.path(std::string(mode[i]) + ".ply"),
+                      dv = dir.path(std::string(mode[i]) + ".dv");
+    const auto m = run(tool("dem2mesh") + " " + data("med_01_01_10m.tif") + " " + mesh +
+                       " --dequantize " + mode[i] + " -v");
     ASSERT_EQ(m.exit_code, 0) << m.err;
     EXPECT_EQ(m.err.find("integer heights: steps smoothed") != std::string::npos, i == 0) << m.err;
     ASSERT_EQ(run(tool("build-drainage") + " " + mesh + " " + dv + " --breach 10 -q").exit_code, 0);
-    const auto r = run(tool("terrain-render") + " frame " + mesh + " " + dv + " -o " + dir.path("f.png") +
-                       " --line-stats");
+    const auto r = run(tool("terrain-render") + " frame " + mesh + " " + dv + " -o " +
+                       dir.path("f.png") + " --line-stats");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     flat[i] = share(r.out, "flat share"), valley[i] = share(r.out, "valley share");
     if (i == 0) {
       // Every branch (--crease-links all): the tracks down the planes come back, twice the
       // ink (9584 px against 4481), and a lower valley share (0.80).
-      const auto k = run(tool("terrain-render") + " frame " + mesh + " " + dv + " -o " + dir.path("k.png") +
-                         " --line-stats --crease-links all");
+      const auto k = run(tool("terrain-render") + " frame " + mesh + " " + dv + " -o " +
+                         dir.path("k.png") + " --line-stats --crease-links all");
       ASSERT_EQ(k.exit_code, 0) << k.err;
       EXPECT_GT(share(k.out, "length px"), 1.5 * share(r.out, "length px"));
       EXPECT_LT(share(k.out, "valley share"), valley[0] - 0.05);
@@ -255,19 +276,24 @@ TEST(TerrainRender, IntegerDemStepsAreSmoothedAwayFromTheCreases) {
 // --min-area (the page's rule has its own tests, StrokesFollowThePageNotTheMesh*).
 TEST(CreaseLines, TenAndFiveMetreNetworksAgree) {
   terrain::test::ScratchDir dir;
-  const std::string mesh = dir.path("m.ply"), render = tool("terrain-render") + " frame " + mesh + " ";
-  ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh + " --spacing 50 -q").exit_code, 0);
+  const std::string mesh = dir.path("m.ply"),
+                    render = tool("terrain-render") + " frame " + mesh + " ";
+  ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh +
+                " --spacing 50 -q")
+                .exit_code,
+            0);
   for (const char* spacing : {"10", "5"}) {
-    const auto b = run(tool("build-drainage") + " " + mesh + " " + dir.path(std::string("d") + spacing + ".dv") +
-                       " --spacing " + spacing + " --breach 10 -q");
+    const auto b = run(tool("build-drainage") + " " + mesh + " " +
+                       dir.path(std::string("d") + spacing + ".dv") + " --spacing " + spacing +
+                       " --breach 10 -q");
     ASSERT_EQ(b.exit_code, 0) << b.err;
   }
   for (const std::string view : {"", "--view-az 160 --view-alt 35"}) {
     SCOPED_TRACE(view);
     auto draw = [&](const std::string& dv, const std::string& options) {
       const std::string png = dir.path("x.png");
-      const auto r = run(render + dir.path(dv) + " -o " + png + " --layers mask,creases --page-min-area 0 " + view +
-                         " " + options);
+      const auto r = run(render + dir.path(dv) + " -o " + png +
+                         " --layers mask,creases --page-min-area 0 " + view + " " + options);
       EXPECT_EQ(r.exit_code, 0) << r.err;
       return terrain::test::ink_of(png);
     };
@@ -276,10 +302,12 @@ TEST(CreaseLines, TenAndFiveMetreNetworksAgree) {
     const auto ten_points = draw("d10.dv", "--min-drainage-width 0"),
                five_points = draw("d5.dv", "--min-area 2500 --min-drainage-width 0");
     ASSERT_GT(terrain::test::count(ten), 5000u);
-    const double a = terrain::test::near_share(ten, five, 2), b = terrain::test::near_share(five, ten, 2);
+    const double a = terrain::test::near_share(ten, five, 2),
+                 b = terrain::test::near_share(five, ten, 2);
     const double c = terrain::test::near_share(five_points, ten_points, 2);
-    std::cout << "10 m ink near 5 m ink " << a << ", 5 m near 10 m " << b << " (" << terrain::test::count(ten) << ", "
-              << terrain::test::count(five) << " px); 5 m at 100 points near 10 m " << c << " ("
+    std::cout << "10 m ink near 5 m ink " << a << ", 5 m near 10 m " << b << " ("
+              << terrain::test::count(ten) << ", " << terrain::test::count(five)
+              << " px); 5 m at 100 points near 10 m " << c << " ("
               << terrain::test::count(five_points) << " px)\n";
     EXPECT_GE(a, 0.9);
     EXPECT_GE(b, 0.9);
@@ -295,37 +323,50 @@ TEST(CreaseLines, TenAndFiveMetreNetworksAgree) {
 TEST(TerrainRender, StrokesFollowThePageNotTheMesh) {
   terrain::test::ScratchDir dir;
   auto value = [](const std::string& out, const std::string& key) {
-    const std::smatch m = [&] { std::smatch x; std::regex_search(out, x, std::regex(key + ": ([-0-9.]+)")); return x; }();
+    const std::smatch m = [&] {
+      std::smatch x;
+      std::regex_search(out, x, std::regex(key + ": ([-0-9.]+)"));
+      return x;
+    }();
     EXPECT_FALSE(m.empty()) << key << " in\n" << out;
     return m.empty() ? -1.0 : std::stod(m[1]);
   };
   for (const char* sp : {"50", "25"}) {
-    const std::string m = dir.path(std::string("m") + sp + ".ply"), dv = dir.path(std::string("m") + sp + ".dv");
-    ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + m + " --spacing " + sp + " -q").exit_code, 0);
+    const std::string m = dir.path(std::string("m") + sp + ".ply"),
+                      dv = dir.path(std::string("m") + sp + ".dv");
+    ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + m +
+                  " --spacing " + sp + " -q")
+                  .exit_code,
+              0);
     ASSERT_EQ(run(tool("build-drainage") + " " + m + " " + dv + " --spacing 20 -q").exit_code, 0);
   }
   auto frame = [&](const std::string& sp, const std::string& options) {
-    const auto r = run(tool("terrain-render") + " frame " + dir.path("m" + sp + ".ply") + " " + dir.path("m" + sp + ".dv") +
-                       " -o " + dir.path("f.png") + " --size 640x360 --line-stats " + options);
+    const auto r = run(tool("terrain-render") + " frame " + dir.path("m" + sp + ".ply") + " " +
+                       dir.path("m" + sp + ".dv") + " -o " + dir.path("f.png") +
+                       " --size 640x360 --line-stats " + options);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return r.out;
   };
   const std::string coarse = frame("50", "");
   std::smatch eye;
   ASSERT_TRUE(std::regex_search(coarse, eye, std::regex("eye: ([-0-9.]+) ([-0-9.]+) ([-0-9.]+)")));
-  const std::string camera = " --eye " + eye[1].str() + " " + eye[2].str() + " " + eye[3].str() +
-                             " --view-az 270 --view-alt 50 --light-az 225 --light-alt 45 --exaggeration 1";
+  const std::string camera =
+      " --eye " + eye[1].str() + " " + eye[2].str() + " " + eye[3].str() +
+      " --view-az 270 --view-alt 50 --light-az 225 --light-alt 45 --exaggeration 1";
   ASSERT_NE(coarse.find("view: az 270 alt 50"), std::string::npos) << coarse;
   ASSERT_NE(coarse.find("light: az 225 alt 45"), std::string::npos) << coarse;
   const std::string old = " --crease-min-stroke-px 0 --crease-bridge-px 0 --page-min-area 0";
   const std::string fine = frame("25", camera),
-                    fine_old = frame("25", camera + old + " --crease-min-stroke 100 --crease-bridge 25"),
-                    coarse_old = frame("50", camera + old + " --crease-min-stroke 200 --crease-bridge 50");
+                    fine_old =
+                        frame("25", camera + old + " --crease-min-stroke 100 --crease-bridge 25"),
+                    coarse_old =
+                        frame("50", camera + old + " --crease-min-stroke 200 --crease-bridge 50");
   const double s0 = value(coarse, "crease strokes"), s1 = value(fine, "crease strokes"),
-               s_old = value(fine_old, "crease strokes"), s0_old = value(coarse_old, "crease strokes");
+               s_old = value(fine_old, "crease strokes"),
+               s0_old = value(coarse_old, "crease strokes");
   const double i0 = value(coarse, "crease length px"), i1 = value(fine, "crease length px");
-  std::cout << "strokes: 50 m " << s0 << ", 25 m " << s1 << " (the old rules: " << s0_old << ", " << s_old << "); ink "
-            << i0 << ", " << i1 << " px\n";
+  std::cout << "strokes: 50 m " << s0 << ", 25 m " << s1 << " (the old rules: " << s0_old << ", "
+            << s_old << "); ink " << i0 << ", " << i1 << " px\n";
   ASSERT_GT(s0, 10.0);
   EXPECT_LE(std::abs(s1 - s0), 0.25 * s0);
   EXPECT_LE(std::abs(i1 - i0), 0.15 * i0);
@@ -353,25 +394,36 @@ TEST(TerrainRender, StrokesFollowThePageNotTheMeshOnAnAnalyticSurface) {
     return m.empty() ? -1.0 : std::stod(m[1]);
   };
   for (const char* sp : {"40", "20"}) {
-    const std::string m = dir.path(std::string("m") + sp + ".ply"), dv = dir.path(std::string("m") + sp + ".dv");
-    ASSERT_EQ(run(tool("dem2mesh") + " " + dir.path("dem.tif") + " " + m + " --spacing " + sp + " -q").exit_code, 0);
+    const std::string m = dir.path(std::string("m") + sp + ".ply"),
+                      dv = dir.path(std::string("m") + sp + ".dv");
+    ASSERT_EQ(
+        run(tool("dem2mesh") + " " + dir.path("dem.tif") + " " + m + " --spacing " + sp + " -q")
+            .exit_code,
+        0);
     ASSERT_EQ(run(tool("build-drainage") + " " + m + " " + dv + " -q").exit_code, 0);
   }
-  const std::string camera = " --eye 501500 4996000 2500 --view-az 0 --view-alt 40 --light-az 315 --light-alt 45 "
-                             "--exaggeration 1 --size 640x360 --line-stats -o " + dir.path("f.png");
+  const std::string camera =
+      " --eye 501500 4996000 2500 --view-az 0 --view-alt 40 --light-az 315 --light-alt 45 "
+      "--exaggeration 1 --size 640x360 --line-stats -o " +
+      dir.path("f.png");
   auto frame = [&](const std::string& sp, const std::string& options) {
     const auto r = run(tool("terrain-render") + " frame " + dir.path("m" + sp + ".ply") + " " +
                        dir.path("m" + sp + ".dv") + camera + options);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return strokes(r.out);
   };
-  const double coarse = frame("40", ""), fine = frame("20", ""),
-               fine_old = frame("20", " --crease-min-stroke 80 --crease-min-stroke-px 0 --crease-bridge 20 --crease-bridge-px 0"
-                                      " --page-min-area 0"),
-               coarse_old = frame("40", " --crease-min-stroke 160 --crease-min-stroke-px 0 --crease-bridge 40 "
-                                        "--crease-bridge-px 0 --page-min-area 0");
-  std::cout << "strokes: 40 m " << coarse << ", 20 m " << fine << "; in mesh spacings " << coarse_old << ", " << fine_old
-            << "\n";
+  const double
+      coarse = frame("40", ""),
+      fine = frame("20", ""),
+      fine_old = frame(
+          "20",
+          " --crease-min-stroke 80 --crease-min-stroke-px 0 --crease-bridge 20 --crease-bridge-px 0"
+          " --page-min-area 0"),
+      coarse_old = frame("40",
+                         " --crease-min-stroke 160 --crease-min-stroke-px 0 --crease-bridge 40 "
+                         "--crease-bridge-px 0 --page-min-area 0");
+  std::cout << "strokes: 40 m " << coarse << ", 20 m " << fine << "; in mesh spacings "
+            << coarse_old << ", " << fine_old << "\n";
   ASSERT_GT(coarse, 10.0);
   EXPECT_LE(std::abs(fine - coarse), 0.25 * coarse);
   EXPECT_GT(fine_old - coarse_old, 0.25 * coarse_old);
@@ -389,7 +441,8 @@ TEST(TerrainRender, HachuresAreALayerOfPngAndSvg) {
   ASSERT_EQ(run(frame + in.dir.path("h.png")).exit_code, 0);
   ASSERT_EQ(run(frame + in.dir.path("h.svg")).exit_code, 0);
   ASSERT_EQ(run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
-                " --size 480x270 --layers mask -q -o " + in.dir.path("m.png")).exit_code,
+                " --size 480x270 --layers mask -q -o " + in.dir.path("m.png"))
+                .exit_code,
             0);
   const auto png = terrain::test::ink_of(in.dir.path("h.png"));
   EXPECT_GT(terrain::test::count(png), 2000u);
@@ -399,14 +452,19 @@ TEST(TerrainRender, HachuresAreALayerOfPngAndSvg) {
     for (int x = 0; x < png.w; ++x) {
       float px[3];
       mask.getpixel(x, y, px, 3);
-      off_terrain += png.on[std::size_t(y * png.w + x)] && px[0] < 0.95f;  // background (0xdd = 0.87)
+      off_terrain +=
+          png.on[std::size_t(y * png.w + x)] && px[0] < 0.95f;  // background (0xdd = 0.87)
     }
   EXPECT_LT(off_terrain, 20u);  // a round cap's anti-aliased rim at the terrain's edge at most
   const std::string svg = terrain::test::file_bytes(in.dir.path("h.svg"));
   const auto at = svg.find("inkscape:label=\"hachures\"");
   ASSERT_NE(at, std::string::npos);
-  EXPECT_GT(std::count(svg.begin() + long(at), svg.end(), 'M'), 50);  // paths (each starts with a move)
-  ASSERT_EQ(run("rsvg-convert -b '#dde4ec' " + in.dir.path("h.svg") + " -o " + in.dir.path("svg.png")).exit_code, 0);
+  EXPECT_GT(std::count(svg.begin() + long(at), svg.end(), 'M'),
+            50);  // paths (each starts with a move)
+  ASSERT_EQ(
+      run("rsvg-convert -b '#dde4ec' " + in.dir.path("h.svg") + " -o " + in.dir.path("svg.png"))
+          .exit_code,
+      0);
   const auto drawn = terrain::test::ink_of(in.dir.path("svg.png"));
   EXPECT_GE(terrain::test::near_share(png, drawn, 1), 0.9);
   EXPECT_GE(terrain::test::near_share(drawn, png, 1), 0.9);
@@ -426,15 +484,20 @@ TEST(TerrainRender, TopViewIsAMapInMapCoordinates) {
                             " --view top --map-scale 10 --layers mask --size 640x480 -o ";
   const auto f = run(frame + in.dir.path("t.png"));
   ASSERT_EQ(f.exit_code, 0) << f.err;
-  EXPECT_NE(f.out.find("view: orthographic, az 0 alt 90, 10 m a pixel"), std::string::npos) << f.out;
+  EXPECT_NE(f.out.find("view: orthographic, az 0 alt 90, 10 m a pixel"), std::string::npos)
+      << f.out;
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(f.out, m, std::regex(R"(geotransform: (\S+) (\S+) 0 (\S+) 0 (\S+))"))) << f.out;
-  const double x0 = std::stod(m[1]), sx = std::stod(m[2]), y0 = std::stod(m[3]), sy = std::stod(m[4]);
+  ASSERT_TRUE(
+      std::regex_search(f.out, m, std::regex(R"(geotransform: (\S+) (\S+) 0 (\S+) 0 (\S+))")))
+      << f.out;
+  const double x0 = std::stod(m[1]), sx = std::stod(m[2]), y0 = std::stod(m[3]),
+               sy = std::stod(m[4]);
   EXPECT_EQ(sx, 10.0);
   EXPECT_EQ(sy, -10.0);
   terrain::ensure_gdal();
   {
-    std::unique_ptr<GDALDataset> ds(GDALDataset::Open(in.dir.path("t.png").c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    std::unique_ptr<GDALDataset> ds(
+        GDALDataset::Open(in.dir.path("t.png").c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
     ASSERT_TRUE(ds);
     double gt[6];
     ASSERT_EQ(ds->GetGeoTransform(gt), CE_None);  // from t.pgw
@@ -445,7 +508,8 @@ TEST(TerrainRender, TopViewIsAMapInMapCoordinates) {
   }
   const terrain::GridMesh mesh = terrain::read_mesh_ply(in.mesh);
   const double west = mesh.geo.origin_x, north = mesh.geo.origin_y;
-  const double east = west + double(mesh.topo.cols - 1) * mesh.geo.dx, south = north - double(mesh.topo.rows - 1) * mesh.geo.dy;
+  const double east = west + double(mesh.topo.cols - 1) * mesh.geo.dx,
+               south = north - double(mesh.topo.rows - 1) * mesh.geo.dy;
   OIIO::ImageBuf img(in.dir.path("t.png"));
   ASSERT_TRUE(img.read(0, 0, true, OIIO::TypeDesc::UINT8));
   const int w = img.spec().width, h = img.spec().height;
@@ -454,13 +518,16 @@ TEST(TerrainRender, TopViewIsAMapInMapCoordinates) {
   const int nc = img.spec().nchannels;
   auto background = [&](int u, int v) {
     for (int c = 0; c < 3; ++c)
-      if (px[std::size_t((v * w + u) * nc + c)] != px[std::size_t(c)]) return false;  // the corner's colour
+      if (px[std::size_t((v * w + u) * nc + c)] != px[std::size_t(c)])
+        return false;  // the corner's colour
     return true;
   };
   int u_lo = w, u_hi = -1, v_lo = h, v_hi = -1;
   for (int v = 0; v < h; ++v)
     for (int u = 0; u < w; ++u)
-      if (!background(u, v)) u_lo = std::min(u_lo, u), u_hi = std::max(u_hi, u), v_lo = std::min(v_lo, v), v_hi = std::max(v_hi, v);
+      if (!background(u, v))
+        u_lo = std::min(u_lo, u), u_hi = std::max(u_hi, u), v_lo = std::min(v_lo, v),
+        v_hi = std::max(v_hi, v);
   EXPECT_NEAR(x0 + u_lo * sx, west, 1.5 * sx);
   EXPECT_NEAR(x0 + (u_hi + 1) * sx, east, 1.5 * sx);
   EXPECT_NEAR(y0 + v_lo * sy, north, 1.5 * sx);
@@ -468,24 +535,29 @@ TEST(TerrainRender, TopViewIsAMapInMapCoordinates) {
 
   ASSERT_EQ(run(frame + in.dir.path("t.svg")).exit_code, 0);
   const std::string svg = terrain::test::file_bytes(in.dir.path("t.svg"));
-  EXPECT_NE(svg.find(fmt::format("north up, 10 m a pixel; geotransform {:.3f} 10 0 {:.3f} 0 -10; EPSG:{}", x0, y0,
-                                 mesh.geo.epsg)),
-            std::string::npos);
-  const auto bad = run(tool("terrain-render") + " frame " + in.mesh + " --map-scale 10 -o " + in.dir.path("b.png"));
+  EXPECT_NE(
+      svg.find(fmt::format("north up, 10 m a pixel; geotransform {:.3f} 10 0 {:.3f} 0 -10; EPSG:{}",
+                           x0, y0, mesh.geo.epsg)),
+      std::string::npos);
+  const auto bad = run(tool("terrain-render") + " frame " + in.mesh + " --map-scale 10 -o " +
+                       in.dir.path("b.png"));
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.err.find("--map-scale needs the orthographic view"), std::string::npos) << bad.err;
   EXPECT_FALSE(std::filesystem::exists(in.dir.path("b.png")));
   // A panned map (--view top with the eye, as terrain-view saves one): centred under the eye,
   // 500 m east of the image's centre above, its geotransform 500 m east; looking elsewhere
   // than straight down, north up, it is not a map.
-  const std::string eye = fmt::format(" --eye {:.3f} {:.3f} 9000", x0 + 320 * 10 + 500, y0 - 240 * 10);
+  const std::string eye =
+      fmt::format(" --eye {:.3f} {:.3f} 9000", x0 + 320 * 10 + 500, y0 - 240 * 10);
   const auto panned = run(frame + in.dir.path("p.png") + eye);
   ASSERT_EQ(panned.exit_code, 0) << panned.err;
-  EXPECT_NE(panned.out.find(fmt::format("geotransform: {:.3f} 10 0 {:.3f} 0 -10", x0 + 500, y0)), std::string::npos)
+  EXPECT_NE(panned.out.find(fmt::format("geotransform: {:.3f} 10 0 {:.3f} 0 -10", x0 + 500, y0)),
+            std::string::npos)
       << panned.out;
   const auto oblique = run(frame + in.dir.path("o.png") + eye + " --view-alt 60");
   EXPECT_NE(oblique.exit_code, 0);
-  EXPECT_NE(oblique.err.find("--map-scale needs the orthographic view"), std::string::npos) << oblique.err;
+  EXPECT_NE(oblique.err.find("--map-scale needs the orthographic view"), std::string::npos)
+      << oblique.err;
 }
 
 // A mesh's plan-view hachure map (terrain-inspect export --layers hachures): the GeoPackage
@@ -501,29 +573,36 @@ TEST(TerrainInspect, HachureMapsInMapCoordinates) {
   std::smatch m;
   ASSERT_TRUE(std::regex_search(g.out, m, std::regex(R"(hachures: (\d+))"))) << g.out;
   const long n = std::stol(m[1]);
-  ASSERT_TRUE(std::regex_search(g.out, m, std::regex(R"(geotransform: (\S+) (\S+) 0 (\S+) 0 (\S+))"))) << g.out;
-  const double x0 = std::stod(m[1]), sx = std::stod(m[2]), y0 = std::stod(m[3]), sy = std::stod(m[4]);
+  ASSERT_TRUE(
+      std::regex_search(g.out, m, std::regex(R"(geotransform: (\S+) (\S+) 0 (\S+) 0 (\S+))")))
+      << g.out;
+  const double x0 = std::stod(m[1]), sx = std::stod(m[2]), y0 = std::stod(m[3]),
+               sy = std::stod(m[4]);
   EXPECT_EQ(sx, 10.0);
   EXPECT_EQ(sy, -10.0);
   EXPECT_GT(n, 100);
 
   const terrain::GridMesh mesh = terrain::read_mesh_ply(in.mesh);
   const double west = mesh.geo.origin_x, north = mesh.geo.origin_y;
-  const double east = west + double(mesh.topo.cols - 1) * mesh.geo.dx, south = north - double(mesh.topo.rows - 1) * mesh.geo.dy;
+  const double east = west + double(mesh.topo.cols - 1) * mesh.geo.dx,
+               south = north - double(mesh.topo.rows - 1) * mesh.geo.dy;
   terrain::ensure_gdal();
-  std::unique_ptr<GDALDataset> ds(GDALDataset::Open(in.dir.path("h.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  std::unique_ptr<GDALDataset> ds(
+      GDALDataset::Open(in.dir.path("h.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
   ASSERT_TRUE(ds);
   OGRLayer* layer = ds->GetLayerByName("hachures");
   ASSERT_TRUE(layer);
   EXPECT_EQ(layer->GetFeatureCount(), n);
   ASSERT_TRUE(layer->GetSpatialRef());
-  EXPECT_EQ(std::string(layer->GetSpatialRef()->GetAuthorityCode(nullptr)), std::to_string(mesh.geo.epsg));
+  EXPECT_EQ(std::string(layer->GetSpatialRef()->GetAuthorityCode(nullptr)),
+            std::to_string(mesh.geo.epsg));
   rsvg_ink(in.dir.path("h.svg"), in.dir.path("svg.png"));
   const auto ink = terrain::test::ink_of(in.dir.path("svg.png"));
   std::size_t vertices = 0, on_ink = 0;
   for (auto& f : *layer) {
     const double slope = f->GetFieldAsDouble("slope_deg"), tone = f->GetFieldAsDouble("tone");
-    EXPECT_TRUE(slope >= 2.8 && slope < 90) << slope;  // hachures end where the slope falls under 0.05 rad
+    EXPECT_TRUE(slope >= 2.8 && slope < 90)
+        << slope;  // hachures end where the slope falls under 0.05 rad
     EXPECT_TRUE(tone >= 0 && tone <= 1) << tone;
     EXPECT_GT(f->GetFieldAsDouble("length_m"), 0);
     const OGRLineString* line = f->GetGeometryRef()->toLineString();
@@ -536,7 +615,8 @@ TEST(TerrainInspect, HachureMapsInMapCoordinates) {
       for (int dv = -1; dv <= 1; ++dv)
         for (int du = -1; du <= 1; ++du) {
           const int uu = u + du, vv = v + dv;
-          hit |= uu >= 0 && vv >= 0 && uu < ink.w && vv < ink.h && ink.on[std::size_t(vv * ink.w + uu)];
+          hit |= uu >= 0 && vv >= 0 && uu < ink.w && vv < ink.h &&
+                 ink.on[std::size_t(vv * ink.w + uu)];
         }
       on_ink += hit;
     }
@@ -547,7 +627,8 @@ TEST(TerrainInspect, HachureMapsInMapCoordinates) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(form lines: every (\S+) m)"))) << r.out;
   const double interval = std::stod(m[1]);
-  std::unique_ptr<GDALDataset> rows(GDALDataset::Open(in.dir.path("r.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  std::unique_ptr<GDALDataset> rows(
+      GDALDataset::Open(in.dir.path("r.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
   ASSERT_TRUE(rows);
   for (auto& f : *rows->GetLayerByName("hachures")) {
     const double row = f->GetFieldAsDouble("row_m");
@@ -557,24 +638,26 @@ TEST(TerrainInspect, HachureMapsInMapCoordinates) {
 }
 
 // A plan map with its .dv draws the ridge lines (issue 64): on a tent 10 km long whose
-// flanks fall 30 % from its crest to valleys 2.5 km away on both sides, the map's ridges layer (GeoPackage, SVG) lies
-// along the crest over most of its length, and the hachures stop at it: every hachure
-// lies on one side of the crest and keeps off the ridge line's ink (2.2 px wide at 25 m a
-// pixel: 27.5 m from its centre, less the half pixel the lines are simplified within), and
-// both sides have hachures. Without --dv the map is
-// as before (no ridges layer).
-// The tent's mesh (dir/tent.ply, 100 m cells) and its drainage at 50 m (dir/tent.dv); returns
-// the crest's easting.
+// flanks fall 30 % from its crest to valleys 2.5 km away on both sides, the map's ridges layer
+// (GeoPackage, SVG) lies along the crest over most of its length, and the hachures stop at it:
+// every hachure lies on one side of the crest and keeps off the ridge line's ink (2.2 px wide at 25
+// m a pixel: 27.5 m from its centre, less the half pixel the lines are simplified within), and both
+// sides have hachures. Without --dv the map is as before (no ridges layer). The tent's mesh
+// (dir/tent.ply, 100 m cells) and its drainage at 50 m (dir/tent.dv); returns the crest's easting.
 double make_tent(const terrain::test::ScratchDir& dir) {
   terrain::Georef geo = terrain::read_dem_info(data("logan_utm12n_100m.tif")).geo;
   terrain::Grid g(100, 60, geo);  // 100 m cells
   for (std::size_t r = 0; r < g.rows; ++r)
     for (std::size_t c = 0; c < g.cols; ++c)
-      g.at(r, c) = float(900 - 0.3 * (2500 - std::abs(2500 - std::abs(double(c) * 100 + 50 - 3000))) -
-                         0.02 * double(r) * 100);
+      g.at(r, c) =
+          float(900 - 0.3 * (2500 - std::abs(2500 - std::abs(double(c) * 100 + 50 - 3000))) -
+                0.02 * double(r) * 100);
   terrain::write_geotiff(g, dir.path("tent.tif"));
-  EXPECT_EQ(run(tool("dem2mesh") + " " + dir.path("tent.tif") + " " + dir.path("tent.ply") + " -q").exit_code, 0);
-  EXPECT_EQ(run(tool("build-drainage") + " " + dir.path("tent.ply") + " " + dir.path("tent.dv") + " --spacing 50 -q")
+  EXPECT_EQ(run(tool("dem2mesh") + " " + dir.path("tent.tif") + " " + dir.path("tent.ply") + " -q")
+                .exit_code,
+            0);
+  EXPECT_EQ(run(tool("build-drainage") + " " + dir.path("tent.ply") + " " + dir.path("tent.dv") +
+                " --spacing 50 -q")
                 .exit_code,
             0);
   return geo.x0 + 3000;
@@ -589,7 +672,8 @@ TEST(TerrainInspect, PlanMapsDrawTheRidgeLinesAndTheHachuresStopAtThem) {
   ASSERT_EQ(e.exit_code, 0) << e.err;
   EXPECT_NE(e.out.find("ridges: "), std::string::npos) << e.out;
   terrain::ensure_gdal();
-  std::unique_ptr<GDALDataset> ds(GDALDataset::Open(dir.path("t.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  std::unique_ptr<GDALDataset> ds(
+      GDALDataset::Open(dir.path("t.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
   ASSERT_TRUE(ds);
   OGRLayer* ridges = ds->GetLayerByName("ridges");
   ASSERT_TRUE(ridges);
@@ -636,7 +720,8 @@ TEST(TerrainInspect, PlanMapsDrawTheRidgeLinesAndTheHachuresStopAtThem) {
 TEST(TerrainRender, TheDefaultPicturesLayersInSvgAndPdf) {
   terrain::test::ScratchDir dir;
   make_tent(dir);
-  const std::string frame = tool("terrain-render") + " frame " + dir.path("tent.ply") + " " + dir.path("tent.dv") +
+  const std::string frame = tool("terrain-render") + " frame " + dir.path("tent.ply") + " " +
+                            dir.path("tent.dv") +
                             " --size 480x270 --view-az 90 --view-alt 10 -q -o ";
   ASSERT_EQ(run(frame + dir.path("t.svg")).exit_code, 0);
   ASSERT_EQ(run(frame + dir.path("t.pdf")).exit_code, 0);
@@ -654,9 +739,14 @@ TEST(TerrainRender, TheDefaultPicturesLayersInSvgAndPdf) {
   for (std::sregex_iterator it(sil.begin(), sil.end(), width), end; it != end; ++it)
     widest = std::max(widest, std::stod((*it)[1]));
   EXPECT_GT(widest, 1.8 + 1.0) << "the skyline is drawn no heavier than the band";
-  ASSERT_EQ(run("rsvg-convert -b white " + dir.path("t.svg") + " -o " + dir.path("svg.png")).exit_code, 0);
-  ASSERT_EQ(run("pdftoppm -png -r 96 -singlefile " + dir.path("t.pdf") + " " + dir.path("pdf")).exit_code, 0);
-  const auto a = terrain::test::ink_of(dir.path("svg.png")), b = terrain::test::ink_of(dir.path("pdf.png"));
+  ASSERT_EQ(
+      run("rsvg-convert -b white " + dir.path("t.svg") + " -o " + dir.path("svg.png")).exit_code,
+      0);
+  ASSERT_EQ(
+      run("pdftoppm -png -r 96 -singlefile " + dir.path("t.pdf") + " " + dir.path("pdf")).exit_code,
+      0);
+  const auto a = terrain::test::ink_of(dir.path("svg.png")),
+             b = terrain::test::ink_of(dir.path("pdf.png"));
   EXPECT_GT(terrain::test::count(a), 1000u);
   EXPECT_GE(terrain::test::near_share(a, b, 1), 0.9);
   EXPECT_GE(terrain::test::near_share(b, a, 1), 0.9);
@@ -664,8 +754,8 @@ TEST(TerrainRender, TheDefaultPicturesLayersInSvgAndPdf) {
 
 TEST(TerrainRender, FlowScale) {
   Inputs in;
-  const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + in.dir.path("f.png") +
-                            " --size 160x120 --min-score 0.25";
+  const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " +
+                            in.dir.path("f.png") + " --size 160x120 --min-score 0.25";
   auto drawn = [](const std::string& out) {
     const auto at = out.find("crease segments drawn: ");
     EXPECT_NE(at, std::string::npos) << out;
@@ -678,7 +768,8 @@ TEST(TerrainRender, FlowScale) {
   EXPECT_GT(drawn(linear.out), 0.0);
   const auto bad = run(frame + " --flow-scale cubic");
   EXPECT_EQ(bad.exit_code, 2);
-  EXPECT_NE(bad.err.find("--flow-scale: 'cubic' is not one of log,linear"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("--flow-scale: 'cubic' is not one of log,linear"), std::string::npos)
+      << bad.err;
 }
 
 // --line-stats: every key with a value in range, no more strokes than segments the DM pass
@@ -692,23 +783,27 @@ TEST(TerrainRender, LineStats) {
     EXPECT_NE(at, std::string::npos) << key << " in\n" << out;
     return at == std::string::npos ? -1.0 : std::stod(out.substr(at + key.size() + 2));
   };
-  const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + in.dir.path("f.png") +
-                            " --size 320x240 --line-stats";
+  const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " +
+                            in.dir.path("f.png") + " --size 320x240 --line-stats";
   const auto ours = run(frame), seed = run(frame + " --seed-rules");
   ASSERT_EQ(ours.exit_code, 0) << ours.err;
   ASSERT_EQ(seed.exit_code, 0) << seed.err;
   for (const auto* r : {&ours, &seed}) {
     EXPECT_GT(value(r->out, "crease length px"), 0.0);
-    for (const char* share : {"crease boundary share", "crease flat share", "crease valley share", "crease connected share"}) {
+    for (const char* share : {"crease boundary share", "crease flat share", "crease valley share",
+                              "crease connected share"}) {
       EXPECT_GE(value(r->out, share), 0.0);
       EXPECT_LE(value(r->out, share), 1.0);
     }
     EXPECT_GE(value(r->out, "crease strokes"), 1.0);
-    EXPECT_LE(value(r->out, "crease strokes"), value(r->out, "crease segments drawn"));  // a stroke has a segment
+    EXPECT_LE(value(r->out, "crease strokes"),
+              value(r->out, "crease segments drawn"));  // a stroke has a segment
     // Each stroke weighs its mean opacity, in (0, 1].
     EXPECT_GT(value(r->out, "crease strokes, opacity-weighted"), 0.0);
-    EXPECT_LE(value(r->out, "crease strokes, opacity-weighted"), value(r->out, "crease strokes") + 0.05);
-    EXPECT_GE(value(r->out, "crease mean stroke px, opacity-weighted"), value(r->out, "crease mean stroke px") - 0.1);
+    EXPECT_LE(value(r->out, "crease strokes, opacity-weighted"),
+              value(r->out, "crease strokes") + 0.05);
+    EXPECT_GE(value(r->out, "crease mean stroke px, opacity-weighted"),
+              value(r->out, "crease mean stroke px") - 0.1);
   }
   EXPECT_GT(value(seed.out, "crease boundary share"), value(ours.out, "crease boundary share"));
   // Silhouettes: the piece rule only removes or fades pieces; each piece drawn is at least
@@ -724,26 +819,30 @@ TEST(TerrainRender, LineStats) {
   EXPECT_LE(value(ours.out, "silhouette px"), value(every.out, "silhouette px"));
 
   const std::string csv = in.dir.path("frames.csv"), out = in.dir.path("frames");
-  ASSERT_EQ(run(tool("terrain-render") + " path --from 561500 5114000 2800 --to 563500 5116000 2700 --frames 3 -o " + csv)
+  ASSERT_EQ(run(tool("terrain-render") +
+                " path --from 561500 5114000 2800 --to 563500 5116000 2700 --frames 3 -o " + csv)
                 .exit_code,
             0);
-  const auto b = run(tool("terrain-render") + " batch " + in.mesh + " " + in.dv + " " + csv + " -o " + out +
-                     " --size 160x120 -q --line-stats");
+  const auto b = run(tool("terrain-render") + " batch " + in.mesh + " " + in.dv + " " + csv +
+                     " -o " + out + " --size 160x120 -q --line-stats");
   ASSERT_EQ(b.exit_code, 0) << b.err;
   std::ifstream t(out + "/line_stats.csv");
   std::stringstream all;
   all << t.rdbuf();
   EXPECT_EQ(lines(all.str()), 4u) << all.str();
-  EXPECT_EQ(all.str().rfind("frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px,"
-                            "silhouette_px,silhouette_pieces,weighted_strokes,weighted_mean_stroke_px,connected_share,hachures,"
-                            "hachure_length_px,hachure_along_share,hachure_spacing_share\n",
-                            0),
+  EXPECT_EQ(all.str().rfind(
+                "frame,length_px,boundary_share,flat_share,valley_share,strokes,mean_stroke_px,"
+                "silhouette_px,silhouette_pieces,weighted_strokes,weighted_mean_stroke_px,"
+                "connected_share,hachures,"
+                "hachure_length_px,hachure_along_share,hachure_spacing_share\n",
+                0),
             0u);
   const double f = value(b.out, "crease flicker");
   EXPECT_GE(f, 0.0);
   EXPECT_LE(f, 1.0);
 
-  const auto bad = run(tool("terrain-render") + " frame " + in.mesh + " -o " + in.dir.path("g.png") + " --line-stats");
+  const auto bad = run(tool("terrain-render") + " frame " + in.mesh + " -o " +
+                       in.dir.path("g.png") + " --line-stats");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("--line-stats"), std::string::npos) << bad.err;
 }
@@ -757,7 +856,8 @@ TEST(TerrainRender, DrainageOfAnotherMeshIsAWarning) {
                 " --spacing 50 --center 562500 5117000 --size 1000 1000 -q")
                 .exit_code,
             0);
-  ASSERT_EQ(run(tool("build-drainage") + " " + crop + " " + crop_dv + " --spacing 25 -q").exit_code, 0);
+  ASSERT_EQ(run(tool("build-drainage") + " " + crop + " " + crop_dv + " --spacing 25 -q").exit_code,
+            0);
   const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + crop_dv + " -o " +
                             in.dir.path("f.png") + " --size 64x48";
   const auto r = run(frame);
@@ -765,8 +865,8 @@ TEST(TerrainRender, DrainageOfAnotherMeshIsAWarning) {
   EXPECT_EQ(lines(r.err), 1u) << r.err;
   EXPECT_NE(r.err.find("it was not made from this mesh"), std::string::npos) << r.err;
   EXPECT_EQ(run(frame + " -q").err, "");
-  const auto same = run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " + in.dir.path("g.png") +
-                        " --size 64x48");
+  const auto same = run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " +
+                        in.dir.path("g.png") + " --size 64x48");
   EXPECT_EQ(same.exit_code, 0);
   EXPECT_EQ(same.err.find("not made from this mesh"), std::string::npos) << same.err;
 }
@@ -777,9 +877,12 @@ TEST(TerrainRender, DrainageOfAnotherMeshIsAWarning) {
 TEST(TerrainRender, DrainageOfAnotherSurfaceIsAWarning) {
   Inputs in;
   const std::string m30 = in.dir.path("m30.ply");
-  ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + m30 + " --spacing 30 -q").exit_code, 0);
-  const auto r = run(tool("terrain-render") + " frame " + m30 + " " + in.dv + " -o " + in.dir.path("f.png") +
-                     " --size 64x48");
+  ASSERT_EQ(
+      run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + m30 + " --spacing 30 -q")
+          .exit_code,
+      0);
+  const auto r = run(tool("terrain-render") + " frame " + m30 + " " + in.dv + " -o " +
+                     in.dir.path("f.png") + " --size 64x48");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(lines(r.err), 1u) << r.err;
   EXPECT_NE(r.err.find("off this mesh's PN surface"), std::string::npos) << r.err;
@@ -790,14 +893,16 @@ TEST(TerrainRender, BadFrameListsNameTheLine) {
   Inputs in;
   const std::string csv = in.dir.path("bad.csv"), out = in.dir.path("frames");
   write(csv, "view_az,view_alt\n10,20\n30\n");
-  auto r = run(tool("terrain-render") + " batch " + in.mesh + " " + in.dv + " " + csv + " -o " + out + " --size 64x64");
+  auto r = run(tool("terrain-render") + " batch " + in.mesh + " " + in.dv + " " + csv + " -o " +
+               out + " --size 64x64");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(lines(r.err), 1u) << r.err;
   EXPECT_NE(r.err.find("bad.csv:3: expected 2 fields, found 1"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out + "/frame_00000.png"));
 
   write(csv, "view_az,zoom\n10,2\n");
-  r = run(tool("terrain-render") + " batch " + in.mesh + " " + csv + " -o " + out + " --size 64x64");
+  r = run(tool("terrain-render") + " batch " + in.mesh + " " + csv + " -o " + out +
+          " --size 64x64");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(lines(r.err), 1u) << r.err;
   EXPECT_NE(r.err.find("bad.csv:1: unknown column 'zoom'"), std::string::npos) << r.err;
@@ -807,8 +912,10 @@ TEST(TerrainRender, BadInputGivesOneLine) {
   Inputs in;
   for (const std::string& args :
        {std::string("frame ") + in.dir.path("missing.ply") + " -o " + in.dir.path("x.png"),
-        std::string("frame ") + in.mesh + " " + in.mesh + " -o " + in.dir.path("x.png"),  // not a .dv
-        std::string("frame ") + in.mesh + " -o " + in.dir.path("x.png") + " --layers shaded,contours",
+        std::string("frame ") + in.mesh + " " + in.mesh + " -o " +
+            in.dir.path("x.png"),  // not a .dv
+        std::string("frame ") + in.mesh + " -o " + in.dir.path("x.png") +
+            " --layers shaded,contours",
         std::string("frame ") + in.mesh + " -o " + in.dir.path("x.png") + " --size 10x10000000"}) {
     const auto r = run(tool("terrain-render") + " " + args);
     EXPECT_NE(r.exit_code, 0) << args;
@@ -821,8 +928,8 @@ TEST(TerrainRender, BadInputGivesOneLine) {
 // one clear error line and exit code 1, no crash and no output.
 TEST(TerrainRender, NoUsableOpenGlIsAClearError) {
   Inputs in;
-  for (const std::string env : {"__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/vendor.json",
-                                "GALLIUM_DRIVER=softpipe"}) {
+  for (const std::string env :
+       {"__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/vendor.json", "GALLIUM_DRIVER=softpipe"}) {
     const auto r = run("env " + env + " " + tool("terrain-render") + " frame " + in.mesh + " -o " +
                        in.dir.path("x.png") + " --size 64x64");
     EXPECT_EQ(r.exit_code, 1) << env << "\n" << r.err;
@@ -850,19 +957,22 @@ TEST(TerrainRender, DenoisedMeshRendersPels) {
   const auto z = run(tool("denoise-normals") + " " + in.mesh + " " + w + " --iterations 0 -q");
   ASSERT_EQ(z.exit_code, 0) << z.err;
   EXPECT_NE(z.out.find("normal_change_max_deg: 0.0000"), std::string::npos) << z.out;
-  const auto pv = run(tool("terrain-inspect") + " preview " + dn + " --colour-by normal-change -o " + in.dir.path("nc.png"));
+  const auto pv = run(tool("terrain-inspect") + " preview " + dn +
+                      " --colour-by normal-change -o " + in.dir.path("nc.png"));
   EXPECT_EQ(pv.exit_code, 0) << pv.err;
-  const auto pw = run(tool("terrain-inspect") + " preview " + in.mesh + " --colour-by voronoi -o " + in.dir.path("v.png"));
+  const auto pw = run(tool("terrain-inspect") + " preview " + in.mesh + " --colour-by voronoi -o " +
+                      in.dir.path("v.png"));
   EXPECT_EQ(pw.exit_code, 1);  // the plain mesh has no weights
   EXPECT_EQ(lines(pw.err), 1u) << pw.err;
 
-  const auto f = run(tool("terrain-render") + " frame " + dn + " " + in.dv + " -o " + in.dir.path("p.png") +
-                     " --size 160x120 --layers mask,pels,creases,silhouettes");
+  const auto f =
+      run(tool("terrain-render") + " frame " + dn + " " + in.dv + " -o " + in.dir.path("p.png") +
+          " --size 160x120 --layers mask,pels,creases,silhouettes");
   ASSERT_EQ(f.exit_code, 0) << f.err;
   EXPECT_NE(f.out.find("pel segments drawn: "), std::string::npos) << f.out;
   EXPECT_EQ(f.out.find("pel segments drawn: 0\n"), std::string::npos) << f.out;
-  const auto bad = run(tool("terrain-render") + " frame " + in.mesh + " -o " + in.dir.path("q.png") +
-                       " --size 160x120 --layers mask,pels");
+  const auto bad = run(tool("terrain-render") + " frame " + in.mesh + " -o " +
+                       in.dir.path("q.png") + " --size 160x120 --layers mask,pels");
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_EQ(lines(bad.err), 1u) << bad.err;
   EXPECT_NE(bad.err.find("Voronoi weights"), std::string::npos) << bad.err;

@@ -12,15 +12,15 @@
 #include "drainage/dv_views.hpp"
 #include "drainage/gis_layers.hpp"
 #include "drainage/rasters.hpp"
+#include "renderer/camera.hpp"
+#include "renderer/options.hpp"
+#include "renderer/plan_map.hpp"
+#include "renderer/vector_file.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/grid_mesh.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/image_io.hpp"
-#include "renderer/camera.hpp"
-#include "renderer/options.hpp"
-#include "renderer/plan_map.hpp"
-#include "renderer/vector_file.hpp"
 #include "terrain/mesh_io.hpp"
 #include "terrain/mesh_pyramid.hpp"
 #include "terrain/scattered.hpp"
@@ -38,9 +38,10 @@ std::string crs_line(const std::string& wkt, int epsg) {
 }
 
 void print_stats(const terrain::ElevationStats& s) {
-  std::cout << fmt::format("elevation_min: {:.3f}\nelevation_max: {:.3f}\nelevation_mean: {:.3f}\n"
-                           "elevation_stddev: {:.3f}\n",
-                           s.min, s.max, s.mean, s.stddev);
+  std::cout << fmt::format(
+      "elevation_min: {:.3f}\nelevation_max: {:.3f}\nelevation_mean: {:.3f}\n"
+      "elevation_stddev: {:.3f}\n",
+      s.min, s.max, s.mean, s.stddev);
 }
 
 void info_mesh(const std::string& path) {
@@ -59,8 +60,10 @@ void info_mesh(const std::string& path) {
             << "faces: " << m.n_faces() << "\n"
             << "crs: " << crs_line(m.geo.crs_wkt, m.geo.epsg) << "\n"
             << fmt::format("spacing: {} {}\n", m.geo.dx, m.geo.dy)
-            << fmt::format("origin: {:.3f} {:.3f} {:.3f}\n", m.geo.origin_x, m.geo.origin_y, m.geo.origin_z)
-            << fmt::format("extent: {:.3f} {:.3f} {:.3f} {:.3f}\n", g.geo.x0, g.geo.y0 - double(g.rows) * g.geo.dy,
+            << fmt::format("origin: {:.3f} {:.3f} {:.3f}\n", m.geo.origin_x, m.geo.origin_y,
+                           m.geo.origin_z)
+            << fmt::format("extent: {:.3f} {:.3f} {:.3f} {:.3f}\n", g.geo.x0,
+                           g.geo.y0 - double(g.rows) * g.geo.dy,
                            g.geo.x0 + double(g.cols) * g.geo.dx, g.geo.y0);
   print_stats(terrain::elevation_stats(g.z));
   std::cout << fmt::format("normal_tilt_mean_deg: {:.3f}\nnormal_tilt_max_deg: {:.3f}\n",
@@ -69,10 +72,13 @@ void info_mesh(const std::string& path) {
     std::cout << "voronoi_weights: no (add them: denoise-normals MESH OUT --iterations 0)\n";
   } else {
     double total = 0, lo = 1e300, hi = 0;
-    for (float a : m.voronoi.vertex_areas) total += a, lo = std::min(lo, double(a)), hi = std::max(hi, double(a));
-    std::cout << "voronoi_weights: yes (corner areas, voronoi_area, tangent frames)\n"
-              << fmt::format("voronoi_area_total: {:.1f}\nvoronoi_area_min: {:.3f}\nvoronoi_area_max: {:.3f}\n", total, lo,
-                             hi);
+    for (float a : m.voronoi.vertex_areas)
+      total += a, lo = std::min(lo, double(a)), hi = std::max(hi, double(a));
+    std::cout
+        << "voronoi_weights: yes (corner areas, voronoi_area, tangent frames)\n"
+        << fmt::format(
+               "voronoi_area_total: {:.1f}\nvoronoi_area_min: {:.3f}\nvoronoi_area_max: {:.3f}\n",
+               total, lo, hi);
   }
   if (m.normal_change.size() == m.n_vertices()) {
     double total = 0, hi = 0;
@@ -84,25 +90,29 @@ void info_mesh(const std::string& path) {
     std::cout << "denoised: no\n";
   }
   // Heights dem2mesh --fill-nodata invented: no drainage is sampled over their cells.
-  std::cout << "filled_vertices: " << std::count(m.filled.begin(), m.filled.end(), std::uint8_t(1)) << "\n";
+  std::cout << "filled_vertices: " << std::count(m.filled.begin(), m.filled.end(), std::uint8_t(1))
+            << "\n";
   const terrain::NormalFitInfo& fit = m.normal_fit;
   if (fit.fitted)
-    std::cout << fmt::format("normals_fitted: yes ({} source samples)\nfit_rmse_m: {:.4g} (before {:.4g})\n"
-                             "fit_max_m: {:.4g} (before {:.4g})\n",
-                             fit.samples, fit.rmse_after, fit.rmse_before, fit.max_after, fit.max_before);
+    std::cout << fmt::format(
+        "normals_fitted: yes ({} source samples)\nfit_rmse_m: {:.4g} (before {:.4g})\n"
+        "fit_max_m: {:.4g} (before {:.4g})\n",
+        fit.samples, fit.rmse_after, fit.rmse_before, fit.max_after, fit.max_before);
   else
     std::cout << "normals_fitted: no\n";
   // The camera terrain-render frame takes with no camera option (the table's size and fov).
   const renderer::RenderSettings d;
   const double e = renderer::auto_exaggeration(m);
-  const renderer::DefaultView av =
-      renderer::default_view(m, renderer::ViewMode::Auto, e, d.frame.camera.fov, double(d.width) / d.height);
+  const renderer::DefaultView av = renderer::default_view(
+      m, renderer::ViewMode::Auto, e, d.frame.camera.fov, double(d.width) / d.height);
   std::cout << fmt::format("automatic_exaggeration: {:g}\n", e);
-  std::cout << fmt::format("automatic_view: --eye {:.3f} {:.3f} {:.3f} --view-az {:g} --view-alt {:g} --fov {:g} "
-                           "--light-az {:g} --light-alt {:g}\n",
-                           av.camera.eye->x(), av.camera.eye->y(), av.camera.eye->z(), av.camera.view_az,
-                           av.camera.view_alt, av.camera.fov, av.light.azimuth, av.light.altitude)
-            << "automatic_view_rule: " << av.description << "\n";
+  std::cout
+      << fmt::format(
+             "automatic_view: --eye {:.3f} {:.3f} {:.3f} --view-az {:g} --view-alt {:g} --fov {:g} "
+             "--light-az {:g} --light-alt {:g}\n",
+             av.camera.eye->x(), av.camera.eye->y(), av.camera.eye->z(), av.camera.view_az,
+             av.camera.view_alt, av.camera.fov, av.light.azimuth, av.light.altitude)
+      << "automatic_view_rule: " << av.description << "\n";
   std::cout << "provenance: " << (m.provenance.empty() ? "unknown" : m.provenance) << "\n";
 }
 
@@ -117,7 +127,8 @@ void info_dem(const std::string& path) {
             << "crs: " << crs_line(g.geo.crs_wkt, g.geo.epsg) << "\n"
             << "crs_kind: " << kind << "\n"
             << fmt::format("spacing: {:.10g} {:.10g}\n", g.geo.dx, g.geo.dy)
-            << fmt::format("extent: {:.10g} {:.10g} {:.10g} {:.10g}\n", g.geo.x0, g.geo.y0 - double(g.rows) * g.geo.dy,
+            << fmt::format("extent: {:.10g} {:.10g} {:.10g} {:.10g}\n", g.geo.x0,
+                           g.geo.y0 - double(g.rows) * g.geo.dy,
                            g.geo.x0 + double(g.cols) * g.geo.dx, g.geo.y0);
   const terrain::ElevationStats s = terrain::elevation_stats(g.z);
   std::cout << "valid: " << s.count << "\nnodata: " << s.nodata << "\n";
@@ -151,7 +162,9 @@ void info_dv(const std::string& path) {
             << "crs: " << crs_line(h.crs_wkt, h.epsg) << "\n"
             << fmt::format("spacing: {} {}\n", h.dx, h.dy)
             << fmt::format("origin: {:.3f} {:.3f} {:.3f}\n", h.origin_x, h.origin_y, h.origin_z)
-            << "source: " << ((h.flags & drainage::kDvFromPnSurface) ? "PN surface of a mesh" : "raster grid") << "\n"
+            << "source: "
+            << ((h.flags & drainage::kDvFromPnSurface) ? "PN surface of a mesh" : "raster grid")
+            << "\n"
             << "flats_resolved: " << ((h.flags & drainage::kDvFlatsResolved) ? "yes" : "no") << "\n"
             << "filled: " << ((h.flags & drainage::kDvFilled) ? "yes" : "no") << "\n"
             << "breached: " << ((h.flags & drainage::kDvBreached) ? "yes" : "no") << "\n"
@@ -163,8 +176,10 @@ void info_dv(const std::string& path) {
             << "channels: " << s.channels << "\n"
             << "junctions: " << s.junctions << "\n"
             << "branches: " << h.branches << "\n";
-  for (const auto& [order, count] : s.branches_per_order) std::cout << "branches_order_" << order << ": " << count << "\n";
-  std::cout << "max_order: " << (s.branches_per_order.empty() ? 0 : s.branches_per_order.rbegin()->first) << "\n"
+  for (const auto& [order, count] : s.branches_per_order)
+    std::cout << "branches_order_" << order << ": " << count << "\n";
+  std::cout << "max_order: "
+            << (s.branches_per_order.empty() ? 0 : s.branches_per_order.rbegin()->first) << "\n"
             << "flow_max: " << s.max_accumulated << "\n"
             << fmt::format("normalized_flow_mean: {:.6f}\n", s.mean_normalized)
             << "provenance: " << (h.provenance.empty() ? "unknown" : h.provenance) << "\n";
@@ -183,7 +198,8 @@ std::vector<std::uint8_t> dem_shade(const terrain::Grid& g, double az, double al
 
 // A mesh's plan-view hachure map (renderer/plan_map.hpp) as gpkg, svg or pdf.
 void export_hachure_map(const ExportArgs& a, const std::string& provenance) {
-  const bool layers_given = a.gpkg_layers != ExportArgs{}.gpkg_layers;  // the default names a .dv's layers
+  const bool layers_given =
+      a.gpkg_layers != ExportArgs{}.gpkg_layers;  // the default names a .dv's layers
   for (const std::string& l : a.gpkg_layers)
     if (layers_given && l != "hachures")
       throw terrain::Error("--layers " + l + ": a .dv's layer; a mesh exports only hachures");
@@ -194,19 +210,21 @@ void export_hachure_map(const ExportArgs& a, const std::string& provenance) {
   o.scale = a.scale, o.spacing = a.hachure_spacing, o.width = a.hachure_width;
   o.light_tone = a.hachure_tone == "light", o.rows = a.hachure_style == "rows";
   o.min_slope_share = a.hachure_min_slope / 100.0;
-  const std::vector<renderer::SceneRidge> ridges = a.dv.empty() ? std::vector<renderer::SceneRidge>{}
-                                                                 : renderer::read_ridges(a.dv, m);
+  const std::vector<renderer::SceneRidge> ridges =
+      a.dv.empty() ? std::vector<renderer::SceneRidge>{} : renderer::read_ridges(a.dv, m);
   const renderer::PlanHachures h = renderer::plan_hachures(m, o, ridges);
   const std::array<double, 6> gt = renderer::plan_geotransform(m, h.plan);
   if (a.to == "gpkg") {
     renderer::write_hachures_gpkg(m, h, a.out);
   } else {
     const std::string desc = provenance + " | plan view, " + renderer::map_note(gt, m.geo.epsg);
-    terrain::write_file_atomic(a.out, renderer::vector_bytes(renderer::plan_vector_art(h, o),
-                                                             renderer::vector_format_of(a.out), 96.0, desc));
+    terrain::write_file_atomic(
+        a.out, renderer::vector_bytes(renderer::plan_vector_art(h, o),
+                                      renderer::vector_format_of(a.out), 96.0, desc));
   }
   std::cout << "output: " << a.out << "\n"
-            << fmt::format("map: {} x {} pixels, {} m a pixel\n", h.plan.width, h.plan.height, h.plan.scale)
+            << fmt::format("map: {} x {} pixels, {} m a pixel\n", h.plan.width, h.plan.height,
+                           h.plan.scale)
             << "geotransform: " << renderer::geotransform_text(gt) << "\n";
   if (h.row_interval > 0) std::cout << "form lines: every " << h.row_interval << " m\n";
   std::cout << "hachures: " << h.hachures.size() << "\n";
@@ -218,33 +236,41 @@ void export_hachure_map(const ExportArgs& a, const std::string& provenance) {
 void add_preview_options(CLI::App* preview, PreviewArgs& a) {
   preview->add_option("FILE", a.file, "DEM, mesh or .dv")->required();
   preview->add_option("-o,--output", a.out, "PNG to write")->required();
-  preview->add_option("--azimuth", a.azimuth, "Light azimuth, degrees clockwise from grid north")->capture_default_str();
+  preview->add_option("--azimuth", a.azimuth, "Light azimuth, degrees clockwise from grid north")
+      ->capture_default_str();
   preview->add_option("--altitude", a.altitude, "Light altitude above the horizon, degrees")
       ->check(CLI::Range(0.0, 90.0))
       ->capture_default_str();
-  preview->add_option("--colour-by", a.colour_by,
-                      "Meshes: shade (hillshade of the normals), voronoi (vertex Voronoi area) or normal-change "
-                      "(degrees, from denoise-normals)")
+  preview
+      ->add_option("--colour-by", a.colour_by,
+                   "Meshes: shade (hillshade of the normals), voronoi (vertex Voronoi area) or "
+                   "normal-change "
+                   "(degrees, from denoise-normals)")
       ->check(CLI::IsMember({"shade", "voronoi", "normal-change"}))
       ->capture_default_str();
   preview->add_option("--z-factor", a.zfactor, "Vertical exaggeration (DEMs only)")
       ->check(tt::kPositive)
       ->capture_default_str();
   preview->add_option("--min-flow", a.min_flow,
-                      ".dv: draw points with at least this accumulated flow (default: the top 4 % of points, at least 20)");
+                      ".dv: draw points with at least this accumulated flow (default: the top 4 % "
+                      "of points, at least 20)");
 }
 
 void add_export_options(CLI::App* exp, ExportArgs& a) {
   exp->add_option("FILE", a.file, "Terrain mesh (.ply) or drainage database (.dv)")->required();
   exp->add_option("--to", a.to,
-                  "Output format: a mesh to obj, tif, or a plan-view hachure map (gpkg, svg, pdf); a .dv to tif or gpkg")
+                  "Output format: a mesh to obj, tif, or a plan-view hachure map (gpkg, svg, pdf); "
+                  "a .dv to tif or gpkg")
       ->required()
       ->check(CLI::IsMember({"obj", "tif", "gpkg", "svg", "pdf"}));
-  exp->add_option("-o,--output", a.out,
-                  "Output file (default: FILE with the new extension; a mesh's map to gpkg: FILE's name, then "
-                  "_map.gpkg); a GeoPackage already there gets this export's layers added or replaced, its others "
-                  "kept; a .dv to tif: a directory (default: FILE's name without .dv, then _rasters), created if "
-                  "missing");
+  exp->add_option(
+      "-o,--output", a.out,
+      "Output file (default: FILE with the new extension; a mesh's map to gpkg: FILE's name, then "
+      "_map.gpkg); a GeoPackage already there gets this export's layers added or replaced, its "
+      "others "
+      "kept; a .dv to tif: a directory (default: FILE's name without .dv, then _rasters), created "
+      "if "
+      "missing");
   exp->add_option("--d8-encoding", a.d8_encoding, "A .dv to tif: the codes of d8.tif")
       ->check(CLI::IsMember({"taudem", "esri"}))
       ->capture_default_str();
@@ -252,40 +278,52 @@ void add_export_options(CLI::App* exp, ExportArgs& a) {
       ->check(CLI::Range(1, 255))
       ->capture_default_str();
   exp->add_option("--layers", a.gpkg_layers,
-                  "gpkg: the layers to write, comma-separated; a .dv: branches (LineString ZM, M = normalized flow), "
-                  "basins (polygons with area, outlet, max order), divides (lines between adjacent basins with the "
-                  "larger max order); a mesh: hachures (lines with slope_deg, tone, length_m, row_m), its only layer")
+                  "gpkg: the layers to write, comma-separated; a .dv: branches (LineString ZM, M = "
+                  "normalized flow), "
+                  "basins (polygons with area, outlet, max order), divides (lines between adjacent "
+                  "basins with the "
+                  "larger max order); a mesh: hachures (lines with slope_deg, tone, length_m, "
+                  "row_m), its only layer")
       ->delimiter(',')
       ->check(CLI::IsMember({"branches", "basins", "divides", "hachures"}))
       ->default_str("branches,basins,divides (a .dv), hachures (a mesh)");
   exp->add_option("--scale", a.scale,
-                  "A mesh's hachure map: metres a pixel (default: a round scale that makes the longer side at most 2048 "
+                  "A mesh's hachure map: metres a pixel (default: a round scale that makes the "
+                  "longer side at most 2048 "
                   "pixels)")
       ->check(tt::kPositive);
-  exp->add_option("--hachure-spacing", a.hachure_spacing, "Hachure map: pixels between hachures where the tone is black")
+  exp->add_option("--hachure-spacing", a.hachure_spacing,
+                  "Hachure map: pixels between hachures where the tone is black")
       ->check(CLI::Range(1.0, 256.0))
       ->capture_default_str();
-  exp->add_option("--hachure-width", a.hachure_width, "Hachure map (svg, pdf): the width of a hachure, pixels")
+  exp->add_option("--hachure-width", a.hachure_width,
+                  "Hachure map (svg, pdf): the width of a hachure, pixels")
       ->check(CLI::Range(0.1, 20.0))
       ->capture_default_str();
   exp->add_option("--hachure-tone", a.hachure_tone,
-                  "Hachure map: slope (Lehmann: denser where steeper, black at 45 degrees) or light (the shadow under "
+                  "Hachure map: slope (Lehmann: denser where steeper, black at 45 degrees) or "
+                  "light (the shadow under "
                   "a light from the north-west, 45 degrees high)")
       ->check(CLI::IsMember({"light", "slope"}))
       ->capture_default_str();
   exp->add_option("--hachure-min-slope", a.hachure_min_slope,
-                  "Hachure map: ground flatter than this percentage of the map's steep slopes (the 99th percentile of "
-                  "its slopes) stays white, as the QGIS Hachures script's relative slope threshold; 0: only ground "
+                  "Hachure map: ground flatter than this percentage of the map's steep slopes (the "
+                  "99th percentile of "
+                  "its slopes) stays white, as the QGIS Hachures script's relative slope "
+                  "threshold; 0: only ground "
                   "under 3 degrees")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
-  exp->add_option("--hachure-style", a.hachure_style,
-                  "Hachure map: lines (continuous slope lines) or rows (Imhof's rows between form lines)")
+  exp->add_option(
+         "--hachure-style", a.hachure_style,
+         "Hachure map: lines (continuous slope lines) or rows (Imhof's rows between form lines)")
       ->check(CLI::IsMember({"lines", "rows"}))
       ->capture_default_str();
   exp->add_option("--dv", a.dv,
-                  "A mesh's hachure map: the mesh's drainage database; its ridge lines are drawn (a layer ridges of "
-                  "the gpkg, svg or pdf), selected by the map's scale as terrain-render's, and the hachures stop at "
+                  "A mesh's hachure map: the mesh's drainage database; its ridge lines are drawn "
+                  "(a layer ridges of "
+                  "the gpkg, svg or pdf), selected by the map's scale as terrain-render's, and the "
+                  "hachures stop at "
                   "them")
       ->check(CLI::ExistingFile);
 }
@@ -314,7 +352,8 @@ void info_pyramid(const std::string& path) {
             << "\n"
             << "bytes: " << std::filesystem::file_size(path) << "\n"
             << "version: " << p.version() << "\n"
-            << "mesh_digest: " << (p.digest() ? terrain::digest_text(*p.digest()) : "none (before version 3)") << "\n";
+            << "mesh_digest: "
+            << (p.digest() ? terrain::digest_text(*p.digest()) : "none (before version 3)") << "\n";
   for (int l = 0; l < p.level_count(); ++l)
     std::cout << fmt::format("level_{}: {} x {} vertices\n", l, p.cols(l), p.rows(l));
   // Every tile read and checked (its CRC-32, its data, its vertices in its blocks' boxes).
@@ -322,11 +361,16 @@ void info_pyramid(const std::string& path) {
 }
 
 void run_info(const std::string& file) {
-  if (drainage::is_dv_file(file)) info_dv(file);
-  else if (terrain::is_mesh_pyramid(file)) info_pyramid(file);
-  else if (terrain::is_ply_file(file)) info_mesh(file);
-  else if (terrain::is_point_input(file)) info_points(file);
-  else info_dem(file);
+  if (drainage::is_dv_file(file))
+    info_dv(file);
+  else if (terrain::is_mesh_pyramid(file))
+    info_pyramid(file);
+  else if (terrain::is_ply_file(file))
+    info_mesh(file);
+  else if (terrain::is_point_input(file))
+    info_points(file);
+  else
+    info_dem(file);
 }
 
 void run_preview(const PreviewArgs& a, const std::string& desc, const Verbosity& verb) {
@@ -340,12 +384,13 @@ void run_preview(const PreviewArgs& a, const std::string& desc, const Verbosity&
   terrain::check_output_path(out);
   if (is_dv) {
     const drainage::DrainageDb db = drainage::read_dv(file);
-    terrain::write_png(out, int(db.header.cols), int(db.header.rows), 3, drainage::dv_preview(db, min_flow), desc);
+    terrain::write_png(out, int(db.header.cols), int(db.header.rows), 3,
+                       drainage::dv_preview(db, min_flow), desc);
   } else if (is_mesh) {
     const terrain::GridMesh m = terrain::read_mesh_ply(file);
     if (colour_by == "shade") {
-      terrain::write_png(out, int(m.topo.cols), int(m.topo.rows), 1, terrain::hillshade(m.normals, azimuth, altitude),
-                         desc);
+      terrain::write_png(out, int(m.topo.cols), int(m.topo.rows), 1,
+                         terrain::hillshade(m.normals, azimuth, altitude), desc);
     } else {
       const bool voronoi = colour_by == "voronoi";
       if (voronoi ? m.voronoi.empty() : m.normal_change.size() != m.n_vertices())
@@ -356,14 +401,17 @@ void run_preview(const PreviewArgs& a, const std::string& desc, const Verbosity&
                            voronoi ? m.voronoi.vertex_areas.end() : m.normal_change.end());
       std::vector<float> sorted = v;
       std::sort(sorted.begin(), sorted.end());  // ramp from the 2nd to the 98th percentile
-      const double lo = voronoi ? sorted[sorted.size() / 50] : 0.0, hi = sorted[sorted.size() * 49 / 50];
-      terrain::write_png(out, int(m.topo.cols), int(m.topo.rows), 3, terrain::colour_ramp(v, lo, hi),
+      const double lo = voronoi ? sorted[sorted.size() / 50] : 0.0,
+                   hi = sorted[sorted.size() * 49 / 50];
+      terrain::write_png(out, int(m.topo.cols), int(m.topo.rows), 3,
+                         terrain::colour_ramp(v, lo, hi),
                          desc + fmt::format(" [{} {:.4g} .. {:.4g}]", colour_by, lo, hi));
       std::cout << fmt::format("ramp: {:.4g} .. {:.4g}\n", lo, hi);
     }
   } else {
     const terrain::Grid g = terrain::read_dem(file);
-    terrain::write_png(out, int(g.cols), int(g.rows), 2, dem_shade(g, azimuth, altitude, zfactor), desc);
+    terrain::write_png(out, int(g.cols), int(g.rows), 2, dem_shade(g, azimuth, altitude, zfactor),
+                       desc);
   }
   std::cout << "output: " << out << "\n";
 }
@@ -377,19 +425,23 @@ void run_export(ExportArgs& a, const std::string& provenance, const Verbosity& v
   const bool is_mesh = terrain::is_ply_file(file);
   const bool is_dv = drainage::is_dv_file(file);
   std::error_code ec;
-  if (!std::filesystem::exists(file, ec)) throw terrain::Error("cannot read '" + file + "': no such file");
+  if (!std::filesystem::exists(file, ec))
+    throw terrain::Error("cannot read '" + file + "': no such file");
   if (to == "tif" && is_dv) {  // every layer, window by window, into a directory
     namespace fs = std::filesystem;
-    if (out.empty()) out = (fs::path(file).parent_path() / (fs::path(file).stem().string() + "_rasters")).string();
+    if (out.empty())
+      out = (fs::path(file).parent_path() / (fs::path(file).stem().string() + "_rasters")).string();
     if (fs::exists(out, ec) && !fs::is_directory(out, ec))
-      throw terrain::Error("'" + out + "' exists and is not a directory: a .dv exports to a directory of GeoTIFFs");
+      throw terrain::Error(
+          "'" + out + "' exists and is not a directory: a .dv exports to a directory of GeoTIFFs");
     std::vector<std::string> targets;
-    for (const char* name : drainage::kDrainageRasterNames) targets.push_back((fs::path(out) / name).string());
+    for (const char* name : drainage::kDrainageRasterNames)
+      targets.push_back((fs::path(out) / name).string());
     tt::check_distinct_paths({file}, targets);
     tt::warn_stale_temporaries(verb, targets);
     (void)drainage::read_dv_header(file);  // a file that is no .dv fails before any folder is made
-    terrain::NewDirectories made(out);    // removed again on an error or an interrupt
-    terrain::OutputSet outputs;  // the seven land together, or none does
+    terrain::NewDirectories made(out);     // removed again on an error or an interrupt
+    terrain::OutputSet outputs;            // the seven land together, or none does
     std::size_t points = 0;
     outputs.write([&] {
       points = drainage::export_dv_rasters(
@@ -410,24 +462,35 @@ void run_export(ExportArgs& a, const std::string& provenance, const Verbosity& v
                                         .string()
                                   : std::filesystem::path(file).replace_extension(to).string();
   if (to == "gpkg" && !out.ends_with(".gpkg"))  // the svg and pdf writers check theirs
-    throw terrain::Error("--to gpkg writes a GeoPackage: give -o a name ending in .gpkg, not '" + out + "'");
+    throw terrain::Error("--to gpkg writes a GeoPackage: give -o a name ending in .gpkg, not '" +
+                         out + "'");
   if (!a.dv.empty() && !(is_mesh && (to == "gpkg" || to == "svg" || to == "pdf")))
-    throw terrain::Error("--dv: only a mesh's hachure map (--to gpkg, svg or pdf) draws a .dv's ridge lines");
-  tt::check_distinct_paths(a.dv.empty() ? std::vector<std::string>{file} : std::vector<std::string>{file, a.dv}, {out});
+    throw terrain::Error(
+        "--dv: only a mesh's hachure map (--to gpkg, svg or pdf) draws a .dv's ridge lines");
+  tt::check_distinct_paths(
+      a.dv.empty() ? std::vector<std::string>{file} : std::vector<std::string>{file, a.dv}, {out});
   tt::warn_stale_temporaries(verb, {out});
   terrain::check_output_path(out);
   if (is_mesh && (to == "gpkg" || to == "svg" || to == "pdf")) {
     export_hachure_map(a, provenance);
     return;
   }
-  if (to == "svg" || to == "pdf") throw terrain::Error("'" + file + "' is not a terrain mesh (.ply): only meshes export to " + to);
+  if (to == "svg" || to == "pdf")
+    throw terrain::Error("'" + file + "' is not a terrain mesh (.ply): only meshes export to " +
+                         to);
   if (to == "gpkg") {
-    if (!is_dv) throw terrain::Error("'" + file + "' is not a drainage database (.dv) or a mesh: only those export to gpkg");
+    if (!is_dv)
+      throw terrain::Error(
+          "'" + file + "' is not a drainage database (.dv) or a mesh: only those export to gpkg");
     for (const std::string& l : gpkg_layers)
-      if (l == "hachures") throw terrain::Error("--layers hachures: a mesh's layer ('" + file + "' is a .dv)");
+      if (l == "hachures")
+        throw terrain::Error("--layers hachures: a mesh's layer ('" + file + "' is a .dv)");
     drainage::GpkgLayers layers;
-    auto has = [&](const char* name) { return std::find(gpkg_layers.begin(), gpkg_layers.end(), name) != gpkg_layers.end(); };
-    layers.branches = has("branches"), layers.basins = has("basins"), layers.divides = has("divides");
+    auto has = [&](const char* name) {
+      return std::find(gpkg_layers.begin(), gpkg_layers.end(), name) != gpkg_layers.end();
+    };
+    layers.branches = has("branches"), layers.basins = has("basins"),
+    layers.divides = has("divides");
     layers.min_order = min_order;
     const drainage::GpkgCounts n =
         drainage::export_dv_gpkg(file, out, layers, tt::terminal_progress(verb, "gpkg"));
@@ -437,10 +500,14 @@ void run_export(ExportArgs& a, const std::string& provenance, const Verbosity& v
     if (layers.divides) std::cout << "divides: " << n.divides << "\n";
     return;
   }
-  if (!is_mesh) throw terrain::Error("'" + file + "' is not a terrain mesh (.ply): only meshes export to " + to);
+  if (!is_mesh)
+    throw terrain::Error("'" + file + "' is not a terrain mesh (.ply): only meshes export to " +
+                         to);
   const terrain::GridMesh m = terrain::read_mesh_ply(file);
-  if (to == "obj") terrain::write_mesh_obj(m, out);
-  else terrain::write_geotiff(terrain::mesh_to_grid(m), out, provenance);
+  if (to == "obj")
+    terrain::write_mesh_obj(m, out);
+  else
+    terrain::write_geotiff(terrain::mesh_to_grid(m), out, provenance);
   std::cout << "output: " << out << "\n";
 }
 

@@ -16,12 +16,15 @@ namespace terrain::tools::mesh {
 
 void add_band_options(CLI::App& app, std::size_t& rows, double& memory_mib) {
   app.add_option("--tile-size", rows,
-                 "Make and write the mesh N rows at a time (bands of N rows, the grid's whole width), for DEMs\n"
-                 "larger than memory: the same PLY and pyramid as one run; a raster input without --fit-normals,\n"
+                 "Make and write the mesh N rows at a time (bands of N rows, the grid's whole "
+                 "width), for DEMs\n"
+                 "larger than memory: the same PLY and pyramid as one run; a raster input without "
+                 "--fit-normals,\n"
                  "--fill-nodata, --grid-out or dequantizing")
       ->check(CLI::Range(std::size_t(1), std::size_t(1) << 30));
   app.add_option("--memory", memory_mib,
-                 "Like --tile-size, with bands as large as about this much memory allows (MiB); one band when the\n"
+                 "Like --tile-size, with bands as large as about this much memory allows (MiB); "
+                 "one band when the\n"
                  "whole grid fits")
       ->check(CLI::Range(16.0, 1e9))
       ->excludes("--tile-size");
@@ -34,8 +37,9 @@ void check_banded(const WholeGridNeeds& n) {
                     : n.grid_out           ? "--grid-out writes the whole grid"
                     : n.dequantize == "on" ? "dequantizing integer heights reads the whole DEM"
                                            : nullptr;
-  if (why) throw terrain::Error(std::string("--tile-size and --memory make the mesh in bands, but ") + why +
-                                "; run without them");
+  if (why)
+    throw terrain::Error(std::string("--tile-size and --memory make the mesh in bands, but ") +
+                         why + "; run without them");
 }
 
 BandedResult mesh_in_bands(const BandedRequest& q, const Verbosity& verb) {
@@ -50,21 +54,25 @@ BandedResult mesh_in_bands(const BandedRequest& q, const Verbosity& verb) {
   const double row_bytes = double(cols) * 64.0;
   BandedResult out{tg, {rows, cols}, q.band_rows, 0};
   std::size_t& band = out.band_rows;
-  if (band == 0) band = std::size_t(std::clamp(q.memory_mib * 1048576.0 / row_bytes, 1.0, double(rows)));
+  if (band == 0)
+    band = std::size_t(std::clamp(q.memory_mib * 1048576.0 / row_bytes, 1.0, double(rows)));
   terrain::check_memory(double(std::min(rows, band + 2)) * row_bytes,
                         fmt::format("bands of {} rows of a {} x {} mesh", band, cols, rows),
                         "give a smaller --tile-size or --memory");
   terrain::GridMesh header;
   header.topo = out.topo;
   header.geo.crs_wkt = tg.crs_wkt, header.geo.epsg = tg.epsg;
-  header.geo.origin_x = tg.x_of_col(0), header.geo.origin_y = tg.y_of_row(0), header.geo.origin_z = 0.0;
+  header.geo.origin_x = tg.x_of_col(0), header.geo.origin_y = tg.y_of_row(0),
+  header.geo.origin_z = 0.0;
   header.geo.dx = tg.dx, header.geo.dy = tg.dy;
   header.provenance = q.provenance;
   terrain::OutputSet outputs;
   outputs.write([&] {
     terrain::PlyRowWriter ply(header, outputs.stage(q.output));
     std::optional<terrain::MeshPyramidWriter> levels;
-    if (!q.pyramid.empty()) levels.emplace(header.topo, header.geo, outputs.stage(q.pyramid), terrain::kLevelBlock, q.pyramid);
+    if (!q.pyramid.empty())
+      levels.emplace(header.topo, header.geo, outputs.stage(q.pyramid), terrain::kLevelBlock,
+                     q.pyramid);
     const auto progress = terminal_progress(verb, "mesh in bands");
     for (std::size_t r0 = 0; r0 < rows; r0 += band) {
       const std::size_t r1 = std::min(rows, r0 + band);                       // the band's rows
@@ -73,8 +81,9 @@ BandedResult mesh_in_bands(const BandedRequest& q, const Verbosity& verb) {
       terrain::Grid source = terrain::read_dem(q.input, {}, w);
       if (!q.src_crs.empty()) terrain::assign_crs(source.geo, q.src_crs);
       if (r0 == 0 && q.dequantize == "auto" && terrain::is_integer_dem(source))
-        throw terrain::Error("--tile-size and --memory make the mesh in bands, but these integer heights need "
-                             "dequantizing, which reads the whole DEM; give --dequantize off or run without them");
+        throw terrain::Error(
+            "--tile-size and --memory make the mesh in bands, but these integer heights need "
+            "dequantizing, which reads the whole DEM; give --dequantize off or run without them");
       const terrain::Grid g = terrain::resample_rows(source, w, plan, a, b - a, q.grid);
       // Vertices as make_grid_mesh places them (whole-grid rows), normals over the band.
       terrain::BigVector<Eigen::Vector3f> positions(g.size());

@@ -17,8 +17,9 @@ namespace terrain::tools::mesh {
 // the grid's CRS, for --fit-normals. `src_crs` (--src-crs) replaces the raster's own CRS,
 // as gdalwarp's -s_srs. `filled` receives which samples --fill-nodata filled (#samples,
 // 1 where filled; empty when none was), for the mesh to record (GridMesh::filled).
-terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& req, const std::string& dequantize,
-                          const std::string& src_crs, const Verbosity& verb, terrain::Grid* source,
+terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& req,
+                          const std::string& dequantize, const std::string& src_crs,
+                          const Verbosity& verb, terrain::Grid* source,
                           std::vector<std::uint8_t>& filled);
 
 struct PointOptions {
@@ -29,13 +30,15 @@ struct PointOptions {
 // Scattered points: read, projected to UTM if geographic, triangulated and interpolated
 // onto the grid; no-data samples (outside the hull, long triangles) are an error unless
 // --fill-nodata, as for rasters; `filled` as for rasters.
-terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& req, const PointOptions& o,
-                          const Verbosity& verb, terrain::SourceSamples* source, std::vector<std::uint8_t>& filled);
+terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& req,
+                          const PointOptions& o, const Verbosity& verb,
+                          terrain::SourceSamples* source, std::vector<std::uint8_t>& filled);
 
 // stdout's 'key: value' lines of the mesh written (and of the fit, and of the pyramid
 // when `pyramid` is not empty).
-void print_mesh_summary(const std::string& output, const terrain::Georef& g, const terrain::GridTopology& topo,
-                        terrain::NormalWeighting nw, const terrain::NormalFitReport* fit, const std::string& pyramid,
+void print_mesh_summary(const std::string& output, const terrain::Georef& g,
+                        const terrain::GridTopology& topo, terrain::NormalWeighting nw,
+                        const terrain::NormalFitReport* fit, const std::string& pyramid,
                         std::uint64_t pyramid_bytes);
 
 }  // namespace terrain::tools::mesh

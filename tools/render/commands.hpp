@@ -23,11 +23,12 @@ void add_output_options(CLI::App* cmd, OutputArgs& o, bool batch);
 // --device: the EGL devices and the renderer chosen.
 int list_devices();
 // path: a straight flight as a frames CSV.
-int run_path(const TableArgs& a, const std::vector<double>& from, const std::vector<double>& to, int frames,
-             const std::string& out, const std::string& prov);
+int run_path(const TableArgs& a, const std::vector<double>& from, const std::vector<double>& to,
+             int frames, const std::string& out, const std::string& prov);
 // frame: one frame to a PNG, SVG or PDF.
-int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh, const std::string& dv,
-              const std::string& out, const std::string& prov, const Verbosity& verb);
+int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh,
+              const std::string& dv, const std::string& out, const std::string& prov,
+              const Verbosity& verb);
 // batch: every frame of a frames CSV, timings.csv and the timing tables.
 int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::string>& inputs,
               const std::string& out_dir, const std::string& prov, const Verbosity& verb);

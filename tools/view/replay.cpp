@@ -2,14 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
-#include <sstream>
-#include <array>
 #include <map>
+#include <sstream>
 
 namespace terrain::tools::view {
 
@@ -32,14 +32,17 @@ class ReplayArgs {
     if (size() < lo || size() > hi) throw terrain::Error("expected " + usage);
   }
   // Argument k as a finite number in [lo, hi] (whole when `whole`).
-  double number(std::size_t k, const std::string& what, double lo, double hi, bool whole = false) const {
+  double number(std::size_t k, const std::string& what, double lo, double hi,
+                bool whole = false) const {
     const std::string& w = (*this)[k];
     char* end = nullptr;
     const double v = std::strtod(w.c_str(), &end);
     if (w.empty() || end != w.c_str() + w.size() || !std::isfinite(v))
       throw terrain::Error(what + ": '" + w + "' is not a finite number");
-    if (whole && v != std::floor(v)) throw terrain::Error(what + ": '" + w + "' is not a whole number");
-    if (v < lo || v > hi) throw terrain::Error(fmt::format("{}: {} is outside {:g} .. {:g}", what, w, lo, hi));
+    if (whole && v != std::floor(v))
+      throw terrain::Error(what + ": '" + w + "' is not a whole number");
+    if (v < lo || v > hi)
+      throw terrain::Error(fmt::format("{}: {} is outside {:g} .. {:g}", what, w, lo, hi));
     return v;
   }
 
@@ -83,14 +86,16 @@ bool camera_command(Viewer& v, const ReplayArgs& a) {
       try {
         rr::set_option(s, *rr::find_option(names[k - 2]), value);
       } catch (const terrain::Error& e) {
-        throw terrain::Error(std::string("camera: ") + (k == 2 ? "E N Z" : names[k - 2]) + ": " + e.what());
+        throw terrain::Error(std::string("camera: ") + (k == 2 ? "E N Z" : names[k - 2]) + ": " +
+                             e.what());
       }
     }
     v.check_eye(*s.frame.camera.eye);
     c = s.frame.camera;
   } else if (cmd == "orbit") {
     a.expect(2, 2, "orbit D_AZ D_ALT");
-    cam.orbit(c, centre(), a.number(0, "orbit: D_AZ", -3600, 3600), a.number(1, "orbit: D_ALT", -180, 180));
+    cam.orbit(c, centre(), a.number(0, "orbit: D_AZ", -3600, 3600),
+              a.number(1, "orbit: D_ALT", -180, 180));
   } else if (cmd == "zoom") {
     a.expect(1, 1, "zoom SHARE");
     // A share of the distance to the view's centre: 1 would put the eye on the terrain.
@@ -100,7 +105,8 @@ bool camera_command(Viewer& v, const ReplayArgs& a) {
     const double step = 0.02 * double(v.surface().topo.cols) * v.surface().geo.dx;
     // Forward, right, up per key (W/S, D/A, E/Q), as the window's keys move.
     static const std::map<std::string, std::array<double, 3>> fly = {
-        {"w", {1, 0, 0}}, {"s", {-1, 0, 0}}, {"d", {0, 1, 0}}, {"a", {0, -1, 0}}, {"e", {0, 0, 1}}, {"q", {0, 0, -1}}};
+        {"w", {1, 0, 0}},  {"s", {-1, 0, 0}}, {"d", {0, 1, 0}},
+        {"a", {0, -1, 0}}, {"e", {0, 0, 1}},  {"q", {0, 0, -1}}};
     if (a[0] == "home")
       v.home();
     else if (a[0] == "k")
@@ -138,7 +144,8 @@ bool frame_command(Viewer& v, const ReplayArgs& a, const std::string& line, int&
     v.keyframes.push_back(v.settings().frame);
   } else if (cmd == "save-keyframes") {
     a.expect(1, 2, "save-keyframes PATH [N]");
-    const int n = a.size() > 1 ? int(a.number(1, "save-keyframes: N", 2, rr::kMaxPathFrames, true)) : 60;
+    const int n =
+        a.size() > 1 ? int(a.number(1, "save-keyframes: N", 2, rr::kMaxPathFrames, true)) : 60;
     v.save_keyframes(a[0], n);
   } else if (cmd == "load-frames") {
     v.load_frames(path_arg(line, "load-frames PATH"));
@@ -162,10 +169,12 @@ bool output_command(Viewer& v, const ReplayArgs& a, const std::string& line) {
   const std::string& cmd = a.command();
   if (cmd == "screenshot" || cmd == "save-view") {
     a.expect(1, 2, cmd + " PATH [WxH]");
-    cmd == "screenshot" ? v.screenshot(a[0], a.size() > 1 ? a[1] : "") : v.save_view(a[0], a.size() > 1 ? a[1] : "");
+    cmd == "screenshot" ? v.screenshot(a[0], a.size() > 1 ? a[1] : "")
+                        : v.save_view(a[0], a.size() > 1 ? a[1] : "");
   } else if (cmd == "window-shot") {  // offscreen: the frame alone
     const std::string p = path_arg(line, "window-shot PATH");
-    if (!p.ends_with(".png")) throw terrain::Error("window-shot writes a PNG image: give a .png name, not '" + p + "'");
+    if (!p.ends_with(".png"))
+      throw terrain::Error("window-shot writes a PNG image: give a .png name, not '" + p + "'");
     v.check_output({p});
     v.window_shot = p;
   } else if (cmd == "line-stats") {
@@ -180,9 +189,11 @@ bool output_command(Viewer& v, const ReplayArgs& a, const std::string& line) {
       return t;
     };
     const rr::FrameResult& f = v.render(false);
-    std::cout << fmt::format("full frame {}x{}: {:.1f} ms ({})\n", f.width, f.height, v.full_ms(), passes(f));
+    std::cout << fmt::format("full frame {}x{}: {:.1f} ms ({})\n", f.width, f.height, v.full_ms(),
+                             passes(f));
     const rr::FrameResult& c = v.render(true);
-    std::cout << fmt::format("cheap frame {}x{}: {:.1f} ms ({})\n", c.width, c.height, v.cheap_ms(), passes(c));
+    std::cout << fmt::format("cheap frame {}x{}: {:.1f} ms ({})\n", c.width, c.height, v.cheap_ms(),
+                             passes(c));
   } else {
     return false;
   }
@@ -194,7 +205,8 @@ bool output_command(Viewer& v, const ReplayArgs& a, const std::string& line) {
 bool run_command(Viewer& v, const std::string& line, int& wait_frames) {
   const ReplayArgs a(line);
   if (a.empty()) return true;
-  if (camera_command(v, a) || frame_command(v, a, line, wait_frames) || output_command(v, a, line)) return true;
+  if (camera_command(v, a) || frame_command(v, a, line, wait_frames) || output_command(v, a, line))
+    return true;
   if (a.command() != "quit") throw terrain::Error("unknown replay command '" + a.command() + "'");
   a.expect(0, 0, "quit");
   return false;

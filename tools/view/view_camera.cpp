@@ -43,18 +43,22 @@ std::optional<double> ViewCamera::surface(double x, double y) const {
   return std::nullopt;
 }
 
-std::optional<Eigen::Vector3d> ViewCamera::pick(const renderer::Camera& c, double px, double py) const {
+std::optional<Eigen::Vector3d> ViewCamera::pick(const renderer::Camera& c, double px,
+                                                double py) const {
   if (!c.eye) return std::nullopt;
   const Eigen::Vector3d f = forward_of(c);
   Eigen::Vector3d right, up;
   basis(f, right, up);
   const double t = std::tan(c.fov * kDeg / 2), aspect = double(width) / double(height);
   const Eigen::Vector3d dir =
-      (f + t * ((2 * (px + 0.5) / width - 1) * aspect * right + (1 - 2 * (py + 0.5) / height) * up)).normalized();
+      (f + t * ((2 * (px + 0.5) / width - 1) * aspect * right + (1 - 2 * (py + 0.5) / height) * up))
+          .normalized();
   const auto& g = mesh.geo;
   const terrain::GridMesh& whole = outside ? *outside : mesh;
-  const double w = double(whole.topo.cols - 1) * whole.geo.dx, h = double(whole.topo.rows - 1) * whole.geo.dy;
-  const double step = 0.5 * std::min(g.dx, g.dy), reach = 4 * std::hypot(w, h) + std::abs(c.eye->z());
+  const double w = double(whole.topo.cols - 1) * whole.geo.dx,
+               h = double(whole.topo.rows - 1) * whole.geo.dy;
+  const double step = 0.5 * std::min(g.dx, g.dy),
+               reach = 4 * std::hypot(w, h) + std::abs(c.eye->z());
   Eigen::Vector3d prev = *c.eye;
   for (double s = step; s < reach; s += step) {
     const Eigen::Vector3d p = *c.eye + s * dir;
@@ -73,7 +77,8 @@ std::optional<Eigen::Vector3d> ViewCamera::pick(const renderer::Camera& c, doubl
   return std::nullopt;
 }
 
-void ViewCamera::orbit(renderer::Camera& c, const Eigen::Vector3d& pivot, double d_az, double d_alt) const {
+void ViewCamera::orbit(renderer::Camera& c, const Eigen::Vector3d& pivot, double d_az,
+                       double d_alt) const {
   if (!c.eye) return;
   c.orthographic = false;
   const double alt = std::clamp(c.view_alt + d_alt, -89.0, 89.0);
@@ -90,13 +95,15 @@ void ViewCamera::orbit(renderer::Camera& c, const Eigen::Vector3d& pivot, double
   keep_above(c);
 }
 
-void ViewCamera::pan(renderer::Camera& c, const Eigen::Vector3d& pivot, double dx, double dy) const {
+void ViewCamera::pan(renderer::Camera& c, const Eigen::Vector3d& pivot, double dx,
+                     double dy) const {
   if (!c.eye) return;
   c.orthographic = false;
   const Eigen::Vector3d f = forward_of(c);
   Eigen::Vector3d right, up;
   basis(f, right, up);
-  const double metres_per_px = 2 * (pivot - *c.eye).dot(f) * std::tan(c.fov * kDeg / 2) / double(height);
+  const double metres_per_px =
+      2 * (pivot - *c.eye).dot(f) * std::tan(c.fov * kDeg / 2) / double(height);
   c.eye = *c.eye - metres_per_px * (dx * right - dy * up);
   keep_above(c);
 }

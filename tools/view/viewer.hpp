@@ -47,8 +47,8 @@ class Viewer {
   // it needs is read (refocus_scene); before a cheap frame whose view leaves the blocks
   // held, the whole mesh at the level the view draws, or the finest within the bound
   // (cover_view). The camera moves over the preview beyond a window held (keep_preview).
-  Viewer(std::string mesh, std::string dv, rr::RenderSettings s, rr::GivenOption given, const tt::Verbosity& verb,
-         std::uint64_t vertex_bytes = 0)
+  Viewer(std::string mesh, std::string dv, rr::RenderSettings s, rr::GivenOption given,
+         const tt::Verbosity& verb, std::uint64_t vertex_bytes = 0)
       : mesh_path_(std::move(mesh)),
         dv_path_(std::move(dv)),
         s_(std::move(s)),
@@ -70,7 +70,8 @@ class Viewer {
   const rr::Scene& scene() const { return scene_; }
   const rr::GlContext& gl() const { return gl_; }
   tt::ViewCamera camera() const {
-    return {scene_.mesh, s_.style.exaggeration, s_.width, s_.height, windowed() ? preview_.get() : nullptr};
+    return {scene_.mesh, s_.style.exaggeration, s_.width, s_.height,
+            windowed() ? preview_.get() : nullptr};
   }
   // The whole mesh's surface: the mesh held, or the preview while a window of it is held.
   const terrain::GridMesh& surface() const { return windowed() ? *preview_ : scene_.mesh; }
@@ -83,9 +84,10 @@ class Viewer {
     const double fov = h.frame.camera.fov;
     h.frame.camera = start_.frame.camera;
     h.frame.camera.fov = fov;
-    s_.frame = rr::resolve_frame(h, surface(), [this](const std::string& n) {
-                 return given_(n) || ((n == "light-az" || n == "light-alt") && set_since_start_.count(n));
-               }).frame;
+    s_.frame =
+        rr::resolve_frame(h, surface(), [this](const std::string& n) {
+          return given_(n) || ((n == "light-az" || n == "light-alt") && set_since_start_.count(n));
+        }).frame;
   }
 
   // Sets one option by the table; the renderers (or the creases) are rebuilt when it needs,
@@ -97,12 +99,15 @@ class Viewer {
     rr::RenderSettings next = s_;
     rr::set_option(next, *o, value);
     rr::validate(next);
-    if (o->name == "view" && next.view == rr::ViewMode::Row) (void)rr::view_row_frame(next.view_row, next.frame);
+    if (o->name == "view" && next.view == rr::ViewMode::Row)
+      (void)rr::view_row_frame(next.view_row, next.frame);
     if (o->name == "eye" && next.frame.camera.eye) check_eye(*next.frame.camera.eye);
     s_ = std::move(next);
     set_since_start_.insert(o->name);  // (a value refused leaves nothing set)
-    if (o->rebuilds_creases && !dv_path_.empty()) creases_stale_ = stale_ = true;
-    else if (!o->per_frame && o->name != "eye") stale_ = true;
+    if (o->rebuilds_creases && !dv_path_.empty())
+      creases_stale_ = stale_ = true;
+    else if (!o->per_frame && o->name != "eye")
+      stale_ = true;
   }
 
   // A scene read at a coarser level (the memory bound) read again at the level the current
@@ -136,9 +141,9 @@ class Viewer {
     if (before_gl) before_gl();
     gl_.make_current();
     const rr::CreaseGeometry* creases = scene_.creases ? &*scene_.creases : nullptr;
-    full_ = std::make_unique<rr::TerrainRenderer>(gl_, scene_.mesh, creases, s_.width, s_.height, s_.layers,
-                                                  rr::drawn_style(s_), rr::scene_levels(scene_, rr::drawn_style(s_)),
-                                                  scene_.crease_levels);
+    full_ = std::make_unique<rr::TerrainRenderer>(
+        gl_, scene_.mesh, creases, s_.width, s_.height, s_.layers, rr::drawn_style(s_),
+        rr::scene_levels(scene_, rr::drawn_style(s_)), scene_.crease_levels);
     cheap_.reset();  // made when a cheap frame is first drawn
   }
 
@@ -150,8 +155,9 @@ class Viewer {
        // draws, within the memory bound); a cheap one the whole level when the view leaves
        // the blocks held
       const rr::Style style = rr::drawn_style(s_);
-      const std::string note = cheap ? rr::cover_view(scene_, s_.frame.camera, s_.width, s_.height, style)
-                                     : rr::refocus_scene(scene_, s_.frame.camera, s_.width, s_.height, style);
+      const std::string note =
+          cheap ? rr::cover_view(scene_, s_.frame.camera, s_.width, s_.height, style)
+                : rr::refocus_scene(scene_, s_.frame.camera, s_.width, s_.height, style);
       if (!note.empty()) tt::step(verb_, note), stale_ = true;
     }
     bring_up_to_date();
@@ -160,10 +166,10 @@ class Viewer {
     if (cheap && !cheap_) {
       rr::Layers layers = s_.layers;
       layers.hachures = false;  // cheap frames go without (no normals target)
-      cheap_ = std::make_unique<rr::TerrainRenderer>(gl_, scene_.mesh, scene_.creases ? &*scene_.creases : nullptr,
-                                                     std::max(16, s_.width / 2), std::max(16, s_.height / 2), layers,
-                                                     rr::drawn_style(s_), rr::scene_levels(scene_, rr::drawn_style(s_)),
-                                                  scene_.crease_levels);
+      cheap_ = std::make_unique<rr::TerrainRenderer>(
+          gl_, scene_.mesh, scene_.creases ? &*scene_.creases : nullptr, std::max(16, s_.width / 2),
+          std::max(16, s_.height / 2), layers, rr::drawn_style(s_),
+          rr::scene_levels(scene_, rr::drawn_style(s_)), scene_.crease_levels);
     }
     const auto t0 = Clock::now();
     last_ = (cheap ? cheap_ : full_)->render(s_.frame);
@@ -174,7 +180,8 @@ class Viewer {
       return last_;
     }
     shown_ = last_;
-    rr::draw_overlays(rr::frame_overlays(scene_, *full_, last_, full_->read_buffers(), rr::drawn_style(s_), s_.layers),
+    rr::draw_overlays(rr::frame_overlays(scene_, *full_, last_, full_->read_buffers(),
+                                         rr::drawn_style(s_), s_.layers),
                       shown_.width, shown_.height, shown_.rgba);
     full_ms_ = ms_since(t0);
     return shown_;
@@ -185,16 +192,20 @@ class Viewer {
   double full_ms() const { return full_ms_; }
   double cheap_ms() const { return cheap_ms_; }
   std::string line_stats() {
-    if (!scene_.creases || !s_.layers.creases) return "line statistics measure creases: give a .dv, keep creases";
+    if (!scene_.creases || !s_.layers.creases)
+      return "line statistics measure creases: give a .dv, keep creases";
     render(false);
-    return rr::line_stats_text(rr::frame_line_stats(scene_, *full_, last_, s_.frame, rr::drawn_style(s_), s_.layers));
+    return rr::line_stats_text(
+        rr::frame_line_stats(scene_, *full_, last_, s_.frame, rr::drawn_style(s_), s_.layers));
   }
 
   // The exact terrain-render command line of view `s` writing `png`.
   std::string command_line(const std::string& png, const rr::RenderSettings& s) const {
-    const double mib = double(vertex_bytes_) / 1048576.0;  // terrain-render frame's --memory, 1024 unless given
-    return "terrain-render frame " + quoted(mesh_path_) + (dv_path_.empty() ? "" : " " + quoted(dv_path_)) + " -o " +
-           quoted(png) + rr::changed_options(s) + (mib != 1024 ? fmt::format(" --memory {:g}", mib) : "") +
+    const double mib =
+        double(vertex_bytes_) / 1048576.0;  // terrain-render frame's --memory, 1024 unless given
+    return "terrain-render frame " + quoted(mesh_path_) +
+           (dv_path_.empty() ? "" : " " + quoted(dv_path_)) + " -o " + quoted(png) +
+           rr::changed_options(s) + (mib != 1024 ? fmt::format(" --memory {:g}", mib) : "") +
            (rr::is_vector_path(png) ? tt::vector_options_text(vector) : "");
   }
 
@@ -245,8 +256,9 @@ class Viewer {
   rr::VectorOptions vector;         // --dpi, --vector-underlay: save-view's SVG and PDF
   std::vector<rr::FrameParams> keyframes, frames;
   std::size_t frame_index = 0;
-  std::string window_shot;          // window-shot PATH: the window (panel included) after its next draw
-  std::function<void()> before_gl;  // releases the window's context before the renderer's is made current
+  std::string window_shot;  // window-shot PATH: the window (panel included) after its next draw
+  std::function<void()>
+      before_gl;  // releases the window's context before the renderer's is made current
 
  private:
   std::string mesh_path_, dv_path_;
@@ -256,12 +268,14 @@ class Viewer {
     if (with_command)
       rr::check_frame_path(path);
     else if (!path.ends_with(".png"))
-      throw terrain::Error("a screenshot is a PNG image: give a .png name, not '" + path + "' (save-view also writes .svg "
+      throw terrain::Error("a screenshot is a PNG image: give a .png name, not '" + path +
+                           "' (save-view also writes .svg "
                            "and .pdf)");
     rr::RenderSettings at = s_;
     if (!size.empty()) rr::set_option(at, *rr::find_option("size"), size);
     const rr::ResolvedFrame f = rr::drawn_frame(at);
-    std::vector<std::string> files = rr::frame_files(path, f.frame.camera.orthographic);  // with a map's world file
+    std::vector<std::string> files =
+        rr::frame_files(path, f.frame.camera.orthographic);  // with a map's world file
     if (with_command) files.insert(files.end(), {path + ".txt", path + ".csv"});
     check_output(files);
     bring_up_to_date();
@@ -276,8 +290,9 @@ class Viewer {
       if (before_gl) before_gl();
       gl_.make_current();
       if (rr::is_vector_path(path)) rr::check_vector_memory(gl_, at.width, at.height);
-      rr::TerrainRenderer r(gl_, scene_.mesh, scene_.creases ? &*scene_.creases : nullptr, at.width, at.height, f.layers,
-                            f.style, rr::scene_levels(scene_, f.style), scene_.crease_levels);
+      rr::TerrainRenderer r(gl_, scene_.mesh, scene_.creases ? &*scene_.creases : nullptr, at.width,
+                            at.height, f.layers, f.style, rr::scene_levels(scene_, f.style),
+                            scene_.crease_levels);
       last_ = r.render(at.frame);
       write(r);
     }

@@ -28,7 +28,9 @@ void option_panel(Viewer& v, std::string& message) {
   for (const rr::OptionSpec& o : rr::render_options())
     if (std::find(groups.begin(), groups.end(), o.group) == groups.end()) groups.push_back(o.group);
   for (const std::string& group : groups) {
-    if (!ImGui::CollapsingHeader(group.c_str(), group == "Frame" ? ImGuiTreeNodeFlags_DefaultOpen : 0)) continue;
+    if (!ImGui::CollapsingHeader(group.c_str(),
+                                 group == "Frame" ? ImGuiTreeNodeFlags_DefaultOpen : 0))
+      continue;
     for (const rr::OptionSpec& o : rr::render_options()) {
       if (o.group != group) continue;
       const std::string label = o.name + (o.unit.empty() ? "" : " (" + o.unit + ")");
@@ -37,14 +39,14 @@ void option_panel(Viewer& v, std::string& message) {
         case rr::OptionType::Number: {
           float f = value == "auto" ? -1.0f : std::stof(value);
           if (!o.unbounded() ? ImGui::SliderFloat(label.c_str(), &f, float(o.min), float(o.max))
-                      : ImGui::DragFloat(label.c_str(), &f, 1.0f))
+                             : ImGui::DragFloat(label.c_str(), &f, 1.0f))
             next = fmt::format("{}", f);
           break;
         }
         case rr::OptionType::Integer: {
           int i = std::stoi(value);
           if (!o.unbounded() ? ImGui::SliderInt(label.c_str(), &i, int(o.min), int(o.max))
-                          : ImGui::DragInt(label.c_str(), &i, 1.0f, int(o.min), 1 << 30))
+                             : ImGui::DragInt(label.c_str(), &i, 1.0f, int(o.min), 1 << 30))
             next = std::to_string(i);
           break;
         }
@@ -76,7 +78,8 @@ void option_panel(Viewer& v, std::string& message) {
             if (ImGui::Checkbox((c + "##" + o.name).c_str(), &on)) {
               std::string list;
               for (const std::string& d : o.choices) {
-                const bool has = d == c ? on : ("," + value + ",").find("," + d + ",") != std::string::npos;
+                const bool has =
+                    d == c ? on : ("," + value + ",").find("," + d + ",") != std::string::npos;
                 if (has) list += (list.empty() ? "" : ",") + d;
               }
               next = list;
@@ -113,7 +116,8 @@ class Window {
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     v.gl().release_current();  // GLFW makes its context current while it creates the window
-    window_ = glfwCreateWindow(v.settings().width, v.settings().height, "terrain-view", nullptr, nullptr);
+    window_ =
+        glfwCreateWindow(v.settings().width, v.settings().height, "terrain-view", nullptr, nullptr);
     if (!window_) {
       glfwTerminate();
       throw terrain::Error("cannot open a window (no display? use --offscreen)");
@@ -153,7 +157,8 @@ class Window {
     mouse_and_keys();
     panel();
     replay_step();
-    if (rr::changed_options(before) != rr::changed_options(v_.settings())) last_input_ = Clock::now(), dirty_ = true;
+    if (rr::changed_options(before) != rr::changed_options(v_.settings()))
+      last_input_ = Clock::now(), dirty_ = true;
     show();
     return true;
   }
@@ -172,17 +177,21 @@ class Window {
       const bool any = ImGui::IsMouseDown(0) || ImGui::IsMouseDown(1) || ImGui::IsMouseDown(2);
       if (any && !pivot_) pivot_ = cam.pick(c, mx, my);
       if (!any) pivot_.reset();
-      if (pivot_ && ImGui::IsMouseDown(0)) cam.orbit(c, *pivot_, 0.3 * (mx - last_x_), 0.3 * (my - last_y_));
-      if (pivot_ && (ImGui::IsMouseDown(1) || ImGui::IsMouseDown(2))) cam.pan(c, *pivot_, mx - last_x_, my - last_y_);
+      if (pivot_ && ImGui::IsMouseDown(0))
+        cam.orbit(c, *pivot_, 0.3 * (mx - last_x_), 0.3 * (my - last_y_));
+      if (pivot_ && (ImGui::IsMouseDown(1) || ImGui::IsMouseDown(2)))
+        cam.pan(c, *pivot_, mx - last_x_, my - last_y_);
       if (io.MouseWheel != 0)
         if (const auto p = cam.pick(c, mx, my)) cam.zoom(c, *p, io.MouseWheel > 0 ? 0.15 : -0.15);
     }
     last_x_ = mx, last_y_ = my;
     if (io.WantCaptureKeyboard) return;
     // Per drawn frame: 0.5 % of the terrain's width (Shift: 2.5 %), as a replay's key moves 2 %.
-    const double step = (io.KeyShift ? 0.025 : 0.005) * double(v_.surface().topo.cols) * v_.surface().geo.dx;
+    const double step =
+        (io.KeyShift ? 0.025 : 0.005) * double(v_.surface().topo.cols) * v_.surface().geo.dx;
     const auto down = [&](int k) { return glfwGetKey(window_, k) == GLFW_PRESS; };
-    cam.fly(c, step * (down(GLFW_KEY_W) - down(GLFW_KEY_S)), step * (down(GLFW_KEY_D) - down(GLFW_KEY_A)),
+    cam.fly(c, step * (down(GLFW_KEY_W) - down(GLFW_KEY_S)),
+            step * (down(GLFW_KEY_D) - down(GLFW_KEY_A)),
             step * (down(GLFW_KEY_E) - down(GLFW_KEY_Q)));
     if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Home))) v_.home();
     if (ImGui::IsKeyPressed(GLFW_KEY_K, false)) v_.keyframes.push_back(s.frame);
@@ -208,19 +217,22 @@ class Window {
     ImGui::SetNextWindowSize(ImVec2(380, float(v_.settings().height) - 16), ImGuiCond_FirstUseEver);
     ImGui::Begin("terrain-view");
     const double ms = v_.last_was_cheap() ? v_.cheap_ms() : v_.full_ms();
-    ImGui::Text("%s frame %dx%d: %.1f ms (%.1f fps)", v_.last_was_cheap() ? "cheap" : "full", v_.last().width,
-                v_.last().height, ms, 1000.0 / std::max(1e-3, ms));
+    ImGui::Text("%s frame %dx%d: %.1f ms (%.1f fps)", v_.last_was_cheap() ? "cheap" : "full",
+                v_.last().width, v_.last().height, ms, 1000.0 / std::max(1e-3, ms));
     std::string passes;
     for (int p = 0; p < rr::kPassCount; ++p)
       passes += fmt::format("{} {:.1f}  ", rr::pass_name(p), v_.last().timings.gpu_ms[p]);
     ImGui::TextWrapped("GL ms: %s", passes.c_str());
     if (c.eye)
-      ImGui::Text("eye %.0f %.0f %.0f  az %.1f alt %.1f", c.eye->x(), c.eye->y(), c.eye->z(), c.view_az, c.view_alt);
+      ImGui::Text("eye %.0f %.0f %.0f  az %.1f alt %.1f", c.eye->x(), c.eye->y(), c.eye->z(),
+                  c.view_az, c.view_alt);
     if (ImGui::Button("Line statistics")) stats_ = v_.line_stats();
     ImGui::SameLine();
     const std::filesystem::path dir(save_dir_);
     if (ImGui::Button("Save view"))
-      saving([&] { v_.save_view((dir / fmt::format("view_{:03d}.png", saved_++)).string(), save_size_); });
+      saving([&] {
+        v_.save_view((dir / fmt::format("view_{:03d}.png", saved_++)).string(), save_size_);
+      });
     ImGui::SameLine();
     ImGui::SetNextItemWidth(90);
     char size_text[32];
@@ -265,12 +277,14 @@ class Window {
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
       glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
       glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, f.width, f.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, f.rgba.data());
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, f.width, f.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                   f.rgba.data());
     }
     v_.gl().release_current();
     glfwMakeContextCurrent(window_);
-    ImGui::GetBackgroundDrawList()->AddImage(reinterpret_cast<ImTextureID>(std::uintptr_t(texture_)), ImVec2(0, 0),
-                                             ImGui::GetIO().DisplaySize);
+    ImGui::GetBackgroundDrawList()->AddImage(
+        reinterpret_cast<ImTextureID>(std::uintptr_t(texture_)), ImVec2(0, 0),
+        ImGui::GetIO().DisplaySize);
     ImGui::Render();
     int fw = 0, fh = 0;
     glfwGetFramebufferSize(window_, &fw, &fh);
@@ -289,7 +303,8 @@ class Window {
     glReadPixels(0, 0, fw, fh, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
     const std::size_t row = std::size_t(fw) * 4;
     for (int y = 0; y < fh; ++y)
-      std::copy_n(rgba.data() + std::size_t(fh - 1 - y) * row, row, flipped.data() + std::size_t(y) * row);
+      std::copy_n(rgba.data() + std::size_t(fh - 1 - y) * row, row,
+                  flipped.data() + std::size_t(y) * row);
     for (std::size_t i = 3; i < flipped.size(); i += 4) flipped[i] = 255;
     terrain::write_png(v_.window_shot, fw, fh, 4, flipped, "terrain-view window");
     v_.window_shot.clear();

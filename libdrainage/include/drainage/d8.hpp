@@ -59,7 +59,8 @@ D8Codes d8_directions(const terrain::Grid& z);
 // Index of the downstream sample of `i` under `code`, or kNone (kNoFlow, kOutlet, kNodata).
 inline std::uint32_t downstream(std::uint32_t i, std::uint8_t code, std::size_t cols) {
   if (code >= 8) return kNone;
-  return std::uint32_t(std::int64_t(i) + std::int64_t(kDRow[code]) * std::int64_t(cols) + kDCol[code]);
+  return std::uint32_t(std::int64_t(i) + std::int64_t(kDRow[code]) * std::int64_t(cols) +
+                       kDCol[code]);
 }
 
 // The one downstream step: the (row, column) that in-grid code k (0..7) points to from
@@ -71,7 +72,8 @@ inline RowCol step(long r, long c, std::uint8_t k) { return {r + kDRow[k], c + k
 
 // The sample that sample i of a rows x cols grid of codes drains into, or kNone where the
 // flow ends (no direction, off the grid, into no-data).
-inline std::size_t flows_into(const D8Codes& dirs, std::size_t rows, std::size_t cols, std::size_t i) {
+inline std::size_t flows_into(const D8Codes& dirs, std::size_t rows, std::size_t cols,
+                              std::size_t i) {
   if (dirs[i] >= 8) return kNone;
   const RowCol d = step(long(i / cols), long(i % cols), dirs[i]);
   if (d.r < 0 || d.c < 0 || d.r >= long(rows) || d.c >= long(cols)) return kNone;

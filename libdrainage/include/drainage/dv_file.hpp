@@ -15,7 +15,7 @@
 
 namespace drainage {
 
-inline constexpr std::uint32_t kDvVersion = 2;     // the newest version, written by default
+inline constexpr std::uint32_t kDvVersion = 2;      // the newest version, written by default
 inline constexpr std::uint32_t kDvBlockSide = 256;  // default block: 256 x 256 points
 
 enum DvFlags : std::uint32_t {
@@ -55,7 +55,7 @@ static_assert(sizeof(DvVertex) == 32 && sizeof(DvBranch) == 16);
 
 struct DrainageDb {
   DvHeader header;
-  terrain::BigVector<DvVertex> vertices;     // rows * cols
+  terrain::BigVector<DvVertex> vertices;  // rows * cols
   std::vector<DvBranch> branches;
   terrain::BigVector<std::uint32_t> branch_vertices;
 };
@@ -74,9 +74,9 @@ void write_dv(const std::string& path, const DvHeader& header, const terrain::Gr
 // Version 2, block by block (the tiled build writes tiles as they finish): the stored
 // fields of one block, row-major within the block, compressed and checksummed.
 struct DvBlockFields {
-  std::vector<float> z;                   // relative to the header's origin z; 0 at no-data
-  std::vector<std::uint8_t> d8;           // D8 codes (d8.hpp)
-  std::vector<std::uint8_t> cut;          // 1 where d8 < 8 but the flow ends (enters no-data)
+  std::vector<float> z;           // relative to the header's origin z; 0 at no-data
+  std::vector<std::uint8_t> d8;   // D8 codes (d8.hpp)
+  std::vector<std::uint8_t> cut;  // 1 where d8 < 8 but the flow ends (enters no-data)
   std::vector<std::uint32_t> accumulated;
   std::vector<std::uint32_t> basin;
   std::vector<std::uint8_t> order;
@@ -123,8 +123,8 @@ DvHeader read_dv_header(const std::string& path);
 // accumulated and normalized flow their global values; branches are those of the window.
 // A version 2 file is read block by block: only the blocks under the window (and a
 // one-point margin, for the classes) are read.
-DrainageDb read_dv_window(const std::string& path, std::size_t row0, std::size_t col0, std::size_t rows,
-                          std::size_t cols);
+DrainageDb read_dv_window(const std::string& path, std::size_t row0, std::size_t col0,
+                          std::size_t rows, std::size_t cols);
 
 // The CRC-32 of a whole .dv file image (`size` bytes at `bytes`) with its CRC field taken
 // as 0: the value the file stores at byte 16. For tools and tests that patch a file.

@@ -40,8 +40,9 @@ terrain::DrainageLinks drainage_links(const DrainageDb& db);
 // whole grid when the rectangle covers it; an Error when they do not overlap. A version 2
 // file is read in bands of rows of at most `band_points` points (each with a row of margin
 // above and below), so that only one band's database is held beside the arrays.
-terrain::DrainageLinks drainage_links_in(const std::string& path, double west, double south, double east,
-                                         double north, std::size_t band_points = std::size_t(1) << 20);
+terrain::DrainageLinks drainage_links_in(const std::string& path, double west, double south,
+                                         double east, double north,
+                                         std::size_t band_points = std::size_t(1) << 20);
 
 // The database's elevations as a grid (no-data where a vertex is not a point).
 terrain::Grid dv_elevations(const DrainageDb& db);

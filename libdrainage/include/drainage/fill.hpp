@@ -55,7 +55,8 @@ using FloodQueue = std::priority_queue<FloodItem, std::vector<FloodItem>, std::g
 // is to be flooded from i now (the caller then marks j as taken); a flooded j lower than
 // i is raised to i. Returns how many cells were raised.
 template <class Z, class Claim>
-std::size_t priority_flood(Z& z, long rows, long cols, const std::vector<std::uint32_t>& seeds, Claim&& claim) {
+std::size_t priority_flood(Z& z, long rows, long cols, const std::vector<std::uint32_t>& seeds,
+                           Claim&& claim) {
   FloodQueue open;
   for (const std::uint32_t i : seeds) open.push({z[i], i});
   std::vector<std::uint32_t> pit;  // FIFO of depression cells, with a head index

@@ -10,9 +10,9 @@
 namespace drainage {
 
 struct FlatStats {
-  std::size_t flats = 0;            // connected flats (equal elevation, no-flow cells)
-  std::size_t undrainable = 0;      // flats with no lower outlet (closed depressions)
-  std::size_t cells_resolved = 0;   // no-flow cells that received a direction
+  std::size_t flats = 0;           // connected flats (equal elevation, no-flow cells)
+  std::size_t undrainable = 0;     // flats with no lower outlet (closed depressions)
+  std::size_t cells_resolved = 0;  // no-flow cells that received a direction
 };
 
 // Gives a direction to every kNoFlow sample of `dirs` (from d8_directions on `z`) that lies

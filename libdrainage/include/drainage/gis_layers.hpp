@@ -28,15 +28,16 @@ struct DivideEdge {
 // columns: `ids` holds those n rows and, when `below` is true, the row after them (n + 1
 // rows), so that the edges to the next band are found once. kNone is no-data: edges
 // between a basin and no-data or the grid's border are not divides.
-void add_divide_edges(const std::uint32_t* ids, std::size_t row0, std::size_t n, std::size_t cols, bool below,
-                      std::vector<DivideEdge>& edges);
+void add_divide_edges(const std::uint32_t* ids, std::size_t row0, std::size_t n, std::size_t cols,
+                      bool below, std::vector<DivideEdge>& edges);
 
 // The divide between one pair of basins as polylines of corners: the edges chained at
 // corners where exactly two of them meet; a chain ends at a corner of one edge or of
 // three or four (where basins meet), and a closed ring is one chain starting and ending
 // at the same corner. Corners along a straight run are left out. Takes edges of one pair
 // (any order); chains are listed from the lowest free end, deterministically.
-std::vector<std::vector<std::uint64_t>> chain_divide_edges(std::vector<DivideEdge> edges, std::size_t cols);
+std::vector<std::vector<std::uint64_t>> chain_divide_edges(std::vector<DivideEdge> edges,
+                                                           std::size_t cols);
 
 // ---- Watersheds at outlets ---------------------------------------------------------------
 
@@ -46,8 +47,9 @@ std::vector<std::vector<std::uint64_t>> chain_divide_edges(std::vector<DivideEdg
 // meeting one. Outlets upstream of others give nested watersheds: a downstream outlet's
 // watershed leaves out the upstream ones. Throws terrain::Error when two outlets are one
 // cell, or when the directions hold a cycle. O(cells), one pass.
-terrain::BigVector<std::uint32_t> nearest_downstream_outlet(const D8Codes& dirs, std::size_t rows, std::size_t cols,
-                                                            const std::vector<std::uint64_t>& outlet_cells);
+terrain::BigVector<std::uint32_t> nearest_downstream_outlet(
+    const D8Codes& dirs, std::size_t rows, std::size_t cols,
+    const std::vector<std::uint64_t>& outlet_cells);
 
 // A point of an outlet layer, in the CRS of the database it is used with.
 struct OutletPoint {
@@ -63,25 +65,27 @@ std::vector<OutletPoint> read_outlet_points(const std::string& path, const std::
 
 struct Watershed {
   OutletPoint given;
-  std::size_t row = 0, col = 0;    // the outlet cell, after snapping
-  double x = 0, y = 0;             // its centre (world)
-  double moved = 0;                // metres from the given point to that centre
-  std::uint32_t accumulated = 0;   // points draining through the outlet cell, itself included
-  std::uint64_t cells = 0;         // cells in its watershed (nested watersheds left out)
-  std::int64_t downstream = -1;    // the watershed its outlet drains into, -1: none
+  std::size_t row = 0, col = 0;   // the outlet cell, after snapping
+  double x = 0, y = 0;            // its centre (world)
+  double moved = 0;               // metres from the given point to that centre
+  std::uint32_t accumulated = 0;  // points draining through the outlet cell, itself included
+  std::uint64_t cells = 0;        // cells in its watershed (nested watersheds left out)
+  std::int64_t downstream = -1;   // the watershed its outlet drains into, -1: none
 };
 
 // The points of rows r0 .. r0 + rows - 1, columns c0 .. c0 + cols - 1 of a .dv (as
 // read_dv_window gives them): the file's, or an in-memory database's for tests.
-using DvWindowReader = std::function<DrainageDb(std::size_t r0, std::size_t c0, std::size_t rows, std::size_t cols)>;
+using DvWindowReader =
+    std::function<DrainageDb(std::size_t r0, std::size_t c0, std::size_t rows, std::size_t cols)>;
 
 // Outlets snapped as write_watersheds snaps them (below), on the grid of `h` whose points
 // `window` reads; `cells` receives each outlet's cell (row-major index). Throws
 // terrain::Error for a point outside the grid (in other coordinates: longitude and
 // latitude in a file without a CRS), a snap distance larger than the grid, a point with no
 // drainage point within reach, or two points on one cell.
-std::vector<Watershed> snap_outlets(const DvHeader& h, const std::vector<OutletPoint>& points, double snap_distance,
-                                    const DvWindowReader& window, std::vector<std::uint64_t>& cells);
+std::vector<Watershed> snap_outlets(const DvHeader& h, const std::vector<OutletPoint>& points,
+                                    double snap_distance, const DvWindowReader& window,
+                                    std::vector<std::uint64_t>& cells);
 
 // Watersheds of `points` on the .dv at `dv_path`: each point moved to the cell of highest
 // accumulation whose centre lies within `snap_distance` metres (ties: the nearest, then
@@ -92,7 +96,8 @@ std::vector<Watershed> snap_outlets(const DvHeader& h, const std::vector<OutletP
 // the outlet cells) and "watersheds" (one MultiPolygon each, GDALPolygonize of the
 // raster), each atomic. Throws terrain::Error naming the point when no valid cell lies
 // within the distance, or when two points snap to one cell.
-std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::vector<OutletPoint>& points,
+std::vector<Watershed> write_watersheds(const std::string& dv_path,
+                                        const std::vector<OutletPoint>& points,
                                         double snap_distance, const std::string& gpkg_path,
                                         const std::string& tif_path, const std::string& provenance,
                                         const terrain::Progress& progress = {});
@@ -124,7 +129,7 @@ struct GpkgCounts {
 //   edges (chain_divide_edges), with fields basin_a < basin_b, max_order (the larger of the
 //   two basins' max_order: show major divides only by filtering on it) and length_m.
 // Memory: a window of rows, the polygons and the divide edges (24 bytes each).
-GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_path, const GpkgLayers& layers,
-                          const terrain::Progress& progress = {});
+GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_path,
+                          const GpkgLayers& layers, const terrain::Progress& progress = {});
 
 }  // namespace drainage

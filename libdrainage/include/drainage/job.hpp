@@ -24,13 +24,14 @@ struct DrainageJob {
   double spacing = 10.0;         // mesh mode: the sampling spacing in metres
   std::string raster, d8_input;  // raster mode: a DEM, or D8 codes in `encoding`
   D8Encoding encoding = D8Encoding::Taudem;
-  std::string output;            // the .dv
-  std::string surface;           // --surface GeoTIFF ("" none)
-  std::string rasters_dir;       // --rasters ("" none)
+  std::string output;                              // the .dv
+  std::string surface;                             // --surface GeoTIFF ("" none)
+  std::string rasters_dir;                         // --rasters ("" none)
   std::string outlets, watersheds, watershed_tif;  // --outlets ("" none) and where they go
   double snap_distance = 0;
   bool fill = false, keep_flats = false;
-  std::optional<double> breach;  // build-drainage sets kMeshBreachDepth in mesh mode unless told otherwise
+  std::optional<double>
+      breach;  // build-drainage sets kMeshBreachDepth in mesh mode unless told otherwise
   std::uint32_t dv_version = 2;
   std::size_t tile_size = 0;  // > 0: tiled (raster mode only)
   std::string provenance;
@@ -47,14 +48,16 @@ inline constexpr double kMeshBreachDepth = 10.0;
 struct RunSummary {
   std::size_t rows = 0, cols = 0, tiles = 1;
   double dx = 0, dy = 0;
-  std::size_t points = 0, basins = 0, pits = 0, ridges = 0, channels = 0, junctions = 0, branches = 0;
-  std::optional<std::pair<std::size_t, std::size_t>> flats;  // resolved, undrainable (untiled runs count them)
+  std::size_t points = 0, basins = 0, pits = 0, ridges = 0, channels = 0, junctions = 0,
+              branches = 0;
+  std::optional<std::pair<std::size_t, std::size_t>>
+      flats;  // resolved, undrainable (untiled runs count them)
   std::size_t filled = 0;
-  std::optional<std::pair<std::size_t, double>> carved;      // --breach: cells cut, deepest cut
-  std::size_t pn_fallbacks = 0;                              // mesh mode: samples on the flat triangle
+  std::optional<std::pair<std::size_t, double>> carved;  // --breach: cells cut, deepest cut
+  std::size_t pn_fallbacks = 0;                          // mesh mode: samples on the flat triangle
   std::vector<Watershed> watersheds;
-  std::vector<std::pair<std::string, double>> timings;      // seconds per step, for -v
-  std::vector<std::string> warnings;                         // for the tool to print
+  std::vector<std::pair<std::string, double>> timings;  // seconds per step, for -v
+  std::vector<std::string> warnings;                    // for the tool to print
 };
 
 // A progress callback for a step named `label` (the tool's terminal progress).

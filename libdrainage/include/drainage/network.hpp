@@ -14,28 +14,34 @@ namespace drainage {
 // Point classes from the D8 graph (one place; locked by tests): a pit has no downstream
 // point (kNoFlow, or its flow leaves the grid: outlets count as pits); otherwise the
 // number of points draining into it decides: 0 ridge, 1 channel, more junction.
-enum class PointClass : std::uint8_t { Ridge = 0, Channel = 1, Junction = 2, Pit = 3, Nodata = 255 };
+enum class PointClass : std::uint8_t {
+  Ridge = 0,
+  Channel = 1,
+  Junction = 2,
+  Pit = 3,
+  Nodata = 255
+};
 const char* to_string(PointClass c);
 
 struct Branch {
-  std::uint32_t first = 0;              // offset into Network::branch_vertices
-  std::uint32_t count = 0;              // vertices in the branch, upstream to downstream
-  std::uint32_t drains_into = 0;        // the vertex it drains into (kNone at a pit)
-  std::uint8_t order = 0;               // Strahler order shared by its vertices
+  std::uint32_t first = 0;        // offset into Network::branch_vertices
+  std::uint32_t count = 0;        // vertices in the branch, upstream to downstream
+  std::uint32_t drains_into = 0;  // the vertex it drains into (kNone at a pit)
+  std::uint8_t order = 0;         // Strahler order shared by its vertices
 };
 
 struct Network {
-  std::size_t points = 0;                  // valid points
+  std::size_t points = 0;                         // valid points
   terrain::BigVector<std::uint32_t> downstream;   // #P: downstream point or kNone
   terrain::BigVector<std::uint32_t> accumulated;  // #P: 1 + sum of the accumulated flow draining in
-  terrain::BigVector<float> normalized;           // #P: accumulated / accumulated of its basin's pit
-  terrain::BigVector<std::uint32_t> basin;        // #P: basin id (0..#basins-1), kNone for no-data
-  terrain::BigVector<std::uint8_t> point_class;   // #P: PointClass
-  terrain::BigVector<std::uint8_t> order;         // #P: Strahler order (1 at ridges), 0 for no-data
-  std::vector<std::uint32_t> pits;         // #basins: the pit point of each basin, ascending
-  std::vector<Branch> branches;            // heads in ascending point order
+  terrain::BigVector<float> normalized;          // #P: accumulated / accumulated of its basin's pit
+  terrain::BigVector<std::uint32_t> basin;       // #P: basin id (0..#basins-1), kNone for no-data
+  terrain::BigVector<std::uint8_t> point_class;  // #P: PointClass
+  terrain::BigVector<std::uint8_t> order;        // #P: Strahler order (1 at ridges), 0 for no-data
+  std::vector<std::uint32_t> pits;               // #basins: the pit point of each basin, ascending
+  std::vector<Branch> branches;                  // heads in ascending point order
   terrain::BigVector<std::uint32_t> branch_vertices;  // #valid points, grouped by branch
-  std::size_t branch_count = 0;            // branches.size(), also when they are not listed
+  std::size_t branch_count = 0;  // branches.size(), also when they are not listed
 };
 
 // How much analyze_network lists. Lean leaves out what a version-2 .dv does not store (its
@@ -52,6 +58,7 @@ enum class NetworkDetail { Full, Lean };
 // order (each point has at most one upstream neighbour of its own order), started at
 // every point without one. Deterministic and independent of the thread count.
 Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
-                        const terrain::Progress& progress = {}, NetworkDetail detail = NetworkDetail::Full);
+                        const terrain::Progress& progress = {},
+                        NetworkDetail detail = NetworkDetail::Full);
 
 }  // namespace drainage

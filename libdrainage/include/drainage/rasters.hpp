@@ -15,15 +15,16 @@ namespace drainage {
 
 // The inputs of raster mode (build-drainage --raster DEM and/or --d8-input DIRS).
 struct RasterInput {
-  terrain::Grid surface;          // the DEM; with directions only, their grid with z = 0 (NaN at no-data)
-  std::optional<D8Codes> dirs;    // given directions (--d8-input), masked by the DEM's no-data
-  std::uint32_t dv_flags = 0;     // kDvHasElevations when a DEM was given
+  terrain::Grid surface;  // the DEM; with directions only, their grid with z = 0 (NaN at no-data)
+  std::optional<D8Codes> dirs;  // given directions (--d8-input), masked by the DEM's no-data
+  std::uint32_t dv_flags = 0;   // kDvHasElevations when a DEM was given
 };
 
 // Reads a DEM (any GDAL raster, projected or geographic: D8 then uses per-row metric cell
 // sizes), directions in `encoding`, or both. Errors (terrain::Error): neither given, a DEM
 // with no valid sample, a direction raster on a different grid than the DEM.
-RasterInput read_raster_input(const std::string& dem_path, const std::string& d8_path, D8Encoding encoding);
+RasterInput read_raster_input(const std::string& dem_path, const std::string& d8_path,
+                              D8Encoding encoding);
 
 // Throws terrain::Error naming both files when `a` and `b` differ in size, origin or step.
 void check_same_grid(const terrain::Grid& a, const terrain::Grid& b, const std::string& a_name,
@@ -38,14 +39,15 @@ void write_drainage_rasters(const std::string& dir, const DrainageResult& r, D8E
                             const std::string& provenance);
 
 // The file names above, in the order they are written.
-inline constexpr const char* kDrainageRasterNames[] = {"surface.tif",         "d8.tif",    "accumulation.tif",
-                                                       "normalized_flow.tif", "basin.tif", "class.tif",
-                                                       "order.tif"};
+inline constexpr const char* kDrainageRasterNames[] = {
+    "surface.tif", "d8.tif",    "accumulation.tif", "normalized_flow.tif",
+    "basin.tif",   "class.tif", "order.tif"};
 
 // The same rasters, each written to path_of(name) (name from kDrainageRasterNames): a
 // tool stages them with terrain::OutputSet so that they land together with its other outputs.
-void write_drainage_rasters(const std::function<std::string(const std::string&)>& path_of, const DrainageResult& r,
-                            D8Encoding encoding, const std::string& provenance);
+void write_drainage_rasters(const std::function<std::string(const std::string&)>& path_of,
+                            const DrainageResult& r, D8Encoding encoding,
+                            const std::string& provenance);
 
 // The same rasters from a .dv file (version 1 or 2), each to path_of(name): the same
 // names, types, no-data values and values as write_drainage_rasters writes for the run that
@@ -53,8 +55,10 @@ void write_drainage_rasters(const std::function<std::string(const std::string&)>
 // back). Read and written `window_rows` rows at a time (read_dv_window: only the blocks under
 // the window), so memory is bounded by the window, not the grid. Returns the grid's rows
 // and columns written.
-std::size_t export_dv_rasters(const std::string& dv_path, const std::function<std::string(const std::string&)>& path_of,
-                              D8Encoding encoding, const std::string& provenance, std::size_t window_rows = 256);
+std::size_t export_dv_rasters(const std::string& dv_path,
+                              const std::function<std::string(const std::string&)>& path_of,
+                              D8Encoding encoding, const std::string& provenance,
+                              std::size_t window_rows = 256);
 
 // Reads a D8 direction raster in `encoding` into our codes (d8.hpp) with its grid (the
 // Grid's z holds the raw codes). Throws terrain::Error naming the first invalid code and

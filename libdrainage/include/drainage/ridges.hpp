@@ -33,6 +33,7 @@ struct RidgeLine {
 //   passes of (1, 2, 1) / 4, the ends kept), and cut where they fall lower than a quarter
 //   of their relief above the smaller basin's outlet (the spur ends at confluences).
 // Deterministic: ordered by the basins' ids, then as chain_divide_edges lists the chains.
-std::vector<RidgeLine> ridge_lines(const terrain::DrainageLinks& links, double channel_area, double min_basin_area);
+std::vector<RidgeLine> ridge_lines(const terrain::DrainageLinks& links, double channel_area,
+                                   double min_basin_area);
 
 }  // namespace drainage

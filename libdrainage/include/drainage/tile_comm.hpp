@@ -78,7 +78,8 @@ class Unpacker {
   template <class T>
   std::vector<T> get_vector() {
     const auto n = get<std::uint64_t>();
-    if (n > (bytes_.size() - at_) / sizeof(T)) throw terrain::Error("tiled run: a rank sent a truncated message");
+    if (n > (bytes_.size() - at_) / sizeof(T))
+      throw terrain::Error("tiled run: a rank sent a truncated message");
     std::vector<T> v(n);
     take(v.data(), n * sizeof(T));
     return v;

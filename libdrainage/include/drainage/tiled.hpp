@@ -61,7 +61,8 @@ using WindowReader = std::function<terrain::Grid(const terrain::RasterWindow&)>;
 // time, in tile order.
 std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader& read,
                                       const std::function<void(std::size_t, terrain::Grid&)>& done,
-                                      const TileComm& comm = single_process(), const std::string& cache_path = {});
+                                      const TileComm& comm = single_process(),
+                                      const std::string& cache_path = {});
 
 // Reads the D8 codes (d8.hpp) of a window.
 using CodeReader = std::function<D8Codes(const terrain::RasterWindow&)>;
@@ -69,12 +70,13 @@ using CodeReader = std::function<D8Codes(const terrain::RasterWindow&)>;
 // One tile of a tiled network, final: the fields a .dv version 2 block stores.
 struct NetworkTile {
   terrain::RasterWindow window;
-  D8Codes dirs;                                  // the tile's codes
-  terrain::BigVector<std::uint8_t> cut;          // 1 where dirs < 8 but the flow ends (enters no-data or leaves the grid)
-  terrain::BigVector<std::uint32_t> accumulated; // as Network::accumulated
-  terrain::BigVector<std::uint32_t> basin;       // as Network::basin (global ids)
-  terrain::BigVector<std::uint8_t> order;        // as Network::order
-  std::vector<char> prepared;                    // what the caller's `prepare` made of it
+  D8Codes dirs;  // the tile's codes
+  terrain::BigVector<std::uint8_t>
+      cut;  // 1 where dirs < 8 but the flow ends (enters no-data or leaves the grid)
+  terrain::BigVector<std::uint32_t> accumulated;  // as Network::accumulated
+  terrain::BigVector<std::uint32_t> basin;        // as Network::basin (global ids)
+  terrain::BigVector<std::uint8_t> order;         // as Network::order
+  std::vector<char> prepared;                     // what the caller's `prepare` made of it
 };
 
 // What the whole network has that no tile has alone.
@@ -83,7 +85,8 @@ struct NetworkTotals {
   // The points by class, as the .dv's reader derives them: pits (outlets included),
   // ridges, channels, junctions.
   std::array<std::uint64_t, 4> classes{};
-  std::vector<std::uint32_t> pits, pit_accumulated;  // by basin id: as Network::pits, and their flow
+  std::vector<std::uint32_t> pits,
+      pit_accumulated;  // by basin id: as Network::pits, and their flow
 };
 
 // analyze_network (network.hpp) tile by tile, with identical results (Barnes 2017,
@@ -99,9 +102,10 @@ struct NetworkTotals {
 // solves them and sends each rank its tiles' node values; `done` runs on each tile's owner,
 // in tile order there; rank 0 returns the totals, the other ranks the counts (points,
 // branches) without the pits. Tiles are worked on all threads (a tile per thread in
-// memory; `read` is called from several at once): `prepare(t, tile)`, when given, runs on the tile's thread as soon as it is complete (to
-// encode it, say, into tile.prepared; it must only read shared state; `done` then gets
-// the tile with `prepared` only, its arrays released), `done` one at a time.
+// memory; `read` is called from several at once): `prepare(t, tile)`, when given, runs on the
+// tile's thread as soon as it is complete (to encode it, say, into tile.prepared; it must only read
+// shared state; `done` then gets the tile with `prepared` only, its arrays released), `done` one at
+// a time.
 NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
                             const std::function<void(std::size_t, const NetworkTile&)>& done,
                             const TileComm& comm = single_process(),

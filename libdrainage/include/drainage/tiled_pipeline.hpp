@@ -19,14 +19,14 @@ namespace drainage {
 // that a window of it reads whole tiles). With `fill`, the filled surface is kept in a
 // temporary raw array in the run's private scratch folder, and with resolve_flats the
 // resolved codes in another (both removed at the end, on an error and on SIGINT/SIGTERM).
-// The defaults are DrainageOptions' (pipeline.hpp): flats resolved, no fill. A flat inside a tile is resolved with its tile; a flat
-// that crosses tile edges is joined across tiles and resolved in a window of its bounding
-// box (so a flat's bounding box must fit in memory). Each flat's directions depend on that
-// flat alone, so the result equals resolve_flats on the whole grid.
+// The defaults are DrainageOptions' (pipeline.hpp): flats resolved, no fill. A flat inside a tile
+// is resolved with its tile; a flat that crosses tile edges is joined across tiles and resolved in
+// a window of its bounding box (so a flat's bounding box must fit in memory). Each flat's
+// directions depend on that flat alone, so the result equals resolve_flats on the whole grid.
 struct TiledRun {
-  std::string dem, d8;                  // inputs: a DEM, or D8 codes in `encoding`, not both
+  std::string dem, d8;  // inputs: a DEM, or D8 codes in `encoding`, not both
   D8Encoding encoding = D8Encoding::Taudem;
-  std::size_t tile = 0;                 // tile side in samples (>= 1, <= 16384)
+  std::size_t tile = 0;  // tile side in samples (>= 1, <= 16384)
   bool fill = false, resolve_flats = true;
   std::string provenance;
   // Where rank 0 writes the .dv: empty for output_path itself, or a staged path of the
@@ -59,7 +59,8 @@ std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes, int
 // arguments; the ranks share the tiles, the temporary rasters (raw files next to the
 // output, so on a file system every rank sees) and the .dv, which rank 0 writes from the
 // blocks the others leave in per-rank temporary files. Every rank returns the summary.
-TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress = {},
+TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path,
+                                const terrain::Progress& progress = {},
                                 const TileComm& comm = single_process());
 
 }  // namespace drainage

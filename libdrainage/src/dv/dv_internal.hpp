@@ -19,10 +19,12 @@ constexpr char kMagic[8] = {'T', 'R', 'N', 'D', 'R', 'A', 'I', 'N'};
 constexpr std::size_t kFixedHeader = 128;
 constexpr std::size_t kCrcOffset = 16;
 constexpr std::uint32_t kCodecZstd = 1;
-constexpr std::uint8_t kCutFlag = 0x40;   // version 2 code byte: d8 < 8 whose flow ends (enters no-data)
+constexpr std::uint8_t kCutFlag =
+    0x40;  // version 2 code byte: d8 < 8 whose flow ends (enters no-data)
 constexpr std::size_t kBytesPerPoint = 14;  // version 2 block, uncompressed
 constexpr std::size_t kIndexEntry = 16, kBasinEntry = 8, kEndRecord = 16;
-constexpr char kEndMagic[8] = {'T', 'R', 'N', 'D', 'V', 'E', 'N', 'D'};  // after the file size, last
+constexpr char kEndMagic[8] = {'T', 'R', 'N', 'D',
+                               'V', 'E', 'N', 'D'};  // after the file size, last
 
 #pragma pack(push, 1)
 struct FixedHeader {
@@ -75,7 +77,8 @@ struct OpenDv {
   std::uint64_t size = 0;
   FixedHeader f{};
   DvHeader h;
-  std::vector<char> header;  // every header byte as read (fixed part, strings, padding), the CRC field 0
+  std::vector<char>
+      header;  // every header byte as read (fixed part, strings, padding), the CRC field 0
 };
 
 // Opens `path` and reads its header, checked as far as it can be alone.
@@ -85,7 +88,9 @@ inline std::uint32_t crc_of(const void* p, std::size_t n, uLong crc = crc32(0L, 
   return std::uint32_t(crc32_z(crc, static_cast<const Bytef*>(p), n));
 }
 
-inline std::size_t blocks_along(std::uint64_t n, std::uint32_t side) { return std::size_t((n + side - 1) / side); }
+inline std::size_t blocks_along(std::uint64_t n, std::uint32_t side) {
+  return std::size_t((n + side - 1) / side);
+}
 
 // The trailer of a version 2 file: block index and basin table, checked against the header.
 struct V2Trailer {
@@ -100,18 +105,19 @@ V2Trailer read_v2_trailer(const std::string& path, OpenDv& d);
 // a database of that region (header, vertices with derived downstream links - region
 // indices - and classes; no branches yet). Classes are exact where all 8 neighbours lie in
 // the region.
-DrainageDb decode_v2_region(const std::string& path, OpenDv& d, const V2Trailer& t, std::size_t r0, std::size_t c0,
-                            std::size_t nr, std::size_t nc);
+DrainageDb decode_v2_region(const std::string& path, OpenDv& d, const V2Trailer& t, std::size_t r0,
+                            std::size_t c0, std::size_t nr, std::size_t nc);
 
 // A version 1 file, whole, checked.
 DrainageDb read_dv_v1(const std::string& path, OpenDv& d);
-void write_dv_v1(const std::string& path, const DvHeader& h, const terrain::Grid& z, const D8Codes& dirs,
-                 const Network& net);
+void write_dv_v1(const std::string& path, const DvHeader& h, const terrain::Grid& z,
+                 const D8Codes& dirs, const Network& net);
 
 // Branches of a database whose vertices (downstream, order, d8) are set.
 void derive_branches(DrainageDb& db);
 
 // The window [r0, r0 + nr) x [c0, c0 + nc) of `db` (window coordinates relative to db's).
-DrainageDb crop(const DrainageDb& db, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc);
+DrainageDb crop(const DrainageDb& db, std::size_t r0, std::size_t c0, std::size_t nr,
+                std::size_t nc);
 
 }  // namespace drainage::dv

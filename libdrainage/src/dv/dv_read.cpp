@@ -1,9 +1,9 @@
 // Reading a .dv, whole or by window, in either version (dv_internal.hpp).
 #include <cstring>
 
-#include "network/branches.hpp"
 #include "drainage/d8.hpp"
 #include "dv_internal.hpp"
+#include "network/branches.hpp"
 
 namespace drainage {
 
@@ -13,14 +13,18 @@ void derive_branches(DrainageDb& db) {
   const auto& v = db.vertices;
   db.branches.clear();
   network_branches(
-      std::size_t(db.header.rows), std::size_t(db.header.cols), [&](std::size_t i) { return v[i].d8 != kNodata; },
+      std::size_t(db.header.rows), std::size_t(db.header.cols),
+      [&](std::size_t i) { return v[i].d8 != kNodata; },
       [&](std::size_t i) { return v[i].downstream; }, [&](std::size_t i) { return v[i].order; },
-      [&](const Branch& b) { db.branches.push_back(DvBranch{b.first, b.count, b.drains_into, b.order, {0, 0, 0}}); },
+      [&](const Branch& b) {
+        db.branches.push_back(DvBranch{b.first, b.count, b.drains_into, b.order, {0, 0, 0}});
+      },
       db.branch_vertices);
   db.header.branches = db.branches.size();
 }
 
-DrainageDb crop(const DrainageDb& db, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc) {
+DrainageDb crop(const DrainageDb& db, std::size_t r0, std::size_t c0, std::size_t nr,
+                std::size_t nc) {
   const std::size_t C = std::size_t(db.header.cols);
   DrainageDb out;
   out.header = db.header;
@@ -67,15 +71,18 @@ namespace {
 // window is the whole grid) check the same.
 void check_whole_v2(DrainageDb& db, const OpenDv& d, const V2Trailer& t, const std::string& path) {
   if (db.header.valid != d.f.valid)
-    throw terrain::Error(cannot(path, "corrupt .dv (" + std::to_string(db.header.valid) + " valid points, the header says " +
+    throw terrain::Error(cannot(path, "corrupt .dv (" + std::to_string(db.header.valid) +
+                                          " valid points, the header says " +
                                           std::to_string(d.f.valid) + ")"));
   derive_branches(db);
   if (db.header.branches != d.f.branches)
     throw terrain::Error(cannot(path, "corrupt .dv (" + std::to_string(db.header.branches) +
-                                          " branches derived, the header says " + std::to_string(d.f.branches) + ")"));
+                                          " branches derived, the header says " +
+                                          std::to_string(d.f.branches) + ")"));
   for (std::size_t k = 0; k < t.pit.size(); ++k) {
     const DvVertex& v = db.vertices[t.pit[k]];
-    if (v.point_class != std::uint8_t(PointClass::Pit) || v.basin != k || v.accumulated != t.pit_accumulated[k])
+    if (v.point_class != std::uint8_t(PointClass::Pit) || v.basin != k ||
+        v.accumulated != t.pit_accumulated[k])
       throw terrain::Error(cannot(path, "corrupt .dv (pit of basin " + std::to_string(k) + ")"));
   }
 }
@@ -93,14 +100,15 @@ DrainageDb read_dv(const std::string& path) {
   return db;
 }
 
-DrainageDb read_dv_window(const std::string& path, std::size_t row0, std::size_t col0, std::size_t rows,
-                          std::size_t cols) {
+DrainageDb read_dv_window(const std::string& path, std::size_t row0, std::size_t col0,
+                          std::size_t rows, std::size_t cols) {
   OpenDv d;
   open_dv(path, d);
   const std::size_t R = std::size_t(d.f.rows), C = std::size_t(d.f.cols);
   row0 = std::min(row0, R), col0 = std::min(col0, C);
   rows = std::min(rows, R - row0), cols = std::min(cols, C - col0);
-  if (rows == 0 || cols == 0) throw terrain::Error(cannot(path, "the window lies outside the grid"));
+  if (rows == 0 || cols == 0)
+    throw terrain::Error(cannot(path, "the window lies outside the grid"));
   if (d.f.version == 1) return crop(read_dv_v1(path, d), row0, col0, rows, cols);
   const V2Trailer t = read_v2_trailer(path, d);
   if (rows == R && cols == C) {  // the whole grid: checked as read_dv checks it

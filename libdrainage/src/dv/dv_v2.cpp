@@ -28,13 +28,15 @@ V2Trailer read_v2_trailer(const std::string& path, OpenDv& d) {
   std::uint64_t recorded = 0;
   std::memcpy(&recorded, end, 8);
   if (!d.in || std::memcmp(end + 8, kEndMagic, 8) != 0 || recorded < d.size)
-    throw terrain::Error(cannot(path, "truncated or damaged (" + std::to_string(d.size) + " bytes, no end record at the end)"));
+    throw terrain::Error(cannot(path, "truncated or damaged (" + std::to_string(d.size) +
+                                          " bytes, no end record at the end)"));
   if (recorded > d.size)
     throw terrain::Error(cannot(path, "truncated (" + std::to_string(d.size) + " bytes, expected " +
                                           std::to_string(recorded) + ")"));
   const std::uint64_t trailer = nb * kIndexEntry + f.basins * kBasinEntry + kEndRecord;
   if (d.size < f.header_bytes + trailer)
-    throw terrain::Error(cannot(path, "truncated (" + std::to_string(d.size) + " bytes, the header and index alone need " +
+    throw terrain::Error(cannot(path, "truncated (" + std::to_string(d.size) +
+                                          " bytes, the header and index alone need " +
                                           std::to_string(f.header_bytes + trailer) + ")"));
   std::vector<char> raw(trailer);
   d.in.seekg(std::streamoff(d.size - trailer));
@@ -42,7 +44,8 @@ V2Trailer read_v2_trailer(const std::string& path, OpenDv& d) {
   if (!d.in) throw terrain::Error(cannot(path, "read failed"));
   const std::vector<char>& head = d.header;  // every header byte as read
   if (crc_of(raw.data(), raw.size(), crc_of(head.data(), head.size())) != f.crc32)
-    throw terrain::Error(cannot(path, "checksum mismatch in the header or block index (corrupt file)"));
+    throw terrain::Error(
+        cannot(path, "checksum mismatch in the header or block index (corrupt file)"));
   V2Trailer t;
   t.offset.resize(nb), t.bytes.resize(nb), t.crc.resize(nb);
   const std::uint64_t data_end = d.size - trailer;
@@ -50,16 +53,18 @@ V2Trailer read_v2_trailer(const std::string& path, OpenDv& d) {
     std::memcpy(&t.offset[b], raw.data() + b * kIndexEntry, 8);
     std::memcpy(&t.bytes[b], raw.data() + b * kIndexEntry + 8, 4);
     std::memcpy(&t.crc[b], raw.data() + b * kIndexEntry + 12, 4);
-    if (t.offset[b] < f.header_bytes || t.offset[b] > data_end || t.bytes[b] > data_end - t.offset[b])
-      throw terrain::Error(cannot(path, "corrupt .dv (block " + std::to_string(b) + " lies outside the data)"));
+    if (t.offset[b] < f.header_bytes || t.offset[b] > data_end ||
+        t.bytes[b] > data_end - t.offset[b])
+      throw terrain::Error(
+          cannot(path, "corrupt .dv (block " + std::to_string(b) + " lies outside the data)"));
   }
   t.pit.resize(f.basins), t.pit_accumulated.resize(f.basins);
   const char* basins = raw.data() + nb * kIndexEntry;
   for (std::size_t k = 0; k < f.basins; ++k) {
     std::memcpy(&t.pit[k], basins + k * kBasinEntry, 4);
     std::memcpy(&t.pit_accumulated[k], basins + k * kBasinEntry + 4, 4);
-    if (t.pit[k] >= f.rows * f.cols || t.pit_accumulated[k] == 0 || t.pit_accumulated[k] > f.rows * f.cols ||
-        (k > 0 && t.pit[k] <= t.pit[k - 1]))
+    if (t.pit[k] >= f.rows * f.cols || t.pit_accumulated[k] == 0 ||
+        t.pit_accumulated[k] > f.rows * f.cols || (k > 0 && t.pit[k] <= t.pit[k - 1]))
       throw terrain::Error(cannot(path, "corrupt .dv (basin " + std::to_string(k) + ")"));
   }
   return t;
@@ -70,16 +75,19 @@ V2Trailer read_v2_trailer(const std::string& path, OpenDv& d) {
 // Block b's m points' byte planes, its checksum checked and decompressed into a buffer of
 // this thread's (a fresh one per block would cost the kernel's zeroing of new pages for
 // every block); nullptr after fail(why).
-const std::uint8_t* unpack_block(const std::vector<char>& in, std::uint32_t crc, std::size_t b, std::size_t m,
+const std::uint8_t* unpack_block(const std::vector<char>& in, std::uint32_t crc, std::size_t b,
+                                 std::size_t m,
                                  const std::function<void(const std::string&)>& fail) {
   if (crc_of(in.data(), in.size()) != crc) {
     fail("checksum mismatch in block " + std::to_string(b) + " (corrupt file)");
     return nullptr;
   }
   thread_local std::vector<std::uint8_t> raw;
-  thread_local std::unique_ptr<ZSTD_DCtx, std::size_t (*)(ZSTD_DCtx*)> ctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
+  thread_local std::unique_ptr<ZSTD_DCtx, std::size_t (*)(ZSTD_DCtx*)> ctx(ZSTD_createDCtx(),
+                                                                           ZSTD_freeDCtx);
   if (raw.size() < kBytesPerPoint * m) raw.resize(kBytesPerPoint * m);
-  const std::size_t got = ZSTD_decompressDCtx(ctx.get(), raw.data(), kBytesPerPoint * m, in.data(), in.size());
+  const std::size_t got =
+      ZSTD_decompressDCtx(ctx.get(), raw.data(), kBytesPerPoint * m, in.data(), in.size());
   if (ZSTD_isError(got) || got != kBytesPerPoint * m) {
     fail("corrupt .dv (block " + std::to_string(b) + " does not decompress to its size)");
     return nullptr;
@@ -87,26 +95,31 @@ const std::uint8_t* unpack_block(const std::vector<char>& in, std::uint32_t crc,
   return raw.data();
 }
 
-void decode_blocks(const std::string& path, const FixedHeader& f, const V2Trailer& t, const std::vector<std::size_t>& blocks,
-                   const std::vector<std::vector<char>>& packed, std::size_t r0, std::size_t c0, std::size_t nr,
-                   std::size_t nc, DrainageDb& db) {
-  const std::size_t R = std::size_t(f.rows), C = std::size_t(f.cols), BR = f.block_rows, BC = f.block_cols;
+void decode_blocks(const std::string& path, const FixedHeader& f, const V2Trailer& t,
+                   const std::vector<std::size_t>& blocks,
+                   const std::vector<std::vector<char>>& packed, std::size_t r0, std::size_t c0,
+                   std::size_t nr, std::size_t nc, DrainageDb& db) {
+  const std::size_t R = std::size_t(f.rows), C = std::size_t(f.cols), BR = f.block_rows,
+                    BC = f.block_cols;
   const std::size_t nbc = blocks_along(C, f.block_cols);
   const DvHeader& h = db.header;
   std::string error;
 #pragma omp parallel for schedule(dynamic)
   for (long k = 0; k < long(blocks.size()); ++k) {
     const std::size_t b = blocks[std::size_t(k)], br = b / nbc, bc = b % nbc;
-    const std::size_t rows_b = std::min(BR, R - br * BR), cols_b = std::min(BC, C - bc * BC), m = rows_b * cols_b;
+    const std::size_t rows_b = std::min(BR, R - br * BR), cols_b = std::min(BC, C - bc * BC),
+                      m = rows_b * cols_b;
     auto fail = [&](const std::string& what) {
 #pragma omp critical(dv_error)
       if (error.empty()) error = cannot(path, what);
     };
     const std::uint8_t* planes = unpack_block(packed[std::size_t(k)], t.crc[b], b, m, fail);
     if (!planes) continue;
-    auto u32 = [&](std::size_t at, std::size_t q) {  // byte-shuffled planes: byte k of value q at at + k m + q
+    auto u32 = [&](std::size_t at,
+                   std::size_t q) {  // byte-shuffled planes: byte k of value q at at + k m + q
       return std::uint32_t(planes[at + q]) | std::uint32_t(planes[at + m + q]) << 8 |
-             std::uint32_t(planes[at + 2 * m + q]) << 16 | std::uint32_t(planes[at + 3 * m + q]) << 24;
+             std::uint32_t(planes[at + 2 * m + q]) << 16 |
+             std::uint32_t(planes[at + 3 * m + q]) << 24;
     };
     const std::uint8_t* code = planes + 4 * m;
     const std::uint8_t* order = planes + 13 * m;
@@ -133,33 +146,36 @@ void decode_blocks(const std::string& path, const FixedHeader& f, const V2Traile
         fail("corrupt .dv (D8 code or elevation of vertex " + std::to_string(gr * C + gc) + ")");
         break;
       }
-      if (nodata ? (v.basin != kNone || v.accumulated != 0) : (v.basin >= f.basins || v.accumulated == 0)) {
+      if (nodata ? (v.basin != kNone || v.accumulated != 0)
+                 : (v.basin >= f.basins || v.accumulated == 0)) {
         fail("corrupt .dv (basin of vertex " + std::to_string(gr * C + gc) + ")");
         break;
       }
       if (!nodata && v.accumulated > t.pit_accumulated[v.basin]) {
-        fail("corrupt .dv (accumulated flow of vertex " + std::to_string(gr * C + gc) + " exceeds its basin's)");
+        fail("corrupt .dv (accumulated flow of vertex " + std::to_string(gr * C + gc) +
+             " exceeds its basin's)");
         break;
       }
       if (!nodata && (v.d8 >= 8 || is_cut) && t.pit[v.basin] != gr * C + gc) {
-        fail("corrupt .dv (vertex " + std::to_string(gr * C + gc) + " ends its flow but is not its basin's pit)");
+        fail("corrupt .dv (vertex " + std::to_string(gr * C + gc) +
+             " ends its flow but is not its basin's pit)");
         break;
       }
       if (!nodata && t.pit[v.basin] == gr * C + gc && v.accumulated != t.pit_accumulated[v.basin]) {
         fail("corrupt .dv (pit of basin " + std::to_string(v.basin) + ")");
         break;
       }
-      v.normalized = nodata ? 0.0f : float(double(v.accumulated) / double(t.pit_accumulated[v.basin]));
+      v.normalized =
+          nodata ? 0.0f : float(double(v.accumulated) / double(t.pit_accumulated[v.basin]));
       v.point_class = std::uint8_t(nodata ? PointClass::Nodata : PointClass::Pit);  // refined below
     }
   }
   if (!error.empty()) throw terrain::Error(error);
-
 }
 
 // Downstream links (region indices) from the codes, each checked; returns the valid points.
-std::uint64_t link_downstream(const std::string& path, const FixedHeader& f, std::size_t r0, std::size_t c0,
-                              std::size_t nr, std::size_t nc, DrainageDb& db) {
+std::uint64_t link_downstream(const std::string& path, const FixedHeader& f, std::size_t r0,
+                              std::size_t c0, std::size_t nr, std::size_t nc, DrainageDb& db) {
   const std::size_t R = std::size_t(f.rows), C = std::size_t(f.cols);
   auto cut = [&](std::size_t i) { return db.vertices[i].reserved != 0; };
   std::string error;
@@ -177,20 +193,29 @@ std::uint64_t link_downstream(const std::string& path, const FixedHeader& f, std
       const long gr = long(r0) + rr, gc = long(c0) + cc;
       if (gr < 0 || gc < 0 || gr >= long(R) || gc >= long(C)) {
 #pragma omp critical(dv_error)
-        if (error.empty()) error = cannot(path, "corrupt .dv (D8 code of vertex " + std::to_string((r0 + std::size_t(r)) * C + c0 + std::size_t(c)) + " leaves the grid)");
+        if (error.empty())
+          error = cannot(path, "corrupt .dv (D8 code of vertex " +
+                                   std::to_string((r0 + std::size_t(r)) * C + c0 + std::size_t(c)) +
+                                   " leaves the grid)");
         continue;
       }
       if (rr < 0 || cc < 0 || rr >= NR || cc >= NC) continue;  // outside the region
       const std::size_t j = std::size_t(rr * NC + cc);
       if (db.vertices[j].d8 == kNodata) {
 #pragma omp critical(dv_error)
-        if (error.empty()) error = cannot(path, "corrupt .dv (downstream of vertex " + std::to_string((r0 + std::size_t(r)) * C + c0 + std::size_t(c)) + " is no-data)");
+        if (error.empty())
+          error = cannot(path, "corrupt .dv (downstream of vertex " +
+                                   std::to_string((r0 + std::size_t(r)) * C + c0 + std::size_t(c)) +
+                                   " is no-data)");
         continue;
       }
       // Flow grows downstream within one basin: no cycle can pass this local test.
       if (db.vertices[j].accumulated <= v.accumulated || db.vertices[j].basin != v.basin) {
 #pragma omp critical(dv_error)
-        if (error.empty()) error = cannot(path, "corrupt .dv (the flow of vertex " + std::to_string((r0 + std::size_t(r)) * C + c0 + std::size_t(c)) + " does not grow downstream: a D8 cycle or a wrong basin)");
+        if (error.empty())
+          error = cannot(path, "corrupt .dv (the flow of vertex " +
+                                   std::to_string((r0 + std::size_t(r)) * C + c0 + std::size_t(c)) +
+                                   " does not grow downstream: a D8 cycle or a wrong basin)");
         continue;
       }
       v.downstream = std::uint32_t(j);
@@ -211,15 +236,19 @@ void classify(std::size_t nr, std::size_t nc, DrainageDb& db) {
       DvVertex& v = db.vertices[i];
       if (v.d8 == kNodata || v.d8 >= 8 || cut(i)) continue;  // no-data or a pit (outlets included)
       int in = 0;
-      Neighbours{NR, NC}.inflows(r, c, [&](std::size_t j, int k) { in += db.vertices[j].d8 == std::uint8_t(k) && !cut(j); });
-      v.point_class = std::uint8_t(in == 0 ? PointClass::Ridge : in == 1 ? PointClass::Channel : PointClass::Junction);
+      Neighbours{NR, NC}.inflows(r, c, [&](std::size_t j, int k) {
+        in += db.vertices[j].d8 == std::uint8_t(k) && !cut(j);
+      });
+      v.point_class = std::uint8_t(in == 0   ? PointClass::Ridge
+                                   : in == 1 ? PointClass::Channel
+                                             : PointClass::Junction);
     }
 #pragma omp parallel for schedule(static)
   for (long i = 0; i < NR * NC; ++i) db.vertices[std::size_t(i)].reserved = 0;
 }
 
-DrainageDb decode_v2_region(const std::string& path, OpenDv& d, const V2Trailer& t, std::size_t r0, std::size_t c0,
-                            std::size_t nr, std::size_t nc) {
+DrainageDb decode_v2_region(const std::string& path, OpenDv& d, const V2Trailer& t, std::size_t r0,
+                            std::size_t c0, std::size_t nr, std::size_t nc) {
   const FixedHeader& f = d.f;
   const std::size_t C = std::size_t(f.cols), BR = f.block_rows, BC = f.block_cols;
   const std::size_t nbc = blocks_along(C, f.block_cols);
@@ -255,10 +284,12 @@ using namespace dv;
 
 std::vector<char> encode_dv_block(const DvBlockFields& f) {
   const std::size_t m = f.z.size();
-  if (f.d8.size() != m || f.cut.size() != m || f.accumulated.size() != m || f.basin.size() != m || f.order.size() != m)
+  if (f.d8.size() != m || f.cut.size() != m || f.accumulated.size() != m || f.basin.size() != m ||
+      f.order.size() != m)
     throw terrain::Error("encode_dv_block: fields of different sizes");
   thread_local std::vector<std::uint8_t> raw;  // reused: see the reader
-  thread_local std::unique_ptr<ZSTD_CCtx, std::size_t (*)(ZSTD_CCtx*)> ctx(ZSTD_createCCtx(), ZSTD_freeCCtx);
+  thread_local std::unique_ptr<ZSTD_CCtx, std::size_t (*)(ZSTD_CCtx*)> ctx(ZSTD_createCCtx(),
+                                                                           ZSTD_freeCCtx);
   raw.resize(kBytesPerPoint * m);
   // Plain pointers (restrict): byte stores could alias the vectors' own pointers, which
   // the compiler would then reload on every store.
@@ -292,10 +323,12 @@ std::vector<char> encode_dv_block(const DvBlockFields& f) {
   }
   std::uint8_t* __restrict const pd = o + 4 * m;
   std::uint8_t* __restrict const po = o + 13 * m;
-  for (std::size_t q = 0; q < m; ++q) pd[q] = cut[q] && d8[q] < 8 ? std::uint8_t(kCutFlag | d8[q]) : d8[q];
+  for (std::size_t q = 0; q < m; ++q)
+    pd[q] = cut[q] && d8[q] < 8 ? std::uint8_t(kCutFlag | d8[q]) : d8[q];
   for (std::size_t q = 0; q < m; ++q) po[q] = order[q];
   std::vector<char> out(ZSTD_compressBound(raw.size()));
-  const std::size_t n = ZSTD_compressCCtx(ctx.get(), out.data(), out.size(), raw.data(), raw.size(), 1);
+  const std::size_t n =
+      ZSTD_compressCCtx(ctx.get(), out.data(), out.size(), raw.data(), raw.size(), 1);
   if (ZSTD_isError(n)) throw terrain::Error(std::string("zstd: ") + ZSTD_getErrorName(n));
   out.resize(n);
   return out;
@@ -306,7 +339,8 @@ DvBlockWriter::DvBlockWriter(std::ostream& out, std::string path, DvHeader heade
   header_.version = 2;
   if (header_.block_rows == 0) header_.block_rows = kDvBlockSide;
   if (header_.block_cols == 0) header_.block_cols = kDvBlockSide;
-  index_.resize(blocks_along(header_.rows, header_.block_rows) * blocks_along(header_.cols, header_.block_cols));
+  index_.resize(blocks_along(header_.rows, header_.block_rows) *
+                blocks_along(header_.cols, header_.block_cols));
   const std::vector<char> head = header_bytes(header_);
   out_.write(head.data(), std::streamsize(head.size()));
   end_ = head.size();
@@ -314,17 +348,20 @@ DvBlockWriter::DvBlockWriter(std::ostream& out, std::string path, DvHeader heade
 }
 
 void DvBlockWriter::put_block(std::size_t b, const std::vector<char>& encoded) {
-  if (b >= index_.size() || index_[b].bytes != 0) throw terrain::Error("DvBlockWriter: block written twice or out of range");
+  if (b >= index_.size() || index_[b].bytes != 0)
+    throw terrain::Error("DvBlockWriter: block written twice or out of range");
   index_[b] = Entry{end_, std::uint32_t(encoded.size()), crc_of(encoded.data(), encoded.size())};
   out_.write(encoded.data(), std::streamsize(encoded.size()));
   end_ += encoded.size();
   if (!out_) throw terrain::Error("cannot write '" + path_ + "': write failed (disk full?)");
 }
 
-void DvBlockWriter::finish(std::uint64_t valid, std::uint64_t branches, const std::vector<std::uint32_t>& pits,
+void DvBlockWriter::finish(std::uint64_t valid, std::uint64_t branches,
+                           const std::vector<std::uint32_t>& pits,
                            const std::vector<std::uint32_t>& pit_accumulated) {
   for (std::size_t b = 0; b < index_.size(); ++b)
-    if (index_[b].bytes == 0) throw terrain::Error("DvBlockWriter: block " + std::to_string(b) + " was not written");
+    if (index_[b].bytes == 0)
+      throw terrain::Error("DvBlockWriter: block " + std::to_string(b) + " was not written");
   header_.valid = valid, header_.branches = branches, header_.basins = pits.size();
   std::vector<char> trailer(index_.size() * kIndexEntry + pits.size() * kBasinEntry + kEndRecord);
   for (std::size_t b = 0; b < index_.size(); ++b) {
@@ -342,7 +379,8 @@ void DvBlockWriter::finish(std::uint64_t valid, std::uint64_t branches, const st
   std::memcpy(trailer.data() + trailer.size() - 8, kEndMagic, 8);
   out_.write(trailer.data(), std::streamsize(trailer.size()));
   std::vector<char> head = header_bytes(header_);
-  const std::uint32_t crc = crc_of(trailer.data(), trailer.size(), crc_of(head.data(), head.size()));
+  const std::uint32_t crc =
+      crc_of(trailer.data(), trailer.size(), crc_of(head.data(), head.size()));
   std::memcpy(head.data() + kCrcOffset, &crc, 4);
   out_.seekp(0);
   out_.write(head.data(), std::streamsize(head.size()));
@@ -350,8 +388,8 @@ void DvBlockWriter::finish(std::uint64_t valid, std::uint64_t branches, const st
   if (!out_) throw terrain::Error("cannot write '" + path_ + "': write failed (disk full?)");
 }
 
-void write_dv(const std::string& path, const DvHeader& h, const terrain::Grid& z, const D8Codes& dirs,
-              const Network& net) {
+void write_dv(const std::string& path, const DvHeader& h, const terrain::Grid& z,
+              const D8Codes& dirs, const Network& net) {
   if (h.version == 1) return write_dv_v1(path, h, z, dirs, net);
   const std::size_t n = std::size_t(h.rows * h.cols);
   if (z.size() != n || dirs.size() != n || net.downstream.size() != n)
@@ -359,17 +397,21 @@ void write_dv(const std::string& path, const DvHeader& h, const terrain::Grid& z
   terrain::write_stream_atomic(path, [&](std::ostream& file) {
     DvBlockWriter w(file, path, h);
     const DvHeader& wh = w.header();
-    const std::size_t BR = wh.block_rows, BC = wh.block_cols, R = std::size_t(h.rows), C = std::size_t(h.cols);
+    const std::size_t BR = wh.block_rows, BC = wh.block_cols, R = std::size_t(h.rows),
+                      C = std::size_t(h.cols);
     const std::size_t nbc = blocks_along(C, wh.block_cols);
     std::vector<std::vector<char>> band(nbc);
     for (std::size_t br = 0; br * BR < R; ++br) {
 #pragma omp parallel for schedule(dynamic)
       for (long bc = 0; bc < long(nbc); ++bc) {
         const std::size_t r0 = br * BR, c0 = std::size_t(bc) * BC;
-        const std::size_t rows_b = std::min(BR, R - r0), cols_b = std::min(BC, C - c0), m = rows_b * cols_b;
-        thread_local DvBlockFields fields;  // reused: fresh buffers per block cost the kernel's page zeroing
-        DvBlockFields& f = fields;          // one thread-local lookup, not one per access
-        f.z.resize(m), f.d8.resize(m), f.cut.resize(m), f.accumulated.resize(m), f.basin.resize(m), f.order.resize(m);
+        const std::size_t rows_b = std::min(BR, R - r0), cols_b = std::min(BC, C - c0),
+                          m = rows_b * cols_b;
+        thread_local DvBlockFields
+            fields;  // reused: fresh buffers per block cost the kernel's page zeroing
+        DvBlockFields& f = fields;  // one thread-local lookup, not one per access
+        f.z.resize(m), f.d8.resize(m), f.cut.resize(m), f.accumulated.resize(m), f.basin.resize(m),
+            f.order.resize(m);
         for (std::size_t r = 0, q = 0; r < rows_b; ++r)
           for (std::size_t c = 0, i = (r0 + r) * C + c0; c < cols_b; ++c, ++q, ++i) {
             f.z[q] = std::isnan(z.z[i]) ? 0.0f : float(double(z.z[i]) - h.origin_z);

@@ -19,16 +19,26 @@ namespace {
 // Adds vertex v to the summary's counts (and its flow to `sum`); false for no-data.
 bool count_point(DvSummary& s, const DvVertex& v, std::uint64_t valid, double& sum) {
   switch (PointClass(v.point_class)) {
-    case PointClass::Pit: ++s.pits; break;
-    case PointClass::Ridge: ++s.ridges; break;
-    case PointClass::Channel: ++s.channels; break;
-    case PointClass::Junction: ++s.junctions; break;
-    case PointClass::Nodata: return false;
+    case PointClass::Pit:
+      ++s.pits;
+      break;
+    case PointClass::Ridge:
+      ++s.ridges;
+      break;
+    case PointClass::Channel:
+      ++s.channels;
+      break;
+    case PointClass::Junction:
+      ++s.junctions;
+      break;
+    case PointClass::Nodata:
+      return false;
   }
   ++s.points;
   sum += v.normalized;
   s.max_accumulated = std::max(s.max_accumulated, v.accumulated);
-  if (PointClass(v.point_class) == PointClass::Pit && double(v.accumulated) > 0.01 * double(valid)) ++s.basins_over_1pct;
+  if (PointClass(v.point_class) == PointClass::Pit && double(v.accumulated) > 0.01 * double(valid))
+    ++s.basins_over_1pct;
   return true;
 }
 
@@ -46,7 +56,8 @@ DvSummary summarize(const DrainageDb& db) {
 std::size_t dv_band_rows(const DvHeader& h) {
   const std::size_t block = h.block_rows ? std::size_t(h.block_rows) : 256;
   return std::max<std::size_t>(
-      1, std::min(block, (std::size_t(256) << 20) / (std::max<std::size_t>(1, h.cols) * sizeof(DvVertex))));
+      1, std::min(block, (std::size_t(256) << 20) /
+                             (std::max<std::size_t>(1, h.cols) * sizeof(DvVertex))));
 }
 
 DvSummary summarize_dv_file(const std::string& path) {
@@ -66,7 +77,8 @@ DvSummary summarize_dv_file(const std::string& path) {
         const std::size_t i = std::size_t(r * C + c);
         const DvVertex& v = w.vertices[i];
         if (!count_point(s, v, h.valid, sum)) continue;
-        int same = 0;  // a branch head: not exactly one inflow of its own order (network_branches, branches.hpp)
+        int same = 0;  // a branch head: not exactly one inflow of its own order (network_branches,
+                       // branches.hpp)
         Neighbours{R, C}.inflows(r, c, [&](std::size_t j, int) {
           same += w.vertices[j].downstream == i && w.vertices[j].order == v.order;
         });
@@ -78,11 +90,13 @@ DvSummary summarize_dv_file(const std::string& path) {
   std::uint64_t branches = 0;
   for (const auto& [order, n] : s.branches_per_order) branches += n;
   if (s.points != h.valid)
-    throw terrain::Error(fmt::format("cannot read '{}': corrupt .dv ({} valid points, the header says {})", path,
-                                     s.points, h.valid));
+    throw terrain::Error(
+        fmt::format("cannot read '{}': corrupt .dv ({} valid points, the header says {})", path,
+                    s.points, h.valid));
   if (branches != h.branches)
-    throw terrain::Error(fmt::format("cannot read '{}': corrupt .dv ({} branches derived, the header says {})", path,
-                                     branches, h.branches));
+    throw terrain::Error(
+        fmt::format("cannot read '{}': corrupt .dv ({} branches derived, the header says {})", path,
+                    branches, h.branches));
   if (s.points) s.mean_normalized = sum / double(s.points);
   return s;
 }
@@ -113,8 +127,8 @@ terrain::DrainageLinks drainage_links(const DrainageDb& db) {
   return l;
 }
 
-terrain::DrainageLinks drainage_links_in(const std::string& path, double west, double south, double east,
-                                         double north, std::size_t band_points) {
+terrain::DrainageLinks drainage_links_in(const std::string& path, double west, double south,
+                                         double east, double north, std::size_t band_points) {
   const DvHeader h = read_dv_header(path);
   const double eps = 1e-6;
   const double c0 = std::max(0.0, std::ceil((west - h.origin_x) / h.dx - eps));
@@ -122,8 +136,8 @@ terrain::DrainageLinks drainage_links_in(const std::string& path, double west, d
   const double r0 = std::max(0.0, std::ceil((h.origin_y - north) / h.dy - eps));
   const double r1 = std::min(double(h.rows) - 1.0, std::floor((h.origin_y - south) / h.dy + eps));
   if (!(c0 <= c1) || !(r0 <= r1))
-    throw terrain::Error(fmt::format("'{}' does not overlap x {:.1f}..{:.1f}, y {:.1f}..{:.1f}", path, west, east, south,
-                                     north));
+    throw terrain::Error(fmt::format("'{}' does not overlap x {:.1f}..{:.1f}, y {:.1f}..{:.1f}",
+                                     path, west, east, south, north));
   const std::size_t wr0 = std::size_t(r0), wc0 = std::size_t(c0), nr = std::size_t(r1 - r0 + 1),
                     nc = std::size_t(c1 - c0 + 1);
   if (h.version == 1) return drainage_links(read_dv_window(path, wr0, wc0, nr, nc));
@@ -137,7 +151,8 @@ terrain::DrainageLinks drainage_links_in(const std::string& path, double west, d
   l.dx = h.dx, l.dy = h.dy;
   l.origin = {h.origin_x + double(wc0) * h.dx, h.origin_y - double(wr0) * h.dy, h.origin_z};
   const std::size_t n = nr * nc;
-  l.z.resize(n), l.valid.resize(n), l.flow.resize(n), l.accumulated.resize(n), l.downstream.resize(n);
+  l.z.resize(n), l.valid.resize(n), l.flow.resize(n), l.accumulated.resize(n),
+      l.downstream.resize(n);
   for (std::size_t a = 0; a < nr; a += band) {
     const std::size_t b = std::min(nr, a + band), wa = a > 0 ? a - 1 : 0, wb = std::min(nr, b + 1);
     const DrainageDb w = read_dv_window(path, wr0 + wa, wc0, wb - wa, nc);
@@ -149,9 +164,11 @@ terrain::DrainageLinks drainage_links_in(const std::string& path, double west, d
         l.valid[i] = PointClass(v.point_class) != PointClass::Nodata;
         l.flow[i] = v.normalized;
         l.accumulated[i] = v.accumulated;
-        l.downstream[i] = v.downstream == terrain::DrainageLinks::kNone
-                              ? terrain::DrainageLinks::kNone
-                              : std::uint32_t(wa * nc + v.downstream);  // band-local row-major: + the band's first row
+        l.downstream[i] =
+            v.downstream == terrain::DrainageLinks::kNone
+                ? terrain::DrainageLinks::kNone
+                : std::uint32_t(wa * nc +
+                                v.downstream);  // band-local row-major: + the band's first row
       }
   }
   return l;
@@ -173,8 +190,9 @@ terrain::Grid dv_elevations(const DrainageDb& db) {
   const DvHeader& h = db.header;
   terrain::Grid g(h.rows, h.cols, dv_georef(h));
   for (std::size_t i = 0; i < g.size(); ++i)
-    g.z[i] = PointClass(db.vertices[i].point_class) == PointClass::Nodata ? std::numeric_limits<float>::quiet_NaN()
-                                                                           : float(h.origin_z + db.vertices[i].z);
+    g.z[i] = PointClass(db.vertices[i].point_class) == PointClass::Nodata
+                 ? std::numeric_limits<float>::quiet_NaN()
+                 : float(h.origin_z + db.vertices[i].z);
   return g;
 }
 
@@ -197,11 +215,13 @@ std::vector<std::uint8_t> dv_preview(const DrainageDb& db, std::uint32_t min_acc
   const float blue[3] = {20, 50, 140};
   for (std::size_t i = 0; i < g.size(); ++i) {
     const DvVertex& v = db.vertices[i];
-    float grey = PointClass(v.point_class) == PointClass::Nodata ? 255.0f : float(shade[i]) * 0.8f + 40.0f;
+    float grey =
+        PointClass(v.point_class) == PointClass::Nodata ? 255.0f : float(shade[i]) * 0.8f + 40.0f;
     float alpha = 0.0f;
     if (PointClass(v.point_class) != PointClass::Nodata && v.accumulated >= min_accumulated)
       alpha = 0.35f + 0.65f * std::sqrt(v.normalized);
-    for (int k = 0; k < 3; ++k) rgb[3 * i + std::size_t(k)] = std::uint8_t(std::lround((1 - alpha) * grey + alpha * blue[k]));
+    for (int k = 0; k < 3; ++k)
+      rgb[3 * i + std::size_t(k)] = std::uint8_t(std::lround((1 - alpha) * grey + alpha * blue[k]));
   }
   return rgb;
 }

@@ -19,8 +19,8 @@
 #include "drainage/dv_views.hpp"
 #include "drainage/network.hpp"
 #include "terrain/atomic_file.hpp"
-#include "terrain/gpkg.hpp"
 #include "terrain/dem_io.hpp"
+#include "terrain/gpkg.hpp"
 
 namespace drainage {
 
@@ -38,7 +38,8 @@ int gdal_progress(double fraction, const char*, void* arg) {
 // grouped by id, ids ascending, each id's parts in the order GDAL found them.
 std::vector<std::pair<std::uint32_t, std::unique_ptr<OGRMultiPolygon>>> polygonize_ids(
     const std::string& tif, const terrain::Progress& progress) {
-  std::unique_ptr<GDALDataset> src(GDALDataset::Open(tif.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  std::unique_ptr<GDALDataset> src(
+      GDALDataset::Open(tif.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
   if (!src) throw terrain::Error("cannot read '" + tif + "': " + CPLGetLastErrorMsg());
   GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("Memory");
   std::unique_ptr<GDALDataset> ds(mem->Create("", 0, 0, 0, GDT_Unknown, nullptr));
@@ -51,11 +52,14 @@ std::vector<std::pair<std::uint32_t, std::unique_ptr<OGRMultiPolygon>>> polygoni
     throw terrain::Error("polygonizing '" + tif + "' failed: " + CPLGetLastErrorMsg());
   std::vector<std::pair<std::uint32_t, std::unique_ptr<OGRGeometry>>> parts;
   layer->ResetReading();
-  for (auto& f : *layer) parts.emplace_back(std::uint32_t(f->GetFieldAsInteger64(0)), f->StealGeometry());
-  std::stable_sort(parts.begin(), parts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto& f : *layer)
+    parts.emplace_back(std::uint32_t(f->GetFieldAsInteger64(0)), f->StealGeometry());
+  std::stable_sort(parts.begin(), parts.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<std::pair<std::uint32_t, std::unique_ptr<OGRMultiPolygon>>> out;
   for (auto& [i, g] : parts) {
-    if (out.empty() || out.back().first != i) out.emplace_back(i, std::make_unique<OGRMultiPolygon>());
+    if (out.empty() || out.back().first != i)
+      out.emplace_back(i, std::make_unique<OGRMultiPolygon>());
     out.back().second->addGeometryDirectly(g.release());
   }
   return out;
@@ -72,8 +76,8 @@ struct BasinFacts {
 
 // ---- Divides ---------------------------------------------------------------------------
 
-void add_divide_edges(const std::uint32_t* ids, std::size_t row0, std::size_t n, std::size_t cols, bool below,
-                      std::vector<DivideEdge>& edges) {
+void add_divide_edges(const std::uint32_t* ids, std::size_t row0, std::size_t n, std::size_t cols,
+                      bool below, std::vector<DivideEdge>& edges) {
   const std::uint64_t W = cols + 1;  // corners per row
   auto add = [&](std::uint32_t u, std::uint32_t v, std::uint64_t from, std::uint64_t to) {
     if (u == v || u == kNone || v == kNone) return;
@@ -83,23 +87,29 @@ void add_divide_edges(const std::uint32_t* ids, std::size_t row0, std::size_t n,
     const std::uint64_t gr = row0 + r;
     for (std::size_t c = 0; c < cols; ++c) {
       const std::uint32_t u = ids[r * cols + c];
-      if (c + 1 < cols) add(u, ids[r * cols + c + 1], gr * W + c + 1, (gr + 1) * W + c + 1);  // east edge
-      if (r + 1 < n || below) add(u, ids[(r + 1) * cols + c], (gr + 1) * W + c, (gr + 1) * W + c + 1);  // south edge
+      if (c + 1 < cols)
+        add(u, ids[r * cols + c + 1], gr * W + c + 1, (gr + 1) * W + c + 1);  // east edge
+      if (r + 1 < n || below)
+        add(u, ids[(r + 1) * cols + c], (gr + 1) * W + c, (gr + 1) * W + c + 1);  // south edge
     }
   }
 }
 
-std::vector<std::vector<std::uint64_t>> chain_divide_edges(std::vector<DivideEdge> edges, std::size_t cols) {
+std::vector<std::vector<std::uint64_t>> chain_divide_edges(std::vector<DivideEdge> edges,
+                                                           std::size_t cols) {
   const std::uint64_t W = cols + 1;
-  std::sort(edges.begin(), edges.end(),
-            [](const DivideEdge& p, const DivideEdge& q) { return std::tie(p.from, p.to) < std::tie(q.from, q.to); });
+  std::sort(edges.begin(), edges.end(), [](const DivideEdge& p, const DivideEdge& q) {
+    return std::tie(p.from, p.to) < std::tie(q.from, q.to);
+  });
   // Each edge's two ends, sorted by corner: the edges at a corner are one equal range.
   std::vector<std::pair<std::uint64_t, std::uint32_t>> ends;
   ends.reserve(2 * edges.size());
-  for (std::uint32_t e = 0; e < edges.size(); ++e) ends.push_back({edges[e].from, e}), ends.push_back({edges[e].to, e});
+  for (std::uint32_t e = 0; e < edges.size(); ++e)
+    ends.push_back({edges[e].from, e}), ends.push_back({edges[e].to, e});
   std::sort(ends.begin(), ends.end());
   auto at = [&](std::uint64_t corner) {
-    return std::equal_range(ends.begin(), ends.end(), std::pair<std::uint64_t, std::uint32_t>{corner, 0},
+    return std::equal_range(ends.begin(), ends.end(),
+                            std::pair<std::uint64_t, std::uint32_t>{corner, 0},
                             [](const auto& p, const auto& q) { return p.first < q.first; });
   };
   std::vector<char> used(edges.size(), 0);
@@ -120,9 +130,14 @@ std::vector<std::vector<std::uint64_t>> chain_divide_edges(std::vector<DivideEdg
     // Leave out corners along straight runs.
     std::vector<std::uint64_t> kept = {path.front()};
     for (std::size_t i = 1; i + 1 < path.size(); ++i) {
-      const auto dr = [&](std::uint64_t p, std::uint64_t q) { return std::int64_t(q / W) - std::int64_t(p / W); };
-      const auto dc = [&](std::uint64_t p, std::uint64_t q) { return std::int64_t(q % W) - std::int64_t(p % W); };
-      if (dr(path[i - 1], path[i]) != dr(path[i], path[i + 1]) || dc(path[i - 1], path[i]) != dc(path[i], path[i + 1]))
+      const auto dr = [&](std::uint64_t p, std::uint64_t q) {
+        return std::int64_t(q / W) - std::int64_t(p / W);
+      };
+      const auto dc = [&](std::uint64_t p, std::uint64_t q) {
+        return std::int64_t(q % W) - std::int64_t(p % W);
+      };
+      if (dr(path[i - 1], path[i]) != dr(path[i], path[i + 1]) ||
+          dc(path[i - 1], path[i]) != dc(path[i], path[i + 1]))
         kept.push_back(path[i]);
     }
     kept.push_back(path.back());
@@ -145,22 +160,22 @@ std::vector<std::vector<std::uint64_t>> chain_divide_edges(std::vector<DivideEdg
 
 // ---- Watersheds ---------------------------------------------------------------------------
 
-namespace {
+namespace {}  // namespace
 
-}  // namespace
-
-terrain::BigVector<std::uint32_t> nearest_downstream_outlet(const D8Codes& dirs, std::size_t rows, std::size_t cols,
-                                                            const std::vector<std::uint64_t>& outlet_cells) {
+terrain::BigVector<std::uint32_t> nearest_downstream_outlet(
+    const D8Codes& dirs, std::size_t rows, std::size_t cols,
+    const std::vector<std::uint64_t>& outlet_cells) {
   const std::size_t n = rows * cols;
-  if (dirs.size() != n) throw terrain::Error("nearest_downstream_outlet: directions are not rows x cols");
+  if (dirs.size() != n)
+    throw terrain::Error("nearest_downstream_outlet: directions are not rows x cols");
   constexpr std::uint32_t kPending = kNone - 1;
   terrain::BigVector<std::uint32_t> label(n, kPending);
   for (std::size_t k = 0; k < outlet_cells.size(); ++k) {
     const std::uint64_t i = outlet_cells[k];
     if (i >= n) throw terrain::Error(fmt::format("outlet {} lies outside the grid", k));
     if (label[i] != kPending)
-      throw terrain::Error(fmt::format("outlets {} and {} are the same cell (row {}, column {})", label[i], k, i / cols,
-                                       i % cols));
+      throw terrain::Error(fmt::format("outlets {} and {} are the same cell (row {}, column {})",
+                                       label[i], k, i / cols, i % cols));
     label[i] = std::uint32_t(k);
   }
   auto down = [&](std::size_t i) { return flows_into(dirs, rows, cols, i); };
@@ -189,71 +204,81 @@ terrain::BigVector<std::uint32_t> nearest_downstream_outlet(const D8Codes& dirs,
 std::vector<OutletPoint> read_outlet_points(const std::string& path, const std::string& crs_wkt) {
   terrain::ensure_gdal();
   CPLStringList open_options;
-  if (std::filesystem::path(path).extension() == ".csv" || std::filesystem::path(path).extension() == ".CSV") {
+  if (std::filesystem::path(path).extension() == ".csv" ||
+      std::filesystem::path(path).extension() == ".CSV") {
     open_options.AddString("X_POSSIBLE_NAMES=x,X,easting,Easting,lon*,Lon*,long*,Long*");
     open_options.AddString("Y_POSSIBLE_NAMES=y,Y,northing,Northing,lat*,Lat*");
   }
   CPLErrorReset();
-  std::unique_ptr<GDALDataset> ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr,
-                                                    open_options.List()));
+  std::unique_ptr<GDALDataset> ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY,
+                                                    nullptr, open_options.List()));
   if (!ds) {
     const std::string why = CPLGetLastErrorMsg();
-    throw terrain::Error("cannot read outlets from '" + path + "': " + (why.empty() ? "not a vector file GDAL reads" : why));
+    throw terrain::Error("cannot read outlets from '" + path +
+                         "': " + (why.empty() ? "not a vector file GDAL reads" : why));
   }
   if (ds->GetLayerCount() < 1) throw terrain::Error("'" + path + "' has no layer of outlet points");
   OGRLayer* layer = ds->GetLayer(0);
   std::unique_ptr<OGRCoordinateTransformation> to_grid;
   const OGRSpatialReference* from = layer->GetSpatialRef();
   OGRSpatialReference target;
-  if (from && !crs_wkt.empty() && target.importFromWkt(crs_wkt.c_str()) == OGRERR_NONE && !from->IsSame(&target)) {
+  if (from && !crs_wkt.empty() && target.importFromWkt(crs_wkt.c_str()) == OGRERR_NONE &&
+      !from->IsSame(&target)) {
     OGRSpatialReference src(*from);
     src.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
     target.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
     to_grid.reset(OGRCreateCoordinateTransformation(&src, &target));
     if (!to_grid)
-      throw terrain::Error("cannot transform the outlets of '" + path + "' to the drainage grid's CRS: " +
-                           CPLGetLastErrorMsg());
+      throw terrain::Error("cannot transform the outlets of '" + path +
+                           "' to the drainage grid's CRS: " + CPLGetLastErrorMsg());
   }
   std::vector<OutletPoint> out;
   for (auto& f : *layer) {
     const OGRGeometry* g = f->GetGeometryRef();
     if (!g || wkbFlatten(g->getGeometryType()) != wkbPoint)
-      throw terrain::Error(fmt::format("'{}': feature {} is {}, not a point", path, f->GetFID(),
-                                       g ? OGRGeometryTypeToName(g->getGeometryType()) : "without geometry"));
+      throw terrain::Error(
+          fmt::format("'{}': feature {} is {}, not a point", path, f->GetFID(),
+                      g ? OGRGeometryTypeToName(g->getGeometryType()) : "without geometry"));
     double x = g->toPoint()->getX(), y = g->toPoint()->getY();
     if (to_grid && !to_grid->Transform(1, &x, &y))
-      throw terrain::Error(fmt::format("'{}': feature {} cannot be transformed to the grid's CRS", path, f->GetFID()));
+      throw terrain::Error(fmt::format("'{}': feature {} cannot be transformed to the grid's CRS",
+                                       path, f->GetFID()));
     out.push_back({x, y, f->GetFID()});
   }
   if (out.empty()) throw terrain::Error("'" + path + "' holds no outlet point");
   return out;
 }
 
-std::vector<Watershed> snap_outlets(const DvHeader& h, const std::vector<OutletPoint>& points, double snap_distance,
-                                    const DvWindowReader& window, std::vector<std::uint64_t>& cells) {
+std::vector<Watershed> snap_outlets(const DvHeader& h, const std::vector<OutletPoint>& points,
+                                    double snap_distance, const DvWindowReader& window,
+                                    std::vector<std::uint64_t>& cells) {
   const std::size_t R = h.rows, C = h.cols;
   const terrain::Georef geo = dv_georef(h);
   auto centre_x = [&](std::size_t c) { return h.origin_x + double(c) * h.dx; };
   auto centre_y = [&](std::size_t r) { return h.origin_y - double(r) * h.dy; };
   if (!(snap_distance >= 0)) throw terrain::Error("the snap distance must be 0 or more metres");
-  const double west = geo.x0, east = geo.x0 + double(C) * h.dx, north = geo.y0, south = geo.y0 - double(R) * h.dy;
+  const double west = geo.x0, east = geo.x0 + double(C) * h.dx, north = geo.y0,
+               south = geo.y0 - double(R) * h.dy;
   const double size = std::hypot(east - west, north - south);
   if (snap_distance > size)
-    throw terrain::Error(fmt::format("a snap distance of {:g} m exceeds the grid's size ({:.0f} m): every outlet would "
-                                     "move to the largest stream; give at most a few cells",
-                                     snap_distance, size));
+    throw terrain::Error(fmt::format(
+        "a snap distance of {:g} m exceeds the grid's size ({:.0f} m): every outlet would "
+        "move to the largest stream; give at most a few cells",
+        snap_distance, size));
   // An outlet outside the grid is a point in other coordinates (longitude and latitude in
   // a file without a CRS), not one to snap in from afar.
   for (std::size_t k = 0; k < points.size(); ++k) {
     const OutletPoint& p = points[k];
     if (p.x >= west && p.x <= east && p.y >= south && p.y <= north) continue;
     const bool degrees = std::abs(p.x) <= 180 && std::abs(p.y) <= 90 && size > 1000;
-    throw terrain::Error(fmt::format(
-        "outlet {} (feature {}) at {:.6g}, {:.6g} lies outside the grid (x {:.1f}..{:.1f}, y {:.1f}..{:.1f}){}", k, p.fid,
-        p.x, p.y, west, east, south, north,
-        degrees ? ": its numbers look like longitude and latitude in a file without a CRS; give the file one "
-                  "(ogr2ogr -a_srs EPSG:4326, or a .prj beside it)"
-                : ""));
+    throw terrain::Error(
+        fmt::format("outlet {} (feature {}) at {:.6g}, {:.6g} lies outside the grid (x "
+                    "{:.1f}..{:.1f}, y {:.1f}..{:.1f}){}",
+                    k, p.fid, p.x, p.y, west, east, south, north,
+                    degrees ? ": its numbers look like longitude and latitude in a file without a "
+                              "CRS; give the file one "
+                              "(ogr2ogr -a_srs EPSG:4326, or a .prj beside it)"
+                            : ""));
   }
 
   // The highest accumulation within the distance (a window of the file around it).
@@ -264,14 +289,17 @@ std::vector<Watershed> snap_outlets(const DvHeader& h, const std::vector<OutletP
     Watershed& w = ws[k];
     w.given = p;
     const double s = snap_distance;
-    const double cmin = std::floor((p.x - s - geo.x0) / h.dx), cmax = std::floor((p.x + s - geo.x0) / h.dx);
-    const double rmin = std::floor((geo.y0 - (p.y + s)) / h.dy), rmax = std::floor((geo.y0 - (p.y - s)) / h.dy);
+    const double cmin = std::floor((p.x - s - geo.x0) / h.dx),
+                 cmax = std::floor((p.x + s - geo.x0) / h.dx);
+    const double rmin = std::floor((geo.y0 - (p.y + s)) / h.dy),
+                 rmax = std::floor((geo.y0 - (p.y - s)) / h.dy);
     const double c0 = std::max(0.0, cmin), c1 = std::min(double(C) - 1, cmax);
     const double r0 = std::max(0.0, rmin), r1 = std::min(double(R) - 1, rmax);
     bool found = false;
     double best_d = 0;
     if (c0 <= c1 && r0 <= r1) {
-      const DrainageDb win = window(std::size_t(r0), std::size_t(c0), std::size_t(r1 - r0 + 1), std::size_t(c1 - c0 + 1));
+      const DrainageDb win = window(std::size_t(r0), std::size_t(c0), std::size_t(r1 - r0 + 1),
+                                    std::size_t(c1 - c0 + 1));
       const std::size_t wc = win.header.cols;
       for (std::size_t i = 0; i < win.vertices.size(); ++i) {
         const DvVertex& v = win.vertices[i];
@@ -279,7 +307,8 @@ std::vector<Watershed> snap_outlets(const DvHeader& h, const std::vector<OutletP
         const std::size_t r = std::size_t(r0) + i / wc, c = std::size_t(c0) + i % wc;
         const double d = std::hypot(centre_x(c) - p.x, centre_y(r) - p.y);
         if (s > 0 && d > s) continue;  // with 0 the window is the cell holding the point
-        if (!found || v.accumulated > w.accumulated || (v.accumulated == w.accumulated && d < best_d)) {
+        if (!found || v.accumulated > w.accumulated ||
+            (v.accumulated == w.accumulated && d < best_d)) {
           found = true;
           best_d = d;
           w.row = r, w.col = c, w.accumulated = v.accumulated;
@@ -287,18 +316,19 @@ std::vector<Watershed> snap_outlets(const DvHeader& h, const std::vector<OutletP
       }
     }
     if (!found)
-      throw terrain::Error(fmt::format("outlet {} (feature {}) at {:.2f}, {:.2f}: no drainage point {} (the grid spans "
-                                       "x {:.1f}..{:.1f}, y {:.1f}..{:.1f})",
-                                       k, p.fid, p.x, p.y,
-                                       s > 0 ? fmt::format("within {:g} m", s) : std::string("in its cell"),
-                                       geo.x0, geo.x0 + double(C) * h.dx, geo.y0 - double(R) * h.dy, geo.y0));
+      throw terrain::Error(fmt::format(
+          "outlet {} (feature {}) at {:.2f}, {:.2f}: no drainage point {} (the grid spans "
+          "x {:.1f}..{:.1f}, y {:.1f}..{:.1f})",
+          k, p.fid, p.x, p.y, s > 0 ? fmt::format("within {:g} m", s) : std::string("in its cell"),
+          geo.x0, geo.x0 + double(C) * h.dx, geo.y0 - double(R) * h.dy, geo.y0));
     w.x = centre_x(w.col), w.y = centre_y(w.row), w.moved = best_d;
     cells[k] = std::uint64_t(w.row) * C + w.col;
     for (std::size_t j = 0; j < k; ++j)
       if (cells[j] == cells[k])
-        throw terrain::Error(fmt::format("outlets {} and {} (features {} and {}) snap to the same cell (row {}, column "
-                                         "{}): give one of them, or a smaller --snap-distance",
-                                         j, k, points[j].fid, p.fid, w.row, w.col));
+        throw terrain::Error(fmt::format(
+            "outlets {} and {} (features {} and {}) snap to the same cell (row {}, column "
+            "{}): give one of them, or a smaller --snap-distance",
+            j, k, points[j].fid, p.fid, w.row, w.col));
   }
   return ws;
 }
@@ -309,7 +339,8 @@ namespace {
 // outlet downstream (`cells`: the outlets' cells); each outlet's downstream watershed and
 // cell count set in `ws`.
 terrain::BigVector<std::uint32_t> label_watersheds(const std::string& dv_path, const DvHeader& h,
-                                                   const std::vector<std::uint64_t>& cells, std::vector<Watershed>& ws,
+                                                   const std::vector<std::uint64_t>& cells,
+                                                   std::vector<Watershed>& ws,
                                                    const terrain::Progress& progress) {
   const std::size_t R = h.rows, C = h.cols;
   terrain::BigVector<std::uint32_t> label;
@@ -319,7 +350,9 @@ terrain::BigVector<std::uint32_t> label_watersheds(const std::string& dv_path, c
     for (std::size_t r0 = 0; r0 < R; r0 += band) {
       const DrainageDb w = read_dv_window(dv_path, r0, 0, std::min(band, R - r0), C);
       for (std::size_t i = 0; i < w.vertices.size(); ++i)
-        dirs[r0 * C + i] = PointClass(w.vertices[i].point_class) == PointClass::Nodata ? kNodata : w.vertices[i].d8;
+        dirs[r0 * C + i] = PointClass(w.vertices[i].point_class) == PointClass::Nodata
+                               ? kNodata
+                               : w.vertices[i].d8;
       terrain::report(progress, 0.05 + 0.3 * double(r0 + band) / double(R));
     }
     label = nearest_downstream_outlet(dirs, R, C, cells);
@@ -335,17 +368,28 @@ terrain::BigVector<std::uint32_t> label_watersheds(const std::string& dv_path, c
 
 // The GeoPackage's layers "outlets" (points at the outlet cells) and "watersheds" (their
 // polygons).
-void write_watershed_layers(const std::string& gpkg_path, const DvHeader& h, const std::vector<Watershed>& ws,
-                            const std::vector<std::pair<std::uint32_t, std::unique_ptr<OGRMultiPolygon>>>& polygons) {
+void write_watershed_layers(
+    const std::string& gpkg_path, const DvHeader& h, const std::vector<Watershed>& ws,
+    const std::vector<std::pair<std::uint32_t, std::unique_ptr<OGRMultiPolygon>>>& polygons) {
   const double cell_area = h.dx * h.dy;
   Gpkg gpkg(gpkg_path, h.crs_wkt);
   OGRLayer* outlets = gpkg.layer("outlets", wkbPoint,
-                                 {{"id", OFTInteger64}, {"fid_given", OFTInteger64}, {"given_x", OFTReal},
-                                  {"given_y", OFTReal}, {"moved_m", OFTReal}, {"accumulated", OFTInteger64},
-                                  {"cells", OFTInteger64}, {"area_m2", OFTReal}, {"downstream", OFTInteger64}});
+                                 {{"id", OFTInteger64},
+                                  {"fid_given", OFTInteger64},
+                                  {"given_x", OFTReal},
+                                  {"given_y", OFTReal},
+                                  {"moved_m", OFTReal},
+                                  {"accumulated", OFTInteger64},
+                                  {"cells", OFTInteger64},
+                                  {"area_m2", OFTReal},
+                                  {"downstream", OFTInteger64}});
   OGRLayer* sheds = gpkg.layer("watersheds", wkbMultiPolygon,
-                               {{"id", OFTInteger64}, {"cells", OFTInteger64}, {"area_m2", OFTReal},
-                                {"outlet_x", OFTReal}, {"outlet_y", OFTReal}, {"downstream", OFTInteger64}});
+                               {{"id", OFTInteger64},
+                                {"cells", OFTInteger64},
+                                {"area_m2", OFTReal},
+                                {"outlet_x", OFTReal},
+                                {"outlet_y", OFTReal},
+                                {"downstream", OFTInteger64}});
   gpkg.begin();
   for (std::size_t k = 0; k < ws.size(); ++k) {
     const Watershed& w = ws[k];
@@ -380,7 +424,8 @@ void write_watershed_layers(const std::string& gpkg_path, const DvHeader& h, con
 
 }  // namespace
 
-std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::vector<OutletPoint>& points,
+std::vector<Watershed> write_watersheds(const std::string& dv_path,
+                                        const std::vector<OutletPoint>& points,
                                         double snap_distance, const std::string& gpkg_path,
                                         const std::string& tif_path, const std::string& provenance,
                                         const terrain::Progress& progress) {
@@ -399,13 +444,16 @@ std::vector<Watershed> write_watersheds(const std::string& dv_path, const std::v
   terrain::report(progress, 0.45);
   // The raster, then its polygons.
   {
-    terrain::RasterWriter tif(tif_path, dv_georef(h), R, C, terrain::RasterType::UInt32, double(kNone), provenance);
+    terrain::RasterWriter tif(tif_path, dv_georef(h), R, C, terrain::RasterType::UInt32,
+                              double(kNone), provenance);
     const std::size_t band = 256;
-    for (std::size_t r0 = 0; r0 < R; r0 += band) tif.write_rows(r0, std::min(band, R - r0), &label[r0 * C]);
+    for (std::size_t r0 = 0; r0 < R; r0 += band)
+      tif.write_rows(r0, std::min(band, R - r0), &label[r0 * C]);
     tif.commit();
   }
   terrain::BigVector<std::uint32_t>().swap(label);  // freed before polygonize
-  write_watershed_layers(gpkg_path, h, ws, polygonize_ids(tif_path, terrain::sub_progress(progress, 0.55, 0.95)));
+  write_watershed_layers(gpkg_path, h, ws,
+                         polygonize_ids(tif_path, terrain::sub_progress(progress, 0.55, 0.95)));
   terrain::report(progress, 1.0);
   return ws;
 }
@@ -443,7 +491,10 @@ std::size_t write_branches(Gpkg& gpkg, OGRLayer* layer, const DrainageDb& db, in
 
 OGRLayer* branches_layer(Gpkg& gpkg) {
   return gpkg.layer("branches", wkbLineStringZM,
-                    {{"order", OFTInteger64}, {"basin", OFTInteger64}, {"max_flow", OFTInteger64}, {"vertices", OFTInteger64}});
+                    {{"order", OFTInteger64},
+                     {"basin", OFTInteger64},
+                     {"max_flow", OFTInteger64},
+                     {"vertices", OFTInteger64}});
 }
 
 }  // namespace
@@ -461,13 +512,15 @@ namespace {
 
 // One pass over the file: the basin ids into the GeoTIFF `ids_tif` (when given, for
 // polygonize), each basin's outlet and cells into `facts`, and the divide edges (when asked).
-void scan_basins(const std::string& dv_path, const DvHeader& h, const std::string& ids_tif, bool divides,
-                 std::vector<BasinFacts>& facts, std::vector<DivideEdge>& edges, const terrain::Progress& progress) {
+void scan_basins(const std::string& dv_path, const DvHeader& h, const std::string& ids_tif,
+                 bool divides, std::vector<BasinFacts>& facts, std::vector<DivideEdge>& edges,
+                 const terrain::Progress& progress) {
   const std::size_t R = h.rows, C = h.cols;
   const bool basins = !ids_tif.empty();
   {
     std::optional<terrain::RasterWriter> tif;
-    if (basins) tif.emplace(ids_tif, dv_georef(h), R, C, terrain::RasterType::UInt32, double(kNone));
+    if (basins)
+      tif.emplace(ids_tif, dv_georef(h), R, C, terrain::RasterType::UInt32, double(kNone));
     const std::size_t band = dv_band_rows(h);
     std::vector<std::uint32_t> ids;
     for (std::size_t r0 = 0; r0 < R; r0 += band) {
@@ -496,12 +549,14 @@ void scan_basins(const std::string& dv_path, const DvHeader& h, const std::strin
     if (tif) tif->commit();
   }
   for (std::size_t b = 0; b < facts.size(); ++b)
-    if (!facts[b].has_outlet) throw terrain::Error(fmt::format("'{}': basin {} has no outlet (corrupt .dv)", dv_path, b));
+    if (!facts[b].has_outlet)
+      throw terrain::Error(fmt::format("'{}': basin {} has no outlet (corrupt .dv)", dv_path, b));
 }
 
 // The "basins" layer: the polygons of the basin ids with their facts; returns their count.
-std::size_t write_basins(Gpkg& gpkg, OGRLayer* basins, const DvHeader& h, const std::string& ids_tif,
-                         const std::vector<BasinFacts>& facts, const terrain::Progress& progress) {
+std::size_t write_basins(Gpkg& gpkg, OGRLayer* basins, const DvHeader& h,
+                         const std::string& ids_tif, const std::vector<BasinFacts>& facts,
+                         const terrain::Progress& progress) {
   const double cell_area = h.dx * h.dy;
   const auto polygons = polygonize_ids(ids_tif, terrain::sub_progress(progress, 0.4, 0.85));
   for (const auto& [id, poly] : polygons) {
@@ -522,12 +577,13 @@ std::size_t write_basins(Gpkg& gpkg, OGRLayer* basins, const DvHeader& h, const 
 
 // The "divides" layer: the edges between two basins chained into lines, one feature per pair
 // of basins; returns their count.
-std::size_t write_divides(Gpkg& gpkg, OGRLayer* divides, const DvHeader& h, std::vector<DivideEdge>& edges,
-                          const std::vector<BasinFacts>& facts) {
+std::size_t write_divides(Gpkg& gpkg, OGRLayer* divides, const DvHeader& h,
+                          std::vector<DivideEdge>& edges, const std::vector<BasinFacts>& facts) {
   const std::size_t C = h.cols;
   std::size_t n = 0;
-  std::sort(edges.begin(), edges.end(),
-            [](const DivideEdge& p, const DivideEdge& q) { return std::tie(p.a, p.b) < std::tie(q.a, q.b); });
+  std::sort(edges.begin(), edges.end(), [](const DivideEdge& p, const DivideEdge& q) {
+    return std::tie(p.a, p.b) < std::tie(q.a, q.b);
+  });
   const double x0 = h.origin_x - h.dx / 2, y0 = h.origin_y + h.dy / 2;
   for (std::size_t i = 0; i < edges.size();) {
     std::size_t j = i;
@@ -536,11 +592,13 @@ std::size_t write_divides(Gpkg& gpkg, OGRLayer* divides, const DvHeader& h, std:
       length += edges[j].to - edges[j].from == 1 ? h.dx : h.dy;
       ++j;
     }
-    const auto chains = chain_divide_edges({edges.begin() + std::ptrdiff_t(i), edges.begin() + std::ptrdiff_t(j)}, C);
+    const auto chains = chain_divide_edges(
+        {edges.begin() + std::ptrdiff_t(i), edges.begin() + std::ptrdiff_t(j)}, C);
     OGRMultiLineString lines;
     for (const auto& chain : chains) {
       auto* line = new OGRLineString;
-      for (const std::uint64_t p : chain) line->addPoint(x0 + double(p % (C + 1)) * h.dx, y0 - double(p / (C + 1)) * h.dy);
+      for (const std::uint64_t p : chain)
+        line->addPoint(x0 + double(p % (C + 1)) * h.dx, y0 - double(p / (C + 1)) * h.dy);
       lines.addGeometryDirectly(line);
     }
     const std::uint32_t a = edges[i].a, b = edges[i].b;
@@ -559,8 +617,8 @@ std::size_t write_divides(Gpkg& gpkg, OGRLayer* divides, const DvHeader& h, std:
 
 }  // namespace
 
-GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_path, const GpkgLayers& layers,
-                          const terrain::Progress& progress) {
+GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_path,
+                          const GpkgLayers& layers, const terrain::Progress& progress) {
   const DvHeader h = read_dv_header(dv_path);
   if (h.basins > std::uint64_t(std::numeric_limits<std::int32_t>::max()))
     throw terrain::Error("'" + dv_path + "' has more basins than GDAL's polygonize numbers (2^31)");
@@ -568,16 +626,23 @@ GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_pat
   Gpkg gpkg(out_path, h.crs_wkt);
   OGRLayer* branches = layers.branches ? branches_layer(gpkg) : nullptr;
   OGRLayer* basins = layers.basins ? gpkg.layer("basins", wkbMultiPolygon,
-                                                {{"id", OFTInteger64}, {"cells", OFTInteger64}, {"area_m2", OFTReal},
-                                                 {"outlet_x", OFTReal}, {"outlet_y", OFTReal}, {"outlet", OFTString},
+                                                {{"id", OFTInteger64},
+                                                 {"cells", OFTInteger64},
+                                                 {"area_m2", OFTReal},
+                                                 {"outlet_x", OFTReal},
+                                                 {"outlet_y", OFTReal},
+                                                 {"outlet", OFTString},
                                                  {"max_order", OFTInteger}})
                                    : nullptr;
   OGRLayer* divides = layers.divides ? gpkg.layer("divides", wkbMultiLineString,
-                                                  {{"basin_a", OFTInteger64}, {"basin_b", OFTInteger64},
-                                                   {"max_order", OFTInteger}, {"length_m", OFTReal}})
+                                                  {{"basin_a", OFTInteger64},
+                                                   {"basin_b", OFTInteger64},
+                                                   {"max_order", OFTInteger},
+                                                   {"length_m", OFTReal}})
                                      : nullptr;
   gpkg.begin();
-  if (branches) counts.branches = write_branches(gpkg, branches, read_dv(dv_path), layers.min_order);
+  if (branches)
+    counts.branches = write_branches(gpkg, branches, read_dv(dv_path), layers.min_order);
   terrain::report(progress, 0.1);
   if (!basins && !divides) {
     gpkg.commit();
@@ -591,7 +656,8 @@ GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_pat
   std::vector<DivideEdge> edges;
   terrain::ScratchDir scratch(out_path);
   const std::string ids_tif = (scratch.path() / "basin.tif").string();
-  scan_basins(dv_path, h, basins ? ids_tif : std::string(), divides != nullptr, facts, edges, progress);
+  scan_basins(dv_path, h, basins ? ids_tif : std::string(), divides != nullptr, facts, edges,
+              progress);
   if (basins) counts.basins = write_basins(gpkg, basins, h, ids_tif, facts, progress);
   if (divides) counts.divides = write_divides(gpkg, divides, h, edges, facts);
   gpkg.commit();

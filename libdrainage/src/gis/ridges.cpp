@@ -26,7 +26,9 @@ Catchments catchments(const terrain::DrainageLinks& l, double channel_area) {
   const std::size_t n = l.size();
   const double cell = l.dx * l.dy;
   auto valid = [&](std::size_t i) { return l.valid.empty() || l.valid[i]; };
-  auto channel = [&](std::size_t i) { return valid(i) && double(l.accumulated[i]) * cell >= channel_area; };
+  auto channel = [&](std::size_t i) {
+    return valid(i) && double(l.accumulated[i]) * cell >= channel_area;
+  };
   auto down = [&](std::size_t i) -> std::size_t {
     const std::uint32_t d = l.downstream[i];
     return d == terrain::DrainageLinks::kNone || !valid(d) ? std::size_t(kNone) : std::size_t(d);
@@ -42,8 +44,9 @@ Catchments catchments(const terrain::DrainageLinks& l, double channel_area) {
       if (d != kNone && channel(d) && inflow[d] < 2) ++inflow[d];
     }
   // Upstream first: accumulation grows downstream.
-  std::stable_sort(channels.begin(), channels.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return l.accumulated[a] < l.accumulated[b]; });
+  std::stable_sort(channels.begin(), channels.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return l.accumulated[a] < l.accumulated[b];
+  });
   std::vector<std::size_t> outlet;  // per label: its lowest point
   auto new_label = [&](std::size_t i) {
     c.outlet_accumulated.push_back(l.accumulated[i]);
@@ -54,11 +57,13 @@ Catchments catchments(const terrain::DrainageLinks& l, double channel_area) {
   for (const std::uint32_t i : channels) {
     if (c.label[i] == kNone) c.label[i] = new_label(i);  // a head or a junction: a branch begins
     const std::uint32_t b = c.label[i];
-    c.outlet_accumulated[b] = l.accumulated[i], c.outlet_z[b] = l.z[i], outlet[b] = i;  // its lowest point so far
+    c.outlet_accumulated[b] = l.accumulated[i], c.outlet_z[b] = l.z[i],
+    outlet[b] = i;  // its lowest point so far
     const std::size_t d = down(i);
     if (d != kNone && channel(d) && inflow[d] == 1) c.label[d] = b;
   }
-  const std::size_t n_branches = outlet.size();  // the labels of basins that reach no channel come after
+  const std::size_t n_branches =
+      outlet.size();  // the labels of basins that reach no channel come after
   std::vector<std::size_t> path;
   for (std::size_t i = 0; i < n; ++i) {
     if (c.label[i] != kNone || !valid(i)) continue;
@@ -108,7 +113,9 @@ Parted parted(const Catchments& c, std::uint32_t a, std::uint32_t b) {
     if (x != kNone) up(x, arm_x);
     if (y != kNone) up(y, arm_y);
   }
-  auto of = [&](std::uint32_t arm) { return Parted{double(c.outlet_accumulated[arm]), c.outlet_z[arm]}; };
+  auto of = [&](std::uint32_t arm) {
+    return Parted{double(c.outlet_accumulated[arm]), c.outlet_z[arm]};
+  };
   if (arm_x == kNone) return of(arm_y);
   if (arm_y == kNone) return of(arm_x);
   return c.outlet_accumulated[arm_x] <= c.outlet_accumulated[arm_y] ? of(arm_x) : of(arm_y);
@@ -141,7 +148,8 @@ std::vector<Eigen::Vector2d> resampled(const std::vector<Eigen::Vector2d>& corne
 
 }  // namespace
 
-std::vector<RidgeLine> ridge_lines(const terrain::DrainageLinks& l, double channel_area, double min_basin_area) {
+std::vector<RidgeLine> ridge_lines(const terrain::DrainageLinks& l, double channel_area,
+                                   double min_basin_area) {
   std::vector<RidgeLine> out;
   if (l.rows < 2 || l.cols < 2) return out;
   const Catchments c = catchments(l, channel_area);
@@ -174,7 +182,8 @@ std::vector<RidgeLine> ridge_lines(const terrain::DrainageLinks& l, double chann
       g0 = g1;
       continue;
     }
-    for (const auto& chain : chain_divide_edges({edges.begin() + long(g0), edges.begin() + long(g1)}, l.cols)) {
+    for (const auto& chain :
+         chain_divide_edges({edges.begin() + long(g0), edges.begin() + long(g1)}, l.cols)) {
       std::vector<Eigen::Vector2d> corners;
       for (const std::uint64_t k : chain) {
         const double r = double(k / (l.cols + 1)), col = double(k % (l.cols + 1));
@@ -201,8 +210,10 @@ std::vector<RidgeLine> ridge_lines(const terrain::DrainageLinks& l, double chann
         run = RidgeLine{};
       };
       for (const Eigen::Vector3d& p : pts) {
-        if (p.z() >= cut) run.points.push_back(p);
-        else flush();
+        if (p.z() >= cut)
+          run.points.push_back(p);
+        else
+          flush();
       }
       flush();
     }

@@ -17,14 +17,19 @@ namespace drainage {
 // the branches' vertices; `head` is used up. Bands of rows are walked on all threads and
 // joined in row order, so the result does not depend on the thread count.
 template <class Down, class Order, class Emit>
-void branches_from_heads(std::size_t rows, std::size_t cols, std::size_t points, terrain::BigVector<std::uint8_t>& head,
-                         Down&& down, Order&& order, Emit&& emit, terrain::BigVector<std::uint32_t>& vertices) {
+void branches_from_heads(std::size_t rows, std::size_t cols, std::size_t points,
+                         terrain::BigVector<std::uint8_t>& head, Down&& down, Order&& order,
+                         Emit&& emit, terrain::BigVector<std::uint32_t>& vertices) {
   const std::size_t n = rows * cols;
   const long R = long(rows);
   // In a valid network a point that heads no branch is reached by exactly one walk. The
   // marks (2: listed) keep a corrupt one (a cycle, a link that is no neighbour) finite.
-  const auto mark = [&](std::size_t i) { __atomic_store_n(&head[i], std::uint8_t(2), __ATOMIC_RELAXED); };
-  const auto marked = [&](std::size_t i) { return __atomic_load_n(&head[i], __ATOMIC_RELAXED) != 0; };
+  const auto mark = [&](std::size_t i) {
+    __atomic_store_n(&head[i], std::uint8_t(2), __ATOMIC_RELAXED);
+  };
+  const auto marked = [&](std::size_t i) {
+    return __atomic_load_n(&head[i], __ATOMIC_RELAXED) != 0;
+  };
   // Bands of rows, walked a wave at a time on all threads and appended in order (a wave's
   // lists are all that is held besides the result).
   constexpr long kBands = 64, kWave = 8;
@@ -40,7 +45,8 @@ void branches_from_heads(std::size_t rows, std::size_t cols, std::size_t points,
       auto& vs = band_vertices[std::size_t(band - wave)];
       bs.clear();
       vs.clear();
-      const std::size_t lo = std::size_t(band * R / kBands) * cols, hi = std::size_t((band + 1) * R / kBands) * cols;
+      const std::size_t lo = std::size_t(band * R / kBands) * cols,
+                        hi = std::size_t((band + 1) * R / kBands) * cols;
       for (std::size_t i = lo; i < hi; ++i) {
         if (__atomic_load_n(&head[i], __ATOMIC_RELAXED) != 1) continue;
         Branch b;
@@ -51,7 +57,8 @@ void branches_from_heads(std::size_t rows, std::size_t cols, std::size_t points,
           vs.push_back(v);
           mark(v);
           const std::uint32_t d = down(v);
-          if (d == kNone || d >= n || order(d) != b.order || marked(d)) {  // a chain ends where the order changes
+          if (d == kNone || d >= n || order(d) != b.order ||
+              marked(d)) {  // a chain ends where the order changes
             b.drains_into = d;
             break;
           }
@@ -78,8 +85,8 @@ void branches_from_heads(std::size_t rows, std::size_t cols, std::size_t points,
 // down(i) (kNone: none) and order(i) read point i of a rows x cols grid (from several
 // threads); then branches_from_heads.
 template <class Valid, class Down, class Order, class Emit>
-void network_branches(std::size_t rows, std::size_t cols, Valid&& valid, Down&& down, Order&& order, Emit&& emit,
-                      terrain::BigVector<std::uint32_t>& vertices) {
+void network_branches(std::size_t rows, std::size_t cols, Valid&& valid, Down&& down, Order&& order,
+                      Emit&& emit, terrain::BigVector<std::uint32_t>& vertices) {
   const std::size_t n = rows * cols;
   const long R = long(rows), C = long(cols);
   terrain::BigVector<std::uint8_t> head(n);
@@ -92,7 +99,8 @@ void network_branches(std::size_t rows, std::size_t cols, Valid&& valid, Down&& 
       if (!valid(i)) continue;
       ++points;
       int same = 0;
-      Neighbours{R, C}.inflows(r, c, [&](std::size_t j, int) { same += down(j) == i && order(j) == order(i); });
+      Neighbours{R, C}.inflows(
+          r, c, [&](std::size_t j, int) { same += down(j) == i && order(j) == order(i); });
       head[i] = same != 1;
     }
   branches_from_heads(rows, cols, points, head, down, order, emit, vertices);

@@ -22,8 +22,9 @@ std::uint8_t from_foreign_code(double value, D8Encoding enc, bool is_nodata) {
   const auto& table = enc == D8Encoding::Taudem ? kTaudemCode : kEsriCode;
   for (std::uint8_t k = 0; k < 8; ++k)
     if (value == double(table[k])) return k;
-  throw terrain::Error(fmt::format("D8 code {} is not a valid ", value) +
-                       (enc == D8Encoding::Taudem ? "TauDEM code (1..8)" : "ESRI code (1, 2, 4, ..., 128)"));
+  throw terrain::Error(
+      fmt::format("D8 code {} is not a valid ", value) +
+      (enc == D8Encoding::Taudem ? "TauDEM code (1..8)" : "ESRI code (1, 2, 4, ..., 128)"));
 }
 
 int to_foreign_code(std::uint8_t code, D8Encoding enc) {
@@ -39,7 +40,8 @@ D8Codes d8_directions(const terrain::Grid& g) {
   for (long r = 0; r < rows; ++r) {
     double inv_dist[8];
     for (int k = 0; k < 8; ++k)
-      inv_dist[k] = 1.0 / std::hypot(kDCol[k] * cell[std::size_t(r)].dx, kDRow[k] * cell[std::size_t(r)].dy);
+      inv_dist[k] =
+          1.0 / std::hypot(kDCol[k] * cell[std::size_t(r)].dx, kDRow[k] * cell[std::size_t(r)].dy);
     for (long c = 0; c < cols; ++c) {
       const float zc = g.z[std::size_t(r * cols + c)];
       if (std::isnan(zc)) {
@@ -48,14 +50,16 @@ D8Codes d8_directions(const terrain::Grid& g) {
       }
       const bool interior = r > 0 && c > 0 && r + 1 < rows && c + 1 < cols;
       auto value = [&](long rr, long cc) -> float {  // NaN off the grid or in no-data
-        if (rr < 0 || cc < 0 || rr >= rows || cc >= cols) return std::numeric_limits<float>::quiet_NaN();
+        if (rr < 0 || cc < 0 || rr >= rows || cc >= cols)
+          return std::numeric_limits<float>::quiet_NaN();
         return g.z[std::size_t(rr * cols + cc)];
       };
       double best = 0.0;
       int best_k = -1;
       bool best_virtual = false, boundary = false;
       for (int k : kTryOrder) {
-        float zk = interior ? g.z[std::size_t((r + kDRow[k]) * cols + c + kDCol[k])] : value(r + kDRow[k], c + kDCol[k]);
+        float zk = interior ? g.z[std::size_t((r + kDRow[k]) * cols + c + kDCol[k])]
+                            : value(r + kDRow[k], c + kDCol[k]);
         bool is_virtual = false;
         if (std::isnan(zk)) {
           boundary = is_virtual = true;

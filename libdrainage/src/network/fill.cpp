@@ -13,7 +13,8 @@ namespace drainage {
 namespace {
 
 // Samples on the grid edge or beside no-data, ascending; marks them and no-data closed.
-std::vector<std::uint32_t> flood_seeds(const terrain::Grid& g, terrain::BigVector<std::uint8_t>& closed) {
+std::vector<std::uint32_t> flood_seeds(const terrain::Grid& g,
+                                       terrain::BigVector<std::uint8_t>& closed) {
   const long rows = long(g.rows), cols = long(g.cols);
   const Neighbours around{rows, cols};
   std::vector<std::uint32_t> seeds;
@@ -75,7 +76,9 @@ BreachStats breach_depressions(terrain::Grid& g, double max_depth) {
         float prev = z[j];
         const double drop = e != kNone ? double(z[j]) - double(z[e]) : 0.0;
         for (std::size_t n = 0; n < cut.size(); ++n) {
-          const float even = e != kNone ? float(double(z[j]) - drop * double(n + 1) / double(cut.size() + 1)) : kUp;
+          const float even =
+              e != kNone ? float(double(z[j]) - drop * double(n + 1) / double(cut.size() + 1))
+                         : kUp;
           prev = cut[n].second = std::min(even, std::nextafter(prev, kDown));
         }
         // Float rounding can leave e no lower than the path's end: go on lowering.
@@ -84,7 +87,8 @@ BreachStats breach_depressions(terrain::Grid& g, double max_depth) {
           cut.emplace_back(e, prev);
         }
         bool within = true;
-        for (const auto& [p, v] : cut) within = within && double(original[p]) - double(v) <= max_depth;
+        for (const auto& [p, v] : cut)
+          within = within && double(original[p]) - double(v) <= max_depth;
         if (within) {
           for (const auto& pv : cut) z[pv.first] = pv.second;
         } else {
@@ -96,7 +100,8 @@ BreachStats breach_depressions(terrain::Grid& g, double max_depth) {
   }
   BreachStats st;
   for (std::size_t i = 0; i < z.size(); ++i) {
-    if (z[i] < original[i]) ++st.carved, st.max_carve = std::max(st.max_carve, double(original[i]) - double(z[i]));
+    if (z[i] < original[i])
+      ++st.carved, st.max_carve = std::max(st.max_carve, double(original[i]) - double(z[i]));
     if (z[i] > original[i]) ++st.raised;
   }
   return st;

@@ -16,7 +16,8 @@ namespace {
 // grid-sized arrays. Each step a member, in the order resolve_flats calls them.
 class FlatResolver {
  public:
-  FlatResolver(const terrain::Grid& g, D8Codes& dirs) : z_(g.z), dirs_(dirs), nb_{long(g.rows), long(g.cols)} {}
+  FlatResolver(const terrain::Grid& g, D8Codes& dirs)
+      : z_(g.z), dirs_(dirs), nb_{long(g.rows), long(g.cols)} {}
 
   // The no-flow cells; false when there are none.
   bool find_cells() {
@@ -46,7 +47,8 @@ class FlatResolver {
       if (is_high) high_.push_back(k);
     }
     for (std::uint32_t k = std::uint32_t(n_flat_); k < cells_.size(); ++k) low_.push_back(k);
-    std::sort(low_.begin(), low_.end(), [&](std::uint32_t a, std::uint32_t b) { return cells_[a] < cells_[b]; });
+    std::sort(low_.begin(), low_.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return cells_[a] < cells_[b]; });
   }
 
   // 3. Label flats by flood fill over equal elevation: first from the low edges

@@ -4,8 +4,8 @@
 #include <cstddef>
 #include <string>
 
-#include "network/branches.hpp"
 #include "drainage/d8.hpp"
+#include "network/branches.hpp"
 
 namespace drainage {
 
@@ -25,11 +25,16 @@ void parallel_assign(terrain::BigVector<T>& v, std::size_t n, V value) {
 
 const char* to_string(PointClass c) {
   switch (c) {
-    case PointClass::Ridge: return "ridge";
-    case PointClass::Channel: return "channel";
-    case PointClass::Junction: return "junction";
-    case PointClass::Pit: return "pit";
-    case PointClass::Nodata: return "nodata";
+    case PointClass::Ridge:
+      return "ridge";
+    case PointClass::Channel:
+      return "channel";
+    case PointClass::Junction:
+      return "junction";
+    case PointClass::Pit:
+      return "pit";
+    case PointClass::Nodata:
+      return "nodata";
   }
   return "?";
 }
@@ -51,7 +56,8 @@ void link_downstream(const D8Codes& dirs, long R, long C, Network& net) {
 
 // Inflow masks (bit k: the neighbour at (r - kDRow[k], c - kDCol[k]) drains in; gathered
 // per point, so no write conflicts), in-degrees still pending, classes and the pits.
-void classify_points(const D8Codes& dirs, long R, long C, Network& net, terrain::BigVector<std::uint8_t>& inflow,
+void classify_points(const D8Codes& dirs, long R, long C, Network& net,
+                     terrain::BigVector<std::uint8_t>& inflow,
                      terrain::BigVector<std::uint8_t>& pending) {
   const std::size_t n = std::size_t(R * C);
   const Neighbours nb{R, C};
@@ -94,7 +100,8 @@ void classify_points(const D8Codes& dirs, long R, long C, Network& net, terrain:
 // acquire-release count makes the other walks' results visible). Sums and maxima do not
 // depend on the order of arrival, so neither do the results.
 // `pending` ends holding the branch heads' marks.
-void flow_and_order(const D8Codes& dirs, long R, long C, Network& net, terrain::BigVector<std::uint8_t>& inflow,
+void flow_and_order(const D8Codes& dirs, long R, long C, Network& net,
+                    terrain::BigVector<std::uint8_t>& inflow,
                     terrain::BigVector<std::uint8_t>& pending) {
   const std::size_t n = std::size_t(R * C);
   std::ptrdiff_t offset[8];
@@ -114,8 +121,10 @@ void flow_and_order(const D8Codes& dirs, long R, long C, Network& net, terrain::
           const std::size_t j = std::size_t(std::ptrdiff_t(i) + offset[__builtin_ctz(mask)]);
           acc += net.accumulated[j];
           const std::uint8_t o = net.order[j];
-          if (o > top) top = o, count = 1;
-          else if (o == top) ++count;
+          if (o > top)
+            top = o, count = 1;
+          else if (o == top)
+            ++count;
         }
         net.accumulated[i] = acc;
         net.order[i] = top == 0 ? 1 : std::uint8_t(top + (count >= 2 ? 1 : 0));
@@ -127,7 +136,8 @@ void flow_and_order(const D8Codes& dirs, long R, long C, Network& net, terrain::
         const std::uint32_t d = net.downstream[i];
         if (d == kNone) break;
         // A point with one inflow is this walk's to compute; others wait for their last.
-        if ((inflow[d] & (inflow[d] - 1)) != 0 && __atomic_sub_fetch(&pending[d], std::uint8_t(1), __ATOMIC_ACQ_REL) != 0)
+        if ((inflow[d] & (inflow[d] - 1)) != 0 &&
+            __atomic_sub_fetch(&pending[d], std::uint8_t(1), __ATOMIC_ACQ_REL) != 0)
           break;
         i = d;
       }
@@ -146,7 +156,8 @@ void assign_basins(const D8Codes& dirs, long R, long C, Network& net) {
   const std::size_t n = std::size_t(R * C);
   parallel_assign(net.basin, n, kNone);
 #pragma omp parallel for schedule(static)
-  for (long k = 0; k < long(net.pits.size()); ++k) net.basin[net.pits[std::size_t(k)]] = std::uint32_t(k);
+  for (long k = 0; k < long(net.pits.size()); ++k)
+    net.basin[net.pits[std::size_t(k)]] = std::uint32_t(k);
 #pragma omp parallel
   {
     std::vector<std::uint32_t> path;
@@ -154,7 +165,8 @@ void assign_basins(const D8Codes& dirs, long R, long C, Network& net) {
     for (long r = 0; r < R; ++r)
       for (long c = 0; c < C; ++c) {
         const std::size_t i = std::size_t(r * C + c);
-        if (dirs[i] == kNodata || __atomic_load_n(&net.basin[i], __ATOMIC_RELAXED) != kNone) continue;
+        if (dirs[i] == kNodata || __atomic_load_n(&net.basin[i], __ATOMIC_RELAXED) != kNone)
+          continue;
         path.clear();
         std::uint32_t v = std::uint32_t(i), b;
         while ((b = __atomic_load_n(&net.basin[v], __ATOMIC_RELAXED)) == kNone) {
@@ -171,7 +183,8 @@ void assign_basins(const D8Codes& dirs, long R, long C, Network& net) {
 Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
                         const terrain::Progress& progress, NetworkDetail detail) {
   const std::size_t n = rows * cols;
-  if (dirs.size() != n) throw terrain::Error("analyze_network: direction grid does not match rows x cols");
+  if (dirs.size() != n)
+    throw terrain::Error("analyze_network: direction grid does not match rows x cols");
   if (n >= std::size_t(kNone)) throw terrain::Error("analyze_network: more than 2^32 - 1 points");
   Network net;
   const long R = long(rows), C = long(cols);
@@ -205,8 +218,8 @@ Network analyze_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
   terrain::BigVector<std::uint8_t>& head = pending;  // marked by the flow walk
   branches_from_heads(
       rows, cols, net.points, head, [&](std::size_t i) { return net.downstream[i]; },
-      [&](std::size_t i) { return net.order[i]; }, [&](const Branch& b) { net.branches.push_back(b); },
-      net.branch_vertices);
+      [&](std::size_t i) { return net.order[i]; },
+      [&](const Branch& b) { net.branches.push_back(b); }, net.branch_vertices);
   terrain::report(progress, 1.0);
   return net;
 }

@@ -36,7 +36,8 @@ DrainageResult compute_drainage(terrain::Grid surface, const DrainageOptions& op
   DrainageResult out;
   StepClock clock(out);
   out.dv_flags = kDvHasElevations;
-  if (options.fill && options.breach_depth) throw terrain::Error("fill and breach are alternatives: choose one");
+  if (options.fill && options.breach_depth)
+    throw terrain::Error("fill and breach are alternatives: choose one");
   if (options.fill) {
     out.filled = priority_flood_fill(surface);
     out.dv_flags |= kDvFilled;
@@ -57,16 +58,17 @@ DrainageResult compute_drainage(terrain::Grid surface, const DrainageOptions& op
     clock.lap("flats");
   }
   terrain::report(progress, 0.45);
-  out.net = analyze_network(out.dirs, surface.rows, surface.cols, terrain::sub_progress(progress, 0.45, 1.0),
-                            options.network);
+  out.net = analyze_network(out.dirs, surface.rows, surface.cols,
+                            terrain::sub_progress(progress, 0.45, 1.0), options.network);
   clock.lap("network");
   out.surface = std::move(surface);
   return out;
 }
 
-DrainageResult drainage_from_directions(terrain::Grid surface, D8Codes dirs, const terrain::Progress& progress,
-                                        NetworkDetail detail) {
-  if (dirs.size() != surface.size()) throw terrain::Error("the direction grid and the surface differ in size");
+DrainageResult drainage_from_directions(terrain::Grid surface, D8Codes dirs,
+                                        const terrain::Progress& progress, NetworkDetail detail) {
+  if (dirs.size() != surface.size())
+    throw terrain::Error("the direction grid and the surface differ in size");
   DrainageResult out;
   out.net = analyze_network(dirs, surface.rows, surface.cols, progress, detail);
   out.dirs = std::move(dirs);
@@ -74,11 +76,13 @@ DrainageResult drainage_from_directions(terrain::Grid surface, D8Codes dirs, con
   return out;
 }
 
-DrainageResult run_drainage(RasterInput in, const DrainageOptions& options, const terrain::Progress& progress) {
+DrainageResult run_drainage(RasterInput in, const DrainageOptions& options,
+                            const terrain::Progress& progress) {
   DrainageResult r;
   if (in.dirs) {
     if (options.fill) throw terrain::Error("--fill does not apply to given directions");
-    r = drainage_from_directions(std::move(in.surface), std::move(*in.dirs), progress, options.network);
+    r = drainage_from_directions(std::move(in.surface), std::move(*in.dirs), progress,
+                                 options.network);
   } else {
     r = compute_drainage(std::move(in.surface), options, progress);
   }

@@ -45,22 +45,23 @@ namespace {
 // One tile, with the halo that tells which of its cells are the grid's own seeds.
 struct TileFlood {
   std::size_t nr = 0, nc = 0;
-  std::vector<float> z;            // the tile's elevations, flooded from its perimeter
-  std::vector<float> original;     // as read
+  std::vector<float> z;              // the tile's elevations, flooded from its perimeter
+  std::vector<float> original;       // as read
   std::vector<std::uint32_t> label;  // kNone at no-data
-  terrain::Georef geo;             // the tile's
+  terrain::Georef geo;               // the tile's
 };
 
 // Floods tile t: seeds are the grid's seeds (label kOutside) and the tile's perimeter
 // cells (label first_label + ring position). `edge(a, b, w)` gets each touching pair of
 // labels with the elevation at which they meet.
 template <class Edge>
-TileFlood flood_tile(const TileGrid& tiles, std::size_t t, const WindowReader& read, std::uint32_t first_label,
-                     Edge&& edge) {
+TileFlood flood_tile(const TileGrid& tiles, std::size_t t, const WindowReader& read,
+                     std::uint32_t first_label, Edge&& edge) {
   const terrain::RasterWindow w = tiles.window(t);
   const terrain::RasterWindow h = tiles.halo(w);
   const terrain::Grid halo = read(h);
-  if (halo.rows != h.rows || halo.cols != h.cols) throw terrain::Error("tiled fill: the reader returned a wrong window");
+  if (halo.rows != h.rows || halo.cols != h.cols)
+    throw terrain::Error("tiled fill: the reader returned a wrong window");
   const std::size_t dr = w.row0 - h.row0, dc = w.col0 - h.col0;
 
   TileFlood f;
@@ -82,11 +83,13 @@ TileFlood flood_tile(const TileGrid& tiles, std::size_t t, const WindowReader& r
       const std::size_t gr = w.row0 + std::size_t(r), gc = w.col0 + std::size_t(c);
       bool seed = gr == 0 || gc == 0 || gr + 1 == tiles.rows || gc + 1 == tiles.cols;
       if (!seed)  // an interior cell beside no-data (its neighbours all lie in the halo)
-        around.each(r + long(dr), c + long(dc), [&](std::size_t j, int) { seed = seed || std::isnan(halo.z[j]); });
+        around.each(r + long(dr), c + long(dc),
+                    [&](std::size_t j, int) { seed = seed || std::isnan(halo.z[j]); });
       if (seed) {
         f.label[i] = kOutside;
       } else if (on_tile_edge(std::size_t(r), std::size_t(c), f.nr, f.nc)) {
-        f.label[i] = first_label + std::uint32_t(ring_position(std::size_t(r), std::size_t(c), f.nr, f.nc));
+        f.label[i] =
+            first_label + std::uint32_t(ring_position(std::size_t(r), std::size_t(c), f.nr, f.nc));
       } else {
         continue;
       }
@@ -129,7 +132,8 @@ class TileCache {
     std::vector<std::uint32_t> raised;  // cells the flood raised, with their elevation as read
     std::vector<float> before;
     for (std::size_t i = 0; i < f.z.size(); ++i)
-      if (f.z[i] != f.original[i] && !std::isnan(f.z[i])) raised.push_back(std::uint32_t(i)), before.push_back(f.original[i]);
+      if (f.z[i] != f.original[i] && !std::isnan(f.z[i]))
+        raised.push_back(std::uint32_t(i)), before.push_back(f.original[i]);
     e.raised = raised.size();
     write(f.z.data(), f.z.size() * sizeof(float));
     write(f.label.data(), f.label.size() * sizeof(std::uint32_t));
@@ -162,7 +166,8 @@ class TileCache {
   };
   void write(const void* p, std::size_t n) {
     file_.write(static_cast<const char*>(p), std::streamsize(n));
-    if (!file_) throw terrain::Error("cannot write the temporary file '" + path_ + "' (disk full?)");
+    if (!file_)
+      throw terrain::Error("cannot write the temporary file '" + path_ + "' (disk full?)");
     end_ += n;
   }
   void read(void* p, std::size_t n) {
@@ -207,7 +212,8 @@ class SpillEdges {
     std::sort(list_.begin(), list_.end(), [](const Entry& x, const Entry& y) {
       return x.key < y.key || (x.key == y.key && x.z < y.z);
     });
-    list_.erase(std::unique(list_.begin(), list_.end(), [](const Entry& x, const Entry& y) { return x.key == y.key; }),
+    list_.erase(std::unique(list_.begin(), list_.end(),
+                            [](const Entry& x, const Entry& y) { return x.key == y.key; }),
                 list_.end());
     merged_ = list_.size();
   }
@@ -257,7 +263,8 @@ Ring perimeter(const TileFlood& f) {
 // tiles into `cache`); rank 0 (or the only process) gets every tile's ring and every
 // rank's edges.
 std::vector<Ring> flood_pass(const TileGrid& tiles, const WindowReader& read, const TileComm& comm,
-                             const std::vector<std::uint32_t>& first, TileCache& cache, SpillEdges& edges) {
+                             const std::vector<std::uint32_t>& first, TileCache& cache,
+                             SpillEdges& edges) {
   const std::size_t nt = tiles.count();
   std::vector<Ring> rings(nt);
   Packer mine;  // this rank's tiles: their rings
@@ -270,7 +277,8 @@ std::vector<Ring> flood_pass(const TileGrid& tiles, const WindowReader& read, co
       [&](std::size_t t) {  // on the tile's thread: the edges into a map of its own
         TileEdges own;
         Flooded x;
-        x.f = flood_tile(tiles, t, read, first[t], [&](std::uint32_t a, std::uint32_t b, float z) { own.add(a, b, z); });
+        x.f = flood_tile(tiles, t, read, first[t],
+                         [&](std::uint32_t a, std::uint32_t b, float z) { own.add(a, b, z); });
         x.edges = own.entries();
         return x;
       },
@@ -278,7 +286,8 @@ std::vector<Ring> flood_pass(const TileGrid& tiles, const WindowReader& read, co
         for (const SpillEdges::Entry& e : x.edges) edges.add(e);
         cache.put(t, x.f);
         rings[t] = perimeter(x.f);
-        if (comm.size() > 1) mine.put(std::uint64_t(t)).put_vector(rings[t].label).put_vector(rings[t].z);
+        if (comm.size() > 1)
+          mine.put(std::uint64_t(t)).put_vector(rings[t].label).put_vector(rings[t].z);
       });
   if (comm.size() == 1) return rings;
   mine.put(~std::uint64_t(0)).put_vector(edges.entries());
@@ -327,7 +336,8 @@ std::vector<float> spill_elevations(std::uint64_t labels, SpillEdges& edges) {
   std::vector<std::size_t> start(labels + 1, 0);
   {
     const std::vector<SpillEdges::Entry>& list = edges.entries();
-    for (const SpillEdges::Entry& e : list) ++start[(e.key >> 32) + 1], ++start[std::uint32_t(e.key) + 1];
+    for (const SpillEdges::Entry& e : list)
+      ++start[(e.key >> 32) + 1], ++start[std::uint32_t(e.key) + 1];
     for (std::size_t a = 0; a < labels; ++a) start[a + 1] += start[a];
     adjacent.resize(start[labels]);
     std::vector<std::size_t> at(start.begin(), start.end() - 1);
@@ -364,8 +374,9 @@ std::vector<float> spill_elevations(std::uint64_t labels, SpillEdges& edges) {
 // Rank 0 solves the spill graph; each rank gets the spills of its tiles' labels, by ring
 // position.
 std::vector<std::vector<float>> scatter_spills(const TileGrid& tiles, const TileComm& comm,
-                                               const std::vector<std::uint32_t>& first, std::uint64_t labels,
-                                               std::vector<Ring>& rings, SpillEdges& edges) {
+                                               const std::vector<std::uint32_t>& first,
+                                               std::uint64_t labels, std::vector<Ring>& rings,
+                                               SpillEdges& edges) {
   const std::size_t nt = tiles.count();
   std::vector<std::string> per_rank;
   if (comm.root()) {
@@ -376,8 +387,9 @@ std::vector<std::vector<float>> scatter_spills(const TileGrid& tiles, const Tile
     for (std::size_t t = 0; t < nt; ++t) {
       const terrain::RasterWindow w = tiles.window(t);
       const auto s0 = spill.begin() + std::ptrdiff_t(first[t]);
-      packs[t % std::size_t(comm.size())].put(std::uint64_t(t)).put_vector(
-          std::vector<float>(s0, s0 + std::ptrdiff_t(ring_size(w.rows, w.cols))));
+      packs[t % std::size_t(comm.size())]
+          .put(std::uint64_t(t))
+          .put_vector(std::vector<float>(s0, s0 + std::ptrdiff_t(ring_size(w.rows, w.cols))));
     }
     for (Packer& pk : packs) per_rank.push_back(pk.take());
   }
@@ -386,7 +398,8 @@ std::vector<std::vector<float>> scatter_spills(const TileGrid& tiles, const Tile
   Unpacker in(bytes);
   while (!in.done()) {
     const auto t = in.get<std::uint64_t>();
-    if (t >= nt || !comm.owns(t)) throw terrain::Error("tiled fill: rank 0 sent a tile out of range");
+    if (t >= nt || !comm.owns(t))
+      throw terrain::Error("tiled fill: rank 0 sent a tile out of range");
     tile_spill[t] = in.get_vector<float>();
   }
   return tile_spill;
@@ -394,8 +407,10 @@ std::vector<std::vector<float>> scatter_spills(const TileGrid& tiles, const Tile
 
 // Pass 2 for one tile: flooded again (or from the cache) and raised to its labels' spill
 // elevations; the tile's elevations and how many cells were raised.
-std::pair<terrain::Grid, std::size_t> raise_tile(const TileGrid& tiles, std::size_t t, const WindowReader& read,
-                                                 std::uint32_t first_label, const std::vector<float>& spill,
+std::pair<terrain::Grid, std::size_t> raise_tile(const TileGrid& tiles, std::size_t t,
+                                                 const WindowReader& read,
+                                                 std::uint32_t first_label,
+                                                 const std::vector<float>& spill,
                                                  TileCache& cache) {
   TileFlood f;
   if (cache) {
@@ -408,7 +423,8 @@ std::pair<terrain::Grid, std::size_t> raise_tile(const TileGrid& tiles, std::siz
   std::pair<terrain::Grid, std::size_t> out{terrain::Grid(w.rows, w.cols, f.geo, NAN), 0};
   for (std::size_t i = 0; i < f.z.size(); ++i) {
     if (f.label[i] == kNone) continue;
-    const float s = f.label[i] == kOutside ? -std::numeric_limits<float>::infinity() : spill.at(f.label[i] - first_label);
+    const float s = f.label[i] == kOutside ? -std::numeric_limits<float>::infinity()
+                                           : spill.at(f.label[i] - first_label);
     const float z = std::isfinite(s) ? std::max(f.z[i], s) : f.z[i];
     out.second += z > f.original[i];
     out.first.z[i] = z;
@@ -421,7 +437,8 @@ std::pair<terrain::Grid, std::size_t> raise_tile(const TileGrid& tiles, std::siz
 std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader& read,
                                       const std::function<void(std::size_t, terrain::Grid&)>& done,
                                       const TileComm& comm, const std::string& cache_path) {
-  if (tiles.side == 0 || tiles.rows == 0 || tiles.cols == 0) throw terrain::Error("tiled fill: empty grid or tile size 0");
+  if (tiles.side == 0 || tiles.rows == 0 || tiles.cols == 0)
+    throw terrain::Error("tiled fill: empty grid or tile size 0");
   const std::size_t nt = tiles.count();
   // Labels: 0 = outside, then each tile's ring positions.
   std::vector<std::uint32_t> first(nt);
@@ -430,16 +447,19 @@ std::size_t tiled_priority_flood_fill(const TileGrid& tiles, const WindowReader&
     const terrain::RasterWindow w = tiles.window(t);
     first[t] = std::uint32_t(labels);
     labels += ring_size(w.rows, w.cols);
-    if (labels >= kNone) throw terrain::Error("tiled fill: too many tiles (use a larger tile size)");
+    if (labels >= kNone)
+      throw terrain::Error("tiled fill: too many tiles (use a larger tile size)");
   }
   SpillEdges edges;
   TileCache cache(cache_path);
   std::vector<Ring> rings = flood_pass(tiles, read, comm, first, cache, edges);
-  const std::vector<std::vector<float>> tile_spill = scatter_spills(tiles, comm, first, labels, rings, edges);
+  const std::vector<std::vector<float>> tile_spill =
+      scatter_spills(tiles, comm, first, labels, rings, edges);
   std::size_t raised = 0;
   using Filled = std::pair<terrain::Grid, std::size_t>;  // a tile's elevations, how many raised
   for_each_tile(
-      comm, nt, [&](std::size_t t) { return raise_tile(tiles, t, read, first[t], tile_spill[t], cache); },
+      comm, nt,
+      [&](std::size_t t) { return raise_tile(tiles, t, read, first[t], tile_spill[t], cache); },
       [&](std::size_t t, Filled&& out) {
         raised += out.second;
         done(t, out.first);

@@ -20,11 +20,13 @@ namespace drainage::tiled {
 inline std::uint64_t sum_over_ranks(const TileComm& comm, std::uint64_t n) {
   if (comm.size() == 1) return n;
   std::uint64_t sum = 0;
-  for (const std::string& bytes : comm.all_gather(Packer().put(n).take())) sum += Unpacker(bytes).get<std::uint64_t>();
+  for (const std::string& bytes : comm.all_gather(Packer().put(n).take()))
+    sum += Unpacker(bytes).get<std::uint64_t>();
   return sum;
 }
 
-constexpr std::uint32_t kOutside = 0;  // the label of cells that drain off the grid (Barnes' "ocean")
+constexpr std::uint32_t kOutside =
+    0;  // the label of cells that drain off the grid (Barnes' "ocean")
 
 // Position of tile cell (r, c) on the tile's perimeter ring (r or c on the tile's edge).
 inline std::size_t ring_position(std::size_t r, std::size_t c, std::size_t nr, std::size_t nc) {
@@ -40,9 +42,10 @@ inline std::size_t ring_size(std::size_t nr, std::size_t nc) { return 2 * nc + 2
 // the thread that completes the run of tiles ready in order. A thread starts a tile only
 // while fewer than two results per thread wait to be taken (tiles differ in size: a
 // thread that finished a small tile goes on while a large one is worked on). Memory: a
-// tile worked on per thread, and up to two results per thread. The first exception is rethrown after the loop (the remaining tiles are
-// skipped). `work` must only read shared state (or lock); `take` may write it.
-// Deterministic: `take` sees the tiles in order whatever the number of threads.
+// tile worked on per thread, and up to two results per thread. The first exception is rethrown
+// after the loop (the remaining tiles are skipped). `work` must only read shared state (or lock);
+// `take` may write it. Deterministic: `take` sees the tiles in order whatever the number of
+// threads.
 template <class Work, class Take>
 void for_each_tile(const TileComm& comm, std::size_t nt, Work&& work, Take&& take) {
   std::vector<std::size_t> mine;

@@ -24,10 +24,14 @@ constexpr int kMaxOrder = 63;  // a Strahler order needs 2^(order-1) points: 33 
 using OrderTable = std::array<std::uint8_t, kMaxOrder + 1>;  // f(o), o = 1..kMaxOrder
 
 // Strahler order from the largest order m of the inflows and how many (k) carry it.
-inline std::uint8_t strahler(std::uint8_t m, int k) { return k == 0 ? 1 : std::uint8_t(m + (k >= 2 ? 1 : 0)); }
+inline std::uint8_t strahler(std::uint8_t m, int k) {
+  return k == 0 ? 1 : std::uint8_t(m + (k >= 2 ? 1 : 0));
+}
 inline void add_inflow(std::uint8_t& m, std::uint8_t& k, std::uint8_t o) {
-  if (o > m) m = o, k = 1;
-  else if (o == m) ++k;
+  if (o > m)
+    m = o, k = 1;
+  else if (o == m)
+    ++k;
 }
 // The order of a point with local inflows (m, k) and one more inflow of order o.
 inline std::uint8_t with_inflow(std::uint8_t m, std::uint8_t k, std::uint8_t o) {
@@ -47,17 +51,20 @@ struct LocalNetwork {
   std::size_t nr = 0, nc = 0;
   D8Codes dirs;
   terrain::BigVector<std::uint8_t> cut, leaves, entry, influenced, node, m, k, order, pit;
-  terrain::BigVector<std::uint32_t> down, acc;  // acc: 1 + inflows not influenced (final where not influenced)
-  std::vector<std::uint32_t> topo;              // upstream before downstream
-  std::vector<std::uint64_t> target;            // of each leaving cell, in cell order: global index downstream
-  std::array<std::uint64_t, 4> classes{};       // NetworkTotals::classes of the tile (pass 2 only)
+  terrain::BigVector<std::uint32_t> down,
+      acc;                          // acc: 1 + inflows not influenced (final where not influenced)
+  std::vector<std::uint32_t> topo;  // upstream before downstream
+  std::vector<std::uint64_t>
+      target;  // of each leaving cell, in cell order: global index downstream
+  std::array<std::uint64_t, 4> classes{};  // NetworkTotals::classes of the tile (pass 2 only)
 };
 
 // Kahn within the tile, chain by chain as analyze_network walks; a cell is complete when
 // its walk reaches it (every inflow delivered): then whether it is influenced (downstream
 // of an entry), its local accumulation and order, passed on downstream. `indeg` is spent;
 // `inflows_influenced` gets each cell's influenced inflows.
-void walk_tile(LocalNetwork& L, std::vector<std::uint8_t>& indeg, std::vector<std::uint8_t>& inflows_influenced) {
+void walk_tile(LocalNetwork& L, std::vector<std::uint8_t>& indeg,
+               std::vector<std::uint8_t>& inflows_influenced) {
   const std::size_t n = L.dirs.size();
   L.topo.reserve(n);
   for (std::size_t src = 0; src < n; ++src) {
@@ -83,19 +90,23 @@ void walk_tile(LocalNetwork& L, std::vector<std::uint8_t>& indeg, std::vector<st
   }
 }
 
-LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReader& read, bool count_classes = false) {
+LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReader& read,
+                           bool count_classes = false) {
   LocalNetwork L;
   L.w = tiles.window(t);
   const terrain::RasterWindow& w = L.w;
   const terrain::RasterWindow h = tiles.halo(w);
   const D8Codes halo = read(h);
-  if (halo.size() != h.rows * h.cols) throw terrain::Error("tiled network: the reader returned a wrong window");
-  const long dr = long(w.row0 - h.row0), dc = long(w.col0 - h.col0), HC = long(h.cols), HR = long(h.rows);
+  if (halo.size() != h.rows * h.cols)
+    throw terrain::Error("tiled network: the reader returned a wrong window");
+  const long dr = long(w.row0 - h.row0), dc = long(w.col0 - h.col0), HC = long(h.cols),
+             HR = long(h.rows);
   L.nr = w.rows, L.nc = w.cols;
   const long nr = long(L.nr), nc = long(L.nc);
   const std::size_t n = L.nr * L.nc;
   L.dirs.resize(n);
-  L.cut.assign(n, 0), L.leaves.assign(n, 0), L.entry.assign(n, 0), L.influenced.assign(n, 0), L.node.assign(n, 0);
+  L.cut.assign(n, 0), L.leaves.assign(n, 0), L.entry.assign(n, 0), L.influenced.assign(n, 0),
+      L.node.assign(n, 0);
   L.m.assign(n, 0), L.k.assign(n, 0), L.order.assign(n, 0), L.pit.assign(n, 0);
   L.down.assign(n, kNone), L.acc.assign(n, 0);
   std::vector<std::uint8_t> indeg(n, 0);
@@ -114,7 +125,8 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
       if (edge)
         around.inflows(r + dr, c + dc, [&](std::size_t j, int q) {
           const long rr = long(j) / HC - dr, cc = long(j) % HC - dc;  // in the tile's coordinates
-          if ((rr < 0 || cc < 0 || rr >= nr || cc >= nc) && halo[j] == std::uint8_t(q)) L.entry[i] = 1;
+          if ((rr < 0 || cc < 0 || rr >= nr || cc >= nc) && halo[j] == std::uint8_t(q))
+            L.entry[i] = 1;
         });
       if (d >= 8) {
         L.pit[i] = 1;
@@ -122,7 +134,8 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
       }
       const auto [rr, cc] = step(r, c, d);  // in the tile's coordinates
       const long gr = long(w.row0) + rr, gc = long(w.col0) + cc;
-      if (gr < 0 || gc < 0 || gr >= long(tiles.rows) || gc >= long(tiles.cols) || code_at(rr + dr, cc + dc) == kNodata) {
+      if (gr < 0 || gc < 0 || gr >= long(tiles.rows) || gc >= long(tiles.cols) ||
+          code_at(rr + dr, cc + dc) == kNodata) {
         L.cut[i] = L.pit[i] = 1;
         continue;
       }
@@ -154,32 +167,34 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
     }
   std::vector<std::uint8_t> inflows_influenced(n, 0);
   walk_tile(L, indeg, inflows_influenced);
-  if (L.topo.size() != std::size_t(std::count_if(L.dirs.begin(), L.dirs.end(), [](std::uint8_t d) { return d != kNodata; })))
+  if (L.topo.size() != std::size_t(std::count_if(L.dirs.begin(), L.dirs.end(),
+                                                 [](std::uint8_t d) { return d != kNodata; })))
     throw terrain::Error("the D8 directions contain a cycle (in tile " + std::to_string(t) + ")");
   for (std::size_t i = 0; i < n; ++i)
     L.node[i] = L.dirs[i] != kNodata &&
-                (L.leaves[i] || (L.influenced[i] && (L.entry[i] || L.pit[i] || inflows_influenced[i] >= 2)));
+                (L.leaves[i] ||
+                 (L.influenced[i] && (L.entry[i] || L.pit[i] || inflows_influenced[i] >= 2)));
   return L;
 }
 
 struct Node {
-  std::uint64_t cell = 0;        // global index
-  std::uint32_t acc_local = 0;   // 1 + inflows from outside the graph
-  std::uint8_t m = 0, k = 0;     // their largest order and its count
+  std::uint64_t cell = 0;       // global index
+  std::uint32_t acc_local = 0;  // 1 + inflows from outside the graph
+  std::uint8_t m = 0, k = 0;    // their largest order and its count
   bool pit = false;
-  std::uint32_t next = kNone;    // the node it drains into
-  std::uint32_t add = 0;         // accumulation added on the way to next
-  OrderTable table{};            // order arriving at next, by this node's order
-  std::uint64_t pit_id = 0;      // pit nodes: the basin id (after pass 1)
+  std::uint32_t next = kNone;  // the node it drains into
+  std::uint32_t add = 0;       // accumulation added on the way to next
+  OrderTable table{};          // order arriving at next, by this node's order
+  std::uint64_t pit_id = 0;    // pit nodes: the basin id (after pass 1)
 };
 
 // Pass 1 of tiled_network for one tile: its graph nodes (`next` counted from the tile's
 // first node), its pits per row and its leaving nodes with the cell each flows into.
 struct TileNodes {
   std::vector<Node> nodes;
-  std::vector<std::uint32_t> pits_in_row;  // by row of the tile
-  std::vector<std::uint32_t> leave_node;   // tile node index
-  std::vector<std::uint64_t> leave_target; // global cell
+  std::vector<std::uint32_t> pits_in_row;   // by row of the tile
+  std::vector<std::uint32_t> leave_node;    // tile node index
+  std::vector<std::uint64_t> leave_target;  // global cell
 };
 
 TileNodes tile_nodes(const TileGrid& tiles, std::size_t t, const CodeReader& read) {
@@ -217,7 +232,8 @@ TileNodes tile_nodes(const TileGrid& tiles, std::size_t t, const CodeReader& rea
     std::uint64_t add = 0;
     while (!L.node[c]) {
       add += L.acc[c];
-      for (int o = 1; o <= kMaxOrder; ++o) v.table[std::size_t(o)] = with_inflow(L.m[c], L.k[c], v.table[std::size_t(o)]);
+      for (int o = 1; o <= kMaxOrder; ++o)
+        v.table[std::size_t(o)] = with_inflow(L.m[c], L.k[c], v.table[std::size_t(o)]);
       c = L.down[c];
     }
     v.add = std::uint32_t(add);
@@ -228,7 +244,8 @@ TileNodes tile_nodes(const TileGrid& tiles, std::size_t t, const CodeReader& rea
 
 // Pass 1 on every rank: each tile's graph nodes and edges, by the ranks that own them;
 // rank 0 (or the only process) gets them all, in tile order.
-std::vector<TileNodes> gather_tile_nodes(const TileGrid& tiles, const CodeReader& read, const TileComm& comm) {
+std::vector<TileNodes> gather_tile_nodes(const TileGrid& tiles, const CodeReader& read,
+                                         const TileComm& comm) {
   const std::size_t nt = tiles.count();
   std::vector<TileNodes> per_tile(nt);
   Packer mine;
@@ -236,7 +253,11 @@ std::vector<TileNodes> gather_tile_nodes(const TileGrid& tiles, const CodeReader
       comm, nt, [&](std::size_t t) { return tile_nodes(tiles, t, read); },
       [&](std::size_t t, TileNodes&& T) {
         if (comm.size() > 1)
-          mine.put(std::uint64_t(t)).put_vector(T.nodes).put_vector(T.pits_in_row).put_vector(T.leave_node).put_vector(T.leave_target);
+          mine.put(std::uint64_t(t))
+              .put_vector(T.nodes)
+              .put_vector(T.pits_in_row)
+              .put_vector(T.leave_node)
+              .put_vector(T.leave_target);
         per_tile[t] = std::move(T);
       });
   if (comm.size() == 1) return per_tile;
@@ -251,7 +272,8 @@ std::vector<TileNodes> gather_tile_nodes(const TileGrid& tiles, const CodeReader
       T.pits_in_row = in.get_vector<std::uint32_t>();
       T.leave_node = in.get_vector<std::uint32_t>();
       T.leave_target = in.get_vector<std::uint64_t>();
-      if (T.pits_in_row.size() != tiles.window(t).rows) throw terrain::Error("tiled network: a rank sent a wrong tile");
+      if (T.pits_in_row.size() != tiles.window(t).rows)
+        throw terrain::Error("tiled network: a rank sent a wrong tile");
     }
   }
   return per_tile;
@@ -269,22 +291,26 @@ JoinedGraph join_graph(const TileGrid& tiles, std::vector<TileNodes>& per_tile) 
   JoinedGraph g;
   std::vector<Node>& nodes = g.nodes;
   g.first_node.assign(nt + 1, 0);
-  std::vector<std::uint32_t> pits_in_row(tiles.rows * ntc, 0);  // pits of global row r in tile column tc
-  std::vector<std::uint64_t> leave_target_cells;                // node -> target cell, for leaving nodes
+  std::vector<std::uint32_t> pits_in_row(tiles.rows * ntc,
+                                         0);      // pits of global row r in tile column tc
+  std::vector<std::uint64_t> leave_target_cells;  // node -> target cell, for leaving nodes
   std::vector<std::uint32_t> leave_node;
   for (std::size_t t = 0; t < nt; ++t) {
     TileNodes& T = per_tile[t];
     const std::uint32_t base = std::uint32_t(nodes.size());
-    if (nodes.size() + T.nodes.size() >= kNone) throw terrain::Error("tiled network: too many graph nodes");
+    if (nodes.size() + T.nodes.size() >= kNone)
+      throw terrain::Error("tiled network: too many graph nodes");
     g.first_node[t] = base;
     for (Node& v : T.nodes) {
       if (v.next != kNone) v.next += base;
       nodes.push_back(v);
     }
     const terrain::RasterWindow w = tiles.window(t);
-    for (std::size_t r = 0; r < w.rows; ++r) pits_in_row[(w.row0 + r) * ntc + t % ntc] = T.pits_in_row[r];
+    for (std::size_t r = 0; r < w.rows; ++r)
+      pits_in_row[(w.row0 + r) * ntc + t % ntc] = T.pits_in_row[r];
     for (const std::uint32_t v : T.leave_node) leave_node.push_back(base + v);
-    leave_target_cells.insert(leave_target_cells.end(), T.leave_target.begin(), T.leave_target.end());
+    leave_target_cells.insert(leave_target_cells.end(), T.leave_target.begin(),
+                              T.leave_target.end());
     T = TileNodes();  // freed as it goes
   }
   g.first_node[nt] = std::uint32_t(nodes.size());
@@ -294,16 +320,19 @@ JoinedGraph join_graph(const TileGrid& tiles, std::vector<TileNodes>& per_tile) 
     for (std::uint32_t v = 0; v < nodes.size(); ++v) of_cell.emplace(nodes[v].cell, v);
     for (std::size_t q = 0; q < leave_node.size(); ++q) {
       const auto it = of_cell.find(leave_target_cells[q]);
-      if (it == of_cell.end()) throw terrain::Error("tiled network: a flow leaves a tile into a cell that is not entered");
+      if (it == of_cell.end())
+        throw terrain::Error("tiled network: a flow leaves a tile into a cell that is not entered");
       nodes[leave_node[q]].next = it->second;
     }
   }
   // Basin ids: pits numbered by ascending global index = row by row, tile column by tile column.
   g.pit_base.assign(tiles.rows * ntc + 1, 0);
-  for (std::size_t q = 0; q < tiles.rows * ntc; ++q) g.pit_base[q + 1] = g.pit_base[q] + pits_in_row[q];
+  for (std::size_t q = 0; q < tiles.rows * ntc; ++q)
+    g.pit_base[q + 1] = g.pit_base[q] + pits_in_row[q];
   if (g.pit_base.back() >= kNone) throw terrain::Error("tiled network: too many basins");
   for (Node& v : nodes)
-    if (v.pit) v.pit_id += g.pit_base[(v.cell / tiles.cols) * ntc + (v.cell % tiles.cols) / tiles.side];
+    if (v.pit)
+      v.pit_id += g.pit_base[(v.cell / tiles.cols) * ntc + (v.cell % tiles.cols) / tiles.side];
   return g;
 }
 
@@ -323,7 +352,8 @@ GraphSolution solve_graph(const std::vector<Node>& nodes) {
   s.A.resize(nn), s.O.resize(nn);
   for (const Node& v : nodes)
     if (v.next != kNone) ++indeg[v.next];
-  for (std::uint32_t v = 0; v < nn; ++v) s.A[v] = nodes[v].acc_local, M[v] = nodes[v].m, K[v] = nodes[v].k;
+  for (std::uint32_t v = 0; v < nn; ++v)
+    s.A[v] = nodes[v].acc_local, M[v] = nodes[v].m, K[v] = nodes[v].k;
   topo.reserve(nn);
   for (std::uint32_t src = 0; src < nn; ++src) {
     if (indeg[src] != 0) continue;
@@ -353,13 +383,14 @@ struct TileSolution {
   std::vector<std::uint8_t> O;
 };
 struct RankSolution {
-  std::vector<TileSolution> tiles;     // by tile; filled for this rank's tiles
+  std::vector<TileSolution> tiles;      // by tile; filled for this rank's tiles
   std::vector<std::uint64_t> pit_base;  // as JoinedGraph's
 };
 
 // Rank 0 joins and solves the graph and sends each rank its tiles' nodes' accumulation,
 // order and basin, and the basins' numbering.
-RankSolution solve_and_scatter(const TileGrid& tiles, std::vector<TileNodes>& per_tile, const TileComm& comm) {
+RankSolution solve_and_scatter(const TileGrid& tiles, std::vector<TileNodes>& per_tile,
+                               const TileComm& comm) {
   const std::size_t nt = tiles.count();
   std::vector<std::string> per_rank;
   if (comm.root()) {
@@ -370,7 +401,8 @@ RankSolution solve_and_scatter(const TileGrid& tiles, std::vector<TileNodes>& pe
     for (std::size_t t = 0; t < nt; ++t) {
       const auto b0 = std::ptrdiff_t(g.first_node[t]), b1 = std::ptrdiff_t(g.first_node[t + 1]);
       std::vector<std::uint32_t> reach32(std::size_t(b1 - b0));
-      for (std::size_t v = 0; v < reach32.size(); ++v) reach32[v] = std::uint32_t(s.reach[std::size_t(b0) + v]);
+      for (std::size_t v = 0; v < reach32.size(); ++v)
+        reach32[v] = std::uint32_t(s.reach[std::size_t(b0) + v]);
       packs[t % std::size_t(comm.size())]
           .put(std::uint64_t(t))
           .put_vector(std::vector<std::uint32_t>(s.A.begin() + b0, s.A.begin() + b1))
@@ -388,7 +420,8 @@ RankSolution solve_and_scatter(const TileGrid& tiles, std::vector<TileNodes>& pe
     throw terrain::Error("tiled network: rank 0 sent a wrong message");
   while (!in.done()) {
     const auto t = in.get<std::uint64_t>();
-    if (t >= nt || !comm.owns(t)) throw terrain::Error("tiled network: rank 0 sent a tile out of range");
+    if (t >= nt || !comm.owns(t))
+      throw terrain::Error("tiled network: rank 0 sent a tile out of range");
     TileSolution& x = mine.tiles[t];
     x.A = in.get_vector<std::uint32_t>();
     x.O = in.get_vector<std::uint8_t>();
@@ -414,7 +447,8 @@ struct DoneTile {  // one tile, complete, and what it adds to the totals
 
 // Accumulation and order of a tile's cells: nodes from the solution, cells no entry
 // influences from the tile alone, path cells from the node above them.
-void tile_flow(const LocalNetwork& L, const TileSolution& sol, const std::vector<std::uint32_t>& id, DoneTile& d) {
+void tile_flow(const LocalNetwork& L, const TileSolution& sol, const std::vector<std::uint32_t>& id,
+               DoneTile& d) {
   NetworkTile& out = d.out;
   for (std::size_t i = 0; i < id.size(); ++i) {
     if (L.dirs[i] == kNodata) continue;
@@ -438,8 +472,8 @@ void tile_flow(const LocalNetwork& L, const TileSolution& sol, const std::vector
 
 // A tile's basins, downstream first: its pits numbered from pit_base, leaving cells from
 // the solution.
-void tile_basins(const LocalNetwork& L, const TileGrid& tiles, std::size_t t, const RankSolution& sol,
-                 const std::vector<std::uint32_t>& id, DoneTile& d) {
+void tile_basins(const LocalNetwork& L, const TileGrid& tiles, std::size_t t,
+                 const RankSolution& sol, const std::vector<std::uint32_t>& id, DoneTile& d) {
   NetworkTile& out = d.out;
   const std::size_t tc = t % tiles.tile_cols();
   std::vector<std::uint32_t> rank_in_row(L.nr, 0);
@@ -448,7 +482,8 @@ void tile_basins(const LocalNetwork& L, const TileGrid& tiles, std::size_t t, co
       const std::size_t r = i / L.nc, gr = L.w.row0 + r;
       const std::uint64_t b = sol.pit_base[gr * tiles.tile_cols() + tc] + rank_in_row[r]++;
       out.basin[i] = std::uint32_t(b);
-      d.pits.push_back({std::uint32_t(b), std::uint32_t(gr * tiles.cols + L.w.col0 + i % L.nc), out.accumulated[i]});
+      d.pits.push_back({std::uint32_t(b), std::uint32_t(gr * tiles.cols + L.w.col0 + i % L.nc),
+                        out.accumulated[i]});
     }
   for (auto it = L.topo.rbegin(); it != L.topo.rend(); ++it) {
     const std::uint32_t i = *it;
@@ -475,14 +510,16 @@ void tile_heads(const LocalNetwork& L, DoneTile& d) {
       if (L.dirs[i] == kNodata) continue;
       const int same = same_order[i];
       if (on_tile_edge(r, c, L.nr, L.nc))
-        d.ring[ring_position(r, c, L.nr, L.nc)] = RingCell{out.order[i], std::uint8_t(same), 1, target};
+        d.ring[ring_position(r, c, L.nr, L.nc)] =
+            RingCell{out.order[i], std::uint8_t(same), 1, target};
       else
         d.branches += same != 1;
     }
 }
 
 // Pass 2 for one tile: every cell's accumulation, order and basin, and the heads inside it.
-DoneTile complete_tile(const TileGrid& tiles, std::size_t t, const CodeReader& read, const RankSolution& sol,
+DoneTile complete_tile(const TileGrid& tiles, std::size_t t, const CodeReader& read,
+                       const RankSolution& sol,
                        const std::function<void(std::size_t, NetworkTile&)>& prepare) {
   DoneTile d;
   LocalNetwork L = local_network(tiles, t, read, true);
@@ -511,11 +548,15 @@ DoneTile complete_tile(const TileGrid& tiles, std::size_t t, const CodeReader& r
 
 // Rank 0 gets every rank's counts, basins and rings and finishes the totals (the heads of
 // ring cells, whose inflows cross tile edges); every rank gets the counts.
-NetworkTotals finish_totals(const TileGrid& tiles, const TileComm& comm, std::uint64_t n_pits, NetworkTotals mine,
-                            std::vector<PitEntry>& my_pits, std::vector<std::vector<RingCell>>& rings) {
+NetworkTotals finish_totals(const TileGrid& tiles, const TileComm& comm, std::uint64_t n_pits,
+                            NetworkTotals mine, std::vector<PitEntry>& my_pits,
+                            std::vector<std::vector<RingCell>>& rings) {
   const std::size_t nt = tiles.count(), ntc = tiles.tile_cols();
   Packer pack;
-  pack.put(std::uint64_t(mine.points)).put(std::uint64_t(mine.branches)).put(mine.classes).put_vector(my_pits);
+  pack.put(std::uint64_t(mine.points))
+      .put(std::uint64_t(mine.branches))
+      .put(mine.classes)
+      .put_vector(my_pits);
   for (std::size_t t = 0; t < nt; ++t)
     if (comm.owns(t)) pack.put(std::uint64_t(t)).put_vector(rings[t]);
   std::vector<PitEntry>().swap(my_pits);
@@ -533,7 +574,8 @@ NetworkTotals finish_totals(const TileGrid& tiles, const TileComm& comm, std::ui
     const auto classes = in.get<std::array<std::uint64_t, 4>>();
     for (std::size_t k = 0; k < 4; ++k) totals.classes[k] += classes[k];
     for (const PitEntry& e : in.get_vector<PitEntry>()) {
-      if (e.basin >= n_pits) throw terrain::Error("tiled network: a rank sent a basin out of range");
+      if (e.basin >= n_pits)
+        throw terrain::Error("tiled network: a rank sent a basin out of range");
       totals.pits[e.basin] = e.pit, totals.pit_accumulated[e.basin] = e.accumulated;
     }
     while (!in.done()) {
@@ -576,10 +618,13 @@ NetworkTotals finish_totals(const TileGrid& tiles, const TileComm& comm, std::ui
 }  // namespace
 
 NetworkTotals tiled_network(const TileGrid& tiles, const CodeReader& read,
-                            const std::function<void(std::size_t, const NetworkTile&)>& done, const TileComm& comm,
+                            const std::function<void(std::size_t, const NetworkTile&)>& done,
+                            const TileComm& comm,
                             const std::function<void(std::size_t, NetworkTile&)>& prepare) {
-  if (tiles.side == 0 || tiles.rows == 0 || tiles.cols == 0) throw terrain::Error("tiled network: empty grid or tile size 0");
-  if (tiles.rows * tiles.cols >= kNone) throw terrain::Error("tiled network: more than 2^32 - 1 points");
+  if (tiles.side == 0 || tiles.rows == 0 || tiles.cols == 0)
+    throw terrain::Error("tiled network: empty grid or tile size 0");
+  if (tiles.rows * tiles.cols >= kNone)
+    throw terrain::Error("tiled network: more than 2^32 - 1 points");
   const std::size_t nt = tiles.count();
   std::vector<TileNodes> per_tile = gather_tile_nodes(tiles, read, comm);
   const RankSolution solution = solve_and_scatter(tiles, per_tile, comm);

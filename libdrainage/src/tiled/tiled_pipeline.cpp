@@ -43,7 +43,8 @@ class ScratchArray {
         fail("cannot create the temporary raster");
     }
     comm.barrier();
-    if (!root_ && (fd_ = ::open(path_.c_str(), O_RDWR | O_CLOEXEC)) < 0) fail("cannot open the temporary raster");
+    if (!root_ && (fd_ = ::open(path_.c_str(), O_RDWR | O_CLOEXEC)) < 0)
+      fail("cannot open the temporary raster");
   }
   ~ScratchArray() {
     if (fd_ >= 0) ::close(fd_);
@@ -53,7 +54,8 @@ class ScratchArray {
   ScratchArray& operator=(const ScratchArray&) = delete;
 
   void write(const terrain::RasterWindow& w, const T* values) {
-    for (std::size_t r = 0; r < w.rows; ++r) write_run(std::uint64_t(w.row0 + r) * cols_ + w.col0, values + r * w.cols, w.cols);
+    for (std::size_t r = 0; r < w.rows; ++r)
+      write_run(std::uint64_t(w.row0 + r) * cols_ + w.col0, values + r * w.cols, w.cols);
   }
   void write_run(std::uint64_t cell, const T* values, std::size_t n) {
     if (::pwrite(fd_, values, n * sizeof(T), off_t(cell * sizeof(T))) != ssize_t(n * sizeof(T)))
@@ -62,7 +64,8 @@ class ScratchArray {
   void read(const terrain::RasterWindow& w, T* values) const {
     for (std::size_t r = 0; r < w.rows; ++r) {
       const std::size_t n = w.cols * sizeof(T);
-      if (::pread(fd_, values + r * w.cols, n, off_t((std::uint64_t(w.row0 + r) * cols_ + w.col0) * sizeof(T))) != ssize_t(n))
+      if (::pread(fd_, values + r * w.cols, n,
+                  off_t((std::uint64_t(w.row0 + r) * cols_ + w.col0) * sizeof(T))) != ssize_t(n))
         fail("cannot read the temporary raster");
     }
   }
@@ -81,8 +84,8 @@ using SurfaceReader = std::function<terrain::Grid(const terrain::RasterWindow&)>
 
 // D8 codes of window w, from the surface of w with one more sample around it (read once;
 // `z`, when given, receives the surface of w itself).
-D8Codes window_codes(const SurfaceReader& surface, const terrain::RasterWindow& w, const TileGrid& tiles,
-                     terrain::Grid* z = nullptr) {
+D8Codes window_codes(const SurfaceReader& surface, const terrain::RasterWindow& w,
+                     const TileGrid& tiles, terrain::Grid* z = nullptr) {
   const terrain::RasterWindow h = tiles.halo(w);
   const terrain::Grid zh = surface(h);
   const D8Codes all = d8_directions(zh);
@@ -101,7 +104,8 @@ D8Codes window_codes(const SurfaceReader& surface, const terrain::RasterWindow& 
 // The flats of a window as resolve_flats sees them: no-flow cells and their equal-elevation
 // neighbours with a direction (low edges), joined into components through equal
 // elevations (8-connected). Returns each cell's component (kNone outside flats).
-std::vector<std::uint32_t> flat_components(const terrain::Grid& z, const D8Codes& raw, std::uint32_t& count) {
+std::vector<std::uint32_t> flat_components(const terrain::Grid& z, const D8Codes& raw,
+                                           std::uint32_t& count) {
   const long C = long(z.cols);
   const Neighbours nb{long(z.rows), C};
   const std::size_t n = z.size();
@@ -110,7 +114,9 @@ std::vector<std::uint32_t> flat_components(const terrain::Grid& z, const D8Codes
     if (raw[i] == kNoFlow) return true;
     if (raw[i] == kNodata) return false;
     bool beside = false;  // beside a no-flow cell of its elevation
-    nb.each(r, c, [&](std::size_t j, int) { beside = beside || (raw[j] == kNoFlow && z.z[j] == z.z[i]); });
+    nb.each(r, c, [&](std::size_t j, int) {
+      beside = beside || (raw[j] == kNoFlow && z.z[j] == z.z[i]);
+    });
     return beside;
   };
   std::vector<std::uint32_t> label(n, kNone);
@@ -143,7 +149,8 @@ struct WindowFlats {
   std::vector<std::uint32_t> comp;
   std::uint32_t count = 0;
 };
-WindowFlats window_flats(const SurfaceReader& surface, const terrain::RasterWindow& w, const TileGrid& tiles) {
+WindowFlats window_flats(const SurfaceReader& surface, const terrain::RasterWindow& w,
+                         const TileGrid& tiles) {
   WindowFlats f;
   terrain::Grid z;
   f.raw = window_codes(surface, w, tiles, &z);
@@ -155,7 +162,9 @@ WindowFlats window_flats(const SurfaceReader& surface, const terrain::RasterWind
 
 struct Box {
   std::size_t r0 = ~std::size_t(0), c0 = ~std::size_t(0), r1 = 0, c1 = 0;  // inclusive
-  void add(std::size_t r, std::size_t c) { r0 = std::min(r0, r), c0 = std::min(c0, c), r1 = std::max(r1, r), c1 = std::max(c1, c); }
+  void add(std::size_t r, std::size_t c) {
+    r0 = std::min(r0, r), c0 = std::min(c0, c), r1 = std::max(r1, r), c1 = std::max(c1, c);
+  }
   void add(const Box& b) { add(b.r0, b.c0), add(b.r1, b.c1); }
 };
 
@@ -188,7 +197,8 @@ TilePieces tile_pieces(const TileGrid& tiles, const SurfaceReader& surface, std:
   };
   std::vector<std::uint8_t> where(f.count, 0);  // bit 1: a member inside the tile, bit 2: outside
   for (std::size_t i = 0; i < f.comp.size(); ++i)
-    if (f.comp[i] != kNone) where[f.comp[i]] |= inside(h.row0 + i / h.cols, h.col0 + i % h.cols) ? 1 : 2;
+    if (f.comp[i] != kNone)
+      where[f.comp[i]] |= inside(h.row0 + i / h.cols, h.col0 + i % h.cols) ? 1 : 2;
   for (std::uint32_t k = 0; k < f.count; ++k)
     if (where[k] == 3) {
       crossing[k] = std::uint32_t(p.boxes.size());
@@ -202,7 +212,9 @@ TilePieces tile_pieces(const TileGrid& tiles, const SurfaceReader& surface, std:
       const std::uint64_t cell = std::uint64_t(gr) * C + gc;
       const std::uint32_t k = f.comp[i];
       const bool in = inside(gr, gc);
-      if (in) p.codes[(gr - w.row0) * w.cols + gc - w.col0] = k != kNone && crossing[k] == kNone ? f.resolved[i] : f.raw[i];
+      if (in)
+        p.codes[(gr - w.row0) * w.cols + gc - w.col0] =
+            k != kNone && crossing[k] == kNone ? f.resolved[i] : f.raw[i];
       if (k == kNone || crossing[k] == kNone) continue;
       const std::uint32_t x = crossing[k];
       if (!in) {  // a member in a neighbouring tile, on its ring: the same flat there
@@ -232,7 +244,9 @@ std::vector<std::uint32_t> join_pieces(std::vector<Box>& boxes, const std::vecto
   for (const auto& [cell, x] : contacts) {
     const auto it = ring_piece.find(cell);
     if (it == ring_piece.end() || x >= boxes.size() || it->second >= boxes.size())
-      throw terrain::Error(fmt::format("tiled flats: a flat crosses into a tile that does not see it (row {}, column {})", cell / C, cell % C));
+      throw terrain::Error(fmt::format(
+          "tiled flats: a flat crosses into a tile that does not see it (row {}, column {})",
+          cell / C, cell % C));
     const std::uint32_t a = find(x), b = find(it->second);
     if (a != b) parent[a] = b;
   }
@@ -244,14 +258,16 @@ std::vector<std::uint32_t> join_pieces(std::vector<Box>& boxes, const std::vecto
 
 // Each joined flat resolved in a window of its bounding box (and a halo), shared out among
 // the ranks; its no-flow cells written, row run by row run.
-void resolve_joined(const TileGrid& tiles, const SurfaceReader& surface, const std::vector<Box>& boxes,
-                    const std::vector<std::uint64_t>& seeds, const std::vector<std::uint32_t>& root,
-                    ScratchArray<std::uint8_t>& out, const TileComm& comm) {
+void resolve_joined(const TileGrid& tiles, const SurfaceReader& surface,
+                    const std::vector<Box>& boxes, const std::vector<std::uint64_t>& seeds,
+                    const std::vector<std::uint32_t>& root, ScratchArray<std::uint8_t>& out,
+                    const TileComm& comm) {
   const std::size_t C = tiles.cols;
   std::size_t joined = 0;
   for (std::uint32_t x = 0; x < boxes.size(); ++x) {
     if (root[x] != x || !comm.owns(joined++)) continue;
-    const terrain::RasterWindow box{boxes[x].r0, boxes[x].c0, boxes[x].r1 - boxes[x].r0 + 1, boxes[x].c1 - boxes[x].c0 + 1};
+    const terrain::RasterWindow box{boxes[x].r0, boxes[x].c0, boxes[x].r1 - boxes[x].r0 + 1,
+                                    boxes[x].c1 - boxes[x].c0 + 1};
     const terrain::RasterWindow W = tiles.halo(box);
     const WindowFlats f = window_flats(surface, W, tiles);
     const std::uint64_t seed = seeds[x];
@@ -265,7 +281,8 @@ void resolve_joined(const TileGrid& tiles, const SurfaceReader& surface, const s
         }
         std::size_t e = c;
         while (e < W.cols && fixed(r * W.cols + e)) ++e;
-        out.write_run(std::uint64_t(W.row0 + r) * C + W.col0 + c, f.resolved.data() + r * W.cols + c, e - c);
+        out.write_run(std::uint64_t(W.row0 + r) * C + W.col0 + c,
+                      f.resolved.data() + r * W.cols + c, e - c);
         c = e;
       }
   }
@@ -277,8 +294,8 @@ void resolve_joined(const TileGrid& tiles, const SurfaceReader& surface, const s
 // alone, so both equal resolve_flats on the whole grid. With several ranks each rank does
 // its own tiles, every rank joins the crossing pieces, and the joined flats are shared out
 // among the ranks, which write only the cells of their flats.
-void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, ScratchArray<std::uint8_t>& out,
-                          const TileComm& comm) {
+void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface,
+                          ScratchArray<std::uint8_t>& out, const TileComm& comm) {
   std::vector<Box> boxes;            // crossing flats, one per (tile, component)
   std::vector<std::uint64_t> seeds;  // a member of each
   std::vector<CellPiece> ring;       // members on their tile's ring
@@ -304,7 +321,8 @@ void tiled_resolved_codes(const TileGrid& tiles, const SurfaceReader& surface, S
       for (const std::uint64_t c : in.get_vector<std::uint64_t>()) seeds.push_back(c);
       for (CellPiece x : in.get_vector<CellPiece>()) ring.push_back({x.cell, x.piece + base});
       for (CellPiece x : in.get_vector<CellPiece>()) contacts.push_back({x.cell, x.piece + base});
-      if (seeds.size() != boxes.size()) throw terrain::Error("tiled flats: a rank sent a wrong message");
+      if (seeds.size() != boxes.size())
+        throw terrain::Error("tiled flats: a rank sent a wrong message");
     }
   }
   const std::vector<std::uint32_t> root = join_pieces(boxes, ring, contacts, C);
@@ -319,7 +337,8 @@ double tiled_run_bytes(const terrain::DemInfo& info, std::size_t side, int threa
   const double edge_cells = 4.0 * cells / s;  // every tile's perimeter ring, about
   // The tiles in flight and the perimeter graphs peak in different steps (the graphs are
   // solved between the passes over the tiles).
-  return double(64 << 20) + std::max(100.0 * double(std::max(1, threads)) * s * s, 300.0 * edge_cells);
+  return double(64 << 20) +
+         std::max(100.0 * double(std::max(1, threads)) * s * s, 300.0 * edge_cells);
 }
 
 std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes, int threads) {
@@ -327,7 +346,8 @@ std::size_t tile_size_for_memory(const terrain::DemInfo& info, double bytes, int
   // The largest side that fits; if none does, the side that needs least.
   std::size_t best = 256;
   for (std::size_t side = 256; side <= 16384; side += 256) {
-    if (tiled_run_bytes(info, side, threads) <= bytes) best = side;
+    if (tiled_run_bytes(info, side, threads) <= bytes)
+      best = side;
     else if (tiled_run_bytes(info, best, threads) > bytes &&
              tiled_run_bytes(info, side, threads) < tiled_run_bytes(info, best, threads))
       best = side;
@@ -341,20 +361,28 @@ namespace {
 // codes (flats resolved or not, or a D8 raster's), then the network into the .dv.
 class TiledDrainage {
  public:
-  TiledDrainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress,
-                const TileComm& comm)
-      : run_(run), output_path_(output_path), progress_(progress), comm_(comm),
-        input_(run.dem.empty() ? run.d8 : run.dem), info_(terrain::read_dem_info(input_)),
+  TiledDrainage(const TiledRun& run, const std::string& output_path,
+                const terrain::Progress& progress, const TileComm& comm)
+      : run_(run),
+        output_path_(output_path),
+        progress_(progress),
+        comm_(comm),
+        input_(run.dem.empty() ? run.d8 : run.dem),
+        info_(terrain::read_dem_info(input_)),
         tiles_{info_.rows, info_.cols, run.tile} {
-    summary_.rows = info_.rows, summary_.cols = info_.cols, summary_.dx = info_.geo.dx, summary_.dy = info_.geo.dy;
+    summary_.rows = info_.rows, summary_.cols = info_.cols, summary_.dx = info_.geo.dx,
+    summary_.dy = info_.geo.dy;
     summary_.tiles = tiles_.count();
-    surface_ = [path = run.dem](const terrain::RasterWindow& w) { return terrain::read_dem(path, {}, w); };
+    surface_ = [path = run.dem](const terrain::RasterWindow& w) {
+      return terrain::read_dem(path, {}, w);
+    };
     // Scratch rasters and rank files live in a folder private to this run (mkdtemp beside
     // the output, on the file system the ranks share): two runs on one output never share
     // a scratch file, and no scratch name can be an input's. Rank 0 makes it and tells the
     // others its name; it is removed at the end, on an error and on SIGINT/SIGTERM.
     if (comm.root()) scratch_dir_ = std::make_unique<terrain::ScratchDir>(output_path);
-    scratch_ = comm.all_gather(comm.root() ? scratch_dir_->path().string() : std::string())[0] + "/";
+    scratch_ =
+        comm.all_gather(comm.root() ? scratch_dir_->path().string() : std::string())[0] + "/";
     step("set-up");
   }
 
@@ -368,13 +396,14 @@ class TiledDrainage {
       ~RemoveAtEnd() { ::unlink(path.c_str()); }
     } remove_rank_blocks{comm_.size() > 1 ? blocks_path(comm_.rank()) : std::string()};
     if (comm_.root()) {
-      terrain::write_stream_atomic(run_.write_to.empty() ? output_path_ : run_.write_to, [&](std::ostream& file) {
-        DvBlockWriter writer(file, output_path_, header());
-        network(&writer);
-        step("network (2 passes) and .dv blocks");
-        const NetworkTotals& n = summary_.totals;
-        writer.finish(n.points, n.branches, n.pits, n.pit_accumulated);
-      });
+      terrain::write_stream_atomic(run_.write_to.empty() ? output_path_ : run_.write_to,
+                                   [&](std::ostream& file) {
+                                     DvBlockWriter writer(file, output_path_, header());
+                                     network(&writer);
+                                     step("network (2 passes) and .dv blocks");
+                                     const NetworkTotals& n = summary_.totals;
+                                     writer.finish(n.points, n.branches, n.pits, n.pit_accumulated);
+                                   });
     } else {
       network(nullptr);
     }
@@ -391,7 +420,8 @@ class TiledDrainage {
 
   // Priority-Flood over the tiles into a scratch raster, which becomes the surface.
   void fill() {
-    filled_ = std::make_unique<ScratchArray<float>>(scratch_ + "filled.f32", info_.rows, info_.cols, comm_);
+    filled_ = std::make_unique<ScratchArray<float>>(scratch_ + "filled.f32", info_.rows, info_.cols,
+                                                    comm_);
     summary_.filled = tiled_priority_flood_fill(
         tiles_, surface_,
         [&](std::size_t t, terrain::Grid& g) {
@@ -414,7 +444,8 @@ class TiledDrainage {
   void choose_codes() {
     if (!run_.dem.empty() && run_.resolve_flats) {
       flags_ |= kDvHasElevations | kDvFlatsResolved;
-      resolved_ = std::make_unique<ScratchArray<std::uint8_t>>(scratch_ + "d8.u8", info_.rows, info_.cols, comm_);
+      resolved_ = std::make_unique<ScratchArray<std::uint8_t>>(scratch_ + "d8.u8", info_.rows,
+                                                               info_.cols, comm_);
       tiled_resolved_codes(tiles_, surface_, *resolved_, comm_);
       step("flats (D8, flats resolved)");
       codes_ = [this](const terrain::RasterWindow& w) {
@@ -437,8 +468,8 @@ class TiledDrainage {
       try {
         out[i] = from_foreign_code(g.z[i], run_.encoding, std::isnan(g.z[i]));
       } catch (const terrain::Error& e) {
-        throw terrain::Error(
-            fmt::format("'{}' row {}, column {}: {}", run_.d8, w.row0 + i / g.cols, w.col0 + i % g.cols, e.what()));
+        throw terrain::Error(fmt::format("'{}' row {}, column {}: {}", run_.d8, w.row0 + i / g.cols,
+                                         w.col0 + i % g.cols, e.what()));
       }
     }
     return out;
@@ -487,8 +518,11 @@ class TiledDrainage {
     std::ofstream blocks;
     std::vector<BlockRef> index;
     if (comm_.size() > 1) {
-      blocks.open(blocks_path(comm_.rank()), std::ios::binary | std::ios::trunc);  // a fresh folder: a new file
-      if (!blocks) throw terrain::Error("cannot create the temporary file '" + blocks_path(comm_.rank()) + "'");
+      blocks.open(blocks_path(comm_.rank()),
+                  std::ios::binary | std::ios::trunc);  // a fresh folder: a new file
+      if (!blocks)
+        throw terrain::Error("cannot create the temporary file '" + blocks_path(comm_.rank()) +
+                             "'");
     }
     summary_.totals = tiled_network(
         tiles_, codes_,
@@ -506,7 +540,9 @@ class TiledDrainage {
     if (summary_.totals.points == 0)  // thrown inside the write: no output is left
       throw terrain::Error("'" + input_ + "' has no valid sample (every cell is no-data)");
     if (comm_.size() == 1) return;
-    if (!blocks.flush()) throw terrain::Error("cannot write the temporary file '" + blocks_path(comm_.rank()) + "' (disk full?)");
+    if (!blocks.flush())
+      throw terrain::Error("cannot write the temporary file '" + blocks_path(comm_.rank()) +
+                           "' (disk full?)");
     blocks.close();
     const std::vector<std::string> indexes = comm_.all_gather(Packer().put_vector(index).take());
     if (writer) copy_rank_blocks(indexes, *writer);
@@ -526,7 +562,8 @@ class TiledDrainage {
       if (!in.is_open()) in.open(blocks_path(r), std::ios::binary);
       std::vector<char> block(b.bytes);
       if (!in.seekg(std::streamoff(b.offset)) || !in.read(block.data(), std::streamsize(b.bytes)))
-        throw terrain::Error("cannot read rank " + std::to_string(r) + "'s blocks in '" + blocks_path(r) + "'");
+        throw terrain::Error("cannot read rank " + std::to_string(r) + "'s blocks in '" +
+                             blocks_path(r) + "'");
       writer.put_block(t, block);
     }
   }
@@ -554,10 +591,12 @@ class TiledDrainage {
 
 }  // namespace
 
-TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path, const terrain::Progress& progress,
-                                const TileComm& comm) {
-  if (run.tile == 0 || run.tile > 16384) throw terrain::Error("--tile-size must be between 1 and 16384");
-  if (run.dem.empty() == run.d8.empty()) throw terrain::Error("tiled mode takes a DEM or a D8 raster (not both yet)");
+TiledSummary run_tiled_drainage(const TiledRun& run, const std::string& output_path,
+                                const terrain::Progress& progress, const TileComm& comm) {
+  if (run.tile == 0 || run.tile > 16384)
+    throw terrain::Error("--tile-size must be between 1 and 16384");
+  if (run.dem.empty() == run.d8.empty())
+    throw terrain::Error("tiled mode takes a DEM or a D8 raster (not both yet)");
   return TiledDrainage(run, output_path, progress, comm).run();
 }
 

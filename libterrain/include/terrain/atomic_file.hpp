@@ -53,7 +53,8 @@ void check_output_path(const std::filesystem::path& path);
 // Writes what `write` puts into the stream to `path` atomically. The stream is buffered
 // (1 MiB); after `write` returns it is flushed and closed, and any failure on the way
 // (a bad stream state, a failed close) is an Error "cannot write 'PATH': ...".
-void write_stream_atomic(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
+void write_stream_atomic(const std::filesystem::path& path,
+                         const std::function<void(std::ostream&)>& write);
 
 // Writes `bytes` to `path` atomically (write_stream_atomic).
 void write_file_atomic(const std::filesystem::path& path, std::string_view bytes);

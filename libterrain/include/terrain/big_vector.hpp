@@ -30,7 +30,7 @@ struct BigAllocator {
   T* allocate(std::size_t n) { return std::allocator<T>().allocate(n); }
   void deallocate(T* p, std::size_t n) noexcept { std::allocator<T>().deallocate(p, n); }
   template <class U>
-  void construct(U* p) noexcept(noexcept(::new(static_cast<void*>(p)) U)) {
+  void construct(U* p) noexcept(noexcept(::new (static_cast<void*>(p)) U)) {
     ::new (static_cast<void*>(p)) U;  // default-initialization: no zeroing
   }
   template <class U, class... Args>
@@ -38,7 +38,9 @@ struct BigAllocator {
     ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
   }
   template <class U>
-  bool operator==(const BigAllocator<U>&) const noexcept { return true; }
+  bool operator==(const BigAllocator<U>&) const noexcept {
+    return true;
+  }
 };
 
 template <class T>

@@ -46,7 +46,8 @@ DemInfo read_dem_info(const std::string& path);
 // GDAL's reader. Throws Error: missing or unreadable file, a directory, rotated raster,
 // fewer than 2 x 2 samples, a projected CRS not in metres, infinite samples, a window
 // outside the raster, or more samples than fit in 80% of the machine's memory.
-Grid read_dem(const std::string& path, const Progress& progress = {}, std::optional<RasterWindow> window = {});
+Grid read_dem(const std::string& path, const Progress& progress = {},
+              std::optional<RasterWindow> window = {});
 
 // Writes `grid` as a Float32 GeoTIFF (DEFLATE, tiled) with its CRS and geotransform;
 // NaN samples become the no-data value -9999. `metadata` is stored as the TIFF
@@ -84,8 +85,8 @@ class GdalCacheLimit {
 // without commit(), nothing is left behind. Throws Error on failure.
 class RasterWriter {
  public:
-  RasterWriter(const std::string& path, const Georef& geo, std::size_t rows, std::size_t cols, RasterType type,
-               std::optional<double> nodata, const std::string& metadata = {});
+  RasterWriter(const std::string& path, const Georef& geo, std::size_t rows, std::size_t cols,
+               RasterType type, std::optional<double> nodata, const std::string& metadata = {});
   ~RasterWriter();
   RasterWriter(const RasterWriter&) = delete;
   RasterWriter& operator=(const RasterWriter&) = delete;

@@ -13,15 +13,15 @@ namespace terrain {
 
 struct DrainageLinks {
   static constexpr std::uint32_t kNone = 0xFFFFFFFFu;  // no downstream point
-  int epsg = 0;                                         // CRS of the positions, 0 when unknown
-  std::size_t rows = 0, cols = 0;                       // point i = row * cols + col, row 0 north
-  double dx = 1, dy = 1;                                // grid spacing (metres)
-  Eigen::Vector3d origin{0, 0, 0};                      // world = origin + position; point 0 at x = y = 0
-  std::vector<float> z;                                 // #P, heights relative to origin
-  std::vector<std::uint8_t> valid;                      // #P: 0 for a no-data point
-  std::vector<float> flow;                              // #P: basin-normalized flow in (0, 1]
-  std::vector<std::uint32_t> accumulated;               // #P: points draining through (itself included)
-  std::vector<std::uint32_t> downstream;                // #P: downstream point or kNone
+  int epsg = 0;                                        // CRS of the positions, 0 when unknown
+  std::size_t rows = 0, cols = 0;                      // point i = row * cols + col, row 0 north
+  double dx = 1, dy = 1;                               // grid spacing (metres)
+  Eigen::Vector3d origin{0, 0, 0};         // world = origin + position; point 0 at x = y = 0
+  std::vector<float> z;                    // #P, heights relative to origin
+  std::vector<std::uint8_t> valid;         // #P: 0 for a no-data point
+  std::vector<float> flow;                 // #P: basin-normalized flow in (0, 1]
+  std::vector<std::uint32_t> accumulated;  // #P: points draining through (itself included)
+  std::vector<std::uint32_t> downstream;   // #P: downstream point or kNone
   std::size_t size() const { return z.size(); }
   // Point i relative to origin: its column and row on the grid (x east, y north), its height
   // (x and y are not stored: 8 bytes a point fewer, 114 MB on a 14 M point database).

@@ -57,10 +57,10 @@ struct NormalFitOptions {
   int rounds = 2;                 // patch assignment, solve; repeated
   std::size_t face_samples = 24;  // at most this many samples per face enter the problem (evenly
                                   // strided); the errors reported use all
-  std::size_t block = 400;        // largest block side in vertices; meshes within one block: one problem
-  std::size_t overlap = 4;        // vertices of overlap around each block's core
-  int threads = 0;                // 0: all (OpenMP's count)
-  bool record_costs = false;      // NormalFitReport::costs (one more evaluation per iteration)
+  std::size_t block = 400;  // largest block side in vertices; meshes within one block: one problem
+  std::size_t overlap = 4;  // vertices of overlap around each block's core
+  int threads = 0;          // 0: all (OpenMP's count)
+  bool record_costs = false;  // NormalFitReport::costs (one more evaluation per iteration)
 };
 
 struct NormalFitReport {
@@ -80,14 +80,16 @@ struct NormalFitReport {
 // d n_j (#samples x 3, row-major), analytic (docs/dem2mesh.md, "Fitted normals"). `start`:
 // where to start each sample's inverse evaluation, (s, t) (NaN or null: the planar guess);
 // `solved`: each sample's (s, t) (NaN where it did not converge), when not null.
-void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner, const std::vector<Eigen::Vector3d>& samples,
-                       const std::array<const double*, 3>& n, double* residuals, const std::array<double*, 3>& jacobians,
+void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner,
+                       const std::vector<Eigen::Vector3d>& samples,
+                       const std::array<const double*, 3>& n, double* residuals,
+                       const std::array<double*, 3>& jacobians,
                        const std::vector<Eigen::Vector2d>* start = nullptr,
                        std::vector<Eigen::Vector2d>* solved = nullptr);
 
 // Fits mesh.normals to the samples (local = world - mesh origin is taken care of). Throws
 // Error without samples inside the mesh. Sets mesh.normal_fit.
-NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples, const NormalFitOptions& options = {},
-                               const Progress& progress = {});
+NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples,
+                               const NormalFitOptions& options = {}, const Progress& progress = {});
 
 }  // namespace terrain

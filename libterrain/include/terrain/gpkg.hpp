@@ -29,7 +29,8 @@ class Gpkg {
   Gpkg(const Gpkg&) = delete;
   Gpkg& operator=(const Gpkg&) = delete;
   // A new layer `name` (replacing one of that name in a GeoPackage being updated).
-  OGRLayer* layer(const char* name, OGRwkbGeometryType type, std::initializer_list<GpkgField> fields);
+  OGRLayer* layer(const char* name, OGRwkbGeometryType type,
+                  std::initializer_list<GpkgField> fields);
   void begin();
   void add(OGRLayer* l, OGRFeature& f);
   void commit();

@@ -25,8 +25,8 @@ enum class CrsKind { None, Geographic, Projected };
 struct Georef {
   double x0 = 0.0;  // upper-left corner, CRS units
   double y0 = 0.0;
-  double dx = 1.0;  // cell width (E-W), > 0
-  double dy = 1.0;  // cell height (N-S), > 0
+  double dx = 1.0;      // cell width (E-W), > 0
+  double dy = 1.0;      // cell height (N-S), > 0
   std::string crs_wkt;  // empty when the CRS is unknown
   int epsg = 0;         // 0 when no EPSG code is known
   CrsKind crs_kind = CrsKind::None;

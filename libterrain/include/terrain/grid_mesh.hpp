@@ -59,7 +59,8 @@ struct GridTopology {
   // The faces around vertex v (at most 6) and v's corner (0..2) in each; returns the count.
   // Cell (r-1,c-1): SE = corner 2 of face 0, corner 1 of face 1; cell (r-1,c): SW = corner
   // 1 of face 0; cell (r,c-1): NE = corner 2 of face 1; cell (r,c): NW = corner 0 of both.
-  int vertex_faces(std::size_t v, std::array<std::uint32_t, 6>& faces, std::array<std::uint8_t, 6>& corners) const {
+  int vertex_faces(std::size_t v, std::array<std::uint32_t, 6>& faces,
+                   std::array<std::uint8_t, 6>& corners) const {
     const std::size_t r = v / cols, c = v % cols;
     int n = 0;
     auto add = [&](std::size_t rr, std::size_t cc, int k, int corner) {
@@ -89,9 +90,10 @@ bool georef_in_range(const GridTopology& topo, const MeshGeoref& geo);
 
 // Precomputed inputs of photic extremum lines (voronoi.hpp), stored in the mesh file.
 struct VoronoiWeights {
-  BigVector<Eigen::Vector3f> corner_areas;  // #F: mixed Voronoi area of each corner, in face(f) order
-  BigVector<float> vertex_areas;            // #V: sum of the vertex's corner areas ("voronoi_area")
-  BigVector<Eigen::Vector3f> tangents;      // #V: unit t1 perpendicular to the normal; t2 = n x t1
+  BigVector<Eigen::Vector3f>
+      corner_areas;                     // #F: mixed Voronoi area of each corner, in face(f) order
+  BigVector<float> vertex_areas;        // #V: sum of the vertex's corner areas ("voronoi_area")
+  BigVector<Eigen::Vector3f> tangents;  // #V: unit t1 perpendicular to the normal; t2 = n x t1
   bool empty() const { return vertex_areas.size() == 0; }
 };
 
@@ -108,14 +110,14 @@ struct GridMesh {
   MeshGeoref geo;
   BigVector<Eigen::Vector3f> positions;  // #V, local coordinates
   BigVector<Eigen::Vector3f> normals;    // #V, unit vertex normals
-  std::string provenance;                  // tool, version, command line (free text)
-  VoronoiWeights voronoi;                  // empty unless computed (voronoi_weights) or read
-  BigVector<float> normal_change;          // #V degrees, written by denoise-normals; else empty
+  std::string provenance;                // tool, version, command line (free text)
+  VoronoiWeights voronoi;                // empty unless computed (voronoi_weights) or read
+  BigVector<float> normal_change;        // #V degrees, written by denoise-normals; else empty
   // #V, 1 where the vertex's height was invented by dem2mesh --fill-nodata (no-data in the
   // source), else empty: sample_pn_surface gives no-data over the cells it touches, so no
   // drainage line is drawn on invented ground.
   BigVector<std::uint8_t> filled;
-  NormalFitInfo normal_fit;                // fitted normals (not after denoise-normals)
+  NormalFitInfo normal_fit;  // fitted normals (not after denoise-normals)
 
   std::size_t n_vertices() const { return positions.size(); }
   std::size_t n_faces() const { return topo.n_faces(); }
@@ -129,7 +131,7 @@ enum class NormalWeighting { Uniform, Angle, Area };
 // regular grid). positions: #V local coordinates. Degenerate faces add nothing; a vertex
 // with no usable face gets (0, 0, 1). Tested on planes and a worked example.
 BigVector<Eigen::Vector3f> vertex_normals(const BigVector<Eigen::Vector3f>& positions,
-                                            const GridTopology& topo, NormalWeighting weighting);
+                                          const GridTopology& topo, NormalWeighting weighting);
 
 // Unit normal of the triangle (p0, p1, p2), counter-clockwise; zero when degenerate.
 Eigen::Vector3d face_normal(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,

@@ -17,8 +17,8 @@
 // importer over our arrays (no half-edge mesh is built); the comment lines are added to
 // and read from the header text around it. Documented in docs/formats.md.
 #include <cstdint>
-#include <memory>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -34,7 +34,8 @@ void write_mesh_ply(const GridMesh& mesh, const std::string& path);
 // The same bytes as write_mesh_ply(make_grid_mesh(grid, weighting) with frame's comments
 // and optional `filled`), the vertices made a band at a time while earlier ones are
 // written: no whole-mesh arrays. frame: grid_mesh_frame(grid) with provenance (and filled).
-void write_grid_mesh_ply(const GridMesh& frame, const Grid& grid, NormalWeighting weighting, const std::string& path);
+void write_grid_mesh_ply(const GridMesh& frame, const Grid& grid, NormalWeighting weighting,
+                         const std::string& path);
 // The same file through OpenMesh's PLY writer (slow and general): the fast writer's test
 // reference.
 void write_mesh_ply_openmesh(const GridMesh& mesh, const std::string& path);
@@ -68,7 +69,8 @@ GridMesh read_mesh_ply(const std::string& path);
 // window's). A window of every block reads the whole level.
 struct PyramidPart {
   int level = 0;
-  std::size_t br0 = 0, bc0 = 0, br1 = std::size_t(-1), bc1 = std::size_t(-1);  // blocks; default: all
+  std::size_t br0 = 0, bc0 = 0, br1 = std::size_t(-1),
+              bc1 = std::size_t(-1);    // blocks; default: all
   PyramidPart(int l = 0) : level(l) {}  // NOLINT: a level alone reads the whole of it
   PyramidPart(int l, std::size_t r0, std::size_t c0, std::size_t r1, std::size_t c1)
       : level(l), br0(r0), bc0(c0), br1(r1), bc1(c1) {}
@@ -78,16 +80,17 @@ struct PyramidMesh {
   MeshLevels levels;
   std::uint64_t digest = 0;  // the mesh's and the pyramid's (mesh_digest.hpp)
 };
-std::optional<PyramidMesh> read_mesh_via_pyramid(const std::string& ply_path, std::string& why,
-                                                 const std::function<PyramidPart(const MeshPyramid&)>& part = {});
+std::optional<PyramidMesh> read_mesh_via_pyramid(
+    const std::string& ply_path, std::string& why,
+    const std::function<PyramidPart(const MeshPyramid&)>& part = {});
 // A terrain mesh as the tools read it: from its pyramid when that is current
 // (read_mesh_via_pyramid), else from the PLY (read_mesh_ply). `source` says which, and why
 // not the pyramid: "'MESH.tpyr' (its pyramid)", "the PLY", "the PLY: <why>". `levels`,
 // when given, receives the pyramid's levels of detail (left empty from a PLY). `warning`,
 // when given, receives why a pyramid beside the PLY was not used (empty when none is there
 // or it was used): the tools print it.
-GridMesh read_terrain_mesh(const std::string& ply_path, std::string* source = nullptr, MeshLevels* levels = nullptr,
-                           std::string* warning = nullptr);
+GridMesh read_terrain_mesh(const std::string& ply_path, std::string* source = nullptr,
+                           MeshLevels* levels = nullptr, std::string* warning = nullptr);
 
 // A terrain PLY written row by row, for meshes larger than memory (dem2mesh --tile-size):
 // the header of `header` (its grid, georeference, provenance; its vertex arrays are not

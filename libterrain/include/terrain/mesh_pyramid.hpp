@@ -3,8 +3,8 @@
 // each block (build_mesh_levels; the renderer selects levels from them, renderer/lod.hpp),
 // and the mesh pyramid on disk (MESH.tpyr, docs/formats.md): every level's vertices in
 // tiles that a reader reads by window, so that what a view needs is read, not the mesh.
-#include <cstddef>
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <fstream>
 #include <functional>
@@ -65,7 +65,7 @@ struct MeshLevels {
     std::size_t r0 = 0, c0 = 0;  // its first level-0 vertex row and column in the mesh
     GridTopology whole;          // the mesh's level-0 grid
     MeshGeoref geo;              // the mesh's own (its origin and spacing, level 0's)
-    Eigen::Vector3f lo, hi;      // the whole mesh's box, the window's frame, heights not exaggerated
+    Eigen::Vector3f lo, hi;  // the whole mesh's box, the window's frame, heights not exaggerated
   };
   std::optional<Window> window;
 };
@@ -115,8 +115,8 @@ class MeshPyramidWriter {
 
  private:
   struct Level;
-  void measure_block_row(const std::vector<Eigen::Vector3f>& pos, const std::vector<Eigen::Vector3f>& nrm,
-                         std::size_t nr);
+  void measure_block_row(const std::vector<Eigen::Vector3f>& pos,
+                         const std::vector<Eigen::Vector3f>& nrm, std::size_t nr);
   void flush_tile_row(Level& v, int l, std::size_t nr);
   GridTopology topo_;
   MeshGeoref geo_;
@@ -136,7 +136,8 @@ class MeshPyramidWriter {
 // each level 0 .. (the coarsest of any block) its grid in tiles of `block` cells a side
 // (their border vertices in both neighbours), each tile its positions and normals
 // compressed with zstd. Returns the bytes written.
-std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const std::string& path, std::size_t block = kLevelBlock,
+std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const std::string& path,
+                                 std::size_t block = kLevelBlock,
                                  const std::string& name_like = {});
 
 // Whether the file at `path` starts as a mesh pyramid does (by content, not by name).
@@ -152,7 +153,7 @@ void pyramid_fix_checksums(std::string& bytes);
 std::string pyramid_path_of(const std::string& mesh_path);
 
 struct MeshWindow {
-  std::size_t rows = 0, cols = 0;  // vertices
+  std::size_t rows = 0, cols = 0;                   // vertices
   std::vector<Eigen::Vector3f> positions, normals;  // row-major, local frame
 };
 
@@ -183,8 +184,8 @@ class MeshPyramid {
   MeshWindow read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc);
   // The same into `positions` and `normals` (nr x nc each, row-major), its tiles decoded in
   // parallel.
-  void read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc, Eigen::Vector3f* positions,
-                   Eigen::Vector3f* normals);
+  void read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc,
+                   Eigen::Vector3f* positions, Eigen::Vector3f* normals);
   // The whole of level l's grid, rows(l) x cols(l) vertices row-major into `positions` and
   // `normals` (read_window's).
   void read_level(int l, Eigen::Vector3f* positions, Eigen::Vector3f* normals);
@@ -214,7 +215,8 @@ class MeshPyramid {
   // Tiles rows tr0 .. tr1 - 1, columns tc0 .. tc1 - 1 of level l decoded and checked in
   // parallel, each given to `use` (from any thread); the first failure thrown after.
   void decode_tiles(int l, std::size_t tr0, std::size_t tc0, std::size_t tr1, std::size_t tc1,
-                    const std::function<void(std::size_t, std::size_t, const std::vector<Eigen::Vector3f>&)>& use);
+                    const std::function<void(std::size_t, std::size_t,
+                                             const std::vector<Eigen::Vector3f>&)>& use);
   void read_header(std::uint64_t size);
   void read_at(void* to, std::size_t n, std::uint64_t offset) const;  // n bytes at offset, or Error
   std::string path_;

@@ -33,9 +33,13 @@ struct Neighbours {
     for (int k = 0; k < 8; ++k) visit(r - kDRow[std::size_t(k)], c - kDCol[std::size_t(k)], k, f);
   }
   template <class F>
-  void each(std::size_t i, F&& f) const { each(long(i) / cols, long(i) % cols, f); }
+  void each(std::size_t i, F&& f) const {
+    each(long(i) / cols, long(i) % cols, f);
+  }
   template <class F>
-  void each_in_try_order(std::size_t i, F&& f) const { each_in_try_order(long(i) / cols, long(i) % cols, f); }
+  void each_in_try_order(std::size_t i, F&& f) const {
+    each_in_try_order(long(i) / cols, long(i) % cols, f);
+  }
 
  private:
   template <class F>

@@ -32,8 +32,8 @@ struct SurfacePoint {
 std::optional<SurfacePoint> pn_point_above(const GridMesh& mesh, double x, double y);
 
 struct SampledSurface {
-  Grid grid;                 // the samples, with the mesh's CRS; sample (0,0) = mesh vertex (0,0)
-  std::size_t fallbacks = 0; // samples where Newton failed and the flat triangle was used
+  Grid grid;                  // the samples, with the mesh's CRS; sample (0,0) = mesh vertex (0,0)
+  std::size_t fallbacks = 0;  // samples where Newton failed and the flat triangle was used
 };
 
 // Samples the PN surface at every point (i * spacing, -j * spacing) (local coordinates)
@@ -42,7 +42,8 @@ struct SampledSurface {
 // depend on the thread count. Samples in a mesh cell with a vertex that dem2mesh
 // --fill-nodata invented (GridMesh::filled) are no-data: drainage is not drawn on
 // invented ground. Throws Error for spacing <= 0 or more than 2^32 - 1 samples.
-SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Progress& progress = {});
+SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing,
+                                 const Progress& progress = {});
 
 // The columns and rows sample_pn_surface gives at `spacing` (a tool checks memory with it).
 std::pair<std::size_t, std::size_t> sampled_size(const GridMesh& mesh, double spacing);

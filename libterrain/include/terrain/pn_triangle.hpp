@@ -33,9 +33,9 @@ std::array<Vec3<T>, 10> pn_control_points(const Vec3<T>& p1, const Vec3<T>& p2, 
     return (T(2.0) * pi + pj - (pj - pi).dot(ni) * ni) / T(3.0);
   };
   std::array<Vec3<T>, 10> b;
-  b[0] = p1;  // B300
-  b[1] = p2;  // B030
-  b[2] = p3;  // B003
+  b[0] = p1;                // B300
+  b[1] = p2;                // B030
+  b[2] = p3;                // B003
   b[3] = edge(p1, p2, n1);  // B210
   b[4] = edge(p2, p1, n2);  // B120
   b[5] = edge(p2, p3, n2);  // B021
@@ -52,16 +52,17 @@ std::array<Vec3<T>, 10> pn_control_points(const Vec3<T>& p1, const Vec3<T>& p2, 
 template <class T>
 Vec3<T> pn_cubic(const std::array<Vec3<T>, 10>& b, const T& b1, const T& b2, const T& b3) {
   return b[0] * (b1 * b1 * b1) + b[1] * (b2 * b2 * b2) + b[2] * (b3 * b3 * b3) +
-         T(3.0) * (b[3] * (b1 * b1 * b2) + b[4] * (b1 * b2 * b2) + b[8] * (b1 * b1 * b3) + b[7] * (b1 * b3 * b3) +
-                   b[5] * (b2 * b2 * b3) + b[6] * (b2 * b3 * b3)) +
+         T(3.0) * (b[3] * (b1 * b1 * b2) + b[4] * (b1 * b2 * b2) + b[8] * (b1 * b1 * b3) +
+                   b[7] * (b1 * b3 * b3) + b[5] * (b2 * b2 * b3) + b[6] * (b2 * b3 * b3)) +
          T(6.0) * b[9] * (b1 * b2 * b3);
 }
 
 // Control points from corner positions P1..P3 and UNIT vertex normals N1..N3 (in this
 // order, counter-clockwise): pn_control_points, and the quadratic normal field.
 // Degenerate edges and cancelling normals fall back to the face normal (docs/algorithms.md 1.5).
-PnPatch make_pn_patch(const Eigen::Vector3d& p1, const Eigen::Vector3d& p2, const Eigen::Vector3d& p3,
-                      const Eigen::Vector3d& n1, const Eigen::Vector3d& n2, const Eigen::Vector3d& n3);
+PnPatch make_pn_patch(const Eigen::Vector3d& p1, const Eigen::Vector3d& p2,
+                      const Eigen::Vector3d& p3, const Eigen::Vector3d& n1,
+                      const Eigen::Vector3d& n2, const Eigen::Vector3d& n3);
 
 // Cubic position P(b1, b2, b3).
 Eigen::Vector3d pn_position(const PnPatch& p, double b1, double b2, double b3);

@@ -22,13 +22,13 @@ struct GridRequest {
   std::optional<std::array<double, 2>> size;    // ... and width height in metres
   std::optional<std::string> utm_zone;          // "17", "17N", "17S": geographic input only
   Resampling resampling = Resampling::Bilinear;
-  bool fill_nodata = false;                     // else no-data in the area is an error
+  bool fill_nodata = false;  // else no-data in the area is an error
 };
 
 struct PreparedGrid {
   Grid grid;
-  std::vector<std::string> warnings;  // for the tool to print (for example: no CRS)
-  std::size_t filled = 0;             // no-data samples filled by interpolation
+  std::vector<std::string> warnings;      // for the tool to print (for example: no CRS)
+  std::size_t filled = 0;                 // no-data samples filled by interpolation
   std::vector<std::uint8_t> filled_mask;  // #samples, 1 where filled; empty when none was
 };
 
@@ -69,17 +69,17 @@ struct GridPlan {
 };
 GridPlan plan_grid(const Georef& source, std::size_t source_rows, std::size_t source_cols,
                    const GridRequest& request);
-PreparedGrid resample_to_plan(const Grid& window_samples, const GridPlan& plan, const GridRequest& request,
-                              const Progress& progress = {});
+PreparedGrid resample_to_plan(const Grid& window_samples, const GridPlan& plan,
+                              const GridRequest& request, const Progress& progress = {});
 
 // Rows r0 .. r0 + nr - 1 of the plan's grid alone, for grids larger than memory (dem2mesh
 // --tile-size): the source window they read (band_window: source_window's rule over those
 // rows), and those rows resampled from it (resample_rows: resample_to_plan's values
 // exactly; the grid's georeference is of its first row). No-data among them is a
 // NodataError: filling (--fill-nodata) needs the whole grid.
-RasterWindow band_window(const GridPlan& plan, std::size_t r0, std::size_t nr, std::size_t source_rows,
-                         std::size_t source_cols);
-Grid resample_rows(const Grid& window_samples, const RasterWindow& window, const GridPlan& plan, std::size_t r0,
-                   std::size_t nr, const GridRequest& request);
+RasterWindow band_window(const GridPlan& plan, std::size_t r0, std::size_t nr,
+                         std::size_t source_rows, std::size_t source_cols);
+Grid resample_rows(const Grid& window_samples, const RasterWindow& window, const GridPlan& plan,
+                   std::size_t r0, std::size_t nr, const GridRequest& request);
 
 }  // namespace terrain

@@ -27,7 +27,7 @@ struct PointCloud {
   std::string crs_wkt;  // empty: unknown
   int epsg = 0;
   CrsKind crs_kind = CrsKind::None;
-  std::string format;   // "GPKG", "ESRI Shapefile", "CSV", "XYZ text", ...
+  std::string format;  // "GPKG", "ESRI Shapefile", "CSV", "XYZ text", ...
   std::size_t size() const { return x.size(); }
 };
 
@@ -50,7 +50,8 @@ PointCloud read_points(const std::string& path, const Progress& progress = {});
 // Projected points as they are; geographic points projected to UTM (the zone of their
 // centre or `utm_zone`, as dem2mesh does for grids). `src_crs` ("EPSG:32610", WKT, ...)
 // gives the CRS of points that have none, and replaces theirs. Throws Error without a CRS.
-void project_points(PointCloud& points, const std::string& src_crs, const std::optional<std::string>& utm_zone);
+void project_points(PointCloud& points, const std::string& src_crs,
+                    const std::optional<std::string>& utm_zone);
 
 // Natural: Sibson's C1 interpolant; it reproduces spherical quadratics, and falls back to
 // NaturalC0 where a natural neighbour lies on the convex hull (no gradient fitted there).
@@ -73,7 +74,8 @@ class PointSurface {
   // fast for neighbouring queries, not thread-safe.
   double z_at(double x, double y, PointInterpolation method, double max_edge = 0) const;
   // z at every sample of g (its georeferencing), as z_at, on all threads.
-  void sample(Grid& g, PointInterpolation method, double max_edge, const Progress& progress = {}) const;
+  void sample(Grid& g, PointInterpolation method, double max_edge,
+              const Progress& progress = {}) const;
 
  private:
   struct Impl;

@@ -36,6 +36,7 @@ std::string utm_crs_wkt(const std::string& geographic_wkt, UtmZone zone, int& ep
 struct MetricCellSize {
   double dx = 0.0, dy = 0.0;
 };
-std::vector<MetricCellSize> metric_cell_sizes(const Georef& geo, std::size_t row0, std::size_t rows);
+std::vector<MetricCellSize> metric_cell_sizes(const Georef& geo, std::size_t row0,
+                                              std::size_t rows);
 
 }  // namespace terrain

@@ -13,7 +13,8 @@ namespace terrain {
 //   obtuse at P: area / 2; obtuse elsewhere: area / 4.
 // The three sum to the triangle's area; each is >= 0; a degenerate triangle gives 0s.
 // Tested: docs/algorithms.md 4.2 worked examples (acute, right, obtuse).
-Eigen::Vector3d mixed_voronoi_corners(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2);
+Eigen::Vector3d mixed_voronoi_corners(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
+                                      const Eigen::Vector3d& p2);
 
 // Corner areas of every face (#F x 3, face(f) order), vertex totals (#V) and tangents
 // (#V: t1 = normalize(e x n) for the edge e to the east neighbour, or the west one on the

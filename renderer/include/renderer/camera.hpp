@@ -32,11 +32,11 @@ inline float far_depth(bool reversed_z, float depth) { return reversed_z ? 1.0f 
 struct View {
   Eigen::Vector3d eye, forward, right, up;  // local frame
   double fov_deg = Camera{}.fov, near = 1;
-  double map_scale = 0, far = 0;            // orthographic: metres a pixel, the far plane's distance
+  double map_scale = 0, far = 0;  // orthographic: metres a pixel, the far plane's distance
   int width = 1, height = 1;
-  bool reversed_z = true;                   // depth 1 at `near`, 0 at infinity or `far` (glClipControl)
-  Eigen::Matrix4d view_matrix() const;      // local -> eye space (camera looks down -z)
-  Eigen::Matrix4d projection() const;       // perspective: infinite far plane
+  bool reversed_z = true;               // depth 1 at `near`, 0 at infinity or `far` (glClipControl)
+  Eigen::Matrix4d view_matrix() const;  // local -> eye space (camera looks down -z)
+  Eigen::Matrix4d projection() const;   // perspective: infinite far plane
   Eigen::Matrix4d view_projection() const { return projection() * view_matrix(); }
   bool orthographic() const { return map_scale > 0; }
   Viewpoint viewpoint() const { return orthographic() ? Viewpoint(eye, forward) : Viewpoint(eye); }
@@ -53,13 +53,14 @@ Eigen::Vector3d view_direction(double view_az_deg, double view_alt_deg);
 // view_direction(view_az, view_alt), with a vertical field of view `fov` and aspect
 // width/height: the nearest eye for which every box corner lies inside the view (5%
 // margin), moved sideways so that the box's image is centred.
-Eigen::Vector3d frame_box(const Box& box, double view_az, double view_alt, double fov_deg, double aspect);
+Eigen::Vector3d frame_box(const Box& box, double view_az, double view_alt, double fov_deg,
+                          double aspect);
 
 // The eye (local frame) that frames every point of `points` (the nearest eye for which
 // all lie inside the view, the field of view narrowed by `margin`), moved sideways so that
 // their image is centred, looking along view_direction(view_az, view_alt).
-Eigen::Vector3d frame_points(const std::vector<Eigen::Vector3d>& points, double view_az, double view_alt,
-                             double fov_deg, double aspect, double margin);
+Eigen::Vector3d frame_points(const std::vector<Eigen::Vector3d>& points, double view_az,
+                             double view_alt, double fov_deg, double aspect, double margin);
 
 // The automatic view (terrain-render with no camera option, the viewer's Home;
 // docs/terrain-render.md, "The automatic view"): the whole terrain from `view_alt` above
@@ -83,8 +84,8 @@ struct AutoView {
 // steeper, the closer the terrain's image to its plan shape and the more of the frame it
 // fills), each with the 24 bearings, until the best bearing covers 60 % of the frame: the
 // most oblique view that fills the frame (else the best of all).
-AutoView auto_view(const terrain::GridMesh& mesh, double exaggeration, double fov_deg, double aspect,
-                   double view_alt = 30.0, bool search_alt = false);
+AutoView auto_view(const terrain::GridMesh& mesh, double exaggeration, double fov_deg,
+                   double aspect, double view_alt = 30.0, bool search_alt = false);
 
 // The relief view (--view relief; the default before the automatic view;
 // docs/terrain-render.md, "The default view"). On the grid coarsened to at most 95 cells a
@@ -101,13 +102,13 @@ AutoView auto_view(const terrain::GridMesh& mesh, double exaggeration, double fo
 // the subject's box. The light comes from the right of the line of sight (bearing + 90),
 // 35 degrees high, side-lighting the slopes that face the eye.
 struct ReliefView {
-  Camera camera;             // eye set, world coordinates
+  Camera camera;  // eye set, world coordinates
   Light light;
-  Eigen::Vector2d centre;    // of the subject, world x y
-  double relief = 0;         // the max - min height within its box, metres
+  Eigen::Vector2d centre;  // of the subject, world x y
+  double relief = 0;       // the max - min height within its box, metres
 };
-ReliefView relief_view(const terrain::GridMesh& mesh, double exaggeration, double fov_deg, double aspect,
-                       double view_alt = 30.0);
+ReliefView relief_view(const terrain::GridMesh& mesh, double exaggeration, double fov_deg,
+                       double aspect, double view_alt = 30.0);
 
 // The vertical exaggeration a frame takes when none is given: 1 where the relief is
 // already strong against the terrain's extent, more where it is gentle, so that a lowland's
@@ -121,15 +122,16 @@ double auto_exaggeration(const terrain::GridMesh& mesh);
 // The camera and light of `mode` (ViewMode) for a mesh, and a line saying what they are:
 // Auto (auto_view at view_alt), Top (orthographic, straight down, north up, centred on the
 // terrain's extent, which map_scale 0 fits to the image; the eye at the height that frames
-// every vertex in perspective; the light from the north-west, 45 degrees high), Relief (relief_view at view_alt); a view_alt
-// not given: 30 degrees, and Auto searches 30 to 55.
+// every vertex in perspective; the light from the north-west, 45 degrees high), Relief (relief_view
+// at view_alt); a view_alt not given: 30 degrees, and Auto searches 30 to 55.
 struct DefaultView {
   Camera camera;  // eye set, world coordinates
   Light light;
   std::string description;
 };
-DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double exaggeration, double fov_deg,
-                         double aspect, std::optional<double> view_alt = std::nullopt);
+DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double exaggeration,
+                         double fov_deg, double aspect,
+                         std::optional<double> view_alt = std::nullopt);
 
 // The view of `camera` over a scene whose local frame has world origin `origin` and whose
 // (exaggerated) bounding box is `box`: the eye is camera.eye - origin, or framed on `box`
@@ -138,8 +140,8 @@ DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double ex
 // unset) moves along the line of sight to a plane 1 % of the box diagonal (at least 1 m)
 // before the box's nearest corner, `far` as far behind its farthest; map_scale 0 fits the
 // box into the image (a 2 % margin), centred.
-View make_view(const Camera& camera, const Eigen::Vector3d& origin, const Box& box, int width, int height,
-               bool reversed_z = true);
+View make_view(const Camera& camera, const Eigen::Vector3d& origin, const Box& box, int width,
+               int height, bool reversed_z = true);
 
 // The page scale of a view (docs/terrain-render.md, "Strokes"): metres
 // (local frame, heights exaggerated) per pixel at the depth of the centre of `box`, the
@@ -154,24 +156,27 @@ double page_scale(const View& view, const Box& box);
 // the view from inside the terrain is blank. An eye outside the mesh's extent is fine, up
 // to kMaxEyeDistance times the terrain's size (the diagonal of its extent) from its centre.
 inline constexpr double kMaxEyeDistance = 1000.0;
-void check_eye_above_terrain(const terrain::GridMesh& mesh, const Eigen::Vector3d& eye, double exaggeration);
+void check_eye_above_terrain(const terrain::GridMesh& mesh, const Eigen::Vector3d& eye,
+                             double exaggeration);
 
 // The geotransform of an orthographic north-up view (the top view), GDAL's order: x0,
 // scale, 0, y0, 0, -scale, in world coordinates (the scene's local frame at `origin`): pixel
 // (u, v) (u right, v down, its corner) is world (x0 + u scale, y0 - v scale). None when the
 // view is perspective or turned from north up.
-std::optional<std::array<double, 6>> map_geotransform(const View& view, const Eigen::Vector3d& origin);
+std::optional<std::array<double, 6>> map_geotransform(const View& view,
+                                                      const Eigen::Vector3d& origin);
 
 struct Projected {
-  double u = 0, v = 0;   // pixel coordinates: u right, v down, pixel centres at +0.5
-  double depth = 0;      // window depth as the GL depth buffer stores it
-  bool in_front = false; // in front of the near plane
+  double u = 0, v = 0;    // pixel coordinates: u right, v down, pixel centres at +0.5
+  double depth = 0;       // window depth as the GL depth buffer stores it
+  bool in_front = false;  // in front of the near plane
 };
 Projected project(const View& view, const Eigen::Vector3d& p_local);
 
 // project's inverse for a pixel: the local point at the centre of pixel (u, v) (u right, v
 // down; the whole pixel u, v falls in) whose window depth is `depth`. `inverse` is
 // view.view_projection().inverse(), computed once for many pixels.
-Eigen::Vector3d unproject(const View& view, const Eigen::Matrix4d& inverse, double u, double v, double depth);
+Eigen::Vector3d unproject(const View& view, const Eigen::Matrix4d& inverse, double u, double v,
+                          double depth);
 
 }  // namespace renderer

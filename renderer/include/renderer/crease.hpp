@@ -8,9 +8,9 @@
 
 #include <Eigen/Core>
 
-#include "terrain/drainage_links.hpp"
 #include "renderer/frame_params.hpp"
 #include "renderer/viewpoint.hpp"
+#include "terrain/drainage_links.hpp"
 #include "terrain/grid_mesh.hpp"
 
 namespace renderer {
@@ -18,15 +18,15 @@ namespace renderer {
 // A drainage network (terrain::DrainageLinks, e.g. from a .dv) in a mesh's local frame.
 struct CreaseGeometry {
   std::vector<Eigen::Vector3f> positions;  // #C crease vertices, on the PN surface (local)
-  std::vector<std::uint32_t> source;       // #C the vertex's point in the network (row * cols + col)
-  std::vector<Eigen::Vector3f> normals;    // #C unit PN normals of the mesh's surface there
-  std::vector<float> flow;                 // #C basin-normalized flow (fc), in [0, 1]
+  std::vector<std::uint32_t> source;     // #C the vertex's point in the network (row * cols + col)
+  std::vector<Eigen::Vector3f> normals;  // #C unit PN normals of the mesh's surface there
+  std::vector<float> flow;               // #C basin-normalized flow (fc), in [0, 1]
   // #C the share of its basin that drains through the vertex, a / T (crease_flow on the
   // linear scale, whatever the score's): the line's width grows with its square root, as a
   // river's width with the square root of its discharge (Leopold & Maddock 1953).
   std::vector<float> share;
-  std::vector<float> area;                 // #C the area draining through the vertex, m^2 (points x dx dy)
-  std::vector<std::uint32_t> segments;     // 2 x #S: (vertex, its downstream vertex)
+  std::vector<float> area;  // #C the area draining through the vertex, m^2 (points x dx dy)
+  std::vector<std::uint32_t> segments;  // 2 x #S: (vertex, its downstream vertex)
   // The median |z - PN surface z| over the vertices above the mesh, metres (as read,
   // before smoothing): 0 up to float rounding for a network sampled from this mesh.
   double median_surface_offset = 0;
@@ -102,7 +102,8 @@ struct CreaseRules {
 // mesh vertex where it has no answer); then the lines are smoothed (rules.smooth_spacings,
 // smooth_crease_lines). Error when the database does not overlap the mesh or their CRSs
 // differ.
-CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
+CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh,
+                                     const terrain::DrainageLinks& links,
                                      const CreaseRules& rules = {});
 
 // D8 paths run in steps of 45 degrees: a channel across the grid at any other bearing is
@@ -124,7 +125,8 @@ void smooth_crease_lines(CreaseGeometry& g, const terrain::GridMesh& mesh, doubl
 // max(T, share x the network's valid points) for a basin that drains off the grid; with
 // log_flow ln(a) / ln(T) instead (1 where T is 1). links.flow when the share is 0 and the
 // scale linear. #P values, 0 at invalid points.
-std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_basin_min_share, bool log_flow = false);
+std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_basin_min_share,
+                               bool log_flow = false);
 
 // Whether each point's link is on flat ground (its downstream point is not lower) and is
 // not the main path of its flat (CreaseRules::one_line_per_flat): #P flags, 1 = left out.
@@ -150,8 +152,8 @@ std::string surface_warning(const terrain::GridMesh& mesh, const CreaseGeometry&
 
 // rs of one crease vertex (see CreaseScoreParams). `normal` and `light` are unit vectors in
 // the exaggerated frame, `distance` is from the eye in that frame.
-double crease_score(const Eigen::Vector3d& normal, double flow, const Eigen::Vector3d& light, double distance,
-                    const CreaseScoreParams& params);
+double crease_score(const Eigen::Vector3d& normal, double flow, const Eigen::Vector3d& light,
+                    double distance, const CreaseScoreParams& params);
 
 // The unit normal after scaling z by `exaggeration`: (nx, ny, nz / e) normalized.
 Eigen::Vector3d exaggerate_normal(const Eigen::Vector3d& n, double exaggeration);
@@ -221,8 +223,9 @@ std::vector<double> segment_metres(const CreaseGeometry& g);
 // Per segment, its opacity as the DM pass draws it (#S): 0 where it is not accepted (an end
 // below rule.min_area scores -1); else min(score of its two ends) / fade clamped to 1, or 1
 // when fade is 0 (Style::crease_fade); then `rule` (in metres) along segment_chains.
-std::vector<float> segment_opacity(const CreaseGeometry& g, const Viewpoint& viewer, const Eigen::Vector3d& light,
-                                   double exaggeration, const CreaseScoreParams& params, double fade,
+std::vector<float> segment_opacity(const CreaseGeometry& g, const Viewpoint& viewer,
+                                   const Eigen::Vector3d& light, double exaggeration,
+                                   const CreaseScoreParams& params, double fade,
                                    const StrokeRule& rule = {});
 // Levels of detail for the creases (docs/terrain-render.md, "The creases' levels
 // of detail"): a network sampled at 10 m drawn at 40 m a pixel has segments of a third of a
@@ -260,13 +263,15 @@ std::vector<CreaseLevel> coarser_crease_levels(const CreaseGeometry& g);
 // levels' CreaseLevel::error_metres; 0 the fine creases) whose error spans at most bound_px
 // pixels of `pixel_metres` (the pixel's size at the nearest surface in view; 0 or less: the
 // fine creases).
-int select_crease_level(const std::vector<double>& error_metres, double pixel_metres, double bound_px);
+int select_crease_level(const std::vector<double>& error_metres, double pixel_metres,
+                        double bound_px);
 // The renderer's bound: kCreaseErrorPerLod x Style::lod_error pixels, half a pixel at the
 // default 0.25: a line within half a pixel of the fine one, half a 1 px line's width.
 inline constexpr double kCreaseErrorPerLod = 2.0;
 
 // How many (accepted_segments).
-std::size_t count_accepted_segments(const CreaseGeometry& g, const Viewpoint& viewer, const Eigen::Vector3d& light,
-                                    double exaggeration, const CreaseScoreParams& params);
+std::size_t count_accepted_segments(const CreaseGeometry& g, const Viewpoint& viewer,
+                                    const Eigen::Vector3d& light, double exaggeration,
+                                    const CreaseScoreParams& params);
 
 }  // namespace renderer

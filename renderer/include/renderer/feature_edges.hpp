@@ -32,12 +32,19 @@ std::vector<MeshEdge> mesh_edges(const terrain::GridTopology& topo);
 
 // Kinds of a classified edge (bit flags; TR_EDGE_* in gl_contract.h). kFacingEye is not a
 // kind: some face of the edge faces the eye.
-enum EdgeKind : std::uint8_t { kContourEdge = 1, kBoundaryEdge = 2, kCreaseEdge = 4, kFacingEye = 8 };
+enum EdgeKind : std::uint8_t {
+  kContourEdge = 1,
+  kBoundaryEdge = 2,
+  kCreaseEdge = 4,
+  kFacingEye = 8
+};
 inline constexpr std::uint8_t kAllEdgeKinds = kContourEdge | kBoundaryEdge | kCreaseEdge;
 
 // An edge is drawn when it has one of the kinds in `mask` and some face of it faces the eye
 // (an edge whose faces all turn away is hidden by them).
-inline bool edge_drawn(std::uint8_t kinds, std::uint8_t mask) { return (kinds & mask) && (kinds & kFacingEye); }
+inline bool edge_drawn(std::uint8_t kinds, std::uint8_t mask) {
+  return (kinds & mask) && (kinds & kFacingEye);
+}
 
 // Per edge, the kinds it has for an eye at `eye` (same frame as `positions`):
 //   contour  (nA . (eye - v0)) (nB . (eye - v0)) < 0: one face towards the eye, one away;
@@ -47,7 +54,8 @@ inline bool edge_drawn(std::uint8_t kinds, std::uint8_t mask) { return (kinds & 
 // and kFacingEye when nA . (eye - v0) > 0 or nB . (eye - v0) > 0.
 // nA = (v1 - v0) x (v2 - v0), nB = (v0 - v1) x (v3 - v1), both normalized. Orthographic
 // (the top view), eye - v0 is the way back along the line of sight (Viewpoint::to_eye).
-std::vector<std::uint8_t> classify_edges(std::span<const MeshEdge> edges, std::span<const Eigen::Vector3f> positions,
+std::vector<std::uint8_t> classify_edges(std::span<const MeshEdge> edges,
+                                         std::span<const Eigen::Vector3f> positions,
                                          const Viewpoint& viewer, double crease_angle_deg);
 
 // The edges of every vertex: kVertexEdgeSlots indices per vertex, unused slots

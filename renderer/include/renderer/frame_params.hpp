@@ -26,11 +26,11 @@ namespace renderer {
 //   d = distance from the eye to the vertex. A vertex is drawn when rs >= 0.
 struct CreaseScoreParams {
   double sw = 1.0 / 3, iw = 1.0 / 3, fw = 1.0 / 3;  // equal weights (the paper's Figure 15)
-  double min_score = 0.25;              // rs_base
-  double falloff = 0.2;                 // k: how far rs_min rises towards 1 at far_distance
-  double far_distance = 0;              // d_far in metres; 0: across the scene (resolve_distances)
-  double near_distance = 0;             // d_near: where rs_min starts rising (< far_distance)
-  bool literal_divisor = false;         // divide by 3 instead of the weight sum
+  double min_score = 0.25;                          // rs_base
+  double falloff = 0.2;          // k: how far rs_min rises towards 1 at far_distance
+  double far_distance = 0;       // d_far in metres; 0: across the scene (resolve_distances)
+  double near_distance = 0;      // d_near: where rs_min starts rising (< far_distance)
+  bool literal_divisor = false;  // divide by 3 instead of the weight sum
 };
 
 struct Camera {
@@ -56,11 +56,11 @@ struct Light {
 
 // Which images the composite shows.
 struct Layers {
-  bool shaded = false;       // the shaded relief (Lambert, light above)
-  bool mask = true;          // the surface in the mask colour (hidden-line mask)
+  bool shaded = false;  // the shaded relief (Lambert, light above)
+  bool mask = true;     // the surface in the mask colour (hidden-line mask)
   bool creases = true;
   bool silhouettes = true;
-  bool pels = false;         // photic extremum lines (needs the mesh's Voronoi weights)
+  bool pels = false;  // photic extremum lines (needs the mesh's Voronoi weights)
   // How the silhouettes are found: Toward/Away depths, or the Adjacency method (triangle
   // IDs; Mower 2014, Algorithm 1). Both are Mower's; layer names silhouettes and
   // silhouettes-adjacency.
@@ -84,12 +84,15 @@ struct LayerName {
   const char* name;
   bool Layers::*flag;
 };
-inline constexpr LayerName kLayerNames[] = {
-    {"shaded", &Layers::shaded},         {"mask", &Layers::mask},
-    {"creases", &Layers::creases},       {"silhouettes", &Layers::silhouettes},
-    {"silhouettes-adjacency", &Layers::adjacency}, {"pels", &Layers::pels},
-    {"edges", &Layers::edges},           {"hachures", &Layers::hachures},
-    {"ridges", &Layers::ridges}};
+inline constexpr LayerName kLayerNames[] = {{"shaded", &Layers::shaded},
+                                            {"mask", &Layers::mask},
+                                            {"creases", &Layers::creases},
+                                            {"silhouettes", &Layers::silhouettes},
+                                            {"silhouettes-adjacency", &Layers::adjacency},
+                                            {"pels", &Layers::pels},
+                                            {"edges", &Layers::edges},
+                                            {"hachures", &Layers::hachures},
+                                            {"ridges", &Layers::ridges}};
 // Parses "shaded,creases,..." (kLayerNames); Error on an unknown name, an empty list, both
 // shaded and mask, or both silhouette methods.
 Layers parse_layers(const std::string& list);
@@ -115,7 +118,8 @@ enum class EdgeCaps { None, Cheap, Exact };
 struct Style {
   Eigen::Vector3f background{0xdd / 255.f, 0xe4 / 255.f, 0xec / 255.f}, mask{1, 1, 1};
   Eigen::Vector3f crease_colour{0.05f, 0.2f, 0.55f}, silhouette_colour{0, 0, 0};
-  double crease_width = 1.0, crease_width_max = 3.0;  // pixels at basin share 0 and 1 (by its square root)
+  double crease_width = 1.0,
+         crease_width_max = 3.0;  // pixels at basin share 0 and 1 (by its square root)
   // Creases and PELs as anti-aliased capsules (coverage in the fragment shader, round
   // caps and joins, silhouettes softened) or as pixel-exact quads (false: every line
   // pixel has exactly the line colour; the tests that count pixels use it).
@@ -157,7 +161,7 @@ struct Style {
   // it more than crease_hidden_depth mesh spacings behind the surface, is drawn; a shown run
   // up to crease_min_peek pixels long beside a hidden part is not. 0 turns a rule off.
   double crease_hidden_gap = 8.0, crease_hidden_depth = 1.5, crease_min_peek = 6.0;
-  int silhouette_width = 1;                           // pixels
+  int silhouette_width = 1;  // pixels
   // Silhouette pieces (anti-aliased lines only; renderer::silhouette_piece_opacity): a
   // piece of silhouette pixels shorter than this share of the frame's height fades out,
   // to nothing at three quarters of it (kSilhouetteFade; 58 pixels in full at 720 rows, 43
@@ -174,9 +178,10 @@ struct Style {
   // more steeply than that sight line.
   bool formulated = true;
   double formulated_altitude = 5.0, formulated_strength = 10.0;
-  double exaggeration = 1.0;                          // vertical exaggeration
-  double crease_lift = -1;        // metres towards the eye, for the depth test only; < 0: 0.5 x mesh spacing
-  double pixels_per_edge = 6.0;   // tessellation target: screen length of a triangle edge
+  double exaggeration = 1.0;  // vertical exaggeration
+  double crease_lift =
+      -1;  // metres towards the eye, for the depth test only; < 0: 0.5 x mesh spacing
+  double pixels_per_edge = 6.0;  // tessellation target: screen length of a triangle edge
   // TFT draws the patches that tessellate into their own flat triangle (every edge within
   // pixels_per_edge) as triangles, without the tessellation stages; false tessellates
   // every patch (the test of the two ways against each other). Not an option.
@@ -188,7 +193,7 @@ struct Style {
   // tessellation target, pixels_per_edge; 0 none (tests of the levels' joins). Not an option.
   double lod_cell = -1;
   Eigen::Vector3f pel_colour{0x8c / 255.f, 0x1a / 255.f, 0x1a / 255.f};  // #8c1a1a
-  double pel_width = 1.0;         // pixels
+  double pel_width = 1.0;                                                // pixels
   // PEL pieces (anti-aliased lines only; renderer::pel_piece_opacity), in mesh spacings: a
   // PEL piece shorter than this on the mesh fades out, to nothing at half of it; 0 keeps
   // every piece.
@@ -199,10 +204,10 @@ struct Style {
   int pel_smooth = 3;
   // Object-space edges: which kinds (EdgeKind bits of feature_edges.hpp), the crease angle
   // (degrees between the two face normals; 0 = every bend), the joins, width and colour.
-  std::uint8_t edge_kinds = 7;    // contour | boundary | crease
+  std::uint8_t edge_kinds = 7;  // contour | boundary | crease
   double crease_angle = 30.0;
   EdgeCaps edge_caps = EdgeCaps::Exact;
-  double edge_width = 1.5;        // pixels
+  double edge_width = 1.5;                                                // pixels
   Eigen::Vector3f edge_colour{0x26 / 255.f, 0x26 / 255.f, 0x26 / 255.f};  // #262626
 };
 
@@ -210,7 +215,9 @@ struct Style {
 // point) that select_lod draws: by default the tessellation target, since a patch over a
 // larger cell is tessellated, at about twenty times a flat patch's cost on llvmpipe, and
 // one within it is drawn as its own flat triangle.
-inline double lod_cell_px(const Style& s) { return s.lod_cell < 0 ? s.pixels_per_edge : s.lod_cell; }
+inline double lod_cell_px(const Style& s) {
+  return s.lod_cell < 0 ? s.pixels_per_edge : s.lod_cell;
+}
 
 // Parses "contour,boundary,crease" into EdgeKind bits; Error on an unknown or empty list.
 std::uint8_t parse_edge_kinds(const std::string& list);

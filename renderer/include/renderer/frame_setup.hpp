@@ -34,7 +34,8 @@ struct ResolvedFrame {
 // is resolved or drawn (terrain-render frame and batch, the viewer): the exaggeration, when
 // --exaggeration is not given, is auto_exaggeration's (camera.hpp). Returns a line saying
 // so ("exaggeration: 4.5 (automatic: relief ...)"), or the given value's.
-std::string resolve_settings(RenderSettings& s, const terrain::GridMesh& mesh, const GivenOption& given);
+std::string resolve_settings(RenderSettings& s, const terrain::GridMesh& mesh,
+                             const GivenOption& given);
 
 // Settings `s` as drawn, the frame as it stands (its camera not resolved): the frames of a
 // frames CSV, a view the viewer is on.
@@ -45,7 +46,8 @@ ResolvedFrame drawn_frame(const RenderSettings& s);
 // --view (auto, top, relief; default_view at --fov, the frame's aspect and --view-alt when
 // given). Throws terrain::Error when the eye is below the terrain or too far from it
 // (check_eye_above_terrain), or the row cannot be read.
-ResolvedFrame resolve_frame(const RenderSettings& s, const terrain::GridMesh& mesh, const GivenOption& given);
+ResolvedFrame resolve_frame(const RenderSettings& s, const terrain::GridMesh& mesh,
+                            const GivenOption& given);
 
 // How a vector file is written: page resolution and what lies under the lines ("" for the
 // default: the shaded relief when the layers draw it, else the mask).
@@ -64,12 +66,15 @@ struct VectorOptions {
 // layer and `traced` given, the hachures it traced are left there (for frame_line_stats).
 struct WriteTimes {
   double readback_ms = 0, paths_ms = 0, cairo_ms = 0;
-  double hachure_ms = 0, hachure_draw_ms = 0;  // the hachures' field and tracing (within paths_ms); drawing them on the PNG
+  double hachure_ms = 0,
+         hachure_draw_ms =
+             0;  // the hachures' field and tracing (within paths_ms); drawing them on the PNG
   std::size_t vector_bytes = 0;
   std::string layers;  // ", creases 12 paths (40 strokes)..."
 };
-WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene& scene, const TerrainRenderer& r,
-                             const FrameResult& res, const ResolvedFrame& f, const VectorOptions& o,
+WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene& scene,
+                             const TerrainRenderer& r, const FrameResult& res,
+                             const ResolvedFrame& f, const VectorOptions& o,
                              const std::string& description, TracedHachures* traced = nullptr);
 
 // Throws terrain::Error, before the renderer allocates the frame, when the vector output of a
@@ -90,7 +95,8 @@ double terrain_share(const terrain::GridMesh& mesh, const View& view, const Box&
 // Empty when the frame shows the terrain (a share of kMinTerrainShare or more) from above
 // its lowest point; else why not and what to change, one line.
 inline constexpr double kMinTerrainShare = 1e-3;
-std::string no_terrain_problem(const terrain::GridMesh& mesh, const View& view, const Box& box, double e);
+std::string no_terrain_problem(const terrain::GridMesh& mesh, const View& view, const Box& box,
+                               double e);
 
 // The files a frame written to `path` makes: the file and, for a map (`map`: the
 // orthographic top view) written as a PNG, its world file beside it (NAME.pgw). The PNG and

@@ -43,7 +43,7 @@ FrameParams view_row_frame(const std::string& spec, const FrameParams& defaults)
 struct FlightPath {
   Eigen::Vector3d from, to;  // world coordinates
   int frames = 2;            // >= 2: first at `from`, last at `to`
-  FrameParams params;        // view, light, score for every frame; view_az: NaN = bearing from -> to
+  FrameParams params;  // view, light, score for every frame; view_az: NaN = bearing from -> to
 };
 
 // The CSV text of a straight flight path at equal steps (full set of columns).

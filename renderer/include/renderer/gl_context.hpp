@@ -15,12 +15,12 @@
 namespace renderer {
 
 struct GlDeviceInfo {
-  std::string platform;   // "device 0", "surfaceless", "default"
-  std::string detail;     // DRM node or EGL device extensions
-  std::string renderer;   // GL_RENDERER of a context made on it, or why none was made
-  std::string version;    // GL_VERSION, empty when no context
+  std::string platform;  // "device 0", "surfaceless", "default"
+  std::string detail;    // DRM node or EGL device extensions
+  std::string renderer;  // GL_RENDERER of a context made on it, or why none was made
+  std::string version;   // GL_VERSION, empty when no context
   bool software = false;
-  bool usable = false;    // GL >= 4.3 core with tessellation
+  bool usable = false;  // GL >= 4.3 core with tessellation
 };
 
 // Every EGL display this machine offers and what a context on it reports.

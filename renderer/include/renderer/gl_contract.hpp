@@ -27,7 +27,8 @@ inline unsigned dispatch_groups_x(std::size_t n) {
   return unsigned(g < 65535 ? g : 65535);
 }
 inline unsigned dispatch_groups_y(std::size_t n) {
-  const std::size_t g = (n + TR_LOCAL_SIZE - 1) / TR_LOCAL_SIZE, gx = dispatch_groups_x(n) ? dispatch_groups_x(n) : 1;
+  const std::size_t g = (n + TR_LOCAL_SIZE - 1) / TR_LOCAL_SIZE,
+                    gx = dispatch_groups_x(n) ? dispatch_groups_x(n) : 1;
   return unsigned((g + gx - 1) / gx);
 }
 

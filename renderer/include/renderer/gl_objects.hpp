@@ -34,7 +34,8 @@ class GlObject {
 };
 
 // A buffer with immutable storage of `bytes` (glNamedBufferStorage), optionally filled.
-GlObject make_buffer(std::size_t bytes, const void* data, GLbitfield flags = GL_DYNAMIC_STORAGE_BIT);
+GlObject make_buffer(std::size_t bytes, const void* data,
+                     GLbitfield flags = GL_DYNAMIC_STORAGE_BIT);
 // A 2-D texture with one level of `format` (nearest filtering, clamped).
 GlObject make_texture(GLenum format, int width, int height);
 

@@ -29,11 +29,14 @@ namespace renderer {
 
 struct HachureField {
   int width = 0, height = 0;
-  std::vector<Eigen::Vector2f> fall;  // #pixels, unit screen direction downhill (u right, v down); 0 where no terrain
-  std::vector<float> slope;           // #pixels, radians, as drawn (heights exaggerated); NaN where no terrain
-  std::vector<float> tone;            // #pixels, 0 .. 1 (darkness the hachures should give)
-  std::vector<std::uint8_t> blocked;  // #pixels, 1 on a drawn crease or silhouette (optional: empty)
-  std::vector<float> elevation;       // #pixels, metres (true, not exaggerated): the rows' form lines
+  std::vector<Eigen::Vector2f>
+      fall;  // #pixels, unit screen direction downhill (u right, v down); 0 where no terrain
+  std::vector<float>
+      slope;  // #pixels, radians, as drawn (heights exaggerated); NaN where no terrain
+  std::vector<float> tone;  // #pixels, 0 .. 1 (darkness the hachures should give)
+  std::vector<std::uint8_t>
+      blocked;                   // #pixels, 1 on a drawn crease or silhouette (optional: empty)
+  std::vector<float> elevation;  // #pixels, metres (true, not exaggerated): the rows' form lines
   bool terrain(long u, long v) const {
     return u >= 0 && v >= 0 && u < width && v < height &&
            !std::isnan(slope[std::size_t(v) * std::size_t(width) + std::size_t(u)]);
@@ -46,10 +49,10 @@ inline constexpr double kMinTone = 1.0 / 6.0;
 // than the flat, get no hachures, as the flats (measured: docs/terrain-render.md, "Tone").
 inline constexpr double kFlatShare = 0.5;
 struct HachureRule {
-  double spacing = 6.0;       // pixels between neighbouring hachures where the tone is black
-  double test_share = 0.5;    // a hachure stops this share of its spacing from another one
-  double min_slope = 0.05;    // radians: flatter ground stays white (about 3 degrees)
-  double min_length = 4.0;    // pixels: shorter traces are dropped
+  double spacing = 6.0;     // pixels between neighbouring hachures where the tone is black
+  double test_share = 0.5;  // a hachure stops this share of its spacing from another one
+  double min_slope = 0.05;  // radians: flatter ground stays white (about 3 degrees)
+  double min_length = 4.0;  // pixels: shorter traces are dropped
   // Pixels: a hachure ends after this long; each run from its seed ends within twice the
   // field's diagonal in any case, and where its fall line comes back to a half-pixel cell
   // it passed more than 4 steps before (a loop).
@@ -79,7 +82,8 @@ std::vector<Hachure> trace_hachures(const HachureField& field, const HachureRule
 // unproject, `inverse` its inverse view-projection); none outside the image or where the
 // depth is the clear depth.
 std::optional<Eigen::Vector3d> surface_point(const View& view, const Eigen::Matrix4d& inverse,
-                                             const std::vector<float>& toward_depth, double u, double v);
+                                             const std::vector<float>& toward_depth, double u,
+                                             double v);
 
 // Coherence of hachures along a flight (the crease flicker measure, applied to
 // hachures): the points `previous` (local frame, the hachures of frame k on its surface)
@@ -92,8 +96,8 @@ struct Coherence {
   double share() const { return counted ? double(near) / double(counted) : 1.0; }
 };
 Coherence hachure_coherence(const std::vector<Eigen::Vector3f>& previous, const View& next,
-                            const std::vector<float>& next_depth, const std::vector<std::uint8_t>& next_ink,
-                            int radius = 1);
+                            const std::vector<float>& next_depth,
+                            const std::vector<std::uint8_t>& next_ink, int radius = 1);
 
 // Seeds that stay on the surface as the camera moves (frame-to-frame coherence): the
 // ground under the frame is cut into square cells `cell` metres a side (local x, y); for
@@ -104,8 +108,9 @@ Coherence hachure_coherence(const std::vector<Eigen::Vector3f>& previous, const 
 // those of the mesh's own frame, `anchor` (the local frame's origin in it; a window of the
 // mesh held, LodHierarchy::window) added to the ground points: the same seeds whatever
 // part of the mesh is held.
-std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<float>& toward_depth, double spacing,
-                                           double cell, const Eigen::Vector2d& anchor = Eigen::Vector2d::Zero());
+std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<float>& toward_depth,
+                                           double spacing, double cell,
+                                           const Eigen::Vector2d& anchor = Eigen::Vector2d::Zero());
 
 // The field of a frame: each pixel whose toward depth (`toward_depth`, the frame's TFT
 // buffer, row 0 at the top) shows surface is unprojected to the mesh's local frame (heights
@@ -115,21 +120,26 @@ std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<f
 // set, the shadow's (1 - n.l on the exaggerated surface, less kFlatShare of the flat's,
 // clamped).
 HachureField hachure_field(const terrain::GridMesh& mesh, const View& view, double exaggeration,
-                           const std::vector<float>& toward_depth, const Eigen::Vector3d* light = nullptr);
+                           const std::vector<float>& toward_depth,
+                           const Eigen::Vector3d* light = nullptr);
 
 // The figures of traced hachures (--line-stats; the direction and spacing figures).
 struct HachureStats {
   std::size_t hachures = 0, points = 0;
   double length_px = 0;
-  double along_share = 0;    // steps within 10 degrees of the field's fall line at their midpoint
-  double spacing_share = 0;  // points whose nearest point of another hachure is 0.5 to 2 local spacings away
+  double along_share = 0;  // steps within 10 degrees of the field's fall line at their midpoint
+  double spacing_share =
+      0;  // points whose nearest point of another hachure is 0.5 to 2 local spacings away
   double close_share = 0, far_share = 0;  // the others: nearer than 0.5, farther than 2
-  std::vector<std::uint8_t> ink;  // width x height: 1 where a hachure's point lies (coherence between frames)
-  std::vector<Eigen::Vector3f> surface;  // the hachures' points on the surface (local frame; filled by the scene)
+  std::vector<std::uint8_t>
+      ink;  // width x height: 1 where a hachure's point lies (coherence between frames)
+  std::vector<Eigen::Vector3f>
+      surface;  // the hachures' points on the surface (local frame; filled by the scene)
 };
 // The local spacing is the rule's spacing / tone (as the tracer uses it); a point whose
 // nearest other hachure is farther than 2 local spacings counts against the share.
-HachureStats hachure_stats(const HachureField& field, const std::vector<Hachure>& hachures, const HachureRule& rule);
+HachureStats hachure_stats(const HachureField& field, const std::vector<Hachure>& hachures,
+                           const HachureRule& rule);
 
 // The interval of the rows' form lines for a view `scale` metres a pixel across (true
 // metres: heights not exaggerated) with hachures `spacing` pixels apart: a row about four
@@ -171,6 +181,7 @@ inline Eigen::Vector2d plan_to_local(const PlanView& p, const Eigen::Vector2f& p
 // gives the gradient; the fall line on the map is the gradient's opposite (v down is
 // south), the slope its angle (true, exaggeration 1), the tone the shadow's (1 - n.l,
 // `light` given) or the slope's (tan of the slope, black at 45 degrees). Parallel over rows.
-HachureField plan_hachure_field(const terrain::GridMesh& mesh, const PlanView& plan, const Eigen::Vector3d* light);
+HachureField plan_hachure_field(const terrain::GridMesh& mesh, const PlanView& plan,
+                                const Eigen::Vector3d* light);
 
 }  // namespace renderer

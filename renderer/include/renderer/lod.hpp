@@ -48,8 +48,8 @@ inline constexpr double kFacingLodFactor = 4, kFacingMargin = 1.25;
 // nearest point (View::pixel_size of its distance along the line of sight; the
 // eye inside the box: level 0); never finer than h.base (the grid held), unless that is
 // coarser than the block's coarsest.
-std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double exaggeration, double bound_px,
-                                     double cell_px = 0);
+std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double exaggeration,
+                                     double bound_px, double cell_px = 0);
 
 // The nearest depth of `box` along the line of sight of `view`: infinity when it is out of
 // view or behind the eye, 0 when it reaches the eye (perspective).
@@ -59,7 +59,8 @@ double nearest_depth(const Box& box, const View& view);
 // view (heights times `exaggeration`), or of `box` without levels (h null); 0 when the
 // surface reaches the eye or none is in view. What the creases' level is chosen by
 // (select_crease_level).
-double nearest_pixel_metres(const LodHierarchy* h, const Box& box, const View& view, double exaggeration);
+double nearest_pixel_metres(const LodHierarchy* h, const Box& box, const View& view,
+                            double exaggeration);
 
 // The box of the mesh the levels describe (the union of their blocks' boxes), heights times
 // `exaggeration`: the mesh's own box, also when a coarser level of it is held (base > 0),
@@ -75,12 +76,14 @@ struct BlockRange {
   std::size_t br0 = 0, bc0 = 0, br1 = 0, bc1 = 0;
   bool empty() const { return br1 == 0; }
 };
-BlockRange blocks_in_view(const LodHierarchy& h, const std::vector<View>& views, double exaggeration);
+BlockRange blocks_in_view(const LodHierarchy& h, const std::vector<View>& views,
+                          double exaggeration);
 
 // Per block, 1 where it faces the eye throughout at its level (levels[k]) by the test
 // select_lod's looser bound uses: no fragment of it faces away, so AFT need not look at its
 // patches.
-std::vector<std::uint8_t> facing_blocks(const LodHierarchy& h, const View& view, double exaggeration,
+std::vector<std::uint8_t> facing_blocks(const LodHierarchy& h, const View& view,
+                                        double exaggeration,
                                         const std::vector<std::uint8_t>& levels);
 
 // The patches (3 vertex indices each, counter-clockwise as GridTopology::face) of every
@@ -88,7 +91,8 @@ std::vector<std::uint8_t> facing_blocks(const LodHierarchy& h, const View& view,
 // (*may_face_away of them), then those of the blocks marked in `facing` (facing_blocks;
 // empty: none) but for their cells on a side snapped to a coarser neighbour, whose thin
 // triangles are not the level's. All blocks at level 0: the mesh's own faces, in order.
-std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<std::uint8_t>& levels,
+std::vector<std::uint32_t> lod_patches(const LodHierarchy& h,
+                                       const std::vector<std::uint8_t>& levels,
                                        const std::vector<std::uint8_t>& facing = {},
                                        std::size_t* may_face_away = nullptr);
 

@@ -48,15 +48,15 @@ enum class OptionType {
 const char* option_type_name(OptionType t);
 
 struct OptionSpec {
-  std::string name;    // the command line's --NAME; a frames CSV column NAME with '-' as '_'
-  std::string group;   // the --help section and the viewer's panel header
+  std::string name;   // the command line's --NAME; a frames CSV column NAME with '-' as '_'
+  std::string group;  // the --help section and the viewer's panel header
   OptionType type = OptionType::Number;
-  double min = 0, max = 0;             // Number and Integer
-  std::string unit;                    // Number: "degrees", "pixels", "mesh spacings", "m", ""
-  std::vector<std::string> choices;    // Enum and List
-  std::string default_text;            // what RenderSettings{} holds, as the command line writes it
+  double min = 0, max = 0;           // Number and Integer
+  std::string unit;                  // Number: "degrees", "pixels", "mesh spacings", "m", ""
+  std::vector<std::string> choices;  // Enum and List
+  std::string default_text;          // what RenderSettings{} holds, as the command line writes it
   std::string help;
-  bool per_frame = false;              // a column of a frames CSV
+  bool per_frame = false;  // a column of a frames CSV
   // The option's value in `s` as text set_option reads back.
   std::function<std::string(const RenderSettings& s)> get;
   // Stores a checked value (see set_option); unchecked here.

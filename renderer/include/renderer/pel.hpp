@@ -22,8 +22,8 @@
 namespace renderer {
 
 struct PelFields {
-  std::vector<float> f, m, s, c;      // #V
-  std::vector<Eigen::Vector2f> g;     // #V gradient of f in (t1, t2)
+  std::vector<float> f, m, s, c;   // #V
+  std::vector<Eigen::Vector2f> g;  // #V gradient of f in (t1, t2)
   float m_max = 0;
 };
 
@@ -50,7 +50,8 @@ PelSegments extract_pels(const terrain::GridMesh& mesh, const PelFields& fields,
 // copies of a shared point (one per face) move alike, so lines stay joined. End j of a
 // segment lies on its face's j-th edge (t[e], t[e + 1]) that s crosses, in e order, as
 // extract_pels writes them. The GPU runs the same steps (pel_pieces.comp.glsl).
-void smooth_pels(const terrain::GridTopology& topo, const PelFields& fields, PelSegments& segments, int iterations);
+void smooth_pels(const terrain::GridTopology& topo, const PelFields& fields, PelSegments& segments,
+                 int iterations);
 
 // Pieces of PEL: segments in faces that share an edge which s crosses join (each carries
 // the line across that edge), so every piece is a polyline or a closed loop on the mesh.
@@ -60,7 +61,8 @@ struct PelPieces {
   std::vector<std::uint32_t> piece;
   std::vector<double> length;
 };
-PelPieces pel_pieces(const terrain::GridTopology& topo, const PelFields& fields, const PelSegments& segments);
+PelPieces pel_pieces(const terrain::GridTopology& topo, const PelFields& fields,
+                     const PelSegments& segments);
 
 // The piece rule the PEL pass applies with anti-aliased lines: each segment is drawn at
 // piece_opacity(length of its piece, min_length) (silhouette.hpp: in full from min_length,

@@ -18,10 +18,12 @@
 namespace renderer {
 
 struct PlanHachureOptions {
-  double scale = 0;               // metres a pixel; 0: default_plan_scale
-  double spacing = 6, width = 0.8;  // pixels (at the map's scale), as --hachure-spacing and --hachure-width
+  double scale = 0;  // metres a pixel; 0: default_plan_scale
+  double spacing = 6,
+         width = 0.8;  // pixels (at the map's scale), as --hachure-spacing and --hachure-width
   bool light_tone = false, rows = false;  // light_tone: density by the shadow, else by the slope
-  double light_azimuth = 315, light_altitude = 45;  // the cartographer's light: north-west, 45 degrees high
+  double light_azimuth = 315,
+         light_altitude = 45;  // the cartographer's light: north-west, 45 degrees high
   // Figure and ground (--hachure-min-slope): ground flatter than this share of the map's
   // steep slopes (the 99th percentile of its pixels' slopes) stays white, as the QGIS
   // Hachures script leaves ground under a share of its slope range; never under
@@ -80,7 +82,8 @@ std::string world_file(const std::array<double, 6>& gt);
 // length (metres) and row_m (rows only: the form line above it, metres); and, where the
 // map has ridge lines, a line layer "ridges" (basin_m2: the smaller basin it parts, relief_m:
 // its rise above that basin's outlet, length_m). Returns the hachures' count.
-std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachures& h, const std::string& path);
+std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachures& h,
+                                const std::string& path);
 
 // The map as line art on a white page of plan.width x plan.height pixels: a layer
 // "hachures" and, where the map has ridge lines, a layer "ridges" over it.

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "renderer/crease.hpp"
-#include "renderer/line_stats.hpp"
 #include "renderer/hachures.hpp"
+#include "renderer/line_stats.hpp"
 #include "renderer/terrain_renderer.hpp"
 #include "renderer/vector_art.hpp"
 #include "terrain/drainage_links.hpp"
@@ -53,7 +53,7 @@ struct Scene {
   // With a database: its ridge lines between the catchments of branches draining at least
   // kRidgeChannelArea, parting basins of at least kRidgeMinBasin (a frame selects further).
   std::vector<SceneRidge> ridges;
-  std::vector<std::string> warnings;      // "'x.dv': ..." for the tool to print
+  std::vector<std::string> warnings;             // "'x.dv': ..." for the tool to print
   double mesh_seconds = 0, creases_seconds = 0;  // creases_seconds includes ridges_seconds
   double ridges_seconds = 0;
   // What focus_scene needs of a scene read at a coarser level: the creases wait for it.
@@ -63,7 +63,8 @@ struct Scene {
     std::uint64_t vertex_bytes = 0;
   };
   std::optional<Deferred> deferred;
-  std::optional<Deferred> bounded;  // the same, kept after focus_scene: what refocus_scene reads again
+  std::optional<Deferred>
+      bounded;  // the same, kept after focus_scene: what refocus_scene reads again
 };
 
 // Reads the mesh and, when `dv_path` is not empty, the database's points under it (a large
@@ -92,8 +93,8 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
 // cannot show: the terrain that hides a point of the view lies between it and the eye, in
 // the view too. The scene's box stays the whole mesh's (levels_box), and with it the
 // view, the page scale and the strokes.
-std::string focus_scene(Scene& scene, const std::vector<Camera>& cameras, int width, int height, const Style& style,
-                        bool window = false);
+std::string focus_scene(Scene& scene, const std::vector<Camera>& cameras, int width, int height,
+                        const Style& style, bool window = false);
 
 // For a scene read under load_scene's memory bound (Scene::bounded): when what it holds
 // would not draw `camera`'s view as focus_scene with `window` reads it (terrain-render
@@ -103,14 +104,16 @@ std::string focus_scene(Scene& scene, const std::vector<Camera>& cameras, int wi
 // blocks in view at that level, or at a finer one where that level is the finest the view
 // draws. terrain-view calls it before each full frame: a still view is drawn as
 // terrain-render frame draws it, in the detail it needs, within the bound.
-std::string refocus_scene(Scene& scene, const Camera& camera, int width, int height, const Style& style);
+std::string refocus_scene(Scene& scene, const Camera& camera, int width, int height,
+                          const Style& style);
 
 // For a scene holding a window of its mesh (refocus_scene's read): when `camera`'s view has
 // blocks outside it, reads the level focus_scene reads without a window (the whole mesh at
 // the level the view draws, or the finest within the bound) and returns its line; else
 // nothing. terrain-view calls it before each cheap frame: a moving view never shows the
 // terrain cut at the window's edge (one read, when it first leaves the window).
-std::string cover_view(Scene& scene, const Camera& camera, int width, int height, const Style& style);
+std::string cover_view(Scene& scene, const Camera& camera, int width, int height,
+                       const Style& style);
 
 // The scene's levels of detail for `style`: none without levels of detail
 // (Style::lod_error 0), else Scene::levels, made here once when the mesh brought none.
@@ -127,8 +130,8 @@ SceneCreases frame_creases(const Scene& scene, const FrameResult& res);
 
 // Each crease segment's opacity in the frame `res` (#S): what the DM pass draws, as the
 // GL-free score, fade and stroke rule give it (segment_opacity).
-std::vector<float> frame_opacity(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                                 const FrameParams& fp, const Style& style);
+std::vector<float> frame_opacity(const Scene& scene, const TerrainRenderer& r,
+                                 const FrameResult& res, const FrameParams& fp, const Style& style);
 
 // The creases one frame draws (what the DM pass accepts, as the GL-free score gives it),
 // with each segment's pixels left after hidden-line removal (its own line against the
@@ -158,15 +161,17 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
 // its toward depth (the light's tone with Style::hachure_light_tone, else the slope's),
 // traced at Style::hachure_spacing, stopped at the crease and silhouette pixels the frame
 // drew and at the lines of `over` drawn over it (the ridge lines, ridge_layer's: they hang
-// from the crest, which stands clear of them; the heavier silhouettes), in rows with Style::hachure_rows (form lines at
-// row_interval_for the page's scale). The renderer `r` drew `res` (the field is its GPU's).
+// from the crest, which stands clear of them; the heavier silhouettes), in rows with
+// Style::hachure_rows (form lines at row_interval_for the page's scale). The renderer `r` drew
+// `res` (the field is its GPU's).
 struct TracedHachures {
   HachureField field;
   HachureRule rule;
   std::vector<Hachure> hachures;
 };
-TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
-                                    const FrameBuffers& buffers, const Style& style,
+TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r,
+                                    const FrameResult& res, const FrameBuffers& buffers,
+                                    const Style& style,
                                     const std::vector<const VectorLayer*>& over = {});
 // The ridge lines the frame `res` draws (Layers::ridges, Style::ridge_*): the scene's ridges
 // whose smaller basin drains at least ridge_min_area x sqrt(page scale / 10) m^2 and that rise
@@ -177,15 +182,16 @@ inline constexpr double kRidgeChannelArea = 1e6, kRidgeMinBasin = 2e6;  // m^2
 inline constexpr double kRidgeMinPixels = 12;
 // The ridge lines of a database's links (drainage::ridge_lines at kRidgeChannelArea and
 // kRidgeMinBasin), in the local frame of a mesh georeferenced by `g`.
-std::vector<SceneRidge> scene_ridges(const terrain::DrainageLinks& links, const terrain::MeshGeoref& g);
+std::vector<SceneRidge> scene_ridges(const terrain::DrainageLinks& links,
+                                     const terrain::MeshGeoref& g);
 // The ridge lines of the .dv at `dv_path` under `mesh`'s grid, in its local frame.
 std::vector<SceneRidge> read_ridges(const std::string& dv_path, const terrain::GridMesh& mesh);
 // Which of `ridges` a page of `scale` metres a pixel draws (Topfer's law, as the creases'):
 // those parting a smaller basin of at least `min_area` m^2 and rising `min_relief` m above
 // its outlet, joined where they share an end, whole lines under kRidgeMinPixels on the page
 // dropped (stubs, no crests). Indices, in order.
-std::vector<std::size_t> select_ridges(const std::vector<SceneRidge>& ridges, double scale, double min_area,
-                                       double min_relief);
+std::vector<std::size_t> select_ridges(const std::vector<SceneRidge>& ridges, double scale,
+                                       double min_area, double min_relief);
 VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
                         const FrameBuffers& buffers, const Style& style);
 
@@ -206,8 +212,10 @@ FrameOverlays frame_overlays(const Scene& scene, const TerrainRenderer& r, const
 // The silhouettes of the frame `res` as lines (silhouette_paths): the composite's band
 // wide, and wider by Style::silhouette_depth_width times the depth they hide
 // (silhouette_hidden_share of the frame's toward depth) when anti-aliased.
-VectorLayer silhouette_layer(const FrameResult& res, const FrameBuffers& buffers, const Style& style);
-// Draws them over `rgba` (width x height): the hachures, the heavier silhouettes, the ridges on top.
+VectorLayer silhouette_layer(const FrameResult& res, const FrameBuffers& buffers,
+                             const Style& style);
+// Draws them over `rgba` (width x height): the hachures, the heavier silhouettes, the ridges on
+// top.
 void draw_overlays(const FrameOverlays& o, int width, int height, std::vector<std::uint8_t>& rgba);
 
 // The paths of traced hachures (pixel coordinates), each as wide as its mean tone asks:

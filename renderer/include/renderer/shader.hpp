@@ -18,15 +18,16 @@ const std::vector<EmbeddedShader>& embedded_shaders();
 const std::string& shader_source(const std::string& name);  // Error when unknown
 
 struct StageSource {
-  GLenum stage;                     // GL_VERTEX_SHADER, ...
-  std::vector<std::string> files;   // embedded file names, concatenated in order
+  GLenum stage;                    // GL_VERTEX_SHADER, ...
+  std::vector<std::string> files;  // embedded file names, concatenated in order
 };
 
 // Compiles and links. `feedback`: transform-feedback varyings (interleaved), captured
 // from the last vertex-processing stage. Throws terrain::Error with the driver's log and
 // the file names on failure.
 // `defines` ("#define NAME 1\n" lines) go before every stage's files.
-GlObject build_program(const std::vector<StageSource>& stages, const std::vector<std::string>& feedback = {},
+GlObject build_program(const std::vector<StageSource>& stages,
+                       const std::vector<std::string>& feedback = {},
                        const std::string& defines = "");
 
 // Rewrites driver log locations "N:L(C)" / "N(L)" to "file:L" for the given file list

@@ -24,8 +24,9 @@ namespace renderer {
 //   the ridge, and the paper's test draws the ridge as dashes;
 // - specks dropped: a silhouette pixel with fewer than 3 silhouette pixels (itself
 //   included) in its 5 x 5 window is left out, where the surface only grazes the rays.
-std::vector<std::uint8_t> toward_away_silhouettes(const std::vector<float>& toward, const std::vector<float>& away,
-                                                  int w, int h, bool reversed_z, bool antialias);
+std::vector<std::uint8_t> toward_away_silhouettes(const std::vector<float>& toward,
+                                                  const std::vector<float>& away, int w, int h,
+                                                  bool reversed_z, bool antialias);
 
 // Formulated silhouettes (Whelan & Visvalingam 2003, "Formulated silhouettes for sketching
 // terrain"; docs/algorithms.md 9.2): seen from above, a hill has few occluding contours, so
@@ -88,7 +89,8 @@ inline constexpr double kSilhouetteFade = 0.25;
 // only grazes the eye's rays (rolling ridges seen from above) the away-facing ground is
 // patchy and its silhouette a scatter of short dashes; a pen draws the long lines only.
 // min_pixels <= 0: every silhouette pixel 1. Non-silhouette pixels 0.
-std::vector<float> silhouette_piece_opacity(const std::vector<std::uint8_t>& mask, int w, int h, double min_pixels);
+std::vector<float> silhouette_piece_opacity(const std::vector<std::uint8_t>& mask, int w, int h,
+                                            double min_pixels);
 
 // The depth a silhouette hides (Imhof: the skyline and the crests carry the heaviest line):
 // at each pixel of `mask` (w x h, non-zero: silhouette), from `distance` (w x h, metres along
@@ -96,12 +98,14 @@ std::vector<float> silhouette_piece_opacity(const std::vector<std::uint8_t>& mas
 // which the farthest surface within kHiddenReach pixels lies beyond the pixel's own,
 // (d_far - d) / d: 0 where nothing lies behind, +infinity at the skyline. 0 off the mask.
 inline constexpr int kHiddenReach = 3;
-std::vector<float> silhouette_hidden_share(const std::vector<std::uint8_t>& mask, const std::vector<float>& distance,
-                                           int w, int h);
+std::vector<float> silhouette_hidden_share(const std::vector<std::uint8_t>& mask,
+                                           const std::vector<float>& distance, int w, int h);
 // The weight of a hidden share in a silhouette's width: 0 at none, 1 from kHiddenFull on (a
 // surface a quarter farther than the line, or the sky).
 inline constexpr double kHiddenFull = 0.25;
-inline float hidden_weight(float share) { return float(std::min(1.0, std::max(0.0, double(share) / kHiddenFull))); }
+inline float hidden_weight(float share) {
+  return float(std::min(1.0, std::max(0.0, double(share) / kHiddenFull)));
+}
 
 // The piece rule's opacity of a piece of size n (pixels here; metres for PELs, pel.hpp): in
 // full from min_size, fading to nothing over the `fade` share of it below.

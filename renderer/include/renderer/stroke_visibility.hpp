@@ -61,15 +61,17 @@ Projected lifted_projection(const View& view, const Eigen::Vector3d& p, double l
 // The window depth of the farthest toward surface among pixel (x, y) and its 8 neighbours
 // (clamped to the image; `toward_depth` row 0 at the top), none where none of them shows
 // surface: what line.frag tests a line sample against.
-std::optional<double> farthest_surface(const View& view, const std::vector<float>& toward_depth, long x, long y);
+std::optional<double> farthest_surface(const View& view, const std::vector<float>& toward_depth,
+                                       long x, long y);
 
 // The samples of every segment with drawn[s] > 0 (#S), in `view` with heights scaled by
 // `exaggeration`, each end's depth taken `lift` metres towards the eye (line_clip), against
 // `toward_depth` (view.width x view.height window depths, row 0 at the top;
 // FrameBuffers::toward_depth). `chains`: segment_chains(g), as the DM pass holds them.
 std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const SegmentChains& chains,
-                                              const std::vector<float>& drawn, const View& view, double exaggeration,
-                                              double lift, const std::vector<float>& toward_depth,
+                                              const std::vector<float>& drawn, const View& view,
+                                              double exaggeration, double lift,
+                                              const std::vector<float>& toward_depth,
                                               const StrokeVisibilityRule& rule);
 
 // Screen length each segment shows (#S): its shown samples times their step, off-screen
@@ -85,6 +87,7 @@ struct SampleComparison {
   std::size_t differ[4] = {};  // visible, bridgeable, closed, shown
   std::size_t hidden_drawn = 0, peeks = 0;
 };
-SampleComparison compare_samples(const std::vector<SegmentSamples>& a, const std::vector<SegmentSamples>& b);
+SampleComparison compare_samples(const std::vector<SegmentSamples>& a,
+                                 const std::vector<SegmentSamples>& b);
 
 }  // namespace renderer

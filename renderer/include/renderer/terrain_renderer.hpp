@@ -44,24 +44,26 @@ namespace renderer {
 
 struct FrameResult {
   int width = 0, height = 0;
-  std::vector<std::uint8_t> rgba;   // width x height x 4, row 0 at the top
+  std::vector<std::uint8_t> rgba;  // width x height x 4, row 0 at the top
   FrameTimings timings;
   std::size_t crease_segments = 0;  // segments the DM pass drew (both ends accepted)
   std::size_t pel_segments = 0;     // segments the PEL pass drew
   std::size_t edges = 0;            // object-space edges the EDGE pass drew
-  std::size_t patches = 0;          // surface patches drawn (the mesh's faces, fewer with levels of detail)
+  std::size_t patches = 0;  // surface patches drawn (the mesh's faces, fewer with levels of detail)
   // The creases' level the DM pass drew (select_crease_level): 0 the creases as given, l > 0
   // coarser_crease_levels(creases)[l - 1], whose segments the CPU references then follow.
   int crease_level = 0;
-  View view;                        // the view used (for projection by callers)
+  View view;  // the view used (for projection by callers)
 };
 
 // Per-pixel buffers of the last frame, for tests and diagnostics (row 0 at the top).
 struct FrameBuffers {
   std::vector<float> toward_depth, away_depth, crease_depth;  // window depth (clear: far)
-  std::vector<std::uint8_t> silhouette, crease, edge;          // 0/1 masks before compositing
-  std::vector<std::uint8_t> silhouette_opacity;  // what LAY draws of the silhouettes (0..255; the piece rule)
-  std::vector<std::uint8_t> surface_rgba;        // the shaded surface TFT drew (RGBA; where toward_depth shows surface)
+  std::vector<std::uint8_t> silhouette, crease, edge;         // 0/1 masks before compositing
+  std::vector<std::uint8_t>
+      silhouette_opacity;  // what LAY draws of the silhouettes (0..255; the piece rule)
+  std::vector<std::uint8_t>
+      surface_rgba;  // the shaded surface TFT drew (RGBA; where toward_depth shows surface)
   // The drawn surface's unit normal (4 floats a pixel, the 4th 1 on the terrain), when asked
   // for and TFT writes it (hachures, formulated silhouettes); else empty.
   std::vector<float> surface_normal;
@@ -80,9 +82,9 @@ class TerrainRenderer {
   // whose levels change. `levels`: the mesh's levels of detail when already made (the
   // mesh pyramid's, or another renderer's: LodHierarchy), else they are built here; so
   // too `crease_levels`, the creases' coarser levels (coarser_crease_levels(*creases)).
-  TerrainRenderer(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases,
-                  int width, int height, const Layers& layers, const Style& style,
-                  std::shared_ptr<const LodHierarchy> levels = nullptr,
+  TerrainRenderer(const GlContext& context, const terrain::GridMesh& mesh,
+                  const CreaseGeometry* creases, int width, int height, const Layers& layers,
+                  const Style& style, std::shared_ptr<const LodHierarchy> levels = nullptr,
                   std::shared_ptr<const std::vector<CreaseLevel>> crease_levels = nullptr);
   ~TerrainRenderer();
   TerrainRenderer(const TerrainRenderer&) = delete;

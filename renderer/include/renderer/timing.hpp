@@ -33,11 +33,12 @@ struct TimingSummary {
   std::array<double, kPassCount> mean_ms{};
   Fps mean_fps;
 };
-TimingSummary summarize(const std::vector<FrameTimings>& t, std::size_t begin, std::size_t end, bool wall);
+TimingSummary summarize(const std::vector<FrameTimings>& t, std::size_t begin, std::size_t end,
+                        bool wall);
 
 // timings.csv: frame, the five GPU-timer ms, the five wall ms, PEL (GPU timer and wall
-// ms), EDGE (GPU timer and wall ms), the three fps (from the GPU timer times, as the paper) and the three fps from the
-// wall times; one row per frame.
+// ms), EDGE (GPU timer and wall ms), the three fps (from the GPU timer times, as the paper) and the
+// three fps from the wall times; one row per frame.
 std::string timings_csv(const std::vector<FrameTimings>& t);
 
 // The human summary printed after a batch: Table 3 (ms per pass) and Table 4 (fps) for

@@ -53,9 +53,10 @@ struct VectorArt {
   int width = 0, height = 0;
   VectorUnderlay underlay = VectorUnderlay::Mask;
   Eigen::Vector3f background{1, 1, 1}, mask_colour{1, 1, 1};
-  std::vector<std::uint8_t> surface;  // width x height, 1 where the surface shows (row 0 at the top)
-  std::vector<std::uint8_t> shaded;   // width x height x 4 RGBA, the shaded surface (Shaded only)
-  std::vector<VectorLayer> layers;    // in drawing order, bottom first
+  std::vector<std::uint8_t>
+      surface;                       // width x height, 1 where the surface shows (row 0 at the top)
+  std::vector<std::uint8_t> shaded;  // width x height x 4 RGBA, the shaded surface (Shaded only)
+  std::vector<VectorLayer> layers;   // in drawing order, bottom first
 };
 
 // Creases: `drawn` (#S opacity, FrameLines::drawn), `samples` (#S, the DM pass's
@@ -70,8 +71,9 @@ std::vector<VectorPath> crease_paths(const CreaseGeometry& g, const std::vector<
 // `width` pixels; given `hidden` (silhouette_hidden_share of their pixels), each line
 // `heavier` pixels wider times the mean hidden_weight of its pixels (the skyline and the
 // lines that hide most the heaviest).
-std::vector<VectorPath> silhouette_paths(const std::vector<std::uint8_t>& opacity, int w, int h, float width,
-                                         std::size_t* pieces = nullptr, const std::vector<float>* hidden = nullptr,
+std::vector<VectorPath> silhouette_paths(const std::vector<std::uint8_t>& opacity, int w, int h,
+                                         float width, std::size_t* pieces = nullptr,
+                                         const std::vector<float>* hidden = nullptr,
                                          float heavier = 0);
 
 // Segments in the mesh's local frame (already exaggerated), each with an opacity; the parts
@@ -83,8 +85,8 @@ struct SceneSegment {
   Eigen::Vector3d a, b;
   float opacity = 1;
 };
-std::vector<VectorPath> segment_paths(const std::vector<SceneSegment>& segments, const View& view, double lift,
-                                      const std::vector<float>& toward_depth, bool antialias, float width,
-                                      std::size_t* chains = nullptr);
+std::vector<VectorPath> segment_paths(const std::vector<SceneSegment>& segments, const View& view,
+                                      double lift, const std::vector<float>& toward_depth,
+                                      bool antialias, float width, std::size_t* chains = nullptr);
 
 }  // namespace renderer

@@ -44,6 +44,7 @@ std::vector<Region> trace_regions(const std::vector<std::uint8_t>& mask, int w, 
 void draw_on_rgba(const VectorLayer& layer, int width, int height, std::vector<std::uint8_t>& rgba);
 
 // The file's bytes; `description`: the provenance line (SVG <desc>, PDF Subject).
-std::string vector_bytes(const VectorArt& art, VectorFormat format, double dpi, const std::string& description);
+std::string vector_bytes(const VectorArt& art, VectorFormat format, double dpi,
+                         const std::string& description);
 
 }  // namespace renderer

@@ -25,7 +25,8 @@ std::vector<Polyline> chain_mask(const std::vector<std::uint8_t>& mask, int w, i
 // Segment lists (each two points) chained into polylines where consecutive ends coincide
 // within `eps` and exactly two segments meet; ends and junctions of three or more end
 // polylines, and a chain that returns to its start is closed.
-std::vector<Polyline> chain_segments(const std::vector<std::array<Eigen::Vector2f, 2>>& segments, float eps = 1e-3f);
+std::vector<Polyline> chain_segments(const std::vector<std::array<Eigen::Vector2f, 2>>& segments,
+                                     float eps = 1e-3f);
 
 // Douglas-Peucker: the fewest points whose polyline stays within `tolerance` of every
 // point of `line` (ends kept; a ring keeps its first point).

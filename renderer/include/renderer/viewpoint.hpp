@@ -9,10 +9,13 @@
 namespace renderer {
 
 struct Viewpoint {
-  Eigen::Vector3d eye = Eigen::Vector3d::Zero();        // local frame; orthographic: a point of the eye plane
-  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // unit line of sight when orthographic; zero: perspective
+  Eigen::Vector3d eye =
+      Eigen::Vector3d::Zero();  // local frame; orthographic: a point of the eye plane
+  Eigen::Vector3d direction =
+      Eigen::Vector3d::Zero();  // unit line of sight when orthographic; zero: perspective
   Viewpoint() = default;
-  Viewpoint(const Eigen::Vector3d& e) : eye(e) {}  // NOLINT(google-explicit-constructor): a perspective eye
+  Viewpoint(const Eigen::Vector3d& e)
+      : eye(e) {}  // NOLINT(google-explicit-constructor): a perspective eye
   Viewpoint(const Eigen::Vector3d& e, const Eigen::Vector3d& d) : eye(e), direction(d) {}
 
   bool orthographic() const { return direction.squaredNorm() > 0; }

@@ -4,9 +4,9 @@
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cstring>
-#include <fmt/format.h>
 
 #include "terrain/error.hpp"
 
@@ -29,7 +29,10 @@ void require_libegl() {
     void* h = dlopen("libEGL.so.1", RTLD_NOW | RTLD_GLOBAL);
     return h != nullptr;
   }();
-  if (!ok) throw terrain::Error("no OpenGL: libEGL.so.1 cannot be loaded (install libegl1 and a driver: Mesa or a GPU vendor's)");
+  if (!ok)
+    throw terrain::Error(
+        "no OpenGL: libEGL.so.1 cannot be loaded (install libegl1 and a driver: Mesa or a GPU "
+        "vendor's)");
 }
 
 struct Candidate {
@@ -50,12 +53,14 @@ std::vector<Candidate> candidates() {
         Candidate c;
         c.info.platform = fmt::format("device {}", i);
         const char* dext = eglQueryDeviceStringEXT(devices[std::size_t(i)], EGL_EXTENSIONS);
-        const char* drm = has_ext(dext, "EGL_EXT_device_drm")
-                              ? eglQueryDeviceStringEXT(devices[std::size_t(i)], EGL_DRM_DEVICE_FILE_EXT)
-                              : nullptr;
+        const char* drm =
+            has_ext(dext, "EGL_EXT_device_drm")
+                ? eglQueryDeviceStringEXT(devices[std::size_t(i)], EGL_DRM_DEVICE_FILE_EXT)
+                : nullptr;
         c.info.detail = drm ? drm : (dext ? dext : "");
         c.info.software = has_ext(dext, "EGL_MESA_device_software");
-        c.display = eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[std::size_t(i)], nullptr);
+        c.display =
+            eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[std::size_t(i)], nullptr);
         out.push_back(c);
       }
     }
@@ -64,7 +69,8 @@ std::vector<Candidate> candidates() {
     Candidate c;
     c.info.platform = "surfaceless";
     c.info.detail = "Mesa EGL_MESA_platform_surfaceless";
-    c.display = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    c.display =
+        eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
     out.push_back(c);
   }
   Candidate d;
@@ -112,7 +118,8 @@ bool try_context(Candidate& c, Made& m) {
   const bool no_config = has_ext(dext, "EGL_KHR_no_config_context");
   const bool surfaceless = has_ext(dext, "EGL_KHR_surfaceless_context");
   if (!no_config || !surfaceless) {
-    const EGLint attrs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
+    const EGLint attrs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT,
+                            EGL_NONE};
     EGLint n = 0;
     if (!eglChooseConfig(c.display, attrs, &config, 1, &n) || n < 1) {
       c.info.renderer = "no OpenGL pbuffer config";
@@ -121,8 +128,13 @@ bool try_context(Candidate& c, Made& m) {
   }
   m.display = c.display;
   for (const auto& [maj, min] : {std::pair{4, 5}, {4, 4}, {4, 3}}) {
-    const EGLint attrs[] = {EGL_CONTEXT_MAJOR_VERSION, maj, EGL_CONTEXT_MINOR_VERSION, min,
-                            EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+    const EGLint attrs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                            maj,
+                            EGL_CONTEXT_MINOR_VERSION,
+                            min,
+                            EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                            EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                            EGL_NONE};
     m.context = eglCreateContext(c.display, config, EGL_NO_CONTEXT, attrs);
     if (m.context != EGL_NO_CONTEXT) break;
   }
@@ -194,7 +206,8 @@ GlContext::GlContext() : impl_(std::make_unique<Impl>()) {
       clip_control_ = m.clip_control;
       return;
     }
-    tried += fmt::format("{}{}: {}{}", tried.empty() ? "" : "; ", cands[i].info.platform, cands[i].info.renderer,
+    tried += fmt::format("{}{}: {}{}", tried.empty() ? "" : "; ", cands[i].info.platform,
+                         cands[i].info.renderer,
                          cands[i].info.version.empty() ? "" : " (" + cands[i].info.version + ")");
   }
   throw terrain::Error("no usable OpenGL 4.3 core context through EGL (tried " + tried + ")");

@@ -24,8 +24,10 @@ std::string map_log_locations(const std::string& log, const std::vector<std::str
     const int src = std::stoi(m[1].matched ? m[1].str() : m[4].str());
     const std::string line = m[1].matched ? m[2].str() : m[5].str();
     out += log.substr(last, std::size_t(m.position()) - last);
-    if (src >= 1 && std::size_t(src) <= files.size()) out += files[std::size_t(src) - 1] + ":" + line;
-    else out += m.str();
+    if (src >= 1 && std::size_t(src) <= files.size())
+      out += files[std::size_t(src) - 1] + ":" + line;
+    else
+      out += m.str();
     last = std::size_t(m.position() + m.length());
   }
   out += log.substr(last);
@@ -43,7 +45,8 @@ std::string one_line(std::string s) {
 
 GLuint compile(const StageSource& st, const std::string& defines) {
   // String 0: the version, the C++/GLSL contract (renderer/gl_contract.h) and the defines.
-  std::vector<std::string> parts{"#version 450 core\n" + shader_source("gl_contract.h") + "\n" + defines};
+  std::vector<std::string> parts{"#version 450 core\n" + shader_source("gl_contract.h") + "\n" +
+                                 defines};
   for (std::size_t i = 0; i < st.files.size(); ++i)
     parts.push_back("#line 1 " + std::to_string(i + 1) + "\n" + shader_source(st.files[i]) + "\n");
   std::vector<const char*> ptrs;
@@ -59,15 +62,16 @@ GLuint compile(const StageSource& st, const std::string& defines) {
     std::string log(std::size_t(std::max(len, 1)), '\0');
     glGetShaderInfoLog(sh, len, nullptr, log.data());
     glDeleteShader(sh);
-    throw terrain::Error("GLSL compile error: " + one_line(map_log_locations(log.c_str(), st.files)));
+    throw terrain::Error("GLSL compile error: " +
+                         one_line(map_log_locations(log.c_str(), st.files)));
   }
   return sh;
 }
 
 }  // namespace
 
-GlObject build_program(const std::vector<StageSource>& stages, const std::vector<std::string>& feedback,
-                       const std::string& defines) {
+GlObject build_program(const std::vector<StageSource>& stages,
+                       const std::vector<std::string>& feedback, const std::string& defines) {
   GlObject prog(GlKind::Program);
   std::vector<GLuint> shaders;
   try {
@@ -80,7 +84,8 @@ GlObject build_program(const std::vector<StageSource>& stages, const std::vector
   if (!feedback.empty()) {
     std::vector<const char*> names;
     for (const auto& f : feedback) names.push_back(f.c_str());
-    glTransformFeedbackVaryings(prog.id(), GLsizei(names.size()), names.data(), GL_INTERLEAVED_ATTRIBS);
+    glTransformFeedbackVaryings(prog.id(), GLsizei(names.size()), names.data(),
+                                GL_INTERLEAVED_ATTRIBS);
   }
   glLinkProgram(prog.id());
   for (GLuint s : shaders) {

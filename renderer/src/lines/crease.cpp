@@ -21,7 +21,8 @@ struct BasinFlow {
   std::vector<float> share, log_fc;
   float fc(std::size_t i) const { return log_fc.empty() ? share[i] : log_fc[i]; }
 };
-BasinFlow basin_flow(const terrain::DrainageLinks& links, double edge_basin_min_share, bool log_flow) {
+BasinFlow basin_flow(const terrain::DrainageLinks& links, double edge_basin_min_share,
+                     bool log_flow) {
   using terrain::DrainageLinks;
   const std::size_t n = links.size();
   const bool edge_rule = edge_basin_min_share > 0;
@@ -70,7 +71,8 @@ BasinFlow basin_flow(const terrain::DrainageLinks& links, double edge_basin_min_
 
 }  // namespace
 
-std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_basin_min_share, bool log_flow) {
+std::vector<float> crease_flow(const terrain::DrainageLinks& links, double edge_basin_min_share,
+                               bool log_flow) {
   BasinFlow f = basin_flow(links, edge_basin_min_share, log_flow);
   return log_flow ? std::move(f.log_fc) : std::move(f.share);
 }
@@ -149,11 +151,14 @@ namespace {
 // Marks every link downstream of a marked one, along the D8 links, while `may(d)` holds:
 // each walk stops at the first link already marked, so every link is marked once.
 template <class May>
-void mark_downstream(const terrain::DrainageLinks& links, std::vector<std::uint8_t>& mark, May may) {
+void mark_downstream(const terrain::DrainageLinks& links, std::vector<std::uint8_t>& mark,
+                     May may) {
   const std::size_t n = mark.size();
   for (std::size_t s = 0; s < n; ++s) {
     if (!mark[s]) continue;
-    for (std::uint32_t d = links.downstream[s]; d < n && !mark[d] && may(d); d = links.downstream[d]) mark[d] = 1;
+    for (std::uint32_t d = links.downstream[s]; d < n && !mark[d] && may(d);
+         d = links.downstream[d])
+      mark[d] = 1;
   }
 }
 
@@ -162,23 +167,26 @@ void mark_downstream(const terrain::DrainageLinks& links, std::vector<std::uint8
 // rules.valley_curvature and that drain less than rules.river_share of their basin are left
 // out, unless a kept branch drains into them.
 void drop_branches_off_valleys(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
-                               const Eigen::Vector3d& shift, const std::vector<float>& share, const CreaseRules& rules,
-                               std::vector<std::uint8_t>& keep) {
+                               const Eigen::Vector3d& shift, const std::vector<float>& share,
+                               const CreaseRules& rules, std::vector<std::uint8_t>& keep) {
   const std::size_t n = links.size();
   const double w = std::max({rules.valley_width, mesh.geo.dx, mesh.geo.dy});
   // (z(+w) + z(-w) - 2 z) / w^2 across link i -> d, at its midpoint (mesh heights, bilinear).
   auto concavity = [&](std::uint32_t i, std::uint32_t d) {
-    const Eigen::Vector3d a = links.position(i).cast<double>() + shift, b = links.position(d).cast<double>() + shift;
+    const Eigen::Vector3d a = links.position(i).cast<double>() + shift,
+                          b = links.position(d).cast<double>() + shift;
     const Eigen::Vector2d mid = 0.5 * (a + b).head<2>(), along = (b - a).head<2>().normalized();
     const Eigen::Vector2d side(-along.y() * w, along.x() * w);
     auto z = [&](const Eigen::Vector2d& p) {
-      return vertex_value_at(mesh, [&](std::size_t v) { return mesh.positions[v].z(); }, p.x(), p.y());
+      return vertex_value_at(
+          mesh, [&](std::size_t v) { return mesh.positions[v].z(); }, p.x(), p.y());
     };
     return (z(mid + side) + z(mid - side) - 2 * z(mid)) / (w * w);
   };
   std::vector<std::uint8_t> inflows(n, 0);
   for (std::size_t i = 0; i < n; ++i)
-    if (keep[i]) inflows[links.downstream[i]] = std::uint8_t(std::min(2, inflows[links.downstream[i]] + 1));
+    if (keep[i])
+      inflows[links.downstream[i]] = std::uint8_t(std::min(2, inflows[links.downstream[i]] + 1));
   std::vector<std::uint32_t> branch;
   std::vector<std::uint8_t> dropped(n, 0);
   for (std::size_t s = 0; s < n; ++s) {
@@ -229,9 +237,10 @@ namespace {
 
 // Which points' links to their downstream point become crease segments: valid ends, the
 // area, the flat rule, runs along the grid's edge, the contributing width, the valleys.
-std::vector<std::uint8_t> kept_links(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
-                                     const CreaseRules& rules,
-                                     const std::vector<std::uint8_t>& off_flat, const Eigen::Vector3d& shift,
+std::vector<std::uint8_t> kept_links(const terrain::GridMesh& mesh,
+                                     const terrain::DrainageLinks& links, const CreaseRules& rules,
+                                     const std::vector<std::uint8_t>& off_flat,
+                                     const Eigen::Vector3d& shift,
                                      const std::vector<float>& share) {
   using terrain::DrainageLinks;
   const std::size_t n = links.size();
@@ -250,7 +259,8 @@ std::vector<std::uint8_t> kept_links(const terrain::GridMesh& mesh, const terrai
     auto edge_col = [&](long c) { return c < m || c >= C - m; };
     for (std::size_t i = 0; i < n; ++i) {
       if (!eligible[i]) continue;
-      const long d = long(links.downstream[i]), ri = long(i) / C, ci = long(i) % C, rd = d / C, cd = d % C;
+      const long d = long(links.downstream[i]), ri = long(i) / C, ci = long(i) % C, rd = d / C,
+                 cd = d % C;
       if ((ri == rd && edge_row(ri)) || (ci == cd && edge_col(ci))) eligible[i] = 0;
     }
   }
@@ -296,7 +306,8 @@ void pn_normals_above(CreaseGeometry& out, const terrain::GridMesh& mesh) {
     }
   }
   if (m > 0 && inside == 0)
-    throw terrain::Error("the drainage database does not overlap the mesh (no drainage vertex lies on it)");
+    throw terrain::Error(
+        "the drainage database does not overlap the mesh (no drainage vertex lies on it)");
   std::erase(offset, -1.0f);
   if (!offset.empty()) {
     const auto mid = offset.begin() + long(offset.size() / 2);
@@ -307,13 +318,15 @@ void pn_normals_above(CreaseGeometry& out, const terrain::GridMesh& mesh) {
 
 }  // namespace
 
-CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
+CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh,
+                                     const terrain::DrainageLinks& links,
                                      const CreaseRules& rules) {
   using terrain::DrainageLinks;
   const auto& g = mesh.geo;
   if (links.epsg != 0 && g.epsg != 0 && links.epsg != g.epsg)
-    throw terrain::Error("the drainage database (EPSG:" + std::to_string(links.epsg) + ") and the mesh (EPSG:" +
-                         std::to_string(g.epsg) + ") are in different CRSs");
+    throw terrain::Error("the drainage database (EPSG:" + std::to_string(links.epsg) +
+                         ") and the mesh (EPSG:" + std::to_string(g.epsg) +
+                         ") are in different CRSs");
   const Eigen::Vector3d shift = links.origin - Eigen::Vector3d(g.origin_x, g.origin_y, g.origin_z);
   const std::size_t n = links.size();
   const BasinFlow flow = basin_flow(links, rules.edge_basin_min_share, rules.log_flow);
@@ -340,7 +353,8 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
     out.area.push_back(float(double(links.accumulated[i]) * links.dx * links.dy));
   }
   auto compact = [&](std::uint32_t point) {
-    return std::uint32_t(std::lower_bound(out.source.begin(), out.source.end(), point) - out.source.begin());
+    return std::uint32_t(std::lower_bound(out.source.begin(), out.source.end(), point) -
+                         out.source.begin());
   };
   for (std::size_t i = 0; i < n; ++i) {
     if (!(keep[i] & 1)) continue;
@@ -350,9 +364,10 @@ CreaseGeometry build_crease_geometry(const terrain::GridMesh& mesh, const terrai
 
   pn_normals_above(out, mesh);
   if (rules.smooth_spacings > 0 && std::min(links.dx, links.dy) > 0)
-    smooth_crease_lines(out, mesh,
-                        std::max(rules.smooth_spacings * std::min(g.dx, g.dy) / std::min(links.dx, links.dy),
-                                 rules.smooth_min_samples));
+    smooth_crease_lines(
+        out, mesh,
+        std::max(rules.smooth_spacings * std::min(g.dx, g.dy) / std::min(links.dx, links.dy),
+                 rules.smooth_min_samples));
   return out;
 }
 
@@ -370,7 +385,8 @@ void smooth_crease_lines(CreaseGeometry& g, const terrain::GridMesh& mesh, doubl
   }
   const int reach = int(std::ceil(2 * sigma_samples));  // <= 2 kMaxSmoothSigma
   std::vector<double> weight(std::size_t(reach) + 1);
-  for (int k = 0; k <= reach; ++k) weight[std::size_t(k)] = std::exp(-0.5 * k * k / (sigma_samples * sigma_samples));
+  for (int k = 0; k <= reach; ++k)
+    weight[std::size_t(k)] = std::exp(-0.5 * k * k / (sigma_samples * sigma_samples));
   std::vector<Eigen::Vector3f> positions = g.positions, normals = g.normals;
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::size_t i = 0; i < m; ++i) {
@@ -385,7 +401,8 @@ void smooth_crease_lines(CreaseGeometry& g, const terrain::GridMesh& mesh, doubl
     double total = weight[0];
     for (int k = 1; k <= r; ++k) {
       const double w = weight[std::size_t(k)];
-      sum += w * (g.positions[ups[k - 1]].head<2>().cast<double>() + g.positions[downs[k - 1]].head<2>().cast<double>());
+      sum += w * (g.positions[ups[k - 1]].head<2>().cast<double>() +
+                  g.positions[downs[k - 1]].head<2>().cast<double>());
       total += 2 * w;
     }
     const Eigen::Vector2d xy = sum / total;
@@ -394,8 +411,9 @@ void smooth_crease_lines(CreaseGeometry& g, const terrain::GridMesh& mesh, doubl
     const auto before = terrain::pn_point_above(mesh, p.x(), p.y());
     const auto after = terrain::pn_point_above(mesh, xy.x(), xy.y());
     if (!before || !after) continue;
-    positions[i] = Eigen::Vector3f(float(xy.x()), float(xy.y()),
-                                   float(double(p.z()) + after->position.z() - before->position.z()));
+    positions[i] =
+        Eigen::Vector3f(float(xy.x()), float(xy.y()),
+                        float(double(p.z()) + after->position.z() - before->position.z()));
     normals[i] = after->normal.cast<float>();
   }
   g.positions = std::move(positions);
@@ -406,13 +424,15 @@ Eigen::Vector3d exaggerate_normal(const Eigen::Vector3d& n, double e) {
   return Eigen::Vector3d(n.x(), n.y(), n.z() / e).normalized();
 }
 
-double crease_score(const Eigen::Vector3d& n, double flow, const Eigen::Vector3d& light, double distance,
-                    const CreaseScoreParams& p) {
+double crease_score(const Eigen::Vector3d& n, double flow, const Eigen::Vector3d& light,
+                    double distance, const CreaseScoreParams& p) {
   const double sc = 1.0 - n.z(), ic = 1.0 - n.dot(light);
   const double divisor = p.literal_divisor ? 3.0 : (p.sw + p.iw + p.fw);
   const double raw = (p.sw * sc + p.iw * ic + p.fw * flow) / divisor;
-  const double rs_min = p.min_score + (1.0 - p.min_score) * p.falloff *
-                                          std::clamp((distance - p.near_distance) / (p.far_distance - p.near_distance), 0.0, 1.0);
+  const double rs_min =
+      p.min_score +
+      (1.0 - p.min_score) * p.falloff *
+          std::clamp((distance - p.near_distance) / (p.far_distance - p.near_distance), 0.0, 1.0);
   return raw - rs_min;
 }
 
@@ -447,7 +467,8 @@ CreaseScoreParams resolve_distances(const CreaseScoreParams& params, const Eigen
 
 SegmentChains segment_chains(const CreaseGeometry& g, const std::vector<float>& drawn) {
   const std::size_t ns = g.n_segments();
-  SegmentChains ch{std::vector<std::uint32_t>(ns, kNoSegment), std::vector<std::uint32_t>(ns, kNoSegment)};
+  SegmentChains ch{std::vector<std::uint32_t>(ns, kNoSegment),
+                   std::vector<std::uint32_t>(ns, kNoSegment)};
   const VertexSegments v = vertex_segments(g, drawn);
   for (std::uint32_t s = 0; s < ns; ++s) {
     ch.next[s] = v.leaving[g.segments[2 * s + 1]];
@@ -471,7 +492,9 @@ std::vector<float> apply_stroke_rule(const SegmentChains& ch, const std::vector<
   };
   if (rule.bridge > 0)
     for (std::size_t s = 0; s < ns; ++s)
-      if (!(opacity[s] > 0)) bridged[s] = std::min(nearest_drawn(ch.prev[s], ch.prev), nearest_drawn(ch.next[s], ch.next));
+      if (!(opacity[s] > 0))
+        bridged[s] =
+            std::min(nearest_drawn(ch.prev[s], ch.prev), nearest_drawn(ch.next[s], ch.next));
   if (!(rule.min_length > 0)) return bridged;
   std::vector<float> out = bridged;
   for (std::size_t s = 0; s < ns; ++s) {
@@ -479,12 +502,14 @@ std::vector<float> apply_stroke_rule(const SegmentChains& ch, const std::vector<
     double run = length[s];
     int k = 0;
     // Only as far as the run needs to reach the minimum (a sum of lengths only grows).
-    for (std::uint32_t t = ch.prev[s]; t != kNoSegment && k < kStrokeReach && bridged[t] > 0 && run < rule.min_length;
+    for (std::uint32_t t = ch.prev[s];
+         t != kNoSegment && k < kStrokeReach && bridged[t] > 0 && run < rule.min_length;
          t = ch.prev[t], ++k)
       run += length[t];
     k = 0;
     for (std::uint32_t c = std::uint32_t(s), t = ch.next[s];
-         t != kNoSegment && k < kStrokeReach && bridged[t] > 0 && ch.prev[t] == c && run < rule.min_length;
+         t != kNoSegment && k < kStrokeReach && bridged[t] > 0 && ch.prev[t] == c &&
+         run < rule.min_length;
          c = t, t = ch.next[t], ++k)
       run += length[t];
     if (run < rule.min_length) out[s] = 0;
@@ -505,16 +530,18 @@ std::vector<double> segment_metres(const CreaseGeometry& g) {
   return m;
 }
 
-std::vector<float> segment_opacity(const CreaseGeometry& g, const Viewpoint& viewer, const Eigen::Vector3d& light,
-                                   double e, const CreaseScoreParams& params, double fade, const StrokeRule& rule) {
+std::vector<float> segment_opacity(const CreaseGeometry& g, const Viewpoint& viewer,
+                                   const Eigen::Vector3d& light, double e,
+                                   const CreaseScoreParams& params, double fade,
+                                   const StrokeRule& rule) {
   std::vector<double> score(g.positions.size());
   for (std::size_t i = 0; i < score.size(); ++i) {
     const Eigen::Vector3d p = g.positions[i].cast<double>();
     const Eigen::Vector3d pe(p.x(), p.y(), p.z() * e);
     score[i] = !g.area.empty() && double(g.area[i]) < rule.min_area
                    ? -1.0
-                   : crease_score(exaggerate_normal(g.normals[i].cast<double>(), e), g.flow[i], light,
-                                  viewer.distance(pe), params);
+                   : crease_score(exaggerate_normal(g.normals[i].cast<double>(), e), g.flow[i],
+                                  light, viewer.distance(pe), params);
   }
   std::vector<float> opacity(g.n_segments());
   for (std::size_t s = 0; s < opacity.size(); ++s) {
@@ -526,13 +553,15 @@ std::vector<float> segment_opacity(const CreaseGeometry& g, const Viewpoint& vie
 }
 
 std::vector<std::uint8_t> accepted_segments(const CreaseGeometry& g, const Viewpoint& viewer,
-                                            const Eigen::Vector3d& light, double e, const CreaseScoreParams& params) {
+                                            const Eigen::Vector3d& light, double e,
+                                            const CreaseScoreParams& params) {
   const auto opacity = segment_opacity(g, viewer, light, e, params, 0.0);
   return std::vector<std::uint8_t>(opacity.begin(), opacity.end());
 }
 
-std::size_t count_accepted_segments(const CreaseGeometry& g, const Viewpoint& viewer, const Eigen::Vector3d& light,
-                                    double e, const CreaseScoreParams& params) {
+std::size_t count_accepted_segments(const CreaseGeometry& g, const Viewpoint& viewer,
+                                    const Eigen::Vector3d& light, double e,
+                                    const CreaseScoreParams& params) {
   const auto a = accepted_segments(g, viewer, light, e, params);
   return std::size_t(std::count(a.begin(), a.end(), 1));
 }
@@ -547,25 +576,30 @@ std::string coverage_warning(const terrain::GridMesh& mesh, const terrain::Drain
   const double tol = std::max(h.dx, h.dy);
   for (int k = 0; k < 4; ++k)
     if (std::abs(m[k] - d[k]) > tol)
-      return fmt::format("the drainage database covers x {:.1f}..{:.1f}, y {:.1f}..{:.1f}, the mesh x {:.1f}..{:.1f}, "
-                         "y {:.1f}..{:.1f}: it was not made from this mesh",
-                         d[0], d[2], d[1], d[3], m[0], m[2], m[1], m[3]);
+      return fmt::format(
+          "the drainage database covers x {:.1f}..{:.1f}, y {:.1f}..{:.1f}, the mesh x "
+          "{:.1f}..{:.1f}, "
+          "y {:.1f}..{:.1f}: it was not made from this mesh",
+          d[0], d[2], d[1], d[3], m[0], m[2], m[1], m[3]);
   return {};
 }
 
 std::string surface_warning(const terrain::GridMesh& mesh, const CreaseGeometry& g) {
   const double spacing = std::min(mesh.geo.dx, mesh.geo.dy);
   if (!(g.median_surface_offset > kSurfaceOffsetShare * spacing)) return {};
-  return fmt::format("its points lie a median {:.2f} m off this mesh's PN surface ({:.0f} % of its {:g} m spacing): "
-                     "it was sampled from another surface, so its creases will not follow this one's valleys "
-                     "(build it from this mesh)",
-                     g.median_surface_offset, 100 * g.median_surface_offset / spacing, spacing);
+  return fmt::format(
+      "its points lie a median {:.2f} m off this mesh's PN surface ({:.0f} % of its {:g} m "
+      "spacing): "
+      "it was sampled from another surface, so its creases will not follow this one's valleys "
+      "(build it from this mesh)",
+      g.median_surface_offset, 100 * g.median_surface_offset / spacing, spacing);
 }
 
 namespace {
 
 // The distance of p from the segment a-b.
-float segment_distance(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
+float segment_distance(const Eigen::Vector3f& p, const Eigen::Vector3f& a,
+                       const Eigen::Vector3f& b) {
   const Eigen::Vector3f ab = b - a;
   const float u = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-12f), 0.0f, 1.0f);
   return (a + u * ab - p).norm();
@@ -596,7 +630,9 @@ CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step, double toleranc
       std::size_t b = std::min(a + std::size_t(step), run.size() - 1);
       const auto within = [&](std::size_t e) {
         for (std::size_t k = a + 1; k < e; ++k)
-          if (segment_distance(g.positions[run[k]], g.positions[run[a]], g.positions[run[e]]) > tolerance) return false;
+          if (segment_distance(g.positions[run[k]], g.positions[run[a]], g.positions[run[e]]) >
+              tolerance)
+            return false;
         return true;
       };
       while (b > a + 1 && !within(b)) --b;
@@ -631,7 +667,9 @@ CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step, double toleranc
       b = g.segments[2 * t + 1];
     }
     for (const std::uint32_t v : dropped)
-      level.error_metres = std::max(level.error_metres, double(segment_distance(g.positions[v], g.positions[a], g.positions[b])));
+      level.error_metres =
+          std::max(level.error_metres,
+                   double(segment_distance(g.positions[v], g.positions[a], g.positions[b])));
     c.segments.push_back(keep(a));
     c.segments.push_back(keep(b));
     if (!dropped.empty()) {  // scored where the run it replaces is, at its middle vertex
@@ -652,7 +690,8 @@ std::vector<CreaseLevel> coarser_crease_levels(const CreaseGeometry& g) {
   std::vector<CreaseLevel> levels;
   std::vector<double> length = segment_metres(g);
   if (length.empty()) return levels;
-  std::nth_element(length.begin(), length.begin() + std::ptrdiff_t(length.size() / 2), length.end());
+  std::nth_element(length.begin(), length.begin() + std::ptrdiff_t(length.size() / 2),
+                   length.end());
   const double median = length[length.size() / 2];
   std::size_t previous = g.n_segments();
   for (int step = 2; step <= kMaxCreaseStep; step *= 2) {
@@ -664,9 +703,11 @@ std::vector<CreaseLevel> coarser_crease_levels(const CreaseGeometry& g) {
   return levels;
 }
 
-int select_crease_level(const std::vector<double>& error_metres, double pixel_metres, double bound_px) {
+int select_crease_level(const std::vector<double>& error_metres, double pixel_metres,
+                        double bound_px) {
   int l = 0;
-  while (pixel_metres > 0 && std::size_t(l) < error_metres.size() && error_metres[std::size_t(l)] <= bound_px * pixel_metres)
+  while (pixel_metres > 0 && std::size_t(l) < error_metres.size() &&
+         error_metres[std::size_t(l)] <= bound_px * pixel_metres)
     ++l;
   return l;
 }

@@ -17,17 +17,21 @@ std::vector<MeshEdge> mesh_edges(const terrain::GridTopology& topo) {
   for (std::size_t f = 0; f < topo.n_faces(); ++f) {
     const auto t = topo.face(f);
     for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = t[std::size_t(k)], b = t[std::size_t((k + 1) % 3)], c = t[std::size_t((k + 2) % 3)];
+      const std::uint32_t a = t[std::size_t(k)], b = t[std::size_t((k + 1) % 3)],
+                          c = t[std::size_t((k + 2) % 3)];
       const std::uint64_t key = (std::uint64_t(std::min(a, b)) << 32) | std::max(a, b);
       const auto [it, inserted] = seen.try_emplace(key, edges.size());
-      if (inserted) edges.push_back({a, b, c, MeshEdge::kNoVertex});
-      else edges[it->second].v3 = c;  // the second face: its third vertex
+      if (inserted)
+        edges.push_back({a, b, c, MeshEdge::kNoVertex});
+      else
+        edges[it->second].v3 = c;  // the second face: its third vertex
     }
   }
   return edges;
 }
 
-std::vector<std::uint8_t> classify_edges(std::span<const MeshEdge> edges, std::span<const Eigen::Vector3f> positions,
+std::vector<std::uint8_t> classify_edges(std::span<const MeshEdge> edges,
+                                         std::span<const Eigen::Vector3f> positions,
                                          const Viewpoint& viewer, double crease_angle_deg) {
   const double cos_crease = std::cos(crease_angle_deg * std::numbers::pi / 180.0);
   std::vector<std::uint8_t> kinds(edges.size(), 0);

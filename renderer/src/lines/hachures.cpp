@@ -22,25 +22,30 @@ using Eigen::Vector2f;
 class Occupancy {
  public:
   Occupancy(int width, int height, double cell)
-      : cell_(cell), cols_(long(std::ceil(width / cell)) + 1), rows_(long(std::ceil(height / cell)) + 1),
+      : cell_(cell),
+        cols_(long(std::ceil(width / cell)) + 1),
+        rows_(long(std::ceil(height / cell)) + 1),
         cells_(std::size_t(cols_ * rows_)) {}
   // Whether a point q of another hachure than `self`, of row `row` (-1: any row), lies
   // closer to p than `share` times the smaller of the two points' local spacings (p's is
   // `spacing`): the test is the same seen from either hachure.
   bool near(const Vector2f& p, double share, double spacing, long self, long row = -1) const {
     const double d = share * spacing;
-    const long reach = long(std::ceil(d / cell_)), cu = long(p.x() / cell_), cv = long(p.y() / cell_);
+    const long reach = long(std::ceil(d / cell_)), cu = long(p.x() / cell_),
+               cv = long(p.y() / cell_);
     for (long v = std::max(0L, cv - reach); v <= std::min(rows_ - 1, cv + reach); ++v)
       for (long u = std::max(0L, cu - reach); u <= std::min(cols_ - 1, cu + reach); ++u)
         for (const Entry& e : cells_[std::size_t(v * cols_ + u)]) {
           const double dq = share * std::min(spacing, double(e.spacing));
-          if (e.id != self && (row < 0 || e.row == row) && (e.p - p).squaredNorm() < dq * dq) return true;
+          if (e.id != self && (row < 0 || e.row == row) && (e.p - p).squaredNorm() < dq * dq)
+            return true;
         }
     return false;
   }
   // Whether a point of another hachure than `self` lies closer than `d` to p.
   bool within(const Vector2f& p, double d, long self) const {
-    const long reach = long(std::ceil(d / cell_)), cu = long(p.x() / cell_), cv = long(p.y() / cell_);
+    const long reach = long(std::ceil(d / cell_)), cu = long(p.x() / cell_),
+               cv = long(p.y() / cell_);
     for (long v = std::max(0L, cv - reach); v <= std::min(rows_ - 1, cv + reach); ++v)
       for (long u = std::max(0L, cu - reach); u <= std::min(cols_ - 1, cu + reach); ++u)
         for (const Entry& e : cells_[std::size_t(v * cols_ + u)])
@@ -48,7 +53,8 @@ class Occupancy {
     return false;
   }
   void add(const Vector2f& p, double spacing, long id, long row) {
-    const long u = std::clamp(long(p.x() / cell_), 0L, cols_ - 1), v = std::clamp(long(p.y() / cell_), 0L, rows_ - 1);
+    const long u = std::clamp(long(p.x() / cell_), 0L, cols_ - 1),
+               v = std::clamp(long(p.y() / cell_), 0L, rows_ - 1);
     cells_[std::size_t(v * cols_ + u)].push_back({p, float(spacing), id, row});
   }
 
@@ -115,8 +121,10 @@ Vector2f fall_at(const HachureField& f, const Vector2f& p) {
   Vector2f sum = Vector2f::Zero();
   for (int dv = 0; dv < 2; ++dv)
     for (int du = 0; du < 2; ++du) {
-      const long u = std::clamp(u0 + du, 0L, long(f.width) - 1), v = std::clamp(v0 + dv, 0L, long(f.height) - 1);
-      sum += (du ? a : 1 - a) * (dv ? b : 1 - b) * f.fall[std::size_t(v) * std::size_t(f.width) + std::size_t(u)];
+      const long u = std::clamp(u0 + du, 0L, long(f.width) - 1),
+                 v = std::clamp(v0 + dv, 0L, long(f.height) - 1);
+      sum += (du ? a : 1 - a) * (dv ? b : 1 - b) *
+             f.fall[std::size_t(v) * std::size_t(f.width) + std::size_t(u)];
     }
   const float n = sum.norm();
   return n > 1e-6f ? Vector2f(sum / n) : Vector2f::Zero();
@@ -132,18 +140,24 @@ struct Tracer {
   const HachureRule& rule;
   const Occupancy& occupied;
 
-  std::size_t at(const Vector2f& p) const { return std::size_t(long(p.y())) * std::size_t(f.width) + std::size_t(long(p.x())); }
+  std::size_t at(const Vector2f& p) const {
+    return std::size_t(long(p.y())) * std::size_t(f.width) + std::size_t(long(p.x()));
+  }
   bool usable(const Vector2f& p) const {
     if (!f.terrain(long(p.x()), long(p.y())) || p.x() < 0 || p.y() < 0) return false;
     const std::size_t i = at(p);
-    return f.slope[i] >= rule.min_slope && (f.blocked.empty() || !f.blocked[i]) && f.fall[i].squaredNorm() > 0.5f;
+    return f.slope[i] >= rule.min_slope && (f.blocked.empty() || !f.blocked[i]) &&
+           f.fall[i].squaredNorm() > 0.5f;
   }
   double spacing(const Vector2f& p) const { return local_spacing(f, rule, at(p)); }
   // The row of a point: the band between two form lines (-1: no rows).
   long row(const Vector2f& p) const {
-    return rule.row_interval > 0 ? long(std::floor(double(f.elevation[at(p)]) / rule.row_interval)) : -1;
+    return rule.row_interval > 0 ? long(std::floor(double(f.elevation[at(p)]) / rule.row_interval))
+                                 : -1;
   }
-  bool free(const Vector2f& p, long self, long r) const { return !occupied.near(p, rule.test_share, spacing(p), self, r); }
+  bool free(const Vector2f& p, long self, long r) const {
+    return !occupied.near(p, rule.test_share, spacing(p), self, r);
+  }
 
   // From `seed` along the fall line (sign +1 downhill, -1 uphill), the points after it. A
   // trace ends within twice the frame's diagonal, and where it comes back to where it was
@@ -154,7 +168,8 @@ struct Tracer {
     std::vector<Vector2f> out;
     Vector2f p = seed, last = sign * fall_at(f, seed);
     const long r = row(seed);
-    const double longest = std::min(rule.max_length, 2.0 * std::hypot(double(f.width), double(f.height)));
+    const double longest =
+        std::min(rule.max_length, 2.0 * std::hypot(double(f.width), double(f.height)));
     static thread_local Visited visited;  // half-pixel cell -> its last point
     visited.clear();
     const auto cell = [](const Vector2f& q) {
@@ -166,14 +181,16 @@ struct Tracer {
       const Vector2f mid = p + 0.5f * kStep * d1;
       if (!usable(mid)) break;
       const Vector2f d2 = sign * fall_at(f, mid);
-      if (d2.dot(last) <= 0.0f) break;  // the fall line turns back (a valley or a ridge), or has none
+      if (d2.dot(last) <= 0.0f)
+        break;  // the fall line turns back (a valley or a ridge), or has none
       const Vector2f next = p + kStep * d2;
       if (!usable(next) || !free(next, self, r)) break;
       if (row(next) != r) {  // a form line: end half a pixel before it (the seam)
         if (!out.empty()) out.pop_back();
         break;
       }
-      const auto [last_here, fresh] = visited.try_emplace(cell(next), std::uint32_t(out.size() + 1));
+      const auto [last_here, fresh] =
+          visited.try_emplace(cell(next), std::uint32_t(out.size() + 1));
       if (!fresh && out.size() + 1 - *last_here > kLoopSteps) break;  // back where it was
       *last_here = std::uint32_t(out.size() + 1);
       out.push_back(next);
@@ -219,7 +236,8 @@ double row_interval_for(double scale, double spacing, double slope) {
   return 10.0 * decade;
 }
 
-HachureStats hachure_stats(const HachureField& f, const std::vector<Hachure>& hs, const HachureRule& rule) {
+HachureStats hachure_stats(const HachureField& f, const std::vector<Hachure>& hs,
+                           const HachureRule& rule) {
   HachureStats st;
   st.hachures = hs.size();
   st.ink.assign(std::size_t(f.width) * std::size_t(f.height), 0);
@@ -254,7 +272,8 @@ HachureStats hachure_stats(const HachureField& f, const std::vector<Hachure>& hs
   }
   st.along_share = steps ? double(along) / double(steps) : 1.0;
   st.spacing_share = st.points ? double(spaced) / double(st.points) : 1.0;
-  st.close_share /= double(std::max<std::size_t>(st.points, 1)), st.far_share /= double(std::max<std::size_t>(st.points, 1));
+  st.close_share /= double(std::max<std::size_t>(st.points, 1)),
+      st.far_share /= double(std::max<std::size_t>(st.points, 1));
   return st;
 }
 
@@ -286,29 +305,34 @@ double slope_percentile(const HachureField& f, double q) {
   for (const float x : f.slope)
     if (!std::isnan(x)) s.push_back(x);
   if (s.empty()) return 0;
-  const std::size_t k = std::min(s.size() - 1, std::size_t(std::clamp(q, 0.0, 1.0) * double(s.size())));
+  const std::size_t k =
+      std::min(s.size() - 1, std::size_t(std::clamp(q, 0.0, 1.0) * double(s.size())));
   std::nth_element(s.begin(), s.begin() + std::ptrdiff_t(k), s.end());
   return s[k];
 }
 
 PlanView plan_view(const terrain::GridMesh& mesh, double scale) {
   if (!(scale > 0)) throw terrain::Error("the map's scale must be positive metres a pixel");
-  const double w = double(mesh.topo.cols - 1) * mesh.geo.dx, h = double(mesh.topo.rows - 1) * mesh.geo.dy;
+  const double w = double(mesh.topo.cols - 1) * mesh.geo.dx,
+               h = double(mesh.topo.rows - 1) * mesh.geo.dy;
   PlanView p;
   p.scale = scale;
   const double pw = std::ceil(w / scale), ph = std::ceil(h / scale);
   if (pw * ph > double(std::numeric_limits<int>::max()) || pw < 1 || ph < 1)
-    throw terrain::Error(fmt::format("a map of {:.0f} x {:.0f} pixels at {:g} m a pixel is too large", pw, ph, scale));
+    throw terrain::Error(fmt::format(
+        "a map of {:.0f} x {:.0f} pixels at {:g} m a pixel is too large", pw, ph, scale));
   if (std::max(pw, ph) < kMinPlanSide)
-    throw terrain::Error(fmt::format("a map of {:.0f} x {:.0f} pixels at {:g} m a pixel is too small to show the "
-                                     "terrain: give a --scale of at most {:.3g}",
-                                     pw, ph, scale, std::max(w, h) / kMinPlanSide));
+    throw terrain::Error(
+        fmt::format("a map of {:.0f} x {:.0f} pixels at {:g} m a pixel is too small to show the "
+                    "terrain: give a --scale of at most {:.3g}",
+                    pw, ph, scale, std::max(w, h) / kMinPlanSide));
   p.width = int(pw), p.height = int(ph);
   p.x0 = 0.5 * (w - pw * scale), p.y0 = -0.5 * (h - ph * scale);  // centred on the mesh
   return p;
 }
 
-HachureField plan_hachure_field(const terrain::GridMesh& mesh, const PlanView& plan, const Eigen::Vector3d* light) {
+HachureField plan_hachure_field(const terrain::GridMesh& mesh, const PlanView& plan,
+                                const Eigen::Vector3d* light) {
   HachureField f = empty_field(plan.width, plan.height);
 #pragma omp parallel for schedule(dynamic, 4)
   for (int v = 0; v < f.height; ++v)
@@ -327,7 +351,8 @@ HachureField plan_hachure_field(const terrain::GridMesh& mesh, const PlanView& p
 }
 
 std::optional<Eigen::Vector3d> surface_point(const View& view, const Eigen::Matrix4d& inverse,
-                                             const std::vector<float>& depth_buf, double u, double v) {
+                                             const std::vector<float>& depth_buf, double u,
+                                             double v) {
   if (u < 0 || v < 0 || u >= view.width || v >= view.height) return std::nullopt;
   const double depth = depth_buf[std::size_t(v) * std::size_t(view.width) + std::size_t(u)];
   if (far_depth(view.reversed_z, depth) >= 1.0) return std::nullopt;
@@ -335,7 +360,8 @@ std::optional<Eigen::Vector3d> surface_point(const View& view, const Eigen::Matr
 }
 
 Coherence hachure_coherence(const std::vector<Eigen::Vector3f>& previous, const View& next,
-                            const std::vector<float>& next_depth, const std::vector<std::uint8_t>& next_ink, int radius) {
+                            const std::vector<float>& next_depth,
+                            const std::vector<std::uint8_t>& next_ink, int radius) {
   Coherence c;
   const int w = next.width, h = next.height;
   const Eigen::Matrix4d inverse = next.view_projection().inverse();
@@ -343,7 +369,8 @@ Coherence hachure_coherence(const std::vector<Eigen::Vector3f>& previous, const 
     const Projected q = project(next, p.cast<double>());
     if (!q.in_front) continue;
     const auto s = surface_point(next, inverse, next_depth, q.u, q.v);
-    if (!s || (*s - p.cast<double>()).norm() > 0.01 * std::abs(next.viewpoint().distance(*s))) continue;  // hidden, or off the surface
+    if (!s || (*s - p.cast<double>()).norm() > 0.01 * std::abs(next.viewpoint().distance(*s)))
+      continue;  // hidden, or off the surface
     ++c.counted;
     bool hit = false;
     const int x = int(q.u), y = int(q.v);
@@ -355,8 +382,9 @@ Coherence hachure_coherence(const std::vector<Eigen::Vector3f>& previous, const 
   return c;
 }
 
-std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<float>& depth, double spacing,
-                                           double cell, const Eigen::Vector2d& anchor) {
+std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<float>& depth,
+                                           double spacing, double cell,
+                                           const Eigen::Vector2d& anchor) {
   struct Best {
     Vector2f seed;
     float d2;
@@ -374,8 +402,9 @@ std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<f
   for (long iv = 0; iv < long(vs.size()); ++iv)
     for (std::size_t iu = 0; iu < us.size(); ++iu) {
       const auto q = surface_point(view, inverse, depth, us[iu], vs[std::size_t(iv)]);
-      ground[std::size_t(iv) * us.size() + iu] = q ? Eigen::Vector2f(q->head<2>().cast<float>())
-                                                   : Eigen::Vector2f::Constant(std::numeric_limits<float>::quiet_NaN());
+      ground[std::size_t(iv) * us.size() + iu] =
+          q ? Eigen::Vector2f(q->head<2>().cast<float>())
+            : Eigen::Vector2f::Constant(std::numeric_limits<float>::quiet_NaN());
     }
   for (std::size_t iv = 0; iv < vs.size(); ++iv)
     for (std::size_t iu = 0; iu < us.size(); ++iu) {
@@ -385,7 +414,8 @@ std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<f
       const Eigen::Vector2d g = q.cast<double>() + anchor;
       const double cx = std::floor(g.x() / cell), cy = std::floor(g.y() / cell);
       const float d2 = float((g - cell * Eigen::Vector2d(cx + 0.5, cy + 0.5)).squaredNorm());
-      const std::uint64_t key = (std::uint64_t(std::int64_t(cx)) << 32) ^ std::uint64_t(std::uint32_t(std::int64_t(cy)));
+      const std::uint64_t key =
+          (std::uint64_t(std::int64_t(cx)) << 32) ^ std::uint64_t(std::uint32_t(std::int64_t(cy)));
       const auto [it, fresh] = best.try_emplace(key, Best{Vector2f(float(u), float(v)), d2});
       if (!fresh && d2 < it->second.d2) it->second = {Vector2f(float(u), float(v)), d2};
     }
@@ -397,7 +427,8 @@ std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<f
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
     order.emplace_back(z ^ (z >> 31), b.seed);
   }
-  std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::sort(order.begin(), order.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<Vector2f> out;
   out.reserve(order.size());
   for (const auto& o : order) out.push_back(o.second);
@@ -433,7 +464,8 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
     out.push_back(std::move(h));
   };
   for (const Vector2f& seed : first)
-    if (seed.x() >= 0 && seed.y() >= 0 && seed.x() < float(f.width) && seed.y() < float(f.height) && tracer.usable(seed))
+    if (seed.x() >= 0 && seed.y() >= 0 && seed.x() < float(f.width) && seed.y() < float(f.height) &&
+        tracer.usable(seed))
       trace_from(seed);
   // Then seeds on a grid a third of the spacing apart; where the tone asks for k times the
   // spacing, only every k-th seed of the grid each way (a seed there must keep k spacings
@@ -462,13 +494,14 @@ HachureField hachure_field(const terrain::GridMesh& mesh, const View& view, doub
     for (int u = 0; u < f.width; ++u) {
       const std::size_t i = std::size_t(v) * std::size_t(f.width) + std::size_t(u);
       const auto q = surface_point(view, inverse, toward_depth, u, v);
-      if (!q) continue;  // no surface here
+      if (!q) continue;               // no surface here
       const Eigen::Vector3d& p = *q;  // exaggerated local frame
       const auto sp = terrain::pn_point_above(mesh, p.x(), p.y());
       if (!sp) continue;
       const Eigen::Vector3d nrm = sp->normal;
       f.elevation[i] = float(sp->position.z());
-      const Eigen::Vector2d grad = -nrm.head<2>() / std::max(nrm.z(), 1e-6);  // dz/dx, dz/dy (metres a metre)
+      const Eigen::Vector2d grad =
+          -nrm.head<2>() / std::max(nrm.z(), 1e-6);  // dz/dx, dz/dy (metres a metre)
       const double g = grad.norm();
       set_slope_and_tone(f, i, nrm, e, light);
       if (g < 1e-9) continue;

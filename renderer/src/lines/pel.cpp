@@ -16,7 +16,8 @@ namespace {
 
 // Gradient (3-D, in the face's plane) of the linear function with values `val` at the
 // corners of face f; zero for a degenerate face.
-Vector3f face_gradient(const terrain::GridMesh& m, std::size_t f, const std::vector<float>& val, Vector3f& nf) {
+Vector3f face_gradient(const terrain::GridMesh& m, std::size_t f, const std::vector<float>& val,
+                       Vector3f& nf) {
   const auto t = m.topo.face(f);
   const Vector3f x0 = m.positions[t[0]], x1 = m.positions[t[1]], x2 = m.positions[t[2]];
   const Vector3f cr = (x1 - x0).cross(x2 - x0);
@@ -28,7 +29,8 @@ Vector3f face_gradient(const terrain::GridMesh& m, std::size_t f, const std::vec
   nf = cr / dbl_area;
   // e_i opposite corner i, counter-clockwise.
   const Vector3f e0 = x2 - x1, e1 = x0 - x2, e2 = x1 - x0;
-  return (val[t[0]] * nf.cross(e0) + val[t[1]] * nf.cross(e1) + val[t[2]] * nf.cross(e2)) / dbl_area;
+  return (val[t[0]] * nf.cross(e0) + val[t[1]] * nf.cross(e1) + val[t[2]] * nf.cross(e2)) /
+         dbl_area;
 }
 
 // The Voronoi-weighted vertex gradient of `val` in the vertex frame (docs/algorithms.md 5.2, 5.3).
@@ -60,7 +62,9 @@ Vector2f vertex_gradient(const terrain::GridMesh& m, std::size_t v, const std::v
 
 PelFields pel_fields(const terrain::GridMesh& m, const Eigen::Vector3d& light) {
   if (m.voronoi.empty())
-    throw terrain::Error("the mesh has no Voronoi weights (make it with denoise-normals; --iterations 0 only adds them)");
+    throw terrain::Error(
+        "the mesh has no Voronoi weights (make it with denoise-normals; --iterations 0 only adds "
+        "them)");
   const std::size_t nv = m.n_vertices();
   PelFields p;
   p.f.resize(nv);
@@ -116,12 +120,15 @@ PelSegments extract_pels(const terrain::GridMesh& m, const PelFields& p, double 
 namespace {
 
 // s as extract_pels reads it: an exact zero counts as +1e-20.
-bool s_positive(const PelFields& p, std::uint32_t v) { return (p.s[v] == 0.0f ? 1e-20f : p.s[v]) > 0; }
+bool s_positive(const PelFields& p, std::uint32_t v) {
+  return (p.s[v] == 0.0f ? 1e-20f : p.s[v]) > 0;
+}
 
 constexpr std::uint32_t kNone = 0xFFFFFFFFu;  // no segment, no point, no piece
 
 // The segment of each face (#F), kNone where it has none.
-std::vector<std::uint32_t> segment_of_face(const terrain::GridTopology& topo, const PelSegments& segments) {
+std::vector<std::uint32_t> segment_of_face(const terrain::GridTopology& topo,
+                                           const PelSegments& segments) {
   std::vector<std::uint32_t> seg(topo.n_faces(), kNone);
   for (std::size_t k = 0; k < segments.size(); ++k) seg[segments.faces[k]] = std::uint32_t(k);
   return seg;
@@ -129,7 +136,8 @@ std::vector<std::uint32_t> segment_of_face(const terrain::GridTopology& topo, co
 
 }  // namespace
 
-void smooth_pels(const terrain::GridTopology& topo, const PelFields& p, PelSegments& segments, int iterations) {
+void smooth_pels(const terrain::GridTopology& topo, const PelFields& p, PelSegments& segments,
+                 int iterations) {
   const std::vector<std::uint32_t> seg_of_face = segment_of_face(topo, segments);
   // The index among face g's crossings (0, 1) of the crossing on edge {u, v}; -1: none.
   auto crossing_index = [&](std::size_t g, std::uint32_t u, std::uint32_t v) {
@@ -175,7 +183,8 @@ void smooth_pels(const terrain::GridTopology& topo, const PelFields& p, PelSegme
   }
 }
 
-PelPieces pel_pieces(const terrain::GridTopology& topo, const PelFields& p, const PelSegments& segments) {
+PelPieces pel_pieces(const terrain::GridTopology& topo, const PelFields& p,
+                     const PelSegments& segments) {
   const std::vector<std::uint32_t> seg_of_face = segment_of_face(topo, segments);
   std::vector<std::uint32_t> parent(segments.size());
   for (std::size_t k = 0; k < segments.size(); ++k) parent[k] = std::uint32_t(k);
@@ -199,9 +208,11 @@ PelPieces pel_pieces(const terrain::GridTopology& topo, const PelFields& p, cons
   std::vector<std::uint32_t> id_of_root(segments.size(), kNone);
   for (std::size_t k = 0; k < segments.size(); ++k) {
     const std::uint32_t root = find(std::uint32_t(k));
-    if (id_of_root[root] == kNone) id_of_root[root] = std::uint32_t(out.length.size()), out.length.push_back(0.0);
+    if (id_of_root[root] == kNone)
+      id_of_root[root] = std::uint32_t(out.length.size()), out.length.push_back(0.0);
     out.piece[k] = id_of_root[root];
-    out.length[out.piece[k]] += double((segments.points[2 * k + 1] - segments.points[2 * k]).norm());
+    out.length[out.piece[k]] +=
+        double((segments.points[2 * k + 1] - segments.points[2 * k]).norm());
   }
   return out;
 }

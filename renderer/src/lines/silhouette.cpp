@@ -9,8 +9,9 @@
 
 namespace renderer {
 
-std::vector<std::uint8_t> toward_away_silhouettes(const std::vector<float>& toward, const std::vector<float>& away,
-                                                  int w, int h, bool reversed_z, bool antialias) {
+std::vector<std::uint8_t> toward_away_silhouettes(const std::vector<float>& toward,
+                                                  const std::vector<float>& away, int w, int h,
+                                                  bool reversed_z, bool antialias) {
   // As far_of in common.glsl: float arithmetic, so that the comparisons match the GPU's.
   auto far_of = [&](float d) { return far_depth(reversed_z, d); };
   auto inside = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h; };
@@ -25,7 +26,9 @@ std::vector<std::uint8_t> toward_away_silhouettes(const std::vector<float>& towa
     if (!(t < a)) return false;
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx)
-        if ((dx != 0 || dy != 0) && inside(x + dx, y + dy) && far_of(toward[at(x + dx, y + dy)]) > a) return true;
+        if ((dx != 0 || dy != 0) && inside(x + dx, y + dy) &&
+            far_of(toward[at(x + dx, y + dy)]) > a)
+          return true;
     return false;
   };
   std::vector<std::uint8_t> s(std::size_t(w) * std::size_t(h));
@@ -57,7 +60,8 @@ FormulatedView formulated_view(const View& view, double altitude_deg, double str
   // The bearing's image: its components along the screen's right and up.
   const double sx = a.dot(view.right), sy = a.dot(view.up);
   if (!(std::hypot(sx, sy) > 1e-6)) return f;
-  const double octant = std::round(std::atan2(sy, sx) / (0.25 * std::numbers::pi)) * 0.25 * std::numbers::pi;
+  const double octant =
+      std::round(std::atan2(sy, sx) / (0.25 * std::numbers::pi)) * 0.25 * std::numbers::pi;
   f.step_x = int(std::lround(std::cos(octant)));
   f.step_up = int(std::lround(std::sin(octant)));
   return f;
@@ -68,8 +72,12 @@ std::vector<std::uint8_t> formulated_silhouettes(const std::vector<float>& norma
   std::vector<std::uint8_t> s(std::size_t(w) * std::size_t(h), 0);
   if (!f.active()) return s;
   // As formulated_facing in formulated.glsl, in float.
-  auto normal = [&](int x, int y) { return &normals[4 * (std::size_t(y) * std::size_t(w) + std::size_t(x))]; };
-  auto on = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h && normal(x, y)[3] > 0.5f; };
+  auto normal = [&](int x, int y) {
+    return &normals[4 * (std::size_t(y) * std::size_t(w) + std::size_t(x))];
+  };
+  auto on = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < w && y < h && normal(x, y)[3] > 0.5f;
+  };
   auto g = [&](int x, int y) {
     if (!on(x, y)) return 2.0f;
     float sum = 0, count = 0;
@@ -93,7 +101,8 @@ std::vector<std::uint8_t> formulated_silhouettes(const std::vector<float>& norma
       if (!(g(x, y) > 0.0f) || !ground_in_front(x, y)) continue;
       float m = g(x + dx, y + dy);
       if (!(m <= 0.0f)) continue;
-      for (int j = 2; j <= kFormulatedReach && m > -f.strength; ++j) m = std::min(m, g(x + j * dx, y + j * dy));
+      for (int j = 2; j <= kFormulatedReach && m > -f.strength; ++j)
+        m = std::min(m, g(x + j * dx, y + j * dy));
       s[std::size_t(y) * std::size_t(w) + std::size_t(x)] = m <= -f.strength;
     }
   return s;
@@ -127,8 +136,8 @@ MaskPieces mask_pieces(const std::vector<std::uint8_t>& mask, int w, int h, int 
   return m;
 }
 
-std::vector<float> silhouette_hidden_share(const std::vector<std::uint8_t>& mask, const std::vector<float>& distance,
-                                           int w, int h) {
+std::vector<float> silhouette_hidden_share(const std::vector<std::uint8_t>& mask,
+                                           const std::vector<float>& distance, int w, int h) {
   std::vector<float> out(mask.size(), 0.0f);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -146,11 +155,13 @@ std::vector<float> silhouette_hidden_share(const std::vector<std::uint8_t>& mask
   return out;
 }
 
-std::vector<float> silhouette_piece_opacity(const std::vector<std::uint8_t>& mask, int w, int h, double min_pixels) {
+std::vector<float> silhouette_piece_opacity(const std::vector<std::uint8_t>& mask, int w, int h,
+                                            double min_pixels) {
   const MaskPieces m = mask_pieces(mask, w, h, kSilhouetteJoin);
   std::vector<float> opacity(m.piece.size(), 0.0f);
   for (std::size_t i = 0; i < opacity.size(); ++i)
-    if (m.piece[i]) opacity[i] = piece_opacity(double(m.size[m.piece[i] - 1]), min_pixels, kSilhouetteFade);
+    if (m.piece[i])
+      opacity[i] = piece_opacity(double(m.size[m.piece[i] - 1]), min_pixels, kSilhouetteFade);
   return opacity;
 }
 

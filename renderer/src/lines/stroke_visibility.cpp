@@ -27,8 +27,8 @@ struct Walk {
 // of a tributary ends where it joins a line that goes on. crease_visibility.comp.glsl's
 // stroke_walk is the same walk.
 template <class Classify>
-Walk walk(const std::vector<SegmentSamples>& m, const SegmentChains& chains, std::uint32_t s, int k, bool up,
-          double limit, Classify classify, bool junctions_end) {
+Walk walk(const std::vector<SegmentSamples>& m, const SegmentChains& chains, std::uint32_t s, int k,
+          bool up, double limit, Classify classify, bool junctions_end) {
   double length = 0;
   bool joined = false;
   for (int hops = 0;;) {
@@ -64,24 +64,28 @@ Projected lifted_projection(const View& view, const Eigen::Vector3d& p, double l
   const Viewpoint viewer = view.viewpoint();
   const Eigen::Vector3d to_eye = viewer.to_eye(p);
   const double d = viewer.orthographic() ? viewer.distance(p) : to_eye.norm();
-  return project(view, d > 0 ? Eigen::Vector3d(p + std::min(lift, 0.5 * d) / to_eye.norm() * to_eye) : p);
+  return project(view,
+                 d > 0 ? Eigen::Vector3d(p + std::min(lift, 0.5 * d) / to_eye.norm() * to_eye) : p);
 }
 
-std::optional<double> farthest_surface(const View& view, const std::vector<float>& toward_depth, long x, long y) {
+std::optional<double> farthest_surface(const View& view, const std::vector<float>& toward_depth,
+                                       long x, long y) {
   const long W = view.width, H = view.height;
   auto far_of = [&](double d) { return far_depth(view.reversed_z, d); };
   std::optional<double> farthest;
   for (long dy = -1; dy <= 1; ++dy)
     for (long dx = -1; dx <= 1; ++dx) {
-      const double d = toward_depth[std::size_t(std::clamp(y + dy, 0L, H - 1) * W + std::clamp(x + dx, 0L, W - 1))];
+      const double d = toward_depth[std::size_t(std::clamp(y + dy, 0L, H - 1) * W +
+                                                std::clamp(x + dx, 0L, W - 1))];
       if (far_of(d) < 1.0 && (!farthest || far_of(d) > far_of(*farthest))) farthest = d;
     }
   return farthest;
 }
 
 std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const SegmentChains& chains,
-                                              const std::vector<float>& drawn, const View& view, double exaggeration,
-                                              double lift, const std::vector<float>& toward_depth,
+                                              const std::vector<float>& drawn, const View& view,
+                                              double exaggeration, double lift,
+                                              const std::vector<float>& toward_depth,
                                               const StrokeVisibilityRule& rule) {
   const long W = view.width, H = view.height;
   auto far_of = [&](double d) { return far_depth(view.reversed_z, d); };
@@ -91,7 +95,8 @@ std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const Seg
   std::vector<SegmentSamples> m(ns);
   for (std::uint32_t s = 0; s < ns; ++s) {
     if (!(drawn[s] > 0)) continue;
-    Projected end[2], lifted[2];  // where each end lies; the point its depth is taken at (line_clip)
+    Projected end[2],
+        lifted[2];  // where each end lies; the point its depth is taken at (line_clip)
     for (int j = 0; j < 2; ++j) {
       const Eigen::Vector3d p = drawn_position(g, g.segments[2 * s + j], exaggeration);
       end[j] = project(view, p);
@@ -107,13 +112,17 @@ std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const Seg
     for (int k = 0; k < int(ms.n); ++k) {
       const double t = (k + 0.5) / ms.n;
       const Eigen::Vector2d q = a + t * (b - a);
-      if (!(q.x() >= 0 && q.x() < double(W) && q.y() >= 0 && q.y() < double(H))) continue;  // off the image
+      if (!(q.x() >= 0 && q.x() < double(W) && q.y() >= 0 && q.y() < double(H)))
+        continue;  // off the image
       // Window depth is affine along the segment on screen, as the rasterizer interpolates it.
       const double line = depth[0] + t * (depth[1] - depth[0]);
-      const auto surface = farthest_surface(view, toward_depth, long(std::floor(q.x())), long(std::floor(q.y())));
+      const auto surface =
+          farthest_surface(view, toward_depth, long(std::floor(q.x())), long(std::floor(q.y())));
       if (!surface) continue;  // no surface about the sample
-      if (far_of(line) <= far_of(*surface)) ms.visible |= 1u << k;
-      else if (eye_distance(line) - eye_distance(*surface) <= rule.gap_depth) ms.bridgeable |= 1u << k;
+      if (far_of(line) <= far_of(*surface))
+        ms.visible |= 1u << k;
+      else if (eye_distance(line) - eye_distance(*surface) <= rule.gap_depth)
+        ms.bridgeable |= 1u << k;
     }
   }
   // Hidden runs drawn.
@@ -122,12 +131,15 @@ std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const Seg
     ms.closed = ms.visible;
     const double limit = rule.gap_px - ms.step;
     if (!(rule.gap_px > 0) || limit < 0) continue;
-    auto classify = [](const SegmentSamples& o, int j) { return bit(o.visible, j) ? 1 : bit(o.bridgeable, j) ? 0 : 2; };
+    auto classify = [](const SegmentSamples& o, int j) {
+      return bit(o.visible, j) ? 1 : bit(o.bridgeable, j) ? 0 : 2;
+    };
     for (int k = 0; k < int(ms.n); ++k) {
       if (!bit(ms.bridgeable, k)) continue;
       const Walk up = walk(m, chains, s, k, true, limit, classify, false);
       if (up.stop != Stop::Found) continue;
-      if (walk(m, chains, s, k, false, limit - up.length, classify, false).stop == Stop::Found) ms.closed |= 1u << k;
+      if (walk(m, chains, s, k, false, limit - up.length, classify, false).stop == Stop::Found)
+        ms.closed |= 1u << k;
     }
   }
   // Peeks left out; a tributary's run ends where it joins a line that goes on, as its
@@ -157,7 +169,8 @@ std::vector<double> shown_pixels(const std::vector<SegmentSamples>& samples) {
   return px;
 }
 
-SampleComparison compare_samples(const std::vector<SegmentSamples>& a, const std::vector<SegmentSamples>& b) {
+SampleComparison compare_samples(const std::vector<SegmentSamples>& a,
+                                 const std::vector<SegmentSamples>& b) {
   SampleComparison c;
   for (std::size_t s = 0; s < a.size() && s < b.size(); ++s) {
     if (a[s].n == 0 && b[s].n == 0) continue;

@@ -57,7 +57,9 @@ void emit_run(const std::vector<RunPoint>& run, std::vector<VectorPath>& out) {
     ink += l * run[j].opacity;
     const bool full = run[j].opacity >= kFull;
     if (j + 1 < run.size() && (run[j + 1].opacity >= kFull) == full) continue;
-    const float o = full ? 1.0f : length > 0 ? std::round(float(ink / length) * 100.0f) / 100.0f : run[j].opacity;
+    const float o = full         ? 1.0f
+                    : length > 0 ? std::round(float(ink / length) * 100.0f) / 100.0f
+                                 : run[j].opacity;
     if (o > 0) emit_piece(run, begin, j + 1, o, out);
     begin = j;
     length = ink = 0;
@@ -77,13 +79,15 @@ VectorUnderlay parse_underlay(const std::string& name) {
 
 std::vector<VectorPath> crease_paths(const CreaseGeometry& g, const std::vector<float>& drawn,
                                      const std::vector<SegmentSamples>& samples, const View& view,
-                                     double exaggeration, double width_min, double width_max, std::size_t* strokes) {
+                                     double exaggeration, double width_min, double width_max,
+                                     std::size_t* strokes) {
   std::vector<VectorPath> out;
   std::size_t n_strokes = 0;
   if (samples.size() != g.n_segments() || drawn.size() != g.n_segments())
     throw terrain::Error("crease_paths: one opacity and one set of samples per segment expected");
   auto width_of = [&](std::uint32_t v) {
-    return float(width_min + (width_max - width_min) * std::sqrt(std::clamp(double(g.share[v]), 0.0, 1.0)));
+    return float(width_min +
+                 (width_max - width_min) * std::sqrt(std::clamp(double(g.share[v]), 0.0, 1.0)));
   };
   for (const auto& stroke : crease_strokes(g, drawn)) {
     const std::size_t before = out.size();
@@ -131,7 +135,8 @@ void join_across_gaps(std::vector<Polyline>& lines, float reach) {
   for (;;) {
     float best = reach;
     std::size_t bi = 0, bj = 0;
-    int bend = -1;  // 0: i's back to j's front, 1: back to back, 2: front to front, 3: front to back
+    int bend =
+        -1;  // 0: i's back to j's front, 1: back to back, 2: front to front, 3: front to back
     for (std::size_t i = 0; i < lines.size(); ++i) {
       if (lines[i].closed || lines[i].points.empty()) continue;
       for (std::size_t j = i + 1; j < lines.size(); ++j) {
@@ -155,8 +160,9 @@ void join_across_gaps(std::vector<Polyline>& lines, float reach) {
 
 }  // namespace
 
-std::vector<VectorPath> silhouette_paths(const std::vector<std::uint8_t>& opacity, int w, int h, float width,
-                                         std::size_t* pieces, const std::vector<float>* hidden, float heavier) {
+std::vector<VectorPath> silhouette_paths(const std::vector<std::uint8_t>& opacity, int w, int h,
+                                         float width, std::size_t* pieces,
+                                         const std::vector<float>* hidden, float heavier) {
   std::vector<std::uint8_t> mask(opacity.size());
   for (std::size_t i = 0; i < mask.size(); ++i) mask[i] = opacity[i] > 0;
   if (pieces) *pieces = mask_pieces(mask, w, h, kSilhouetteJoin).size.size();
@@ -167,7 +173,8 @@ std::vector<VectorPath> silhouette_paths(const std::vector<std::uint8_t>& opacit
     if (line.points.empty()) continue;
     double sum = 0, weight = 0;
     for (const Eigen::Vector2f& p : line.points) {
-      const std::size_t i = std::size_t(std::floor(p.y())) * std::size_t(w) + std::size_t(std::floor(p.x()));
+      const std::size_t i =
+          std::size_t(std::floor(p.y())) * std::size_t(w) + std::size_t(std::floor(p.x()));
       sum += opacity[i];
       if (hidden) weight += hidden_weight((*hidden)[i]);
     }
@@ -191,9 +198,9 @@ std::vector<VectorPath> silhouette_paths(const std::vector<std::uint8_t>& opacit
   return out;
 }
 
-std::vector<VectorPath> segment_paths(const std::vector<SceneSegment>& segments, const View& view, double lift,
-                                      const std::vector<float>& toward_depth, bool antialias, float width,
-                                      std::size_t* chains) {
+std::vector<VectorPath> segment_paths(const std::vector<SceneSegment>& segments, const View& view,
+                                      double lift, const std::vector<float>& toward_depth,
+                                      bool antialias, float width, std::size_t* chains) {
   const long W = view.width, H = view.height;
   auto far_of = [&](double d) { return far_depth(view.reversed_z, d); };
   // The visible pieces, by quantised opacity.
@@ -209,7 +216,8 @@ std::vector<VectorPath> segment_paths(const std::vector<SceneSegment>& segments,
     auto close = [&](int end) {  // samples first .. end - 1 show
       if (first < 0) return;
       const double t0 = first == 0 ? 0.0 : double(first) / n, t1 = end == n ? 1.0 : double(end) / n;
-      pieces[o].push_back({(pa + t0 * (pb - pa)).cast<float>(), (pa + t1 * (pb - pa)).cast<float>()});
+      pieces[o].push_back(
+          {(pa + t0 * (pb - pa)).cast<float>(), (pa + t1 * (pb - pa)).cast<float>()});
       first = -1;
     };
     for (int k = 0; k < n; ++k) {

@@ -29,7 +29,8 @@ std::vector<std::pair<std::vector<int>, bool>> trace(const Adjacency& adj) {
       if (at == start) return std::make_pair(path, true);  // a loop: the start is not repeated
       path.push_back(at);
       if (adj[std::size_t(at)].size() != 2) return std::make_pair(path, false);
-      const int to = adj[std::size_t(at)][0] == prev ? adj[std::size_t(at)][1] : adj[std::size_t(at)][0];
+      const int to =
+          adj[std::size_t(at)][0] == prev ? adj[std::size_t(at)][1] : adj[std::size_t(at)][0];
       if (used.count(edge_key(at, to))) return std::make_pair(path, false);
       used.insert(edge_key(at, to));
       prev = at, at = to;
@@ -49,7 +50,9 @@ std::vector<std::pair<std::vector<int>, bool>> trace(const Adjacency& adj) {
 
 // Zhang-Suen thinning (1984) of a binary image, in place.
 void thin(std::vector<std::uint8_t>& m, int w, int h) {
-  auto at = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h && m[std::size_t(y * w + x)] != 0; };
+  auto at = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < w && y < h && m[std::size_t(y * w + x)] != 0;
+  };
   std::vector<std::size_t> drop, on;  // on: the pixels still ink (a pass looks at those alone)
   for (std::size_t i = 0; i < m.size(); ++i)
     if (m[i]) on.push_back(i);
@@ -76,15 +79,16 @@ void thin(std::vector<std::uint8_t>& m, int w, int h) {
   }
 }
 
-double distance_to_segment(const Eigen::Vector2f& p, const Eigen::Vector2f& a, const Eigen::Vector2f& b) {
+double distance_to_segment(const Eigen::Vector2f& p, const Eigen::Vector2f& a,
+                           const Eigen::Vector2f& b) {
   const Eigen::Vector2d d = (b - a).cast<double>(), q = (p - a).cast<double>();
   const double len2 = d.squaredNorm();
   const double t = len2 > 0 ? std::clamp(q.dot(d) / len2, 0.0, 1.0) : 0.0;
   return (q - t * d).norm();
 }
 
-void douglas_peucker(const std::vector<Eigen::Vector2f>& pts, std::size_t i, std::size_t j, float tol,
-                     std::vector<bool>& keep) {
+void douglas_peucker(const std::vector<Eigen::Vector2f>& pts, std::size_t i, std::size_t j,
+                     float tol, std::vector<bool>& keep) {
   if (j <= i + 1) return;
   double worst = -1;
   std::size_t at = i;
@@ -112,7 +116,9 @@ std::vector<Polyline> chain_mask(const std::vector<std::uint8_t>& mask, int w, i
       on.push_back(i);
       centre.emplace_back(float(i % std::size_t(w)) + 0.5f, float(i / std::size_t(w)) + 0.5f);
     }
-  auto ink = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h && m[std::size_t(y * w + x)] != 0; };
+  auto ink = [&](int x, int y) {
+    return x >= 0 && y >= 0 && x < w && y < h && m[std::size_t(y * w + x)] != 0;
+  };
   Adjacency adj(centre.size());
   for (const std::size_t i : on) {
     const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
@@ -120,7 +126,8 @@ std::vector<Polyline> chain_mask(const std::vector<std::uint8_t>& mask, int w, i
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
         if ((dx == 0 && dy == 0) || !ink(x + dx, y + dy)) continue;
-        if (dx != 0 && dy != 0 && (ink(x + dx, y) || ink(x, y + dy))) continue;  // the staircase goes orthogonally
+        if (dx != 0 && dy != 0 && (ink(x + dx, y) || ink(x, y + dy)))
+          continue;  // the staircase goes orthogonally
         adj[std::size_t(a)].push_back(id[std::size_t((y + dy) * w + x + dx)]);
       }
   }
@@ -134,11 +141,13 @@ std::vector<Polyline> chain_mask(const std::vector<std::uint8_t>& mask, int w, i
   return out;
 }
 
-std::vector<Polyline> chain_segments(const std::vector<std::array<Eigen::Vector2f, 2>>& segments, float eps) {
+std::vector<Polyline> chain_segments(const std::vector<std::array<Eigen::Vector2f, 2>>& segments,
+                                     float eps) {
   std::unordered_map<std::uint64_t, int> node_of;
   std::vector<Eigen::Vector2f> pos;
   auto node = [&](const Eigen::Vector2f& p) {
-    const auto qx = std::int64_t(std::llround(double(p.x()) / eps)), qy = std::int64_t(std::llround(double(p.y()) / eps));
+    const auto qx = std::int64_t(std::llround(double(p.x()) / eps)),
+               qy = std::int64_t(std::llround(double(p.y()) / eps));
     const std::uint64_t key = (std::uint64_t(qx) << 32) ^ std::uint64_t(std::uint32_t(qy));
     const auto [it, fresh] = node_of.try_emplace(key, int(pos.size()));
     if (fresh) pos.push_back(p);
@@ -149,7 +158,8 @@ std::vector<Polyline> chain_segments(const std::vector<std::array<Eigen::Vector2
   for (const auto& s : segments) {
     const int a = node(s[0]), b = node(s[1]);
     adj.resize(pos.size());
-    if (a == b || !edges.insert(edge_key(a, b)).second) continue;  // a point, or the same segment again
+    if (a == b || !edges.insert(edge_key(a, b)).second)
+      continue;  // a point, or the same segment again
     adj[std::size_t(a)].push_back(b);
     adj[std::size_t(b)].push_back(a);
   }
@@ -166,7 +176,8 @@ std::vector<Polyline> chain_segments(const std::vector<std::array<Eigen::Vector2
 
 std::vector<std::size_t> simplified_points(const Polyline& line, float tolerance) {
   std::vector<Eigen::Vector2f> pts = line.points;
-  if (line.closed && !pts.empty()) pts.push_back(pts.front());  // simplified as an open line from its start
+  if (line.closed && !pts.empty())
+    pts.push_back(pts.front());  // simplified as an open line from its start
   std::vector<std::size_t> out;
   if (pts.size() < 3) {
     for (std::size_t k = 0; k < line.points.size(); ++k) out.push_back(k);
@@ -183,7 +194,8 @@ std::vector<std::size_t> simplified_points(const Polyline& line, float tolerance
 Polyline simplify(const Polyline& line, float tolerance) {
   Polyline out;
   out.closed = line.closed;
-  for (const std::size_t k : simplified_points(line, tolerance)) out.points.push_back(line.points[k]);
+  for (const std::size_t k : simplified_points(line, tolerance))
+    out.points.push_back(line.points[k]);
   return out;
 }
 

@@ -16,36 +16,52 @@
 
 namespace renderer::passes {
 
-CreasePass::Level CreasePass::upload(const CreaseGeometry& creases, const SegmentChains& chains) const {
+CreasePass::Level CreasePass::upload(const CreaseGeometry& creases,
+                                     const SegmentChains& chains) const {
   Level l;
   l.n_vertices = creases.positions.size();
   l.n_segments = creases.n_segments();
-  if (creases.share.size() != l.n_vertices || (!creases.area.empty() && creases.area.size() != l.n_vertices))
+  if (creases.share.size() != l.n_vertices ||
+      (!creases.area.empty() && creases.area.size() != l.n_vertices))
     throw terrain::Error("crease geometry: one share and one area per vertex expected");
   const bool area = !creases.area.empty();  // none: every vertex drains enough
-  std::vector<float> cv(12 * l.n_vertices);  // position, flow, normal, share, area (crease_data.glsl)
+  std::vector<float> cv(12 *
+                        l.n_vertices);  // position, flow, normal, share, area (crease_data.glsl)
   for (std::size_t i = 0; i < l.n_vertices; ++i) {
     const auto& p = creases.positions[i];
     const auto& n = creases.normals[i];
-    const float v[12] = {p.x(), p.y(), p.z(), creases.flow[i], n.x(),           n.y(),
-                         n.z(), creases.share[i], area ? creases.area[i] : FLT_MAX, 0.0f, 0.0f, 0.0f};
+    const float v[12] = {p.x(),
+                         p.y(),
+                         p.z(),
+                         creases.flow[i],
+                         n.x(),
+                         n.y(),
+                         n.z(),
+                         creases.share[i],
+                         area ? creases.area[i] : FLT_MAX,
+                         0.0f,
+                         0.0f,
+                         0.0f};
     std::memcpy(&cv[12 * i], v, sizeof v);
   }
   l.cv = make_buffer(cv.size() * 4, cv.data(), 0);
   l.seg = make_buffer(creases.segments.size() * 4, creases.segments.data(), 0);
   std::vector<std::uint32_t> chain(2 * l.n_segments);
-  for (std::size_t s = 0; s < l.n_segments; ++s) chain[2 * s] = chains.prev[s], chain[2 * s + 1] = chains.next[s];
+  for (std::size_t s = 0; s < l.n_segments; ++s)
+    chain[2 * s] = chains.prev[s], chain[2 * s + 1] = chains.next[s];
   l.chain = make_buffer(chain.size() * 4, chain.data(), 0);
   return l;
 }
 
-CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled, bool antialias,
-                       std::shared_ptr<const std::vector<CreaseLevel>> levels, bool merged)
+CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled,
+                       bool antialias, std::shared_ptr<const std::vector<CreaseLevel>> levels,
+                       bool merged)
     : PassBase(DM), s_(scene), enabled_(enabled), antialias_(antialias), target_(scene, antialias) {
   if (!creases || creases->n_segments() == 0) return;
   levels_.push_back(upload(*creases, segment_chains(*creases)));
   if (merged) {
-    if (!levels) levels = std::make_shared<const std::vector<CreaseLevel>>(coarser_crease_levels(*creases));
+    if (!levels)
+      levels = std::make_shared<const std::vector<CreaseLevel>>(coarser_crease_levels(*creases));
     for (const CreaseLevel& l : *levels) {
       levels_.push_back(upload(l.geometry, l.chains));
       errors_.push_back(l.error_metres);
@@ -91,8 +107,9 @@ void CreasePass::execute(const FrameInputs&) {
   glDispatchCompute(dispatch_groups_x(ns), dispatch_groups_y(ns), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   if (antialias_) {
-    glClearNamedBufferSubData(samples_buf_.id(), GL_R32UI, 0, GLsizeiptr(ns * sizeof(SegmentSamples)),
-                              GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+    glClearNamedBufferSubData(samples_buf_.id(), GL_R32UI, 0,
+                              GLsizeiptr(ns * sizeof(SegmentSamples)), GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, nullptr);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SAMPLES, samples_buf_.id());
     glBindTextureUnit(TR_TEX_TOWARD_DEPTH, s_.toward_depth.id());
     glUseProgram(visibility_prog_.id());
@@ -110,7 +127,8 @@ std::vector<SegmentSamples> CreasePass::read_samples() const {
   std::vector<SegmentSamples> m;
   if (!active() || !antialias_) return m;
   m.resize(n_segments());
-  glGetNamedBufferSubData(samples_buf_.id(), 0, GLsizeiptr(m.size() * sizeof(SegmentSamples)), m.data());
+  glGetNamedBufferSubData(samples_buf_.id(), 0, GLsizeiptr(m.size() * sizeof(SegmentSamples)),
+                          m.data());
   return m;
 }
 

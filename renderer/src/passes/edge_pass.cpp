@@ -14,9 +14,9 @@
 
 namespace renderer::passes {
 
-static_assert(kContourEdge == TR_EDGE_CONTOUR && kBoundaryEdge == TR_EDGE_BOUNDARY && kCreaseEdge == TR_EDGE_CREASE &&
-              kFacingEye == TR_EDGE_FACING && kVertexEdgeSlots == TR_EDGE_SLOTS &&
-              MeshEdge::kNoVertex == TR_EDGE_NONE);
+static_assert(kContourEdge == TR_EDGE_CONTOUR && kBoundaryEdge == TR_EDGE_BOUNDARY &&
+              kCreaseEdge == TR_EDGE_CREASE && kFacingEye == TR_EDGE_FACING &&
+              kVertexEdgeSlots == TR_EDGE_SLOTS && MeshEdge::kNoVertex == TR_EDGE_NONE);
 static_assert(int(EdgeCaps::None) == TR_CAPS_NONE && int(EdgeCaps::Cheap) == TR_CAPS_CHEAP &&
               int(EdgeCaps::Exact) == TR_CAPS_EXACT);
 
@@ -34,14 +34,16 @@ EdgePass::EdgePass(const SceneGpu& scene, bool enabled, const Style& style)
   } else {
     slots_buf_ = make_buffer(4, nullptr, 0);  // bound, never read
   }
-  cmd_buf_ = make_buffer(28, nullptr, GL_DYNAMIC_STORAGE_BIT);  // draw command, then dispatch command
+  cmd_buf_ =
+      make_buffer(28, nullptr, GL_DYNAMIC_STORAGE_BIT);  // draw command, then dispatch command
   list_buf_ = make_buffer(n_edges_ * 16, nullptr, 0);
   classify_prog_ = build_program(ProgramId::EdgeClassify);
   draw_prog_ = build_program(ProgramId::EdgeDraw);
   const GLuint cp = classify_prog_.id(), dp = draw_prog_.id();
   glProgramUniform1ui(cp, TR_LOC_EDGE_MASK, style_.edge_kinds);
   glProgramUniform1ui(cp, TR_LOC_EDGE_COUNT, GLuint(n_edges_));
-  glProgramUniform1f(cp, TR_LOC_EDGE_COS, float(std::cos(style_.crease_angle * std::numbers::pi / 180.0)));
+  glProgramUniform1f(cp, TR_LOC_EDGE_COS,
+                     float(std::cos(style_.crease_angle * std::numbers::pi / 180.0)));
   glProgramUniform1i(cp, TR_LOC_EDGE_CAPS, int(style_.edge_caps));
   glProgramUniform1i(dp, TR_LOC_EDGE_CAPS, int(style_.edge_caps));
   glProgramUniform1f(dp, TR_LOC_EDGE_WIDTH, float(style_.edge_width));
@@ -53,10 +55,12 @@ void EdgePass::execute(const FrameInputs&) {
   const std::uint32_t cmd[7] = {0, 1, 0, 0, 0, 1, 1};
   glNamedBufferSubData(cmd_buf_.id(), 0, sizeof cmd, cmd);
   const std::pair<GLuint, const GlObject*> bufs[] = {
-      {TR_SSBO_MESH_POSITIONS, &s_.pos_buf}, {TR_SSBO_MESH_NORMALS, &s_.nrm_buf}, {TR_SSBO_EDGES, &edge_buf_},
-      {TR_SSBO_EDGE_KINDS, &kinds_buf_},     {TR_SSBO_VERTEX_EDGES, &slots_buf_}, {TR_SSBO_EDGE_COMMAND, &cmd_buf_},
+      {TR_SSBO_MESH_POSITIONS, &s_.pos_buf}, {TR_SSBO_MESH_NORMALS, &s_.nrm_buf},
+      {TR_SSBO_EDGES, &edge_buf_},           {TR_SSBO_EDGE_KINDS, &kinds_buf_},
+      {TR_SSBO_VERTEX_EDGES, &slots_buf_},   {TR_SSBO_EDGE_COMMAND, &cmd_buf_},
       {TR_SSBO_EDGE_LIST, &list_buf_}};
-  for (const auto& [binding, buf] : bufs) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buf->id());
+  for (const auto& [binding, buf] : bufs)
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buf->id());
   const GLuint cp = classify_prog_.id();
   glUseProgram(cp);
   glProgramUniform1i(cp, TR_LOC_EDGE_STAGE, 0);
@@ -75,13 +79,15 @@ std::size_t EdgePass::edges_drawn() const { return enabled_ ? indirect_segments(
 
 std::vector<std::uint32_t> EdgePass::read_kinds() const {
   std::vector<std::uint32_t> kinds(enabled_ ? n_edges_ : 0);
-  if (!kinds.empty()) glGetNamedBufferSubData(kinds_buf_.id(), 0, GLsizeiptr(kinds.size() * 4), kinds.data());
+  if (!kinds.empty())
+    glGetNamedBufferSubData(kinds_buf_.id(), 0, GLsizeiptr(kinds.size() * 4), kinds.data());
   return kinds;
 }
 
 std::vector<std::array<std::uint32_t, 4>> EdgePass::read_drawn() const {
   std::vector<std::array<std::uint32_t, 4>> drawn(edges_drawn());
-  if (!drawn.empty()) glGetNamedBufferSubData(list_buf_.id(), 0, GLsizeiptr(drawn.size() * 16), drawn.data());
+  if (!drawn.empty())
+    glGetNamedBufferSubData(list_buf_.id(), 0, GLsizeiptr(drawn.size() * 16), drawn.data());
   return drawn;
 }
 

@@ -43,8 +43,9 @@ std::size_t TriangleIdPass::triangles_drawn() const {
   return n;
 }
 
-SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece_min_px, const Style& style,
-                               const TriangleIdPass* ids, double tolerance, const Eigen::Vector4f& extent)
+SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece_min_px,
+                               const Style& style, const TriangleIdPass* ids, double tolerance,
+                               const Eigen::Vector4f& extent)
     : PassBase(SIL),
       s_(scene),
       enabled_(enabled),
@@ -97,7 +98,8 @@ void SilhouettePass::pieces() const {
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   glUseProgram(p);
   glBindTextureUnit(TR_TEX_SILHOUETTE, mask_.id());
-  glBindImageTexture(TR_IMG_SILHOUETTE_OPACITY, opacity_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
+  glBindImageTexture(TR_IMG_SILHOUETTE_OPACITY, opacity_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                     GL_R8);
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, list_.id());
   for (int stage = 1; stage <= 3; ++stage) {
     glProgramUniform1i(p, TR_LOC_PIECE_STAGE, stage);
@@ -122,7 +124,8 @@ void SilhouettePass::draw(double pixel_angle, const FormulatedView& formulated) 
     // (it reads the same uniforms: none when the step is 0).
     const FormulatedView f = formulated_ ? formulated : FormulatedView{};
     auto set = [&](const GlObject& program, bool step) {
-      glProgramUniform4f(program.id(), TR_LOC_FORMULATED, f.direction.x(), f.direction.y(), f.direction.z(), f.strength);
+      glProgramUniform4f(program.id(), TR_LOC_FORMULATED, f.direction.x(), f.direction.y(),
+                         f.direction.z(), f.strength);
       if (step) glProgramUniform2i(program.id(), TR_LOC_FORMULATED_STEP, f.step_x, f.step_up);
     };
     set(prog_, true);
@@ -173,7 +176,8 @@ void SilhouettePass::execute(const FrameInputs& in) {
   if (piece_min_px_ > 0) clear_pieces();
   // The angle one pixel spans at the image centre (vertical field of view over the height);
   // orthographic: the metres it spans.
-  draw(in.view.pixel_size(1.0), formulated_view(in.view, formulated_altitude_, formulated_strength_));
+  draw(in.view.pixel_size(1.0),
+       formulated_view(in.view, formulated_altitude_, formulated_strength_));
   if (piece_min_px_ > 0) pieces();
 }
 
@@ -231,7 +235,8 @@ void CompositePass::execute(const FrameInputs&) {
   glBindVertexArray(s_.empty_vao.id());
   auto use = [&](GLuint p) {
     glUseProgram(p);
-    glProgramUniform4i(p, TR_LOC_LAYERS, layers_.shaded, layers_.mask, layers_.creases, layers_.silhouettes);
+    glProgramUniform4i(p, TR_LOC_LAYERS, layers_.shaded, layers_.mask, layers_.creases,
+                       layers_.silhouettes);
     glProgramUniform3fv(p, TR_LOC_BACKGROUND, 1, style_.background.data());
     glProgramUniform3fv(p, TR_LOC_MASK_COLOUR, 1, style_.mask.data());
     glProgramUniform3fv(p, TR_LOC_CREASE_COLOUR, 1, style_.crease_colour.data());
@@ -250,7 +255,8 @@ void CompositePass::execute(const FrameInputs&) {
   const int w = std::max(1, style_.silhouette_width);
   // No silhouette coverage beyond: anti-aliased, the band's half-width + 1.5 px (the
   // composite's silhouette_band); pixel-exact, the dilation window's larger side.
-  const int reach = style_.antialias ? int(0.5 * (double(w) + TR_SILHOUETTE_BAND) + 1.5) : std::max((w - 1) / 2, w / 2);
+  const int reach = style_.antialias ? int(0.5 * (double(w) + TR_SILHOUETTE_BAND) + 1.5)
+                                     : std::max((w - 1) / 2, w / 2);
   glProgramUniform3fv(p, TR_LOC_SILHOUETTE_COLOUR, 1, style_.silhouette_colour.data());
   glProgramUniform1i(p, TR_LOC_SILHOUETTE_WIDTH, w);
   glProgramUniform1i(p, TR_LOC_TILE_REACH, reach);

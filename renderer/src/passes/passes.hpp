@@ -38,8 +38,8 @@ struct SceneGpu {
   // without (levels of detail), none until set_patches. Without `resident`, pos_buf and
   // nrm_buf hold no vertex until set_lod_mesh puts the drawn ones there (levels of detail
   // without the PEL and edge layers, which read the whole mesh).
-  SceneGpu(const terrain::GridMesh& mesh, int width, int height, bool reversed, bool normals = false,
-           bool all_patches = true, bool resident = true);
+  SceneGpu(const terrain::GridMesh& mesh, int width, int height, bool reversed,
+           bool normals = false, bool all_patches = true, bool resident = true);
   int width, height;
   bool reversed;  // depth 1 at the near plane, 0 at infinity (glClipControl)
   terrain::GridTopology topo;
@@ -67,8 +67,8 @@ struct SceneGpu {
   void draw_patches(const GlObject& program, int mode) const;
   // Patches listed in `indices` (after a 16-byte counter) by the indirect draws `draws`
   // (n_draws of at most kPatchesPerDraw patches each; surface_cull.comp.glsl).
-  void draw_patch_list(const GlObject& program, int mode, const GlObject& indices, const GlObject& draws,
-                       std::size_t n_draws) const;
+  void draw_patch_list(const GlObject& program, int mode, const GlObject& indices,
+                       const GlObject& draws, std::size_t n_draws) const;
   // The image in TR_SILHOUETTE_TILE tiles: columns, rows, and an r8 texture of one texel
   // per tile (the marks of draw_near_tiles).
   int tiles_x() const { return (width + TR_SILHOUETTE_TILE - 1) / TR_SILHOUETTE_TILE; }
@@ -84,7 +84,8 @@ struct SceneGpu {
 
 // A framebuffer over the given colour and depth textures (either may be null) and, given,
 // a second colour attachment (fragment output 1).
-GlObject make_framebuffer(const GlObject* colour, const GlObject* depth, const GlObject* colour1 = nullptr);
+GlObject make_framebuffer(const GlObject* colour, const GlObject* depth,
+                          const GlObject* colour1 = nullptr);
 
 // The colour and depth targets of a line layer (creases, PELs, edges) and their
 // framebuffer; clear() empties them (colour 0, depth far).
@@ -145,7 +146,8 @@ struct PatchList {
 // TFT: shaded colour and toward depth. With `flat_patches` the patches in view are split
 // first (surface_split.comp.glsl): those that tessellate into their own flat triangle are
 // drawn as triangles (surface_flat.vert.glsl), the others tessellated.
-inline constexpr std::size_t kMaxSplitPatches = std::size_t(4) << 20;  // TFT splits frames of at most 4 M patches
+inline constexpr std::size_t kMaxSplitPatches = std::size_t(4)
+                                                << 20;  // TFT splits frames of at most 4 M patches
 class TowardPass : public PassBase {
  public:
   TowardPass(const SceneGpu& scene, bool flat_patches);
@@ -190,8 +192,12 @@ class CreasePass : public PassBase {
   int level() const { return level_; }
   // Each coarser level's CreaseLevel::error_metres (select_crease_level).
   const std::vector<double>& level_errors() const { return errors_; }
-  std::size_t n_segments() const { return levels_.empty() ? 0 : levels_[std::size_t(level_)].n_segments; }
-  std::size_t n_vertices() const { return levels_.empty() ? 0 : levels_[std::size_t(level_)].n_vertices; }
+  std::size_t n_segments() const {
+    return levels_.empty() ? 0 : levels_[std::size_t(level_)].n_segments;
+  }
+  std::size_t n_vertices() const {
+    return levels_.empty() ? 0 : levels_[std::size_t(level_)].n_vertices;
+  }
   const GlObject& colour() const { return target_.colour; }
   const GlObject& depth() const { return target_.depth; }
   // Anti-aliased lines: every segment's samples of the last frame (stroke_visibility.hpp;
@@ -210,7 +216,8 @@ class CreasePass : public PassBase {
   std::vector<Level> levels_;  // the creases as given, then the coarser levels
   std::vector<double> errors_;
   int level_ = 0;
-  GlObject score_buf_, opacity_buf_, cmd_buf_, selected_buf_, samples_buf_;  // sized for level 0, the largest
+  GlObject score_buf_, opacity_buf_, cmd_buf_, selected_buf_,
+      samples_buf_;  // sized for level 0, the largest
   GlObject score_prog_, bridge_prog_, select_prog_, draw_prog_, visibility_prog_;
   LineTarget target_;
 };
@@ -222,8 +229,8 @@ class PelPass : public PassBase {
   // iterations smooth the lines (renderer::smooth_pels), then, piece_min_m > 0, the piece
   // rule (pel_pieces.comp.glsl, renderer::pel_piece_opacity) gives each segment the
   // opacity of its piece's length against it.
-  PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width, bool antialias,
-          double piece_min_m, int smooth);
+  PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width,
+          bool antialias, double piece_min_m, int smooth);
   bool active() const { return enabled_; }
   std::size_t segments_drawn() const;
   // The segments of the last frame: 8 floats each (a xyz, face bits, b xyz, opacity).
@@ -239,7 +246,8 @@ class PelPass : public PassBase {
   double width_, piece_min_m_;
   int smooth_;
   GlObject corner_buf_, varea_buf_, tangent_buf_, field_buf_, maxm_buf_, cmd_buf_, seg_buf_;
-  GlObject face_seg_buf_, labels_buf_, sizes_buf_, smoothed_buf_;  // the piece rule's and the smoothing's
+  GlObject face_seg_buf_, labels_buf_, sizes_buf_,
+      smoothed_buf_;  // the piece rule's and the smoothing's
   GlObject field_prog_, extract_prog_, draw_prog_, pieces_prog_;
   LineTarget target_;
 };
@@ -323,15 +331,17 @@ class SilhouettePass : public PassBase {
   GlObject away_tiles_, away_prog_;  // Toward/Away: the tiles SIL draws (not with Adjacency)
   bool formulated_ = false;
   double formulated_altitude_ = 0, formulated_strength_ = 0;
-  GlObject formulated_prog_, facing_prog_, facing_, facing_fbo_;  // facing_: formulated_facing.frag.glsl's (r32f)
+  GlObject formulated_prog_, facing_prog_, facing_,
+      facing_fbo_;  // facing_: formulated_facing.frag.glsl's (r32f)
   GlObject opacity_, labels_, sizes_, list_, pieces_prog_;  // the piece rule (piece_min_px > 0)
 };
 
 // LAY: the composite of the chosen layers, surface first, lines not behind the surface.
 class CompositePass : public PassBase {
  public:
-  CompositePass(const SceneGpu& scene, const Layers& layers, const Style& style, const CreasePass& creases,
-                const PelPass& pels, const EdgePass& edges, const SilhouettePass& silhouettes);
+  CompositePass(const SceneGpu& scene, const Layers& layers, const Style& style,
+                const CreasePass& creases, const PelPass& pels, const EdgePass& edges,
+                const SilhouettePass& silhouettes);
   const GlObject& colour() const { return colour_; }
 
  private:

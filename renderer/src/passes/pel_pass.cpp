@@ -12,8 +12,8 @@
 
 namespace renderer::passes {
 
-PelPass::PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width, bool antialias,
-                 double piece_min_m, int smooth)
+PelPass::PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enabled, double width,
+                 bool antialias, double piece_min_m, int smooth)
     : PassBase(PEL),
       s_(scene),
       enabled_(enabled),
@@ -22,13 +22,16 @@ PelPass::PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enab
       smooth_(enabled && antialias ? std::max(0, smooth) : 0),
       target_(scene, antialias) {
   if (enabled_) {
-    corner_buf_ = make_buffer(mesh.n_faces() * sizeof(Eigen::Vector3f), mesh.voronoi.corner_areas.data(), 0);
-    varea_buf_ = make_buffer(mesh.n_vertices() * sizeof(float), mesh.voronoi.vertex_areas.data(), 0);
-    tangent_buf_ = make_buffer(mesh.n_vertices() * sizeof(Eigen::Vector3f), mesh.voronoi.tangents.data(), 0);
+    corner_buf_ =
+        make_buffer(mesh.n_faces() * sizeof(Eigen::Vector3f), mesh.voronoi.corner_areas.data(), 0);
+    varea_buf_ =
+        make_buffer(mesh.n_vertices() * sizeof(float), mesh.voronoi.vertex_areas.data(), 0);
+    tangent_buf_ =
+        make_buffer(mesh.n_vertices() * sizeof(Eigen::Vector3f), mesh.voronoi.tangents.data(), 0);
     field_buf_ = make_buffer(mesh.n_vertices() * 24, nullptr, 0);
     maxm_buf_ = make_buffer(4, nullptr, GL_DYNAMIC_STORAGE_BIT);
     cmd_buf_ = make_buffer(28, nullptr, GL_DYNAMIC_STORAGE_BIT);  // draw command, pieces dispatch
-    seg_buf_ = make_buffer(mesh.n_faces() * 32, nullptr, 0);  // two vec4 a segment
+    seg_buf_ = make_buffer(mesh.n_faces() * 32, nullptr, 0);      // two vec4 a segment
     field_prog_ = build_program(ProgramId::PelFields);
     extract_prog_ = build_program(ProgramId::PelExtract);
     draw_prog_ = build_program(ProgramId::PelDraw);
@@ -39,7 +42,8 @@ PelPass::PelPass(const SceneGpu& scene, const terrain::GridMesh& mesh, bool enab
     labels_buf_ = make_buffer(mesh.n_faces() * 4, nullptr, 0);
     sizes_buf_ = make_buffer(mesh.n_faces() * 4, nullptr, 0);
     pieces_prog_ = build_program(ProgramId::PelPieces);
-    glProgramUniform2ui(pieces_prog_.id(), TR_LOC_PEL_GRID, GLuint(mesh.topo.rows), GLuint(mesh.topo.cols));
+    glProgramUniform2ui(pieces_prog_.id(), TR_LOC_PEL_GRID, GLuint(mesh.topo.rows),
+                        GLuint(mesh.topo.cols));
     glProgramUniform1f(pieces_prog_.id(), TR_LOC_PIECE_MIN, float(piece_min_m_));
   }
 }
@@ -51,12 +55,16 @@ void PelPass::execute(const FrameInputs& in) {
   glNamedBufferSubData(maxm_buf_.id(), 0, 4, &zero);
   glNamedBufferSubData(cmd_buf_.id(), 0, sizeof cmd, cmd);
   const std::pair<GLuint, const GlObject*> bufs[] = {
-      {TR_SSBO_MESH_POSITIONS, &s_.pos_buf}, {TR_SSBO_MESH_NORMALS, &s_.nrm_buf}, {TR_SSBO_CORNER_AREAS, &corner_buf_},
-      {TR_SSBO_VERTEX_AREAS, &varea_buf_},   {TR_SSBO_TANGENTS, &tangent_buf_},   {TR_SSBO_PEL_FIELDS, &field_buf_},
-      {TR_SSBO_PEL_MAX_M, &maxm_buf_},       {TR_SSBO_PEL_COMMAND, &cmd_buf_},    {TR_SSBO_PEL_SEGMENTS, &seg_buf_}};
-  for (const auto& [binding, buf] : bufs) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buf->id());
+      {TR_SSBO_MESH_POSITIONS, &s_.pos_buf}, {TR_SSBO_MESH_NORMALS, &s_.nrm_buf},
+      {TR_SSBO_CORNER_AREAS, &corner_buf_},  {TR_SSBO_VERTEX_AREAS, &varea_buf_},
+      {TR_SSBO_TANGENTS, &tangent_buf_},     {TR_SSBO_PEL_FIELDS, &field_buf_},
+      {TR_SSBO_PEL_MAX_M, &maxm_buf_},       {TR_SSBO_PEL_COMMAND, &cmd_buf_},
+      {TR_SSBO_PEL_SEGMENTS, &seg_buf_}};
+  for (const auto& [binding, buf] : bufs)
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, buf->id());
   // The light of f: the headlight (towards the eye) or the frame's light, in the mesh frame.
-  const Eigen::Vector3d light = in.frame.pel.headlight ? Eigen::Vector3d(-in.view.forward) : in.light;
+  const Eigen::Vector3d light =
+      in.frame.pel.headlight ? Eigen::Vector3d(-in.view.forward) : in.light;
   const std::size_t nv = s_.topo.n_vertices(), nf = s_.topo.n_faces();
   const auto rows = GLuint(s_.topo.rows), cols = GLuint(s_.topo.cols);
   const GLuint fp = field_prog_.id();
@@ -87,7 +95,8 @@ void PelPass::pieces() const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PEL_FACE_SEGMENTS, face_seg_buf_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_LABELS, labels_buf_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_SIZES, sizes_buf_.id());
-  if (smooth_ > 0) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PEL_SMOOTHED, smoothed_buf_.id());
+  if (smooth_ > 0)
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PEL_SMOOTHED, smoothed_buf_.id());
   const GLuint p = pieces_prog_.id();
   glUseProgram(p);
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, cmd_buf_.id());
@@ -103,9 +112,7 @@ void PelPass::pieces() const {
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
 }
 
-std::size_t PelPass::segments_drawn() const {
-  return enabled_ ? indirect_segments(cmd_buf_) : 0;
-}
+std::size_t PelPass::segments_drawn() const { return enabled_ ? indirect_segments(cmd_buf_) : 0; }
 
 std::vector<float> PelPass::read_segments() const {
   const std::size_t n = segments_drawn();

@@ -8,16 +8,18 @@
 
 namespace renderer::passes {
 
-SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev, bool normals, bool all_patches,
-                   bool resident)
+SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev, bool normals,
+                   bool all_patches, bool resident)
     : width(w), height(h), reversed(rev), topo(mesh.topo) {
   // Positions and normals in two buffers (the whole mesh's, or room for one vertex until
   // set_lod_mesh), faces as patches of 3.
   vertex_capacity = resident ? mesh.n_vertices() : 1;
-  pos_buf = make_buffer(vertex_capacity * sizeof(Eigen::Vector3f), resident ? mesh.positions.data() : nullptr,
+  pos_buf = make_buffer(vertex_capacity * sizeof(Eigen::Vector3f),
+                        resident ? mesh.positions.data() : nullptr,
                         resident ? 0 : GL_DYNAMIC_STORAGE_BIT);
-  nrm_buf = make_buffer(vertex_capacity * sizeof(Eigen::Vector3f), resident ? mesh.normals.data() : nullptr,
-                        resident ? 0 : GL_DYNAMIC_STORAGE_BIT);
+  nrm_buf =
+      make_buffer(vertex_capacity * sizeof(Eigen::Vector3f),
+                  resident ? mesh.normals.data() : nullptr, resident ? 0 : GL_DYNAMIC_STORAGE_BIT);
   std::vector<std::uint32_t> idx(all_patches ? mesh.n_faces() * 3 : 3);
   if (all_patches)
     for (std::size_t f = 0; f < mesh.n_faces(); ++f) {
@@ -27,8 +29,8 @@ SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev, bool n
   index_buf = make_buffer(idx.size() * 4, idx.data(), GL_DYNAMIC_STORAGE_BIT);
   n_patches = patch_capacity = n_away_patches = all_patches ? mesh.n_faces() : 0;
   vao = GlObject(GlKind::VertexArray);
-  for (const auto& [a, buf] :
-       {std::pair<GLuint, const GlObject*>{TR_ATTR_POSITION, &pos_buf}, {TR_ATTR_NORMAL, &nrm_buf}}) {
+  for (const auto& [a, buf] : {std::pair<GLuint, const GlObject*>{TR_ATTR_POSITION, &pos_buf},
+                               {TR_ATTR_NORMAL, &nrm_buf}}) {
     glVertexArrayVertexBuffer(vao.id(), a, buf->id(), 0, sizeof(Eigen::Vector3f));
     glVertexArrayAttribFormat(vao.id(), a, 3, GL_FLOAT, GL_FALSE, 0);
     glVertexArrayAttribBinding(vao.id(), a, a);
@@ -72,10 +74,12 @@ void SceneGpu::depth_state() const {
 }
 
 void SceneGpu::set_patches(const std::vector<std::uint32_t>& indices, std::size_t may_face_away) {
-  if (indices.size() > 3 * topo.n_faces()) throw terrain::Error("internal: more patches than the mesh's faces");
+  if (indices.size() > 3 * topo.n_faces())
+    throw terrain::Error("internal: more patches than the mesh's faces");
   n_patches = indices.size() / 3;
   n_away_patches = std::min(n_patches, may_face_away);
-  if (n_patches > patch_capacity) {  // a quarter more room, so that a moving view seldom grows it again
+  if (n_patches >
+      patch_capacity) {  // a quarter more room, so that a moving view seldom grows it again
     patch_capacity = std::min(topo.n_faces(), n_patches + n_patches / 4);
     index_buf = make_buffer(3 * patch_capacity * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
     glVertexArrayElementBuffer(vao.id(), index_buf.id());
@@ -87,13 +91,16 @@ void SceneGpu::set_lod_mesh(const LodMesh& m, const terrain::GridMesh& mesh) {
   const std::size_t n = m.vertices.size();
   if (n > vertex_capacity) {  // a quarter more room, as set_patches
     vertex_capacity = n + n / 4;
-    pos_buf = make_buffer(vertex_capacity * sizeof(Eigen::Vector3f), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    nrm_buf = make_buffer(vertex_capacity * sizeof(Eigen::Vector3f), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    pos_buf =
+        make_buffer(vertex_capacity * sizeof(Eigen::Vector3f), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    nrm_buf =
+        make_buffer(vertex_capacity * sizeof(Eigen::Vector3f), nullptr, GL_DYNAMIC_STORAGE_BIT);
     glVertexArrayVertexBuffer(vao.id(), TR_ATTR_POSITION, pos_buf.id(), 0, sizeof(Eigen::Vector3f));
     glVertexArrayVertexBuffer(vao.id(), TR_ATTR_NORMAL, nrm_buf.id(), 0, sizeof(Eigen::Vector3f));
   }
   std::vector<Eigen::Vector3f> gathered(n);
-  for (const auto& [buf, source] : {std::pair{&pos_buf, &mesh.positions}, std::pair{&nrm_buf, &mesh.normals}}) {
+  for (const auto& [buf, source] :
+       {std::pair{&pos_buf, &mesh.positions}, std::pair{&nrm_buf, &mesh.normals}}) {
     for (std::size_t i = 0; i < n; ++i) gathered[i] = (*source)[m.vertices[i]];
     glNamedBufferSubData(buf->id(), 0, GLsizeiptr(n * sizeof(Eigen::Vector3f)), gathered.data());
   }
@@ -116,11 +123,12 @@ void SceneGpu::draw_patches(const GlObject& program, int mode) const {
     counts.push_back(GLsizei(3 * std::min(kPatchesPerDraw, n - first)));
     offsets.push_back(reinterpret_cast<const void*>(3 * first * sizeof(std::uint32_t)));
   }
-  glMultiDrawElements(GL_PATCHES, counts.data(), GL_UNSIGNED_INT, offsets.data(), GLsizei(counts.size()));
+  glMultiDrawElements(GL_PATCHES, counts.data(), GL_UNSIGNED_INT, offsets.data(),
+                      GLsizei(counts.size()));
 }
 
-void SceneGpu::draw_patch_list(const GlObject& program, int mode, const GlObject& indices, const GlObject& draws,
-                               std::size_t n_draws) const {
+void SceneGpu::draw_patch_list(const GlObject& program, int mode, const GlObject& indices,
+                               const GlObject& draws, std::size_t n_draws) const {
   glUseProgram(program.id());
   glProgramUniform1i(program.id(), TR_LOC_SURFACE_MODE, mode);
   glBindVertexArray(vao.id());
@@ -160,7 +168,8 @@ void LineTarget::clear(const SceneGpu& scene) const {
   glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &far_depth);
 }
 
-void LineTarget::draw_indirect(const SceneGpu& scene, const GlObject& program, const GlObject& command) const {
+void LineTarget::draw_indirect(const SceneGpu& scene, const GlObject& program,
+                               const GlObject& command) const {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
   if (antialias) {
     glDisable(GL_DEPTH_TEST);

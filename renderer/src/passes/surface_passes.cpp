@@ -13,7 +13,8 @@ void PatchList::reset(const SceneGpu& s) {
   if (!indices.id() || s.patch_capacity > capacity) {
     capacity = std::max<std::size_t>(s.patch_capacity, 1);
     indices = make_buffer(16 + 12 * capacity, nullptr, GL_DYNAMIC_STORAGE_BIT);
-    draws = make_buffer(20 * ((capacity + kPatchesPerDraw - 1) / kPatchesPerDraw), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    draws = make_buffer(20 * ((capacity + kPatchesPerDraw - 1) / kPatchesPerDraw), nullptr,
+                        GL_DYNAMIC_STORAGE_BIT);
   }
   const GLuint zero = 0;
   glNamedBufferSubData(indices.id(), 0, 4, &zero);
@@ -23,7 +24,8 @@ void PatchList::reset(const SceneGpu& s) {
 }
 
 void PatchList::draw(const SceneGpu& s, const GlObject& program, int mode) const {
-  s.draw_patch_list(program, mode, indices, draws, (s.n_patches + kPatchesPerDraw - 1) / kPatchesPerDraw);
+  s.draw_patch_list(program, mode, indices, draws,
+                    (s.n_patches + kPatchesPerDraw - 1) / kPatchesPerDraw);
 }
 
 TowardPass::TowardPass(const SceneGpu& scene, bool flat_patches)
@@ -76,14 +78,18 @@ void TowardPass::execute(const FrameInputs&) {
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, flat_.id());
   for (const int coarse : {0, 1}) {
     glProgramUniform1f(flat_prog_.id(), TR_LOC_FLAT_COARSE, float(coarse));
-    glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(std::uintptr_t(20 * coarse)));
+    glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                           reinterpret_cast<const void*>(std::uintptr_t(20 * coarse)));
   }
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
   glVertexArrayElementBuffer(s_.vao.id(), s_.index_buf.id());
 }
 
 AwayPass::AwayPass(const SceneGpu& scene, bool enabled)
-    : PassBase(AFT), s_(scene), enabled_(enabled), fbo_(make_framebuffer(nullptr, &scene.away_depth)) {
+    : PassBase(AFT),
+      s_(scene),
+      enabled_(enabled),
+      fbo_(make_framebuffer(nullptr, &scene.away_depth)) {
   if (!enabled_) return;
   cull_prog_ = build_program(ProgramId::SurfaceCull);
 }

@@ -28,7 +28,8 @@ void axes(double az_deg, const Eigen::Vector3d& f, Eigen::Vector3d& right, Eigen
 std::array<Eigen::Vector3d, 8> box_corners(const Box& b) {
   std::array<Eigen::Vector3d, 8> c;
   for (int i = 0; i < 8; ++i)
-    c[i] = {(i & 1) ? b.hi.x() : b.lo.x(), (i & 2) ? b.hi.y() : b.lo.y(), (i & 4) ? b.hi.z() : b.lo.z()};
+    c[i] = {(i & 1) ? b.hi.x() : b.lo.x(), (i & 2) ? b.hi.y() : b.lo.y(),
+            (i & 4) ? b.hi.z() : b.lo.z()};
   return c;
 }
 
@@ -81,11 +82,12 @@ double View::depth_distance(double depth) const {
 }
 
 double View::pixel_size(double distance) const {
-  return orthographic() ? map_scale : distance * 2.0 * std::tan(0.5 * fov_deg * kDeg) / double(height);
+  return orthographic() ? map_scale
+                        : distance * 2.0 * std::tan(0.5 * fov_deg * kDeg) / double(height);
 }
 
-Eigen::Vector3d frame_points(const std::vector<Eigen::Vector3d>& points, double az, double alt, double fov_deg,
-                             double aspect, double margin) {
+Eigen::Vector3d frame_points(const std::vector<Eigen::Vector3d>& points, double az, double alt,
+                             double fov_deg, double aspect, double margin) {
   const Eigen::Vector3d f = view_direction(az, alt);
   Eigen::Vector3d right, up;
   axes(az, f, right, up);
@@ -102,7 +104,8 @@ Eigen::Vector3d frame_points(const std::vector<Eigen::Vector3d>& points, double 
     d = 0;
     for (const auto& c : points) {
       const Eigen::Vector3d o = c - target;
-      d = std::max({d, std::abs(o.dot(right)) / th - o.dot(f), std::abs(o.dot(up)) / tv - o.dot(f)});
+      d = std::max(
+          {d, std::abs(o.dot(right)) / th - o.dot(f), std::abs(o.dot(up)) / tv - o.dot(f)});
     }
     if (round == 2) break;
     double x_lo = 1e300, x_hi = -1e300, y_lo = 1e300, y_hi = -1e300;
@@ -119,7 +122,8 @@ Eigen::Vector3d frame_points(const std::vector<Eigen::Vector3d>& points, double 
 
 Eigen::Vector3d frame_box(const Box& box, double az, double alt, double fov_deg, double aspect) {
   const auto c = box_corners(box);
-  return frame_points(std::vector<Eigen::Vector3d>(c.begin(), c.end()), az, alt, fov_deg, aspect, 1.05);
+  return frame_points(std::vector<Eigen::Vector3d>(c.begin(), c.end()), az, alt, fov_deg, aspect,
+                      1.05);
 }
 
 namespace {
@@ -142,11 +146,13 @@ std::vector<std::size_t> grid_samples(std::size_t n, std::size_t step) {
 // last row and column) on a large mesh, at most ~256 k; no-data vertices left out.
 std::vector<Eigen::Vector3d> framing_points(const terrain::GridMesh& mesh, double e) {
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
-  const std::size_t s = std::max<std::size_t>(1, std::size_t(std::ceil(std::sqrt(double(rows * cols) / 262144.0))));
+  const std::size_t s =
+      std::max<std::size_t>(1, std::size_t(std::ceil(std::sqrt(double(rows * cols) / 262144.0))));
   std::vector<Eigen::Vector3d> points;
   for (const std::size_t r : grid_samples(rows, s))
     for (const std::size_t c : grid_samples(cols, s))
-      if (const Eigen::Vector3d p = drawn_vertex(mesh, r * cols + c, e); p.allFinite()) points.push_back(p);
+      if (const Eigen::Vector3d p = drawn_vertex(mesh, r * cols + c, e); p.allFinite())
+        points.push_back(p);
   if (points.size() < 3) throw terrain::Error("the mesh has no faces");
   return points;
 }
@@ -161,16 +167,19 @@ struct ReliefAxis {
   Eigen::Vector2d uphill{0, 0};
 };
 template <class At>
-ReliefAxis relief_axis(const At& at, const std::vector<std::size_t>& rk, const std::vector<std::size_t>& ck) {
+ReliefAxis relief_axis(const At& at, const std::vector<std::size_t>& rk,
+                       const std::vector<std::size_t>& ck) {
   double jxx = 0, jxy = 0, jyy = 0, gx_sum = 0, gy_sum = 0;
   for (std::size_t i = 0; i + 1 < rk.size(); ++i)
     for (std::size_t j = 0; j + 1 < ck.size(); ++j) {
-      const Eigen::Vector3d a = at(rk[i], ck[j]), b = at(rk[i], ck[j + 1]), c = at(rk[i + 1], ck[j]);
+      const Eigen::Vector3d a = at(rk[i], ck[j]), b = at(rk[i], ck[j + 1]),
+                            c = at(rk[i + 1], ck[j]);
       if (!a.allFinite() || !b.allFinite() || !c.allFinite()) continue;
       const double gx = (b.z() - a.z()) / (b.x() - a.x()), gy = (c.z() - a.z()) / (c.y() - a.y());
       jxx += gx * gx, jxy += gx * gy, jyy += gy * gy, gx_sum += gx, gy_sum += gy;
     }
-  const double tr = jxx + jyy, det = jxx * jyy - jxy * jxy, disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+  const double tr = jxx + jyy, det = jxx * jyy - jxy * jxy,
+               disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
   const double l1 = 0.5 * tr + disc, l2 = 0.5 * tr - disc;
   ReliefAxis r;
   // The eigenvector of l1, (l1 - jyy, jxy) in (east, north), as a bearing.
@@ -182,7 +191,8 @@ ReliefAxis relief_axis(const At& at, const std::vector<std::size_t>& rk, const s
 
 // The share of a v.width x v.height frame the coarse grid's triangles cover.
 template <class At>
-double frame_coverage(const View& v, const At& at, const std::vector<std::size_t>& rk, const std::vector<std::size_t>& ck) {
+double frame_coverage(const View& v, const At& at, const std::vector<std::size_t>& rk,
+                      const std::vector<std::size_t>& ck) {
   const int mw = v.width, mh = v.height;
   std::vector<std::uint8_t> mask(std::size_t(mw * mh), 0);
   auto fill = [&](const Projected& p0, const Projected& p1, const Projected& p2) {
@@ -202,16 +212,18 @@ double frame_coverage(const View& v, const At& at, const std::vector<std::size_t
     for (std::size_t j = 0; j + 1 < ck.size(); ++j) {
       const Eigen::Vector3d q[4] = {at(rk[i], ck[j]), at(rk[i], ck[j + 1]), at(rk[i + 1], ck[j]),
                                     at(rk[i + 1], ck[j + 1])};
-      if (!q[0].allFinite() || !q[1].allFinite() || !q[2].allFinite() || !q[3].allFinite()) continue;
-      const Projected p[4] = {project(v, q[0]), project(v, q[1]), project(v, q[2]), project(v, q[3])};
+      if (!q[0].allFinite() || !q[1].allFinite() || !q[2].allFinite() || !q[3].allFinite())
+        continue;
+      const Projected p[4] = {project(v, q[0]), project(v, q[1]), project(v, q[2]),
+                              project(v, q[3])};
       fill(p[0], p[1], p[2]);
       fill(p[1], p[3], p[2]);
     }
   return double(std::count(mask.begin(), mask.end(), 1)) / double(mask.size());
 }
 
-AutoView auto_view(const terrain::GridMesh& mesh, double e, double fov_deg, double aspect, double view_alt,
-                   bool search_alt) {
+AutoView auto_view(const terrain::GridMesh& mesh, double e, double fov_deg, double aspect,
+                   double view_alt, bool search_alt) {
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
   if (rows < 2 || cols < 2) throw terrain::Error("the mesh has no faces");
   auto at = [&](std::size_t r, std::size_t c) { return drawn_vertex(mesh, r * cols + c, e); };
@@ -245,17 +257,20 @@ AutoView auto_view(const terrain::GridMesh& mesh, double e, double fov_deg, doub
     const double coverage = frame_coverage(v, at, rk, ck);
     const double across = std::pow(std::cos((az - axis) * kDeg), 2.0);
     const Eigen::Vector2d dir(std::sin(az * kDeg), std::cos(az * kDeg));
-    const double score = coverage + kAcrossWeight * anisotropy * across + (dir.dot(uphill) > 0 ? kUphillWeight : 0.0);
+    const double score = coverage + kAcrossWeight * anisotropy * across +
+                         (dir.dot(uphill) > 0 ? kUphillWeight : 0.0);
     if (score > best_score) {
       best_score = score;
       best.camera = cam;
-      best.camera.eye = v.eye + Eigen::Vector3d(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z);
+      best.camera.eye =
+          v.eye + Eigen::Vector3d(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z);
       best.coverage = coverage;
     }
     // The least steep altitude at which the best bearing fills enough of the frame.
     if (step % 24 == 23 && best.coverage >= kAutoCoverage) break;
   }
-  best.light.azimuth = std::fmod(best.camera.view_az + 315.0, 360.0);  // from the upper left of the image
+  best.light.azimuth =
+      std::fmod(best.camera.view_az + 315.0, 360.0);  // from the upper left of the image
   best.light.altitude = 45;
   best.relief_axis = std::fmod(axis + 360.0, 180.0);
   best.anisotropy = anisotropy;
@@ -273,11 +288,14 @@ struct LocalRelief {
 };
 LocalRelief local_relief(const terrain::GridMesh& mesh) {
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
-  const auto z = [&](std::size_t r, std::size_t c) { return double(mesh.positions[r * cols + c].z()); };
+  const auto z = [&](std::size_t r, std::size_t c) {
+    return double(mesh.positions[r * cols + c].z());
+  };
   LocalRelief out;
   // Coarse cells of f x f mesh cells (their corner vertices included): their lowest and
   // highest heights.
-  const std::size_t f = (std::max(rows, cols) + 94) / 95, R = (rows - 2) / f + 1, C = (cols - 2) / f + 1;
+  const std::size_t f = (std::max(rows, cols) + 94) / 95, R = (rows - 2) / f + 1,
+                    C = (cols - 2) / f + 1;
   out.f = f, out.R = R, out.C = C;
   std::vector<double> lo(R * C, 1e300), hi(R * C, -1e300);
   for (std::size_t i = 0; i < R; ++i)
@@ -299,7 +317,8 @@ LocalRelief local_relief(const terrain::GridMesh& mesh) {
       double a = 1e300, b = -1e300;
       for (long u = std::max(0L, i - hh); u <= std::min(long(R) - 1, i + hh); ++u)
         for (long v = std::max(0L, j - hh); v <= std::min(long(C) - 1, j + hh); ++v)
-          a = std::min(a, lo[std::size_t(u) * C + std::size_t(v)]), b = std::max(b, hi[std::size_t(u) * C + std::size_t(v)]);
+          a = std::min(a, lo[std::size_t(u) * C + std::size_t(v)]),
+          b = std::max(b, hi[std::size_t(u) * C + std::size_t(v)]);
       relief[std::size_t(i) * C + std::size_t(j)] = b - a;
       top = std::max(top, b - a);
     }
@@ -308,9 +327,12 @@ LocalRelief local_relief(const terrain::GridMesh& mesh) {
 
 // The open side of a subject at `centre` (local) of half-width w: the bearing (every 15
 // degrees) from which the heights between the eye and the subject are lowest.
-double open_side(const terrain::GridMesh& mesh, const Eigen::Vector2d& centre, double w, double wlo) {
+double open_side(const terrain::GridMesh& mesh, const Eigen::Vector2d& centre, double w,
+                 double wlo) {
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
-  const auto z = [&](std::size_t r, std::size_t c) { return double(mesh.positions[r * cols + c].z()); };
+  const auto z = [&](std::size_t r, std::size_t c) {
+    return double(mesh.positions[r * cols + c].z());
+  };
   const auto& g = mesh.geo;
   // The eye's bearing from the centre is the view's bearing + 180.
   double view_az = 225, lowest = 1e300;
@@ -320,17 +342,22 @@ double open_side(const terrain::GridMesh& mesh, const Eigen::Vector2d& centre, d
     for (int s = 0; s <= 8; ++s) {
       const Eigen::Vector2d p = centre + w * (0.25 + 0.125 * s) * towards_eye;
       const double c = std::round(p.x() / g.dx), r = std::round(-p.y() / g.dy);
-      sum += (c >= 0 && r >= 0 && c < double(cols) && r < double(rows)) ? z(std::size_t(r), std::size_t(c)) : wlo;
+      sum += (c >= 0 && r >= 0 && c < double(cols) && r < double(rows))
+                 ? z(std::size_t(r), std::size_t(c))
+                 : wlo;
     }
     if (sum < lowest - 1e-9 * std::abs(lowest)) lowest = sum, view_az = a;
   }
   return view_az;
 }
 
-ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, double aspect, double view_alt) {
+ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, double aspect,
+                       double view_alt) {
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
   if (rows < 2 || cols < 2) throw terrain::Error("the mesh has no faces");
-  const auto z = [&](std::size_t r, std::size_t c) { return double(mesh.positions[r * cols + c].z()); };
+  const auto z = [&](std::size_t r, std::size_t c) {
+    return double(mesh.positions[r * cols + c].z());
+  };
   const LocalRelief lr = local_relief(mesh);
   const std::size_t f = lr.f, R = lr.R, C = lr.C;
   const long hh = lr.hh;
@@ -367,20 +394,27 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
   const Eigen::Vector2d centre((cj + 0.5) * fdx, -(ci + 0.5) * fdy);  // local
   const Eigen::Vector2d half(spread * fdx, spread * fdy);
   // Heights within the subject's extent.
-  const auto clamp_c = [&](double x) { return std::size_t(std::clamp(std::round(x / g.dx), 0.0, double(cols - 1))); };
-  const auto clamp_r = [&](double y) { return std::size_t(std::clamp(std::round(-y / g.dy), 0.0, double(rows - 1))); };
+  const auto clamp_c = [&](double x) {
+    return std::size_t(std::clamp(std::round(x / g.dx), 0.0, double(cols - 1)));
+  };
+  const auto clamp_r = [&](double y) {
+    return std::size_t(std::clamp(std::round(-y / g.dy), 0.0, double(rows - 1)));
+  };
   const std::size_t c0 = clamp_c(centre.x() - half.x()), c1 = clamp_c(centre.x() + half.x());
   const std::size_t r0 = clamp_r(centre.y() + half.y()), r1 = clamp_r(centre.y() - half.y());
   double wlo = 1e300, whi = -1e300, mean = 0;
   for (std::size_t r = r0; r <= r1; ++r)
-    for (std::size_t c = c0; c <= c1; ++c) wlo = std::min(wlo, z(r, c)), whi = std::max(whi, z(r, c)), mean += z(r, c);
+    for (std::size_t c = c0; c <= c1; ++c)
+      wlo = std::min(wlo, z(r, c)), whi = std::max(whi, z(r, c)), mean += z(r, c);
   mean /= double((r1 - r0 + 1) * (c1 - c0 + 1));
   const double w = std::max(half.x(), half.y());
   const double view_az = open_side(mesh, centre, w, wlo);
   // The eye looks at the subject's centre at its mean height, from 1.5 times the distance
   // that frames its box: the subject fills about the middle two thirds of the frame.
-  const Box box{{centre.x() - half.x(), centre.y() - half.y(), wlo * e}, {centre.x() + half.x(), centre.y() + half.y(), whi * e}};
-  const double framed = (0.5 * (box.lo + box.hi) - frame_box(box, view_az, view_alt, fov_deg, aspect)).norm();
+  const Box box{{centre.x() - half.x(), centre.y() - half.y(), wlo * e},
+                {centre.x() + half.x(), centre.y() + half.y(), whi * e}};
+  const double framed =
+      (0.5 * (box.lo + box.hi) - frame_box(box, view_az, view_alt, fov_deg, aspect)).norm();
   const Eigen::Vector3d target(centre.x(), centre.y(), mean * e);
   ReliefView rv;
   rv.camera.view_az = view_az;
@@ -403,7 +437,8 @@ double auto_exaggeration(const terrain::GridMesh& mesh) {
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector3f& p = mesh.positions[i];
     z[i] = p.z();
-    lo = lo.cwiseMin(Eigen::Vector2d(p.x(), p.y())), hi = hi.cwiseMax(Eigen::Vector2d(p.x(), p.y()));
+    lo = lo.cwiseMin(Eigen::Vector2d(p.x(), p.y())),
+    hi = hi.cwiseMax(Eigen::Vector2d(p.x(), p.y()));
   }
   auto percentile = [&](double q) {
     const auto at = z.begin() + std::ptrdiff_t(q * double(n - 1));
@@ -417,16 +452,17 @@ double auto_exaggeration(const terrain::GridMesh& mesh) {
   return std::round(2.0 * e) / 2.0;
 }
 
-DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double e, double fov_deg, double aspect,
-                         std::optional<double> given_alt) {
+DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double e, double fov_deg,
+                         double aspect, std::optional<double> given_alt) {
   const double view_alt = given_alt.value_or(30.0);
   DefaultView d;
   if (mode == ViewMode::Relief) {
     const ReliefView rv = relief_view(mesh, e, fov_deg, aspect, view_alt);
     d.camera = rv.camera;
     d.light = rv.light;
-    d.description = fmt::format("relief view: the relief around {:.0f} {:.0f} ({:.0f} m), seen from bearing {:.0f}",
-                                rv.centre.x(), rv.centre.y(), rv.relief, std::fmod(rv.camera.view_az + 180, 360.0));
+    d.description = fmt::format(
+        "relief view: the relief around {:.0f} {:.0f} ({:.0f} m), seen from bearing {:.0f}",
+        rv.centre.x(), rv.centre.y(), rv.relief, std::fmod(rv.camera.view_az + 180, 360.0));
     return d;
   }
   if (mode == ViewMode::Top) {
@@ -438,7 +474,8 @@ DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double e,
     // it in perspective (the viewer's view once it moves).
     const std::vector<Eigen::Vector3d> points = framing_points(mesh, e);
     Eigen::Vector2d lo(1e300, 1e300), hi = -lo;
-    for (const Eigen::Vector3d& p : points) lo = lo.cwiseMin(p.head<2>()), hi = hi.cwiseMax(p.head<2>());
+    for (const Eigen::Vector3d& p : points)
+      lo = lo.cwiseMin(p.head<2>()), hi = hi.cwiseMax(p.head<2>());
     Eigen::Vector3d eye = frame_points(points, 0, 90, fov_deg, aspect, 1.02);
     eye.head<2>() = 0.5 * (lo + hi);
     d.camera.eye = eye + Eigen::Vector3d(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z);
@@ -450,15 +487,16 @@ DefaultView default_view(const terrain::GridMesh& mesh, ViewMode mode, double e,
   const AutoView av = auto_view(mesh, e, fov_deg, aspect, view_alt, !given_alt);
   d.camera = av.camera;
   d.light = av.light;
-  d.description = fmt::format("automatic view: the whole terrain from bearing {:.0f}, {:.0f} degrees down, covering "
-                              "{:.0f} % of the frame (relief axis {:.0f}, anisotropy {:.2f}); light from {:.0f}",
-                              av.camera.view_az, av.camera.view_alt, 100 * av.coverage, av.relief_axis,
-                              av.anisotropy, av.light.azimuth);
+  d.description = fmt::format(
+      "automatic view: the whole terrain from bearing {:.0f}, {:.0f} degrees down, covering "
+      "{:.0f} % of the frame (relief axis {:.0f}, anisotropy {:.2f}); light from {:.0f}",
+      av.camera.view_az, av.camera.view_alt, 100 * av.coverage, av.relief_axis, av.anisotropy,
+      av.light.azimuth);
   return d;
 }
 
-View make_view(const Camera& cam, const Eigen::Vector3d& origin, const Box& box, int width, int height,
-               bool reversed_z) {
+View make_view(const Camera& cam, const Eigen::Vector3d& origin, const Box& box, int width,
+               int height, bool reversed_z) {
   View v;
   v.width = width;
   v.height = height;
@@ -479,7 +517,8 @@ View make_view(const Camera& cam, const Eigen::Vector3d& origin, const Box& box,
     v.map_scale = cam.map_scale;
     if (!(v.map_scale > 0)) {
       v.eye += 0.5 * (x_lo + x_hi) * v.right + 0.5 * (y_lo + y_hi) * v.up;
-      v.map_scale = std::max({1.02 * (x_hi - x_lo) / double(width), 1.02 * (y_hi - y_lo) / double(height), 1e-9});
+      v.map_scale = std::max(
+          {1.02 * (x_hi - x_lo) / double(width), 1.02 * (y_hi - y_lo) / double(height), 1e-9});
     }
     const double margin = std::max(0.01 * diag, 1.0);
     v.eye += (d_lo - margin) * v.forward;
@@ -487,8 +526,9 @@ View make_view(const Camera& cam, const Eigen::Vector3d& origin, const Box& box,
     v.far = d_hi - d_lo + 2 * margin;
     return v;
   }
-  v.eye = cam.eye ? Eigen::Vector3d(*cam.eye - origin)
-                  : frame_box(box, cam.view_az, cam.view_alt, cam.fov, double(width) / double(height));
+  v.eye = cam.eye
+              ? Eigen::Vector3d(*cam.eye - origin)
+              : frame_box(box, cam.view_az, cam.view_alt, cam.fov, double(width) / double(height));
   const Eigen::Vector3d nearest = v.eye.cwiseMax(box.lo).cwiseMin(box.hi);
   v.near = std::max(0.5 * (nearest - v.eye).norm(), 1e-4 * std::max(diag, 1.0));
   return v;
@@ -496,17 +536,20 @@ View make_view(const Camera& cam, const Eigen::Vector3d& origin, const Box& box,
 
 double page_scale(const View& view, const Box& box) {
   if (view.orthographic()) return view.map_scale;
-  const Eigen::Vector3d centre = 0.5 * (box.lo + box.hi), nearest = view.eye.cwiseMax(box.lo).cwiseMin(box.hi);
-  const double depth = std::max({(centre - view.eye).dot(view.forward), (nearest - view.eye).norm(), 1.0});
+  const Eigen::Vector3d centre = 0.5 * (box.lo + box.hi),
+                        nearest = view.eye.cwiseMax(box.lo).cwiseMin(box.hi);
+  const double depth =
+      std::max({(centre - view.eye).dot(view.forward), (nearest - view.eye).norm(), 1.0});
   return view.pixel_size(depth);
 }
 
-std::optional<std::array<double, 6>> map_geotransform(const View& view, const Eigen::Vector3d& origin) {
+std::optional<std::array<double, 6>> map_geotransform(const View& view,
+                                                      const Eigen::Vector3d& origin) {
   if (!view.orthographic() || (view.right - Eigen::Vector3d::UnitX()).norm() > 1e-9 ||
       (view.up - Eigen::Vector3d::UnitY()).norm() > 1e-9)
     return std::nullopt;
   const double s = view.map_scale;
-  return std::array<double, 6>{origin.x() + view.eye.x() - 0.5 * double(view.width) * s, s, 0,
+  return std::array<double, 6>{origin.x() + view.eye.x() - 0.5 * double(view.width) * s,  s, 0,
                                origin.y() + view.eye.y() + 0.5 * double(view.height) * s, 0, -s};
 }
 
@@ -521,32 +564,39 @@ Projected project(const View& view, const Eigen::Vector3d& p) {
   return r;
 }
 
-Eigen::Vector3d unproject(const View& view, const Eigen::Matrix4d& inverse, double u, double v, double depth) {
+Eigen::Vector3d unproject(const View& view, const Eigen::Matrix4d& inverse, double u, double v,
+                          double depth) {
   const double z_ndc = view.reversed_z ? depth : 2.0 * depth - 1.0;
-  const Eigen::Vector4d w = inverse * Eigen::Vector4d((std::floor(u) + 0.5) / view.width * 2.0 - 1.0,
-                                                      1.0 - (std::floor(v) + 0.5) / view.height * 2.0, z_ndc, 1.0);
+  const Eigen::Vector4d w =
+      inverse * Eigen::Vector4d((std::floor(u) + 0.5) / view.width * 2.0 - 1.0,
+                                1.0 - (std::floor(v) + 0.5) / view.height * 2.0, z_ndc, 1.0);
   return w.head<3>() / w.w();
 }
 
-void check_eye_above_terrain(const terrain::GridMesh& mesh, const Eigen::Vector3d& eye, double exaggeration) {
+void check_eye_above_terrain(const terrain::GridMesh& mesh, const Eigen::Vector3d& eye,
+                             double exaggeration) {
   const auto& g = mesh.geo;
   // Far away, the terrain is a speck (and single-precision matrices lose it): an eye more
   // than kMaxEyeDistance terrain sizes from its centre is an error, not a blank frame.
-  const double size = std::hypot(double(mesh.topo.cols - 1) * g.dx, double(mesh.topo.rows - 1) * g.dy);
+  const double size =
+      std::hypot(double(mesh.topo.cols - 1) * g.dx, double(mesh.topo.rows - 1) * g.dy);
   const Eigen::Vector3d centre(g.origin_x + 0.5 * double(mesh.topo.cols - 1) * g.dx,
                                g.origin_y - 0.5 * double(mesh.topo.rows - 1) * g.dy, g.origin_z);
-  const double distance = std::hypot(std::hypot(eye.x() - centre.x(), eye.y() - centre.y()), eye.z() - centre.z());
+  const double distance =
+      std::hypot(std::hypot(eye.x() - centre.x(), eye.y() - centre.y()), eye.z() - centre.z());
   if (!(distance <= kMaxEyeDistance * size))
-    throw terrain::Error(fmt::format("the eye ({:.6g}, {:.6g}, {:.6g}) is {:.3g} km from the terrain, more than {:g} "
-                                     "times its size ({:.3g} km): it would draw a blank frame; move it closer",
-                                     eye.x(), eye.y(), eye.z(), distance / 1000, kMaxEyeDistance, size / 1000));
+    throw terrain::Error(fmt::format(
+        "the eye ({:.6g}, {:.6g}, {:.6g}) is {:.3g} km from the terrain, more than {:g} "
+        "times its size ({:.3g} km): it would draw a blank frame; move it closer",
+        eye.x(), eye.y(), eye.z(), distance / 1000, kMaxEyeDistance, size / 1000));
   const auto p = terrain::pn_point_above(mesh, eye.x() - g.origin_x, eye.y() - g.origin_y);
   if (!p) return;
   const double surface = g.origin_z + exaggeration * p->position.z();
   if (eye.z() < surface)
-    throw terrain::Error(fmt::format("the eye ({:.1f}, {:.1f}, {:.1f}) is inside the terrain: the surface is at {:.1f} "
-                                     "m there; raise it (--eye E N Z)",
-                                     eye.x(), eye.y(), eye.z(), surface));
+    throw terrain::Error(fmt::format(
+        "the eye ({:.1f}, {:.1f}, {:.1f}) is inside the terrain: the surface is at {:.1f} "
+        "m there; raise it (--eye E N Z)",
+        eye.x(), eye.y(), eye.z(), surface));
 }
 
 }  // namespace renderer

@@ -54,14 +54,16 @@ Layers parse_layers(const std::string& list) {
     const std::string name = trim(raw);
     const auto* known = std::find_if(std::begin(kLayerNames), std::end(kLayerNames),
                                      [&](const LayerName& n) { return name == n.name; });
-    if (known == std::end(kLayerNames)) throw terrain::Error("unknown layer '" + name + "' (layers: " + names + ")");
+    if (known == std::end(kLayerNames))
+      throw terrain::Error("unknown layer '" + name + "' (layers: " + names + ")");
     l.*(known->flag) = true;
     any = true;
   }
   if (!any) throw terrain::Error("--layers is empty (layers: " + names + ")");
   if (l.shaded && l.mask) throw terrain::Error("--layers: choose shaded or mask, not both");
   if (l.silhouettes && l.adjacency)
-    throw terrain::Error("--layers: choose silhouettes (Toward/Away) or silhouettes-adjacency, not both");
+    throw terrain::Error(
+        "--layers: choose silhouettes (Toward/Away) or silhouettes-adjacency, not both");
   if (l.adjacency) l.silhouettes = true;  // the silhouette layer, found by the Adjacency method
   return l;
 }
@@ -83,10 +85,14 @@ std::uint8_t parse_edge_kinds(const std::string& list) {
   for (const auto& raw : split(list, ',')) {
     const std::string name = trim(raw);
     if (name.empty()) continue;
-    if (name == "contour") kinds |= 1;
-    else if (name == "boundary") kinds |= 2;
-    else if (name == "crease") kinds |= 4;
-    else throw terrain::Error("unknown edge kind '" + name + "' (kinds: contour, boundary, crease)");
+    if (name == "contour")
+      kinds |= 1;
+    else if (name == "boundary")
+      kinds |= 2;
+    else if (name == "crease")
+      kinds |= 4;
+    else
+      throw terrain::Error("unknown edge kind '" + name + "' (kinds: contour, boundary, crease)");
   }
   if (!kinds) throw terrain::Error("--edges is empty (kinds: contour, boundary, crease)");
   return kinds;
@@ -94,8 +100,8 @@ std::uint8_t parse_edge_kinds(const std::string& list) {
 
 Eigen::Vector3f parse_colour(const std::string& text) {
   static const std::map<std::string, Eigen::Vector3f> names = {
-      {"white", {1, 1, 1}},       {"black", {0, 0, 0}},         {"grey", {0.5f, 0.5f, 0.5f}},
-      {"gray", {0.5f, 0.5f, 0.5f}}, {"blue", {0.05f, 0.2f, 0.55f}}, {"red", {0.75f, 0.1f, 0.1f}},
+      {"white", {1, 1, 1}},           {"black", {0, 0, 0}},           {"grey", {0.5f, 0.5f, 0.5f}},
+      {"gray", {0.5f, 0.5f, 0.5f}},   {"blue", {0.05f, 0.2f, 0.55f}}, {"red", {0.75f, 0.1f, 0.1f}},
       {"brown", {0.45f, 0.3f, 0.15f}}};
   const std::string t = trim(text);
   if (auto it = names.find(t); it != names.end()) return it->second;
@@ -103,7 +109,8 @@ Eigen::Vector3f parse_colour(const std::string& text) {
     unsigned v = 0;
     const auto r = std::from_chars(t.data() + 1, t.data() + 7, v, 16);
     if (r.ec == std::errc() && r.ptr == t.data() + 7)
-      return Eigen::Vector3f(float((v >> 16) & 255), float((v >> 8) & 255), float(v & 255)) / 255.0f;
+      return Eigen::Vector3f(float((v >> 16) & 255), float((v >> 8) & 255), float(v & 255)) /
+             255.0f;
   }
   const auto parts = split(t, ',');
   if (parts.size() == 3) {
@@ -116,7 +123,8 @@ Eigen::Vector3f parse_colour(const std::string& text) {
     }
     if (ok) return c;
   }
-  throw terrain::Error("bad colour '" + text + "' (use #rrggbb, r,g,b in 0..255, or white, black, grey, blue, red, brown)");
+  throw terrain::Error("bad colour '" + text +
+                       "' (use #rrggbb, r,g,b in 0..255, or white, black, grey, blue, red, brown)");
 }
 
 namespace {
@@ -158,7 +166,9 @@ std::vector<FrameParams> parse_frames_csv(const std::string& text, const FramePa
   std::vector<FrameParams> frames;
   std::vector<const OptionSpec*> columns;  // nullptr: an eye column
   int line_no = 0, header_line = 0, eye_columns = 0;
-  auto fail = [&](int at, const std::string& what) { throw terrain::Error(fmt::format("{}:{}: {}", name, at, what)); };
+  auto fail = [&](int at, const std::string& what) {
+    throw terrain::Error(fmt::format("{}:{}: {}", name, at, what));
+  };
   while (std::getline(in, line)) {
     ++line_no;
     const std::string t = trim(line);
@@ -171,8 +181,10 @@ std::vector<FrameParams> parse_frames_csv(const std::string& text, const FramePa
       for (std::size_t i = 0; i < header.size(); ++i) {
         const OptionSpec* o = find_option(header[i]);
         if (eye_index(header[i]) < 0 && (!o || !o->per_frame || csv_column(*o) != header[i]))
-          fail(line_no, fmt::format("unknown column '{}' (columns: {})", header[i], fmt::join(frame_columns(), " ")));
-        if (std::find(header.begin(), header.begin() + long(i), header[i]) != header.begin() + long(i))
+          fail(line_no, fmt::format("unknown column '{}' (columns: {})", header[i],
+                                    fmt::join(frame_columns(), " ")));
+        if (std::find(header.begin(), header.begin() + long(i), header[i]) !=
+            header.begin() + long(i))
           fail(line_no, fmt::format("column '{}' appears twice", header[i]));
         eye_columns += eye_index(header[i]) >= 0;
         columns.push_back(eye_index(header[i]) >= 0 ? nullptr : o);
@@ -189,14 +201,16 @@ std::vector<FrameParams> parse_frames_csv(const std::string& text, const FramePa
     for (std::size_t i = 0; i < fields.size(); ++i) {
       if (!columns[i]) {
         double v = 0;
-        if (!parse_number(fields[i], v)) fail(line_no, fmt::format("field '{}': '{}' is not a number", header[i], fields[i]));
+        if (!parse_number(fields[i], v))
+          fail(line_no, fmt::format("field '{}': '{}' is not a number", header[i], fields[i]));
         eye[eye_index(header[i])] = v;
         continue;
       }
       try {
         set_option(s, *columns[i], fields[i]);
       } catch (const terrain::Error& e) {
-        fail(line_no, fmt::format("field '{}': {} (as for --{})", header[i], e.what(), columns[i]->name));
+        fail(line_no,
+             fmt::format("field '{}': {} (as for --{})", header[i], e.what(), columns[i]->name));
       }
     }
     if (eye_columns == 3) s.frame.camera.eye = eye;
@@ -220,9 +234,11 @@ namespace {
 // "FRAMES.csv:N" -> (FRAMES.csv, N); "FRAMES.csv" -> (FRAMES.csv, 0); otherwise no path.
 std::pair<std::string, long> split_view_row(const std::string& text) {
   const auto colon = text.rfind(':');
-  if (colon != std::string::npos && colon + 1 < text.size() && text.substr(0, colon).ends_with(".csv")) {
+  if (colon != std::string::npos && colon + 1 < text.size() &&
+      text.substr(0, colon).ends_with(".csv")) {
     const std::string n = text.substr(colon + 1);
-    if (n.find_first_not_of("0123456789") == std::string::npos && n.size() <= 9) return {text.substr(0, colon), std::stol(n)};
+    if (n.find_first_not_of("0123456789") == std::string::npos && n.size() <= 9)
+      return {text.substr(0, colon), std::stol(n)};
     return {};
   }
   if (text.ends_with(".csv") && text.size() > 4) return {text, 0};
@@ -235,10 +251,12 @@ bool is_view_row(const std::string& text) { return !split_view_row(text).first.e
 
 FrameParams view_row_frame(const std::string& spec, const FrameParams& defaults) {
   const auto [path, row] = split_view_row(spec);
-  if (path.empty()) throw terrain::Error("--view: '" + spec + "' is not FRAMES.csv or FRAMES.csv:ROW");
+  if (path.empty())
+    throw terrain::Error("--view: '" + spec + "' is not FRAMES.csv or FRAMES.csv:ROW");
   const std::vector<FrameParams> frames = read_frames_csv(path, defaults);
   if (std::size_t(row) >= frames.size())
-    throw terrain::Error(fmt::format("--view: {} has frames 0 .. {}, not {}", path, frames.size() - 1, row));
+    throw terrain::Error(
+        fmt::format("--view: {} has frames 0 .. {}, not {}", path, frames.size() - 1, row));
   return frames[std::size_t(row)];
 }
 
@@ -247,7 +265,8 @@ std::string path_csv(const FlightPath& p) {
   double az = p.params.camera.view_az;
   const Eigen::Vector3d d = p.to - p.from;
   if (std::isnan(az)) {
-    if (std::hypot(d.x(), d.y()) == 0) throw terrain::Error("--from and --to are vertically aligned: give --view-az");
+    if (std::hypot(d.x(), d.y()) == 0)
+      throw terrain::Error("--from and --to are vertically aligned: give --view-az");
     az = std::fmod(std::atan2(d.x(), d.y()) * 180.0 / std::numbers::pi + 360.0, 360.0);
   }
   std::vector<FrameParams> frames(std::size_t(p.frames), p.params);
@@ -267,7 +286,8 @@ std::string frames_csv(const std::vector<FrameParams>& frames) {
     const Eigen::Vector3d& eye = *f.camera.eye;
     out += fmt::format("{:.3f},{:.3f},{:.3f}", eye.x(), eye.y(), eye.z());
     for (const OptionSpec* o : per_frame_options()) {
-      out += ',';  // appended piece by piece: `"," + std::string` trips GCC 12's -Wrestrict (PR 105329)
+      out += ',';  // appended piece by piece: `"," + std::string` trips GCC 12's -Wrestrict (PR
+                   // 105329)
       out += o->get(s);
     }
     out += "\n";
@@ -278,16 +298,20 @@ std::string frames_csv(const std::vector<FrameParams>& frames) {
 std::vector<FrameParams> keyframe_path(const std::vector<FrameParams>& keys, int count) {
   if (keys.size() < 2) throw terrain::Error("a keyframe path needs at least 2 keyframes");
   if (count < 2 || count > kMaxPathFrames)
-    throw terrain::Error(fmt::format("a keyframe path has 2 .. {} frames, not {}", kMaxPathFrames, count));
+    throw terrain::Error(
+        fmt::format("a keyframe path has 2 .. {} frames, not {}", kMaxPathFrames, count));
   // Per key: eye x, y, z, bearing (unwrapped), altitude.
   std::vector<Eigen::Matrix<double, 5, 1>> k(keys.size());
   for (std::size_t i = 0; i < keys.size(); ++i) {
     if (!keys[i].camera.eye) throw terrain::Error("a keyframe without its eye");
     double az = keys[i].camera.view_az;
     if (i > 0) az = k[i - 1][3] + std::remainder(az - k[i - 1][3], 360.0);
-    k[i] << keys[i].camera.eye->x(), keys[i].camera.eye->y(), keys[i].camera.eye->z(), az, keys[i].camera.view_alt;
+    k[i] << keys[i].camera.eye->x(), keys[i].camera.eye->y(), keys[i].camera.eye->z(), az,
+        keys[i].camera.view_alt;
   }
-  const auto at = [&](long i) { return k[std::size_t(std::clamp<long>(i, 0, long(k.size()) - 1))]; };
+  const auto at = [&](long i) {
+    return k[std::size_t(std::clamp<long>(i, 0, long(k.size()) - 1))];
+  };
   std::vector<FrameParams> out;
   const double segments = double(keys.size() - 1);
   for (int f = 0; f < count; ++f) {
@@ -296,7 +320,8 @@ std::vector<FrameParams> keyframe_path(const std::vector<FrameParams>& keys, int
     const double t = u - double(i), t2 = t * t, t3 = t2 * t;
     const auto p0 = at(i - 1), p1 = at(i), p2 = at(i + 1), p3 = at(i + 2);
     const Eigen::Matrix<double, 5, 1> v =
-        0.5 * (2 * p1 + (p2 - p0) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t2 + (3 * p1 - p0 - 3 * p2 + p3) * t3);
+        0.5 * (2 * p1 + (p2 - p0) * t + (2 * p0 - 5 * p1 + 4 * p2 - p3) * t2 +
+               (3 * p1 - p0 - 3 * p2 + p3) * t3);
     FrameParams fp = keys[std::size_t(i)];
     fp.camera.eye = Eigen::Vector3d(v[0], v[1], v[2]);
     fp.camera.view_az = std::fmod(std::fmod(v[3], 360.0) + 360.0, 360.0);

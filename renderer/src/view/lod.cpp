@@ -1,7 +1,7 @@
 #include "renderer/lod.hpp"
 
-#include <array>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -33,7 +33,8 @@ double nearest_depth(const Box& box, const View& view) {
     left = left && c.x() < -c.w(), right = right && c.x() > c.w(), below = below && c.y() < -c.w(),
     above = above && c.y() > c.w();
   }
-  if (left || right || below || above || farthest <= 0) return std::numeric_limits<double>::infinity();
+  if (left || right || below || above || farthest <= 0)
+    return std::numeric_limits<double>::infinity();
   return !view.orthographic() && !(nearest > view.near) ? 0.0 : nearest;
 }
 
@@ -59,8 +60,8 @@ bool faces_eye(const LodBlock& b, float slope, const View& view, double e) {
 }
 
 // select_lod's levels before the held grid's clamp (LodHierarchy::base).
-std::vector<std::uint8_t> wanted_levels(const LodHierarchy& h, const View& view, double e, double bound_px,
-                                        double cell_px) {
+std::vector<std::uint8_t> wanted_levels(const LodHierarchy& h, const View& view, double e,
+                                        double bound_px, double cell_px) {
   std::vector<std::uint8_t> levels(h.blocks.size(), 0);
   for (std::size_t k = 0; k < h.blocks.size(); ++k) {
     const LodBlock& b = h.blocks[k];
@@ -70,7 +71,8 @@ std::vector<std::uint8_t> wanted_levels(const LodHierarchy& h, const View& view,
       continue;
     }
     if (nearest == 0) continue;  // reaches the eye: full detail
-    const double metres = view.pixel_size(nearest), allowed = bound_px * metres / std::max(e, 1e-12);
+    const double metres = view.pixel_size(nearest),
+                 allowed = bound_px * metres / std::max(e, 1e-12);
     // A level-0 cell's plan diagonal (the box spans the block's cells).
     const double diagonal = std::hypot(double(b.hi.x() - b.lo.x()) / std::max(b.nc, 1u),
                                        double(b.hi.y() - b.lo.y()) / std::max(b.nr, 1u));
@@ -88,8 +90,8 @@ std::vector<std::uint8_t> wanted_levels(const LodHierarchy& h, const View& view,
 
 }  // namespace
 
-std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double e, double bound_px,
-                                     double cell_px) {
+std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, double e,
+                                     double bound_px, double cell_px) {
   std::vector<std::uint8_t> levels = wanted_levels(h, view, e, bound_px, cell_px);
   if (h.base > 0)  // nothing finer than the grid held (its coarsest level at most)
     for (std::size_t k = 0; k < h.blocks.size(); ++k)
@@ -100,7 +102,8 @@ std::vector<std::uint8_t> select_lod(const LodHierarchy& h, const View& view, do
 double nearest_pixel_metres(const LodHierarchy* h, const Box& box, const View& view, double e) {
   double nearest = std::numeric_limits<double>::infinity();
   if (h)
-    for (const LodBlock& b : h->blocks) nearest = std::min(nearest, nearest_depth(block_box(b, e), view));
+    for (const LodBlock& b : h->blocks)
+      nearest = std::min(nearest, nearest_depth(block_box(b, e), view));
   else
     nearest = nearest_depth(box, view);
   return std::isinf(nearest) || nearest == 0 ? 0.0 : view.pixel_size(nearest);
@@ -109,7 +112,8 @@ double nearest_pixel_metres(const LodHierarchy* h, const Box& box, const View& v
 Box levels_box(const LodHierarchy& h, double exaggeration) {
   if (h.window) {
     const Eigen::Vector3f &lo = h.window->lo, &hi = h.window->hi;
-    return Box{{lo.x(), lo.y(), double(lo.z()) * exaggeration}, {hi.x(), hi.y(), double(hi.z()) * exaggeration}};
+    return Box{{lo.x(), lo.y(), double(lo.z()) * exaggeration},
+               {hi.x(), hi.y(), double(hi.z()) * exaggeration}};
   }
   Box box{Eigen::Vector3d::Constant(std::numeric_limits<double>::max()),
           Eigen::Vector3d::Constant(-std::numeric_limits<double>::max())};
@@ -132,7 +136,9 @@ LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels,
     const std::size_t hc = c == cols0 ? cols - 1 : c >> h.base;
     return std::uint32_t(hr * cols + hc);
   };
-  auto step = [&](std::size_t br, std::size_t bc) { return std::uint32_t(1) << levels[br * h.block_cols + bc]; };
+  auto step = [&](std::size_t br, std::size_t bc) {
+    return std::uint32_t(1) << levels[br * h.block_cols + bc];
+  };
   // The patches of blocks that face the eye throughout (facing_blocks) go after the others,
   // but for the cells on a side snapped to a coarser neighbour: their thin triangles are
   // not the level's, whose slope the block was found facing by.
@@ -154,16 +160,22 @@ LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels,
       // multiple of this one, and the last line is kept).
       const auto base = std::uint32_t(out.vertices.size());
       for (const std::uint32_t r : rs)
-        for (const std::uint32_t c : cs) out.vertices.push_back(held(std::size_t(b.r0) + r, std::size_t(b.c0) + c));
+        for (const std::uint32_t c : cs)
+          out.vertices.push_back(held(std::size_t(b.r0) + r, std::size_t(b.c0) + c));
       auto line = [&](std::uint32_t p, std::uint32_t n, std::size_t count) {
         return p == n ? std::uint32_t(count - 1) : p >> l;
       };
       auto vertex = [&](std::uint32_t r, std::uint32_t c) {
-        if (r == 0) c = snap(c, b.nc, north);
-        else if (r == b.nr) c = snap(c, b.nc, south);
-        if (c == 0) r = snap(r, b.nr, west);
-        else if (c == b.nc) r = snap(r, b.nr, east);
-        return base + line(r, b.nr, rs.size()) * std::uint32_t(cs.size()) + line(c, b.nc, cs.size());
+        if (r == 0)
+          c = snap(c, b.nc, north);
+        else if (r == b.nr)
+          c = snap(c, b.nc, south);
+        if (c == 0)
+          r = snap(r, b.nr, west);
+        else if (c == b.nc)
+          r = snap(r, b.nr, east);
+        return base + line(r, b.nr, rs.size()) * std::uint32_t(cs.size()) +
+               line(c, b.nc, cs.size());
       };
       for (std::size_t i = 0; i + 1 < rs.size(); ++i)
         for (std::size_t j = 0; j + 1 < cs.size(); ++j) {
@@ -172,8 +184,10 @@ LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels,
           const bool snapped = (i == 0 && north > s) || (i + 2 == rs.size() && south > s) ||
                                (j == 0 && west > s) || (j + 2 == cs.size() && east > s);
           std::vector<std::uint32_t>& to = facing_block && !snapped ? facing_patches : out.patches;
-          for (const std::array<std::uint32_t, 3>& t : {std::array{nw, sw, se}, std::array{nw, se, ne}})
-            if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) to.insert(to.end(), t.begin(), t.end());
+          for (const std::array<std::uint32_t, 3>& t :
+               {std::array{nw, sw, se}, std::array{nw, se, ne}})
+            if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
+              to.insert(to.end(), t.begin(), t.end());
         }
     }
   out.may_face_away = out.patches.size() / 3;
@@ -181,10 +195,13 @@ LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels,
   return out;
 }
 
-std::vector<std::uint32_t> lod_patches(const LodHierarchy& h, const std::vector<std::uint8_t>& levels,
-                                       const std::vector<std::uint8_t>& facing, std::size_t* may_face_away) {
+std::vector<std::uint32_t> lod_patches(const LodHierarchy& h,
+                                       const std::vector<std::uint8_t>& levels,
+                                       const std::vector<std::uint8_t>& facing,
+                                       std::size_t* may_face_away) {
   std::vector<std::uint32_t> out;
-  if (h.base == 0 && std::all_of(levels.begin(), levels.end(), [](std::uint8_t l) { return l == 0; })) {
+  if (h.base == 0 &&
+      std::all_of(levels.begin(), levels.end(), [](std::uint8_t l) { return l == 0; })) {
     out.resize(3 * h.topo.n_faces());
     for (std::size_t f = 0; f < h.topo.n_faces(); ++f) {
       const auto t = h.topo.face(f);
@@ -203,7 +220,8 @@ BlockRange blocks_in_view(const LodHierarchy& h, const std::vector<View>& views,
   BlockRange r{h.block_rows, h.block_cols, 0, 0};
   for (std::size_t k = 0; k < h.blocks.size(); ++k) {
     const Box box = block_box(h.blocks[k], e);
-    if (std::none_of(views.begin(), views.end(), [&](const View& v) { return std::isfinite(nearest_depth(box, v)); }))
+    if (std::none_of(views.begin(), views.end(),
+                     [&](const View& v) { return std::isfinite(nearest_depth(box, v)); }))
       continue;
     const std::size_t br = k / h.block_cols, bc = k % h.block_cols;
     r.br0 = std::min(r.br0, br), r.bc0 = std::min(r.bc0, bc);

@@ -1,8 +1,8 @@
 // The .dv file: round trip, rejection of damaged files, and its views.
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
@@ -38,7 +38,8 @@ struct Format {
 };
 class DvRoundTrip : public testing::TestWithParam<Format> {};
 INSTANTIATE_TEST_SUITE_P(Formats, DvRoundTrip,
-                         testing::Values(Format{1, 0, 0}, Format{2, 0, 0}, Format{2, 37, 53}, Format{2, 1, 450}));
+                         testing::Values(Format{1, 0, 0}, Format{2, 0, 0}, Format{2, 37, 53},
+                                         Format{2, 1, 450}));
 
 TEST_P(DvRoundTrip, EveryFieldComesBack) {
   terrain::test::ScratchDir dir;
@@ -80,7 +81,8 @@ TEST_P(DvRoundTrip, EveryFieldComesBack) {
     ASSERT_EQ(db.branches[b].drains_into, r.net.branches[b].drains_into);
     ASSERT_EQ(db.branches[b].order, r.net.branches[b].order);
   }
-  EXPECT_TRUE(std::equal(db.branch_vertices.begin(), db.branch_vertices.end(), r.net.branch_vertices.begin()));
+  EXPECT_TRUE(std::equal(db.branch_vertices.begin(), db.branch_vertices.end(),
+                         r.net.branch_vertices.begin()));
   const DvSummary s = summarize(db);
   EXPECT_EQ(s.points, r.net.points);
   EXPECT_EQ(s.pits, r.net.pits.size());
@@ -103,8 +105,8 @@ DvHeader v1_header(const DrainageResult& r) {
 }
 
 // A copy of dir/source named `name` with `bytes` written at `offset`; its path.
-std::string patched_copy(const terrain::test::ScratchDir& dir, const std::string& source, const std::string& name,
-                         std::size_t offset, const std::string& bytes) {
+std::string patched_copy(const terrain::test::ScratchDir& dir, const std::string& source,
+                         const std::string& name, std::size_t offset, const std::string& bytes) {
   fs::copy_file(dir.path(source), dir.path(name));
   std::fstream f(dir.path(name), std::ios::in | std::ios::out | std::ios::binary);
   f.seekp(std::streamoff(offset));
@@ -122,7 +124,8 @@ TEST(DvFile, BlockEncodingIsTheFormatByteForByte) {
   DvBlockFields f;
   const std::size_t m = 256 * 200 + 17;
   for (std::size_t q = 0; q < m; ++q) {
-    f.z.push_back(q % 97 == 0 ? 0.0f : float(std::uniform_real_distribution<double>(-50, 900)(rng)));
+    f.z.push_back(q % 97 == 0 ? 0.0f
+                              : float(std::uniform_real_distribution<double>(-50, 900)(rng)));
     f.d8.push_back(std::uint8_t(rng() % 9 == 8 ? 8 : rng() % 8));
     f.cut.push_back(std::uint8_t(rng() % 13 == 0));
     f.accumulated.push_back(std::uint32_t(rng() % 5 == 0 ? rng() : rng() % 300));
@@ -177,7 +180,8 @@ TEST(DvFile, EveryVersion1HeaderByteIsUnderTheChecksum) {
   const DrainageResult r = logan_drainage();
   write_dv(dir.path("a.dv"), v1_header(r), r.surface, r.dirs, r.net);
   for (const std::size_t at : {116u, 120u, 124u, 127u}) {
-    std::string name = std::to_string(at);  // built piece by piece: GCC 12's -Wrestrict false positive
+    std::string name =
+        std::to_string(at);  // built piece by piece: GCC 12's -Wrestrict false positive
     name += ".dv";
     expect_error(patched_copy(dir, "a.dv", name, at, "\x01"), "corrupt .dv header");
   }
@@ -195,10 +199,12 @@ TEST(DvFile, EveryVersion1HeaderByteIsUnderTheChecksum) {
 TEST(DvFile, EveryReaderRefusesAHeaderThatDisagreesWithTheData) {
   terrain::test::ScratchDir dir;
   const DrainageResult r = logan_drainage();
-  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs, r.net);
+  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs,
+           r.net);
   for (const auto& patch : {std::pair{40u, "valid points"}, std::pair{48u, "branches derived"}}) {
     const unsigned offset = patch.first;
-    const std::string field = patch.second;  // not a structured binding: clang 14 cannot capture one
+    const std::string field =
+        patch.second;  // not a structured binding: clang 14 cannot capture one
     std::string bytes = terrain::test::file_bytes(dir.path("a.dv"));
     const std::uint64_t wrong = 127;
     std::memcpy(bytes.data() + offset, &wrong, 8);
@@ -211,11 +217,13 @@ TEST(DvFile, EveryReaderRefusesAHeaderThatDisagreesWithTheData) {
         read();
         ADD_FAILURE() << reader << " read a header with " << field << " wrong";
       } catch (const terrain::Error& e) {
-        EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << reader << ": " << e.what();
+        EXPECT_NE(std::string(e.what()).find(field), std::string::npos)
+            << reader << ": " << e.what();
       }
     };
     expect("read_dv", [&] { (void)read_dv(path); });
-    expect("read_dv_window", [&] { (void)read_dv_window(path, 0, 0, std::size_t(h.rows), std::size_t(h.cols)); });
+    expect("read_dv_window",
+           [&] { (void)read_dv_window(path, 0, 0, std::size_t(h.rows), std::size_t(h.cols)); });
     expect("summarize_dv_file", [&] { (void)summarize_dv_file(path); });
   }
 }
@@ -241,14 +249,16 @@ TEST(DvFile, RejectsBadIndicesBehindAValidChecksumVersion1) {
     std::ofstream(dir.path("bad.dv"), std::ios::binary) << bytes;
     return dir.path("bad.dv");
   };
-  expect_error(patched(32, std::uint64_t(1) << 63), "corrupt .dv header (grid");   // cols near 2^63
-  expect_error(patched(24, std::uint64_t(0)), "corrupt .dv header (grid");         // rows 0
-  expect_error(patched(56, std::uint64_t(n + 1)), "corrupt .dv header");           // basins
+  expect_error(patched(32, std::uint64_t(1) << 63), "corrupt .dv header (grid");  // cols near 2^63
+  expect_error(patched(24, std::uint64_t(0)), "corrupt .dv header (grid");        // rows 0
+  expect_error(patched(56, std::uint64_t(n + 1)), "corrupt .dv header");          // basins
   expect_error(patched(vertices + 5 * 32 + 24, std::uint32_t(n)), "downstream index of vertex 5");
-  expect_error(patched(vertices + 6 * 32 + 20, std::uint32_t(r.net.pits.size())), "basin of vertex 6");
+  expect_error(patched(vertices + 6 * 32 + 20, std::uint32_t(r.net.pits.size())),
+               "basin of vertex 6");
   expect_error(patched(vertices + 7 * 32 + 28, std::uint8_t(7)), "class of vertex 7");
   expect_error(patched(vertices + 8 * 32 + 30, std::uint8_t(10)), "D8 code of vertex 8");
-  expect_error(patched(vertices + 9 * 32 + 8, std::numeric_limits<float>::quiet_NaN()), "of vertex 9");
+  expect_error(patched(vertices + 9 * 32 + 8, std::numeric_limits<float>::quiet_NaN()),
+               "of vertex 9");
   expect_error(patched(branches + 3 * 16, std::uint32_t(r.net.points)), "vertex range of branch 3");
   expect_error(patched(branches + 4 * 16 + 4, std::uint32_t(0)), "vertex range of branch 4");
   expect_error(patched(branches + 4 * 16 + 8, std::uint32_t(n)), "outlet of branch 4");
@@ -260,7 +270,8 @@ TEST(DvFile, RejectsBadIndicesBehindAValidChecksumVersion1) {
 TEST(DvFile, RejectsDamagedVersion2Files) {
   terrain::test::ScratchDir dir;
   const DrainageResult r = logan_drainage();
-  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs, r.net);
+  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs,
+           r.net);
   const auto size = fs::file_size(dir.path("a.dv"));
   auto patched = [&](const std::string& name, std::size_t offset, const std::string& bytes) {
     return patched_copy(dir, "a.dv", name, offset, bytes);
@@ -276,8 +287,10 @@ TEST(DvFile, RejectsDamagedVersion2Files) {
   expect_error(patched("origin.dv", 70, std::string("\x01", 1)), "checksum mismatch in the header");
   expect_error(patched("block.dv", header_bytes + 10, "\xff\xfe"), "checksum mismatch in block 0");
   expect_error(patched("window.dv", header_bytes + 10, "\xff\xfe"), "checksum mismatch in block 0");
-  EXPECT_THROW(read_dv_window(dir.path("window.dv"), 0, 0, 5, 5), terrain::Error);  // the window's block is read
-  EXPECT_EQ(read_dv_window(dir.path("window.dv"), 450, 250, 5, 5).vertices.size(), 25u);  // others are not
+  EXPECT_THROW(read_dv_window(dir.path("window.dv"), 0, 0, 5, 5),
+               terrain::Error);  // the window's block is read
+  EXPECT_EQ(read_dv_window(dir.path("window.dv"), 450, 250, 5, 5).vertices.size(),
+            25u);  // others are not
   for (const std::uint64_t cut : {std::uint64_t(1), std::uint64_t(100), size / 2}) {
     fs::copy_file(dir.path("a.dv"), dir.path("cut.dv"), fs::copy_options::overwrite_existing);
     fs::resize_file(dir.path("cut.dv"), size - cut);
@@ -289,7 +302,8 @@ TEST(DvFile, RejectsDamagedVersion2Files) {
 
 // A .dv of one block of 2 x 2 points (4 valid, 2 branches) with the given fields and basins.
 std::string one_block_dv(const std::string& path, const DvHeader& h, const DvBlockFields& f,
-                         const std::vector<std::uint32_t>& pits, const std::vector<std::uint32_t>& pit_acc) {
+                         const std::vector<std::uint32_t>& pits,
+                         const std::vector<std::uint32_t>& pit_acc) {
   terrain::write_stream_atomic(path, [&](std::ostream& out) {
     DvBlockWriter w(out, path, h);
     w.put_block(0, encode_dv_block(f));
@@ -304,7 +318,8 @@ TEST(DvFile, RejectsBadFieldsBehindValidBlockChecksums) {
   auto file_with = [&](auto&& spoil) {
     DvHeader h;
     h.rows = 2, h.cols = 2, h.block_rows = h.block_cols = 2;
-    DvBlockFields f{{1, 2, 3, 4}, {0, 6, 9, 9}, {0, 0, 0, 0}, {1, 2, 1, 4}, {0, 0, 1, 2}, {1, 1, 1, 1}};
+    DvBlockFields f{{1, 2, 3, 4}, {0, 6, 9, 9}, {0, 0, 0, 0},
+                    {1, 2, 1, 4}, {0, 0, 1, 2}, {1, 1, 1, 1}};
     // (0,0) flows E into (0,1), which flows S into (1,1): an outlet of accumulation 4 ...
     f.d8 = {0, 6, 9, 9};
     f.accumulated = {1, 2, 1, 3};
@@ -319,14 +334,20 @@ TEST(DvFile, RejectsBadFieldsBehindValidBlockChecksums) {
   EXPECT_EQ(good.vertices[3].point_class, std::uint8_t(PointClass::Pit));
   EXPECT_EQ(good.vertices[1].point_class, std::uint8_t(PointClass::Channel));
   EXPECT_FLOAT_EQ(good.vertices[1].normalized, 2.0f / 3.0f);
-  expect_error(file_with([](DvBlockFields& f, auto&, auto&) { f.basin[0] = 7; }), "basin of vertex 0");
-  expect_error(file_with([](DvBlockFields& f, auto&, auto&) { f.d8[1] = 12; }), "D8 code or elevation of vertex 1");
+  expect_error(file_with([](DvBlockFields& f, auto&, auto&) { f.basin[0] = 7; }),
+               "basin of vertex 0");
+  expect_error(file_with([](DvBlockFields& f, auto&, auto&) { f.d8[1] = 12; }),
+               "D8 code or elevation of vertex 1");
   expect_error(file_with([](DvBlockFields& f, auto&, auto&) { f.d8[1] = 7; }), "leaves the grid");
-  expect_error(file_with([](DvBlockFields& f, auto&, auto&) { f.z[2] = NAN; }), "elevation of vertex 2");
+  expect_error(file_with([](DvBlockFields& f, auto&, auto&) { f.z[2] = NAN; }),
+               "elevation of vertex 2");
   expect_error(file_with([](auto&, std::vector<std::uint32_t>& p, auto&) { p[1] = 9; }), "basin 1");
-  expect_error(file_with([](auto&, auto&, std::vector<std::uint32_t>& a) { a[1] = 2; }), "exceeds its basin's");
-  expect_error(file_with([](auto&, auto&, std::vector<std::uint32_t>& a) { a[1] = 4; }), "pit of basin 1");
-  expect_error(file_with([](auto&, std::vector<std::uint32_t>& p, auto&) { p[0] = 1; }), "is not its basin's pit");
+  expect_error(file_with([](auto&, auto&, std::vector<std::uint32_t>& a) { a[1] = 2; }),
+               "exceeds its basin's");
+  expect_error(file_with([](auto&, auto&, std::vector<std::uint32_t>& a) { a[1] = 4; }),
+               "pit of basin 1");
+  expect_error(file_with([](auto&, std::vector<std::uint32_t>& p, auto&) { p[0] = 1; }),
+               "is not its basin's pit");
 }
 
 // The WKT of an EPSG code, as GDAL exports it.
@@ -354,7 +375,8 @@ TEST(DvFile, EveryReaderRejectsImpossibleFlowAndHeaders) {
     h.origin_x = 562000, h.origin_y = 5117000, h.origin_z = 1000, h.dx = h.dy = 10;
     h.epsg = 26910;
     h.crs_wkt = wkt_of(26910);
-    DvBlockFields f{{1, 2, 3, 4}, {0, 6, 9, 9}, {0, 0, 0, 0}, {1, 2, 1, 3}, {1, 1, 0, 1}, {1, 1, 1, 1}};
+    DvBlockFields f{{1, 2, 3, 4}, {0, 6, 9, 9}, {0, 0, 0, 0},
+                    {1, 2, 1, 3}, {1, 1, 0, 1}, {1, 1, 1, 1}};
     std::vector<std::uint32_t> pits = {2, 3}, pit_acc = {1, 3};
     spoil(h, f);
     return one_block_dv(dir.path("x.dv"), h, f, pits, pit_acc);
@@ -366,8 +388,9 @@ TEST(DvFile, EveryReaderRejectsImpossibleFlowAndHeaders) {
         {"summarize_dv_file", [&] { (void)summarize_dv_file(path); }},
         {"export_dv_rasters",
          [&] {
-           (void)export_dv_rasters(path, [&](const std::string& n) { return dir.path("r_" + n); },
-                                   D8Encoding::Taudem, "");
+           (void)export_dv_rasters(
+               path, [&](const std::string& n) { return dir.path("r_" + n); }, D8Encoding::Taudem,
+               "");
          }},
     };
     for (const auto& [name, read] : readers) {
@@ -375,25 +398,30 @@ TEST(DvFile, EveryReaderRejectsImpossibleFlowAndHeaders) {
         read();
         ADD_FAILURE() << name << " took " << fragment;
       } catch (const terrain::Error& e) {
-        EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << name << ": " << e.what();
+        EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos)
+            << name << ": " << e.what();
       }
     }
   };
   ASSERT_EQ(read_dv(file_with([](DvHeader&, DvBlockFields&) {})).vertices[0].downstream, 1u);
   EXPECT_EQ(summarize_dv_file(file_with([](DvHeader&, DvBlockFields&) {})).points, 4u);
-  every_reader_refuses(file_with([](DvHeader&, DvBlockFields& f) { f.accumulated[0] = 0xFFFFFFFFu; }),
-                       "accumulated flow of vertex 0");
+  every_reader_refuses(
+      file_with([](DvHeader&, DvBlockFields& f) { f.accumulated[0] = 0xFFFFFFFFu; }),
+      "accumulated flow of vertex 0");
   // (0,1) flows W back into (0,0): a cycle of two.
-  every_reader_refuses(file_with([](DvHeader&, DvBlockFields& f) { f.d8[1] = 4; }), "does not grow downstream");
+  every_reader_refuses(file_with([](DvHeader&, DvBlockFields& f) { f.d8[1] = 4; }),
+                       "does not grow downstream");
   // (0,0) ends its flow (an outlet) inside basin 1, whose pit is (1,1): a stray pit.
-  every_reader_refuses(file_with([](DvHeader&, DvBlockFields& f) { f.d8[0] = 9; }), "is not its basin's pit");
+  every_reader_refuses(file_with([](DvHeader&, DvBlockFields& f) { f.d8[0] = 9; }),
+                       "is not its basin's pit");
   every_reader_refuses(file_with([](DvHeader& h, DvBlockFields&) { h.origin_z = 1e300; }),
                        "outside what a terrain grid can be");
   every_reader_refuses(file_with([](DvHeader& h, DvBlockFields&) { h.crs_wkt = "GARBAGE[\"x\"]"; }),
                        "CRS WKT does not parse");
   every_reader_refuses(file_with([](DvHeader& h, DvBlockFields&) { h.crs_wkt = wkt_of(4326); }),
                        "says EPSG:4326 but its EPSG field says 26910");
-  every_reader_refuses(file_with([](DvHeader& h, DvBlockFields&) { h.epsg = 4326; }), "EPSG field says 4326");
+  every_reader_refuses(file_with([](DvHeader& h, DvBlockFields&) { h.epsg = 4326; }),
+                       "EPSG field says 4326");
   for (const auto& e : std::filesystem::directory_iterator(dir.path("")))
     EXPECT_EQ(e.path().filename().string(), "x.dv") << "a refused export left " << e.path();
 }
@@ -416,7 +444,8 @@ TEST(DvFile, WindowsAreTheFullDatabasesPoints) {
     };
     for (const W w : {W{0, 0, 70, 90}, W{100, 130, 77, 65}, W{450, 250, 500, 500}}) {
       const DrainageDb win = read_dv_window(dir.path("a.dv"), w.r0, w.c0, w.rows, w.cols);
-      const std::size_t nr = std::min(w.rows, full.header.rows - w.r0), nc = std::min(w.cols, C - w.c0);
+      const std::size_t nr = std::min(w.rows, full.header.rows - w.r0),
+                        nc = std::min(w.cols, C - w.c0);
       ASSERT_EQ(win.header.rows, nr);
       ASSERT_EQ(win.header.cols, nc);
       EXPECT_DOUBLE_EQ(win.header.origin_x, full.header.origin_x + double(w.c0) * full.header.dx);
@@ -457,7 +486,8 @@ TEST(DvFile, Version2IsCompact) {
   h.version = 1;
   write_dv(dir.path("a.dv"), h, r.surface, r.dirs, r.net);
   const double n = double(r.surface.size());
-  const double v1 = double(fs::file_size(dir.path("a.dv"))) / n, v2 = double(fs::file_size(dir.path("b.dv"))) / n;
+  const double v1 = double(fs::file_size(dir.path("a.dv"))) / n,
+               v2 = double(fs::file_size(dir.path("b.dv"))) / n;
   EXPECT_GT(v1, 32.0);
   EXPECT_LT(v2, 12.0);
   RecordProperty("bytes_per_point_v1", std::to_string(v1));
@@ -480,16 +510,18 @@ TEST(DvFile, LeanNetworkWritesTheSameVersion2File) {
   EXPECT_TRUE(lean.net.branch_vertices.empty());
   EXPECT_EQ(lean.net.branch_count, full.net.branches.size());
   EXPECT_EQ(full.net.branch_count, full.net.branches.size());
-  write_dv(dir.path("full.dv"), make_dv_header(full.surface, full.net, full.dv_flags, "p"), full.surface, full.dirs,
-           full.net);
-  write_dv(dir.path("lean.dv"), make_dv_header(lean.surface, lean.net, lean.dv_flags, "p"), lean.surface, lean.dirs,
-           lean.net);
-  EXPECT_EQ(terrain::test::file_bytes(dir.path("full.dv")), terrain::test::file_bytes(dir.path("lean.dv")));
+  write_dv(dir.path("full.dv"), make_dv_header(full.surface, full.net, full.dv_flags, "p"),
+           full.surface, full.dirs, full.net);
+  write_dv(dir.path("lean.dv"), make_dv_header(lean.surface, lean.net, lean.dv_flags, "p"),
+           lean.surface, lean.dirs, lean.net);
+  EXPECT_EQ(terrain::test::file_bytes(dir.path("full.dv")),
+            terrain::test::file_bytes(dir.path("lean.dv")));
   DvHeader v1 = make_dv_header(lean.surface, lean.net, lean.dv_flags, "p");
   v1.version = 1;
   EXPECT_THROW(write_dv(dir.path("v1.dv"), v1, lean.surface, lean.dirs, lean.net), terrain::Error);
   EXPECT_FALSE(fs::exists(dir.path("v1.dv")));
-  EXPECT_THROW(write_drainage_rasters(dir.path("rasters"), lean, D8Encoding::Taudem, "p"), terrain::Error);
+  EXPECT_THROW(write_drainage_rasters(dir.path("rasters"), lean, D8Encoding::Taudem, "p"),
+               terrain::Error);
 }
 
 }  // namespace

@@ -17,7 +17,8 @@ DrainageResult logan_drainage() {
 }
 
 DrainageDb round_trip(const DrainageResult& r, const terrain::test::ScratchDir& dir) {
-  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs, r.net);
+  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs,
+           r.net);
   return read_dv(dir.path("a.dv"));
 }
 
@@ -56,7 +57,8 @@ TEST(DvViews, SummaryElevationsAndPreview) {
 TEST(DvViews, GeopackageHasOneLinePerBranch) {
   terrain::test::ScratchDir dir;
   const DrainageResult r = logan_drainage();
-  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs, r.net);
+  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs,
+           r.net);
   const DrainageDb db = read_dv(dir.path("a.dv"));
   std::size_t lines = 0, lines_order3 = 0;
   for (const DvBranch& b : db.branches) {
@@ -80,9 +82,12 @@ TEST(DvViews, LinksOfAnExtentAreThePointsUnderIt) {
   const DrainageDb db = round_trip(r, dir);
   const terrain::DrainageLinks full = drainage_links(db);
   const DvHeader& h = db.header;
-  const std::size_t r0 = 120, c0 = 40, rows = 101, cols = 77;  // sample rows 120..220, columns 40..116
-  const double west = h.origin_x + double(c0) * h.dx - 0.3 * h.dx, east = h.origin_x + double(c0 + cols - 1) * h.dx;
-  const double north = h.origin_y - double(r0) * h.dy, south = h.origin_y - double(r0 + rows - 1) * h.dy + 0.2 * h.dy;
+  const std::size_t r0 = 120, c0 = 40, rows = 101,
+                    cols = 77;  // sample rows 120..220, columns 40..116
+  const double west = h.origin_x + double(c0) * h.dx - 0.3 * h.dx,
+               east = h.origin_x + double(c0 + cols - 1) * h.dx;
+  const double north = h.origin_y - double(r0) * h.dy,
+               south = h.origin_y - double(r0 + rows - 1) * h.dy + 0.2 * h.dy;
   const terrain::DrainageLinks part = drainage_links_in(dir.path("a.dv"), west, south, east, north);
   ASSERT_EQ(part.rows, rows - 1);  // the southern row lies 0.2 cell outside
   ASSERT_EQ(part.cols, cols);
@@ -95,7 +100,8 @@ TEST(DvViews, LinksOfAnExtentAreThePointsUnderIt) {
       ASSERT_EQ(part.accumulated[i], full.accumulated[j]);
       ASSERT_EQ(part.valid[i], full.valid[j]);
       ASSERT_EQ(part.z[i], full.z[j]);
-      ASSERT_NEAR(part.position(i).x() + part.origin.x(), full.position(j).x() + full.origin.x(), 1e-3);
+      ASSERT_NEAR(part.position(i).x() + part.origin.x(), full.position(j).x() + full.origin.x(),
+                  1e-3);
     }
   const terrain::DrainageLinks all = drainage_links_in(dir.path("a.dv"), -1e9, -1e9, 1e9, 1e9);
   EXPECT_EQ(all.size(), full.size());
@@ -115,21 +121,27 @@ TEST(DvViews, LinksReadInBandsEqualTheWindowReadWhole) {
   struct Window {
     std::size_t r0, c0, rows, cols;
   };
-  for (const Window& w : {Window{120, 40, 101, 77}, Window{0, 0, std::size_t(h.rows), std::size_t(h.cols)}}) {
-    const double west = h.origin_x + double(w.c0) * h.dx, east = h.origin_x + double(w.c0 + w.cols - 1) * h.dx;
-    const double north = h.origin_y - double(w.r0) * h.dy, south = h.origin_y - double(w.r0 + w.rows - 1) * h.dy;
-    const terrain::DrainageLinks whole = drainage_links(read_dv_window(dir.path("a.dv"), w.r0, w.c0, w.rows, w.cols));
+  for (const Window& w :
+       {Window{120, 40, 101, 77}, Window{0, 0, std::size_t(h.rows), std::size_t(h.cols)}}) {
+    const double west = h.origin_x + double(w.c0) * h.dx,
+                 east = h.origin_x + double(w.c0 + w.cols - 1) * h.dx;
+    const double north = h.origin_y - double(w.r0) * h.dy,
+                 south = h.origin_y - double(w.r0 + w.rows - 1) * h.dy;
+    const terrain::DrainageLinks whole =
+        drainage_links(read_dv_window(dir.path("a.dv"), w.r0, w.c0, w.rows, w.cols));
     for (const std::size_t band_points : {std::size_t(1) << 40, 3 * w.cols, 1000 * w.cols / 7}) {
-      SCOPED_TRACE("window " + std::to_string(w.rows) + " x " + std::to_string(w.cols) + ", bands of " +
-                   std::to_string(band_points) + " points");
-      const terrain::DrainageLinks l = drainage_links_in(dir.path("a.dv"), west, south, east, north, band_points);
+      SCOPED_TRACE("window " + std::to_string(w.rows) + " x " + std::to_string(w.cols) +
+                   ", bands of " + std::to_string(band_points) + " points");
+      const terrain::DrainageLinks l =
+          drainage_links_in(dir.path("a.dv"), west, south, east, north, band_points);
       ASSERT_EQ(l.rows, whole.rows);
       ASSERT_EQ(l.cols, whole.cols);
       EXPECT_EQ(l.origin, whole.origin);
       std::size_t differ = 0, links = 0;
       for (std::size_t i = 0; i < l.size(); ++i) {
-        differ += l.z[i] != whole.z[i] || l.valid[i] != whole.valid[i] || l.flow[i] != whole.flow[i] ||
-                  l.accumulated[i] != whole.accumulated[i] || l.downstream[i] != whole.downstream[i];
+        differ += l.z[i] != whole.z[i] || l.valid[i] != whole.valid[i] ||
+                  l.flow[i] != whole.flow[i] || l.accumulated[i] != whole.accumulated[i] ||
+                  l.downstream[i] != whole.downstream[i];
         links += l.downstream[i] != terrain::DrainageLinks::kNone;
       }
       EXPECT_EQ(differ, 0u);
@@ -147,7 +159,8 @@ TEST(DvViews, StreamedSummaryEqualsTheWholeOne) {
     DvHeader h = make_dv_header(r.surface, r.net, r.dv_flags, "");
     h.version = version, h.block_rows = h.block_cols = block;
     write_dv(dir.path("a.dv"), h, r.surface, r.dirs, r.net);
-    const DvSummary a = summarize(read_dv(dir.path("a.dv"))), b = summarize_dv_file(dir.path("a.dv"));
+    const DvSummary a = summarize(read_dv(dir.path("a.dv"))),
+                    b = summarize_dv_file(dir.path("a.dv"));
     SCOPED_TRACE("version " + std::to_string(version) + ", blocks " + std::to_string(block));
     EXPECT_EQ(b.points, a.points);
     EXPECT_EQ(b.pits, a.pits);

@@ -15,7 +15,8 @@ namespace {
 constexpr std::uint8_t E = 0, N = 2, NW = 3, W = 4;
 constexpr std::uint32_t X = kNone;
 
-std::vector<DivideEdge> edges_of(const std::vector<std::uint32_t>& ids, std::size_t rows, std::size_t cols) {
+std::vector<DivideEdge> edges_of(const std::vector<std::uint32_t>& ids, std::size_t rows,
+                                 std::size_t cols) {
   std::vector<DivideEdge> e;
   add_divide_edges(ids.data(), 0, rows, cols, false, e);
   return e;
@@ -48,7 +49,8 @@ TEST(Divides, AnEnclosedBasinIsAClosedRing) {
   EXPECT_EQ(ring.front(), ring.back());
   std::vector<std::uint64_t> corners(ring.begin(), ring.end() - 1);
   std::sort(corners.begin(), corners.end());
-  EXPECT_EQ(corners, (std::vector<std::uint64_t>{corner(1, 1, 3), corner(1, 2, 3), corner(2, 1, 3), corner(2, 2, 3)}));
+  EXPECT_EQ(corners, (std::vector<std::uint64_t>{corner(1, 1, 3), corner(1, 2, 3), corner(2, 1, 3),
+                                                 corner(2, 2, 3)}));
 }
 
 TEST(Divides, ChainsEndWhereFourEdgesMeet) {
@@ -84,7 +86,8 @@ TEST(Divides, BandsFindTheEdgesOfTheWholeGrid) {
     }
     const auto b = sorted(e);
     ASSERT_EQ(b.size(), whole.size()) << "band " << band << " seed " << seed;
-    for (std::size_t i = 0; i < b.size(); ++i) EXPECT_EQ(key(b[i]), key(whole[i])) << "band " << band;
+    for (std::size_t i = 0; i < b.size(); ++i)
+      EXPECT_EQ(key(b[i]), key(whole[i])) << "band " << band;
   }
   for (std::uint32_t a = 0; a < 4; ++a)
     for (std::uint32_t b = a + 1; b < 4; ++b) {
@@ -97,7 +100,8 @@ TEST(Divides, BandsFindTheEdgesOfTheWholeGrid) {
           const auto r0 = chain[i - 1] / (cols + 1), c0 = chain[i - 1] % (cols + 1);
           const auto r1 = chain[i] / (cols + 1), c1 = chain[i] % (cols + 1);
           EXPECT_TRUE(r0 == r1 || c0 == c1) << "a divide runs along cell edges";
-          unit_steps += std::size_t(std::max(r0, r1) - std::min(r0, r1) + std::max(c0, c1) - std::min(c0, c1));
+          unit_steps += std::size_t(std::max(r0, r1) - std::min(r0, r1) + std::max(c0, c1) -
+                                    std::min(c0, c1));
         }
       EXPECT_EQ(unit_steps, pair.size()) << a << "-" << b << " seed " << seed;
     }
@@ -112,7 +116,8 @@ TEST(Watersheds, OutletsSnapOnAnInMemoryGrid) {
   std::vector<std::uint32_t> acc(48);
   for (std::size_t i = 0; i < acc.size(); ++i) acc[i] = std::uint32_t(i % 8 + 1);
   acc[2 * 8 + 5] = 50;
-  const DvWindowReader window = [&](std::size_t r0, std::size_t c0, std::size_t rows, std::size_t cols) {
+  const DvWindowReader window = [&](std::size_t r0, std::size_t c0, std::size_t rows,
+                                    std::size_t cols) {
     DrainageDb w;
     w.header = h, w.header.rows = rows, w.header.cols = cols;
     w.vertices.resize(rows * cols);
@@ -120,12 +125,15 @@ TEST(Watersheds, OutletsSnapOnAnInMemoryGrid) {
       for (std::size_t c = 0; c < cols; ++c) {
         DvVertex& v = w.vertices[r * cols + c];
         v.accumulated = acc[(r0 + r) * 8 + c0 + c];
-        v.point_class = (r0 + r == 0 && c0 + c == 0) ? std::uint8_t(PointClass::Nodata) : std::uint8_t(PointClass::Channel);
+        v.point_class = (r0 + r == 0 && c0 + c == 0) ? std::uint8_t(PointClass::Nodata)
+                                                     : std::uint8_t(PointClass::Channel);
       }
     return w;
   };
   std::vector<std::uint64_t> cells;
-  auto snap = [&](std::vector<OutletPoint> pts, double d) { return snap_outlets(h, pts, d, window, cells); };
+  auto snap = [&](std::vector<OutletPoint> pts, double d) {
+    return snap_outlets(h, pts, d, window, cells);
+  };
   // With 0, the cell holding the point: (1, 3), 3 m from its centre.
   auto ws = snap({{1030, 1990 + 3, 7}}, 0);
   ASSERT_EQ(ws.size(), 1u);
@@ -150,10 +158,12 @@ TEST(Watersheds, OutletsSnapOnAnInMemoryGrid) {
       return std::string(e.what());
     }
   };
-  EXPECT_NE(error({{1000, 2000, 1}}, 0).find("no drainage point in its cell"), std::string::npos);  // no-data
+  EXPECT_NE(error({{1000, 2000, 1}}, 0).find("no drainage point in its cell"),
+            std::string::npos);  // no-data
   EXPECT_NE(error({{900, 2000, 1}}, 0).find("lies outside the grid"), std::string::npos);
   EXPECT_NE(error({{1030, 1990, 1}}, 1000).find("exceeds the grid's size"), std::string::npos);
-  EXPECT_NE(error({{1030, 1990, 1}, {1031, 1991, 2}}, 0).find("snap to the same cell"), std::string::npos);
+  EXPECT_NE(error({{1030, 1990, 1}, {1031, 1991, 2}}, 0).find("snap to the same cell"),
+            std::string::npos);
 }
 
 TEST(Watersheds, EachCellGoesToItsNearestOutletDownstream) {

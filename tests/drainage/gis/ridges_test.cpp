@@ -16,11 +16,13 @@ namespace {
 // The links of a z(x, y) grid (rows x cols, 10 m, row 0 north) by D8 steepest descent
 // (downstream kNone at a pit or where the flow would leave the grid), accumulation by
 // heights from the top.
-terrain::DrainageLinks links_of(std::size_t rows, std::size_t cols, const std::function<double(double, double)>& z) {
+terrain::DrainageLinks links_of(std::size_t rows, std::size_t cols,
+                                const std::function<double(double, double)>& z) {
   terrain::DrainageLinks l;
   l.rows = rows, l.cols = cols, l.dx = l.dy = 10;
   const std::size_t n = rows * cols;
-  for (std::size_t i = 0; i < n; ++i) l.z.push_back(float(z(double(i % cols) * 10, -double(i / cols) * 10)));
+  for (std::size_t i = 0; i < n; ++i)
+    l.z.push_back(float(z(double(i % cols) * 10, -double(i / cols) * 10)));
   l.valid.assign(n, 1);
   l.flow.assign(n, 1);
   l.downstream.assign(n, terrain::DrainageLinks::kNone);
@@ -30,7 +32,8 @@ terrain::DrainageLinks links_of(std::size_t rows, std::size_t cols, const std::f
     for (long dr = -1; dr <= 1; ++dr)
       for (long dc = -1; dc <= 1; ++dc) {
         const long rr = r + dr, cc = c + dc;
-        if ((dr == 0 && dc == 0) || rr < 0 || cc < 0 || rr >= long(rows) || cc >= long(cols)) continue;
+        if ((dr == 0 && dc == 0) || rr < 0 || cc < 0 || rr >= long(rows) || cc >= long(cols))
+          continue;
         const std::size_t j = std::size_t(rr) * cols + std::size_t(cc);
         const double drop = (double(l.z[i]) - double(l.z[j])) / std::hypot(double(dr), double(dc));
         if (drop > best) best = drop, l.downstream[i] = std::uint32_t(j);
@@ -38,10 +41,12 @@ terrain::DrainageLinks links_of(std::size_t rows, std::size_t cols, const std::f
   }
   std::vector<std::size_t> order(n);
   std::iota(order.begin(), order.end(), std::size_t(0));
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return l.z[a] > l.z[b]; });
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return l.z[a] > l.z[b]; });
   l.accumulated.assign(n, 1);
   for (const std::size_t i : order)
-    if (l.downstream[i] != terrain::DrainageLinks::kNone) l.accumulated[l.downstream[i]] += l.accumulated[i];
+    if (l.downstream[i] != terrain::DrainageLinks::kNone)
+      l.accumulated[l.downstream[i]] += l.accumulated[i];
   return l;
 }
 
@@ -59,7 +64,7 @@ TEST(RidgeLines, ATentHasOneRidgeAlongItsCrest) {
     for (std::size_t k = 0; k < r.points.size(); ++k) {
       const Eigen::Vector3d& p = r.points[k];
       EXPECT_LE(std::abs(p.x() - 300), 10.0) << p.transpose();  // on the crest, within a cell
-      EXPECT_NEAR(p.z(), tent(300, p.y()), 3.0 + 1e-3);           // the crest's height (its side's point)
+      EXPECT_NEAR(p.z(), tent(300, p.y()), 3.0 + 1e-3);  // the crest's height (its side's point)
       if (k > 0) length += (p - r.points[k - 1]).head<2>().norm();
     }
   }
@@ -73,7 +78,9 @@ TEST(RidgeLines, ATentHasOneRidgeAlongItsCrest) {
 // valley across the south end). The divide between the flanks descends along the crest to
 // the confluence; its part lower than a quarter of its relief above the outlet is cut.
 TEST(RidgeLines, TheSpurEndIsCut) {
-  auto spur = [](double x, double y) { return 500 - 0.3 * std::abs(x - 300) + 0.4 * (y + 1000) * (y > -1000 ? 1 : 0); };
+  auto spur = [](double x, double y) {
+    return 500 - 0.3 * std::abs(x - 300) + 0.4 * (y + 1000) * (y > -1000 ? 1 : 0);
+  };
   const terrain::DrainageLinks l = links_of(111, 61, [&](double x, double y) {
     return y < -1000 ? 500 - 0.3 * 300 + 0.01 * x + 0.5 * (y + 1000) : spur(x, y);
   });

@@ -18,7 +18,9 @@ using test::grid_of;
 
 // The pit of PriorityFlood.FillsAPitToItsSpillLevel (2, 3 and 4 inside a rim of 9 whose
 // lowest point is the edge cell 6 below them).
-terrain::Grid small_pit() { return grid_of(4, 4, {9, 9, 9, 9, 9, 2, 3, 9, 9, 4, 9, 9, 9, 6, 9, 9}); }
+terrain::Grid small_pit() {
+  return grid_of(4, 4, {9, 9, 9, 9, 9, 2, 3, 9, 9, 4, 9, 9, 9, 6, 9, 9});
+}
 
 // Deep enough: the path by which the flood came in (the 4, then the edge cell 6) is cut to
 // below the pit's floor 2; the pit itself is left as it was and nothing is raised.
@@ -56,7 +58,8 @@ TEST(Breach, CutsAtMostMaxDepthAndFillsTheRest) {
 // then falls steadily from the pool to below the dam.
 TEST(Breach, ValleyWithADamIsCutOnItsAxis) {
   const std::size_t n = 21, axis = 10;
-  terrain::Grid g = test::analytic(n, 10.0, [](double x, double y) { return 100.0 + 0.5 * x + 0.3 * std::abs(y); });
+  terrain::Grid g = test::analytic(
+      n, 10.0, [](double x, double y) { return 100.0 + 0.5 * x + 0.3 * std::abs(y); });
   const terrain::Grid dam_free = g;
   for (std::size_t r = 0; r < n; ++r) g.at(r, 8) += 8.0f;  // the dam: column 8, 8 m high
   const terrain::Grid before = g;
@@ -68,7 +71,8 @@ TEST(Breach, ValleyWithADamIsCutOnItsAxis) {
       if (g.at(r, c) != before.at(r, c)) {
         EXPECT_EQ(r, axis) << "cut off the axis at column " << c;
       }
-  for (std::size_t c = 1; c < n; ++c) EXPECT_LT(g.at(axis, c - 1), g.at(axis, c)) << "axis rises at column " << c;
+  for (std::size_t c = 1; c < n; ++c)
+    EXPECT_LT(g.at(axis, c - 1), g.at(axis, c)) << "axis rises at column " << c;
   // A uniform fall across the cut: the dam is lowered to halfway between the pool's floor
   // (column 9) and the valley floor below it (column 7), which are as they were.
   EXPECT_NEAR(g.at(axis, 8), 0.5 * (double(g.at(axis, 9)) + double(g.at(axis, 7))), 1e-3);
@@ -76,7 +80,8 @@ TEST(Breach, ValleyWithADamIsCutOnItsAxis) {
   EXPECT_EQ(g.at(axis, 9), dam_free.at(axis, 9));
   // The pool drains along the axis: D8 from the east edge runs straight west.
   const D8Codes d = d8_directions(g);
-  for (std::size_t c = 1; c + 1 < n; ++c) EXPECT_STREQ(kName[d[axis * n + c]], "W") << "column " << c;
+  for (std::size_t c = 1; c + 1 < n; ++c)
+    EXPECT_STREQ(kName[d[axis * n + c]], "W") << "column " << c;
 }
 
 // With no cut allowed, breaching is filling: the same elevations as Priority-Flood on a
@@ -110,15 +115,18 @@ TEST(Breach, RealDemDrainsEverywhereChangingLessThanFilling) {
     ASSERT_GE(double(breached.z[i]), double(dem.z[i]) - 5.0) << i;
     ASSERT_LE(breached.z[i], filled.z[i]) << i;  // never above the filled surface
   }
-  const DrainageResult r = compute_drainage(dem, {.fill = false, .resolve_flats = true, .breach_depth = 5.0});
+  const DrainageResult r =
+      compute_drainage(dem, {.fill = false, .resolve_flats = true, .breach_depth = 5.0});
   test::check_network_properties(r.net, r.dirs);
   EXPECT_EQ(r.flats.undrainable, 0u);
   EXPECT_EQ(r.carved, s.carved);
   EXPECT_EQ(r.filled, s.raised);
   EXPECT_TRUE(r.dv_flags & kDvBreached);
   EXPECT_FALSE(r.dv_flags & kDvFilled);
-  for (std::uint32_t p : r.net.pits) EXPECT_EQ(r.dirs[p], kOutlet) << "pit inside the grid at " << p;
-  EXPECT_THROW(compute_drainage(dem, {.fill = true, .resolve_flats = true, .breach_depth = 5.0}), terrain::Error);
+  for (std::uint32_t p : r.net.pits)
+    EXPECT_EQ(r.dirs[p], kOutlet) << "pit inside the grid at " << p;
+  EXPECT_THROW(compute_drainage(dem, {.fill = true, .resolve_flats = true, .breach_depth = 5.0}),
+               terrain::Error);
 }
 
 }  // namespace

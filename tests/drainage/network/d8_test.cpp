@@ -64,7 +64,8 @@ TEST(D8Directions, GeographicGridsUseMetricCellSizesPerRow) {
   // would be NE (1.56 vs 1.0 vs 1.2).
   terrain::Grid g(3, 3, geo);
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) g.at(std::size_t(r), std::size_t(c)) = float(100.0 - 1.0 * c + 1.2 * r);
+    for (int c = 0; c < 3; ++c)
+      g.at(std::size_t(r), std::size_t(c)) = float(100.0 - 1.0 * c + 1.2 * r);
   EXPECT_STREQ(kName[d8_directions(g)[4]], "E");
   g.geo.crs_kind = terrain::CrsKind::Projected;  // the same numbers as a projected grid
   EXPECT_STREQ(kName[d8_directions(g)[4]], "NE");
@@ -97,10 +98,12 @@ TEST(D8Directions, TiesGoToTheFirstCardinalOfENWS) {
 TEST(D8Directions, BoundaryRule) {
   // A plane falling to the south: interior and side columns flow S, the bottom row leaves
   // the grid (its extrapolated southern neighbour is lower).
-  const terrain::Grid plane = test::analytic(6, 10.0, [](double, double y) { return 100.0 + 0.5 * y; });
+  const terrain::Grid plane =
+      test::analytic(6, 10.0, [](double, double y) { return 100.0 + 0.5 * y; });
   const auto d = d8_directions(plane);
   for (std::size_t r = 0; r < 6; ++r)
-    for (std::size_t c = 0; c < 6; ++c) EXPECT_EQ(d[r * 6 + c], r == 5 ? kOutlet : 6) << r << "," << c;
+    for (std::size_t c = 0; c < 6; ++c)
+      EXPECT_EQ(d[r * 6 + c], r == 5 ? kOutlet : 6) << r << "," << c;
   // No-data counts as outside: the cell north of a no-data hole in a south-falling
   // plane is an outlet.
   terrain::Grid holed = plane;

@@ -16,7 +16,8 @@ using test::grid_of;
 // docs/algorithms.md 8.7 (the filled DEM): the flat drains towards its low edge and converges
 // on the centre column.
 TEST(ResolveFlats, WorkedExample) {
-  const terrain::Grid g = grid_of(5, 5, {9, 9, 9, 9, 9, 9, 5, 5, 5, 9, 9, 5, 5, 5, 9, 9, 5, 5, 5, 9, 9, 9, 4, 9, 9});
+  const terrain::Grid g =
+      grid_of(5, 5, {9, 9, 9, 9, 9, 9, 5, 5, 5, 9, 9, 5, 5, 5, 9, 9, 5, 5, 5, 9, 9, 9, 4, 9, 9});
   D8Codes d = d8_directions(g);
   for (std::size_t r = 1; r <= 2; ++r)
     for (std::size_t c = 1; c <= 3; ++c) ASSERT_EQ(d[r * 5 + c], kNoFlow);
@@ -26,7 +27,8 @@ TEST(ResolveFlats, WorkedExample) {
   EXPECT_EQ(s.cells_resolved, 6u);
   const char* expected[2][3] = {{"SE", "S", "SW"}, {"S", "S", "S"}};
   for (std::size_t r = 1; r <= 2; ++r)
-    for (std::size_t c = 1; c <= 3; ++c) EXPECT_STREQ(kName[d[r * 5 + c]], expected[r - 1][c - 1]) << r << "," << c;
+    for (std::size_t c = 1; c <= 3; ++c)
+      EXPECT_STREQ(kName[d[r * 5 + c]], expected[r - 1][c - 1]) << r << "," << c;
 }
 
 // A plateau inside a higher rim with one lower outlet cell on the southern edge drains
@@ -48,7 +50,8 @@ TEST(ResolveFlats, PlateauDrainsToItsOneOutlet) {
   for (std::uint32_t p : resolved.net.pits) interior_pits += g.at(p / n, p % n) == 50.0f;
   EXPECT_EQ(interior_pits, 0u);
 
-  const DrainageResult literal = compute_drainage(g, {.fill = false, .resolve_flats = false, .breach_depth = {}});
+  const DrainageResult literal =
+      compute_drainage(g, {.fill = false, .resolve_flats = false, .breach_depth = {}});
   test::check_network_properties(literal.net, literal.dirs);
   interior_pits = 0;
   for (std::uint32_t p : literal.net.pits) interior_pits += g.at(p / n, p % n) == 50.0f;
@@ -57,7 +60,8 @@ TEST(ResolveFlats, PlateauDrainsToItsOneOutlet) {
 
 // A flat-bottomed closed depression becomes one basin with one pit, not one pit per cell.
 TEST(ResolveFlats, UndrainableFlatHasOnePit) {
-  terrain::Grid g = test::analytic(11, 1.0, [](double x, double y) { return std::max(9.0, x * x + y * y); });
+  terrain::Grid g =
+      test::analytic(11, 1.0, [](double x, double y) { return std::max(9.0, x * x + y * y); });
   const DrainageResult r = compute_drainage(g, {});
   test::check_network_properties(r.net, r.dirs);
   EXPECT_EQ(r.flats.undrainable, 1u);
@@ -81,7 +85,8 @@ TEST(PriorityFlood, FillsAPitToItsSpillLevel) {
 // --fill on a real DEM against TauDEM's pitremove: within 1 mm on >= 99.99 % of cells.
 TEST(PriorityFlood, MatchesTaudemPitremove) {
   terrain::Grid dem = terrain::read_dem(terrain::test::data("med_01_01_10m.tif"));
-  const terrain::Grid ref = terrain::read_dem(terrain::test::data("med_01_01_10m_taudem_pitremove.tif"));
+  const terrain::Grid ref =
+      terrain::read_dem(terrain::test::data("med_01_01_10m_taudem_pitremove.tif"));
   ASSERT_EQ(dem.size(), ref.size());
   const std::size_t raised = priority_flood_fill(dem);
   EXPECT_GT(raised, 0u);  // the DEM has real pits
@@ -92,7 +97,8 @@ TEST(PriorityFlood, MatchesTaudemPitremove) {
     close += std::abs(double(dem.z[i]) - double(ref.z[i])) <= 1e-3;
   }
   ASSERT_GT(compared, dem.size() / 2);
-  EXPECT_GE(double(close), 0.9999 * double(compared)) << close << " of " << compared << " within 1 mm";
+  EXPECT_GE(double(close), 0.9999 * double(compared))
+      << close << " of " << compared << " within 1 mm";
   RecordProperty("cells_within_1mm", std::to_string(close) + "/" + std::to_string(compared));
 }
 
@@ -116,8 +122,10 @@ TEST(PriorityFlood, GeographicDemFillsLikeTheSameArrayProjected) {
   for (long r = 1; r + 1 < R; ++r)
     for (long c = 1; c + 1 < C; ++c) {
       float low = INFINITY;  // lowest neighbour: a strict pit would be below all eight
-      for (int k = 0; k < 8; ++k) low = std::min(low, geo.at(std::size_t(r + kDRow[k]), std::size_t(c + kDCol[k])));
-      ASSERT_LE(low, geo.at(std::size_t(r), std::size_t(c))) << "pit left at row " << r << ", column " << c;
+      for (int k = 0; k < 8; ++k)
+        low = std::min(low, geo.at(std::size_t(r + kDRow[k]), std::size_t(c + kDCol[k])));
+      ASSERT_LE(low, geo.at(std::size_t(r), std::size_t(c)))
+          << "pit left at row " << r << ", column " << c;
     }
 }
 

@@ -49,7 +49,8 @@ TEST(AnalyzeNetwork, CycleIsAnError) {
 // cell where it has a value (1,587,804 cells).
 TEST(AnalyzeNetwork, MatchesTaudemAread8OnLogan) {
   terrain::Grid g;
-  const D8Codes d = read_d8_raster(terrain::test::data("logan_30m_taudem_d8dir.tif"), D8Encoding::Taudem, g);
+  const D8Codes d =
+      read_d8_raster(terrain::test::data("logan_30m_taudem_d8dir.tif"), D8Encoding::Taudem, g);
   const terrain::Grid ref = terrain::read_dem(terrain::test::data("logan_30m_taudem_aread8.tif"));
   ASSERT_EQ(ref.size(), d.size());
   const Network net = analyze_network(d, g.rows, g.cols);
@@ -65,18 +66,21 @@ TEST(AnalyzeNetwork, MatchesTaudemAread8OnLogan) {
 }
 
 TEST(ComputeDrainage, ConeDrainsOutwardWithoutInteriorPit) {
-  const terrain::Grid g = test::analytic(41, 10.0, [](double x, double y) { return 1000.0 - std::hypot(x, y); });
+  const terrain::Grid g =
+      test::analytic(41, 10.0, [](double x, double y) { return 1000.0 - std::hypot(x, y); });
   const DrainageResult r = compute_drainage(g, {});
   test::check_network_properties(r.net, r.dirs);
   for (std::uint32_t p : r.net.pits) {
     const std::size_t row = p / 41, col = p % 41;
-    EXPECT_TRUE(row == 0 || col == 0 || row == 40 || col == 40) << "interior pit at " << row << "," << col;
+    EXPECT_TRUE(row == 0 || col == 0 || row == 40 || col == 40)
+        << "interior pit at " << row << "," << col;
   }
 }
 
 TEST(ComputeDrainage, BowlIsOneBasin) {
   const std::size_t n = 41;
-  const terrain::Grid g = test::analytic(n, 10.0, [](double x, double y) { return 0.001 * (x * x + y * y); });
+  const terrain::Grid g =
+      test::analytic(n, 10.0, [](double x, double y) { return 0.001 * (x * x + y * y); });
   const DrainageResult r = compute_drainage(g, {});
   test::check_network_properties(r.net, r.dirs);
   ASSERT_EQ(r.net.pits.size(), 1u);
@@ -89,11 +93,13 @@ TEST(ComputeDrainage, BowlIsOneBasin) {
 
 TEST(ComputeDrainage, InclinedPlaneAccumulatesUpslopePoints) {
   const std::size_t n = 30;
-  const terrain::Grid g = test::analytic(n, 10.0, [](double x, double y) { return 500.0 + 0.3 * y + 0.0 * x; });
+  const terrain::Grid g =
+      test::analytic(n, 10.0, [](double x, double y) { return 500.0 + 0.3 * y + 0.0 * x; });
   const DrainageResult r = compute_drainage(g, {});
   test::check_network_properties(r.net, r.dirs);
   for (std::size_t row = 0; row < n; ++row)
-    for (std::size_t c = 0; c < n; ++c) ASSERT_EQ(r.net.accumulated[row * n + c], row + 1) << row << "," << c;
+    for (std::size_t c = 0; c < n; ++c)
+      ASSERT_EQ(r.net.accumulated[row * n + c], row + 1) << row << "," << c;
   EXPECT_EQ(r.net.pits.size(), n);  // one outlet per column
 }
 
@@ -109,7 +115,7 @@ TEST(ComputeDrainage, RealDataInvariants) {
   fill.fill = true;
   for (const DrainageOptions& opt : {DrainageOptions{}, keep_flats, fill}) {
     const DrainageResult r = compute_drainage(s.grid, opt);
-    SCOPED_TRACE(std::string("msh fill=") + (opt.fill ? "1" : "0") + " flats=" + (opt.resolve_flats ? "1" : "0"));
+    SCOPED_TRACE(testing::Message() << "msh fill=" << opt.fill << " flats=" << opt.resolve_flats);
     test::check_network_properties(r.net, r.dirs);
     if (opt.fill) {  // filled: every point drains to the grid boundary
       for (std::uint32_t p : r.net.pits) ASSERT_EQ(r.dirs[p], kOutlet);
@@ -127,9 +133,12 @@ TEST(AnalyzeNetwork, LeanEqualsFullWhereItLists) {
   const terrain::SampledSurface s = terrain::sample_pn_surface(terrain::test::msh_50m_mesh(), 10.0);
   const D8Codes msh = compute_drainage(s.grid, {}).dirs;
   terrain::Grid g;
-  const D8Codes logan = read_d8_raster(terrain::test::data("logan_30m_taudem_d8dir.tif"), D8Encoding::Taudem, g);
-  for (const auto& [d, rows, cols] : {std::tuple{&msh, s.grid.rows, s.grid.cols}, std::tuple{&logan, g.rows, g.cols}}) {
-    const Network full = analyze_network(*d, rows, cols), lean = analyze_network(*d, rows, cols, {}, NetworkDetail::Lean);
+  const D8Codes logan =
+      read_d8_raster(terrain::test::data("logan_30m_taudem_d8dir.tif"), D8Encoding::Taudem, g);
+  for (const auto& [d, rows, cols] :
+       {std::tuple{&msh, s.grid.rows, s.grid.cols}, std::tuple{&logan, g.rows, g.cols}}) {
+    const Network full = analyze_network(*d, rows, cols),
+                  lean = analyze_network(*d, rows, cols, {}, NetworkDetail::Lean);
     EXPECT_EQ(lean.points, full.points);
     EXPECT_EQ(lean.downstream, full.downstream);
     EXPECT_EQ(lean.accumulated, full.accumulated);

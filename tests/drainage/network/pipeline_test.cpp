@@ -30,9 +30,8 @@ TEST(Pipeline, BowlDrainsToItsCentre) {
 TEST(Pipeline, FillingLeavesOnlyOutlets) {
   const std::size_t n = 31;
   // A tilted plane with a bowl cut into it: without filling the bowl is a basin.
-  const terrain::Grid g = analytic(n, 10.0, [](double x, double y) {
-    return 0.1 * x + std::min(0.0, std::hypot(x, y) - 60.0);
-  });
+  const terrain::Grid g = analytic(
+      n, 10.0, [](double x, double y) { return 0.1 * x + std::min(0.0, std::hypot(x, y) - 60.0); });
   const DrainageResult raw = compute_drainage(g, {false, true, {}});
   const DrainageResult filled = compute_drainage(g, {true, true, {}});
   check_network_properties(raw.net, raw.dirs);
@@ -46,7 +45,8 @@ TEST(Pipeline, FillingLeavesOnlyOutlets) {
 }
 
 TEST(Pipeline, GivenDirectionsGiveTheSameNetwork) {
-  const terrain::Grid g = analytic(25, 5.0, [](double x, double y) { return std::sin(x / 20) * std::cos(y / 15) * 10; });
+  const terrain::Grid g = analytic(
+      25, 5.0, [](double x, double y) { return std::sin(x / 20) * std::cos(y / 15) * 10; });
   const DrainageResult a = compute_drainage(g, {});
   const DrainageResult b = drainage_from_directions(g, a.dirs);
   EXPECT_EQ(b.net.accumulated, a.net.accumulated);

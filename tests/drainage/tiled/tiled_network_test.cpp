@@ -17,7 +17,8 @@ namespace drainage {
 namespace {
 
 // The tiled network of `dirs` assembled into grids, against analyze_network: every field.
-void expect_same_network(const D8Codes& dirs, std::size_t rows, std::size_t cols, std::size_t side) {
+void expect_same_network(const D8Codes& dirs, std::size_t rows, std::size_t cols,
+                         std::size_t side) {
   SCOPED_TRACE("tile side " + std::to_string(side));
   const Network net = analyze_network(dirs, rows, cols);
   const TileGrid tiles{rows, cols, side};
@@ -29,7 +30,8 @@ void expect_same_network(const D8Codes& dirs, std::size_t rows, std::size_t cols
       [&](const terrain::RasterWindow& w) {
         D8Codes out(w.rows * w.cols);
         for (std::size_t r = 0; r < w.rows; ++r)
-          for (std::size_t c = 0; c < w.cols; ++c) out[r * w.cols + c] = dirs[(w.row0 + r) * cols + w.col0 + c];
+          for (std::size_t c = 0; c < w.cols; ++c)
+            out[r * w.cols + c] = dirs[(w.row0 + r) * cols + w.col0 + c];
         read_codes += out.size();
         return out;
       },
@@ -39,7 +41,8 @@ void expect_same_network(const D8Codes& dirs, std::size_t rows, std::size_t cols
           for (std::size_t c = 0; c < w.cols; ++c) {
             const std::size_t i = (w.row0 + r) * cols + w.col0 + c, q = r * w.cols + c;
             ASSERT_EQ(tile.dirs[q], dirs[i]);
-            acc[i] = tile.accumulated[q], basin[i] = tile.basin[q], order[i] = tile.order[q], cut[i] = tile.cut[q];
+            acc[i] = tile.accumulated[q], basin[i] = tile.basin[q], order[i] = tile.order[q],
+            cut[i] = tile.cut[q];
           }
       });
   EXPECT_EQ(totals.points, net.points);
@@ -51,14 +54,17 @@ void expect_same_network(const D8Codes& dirs, std::size_t rows, std::size_t cols
   }
   std::size_t differ = 0;
   for (std::size_t i = 0; i < rows * cols; ++i) {
-    const bool same = acc[i] == net.accumulated[i] && basin[i] == net.basin[i] && order[i] == net.order[i] &&
+    const bool same = acc[i] == net.accumulated[i] && basin[i] == net.basin[i] &&
+                      order[i] == net.order[i] &&
                       cut[i] == (dirs[i] < 8 && net.downstream[i] == kNone);
     if (!same && differ++ < 3)
-      ADD_FAILURE() << "point " << i << ": accumulated " << acc[i] << " vs " << net.accumulated[i] << ", basin "
-                    << basin[i] << " vs " << net.basin[i] << ", order " << int(order[i]) << " vs " << int(net.order[i]);
+      ADD_FAILURE() << "point " << i << ": accumulated " << acc[i] << " vs " << net.accumulated[i]
+                    << ", basin " << basin[i] << " vs " << net.basin[i] << ", order "
+                    << int(order[i]) << " vs " << int(net.order[i]);
   }
   EXPECT_EQ(differ, 0u);
-  EXPECT_LE(read_codes, 2 * (rows + 2 * tiles.tile_rows()) * (cols + 2 * tiles.tile_cols()));  // two passes, halos
+  EXPECT_LE(read_codes, 2 * (rows + 2 * tiles.tile_rows()) *
+                            (cols + 2 * tiles.tile_cols()));  // two passes, halos
 }
 
 D8Codes resolved_directions(const terrain::Grid& dem) {
@@ -68,11 +74,13 @@ D8Codes resolved_directions(const terrain::Grid& dem) {
 }
 
 TEST(TiledNetwork, RealDemsEqualTheSingleGridNetwork) {
-  for (const char* name : {"med_01_01_10m.tif", "msh_2007_utm10n_10m.tif", "logan_utm12n_100m.tif"}) {
+  for (const char* name :
+       {"med_01_01_10m.tif", "msh_2007_utm10n_10m.tif", "logan_utm12n_100m.tif"}) {
     SCOPED_TRACE(name);
     terrain::Grid dem = terrain::read_dem(terrain::test::data(name));
     const D8Codes plain = resolved_directions(dem);
-    for (const std::size_t side : {std::size_t(64), std::size_t(97), std::size_t(1), std::size_t(4096)})
+    for (const std::size_t side :
+         {std::size_t(64), std::size_t(97), std::size_t(1), std::size_t(4096)})
       expect_same_network(plain, dem.rows, dem.cols, side);
     priority_flood_fill(dem);  // filled: few, large basins that cross many tiles
     const D8Codes filled = resolved_directions(dem);
@@ -93,10 +101,11 @@ TEST(TiledNetwork, BasinWhoseOutletIsThreeTilesAway) {
   const std::size_t far = (n / 2) * n + 1;  // the channel's west end, 5 tiles of 8 from the pit
   ASSERT_EQ(net.point_class[net.pits[net.basin[far]]], std::uint8_t(PointClass::Pit));
   const std::size_t pit = net.pits[net.basin[far]];
-  EXPECT_GE(pit % n, 40u);                                 // the pit is at the east end
-  EXPECT_GT(net.accumulated[pit], n * n / 3);              // and drains a large share of the grid
+  EXPECT_GE(pit % n, 40u);                     // the pit is at the east end
+  EXPECT_GT(net.accumulated[pit], n * n / 3);  // and drains a large share of the grid
   EXPECT_GE(int(net.order[pit]), 3);
-  for (const std::size_t side : {std::size_t(8), std::size_t(11), std::size_t(16)}) expect_same_network(dirs, n, n, side);
+  for (const std::size_t side : {std::size_t(8), std::size_t(11), std::size_t(16)})
+    expect_same_network(dirs, n, n, side);
 }
 
 }  // namespace

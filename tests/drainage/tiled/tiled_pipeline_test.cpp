@@ -27,9 +27,9 @@ TEST(TiledRun, TileSizeForMemory) {
       EXPECT_LE(tiled_run_bytes(info, side, threads), budget) << budget << " " << threads;
       EXPECT_GT(tiled_run_bytes(info, side + 256, threads), budget) << budget << " " << threads;
     }
-  EXPECT_EQ(tile_size_for_memory(info, 799e6), 2560u);  // 64 MiB + 655 MB + 5.9 MB
+  EXPECT_EQ(tile_size_for_memory(info, 799e6), 2560u);     // 64 MiB + 655 MB + 5.9 MB
   EXPECT_EQ(tile_size_for_memory(info, 799e6, 2), 1792u);  // two threads hold two tiles
-  EXPECT_EQ(tile_size_for_memory(info, 800e6, 2), 0u);  // untiled: one grid whatever the threads
+  EXPECT_EQ(tile_size_for_memory(info, 800e6, 2), 0u);     // untiled: one grid whatever the threads
   // Too little for any side: the side that needs least, not the smallest.
   const std::size_t least = tile_size_for_memory(info, 1e6);
   for (std::size_t side = 256; side <= 16384; side += 256)
@@ -66,8 +66,9 @@ TEST(TiledRun, TheLibraryRunEqualsTheSingleGridPipeline) {
       differ += v.d8 != kNodata;
       continue;
     }
-    differ += v.d8 != whole.dirs[i] || v.accumulated != whole.net.accumulated[i] || v.basin != whole.net.basin[i] ||
-              v.order != whole.net.order[i] || v.point_class != whole.net.point_class[i];
+    differ += v.d8 != whole.dirs[i] || v.accumulated != whole.net.accumulated[i] ||
+              v.basin != whole.net.basin[i] || v.order != whole.net.order[i] ||
+              v.point_class != whole.net.point_class[i];
   }
   EXPECT_EQ(differ, 0u);
   EXPECT_EQ(dir.n_entries(), 1u) << "scratch files left beside the .dv";

@@ -8,7 +8,8 @@
 int main(int argc, char** argv) {
   if (argc != 2) return 2;
   try {
-    const drainage::DrainageResult r = drainage::compute_drainage(terrain::read_dem(argv[1]), {true, true, {}});
+    const drainage::DrainageResult r =
+        drainage::compute_drainage(terrain::read_dem(argv[1]), {true, true, {}});
     std::cout << "points: " << r.net.points << "\nbasins: " << r.net.pits.size() << "\n";
   } catch (const terrain::Error& e) {
     std::cerr << e.what() << "\n";

@@ -17,40 +17,64 @@ namespace renderer {
 namespace {
 
 // Names of the GLSL interface and what the contract says of each.
-const std::map<std::string, int> kStorageBlocks = {
-    {"CreaseVertices", TR_SSBO_CREASE_VERTICES}, {"CreaseSegments", TR_SSBO_CREASE_SEGMENTS},
-    {"Scores", TR_SSBO_CREASE_SCORES},           {"DrawCommand", TR_SSBO_CREASE_COMMAND},
-    {"Selected", TR_SSBO_CREASE_SELECTED},       {"MeshPositions", TR_SSBO_MESH_POSITIONS},
-    {"MeshNormals", TR_SSBO_MESH_NORMALS},       {"CornerAreas", TR_SSBO_CORNER_AREAS},
-    {"VertexAreas", TR_SSBO_VERTEX_AREAS},       {"Tangents", TR_SSBO_TANGENTS},
-    {"Fields", TR_SSBO_PEL_FIELDS},              {"MaxM", TR_SSBO_PEL_MAX_M},
-    {"PelCommand", TR_SSBO_PEL_COMMAND},         {"PelSegments", TR_SSBO_PEL_SEGMENTS},
-    {"IdTriangles", TR_SSBO_ID_TRIANGLES},       {"Edges", TR_SSBO_EDGES},
-    {"EdgeKinds", TR_SSBO_EDGE_KINDS},           {"EdgeCommand", TR_SSBO_EDGE_COMMAND},
-    {"EdgeList", TR_SSBO_EDGE_LIST},             {"VertexEdges", TR_SSBO_VERTEX_EDGES},
-    {"CreaseChains", TR_SSBO_CREASE_CHAINS},     {"Opacity", TR_SSBO_CREASE_OPACITY},
-    {"PieceLabels", TR_SSBO_PIECE_LABELS},       {"PieceSizes", TR_SSBO_PIECE_SIZES},
-    {"PieceList", TR_SSBO_PIECE_LIST},           {"FaceSegments", TR_SSBO_PEL_FACE_SEGMENTS},
-    {"PelSmoothed", TR_SSBO_PEL_SMOOTHED},       {"CreaseSamples", TR_SSBO_CREASE_SAMPLES},
-    {"TileRects", TR_SSBO_TILE_RECTS},           {"SurfaceIndices", TR_SSBO_SURFACE_INDICES},
-    {"AwayPatches", TR_SSBO_AWAY_PATCHES},       {"AwayDraws", TR_SSBO_AWAY_DRAWS},
-    {"HachureField", TR_SSBO_HACHURE_FIELD},     {"FlatPatches", TR_SSBO_FLAT_PATCHES}};
-const std::map<std::string, int> kSamplers = {
-    {"u_toward", TR_TEX_TOWARD_DEPTH},       {"u_away", TR_TEX_AWAY_DEPTH},
-    {"u_surface_colour", TR_TEX_SURFACE_COLOUR}, {"u_crease", TR_TEX_CREASE_COLOUR},
-    {"u_crease_depth", TR_TEX_CREASE_DEPTH}, {"u_silhouette", TR_TEX_SILHOUETTE},
-    {"u_pel", TR_TEX_PEL_COLOUR},            {"u_pel_depth", TR_TEX_PEL_DEPTH},
-    {"u_ids", TR_TEX_TRIANGLE_ID},           {"u_id_depth", TR_TEX_ID_DEPTH},
-    {"u_edge", TR_TEX_EDGE_COLOUR},          {"u_edge_depth", TR_TEX_EDGE_DEPTH},
-    {"u_silhouette_tiles", TR_TEX_SILHOUETTE_TILES}, {"u_away_tiles", TR_TEX_AWAY_TILES},
-    {"u_marks", TR_TEX_TILE_MARKS},          {"u_normal", TR_TEX_SURFACE_NORMAL},
-    {"u_facing", TR_TEX_FORMULATED_FACING}};
+const std::map<std::string, int> kStorageBlocks = {{"CreaseVertices", TR_SSBO_CREASE_VERTICES},
+                                                   {"CreaseSegments", TR_SSBO_CREASE_SEGMENTS},
+                                                   {"Scores", TR_SSBO_CREASE_SCORES},
+                                                   {"DrawCommand", TR_SSBO_CREASE_COMMAND},
+                                                   {"Selected", TR_SSBO_CREASE_SELECTED},
+                                                   {"MeshPositions", TR_SSBO_MESH_POSITIONS},
+                                                   {"MeshNormals", TR_SSBO_MESH_NORMALS},
+                                                   {"CornerAreas", TR_SSBO_CORNER_AREAS},
+                                                   {"VertexAreas", TR_SSBO_VERTEX_AREAS},
+                                                   {"Tangents", TR_SSBO_TANGENTS},
+                                                   {"Fields", TR_SSBO_PEL_FIELDS},
+                                                   {"MaxM", TR_SSBO_PEL_MAX_M},
+                                                   {"PelCommand", TR_SSBO_PEL_COMMAND},
+                                                   {"PelSegments", TR_SSBO_PEL_SEGMENTS},
+                                                   {"IdTriangles", TR_SSBO_ID_TRIANGLES},
+                                                   {"Edges", TR_SSBO_EDGES},
+                                                   {"EdgeKinds", TR_SSBO_EDGE_KINDS},
+                                                   {"EdgeCommand", TR_SSBO_EDGE_COMMAND},
+                                                   {"EdgeList", TR_SSBO_EDGE_LIST},
+                                                   {"VertexEdges", TR_SSBO_VERTEX_EDGES},
+                                                   {"CreaseChains", TR_SSBO_CREASE_CHAINS},
+                                                   {"Opacity", TR_SSBO_CREASE_OPACITY},
+                                                   {"PieceLabels", TR_SSBO_PIECE_LABELS},
+                                                   {"PieceSizes", TR_SSBO_PIECE_SIZES},
+                                                   {"PieceList", TR_SSBO_PIECE_LIST},
+                                                   {"FaceSegments", TR_SSBO_PEL_FACE_SEGMENTS},
+                                                   {"PelSmoothed", TR_SSBO_PEL_SMOOTHED},
+                                                   {"CreaseSamples", TR_SSBO_CREASE_SAMPLES},
+                                                   {"TileRects", TR_SSBO_TILE_RECTS},
+                                                   {"SurfaceIndices", TR_SSBO_SURFACE_INDICES},
+                                                   {"AwayPatches", TR_SSBO_AWAY_PATCHES},
+                                                   {"AwayDraws", TR_SSBO_AWAY_DRAWS},
+                                                   {"HachureField", TR_SSBO_HACHURE_FIELD},
+                                                   {"FlatPatches", TR_SSBO_FLAT_PATCHES}};
+const std::map<std::string, int> kSamplers = {{"u_toward", TR_TEX_TOWARD_DEPTH},
+                                              {"u_away", TR_TEX_AWAY_DEPTH},
+                                              {"u_surface_colour", TR_TEX_SURFACE_COLOUR},
+                                              {"u_crease", TR_TEX_CREASE_COLOUR},
+                                              {"u_crease_depth", TR_TEX_CREASE_DEPTH},
+                                              {"u_silhouette", TR_TEX_SILHOUETTE},
+                                              {"u_pel", TR_TEX_PEL_COLOUR},
+                                              {"u_pel_depth", TR_TEX_PEL_DEPTH},
+                                              {"u_ids", TR_TEX_TRIANGLE_ID},
+                                              {"u_id_depth", TR_TEX_ID_DEPTH},
+                                              {"u_edge", TR_TEX_EDGE_COLOUR},
+                                              {"u_edge_depth", TR_TEX_EDGE_DEPTH},
+                                              {"u_silhouette_tiles", TR_TEX_SILHOUETTE_TILES},
+                                              {"u_away_tiles", TR_TEX_AWAY_TILES},
+                                              {"u_marks", TR_TEX_TILE_MARKS},
+                                              {"u_normal", TR_TEX_SURFACE_NORMAL},
+                                              {"u_facing", TR_TEX_FORMULATED_FACING}};
 const std::map<std::string, int> kImages = {{"u_opacity", TR_IMG_SILHOUETTE_OPACITY},
                                             {"u_tiles", TR_IMG_SILHOUETTE_TILES},
                                             {"u_away_tiles", TR_IMG_AWAY_TILES}};
 const std::map<std::string, int> kUniformLocations = {
     {"u_mode", TR_LOC_SURFACE_MODE},
-    {"u_flat_coarse", TR_LOC_FLAT_COARSE},    {"u_formulated", TR_LOC_FORMULATED},
+    {"u_flat_coarse", TR_LOC_FLAT_COARSE},
+    {"u_formulated", TR_LOC_FORMULATED},
     {"u_formulated_step", TR_LOC_FORMULATED_STEP},
     {"u_layers", TR_LOC_LAYERS},
     {"u_background", TR_LOC_BACKGROUND},
@@ -83,7 +107,8 @@ const std::map<std::string, int> kUniformLocations = {
     {"u_patches", TR_LOC_PATCH_COUNT},
     {"u_inverse", TR_LOC_HACHURE_INVERSE},
     {"u_tone", TR_LOC_HACHURE_TONE}};
-const std::map<std::string, int> kAttributes = {{"a_position", TR_ATTR_POSITION}, {"a_normal", TR_ATTR_NORMAL}};
+const std::map<std::string, int> kAttributes = {{"a_position", TR_ATTR_POSITION},
+                                                {"a_normal", TR_ATTR_NORMAL}};
 
 #define TR_OFFSET(type, name) {#name, offsetof(FrameBlock, name)},
 const std::map<std::string, std::size_t> kFrameOffsets = {TR_FRAME_BLOCK(TR_OFFSET)};
@@ -123,21 +148,28 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
     for (GLint i = 0; i < active(p, GL_UNIFORM_BLOCK); ++i) {
       ASSERT_EQ(resource_name(p, GL_UNIFORM_BLOCK, GLuint(i)), "FrameBlock");
       EXPECT_EQ(resource_property(p, GL_UNIFORM_BLOCK, GLuint(i), GL_BUFFER_BINDING), TR_UBO_FRAME);
-      EXPECT_EQ(resource_property(p, GL_UNIFORM_BLOCK, GLuint(i), GL_BUFFER_DATA_SIZE), GLint(sizeof(FrameBlock)));
+      EXPECT_EQ(resource_property(p, GL_UNIFORM_BLOCK, GLuint(i), GL_BUFFER_DATA_SIZE),
+                GLint(sizeof(FrameBlock)));
       ++frames;
     }
     for (GLint i = 0; i < active(p, GL_SHADER_STORAGE_BLOCK); ++i) {
       const std::string block = resource_name(p, GL_SHADER_STORAGE_BLOCK, GLuint(i));
-      ASSERT_TRUE(kStorageBlocks.count(block)) << "storage block '" << block << "' is not in the contract";
-      EXPECT_EQ(resource_property(p, GL_SHADER_STORAGE_BLOCK, GLuint(i), GL_BUFFER_BINDING), kStorageBlocks.at(block))
+      ASSERT_TRUE(kStorageBlocks.count(block))
+          << "storage block '" << block << "' is not in the contract";
+      EXPECT_EQ(resource_property(p, GL_SHADER_STORAGE_BLOCK, GLuint(i), GL_BUFFER_BINDING),
+                kStorageBlocks.at(block))
           << block;
       ++blocks;
     }
     for (GLint i = 0; i < active(p, GL_UNIFORM); ++i) {
       const std::string u = resource_name(p, GL_UNIFORM, GLuint(i));
-      if (resource_property(p, GL_UNIFORM, GLuint(i), GL_BLOCK_INDEX) >= 0) {  // a FrameBlock member
-        ASSERT_TRUE(kFrameOffsets.count(u)) << "block member '" << u << "' is not in TR_FRAME_BLOCK";
-        EXPECT_EQ(std::size_t(resource_property(p, GL_UNIFORM, GLuint(i), GL_OFFSET)), kFrameOffsets.at(u)) << u;
+      if (resource_property(p, GL_UNIFORM, GLuint(i), GL_BLOCK_INDEX) >=
+          0) {  // a FrameBlock member
+        ASSERT_TRUE(kFrameOffsets.count(u))
+            << "block member '" << u << "' is not in TR_FRAME_BLOCK";
+        EXPECT_EQ(std::size_t(resource_property(p, GL_UNIFORM, GLuint(i), GL_OFFSET)),
+                  kFrameOffsets.at(u))
+            << u;
         continue;
       }
       const GLint location = resource_property(p, GL_UNIFORM, GLuint(i), GL_LOCATION);
@@ -164,7 +196,8 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
       const std::string in = resource_name(p, GL_PROGRAM_INPUT, GLuint(i));
       if (in.rfind("gl_", 0) == 0) continue;  // built-ins (gl_VertexID, gl_GlobalInvocationID)
       ASSERT_TRUE(kAttributes.count(in)) << "vertex input '" << in << "' is not in the contract";
-      EXPECT_EQ(resource_property(p, GL_PROGRAM_INPUT, GLuint(i), GL_LOCATION), kAttributes.at(in)) << in;
+      EXPECT_EQ(resource_property(p, GL_PROGRAM_INPUT, GLuint(i), GL_LOCATION), kAttributes.at(in))
+          << in;
     }
     if (program_spec(id).stages.front().stage == GL_COMPUTE_SHADER) {
       GLint size[3] = {};
@@ -179,8 +212,11 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
   EXPECT_EQ(computes, 14u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 33u);  // silhouette 3, formulated 1, formulated facing 1, away tiles 1, tile rects 2, composite 8 + 10 (with silhouettes), adjacency 2, crease visibility and PEL draw 1 each, pieces 1, hachure field 2
-  EXPECT_EQ(images, 5u);     // pieces (opacity), silhouette, formulated and adjacency (tiles), away tiles
+  EXPECT_EQ(samplers, 33u);  // silhouette 3, formulated 1, formulated facing 1, away tiles 1, tile
+                             // rects 2, composite 8 + 10 (with silhouettes), adjacency 2, crease
+                             // visibility and PEL draw 1 each, pieces 1, hachure field 2
+  EXPECT_EQ(images,
+            5u);  // pieces (opacity), silhouette, formulated and adjacency (tiles), away tiles
   EXPECT_GE(locations, 14u);
 }
 

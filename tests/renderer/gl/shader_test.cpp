@@ -8,6 +8,7 @@
 #include <functional>
 #include <numbers>
 
+#include <map>
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
 #include "drainage/pipeline.hpp"
@@ -16,6 +17,7 @@
 #include "renderer/frames.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/line_stats.hpp"
+#include "renderer/pel.hpp"
 #include "renderer/shader.hpp"
 #include "renderer/silhouette.hpp"
 #include "renderer/stroke_visibility.hpp"
@@ -26,8 +28,6 @@
 #include "terrain/hillshade.hpp"
 #include "terrain/pn_surface.hpp"
 #include "terrain/voronoi.hpp"
-#include "renderer/pel.hpp"
-#include <map>
 #include "test_support.hpp"
 
 namespace {
@@ -38,8 +38,10 @@ using renderer::FrameParams;
 using renderer::TerrainRenderer;
 
 TEST(Shader, LogLocationsNameTheFile) {
-  EXPECT_EQ(renderer::map_log_locations("1:12(3): error: x", {"a.glsl", "b.glsl"}), "a.glsl:12: error: x");
-  EXPECT_EQ(renderer::map_log_locations("2(7) : error C0000", {"a.glsl", "b.glsl"}), "b.glsl:7 : error C0000");
+  EXPECT_EQ(renderer::map_log_locations("1:12(3): error: x", {"a.glsl", "b.glsl"}),
+            "a.glsl:12: error: x");
+  EXPECT_EQ(renderer::map_log_locations("2(7) : error C0000", {"a.glsl", "b.glsl"}),
+            "b.glsl:7 : error C0000");
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <limits>
 #include <numbers>
 
+#include <map>
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
 #include "drainage/pipeline.hpp"
@@ -18,6 +19,7 @@
 #include "renderer/frames.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/line_stats.hpp"
+#include "renderer/pel.hpp"
 #include "renderer/scene.hpp"
 #include "renderer/shader.hpp"
 #include "renderer/silhouette.hpp"
@@ -29,8 +31,6 @@
 #include "terrain/hillshade.hpp"
 #include "terrain/pn_surface.hpp"
 #include "terrain/voronoi.hpp"
-#include "renderer/pel.hpp"
-#include <map>
 #include "test_support.hpp"
 
 namespace {
@@ -72,7 +72,8 @@ TEST(CreaseScore, DistancesAcrossTheScene) {
   EXPECT_NEAR(outside.near_distance, 200, 1e-9);
   EXPECT_NEAR(outside.far_distance, std::sqrt(300.0 * 300 + 100 * 100 + 25 * 25), 1e-9);
   const Vector3d up(0, 0, 1);  // raw score 0.6 * 1/3 = 0.2 with flow 0.6 and equal weights
-  EXPECT_NEAR(renderer::crease_score(up, 0.6, up, outside.near_distance, outside), 0.2 - 0.2, 1e-12);
+  EXPECT_NEAR(renderer::crease_score(up, 0.6, up, outside.near_distance, outside), 0.2 - 0.2,
+              1e-12);
   EXPECT_NEAR(renderer::crease_score(up, 0.6, up, outside.far_distance, outside), 0.2 - 0.6, 1e-12);
   const auto inside = renderer::resolve_distances(p, lo, hi, Vector3d(50, 50, 25));
   EXPECT_EQ(inside.near_distance, 0.0);
@@ -115,7 +116,8 @@ TEST(CreaseScore, OpacityFadesInOverTheBand) {
 TEST(CreaseScore, ChannelsBeginAtThePagesArea) {
   CreaseGeometry g;
   const Vector3d up(0, 0, 1);
-  for (float area : {5000.0f, 15000.0f, 30000.0f, 60000.0f}) {  // a chain from a channel head downstream
+  for (float area :
+       {5000.0f, 15000.0f, 30000.0f, 60000.0f}) {  // a chain from a channel head downstream
     g.positions.push_back(Eigen::Vector3f(0, 0, 0));
     g.normals.push_back(Eigen::Vector3f(0, 0, 1));
     g.flow.push_back(0.9f);  // scores 0.2 everywhere
@@ -132,7 +134,9 @@ TEST(CreaseScore, ChannelsBeginAtThePagesArea) {
   EXPECT_EQ(drawn(0), (std::vector<float>{1, 1, 1}));
   EXPECT_EQ(drawn(10000), (std::vector<float>{0, 1, 1}));
   EXPECT_EQ(drawn(20000), (std::vector<float>{0, 0, 1}));
-  EXPECT_EQ(drawn(60000), (std::vector<float>{0, 0, 0}));  // the outlet's own area, but its upstream end drains less
+  EXPECT_EQ(
+      drawn(60000),
+      (std::vector<float>{0, 0, 0}));  // the outlet's own area, but its upstream end drains less
   renderer::Style style;
   style.page_min_area = 40000;
   EXPECT_DOUBLE_EQ(renderer::stroke_rule(style, 10.0).min_area, 40000.0);
@@ -161,8 +165,10 @@ CreaseGeometry branching_network() {
     g.share.push_back(0.01f * float(g.share.size()));
     g.area.push_back(100.0f * float(g.area.size()));
   };
-  for (int i = 0; i <= 16; ++i) add(Eigen::Vector3f(100 * std::cos(0.05 * i), 100 * std::sin(0.05 * i), 0));
-  for (int i = 0; i < 16; ++i) g.segments.insert(g.segments.end(), {std::uint32_t(i), std::uint32_t(i + 1)});
+  for (int i = 0; i <= 16; ++i)
+    add(Eigen::Vector3f(100 * std::cos(0.05 * i), 100 * std::sin(0.05 * i), 0));
+  for (int i = 0; i < 16; ++i)
+    g.segments.insert(g.segments.end(), {std::uint32_t(i), std::uint32_t(i + 1)});
   const Eigen::Vector3f junction = g.positions[8];
   for (int i = 3; i >= 1; --i) add(junction + Eigen::Vector3f(10.0f * float(i), 0, 0));
   g.segments.insert(g.segments.end(), {17, 18, 18, 19, 19, 8});
@@ -185,7 +191,8 @@ TEST(CreaseLevels, MergedRunsKeepTheBreaksAndVerticesWithinTheTolerance) {
   EXPECT_EQ(l4.geometry.n_segments(), 5u);
   EXPECT_EQ(l4.first, (std::vector<std::uint32_t>{0, 4, 8, 12, 16}));
   EXPECT_EQ(l4.last, (std::vector<std::uint32_t>{3, 7, 11, 15, 18}));
-  ASSERT_EQ(l4.geometry.positions.size(), 6u);  // 0, 4, 8, 12, 16 on the stem, 17 (the tributary's head)
+  ASSERT_EQ(l4.geometry.positions.size(),
+            6u);  // 0, 4, 8, 12, 16 on the stem, 17 (the tributary's head)
   // The fine vertex downstream of fine segment t, and the middle one of a merged segment's run.
   const auto below = [&](std::uint32_t t) { return g.segments[2 * t + 1]; };
   const auto next = [&](std::uint32_t t) {
@@ -220,7 +227,8 @@ TEST(CreaseLevels, MergedRunsKeepTheBreaksAndVerticesWithinTheTolerance) {
           ++covered[t];
           if (t == l.last[s]) break;
         }
-      EXPECT_EQ(covered, std::vector<int>(g.n_segments(), 1)) << "step " << step << " tolerance " << tolerance;
+      EXPECT_EQ(covered, std::vector<int>(g.n_segments(), 1))
+          << "step " << step << " tolerance " << tolerance;
       EXPECT_LE(l.error_metres, tolerance);
       if (step == 1 || tolerance == 0) {  // nothing on the arc merged
         EXPECT_EQ(l.error_metres, 0.0);
@@ -228,7 +236,8 @@ TEST(CreaseLevels, MergedRunsKeepTheBreaksAndVerticesWithinTheTolerance) {
       }
     }
   EXPECT_EQ(renderer::merge_crease_runs(g, 32, none).geometry.n_segments(), 3u);  // one a run
-  EXPECT_EQ(renderer::merge_crease_runs(g, 32, 0.0).geometry.n_segments(), 17u);  // the straight tributary merged
+  EXPECT_EQ(renderer::merge_crease_runs(g, 32, 0.0).geometry.n_segments(),
+            17u);  // the straight tributary merged
   const renderer::CreaseLevel l3 = renderer::merge_crease_runs(g, 4, 0.3);
   EXPECT_EQ(l3.first, (std::vector<std::uint32_t>{0, 3, 6, 8, 11, 14, 16}));
   EXPECT_NEAR(l3.error_metres, 100 * (std::cos(0.025) - std::cos(0.075)), 1e-4);
@@ -250,12 +259,12 @@ TEST(CreaseLevels, HeldWhileTheyShrinkAndChosenByTheirErrorOnScreen) {
   EXPECT_LT(levels[0].error_metres, levels[1].error_metres);
   EXPECT_LT(levels[1].error_metres, levels[2].error_metres);
   const std::vector<double> errors{0.5, 2, 8};
-  EXPECT_EQ(renderer::select_crease_level(errors, 10, 0.5), 2);   // 5 m allowed
-  EXPECT_EQ(renderer::select_crease_level(errors, 4, 0.5), 2);    // 2 m: at the bound
+  EXPECT_EQ(renderer::select_crease_level(errors, 10, 0.5), 2);  // 5 m allowed
+  EXPECT_EQ(renderer::select_crease_level(errors, 4, 0.5), 2);   // 2 m: at the bound
   EXPECT_EQ(renderer::select_crease_level(errors, 3.9, 0.5), 1);
   EXPECT_EQ(renderer::select_crease_level(errors, 0.5, 0.5), 0);
   EXPECT_EQ(renderer::select_crease_level(errors, 100, 0.5), 3);
-  EXPECT_EQ(renderer::select_crease_level(errors, 0, 0.5), 0);   // the surface reaches the eye
+  EXPECT_EQ(renderer::select_crease_level(errors, 0, 0.5), 0);  // the surface reaches the eye
   EXPECT_EQ(renderer::select_crease_level({}, 100, 0.5), 0);
 }
 
@@ -264,10 +273,12 @@ TEST(CreaseLevels, MergedTraitsFollowTheirFineSegments) {
   const CreaseGeometry g = branching_network();
   renderer::SegmentTraits fine;
   for (std::size_t s = 0; s < g.n_segments(); ++s) {
-    fine.boundary.push_back(std::uint8_t(s % 2)), fine.flat.push_back(s % 3 == 0), fine.valley.push_back(s % 4 == 0);
+    fine.boundary.push_back(std::uint8_t(s % 2)), fine.flat.push_back(s % 3 == 0),
+        fine.valley.push_back(s % 4 == 0);
     fine.open_end.push_back(s == 15);
   }
-  const renderer::CreaseLevel l = renderer::merge_crease_runs(g, 4, std::numeric_limits<double>::infinity());
+  const renderer::CreaseLevel l =
+      renderer::merge_crease_runs(g, 4, std::numeric_limits<double>::infinity());
   const renderer::SegmentTraits t = renderer::merged_traits(fine, l);
   for (std::size_t s = 0; s < l.first.size(); ++s) {
     EXPECT_EQ(t.boundary[s], fine.boundary[l.first[s]]);
@@ -301,7 +312,8 @@ TEST(CreaseLevels, AFramesLinesOnTheFineSegments) {
     EXPECT_EQ(fine.drawn[l.first[s]], merged.drawn[s]);
     EXPECT_EQ(fine.drawn[l.last[s]], merged.drawn[s]);
   }
-  EXPECT_NEAR(fine.pixels[16] / fine.pixels[18], metres[16] / metres[18], 1e-9);  // the tributary, 6 px over 3 links
+  EXPECT_NEAR(fine.pixels[16] / fine.pixels[18], metres[16] / metres[18],
+              1e-9);  // the tributary, 6 px over 3 links
   EXPECT_NEAR(fine.pixels[16] + fine.pixels[17] + fine.pixels[18], 6.0, 1e-9);
   res.crease_level = 0;
   EXPECT_EQ(renderer::fine_lines(scene, res, merged).drawn, merged.drawn);  // as given

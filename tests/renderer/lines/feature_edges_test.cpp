@@ -14,7 +14,8 @@ namespace renderer {
 namespace {
 
 std::size_t count(const std::vector<std::uint8_t>& kinds, std::uint8_t kind) {
-  return std::size_t(std::count_if(kinds.begin(), kinds.end(), [&](std::uint8_t k) { return k & kind; }));
+  return std::size_t(
+      std::count_if(kinds.begin(), kinds.end(), [&](std::uint8_t k) { return k & kind; }));
 }
 
 // Every edge once; interior edges have two faces whose third vertices lie on opposite
@@ -33,8 +34,8 @@ TEST(FeatureEdges, EdgeBufferOfTheGrid) {
   EXPECT_EQ(unique.size(), edges.size());
   EXPECT_EQ(boundary, 2u * 6 + 2u * 10);
   // A flat plane seen from anywhere above: no contour, no crease; the boundary is found.
-  const terrain::GridMesh plane =
-      terrain::test::function_mesh(7, 11, 10.0, [](double x, double y) { return 0.1 * x - 0.2 * y; });
+  const terrain::GridMesh plane = terrain::test::function_mesh(
+      7, 11, 10.0, [](double x, double y) { return 0.1 * x - 0.2 * y; });
   const auto kinds = classify_edges(edges, plane.positions, Eigen::Vector3d(50, -30, 500), 1.0);
   EXPECT_EQ(count(kinds, kContourEdge), 0u);
   EXPECT_EQ(count(kinds, kCreaseEdge), 0u);
@@ -46,8 +47,8 @@ TEST(FeatureEdges, EdgeBufferOfTheGrid) {
 // the ridge is a contour for an eye low on one side and not for an eye above.
 TEST(FeatureEdges, TentRidgeIsCreaseAndContour) {
   const std::size_t rows = 9, cols = 11;
-  const terrain::GridMesh tent =
-      terrain::test::function_mesh(rows, cols, 10.0, [](double x, double) { return 100.0 - std::abs(x - 50.0); });
+  const terrain::GridMesh tent = terrain::test::function_mesh(
+      rows, cols, 10.0, [](double x, double) { return 100.0 - std::abs(x - 50.0); });
   const auto edges = mesh_edges(tent.topo);
   auto on_ridge = [&](const MeshEdge& e) { return e.v0 % cols == 5 && e.v1 % cols == 5; };
   const std::size_t ridge_edges = rows - 1;
@@ -63,7 +64,9 @@ TEST(FeatureEdges, TentRidgeIsCreaseAndContour) {
     EXPECT_EQ(on, ridge_edges) << angle;
     EXPECT_EQ(count(kinds, kContourEdge), 0u);  // from high above both sides face the eye
   }
-  EXPECT_EQ(count(classify_edges(edges, tent.positions, Eigen::Vector3d(50, -40, 1000), 91.0), kCreaseEdge), 0u);
+  EXPECT_EQ(count(classify_edges(edges, tent.positions, Eigen::Vector3d(50, -40, 1000), 91.0),
+                  kCreaseEdge),
+            0u);
   // Eye far to the west, a little above the ridge: the west slope faces it, the east slope
   // faces away; the ridge edges are contours, nothing else is.
   const auto side = classify_edges(edges, tent.positions, Eigen::Vector3d(-5000, -40, 120), 170.0);
@@ -126,7 +129,8 @@ TEST(FeatureEdges, CreaseCountFallsWithTheAngle) {
   const auto edges = mesh_edges(m.topo);
   std::size_t previous = edges.size() + 1;
   for (double angle = 0.0; angle <= 180.0; angle += 5.0) {
-    const std::size_t n = count(classify_edges(edges, m.positions, Eigen::Vector3d(0, 0, 1e6), angle), kCreaseEdge);
+    const std::size_t n =
+        count(classify_edges(edges, m.positions, Eigen::Vector3d(0, 0, 1e6), angle), kCreaseEdge);
     EXPECT_LE(n, previous) << angle;
     previous = n;
   }

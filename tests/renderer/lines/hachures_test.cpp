@@ -60,7 +60,8 @@ std::vector<double> neighbour_distances(const std::vector<Hachure>& hs) {
 // spacings away (issue 51's direction and spacing targets); the lines cover the field.
 TEST(Hachures, FollowTheFallLineAtAnEvenSpacing) {
   const Vector2f fall(std::cos(0.5f), std::sin(0.5f));
-  const HachureField f = field(160, 120, fall, [](int, int) { return 0.4f; }, [](int, int) { return 1.0f; });
+  const HachureField f = field(
+      160, 120, fall, [](int, int) { return 0.4f; }, [](int, int) { return 1.0f; });
   renderer::HachureRule rule;
   rule.spacing = 8;
   const auto hs = renderer::trace_hachures(f, rule);
@@ -70,7 +71,8 @@ TEST(Hachures, FollowTheFallLineAtAnEvenSpacing) {
     for (std::size_t k = 1; k < h.points.size(); ++k) {
       const Vector2f d = h.points[k] - h.points[k - 1];
       length += d.norm();
-      EXPECT_GT(d.normalized().dot(fall), std::cos(1.0 * std::numbers::pi / 180)) << "a step off the fall line";
+      EXPECT_GT(d.normalized().dot(fall), std::cos(1.0 * std::numbers::pi / 180))
+          << "a step off the fall line";
     }
   const auto near = neighbour_distances(hs);
   std::size_t within = 0;
@@ -89,12 +91,14 @@ TEST(Hachures, FollowTheFallLineAtAnEvenSpacing) {
 // where it was: it turns by at most about one turn each way from its seed (a trace that
 // went on would turn once a lap).
 TEST(Hachures, ALoopingFallLineEnds) {
-  HachureField f = field(200, 160, Vector2f(1, 0), [](int, int) { return 1.2f; }, [](int, int) { return 1.0f; });
+  HachureField f = field(
+      200, 160, Vector2f(1, 0), [](int, int) { return 1.2f; }, [](int, int) { return 1.0f; });
   for (int v = 0; v < f.height; ++v)
     for (int u = 0; u < f.width; ++u) {
       const Vector2f r(float(u) + 0.5f - 100.0f, float(v) + 0.5f - 80.0f);
       const Vector2f t(-r.y(), r.x());  // circles about the centre
-      f.fall[std::size_t(v) * 200 + std::size_t(u)] = t.norm() > 0 ? Vector2f(t.normalized()) : Vector2f(1, 0);
+      f.fall[std::size_t(v) * 200 + std::size_t(u)] =
+          t.norm() > 0 ? Vector2f(t.normalized()) : Vector2f(1, 0);
     }
   renderer::HachureRule rule;
   rule.spacing = 1;  // one pixel: no other hachure stops a trace
@@ -117,7 +121,8 @@ TEST(Hachures, ALoopingFallLineEnds) {
 // Flats stay white: no hachure point where the slope is below the rule's least.
 TEST(Hachures, FlatsStayWhite) {
   const HachureField f = field(
-      160, 120, Vector2f(0, 1), [](int u, int) { return u < 80 ? 0.01f : 0.4f; }, [](int, int) { return 0.5f; });
+      160, 120, Vector2f(0, 1), [](int u, int) { return u < 80 ? 0.01f : 0.4f; },
+      [](int, int) { return 0.5f; });
   const auto hs = renderer::trace_hachures(f, {});
   ASSERT_GT(hs.size(), 5u);
   for (const Hachure& h : hs)
@@ -127,7 +132,8 @@ TEST(Hachures, FlatsStayWhite) {
 // Hachures stop at drawn lines and never cross them: a blocked column (a crease) across a
 // slope falling east; no hachure has points on both sides, none lies on it.
 TEST(Hachures, StopAtDrawnLines) {
-  HachureField f = field(160, 120, Vector2f(1, 0), [](int, int) { return 0.4f; }, [](int, int) { return 0.5f; });
+  HachureField f = field(
+      160, 120, Vector2f(1, 0), [](int, int) { return 0.4f; }, [](int, int) { return 0.5f; });
   f.blocked.assign(f.slope.size(), 0);
   for (int v = 0; v < 120; ++v) f.blocked[std::size_t(v) * 160 + 80] = 1;
   const auto hs = renderer::trace_hachures(f, {});
@@ -149,11 +155,13 @@ TEST(Hachures, StopAtDrawnLines) {
 // the white half (spacing / tone, the tone at least kMinTone: 6 px against 36 px).
 TEST(Hachures, DarkerToneDrawsDenser) {
   const HachureField f = field(
-      200, 120, Vector2f(0, 1), [](int, int) { return 0.4f; }, [](int u, int) { return u < 100 ? 0.0f : 1.0f; });
+      200, 120, Vector2f(0, 1), [](int, int) { return 0.4f; },
+      [](int u, int) { return u < 100 ? 0.0f : 1.0f; });
   const auto hs = renderer::trace_hachures(f, {});
   double white = 0, black = 0;
   for (const Hachure& h : hs)
-    for (std::size_t k = 1; k < h.points.size(); ++k) (h.points[k].x() < 100 ? white : black) += (h.points[k] - h.points[k - 1]).norm();
+    for (std::size_t k = 1; k < h.points.size(); ++k)
+      (h.points[k].x() < 100 ? white : black) += (h.points[k] - h.points[k - 1]).norm();
   ASSERT_GT(white, 0.0);
   EXPECT_GT(black / white, 4.0);
   EXPECT_LT(black / white, 8.0);
@@ -166,7 +174,8 @@ TEST(Hachures, DarkerToneDrawsDenser) {
 TEST(Hachures, ConvergingFallLinesThinOutInsteadOfFanning) {
   const int w = 160, h = 160;
   const Vector2f centre(80, 80);
-  HachureField f = field(w, h, Vector2f(1, 0), [](int, int) { return 0.4f; }, [](int, int) { return 1.0f; });
+  HachureField f = field(
+      w, h, Vector2f(1, 0), [](int, int) { return 0.4f; }, [](int, int) { return 1.0f; });
   for (int v = 0; v < h; ++v)
     for (int u = 0; u < w; ++u) {
       const Vector2f to = centre - Vector2f(float(u) + 0.5f, float(v) + 0.5f);
@@ -178,7 +187,8 @@ TEST(Hachures, ConvergingFallLinesThinOutInsteadOfFanning) {
   ASSERT_GT(hs.size(), 30u);
   const auto near = neighbour_distances(hs);
   const double least = *std::min_element(near.begin(), near.end());
-  EXPECT_GE(least, rule.test_share * rule.spacing - 0.5) << "two hachures closer than the stop share";
+  EXPECT_GE(least, rule.test_share * rule.spacing - 0.5)
+      << "two hachures closer than the stop share";
   // Within 20 px of the centre, a circle's circumference holds at most 2 pi r / (share x
   // spacing) hachures: count the hachures that reach inside it.
   std::size_t inside = 0;
@@ -186,7 +196,8 @@ TEST(Hachures, ConvergingFallLinesThinOutInsteadOfFanning) {
     inside += std::any_of(hh.points.begin(), hh.points.end(),
                           [&](const Vector2f& p) { return (p - centre).norm() < 20; });
   EXPECT_LE(double(inside), 2 * std::numbers::pi * 20 / (rule.test_share * rule.spacing) + 1);
-  std::cout << hs.size() << " hachures, " << inside << " reach 20 px of the centre, nearest pair " << least << " px\n";
+  std::cout << hs.size() << " hachures, " << inside << " reach 20 px of the centre, nearest pair "
+            << least << " px\n";
 }
 
 // The field of a frame: a cone seen from straight above (the renderer's TFT depth), every
@@ -207,13 +218,15 @@ TEST(Hachures, TheFieldOfAConePointsDownItsFlanks) {
   const auto res = r.render(fp);
   const auto buffers = r.read_buffers();
   const HachureField f = renderer::hachure_field(cone, res.view, 1.0, buffers.toward_depth);
-  const renderer::Projected apex = renderer::project(res.view, Eigen::Vector3d(size / 2, -size / 2, 600));
+  const renderer::Projected apex =
+      renderer::project(res.view, Eigen::Vector3d(size / 2, -size / 2, 600));
   std::size_t flank = 0, along = 0, slope_ok = 0;
   for (int v = 0; v < f.height; ++v)
     for (int u = 0; u < f.width; ++u) {
       const Vector2f away(float(u + 0.5 - apex.u), float(v + 0.5 - apex.v));
       const std::size_t i = std::size_t(v) * std::size_t(f.width) + std::size_t(u);
-      if (!f.terrain(u, v) || away.norm() < 10 || away.norm() > 80) continue;  // the flanks, away from apex and foot
+      if (!f.terrain(u, v) || away.norm() < 10 || away.norm() > 80)
+        continue;  // the flanks, away from apex and foot
       ++flank;
       along += f.fall[i].dot(away.normalized()) > std::cos(10 * std::numbers::pi / 180);
       slope_ok += std::abs(f.slope[i] - std::atan(0.5)) < 0.02;
@@ -238,10 +251,12 @@ TEST(Hachures, GpuFieldMatchesTheCpuReference) {
   renderer::GlContext ctx;
   for (const double e : {1.0, 2.0})
     for (const bool light_tone : {true, false}) {
-      SCOPED_TRACE(::testing::Message() << "exaggeration " << e << (light_tone ? ", light" : ", slope"));
+      SCOPED_TRACE(::testing::Message()
+                   << "exaggeration " << e << (light_tone ? ", light" : ", slope"));
       renderer::Style style;
       style.exaggeration = e;
-      style.pixels_per_edge = 1;  // the patches tessellated finely: the drawn surface is the PN surface
+      style.pixels_per_edge =
+          1;  // the patches tessellated finely: the drawn surface is the PN surface
       renderer::TerrainRenderer r(ctx, mesh, nullptr, 320, 180, renderer::Layers{}, style);
       renderer::FrameParams fp;
       fp.camera.view_az = 250;
@@ -249,8 +264,8 @@ TEST(Hachures, GpuFieldMatchesTheCpuReference) {
       const auto res = r.render(fp);
       const Eigen::Vector3d light = terrain::light_direction(fp.light.azimuth, fp.light.altitude);
       const HachureField gpu = r.hachure_field(res.view, light_tone);
-      const HachureField cpu =
-          renderer::hachure_field(mesh, res.view, e, r.read_buffers().toward_depth, light_tone ? &light : nullptr);
+      const HachureField cpu = renderer::hachure_field(
+          mesh, res.view, e, r.read_buffers().toward_depth, light_tone ? &light : nullptr);
       std::size_t both = 0, either = 0, steep = 0, fall = 0, slope = 0, tone = 0, height = 0;
       for (std::size_t i = 0; i < gpu.slope.size(); ++i) {
         const bool g = !std::isnan(gpu.slope[i]), c = !std::isnan(cpu.slope[i]);
@@ -268,9 +283,10 @@ TEST(Hachures, GpuFieldMatchesTheCpuReference) {
       EXPECT_GE(double(slope), 0.95 * double(steep));
       EXPECT_GE(double(tone), 0.95 * double(steep));
       EXPECT_GE(double(height), 0.95 * double(steep));
-      std::cout << "e " << e << (light_tone ? " light" : " slope") << ": terrain " << both << " of " << either
-                << ", fall " << double(fall) / double(steep) << ", slope " << double(slope) / double(steep) << ", tone "
-                << double(tone) / double(steep) << ", height " << double(height) / double(steep) << "\n";
+      std::cout << "e " << e << (light_tone ? " light" : " slope") << ": terrain " << both << " of "
+                << either << ", fall " << double(fall) / double(steep) << ", slope "
+                << double(slope) / double(steep) << ", tone " << double(tone) / double(steep)
+                << ", height " << double(height) / double(steep) << "\n";
     }
 }
 
@@ -303,23 +319,30 @@ TEST(Hachures, SurfaceSeedsKeepHachuresOnTheGround) {
   const double cell = 2.0 * renderer::page_scale(a.view, r.box()) * rule.spacing;
   auto coherence = [&](bool on_ground) {
     const auto ha = renderer::trace_hachures(
-        a.field, rule, on_ground ? renderer::surface_seeds(a.view, a.depth, rule.spacing, cell) : std::vector<Vector2f>{});
+        a.field, rule,
+        on_ground ? renderer::surface_seeds(a.view, a.depth, rule.spacing, cell)
+                  : std::vector<Vector2f>{});
     const auto hb = renderer::trace_hachures(
-        b.field, rule, on_ground ? renderer::surface_seeds(b.view, b.depth, rule.spacing, cell) : std::vector<Vector2f>{});
+        b.field, rule,
+        on_ground ? renderer::surface_seeds(b.view, b.depth, rule.spacing, cell)
+                  : std::vector<Vector2f>{});
     std::vector<Eigen::Vector3f> points;
     const Eigen::Matrix4d inverse = a.view.view_projection().inverse();
     for (const Hachure& h : ha)
       for (const Vector2f& p : h.points)
         if (const auto q = renderer::surface_point(a.view, inverse, a.depth, p.x(), p.y()))
           points.push_back(q->cast<float>());
-    const auto self = renderer::hachure_coherence(points, a.view, a.depth, renderer::hachure_stats(a.field, ha, rule).ink);
+    const auto self = renderer::hachure_coherence(points, a.view, a.depth,
+                                                  renderer::hachure_stats(a.field, ha, rule).ink);
     EXPECT_EQ(self.share(), 1.0);
-    const auto c = renderer::hachure_coherence(points, b.view, b.depth, renderer::hachure_stats(b.field, hb, rule).ink);
+    const auto c = renderer::hachure_coherence(points, b.view, b.depth,
+                                               renderer::hachure_stats(b.field, hb, rule).ink);
     EXPECT_GT(c.counted, points.size() / 2);
     return c.share();
   };
   const double ground = coherence(true), grid = coherence(false);
-  std::cout << "coherence: seeds on the ground " << ground << ", on the pixel grid " << grid << "\n";
+  std::cout << "coherence: seeds on the ground " << ground << ", on the pixel grid " << grid
+            << "\n";
   EXPECT_GE(ground, 0.6);
   EXPECT_GT(ground, grid);
 }
@@ -329,7 +352,8 @@ TEST(Hachures, SurfaceSeedsKeepHachuresOnTheGround) {
 // least 4 bands drawn) and each still keeps its spacing.
 TEST(Hachures, RowsEndAtFormLines) {
   const Vector2f fall(0.0f, 1.0f);  // downhill = down the image
-  HachureField f = field(120, 160, fall, [](int, int) { return 0.4f; }, [](int, int) { return 1.0f; });
+  HachureField f = field(
+      120, 160, fall, [](int, int) { return 0.4f; }, [](int, int) { return 1.0f; });
   for (int v = 0; v < f.height; ++v)
     for (int u = 0; u < f.width; ++u) f.elevation.push_back(float(1000 - v));  // a metre a pixel
   renderer::HachureRule rule;
@@ -345,7 +369,8 @@ TEST(Hachures, RowsEndAtFormLines) {
       EXPECT_EQ(long(std::floor(z / 30)), h.row) << p.transpose();
     }
     // A hachure that spans its band ends at least half a pixel from the form lines.
-    const double top = 1000 - double(h.row + 1) * 30, bottom = 1000 - double(h.row) * 30;  // image v of the lines
+    const double top = 1000 - double(h.row + 1) * 30,
+                 bottom = 1000 - double(h.row) * 30;  // image v of the lines
     EXPECT_GE(h.points.front().y() - top, 0.49) << h.row;
     EXPECT_GE(bottom + 1 - h.points.back().y(), 0.49) << h.row;
   }
@@ -398,13 +423,14 @@ TEST(Hachures, PlanViewOfAConeRunsDownItInMapCoordinates) {
 // rule, the plan map's default): the steepest fifth carries at least 3 times the ink of the
 // fifth just above the threshold.
 TEST(Hachures, PlanMapsLeaveGentleGroundWhiteAndInkTheSteep) {
-  auto side = terrain::test::function_mesh(101, 101, 10, [](double x, double) { return 0.0005 * x * x; });
+  auto side =
+      terrain::test::function_mesh(101, 101, 10, [](double x, double) { return 0.0005 * x * x; });
   const renderer::PlanHachures h = renderer::plan_hachures(side, {});
   ASSERT_GT(h.hachures.size(), 20u);
   // The threshold: 0.3 of the 99th percentile of slopes (atan(2 a x) at x = 990 m: 44.7 deg).
   EXPECT_NEAR(h.min_slope, 0.3 * std::atan(0.001 * 990), 0.01);
   const double x_min = std::tan(h.min_slope) / 0.001;  // where the slope reaches it
-  std::vector<double> ink(5, 0.0);                      // length in each fifth of x_min .. 1000
+  std::vector<double> ink(5, 0.0);                     // length in each fifth of x_min .. 1000
   for (const Hachure& hh : h.hachures)
     for (std::size_t k = 0; k < hh.points.size(); ++k) {
       const Eigen::Vector2d q = renderer::plan_to_local(h.plan, hh.points[k]);
@@ -422,7 +448,8 @@ TEST(Hachures, PlanMapsLeaveGentleGroundWhiteAndInkTheSteep) {
 // slope, no hachure point lies on flatter ground, and none reaches the terrain's outline
 // (every point three quarters of a pen's width inside it).
 TEST(Hachures, FramesLeaveGentleGroundWhiteAndStayInsideTheOutline) {
-  auto side = terrain::test::function_mesh(101, 101, 10, [](double x, double) { return 0.0005 * x * x; });
+  auto side =
+      terrain::test::function_mesh(101, 101, 10, [](double x, double) { return 0.0005 * x * x; });
   renderer::GlContext ctx;
   renderer::Style style;
   renderer::Layers layers;
@@ -451,7 +478,8 @@ TEST(Hachures, FramesLeaveGentleGroundWhiteAndStayInsideTheOutline) {
         for (long du = -margin; du <= margin; ++du) {
           const long x = u + du, y = v + dv;
           const bool sky = x < 0 || y < 0 || x >= 480 || y >= 270 ||
-                           renderer::far_depth(res.view.reversed_z, buffers.toward_depth[std::size_t(y * 480 + x)]) >= 1;
+                           renderer::far_depth(res.view.reversed_z,
+                                               buffers.toward_depth[std::size_t(y * 480 + x)]) >= 1;
           outline = outline || sky;
         }
       near_outline += outline;

@@ -15,11 +15,11 @@
 #include "drainage/dv_views.hpp"
 #include "drainage/pipeline.hpp"
 #include "drainage_test_support.hpp"
+#include "terrain/dem_io.hpp"
 #include "terrain/dequantize.hpp"
 #include "terrain/grid_mesh.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/pn_surface.hpp"
-#include "terrain/dem_io.hpp"
 #include "test_support.hpp"
 
 namespace renderer {
@@ -28,7 +28,11 @@ namespace {
 // Every D8 link, unsmoothed (CreaseRules' defaults before they became terrain-render's:
 // min_area 1 ha, smooth_spacings 0.5): what these analytic checks were written for (min_area
 // 3000 below: 30 points of these 10 m grids).
-const renderer::CreaseRules kPaperLinks{.min_area = 0, .min_width = 0, .off_edge_runs = false, .valley_branches = false, .smooth_spacings = 0};
+const renderer::CreaseRules kPaperLinks{.min_area = 0,
+                                        .min_width = 0,
+                                        .off_edge_runs = false,
+                                        .valley_branches = false,
+                                        .smooth_spacings = 0};
 
 using drainage::test::analytic;
 
@@ -42,7 +46,8 @@ Scene scene_of(const terrain::Grid& g, bool fill, std::optional<double> breach =
   s.mesh = terrain::make_grid_mesh(g, terrain::NormalWeighting::Uniform);
   const auto result = drainage::compute_drainage(g, {fill, true, breach});
   terrain::test::ScratchDir dir;
-  drainage::write_dv(dir.path("s.dv"), drainage::make_dv_header(result.surface, result.net, result.dv_flags, "test"),
+  drainage::write_dv(dir.path("s.dv"),
+                     drainage::make_dv_header(result.surface, result.net, result.dv_flags, "test"),
                      result.surface, result.dirs, result.net);
   s.links = drainage::drainage_links(drainage::read_dv(dir.path("s.dv")));
   return s;
@@ -50,12 +55,15 @@ Scene scene_of(const terrain::Grid& g, bool fill, std::optional<double> breach =
 
 TEST(PlanCurvature, ValleysArePositiveRidgesNegativePlanesZero) {
   const std::size_t n = 21;
-  const auto vk = plan_curvature(terrain::make_grid_mesh(analytic(n, 10, [](double x, double y) { return 0.5 * std::abs(x) + 0.1 * y; }),
-                                                        terrain::NormalWeighting::Uniform));
-  const auto rk = plan_curvature(terrain::make_grid_mesh(analytic(n, 10, [](double x, double y) { return -0.5 * std::abs(x) + 0.1 * y; }),
-                                                        terrain::NormalWeighting::Uniform));
-  const auto pk = plan_curvature(terrain::make_grid_mesh(analytic(n, 10, [](double x, double y) { return 0.3 * x + 0.1 * y; }),
-                                                        terrain::NormalWeighting::Uniform));
+  const auto vk = plan_curvature(terrain::make_grid_mesh(
+      analytic(n, 10, [](double x, double y) { return 0.5 * std::abs(x) + 0.1 * y; }),
+      terrain::NormalWeighting::Uniform));
+  const auto rk = plan_curvature(terrain::make_grid_mesh(
+      analytic(n, 10, [](double x, double y) { return -0.5 * std::abs(x) + 0.1 * y; }),
+      terrain::NormalWeighting::Uniform));
+  const auto pk = plan_curvature(
+      terrain::make_grid_mesh(analytic(n, 10, [](double x, double y) { return 0.3 * x + 0.1 * y; }),
+                              terrain::NormalWeighting::Uniform));
   for (std::size_t r = 1; r + 1 < n; ++r)
     for (std::size_t c = 1; c + 1 < n; ++c) {
       const std::size_t i = r * n + c;
@@ -93,7 +101,8 @@ TEST(CreaseStrokes, APolylineIsOneStrokeAndJunctionsContinueTheLargerInflow) {
   std::vector<float> gap(9, 1.0f);
   gap[4] = 0;
   EXPECT_EQ(crease_strokes(g, gap).size(), 2u);
-  // A small tributary joins at vertex 5: the main stem runs on, the tributary is a stroke of its own.
+  // A small tributary joins at vertex 5: the main stem runs on, the tributary is a stroke of its
+  // own.
   g.positions.emplace_back(5.0f, 1.0f, 0.0f), g.normals.emplace_back(0.0f, 0.0f, 1.0f);
   g.positions.emplace_back(5.0f, 2.0f, 0.0f), g.normals.emplace_back(0.0f, 0.0f, 1.0f);
   g.flow.push_back(0.01f), g.flow.push_back(0.02f);
@@ -116,7 +125,8 @@ TEST(LineStats, ConnectedShareCountsTreesThatReachWhereALineMayEnd) {
   g.positions.emplace_back(5.0f, 2.0f, 0.0f), g.normals.emplace_back(0.0f, 0.0f, 1.0f);
   g.flow.push_back(0.01f), g.flow.push_back(0.02f);
   g.source.push_back(10), g.source.push_back(11);
-  g.segments.insert(g.segments.end(), {11u, 10u, 10u, 5u});  // segments 9 (11 -> 10) and 10 (10 -> 5)
+  g.segments.insert(g.segments.end(),
+                    {11u, 10u, 10u, 5u});  // segments 9 (11 -> 10) and 10 (10 -> 5)
   SegmentTraits t;
   t.open_end.assign(11, 0);
   t.open_end[8] = 1;  // the chain's last segment ends at the edge
@@ -124,7 +134,8 @@ TEST(LineStats, ConnectedShareCountsTreesThatReachWhereALineMayEnd) {
   std::vector<float> drawn(11, 1.0f);
   EXPECT_DOUBLE_EQ(connected_share(g, t, drawn, px), 1.0);
   drawn[4] = 0;
-  EXPECT_DOUBLE_EQ(connected_share(g, t, drawn, px), 60.0 / 100.0);  // 0-3 a dash; 5-8 and 9-10 reach the edge
+  EXPECT_DOUBLE_EQ(connected_share(g, t, drawn, px),
+                   60.0 / 100.0);  // 0-3 a dash; 5-8 and 9-10 reach the edge
   drawn[10] = 0;
   EXPECT_DOUBLE_EQ(connected_share(g, t, drawn, px), 40.0 / 90.0);  // 9 stops short of the stem too
   drawn[9] = 0.5f;
@@ -142,7 +153,8 @@ TEST(LineStats, ConnectedShareCountsTreesThatReachWhereALineMayEnd) {
 TEST(LineStats, LinesMayEndAtTheEdgeOrAtAClosedBasinsPit) {
   for (const bool bowl : {true, false}) {
     SCOPED_TRACE(bowl ? "bowl" : "plane");
-    const terrain::Grid g = analytic(41, 10.0, [&](double x, double y) { return bowl ? 0.01 * (x * x + y * y) : 0.1 * x; });
+    const terrain::Grid g = analytic(
+        41, 10.0, [&](double x, double y) { return bowl ? 0.01 * (x * x + y * y) : 0.1 * x; });
     const Scene sc = scene_of(g, false);
     const CreaseGeometry geo = renderer::build_crease_geometry(sc.mesh, sc.links, kPaperLinks);
     const SegmentTraits t = segment_traits(sc.mesh, sc.links, geo);
@@ -195,9 +207,11 @@ TEST(CreaseStrokes, StrokesShorterThanTheMinimumAreLeftOut) {
   std::vector<float> want = o;
   want[0] = want[1] = want[2] = 0;
   EXPECT_EQ(apply_stroke_rule(segment_chains(g), o, metres, {0, 3.5}), want);
-  EXPECT_EQ(apply_stroke_rule(segment_chains(g), o, metres, {0, 7.0}), std::vector<float>(10, 0.0f));
+  EXPECT_EQ(apply_stroke_rule(segment_chains(g), o, metres, {0, 7.0}),
+            std::vector<float>(10, 0.0f));
   // Bridged first, then measured: the gap joins both runs into one stroke of 10 m.
-  EXPECT_EQ(apply_stroke_rule(segment_chains(g), o, metres, {1.0, 7.0}), std::vector<float>(10, 1.0f));
+  EXPECT_EQ(apply_stroke_rule(segment_chains(g), o, metres, {1.0, 7.0}),
+            std::vector<float>(10, 1.0f));
   // A tributary of two 1 m segments joins the drawn stem at vertex 5: its stroke ends
   // there (the stem continues from the larger inflow), so it is 2 m long.
   g.positions.emplace_back(5.0f, 1.0f, 0.0f), g.normals.emplace_back(0.0f, 0.0f, 1.0f);
@@ -227,7 +241,8 @@ TEST(LineStats, VisibleFractionTestsEachSegmentsOwnDepth) {
     camera.eye = Eigen::Vector3d(0, 0, 100);
     camera.view_az = 0;
     camera.view_alt = 90;
-    const View view = make_view(camera, Eigen::Vector3d::Zero(), Box{{-30, -30, -60}, {30, 30, 60}}, 40, 40, reversed);
+    const View view = make_view(camera, Eigen::Vector3d::Zero(), Box{{-30, -30, -60}, {30, 30, 60}},
+                                40, 40, reversed);
     CreaseGeometry g;
     g.positions = {{-500, 0, 0}, {500, 0, 0}};
     g.segments = {0, 1};
@@ -235,7 +250,10 @@ TEST(LineStats, VisibleFractionTestsEachSegmentsOwnDepth) {
     const float behind = float(project(view, Eigen::Vector3d(0, 0, -50)).depth);
     std::vector<float> toward(40 * 40);
     for (int v = 0; v < 40; ++v)
-      for (int u = 0; u < 40; ++u) toward[std::size_t(v * 40 + u)] = u < 13 ? front : u < 27 ? behind : (reversed ? 0.0f : 1.0f);
+      for (int u = 0; u < 40; ++u)
+        toward[std::size_t(v * 40 + u)] = u < 13   ? front
+                                          : u < 27 ? behind
+                                                   : (reversed ? 0.0f : 1.0f);
     EXPECT_NEAR(visible_fraction(g, view, 1.0, 0.0, toward, false)[0], 14.0 / 40, 1e-9) << reversed;
     EXPECT_NEAR(visible_fraction(g, view, 1.0, 0.0, toward, true)[0], 16.0 / 40, 1e-9) << reversed;
   }
@@ -255,8 +273,8 @@ TEST(LineStats, FlickerCountsWhatAppearsOrVanishes) {
 // 40 px, as a fully drawn copy of the same picture would give.
 TEST(LineStats, StrokesWeightedByOpacityAsTheirLengthIs) {
   const CreaseGeometry g = chain(9);
-  const SegmentTraits t{std::vector<std::uint8_t>(9, 0), std::vector<std::uint8_t>(9, 0), std::vector<std::uint8_t>(9, 1),
-                        std::vector<std::uint8_t>(9, 0)};
+  const SegmentTraits t{std::vector<std::uint8_t>(9, 0), std::vector<std::uint8_t>(9, 0),
+                        std::vector<std::uint8_t>(9, 1), std::vector<std::uint8_t>(9, 0)};
   const std::vector<double> px(9, 10.0);
   const LineStats st = line_stats(g, t, {1, 1, 1, 1, 0, 0.5f, 0.5f, 1, 1}, px);
   EXPECT_DOUBLE_EQ(st.length_px, 70.0);
@@ -281,14 +299,19 @@ TEST(LineStats, StrokesWeightedByOpacityAsTheirLengthIs) {
 // all of them in concave ground: valley share 1; none on the planar sides.
 TEST(CreaseRules, VValleyCreasesLieOnTheAxis) {
   const std::size_t n = 41;
-  const Scene s = scene_of(analytic(n, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
-  const CreaseGeometry g = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0});
+  const Scene s = scene_of(
+      analytic(n, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
+  const CreaseGeometry g = build_crease_geometry(
+      s.mesh, s.links,
+      {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0});
   ASSERT_GT(g.n_segments(), 30u);
   const SegmentTraits t = segment_traits(s.mesh, s.links, g);
   const double axis_x = double(n / 2) * 10.0;  // local frame: x = column * h
   for (std::size_t k = 0; k < g.n_segments(); ++k)
-    for (int e = 0; e < 2; ++e) ASSERT_NEAR(g.positions[g.segments[2 * k + std::size_t(e)]].x(), axis_x, 1e-3) << k;
-  const LineStats st = line_stats(g, t, std::vector<float>(g.n_segments(), 1.0f), std::vector<double>(g.n_segments(), 1.0));
+    for (int e = 0; e < 2; ++e)
+      ASSERT_NEAR(g.positions[g.segments[2 * k + std::size_t(e)]].x(), axis_x, 1e-3) << k;
+  const LineStats st = line_stats(g, t, std::vector<float>(g.n_segments(), 1.0f),
+                                  std::vector<double>(g.n_segments(), 1.0));
   EXPECT_EQ(st.valley, 1.0);
   EXPECT_EQ(st.flat, 0.0);
   EXPECT_EQ(st.strokes, 1u);  // one channel down the axis
@@ -298,7 +321,8 @@ TEST(CreaseRules, VValleyCreasesLieOnTheAxis) {
 // rounding, no warning); the same network 3 m higher is 3 m off (a warning), 0.1 m higher
 // (1 % of the 10 m spacing, under kSurfaceOffsetShare) is not worth one.
 TEST(CreaseGeometry, MedianSurfaceOffsetTellsAnotherSurface) {
-  const Scene s = scene_of(analytic(41, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
+  const Scene s = scene_of(
+      analytic(41, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
   const CreaseGeometry own = build_crease_geometry(s.mesh, s.links, kPaperLinks);
   EXPECT_LT(own.median_surface_offset, 1e-3);
   EXPECT_EQ(surface_warning(s.mesh, own), "");
@@ -309,7 +333,9 @@ TEST(CreaseGeometry, MedianSurfaceOffsetTellsAnotherSurface) {
     EXPECT_NEAR(g.median_surface_offset, dz, 1e-3);
     const std::string w = surface_warning(s.mesh, g);
     if (dz > kSurfaceOffsetShare * 10) {
-      EXPECT_NE(w.find("median 3.00 m off this mesh's PN surface (30 % of its 10 m spacing)"), std::string::npos) << w;
+      EXPECT_NE(w.find("median 3.00 m off this mesh's PN surface (30 % of its 10 m spacing)"),
+                std::string::npos)
+          << w;
     } else {
       EXPECT_EQ(w, "");
     }
@@ -324,14 +350,28 @@ TEST(CreaseGeometry, MedianSurfaceOffsetTellsAnotherSurface) {
 TEST(CreaseRules, APlaneDrainingOffAnEdgeGathersNoCreasesThere) {
   const std::size_t n = 64;
   const Scene s = scene_of(analytic(n, 10, [](double, double y) { return 0.05 * y; }), false);
-  const CreaseGeometry paper =
-      build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .edge_basin_min_share = 0, .log_flow = false, .one_line_per_flat = false, .valley_branches = false, .smooth_spacings = 0});
-  const CreaseGeometry linear = build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .log_flow = false, .valley_branches = false, .smooth_spacings = 0});
+  const CreaseGeometry paper = build_crease_geometry(s.mesh, s.links,
+                                                     {.min_area = 0,
+                                                      .min_width = 0,
+                                                      .off_edge_runs = false,
+                                                      .edge_basin_min_share = 0,
+                                                      .log_flow = false,
+                                                      .one_line_per_flat = false,
+                                                      .valley_branches = false,
+                                                      .smooth_spacings = 0});
+  const CreaseGeometry linear = build_crease_geometry(s.mesh, s.links,
+                                                      {.min_area = 0,
+                                                       .min_width = 0,
+                                                       .off_edge_runs = false,
+                                                       .log_flow = false,
+                                                       .valley_branches = false,
+                                                       .smooth_spacings = 0});
   const CreaseGeometry ours = build_crease_geometry(s.mesh, s.links, kPaperLinks);
   const float floor = 0.05f * float(n * n);
   EXPECT_EQ(*std::max_element(paper.flow.begin(), paper.flow.end()), 1.0f);
   EXPECT_LE(*std::max_element(linear.flow.begin(), linear.flow.end()), float(n) / floor + 1e-6f);
-  EXPECT_NEAR(*std::max_element(ours.flow.begin(), ours.flow.end()), std::log(float(n)) / std::log(floor), 1e-5f);
+  EXPECT_NEAR(*std::max_element(ours.flow.begin(), ours.flow.end()),
+              std::log(float(n)) / std::log(floor), 1e-5f);
   // Scored from above, the light from the north-west, with the lowest score of the paper's
   // Figure 15 range that draws the paper's band (0.15; its flow is 1 there) and the
   // distance term this test was set up with (falloff 0.3, the default until stop 33; with
@@ -349,8 +389,9 @@ TEST(CreaseRules, APlaneDrainingOffAnEdgeGathersNoCreasesThere) {
     return std::make_pair(all, edge);
   };
   const auto [paper_all, paper_edge] = edge_share(paper);
-  EXPECT_GT(paper_edge, 0u);                               // the paper's rule: creases along the edge
-  EXPECT_GT(double(paper_edge), 0.25 * double(paper_all));  // ... many of them there (the band is 3 / 64 of the grid)
+  EXPECT_GT(paper_edge, 0u);  // the paper's rule: creases along the edge
+  EXPECT_GT(double(paper_edge),
+            0.25 * double(paper_all));  // ... many of them there (the band is 3 / 64 of the grid)
   EXPECT_EQ(edge_share(linear).first, 0u);
   EXPECT_EQ(edge_share(ours).first, 0u);
   // At today's defaults (min score 0.25, falloff 0.2) the same: 158 of the paper's 448 at
@@ -368,7 +409,8 @@ TEST(CreaseRules, APlaneDrainingOffAnEdgeGathersNoCreasesThere) {
 // upstream; it is the linear share's logarithm shifted and scaled, fc_log = 1 + ln(fc_lin) / ln(T).
 TEST(CreaseRules, LogFlowRanksPointsByOrderOfMagnitude) {
   const std::size_t n = 41;
-  const Scene s = scene_of(analytic(n, 10, [](double x, double y) { return 0.1 * std::hypot(x, y); }), false);
+  const Scene s =
+      scene_of(analytic(n, 10, [](double x, double y) { return 0.1 * std::hypot(x, y); }), false);
   const terrain::DrainageLinks& l = s.links;
   const std::vector<float> lin = crease_flow(l, 0.05, false), lg = crease_flow(l, 0.05, true);
   const std::size_t pit = (n / 2) * n + n / 2;
@@ -402,17 +444,31 @@ TEST(CreaseRules, LogFlowRanksPointsByOrderOfMagnitude) {
 TEST(CreaseRules, AFilledSquareDepressionGetsOneLine) {
   const std::size_t n = 40;
   const Scene s = scene_of(analytic(n, 10,
-                                   [](double x, double y) {
-                                     const double z = 0.05 * y + 0.01 * x + 20;
-                                     return std::abs(x) < 60 && std::abs(y) < 60 ? z - 5 - 0.01 * (60 - std::abs(y)) : z;
-                                   }),
+                                    [](double x, double y) {
+                                      const double z = 0.05 * y + 0.01 * x + 20;
+                                      return std::abs(x) < 60 && std::abs(y) < 60
+                                                 ? z - 5 - 0.01 * (60 - std::abs(y))
+                                                 : z;
+                                    }),
                            true);
-  const CreaseGeometry all = build_crease_geometry(s.mesh, s.links, {.min_area = 0, .min_width = 0, .off_edge_runs = false, .one_line_per_flat = false, .valley_branches = false, .smooth_spacings = 0});
-  const CreaseGeometry one = build_crease_geometry(s.mesh, s.links, {.min_area = 2000, .min_width = 0, .off_edge_runs = false, .valley_branches = false, .smooth_spacings = 0});
+  const CreaseGeometry all = build_crease_geometry(s.mesh, s.links,
+                                                   {.min_area = 0,
+                                                    .min_width = 0,
+                                                    .off_edge_runs = false,
+                                                    .one_line_per_flat = false,
+                                                    .valley_branches = false,
+                                                    .smooth_spacings = 0});
+  const CreaseGeometry one = build_crease_geometry(s.mesh, s.links,
+                                                   {.min_area = 2000,
+                                                    .min_width = 0,
+                                                    .off_edge_runs = false,
+                                                    .valley_branches = false,
+                                                    .smooth_spacings = 0});
   auto flat_strokes = [&](const CreaseGeometry& g) {
     const SegmentTraits t = segment_traits(s.mesh, s.links, g);
     std::vector<float> drawn(t.flat.begin(), t.flat.end());
-    return std::make_pair(crease_strokes(g, drawn).size(), std::size_t(std::count(t.flat.begin(), t.flat.end(), 1)));
+    return std::make_pair(crease_strokes(g, drawn).size(),
+                          std::size_t(std::count(t.flat.begin(), t.flat.end(), 1)));
   };
   const auto [all_strokes, all_flat] = flat_strokes(all);
   const auto [one_strokes, one_flat] = flat_strokes(one);
@@ -421,7 +477,8 @@ TEST(CreaseRules, AFilledSquareDepressionGetsOneLine) {
   EXPECT_GE(one_flat, 11u);  // it crosses the flat
   EXPECT_LT(3 * one_flat, all_flat);
   const std::vector<float> every(one.n_segments(), 1.0f);
-  EXPECT_EQ(connected_share(one, segment_traits(s.mesh, s.links, one), every, segment_metres(one)), 1.0);
+  EXPECT_EQ(connected_share(one, segment_traits(s.mesh, s.links, one), every, segment_metres(one)),
+            1.0);
 }
 
 // Flow down planes is not a crease (CreaseRules::min_width): a plane falling 0.3 south
@@ -433,23 +490,30 @@ TEST(CreaseRules, AFilledSquareDepressionGetsOneLine) {
 TEST(CreaseRules, PlanesDrawNoParallelTracks) {
   const std::size_t n = 81;
   const double h = 10;
-  const Scene s = scene_of(analytic(n, h, [](double x, double y) { return 0.3 * y + 0.5 * std::min(std::abs(x), 30.0); }),
-                           false);
+  const Scene s = scene_of(
+      analytic(n, h,
+               [](double x, double y) { return 0.3 * y + 0.5 * std::min(std::abs(x), 30.0); }),
+      false);
   const double axis = double(n / 2) * h;  // x of the valley's axis in the mesh's local frame
   auto off_axis = [&](const CreaseGeometry& g) {
     std::size_t off = 0;
-    for (std::size_t k = 0; k < g.segments.size(); ++k) off += std::abs(g.positions[g.segments[k]].x() - axis) > 2 * h;
+    for (std::size_t k = 0; k < g.segments.size(); ++k)
+      off += std::abs(g.positions[g.segments[k]].x() - axis) > 2 * h;
     return off;
   };
-  const CreaseGeometry tracks = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0});
-  const CreaseGeometry valley =
-      build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 30, .valley_branches = false, .smooth_spacings = 0});
+  const CreaseGeometry tracks = build_crease_geometry(
+      s.mesh, s.links,
+      {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0});
+  const CreaseGeometry valley = build_crease_geometry(
+      s.mesh, s.links,
+      {.min_area = 3000, .min_width = 30, .valley_branches = false, .smooth_spacings = 0});
   EXPECT_GT(off_axis(tracks), 500u) << "a fan of parallel tracks";
   EXPECT_EQ(off_axis(valley), 0u);
   EXPECT_GE(valley.n_segments(), 60u);  // the trench, from where 30 points drain to the outlet
   // The valley rule alone (CreaseRules::valley_branches) leaves the tracks out too: the
   // plane's concavity across any link is 0, the trench's (0.5 * 30 * 2) / 30^2 = 0.033 / m.
-  const CreaseGeometry concave = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .smooth_spacings = 0});
+  const CreaseGeometry concave = build_crease_geometry(
+      s.mesh, s.links, {.min_area = 3000, .min_width = 0, .smooth_spacings = 0});
   EXPECT_EQ(off_axis(concave), 0u);
   EXPECT_EQ(concave.segments, valley.segments);
   // The contributing width of a track is the spacing; the trench's 7 columns.
@@ -475,7 +539,8 @@ TEST(CreaseRules, AFedBranchAcrossAPlaneIsKept) {
   std::vector<std::uint8_t> leaves(g.positions.size(), 0);
   for (std::size_t k = 0; k < g.n_segments(); ++k) leaves[g.segments[2 * k]] = 1;
   std::size_t stops = 0;
-  for (std::size_t k = 0; k < g.n_segments(); ++k) stops += !leaves[g.segments[2 * k + 1]] && !t.open_end[k];
+  for (std::size_t k = 0; k < g.n_segments(); ++k)
+    stops += !leaves[g.segments[2 * k + 1]] && !t.open_end[k];
   EXPECT_EQ(stops, 0u);
   const std::vector<float> every(g.n_segments(), 1.0f);
   EXPECT_EQ(connected_share(g, t, every, segment_metres(g)), 1.0);
@@ -487,8 +552,9 @@ TEST(CreaseRules, AFedBranchAcrossAPlaneIsKept) {
   std::vector<std::uint32_t> order;
   for (std::uint32_t i = 0; i < n; ++i)
     if (L.valid[i]) order.push_back(i);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::uint32_t a, std::uint32_t b) { return L.accumulated[a] < L.accumulated[b]; });
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return L.accumulated[a] < L.accumulated[b];
+  });
   std::vector<float> length(n, 0.0f);
   for (const std::uint32_t i : order)
     if (const std::uint32_t d = L.downstream[i]; d < n)
@@ -504,8 +570,8 @@ TEST(CreaseRules, AFedBranchAcrossAPlaneIsKept) {
 // Issue 50: pits make dashes, conditioning connects them. Sixteen parallel valleys 100 m
 // apart fall south (5 % along them, 10 m deep), each with a bowl 1 m deep and 30 m across
 // every 150 m along its floor: small closed depressions, as a DEM's noise leaves them, each
-// draining about 150 points, under kClosedBasinShare of the grid (259). Drained with every pit a basin (the
-// paper's rule, --keep-pits), each valley's crease breaks at every bowl into pieces that
+// draining about 150 points, under kClosedBasinShare of the grid (259). Drained with every pit a
+// basin (the paper's rule, --keep-pits), each valley's crease breaks at every bowl into pieces that
 // reach no line; breached (build-drainage's default in mesh mode, --breach 10), each runs
 // to the grid's southern edge. Every segment drawn, terrain-render's rules.
 TEST(CreaseRules, PitsMakeDashesAndBreachingConnectsThem) {
@@ -526,8 +592,8 @@ TEST(CreaseRules, PitsMakeDashesAndBreachingConnectsThem) {
     share[k] = connected_share(g, segment_traits(s.mesh, s.links, g), every, segment_metres(g));
     segments[k] = g.n_segments();
   }
-  std::cout << "connected share: every pit a basin " << share[0] << " (" << segments[0] << " segments), breached "
-            << share[1] << " (" << segments[1] << ")\n";
+  std::cout << "connected share: every pit a basin " << share[0] << " (" << segments[0]
+            << " segments), breached " << share[1] << " (" << segments[1] << ")\n";
   EXPECT_GT(segments[0], 200u);
   EXPECT_GT(segments[1], 500u);
   EXPECT_LT(share[0], 0.5);
@@ -545,8 +611,8 @@ TEST(CreaseRules, PitsMakeDashesAndBreachingConnectsThem) {
 // ramp's planes).
 TEST(CreaseRules, ATerracedRampWithAValleyDrawsItsCreasesDownTheValley) {
   const std::size_t n = 81;
-  const terrain::Grid rounded =
-      analytic(n, 10, [](double x, double y) { return std::round(400 + 0.02 * x + 0.05 * std::abs(y)); });
+  const terrain::Grid rounded = analytic(
+      n, 10, [](double x, double y) { return std::round(400 + 0.02 * x + 0.05 * std::abs(y)); });
   terrain::Grid smooth = rounded;
   ASSERT_TRUE(terrain::is_integer_dem(rounded));
   terrain::dequantize(smooth);
@@ -556,8 +622,10 @@ TEST(CreaseRules, ATerracedRampWithAValleyDrawsItsCreasesDownTheValley) {
     const SegmentTraits t = segment_traits(s.mesh, s.links, c);
     const std::vector<double> len = segment_metres(c);
     double all = 0, flat = 0, valley = 0;
-    for (std::size_t k = 0; k < len.size(); ++k) all += len[k], flat += t.flat[k] * len[k], valley += t.valley[k] * len[k];
-    std::cout << "creases " << all << " m, flat share " << flat / all << ", valley share " << valley / all << "\n";
+    for (std::size_t k = 0; k < len.size(); ++k)
+      all += len[k], flat += t.flat[k] * len[k], valley += t.valley[k] * len[k];
+    std::cout << "creases " << all << " m, flat share " << flat / all << ", valley share "
+              << valley / all << "\n";
     return std::make_pair(flat / all, valley / all);
   };
   const auto [stored_flat, stored_valley] = shares(rounded);
@@ -573,8 +641,11 @@ TEST(CreaseRules, ATerracedRampWithAValleyDrawsItsCreasesDownTheValley) {
 TEST(CreaseRules, RunsAlongTheGridEdgeAreLeftOut) {
   const std::size_t n = 41;
   const double h = 10, edge_x = -double(n / 2 - 1) * h;  // analytic x of column 1
-  const CreaseRules with{.min_area = 3000, .smooth_spacings = 0}, without{.min_area = 3000, .off_edge_runs = false, .smooth_spacings = 0};
-  const Scene edge = scene_of(analytic(n, h, [&](double x, double y) { return 0.3 * std::abs(x - edge_x) + 0.05 * y; }), false);
+  const CreaseRules with{.min_area = 3000, .smooth_spacings = 0},
+      without{.min_area = 3000, .off_edge_runs = false, .smooth_spacings = 0};
+  const Scene edge = scene_of(
+      analytic(n, h, [&](double x, double y) { return 0.3 * std::abs(x - edge_x) + 0.05 * y; }),
+      false);
   auto along_column_1 = [&](const CreaseGeometry& g) {
     std::size_t k = 0;
     for (std::size_t s = 0; s < g.n_segments(); ++s)
@@ -583,7 +654,8 @@ TEST(CreaseRules, RunsAlongTheGridEdgeAreLeftOut) {
   };
   EXPECT_GE(along_column_1(build_crease_geometry(edge.mesh, edge.links, without)), 10u);
   EXPECT_EQ(along_column_1(build_crease_geometry(edge.mesh, edge.links, with)), 0u);
-  const Scene middle = scene_of(analytic(n, h, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
+  const Scene middle = scene_of(
+      analytic(n, h, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
   const CreaseGeometry a = build_crease_geometry(middle.mesh, middle.links, with),
                        b = build_crease_geometry(middle.mesh, middle.links, without);
   EXPECT_GE(a.n_segments(), 10u);
@@ -594,9 +666,14 @@ TEST(CreaseRules, RunsAlongTheGridEdgeAreLeftOut) {
 // along a column) does not move.
 TEST(CreaseLines, SmoothingLeavesAStraightChannelWhereItIs) {
   const std::size_t n = 41;
-  const Scene s = scene_of(analytic(n, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
-  const CreaseGeometry d8 = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0});
-  const CreaseGeometry smooth = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 1});
+  const Scene s = scene_of(
+      analytic(n, 10, [](double x, double y) { return 0.3 * std::abs(x) + 0.05 * y; }), false);
+  const CreaseGeometry d8 = build_crease_geometry(
+      s.mesh, s.links,
+      {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0});
+  const CreaseGeometry smooth = build_crease_geometry(
+      s.mesh, s.links,
+      {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 1});
   ASSERT_EQ(smooth.positions.size(), d8.positions.size());
   EXPECT_EQ(smooth.segments, d8.segments);
   CreaseGeometry widest = d8;  // sigma capped (kMaxSmoothSigma): no overflow of the window
@@ -619,16 +696,21 @@ TEST(CreaseLines, SmoothingLeavesAStraightChannelWhereItIs) {
 TEST(CreaseLines, SmoothingStraightensAnObliqueD8Staircase) {
   const std::size_t n = 61;
   const double h = 10, ca = 3 / std::sqrt(10.0), sa = 1 / std::sqrt(10.0);
-  const Scene s = scene_of(analytic(n, h,
-                                    [&](double x, double y) {
-                                      return 0.3 * std::abs(x * ca - y * sa) + 0.2 * (x * sa + y * ca);
-                                    }),
-                           false);
-  const CreaseGeometry d8 = build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0});
+  const Scene s =
+      scene_of(analytic(n, h,
+                        [&](double x, double y) {
+                          return 0.3 * std::abs(x * ca - y * sa) + 0.2 * (x * sa + y * ca);
+                        }),
+               false);
+  const CreaseGeometry d8 = build_crease_geometry(
+      s.mesh, s.links,
+      {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0});
   ASSERT_GT(d8.n_segments(), 40u);
   // The analytic origin in the mesh's local frame (x = column * h, y = -row * h).
   const double x0 = double(n / 2) * h, y0 = -double(n / 2) * h;
-  auto off_axis = [&](const Eigen::Vector3f& p) { return std::abs((p.x() - x0) * ca - (p.y() - y0) * sa); };
+  auto off_axis = [&](const Eigen::Vector3f& p) {
+    return std::abs((p.x() - x0) * ca - (p.y() - y0) * sa);
+  };
   // The main channel: the longest line from an outlet upstream along the inflow of largest
   // flow (segment_chains' rule).
   const SegmentChains ch = segment_chains(d8);
@@ -636,7 +718,8 @@ TEST(CreaseLines, SmoothingStraightensAnObliqueD8Staircase) {
   for (std::uint32_t last = 0; last < d8.n_segments(); ++last) {
     if (ch.next[last] != kNoSegment) continue;  // not the segment into an outlet
     std::vector<std::uint32_t> line{d8.segments[2 * last + 1]};
-    for (std::uint32_t t = last; t != kNoSegment; t = ch.prev[t]) line.push_back(d8.segments[2 * t]);
+    for (std::uint32_t t = last; t != kNoSegment; t = ch.prev[t])
+      line.push_back(d8.segments[2 * t]);
     if (line.size() > stem.size()) stem = line;
   }
   ASSERT_GT(stem.size(), 40u);
@@ -645,33 +728,48 @@ TEST(CreaseLines, SmoothingStraightensAnObliqueD8Staircase) {
   };
   auto offset = [&](const CreaseGeometry& g) {
     Offset o;
-    for (const std::uint32_t v : stem) o.mean += off_axis(g.positions[v]), o.max = std::max(o.max, off_axis(g.positions[v]));
+    for (const std::uint32_t v : stem)
+      o.mean += off_axis(g.positions[v]), o.max = std::max(o.max, off_axis(g.positions[v]));
     o.mean /= double(stem.size());
     return o;
   };
   const Offset before = offset(d8);
   EXPECT_GT(before.mean, 1.0);  // a staircase
-  for (const CreaseRules& rules : {CreaseRules{.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 1, .smooth_min_samples = 0},
-                                  CreaseRules{.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0.5}}) {
+  for (const CreaseRules& rules :
+       {CreaseRules{.min_area = 3000,
+       .min_width = 0,
+       .valley_branches = false,
+       .smooth_spacings = 1,
+       .smooth_min_samples = 0},
+        CreaseRules{
+            .min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0.5}}) {
     const CreaseGeometry smooth = build_crease_geometry(s.mesh, s.links, rules);
     EXPECT_EQ(smooth.positions[stem.front()], d8.positions[stem.front()]);  // the outlet
     EXPECT_EQ(smooth.positions[stem.back()], d8.positions[stem.back()]);    // the channel head
     for (const std::uint32_t v : stem) {
       const auto a = terrain::pn_point_above(s.mesh, d8.positions[v].x(), d8.positions[v].y());
-      const auto b = terrain::pn_point_above(s.mesh, smooth.positions[v].x(), smooth.positions[v].y());
+      const auto b =
+          terrain::pn_point_above(s.mesh, smooth.positions[v].x(), smooth.positions[v].y());
       ASSERT_TRUE(a && b);
-      EXPECT_NEAR(smooth.positions[v].z() - b->position.z(), d8.positions[v].z() - a->position.z(), 1e-3) << v;
+      EXPECT_NEAR(smooth.positions[v].z() - b->position.z(), d8.positions[v].z() - a->position.z(),
+                  1e-3)
+          << v;
     }
     const Offset after = offset(smooth);
-    std::cout << "mean distance from the axis (" << stem.size() << " vertices), smoothed over " << rules.smooth_spacings
-              << " spacings, at least " << rules.smooth_min_samples << " samples: D8 " << before.mean << " m -> "
-              << after.mean << " m (max " << before.max << " -> " << after.max << " m)\n";
+    std::cout << "mean distance from the axis (" << stem.size() << " vertices), smoothed over "
+              << rules.smooth_spacings << " spacings, at least " << rules.smooth_min_samples
+              << " samples: D8 " << before.mean << " m -> " << after.mean << " m (max "
+              << before.max << " -> " << after.max << " m)\n";
     EXPECT_LT(after.mean, 0.25 * before.mean);
     EXPECT_LT(after.max, 0.25 * before.max);
   }
   // Half a sample alone leaves the staircase.
-  const Offset half = offset(
-      build_crease_geometry(s.mesh, s.links, {.min_area = 3000, .min_width = 0, .valley_branches = false, .smooth_spacings = 0.5, .smooth_min_samples = 0}));
+  const Offset half = offset(build_crease_geometry(s.mesh, s.links,
+                                                   {.min_area = 3000,
+                                                    .min_width = 0,
+                                                    .valley_branches = false,
+                                                    .smooth_spacings = 0.5,
+                                                    .smooth_min_samples = 0}));
   EXPECT_GT(half.mean, 0.5 * before.mean);
 }
 

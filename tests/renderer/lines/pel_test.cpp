@@ -62,8 +62,10 @@ TEST(Pel, BumpLitFromAboveGivesCirclesAtTheDerivedRadii) {
   for (const auto& p : pels.points) {
     const double r = std::hypot(p.x() - c0, p.y() + c0);
     const int k = std::abs(r - radii[0]) < std::abs(r - radii[1]) ? 0 : 1;
-    if (std::abs(r - radii[k]) <= half_edge) ++near[k];
-    else ++off;
+    if (std::abs(r - radii[k]) <= half_edge)
+      ++near[k];
+    else
+      ++off;
   }
   EXPECT_EQ(off, 0u) << "radii " << radii[0] << " " << radii[1];
   EXPECT_GT(near[0], 100u);  // both circles are found
@@ -103,7 +105,8 @@ TEST(PelPieces, BumpCirclesAreOnePieceEach) {
   // The rule keeps both in full up to their lengths, and fades the short one beyond.
   for (float o : renderer::pel_piece_opacity(pieces, lengths[0])) EXPECT_EQ(o, 1.0f);
   std::size_t faded = 0;
-  for (float o : renderer::pel_piece_opacity(pieces, 1.5 * lengths[0])) faded += o > 0.0f && o < 1.0f;
+  for (float o : renderer::pel_piece_opacity(pieces, 1.5 * lengths[0]))
+    faded += o > 0.0f && o < 1.0f;
   EXPECT_GT(faded, 50u);
 }
 
@@ -116,7 +119,8 @@ TEST(PelPieces, BumpCirclesAreOnePieceEach) {
 // (x - y = d), x = 2.5 + slope y.
 TEST(PelPieces, LinesCutWhereTheMaximumEnds) {
   const std::size_t rows = 12, cols = 8;
-  const terrain::GridMesh m = terrain::test::function_mesh(rows, cols, 1.0, [](double, double) { return 0.0; });
+  const terrain::GridMesh m =
+      terrain::test::function_mesh(rows, cols, 1.0, [](double, double) { return 0.0; });
   for (double slope : {0.0, 0.37}) {
     SCOPED_TRACE(slope);
     renderer::PelFields f;
@@ -174,9 +178,11 @@ double mean_turn_degrees(const renderer::PelSegments& pels) {
   const auto& p = pels.points;
   double sum = 0;
   std::size_t n = 0;
-  std::map<std::tuple<long, long, long>, std::vector<std::size_t>> at;  // ends by position (0.1 mm cells)
+  std::map<std::tuple<long, long, long>, std::vector<std::size_t>>
+      at;  // ends by position (0.1 mm cells)
   auto key = [](const Eigen::Vector3f& x) {
-    return std::make_tuple(std::lround(x.x() * 1e4), std::lround(x.y() * 1e4), std::lround(x.z() * 1e4));
+    return std::make_tuple(std::lround(x.x() * 1e4), std::lround(x.y() * 1e4),
+                           std::lround(x.z() * 1e4));
   };
   for (std::size_t i = 0; i < p.size(); ++i) at[key(p[i])].push_back(i);
   for (const auto& [k, ends] : at) {
@@ -197,7 +203,8 @@ double mean_turn_degrees(const renderer::PelSegments& pels) {
 // (0.217 -> 0.085 m), the mean turn between segments half of it (23.6 -> 8.3 degrees).
 TEST(PelSmooth, AZigzagStraightensAndStaysOneLine) {
   const std::size_t rows = 14, cols = 9;
-  const terrain::GridMesh m = terrain::test::function_mesh(rows, cols, 1.0, [](double, double) { return 0.0; });
+  const terrain::GridMesh m =
+      terrain::test::function_mesh(rows, cols, 1.0, [](double, double) { return 0.0; });
   renderer::PelFields f;
   const std::size_t nv = m.n_vertices();
   f.f.assign(nv, 0.5f);
@@ -216,7 +223,9 @@ TEST(PelSmooth, AZigzagStraightensAndStaysOneLine) {
   auto smooth = pels;
   renderer::smooth_pels(m.topo, f, smooth, 3);
   // The local frame: x = col, y = -row.
-  auto off_line = [](const Eigen::Vector3f& x) { return std::abs(double(x.x()) - (2.5 + 0.37 * -double(x.y()))); };
+  auto off_line = [](const Eigen::Vector3f& x) {
+    return std::abs(double(x.x()) - (2.5 + 0.37 * -double(x.y())));
+  };
   double before = 0, after = 0;
   std::size_t ends = 0;
   for (std::size_t i = 0; i < pels.points.size(); ++i) {
@@ -233,9 +242,10 @@ TEST(PelSmooth, AZigzagStraightensAndStaysOneLine) {
     EXPECT_EQ(meets, 1u) << i;
   }
   EXPECT_EQ(ends, 2u);
-  std::printf("zigzag: mean distance from the line %.3f -> %.3f m, mean turn %.1f -> %.1f degrees\n",
-              before / double(pels.points.size() - 2), after / double(pels.points.size() - 2),
-              mean_turn_degrees(pels), mean_turn_degrees(smooth));
+  std::printf(
+      "zigzag: mean distance from the line %.3f -> %.3f m, mean turn %.1f -> %.1f degrees\n",
+      before / double(pels.points.size() - 2), after / double(pels.points.size() - 2),
+      mean_turn_degrees(pels), mean_turn_degrees(smooth));
   EXPECT_LT(after, before / 2);
   EXPECT_LT(mean_turn_degrees(smooth), mean_turn_degrees(pels) / 2);
 }
@@ -263,7 +273,8 @@ TEST(PelSmooth, BumpCirclesStayAtTheirRadii) {
     return std::sqrt(sum / double(s.points.size()));
   };
   std::size_t off_before = 0, off_after = 0;
-  const double rms_before = radial_error(pels, off_before), rms_after = radial_error(smooth, off_after);
+  const double rms_before = radial_error(pels, off_before),
+               rms_after = radial_error(smooth, off_after);
   std::printf("bump: radial rms %.4f -> %.4f m\n", rms_before, rms_after);
   EXPECT_EQ(off_after, 0u);
   EXPECT_LE(rms_after, rms_before * 1.01);
@@ -287,7 +298,8 @@ TEST(PelSmooth, RealTerrainLinesTurnLess) {
   auto smooth = pels;
   renderer::smooth_pels(m.topo, fields, smooth, 3);
   const double before = mean_turn_degrees(pels), after = mean_turn_degrees(smooth);
-  std::printf("MSH 50 m: mean turn %.1f -> %.1f degrees over %zu segments\n", before, after, pels.size());
+  std::printf("MSH 50 m: mean turn %.1f -> %.1f degrees over %zu segments\n", before, after,
+              pels.size());
   EXPECT_LT(after, 0.5 * before);
 }
 

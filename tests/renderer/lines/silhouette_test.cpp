@@ -20,7 +20,8 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 
 // Per pixel of a w x h image (rows from the top, x east, y north about the centre), the
 // unit normal `n(X, Y)` of the surface drawn there.
-std::vector<float> normals_of(int w, int h, const std::function<Eigen::Vector3d(double, double)>& n) {
+std::vector<float> normals_of(int w, int h,
+                              const std::function<Eigen::Vector3d(double, double)>& n) {
   std::vector<float> out(4 * std::size_t(w) * std::size_t(h));
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -31,7 +32,9 @@ std::vector<float> normals_of(int w, int h, const std::function<Eigen::Vector3d(
   return out;
 }
 
-std::size_t on(const std::vector<std::uint8_t>& m) { return std::size_t(std::count(m.begin(), m.end(), 1)); }
+std::size_t on(const std::vector<std::uint8_t>& m) {
+  return std::size_t(std::count(m.begin(), m.end(), 1));
+}
 
 // The top view (north up) looks towards the image's top: the lowered eye looks north,
 // `altitude` below the horizon, and "behind" a pixel is the pixel above it.
@@ -72,7 +75,8 @@ TEST(FormulatedSilhouettes, ATentIsDrawnAlongItsCrestOnly) {
   // not drawn; 6 pixels in, it is.
   auto crest_at = [&](double Y0) {
     const double s = std::tan(20 * kDeg);
-    return normals_of(w, h, [=](double, double Y) { return Eigen::Vector3d(0, Y > Y0 ? s : -s, 1); });
+    return normals_of(w, h,
+                      [=](double, double Y) { return Eigen::Vector3d(0, Y > Y0 ? s : -s, 1); });
   };
   EXPECT_EQ(on(formulated_silhouettes(crest_at(2.0 - 0.5 * h), w, h, f)), 0u);
   EXPECT_EQ(on(formulated_silhouettes(crest_at(6.0 - 0.5 * h), w, h, f)), std::size_t(w));
@@ -101,7 +105,7 @@ TEST(FormulatedSilhouettes, AConeIsDrawnAlongItsTwoGenerators) {
     for (int x = 0; x < w; ++x) {
       if (!m[std::size_t(y * w + x)]) continue;
       const double X = x + 0.5 - 0.5 * w, Y = 0.5 * h - (y + 0.5), r = std::hypot(X, Y);
-      if (r < 4) continue;  // the apex
+      if (r < 4) continue;                        // the apex
       const double az = std::atan2(X, Y) / kDeg;  // from north, clockwise
       const double tolerance = std::asin(std::min(1.0, 3 / r)) / kDeg + 2;
       if (std::abs(std::abs(az) - generator) > tolerance) ++off;
@@ -111,7 +115,6 @@ TEST(FormulatedSilhouettes, AConeIsDrawnAlongItsTwoGenerators) {
   EXPECT_GE(east, 10u);
   EXPECT_GE(west, 10u);
 }
-
 
 // Silhouettes weighted by what they hide (issue 64: the skyline and the crests heaviest):
 // a far ridge stands against the sky (its skyline at row 10) 10 % beyond a near slope whose
@@ -125,24 +128,30 @@ TEST(SilhouetteDepth, TheSkylineIsHeaviestAndALineThatHidesNothingLightest) {
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const std::size_t i = std::size_t(y * w + x);
-      distance[i] = y < 10 ? std::numeric_limits<float>::infinity() : y < 25 ? 1100.0f : 1000.0f + float(40 - y);
+      distance[i] = y < 10   ? std::numeric_limits<float>::infinity()
+                    : y < 25 ? 1100.0f
+                             : 1000.0f + float(40 - y);
       if ((y == 10 || y == 25 || y == 33) && x >= 5 && x < 55) mask[i] = 1, opacity[i] = 255;
     }
   const std::vector<float> hidden = silhouette_hidden_share(mask, distance, w, h);
   EXPECT_EQ(hidden[std::size_t(10 * w + 30)], std::numeric_limits<float>::infinity());
-  EXPECT_NEAR(hidden[std::size_t(25 * w + 30)], 1100.0 / 1015.0 - 1.0, 1e-6);  // rows 22 .. 24 behind it
-  EXPECT_NEAR(hidden[std::size_t(33 * w + 30)], 1010.0 / 1007.0 - 1.0, 1e-6);  // row 30, its own slope
-  EXPECT_EQ(hidden[std::size_t(5 * w + 30)], 0.0f);                           // off the mask
+  EXPECT_NEAR(hidden[std::size_t(25 * w + 30)], 1100.0 / 1015.0 - 1.0,
+              1e-6);  // rows 22 .. 24 behind it
+  EXPECT_NEAR(hidden[std::size_t(33 * w + 30)], 1010.0 / 1007.0 - 1.0,
+              1e-6);                                 // row 30, its own slope
+  EXPECT_EQ(hidden[std::size_t(5 * w + 30)], 0.0f);  // off the mask
   EXPECT_FLOAT_EQ(hidden_weight(hidden[std::size_t(10 * w + 30)]), 1.0f);
   EXPECT_FLOAT_EQ(hidden_weight(0.1f), 0.4f);
   const auto paths = silhouette_paths(opacity, w, h, 1.8f, nullptr, &hidden, 1.5f);
   ASSERT_EQ(paths.size(), 3u);
   std::map<int, float> width_at_row;
-  for (const VectorPath& p : paths) width_at_row[int(std::lround(p.line.points.front().y() - 0.5))] = p.width;
+  for (const VectorPath& p : paths)
+    width_at_row[int(std::lround(p.line.points.front().y() - 0.5))] = p.width;
   EXPECT_FLOAT_EQ(width_at_row[10], 1.8f + 1.5f);
   EXPECT_FLOAT_EQ(width_at_row[25], 1.8f + 0.5f);  // 1.5 x 0.335 to the quarter pixel
   EXPECT_FLOAT_EQ(width_at_row[33], 1.8f);
-  for (const VectorPath& p : silhouette_paths(opacity, w, h, 1.8f)) EXPECT_FLOAT_EQ(p.width, 1.8f);  // not weighted
+  for (const VectorPath& p : silhouette_paths(opacity, w, h, 1.8f))
+    EXPECT_FLOAT_EQ(p.width, 1.8f);  // not weighted
 }
 
 }  // namespace

@@ -19,7 +19,8 @@ View top_view(bool reversed) { return test::top_view(kW, kH, reversed); }
 // A stroke along the image's middle row (y = 0, z = 0): `n` segments of 1.98 px from
 // u = 0.2, so that its two samples a segment (0.99 px each) fall in columns 2j and 2j + 1.
 CreaseGeometry row_stroke(const View& view, int n) {
-  const Projected a = project(view, Eigen::Vector3d(0, 0, 0)), b = project(view, Eigen::Vector3d(1, 0, 0));
+  const Projected a = project(view, Eigen::Vector3d(0, 0, 0)),
+                  b = project(view, Eigen::Vector3d(1, 0, 0));
   const double per_px = 1.0 / (b.u - a.u);  // metres per pixel along x
   CreaseGeometry g;
   for (int i = 0; i <= n; ++i) {
@@ -28,7 +29,8 @@ CreaseGeometry row_stroke(const View& view, int n) {
     g.flow.push_back(float(i + 1) / float(n + 1));
     g.source.push_back(std::uint32_t(i));
   }
-  for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) g.segments.insert(g.segments.end(), {i, i + 1});
+  for (std::uint32_t i = 0; i < std::uint32_t(n); ++i)
+    g.segments.insert(g.segments.end(), {i, i + 1});
   return g;
 }
 
@@ -83,7 +85,8 @@ TEST(StrokeVisibility, ShortHiddenRunsNearTheSurfaceAreDrawnAndPeeksLeftOut) {
     const auto off = stroke_visibility(g, segment_chains(g), drawn, view, 1.0, 1.0, toward, {});
     EXPECT_EQ(bits(off, &SegmentSamples::shown), bits(m, &SegmentSamples::visible));
     // Walls up to 5 m behind the surface only: the near wall's run is not drawn either.
-    const auto shallow = stroke_visibility(g, segment_chains(g), drawn, view, 1.0, 1.0, toward, {8.0, 5.0, 0.0});
+    const auto shallow =
+        stroke_visibility(g, segment_chains(g), drawn, view, 1.0, 1.0, toward, {8.0, 5.0, 0.0});
     EXPECT_EQ(bits(shallow, &SegmentSamples::shown), bits(m, &SegmentSamples::visible));
   }
 }
@@ -111,7 +114,8 @@ TEST(StrokeVisibility, StrokeEndsAndTheImagesEdge) {
   m = stroke_visibility(shifted, segment_chains(shifted), drawn, view, 1.0, 1.0, ground, rule);
   EXPECT_EQ(std::popcount(m[10].visible) + std::popcount(m[11].visible), 1);
   EXPECT_EQ(m[10].shown | m[11].shown, 0u);
-  m = stroke_visibility(shifted, segment_chains(shifted), drawn, view, 1.0, 1.0, ground, {8.0, 20.0, 0.0});
+  m = stroke_visibility(shifted, segment_chains(shifted), drawn, view, 1.0, 1.0, ground,
+                        {8.0, 20.0, 0.0});
   EXPECT_EQ(std::popcount(m[10].shown) + std::popcount(m[11].shown), 1);
 }
 
@@ -129,8 +133,10 @@ TEST(StrokeVisibility, ATributaryStubHiddenUpstreamIsAPeek) {
     const View view = top_view(reversed);
     CreaseGeometry g = row_stroke(view, kW / 2);
     const std::uint32_t junction = 20, trunk_in = junction - 1, trunk_out = junction;  // segments
-    const Projected o = project(view, Eigen::Vector3d(0, 0, 0)), n = project(view, Eigen::Vector3d(0, 1, 0));
-    const double per_px = 1.0 / (n.v - o.v);  // metres per pixel down the image (negative: north is up)
+    const Projected o = project(view, Eigen::Vector3d(0, 0, 0)),
+                    n = project(view, Eigen::Vector3d(0, 1, 0));
+    const double per_px =
+        1.0 / (n.v - o.v);  // metres per pixel down the image (negative: north is up)
     const auto first = std::uint32_t(g.positions.size());
     for (int k = 4; k >= 1; --k) {  // upstream first
       g.positions.emplace_back(g.positions[junction].x(), float(-1.98 * k * per_px), 0.0f);
@@ -138,7 +144,8 @@ TEST(StrokeVisibility, ATributaryStubHiddenUpstreamIsAPeek) {
       g.flow.push_back(0.01f * float(5 - k));
       g.source.push_back(std::uint32_t(1000 + k));
     }
-    for (std::uint32_t i = first; i + 1 < first + 4; ++i) g.segments.insert(g.segments.end(), {i, i + 1});
+    for (std::uint32_t i = first; i + 1 < first + 4; ++i)
+      g.segments.insert(g.segments.end(), {i, i + 1});
     g.segments.insert(g.segments.end(), {first + 3, junction});
     const std::uint32_t stub = std::uint32_t(g.n_segments()) - 1;
     const float ridge = float(project(view, Eigen::Vector3d(0, 0, 50)).depth);
@@ -149,10 +156,12 @@ TEST(StrokeVisibility, ATributaryStubHiddenUpstreamIsAPeek) {
         for (int u = u0; u <= u1; ++u) t[std::size_t(v * kW + u)] = ridge;
       return t;
     };
-    const std::vector<float> head_hidden = with_ridge(0, 3, 37, 41), trunk_hidden = with_ridge(7, 9, 39, kW - 1);
+    const std::vector<float> head_hidden = with_ridge(0, 3, 37, 41),
+                             trunk_hidden = with_ridge(7, 9, 39, kW - 1);
     std::vector<float> drawn(g.n_segments(), 1.0f);
     const StrokeVisibilityRule rule{8.0, 20.0, 6.0};
-    auto tributary = [&](const std::vector<SegmentSamples>& m, std::uint32_t SegmentSamples::*mask) {
+    auto tributary = [&](const std::vector<SegmentSamples>& m,
+                         std::uint32_t SegmentSamples::*mask) {
       return bits({m.begin() + stub - 3, m.begin() + stub + 1}, mask);
     };
     const SegmentChains chains = segment_chains(g);
@@ -160,7 +169,8 @@ TEST(StrokeVisibility, ATributaryStubHiddenUpstreamIsAPeek) {
     auto m = stroke_visibility(g, chains, drawn, view, 1.0, 1.0, head_hidden, rule);
     EXPECT_EQ(tributary(m, &SegmentSamples::visible), "00011111") << reversed;
     EXPECT_EQ(tributary(m, &SegmentSamples::shown), "00000000") << reversed;
-    for (std::uint32_t s = 0; s < kW / 2; ++s) EXPECT_EQ(m[s].shown, 3u) << "trunk segment " << s << " " << reversed;
+    for (std::uint32_t s = 0; s < kW / 2; ++s)
+      EXPECT_EQ(m[s].shown, 3u) << "trunk segment " << s << " " << reversed;
     // The peek rule off: the stub shows.
     m = stroke_visibility(g, chains, drawn, view, 1.0, 1.0, head_hidden, {8.0, 20.0, 0.0});
     EXPECT_EQ(tributary(m, &SegmentSamples::shown), "00011111") << reversed;

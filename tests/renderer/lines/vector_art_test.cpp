@@ -3,9 +3,9 @@
 // down, whose paths are known; the mask traced into regions; the files read back.
 #include <gtest/gtest.h>
 
-#include "renderer/top_view.hpp"
 #include <libxml/parser.h>
 #include <libxml/tree.h>
+#include "renderer/top_view.hpp"
 
 #include <cmath>
 #include <regex>
@@ -24,7 +24,8 @@ View top_view() { return test::top_view(kW, kH); }
 
 // Metres per pixel along x and the local x of pixel column u, on the ground (z = 0).
 double x_of(const View& view, double u) {
-  const Projected a = project(view, Eigen::Vector3d(0, 0, 0)), b = project(view, Eigen::Vector3d(1, 0, 0));
+  const Projected a = project(view, Eigen::Vector3d(0, 0, 0)),
+                  b = project(view, Eigen::Vector3d(1, 0, 0));
   return (u - a.u) / (b.u - a.u);
 }
 
@@ -38,7 +39,8 @@ CreaseGeometry row_stroke(const View& view, int n) {
     g.share.push_back(0.0f);
     g.source.push_back(std::uint32_t(i));
   }
-  for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) g.segments.insert(g.segments.end(), {i, i + 1});
+  for (std::uint32_t i = 0; i < std::uint32_t(n); ++i)
+    g.segments.insert(g.segments.end(), {i, i + 1});
   return g;
 }
 
@@ -66,7 +68,9 @@ TEST(VectorArt, CreasePathsAreTheShownRunsOfEachStroke) {
   EXPECT_EQ(strokes, 1u);
   ASSERT_EQ(paths.size(), 3u);
   // Sample k of segment s covers u in 0.2 + 1.98 s + 0.99 [k, k + 1].
-  const double ends[3][2] = {{0.2, 0.2 + 21 * 0.99}, {0.2 + 24 * 0.99, 0.2 + 31 * 0.99}, {0.2 + 54 * 0.99, 0.2 + 64 * 0.99}};
+  const double ends[3][2] = {{0.2, 0.2 + 21 * 0.99},
+                             {0.2 + 24 * 0.99, 0.2 + 31 * 0.99},
+                             {0.2 + 54 * 0.99, 0.2 + 64 * 0.99}};
   for (std::size_t i = 0; i < 3; ++i) {
     const auto& p = paths[i].line.points;
     ASSERT_GE(p.size(), 2u);
@@ -85,7 +89,8 @@ TEST(VectorArt, CreasePathsAreTheShownRunsOfEachStroke) {
 TEST(VectorArt, AWideningStrokeIsAnOutlineAndAFadingHeadItsOwnPath) {
   const View view = top_view();
   CreaseGeometry g = row_stroke(view, 8);
-  for (std::size_t i = 0; i < g.share.size(); ++i) g.share[i] = float(i * i) / 64.0f;  // sqrt: i / 8
+  for (std::size_t i = 0; i < g.share.size(); ++i)
+    g.share[i] = float(i * i) / 64.0f;  // sqrt: i / 8
   std::vector<float> drawn(g.n_segments(), 1.0f);
   drawn[0] = 0.2f;
   drawn[1] = 0.6f;
@@ -139,20 +144,23 @@ TEST(VectorArt, SegmentPathsLeaveOutWhatIsHidden) {
   const double y = 0;
   std::vector<SceneSegment> segs;
   for (int i = 0; i < 6; ++i)  // u from 2 to 62 in six segments
-    segs.push_back({Eigen::Vector3d(x_of(view, 2 + 10 * i), y, 0), Eigen::Vector3d(x_of(view, 12 + 10 * i), y, 0), 1});
+    segs.push_back({Eigen::Vector3d(x_of(view, 2 + 10 * i), y, 0),
+                    Eigen::Vector3d(x_of(view, 12 + 10 * i), y, 0), 1});
   for (const bool antialias : {true, false}) {
     std::size_t chains = 0;
     const auto paths = segment_paths(segs, view, 1.0, toward, antialias, 1.5f, &chains);
     ASSERT_EQ(paths.size(), 2u) << antialias;
     EXPECT_EQ(chains, 2u);
-    const auto& a = paths[0].line.points.front().x() < paths[1].line.points.front().x() ? paths[0] : paths[1];
+    const auto& a =
+        paths[0].line.points.front().x() < paths[1].line.points.front().x() ? paths[0] : paths[1];
     const auto& b = &a == &paths[0] ? paths[1] : paths[0];
     const double hidden_from = antialias ? 21 : 20, hidden_to = antialias ? 30 : 31;
     EXPECT_NEAR(a.line.points.front().x(), 2, 1e-3);
     EXPECT_NEAR(a.line.points.back().x(), hidden_from, 0.5) << antialias;
     EXPECT_NEAR(b.line.points.front().x(), hidden_to, 0.5) << antialias;
     EXPECT_NEAR(b.line.points.back().x(), 62, 1e-3);
-    EXPECT_EQ(b.line.points.size(), 2u) << "the segments beyond the ridge chain into one straight path";
+    EXPECT_EQ(b.line.points.size(), 2u)
+        << "the segments beyond the ridge chain into one straight path";
   }
 }
 
@@ -167,7 +175,8 @@ double shoelace(const Outline& o) {
     }
   }
   double a = 0;
-  for (std::size_t k = 0; k + 1 < p.size(); ++k) a += double(p[k].x()) * p[k + 1].y() - double(p[k + 1].x()) * p[k].y();
+  for (std::size_t k = 0; k + 1 < p.size(); ++k)
+    a += double(p[k].x()) * p[k + 1].y() - double(p[k + 1].x()) * p[k].y();
   return 0.5 * std::abs(a);
 }
 
@@ -176,7 +185,8 @@ TEST(VectorArt, TraceRegionsKeepsHolesWithTheirRegion) {
   const int w = 40, h = 30;
   std::vector<std::uint8_t> m(std::size_t(w * h), 0);
   for (int y = 2; y < 22; ++y)
-    for (int x = 2; x < 22; ++x) m[std::size_t(y * w + x)] = !(x >= 9 && x < 15 && y >= 9 && y < 15);
+    for (int x = 2; x < 22; ++x)
+      m[std::size_t(y * w + x)] = !(x >= 9 && x < 15 && y >= 9 && y < 15);
   for (int y = 5; y < 15; ++y)
     for (int x = 28; x < 36; ++x) m[std::size_t(y * w + x)] = 1;
   auto regions = trace_regions(m, w, h);
@@ -185,7 +195,8 @@ TEST(VectorArt, TraceRegionsKeepsHolesWithTheirRegion) {
   ASSERT_EQ(regions[0].size(), 2u);  // the square and its hole
   ASSERT_EQ(regions[1].size(), 1u);
   EXPECT_NEAR(shoelace(regions[0][0]), 400, 40);
-  EXPECT_NEAR(shoelace(regions[0][1]), 32, 5);  // potrace rounds a 6 px square hole towards its disc (28)
+  EXPECT_NEAR(shoelace(regions[0][1]), 32,
+              5);  // potrace rounds a 6 px square hole towards its disc (28)
   EXPECT_NEAR(shoelace(regions[1][0]), 80, 10);
   for (const auto& c : regions[1][0].curves) {  // on the blob's border, y down as the mask
     EXPECT_GE(c[2].x(), 27.5f);
@@ -203,7 +214,8 @@ std::string prop(xmlNode* n, const char* name, const char* ns = nullptr) {
 std::size_t count_elements(xmlNode* n, const char* name) {
   std::size_t k = 0;
   for (xmlNode* c = n->children; c; c = c->next)
-    if (c->type == XML_ELEMENT_NODE) k += (xmlStrEqual(c->name, BAD_CAST name) ? 1 : 0) + count_elements(c, name);
+    if (c->type == XML_ELEMENT_NODE)
+      k += (xmlStrEqual(c->name, BAD_CAST name) ? 1 : 0) + count_elements(c, name);
   return k;
 }
 
@@ -216,7 +228,8 @@ VectorArt small_art() {
     for (int x = 0; x < 64; ++x) art.surface[std::size_t(y * 64 + x)] = 1;
   VectorLayer creases{"creases", {0, 0, 1}, LineCap::Round, {}, 2};
   creases.paths.push_back({Polyline{{{1.123f, 20}, {30.456f, 25}}, false}, 1.25f, 1.0f, {}});
-  creases.paths.push_back({Polyline{{{2, 28}, {20, 28}, {40, 29}}, false}, 2.0f, 0.5f, {1.0f, 2.0f, 3.0f}});
+  creases.paths.push_back(
+      {Polyline{{{2, 28}, {20, 28}, {40, 29}}, false}, 2.0f, 0.5f, {1.0f, 2.0f, 3.0f}});
   VectorLayer sil{"silhouettes", {0, 0, 0}, LineCap::Round, {}, 1};
   sil.paths.push_back({Polyline{{{0, 16}, {63, 16}}, false}, 1.8f, 1.0f, {}});
   art.layers = {creases, sil};
@@ -229,8 +242,8 @@ VectorArt small_art() {
 TEST(VectorFile, SvgLayersArePathsInInkscapeLayerGroups) {
   const VectorArt art = small_art();
   const std::string svg = vector_bytes(art, VectorFormat::Svg, 96, "test <&> provenance");
-  std::unique_ptr<xmlDoc, decltype(&xmlFreeDoc)> doc(xmlReadMemory(svg.data(), int(svg.size()), "t.svg", nullptr, 0),
-                                                     xmlFreeDoc);
+  std::unique_ptr<xmlDoc, decltype(&xmlFreeDoc)> doc(
+      xmlReadMemory(svg.data(), int(svg.size()), "t.svg", nullptr, 0), xmlFreeDoc);
   ASSERT_TRUE(doc) << svg;
   xmlNode* root = xmlDocGetRootElement(doc.get());
   EXPECT_EQ(prop(root, "width"), "64px");
@@ -260,7 +273,8 @@ TEST(VectorFile, SvgLayersArePathsInInkscapeLayerGroups) {
 
   const std::string pdf = vector_bytes(art, VectorFormat::Pdf, 96, "provenance");
   EXPECT_EQ(pdf.rfind("%PDF-", 0), 0u);
-  EXPECT_NE(pdf.find("/MediaBox [ 0 0 48 24 ]"), std::string::npos);  // 64 x 32 px at 96 dpi, in points
+  EXPECT_NE(pdf.find("/MediaBox [ 0 0 48 24 ]"),
+            std::string::npos);  // 64 x 32 px at 96 dpi, in points
 
   VectorArt none = art;
   none.underlay = VectorUnderlay::None;

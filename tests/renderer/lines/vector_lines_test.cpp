@@ -34,11 +34,13 @@ TEST(VectorLines, ARingIsOneClosedLine) {
   const auto lines = chain_mask(m.m, m.w, m.h);
   ASSERT_EQ(lines.size(), 1u);
   EXPECT_TRUE(lines[0].closed);
-  for (const auto& p : lines[0].points) EXPECT_NEAR((p - Eigen::Vector2f(32.5f, 32.5f)).norm(), 20.0f, 1.0f);
+  for (const auto& p : lines[0].points)
+    EXPECT_NEAR((p - Eigen::Vector2f(32.5f, 32.5f)).norm(), 20.0f, 1.0f);
   // The pixel staircase is as long as the circle's L1 perimeter (8 r); simplified to within
   // a pixel, its chords are as long as the circle, to 3 %.
   EXPECT_NEAR(length(lines[0]), 8 * 20, 4.0);
-  EXPECT_NEAR(length(simplify(lines[0], 1.0f)), 2 * std::numbers::pi * 20, 0.03 * 2 * std::numbers::pi * 20);
+  EXPECT_NEAR(length(simplify(lines[0], 1.0f)), 2 * std::numbers::pi * 20,
+              0.03 * 2 * std::numbers::pi * 20);
 }
 
 TEST(VectorLines, ATJunctionIsThreeLinesMeetingThere) {
@@ -51,7 +53,8 @@ TEST(VectorLines, ATJunctionIsThreeLinesMeetingThere) {
   double total = 0;
   for (const Polyline& l : lines) {
     EXPECT_FALSE(l.closed);
-    const bool at_junction = (l.points.front() - junction).norm() < 1.5f || (l.points.back() - junction).norm() < 1.5f;
+    const bool at_junction =
+        (l.points.front() - junction).norm() < 1.5f || (l.points.back() - junction).norm() < 1.5f;
     EXPECT_TRUE(at_junction);
     total += length(l);
   }
@@ -124,13 +127,15 @@ TEST(VectorLines, SimplifyStaysWithinItsTolerance) {
   EXPECT_EQ(c.points[1], Eigen::Vector2f(10, 0));
   // Every original point within the tolerance of the simplified line (a smooth curve).
   Polyline curve;
-  for (int k = 0; k <= 200; ++k) curve.points.emplace_back(float(k) * 0.5f, 10.0f * std::sin(float(k) * 0.05f));
+  for (int k = 0; k <= 200; ++k)
+    curve.points.emplace_back(float(k) * 0.5f, 10.0f * std::sin(float(k) * 0.05f));
   const Polyline cs = simplify(curve, 0.25f);
   EXPECT_LT(cs.points.size(), curve.points.size() / 3);
   for (const auto& p : curve.points) {
     double best = 1e9;
     for (std::size_t k = 1; k < cs.points.size(); ++k) {
-      const Eigen::Vector2d a = cs.points[k - 1].cast<double>(), d = (cs.points[k] - cs.points[k - 1]).cast<double>();
+      const Eigen::Vector2d a = cs.points[k - 1].cast<double>(),
+                            d = (cs.points[k] - cs.points[k - 1]).cast<double>();
       const double t = std::clamp((p.cast<double>() - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
       best = std::min(best, (p.cast<double>() - a - t * d).norm());
     }
@@ -140,7 +145,8 @@ TEST(VectorLines, SimplifyStaysWithinItsTolerance) {
 
 TEST(VectorLines, SimplifiedPointsAreTheOnesSimplifyKeeps) {
   Polyline l;
-  for (int k = 0; k < 9; ++k) l.points.emplace_back(float(k), k == 4 ? 3.0f : 0.0f);  // a spike at 4
+  for (int k = 0; k < 9; ++k)
+    l.points.emplace_back(float(k), k == 4 ? 3.0f : 0.0f);  // a spike at 4
   const auto keep = simplified_points(l, 0.25f);
   EXPECT_EQ(keep, (std::vector<std::size_t>{0, 3, 4, 5, 8}));
   const Polyline s = simplify(l, 0.25f);

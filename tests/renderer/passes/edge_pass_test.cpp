@@ -23,7 +23,8 @@ namespace {
 
 using Eigen::Vector3d;
 
-Style edge_style(double crease_angle, EdgeCaps caps = EdgeCaps::Exact, std::uint8_t kinds = kAllEdgeKinds) {
+Style edge_style(double crease_angle, EdgeCaps caps = EdgeCaps::Exact,
+                 std::uint8_t kinds = kAllEdgeKinds) {
   Style s;
   s.background = {1, 1, 1};
   s.edge_colour = {0, 0, 1};
@@ -40,7 +41,8 @@ Layers edge_layers() {
   return l;
 }
 
-FrameParams looking(const Vector3d& eye, double az, double alt, double fov, bool orthographic = false) {
+FrameParams looking(const Vector3d& eye, double az, double alt, double fov,
+                    bool orthographic = false) {
   FrameParams fp;
   fp.camera.eye = eye;
   fp.camera.view_az = az;
@@ -62,25 +64,34 @@ struct Scene {
 // orthographic (the facing tests along the line of sight).
 std::vector<Scene> scenes() {
   std::vector<Scene> out;
-  out.push_back({"tent",
-                 terrain::test::function_mesh(9, 11, 10.0, [](double x, double) { return 100.0 - std::abs(x - 50.0); }),
-                 {looking({-300, -40, 120}, 90, 5, 60), looking({50, -40, 600}, 0, 90, 60),
-                  looking({150, 60, 180}, 200, 30, 60), looking({-300, -40, 120}, 90, 5, 60, true)}});
-  out.push_back({"pyramid", terrain::test::function_mesh(21, 21, 10.0, [](double x, double y) {
-                   return 80.0 - 0.8 * std::max(std::abs(x - 100.0), std::abs(y + 100.0));
-                 }),
-                 {looking({100, -100, 500}, 0, 90, 50), looking({-150, -180, 90}, 70, 10, 60),
-                  looking({260, 40, 140}, 225, 25, 60), looking({-150, -180, 90}, 70, 10, 60, true)}});
+  out.push_back(
+      {"tent",
+       terrain::test::function_mesh(9, 11, 10.0,
+                                    [](double x, double) { return 100.0 - std::abs(x - 50.0); }),
+       {looking({-300, -40, 120}, 90, 5, 60), looking({50, -40, 600}, 0, 90, 60),
+        looking({150, 60, 180}, 200, 30, 60), looking({-300, -40, 120}, 90, 5, 60, true)}});
+  out.push_back(
+      {"pyramid",
+       terrain::test::function_mesh(21, 21, 10.0,
+                                    [](double x, double y) {
+                                      return 80.0 - 0.8 * std::max(std::abs(x - 100.0),
+                                                                   std::abs(y + 100.0));
+                                    }),
+       {looking({100, -100, 500}, 0, 90, 50), looking({-150, -180, 90}, 70, 10, 60),
+        looking({260, 40, 140}, 225, 25, 60), looking({-150, -180, 90}, 70, 10, 60, true)}});
   const double H = 200, s = 100, yr = -3000;
-  out.push_back({"gaussian ridge", terrain::test::function_mesh(201, 101, 20.0, [=](double, double y) {
-                   return H * std::exp(-0.5 * (y - yr) * (y - yr) / (s * s));
-                 }),
-                 {looking({1000, -3900, 100}, 0, 0, 30), looking({1000, -3900, 400}, 0, 0, 30),
-                  looking({-500, -2500, 600}, 120, 15, 45), looking({1000, -3900, 100}, 0, 3, 30, true)}});
+  out.push_back(
+      {"gaussian ridge",
+       terrain::test::function_mesh(
+           201, 101, 20.0,
+           [=](double, double y) { return H * std::exp(-0.5 * (y - yr) * (y - yr) / (s * s)); }),
+       {looking({1000, -3900, 100}, 0, 0, 30), looking({1000, -3900, 400}, 0, 0, 30),
+        looking({-500, -2500, 600}, 120, 15, 45), looking({1000, -3900, 100}, 0, 3, 30, true)}});
   return out;
 }
 
-std::set<std::pair<std::uint32_t, std::uint32_t>> drawn_set(const std::vector<std::array<std::uint32_t, 4>>& drawn) {
+std::set<std::pair<std::uint32_t, std::uint32_t>> drawn_set(
+    const std::vector<std::array<std::uint32_t, 4>>& drawn) {
   std::set<std::pair<std::uint32_t, std::uint32_t>> s;
   for (const auto& d : drawn) s.insert({std::min(d[0], d[1]), std::max(d[0], d[1])});
   return s;
@@ -94,9 +105,11 @@ TEST(EdgesGl, ClassificationEqualsCpuReference) {
     const auto edges = mesh_edges(sc.mesh.topo);
     for (const double angle : {5.0, 20.0, 60.0})
       for (const std::uint8_t mask : {kAllEdgeKinds, std::uint8_t(kContourEdge)}) {
-        TerrainRenderer r(ctx, sc.mesh, nullptr, 160, 120, edge_layers(), edge_style(angle, EdgeCaps::Exact, mask));
+        TerrainRenderer r(ctx, sc.mesh, nullptr, 160, 120, edge_layers(),
+                          edge_style(angle, EdgeCaps::Exact, mask));
         for (std::size_t v = 0; v < sc.views.size(); ++v) {
-          SCOPED_TRACE(std::string(sc.name) + " view " + std::to_string(v) + " angle " + std::to_string(angle));
+          SCOPED_TRACE(std::string(sc.name) + " view " + std::to_string(v) + " angle " +
+                       std::to_string(angle));
           const FrameResult res = r.render(sc.views[v]);
           const auto gpu = r.read_edges();
           const auto cpu = classify_edges(edges, sc.mesh.positions, res.view.viewpoint(), angle);
@@ -106,7 +119,9 @@ TEST(EdgesGl, ClassificationEqualsCpuReference) {
           for (std::size_t i = 0; i < cpu.size(); ++i) {
             differ += gpu.kinds[i] != cpu[i];
             kinds_seen |= cpu[i];
-            if (edge_drawn(cpu[i], mask)) expected.insert({std::min(edges[i].v0, edges[i].v1), std::max(edges[i].v0, edges[i].v1)});
+            if (edge_drawn(cpu[i], mask))
+              expected.insert(
+                  {std::min(edges[i].v0, edges[i].v1), std::max(edges[i].v0, edges[i].v1)});
           }
           EXPECT_EQ(differ, 0u);
           EXPECT_EQ(drawn_set(gpu.drawn), expected);
@@ -133,10 +148,12 @@ TEST(EdgesGl, CreaseThresholdIsMonotone) {
   // From 2 degrees: at 0 every float dot product of nearly coplanar faces rounds to 1.
   std::size_t previous = edges.size() + 1, first = 0;
   for (double angle = 2.0; angle <= 92.0; angle += 10.0) {
-    TerrainRenderer r(ctx, mesh, nullptr, 160, 120, edge_layers(), edge_style(angle, EdgeCaps::Cheap, kCreaseEdge));
+    TerrainRenderer r(ctx, mesh, nullptr, 160, 120, edge_layers(),
+                      edge_style(angle, EdgeCaps::Cheap, kCreaseEdge));
     const FrameResult res = r.render(FrameParams{});
     const auto cpu = classify_edges(edges, mesh.positions, res.view.viewpoint(), angle);
-    const auto expected = std::size_t(std::count_if(cpu.begin(), cpu.end(), [](auto k) { return edge_drawn(k, kCreaseEdge); }));
+    const auto expected = std::size_t(
+        std::count_if(cpu.begin(), cpu.end(), [](auto k) { return edge_drawn(k, kCreaseEdge); }));
     EXPECT_EQ(res.edges, expected) << angle;
     EXPECT_LE(res.edges, previous) << angle;
     if (angle == 2.0) first = res.edges;
@@ -146,9 +163,11 @@ TEST(EdgesGl, CreaseThresholdIsMonotone) {
 }
 
 // Distance from p to segment ab.
-double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+double segment_distance(const Eigen::Vector2d& p, const Eigen::Vector2d& a,
+                        const Eigen::Vector2d& b) {
   const Eigen::Vector2d d = b - a;
-  const double t = d.squaredNorm() > 0 ? std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+  const double t =
+      d.squaredNorm() > 0 ? std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
   return (a + t * d - p).norm();
 }
 
@@ -161,14 +180,15 @@ struct StrokeCount {
 // half the width plus one pixel from every edge (overshoot: square caps and mitres reach
 // out of the round stroke), and covered pixels beyond the longest mitre the mitre limit
 // allows (half the width / TR_MITER_MIN_COS, plus half a pixel).
-StrokeCount count_stroke(const TerrainRenderer& r, const FrameResult& res, const terrain::GridMesh& mesh,
-                         double width) {
+StrokeCount count_stroke(const TerrainRenderer& r, const FrameResult& res,
+                         const terrain::GridMesh& mesh, double width) {
   const auto out = r.read_edges();
   const auto buffers = r.read_buffers();
   const Eigen::Matrix4d vp = res.view.view_projection();
   auto screen = [&](std::uint32_t v) {
     const Eigen::Vector4d c = vp * mesh.positions[v].cast<double>().homogeneous();
-    return Eigen::Vector2d((c.x() / c.w() + 1) * 0.5 * res.width, (1 - c.y() / c.w()) * 0.5 * res.height);
+    return Eigen::Vector2d((c.x() / c.w() + 1) * 0.5 * res.width,
+                           (1 - c.y() / c.w()) * 0.5 * res.height);
   };
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> segs;
   StrokeCount n;
@@ -207,8 +227,9 @@ TEST(EdgesGl, ExactCapsLeaveNoGap) {
       const FrameResult res = r.render(view);
       by_caps[int(caps)] = count_stroke(r, res, sc.mesh, width);
       const StrokeCount& n = by_caps[int(caps)];
-      std::printf("caps %d: %zu edges, %zu joins, %zu covered, %zu gap pixels, %zu overshoot pixels\n", int(caps),
-                  res.edges, n.joins, n.covered, n.gaps, n.overshoot);
+      std::printf(
+          "caps %d: %zu edges, %zu joins, %zu covered, %zu gap pixels, %zu overshoot pixels\n",
+          int(caps), res.edges, n.joins, n.covered, n.gaps, n.overshoot);
     }
     EXPECT_GE(by_caps[int(EdgeCaps::Exact)].joins, 40u);  // polylines with many joins
     EXPECT_EQ(by_caps[int(EdgeCaps::Exact)].gaps, 0u);
@@ -227,9 +248,9 @@ TEST(EdgesGl, EdgesBehindTheSurfaceAreHidden) {
                     edge_style(20.0, EdgeCaps::Exact, kBoundaryEdge));
   const FrameResult res = r.render(sc.views[0]);
   const auto b = r.read_buffers();
-  const Eigen::Vector4d far = res.view.view_projection() * Eigen::Vector4d(1000 - sc.mesh.geo.origin_x,
-                                                                           0 - sc.mesh.geo.origin_y,
-                                                                           0 - sc.mesh.geo.origin_z, 1);
+  const Eigen::Vector4d far = res.view.view_projection() *
+                              Eigen::Vector4d(1000 - sc.mesh.geo.origin_x, 0 - sc.mesh.geo.origin_y,
+                                              0 - sc.mesh.geo.origin_z, 1);
   const int far_row = int((1 - far.y() / far.w()) * 0.5 * 240);
   std::size_t in_layer = 0, in_picture = 0;
   for (int row = far_row - 2; row <= far_row + 2; ++row)

@@ -39,9 +39,10 @@ Fit check(const terrain::GridMesh& mesh, const Camera& cam, int w, int h) {
     const Projected &a = p[tri[0]], &b = p[tri[1]], &c = p[tri[2]];
     const double area = (b.u - a.u) * (c.v - a.v) - (c.u - a.u) * (b.v - a.v);
     if (area == 0) continue;
-    for (int y = std::max(0, int(std::min({a.v, b.v, c.v}))); y < std::min(h, int(std::max({a.v, b.v, c.v})) + 1); ++y)
-      for (int x = std::max(0, int(std::min({a.u, b.u, c.u}))); x < std::min(w, int(std::max({a.u, b.u, c.u})) + 1);
-           ++x) {
+    for (int y = std::max(0, int(std::min({a.v, b.v, c.v})));
+         y < std::min(h, int(std::max({a.v, b.v, c.v})) + 1); ++y)
+      for (int x = std::max(0, int(std::min({a.u, b.u, c.u})));
+           x < std::min(w, int(std::max({a.u, b.u, c.u})) + 1); ++x) {
         const double px = x + 0.5, py = y + 0.5;
         const double w0 = ((b.u - px) * (c.v - py) - (c.u - px) * (b.v - py)) / area;
         const double w1 = ((c.u - px) * (a.v - py) - (a.u - px) * (c.v - py)) / area;
@@ -60,7 +61,8 @@ TEST(AutoView, ConeAndRampAreWholeAndFillTheFrame) {
   const auto cone = terrain::test::function_mesh(81, 101, 50, [](double x, double y) {
     return std::max(0.0, 1500.0 - 0.6 * std::hypot(x - 2500, y + 2000));
   });
-  const auto ramp = terrain::test::function_mesh(61, 121, 50, [](double x, double) { return 0.15 * x; });
+  const auto ramp =
+      terrain::test::function_mesh(61, 121, 50, [](double x, double) { return 0.15 * x; });
   for (const auto* mesh : {&cone, &ramp}) {
     const bool is_ramp = mesh == &ramp;
     const AutoView av = auto_view(*mesh, 1.0, 35, 16.0 / 9.0, 30.0, true);

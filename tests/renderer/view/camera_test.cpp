@@ -2,14 +2,15 @@
 // and the dome of Mount St. Helens), projection and framing.
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdio>
 #include <functional>
 #include <numbers>
-#include <Eigen/LU>
 
+#include <map>
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
 #include "drainage/pipeline.hpp"
@@ -18,6 +19,7 @@
 #include "renderer/frames.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/line_stats.hpp"
+#include "renderer/pel.hpp"
 #include "renderer/shader.hpp"
 #include "renderer/silhouette.hpp"
 #include "renderer/stroke_visibility.hpp"
@@ -28,8 +30,6 @@
 #include "terrain/hillshade.hpp"
 #include "terrain/pn_surface.hpp"
 #include "terrain/voronoi.hpp"
-#include "renderer/pel.hpp"
-#include <map>
 #include "test_support.hpp"
 
 namespace {
@@ -51,7 +51,8 @@ TEST(Camera, AutomaticExaggerationFollowsReliefAgainstExtent) {
   EXPECT_EQ(renderer::auto_exaggeration(ramp(101, 101, 0.01)), 3.0);    // 3.06
   EXPECT_EQ(renderer::auto_exaggeration(ramp(101, 101, 0.0075)), 4.0);  // 4.08
   EXPECT_EQ(renderer::auto_exaggeration(ramp(101, 101, 0.001)), 5.0);   // 30.6, at most 5
-  EXPECT_EQ(renderer::auto_exaggeration(ramp(51, 201, 0.005)), 3.0);    // 2000 m x 500 m; relief 9.8 m: 3.06
+  EXPECT_EQ(renderer::auto_exaggeration(ramp(51, 201, 0.005)),
+            3.0);  // 2000 m x 500 m; relief 9.8 m: 3.06
   EXPECT_EQ(renderer::auto_exaggeration(ramp(101, 101, 0.0)), 1.0);
 }
 
@@ -62,7 +63,8 @@ TEST(Camera, DefaultViewFramesTheReliefFromItsOpenSide) {
     const double cone = std::max(0.0, 1200.0 * (1 - r / 2500));
     const double crater = r < 800 ? 600.0 * (1 - r * r / (800.0 * 800.0)) : 0.0;
     // The breach: a trench north from the crater through the rim, 80 % of the cone deep.
-    const double breach = (y > cy && std::abs(x - cx) < 400) ? 0.8 * cone * (1 - std::abs(x - cx) / 400) : 0.0;
+    const double breach =
+        (y > cy && std::abs(x - cx) < 400) ? 0.8 * cone * (1 - std::abs(x - cx) / 400) : 0.0;
     return cone - crater - breach;
   });
   const auto rv = renderer::relief_view(mesh, 1.0, 35, 16.0 / 9.0);
@@ -127,7 +129,8 @@ TEST(Camera, PageScaleIsMetresPerPixelAtTheScenesCentre) {
     for (int height : {360, 720}) {
       const auto v = renderer::make_view(cam, Vector3d::Zero(), box, 2 * height, height);
       const double s = renderer::page_scale(v, box);
-      const auto a = renderer::project(v, centre - 50 * v.right), b = renderer::project(v, centre + 50 * v.right);
+      const auto a = renderer::project(v, centre - 50 * v.right),
+                 b = renderer::project(v, centre + 50 * v.right);
       EXPECT_NEAR(std::hypot(b.u - a.u, b.v - a.v), 100 / s, 1e-6) << alt << " " << height;
     }
   }
@@ -135,7 +138,8 @@ TEST(Camera, PageScaleIsMetresPerPixelAtTheScenesCentre) {
   inside.eye = centre;
   inside.view_alt = 0;
   const auto v = renderer::make_view(inside, Vector3d::Zero(), box, 640, 360);
-  EXPECT_DOUBLE_EQ(renderer::page_scale(v, box), 2 * std::tan(0.5 * inside.fov * std::numbers::pi / 180) / 360);
+  EXPECT_DOUBLE_EQ(renderer::page_scale(v, box),
+                   2 * std::tan(0.5 * inside.fov * std::numbers::pi / 180) / 360);
 }
 
 TEST(Camera, ProjectionAndFraming) {
@@ -195,15 +199,18 @@ TEST(Camera, OrthographicTopViewIsAMap) {
     EXPECT_DOUBLE_EQ(renderer::page_scale(v, box), v.map_scale);
     const auto gt = renderer::map_geotransform(v, origin);
     ASSERT_TRUE(gt.has_value());
-    EXPECT_NEAR((*gt)[0] + 320 * (*gt)[1], origin.x() + 1000, 1e-6);  // the image centred on the box
+    EXPECT_NEAR((*gt)[0] + 320 * (*gt)[1], origin.x() + 1000,
+                1e-6);  // the image centred on the box
     EXPECT_NEAR((*gt)[3] + 180 * (*gt)[5], origin.y() - 1500, 1e-6);
     const Eigen::Matrix4d inverse = v.view_projection().inverse();
-    for (const Vector3d& p : {Vector3d(-1000, -3000, 100), Vector3d(2500, -10, 900), Vector3d(123.4, -2345.6, 512)}) {
+    for (const Vector3d& p :
+         {Vector3d(-1000, -3000, 100), Vector3d(2500, -10, 900), Vector3d(123.4, -2345.6, 512)}) {
       const auto a = renderer::project(v, p), b = renderer::project(v, p - Vector3d(0, 0, 500));
       EXPECT_TRUE(a.in_front);
       EXPECT_NEAR(a.u, b.u, 1e-9);
       EXPECT_NEAR(a.v, b.v, 1e-9);
-      EXPECT_GT(renderer::far_depth(reversed, b.depth), renderer::far_depth(reversed, a.depth));  // lower is farther
+      EXPECT_GT(renderer::far_depth(reversed, b.depth),
+                renderer::far_depth(reversed, a.depth));  // lower is farther
       EXPECT_NEAR(origin.x() + p.x(), (*gt)[0] + a.u * (*gt)[1], 1e-6);
       EXPECT_NEAR(origin.y() + p.y(), (*gt)[3] + a.v * (*gt)[5], 1e-6);
       EXPECT_GE(a.u, 0.0);
@@ -213,7 +220,8 @@ TEST(Camera, OrthographicTopViewIsAMap) {
       EXPECT_NEAR(v.depth_distance(a.depth), v.viewpoint().distance(p), 1e-6);
       EXPECT_NEAR(v.viewpoint().distance(p), v.eye.z() - p.z(), 1e-9);
       const Vector3d back = renderer::unproject(v, inverse, a.u, a.v, a.depth);
-      EXPECT_NEAR((back - p).head<2>().norm(), 0.0, 0.5 * std::sqrt(2.0) * v.map_scale + 1e-6);  // the pixel's centre
+      EXPECT_NEAR((back - p).head<2>().norm(), 0.0,
+                  0.5 * std::sqrt(2.0) * v.map_scale + 1e-6);  // the pixel's centre
       EXPECT_NEAR(back.z(), p.z(), 1e-6);
     }
     // The whole box lies between the eye plane and the far plane.
@@ -236,7 +244,8 @@ TEST(Camera, OrthographicTopViewIsAMap) {
   EXPECT_NEAR(c.u, 320, 1e-9);
   EXPECT_NEAR(c.v, 180, 1e-9);
   cam.view_az = 30;
-  EXPECT_FALSE(renderer::map_geotransform(renderer::make_view(cam, origin, box, 640, 360), origin).has_value());
+  EXPECT_FALSE(renderer::map_geotransform(renderer::make_view(cam, origin, box, 640, 360), origin)
+                   .has_value());
   // Orthographic facing: the way to the viewer is against the line of sight, wherever the point.
   EXPECT_NEAR((v.viewpoint().to_eye({-900, -50, 100}) - Vector3d(0, 0, 1)).norm(), 0.0, 1e-12);
 }

@@ -9,6 +9,7 @@
 #include <functional>
 #include <numbers>
 
+#include <map>
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
 #include "drainage/pipeline.hpp"
@@ -17,6 +18,7 @@
 #include "renderer/frames.hpp"
 #include "renderer/gl_context.hpp"
 #include "renderer/line_stats.hpp"
+#include "renderer/pel.hpp"
 #include "renderer/shader.hpp"
 #include "renderer/silhouette.hpp"
 #include "renderer/stroke_visibility.hpp"
@@ -27,8 +29,6 @@
 #include "terrain/hillshade.hpp"
 #include "terrain/pn_surface.hpp"
 #include "terrain/voronoi.hpp"
-#include "renderer/pel.hpp"
-#include <map>
 #include "test_support.hpp"
 
 namespace {
@@ -63,8 +63,10 @@ TEST(Frames, ErrorsNameTheLine) {
     return std::string("no error");
   };
   EXPECT_NE(message("view_az,foo\n1,2\n").find("f.csv:1: unknown column 'foo'"), std::string::npos);
-  EXPECT_NE(message("# c\nview_az,fov\n1,2\n3\n").find("f.csv:4: expected 2 fields, found 1"), std::string::npos);
-  EXPECT_NE(message("view_az,fov\n1,abc\n").find("f.csv:2: field 'fov': 'abc' is not a number"), std::string::npos);
+  EXPECT_NE(message("# c\nview_az,fov\n1,2\n3\n").find("f.csv:4: expected 2 fields, found 1"),
+            std::string::npos);
+  EXPECT_NE(message("view_az,fov\n1,abc\n").find("f.csv:2: field 'fov': 'abc' is not a number"),
+            std::string::npos);
   EXPECT_NE(message("easting,northing\n1,2\n").find("f.csv:1:"), std::string::npos);
   EXPECT_NE(message("view_az\n").find("f.csv:1: no frames"), std::string::npos);
   EXPECT_NE(message("fov\n0\n").find("f.csv:2:"), std::string::npos);

@@ -39,11 +39,14 @@ struct Patches {
 Patches tally(const terrain::GridMesh& m, const std::vector<std::uint32_t>& idx) {
   Patches p;
   for (std::size_t t = 0; t + 2 < idx.size(); t += 3) {
-    const Eigen::Vector3f a = m.positions[idx[t]], b = m.positions[idx[t + 1]], c = m.positions[idx[t + 2]];
-    const double area = 0.5 * ((double(b.x()) - a.x()) * (double(c.y()) - a.y()) - (double(b.y()) - a.y()) * (double(c.x()) - a.x()));
+    const Eigen::Vector3f a = m.positions[idx[t]], b = m.positions[idx[t + 1]],
+                          c = m.positions[idx[t + 2]];
+    const double area = 0.5 * ((double(b.x()) - a.x()) * (double(c.y()) - a.y()) -
+                               (double(b.y()) - a.y()) * (double(c.x()) - a.x()));
     p.area += area;
     p.smallest = std::min(p.smallest, area);
-    for (int k = 0; k < 3; ++k) ++p.edges[{idx[t + std::size_t(k)], idx[t + std::size_t((k + 1) % 3)]}];
+    for (int k = 0; k < 3; ++k)
+      ++p.edges[{idx[t + std::size_t(k)], idx[t + std::size_t((k + 1) % 3)]}];
   }
   return p;
 }
@@ -58,11 +61,12 @@ bool on_rim(const terrain::GridTopology& g, std::uint32_t v) {
 
 // All blocks at level 0 give the mesh's own faces. Any mix of levels (random, and every
 // block one level apart from its neighbours' extremes, and with any blocks marked facing)
-// covers the mesh's extent exactly once: every patch is counter-clockwise with positive area, the areas sum to the extent,
-// and every edge inside the mesh is used once in each direction (an edge used once, a
-// T-junction, would be a crack between two blocks).
+// covers the mesh's extent exactly once: every patch is counter-clockwise with positive area, the
+// areas sum to the extent, and every edge inside the mesh is used once in each direction (an edge
+// used once, a T-junction, would be a crack between two blocks).
 TEST(Lod, AnyMixOfLevelsJoinsWithoutCracks) {
-  const terrain::GridMesh m = bumps(150, 131);  // blocks of 16 cells: partial blocks at the right and bottom
+  const terrain::GridMesh m =
+      bumps(150, 131);  // blocks of 16 cells: partial blocks at the right and bottom
   const renderer::LodHierarchy h = renderer::build_lod(m, 16);
   ASSERT_EQ(h.block_rows, 10u);  // 149 cells
   ASSERT_EQ(h.block_cols, 9u);   // 130 cells
@@ -70,7 +74,8 @@ TEST(Lod, AnyMixOfLevelsJoinsWithoutCracks) {
   const auto full = renderer::lod_patches(h, zero);
   ASSERT_EQ(full.size(), 3 * m.n_faces());
   for (std::size_t f = 0; f < m.n_faces(); ++f)
-    for (int k = 0; k < 3; ++k) ASSERT_EQ(full[3 * f + std::size_t(k)], m.topo.face(f)[std::size_t(k)]);
+    for (int k = 0; k < 3; ++k)
+      ASSERT_EQ(full[3 * f + std::size_t(k)], m.topo.face(f)[std::size_t(k)]);
 
   const double extent = 130 * 10.0 * 149 * 10.0;
   std::mt19937 rng(52);
@@ -78,7 +83,9 @@ TEST(Lod, AnyMixOfLevelsJoinsWithoutCracks) {
     std::vector<std::uint8_t> levels(h.blocks.size());
     for (std::size_t k = 0; k < levels.size(); ++k) {
       const int top = h.blocks[k].levels() - 1;
-      levels[k] = std::uint8_t(trial == 0 ? top : trial == 1 ? (k % 2 ? top : 0) : int(rng() % std::uint32_t(top + 1)));
+      levels[k] = std::uint8_t(trial == 0   ? top
+                               : trial == 1 ? (k % 2 ? top : 0)
+                                            : int(rng() % std::uint32_t(top + 1)));
     }
     const auto idx = renderer::lod_patches(h, levels);
     const Patches p = tally(m, idx);
@@ -87,7 +94,8 @@ TEST(Lod, AnyMixOfLevelsJoinsWithoutCracks) {
     const renderer::LodMesh lm = renderer::lod_mesh(h, levels);
     std::size_t grid = 0;
     for (std::size_t k = 0; k < levels.size(); ++k)
-      grid += terrain::level_count(h.blocks[k].nr, levels[k]) * terrain::level_count(h.blocks[k].nc, levels[k]);
+      grid += terrain::level_count(h.blocks[k].nr, levels[k]) *
+              terrain::level_count(h.blocks[k].nc, levels[k]);
     EXPECT_EQ(lm.vertices.size(), grid);
     if (trial == 0) {
       EXPECT_EQ(lm.vertices.size(), 4 * h.blocks.size());
@@ -118,7 +126,8 @@ TEST(Lod, AnyMixOfLevelsJoinsWithoutCracks) {
       const bool twin = p.edges.count({e.second, e.first}) > 0;
       if (!twin) {
         ++once;
-        EXPECT_TRUE(on_rim(m.topo, e.first) && on_rim(m.topo, e.second)) << "a crack at " << e.first << "-" << e.second;
+        EXPECT_TRUE(on_rim(m.topo, e.first) && on_rim(m.topo, e.second))
+            << "a crack at " << e.first << "-" << e.second;
       }
     }
     EXPECT_GT(once, 0u);
@@ -129,15 +138,16 @@ TEST(Lod, AnyMixOfLevelsJoinsWithoutCracks) {
 // at level 0, grows with the level, and the coarsest level of a block covers it with one
 // cell.
 TEST(Lod, ErrorsAreNoneOnAPlaneAndGrowWithTheLevel) {
-  const terrain::GridMesh plane =
-      terrain::test::function_mesh(70, 70, 10.0, [](double x, double y) { return 100 + 0.2 * x - 0.1 * y; });
+  const terrain::GridMesh plane = terrain::test::function_mesh(
+      70, 70, 10.0, [](double x, double y) { return 100 + 0.2 * x - 0.1 * y; });
   for (const auto& b : renderer::build_lod(plane, 32).blocks)
     for (float e : b.error) EXPECT_LT(e, 1e-3f);
   const renderer::LodHierarchy h = renderer::build_lod(bumps(129, 129), 32);  // 4 x 4 blocks
   for (const auto& b : h.blocks) {
     ASSERT_GE(b.levels(), 2);
     EXPECT_EQ(b.error[0], 0.0f);
-    for (int l = 1; l < b.levels(); ++l) EXPECT_GE(b.error[std::size_t(l)], b.error[std::size_t(l - 1)]);
+    for (int l = 1; l < b.levels(); ++l)
+      EXPECT_GE(b.error[std::size_t(l)], b.error[std::size_t(l - 1)]);
     EXPECT_GT(b.error.back(), 5.0f);
     EXPECT_GE(std::uint32_t(1) << (b.levels() - 1), std::max(b.nr, b.nc));
     EXPECT_LT(std::uint32_t(1) << (b.levels() - 2), std::max(b.nr, b.nc));
@@ -150,7 +160,8 @@ TEST(Lod, ErrorsAreNoneOnAPlaneAndGrowWithTheLevel) {
 TEST(Lod, SelectionCoarsensWithDistance) {
   constexpr double kTwoPi = 2 * 3.141592653589793;
   const terrain::GridMesh m = terrain::test::function_mesh(65, 1025, 10.0, [=](double x, double y) {
-    return 30 * std::sin(kTwoPi * x / 640) * std::cos(y / 70) + 6 * std::sin(5 * kTwoPi * x / 640 + y / 31);
+    return 30 * std::sin(kTwoPi * x / 640) * std::cos(y / 70) +
+           6 * std::sin(5 * kTwoPi * x / 640 + y / 31);
   });  // 16 blocks of 64 cells in a row
   const renderer::LodHierarchy h = renderer::build_lod(m);
   renderer::Camera cam;
@@ -169,7 +180,8 @@ TEST(Lod, SelectionCoarsensWithDistance) {
   renderer::Camera away = cam;
   away.view_az = 270;  // looking west, away from the terrain
   away.eye = Vector3d(-300, -320, 100);
-  const auto unseen = renderer::select_lod(h, renderer::make_view(away, Vector3d::Zero(), box, 1280, 720), 1.0, 1.0);
+  const auto unseen = renderer::select_lod(
+      h, renderer::make_view(away, Vector3d::Zero(), box, 1280, 720), 1.0, 1.0);
   for (std::size_t k = 0; k < unseen.size(); ++k) EXPECT_EQ(unseen[k], h.blocks[k].levels() - 1);
   // Raising the bound never makes a block finer.
   const auto coarse = renderer::select_lod(h, v, 1.0, 4.0);
@@ -180,8 +192,8 @@ TEST(Lod, SelectionCoarsensWithDistance) {
 // coefficients, the corner planes and the cubic's samples are all the plane's); on relief
 // the slopes are finite and positive.
 TEST(Lod, SlopesOfAPlaneAreItsGradientAtEveryLevel) {
-  const terrain::GridMesh plane =
-      terrain::test::function_mesh(70, 70, 10.0, [](double x, double y) { return 100 + 0.2 * x - 0.1 * y; });
+  const terrain::GridMesh plane = terrain::test::function_mesh(
+      70, 70, 10.0, [](double x, double y) { return 100 + 0.2 * x - 0.1 * y; });
   for (const auto& b : renderer::build_lod(plane, 32).blocks) {
     ASSERT_EQ(b.slope.size(), b.error.size());
     for (float s : b.slope) EXPECT_NEAR(s, std::sqrt(0.05), 1e-5);
@@ -226,8 +238,8 @@ TEST(Lod, ABlockFacesTheEyeAboveItsSlopeTimesTheMargin) {
 // patch, and the cubic's geometric normal and its corners' plane for a coarse one, face the
 // eye at every sampled point (exaggeration 1, where the slope measures what is drawn).
 // The blocks marked facing are some, not all (15 and 38 of 64 at 3000 and 4000 m up), so
-// both sides of the rule are exercised (3500 m up here). (The thin triangles of a cell snapped to a coarser
-// neighbour, which lod_patches keeps among those that may face away, failed it.)
+// both sides of the rule are exercised (3500 m up here). (The thin triangles of a cell snapped to a
+// coarser neighbour, which lod_patches keeps among those that may face away, failed it.)
 TEST(Lod, WhatALevelMarkedFacingDrawsFacesTheEye) {
   const terrain::GridMesh m = bumps(257, 257);
   const renderer::LodHierarchy h = renderer::build_lod(m, 32);
@@ -285,13 +297,14 @@ TEST(Lod, WhatALevelMarkedFacingDrawsFacesTheEye) {
 // with any error bound draws no level coarser than 1 (5.7 px) under a 6 px cap, and its
 // plane's coarsest without it.
 TEST(Lod, NoLevelCoarserThanTheCellCap) {
-  const terrain::GridMesh plane =
-      terrain::test::function_mesh(129, 129, 10.0, [](double x, double y) { return 0.1 * x + 0.05 * y; });
+  const terrain::GridMesh plane = terrain::test::function_mesh(
+      129, 129, 10.0, [](double x, double y) { return 0.1 * x + 0.05 * y; });
   const renderer::LodHierarchy h = renderer::build_lod(plane);
   renderer::Camera cam;
   cam.eye = Vector3d(640, -640, 5000);
   cam.orthographic = true, cam.view_alt = 90, cam.view_az = 0, cam.map_scale = 5;
-  const renderer::View v = renderer::make_view(cam, Vector3d::Zero(), {{0, -1280, 0}, {1280, 0, 200}}, 256, 256);
+  const renderer::View v =
+      renderer::make_view(cam, Vector3d::Zero(), {{0, -1280, 0}, {1280, 0, 200}}, 256, 256);
   for (const std::uint8_t l : renderer::select_lod(h, v, 1.0, 100, 6)) EXPECT_EQ(l, 1);
   for (const std::uint8_t l : renderer::select_lod(h, v, 1.0, 100)) EXPECT_EQ(l, 6);
 }
@@ -323,7 +336,8 @@ TEST(Lod, AViewerReadsTheBlocksInViewAndTheWholeMeshWhenTheViewLeavesThem) {
   over.view_az = 135;
   const int w = 480, h = 360;
   const std::string start = renderer::focus_scene(s, {near}, w, h, style, true);
-  EXPECT_NE(start.find("the blocks in view, rows 0 .. 1 and columns 0 .. 1 of 5 x 5, read"), std::string::npos)
+  EXPECT_NE(start.find("the blocks in view, rows 0 .. 1 and columns 0 .. 1 of 5 x 5, read"),
+            std::string::npos)
       << start;
   ASSERT_TRUE(s.levels && s.levels->window);
   EXPECT_EQ(s.mesh_level, 0);
@@ -331,7 +345,8 @@ TEST(Lod, AViewerReadsTheBlocksInViewAndTheWholeMeshWhenTheViewLeavesThem) {
   EXPECT_EQ(renderer::refocus_scene(s, near, w, h, style), "");
   EXPECT_EQ(renderer::cover_view(s, near, w, h, style), "");
   const std::string left = renderer::cover_view(s, over, w, h, style);
-  EXPECT_NE(left.find("the view left the blocks held: mesh read at level 1"), std::string::npos) << left;
+  EXPECT_NE(left.find("the view left the blocks held: mesh read at level 1"), std::string::npos)
+      << left;
   EXPECT_FALSE(s.levels->window);
   EXPECT_EQ(s.mesh_level, 1);
   EXPECT_EQ(renderer::refocus_scene(s, over, w, h, style), "");

@@ -31,10 +31,12 @@ TEST(RenderOptions, NamesAreUniqueAndEveryOneIsOnTheCommandLineAndInTheCsv) {
   std::vector<std::string> names;
   for (const OptionSpec& o : render_options()) {
     names.push_back(o.name);
-    EXPECT_NE(r.out.find("--" + o.name + " "), std::string::npos) << o.name << " is not in terrain-render frame --help";
+    EXPECT_NE(r.out.find("--" + o.name + " "), std::string::npos)
+        << o.name << " is not in terrain-render frame --help";
     EXPECT_NE(r.out.find(o.group + ":"), std::string::npos) << o.group;
     const auto& cols = frame_columns();
-    EXPECT_EQ(std::find(cols.begin(), cols.end(), csv_column(o)) != cols.end(), o.per_frame) << o.name;
+    EXPECT_EQ(std::find(cols.begin(), cols.end(), csv_column(o)) != cols.end(), o.per_frame)
+        << o.name;
   }
   std::sort(names.begin(), names.end());
   EXPECT_EQ(std::adjacent_find(names.begin(), names.end()), names.end());
@@ -63,18 +65,25 @@ TEST(RenderOptions, RangesAreCheckedAlikeEverywhere) {
   }
   EXPECT_GT(checked, 20);
   // The command line: one option of each kind, below its range.
-  for (const char* bad : {"--view-alt 91", "--silhouette-width 0", "--crease-lift -5", "--flow-scale cubic",
-                          "--background nocolour", "--layers shaded,contours", "--size 8x8"}) {
-    const auto r = terrain::test::run(terrain::test::tool("terrain-render") + " frame m.ply -o x.png " + bad);
+  for (const char* bad :
+       {"--view-alt 91", "--silhouette-width 0", "--crease-lift -5", "--flow-scale cubic",
+        "--background nocolour", "--layers shaded,contours", "--size 8x8"}) {
+    const auto r =
+        terrain::test::run(terrain::test::tool("terrain-render") + " frame m.ply -o x.png " + bad);
     EXPECT_EQ(r.exit_code, 2) << bad << ": " << r.err;
   }
 }
 
 TEST(RenderOptions, ChangedOptionsReadBack) {
   RenderSettings s;
-  for (const auto& [name, value] : std::vector<std::pair<std::string, std::string>>{
-           {"view-alt", "12.5"}, {"layers", "shaded,creases"}, {"aliased", "true"}, {"crease-colour", "red"},
-           {"eye", "1 2 3"}, {"flow-scale", "linear"}, {"size", "640x480"}})
+  for (const auto& [name, value] :
+       std::vector<std::pair<std::string, std::string>>{{"view-alt", "12.5"},
+                                                        {"layers", "shaded,creases"},
+                                                        {"aliased", "true"},
+                                                        {"crease-colour", "red"},
+                                                        {"eye", "1 2 3"},
+                                                        {"flow-scale", "linear"},
+                                                        {"size", "640x480"}})
     set_option(s, *find_option(name), value);
   const std::string line = changed_options(s);
   EXPECT_NE(line.find("--view-alt '12.5'"), std::string::npos) << line;
