@@ -17,6 +17,7 @@ PACKAGES=(
   libglfw3-dev libimgui-dev xvfb xauth     # terrain-view (GLFW window, Dear ImGui panel) and its tests under Xvfb
   libcairo2-dev libpotrace-dev             # vector line art: SVG and PDF through cairo, the surface mask traced by potrace
   librsvg2-bin poppler-utils               # tests rasterize the SVG (rsvg-convert) and the PDF (pdftoppm)
+  clang-format                             # CI checks the sources' layout (scripts/check-format.sh)
 )
 
 missing=()
