@@ -10,10 +10,10 @@
 #include <exception>
 
 #include "gpu_scene.hpp"
-#include "renderer/frames.hpp"
-#include "renderer/gl_context.hpp"
-#include "renderer/terrain_renderer.hpp"
-#include "renderer/timing.hpp"
+#include "renderer/core/frames.hpp"
+#include "renderer/core/timing.hpp"
+#include "renderer/gl/gl_context.hpp"
+#include "renderer/gl/terrain_renderer.hpp"
 
 using namespace renderer;
 

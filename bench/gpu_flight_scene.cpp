@@ -6,7 +6,7 @@
 #include <exception>
 
 #include "gpu_scene.hpp"
-#include "renderer/scene.hpp"
+#include "renderer/scene/scene.hpp"
 
 int main(int argc, char** argv) {
   try {

@@ -15,8 +15,8 @@
 
 #include <unistd.h>
 
-#include "renderer/crease.hpp"
-#include "renderer/options.hpp"
+#include "renderer/core/crease.hpp"
+#include "renderer/core/options.hpp"
 #include "terrain/grid_mesh.hpp"
 
 namespace gpu_scene {

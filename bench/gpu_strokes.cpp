@@ -10,11 +10,11 @@
 #include <cmath>
 #include <cstdio>
 
-#include "renderer/crease.hpp"
-#include "renderer/gl_context.hpp"
-#include "renderer/programs.hpp"
-#include "renderer/stroke_visibility.hpp"
-#include "renderer/terrain_renderer.hpp"
+#include "renderer/core/crease.hpp"
+#include "renderer/core/stroke_visibility.hpp"
+#include "renderer/gl/gl_context.hpp"
+#include "renderer/gl/programs.hpp"
+#include "renderer/gl/terrain_renderer.hpp"
 #include "terrain/grid_mesh.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/pn_surface.hpp"

@@ -1,13 +1,13 @@
 #pragma once
 // The render options' command line, generated from the renderer's option table
-// (renderer/options.hpp): terrain-render's frame, batch and path, and terrain-view.
+// (renderer/core/options.hpp): terrain-render's frame, batch and path, and terrain-view.
 #include <CLI/CLI.hpp>
 #include <map>
 #include <string>
 #include <vector>
 
-#include "renderer/frame_setup.hpp"
-#include "renderer/options.hpp"
+#include "renderer/core/options.hpp"
+#include "renderer/core/vector_file.hpp"
 
 namespace terrain::tools {
 

@@ -1,6 +1,6 @@
 // terrain-render: headless OpenGL renderer of PN-triangle terrain with drainage creases and
 // Toward/Away silhouettes (Mower's Creases algorithm); single frames, batches, flight paths.
-// Every render option comes from the renderer's option table (renderer/options.hpp).
+// Every render option comes from the renderer's option table (renderer/core/options.hpp).
 #include <iostream>
 #include <string>
 #include <vector>

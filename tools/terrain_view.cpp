@@ -9,7 +9,7 @@
 
 #include "common.hpp"
 #include "render_cli.hpp"
-#include "renderer/options.hpp"
+#include "renderer/core/options.hpp"
 #include "view/replay.hpp"
 #include "view/viewer.hpp"
 #include "view/window.hpp"

@@ -1,5 +1,5 @@
 // Shared by every stage: the per-frame uniform block (std140; its members are listed once,
-// in renderer/include/renderer/gl_contract.h, for GLSL and C++) and small helpers. Positions are in the mesh's local frame with
+// in renderer/gl/include/renderer/gl/gl_contract.h, for GLSL and C++) and small helpers. Positions are in the mesh's local frame with
 // z multiplied by the vertical exaggeration (u_eye.w).
 #define TR_GLSL_MEMBER(type, name) type name;
 layout(std140, binding = TR_UBO_FRAME) uniform FrameBlock { TR_FRAME_BLOCK(TR_GLSL_MEMBER) };

@@ -1,4 +1,4 @@
-// Crease samples for hidden-line removal along strokes (renderer/stroke_visibility.hpp):
+// Crease samples for hidden-line removal along strokes (renderer/core/stroke_visibility.hpp):
 // each segment sampled at n points (k + 0.5) / n along it on screen, bit k of each mask
 // sample k. Written by crease_visibility.comp.glsl, read by line.frag.glsl for creases.
 #define TR_CREASE_SAMPLES 1

@@ -1,4 +1,4 @@
-// Object-space feature edges (renderer/feature_edges.hpp is the CPU reference): the mesh,
+// Object-space feature edges (renderer/core/feature_edges.hpp is the CPU reference): the mesh,
 // the edge buffer built once (v0, v1 in the order of face A, v2 the third vertex of A, v3
 // that of face B or TR_EDGE_NONE), the kinds of the last classification, the edges of each
 // vertex, and the list of drawn edges with the indirect draw command.

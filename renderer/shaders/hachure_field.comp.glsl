@@ -1,4 +1,4 @@
-// Hachures' field (renderer/hachures.hpp: hachure_field is the CPU reference):
+// Hachures' field (renderer/core/hachures.hpp: hachure_field is the CPU reference):
 // for each pixel TFT drew (its toward depth), the point is unprojected (u_inverse, the
 // frame's inverse view-projection), the normal is the PN normal TFT wrote there (the
 // surface as drawn, heights exaggerated: u_normal), and a step of 1 m down the fall line

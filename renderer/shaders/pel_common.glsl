@@ -1,6 +1,6 @@
 // PEL compute passes: the grid topology (grid_mesh.hpp), the mesh data and the per-vertex
 // fields, and the Voronoi-weighted vertex gradient of docs/algorithms.md 5.1-5.3 (CPU
-// reference: renderer/src/lines/pel.cpp, same order of operations).
+// reference: renderer/core/src/lines/pel.cpp, same order of operations).
 layout(std430, binding = TR_SSBO_MESH_POSITIONS) readonly buffer MeshPositions { float pos[]; };
 layout(std430, binding = TR_SSBO_MESH_NORMALS) readonly buffer MeshNormals { float nrm[]; };
 layout(std430, binding = TR_SSBO_CORNER_AREAS) readonly buffer CornerAreas { float corner_area[]; };

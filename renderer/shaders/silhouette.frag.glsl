@@ -2,7 +2,7 @@
 // depth t and away depth a: silhouette when t < a and some 8-neighbour's toward depth is
 // beyond a (a toward surface, an away surface behind it, a neighbour's toward surface
 // farther still). One pixel wide. Anti-aliased (u_style.x != 0), two changes so that lines
-// read as strokes (renderer/silhouette.hpp has the CPU reference):
+// read as strokes (renderer/core/silhouette.hpp has the CPU reference):
 // - gaps closed: a is the nearest away depth in p's 3 x 3 window. An away-facing band
 //   narrower than a pixel is rasterized only at some pixels along its ridge, and the
 //   paper's test draws that ridge as dashes;

@@ -1,7 +1,7 @@
 // libFuzzer harness: the frame-list CSV parser of terrain-render batch.
 #include <string>
 
-#include "renderer/frames.hpp"
+#include "renderer/core/frames.hpp"
 #include "terrain/error.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -16,7 +16,7 @@
 #include "mesh_target.hpp"
 #include "points_target.hpp"
 #include "pyramid_target.hpp"
-#include "renderer/frames.hpp"
+#include "renderer/core/frames.hpp"
 #include "terrain/error.hpp"
 #include "terrain/mesh_io.hpp"
 

@@ -1,4 +1,4 @@
-// renderer/src/terrain_renderer.cpp and its passes on the machine's OpenGL through EGL
+// renderer/gl/src/terrain_renderer.cpp and its passes on the machine's OpenGL through EGL
 // (llvmpipe in CI): the renderer against CPU references and synthetic scenes whose answers
 // are known. (The GL-free parts' tests mirror their sources: view/, lines/, gl/.)
 #include <gtest/gtest.h>
@@ -14,18 +14,18 @@
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
 #include "drainage/pipeline.hpp"
-#include "renderer/camera.hpp"
-#include "renderer/crease.hpp"
-#include "renderer/frames.hpp"
-#include "renderer/gl_context.hpp"
-#include "renderer/line_stats.hpp"
-#include "renderer/lod.hpp"
-#include "renderer/pel.hpp"
-#include "renderer/shader.hpp"
-#include "renderer/silhouette.hpp"
-#include "renderer/stroke_visibility.hpp"
-#include "renderer/terrain_renderer.hpp"
-#include "renderer/timing.hpp"
+#include "renderer/core/camera.hpp"
+#include "renderer/core/crease.hpp"
+#include "renderer/core/frames.hpp"
+#include "renderer/core/line_stats.hpp"
+#include "renderer/core/lod.hpp"
+#include "renderer/core/pel.hpp"
+#include "renderer/core/silhouette.hpp"
+#include "renderer/core/stroke_visibility.hpp"
+#include "renderer/core/timing.hpp"
+#include "renderer/gl/gl_context.hpp"
+#include "renderer/gl/shader.hpp"
+#include "renderer/gl/terrain_renderer.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/error.hpp"
 #include "terrain/hillshade.hpp"
@@ -1321,7 +1321,7 @@ TEST(RendererGl, SilhouettePiecesFollowTheCpuRule) {
   }
 }
 
-// Levels of detail (renderer/lod.hpp) join without cracks on the GPU: on a bumpy analytic
+// Levels of detail (renderer/core/lod.hpp) join without cracks on the GPU: on a bumpy analytic
 // surface of 4 x 4 blocks drawn at a large error bound (so the blocks mix several levels),
 // no background pixel is enclosed by the terrain (every pixel where nothing was drawn
 // reaches the image's border through such pixels: a crack between two blocks, or a coarse

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/camera.hpp"
+#include "renderer/core/camera.hpp"
 
 namespace renderer::test {
 

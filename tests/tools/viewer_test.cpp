@@ -10,7 +10,7 @@
 #include <fstream>
 #include <regex>
 
-#include "renderer/options.hpp"
+#include "renderer/core/options.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -108,7 +108,7 @@ void check_viewer(bool window) {
   }
 }
 
-// Issue 49: one frame, resolved once (renderer/frame_setup.hpp). For option sets that give
+// Issue 49: one frame, resolved once (renderer/scene/frame_setup.hpp). For option sets that give
 // the camera or not, the light, each view mode, layers, --line-scale and the size, the
 // viewer's start view (its screenshot, offscreen) has exactly terrain-render frame's
 // pixels; before, the viewer's Home replaced the light given (--light-az 90) and its own

@@ -12,10 +12,10 @@
 #include "drainage/dv_views.hpp"
 #include "drainage/gis_layers.hpp"
 #include "drainage/rasters.hpp"
-#include "renderer/camera.hpp"
-#include "renderer/options.hpp"
-#include "renderer/plan_map.hpp"
-#include "renderer/vector_file.hpp"
+#include "renderer/core/camera.hpp"
+#include "renderer/core/options.hpp"
+#include "renderer/core/plan_map.hpp"
+#include "renderer/core/vector_file.hpp"
 #include "terrain/atomic_file.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/grid_mesh.hpp"
@@ -196,7 +196,7 @@ std::vector<std::uint8_t> dem_shade(const terrain::Grid& g, double az, double al
   return ga;
 }
 
-// A mesh's plan-view hachure map (renderer/plan_map.hpp) as gpkg, svg or pdf.
+// A mesh's plan-view hachure map (renderer/core/plan_map.hpp) as gpkg, svg or pdf.
 void export_hachure_map(const ExportArgs& a, const std::string& provenance) {
   const bool layers_given =
       a.gpkg_layers != ExportArgs{}.gpkg_layers;  // the default names a .dv's layers

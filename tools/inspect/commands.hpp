@@ -26,7 +26,7 @@ struct ExportArgs {
   std::string file, out, to, d8_encoding = "taudem";
   int min_order = 1;
   std::vector<std::string> gpkg_layers = {"branches", "basins", "divides"};
-  // A mesh's plan-view hachure map (--layers hachures; renderer/plan_map.hpp).
+  // A mesh's plan-view hachure map (--layers hachures; renderer/core/plan_map.hpp).
   double scale = 0, hachure_spacing = 6, hachure_width = 0.8, hachure_min_slope = 30;
   std::string hachure_tone = "slope", hachure_style = "lines";
   std::string dv;  // the mesh's .dv: its ridge lines on the map

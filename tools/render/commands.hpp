@@ -1,13 +1,13 @@
 #pragma once
 // terrain-render's subcommands (tools/terrain_render.cpp parses, these run): frame, batch,
-// path and --device, over the renderer and the frame resolved by renderer/frame_setup.hpp.
+// path and --device, over the renderer and the frame resolved by renderer/scene/frame_setup.hpp.
 #include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
 
 #include "common.hpp"
 #include "render_cli.hpp"
-#include "renderer/frame_setup.hpp"
+#include "renderer/scene/frame_setup.hpp"
 
 namespace terrain::tools::render {
 

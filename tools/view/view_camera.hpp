@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 #include <optional>
 
-#include "renderer/frame_params.hpp"
+#include "renderer/core/frame_params.hpp"
 #include "terrain/grid_mesh.hpp"
 
 namespace terrain::tools {

@@ -14,14 +14,14 @@
 
 #include "common.hpp"
 #include "render_cli.hpp"
-#include "renderer/camera.hpp"
-#include "renderer/frame_setup.hpp"
-#include "renderer/frames.hpp"
-#include "renderer/gl_context.hpp"
-#include "renderer/options.hpp"
-#include "renderer/scene.hpp"
-#include "renderer/terrain_renderer.hpp"
-#include "renderer/vector_file.hpp"
+#include "renderer/core/camera.hpp"
+#include "renderer/core/frames.hpp"
+#include "renderer/core/options.hpp"
+#include "renderer/core/vector_file.hpp"
+#include "renderer/gl/gl_context.hpp"
+#include "renderer/gl/terrain_renderer.hpp"
+#include "renderer/scene/frame_setup.hpp"
+#include "renderer/scene/scene.hpp"
 #include "terrain/atomic_file.hpp"
 #include "view/view_camera.hpp"
 
@@ -148,7 +148,7 @@ class Viewer {
   }
 
   // A frame: full size, or the cheap half-size one. With the hachures and ridges layers, a
-  // full frame shows them as terrain-render draws them (renderer/hachures.hpp,
+  // full frame shows them as terrain-render draws them (renderer/core/hachures.hpp,
   // renderer::ridge_layer); a cheap frame, while moving, goes without.
   const rr::FrameResult& render(bool cheap) {
     {  // a full frame reads what terrain-render frame reads (the level and the blocks its view

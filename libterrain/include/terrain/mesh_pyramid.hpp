@@ -1,6 +1,6 @@
 #pragma once
 // The mesh's levels of detail: the blocks of cells, the error of each level of
-// each block (build_mesh_levels; the renderer selects levels from them, renderer/lod.hpp),
+// each block (build_mesh_levels; the renderer selects levels from them, renderer/core/lod.hpp),
 // and the mesh pyramid on disk (MESH.tpyr, docs/formats.md): every level's vertices in
 // tiles that a reader reads by window, so that what a view needs is read, not the mesh.
 #include <algorithm>
@@ -45,7 +45,7 @@ struct MeshLevelBlock {
   // through its PN cubic's samples at the block's vertices' parameters (each fine cell's
   // two faces); infinity where one does not point up. Empty when not known (a pyramid of
   // version 1). What tells the renderer that no silhouette can cross the block drawn at a
-  // level (renderer/lod.hpp).
+  // level (renderer/core/lod.hpp).
   std::vector<float> slope;
   int levels() const { return int(error.size()); }
 };
@@ -56,7 +56,7 @@ struct MeshLevels {
   std::vector<MeshLevelBlock> blocks;  // row-major
   // The level whose grid the drawn mesh holds (read_mesh_via_pyramid's `level`): 0, the
   // mesh itself, unless a level of its pyramid was read in its place; no block is drawn
-  // finer (renderer/lod.hpp).
+  // finer (renderer/core/lod.hpp).
   int base = 0;
   // Set when only a window of the mesh's blocks is held (read_mesh_via_pyramid's `part`):
   // then topo, block_rows, block_cols and blocks are the window's, in its frame (its first

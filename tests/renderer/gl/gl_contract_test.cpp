@@ -1,5 +1,5 @@
-// Every program of the renderer (renderer/programs.hpp) against the C++/GLSL contract
-// (renderer/gl_contract.h), by introspection of the linked programs: the uniform block's
+// Every program of the renderer (renderer/gl/programs.hpp) against the C++/GLSL contract
+// (renderer/gl/gl_contract.h), by introspection of the linked programs: the uniform block's
 // binding, size and member offsets equal the C++ FrameBlock's; every storage block,
 // sampler, image, uniform and vertex input is named in the contract with the binding, unit or
 // location the driver reports; compute work groups are TR_LOCAL_SIZE wide.
@@ -9,9 +9,9 @@
 #include <map>
 #include <string>
 
-#include "renderer/gl_context.hpp"
-#include "renderer/gl_contract.hpp"
-#include "renderer/programs.hpp"
+#include "renderer/gl/gl_context.hpp"
+#include "renderer/gl/gl_contract.hpp"
+#include "renderer/gl/programs.hpp"
 
 namespace renderer {
 namespace {

@@ -1,4 +1,4 @@
-// renderer/src/gl/shader.cpp: a shader's log names its file.
+// renderer/gl/src/gl/shader.cpp: a shader's log names its file.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,17 +12,17 @@
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
 #include "drainage/pipeline.hpp"
-#include "renderer/camera.hpp"
-#include "renderer/crease.hpp"
-#include "renderer/frames.hpp"
-#include "renderer/gl_context.hpp"
-#include "renderer/line_stats.hpp"
-#include "renderer/pel.hpp"
-#include "renderer/shader.hpp"
-#include "renderer/silhouette.hpp"
-#include "renderer/stroke_visibility.hpp"
-#include "renderer/terrain_renderer.hpp"
-#include "renderer/timing.hpp"
+#include "renderer/core/camera.hpp"
+#include "renderer/core/crease.hpp"
+#include "renderer/core/frames.hpp"
+#include "renderer/core/line_stats.hpp"
+#include "renderer/core/pel.hpp"
+#include "renderer/core/silhouette.hpp"
+#include "renderer/core/stroke_visibility.hpp"
+#include "renderer/core/timing.hpp"
+#include "renderer/gl/gl_context.hpp"
+#include "renderer/gl/shader.hpp"
+#include "renderer/gl/terrain_renderer.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/error.hpp"
 #include "terrain/hillshade.hpp"

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <set>
 
-#include "renderer/feature_edges.hpp"
+#include "renderer/core/feature_edges.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/grid_mesh.hpp"
 #include "test_support.hpp"

@@ -1,9 +1,9 @@
-// renderer/src/lines/hachures.cpp (issue 51, the CPU reference): hachures follow the fall
+// renderer/core/src/lines/hachures.cpp (issue 51, the CPU reference): hachures follow the fall
 // line, keep their spacing, leave flats white, stop at drawn lines, follow the tone; the
 // field of a frame points down a cone's flanks.
-#include "renderer/hachures.hpp"
-#include "renderer/plan_map.hpp"
-#include "renderer/scene.hpp"
+#include "renderer/core/hachures.hpp"
+#include "renderer/core/plan_map.hpp"
+#include "renderer/scene/scene.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,8 +15,8 @@
 #include <numbers>
 #include <set>
 
-#include "renderer/gl_context.hpp"
-#include "renderer/terrain_renderer.hpp"
+#include "renderer/gl/gl_context.hpp"
+#include "renderer/gl/terrain_renderer.hpp"
 #include "terrain/error.hpp"
 #include "terrain/hillshade.hpp"
 #include "test_support.hpp"

@@ -1,8 +1,8 @@
-// Line statistics and crease rules (renderer/line_stats.hpp, renderer/crease.hpp), GL-free:
-// plan curvature of analytic surfaces, stroke joining, flicker, and the crease rules on a
+// Line statistics and crease rules (renderer/core/line_stats.hpp, renderer/core/crease.hpp),
+// GL-free: plan curvature of analytic surfaces, stroke joining, flicker, and the crease rules on a
 // V-shaped valley, a plane draining off one edge and a filled square depression; smoothed
 // crease lines on a straight and an oblique V valley.
-#include "renderer/line_stats.hpp"
+#include "renderer/core/line_stats.hpp"
 
 #include <gtest/gtest.h>
 

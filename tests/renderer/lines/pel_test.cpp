@@ -8,7 +8,7 @@
 #include <numbers>
 #include <tuple>
 
-#include "renderer/pel.hpp"
+#include "renderer/core/pel.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/voronoi.hpp"
 #include "test_support.hpp"

@@ -1,4 +1,4 @@
-// Formulated silhouettes (GL-free reference, renderer/silhouette.hpp) on analytic surfaces
+// Formulated silhouettes (GL-free reference, renderer/core/silhouette.hpp) on analytic surfaces
 // seen from above, whose lowered-eye silhouettes are known: a tent's crest across the view's
 // bearing, none along it or where the far side is too gentle, and a cone's two generators.
 #include <gtest/gtest.h>
@@ -9,9 +9,9 @@
 #include <map>
 #include <numbers>
 
-#include "renderer/silhouette.hpp"
+#include "renderer/core/silhouette.hpp"
+#include "renderer/core/vector_art.hpp"
 #include "renderer/top_view.hpp"
-#include "renderer/vector_art.hpp"
 
 namespace renderer {
 namespace {

@@ -1,6 +1,6 @@
-// Hidden-line removal along strokes (renderer/stroke_visibility.hpp), GL-free, on a line
+// Hidden-line removal along strokes (renderer/core/stroke_visibility.hpp), GL-free, on a line
 // seen from straight above across toward depths laid out by hand.
-#include "renderer/stroke_visibility.hpp"
+#include "renderer/core/stroke_visibility.hpp"
 
 #include <gtest/gtest.h>
 

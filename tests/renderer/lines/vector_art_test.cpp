@@ -1,4 +1,4 @@
-// A frame's line art as paths (renderer/vector_art.hpp) and its SVG / PDF (vector_file.hpp),
+// A frame's line art as paths (renderer/core/vector_art.hpp) and its SVG / PDF (vector_file.hpp),
 // GL-free: strokes, masks and segments laid out by hand under a camera looking straight
 // down, whose paths are known; the mask traced into regions; the files read back.
 #include <gtest/gtest.h>
@@ -11,8 +11,8 @@
 #include <regex>
 #include <string>
 
-#include "renderer/vector_art.hpp"
-#include "renderer/vector_file.hpp"
+#include "renderer/core/vector_art.hpp"
+#include "renderer/core/vector_file.hpp"
 #include "terrain/error.hpp"
 
 namespace renderer {

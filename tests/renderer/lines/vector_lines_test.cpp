@@ -1,4 +1,4 @@
-// renderer/vector_lines.hpp on hand-made masks and segment lists whose lines are known: a
+// renderer/core/vector_lines.hpp on hand-made masks and segment lists whose lines are known: a
 // ring, a T junction, a dashed line, a line along the frame's edge, a thick band; and the
 // simplification the vector writer uses.
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "renderer/vector_lines.hpp"
+#include "renderer/core/vector_lines.hpp"
 
 namespace renderer {
 namespace {

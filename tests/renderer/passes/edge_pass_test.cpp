@@ -11,10 +11,10 @@
 
 #include <Eigen/Geometry>
 
-#include "renderer/feature_edges.hpp"
-#include "renderer/gl_context.hpp"
-#include "renderer/gl_contract.h"
-#include "renderer/terrain_renderer.hpp"
+#include "renderer/core/feature_edges.hpp"
+#include "renderer/gl/gl_context.hpp"
+#include "renderer/gl/gl_contract.h"
+#include "renderer/gl/terrain_renderer.hpp"
 #include "terrain/dem_io.hpp"
 #include "test_support.hpp"
 

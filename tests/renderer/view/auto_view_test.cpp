@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "renderer/camera.hpp"
+#include "renderer/core/camera.hpp"
 #include "test_support.hpp"
 
 namespace renderer {

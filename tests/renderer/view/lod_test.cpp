@@ -1,4 +1,4 @@
-// Levels of detail (renderer/lod.hpp): the patches of any mix of levels form one surface
+// Levels of detail (renderer/core/lod.hpp): the patches of any mix of levels form one surface
 // without cracks; errors are zero on a plane and grow with the level; the selection
 // coarsens with distance and keeps full detail at bound 0.
 #include <gtest/gtest.h>
@@ -12,9 +12,9 @@
 #include <random>
 #include <utility>
 
-#include "renderer/camera.hpp"
-#include "renderer/lod.hpp"
-#include "renderer/scene.hpp"
+#include "renderer/core/camera.hpp"
+#include "renderer/core/lod.hpp"
+#include "renderer/scene/scene.hpp"
 #include "terrain/mesh_io.hpp"
 #include "terrain/pn_triangle.hpp"
 #include "test_support.hpp"
@@ -309,7 +309,7 @@ TEST(Lod, NoLevelCoarserThanTheCellCap) {
   for (const std::uint8_t l : renderer::select_lod(h, v, 1.0, 100)) EXPECT_EQ(l, 6);
 }
 
-// What terrain-view reads of a mesh over its memory bound (renderer/scene.hpp): at the start
+// What terrain-view reads of a mesh over its memory bound (renderer/scene/scene.hpp): at the start
 // and before each full frame, what terrain-render frame reads (focus_scene with its window:
 // a near view past the north-west corner of 5 x 5 blocks, the 2 x 2 blocks in view at level
 // 0, 400 KB of the 1 MB bound; the whole level 0 takes 1.95 MB); nothing while what it holds

@@ -1,4 +1,4 @@
-// The option table (renderer/options.hpp) is the one declaration of every render option:
+// The option table (renderer/core/options.hpp) is the one declaration of every render option:
 // its defaults are RenderSettings{}'s, each option is on terrain-render's command line and,
 // when per frame, a frames CSV column, and set_option checks what the CLI and the CSV accept.
 #include <gtest/gtest.h>
@@ -7,8 +7,8 @@
 
 #include <fmt/format.h>
 
-#include "renderer/frames.hpp"
-#include "renderer/options.hpp"
+#include "renderer/core/frames.hpp"
+#include "renderer/core/options.hpp"
 #include "terrain/error.hpp"
 #include "test_support.hpp"
 

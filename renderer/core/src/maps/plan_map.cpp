@@ -1,0 +1,189 @@
+#include "renderer/core/plan_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include <fmt/format.h>
+#include <ogrsf_frmts.h>
+
+#include "renderer/core/ridges.hpp"
+#include "renderer/core/vector_file.hpp"
+#include "terrain/gpkg.hpp"
+#include "terrain/hillshade.hpp"
+#include "terrain/memory.hpp"
+
+namespace renderer {
+
+namespace {
+// A GeoPackage's lines are simplified within this many map pixels (Douglas-Peucker).
+constexpr double kSimplifyPixels = 0.5;
+}  // namespace
+
+double default_plan_scale(const terrain::GridMesh& mesh) {
+  const double w = double(mesh.topo.cols - 1) * mesh.geo.dx,
+               h = double(mesh.topo.rows - 1) * mesh.geo.dy;
+  const double raw = std::max(w, h) / 2048.0, decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (const double m : {1.0, 2.0, 2.5, 5.0})
+    if (m * decade >= raw * (1 - 1e-9)) return m * decade;
+  return 10.0 * decade;
+}
+
+void check_plan_memory(const PlanView& p) {
+  // The field (its fall line, slope, tone and height: 20 bytes), the occupancy grid, the
+  // tracer's points and a vector file's raster: 28 bytes a pixel were measured at 145 M
+  // pixels (4.1 GB).
+  constexpr double kBytesPerPixel = 32;
+  const double pixels = double(p.width) * double(p.height), available = terrain::available_memory();
+  if (!(available > 0) || pixels * kBytesPerPixel <= available) return;
+  const double fits =
+      p.scale * std::sqrt(pixels * kBytesPerPixel / available);  // the scale whose map fits
+  const double step = std::pow(10.0, std::floor(std::log10(fits)) - 1);
+  terrain::check_memory(
+      pixels * kBytesPerPixel,
+      fmt::format("a map of {} x {} pixels at {:g} m a pixel", p.width, p.height, p.scale),
+      fmt::format("give --scale {:g} or coarser", std::ceil(fits / step) * step));
+}
+
+namespace {
+
+// The ridges a map of `plan` draws (select_ridges at its scale), in its pixels.
+std::vector<PlanRidge> plan_ridges(const terrain::GridMesh& mesh, const PlanView& plan,
+                                   const std::vector<SceneRidge>& ridges,
+                                   const PlanHachureOptions& o) {
+  float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
+  for (const Eigen::Vector3f& p : mesh.positions)
+    lo = std::min(lo, p.z()), hi = std::max(hi, p.z());
+  const double min_area = o.ridge_min_area * std::sqrt(plan.scale / 10.0);
+  std::vector<PlanRidge> out;
+  for (const std::size_t k :
+       select_ridges(ridges, plan.scale, min_area, o.ridge_min_relief * double(hi - lo))) {
+    PlanRidge r{{}, ridges[k].basin_area, ridges[k].relief};
+    for (const Eigen::Vector3f& p : ridges[k].points)
+      r.points.emplace_back(float((double(p.x()) - plan.x0) / plan.scale),
+                            float((plan.y0 - double(p.y())) / plan.scale));
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+VectorLayer ridge_paths(const std::vector<PlanRidge>& ridges, double width) {
+  VectorLayer l{"ridges", Style{}.ridge_colour, LineCap::Round, {}, ridges.size()};
+  for (const PlanRidge& r : ridges) l.paths.push_back({{r.points, false}, float(width), 1.0f, {}});
+  return l;
+}
+
+}  // namespace
+
+PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptions& o,
+                           const std::vector<SceneRidge>& ridges) {
+  PlanHachures out;
+  out.plan = plan_view(mesh, o.scale > 0 ? o.scale : default_plan_scale(mesh));
+  check_plan_memory(out.plan);
+  const Eigen::Vector3d light = terrain::light_direction(o.light_azimuth, o.light_altitude);
+  HachureField field = plan_hachure_field(mesh, out.plan, o.light_tone ? &light : nullptr);
+  out.ridges = plan_ridges(mesh, out.plan, ridges, o);
+  if (!out.ridges.empty()) {  // the hachures stop at the ridge lines' pixels, as drawn
+    std::vector<std::uint8_t> ink(4 * field.slope.size(), 0);
+    draw_on_rgba(ridge_paths(out.ridges, o.ridge_width), field.width, field.height, ink);
+    field.blocked.assign(field.slope.size(), 0);
+    for (std::size_t i = 0; i < field.blocked.size(); ++i) field.blocked[i] = ink[4 * i + 3] > 0;
+  }
+  HachureRule rule;
+  rule.spacing = o.spacing;
+  rule.min_slope = std::max(rule.min_slope, o.min_slope_share * slope_percentile(field, 0.99));
+  out.min_slope = rule.min_slope;
+  stretch_tone(field, rule.min_slope);
+  if (o.rows)
+    rule.row_interval =
+        row_interval_for(out.plan.scale, o.spacing, median_slope(field, rule.min_slope));
+  out.row_interval = rule.row_interval;
+  out.hachures = trace_hachures(field, rule);
+  return out;
+}
+
+std::array<double, 6> plan_geotransform(const terrain::GridMesh& mesh, const PlanView& p) {
+  return {mesh.geo.origin_x + p.x0, p.scale, 0.0, mesh.geo.origin_y + p.y0, 0.0, -p.scale};
+}
+
+std::string geotransform_text(const std::array<double, 6>& gt) {
+  return fmt::format("{:.3f} {:g} 0 {:.3f} 0 {:g}", gt[0], gt[1], gt[3], gt[5]);
+}
+
+std::string map_note(const std::array<double, 6>& gt, int epsg) {
+  return fmt::format("north up, {:g} m a pixel; geotransform {}{}", gt[1], geotransform_text(gt),
+                     epsg ? fmt::format("; EPSG:{}", epsg) : "");
+}
+
+std::string world_file(const std::array<double, 6>& gt) {
+  return fmt::format("{:.10g}\n{:.10g}\n{:.10g}\n{:.10g}\n{:.10g}\n{:.10g}\n", gt[1], gt[4], gt[2],
+                     gt[5], gt[0] + 0.5 * gt[1] + 0.5 * gt[2], gt[3] + 0.5 * gt[4] + 0.5 * gt[5]);
+}
+
+std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachures& h,
+                                const std::string& path) {
+  terrain::Gpkg gpkg(path, mesh.geo.crs_wkt);
+  OGRLayer* layer = gpkg.layer(
+      "hachures", wkbLineString,
+      {{"slope_deg", OFTReal}, {"tone", OFTReal}, {"length_m", OFTReal}, {"row_m", OFTReal}});
+  OGRLayer* rl =
+      h.ridges.empty()
+          ? nullptr
+          : gpkg.layer("ridges", wkbLineString,
+                       {{"basin_m2", OFTReal}, {"relief_m", OFTReal}, {"length_m", OFTReal}});
+  gpkg.begin();
+  for (const Hachure& hh : h.hachures) {
+    OGRLineString traced;
+    double slope = 0, tone = 0, length = 0;
+    for (std::size_t k = 0; k < hh.points.size(); ++k) {
+      const Eigen::Vector2d q = plan_to_local(h.plan, hh.points[k]);
+      traced.addPoint(mesh.geo.origin_x + q.x(), mesh.geo.origin_y + q.y());
+      slope += hh.slope[k], tone += hh.tone[k];
+      if (k) length += double((hh.points[k] - hh.points[k - 1]).norm()) * h.plan.scale;
+    }
+    // Simplified to the map's pixel: the tracer's half-pixel steps are 4 vertices a pixel.
+    std::unique_ptr<OGRGeometry> simple(traced.Simplify(kSimplifyPixels * h.plan.scale));
+    const OGRGeometry& line =
+        simple && !simple->IsEmpty() ? *simple : static_cast<const OGRGeometry&>(traced);
+    const double n = double(std::max<std::size_t>(hh.points.size(), 1));
+    OGRFeature f(layer->GetLayerDefn());
+    f.SetField("slope_deg", slope / n * 180.0 / M_PI);
+    f.SetField("tone", tone / n);
+    f.SetField("length_m", length);
+    if (h.row_interval > 0) f.SetField("row_m", double(hh.row + 1) * h.row_interval);
+    f.SetGeometry(&line);  // copied
+    gpkg.add(layer, f);
+  }
+  if (rl)
+    for (const PlanRidge& r : h.ridges) {
+      OGRLineString line;
+      double length = 0;
+      for (std::size_t k = 0; k < r.points.size(); ++k) {
+        const Eigen::Vector2d q = plan_to_local(h.plan, r.points[k]);
+        line.addPoint(mesh.geo.origin_x + q.x(), mesh.geo.origin_y + q.y());
+        if (k) length += double((r.points[k] - r.points[k - 1]).norm()) * h.plan.scale;
+      }
+      OGRFeature f(rl->GetLayerDefn());
+      f.SetField("basin_m2", r.basin_area);
+      f.SetField("relief_m", r.relief);
+      f.SetField("length_m", length);
+      f.SetGeometry(&line);
+      gpkg.add(rl, f);
+    }
+  gpkg.commit();
+  return h.hachures.size();
+}
+
+VectorArt plan_vector_art(const PlanHachures& h, const PlanHachureOptions& o) {
+  VectorArt art;
+  art.width = h.plan.width, art.height = h.plan.height;
+  art.underlay = VectorUnderlay::None;
+  Style style;
+  style.hachure_width = o.width;
+  art.layers.push_back(hachure_paths(h.hachures, style));
+  if (!h.ridges.empty()) art.layers.push_back(ridge_paths(h.ridges, o.ridge_width));
+  return art;
+}
+
+}  // namespace renderer
