@@ -202,4 +202,9 @@ int run_main(CLI::App& app, int argc, char** argv, const std::function<int()>& b
   return 1;
 }
 
+CLI::Option* add_memory_option(CLI::App& app, double& mib, const std::string& help, double least) {
+  CLI::Option* o = app.add_option("--memory", mib, help)->check(CLI::Range(least, 16777216.0));
+  return mib > 0 ? o->capture_default_str() : o;  // 0: not bounded unless given
+}
+
 }  // namespace terrain::tools

@@ -56,6 +56,10 @@ void check_distinct_paths(const std::vector<std::string>& inputs,
 // PositiveNumber and NonNegativeNumber print the largest double in full).
 extern const CLI::Validator kPositive, kNonNegative;
 
+// --memory MIB, declared once for every tool: the bound a run keeps to, in the tool's own
+// sense (`help`), at least `least` MiB; its default shown unless 0 (no bound).
+CLI::Option* add_memory_option(CLI::App& app, double& mib, const std::string& help, double least);
+
 // Warns (-q silences it) of each temporary file or scratch folder beside an output that a
 // run on it left when it was killed (SIGKILL, a power cut: temp_files.hpp), with the
 // command that removes it. Empty strings are skipped.

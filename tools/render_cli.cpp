@@ -1,5 +1,7 @@
 #include "render_cli.hpp"
 
+#include "common.hpp"
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -85,6 +87,14 @@ void add_vector_options(CLI::App* app, rr::VectorOptions& o) {
 std::string vector_options_text(const rr::VectorOptions& o) {
   return (o.dpi != rr::VectorOptions{}.dpi ? fmt::format(" --dpi {:g}", o.dpi) : std::string()) +
          (o.underlay.empty() ? std::string() : " --vector-underlay " + o.underlay);
+}
+
+void add_vertex_memory_option(CLI::App* app, double& mib, const std::string& reads) {
+  add_memory_option(*app, mib,
+                    "MiB the mesh's vertices may take: a larger mesh with a pyramid beside it "
+                    "(dem2mesh --pyramid) is read " +
+                        reads,
+                    0.001);
 }
 
 }  // namespace terrain::tools

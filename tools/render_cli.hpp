@@ -34,6 +34,9 @@ renderer::RenderSettings settings_of(const TableArgs& a);
 // --dpi and --vector-underlay: how an SVG or PDF is written (terrain-render frame and
 // batch, terrain-view's save-view).
 void add_vector_options(CLI::App* app, renderer::VectorOptions& o);
+// --memory: the MiB the mesh's vertices may take, a larger mesh read from its pyramid at the
+// level `reads` says (terrain-render frame and batch, terrain-view).
+void add_vertex_memory_option(CLI::App* app, double& mib, const std::string& reads);
 // The same as command-line text, where they differ from the defaults (" --dpi 300").
 std::string vector_options_text(const renderer::VectorOptions& o);
 

@@ -61,15 +61,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_flag("--list-options", list,
                "Print the panel's options (name, group, type, default) and exit");
-  app.add_option("--memory", memory_mib,
-                 "MiB the mesh's vertices may take: a larger mesh with a pyramid beside it "
-                 "(dem2mesh --pyramid) is "
-                 "read as terrain-render frame reads it (the level the view draws over the blocks "
-                 "in view, within "
-                 "this), again when a still view needs more, and whole when a moving view leaves "
-                 "the blocks held")
-      ->check(CLI::Range(0.001, 16777216.0))
-      ->capture_default_str();
+  tt::add_vertex_memory_option(&app, memory_mib,
+                               "as terrain-render frame reads it (the level the view draws over "
+                               "the blocks in view, within this), again when a still view needs "
+                               "more, and whole when a moving view leaves the blocks held");
   tt::add_verbosity_flags(app, verb);
   tt::add_table_options(&app, opts, false);
   renderer::VectorOptions vector;

@@ -1,4 +1,5 @@
 // End-to-end: the command-line tools on good and bad input.
+#include <fmt/format.h>
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
 
@@ -12,6 +13,8 @@
 
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
+#include "renderer/core/options.hpp"
+#include "renderer/core/plan_map.hpp"
 #include "terrain/dem_io.hpp"
 #include "terrain/mesh_io.hpp"
 #include "terrain/mesh_pyramid.hpp"
@@ -497,6 +500,41 @@ TEST(TerrainInspect, DemInfo) {
   const auto bad = run(tool("terrain-inspect") + " info /nonexistent.tif");
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_EQ(lines(bad.err), 1u);
+}
+
+// A plan map's hachure options are the frame's rows of the option table: each refuses what
+// terrain-render refuses (past its range, outside its choices) and takes its bounds, with
+// the map's own defaults in --help.
+TEST(TerrainInspect, MapHachureOptionsAreTheOptionTables) {
+  const std::string help = run(tool("terrain-inspect") + " export --help").out;
+  const renderer::PlanHachureOptions map;
+  const std::pair<const char*, std::string> defaults[] = {
+      {"hachure-spacing", fmt::format("={:g}", map.spacing)},
+      {"hachure-width", fmt::format("={:g}", map.width)},
+      {"hachure-tone", map.light_tone ? "=light" : "=slope"},
+      {"hachure-min-slope", fmt::format("={:g}", 100 * map.min_slope_share)},
+      {"hachure-style", map.rows ? "=rows" : "=lines"}};
+  for (const auto& [name, shown] : defaults) {
+    const renderer::OptionSpec& spec = *renderer::find_option(name);
+    const bool choice = spec.type == renderer::OptionType::Enum;
+    const std::string bad = choice ? "bogus" : fmt::format("{:g}", spec.max * 2 + 1);
+    const std::string good = choice ? spec.choices.back() : fmt::format("{:g}", spec.max);
+    const std::string opt = std::string(" --") + name + " ";
+    EXPECT_EQ(run(tool("terrain-render") + " frame m.ply -o x.png" + opt + bad).exit_code, 2)
+        << name;
+    EXPECT_EQ(
+        run(tool("terrain-inspect") + " export m.ply --to svg -o x.svg" + opt + bad).exit_code, 2)
+        << name;
+    // The bound itself parses: the run goes on to the missing mesh (exit 1, not 2).
+    EXPECT_EQ(run(tool("terrain-inspect") + " export missing.ply --to svg -o x.svg" + opt + good)
+                  .exit_code,
+              1)
+        << name;
+    const std::size_t at = help.find(std::string("--") + name + " ");
+    ASSERT_NE(at, std::string::npos) << name;
+    EXPECT_NE(help.substr(at, help.find('\n', at) - at).find(shown), std::string::npos)
+        << name << ": " << help.substr(at, 80);
+  }
 }
 
 }  // namespace

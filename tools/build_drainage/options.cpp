@@ -81,14 +81,12 @@ void add_options(CLI::App& app, Options& o) {
          "through GDAL windows, results identical to the untiled run (docs/build-drainage.md).\n"
          "Under mpirun the ranks share the tiles (default 1024 there)")
       ->check(CLI::Range(1, 16384));
-  app.add_option(
-         "--memory", o.memory_mib,
-         "Raster mode within about this much memory (MiB): untiled when the grid fits (40 bytes "
-         "per\n"
-         "point), else tiled with the largest tiles that fit (100 bytes per tile point per thread, "
-         "or\n"
-         "300 per tile-edge cell for the perimeter graphs, + 64 MiB; docs/build-drainage.md)")
-      ->check(CLI::Range(64.0, 1e9))
+  tt::add_memory_option(app, o.memory_mib,
+                        "Raster mode within about this much memory (MiB): untiled when the grid "
+                        "fits (40 bytes per\npoint), else tiled with the largest tiles that fit "
+                        "(100 bytes per tile point per thread, or\n300 per tile-edge cell for "
+                        "the perimeter graphs, + 64 MiB; docs/build-drainage.md)",
+                        64.0)
       ->excludes("--tile-size");
   app.add_option("--threads", o.threads,
                  "Threads (default: all cores); the output does not depend on it")

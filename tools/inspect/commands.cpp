@@ -256,6 +256,30 @@ void add_preview_options(CLI::App* preview, PreviewArgs& a) {
                       "of points, at least 20)");
 }
 
+namespace {
+
+// A plan map's hachure option, declared from the frame's row of the option table (its range
+// or choices and its help), with the map's default in `value`.
+template <class T>
+void add_map_hachure_option(CLI::App* cmd, const std::string& name, T& value) {
+  const renderer::OptionSpec& spec = *renderer::find_option(name);
+  std::string help = spec.help;
+  if (help.starts_with("--layers hachures: ")) help = help.substr(19);
+  if (const std::size_t drawn = help.find(" (drawn, times --line-scale"); drawn != help.npos)
+    help.erase(drawn);  // a map has no --line-scale
+  for (const std::string frame : {"the frame's", "the view's"})
+    for (std::size_t at; (at = help.find(frame)) != std::string::npos;)
+      help.replace(at, frame.size(), "the map's");
+  CLI::Option* o = cmd->add_option("--" + name, value, "Hachure map: " + help);
+  if (spec.type == renderer::OptionType::Enum)
+    o->check(CLI::IsMember(spec.choices));
+  else
+    o->check(CLI::Range(spec.min, spec.max));
+  o->capture_default_str();
+}
+
+}  // namespace
+
 void add_export_options(CLI::App* exp, ExportArgs& a) {
   exp->add_option("FILE", a.file, "Terrain mesh (.ply) or drainage database (.dv)")->required();
   exp->add_option("--to", a.to,
@@ -292,33 +316,13 @@ void add_export_options(CLI::App* exp, ExportArgs& a) {
                   "longer side at most 2048 "
                   "pixels)")
       ->check(tt::kPositive);
-  exp->add_option("--hachure-spacing", a.hachure_spacing,
-                  "Hachure map: pixels between hachures where the tone is black")
-      ->check(CLI::Range(1.0, 256.0))
-      ->capture_default_str();
-  exp->add_option("--hachure-width", a.hachure_width,
-                  "Hachure map (svg, pdf): the width of a hachure, pixels")
-      ->check(CLI::Range(0.1, 20.0))
-      ->capture_default_str();
-  exp->add_option("--hachure-tone", a.hachure_tone,
-                  "Hachure map: slope (Lehmann: denser where steeper, black at 45 degrees) or "
-                  "light (the shadow under "
-                  "a light from the north-west, 45 degrees high)")
-      ->check(CLI::IsMember({"light", "slope"}))
-      ->capture_default_str();
-  exp->add_option("--hachure-min-slope", a.hachure_min_slope,
-                  "Hachure map: ground flatter than this percentage of the map's steep slopes (the "
-                  "99th percentile of "
-                  "its slopes) stays white, as the QGIS Hachures script's relative slope "
-                  "threshold; 0: only ground "
-                  "under 3 degrees")
-      ->check(CLI::Range(0.0, 100.0))
-      ->capture_default_str();
-  exp->add_option(
-         "--hachure-style", a.hachure_style,
-         "Hachure map: lines (continuous slope lines) or rows (Imhof's rows between form lines)")
-      ->check(CLI::IsMember({"lines", "rows"}))
-      ->capture_default_str();
+  // The frame's hachure options (the option table: range, choices, help) with the map's
+  // defaults.
+  add_map_hachure_option(exp, "hachure-spacing", a.hachure_spacing);
+  add_map_hachure_option(exp, "hachure-width", a.hachure_width);
+  add_map_hachure_option(exp, "hachure-tone", a.hachure_tone);
+  add_map_hachure_option(exp, "hachure-min-slope", a.hachure_min_slope);
+  add_map_hachure_option(exp, "hachure-style", a.hachure_style);
   exp->add_option("--dv", a.dv,
                   "A mesh's hachure map: the mesh's drainage database; its ridge lines are drawn "
                   "(a layer ridges of "

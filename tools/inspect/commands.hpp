@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common.hpp"
+#include "renderer/core/plan_map.hpp"
 
 namespace terrain::tools::inspect {
 
@@ -26,9 +27,13 @@ struct ExportArgs {
   std::string file, out, to, d8_encoding = "taudem";
   int min_order = 1;
   std::vector<std::string> gpkg_layers = {"branches", "basins", "divides"};
-  // A mesh's plan-view hachure map (--layers hachures; renderer/core/plan_map.hpp).
-  double scale = 0, hachure_spacing = 6, hachure_width = 0.8, hachure_min_slope = 30;
-  std::string hachure_tone = "slope", hachure_style = "lines";
+  // A mesh's plan-view hachure map (--layers hachures; renderer/core/plan_map.hpp), its
+  // defaults the map's (PlanHachureOptions).
+  double scale = 0, hachure_spacing = renderer::PlanHachureOptions{}.spacing,
+         hachure_width = renderer::PlanHachureOptions{}.width,
+         hachure_min_slope = 100 * renderer::PlanHachureOptions{}.min_slope_share;
+  std::string hachure_tone = renderer::PlanHachureOptions{}.light_tone ? "light" : "slope",
+              hachure_style = renderer::PlanHachureOptions{}.rows ? "rows" : "lines";
   std::string dv;  // the mesh's .dv: its ridge lines on the map
 };
 void add_export_options(CLI::App* cmd, ExportArgs& a);

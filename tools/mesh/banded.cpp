@@ -22,11 +22,10 @@ void add_band_options(CLI::App& app, std::size_t& rows, double& memory_mib) {
                  "--fit-normals,\n"
                  "--fill-nodata, --grid-out or dequantizing")
       ->check(CLI::Range(std::size_t(1), std::size_t(1) << 30));
-  app.add_option("--memory", memory_mib,
-                 "Like --tile-size, with bands as large as about this much memory allows (MiB); "
-                 "one band when the\n"
-                 "whole grid fits")
-      ->check(CLI::Range(16.0, 1e9))
+  add_memory_option(app, memory_mib,
+                    "Like --tile-size, with bands as large as about this much memory allows "
+                    "(MiB); one band when the\nwhole grid fits",
+                    16.0)
       ->excludes("--tile-size");
 }
 

@@ -131,16 +131,10 @@ void add_output_options(CLI::App* cmd, OutputArgs& o, bool batch) {
   if (batch)
     cmd->add_option("--format", o.formats, "Files per frame, a comma list of png, svg, pdf")
         ->capture_default_str();
-  cmd->add_option(
-         "--memory", o.memory_mib,
-         batch ? "MiB the mesh's vertices may take: a larger mesh with a pyramid beside it "
-                 "(dem2mesh --pyramid) "
-                 "is read at the finest level any frame's view draws, within this"
-               : "MiB the mesh's vertices may take: a larger mesh with a pyramid beside it "
-                 "(dem2mesh --pyramid) "
-                 "is read at the finest level the view draws over the blocks in view, within this")
-      ->check(CLI::Range(0.001, 16777216.0))
-      ->capture_default_str();
+  add_vertex_memory_option(cmd, o.memory_mib,
+                           batch ? "at the finest level any frame's view draws, within this"
+                                 : "at the finest level the view draws over the blocks in view, "
+                                   "within this");
 }
 
 // The write times at -v.
