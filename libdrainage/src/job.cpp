@@ -136,8 +136,7 @@ RunSummary run_tiled_job(const DrainageJob& job, const ProgressFor& progress,
                          const TileComm& comm) {
   // A tiled run frees and allocates its tiles' arrays (4 to 16 MiB each at tiles of 2048)
   // tile after tile: glibc keeps them in the heap below 32 MiB, and never trims it during
-  // the run, instead of mapping fresh zeroed pages for every tile (Logan 10 m, tiles of
-  // 2048: 1.25 -> 1.13-1.19 s; peak 740 -> 767 MiB).
+  // the run, instead of mapping fresh zeroed pages for every tile (docs/performance.md).
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
   RunSummary s;

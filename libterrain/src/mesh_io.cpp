@@ -307,9 +307,9 @@ Error faces_error(const std::string& path, const GridTopology& topo, std::size_t
 // The body of a PLY in the toolkit's own plain layout (write_mesh_ply without optional
 // data: binary little-endian, the vertices' x y z nx ny nz as floats, the faces as uchar-int
 // lists, nothing else), read in large blocks from `in` at the body: its vertices, and its
-// faces checked to be the grid's triangulation, as GridMeshImporter checks them. A 10 m
-// Logan mesh (715 MB) in about a quarter of OpenMesh's time, which parses every property
-// of every record. False, nothing read, for any other layout (OpenMesh reads those).
+// faces checked to be the grid's triangulation, as GridMeshImporter checks them (OpenMesh's
+// reader parses every property of every record, several times slower). False, nothing
+// read, for any other layout (OpenMesh reads those).
 bool read_plain_body(std::ifstream& in, const PlyHeader& h, GridMesh& m, const std::string& path) {
   if constexpr (std::endian::native != std::endian::little) return false;
   const char* names[6] = {"x", "y", "z", "nx", "ny", "nz"};

@@ -39,7 +39,7 @@ void main() {
   bool s = silhouette(p, size);
   if (s && formulated(p, size)) discard;
   // The mask was cleared to 0, so a pixel that is no silhouette writes nothing (on
-  // llvmpipe the speck test's loops then end at once for its lanes: SIL 44 -> 37 ms).
+  // llvmpipe the speck test's loops then end at once for its lanes).
   if (!s) discard;
   if (u_style.x != 0.0) {
     int n = 0;

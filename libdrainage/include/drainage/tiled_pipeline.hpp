@@ -44,9 +44,7 @@ struct TiledSummary {
 // `threads` threads: 64 MiB for the process and GDAL's cache, and the larger of the tiles
 // in flight (100 bytes per tile point per thread: tiles are worked on all threads) and the
 // perimeter graphs (300 bytes per tile-edge cell; they are solved between the passes).
-// Measured with --fill, 2 threads: Logan 10 m, 250 MiB peak for tiles of 1024 and 760 MiB
-// for 2048; Logan 1 m (1.44 G points), tiles of 2048 (3.1 M edge cells): 1286 MiB, tiles
-// of 1280 (4.6 M edge cells): 1992 MiB.
+// docs/build-drainage.md has the peaks measured against it.
 double tiled_run_bytes(const terrain::DemInfo& info, std::size_t side, int threads);
 
 // The tile side for a raster mode run on `threads` threads within `bytes` of memory: 0

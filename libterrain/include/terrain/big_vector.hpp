@@ -6,11 +6,9 @@
 // 10-100 M element array that is written next anyway costs as much as the algorithms
 // that fill it, and first touch is the only touch.
 //
-// No transparent huge pages: on this project's machines (Firecracker VMs with free page
-// reporting) a cold 2 MiB page costs 5x more per byte than 4 KiB pages (256 MiB touched:
-// 0.64 s against 0.13 s), and the first run of build-drainage after a pause paid for it
-// (Logan 10 m, steps 2-6: 1.10-1.21 s with MADV_HUGEPAGE, 0.65 s without; on warm memory
-// 0.61 against 0.64 s). docs/build-drainage.md, "Speed against GRASS r.watershed".
+// No transparent huge pages: on virtual machines with free page reporting a cold 2 MiB page
+// costs several times more per byte than 4 KiB pages, and the first run after a pause pays
+// for it (docs/build-drainage.md, "Speed against GRASS r.watershed").
 #include <cstddef>
 #include <memory>
 #include <new>
