@@ -85,7 +85,8 @@ Box exaggerated_box(const terrain::GridMesh& mesh, double exaggeration) {
 static bool uses_lod(const Style& style, const terrain::GridMesh& mesh,
                      const LodHierarchy* levels) {
   if (levels && (levels->base > 0 || levels->window)) return true;
-  return style.lod_error > 0 && mesh.topo.rows > kLodBlock + 1 && mesh.topo.cols > kLodBlock + 1;
+  return style.levels_of_detail() && mesh.topo.rows > kLodBlock + 1 &&
+         mesh.topo.cols > kLodBlock + 1;
 }
 
 // The mesh's own spacing (metres): level 0's when a coarser level of it is held
@@ -145,7 +146,7 @@ struct TerrainRenderer::Impl {
         away(scene, layers.silhouettes && !layers.adjacency),
         ids(scene, layers.adjacency, id_capacity(width, height)),
         creases(scene, creases, layers.creases, style.antialias, std::move(crease_levels),
-                layers.creases && style.lod_error > 0),
+                layers.creases && style.levels_of_detail()),
         pels(scene, mesh, layers.pels, style.pel_width, style.antialias,
              style.pel_min_length * std::min(mesh.geo.dx, mesh.geo.dy), style.pel_smooth),
         edges(scene, layers.edges, style),
@@ -158,7 +159,7 @@ struct TerrainRenderer::Impl {
       if (levels && !(terrain::level_count(levels->topo.rows - 1, levels->base) == mesh.topo.rows &&
                       terrain::level_count(levels->topo.cols - 1, levels->base) == mesh.topo.cols))
         throw terrain::Error("internal: levels of detail of another mesh");
-      if (levels && levels->base > 0 && !(style.lod_error > 0))
+      if (levels && levels->base > 0 && !style.levels_of_detail())
         throw terrain::Error(
             "internal: a coarser level of the mesh is held, but --lod-error 0 asks for every cell");
       if (drawn_vertices_only(style, mesh, levels.get(), layers)) source = &mesh;
@@ -189,7 +190,7 @@ struct TerrainRenderer::Impl {
   GlObject capture_prog;               // built on the first capture_pn
   GlObject hachure_prog, hachure_buf;  // built on the first hachure_field
   std::shared_ptr<const LodHierarchy>
-      lod;  // levels of detail (style.lod_error > 0, a mesh of more than one block)
+      lod;  // levels of detail (style.levels_of_detail(), a mesh of more than one block)
   const terrain::GridMesh* source =
       nullptr;  // the mesh the drawn vertices come from, when only they are on the GPU
   std::vector<std::uint8_t>

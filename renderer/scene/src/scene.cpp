@@ -236,7 +236,7 @@ std::string read_for_views(Scene& s, const std::vector<Camera>& cameras, int wid
   const bool read =
       read_level(s, d.mesh_path, [&](const terrain::MeshPyramid& p) -> terrain::PyramidPart {
         s.mesh = {};  // the level held goes before the next is read
-        if (!(style.lod_error > 0)) return 0;
+        if (!style.levels_of_detail()) return 0;
         const LodHierarchy& h = p.levels();  // the mesh's own levels, base 0
         const std::vector<View> views =
             whole_views(h, p.georef(), cameras, width, height, style.exaggeration);
@@ -274,7 +274,7 @@ std::string focus_scene(Scene& s, const std::vector<Camera>& cameras, int width,
 
 std::string refocus_scene(Scene& s, const Camera& camera, int width, int height,
                           const Style& style) {
-  if (!s.bounded || !s.mesh_levels || !(style.lod_error > 0)) return {};
+  if (!s.bounded || !s.mesh_levels || !style.levels_of_detail()) return {};
   const LodHierarchy& h = *s.mesh_levels;
   const std::vector<View> views =
       whole_views(h, whole_grid(s).geo, {camera}, width, height, style.exaggeration);
@@ -304,7 +304,7 @@ std::string cover_view(Scene& s, const Camera& camera, int width, int height, co
 }
 
 std::shared_ptr<const LodHierarchy> scene_levels(Scene& scene, const Style& style) {
-  if (!(style.lod_error > 0)) return nullptr;
+  if (!style.levels_of_detail()) return nullptr;
   if (!scene.levels) scene.levels = std::make_shared<const LodHierarchy>(build_lod(scene.mesh));
   return scene.levels;
 }

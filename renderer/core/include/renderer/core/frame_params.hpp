@@ -189,6 +189,7 @@ struct Style {
   // Levels of detail (renderer/core/lod.hpp): each block of patches is drawn at the coarsest
   // level whose error spans at most this many pixels; 0: every patch at full detail.
   double lod_error = 0.25;
+  bool levels_of_detail() const { return lod_error > 0; }
   // And no coarser than a level whose cell spans this many pixels (lod_cell_px): < 0 the
   // tessellation target, pixels_per_edge; 0 none (tests of the levels' joins). Not an option.
   double lod_cell = -1;
