@@ -205,9 +205,8 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh,
             << "surface patches drawn: " << res.patches << " of " << scene.mesh.n_faces() << "\n";
   if (const auto gt = rr::map_geotransform(res.view, r.origin())) {
     std::cout << "geotransform: " << rr::geotransform_text(*gt) << "\n";
-    if (!rr::is_vector_path(out))
-      std::cout << "world file: " << std::filesystem::path(out).replace_extension(".pgw").string()
-                << "\n";
+    if (const std::vector<std::string> files = rr::frame_files(out, true); files.size() > 1)
+      std::cout << "world file: " << files[1] << "\n";
   }
   for (int p = 0; p < rr::kPassCount; ++p)
     std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p),
@@ -227,15 +226,16 @@ std::string frame_name(std::size_t i, const std::string& ext = "png") {
   return fmt::format("frame_{:05d}.{}", i, ext);
 }
 
-// --format: png, svg, pdf, each once, at least one.
+// --format: frame formats (rr::kFrameFormats: png, svg, pdf), each once, at least one.
 std::vector<std::string> parse_formats(const std::string& list) {
   std::vector<std::string> out;
   std::size_t start = 0;
   while (start <= list.size()) {
     const std::size_t end = std::min(list.find(',', start), list.size());
     const std::string f = list.substr(start, end - start);
-    if (f != "png" && f != "svg" && f != "pdf")
-      throw CLI::ValidationError("--format", "unknown format '" + f + "' (png, svg, pdf)");
+    if (!rr::frame_format_named(f))
+      throw CLI::ValidationError("--format",
+                                 "unknown format '" + f + "' (" + rr::frame_format_names() + ")");
     if (std::find(out.begin(), out.end(), f) != out.end())
       throw CLI::ValidationError("--format", "'" + f + "' is given twice");
     out.push_back(f);

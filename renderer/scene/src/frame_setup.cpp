@@ -73,7 +73,7 @@ void check_vector_memory(const GlContext& ctx, int width, int height) {
 }
 
 void check_frame_path(const std::string& path) {
-  if (!is_vector_path(path) && !path.ends_with(".png"))
+  if (!frame_format(path))
     throw terrain::Error("the output must be a .png, .svg or .pdf file: '" + path + "'");
 }
 
@@ -165,7 +165,8 @@ std::string no_terrain_problem(const terrain::GridMesh& mesh, const View& view, 
 }
 
 std::vector<std::string> frame_files(const std::string& path, bool map) {
-  if (!map || is_vector_path(path)) return {path};
+  const FrameFormat* f = frame_format(path);
+  if (!map || !f || !f->world_file) return {path};
   return {path, std::filesystem::path(path).replace_extension(".pgw").string()};
 }
 

@@ -2,7 +2,9 @@
 // .dv's points under it, its ridge lines; none of either without a .dv.
 #include <gtest/gtest.h>
 
+#include "renderer/scene/frame_setup.hpp"
 #include "renderer/scene/scene.hpp"
+#include "terrain/error.hpp"
 #include "terrain/mesh_digest.hpp"
 #include "terrain/mesh_io.hpp"
 #include "test_support.hpp"
@@ -52,6 +54,20 @@ TEST(Scene, LoadsTheMeshTheCreasesAndTheRidges) {
       EXPECT_LE(p.y(), 1e-3);
       EXPECT_GE(p.y(), -h - 1e-3);
     }
+}
+
+// The files a frame is written to follow the formats' table: a map's PNG (any case) gets
+// its world file, a vector file or a view that is no map none; other extensions are refused.
+TEST(Scene, FrameFilesFollowTheFormatsTable) {
+  using V = std::vector<std::string>;
+  EXPECT_EQ(frame_files("d/m.png", true), (V{"d/m.png", "d/m.pgw"}));
+  EXPECT_EQ(frame_files("d/m.PNG", true), (V{"d/m.PNG", "d/m.pgw"}));
+  EXPECT_EQ(frame_files("d/m.png", false), (V{"d/m.png"}));
+  EXPECT_EQ(frame_files("d/m.svg", true), (V{"d/m.svg"}));
+  EXPECT_EQ(frame_files("d/m.pdf", true), (V{"d/m.pdf"}));
+  for (const char* ok : {"m.png", "m.SVG", "m.Pdf"}) EXPECT_NO_THROW(check_frame_path(ok)) << ok;
+  for (const char* bad : {"m.jpg", "m", "m.tif"})
+    EXPECT_THROW(check_frame_path(bad), terrain::Error);
 }
 
 }  // namespace

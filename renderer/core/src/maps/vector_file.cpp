@@ -286,9 +286,26 @@ std::string join_svg(const VectorArt& art,
 
 }  // namespace
 
-bool is_vector_path(const std::string& path) {
+const FrameFormat* frame_format(const std::string& path) {
   const std::string ext = lower_extension(path);
-  return ext == ".svg" || ext == ".pdf";
+  return ext.empty() ? nullptr : frame_format_named(ext.substr(1));
+}
+
+const FrameFormat* frame_format_named(const std::string& name) {
+  for (const FrameFormat& f : kFrameFormats)
+    if (name == f.name) return &f;
+  return nullptr;
+}
+
+std::string frame_format_names() {
+  std::string out;
+  for (const FrameFormat& f : kFrameFormats) out += (out.empty() ? "" : ", ") + std::string(f.name);
+  return out;
+}
+
+bool is_vector_path(const std::string& path) {
+  const FrameFormat* f = frame_format(path);
+  return f && f->vector;
 }
 
 VectorFormat vector_format_of(const std::string& path) {

@@ -287,5 +287,28 @@ TEST(VectorFile, SvgLayersArePathsInInkscapeLayerGroups) {
   EXPECT_THROW(parse_underlay("relief"), terrain::Error);
 }
 
+// The frame formats' table: each extension found in any case, the vector ones the line art
+// (vector_format_of takes them), only the PNG with a world file; anything else none.
+TEST(VectorFile, FrameFormatsAreOneTable) {
+  for (const FrameFormat& f : kFrameFormats) {
+    const std::string lower = std::string("dir.v2/frame.") + f.name;
+    std::string upper = lower;
+    for (std::size_t i = upper.size() - 3; i < upper.size(); ++i) upper[i] = char(upper[i] - 32);
+    EXPECT_EQ(frame_format(lower), &f) << lower;
+    EXPECT_EQ(frame_format(upper), &f) << upper;
+    EXPECT_EQ(frame_format_named(f.name), &f);
+    EXPECT_EQ(is_vector_path(upper), f.vector) << upper;
+    if (f.vector)
+      EXPECT_NO_THROW(vector_format_of(upper));
+    else
+      EXPECT_THROW(vector_format_of(upper), terrain::Error);
+    EXPECT_NE(frame_format_names().find(f.name), std::string::npos);
+  }
+  EXPECT_FALSE(frame_format_named("png")->vector);
+  EXPECT_TRUE(frame_format_named("png")->world_file);
+  for (const char* other : {"x.jpg", "x.tif", "x", "png", "x.png.txt", "x.svgz"})
+    EXPECT_EQ(frame_format(other), nullptr) << other;
+}
+
 }  // namespace
 }  // namespace renderer

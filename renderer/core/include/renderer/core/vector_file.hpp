@@ -29,10 +29,29 @@ struct VectorOptions {
   std::string underlay;
 };
 
+// The files a frame is written to (terrain-render frame and batch, terrain-view's
+// save-view), one row each: the extension, whether it holds the line art (cairo's SVG or
+// PDF) or the frame's pixels, and whether a map (the top view) gets a world file beside it
+// (NAME.pgw). The extension checks, batch's --format, the writers and the lists of files a
+// run writes all read this table.
+struct FrameFormat {
+  const char* name;  // the extension without its dot, lower case
+  bool vector;
+  bool world_file;
+};
+inline constexpr FrameFormat kFrameFormats[] = {
+    {"png", false, true}, {"svg", true, false}, {"pdf", true, false}};
+// The row of `path`'s extension (any case), or nullptr.
+const FrameFormat* frame_format(const std::string& path);
+// The row named `name` ("png"), or nullptr.
+const FrameFormat* frame_format_named(const std::string& name);
+// "png, svg, pdf": for messages.
+std::string frame_format_names();
+
 enum class VectorFormat { Svg, Pdf };
 // By the path's extension, .svg or .pdf (any case); Error otherwise.
 VectorFormat vector_format_of(const std::string& path);
-// Whether the path ends in .svg or .pdf.
+// Whether the path ends in .svg or .pdf (any case).
 bool is_vector_path(const std::string& path);
 
 // A closed outline of cubic Bezier pieces (a straight piece has its control points on it).
