@@ -9,7 +9,8 @@ scripts/install-deps.sh
 # Line tables are all the reports need (file:line in every stack): full debug information
 # would cost 14 % more compile time.
 CC=clang CXX=clang++ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" -DTERRAIN_SANITIZE=address,undefined >/dev/null
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" -DTERRAIN_SANITIZE=address,undefined \
+  -DTERRAIN_WARNINGS_AS_ERRORS="${TERRAIN_WARNINGS_AS_ERRORS:-OFF}" >/dev/null
 cmake --build build-asan --parallel "${TERRAIN_BUILD_JOBS:-$(nproc)}"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
