@@ -64,6 +64,14 @@ RunResult run(const std::string& command_line) {
   return r;
 }
 
+bool mesh_and_drainage(const std::string& dem, const std::string& mesh, const std::string& dv,
+                       const std::string& mesh_options, const std::string& dv_options) {
+  return run(tool("dem2mesh") + " " + data(dem) + " " + mesh + " " + mesh_options + " -q")
+                 .exit_code == 0 &&
+         run(tool("build-drainage") + " " + mesh + " " + dv + " " + dv_options + " -q").exit_code ==
+             0;
+}
+
 Background::Background(const std::string& command_line) {
   const std::string sh =
       "exec env " + command_line + " >" + logs_.path("stdout") + " 2>" + logs_.path("stderr");

@@ -50,6 +50,11 @@ struct RunResult {
 // Runs a command line through /bin/sh and captures its exit code, stdout and stderr.
 RunResult run(const std::string& command_line);
 
+// Runs dem2mesh on data(dem) into `mesh` with `mesh_options`, then build-drainage on it into
+// `dv` with `dv_options`; true when both exit 0 (the end-to-end tests' small scene).
+bool mesh_and_drainage(const std::string& dem, const std::string& mesh, const std::string& dv,
+                       const std::string& mesh_options, const std::string& dv_options);
+
 // A command started in the background (`/bin/sh -c "exec COMMAND"`, so the process is the
 // command itself and a signal sent to it reaches the tool), stdout and stderr to files.
 class Background {

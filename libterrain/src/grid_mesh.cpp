@@ -198,8 +198,8 @@ GridMeshRows::GridMeshRows(const Grid& grid, NormalWeighting weighting)
   check_meshable(grid);
 }
 
-void GridMeshRows::rows(std::size_t r0, std::size_t r1, Eigen::Vector3f* positions,
-                        Eigen::Vector3f* normals) {
+std::pair<const Eigen::Vector3f*, const Eigen::Vector3f*> GridMeshRows::rows(std::size_t r0,
+                                                                             std::size_t r1) {
   const std::size_t cols = grid_.cols, a = r0 > 0 ? r0 - 1 : 0, b = std::min(grid_.rows, r1 + 1);
   if (r0 >= r1 || r1 > grid_.rows) throw Error("GridMeshRows: rows outside the grid");
   // The band with a row of halo on each side: its own normals equal the whole grid's on
@@ -211,23 +211,31 @@ void GridMeshRows::rows(std::size_t r0, std::size_t r1, Eigen::Vector3f* positio
   window_normals_.resize(window_.size());
   normals_of_rows(window_.data(), GridTopology{b - a, cols}, weighting_, r0 - a, r1 - a,
                   window_normals_.data());
-  std::copy(window_.begin() + std::ptrdiff_t((r0 - a) * cols),
-            window_.begin() + std::ptrdiff_t((r1 - a) * cols), positions);
-  std::copy(window_normals_.begin() + std::ptrdiff_t((r0 - a) * cols),
-            window_normals_.begin() + std::ptrdiff_t((r1 - a) * cols), normals);
+  return {window_.data() + (r0 - a) * cols, window_normals_.data() + (r0 - a) * cols};
+}
+
+void GridMeshRows::rows(std::size_t r0, std::size_t r1, Eigen::Vector3f* positions,
+                        Eigen::Vector3f* normals) {
+  const auto [p, n] = rows(r0, r1);
+  std::copy(p, p + (r1 - r0) * grid_.cols, positions);
+  std::copy(n, n + (r1 - r0) * grid_.cols, normals);
+}
+
+GridMesh grid_mesh_frame(const Georef& geo, std::size_t rows, std::size_t cols) {
+  GridMesh m;
+  m.topo = {rows, cols};
+  m.geo.crs_wkt = geo.crs_wkt;
+  m.geo.epsg = geo.epsg;
+  m.geo.origin_x = geo.x_of_col(0);
+  m.geo.origin_y = geo.y_of_row(0);
+  m.geo.origin_z = 0.0;
+  m.geo.dx = geo.dx;
+  m.geo.dy = geo.dy;
+  return m;
 }
 
 GridMesh grid_mesh_frame(const Grid& grid) {
-  GridMesh m;
-  m.topo = {grid.rows, grid.cols};
-  m.geo.crs_wkt = grid.geo.crs_wkt;
-  m.geo.epsg = grid.geo.epsg;
-  m.geo.origin_x = grid.geo.x_of_col(0);
-  m.geo.origin_y = grid.geo.y_of_row(0);
-  m.geo.origin_z = 0.0;
-  m.geo.dx = grid.geo.dx;
-  m.geo.dy = grid.geo.dy;
-  return m;
+  return grid_mesh_frame(grid.geo, grid.rows, grid.cols);
 }
 
 GridMesh make_grid_mesh(const Grid& grid, NormalWeighting weighting) {

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <future>
+#include <tuple>
 
 #include "mesh_io_internal.hpp"
 #include "terrain/atomic_file.hpp"
@@ -186,20 +187,14 @@ void write_grid_mesh_ply(const GridMesh& frame, const Grid& grid, NormalWeightin
                          const std::string& path) {
   if (frame.topo.rows != grid.rows || frame.topo.cols != grid.cols)
     throw Error("cannot write '" + path + "': the mesh's frame and the grid differ");
-  // One row source and one pair of arrays per buffer slot.
+  // One row source per buffer slot, each holding its chunk's rows until the slot is
+  // filled again.
   const GridMeshRows checked(grid, weighting);
   GridMeshRows sources[kSlots] = {checked, checked, checked};
-  std::vector<Eigen::Vector3f> p[kSlots], n[kSlots];
   write_ply(
       frame,
-      [&](std::size_t r0, std::size_t r1, int slot, const Eigen::Vector3f*& pp,
-          const Eigen::Vector3f*& nn) {
-        p[slot].resize((r1 - r0) * grid.cols);
-        n[slot].resize(p[slot].size());
-        sources[slot].rows(r0, r1, p[slot].data(), n[slot].data());
-        pp = p[slot].data();
-        nn = n[slot].data();
-      },
+      [&](std::size_t r0, std::size_t r1, int slot, const Eigen::Vector3f*& p,
+          const Eigen::Vector3f*& n) { std::tie(p, n) = sources[slot].rows(r0, r1); },
       path);
 }
 

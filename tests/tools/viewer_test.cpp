@@ -184,11 +184,8 @@ TEST(Viewer, StartViewIsTerrainRendersFrameForEveryOptionSet) {
 TEST(Viewer, SaveViewTakesTheVectorOptions) {
   terrain::test::ScratchDir dir;
   const std::string mesh = dir.path("m.ply"), dv = dir.path("m.dv");
-  ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh +
-                " --spacing 100 -q")
-                .exit_code,
-            0);
-  ASSERT_EQ(run(tool("build-drainage") + " " + mesh + " " + dv + " --spacing 20 -q").exit_code, 0);
+  ASSERT_TRUE(terrain::test::mesh_and_drainage("msh_2007_utm10n_10m.tif", mesh, dv, "--spacing 100",
+                                               "--spacing 20"));
   const std::string options = " --size 192x108 --dpi 300 --vector-underlay mask";
   std::ofstream(dir.path("r.txt")) << "save-view " << dir.path("view.svg") << "\nquit\n";
   const auto v = run(tool("terrain-view") + " " + mesh + " " + dv + options +

@@ -58,12 +58,7 @@ BandedResult mesh_in_bands(const BandedRequest& q, const Verbosity& verb) {
   terrain::check_memory(double(std::min(rows, band + 2)) * row_bytes,
                         fmt::format("bands of {} rows of a {} x {} mesh", band, cols, rows),
                         "give a smaller --tile-size or --memory");
-  terrain::GridMesh header;
-  header.topo = out.topo;
-  header.geo.crs_wkt = tg.crs_wkt, header.geo.epsg = tg.epsg;
-  header.geo.origin_x = tg.x_of_col(0), header.geo.origin_y = tg.y_of_row(0),
-  header.geo.origin_z = 0.0;
-  header.geo.dx = tg.dx, header.geo.dy = tg.dy;
+  terrain::GridMesh header = terrain::grid_mesh_frame(tg, out.topo.rows, out.topo.cols);
   header.provenance = q.provenance;
   terrain::OutputSet outputs;
   outputs.write([&] {

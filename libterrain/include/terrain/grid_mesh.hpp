@@ -16,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "terrain/grid.hpp"
@@ -145,8 +146,10 @@ const char* to_string(NormalWeighting w);
 // two triangles per cell, vertex normals by `weighting`. The CRS and spacing come from
 // grid.geo.
 GridMesh make_grid_mesh(const Grid& grid, NormalWeighting weighting);
-// The mesh's grid and georeferencing as make_grid_mesh sets them, without vertices.
+// The mesh's grid and georeferencing as make_grid_mesh sets them, without vertices: of a
+// grid, or of `rows` x `cols` samples georeferenced by `geo` (dem2mesh's bands).
 GridMesh grid_mesh_frame(const Grid& grid);
+GridMesh grid_mesh_frame(const Georef& geo, std::size_t rows, std::size_t cols);
 
 // make_grid_mesh's positions and normals a band of rows at a time, for a writer that
 // streams them (write_grid_mesh_ply): the same floats, without the whole mesh in memory.
@@ -154,7 +157,10 @@ GridMesh grid_mesh_frame(const Grid& grid);
 class GridMeshRows {
  public:
   GridMeshRows(const Grid& grid, NormalWeighting weighting);
-  // Vertex rows [r0, r1): (r1 - r0) * cols positions and normals, row-major.
+  // Vertex rows [r0, r1): (r1 - r0) * cols positions and normals, row-major, held here
+  // until the next call.
+  std::pair<const Eigen::Vector3f*, const Eigen::Vector3f*> rows(std::size_t r0, std::size_t r1);
+  // The same, copied to `positions` and `normals`.
   void rows(std::size_t r0, std::size_t r1, Eigen::Vector3f* positions, Eigen::Vector3f* normals);
 
  private:

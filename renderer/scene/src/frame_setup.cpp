@@ -73,8 +73,12 @@ void check_vector_memory(const GlContext& ctx, int width, int height) {
 }
 
 void check_frame_path(const std::string& path) {
-  if (!frame_format(path))
-    throw terrain::Error("the output must be a .png, .svg or .pdf file: '" + path + "'");
+  if (frame_format(path)) return;
+  std::string kinds;  // ".png, .svg or .pdf": the formats' table
+  const std::size_t n = std::size(kFrameFormats);
+  for (std::size_t i = 0; i < n; ++i)
+    kinds += (i == 0 ? "." : i + 1 < n ? ", ." : " or .") + std::string(kFrameFormats[i].name);
+  throw terrain::Error("the output must be a " + kinds + " file: '" + path + "'");
 }
 
 double terrain_share(const terrain::GridMesh& mesh, const View& view, const Box& box, double e) {

@@ -12,18 +12,11 @@
 namespace renderer {
 namespace {
 
-using terrain::test::data;
-using terrain::test::run;
-using terrain::test::tool;
-
 TEST(Scene, LoadsTheMeshTheCreasesAndTheRidges) {
   terrain::test::ScratchDir dir;
   const std::string mesh = dir.path("m.ply"), dv = dir.path("m.dv");
-  ASSERT_EQ(run(tool("dem2mesh") + " " + data("msh_2007_utm10n_10m.tif") + " " + mesh +
-                " --spacing 100 -q")
-                .exit_code,
-            0);
-  ASSERT_EQ(run(tool("build-drainage") + " " + mesh + " " + dv + " --spacing 20 -q").exit_code, 0);
+  ASSERT_TRUE(terrain::test::mesh_and_drainage("msh_2007_utm10n_10m.tif", mesh, dv, "--spacing 100",
+                                               "--spacing 20"));
   const terrain::GridMesh ply = terrain::read_mesh_ply(mesh);
 
   const Scene bare = load_scene(mesh, "", CreaseRules{});
