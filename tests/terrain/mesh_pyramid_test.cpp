@@ -257,7 +257,7 @@ TEST(MeshPyramid, TheMeshReadFromItsPyramidIsThePly) {
 }
 
 // A window of the mesh's blocks read through read_mesh_via_pyramid (PyramidPart: what a
-// frame of a near view reads, focus_scene) is that part of the level, a grid mesh of its
+// frame of a near view reads, hold_views) is that part of the level, a grid mesh of its
 // own: at level 0 and level 2, in the middle and at the far corner (the partial blocks,
 // whose last row and column level 2 keeps closer), its vertices are the whole level's
 // there moved by the window's corner (exactly: a 10 m lattice), its origin the corner's,

@@ -52,13 +52,14 @@ void report_creases(const rr::Scene& scene, const std::string& dv, const tt::Ver
 }
 
 // A scene read at a coarser level (--memory) read again at the level `cameras`' views draw,
-// with its creases (with `window`, only its blocks in view: focus_scene); reported at -v. Nothing
+// with its creases (with `window`, only its blocks in view: hold_views); reported at -v. Nothing
 // for a scene read whole.
 void focus(rr::Scene& scene, const std::vector<rr::Camera>& cameras, const rr::RenderSettings& s,
            const rr::Style& style, const std::string& dv, const tt::Verbosity& v,
            bool window = false) {
   const std::size_t reported = scene.warnings.size();  // by scene_of
-  const std::string note = rr::focus_scene(scene, cameras, s.width, s.height, style, window);
+  const std::string note = rr::hold_views(scene, cameras, s.width, s.height, style,
+                                          window ? rr::HoldFor::Frame : rr::HoldFor::Frames);
   if (note.empty()) return;
   tt::step(v, fmt::format("{}: {} x {} vertices, {:.2f} s", note, scene.mesh.topo.cols,
                           scene.mesh.topo.rows, scene.mesh_seconds));

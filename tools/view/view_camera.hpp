@@ -17,7 +17,7 @@ struct ViewCamera {
   const terrain::GridMesh& mesh;
   double exaggeration;  // the frame's (given by the viewer: its settings)
   int width, height;
-  // Where `mesh` is a window of the mesh (renderer::refocus_scene's read): the whole mesh at
+  // Where `mesh` is a window of the mesh (renderer::hold_views' read): the whole mesh at
   // a coarser level, the surface beyond the window.
   const terrain::GridMesh* outside = nullptr;
 

@@ -42,11 +42,11 @@ class Viewer {
   // rest, as terrain-render frame's).
   // `vertex_bytes` (0: no bound) bounds what the mesh's vertices take, as terrain-render
   // frame's --memory: a larger mesh with a pyramid is read as terrain-render frame reads it
-  // (load_scene, then focus_scene: the level the start view draws, over the blocks in view,
-  // within the bound); before a full frame whose view the mesh held does not serve so, what
-  // it needs is read (refocus_scene); before a cheap frame whose view leaves the blocks
+  // (load_scene, then hold_views for a Frame: the level the start view draws, over the blocks in
+  // view, within the bound); before a full frame whose view the mesh held does not serve so, what
+  // it needs is read (a StillView); before a cheap frame whose view leaves the blocks
   // held, the whole mesh at the level the view draws, or the finest within the bound
-  // (cover_view). The camera moves over the preview beyond a window held (keep_preview).
+  // (a MovingView). The camera moves over the preview beyond a window held (keep_preview).
   Viewer(std::string mesh, std::string dv, rr::RenderSettings s, rr::GivenOption given,
          const tt::Verbosity& verb, std::uint64_t vertex_bytes = 0)
       : mesh_path_(std::move(mesh)),
@@ -114,8 +114,8 @@ class Viewer {
   // view draws, with its creases; -v says which.
   // Only the blocks in view, as terrain-render frame reads them.
   void focus() {
-    const std::string note =
-        rr::focus_scene(scene_, {s_.frame.camera}, s_.width, s_.height, rr::drawn_style(s_), true);
+    const std::string note = rr::hold_views(scene_, {s_.frame.camera}, s_.width, s_.height,
+                                            rr::drawn_style(s_), rr::HoldFor::Frame);
     if (!note.empty()) tt::step(verb_, note);
   }
 
@@ -125,7 +125,9 @@ class Viewer {
     preview_.reset();
     if (scene_.deferred) preview_ = std::make_shared<const terrain::GridMesh>(scene_.mesh);
   }
-  bool windowed() const { return preview_ && scene_.levels && scene_.levels->window; }
+  bool windowed() const {
+    return preview_ && rr::MeshHolding(scene_.mesh, scene_.levels.get()).window();
+  }
 
   void bring_up_to_date() {
     if (creases_stale_) {
@@ -156,8 +158,8 @@ class Viewer {
        // the blocks held
       const rr::Style style = rr::drawn_style(s_);
       const std::string note =
-          cheap ? rr::cover_view(scene_, s_.frame.camera, s_.width, s_.height, style)
-                : rr::refocus_scene(scene_, s_.frame.camera, s_.width, s_.height, style);
+          rr::hold_views(scene_, {s_.frame.camera}, s_.width, s_.height, style,
+                         cheap ? rr::HoldFor::MovingView : rr::HoldFor::StillView);
       if (!note.empty()) tt::step(verb_, note), stale_ = true;
     }
     bring_up_to_date();

@@ -64,58 +64,12 @@ std::size_t id_capacity(int width, int height) {
   return std::clamp<std::size_t>(4 * std::size_t(width) * std::size_t(height), 1u << 20, 8u << 20);
 }
 
-// The mesh's bounding box with z exaggerated.
-Box exaggerated_box(const terrain::GridMesh& mesh, double exaggeration) {
-  Box box{Eigen::Vector3d::Constant(std::numeric_limits<double>::max()),
-          Eigen::Vector3d::Constant(-std::numeric_limits<double>::max())};
-  for (std::size_t i = 0; i < mesh.n_vertices(); ++i) {
-    Eigen::Vector3d p = mesh.positions[i].cast<double>();
-    p.z() *= exaggeration;
-    box.lo = box.lo.cwiseMin(p);
-    box.hi = box.hi.cwiseMax(p);
-  }
-  return box;
-}
-
 }  // namespace
-
-// Levels of detail are used with a positive bound on a mesh of more than one block, and
-// always on a coarser level or a window of a pyramid read in the mesh's place
-// (LodHierarchy::base, ::window).
-static bool uses_lod(const Style& style, const terrain::GridMesh& mesh,
-                     const LodHierarchy* levels) {
-  if (levels && (levels->base > 0 || levels->window)) return true;
-  return style.levels_of_detail() && mesh.topo.rows > kLodBlock + 1 &&
-         mesh.topo.cols > kLodBlock + 1;
-}
-
-// The mesh's own spacing (metres): level 0's when a coarser level of it is held
-// (LodHierarchy::base), whose grid mesh's spacing is that level's; the mesh's own when a
-// window of it is held.
-static Eigen::Vector2d fine_spacing(const terrain::GridMesh& mesh, const LodHierarchy* levels) {
-  if (!levels || levels->base == 0) return {mesh.geo.dx, mesh.geo.dy};
-  if (levels->window) return {levels->window->geo.dx, levels->window->geo.dy};
-  return {mesh.geo.dx * double(mesh.topo.cols - 1) / double(levels->topo.cols - 1),
-          mesh.geo.dy * double(mesh.topo.rows - 1) / double(levels->topo.rows - 1)};
-}
-
-// The whole mesh's extent in the local frame, xmin, ymin, xmax, ymax: also when only a
-// window of it is held (LodHierarchy::window; `cell`: fine_spacing).
-static Eigen::Vector4f local_extent(const terrain::GridMesh& mesh, const LodHierarchy* levels,
-                                    const Eigen::Vector2d& cell) {
-  if (!levels || !levels->window)
-    return {0, -float(double(mesh.topo.rows - 1) * mesh.geo.dy),
-            float(double(mesh.topo.cols - 1) * mesh.geo.dx), 0};
-  const auto& w = *levels->window;
-  return {-float(double(w.c0) * cell.x()), -float(double(w.whole.rows - 1 - w.r0) * cell.y()),
-          float(double(w.whole.cols - 1 - w.c0) * cell.x()), float(double(w.r0) * cell.y())};
-}
 
 // Without the PEL and edge layers, which read the whole mesh on the GPU, levels of detail
 // keep only the drawn vertices there (SceneGpu::set_lod_mesh).
-static bool drawn_vertices_only(const Style& style, const terrain::GridMesh& mesh,
-                                const LodHierarchy* levels, const Layers& layers) {
-  return uses_lod(style, mesh, levels) && !layers.pels && !layers.edges;
+static bool drawn_vertices_only(const MeshHolding& held, const Style& style, const Layers& layers) {
+  return held.uses_lod(style.levels_of_detail()) && !layers.pels && !layers.edges;
 }
 
 // Formulated silhouettes are drawn with the Toward/Away silhouettes (SIL reads the drawn
@@ -125,23 +79,21 @@ static bool draws_formulated(const Layers& layers, const Style& style) {
 }
 
 struct TerrainRenderer::Impl {
-  Impl(const GlContext& context, const terrain::GridMesh& mesh, const CreaseGeometry* creases,
-       int width, int height, const Layers& layers, const Style& style,
-       std::shared_ptr<const LodHierarchy> levels,
+  // `held`: the mesh against the whole it is part of (MeshHolding of mesh and levels).
+  Impl(const GlContext& context, const terrain::GridMesh& mesh, const MeshHolding& held,
+       const CreaseGeometry* creases, int width, int height, const Layers& layers,
+       const Style& style, std::shared_ptr<const LodHierarchy> levels,
        std::shared_ptr<const std::vector<CreaseLevel>> crease_levels)
       : layers(layers),
         style(style),
-        box(levels && (levels->base > 0 || levels->window)
-                ? levels_box(*levels, style.exaggeration)
-                : exaggerated_box(mesh, style.exaggeration)),
+        box(held.box(style.exaggeration)),
         origin(mesh.geo.origin_x, mesh.geo.origin_y, mesh.geo.origin_z),
-        cell(fine_spacing(mesh, levels.get())),
+        cell(held.fine_spacing()),
         lift(crease_lift(style, mesh)),
         visibility(stroke_visibility_rule(style, mesh)),
         scene(mesh, width, height, context.has_clip_control(),
               layers.hachures || draws_formulated(layers, style),
-              !uses_lod(style, mesh, levels.get()),
-              !drawn_vertices_only(style, mesh, levels.get(), layers)),
+              !held.uses_lod(style.levels_of_detail()), !drawn_vertices_only(held, style, layers)),
         toward(scene, style.flat_patches),
         away(scene, layers.silhouettes && !layers.adjacency),
         ids(scene, layers.adjacency, id_capacity(width, height)),
@@ -153,16 +105,16 @@ struct TerrainRenderer::Impl {
         silhouettes(scene, layers.silhouettes,
                     style.antialias ? style.silhouette_min_length * height : 0.0, style,
                     layers.adjacency ? &ids : nullptr, 1e-3 * std::min(cell.x(), cell.y()),
-                    local_extent(mesh, levels.get(), cell)),
+                    held.local_extent()),
         composite(scene, layers, style, this->creases, pels, edges, silhouettes) {
-    if (uses_lod(style, mesh, levels.get())) {
+    if (held.uses_lod(style.levels_of_detail())) {
       if (levels && !(terrain::level_count(levels->topo.rows - 1, levels->base) == mesh.topo.rows &&
                       terrain::level_count(levels->topo.cols - 1, levels->base) == mesh.topo.cols))
         throw terrain::Error("internal: levels of detail of another mesh");
       if (levels && levels->base > 0 && !style.levels_of_detail())
         throw terrain::Error(
             "internal: a coarser level of the mesh is held, but --lod-error 0 asks for every cell");
-      if (drawn_vertices_only(style, mesh, levels.get(), layers)) source = &mesh;
+      if (drawn_vertices_only(held, style, layers)) source = &mesh;
       lod = levels ? std::move(levels) : std::make_shared<const LodHierarchy>(build_lod(mesh));
     }
     GLint max_gen = 64;
@@ -274,8 +226,8 @@ TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMe
                                  const Layers& layers, const Style& style,
                                  std::shared_ptr<const LodHierarchy> levels,
                                  std::shared_ptr<const std::vector<CreaseLevel>> crease_levels) {
-  check_inputs(mesh, width, height, layers,
-               !drawn_vertices_only(style, mesh, levels.get(), layers));
+  const MeshHolding held(mesh, levels.get());
+  check_inputs(mesh, width, height, layers, !drawn_vertices_only(held, style, layers));
   check_frame_size(context, width, height);
   const auto out_of_memory = [&] {
     return terrain::Error(fmt::format(
@@ -284,7 +236,7 @@ TerrainRenderer::TerrainRenderer(const GlContext& context, const terrain::GridMe
         width, height, context.info().renderer));
   };
   try {
-    impl_ = std::make_unique<Impl>(context, mesh, creases, width, height, layers, style,
+    impl_ = std::make_unique<Impl>(context, mesh, held, creases, width, height, layers, style,
                                    std::move(levels), std::move(crease_levels));
   } catch (const terrain::Error& e) {  // a render target the device could not allocate
     if (std::string(e.what()).find("incomplete framebuffer") == std::string::npos &&

@@ -271,13 +271,9 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
   // while the camera moves a little (cells of 1/2, 1, 2 and 4 spacings: the flight's
   // coherence over its first 20 frames 0.55, 0.61, 0.63, 0.64; docs/terrain-render.md).
   const double cell = std::exp2(std::round(std::log2(std::max(1e-3, 2.0 * scale * rule.spacing))));
-  Eigen::Vector2d anchor = Eigen::Vector2d::Zero();  // the held window's origin in the mesh's frame
-  if (scene.levels && scene.levels->window) {
-    const auto& w = *scene.levels->window;
-    anchor = {double(w.c0) * w.geo.dx, -double(w.r0) * w.geo.dy};
-  }
   const std::vector<Eigen::Vector2f> seeds =
-      surface_seeds(res.view, buffers.toward_depth, rule.spacing, cell, anchor);
+      surface_seeds(res.view, buffers.toward_depth, rule.spacing, cell,
+                    MeshHolding(scene.mesh, scene.levels.get()).window_origin());
   std::vector<Hachure> hachures = trace_hachures(field, rule, seeds);
   return {std::move(field), rule, std::move(hachures)};
 }

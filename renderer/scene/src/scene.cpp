@@ -39,14 +39,9 @@ double since(Clock::time_point t0) {
 
 namespace {
 
-// The whole mesh's grid, without vertices: its origin, spacing and size (the mesh held,
-// or the whole of which a window is held, LodHierarchy::window).
+// The whole mesh's grid (MeshHolding::whole_grid).
 terrain::GridMesh whole_grid(const Scene& s) {
-  terrain::GridMesh g;
-  const bool window = s.levels && s.levels->window;
-  g.geo = window ? s.levels->window->geo : s.mesh.geo;
-  g.topo = window ? s.levels->window->whole : s.mesh.topo;
-  return g;
+  return MeshHolding(s.mesh, s.levels.get()).whole_grid();
 }
 
 // The database's points under the mesh and their creases, on scene.mesh. Under the whole
@@ -113,7 +108,7 @@ bool read_level(Scene& s, const std::string& mesh_path,
     s.mesh_source = why.empty() ? "the PLY" : "the PLY: " + why;
     return false;
   }
-  // A scene that reads its pyramid again (focus_scene) reads the pair it read first.
+  // A scene that reads its pyramid again (hold_views) reads the pair it read first.
   if (s.digest && *s.digest != p->digest)
     throw terrain::Error("'" + mesh_path +
                          "' and its pyramid changed while they were read (rewritten by dem2mesh?); "
@@ -147,7 +142,7 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
                    : 0;
       });
   s.mesh_seconds = since(t0);
-  if (s.mesh_level > 0) {  // a preview: the creases wait for focus_scene
+  if (s.mesh_level > 0) {  // a preview: the creases wait for hold_views
     s.deferred = s.bounded = Scene::Deferred{mesh_path, dv_path, rules, vertex_bytes};
     return s;
   }
@@ -172,7 +167,7 @@ Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const
 
 namespace {
 
-// What focus_scene reads for `views` over the mesh's own levels `h` (base 0): the finest
+// What hold_views reads for `views` over the mesh's own levels `h` (base 0): the finest
 // level any block of them is drawn at (`needed`), over the blocks in view (`range`, with
 // `window`; else all), coarser (`level`) while that takes more than `bytes`.
 struct FocusPlan {
@@ -213,18 +208,14 @@ std::vector<View> whole_views(const LodHierarchy& h, const terrain::MeshGeoref& 
 
 // The blocks of the mesh that the scene holds (its window, or all).
 BlockRange held_blocks(const Scene& s) {
-  const LodHierarchy& h = *s.mesh_levels;
-  if (!s.levels || !s.levels->window) return all_blocks(h);
-  const auto& w = *s.levels->window;
-  return {w.r0 / h.block, w.c0 / h.block, w.r0 / h.block + s.levels->block_rows,
-          w.c0 / h.block + s.levels->block_cols};
+  return MeshHolding(s.mesh, s.levels.get()).held_blocks(*s.mesh_levels);
 }
 
 bool covers(const BlockRange& a, const BlockRange& b) {
   return a.br0 <= b.br0 && a.bc0 <= b.bc0 && a.br1 >= b.br1 && a.bc1 >= b.bc1;
 }
 
-// focus_scene's read, in place of a preview (load_scene's) or of a level held before.
+// hold_views's read, in place of a preview (load_scene's) or of a level held before.
 std::string read_for_views(Scene& s, const std::vector<Camera>& cameras, int width, int height,
                            const Style& style, bool window, bool preview) {
   if (!s.deferred) return {};
@@ -265,21 +256,15 @@ std::string read_for_views(Scene& s, const std::vector<Camera>& cameras, int wid
                      note.empty() ? "--lod-error 0 draws every cell" : note);
 }
 
-}  // namespace
-
-std::string focus_scene(Scene& s, const std::vector<Camera>& cameras, int width, int height,
-                        const Style& style, bool window) {
-  return read_for_views(s, cameras, width, height, style, window, true);
-}
-
-std::string refocus_scene(Scene& s, const Camera& camera, int width, int height,
-                          const Style& style) {
+// A still view: read when what is held does not serve it.
+std::string hold_still_view(Scene& s, const Camera& camera, int width, int height,
+                            const Style& style) {
   if (!s.bounded || !s.mesh_levels || !style.levels_of_detail()) return {};
   const LodHierarchy& h = *s.mesh_levels;
   const std::vector<View> views =
       whole_views(h, whole_grid(s).geo, {camera}, width, height, style.exaggeration);
   const FocusPlan f = focus_plan(h, views, style, true, s.bounded->vertex_bytes);
-  // What is held draws what focus_scene would read when it holds the blocks in view at
+  // What is held draws what a Frame would read when it holds the blocks in view at
   // that level, or at a finer one where that level is the finest the view draws (no
   // block drawn finer than it wants).
   const int held = s.mesh_level;
@@ -291,8 +276,10 @@ std::string refocus_scene(Scene& s, const Camera& camera, int width, int height,
          read_for_views(s, {camera}, width, height, style, true, false);
 }
 
-std::string cover_view(Scene& s, const Camera& camera, int width, int height, const Style& style) {
-  if (!s.bounded || !s.mesh_levels || !s.levels || !s.levels->window) return {};
+// A moving view: the whole mesh when it leaves the window held.
+std::string hold_moving_view(Scene& s, const Camera& camera, int width, int height,
+                             const Style& style) {
+  if (!s.bounded || !s.mesh_levels || !MeshHolding(s.mesh, s.levels.get()).window()) return {};
   const LodHierarchy& h = *s.mesh_levels;
   const std::vector<View> views =
       whole_views(h, whole_grid(s).geo, {camera}, width, height, style.exaggeration);
@@ -301,6 +288,22 @@ std::string cover_view(Scene& s, const Camera& camera, int width, int height, co
   s.deferred = s.bounded;
   return "the view left the blocks held: " +
          read_for_views(s, {camera}, width, height, style, false, false);
+}
+
+}  // namespace
+
+std::string hold_views(Scene& s, const std::vector<Camera>& cameras, int width, int height,
+                       const Style& style, HoldFor what) {
+  switch (what) {
+    case HoldFor::Frames:
+    case HoldFor::Frame:
+      return read_for_views(s, cameras, width, height, style, what == HoldFor::Frame, true);
+    case HoldFor::StillView:
+      return hold_still_view(s, cameras.at(0), width, height, style);
+    case HoldFor::MovingView:
+      return hold_moving_view(s, cameras.at(0), width, height, style);
+  }
+  return {};
 }
 
 std::shared_ptr<const LodHierarchy> scene_levels(Scene& scene, const Style& style) {

@@ -1527,7 +1527,7 @@ TEST(RendererGl, ACoarserLevelHeldDrawsTheSameFrame) {
 }
 
 // A window of the mesh's blocks held in its place (terrain-render frame under --memory:
-// focus_scene reads the blocks in view and one more around them, LodHierarchy::window)
+// hold_views reads the blocks in view and one more around them, LodHierarchy::window)
 // draws the frame of the whole mesh: the terrain outside cannot show, for what hides a
 // point of the view lies between it and the eye, in view too, and the scene's box (the
 // view's planes, the page scale) stays the mesh's. A near view past the north-west corner

@@ -243,4 +243,59 @@ std::vector<std::uint8_t> facing_blocks(const LodHierarchy& h, const View& view,
   return facing;
 }
 
+terrain::GridMesh MeshHolding::whole_grid() const {
+  terrain::GridMesh g;
+  g.geo = window() ? levels_->window->geo : held_.geo;
+  g.topo = window() ? levels_->window->whole : held_.topo;
+  return g;
+}
+
+Eigen::Vector2d MeshHolding::fine_spacing() const {
+  if (!levels_ || levels_->base == 0) return {held_.geo.dx, held_.geo.dy};
+  if (levels_->window) return {levels_->window->geo.dx, levels_->window->geo.dy};
+  return {held_.geo.dx * double(held_.topo.cols - 1) / double(levels_->topo.cols - 1),
+          held_.geo.dy * double(held_.topo.rows - 1) / double(levels_->topo.rows - 1)};
+}
+
+Eigen::Vector2d MeshHolding::window_origin() const {
+  if (!window()) return Eigen::Vector2d::Zero();
+  const auto& w = *levels_->window;
+  return {double(w.c0) * w.geo.dx, -double(w.r0) * w.geo.dy};
+}
+
+Eigen::Vector4f MeshHolding::local_extent() const {
+  if (!window())
+    return {0, -float(double(held_.topo.rows - 1) * held_.geo.dy),
+            float(double(held_.topo.cols - 1) * held_.geo.dx), 0};
+  const auto& w = *levels_->window;
+  const Eigen::Vector2d cell = fine_spacing();
+  return {-float(double(w.c0) * cell.x()), -float(double(w.whole.rows - 1 - w.r0) * cell.y()),
+          float(double(w.whole.cols - 1 - w.c0) * cell.x()), float(double(w.r0) * cell.y())};
+}
+
+Box MeshHolding::box(double exaggeration) const {
+  if (part()) return levels_box(*levels_, exaggeration);
+  Box box{Eigen::Vector3d::Constant(std::numeric_limits<double>::max()),
+          Eigen::Vector3d::Constant(-std::numeric_limits<double>::max())};
+  for (std::size_t i = 0; i < held_.n_vertices(); ++i) {
+    Eigen::Vector3d p = held_.positions[i].cast<double>();
+    p.z() *= exaggeration;
+    box.lo = box.lo.cwiseMin(p);
+    box.hi = box.hi.cwiseMax(p);
+  }
+  return box;
+}
+
+bool MeshHolding::uses_lod(bool levels_of_detail) const {
+  if (part()) return true;
+  return levels_of_detail && held_.topo.rows > kLodBlock + 1 && held_.topo.cols > kLodBlock + 1;
+}
+
+BlockRange MeshHolding::held_blocks(const LodHierarchy& whole) const {
+  if (!window()) return {0, 0, whole.block_rows, whole.block_cols};
+  const auto& w = *levels_->window;
+  return {w.r0 / whole.block, w.c0 / whole.block, w.r0 / whole.block + levels_->block_rows,
+          w.c0 / whole.block + levels_->block_cols};
+}
+
 }  // namespace renderer

@@ -310,7 +310,7 @@ TEST(Lod, NoLevelCoarserThanTheCellCap) {
 }
 
 // What terrain-view reads of a mesh over its memory bound (renderer/scene/scene.hpp): at the start
-// and before each full frame, what terrain-render frame reads (focus_scene with its window:
+// and before each full frame, what terrain-render frame reads (hold_views for a Frame:
 // a near view past the north-west corner of 5 x 5 blocks, the 2 x 2 blocks in view at level
 // 0, 400 KB of the 1 MB bound; the whole level 0 takes 1.95 MB); nothing while what it holds
 // serves the view; before a cheap frame whose view leaves those blocks (turned to look over
@@ -335,24 +335,79 @@ TEST(Lod, AViewerReadsTheBlocksInViewAndTheWholeMeshWhenTheViewLeavesThem) {
   renderer::Camera over = near;
   over.view_az = 135;
   const int w = 480, h = 360;
-  const std::string start = renderer::focus_scene(s, {near}, w, h, style, true);
+  const std::string start = renderer::hold_views(s, {near}, w, h, style, renderer::HoldFor::Frame);
   EXPECT_NE(start.find("the blocks in view, rows 0 .. 1 and columns 0 .. 1 of 5 x 5, read"),
             std::string::npos)
       << start;
   ASSERT_TRUE(s.levels && s.levels->window);
   EXPECT_EQ(s.mesh_level, 0);
   EXPECT_EQ(s.mesh.n_vertices(), 129u * 129u);
-  EXPECT_EQ(renderer::refocus_scene(s, near, w, h, style), "");
-  EXPECT_EQ(renderer::cover_view(s, near, w, h, style), "");
-  const std::string left = renderer::cover_view(s, over, w, h, style);
+  EXPECT_EQ(renderer::hold_views(s, {near}, w, h, style, renderer::HoldFor::StillView), "");
+  EXPECT_EQ(renderer::hold_views(s, {near}, w, h, style, renderer::HoldFor::MovingView), "");
+  const std::string left =
+      renderer::hold_views(s, {over}, w, h, style, renderer::HoldFor::MovingView);
   EXPECT_NE(left.find("the view left the blocks held: mesh read at level 1"), std::string::npos)
       << left;
   EXPECT_FALSE(s.levels->window);
   EXPECT_EQ(s.mesh_level, 1);
-  EXPECT_EQ(renderer::refocus_scene(s, over, w, h, style), "");
-  EXPECT_EQ(renderer::cover_view(s, over, w, h, style), "");  // whole: nothing to leave
-  const std::string back = renderer::refocus_scene(s, near, w, h, style);
+  EXPECT_EQ(renderer::hold_views(s, {over}, w, h, style, renderer::HoldFor::StillView), "");
+  EXPECT_EQ(renderer::hold_views(s, {over}, w, h, style, renderer::HoldFor::MovingView),
+            "");  // whole: nothing to leave
+  const std::string back =
+      renderer::hold_views(s, {near}, w, h, style, renderer::HoldFor::StillView);
   EXPECT_NE(back.find("the view came nearer: mesh read at level 0"), std::string::npos) << back;
   ASSERT_TRUE(s.levels->window);
   EXPECT_EQ(s.mesh.n_vertices(), 129u * 129u);
+}
+
+// What a scene holds against the whole mesh (MeshHolding): the whole mesh, a coarser level
+// of its pyramid and a window of it (blocks 1..2 x 2..3 of 5 x 5) answer the same whole
+// extent, spacing and box; the window's extent is the whole's seen from the window's first
+// vertex, and its blocks are the ones read.
+TEST(Lod, AHeldPartAnswersForTheWholeMesh) {
+  const terrain::GridMesh mesh = bumps(300, 271);
+  terrain::test::ScratchDir dir;
+  terrain::write_mesh_ply(mesh, dir.path("m.ply"));
+  terrain::write_mesh_pyramid(mesh, dir.path("m.tpyr"));
+  const auto read = [&](terrain::PyramidPart part) {
+    std::string why;
+    auto p = terrain::read_mesh_via_pyramid(dir.path("m.ply"), why,
+                                            [&](const terrain::MeshPyramid&) { return part; });
+    EXPECT_TRUE(p) << why;
+    return std::move(*p);
+  };
+  const renderer::LodHierarchy own = renderer::build_lod(mesh);
+  const renderer::MeshHolding whole(mesh, &own);
+  const terrain::PyramidMesh coarse = read(1), window = read({0, 1, 2, 3, 4});
+  const renderer::MeshHolding held_coarse(coarse.mesh, &coarse.levels),
+      held_window(window.mesh, &window.levels);
+  EXPECT_FALSE(whole.part());
+  EXPECT_TRUE(held_coarse.part() && !held_coarse.window());
+  EXPECT_TRUE(held_window.part() && held_window.window());
+  const renderer::Box box = whole.box(2.0);
+  for (const renderer::MeshHolding* h : {&held_coarse, &held_window}) {
+    const terrain::GridMesh g = h->whole_grid();  // the whole's extent
+    EXPECT_NEAR(double(g.topo.rows - 1) * g.geo.dy, double(mesh.topo.rows - 1) * mesh.geo.dy, 1e-9);
+    EXPECT_NEAR(double(g.topo.cols - 1) * g.geo.dx, double(mesh.topo.cols - 1) * mesh.geo.dx, 1e-9);
+    EXPECT_EQ(g.geo.origin_x, mesh.geo.origin_x);
+    EXPECT_EQ(g.geo.origin_y, mesh.geo.origin_y);
+    EXPECT_DOUBLE_EQ(h->fine_spacing().x(), mesh.geo.dx);
+    EXPECT_DOUBLE_EQ(h->fine_spacing().y(), mesh.geo.dy);
+    const renderer::Box b = h->box(2.0);
+    EXPECT_LT((b.hi - b.lo - (box.hi - box.lo)).norm(), 1e-3);
+  }
+  const Eigen::Vector2d o = held_window.window_origin();
+  EXPECT_DOUBLE_EQ(o.x(), 2.0 * renderer::kLodBlock * mesh.geo.dx);
+  EXPECT_DOUBLE_EQ(o.y(), -1.0 * renderer::kLodBlock * mesh.geo.dy);
+  const Eigen::Vector4f e = whole.local_extent(), w = held_window.local_extent();
+  EXPECT_NEAR(w[0], e[0] - o.x(), 1e-2);
+  EXPECT_NEAR(w[1], e[1] - o.y(), 1e-2);
+  EXPECT_NEAR(w[2], e[2] - o.x(), 1e-2);
+  EXPECT_NEAR(w[3], e[3] - o.y(), 1e-2);
+  const renderer::BlockRange r = held_window.held_blocks(own);
+  EXPECT_EQ(r.br0, 1u);
+  EXPECT_EQ(r.bc0, 2u);
+  EXPECT_EQ(r.br1, 3u);
+  EXPECT_EQ(r.bc1, 4u);
+  EXPECT_EQ(whole.held_blocks(own).br1, own.block_rows);
 }

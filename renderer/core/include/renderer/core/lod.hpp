@@ -70,7 +70,7 @@ Box levels_box(const LodHierarchy& h, double exaggeration);
 // The blocks (rows br0 .. br1 - 1, columns bc0 .. bc1 - 1 of h's) that hold every block in
 // any of `views` (nearest_depth finite, heights times `exaggeration`) and one more around
 // them, for a PN patch's bulge past its block's box; empty (br1 = 0) when none is in view.
-// What a frame needs of the mesh (focus_scene's window): the terrain that hides a point of
+// What a frame needs of the mesh (hold_views's window): the terrain that hides a point of
 // the view lies between it and the eye, in the view too.
 struct BlockRange {
   std::size_t br0 = 0, bc0 = 0, br1 = 0, bc1 = 0;
@@ -78,6 +78,40 @@ struct BlockRange {
 };
 BlockRange blocks_in_view(const LodHierarchy& h, const std::vector<View>& views,
                           double exaggeration);
+
+// What part of a mesh is held, against the whole mesh it is part of: the mesh itself, a
+// coarser level of its pyramid (LodHierarchy::base > 0) or a window of it
+// (LodHierarchy::window). Every question about the whole is answered here: its grid, its
+// spacing, its extent and box, and where the held part lies in it.
+class MeshHolding {
+ public:
+  // `levels`: the held mesh's levels of detail, or null when none were made.
+  MeshHolding(const terrain::GridMesh& held, const LodHierarchy* levels)
+      : held_(held), levels_(levels) {}
+  // A coarser level or a window is held: drawn with levels of detail, whatever the style.
+  bool part() const { return levels_ && (levels_->base > 0 || levels_->window); }
+  bool window() const { return levels_ && levels_->window; }
+  // The whole mesh's grid, without vertices: its origin and extent, on level 0's spacing
+  // when a window is held and on the held level's when the whole of a coarser one is.
+  terrain::GridMesh whole_grid() const;
+  // The whole mesh's own spacing (metres), level 0's also when a coarser level is held.
+  Eigen::Vector2d fine_spacing() const;
+  // The held window's first vertex in the whole mesh's local frame (zero without a window).
+  Eigen::Vector2d window_origin() const;
+  // The whole mesh's extent in the held mesh's local frame: xmin, ymin, xmax, ymax.
+  Eigen::Vector4f local_extent() const;
+  // The whole mesh's box, heights times `exaggeration` (levels_box when a part is held).
+  Box box(double exaggeration) const;
+  // Whether it is drawn with levels of detail: always when a part is held, else with a
+  // positive bound (Style::levels_of_detail) on a mesh of more than one block.
+  bool uses_lod(bool levels_of_detail) const;
+  // The blocks of the whole mesh's levels `whole` (base 0) that are held: the window's or all.
+  BlockRange held_blocks(const LodHierarchy& whole) const;
+
+ private:
+  const terrain::GridMesh& held_;
+  const LodHierarchy* levels_;
+};
 
 // Per block, 1 where it faces the eye throughout at its level (levels[k]) by the test
 // select_lod's looser bound uses: no fragment of it faces away, so AFT need not look at its

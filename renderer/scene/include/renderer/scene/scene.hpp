@@ -30,7 +30,7 @@ struct Scene {
   // load_scene's memory bound made it read a coarser one (then levels->base too).
   int mesh_level = 0;
   // The mesh's own levels (its pyramid's, base 0, every block) when the mesh was read from
-  // its pyramid: what refocus_scene and cover_view plan on while a coarser level or a window
+  // its pyramid: what hold_views plans on while a coarser level or a window
   // of it is held.
   std::shared_ptr<const LodHierarchy> mesh_levels;
   // The digest of the mesh and pyramid read (terrain::PyramidMesh): a later read of the
@@ -50,7 +50,7 @@ struct Scene {
   std::vector<std::string> warnings;             // "'x.dv': ..." for the tool to print
   double mesh_seconds = 0, creases_seconds = 0;  // creases_seconds includes ridges_seconds
   double ridges_seconds = 0;
-  // What focus_scene needs of a scene read at a coarser level: the creases wait for it.
+  // What hold_views needs of a scene read at a coarser level: the creases wait for it.
   struct Deferred {
     std::string mesh_path, dv_path;
     CreaseRules rules;
@@ -58,7 +58,7 @@ struct Scene {
   };
   std::optional<Deferred> deferred;
   std::optional<Deferred>
-      bounded;  // the same, kept after focus_scene: what refocus_scene reads again
+      bounded;  // the same, kept after the first read: what hold_views reads again
 };
 
 // Reads the mesh and, when `dv_path` is not empty, the database's points under it (a large
@@ -70,44 +70,31 @@ struct Scene {
 // position and the normal): when the mesh takes more and has a current pyramid, the mesh
 // read is the finest level of the pyramid within a quarter of the bound, a preview to
 // resolve the view on (the automatic view and exaggeration), and the creases wait for
-// focus_scene.
+// hold_views.
 Scene load_scene(const std::string& mesh_path, const std::string& dv_path, const CreaseRules& rules,
                  std::uint64_t vertex_bytes = 0);
 
-// For a scene that load_scene read at a coarser level (Scene::deferred; else nothing):
-// reads, in the preview's place, the finest level that any block of the view is drawn at
-// (select_lod with the style's bound: what the frame draws, unchanged) or, when that level
-// takes more than the bound, the finest within it (the nearest blocks then drawn coarser;
-// every level with --lod-error 0), and builds the creases on it. Returns a line for -v.
-// With several cameras (a batch's frames), the finest level any of their views draws.
-// With `window`, only the blocks in view are read (terrain-render frame): those of any
-// block any view draws (nearest_depth), one block more around them, as a window of the mesh
-// (terrain::read_mesh_via_pyramid's part, LodHierarchy::window), so the bound applies to
-// them and a near view of a large mesh is read at the level it draws. What lies outside
-// cannot show: the terrain that hides a point of the view lies between it and the eye, in
-// the view too. The scene's box stays the whole mesh's (levels_box), and with it the
-// view, the page scale and the strokes.
-std::string focus_scene(Scene& scene, const std::vector<Camera>& cameras, int width, int height,
-                        const Style& style, bool window = false);
-
-// For a scene read under load_scene's memory bound (Scene::bounded): when what it holds
-// would not draw `camera`'s view as focus_scene with `window` reads it (terrain-render
-// frame's read: the level the view draws, over the blocks in view, within the bound), reads
-// that, with its creases, and returns focus_scene's line ("the view came nearer: ..." or
-// "the view moved: ..."); else nothing (no read). What is held serves when it holds the
-// blocks in view at that level, or at a finer one where that level is the finest the view
-// draws. terrain-view calls it before each full frame: a still view is drawn as
-// terrain-render frame draws it, in the detail it needs, within the bound.
-std::string refocus_scene(Scene& scene, const Camera& camera, int width, int height,
-                          const Style& style);
-
-// For a scene holding a window of its mesh (refocus_scene's read): when `camera`'s view has
-// blocks outside it, reads the level focus_scene reads without a window (the whole mesh at
-// the level the view draws, or the finest within the bound) and returns its line; else
-// nothing. terrain-view calls it before each cheap frame: a moving view never shows the
-// terrain cut at the window's edge (one read, when it first leaves the window).
-std::string cover_view(Scene& scene, const Camera& camera, int width, int height,
-                       const Style& style);
+// What a scene read under load_scene's memory bound holds for the views of `cameras`
+// (Scene::deferred, Scene::bounded; a scene read whole holds everything: nothing to do).
+// The level read is the finest that any block of the views is drawn at (select_lod with the
+// style's bound: what the frame draws, unchanged) or, when that takes more than the bound,
+// the finest within it (the nearest blocks then drawn coarser; every level with
+// --lod-error 0); the creases are built on it. With a window, only the blocks any view
+// draws (nearest_depth) and one more around them are read (terrain::read_mesh_via_pyramid's
+// part, LodHierarchy::window): what lies outside cannot show, since the terrain that hides a
+// point of the view lies between it and the eye, in the view too. The scene's box stays
+// the whole mesh's (MeshHolding), and with it the view, the page scale and the strokes.
+// Returns a line for -v, empty when nothing was read.
+enum class HoldFor {
+  Frames,      // a batch's frames, after the preview: the whole mesh
+  Frame,       // one frame, after the preview (terrain-render frame, the viewer's start): a window
+  StillView,   // the viewer before a full frame: as Frame, read only when what is held does not
+               // hold the blocks in view at that level (or finer, where that is the finest drawn)
+  MovingView,  // the viewer before a cheap frame: the whole mesh as Frames reads it, once,
+               // when the view first leaves a window held (the terrain never shown cut)
+};
+std::string hold_views(Scene& scene, const std::vector<Camera>& cameras, int width, int height,
+                       const Style& style, HoldFor what);
 
 // The scene's levels of detail for `style`: none without levels of detail
 // (Style::lod_error 0), else Scene::levels, made here once when the mesh brought none.
