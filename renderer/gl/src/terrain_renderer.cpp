@@ -106,7 +106,8 @@ struct TerrainRenderer::Impl {
                     style.antialias ? style.silhouette_min_length * height : 0.0, style,
                     layers.adjacency ? &ids : nullptr, 1e-3 * std::min(cell.x(), cell.y()),
                     held.local_extent()),
-        composite(scene, layers, style, this->creases, pels, edges, silhouettes) {
+        composite(scene, layers, style, this->creases, pels, edges, silhouettes),
+        hachures(scene) {
     if (held.uses_lod(style.levels_of_detail())) {
       if (levels && !(terrain::level_count(levels->topo.rows - 1, levels->base) == mesh.topo.rows &&
                       terrain::level_count(levels->topo.cols - 1, levels->base) == mesh.topo.cols))
@@ -139,8 +140,8 @@ struct TerrainRenderer::Impl {
   passes::EdgePass edges;
   passes::SilhouettePass silhouettes;
   passes::CompositePass composite;
-  GlObject capture_prog;               // built on the first capture_pn
-  GlObject hachure_prog, hachure_buf;  // built on the first hachure_field
+  passes::HachurePass hachures;  // on demand after a frame (hachure_field), not in the sequence
+  GlObject capture_prog;         // built on the first capture_pn
   std::shared_ptr<const LodHierarchy>
       lod;  // levels of detail (style.levels_of_detail(), a mesh of more than one block)
   const terrain::GridMesh* source =
@@ -316,44 +317,7 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
 }
 
 HachureField TerrainRenderer::hachure_field(const View& view, bool light_tone) const {
-  auto& m = *impl_;
-  if (!m.scene.surface_normal.id())
-    throw terrain::Error(
-        "internal: the hachures' field needs a renderer made with the hachures layer");
-  const int w = m.scene.width, h = m.scene.height;
-  const std::size_t n = std::size_t(w) * std::size_t(h);
-  if (!m.hachure_prog.id()) {
-    m.hachure_prog = build_program(ProgramId::HachureField);
-    m.hachure_buf = make_buffer(16 * n, nullptr, GL_DYNAMIC_STORAGE_BIT);
-  }
-  // The last frame's block is still in the scene's UBO (render() wrote it).
-  glBindBufferBase(GL_UNIFORM_BUFFER, TR_UBO_FRAME, m.scene.ubo.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_HACHURE_FIELD, m.hachure_buf.id());
-  glBindTextureUnit(TR_TEX_TOWARD_DEPTH, m.scene.toward_depth.id());
-  glBindTextureUnit(TR_TEX_SURFACE_NORMAL, m.scene.surface_normal.id());
-  glUseProgram(m.hachure_prog.id());
-  const Eigen::Matrix4f inverse = view.view_projection().inverse().cast<float>();
-  glProgramUniformMatrix4fv(m.hachure_prog.id(), TR_LOC_HACHURE_INVERSE, 1, GL_FALSE,
-                            inverse.data());
-  glProgramUniform1i(m.hachure_prog.id(), TR_LOC_HACHURE_TONE, light_tone ? 1 : 0);
-  glDispatchCompute(dispatch_groups_x(n), dispatch_groups_y(n), 1);
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-  std::vector<Eigen::Vector4f> raw(n);
-  glGetNamedBufferSubData(m.hachure_buf.id(), 0, GLsizeiptr(16 * n), raw.data());
-  HachureField f;
-  f.width = w, f.height = h;
-  f.fall.resize(n), f.slope.resize(n), f.tone.resize(n), f.elevation.resize(n);
-#pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector4f& a = raw[i];  // fall angle, slope (-1: no surface), tone, height
-    const bool terrain = a.y() >= 0.0f;
-    f.fall[i] =
-        a.x() < 3.5f ? Eigen::Vector2f(std::cos(a.x()), std::sin(a.x())) : Eigen::Vector2f::Zero();
-    f.slope[i] = terrain ? a.y() : std::numeric_limits<float>::quiet_NaN();
-    f.tone[i] = terrain ? a.z() : 0.0f;
-    f.elevation[i] = terrain ? a.w() : 0.0f;
-  }
-  return f;
+  return impl_->hachures.field(view, light_tone);
 }
 
 FrameBuffers TerrainRenderer::read_buffers(bool normals) const {

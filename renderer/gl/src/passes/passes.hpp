@@ -12,6 +12,7 @@
 #include "renderer/core/camera.hpp"
 #include "renderer/core/crease.hpp"
 #include "renderer/core/frame_params.hpp"
+#include "renderer/core/hachures.hpp"
 #include "renderer/core/lod.hpp"
 #include "renderer/core/silhouette.hpp"
 #include "renderer/core/stroke_visibility.hpp"
@@ -355,6 +356,20 @@ class CompositePass : public PassBase {
   const EdgePass& edges_;
   const SilhouettePass& silhouettes_;
   GlObject colour_, fbo_, prog_, silhouettes_prog_;
+};
+
+// HACH: the hachures' field of the last frame (hachure_pass.cpp), computed when asked for
+// (TerrainRenderer::hachure_field), not in the timed sequence. The scene must have been made
+// with `normals`.
+class HachurePass {
+ public:
+  explicit HachurePass(const SceneGpu& scene);
+  // The last frame's (`view`: its view); the tone the light's (`light_tone`) or the slope's.
+  HachureField field(const View& view, bool light_tone);
+
+ private:
+  const SceneGpu& s_;
+  GlObject prog_, buf_;  // built on the first field
 };
 
 }  // namespace renderer::passes
