@@ -60,6 +60,13 @@ extern const CLI::Validator kPositive, kNonNegative;
 // sense (`help`), at least `least` MiB; its default shown unless 0 (no bound).
 CLI::Option* add_memory_option(CLI::App& app, double& mib, const std::string& help, double least);
 
+// --tile-size N, declared once for every tool: the work in pieces of N (rows or samples a
+// side, in the tool's sense: `help`), 1 .. `most`; --memory, declared after it, excludes it.
+template <class T>
+CLI::Option* add_tile_size_option(CLI::App& app, T& n, const std::string& help, T most) {
+  return app.add_option("--tile-size", n, help)->check(CLI::Range(T(1), most));
+}
+
 // Warns (-q silences it) of each temporary file or scratch folder beside an output that a
 // run on it left when it was killed (SIGKILL, a power cut: temp_files.hpp), with the
 // command that removes it. Empty strings are skipped.

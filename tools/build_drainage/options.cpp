@@ -75,12 +75,12 @@ void add_options(CLI::App& app, Options& o) {
                  "older than 2026-11)")
       ->check(CLI::IsMember({1, 2}))
       ->capture_default_str();
-  app.add_option(
-         "--tile-size", o.tile_size,
-         "Raster mode tile by tile, for rasters larger than memory: tiles of N x N samples read\n"
-         "through GDAL windows, results identical to the untiled run (docs/build-drainage.md).\n"
-         "Under mpirun the ranks share the tiles (default 1024 there)")
-      ->check(CLI::Range(1, 16384));
+  tt::add_tile_size_option(
+      app, o.tile_size,
+      "Raster mode tile by tile, for rasters larger than memory: tiles of N x N samples read\n"
+      "through GDAL windows, results identical to the untiled run (docs/build-drainage.md).\n"
+      "Under mpirun the ranks share the tiles (default 1024 there)",
+      decltype(o.tile_size)(16384));
   tt::add_memory_option(app, o.memory_mib,
                         "Raster mode within about this much memory (MiB): untiled when the grid "
                         "fits (40 bytes per\npoint), else tiled with the largest tiles that fit "

@@ -15,13 +15,14 @@
 namespace terrain::tools::mesh {
 
 void add_band_options(CLI::App& app, std::size_t& rows, double& memory_mib) {
-  app.add_option("--tile-size", rows,
-                 "Make and write the mesh N rows at a time (bands of N rows, the grid's whole "
-                 "width), for DEMs\n"
-                 "larger than memory: the same PLY and pyramid as one run; a raster input without "
-                 "--fit-normals,\n"
-                 "--fill-nodata, --grid-out or dequantizing")
-      ->check(CLI::Range(std::size_t(1), std::size_t(1) << 30));
+  add_tile_size_option(
+      app, rows,
+      "Make and write the mesh N rows at a time (bands of N rows, the grid's whole "
+      "width), for DEMs\n"
+      "larger than memory: the same PLY and pyramid as one run; a raster input without "
+      "--fit-normals,\n"
+      "--fill-nodata, --grid-out or dequantizing",
+      std::size_t(1) << 30);
   add_memory_option(app, memory_mib,
                     "Like --tile-size, with bands as large as about this much memory allows "
                     "(MiB); one band when the\nwhole grid fits",
