@@ -112,11 +112,46 @@ void MeshPyramid::read_at(void* to, std::size_t n, std::uint64_t offset) const {
   }
 }
 
+namespace {
+
+Error corrupt_pyramid(const std::string& path, const char* what) {
+  return Error(fmt::format("cannot read '{}': corrupt mesh pyramid ({})", path, what));
+}
+Error truncated_pyramid(const std::string& path) {
+  return Error("cannot read '" + path + "': truncated mesh pyramid");
+}
+
+// One block's box, levels, errors and (version 2 on) slopes, checked; its place and size
+// set before.
+void read_block(In& in, MeshLevelBlock& b, std::uint32_t n_levels, int version) {
+  for (int j = 0; j < 3; ++j) b.lo[j] = in.get<float>();
+  for (int j = 0; j < 3; ++j) b.hi[j] = in.get<float>();
+  if (!b.lo.allFinite() || !b.hi.allFinite() || (b.lo.array() > b.hi.array()).any())
+    throw corrupt_pyramid(in.path, "a block's box");
+  const std::uint32_t nl = in.get<std::uint32_t>();
+  if (nl < 1 || nl > n_levels || int(nl) != block_levels(b.nr, b.nc))
+    throw corrupt_pyramid(in.path, "a block's levels");
+  if (std::uint64_t(nl) * (version >= 2 ? 8 : 4) > in.bytes.size() - in.at)
+    throw truncated_pyramid(in.path);
+  b.error.resize(nl);
+  for (float& e : b.error) e = in.get<float>();
+  // Errors: 0 at level 0, finite and non-decreasing; slopes >= 0 (infinite where a
+  // surface turns over).
+  for (std::size_t j = 0; j < nl; ++j)
+    if (!std::isfinite(b.error[j]) || (j == 0 ? b.error[j] != 0 : !(b.error[j] >= b.error[j - 1])))
+      throw corrupt_pyramid(in.path, "a block's errors");
+  if (version >= 2) {  // version 1: not known
+    b.slope.resize(nl);
+    for (float& e : b.slope) e = in.get<float>();
+    for (const float e : b.slope)
+      if (!(e >= 0)) throw corrupt_pyramid(in.path, "a block's slopes");
+  }
+}
+
+}  // namespace
+
 void MeshPyramid::read_header(std::uint64_t size) {
   const std::string& path = path_;
-  const auto corrupt = [&](const char* what) {
-    return Error(fmt::format("cannot read '{}': corrupt mesh pyramid ({})", path, what));
-  };
   // The magic, the version and the header's size, then the header and index whole.
   std::string bytes(20, '\0');
   if (size < 20) throw Error("'" + path + "' is not a mesh pyramid (.tpyr)");
@@ -133,45 +168,59 @@ void MeshPyramid::read_header(std::uint64_t size) {
     throw Error(fmt::format("cannot read '{}': corrupt mesh pyramid (version {})", path, version));
   version_ = int(version);
   const std::uint64_t header_bytes = in.get<std::uint64_t>();
-  if (header_bytes < 20 || header_bytes > size)
-    throw Error("cannot read '" + path + "': truncated mesh pyramid");
+  if (header_bytes < 20 || header_bytes > size) throw truncated_pyramid(path);
   bytes.resize(std::size_t(header_bytes));
   read_at(bytes.data() + 20, std::size_t(header_bytes - 20), 20);
   if (version >= 3) {  // the CRC-32 of the header before it, in its last 4 bytes
-    if (header_bytes < 24) throw corrupt("its header");
+    if (header_bytes < 24) throw corrupt_pyramid(path, "its header");
     std::uint32_t crc = 0;
     std::memcpy(&crc, bytes.data() + header_bytes - 4, 4);
     if (crc_of(bytes.substr(0, std::size_t(header_bytes - 4))) != crc)
-      throw corrupt("its header's checksum");
+      throw corrupt_pyramid(path, "its header's checksum");
     bytes.resize(std::size_t(header_bytes - 4));
   }
+  std::size_t at = in.at;
+  const std::uint32_t n_levels = read_grid(bytes, at);
+  read_blocks(bytes, at, n_levels);
+  read_tile_index(bytes, at, n_levels, header_bytes, size);
+  bytes_read_ = header_bytes;
+}
+
+std::uint32_t MeshPyramid::read_grid(const std::string& bytes, std::size_t& at) {
+  In in{bytes, path_, at};
   const std::size_t B = in.get<std::uint32_t>();
   const std::uint64_t rows = in.get<std::uint64_t>(), cols = in.get<std::uint64_t>();
   if (B < 2 || B > (1u << 16) || rows < 2 || cols < 2 || rows > (1u << 30) || cols > (1u << 30) ||
       rows * cols >= (std::uint64_t(1) << 32))
-    throw corrupt("its grid");
+    throw corrupt_pyramid(path_, "its grid");
   geo_.origin_x = in.get<double>(), geo_.origin_y = in.get<double>(),
   geo_.origin_z = in.get<double>();
   geo_.dx = in.get<double>(), geo_.dy = in.get<double>();
   geo_.epsg = in.get<std::int32_t>();
   if (!georef_in_range(GridTopology{std::size_t(rows), std::size_t(cols)}, geo_) || geo_.epsg < 0)
-    throw corrupt("its georeference");
+    throw corrupt_pyramid(path_, "its georeference");
   const std::size_t wkt = in.get<std::uint32_t>();
-  if (wkt > bytes.size() - in.at) throw Error("cannot read '" + path + "': truncated mesh pyramid");
+  if (wkt > bytes.size() - in.at) throw truncated_pyramid(path_);
   geo_.crs_wkt = bytes.substr(in.at, wkt);
   in.at += wkt;
-  if (version >= 3) digest_ = in.get<std::uint64_t>();
+  if (version_ >= 3) digest_ = in.get<std::uint64_t>();
   const std::uint32_t n_levels = in.get<std::uint32_t>();
-  if (n_levels < 1 || n_levels > 32) throw corrupt("its levels");
+  if (n_levels < 1 || n_levels > 32) throw corrupt_pyramid(path_, "its levels");
   levels_.topo = GridTopology{std::size_t(rows), std::size_t(cols)};
   levels_.block = B;
   levels_.block_rows = (std::size_t(rows) - 1 + B - 1) / B;
   levels_.block_cols = (std::size_t(cols) - 1 + B - 1) / B;
+  at = in.at;
+  return n_levels;
+}
+
+void MeshPyramid::read_blocks(const std::string& bytes, std::size_t& at, std::uint32_t n_levels) {
+  In in{bytes, path_, at};
+  const std::size_t B = levels_.block, rows = levels_.topo.rows, cols = levels_.topo.cols;
   // Every count against the bytes left before anything is allocated: a block takes at
   // least 28 + 4 (version 1) or 28 + 8 bytes, a level's index 16 and a tile 16.
   const std::uint64_t n_blocks = std::uint64_t(levels_.block_rows) * levels_.block_cols;
-  if (n_blocks > (bytes.size() - in.at) / 32)
-    throw Error("cannot read '" + path + "': truncated mesh pyramid");
+  if (n_blocks > (bytes.size() - in.at) / 32) throw truncated_pyramid(path_);
   levels_.blocks.resize(std::size_t(n_blocks));
   for (std::size_t k = 0; k < levels_.blocks.size(); ++k) {
     MeshLevelBlock& b = levels_.blocks[k];
@@ -179,33 +228,18 @@ void MeshPyramid::read_header(std::uint64_t size) {
     b.c0 = std::uint32_t(k % levels_.block_cols * B);
     b.nr = std::uint32_t(std::min<std::uint64_t>(B, rows - 1 - b.r0));
     b.nc = std::uint32_t(std::min<std::uint64_t>(B, cols - 1 - b.c0));
-    for (int j = 0; j < 3; ++j) b.lo[j] = in.get<float>();
-    for (int j = 0; j < 3; ++j) b.hi[j] = in.get<float>();
-    if (!b.lo.allFinite() || !b.hi.allFinite() || (b.lo.array() > b.hi.array()).any())
-      throw corrupt("a block's box");
-    const std::uint32_t nl = in.get<std::uint32_t>();
-    if (nl < 1 || nl > n_levels || int(nl) != block_levels(b.nr, b.nc))
-      throw corrupt("a block's levels");
-    if (std::uint64_t(nl) * (version >= 2 ? 8 : 4) > bytes.size() - in.at)
-      throw Error("cannot read '" + path + "': truncated mesh pyramid");
-    b.error.resize(nl);
-    for (float& e : b.error) e = in.get<float>();
-    // Errors: 0 at level 0, finite and non-decreasing; slopes >= 0 (infinite where a
-    // surface turns over).
-    for (std::size_t j = 0; j < nl; ++j)
-      if (!std::isfinite(b.error[j]) ||
-          (j == 0 ? b.error[j] != 0 : !(b.error[j] >= b.error[j - 1])))
-        throw corrupt("a block's errors");
-    if (version >= 2) {  // version 1: not known
-      b.slope.resize(nl);
-      for (float& e : b.slope) e = in.get<float>();
-      for (const float e : b.slope)
-        if (!(e >= 0)) throw corrupt("a block's slopes");
-    }
+    read_block(in, b, n_levels, version_);
   }
   int coarsest = 1;
   for (const MeshLevelBlock& b : levels_.blocks) coarsest = std::max(coarsest, b.levels());
-  if (int(n_levels) != coarsest) throw corrupt("its levels");
+  if (int(n_levels) != coarsest) throw corrupt_pyramid(path_, "its levels");
+  at = in.at;
+}
+
+void MeshPyramid::read_tile_index(const std::string& bytes, std::size_t& at, std::uint32_t n_levels,
+                                  std::uint64_t header_bytes, std::uint64_t size) {
+  In in{bytes, path_, at};
+  const std::size_t B = levels_.block;
   tiles_.assign(n_levels, {});
   std::uint64_t end = header_bytes;  // the tiles follow the header, one after another
   for (std::uint32_t l = 0; l < n_levels; ++l) {
@@ -213,23 +247,21 @@ void MeshPyramid::read_header(std::uint64_t size) {
     t.tiles_r = in.get<std::uint64_t>(), t.tiles_c = in.get<std::uint64_t>();
     if (t.tiles_r != (this->rows(int(l)) - 1 + B - 1) / B ||
         t.tiles_c != (this->cols(int(l)) - 1 + B - 1) / B)
-      throw corrupt("its tile counts");
-    if (t.tiles_r * t.tiles_c > (bytes.size() - in.at) / 16)
-      throw Error("cannot read '" + path + "': truncated mesh pyramid");
+      throw corrupt_pyramid(path_, "its tile counts");
+    if (t.tiles_r * t.tiles_c > (bytes.size() - in.at) / 16) throw truncated_pyramid(path_);
     t.tiles.resize(t.tiles_r * t.tiles_c);
     for (Tile& tile : t.tiles) {
       tile.offset = in.get<std::uint64_t>(), tile.bytes = in.get<std::uint32_t>(),
       tile.crc = in.get<std::uint32_t>();
-      if (tile.offset > size || tile.bytes > size - tile.offset)
-        throw Error("cannot read '" + path + "': truncated mesh pyramid");
-      if (version >= 3 && tile.offset != end) throw corrupt("its tile index");
+      if (tile.offset > size || tile.bytes > size - tile.offset) throw truncated_pyramid(path_);
+      if (version_ >= 3 && tile.offset != end) throw corrupt_pyramid(path_, "its tile index");
       end = tile.offset + tile.bytes;
     }
   }
-  if (in.at != bytes.size()) throw corrupt("its header's size");
-  if (version >= 3 && end != size)
-    throw Error("cannot read '" + path + "': truncated mesh pyramid, or bytes after its tiles");
-  bytes_read_ = header_bytes;
+  if (in.at != bytes.size()) throw corrupt_pyramid(path_, "its header's size");
+  if (version_ >= 3 && end != size)
+    throw Error("cannot read '" + path_ + "': truncated mesh pyramid, or bytes after its tiles");
+  at = in.at;
 }
 
 std::uint32_t MeshPyramid::tile_bytes(int l, std::size_t tr, std::size_t tc) const {

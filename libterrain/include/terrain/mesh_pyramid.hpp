@@ -217,7 +217,13 @@ class MeshPyramid {
   void decode_tiles(int l, std::size_t tr0, std::size_t tc0, std::size_t tr1, std::size_t tc1,
                     const std::function<void(std::size_t, std::size_t,
                                              const std::vector<Eigen::Vector3f>&)>& use);
+  // The header and tile index of a file of `size` bytes, checked; the parts of the header
+  // after its head (magic, version, size, checksum), each from `bytes` at `at` onwards:
   void read_header(std::uint64_t size);
+  std::uint32_t read_grid(const std::string& bytes, std::size_t& at);  // returns the levels
+  void read_blocks(const std::string& bytes, std::size_t& at, std::uint32_t n_levels);
+  void read_tile_index(const std::string& bytes, std::size_t& at, std::uint32_t n_levels,
+                       std::uint64_t header_bytes, std::uint64_t size);
   void read_at(void* to, std::size_t n, std::uint64_t offset) const;  // n bytes at offset, or Error
   std::string path_;
   int fd_ = -1;

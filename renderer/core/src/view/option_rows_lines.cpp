@@ -9,8 +9,8 @@
 
 namespace renderer::detail {
 
-// The options of the crease strokes: widths, fades, bridges, hidden runs.
-void add_strokes_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+// The crease strokes' widths, fades, bridges and shortest strokes.
+static void add_crease_width_options(std::vector<OptionSpec>& t, const GroupNames& g) {
   const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] =
       g;
   t.push_back(number(
@@ -57,6 +57,12 @@ void add_strokes_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "... or shorter than this in pixels at the page scale: dots on the page, whatever the mesh's "
       "spacing (0: this term off)",
       [](auto& s) -> auto& { return s.style.crease_min_stroke_px; }));
+}
+
+// The crease strokes' page area, hidden runs and lift.
+static void add_crease_run_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] =
+      g;
   t.push_back(number(
       "page-min-area", strokes, 0, 1e12, "m^2", "40000",
       "Channels selected by the page: creases begin where at least this area drains on a page of "
@@ -95,6 +101,12 @@ void add_strokes_options(std::vector<OptionSpec>& t, const GroupNames& g) {
     s.style.crease_lift = -1;  // auto
     if (v != "auto") parse_number(v, s.style.crease_lift);
   };
+}
+
+// The options of the crease strokes: widths, fades, bridges, hidden runs.
+void add_strokes_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  add_crease_width_options(t, g);
+  add_crease_run_options(t, g);
 }
 
 // The options of silhouettes, PELs and object-space edges.
@@ -157,7 +169,8 @@ void add_hachure_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       [](auto& s) -> auto& { return s.style.ridge_colour; }));
 }
 
-void add_lines_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+// The silhouettes: widths, pieces, the formulated ones.
+static void add_silhouette_options(std::vector<OptionSpec>& t, const GroupNames& g) {
   const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] =
       g;
   t.push_back(integer(
@@ -203,6 +216,12 @@ void add_lines_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "more "
       "steeply than the lowered sight line (how much it would hide)",
       [](auto& s) -> auto& { return s.style.formulated_strength; }));
+}
+
+// The PELs and the object-space edges.
+static void add_pel_edge_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] =
+      g;
   t.push_back(choice(
       "pel-light", pel, OptionType::Enum, {"headlight", "scene"}, "headlight",
       "PELs: f = max(0, n . L) with L the headlight (towards the eye) or the scene light "
@@ -256,6 +275,11 @@ void add_lines_options(std::vector<OptionSpec>& t, const GroupNames& g) {
   t.push_back(number(
       "edge-width", edges, 0.5, 20, "pixels", "1.5", "Edges layer: width in pixels",
       [](auto& s) -> auto& { return s.style.edge_width; }));
+}
+
+void add_lines_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  add_silhouette_options(t, g);
+  add_pel_edge_options(t, g);
 }
 
 // The options of colours and the surface.

@@ -37,8 +37,8 @@ void add_frame_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       [](RenderSettings& s, const std::string& v) { s.layers = parse_layers(v); }));
 }
 
-// The options of the camera, the light and the exaggeration.
-void add_camera_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+// Where the eye is: the view, the eye point, azimuth, altitude, field of view, map scale.
+static void add_eye_options(std::vector<OptionSpec>& t, const GroupNames& g) {
   const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] =
       g;
   t.push_back(choice(
@@ -99,6 +99,12 @@ void add_camera_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "subject, PNG text and a "
       ".pgw world file)",
       [](auto& s) -> auto& { return s.frame.camera.map_scale; }));
+}
+
+// The light and the exaggeration.
+static void add_light_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] =
+      g;
   t.push_back(number(
       "light-az", camera, -1e9, 1e9, "degrees", "315",
       "Light azimuth, degrees clockwise from north (frame's default view: from its left)",
@@ -112,6 +118,12 @@ void add_camera_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "(1 where the relief "
       "is strong, up to 5 on lowland; terrain-inspect info prints it)",
       [](auto& s) -> auto& { return s.style.exaggeration; }));
+}
+
+// The options of the camera, the light and the exaggeration.
+void add_camera_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  add_eye_options(t, g);
+  add_light_options(t, g);
 }
 
 // The options of the crease score (and the PEL threshold, per frame too).
@@ -152,8 +164,8 @@ void add_score_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       [](auto& s) -> auto& { return s.frame.pel.threshold; }, true));
 }
 
-// The options of the crease network: which branches become creases.
-void add_network_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+// Which links are channels: areas, widths, seeds.
+static void add_channel_options(std::vector<OptionSpec>& t, const GroupNames& g) {
   const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] =
       g;
   t.push_back(number(
@@ -190,6 +202,12 @@ void add_network_options(std::vector<OptionSpec>& t, const GroupNames& g) {
           s.rules.one_line_per_flat = false, s.rules.smooth_spacings = 0, s.rules.min_width = 0,
           s.rules.off_edge_runs = false, s.rules.valley_branches = false;
       }));
+}
+
+// Which channel links are drawn as valleys, and how their flow and lines are shaped.
+static void add_valley_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] =
+      g;
   t.push_back(choice(
       "crease-links", rules, OptionType::Enum, {"valleys", "all"}, "valleys",
       "Which branches of the network may become creases: valleys, only those along which the "
@@ -233,6 +251,12 @@ void add_network_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "and at "
       "least 1.5 drainage samples (0: the D8 polyline as it is)",
       [](auto& s) -> auto& { return s.rules.smooth_spacings; }));
+}
+
+// The options of the crease network: which branches become creases.
+void add_network_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  add_channel_options(t, g);
+  add_valley_options(t, g);
 }
 
 }  // namespace renderer::detail
