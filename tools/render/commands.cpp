@@ -148,6 +148,45 @@ void report_write(const tt::Verbosity& verb, const std::vector<std::string>& out
                        double(t.vector_bytes) / 1e6, t.layers));
 }
 
+// What terrain-render frame prints: the file, the device, the view, the lines drawn, the
+// map's georeference and the passes' times.
+void print_frame(const std::string& out, const rr::GlContext& ctx, const rr::Scene& scene,
+                 const rr::TerrainRenderer& r, const rr::FrameResult& res,
+                 const rr::ResolvedFrame& f, const std::string& exaggeration,
+                 const rr::WriteTimes& wt) {
+  const rr::FrameParams& fp = f.frame;
+  const Eigen::Vector3d eye = res.view.eye + r.origin();
+  std::cout << "output: " << out << "\n"
+            << "size: " << res.width << " x " << res.height << "\n";
+  print_device(ctx);
+  std::cout << fmt::format("eye: {:.1f} {:.1f} {:.1f}\n", eye.x(), eye.y(), eye.z())
+            << (res.view.orthographic()
+                    ? fmt::format("view: orthographic, az {:g} alt {:g}, {:g} m a pixel\n",
+                                  fp.camera.view_az, fp.camera.view_alt, res.view.map_scale)
+                    : fmt::format("view: az {:g} alt {:g} fov {:g}\n", fp.camera.view_az,
+                                  fp.camera.view_alt, fp.camera.fov))
+            << fmt::format("light: az {:g} alt {:g}\n", fp.light.azimuth, fp.light.altitude)
+            << exaggeration << "\n"
+            << "crease segments drawn: " << res.crease_segments << crease_level_text(scene, res)
+            << "\n"
+            << "pel segments drawn: " << res.pel_segments << "\n"
+            << "edges drawn: " << res.edges << "\n"
+            << "surface patches drawn: " << res.patches << " of " << scene.mesh.n_faces() << "\n";
+  if (const auto gt = rr::map_geotransform(res.view, r.origin())) {
+    std::cout << "geotransform: " << rr::geotransform_text(*gt) << "\n";
+    if (const std::vector<std::string> files = rr::frame_files(out, true); files.size() > 1)
+      std::cout << "world file: " << files[1] << "\n";
+  }
+  for (int p = 0; p < rr::kPassCount; ++p)
+    std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p),
+                             res.timings.gpu_ms[p], res.timings.wall_ms[p]);
+  if (f.layers.hachures)  // the field (GPU), the lines read back, the tracing (CPU); then cairo on
+                          // the PNG
+    std::cout << fmt::format(
+        "hachures ms: {:.2f} (lines read back {:.2f}; then drawn on the PNG {:.2f})\n",
+        wt.hachure_ms + wt.readback_ms, wt.readback_ms, wt.hachure_draw_ms);
+}
+
 int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh,
               const std::string& dv, const std::string& out, const std::string& prov,
               const tt::Verbosity& verb) {
@@ -187,36 +226,7 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh,
       rr::write_frame_files({out}, scene, r, res, f, o.vector, prov + "; " + exaggeration,
                             a.line_stats ? &traced : nullptr);
   report_write(verb, {out}, wt);
-  const Eigen::Vector3d eye = res.view.eye + r.origin();
-  std::cout << "output: " << out << "\n"
-            << "size: " << s.width << " x " << s.height << "\n";
-  print_device(ctx);
-  std::cout << fmt::format("eye: {:.1f} {:.1f} {:.1f}\n", eye.x(), eye.y(), eye.z())
-            << (res.view.orthographic()
-                    ? fmt::format("view: orthographic, az {:g} alt {:g}, {:g} m a pixel\n",
-                                  fp.camera.view_az, fp.camera.view_alt, res.view.map_scale)
-                    : fmt::format("view: az {:g} alt {:g} fov {:g}\n", fp.camera.view_az,
-                                  fp.camera.view_alt, fp.camera.fov))
-            << fmt::format("light: az {:g} alt {:g}\n", fp.light.azimuth, fp.light.altitude)
-            << exaggeration << "\n"
-            << "crease segments drawn: " << res.crease_segments << crease_level_text(scene, res)
-            << "\n"
-            << "pel segments drawn: " << res.pel_segments << "\n"
-            << "edges drawn: " << res.edges << "\n"
-            << "surface patches drawn: " << res.patches << " of " << scene.mesh.n_faces() << "\n";
-  if (const auto gt = rr::map_geotransform(res.view, r.origin())) {
-    std::cout << "geotransform: " << rr::geotransform_text(*gt) << "\n";
-    if (const std::vector<std::string> files = rr::frame_files(out, true); files.size() > 1)
-      std::cout << "world file: " << files[1] << "\n";
-  }
-  for (int p = 0; p < rr::kPassCount; ++p)
-    std::cout << fmt::format("{} ms: {:.2f} (wall {:.2f})\n", rr::pass_name(p),
-                             res.timings.gpu_ms[p], res.timings.wall_ms[p]);
-  if (f.layers.hachures)  // the field (GPU), the lines read back, the tracing (CPU); then cairo on
-                          // the PNG
-    std::cout << fmt::format(
-        "hachures ms: {:.2f} (lines read back {:.2f}; then drawn on the PNG {:.2f})\n",
-        wt.hachure_ms + wt.readback_ms, wt.readback_ms, wt.hachure_draw_ms);
+  print_frame(out, ctx, scene, r, res, f, exaggeration, wt);
   if (a.line_stats)
     std::cout << rr::line_stats_text(rr::frame_line_stats(scene, r, res, fp, f.style, f.layers,
                                                           f.layers.hachures ? &traced : nullptr));
@@ -245,6 +255,62 @@ std::vector<std::string> parse_formats(const std::string& list) {
   return out;
 }
 
+namespace {
+
+// Every file a batch writes: the frames (with a map's world file), the timings and the
+// statistics; checked against every input (a frames CSV or a mesh named like an output is
+// never replaced).
+std::vector<std::string> batch_outputs(const TableArgs& a, const std::vector<std::string>& formats,
+                                       const std::vector<rr::FrameParams>& frames,
+                                       const std::filesystem::path& dir) {
+  std::vector<std::string> outputs = {(dir / "timings.csv").string()};
+  if (a.line_stats) outputs.push_back((dir / "line_stats.csv").string());
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    for (const std::string& f : formats)
+      for (const std::string& file :
+           rr::frame_files((dir / frame_name(i, f)).string(), frames[i].camera.orthographic))
+        outputs.push_back(file);
+  return outputs;
+}
+
+void check_eyes(const rr::Scene& scene, const std::vector<rr::FrameParams>& frames,
+                const rr::RenderSettings& s, const std::string& csv) {
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    try {
+      if (frames[i].camera.eye)
+        rr::check_eye_above_terrain(scene.mesh, *frames[i].camera.eye, s.style.exaggeration);
+    } catch (const terrain::Error& e) {
+      throw terrain::Error(fmt::format("{}: frame {}: {}", csv, i + 1, e.what()));
+    }
+  }
+}
+
+// --line-stats over a batch: each frame's row, and what the flicker and the hachures'
+// coherence between frames are measured on.
+struct BatchLineStats {
+  std::string csv = rr::line_stats_csv_header();
+  std::vector<std::vector<float>> drawn;
+  std::vector<std::vector<double>> pixels;
+  std::vector<Eigen::Vector3f> previous_hachures;  // the last frame's, on the surface
+  rr::Coherence coherence;
+
+  void add(std::size_t i, const rr::Scene& scene, const rr::TerrainRenderer& r,
+           const rr::FrameResult& res, const rr::ResolvedFrame& f, rr::TracedHachures& traced) {
+    rr::FrameStats st = rr::frame_line_stats(scene, r, res, f.frame, f.style, f.layers,
+                                             f.layers.hachures ? &traced : nullptr,
+                                             i ? &previous_hachures : nullptr);
+    csv += rr::line_stats_csv_row(i, st);
+    rr::FrameLines fine =
+        rr::fine_lines(scene, res, std::move(st.lines));  // frames may draw other levels
+    drawn.push_back(std::move(fine.drawn));
+    pixels.push_back(std::move(fine.pixels));
+    if (st.hachures) previous_hachures = std::move(st.hachures->surface);
+    coherence.counted += st.hachure_coherence.counted, coherence.near += st.hachure_coherence.near;
+  }
+};
+
+}  // namespace
+
 int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::string>& inputs,
               const std::string& out_dir, const std::string& prov, const tt::Verbosity& verb) {
   rr::RenderSettings s = settings_of(a);
@@ -255,15 +321,7 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
     throw terrain::Error("'" + dv_path + "' is not a drainage database (.dv)");
   const auto frames = rr::read_frames_csv(csv, s.frame);
   const std::filesystem::path dir(out_dir);
-  // Every file the batch writes, checked against every input (a frames CSV or a mesh named
-  // like an output is never replaced): the frames, the timings and the statistics.
-  std::vector<std::string> outputs = {(dir / "timings.csv").string()};
-  if (a.line_stats) outputs.push_back((dir / "line_stats.csv").string());
-  for (std::size_t i = 0; i < frames.size(); ++i)
-    for (const std::string& f : formats)
-      for (const std::string& file :
-           rr::frame_files((dir / frame_name(i, f)).string(), frames[i].camera.orthographic))
-        outputs.push_back(file);  // with a map's world file
+  const std::vector<std::string> outputs = batch_outputs(a, formats, frames, dir);
   for (const std::string& out : outputs) tt::check_distinct_paths(inputs, {out});
   std::filesystem::create_directories(dir);
   terrain::check_output_path(dir / "timings.csv");
@@ -275,25 +333,14 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   std::vector<rr::Camera> cameras;
   for (const rr::FrameParams& fp : frames) cameras.push_back(fp.camera);
   focus(scene, cameras, s, rr::drawn_frame(s).style, dv_path, verb);
-  for (std::size_t i = 0; i < frames.size(); ++i) {
-    try {
-      if (frames[i].camera.eye)
-        rr::check_eye_above_terrain(scene.mesh, *frames[i].camera.eye, s.style.exaggeration);
-    } catch (const terrain::Error& e) {
-      throw terrain::Error(fmt::format("{}: frame {}: {}", csv, i + 1, e.what()));
-    }
-  }
+  check_eyes(scene, frames, s, csv);
   rr::GlContext ctx;
   rr::ResolvedFrame f = rr::drawn_frame(s);
   if (formats != std::vector<std::string>{"png"}) rr::check_vector_memory(ctx, s.width, s.height);
   rr::TerrainRenderer r(ctx, scene.mesh, scene.creases ? &*scene.creases : nullptr, s.width,
                         s.height, f.layers, f.style, scene.levels, scene.crease_levels);
   std::vector<rr::FrameTimings> timings;
-  std::string stats_csv = rr::line_stats_csv_header();
-  std::vector<std::vector<float>> drawn;
-  std::vector<std::vector<double>> pixels;
-  std::vector<Eigen::Vector3f> previous_hachures;  // the last frame's, on the surface
-  rr::Coherence coherence;
+  BatchLineStats stats;
   const auto progress = tt::terminal_progress(verb, "render");
   std::size_t blank = 0;  // frames that show no terrain
   for (std::size_t i = 0; i < frames.size(); ++i) {
@@ -314,32 +361,20 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
                  rr::write_frame_files(paths, scene, r, res, f, o.vector,
                                        prov + fmt::format(" [frame {}]", i),
                                        a.line_stats ? &traced : nullptr));
-    if (a.line_stats) {
-      rr::FrameStats st = rr::frame_line_stats(scene, r, res, f.frame, f.style, f.layers,
-                                               f.layers.hachures ? &traced : nullptr,
-                                               i ? &previous_hachures : nullptr);
-      stats_csv += rr::line_stats_csv_row(i, st);
-      rr::FrameLines fine =
-          rr::fine_lines(scene, res, std::move(st.lines));  // frames may draw other levels
-      drawn.push_back(std::move(fine.drawn));
-      pixels.push_back(std::move(fine.pixels));
-      if (st.hachures) previous_hachures = std::move(st.hachures->surface);
-      coherence.counted += st.hachure_coherence.counted,
-          coherence.near += st.hachure_coherence.near;
-    }
+    if (a.line_stats) stats.add(i, scene, r, res, f, traced);
     terrain::report(progress, double(i + 1) / double(frames.size()));
   }
   terrain::write_file_atomic(dir / "timings.csv", rr::timings_csv(timings));
-  if (a.line_stats) terrain::write_file_atomic(dir / "line_stats.csv", stats_csv);
+  if (a.line_stats) terrain::write_file_atomic(dir / "line_stats.csv", stats.csv);
   std::cout << "output: " << out_dir << "\nframes: " << frames.size() << "\nsize: " << s.width
             << " x " << s.height << "\n";
   if (blank > 0) std::cout << "frames without terrain: " << blank << "\n";
   print_device(ctx);
   std::cout << rr::timing_tables(timings);
   if (a.line_stats)
-    std::cout << fmt::format("crease flicker: {:.4f}\n", rr::flicker(drawn, pixels));
+    std::cout << fmt::format("crease flicker: {:.4f}\n", rr::flicker(stats.drawn, stats.pixels));
   if (a.line_stats && f.layers.hachures)
-    std::cout << fmt::format("hachure coherence: {:.4f}\n", coherence.share());
+    std::cout << fmt::format("hachure coherence: {:.4f}\n", stats.coherence.share());
   return 0;
 }
 

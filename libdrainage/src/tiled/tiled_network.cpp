@@ -54,6 +54,55 @@ void walk_tile(LocalNetwork& L, std::vector<std::uint8_t>& indeg,
   }
 }
 
+void allocate(LocalNetwork& L, std::size_t n) {
+  L.dirs.resize(n);
+  L.cut.assign(n, 0), L.leaves.assign(n, 0), L.entry.assign(n, 0), L.influenced.assign(n, 0),
+      L.node.assign(n, 0);
+  L.m.assign(n, 0), L.k.assign(n, 0), L.order.assign(n, 0), L.pit.assign(n, 0);
+  L.down.assign(n, kNone), L.acc.assign(n, 0);
+}
+
+// The tile walked (walk_tile; a cycle is an error) and its graph nodes marked: the cells
+// that leave the tile, and the influenced cells where an entry, a pit or two influenced
+// inflows are.
+void walk_and_mark_nodes(LocalNetwork& L, std::vector<std::uint8_t>& indeg, std::size_t t) {
+  const std::size_t n = L.dirs.size();
+  std::vector<std::uint8_t> inflows_influenced(n, 0);
+  walk_tile(L, indeg, inflows_influenced);
+  if (L.topo.size() != std::size_t(std::count_if(L.dirs.begin(), L.dirs.end(),
+                                                 [](std::uint8_t d) { return d != kNodata; })))
+    throw terrain::Error("the D8 directions contain a cycle (in tile " + std::to_string(t) + ")");
+  for (std::size_t i = 0; i < n; ++i)
+    L.node[i] = L.dirs[i] != kNodata &&
+                (L.leaves[i] ||
+                 (L.influenced[i] && (L.entry[i] || L.pit[i] || inflows_influenced[i] >= 2)));
+}
+
+// The classes, as the .dv's reader derives them (classify): a pit where the flow ends,
+// else by the codes entering the cell, in the tile (`indeg`) and, on its edge, from the
+// halo `h` (the tile at row dr, column dc of it).
+void count_tile_classes(LocalNetwork& L, const D8Codes& halo, const terrain::RasterWindow& h,
+                        long dr, long dc, const std::vector<std::uint8_t>& indeg) {
+  const long nr = long(L.nr), nc = long(L.nc), HC = long(h.cols);
+  const Neighbours around{long(h.rows), HC};
+  for (long r = 0; r < nr; ++r)
+    for (long c = 0; c < nc; ++c) {
+      const std::size_t i = std::size_t(r * nc + c);
+      if (L.dirs[i] == kNodata) continue;
+      if (L.pit[i]) {
+        ++L.classes[0];
+        continue;
+      }
+      int in = indeg[i];
+      if (r == 0 || c == 0 || r == nr - 1 || c == nc - 1)
+        around.inflows(r + dr, c + dc, [&](std::size_t j, int q) {
+          const long rr = long(j) / HC - dr, cc = long(j) % HC - dc;
+          in += (rr < 0 || cc < 0 || rr >= nr || cc >= nc) && halo[j] == std::uint8_t(q);
+        });
+      ++L.classes[in == 0 ? 1 : in == 1 ? 2 : 3];
+    }
+}
+
 }  // namespace
 
 LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReader& read,
@@ -70,11 +119,7 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
   L.nr = w.rows, L.nc = w.cols;
   const long nr = long(L.nr), nc = long(L.nc);
   const std::size_t n = L.nr * L.nc;
-  L.dirs.resize(n);
-  L.cut.assign(n, 0), L.leaves.assign(n, 0), L.entry.assign(n, 0), L.influenced.assign(n, 0),
-      L.node.assign(n, 0);
-  L.m.assign(n, 0), L.k.assign(n, 0), L.order.assign(n, 0), L.pit.assign(n, 0);
-  L.down.assign(n, kNone), L.acc.assign(n, 0);
+  allocate(L, n);
   std::vector<std::uint8_t> indeg(n, 0);
   auto code_at = [&](long hr, long hc) { return halo[std::size_t(hr * HC + hc)]; };
   const Neighbours around{HR, HC};
@@ -113,33 +158,8 @@ LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReade
         ++indeg[L.down[i]];
       }
     }
-  // The classes, as the .dv's reader derives them (classify): a pit where the flow ends,
-  // else by the codes entering the cell, in the tile (indeg) and, on its edge, from the halo.
-  for (long r = 0; count_classes && r < nr; ++r)
-    for (long c = 0; c < nc; ++c) {
-      const std::size_t i = std::size_t(r * nc + c);
-      if (L.dirs[i] == kNodata) continue;
-      if (L.pit[i]) {
-        ++L.classes[0];
-        continue;
-      }
-      int in = indeg[i];
-      if (r == 0 || c == 0 || r == nr - 1 || c == nc - 1)
-        around.inflows(r + dr, c + dc, [&](std::size_t j, int q) {
-          const long rr = long(j) / HC - dr, cc = long(j) % HC - dc;
-          in += (rr < 0 || cc < 0 || rr >= nr || cc >= nc) && halo[j] == std::uint8_t(q);
-        });
-      ++L.classes[in == 0 ? 1 : in == 1 ? 2 : 3];
-    }
-  std::vector<std::uint8_t> inflows_influenced(n, 0);
-  walk_tile(L, indeg, inflows_influenced);
-  if (L.topo.size() != std::size_t(std::count_if(L.dirs.begin(), L.dirs.end(),
-                                                 [](std::uint8_t d) { return d != kNodata; })))
-    throw terrain::Error("the D8 directions contain a cycle (in tile " + std::to_string(t) + ")");
-  for (std::size_t i = 0; i < n; ++i)
-    L.node[i] = L.dirs[i] != kNodata &&
-                (L.leaves[i] ||
-                 (L.influenced[i] && (L.entry[i] || L.pit[i] || inflows_influenced[i] >= 2)));
+  if (count_classes) count_tile_classes(L, halo, h, dr, dc, indeg);
+  walk_and_mark_nodes(L, indeg, t);
   return L;
 }
 
@@ -263,12 +283,33 @@ DoneTile complete_tile(const TileGrid& tiles, std::size_t t, const CodeReader& r
   return d;
 }
 
+// The heads among the tiles' ring cells: their inflows across tile edges counted first.
+std::uint64_t ring_heads(const TileGrid& tiles, std::vector<std::vector<RingCell>>& rings) {
+  const std::size_t ntc = tiles.tile_cols();
+  auto ring_cell = [&](std::uint64_t cell) -> RingCell& {
+    const std::size_t gr = std::size_t(cell / tiles.cols), gc = std::size_t(cell % tiles.cols);
+    const std::size_t u = gr / tiles.side * ntc + gc / tiles.side;
+    const terrain::RasterWindow wu = tiles.window(u);
+    return rings[u][ring_position(gr - wu.row0, gc - wu.col0, wu.rows, wu.cols)];
+  };
+  for (const auto& ring : rings)
+    for (const RingCell& x : ring)
+      if (x.valid && x.target != ~std::uint64_t(0)) {
+        RingCell& y = ring_cell(x.target);
+        y.same += x.order == y.order;
+      }
+  std::uint64_t heads = 0;
+  for (const auto& ring : rings)
+    for (const RingCell& x : ring) heads += x.valid && x.same != 1;
+  return heads;
+}
+
 // Rank 0 gets every rank's counts, basins and rings and finishes the totals (the heads of
 // ring cells, whose inflows cross tile edges); every rank gets the counts.
 NetworkTotals finish_totals(const TileGrid& tiles, const TileComm& comm, std::uint64_t n_pits,
                             NetworkTotals mine, std::vector<PitEntry>& my_pits,
                             std::vector<std::vector<RingCell>>& rings) {
-  const std::size_t nt = tiles.count(), ntc = tiles.tile_cols();
+  const std::size_t nt = tiles.count();
   Packer pack;
   pack.put(std::uint64_t(mine.points))
       .put(std::uint64_t(mine.branches))
@@ -301,21 +342,7 @@ NetworkTotals finish_totals(const TileGrid& tiles, const TileComm& comm, std::ui
       rings[t] = in.get_vector<RingCell>();
     }
   }
-  // Inflows across tile edges into ring cells, then the ring cells' heads.
-  auto ring_cell = [&](std::uint64_t cell) -> RingCell& {
-    const std::size_t gr = std::size_t(cell / tiles.cols), gc = std::size_t(cell % tiles.cols);
-    const std::size_t u = gr / tiles.side * ntc + gc / tiles.side;
-    const terrain::RasterWindow wu = tiles.window(u);
-    return rings[u][ring_position(gr - wu.row0, gc - wu.col0, wu.rows, wu.cols)];
-  };
-  for (const auto& ring : rings)
-    for (const RingCell& x : ring)
-      if (x.valid && x.target != ~std::uint64_t(0)) {
-        RingCell& y = ring_cell(x.target);
-        y.same += x.order == y.order;
-      }
-  for (const auto& ring : rings)
-    for (const RingCell& x : ring) totals.branches += x.valid && x.same != 1;
+  totals.branches += ring_heads(tiles, rings);
   if (comm.size() > 1) {  // rank 0's counts to every rank
     const std::string counts =
         comm.all_gather(comm.root() ? Packer()
