@@ -134,19 +134,13 @@ bool inside(const GridMesh& mesh, double wx, double wy) {
          y >= -double(mesh.topo.rows - 1) * mesh.geo.dy;
 }
 
-}  // namespace
-
-void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner,
-                       const std::vector<Eigen::Vector3d>& samples,
-                       const std::array<const double*, 3>& n, double* residuals,
-                       const std::array<double*, 3>& jacobians,
-                       const std::vector<Eigen::Vector2d>* start,
-                       std::vector<Eigen::Vector2d>* solved) {
-  if (solved) solved->resize(samples.size());
+// The face's PN polynomial for the corner normals `n`; with `m`, each control point's
+// derivatives by the normals too (the control points in dual numbers, once per face).
+PnPolynomial face_polynomial(const std::array<Eigen::Vector3d, 3>& corner,
+                             const std::array<const double*, 3>& n,
+                             std::array<Eigen::Matrix<double, 3, 9>, 10>* m) {
   PnPatch pd;
-  std::array<Eigen::Matrix<double, 3, 9>, 10> m;  // d b_k / d(n1, n2, n3)
-  const bool jac = jacobians[0] || jacobians[1] || jacobians[2];
-  if (jac) {  // the control points in dual numbers, once per face
+  if (m) {
     using J = ceres::Jet<double, 9>;
     Vec3<J> nj[3];
     for (int j = 0; j < 3; ++j)
@@ -156,7 +150,7 @@ void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner,
     for (std::size_t k = 0; k < 10; ++k)
       for (int r = 0; r < 3; ++r) {
         pd.b[k][r] = b[k][r].a;
-        m[k].row(r) = b[k][r].v.transpose();
+        (*m)[k].row(r) = b[k][r].v.transpose();
       }
   } else {
     const auto b = pn_control_points<double>(
@@ -164,7 +158,54 @@ void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner,
         Eigen::Map<const Vector3d>(n[1]), Eigen::Map<const Vector3d>(n[2]));
     for (std::size_t k = 0; k < 10; ++k) pd.b[k] = b[k];
   }
-  const PnPolynomial poly = to_polynomial(pd);
+  return to_polynomial(pd);
+}
+
+// Sample i's row of each corner normal's Jacobian (those asked for), at its solution
+// (s0, t0), with g the height's gradient there and m the control points' derivatives.
+void sample_jacobians(double s0, double t0, const Eigen::RowVector2d& g,
+                      const std::array<Eigen::Matrix<double, 3, 9>, 10>& m,
+                      const std::array<double*, 3>& jacobians, std::size_t i) {
+  const Eigen::RowVector3d w(-g.x(), -g.y(), 1.0);
+  const double u = 1.0 - s0 - t0, v = s0, x = t0;  // Bernstein weights in PnPatch::b order
+  // The corners do not move with the normals; each edge point moves with its own corner's
+  // normal only (B210 and B201 with n1, B120 and B021 with n2, B012 and B102 with n3); the
+  // centre B111 = 1.5 mean(edge points) - 0.5 mean(corners) moves with a quarter of each.
+  const double b9 = 1.5 * u * v * x;  // 6 u v x / 4
+  const double bw[10] = {0,
+                         0,
+                         0,
+                         3 * u * u * v + b9,
+                         3 * u * v * v + b9,
+                         3 * v * v * x + b9,
+                         3 * v * x * x + b9,
+                         3 * u * x * x + b9,
+                         3 * u * u * x + b9,
+                         0};
+  constexpr std::size_t kEdge[3][2] = {{B210, B201}, {B120, B021}, {B012, B102}};
+  for (std::size_t j = 0; j < 3; ++j) {
+    if (!jacobians[j]) continue;
+    const auto d = (bw[kEdge[j][0]] * m[kEdge[j][0]].middleCols<3>(long(3 * j)) +
+                    bw[kEdge[j][1]] * m[kEdge[j][1]].middleCols<3>(long(3 * j)))
+                       .eval();
+    const Eigen::RowVector3d r = w * d;
+    for (std::size_t k = 0; k < 3; ++k) jacobians[j][3 * i + k] = r[long(k)];
+  }
+}
+
+}  // namespace
+
+void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner,
+                       const std::vector<Eigen::Vector3d>& samples,
+                       const std::array<const double*, 3>& n, double* residuals,
+                       const std::array<double*, 3>& jacobians,
+                       const std::vector<Eigen::Vector2d>* start,
+                       std::vector<Eigen::Vector2d>* solved) {
+  if (solved) solved->resize(samples.size());
+  using Derivatives = std::array<Eigen::Matrix<double, 3, 9>, 10>;
+  Derivatives m;  // d b_k / d(n1, n2, n3)
+  const bool jac = jacobians[0] || jacobians[1] || jacobians[2];
+  const PnPolynomial poly = face_polynomial(corner, n, jac ? &m : nullptr);
   const auto& c = poly.c;
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const Vector3d& q = samples[i];
@@ -190,31 +231,7 @@ void pn_face_residuals(const std::array<Eigen::Vector3d, 3>& corner,
     // The height after one Newton step from (s0, t0), to first order: z - g F.
     residuals[i] = p0.z() - (g.x() * (p0.x() - q.x()) + g.y() * (p0.y() - q.y())) - q.z();
     if (!jac) continue;
-    const Eigen::RowVector3d w(-g.x(), -g.y(), 1.0);
-    const double u = 1.0 - s0 - t0, v = s0, x = t0;  // Bernstein weights in PnPatch::b order
-    // The corners do not move with the normals; each edge point moves with its own corner's
-    // normal only (B210 and B201 with n1, B120 and B021 with n2, B012 and B102 with n3); the
-    // centre B111 = 1.5 mean(edge points) - 0.5 mean(corners) moves with a quarter of each.
-    const double b9 = 1.5 * u * v * x;  // 6 u v x / 4
-    const double bw[10] = {0,
-                           0,
-                           0,
-                           3 * u * u * v + b9,
-                           3 * u * v * v + b9,
-                           3 * v * v * x + b9,
-                           3 * v * x * x + b9,
-                           3 * u * x * x + b9,
-                           3 * u * u * x + b9,
-                           0};
-    constexpr std::size_t kEdge[3][2] = {{B210, B201}, {B120, B021}, {B012, B102}};
-    for (std::size_t j = 0; j < 3; ++j) {
-      if (!jacobians[j]) continue;
-      const auto d = (bw[kEdge[j][0]] * m[kEdge[j][0]].middleCols<3>(long(3 * j)) +
-                      bw[kEdge[j][1]] * m[kEdge[j][1]].middleCols<3>(long(3 * j)))
-                         .eval();
-      const Eigen::RowVector3d r = w * d;
-      for (std::size_t k = 0; k < 3; ++k) jacobians[j][3 * i + k] = r[long(k)];
-    }
+    sample_jacobians(s0, t0, g, m, jacobians, i);
   }
 }
 
@@ -281,13 +298,63 @@ struct BlockRound {
   std::vector<Vector3d>& normal;
 };
 
+// The cost of every face of cells fr0 .. fr1 - 1, fc0 .. fc1 - 1 that has samples, over the
+// block's normals `nb` (a face's corners outside the block are held fixed by the caller).
+void add_face_costs(ceres::Problem& problem, const BlockRound& k, std::vector<Vector3d>& nb,
+                    std::size_t fr0, std::size_t fc0, std::size_t fr1, std::size_t fc1) {
+  const GridMesh& mesh = k.mesh;
+  const GridTopology& topo = mesh.topo;
+  const Assignment& a = k.a;
+  for (std::size_t r = fr0; r < fr1; ++r)
+    for (std::size_t c = fc0; c < fc1; ++c)
+      for (int half = 0; half < 2; ++half) {
+        const std::size_t f = topo.face_of_cell(r, c, half);
+        if (a.offset[f] == a.offset[f + 1]) continue;
+        const auto fv = topo.face(f);
+        std::array<Vector3d, 3> corner;
+        for (int j = 0; j < 3; ++j)
+          corner[std::size_t(j)] = mesh.positions[fv[std::size_t(j)]].cast<double>();
+        const std::size_t count = a.offset[f + 1] - a.offset[f];
+        const std::size_t take = k.opt.face_samples ? std::min(count, k.opt.face_samples) : count;
+        std::vector<Vector3d> picked;
+        for (std::size_t j = 0; j < take; ++j)  // evenly strided over the face's samples
+          picked.push_back(k.local[a.sample[a.offset[f] + j * count / take]]);
+        problem.AddResidualBlock(
+            new FaceCost(corner, std::move(picked),
+                         {nb[fv[0]].data(), nb[fv[1]].data(), nb[fv[2]].data()}),
+            nullptr, nb[fv[0]].data(), nb[fv[1]].data(), nb[fv[2]].data());
+      }
+}
+
+// The block's problem solved by Levenberg-Marquardt; returns its iterations.
+std::size_t solve_problem(ceres::Problem& problem, const BlockRound& k) {
+  ceres::Solver::Options so;
+  // Conjugate gradients on the normal equations (Jacobi preconditioner): the blocks are
+  // grids of up to 400 x 400 vertices, on which the sparse Cholesky factorization took
+  // two thirds of the time (docs/performance.md, "--fit-normals").
+  so.linear_solver_type = ceres::CGNR;
+  so.function_tolerance = 1e-5;
+  so.max_num_iterations = k.opt.max_iterations;
+  so.num_threads = k.per_block;
+  so.logging_type = ceres::SILENT;
+  CostLog log;
+  if (k.opt.record_costs && k.rep.blocks == 1) {
+    log.costs = &k.rep.costs;
+    log.problem = &problem;
+    log.threads = k.per_block;
+    so.update_state_every_iteration = true;
+    so.callbacks.push_back(&log);
+  }
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  return summary.iterations.size() > 0 ? summary.iterations.size() - 1 : 0;
+}
+
 // One block: its problem on a copy of the round's starting normals, its core kept.
 // Returns its Levenberg-Marquardt iterations.
 std::size_t solve_block(const BlockRound& k, std::size_t b) {
   const GridMesh& mesh = k.mesh;
   const GridTopology& topo = mesh.topo;
-  const Assignment& a = k.a;
-  const std::vector<Vector3d>& local = k.local;
   const NormalFitOptions& opt = k.opt;
   const std::size_t brows = k.brows, bcols = k.bcols, nbc = k.nbc;
   std::vector<Vector3d> nb = k.snapshot;
@@ -307,25 +374,7 @@ std::size_t solve_block(const BlockRound& k, std::size_t b) {
   // Faces with a corner in the extended block; their other corners are held fixed.
   const std::size_t fr0 = er0 > 0 ? er0 - 1 : 0, fc0 = ec0 > 0 ? ec0 - 1 : 0;
   const std::size_t fr1 = std::min(topo.rows - 1, er1), fc1 = std::min(topo.cols - 1, ec1);
-  for (std::size_t r = fr0; r < fr1; ++r)
-    for (std::size_t c = fc0; c < fc1; ++c)
-      for (int k = 0; k < 2; ++k) {
-        const std::size_t f = topo.face_of_cell(r, c, k);
-        if (a.offset[f] == a.offset[f + 1]) continue;
-        const auto fv = topo.face(f);
-        std::array<Vector3d, 3> corner;
-        for (int j = 0; j < 3; ++j)
-          corner[std::size_t(j)] = mesh.positions[fv[std::size_t(j)]].cast<double>();
-        const std::size_t count = a.offset[f + 1] - a.offset[f];
-        const std::size_t take = opt.face_samples ? std::min(count, opt.face_samples) : count;
-        std::vector<Vector3d> picked;
-        for (std::size_t j = 0; j < take; ++j)  // evenly strided over the face's samples
-          picked.push_back(local[a.sample[a.offset[f] + j * count / take]]);
-        problem.AddResidualBlock(
-            new FaceCost(corner, std::move(picked),
-                         {nb[fv[0]].data(), nb[fv[1]].data(), nb[fv[2]].data()}),
-            nullptr, nb[fv[0]].data(), nb[fv[1]].data(), nb[fv[2]].data());
-      }
+  add_face_costs(problem, k, nb, fr0, fc0, fr1, fc1);
   for (std::size_t r = er0; r < er1; ++r)
     for (std::size_t c = ec0; c < ec1; ++c) {
       const std::size_t v = r * topo.cols + c;
@@ -343,29 +392,37 @@ std::size_t solve_block(const BlockRound& k, std::size_t b) {
     else
       problem.SetParameterBlockConstant(p);
   }
-  ceres::Solver::Options so;
-  // Conjugate gradients on the normal equations (Jacobi preconditioner): the blocks are
-  // grids of up to 400 x 400 vertices, on which the sparse Cholesky factorization took
-  // two thirds of the time (docs/performance.md, "--fit-normals").
-  so.linear_solver_type = ceres::CGNR;
-  so.function_tolerance = 1e-5;
-  so.max_num_iterations = opt.max_iterations;
-  so.num_threads = k.per_block;
-  so.logging_type = ceres::SILENT;
-  CostLog log;
-  if (opt.record_costs && k.rep.blocks == 1) {
-    log.costs = &k.rep.costs;
-    log.problem = &problem;
-    log.threads = k.per_block;
-    so.update_state_every_iteration = true;
-    so.callbacks.push_back(&log);
-  }
-  ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
+  const std::size_t iterations = solve_problem(problem, k);
   // Keep the core; the overlap is solved by the block whose core it is.
   for (std::size_t r = r0; r < r1; ++r)
     for (std::size_t c = c0; c < c1; ++c) k.normal[r * topo.cols + c] = nb[r * topo.cols + c];
-  return summary.iterations.size() > 0 ? summary.iterations.size() - 1 : 0;
+  return iterations;
+}
+
+// The blocks of round `round`, `side_by_side` at once; the iterations counted and the
+// progress reported as they finish; the first failure thrown after.
+void solve_round(const BlockRound& k, int round, int side_by_side, const Progress& progress) {
+  NormalFitReport& rep = k.rep;
+  const int rounds = k.opt.rounds;
+  std::exception_ptr error;
+  std::size_t blocks_done = 0;
+#pragma omp parallel for schedule(dynamic) num_threads(side_by_side)
+  for (std::size_t b = 0; b < rep.blocks; ++b) {
+    try {
+      const std::size_t iterations = solve_block(k, b);
+#pragma omp critical(fit_normals_block)
+      {
+        rep.iterations += iterations;
+        ++blocks_done;
+        report(progress,
+               (double(round) + double(blocks_done) / double(rep.blocks)) / double(rounds));
+      }
+    } catch (...) {
+#pragma omp critical(fit_normals_block)
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
 }
 
 NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples,
@@ -405,27 +462,9 @@ NormalFitReport fit_pn_normals(GridMesh& mesh, const SourceSamples& samples,
     const std::vector<Vector3d> snapshot = normal;
     const int side_by_side = int(std::min<std::size_t>(rep.blocks, std::size_t(threads)));
     const int per_block = std::max(1, threads / side_by_side);
-    std::exception_ptr error;
-    std::size_t blocks_done = 0;
     const BlockRound k{mesh,  a,     local, opt,       snapshot, start, pull,
                        brows, bcols, nbc,   per_block, sphere,   rep,   normal};
-#pragma omp parallel for schedule(dynamic) num_threads(side_by_side)
-    for (std::size_t b = 0; b < rep.blocks; ++b) {
-      try {
-        const std::size_t iterations = solve_block(k, b);
-#pragma omp critical(fit_normals_block)
-        {
-          rep.iterations += iterations;
-          ++blocks_done;
-          report(progress,
-                 (double(round) + double(blocks_done) / double(rep.blocks)) / double(opt.rounds));
-        }
-      } catch (...) {
-#pragma omp critical(fit_normals_block)
-        if (!error) error = std::current_exception();
-      }
-    }
-    if (error) std::rethrow_exception(error);
+    solve_round(k, round, side_by_side, progress);
     for (std::size_t v = 0; v < nv; ++v) mesh.normals[v] = normal[v].normalized().cast<float>();
   }
   rep.after = locate(mesh, local, nullptr);

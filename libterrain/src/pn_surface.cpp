@@ -130,6 +130,60 @@ void drop_filled_cells(const GridMesh& mesh, Grid& grid) {
   }
 }
 
+// The sampled grid's georeference: samples at the spacing from the mesh's first vertex.
+Georef sampled_georef(const GridMesh& mesh, double spacing) {
+  Georef geo;
+  geo.dx = geo.dy = spacing;
+  geo.x0 = mesh.geo.origin_x - spacing / 2;
+  geo.y0 = mesh.geo.origin_y + spacing / 2;
+  geo.crs_wkt = mesh.geo.crs_wkt;
+  geo.epsg = mesh.geo.epsg;
+  geo.crs_kind = mesh.geo.crs_wkt.empty() ? CrsKind::None : CrsKind::Projected;
+  return geo;
+}
+
+// The height at (x, y) of the flat triangle under it (where the PN surface folds over).
+double flat_height(const GridMesh& mesh, double x, double y) {
+  const auto v = mesh.topo.face(flat_face(mesh, x, y));
+  const Eigen::Vector3d a = mesh.positions[v[0]].cast<double>(),
+                        b = mesh.positions[v[1]].cast<double>(),
+                        c = mesh.positions[v[2]].cast<double>();
+  const Eigen::Vector3d n = face_normal(a, b, c);  // equal normals: the patch is the flat triangle
+  return pn_solve_xy(to_polynomial(make_pn_patch(a, b, c, n, n, n)), x, y).position.z();
+}
+
+// Polynomials of three cell rows (`face_row` faces each), slot = cell row % 3, built on
+// first use; consecutive samples share faces.
+class PolynomialCache {
+ public:
+  PolynomialCache(const GridMesh& mesh, std::size_t face_row) : mesh_(mesh), face_row_(face_row) {}
+  const PnPolynomial& at(std::size_t f) {
+    if (f == last_face_) return *last_poly_;
+    const std::size_t row = f / face_row_;
+    Slot& slot = slots_[row % 3];
+    if (slot.row != row) {
+      slot.polys.resize(face_row_);
+      for (std::size_t k = 0; k < face_row_; ++k)
+        slot.polys[k] = to_polynomial(face_patch(mesh_, row * face_row_ + k));
+      slot.row = row;
+    }
+    last_face_ = f;
+    last_poly_ = &slot.polys[f - row * face_row_];
+    return *last_poly_;
+  }
+
+ private:
+  struct Slot {
+    std::size_t row = std::size_t(-1);
+    std::vector<PnPolynomial> polys;
+  };
+  const GridMesh& mesh_;
+  std::size_t face_row_;
+  Slot slots_[3];
+  std::size_t last_face_ = kNoFace;
+  const PnPolynomial* last_poly_ = nullptr;
+};
+
 }  // namespace
 
 SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Progress& progress) {
@@ -149,15 +203,8 @@ SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Pro
   if (double(nx) * double(ny) >= double(std::numeric_limits<std::uint32_t>::max()))
     throw Error("sampling at " + std::to_string(spacing) +
                 " m would give more than 2^32 - 1 points");
-  Georef geo;
-  geo.dx = geo.dy = spacing;
-  geo.x0 = mesh.geo.origin_x - spacing / 2;
-  geo.y0 = mesh.geo.origin_y + spacing / 2;
-  geo.crs_wkt = mesh.geo.crs_wkt;
-  geo.epsg = mesh.geo.epsg;
-  geo.crs_kind = mesh.geo.crs_wkt.empty() ? CrsKind::None : CrsKind::Projected;
   SampledSurface out;
-  out.grid = Grid(ny, nx, geo);
+  out.grid = Grid(ny, nx, sampled_georef(mesh, spacing));
   const std::size_t face_row = 2 * (mesh.topo.cols - 1);
   // Blocks of rows between progress reports; each block rebuilds the per-thread caches.
   const long rows = long(ny), block = std::max(256L, rows / 20);
@@ -166,27 +213,8 @@ SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Pro
     const long je = std::min(rows, jb + block);
 #pragma omp parallel reduction(+ : fallbacks)
     {
-      // Polynomials of three cell rows, slot = cell row % 3, built on first use.
-      struct Slot {
-        std::size_t row = std::size_t(-1);
-        std::vector<PnPolynomial> polys;
-      } cache[3];
-      std::size_t last_face = kNoFace;
-      const PnPolynomial* last_poly = nullptr;
-      auto poly = [&](std::size_t f) -> const PnPolynomial& {
-        if (f == last_face) return *last_poly;  // consecutive samples share faces
-        const std::size_t row = f / face_row;
-        Slot& slot = cache[row % 3];
-        if (slot.row != row) {
-          slot.polys.resize(face_row);
-          for (std::size_t k = 0; k < face_row; ++k)
-            slot.polys[k] = to_polynomial(face_patch(mesh, row * face_row + k));
-          slot.row = row;
-        }
-        last_face = f;
-        last_poly = &slot.polys[f - row * face_row];
-        return *last_poly;
-      };
+      PolynomialCache cache{mesh, face_row};
+      auto poly = [&](std::size_t f) -> const PnPolynomial& { return cache.at(f); };
 #pragma omp for schedule(static)
       for (long j = jb; j < je; ++j) {
         const double y = -double(j) * spacing;
@@ -199,13 +227,7 @@ SampledSurface sample_pn_surface(const GridMesh& mesh, double spacing, const Pro
             z = w.solution.position.z();
           } else {  // fold-over: the flat triangle under the point
             ++fallbacks;
-            const auto v = mesh.topo.face(flat_face(mesh, x, y));
-            const Eigen::Vector3d a = mesh.positions[v[0]].cast<double>(),
-                                  b = mesh.positions[v[1]].cast<double>(),
-                                  c = mesh.positions[v[2]].cast<double>();
-            const Eigen::Vector3d n =
-                face_normal(a, b, c);  // equal normals: the patch is the flat triangle
-            z = pn_solve_xy(to_polynomial(make_pn_patch(a, b, c, n, n, n)), x, y).position.z();
+            z = flat_height(mesh, x, y);
           }
           out.grid.z[std::size_t(j) * nx + i] = float(z + mesh.geo.origin_z);
         }
