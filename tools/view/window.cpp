@@ -21,6 +21,76 @@ namespace terrain::tools::view {
 
 namespace {
 
+// A list option's widget: a checkbox per choice. Returns the new value, or "" unchanged.
+std::string list_widget(const rr::OptionSpec& o, const std::string& label,
+                        const std::string& value) {
+  std::string next;
+  ImGui::TextUnformatted(label.c_str());
+  for (const std::string& c : o.choices) {
+    bool on = ("," + value + ",").find("," + c + ",") != std::string::npos;
+    ImGui::SameLine();
+    if (ImGui::Checkbox((c + "##" + o.name).c_str(), &on)) {
+      std::string list;
+      for (const std::string& d : o.choices) {
+        const bool has = d == c ? on : ("," + value + ",").find("," + d + ",") != std::string::npos;
+        if (has) list += (list.empty() ? "" : ",") + d;
+      }
+      next = list;
+    }
+  }
+  return next;
+}
+
+// The widget of option `o` showing `value`. Returns the new value, or "" unchanged.
+std::string option_widget(const rr::OptionSpec& o, const std::string& label,
+                          const std::string& value) {
+  std::string next;
+  switch (o.type) {
+    case rr::OptionType::Number: {
+      float f = value == "auto" ? -1.0f : std::stof(value);
+      if (!o.unbounded() ? ImGui::SliderFloat(label.c_str(), &f, float(o.min), float(o.max))
+                         : ImGui::DragFloat(label.c_str(), &f, 1.0f))
+        next = fmt::format("{}", f);
+      break;
+    }
+    case rr::OptionType::Integer: {
+      int i = std::stoi(value);
+      if (!o.unbounded() ? ImGui::SliderInt(label.c_str(), &i, int(o.min), int(o.max))
+                         : ImGui::DragInt(label.c_str(), &i, 1.0f, int(o.min), 1 << 30))
+        next = std::to_string(i);
+      break;
+    }
+    case rr::OptionType::Bool: {
+      bool b = value == "true";
+      if (ImGui::Checkbox(label.c_str(), &b)) next = b ? "true" : "false";
+      break;
+    }
+    case rr::OptionType::Enum:
+      if (ImGui::BeginCombo(label.c_str(), value.c_str())) {
+        for (const std::string& c : o.choices)
+          if (ImGui::Selectable(c.c_str(), c == value)) next = c;
+        ImGui::EndCombo();
+      }
+      break;
+    case rr::OptionType::Colour: {
+      float rgb[3];
+      std::sscanf(value.c_str(), "%f,%f,%f", &rgb[0], &rgb[1], &rgb[2]);
+      for (float& x : rgb) x /= 255.0f;
+      if (ImGui::ColorEdit3(label.c_str(), rgb))
+        next = fmt::format("{},{},{}", rgb[0] * 255.0f, rgb[1] * 255.0f, rgb[2] * 255.0f);
+      break;
+    }
+    case rr::OptionType::List:
+      next = list_widget(o, label, value);
+      break;
+    case rr::OptionType::Size:
+    case rr::OptionType::Point:
+      ImGui::Text("%s: %s", o.name.c_str(), value.c_str());
+      break;
+  }
+  return next;
+}
+
 // The option panel, generated from the table: a widget per option, in its group.
 void option_panel(Viewer& v, std::string& message) {
   rr::RenderSettings& s = v.settings();
@@ -34,64 +104,8 @@ void option_panel(Viewer& v, std::string& message) {
     for (const rr::OptionSpec& o : rr::render_options()) {
       if (o.group != group) continue;
       const std::string label = o.name + (o.unit.empty() ? "" : " (" + o.unit + ")");
-      std::string value = o.get(s), next;
-      switch (o.type) {
-        case rr::OptionType::Number: {
-          float f = value == "auto" ? -1.0f : std::stof(value);
-          if (!o.unbounded() ? ImGui::SliderFloat(label.c_str(), &f, float(o.min), float(o.max))
-                             : ImGui::DragFloat(label.c_str(), &f, 1.0f))
-            next = fmt::format("{}", f);
-          break;
-        }
-        case rr::OptionType::Integer: {
-          int i = std::stoi(value);
-          if (!o.unbounded() ? ImGui::SliderInt(label.c_str(), &i, int(o.min), int(o.max))
-                             : ImGui::DragInt(label.c_str(), &i, 1.0f, int(o.min), 1 << 30))
-            next = std::to_string(i);
-          break;
-        }
-        case rr::OptionType::Bool: {
-          bool b = value == "true";
-          if (ImGui::Checkbox(label.c_str(), &b)) next = b ? "true" : "false";
-          break;
-        }
-        case rr::OptionType::Enum:
-          if (ImGui::BeginCombo(label.c_str(), value.c_str())) {
-            for (const std::string& c : o.choices)
-              if (ImGui::Selectable(c.c_str(), c == value)) next = c;
-            ImGui::EndCombo();
-          }
-          break;
-        case rr::OptionType::Colour: {
-          float rgb[3];
-          std::sscanf(value.c_str(), "%f,%f,%f", &rgb[0], &rgb[1], &rgb[2]);
-          for (float& x : rgb) x /= 255.0f;
-          if (ImGui::ColorEdit3(label.c_str(), rgb))
-            next = fmt::format("{},{},{}", rgb[0] * 255.0f, rgb[1] * 255.0f, rgb[2] * 255.0f);
-          break;
-        }
-        case rr::OptionType::List: {
-          ImGui::TextUnformatted(label.c_str());
-          for (const std::string& c : o.choices) {
-            bool on = ("," + value + ",").find("," + c + ",") != std::string::npos;
-            ImGui::SameLine();
-            if (ImGui::Checkbox((c + "##" + o.name).c_str(), &on)) {
-              std::string list;
-              for (const std::string& d : o.choices) {
-                const bool has =
-                    d == c ? on : ("," + value + ",").find("," + d + ",") != std::string::npos;
-                if (has) list += (list.empty() ? "" : ",") + d;
-              }
-              next = list;
-            }
-          }
-          break;
-        }
-        case rr::OptionType::Size:
-        case rr::OptionType::Point:
-          ImGui::Text("%s: %s", o.name.c_str(), value.c_str());
-          break;
-      }
+      const std::string value = o.get(s);
+      const std::string next = option_widget(o, label, value);
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", o.help.c_str());
       if (!next.empty()) {
         try {

@@ -117,13 +117,11 @@ std::vector<OutletPoint> read_outlet_points(const std::string& path, const std::
   return out;
 }
 
-std::vector<Watershed> snap_outlets(const DvHeader& h, const std::vector<OutletPoint>& points,
-                                    double snap_distance, const DvWindowReader& window,
-                                    std::vector<std::uint64_t>& cells) {
+// The snap distance and every outlet checked against the grid: a distance beyond the
+// grid's size, or an outlet outside it, is an error.
+static void check_outlets(const DvHeader& h, const terrain::Georef& geo,
+                          const std::vector<OutletPoint>& points, double snap_distance) {
   const std::size_t R = h.rows, C = h.cols;
-  const terrain::Georef geo = dv_georef(h);
-  auto centre_x = [&](std::size_t c) { return h.origin_x + double(c) * h.dx; };
-  auto centre_y = [&](std::size_t r) { return h.origin_y - double(r) * h.dy; };
   if (!(snap_distance >= 0)) throw terrain::Error("the snap distance must be 0 or more metres");
   const double west = geo.x0, east = geo.x0 + double(C) * h.dx, north = geo.y0,
                south = geo.y0 - double(R) * h.dy;
@@ -148,7 +146,16 @@ std::vector<Watershed> snap_outlets(const DvHeader& h, const std::vector<OutletP
                               "(ogr2ogr -a_srs EPSG:4326, or a .prj beside it)"
                             : ""));
   }
+}
 
+std::vector<Watershed> snap_outlets(const DvHeader& h, const std::vector<OutletPoint>& points,
+                                    double snap_distance, const DvWindowReader& window,
+                                    std::vector<std::uint64_t>& cells) {
+  const std::size_t R = h.rows, C = h.cols;
+  const terrain::Georef geo = dv_georef(h);
+  auto centre_x = [&](std::size_t c) { return h.origin_x + double(c) * h.dx; };
+  auto centre_y = [&](std::size_t r) { return h.origin_y - double(r) * h.dy; };
+  check_outlets(h, geo, points, snap_distance);
   // The highest accumulation within the distance (a window of the file around it).
   std::vector<Watershed> ws(points.size());
   cells.assign(points.size(), 0);
