@@ -151,27 +151,10 @@ bool is_gdal_special(const std::string& path) {
   return colon != std::string::npos && colon > 1 && path.find('/') > colon;
 }
 
-OpenRaster open_raster(const std::string& path) {
-  ensure_gdal();
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw Error("cannot read '" + path + "': it is a directory");
-  CPLErrorReset();
-  OpenRaster r;
-  r.ds.reset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-  if (!r.ds) {
-    if (!is_gdal_special(path) && !std::filesystem::exists(path, ec))
-      throw Error("cannot read '" + path + "': no such file");
-    throw Error("cannot read '" + path + "': not a raster GDAL can open (" + last_gdal_error() +
-                ")");
-  }
-  if (r.ds->GetRasterCount() < 1) throw Error("cannot read '" + path + "': it has no raster band");
-  const int cols = r.ds->GetRasterXSize(), rows = r.ds->GetRasterYSize();
-  if (cols < 2 || rows < 2)
-    throw Error("cannot use '" + path + "': " + std::to_string(cols) + " x " +
-                std::to_string(rows) + " samples; a DEM needs at least 2 x 2");
-  r.rows = std::size_t(rows);
-  r.cols = std::size_t(cols);
+// The raster's grid from its geotransform (pixel coordinates, row 0 at the top, without
+// one), checked: north-up (south-up read flipped), finite, not rotated.
+void read_geotransform(OpenRaster& r, const std::string& path) {
+  const int rows = int(r.rows);
   double gt[6];
   if (r.ds->GetGeoTransform(gt) != CE_None && r.ds->GetGCPCount() > 0)
     // GDAL stores a geotransform it cannot invert (a zero pixel width or height) as ground
@@ -208,7 +191,11 @@ OpenRaster open_raster(const std::string& path) {
   r.geo.y0 = gt[3];
   r.geo.dx = gt[1];
   r.geo.dy = -gt[5];
+}
 
+// The raster's CRS, checked: metres when projected, within the globe when geographic.
+void read_crs(OpenRaster& r, const std::string& path) {
+  const std::size_t rows = r.rows, cols = r.cols;
   if (const OGRSpatialReference* srs = r.ds->GetSpatialRef()) {
     const CrsInfo crs = crs_info(*srs);
     r.geo.crs_wkt = crs.wkt;
@@ -230,6 +217,31 @@ OpenRaster open_raster(const std::string& path) {
           "lies outside the globe (-180 .. 360, -90 .. 90); is its CRS or geotransform right?",
           path, west, east, south, north));
   }
+}
+
+OpenRaster open_raster(const std::string& path) {
+  ensure_gdal();
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw Error("cannot read '" + path + "': it is a directory");
+  CPLErrorReset();
+  OpenRaster r;
+  r.ds.reset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  if (!r.ds) {
+    if (!is_gdal_special(path) && !std::filesystem::exists(path, ec))
+      throw Error("cannot read '" + path + "': no such file");
+    throw Error("cannot read '" + path + "': not a raster GDAL can open (" + last_gdal_error() +
+                ")");
+  }
+  if (r.ds->GetRasterCount() < 1) throw Error("cannot read '" + path + "': it has no raster band");
+  const int cols = r.ds->GetRasterXSize(), rows = r.ds->GetRasterYSize();
+  if (cols < 2 || rows < 2)
+    throw Error("cannot use '" + path + "': " + std::to_string(cols) + " x " +
+                std::to_string(rows) + " samples; a DEM needs at least 2 x 2");
+  r.rows = std::size_t(rows);
+  r.cols = std::size_t(cols);
+  read_geotransform(r, path);
+  read_crs(r, path);
   return r;
 }
 
@@ -242,6 +254,43 @@ int gdal_progress(double fraction, const char*, void* arg) {
   auto& g = *static_cast<GdalProgress*>(arg);
   g.cancelled = g.progress && !g.progress(fraction);
   return g.cancelled ? FALSE : TRUE;
+}
+
+// The heights read: no-data marked NaN, checked finite and within float precision.
+void finish_heights(Grid& grid, GDALRasterBand& band_ref, const std::string& path,
+                    const RasterWindow& w) {
+  GDALRasterBand* band = &band_ref;
+  int has_nodata = 0;
+  const double nodata = band->GetNoDataValue(&has_nodata);
+  const float nd = float(nodata);
+  std::size_t infinite = 0, first_inf = 0;
+  for (std::size_t i = 0; i < grid.z.size(); ++i) {
+    float& v = grid.z[i];
+    if (has_nodata && (v == nd || (std::isnan(nodata) && std::isnan(v))))
+      v = std::numeric_limits<float>::quiet_NaN();
+    else if (std::isinf(v) && infinite++ == 0)
+      first_inf = i;
+  }
+  if (infinite > 0)
+    throw Error(fmt::format(
+        "cannot use '{}': {} samples are infinite (the first at row {}, column {}); mark them as "
+        "no-data (gdal_translate -a_nodata) or fix the DEM",
+        path, infinite, w.row0 + first_inf / grid.cols, w.col0 + first_inf % grid.cols));
+  // Heights are single-precision floats: above 2^24 they step by 2 or more, so the values
+  // of a wider band type (UInt32 near 4e9 steps by 256 there) would lose their steps.
+  const GDALDataType type = band->GetRasterDataType();
+  if (GDALGetDataTypeSizeBits(type) > 16 && type != GDT_Float32) {
+    float top = 0;
+    for (const float v : grid.z)
+      if (std::abs(v) > top) top = std::abs(v);  // NaN compares false
+    if (top > float(1 << 24))
+      throw Error(fmt::format(
+          "cannot use '{}': its {} heights reach {:.10g}, where single-precision floats step by "
+          "{:g}, so its steps would be lost; subtract an offset first (gdal_calc.py --calc "
+          "\"A-{:.0f}\" --type Float32)",
+          path, GDALGetDataTypeName(type), double(top), double(std::nextafter(top, INFINITY) - top),
+          std::floor(double(top) / 1e6) * 1e6));
+  }
 }
 
 }  // namespace
@@ -289,37 +338,7 @@ Grid read_dem(const std::string& path, const Progress& progress,
                        grid.z.begin() + long((row + 1) * grid.cols),
                        grid.z.begin() + long((grid.rows - 1 - row) * grid.cols));
 
-  int has_nodata = 0;
-  const double nodata = band->GetNoDataValue(&has_nodata);
-  const float nd = float(nodata);
-  std::size_t infinite = 0, first_inf = 0;
-  for (std::size_t i = 0; i < grid.z.size(); ++i) {
-    float& v = grid.z[i];
-    if (has_nodata && (v == nd || (std::isnan(nodata) && std::isnan(v))))
-      v = std::numeric_limits<float>::quiet_NaN();
-    else if (std::isinf(v) && infinite++ == 0)
-      first_inf = i;
-  }
-  if (infinite > 0)
-    throw Error(fmt::format(
-        "cannot use '{}': {} samples are infinite (the first at row {}, column {}); mark them as "
-        "no-data (gdal_translate -a_nodata) or fix the DEM",
-        path, infinite, w.row0 + first_inf / grid.cols, w.col0 + first_inf % grid.cols));
-  // Heights are single-precision floats: above 2^24 they step by 2 or more, so the values
-  // of a wider band type (UInt32 near 4e9 steps by 256 there) would lose their steps.
-  const GDALDataType type = band->GetRasterDataType();
-  if (GDALGetDataTypeSizeBits(type) > 16 && type != GDT_Float32) {
-    float top = 0;
-    for (const float v : grid.z)
-      if (std::abs(v) > top) top = std::abs(v);  // NaN compares false
-    if (top > float(1 << 24))
-      throw Error(fmt::format(
-          "cannot use '{}': its {} heights reach {:.10g}, where single-precision floats step by "
-          "{:g}, so its steps would be lost; subtract an offset first (gdal_calc.py --calc "
-          "\"A-{:.0f}\" --type Float32)",
-          path, GDALGetDataTypeName(type), double(top), double(std::nextafter(top, INFINITY) - top),
-          std::floor(double(top) / 1e6) * 1e6));
-  }
+  finish_heights(grid, *band, path, w);
   return grid;
 }
 

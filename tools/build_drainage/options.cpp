@@ -11,7 +11,8 @@ namespace terrain::tools::build_drainage {
 
 namespace tt = terrain::tools;
 
-void add_options(CLI::App& app, Options& o) {
+// The inputs and how the surface is conditioned.
+static void add_input_options(CLI::App& app, Options& o) {
   app.add_option("MESH_OR_OUTPUT", o.positional,
                  "MESH.ply OUTPUT.dv, or only OUTPUT.dv with --raster / --d8-input")
       ->required()
@@ -48,6 +49,10 @@ void add_options(CLI::App& app, Options& o) {
   app.add_flag("--keep-pits", o.keep_pits,
                "Mesh mode: condition nothing, every pit is a basin (the paper's rule)")
       ->excludes(fill_flag, breach);
+}
+
+// What is written besides the .dv: rasters, watersheds, the surface, the .dv's version.
+static void add_output_options(CLI::App& app, Options& o) {
   app.add_option("--rasters", o.rasters_dir,
                  "Also write GeoTIFFs of every layer into this directory");
   app.add_option("--outlets", o.outlets,
@@ -75,6 +80,10 @@ void add_options(CLI::App& app, Options& o) {
                  "older than 2026-11)")
       ->check(CLI::IsMember({1, 2}))
       ->capture_default_str();
+}
+
+// How the run is shared out: tiles, memory, threads.
+static void add_run_options(CLI::App& app, Options& o) {
   tt::add_tile_size_option(
       app, o.tile_size,
       "Raster mode tile by tile, for rasters larger than memory: tiles of N x N samples read\n"
@@ -91,6 +100,12 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--threads", o.threads,
                  "Threads (default: all cores); the output does not depend on it")
       ->check(CLI::Range(1, tt::kMaxThreads));
+}
+
+void add_options(CLI::App& app, Options& o) {
+  add_input_options(app, o);
+  add_output_options(app, o);
+  add_run_options(app, o);
 }
 
 drainage::DrainageJob job_of(const CLI::App& app, Options& o) {
