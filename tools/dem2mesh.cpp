@@ -33,6 +33,42 @@ double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+// --tile-size / --memory: the mesh made and written in bands of rows (mesh/banded.hpp).
+int run_banded(const Options& o, const std::string& pyramid, terrain::NormalWeighting nw,
+               const std::string& provenance, const tt::Verbosity& verb) {
+  tmesh::check_banded(
+      {o.input_kind == "points" || (o.input_kind == "auto" && terrain::is_point_input(o.input)),
+       o.fit, o.req.fill_nodata, !o.grid_out.empty(), o.dequantize});
+  const auto t0 = Clock::now();
+  const tmesh::BandedResult r =
+      tmesh::mesh_in_bands({o.input, o.output, pyramid, o.src_crs, o.dequantize, request_of(o), nw,
+                            o.tile_size, o.memory_mib, provenance},
+                           verb);
+  tt::step(verb, fmt::format("{} x {} mesh in bands of {} rows: {:.2f} s", r.topo.cols, r.topo.rows,
+                             r.band_rows, since(t0)));
+  tmesh::print_mesh_summary(o.output, r.geo, r.topo, nw, nullptr, pyramid, r.pyramid_bytes);
+  return 0;
+}
+
+// --fit-normals: the mesh's normals fitted to the source's samples under it (the scattered
+// `points` when given, else the DEM's).
+terrain::NormalFitReport fit_normals(const Options& o, terrain::GridMesh& mesh,
+                                     const terrain::SourceSamples* points,
+                                     const terrain::Grid& source_dem, const tt::Verbosity& verb) {
+  const auto t0 = Clock::now();
+  const terrain::SourceSamples samples = points ? terrain::samples_inside_mesh(*points, mesh)
+                                                : terrain::dem_samples_for_mesh(source_dem, mesh);
+  const terrain::NormalFitReport rep =
+      terrain::fit_pn_normals(mesh, samples, o.fit_opt, tt::terminal_progress(verb, "fit normals"));
+  tt::step(
+      verb,
+      fmt::format("fit normals to {} samples ({} blocks, {} iterations): RMSE {:.3f} -> {:.3f} m, "
+                  "max {:.3f} -> {:.3f} m: {:.2f} s",
+                  rep.after.samples, rep.blocks, rep.iterations, rep.before.rmse, rep.after.rmse,
+                  rep.before.max_abs, rep.after.max_abs, since(t0)));
+  return rep;
+}
+
 // The run: grid, mesh and normals (fitted with --fit-normals), written with --grid-out.
 int run(const Options& o, const std::string& provenance, const tt::Verbosity& verb) {
   const std::string &output = o.output, &grid_out = o.grid_out;
@@ -45,20 +81,7 @@ int run(const Options& o, const std::string& provenance, const tt::Verbosity& ve
   if (!pyramid.empty()) terrain::check_output_path(pyramid);
   if (!grid_out.empty()) terrain::check_output_path(grid_out);
   const terrain::NormalWeighting nw = terrain::parse_normal_weighting(o.weighting);
-  if (o.tile_size > 0 || o.memory_mib > 0) {  // in bands of rows (mesh/banded.hpp)
-    tmesh::check_banded(
-        {o.input_kind == "points" || (o.input_kind == "auto" && terrain::is_point_input(o.input)),
-         o.fit, o.req.fill_nodata, !grid_out.empty(), o.dequantize});
-    const auto t0 = Clock::now();
-    const tmesh::BandedResult r =
-        tmesh::mesh_in_bands({o.input, output, pyramid, o.src_crs, o.dequantize, request_of(o), nw,
-                              o.tile_size, o.memory_mib, provenance},
-                             verb);
-    tt::step(verb, fmt::format("{} x {} mesh in bands of {} rows: {:.2f} s", r.topo.cols,
-                               r.topo.rows, r.band_rows, since(t0)));
-    tmesh::print_mesh_summary(output, r.geo, r.topo, nw, nullptr, pyramid, r.pyramid_bytes);
-    return 0;
-  }
+  if (o.tile_size > 0 || o.memory_mib > 0) return run_banded(o, pyramid, nw, provenance, verb);
   const terrain::GridRequest req = request_of(o);
   terrain::Grid source_dem;
   terrain::SourceSamples source_points;
@@ -79,20 +102,7 @@ int run(const Options& o, const std::string& provenance, const tt::Verbosity& ve
     tt::step(verb, fmt::format("mesh and normals: {:.2f} s", since(t0)));
   }
   terrain::NormalFitReport fit_rep;
-  if (o.fit) {
-    t0 = Clock::now();
-    const terrain::SourceSamples samples = points
-                                               ? terrain::samples_inside_mesh(source_points, mesh)
-                                               : terrain::dem_samples_for_mesh(source_dem, mesh);
-    fit_rep = terrain::fit_pn_normals(mesh, samples, o.fit_opt,
-                                      tt::terminal_progress(verb, "fit normals"));
-    tt::step(verb,
-             fmt::format(
-                 "fit normals to {} samples ({} blocks, {} iterations): RMSE {:.3f} -> {:.3f} m, "
-                 "max {:.3f} -> {:.3f} m: {:.2f} s",
-                 fit_rep.after.samples, fit_rep.blocks, fit_rep.iterations, fit_rep.before.rmse,
-                 fit_rep.after.rmse, fit_rep.before.max_abs, fit_rep.after.max_abs, since(t0)));
-  }
+  if (o.fit) fit_rep = fit_normals(o, mesh, points ? &source_points : nullptr, source_dem, verb);
   t0 = Clock::now();
   outputs.write([&] {
     whole ? terrain::write_mesh_ply(mesh, outputs.stage(output))
