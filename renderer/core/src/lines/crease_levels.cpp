@@ -24,20 +24,30 @@ float segment_distance(const Eigen::Vector3f& p, const Eigen::Vector3f& a,
   return (a + u * ab - p).norm();
 }
 
-}  // namespace
-
-CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step, double tolerance) {
-  if (step < 1) throw terrain::Error("merge_crease_runs: the step must be at least 1");
+// Each vertex's segments in and out, and the segment leaving it.
+struct Runs {
+  std::vector<std::uint32_t> in, out, leaving;
+  bool is_break(std::uint32_t v) const { return in[v] != 1 || out[v] != 1; }
+};
+Runs runs_of(const CreaseGeometry& g) {
   const std::size_t nv = g.positions.size(), ns = g.n_segments();
-  std::vector<std::uint32_t> in(nv, 0), out(nv, 0), leaving(nv, kNoSegment);
+  Runs r{std::vector<std::uint32_t>(nv, 0), std::vector<std::uint32_t>(nv, 0),
+         std::vector<std::uint32_t>(nv, kNoSegment)};
   for (std::uint32_t s = 0; s < ns; ++s) {
-    ++out[g.segments[2 * s]], ++in[g.segments[2 * s + 1]];
-    leaving[g.segments[2 * s]] = s;
+    ++r.out[g.segments[2 * s]], ++r.in[g.segments[2 * s + 1]];
+    r.leaving[g.segments[2 * s]] = s;
   }
-  const auto is_break = [&](std::uint32_t v) { return in[v] != 1 || out[v] != 1; };
-  // The vertices kept: the breaks; along each run, from its first vertex, the farthest
-  // vertex within `step` segments whose dropped vertices all lie within `tolerance` of the
-  // segment to it, in turn. A vertex no run reaches (on a cycle, which D8 does not make) is kept.
+  return r;
+}
+
+// The vertices kept: the breaks; along each run, from its first vertex, the farthest
+// vertex within `step` segments whose dropped vertices all lie within `tolerance` of the
+// segment to it, in turn. A vertex no run reaches (on a cycle, which D8 does not make) is kept.
+std::vector<std::uint8_t> kept_vertices(const CreaseGeometry& g, const Runs& runs, int step,
+                                        double tolerance) {
+  const std::size_t nv = g.positions.size(), ns = g.n_segments();
+  const std::vector<std::uint32_t>& leaving = runs.leaving;
+  const auto is_break = [&](std::uint32_t v) { return runs.is_break(v); };
   std::vector<std::uint8_t> kept(nv, 1);
   std::vector<std::uint32_t> run;
   for (std::uint32_t s = 0; s < ns; ++s) {
@@ -59,6 +69,17 @@ CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step, double toleranc
       a = b;
     }
   }
+  return kept;
+}
+
+}  // namespace
+
+CreaseLevel merge_crease_runs(const CreaseGeometry& g, int step, double tolerance) {
+  if (step < 1) throw terrain::Error("merge_crease_runs: the step must be at least 1");
+  const std::size_t nv = g.positions.size(), ns = g.n_segments();
+  const Runs runs = runs_of(g);
+  const std::vector<std::uint32_t>& leaving = runs.leaving;
+  const std::vector<std::uint8_t> kept = kept_vertices(g, runs, step, tolerance);
   CreaseLevel level;
   level.step = step;
   std::vector<std::uint32_t> index(nv, kNoSegment);  // fine vertex -> kept vertex

@@ -82,6 +82,51 @@ std::optional<double> farthest_surface(const View& view, const std::vector<float
   return farthest;
 }
 
+// Hidden runs drawn: a bridgeable sample closed when shown samples lie within the gap on
+// both sides along the strokes.
+static void close_hidden_runs(std::vector<SegmentSamples>& m, const SegmentChains& chains,
+                              const StrokeVisibilityRule& rule) {
+  const std::size_t ns = m.size();
+  for (std::uint32_t s = 0; s < ns; ++s) {
+    SegmentSamples& ms = m[s];
+    ms.closed = ms.visible;
+    const double limit = rule.gap_px - ms.step;
+    if (!(rule.gap_px > 0) || limit < 0) continue;
+    auto classify = [](const SegmentSamples& o, int j) {
+      return bit(o.visible, j) ? 1 : bit(o.bridgeable, j) ? 0 : 2;
+    };
+    for (int k = 0; k < int(ms.n); ++k) {
+      if (!bit(ms.bridgeable, k)) continue;
+      const Walk up = walk(m, chains, s, k, true, limit, classify, false);
+      if (up.stop != Stop::Found) continue;
+      if (walk(m, chains, s, k, false, limit - up.length, classify, false).stop == Stop::Found)
+        ms.closed |= 1u << k;
+    }
+  }
+}
+
+// Peeks left out; a tributary's run ends where it joins a line that goes on, as its
+// stroke does (crease_strokes), so a stub of it hidden upstream is a peek there too.
+static void leave_out_peeks(std::vector<SegmentSamples>& m, const SegmentChains& chains,
+                            const StrokeVisibilityRule& rule) {
+  const std::size_t ns = m.size();
+  for (std::uint32_t s = 0; s < ns; ++s) {
+    SegmentSamples& ms = m[s];
+    ms.shown = ms.closed;
+    const double limit = rule.min_peek_px - ms.step;
+    if (!(rule.min_peek_px > 0) || limit < 0) continue;
+    auto classify = [](const SegmentSamples& o, int j) { return bit(o.closed, j) ? 0 : 2; };
+    for (int k = 0; k < int(ms.n); ++k) {
+      if (!bit(ms.closed, k)) continue;
+      const Walk up = walk(m, chains, s, k, true, limit, classify, true);
+      if (up.stop == Stop::Long) continue;
+      const Walk down = walk(m, chains, s, k, false, limit - up.length, classify, true);
+      if (down.stop == Stop::Long) continue;
+      if (up.stop == Stop::Blocked || down.stop == Stop::Blocked) ms.shown &= ~(1u << k);
+    }
+  }
+}
+
 std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const SegmentChains& chains,
                                               const std::vector<float>& drawn, const View& view,
                                               double exaggeration, double lift,
@@ -125,40 +170,8 @@ std::vector<SegmentSamples> stroke_visibility(const CreaseGeometry& g, const Seg
         ms.bridgeable |= 1u << k;
     }
   }
-  // Hidden runs drawn.
-  for (std::uint32_t s = 0; s < ns; ++s) {
-    SegmentSamples& ms = m[s];
-    ms.closed = ms.visible;
-    const double limit = rule.gap_px - ms.step;
-    if (!(rule.gap_px > 0) || limit < 0) continue;
-    auto classify = [](const SegmentSamples& o, int j) {
-      return bit(o.visible, j) ? 1 : bit(o.bridgeable, j) ? 0 : 2;
-    };
-    for (int k = 0; k < int(ms.n); ++k) {
-      if (!bit(ms.bridgeable, k)) continue;
-      const Walk up = walk(m, chains, s, k, true, limit, classify, false);
-      if (up.stop != Stop::Found) continue;
-      if (walk(m, chains, s, k, false, limit - up.length, classify, false).stop == Stop::Found)
-        ms.closed |= 1u << k;
-    }
-  }
-  // Peeks left out; a tributary's run ends where it joins a line that goes on, as its
-  // stroke does (crease_strokes), so a stub of it hidden upstream is a peek there too.
-  for (std::uint32_t s = 0; s < ns; ++s) {
-    SegmentSamples& ms = m[s];
-    ms.shown = ms.closed;
-    const double limit = rule.min_peek_px - ms.step;
-    if (!(rule.min_peek_px > 0) || limit < 0) continue;
-    auto classify = [](const SegmentSamples& o, int j) { return bit(o.closed, j) ? 0 : 2; };
-    for (int k = 0; k < int(ms.n); ++k) {
-      if (!bit(ms.closed, k)) continue;
-      const Walk up = walk(m, chains, s, k, true, limit, classify, true);
-      if (up.stop == Stop::Long) continue;
-      const Walk down = walk(m, chains, s, k, false, limit - up.length, classify, true);
-      if (down.stop == Stop::Long) continue;
-      if (up.stop == Stop::Blocked || down.stop == Stop::Blocked) ms.shown &= ~(1u << k);
-    }
-  }
+  close_hidden_runs(m, chains, rule);
+  leave_out_peeks(m, chains, rule);
   return m;
 }
 
