@@ -47,6 +47,39 @@ const PlyElement* PlyHeader::find(const std::string& element) const {
   return nullptr;
 }
 
+// The rest of an element line (NAME COUNT) into `e`: "" or why it is wrong.
+static std::string parse_element(std::istringstream& ss, PlyElement& e) {
+  std::string a, b, extra;
+  if (!(ss >> a >> b) || (ss >> extra)) return "expected 'element NAME COUNT'";
+  std::uint64_t count = 0;
+  const auto [end, ec] = std::from_chars(b.data(), b.data() + b.size(), count);
+  if (ec != std::errc() || end != b.data() + b.size() || count >= kMaxCount)
+    return "element '" + a + "' has no valid count ('" + b + "')";
+  e = PlyElement{a, count, {}};
+  return {};
+}
+
+// The rest of a property line (TYPE NAME, or list COUNT_TYPE TYPE NAME) into `p`: "" or why
+// it is wrong.
+static std::string parse_property(std::istringstream& ss, PlyProperty& p) {
+  std::string a, b, c, extra;
+  if (!(ss >> a)) return "expected 'property TYPE NAME'";
+  if (a == "list") {
+    bool count_float = false;
+    if (!(ss >> b >> c >> p.name) || (ss >> extra))
+      return "expected 'property list COUNT_TYPE TYPE NAME'";
+    p.count_size = type_size(b, &count_float);
+    p.size = type_size(c, &p.is_float);
+    if (p.count_size == 0 || count_float || p.size == 0)
+      return "unknown list types '" + b + " " + c + "'";
+  } else {
+    if (!(ss >> p.name) || (ss >> extra)) return "expected 'property TYPE NAME'";
+    p.size = type_size(a, &p.is_float);
+    if (p.size == 0) return "unknown property type '" + a + "'";
+  }
+  return {};
+}
+
 PlyHeader read_ply_header(std::istream& in, const std::string& name) {
   auto fail = [&](const std::string& why, std::size_t line_no) -> Error {
     return Error("cannot read '" + name + "': " +
@@ -81,38 +114,22 @@ PlyHeader read_ply_header(std::istream& in, const std::string& name) {
       if (key == "comment") h.comments.push_back(line.size() > 8 ? line.substr(8) : std::string());
       continue;
     }
-    std::string a, b, c, extra;
     if (key == "format") {
       if (!h.format.empty()) throw fail("a second format line", line_no);
+      std::string a, b;
       ss >> a >> b;
       if ((a != "ascii" && a != "binary_little_endian" && a != "binary_big_endian") || b != "1.0")
         throw fail("unknown format '" + line + "'", line_no);
       h.format = a;
     } else if (key == "element") {
-      if (!(ss >> a >> b) || (ss >> extra)) throw fail("expected 'element NAME COUNT'", line_no);
-      std::uint64_t count = 0;
-      const auto [end, ec] = std::from_chars(b.data(), b.data() + b.size(), count);
-      if (ec != std::errc() || end != b.data() + b.size() || count >= kMaxCount)
-        throw fail("element '" + a + "' has no valid count ('" + b + "')", line_no);
-      if (h.find(a)) throw fail("element '" + a + "' appears twice", line_no);
-      h.elements.push_back(PlyElement{a, count, {}});
+      PlyElement e;
+      if (const std::string why = parse_element(ss, e); !why.empty()) throw fail(why, line_no);
+      if (h.find(e.name)) throw fail("element '" + e.name + "' appears twice", line_no);
+      h.elements.push_back(e);
     } else if (key == "property") {
       if (h.elements.empty()) throw fail("property before any element", line_no);
       PlyProperty p;
-      if (!(ss >> a)) throw fail("expected 'property TYPE NAME'", line_no);
-      if (a == "list") {
-        bool count_float = false;
-        if (!(ss >> b >> c >> p.name) || (ss >> extra))
-          throw fail("expected 'property list COUNT_TYPE TYPE NAME'", line_no);
-        p.count_size = type_size(b, &count_float);
-        p.size = type_size(c, &p.is_float);
-        if (p.count_size == 0 || count_float || p.size == 0)
-          throw fail("unknown list types '" + b + " " + c + "'", line_no);
-      } else {
-        if (!(ss >> p.name) || (ss >> extra)) throw fail("expected 'property TYPE NAME'", line_no);
-        p.size = type_size(a, &p.is_float);
-        if (p.size == 0) throw fail("unknown property type '" + a + "'", line_no);
-      }
+      if (const std::string why = parse_property(ss, p); !why.empty()) throw fail(why, line_no);
       PlyElement& e = h.elements.back();
       if (e.find(p.name))
         throw fail("property '" + p.name + "' appears twice in element '" + e.name + "'", line_no);

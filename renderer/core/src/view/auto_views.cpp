@@ -250,23 +250,21 @@ double open_side(const terrain::GridMesh& mesh, const Eigen::Vector2d& centre, d
   return view_az;
 }
 
-ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, double aspect,
-                       double view_alt) {
-  const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
-  if (rows < 2 || cols < 2) throw terrain::Error("the mesh has no faces");
-  const auto z = [&](std::size_t r, std::size_t c) {
-    return double(mesh.positions[r * cols + c].z());
-  };
-  const LocalRelief lr = local_relief(mesh);
-  const std::size_t f = lr.f, R = lr.R, C = lr.C;
+// The subject of a relief view, in local-relief cells: its centre row and column and its
+// half-width.
+struct Subject {
+  double i, j, spread;
+};
+// The subject: the cells of at least 3/4 of the largest local relief (the walls of a
+// crater, the front of a range) around the one of largest relief: its centre is their
+// relief-weighted mean within half the grid's shorter side, moved there until it stays
+// (mean shift). Its half-width is 1.5 times their weighted standard deviation, at least
+// the local-relief window and at most a quarter of the shorter side.
+static Subject subject_of(const LocalRelief& lr) {
+  const std::size_t R = lr.R, C = lr.C;
   const long hh = lr.hh;
   const std::vector<double>& relief = lr.relief;
   const double top = lr.top;
-  // The subject: the cells of at least 3/4 of the largest local relief (the walls of a
-  // crater, the front of a range) around the one of largest relief: its centre is their
-  // relief-weighted mean within half the grid's shorter side, moved there until it stays
-  // (mean shift). Its half-width is 1.5 times their weighted standard deviation, at least
-  // the local-relief window and at most a quarter of the shorter side.
   const double reach = 0.5 * double(std::min(R, C)), big = 0.75 * top;
   std::size_t peak = 0;
   for (std::size_t k = 0; k < R * C; ++k)
@@ -287,7 +285,20 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
     if (moved < 0.25) break;
   }
   const double least = double(hh) + 0.5, most = std::max(least, 0.25 * double(std::min(R, C)));
-  const double spread = std::clamp(1.5 * std::sqrt(std::max(si2, sj2)), least, most);
+  return {ci, cj, std::clamp(1.5 * std::sqrt(std::max(si2, sj2)), least, most)};
+}
+
+ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, double aspect,
+                       double view_alt) {
+  const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
+  if (rows < 2 || cols < 2) throw terrain::Error("the mesh has no faces");
+  const auto z = [&](std::size_t r, std::size_t c) {
+    return double(mesh.positions[r * cols + c].z());
+  };
+  const LocalRelief lr = local_relief(mesh);
+  const std::size_t f = lr.f;
+  const Subject subject = subject_of(lr);
+  const double ci = subject.i, cj = subject.j, spread = subject.spread;
   const auto& g = mesh.geo;
   const double fdx = double(f) * g.dx, fdy = double(f) * g.dy;
   const Eigen::Vector2d centre((cj + 0.5) * fdx, -(ci + 0.5) * fdy);  // local
