@@ -18,12 +18,18 @@ namespace tt = terrain::tools;
 namespace rr = renderer;
 using terrain::tools::view::Viewer;
 
-int main(int argc, char** argv) {
-  CLI::App app{
-      "Interactive terrain viewer: draws what terrain-render frame draws, with every render "
-      "option\n"
-      "on a panel, camera moves, saved views and keyframes.",
-      "terrain-view"};
+namespace {
+
+struct Args {
+  std::string mesh, dv, replay_path, frames_path, save_dir = ".";
+  double memory_mib = 1024;
+  bool offscreen = false, list = false;
+  tt::Verbosity verb;
+  tt::TableArgs opts;
+  renderer::VectorOptions vector;
+};
+
+void add_help(CLI::App& app) {
   app.footer(
       "Mouse: left drag orbits about the terrain point under the cursor, right or middle drag "
       "pans, the wheel\n"
@@ -45,52 +51,62 @@ int main(int argc, char** argv) {
       "its pyramid\n"
       "  terrain-view --list-options\n\n"
       "See docs/terrain-view.md.");
-  app.set_version_flag("--version", tt::version());
-  std::string mesh, dv, replay_path, frames_path, save_dir = ".";
-  double memory_mib = 1024;
-  bool offscreen = false, list = false;
-  tt::Verbosity verb;
-  tt::TableArgs opts;
-  app.add_option("MESH", mesh, "Mesh (.ply from dem2mesh)");
-  app.add_option("DV", dv, "Drainage database (.dv from build-drainage); no creases without it");
-  app.add_option("--replay", replay_path, "Run the commands of this file (see below)");
-  app.add_flag("--offscreen", offscreen,
+}
+
+void add_options(CLI::App& app, Args& a) {
+  app.add_option("MESH", a.mesh, "Mesh (.ply from dem2mesh)");
+  app.add_option("DV", a.dv, "Drainage database (.dv from build-drainage); no creases without it");
+  app.add_option("--replay", a.replay_path, "Run the commands of this file (see below)");
+  app.add_flag("--offscreen", a.offscreen,
                "No window: run the replay through EGL only (a machine without a display)");
-  app.add_option("--frames", frames_path, "A frames CSV to step through (N, or next-frame)");
-  app.add_option("--save-dir", save_dir, "Where the panel's Save buttons write")
+  app.add_option("--frames", a.frames_path, "A frames CSV to step through (N, or next-frame)");
+  app.add_option("--save-dir", a.save_dir, "Where the panel's Save buttons write")
       ->capture_default_str();
-  app.add_flag("--list-options", list,
+  app.add_flag("--list-options", a.list,
                "Print the panel's options (name, group, type, default) and exit");
-  tt::add_vertex_memory_option(&app, memory_mib,
+  tt::add_vertex_memory_option(&app, a.memory_mib,
                                "as terrain-render frame reads it (the level the view draws over "
                                "the blocks in view, within this), again when a still view needs "
                                "more, and whole when a moving view leaves the blocks held");
-  tt::add_verbosity_flags(app, verb);
-  tt::add_table_options(&app, opts, false);
-  renderer::VectorOptions vector;
-  tt::add_vector_options(&app, vector);
+  tt::add_verbosity_flags(app, a.verb);
+  tt::add_table_options(&app, a.opts, false);
+  tt::add_vector_options(&app, a.vector);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Interactive terrain viewer: draws what terrain-render frame draws, with every render "
+      "option\n"
+      "on a panel, camera moves, saved views and keyframes.",
+      "terrain-view"};
+  add_help(app);
+  app.set_version_flag("--version", tt::version());
+  Args a;
+  add_options(app, a);
 
   return tt::run_main(app, argc, argv, [&]() -> int {
-    if (list) {
+    if (a.list) {
       for (const rr::OptionSpec& o : rr::render_options())
         std::cout << o.name << "\t" << o.group << "\t" << rr::option_type_name(o.type) << "\t"
                   << o.default_text << "\n";
       return 0;
     }
-    if (mesh.empty()) throw CLI::ValidationError("MESH", "give a mesh (.ply)");
-    if (offscreen && replay_path.empty())
+    if (a.mesh.empty()) throw CLI::ValidationError("MESH", "give a mesh (.ply)");
+    if (a.offscreen && a.replay_path.empty())
       throw CLI::ValidationError("--offscreen", "needs --replay FILE");
-    const std::vector<std::string> replay = replay_path.empty()
+    const std::vector<std::string> replay = a.replay_path.empty()
                                                 ? std::vector<std::string>{}
-                                                : terrain::tools::view::read_replay(replay_path);
+                                                : terrain::tools::view::read_replay(a.replay_path);
     Viewer v(
-        mesh, dv, tt::settings_of(opts),
-        [&opts](const std::string& n) { return opts.was_given(n); }, verb,
-        std::uint64_t(memory_mib * 1048576.0));
-    v.inputs = {mesh, dv, replay_path};
-    v.vector = vector;
-    if (!frames_path.empty()) v.load_frames(frames_path);
-    return offscreen ? terrain::tools::view::run_offscreen(v, replay)
-                     : terrain::tools::view::run_window(v, replay, save_dir);
+        a.mesh, a.dv, tt::settings_of(a.opts),
+        [&a](const std::string& n) { return a.opts.was_given(n); }, a.verb,
+        std::uint64_t(a.memory_mib * 1048576.0));
+    v.inputs = {a.mesh, a.dv, a.replay_path};
+    v.vector = a.vector;
+    if (!a.frames_path.empty()) v.load_frames(a.frames_path);
+    return a.offscreen ? terrain::tools::view::run_offscreen(v, replay)
+                       : terrain::tools::view::run_window(v, replay, a.save_dir);
   });
 }

@@ -95,6 +95,27 @@ const std::uint8_t* unpack_block(const std::vector<char>& in, std::uint32_t crc,
   return raw.data();
 }
 
+// What is wrong with vertex `v` of grid cell `cell` as decoded (`is_cut`: its flow ends at
+// the grid's edge or at no-data), against the header and trailer: "" when nothing.
+static std::string vertex_problem(const DvVertex& v, bool is_cut, std::uint64_t cell,
+                                  const FixedHeader& f, const V2Trailer& t) {
+  const bool nodata = v.d8 == kNodata;
+  const std::string at = std::to_string(cell);
+  if (!(v.d8 <= kOutlet || nodata) || !std::isfinite(v.z))
+    return "corrupt .dv (D8 code or elevation of vertex " + at + ")";
+  if (nodata ? (v.basin != kNone || v.accumulated != 0)
+             : (v.basin >= f.basins || v.accumulated == 0))
+    return "corrupt .dv (basin of vertex " + at + ")";
+  if (nodata) return {};
+  if (v.accumulated > t.pit_accumulated[v.basin])
+    return "corrupt .dv (accumulated flow of vertex " + at + " exceeds its basin's)";
+  if ((v.d8 >= 8 || is_cut) && t.pit[v.basin] != cell)
+    return "corrupt .dv (vertex " + at + " ends its flow but is not its basin's pit)";
+  if (t.pit[v.basin] == cell && v.accumulated != t.pit_accumulated[v.basin])
+    return "corrupt .dv (pit of basin " + std::to_string(v.basin) + ")";
+  return {};
+}
+
 void decode_blocks(const std::string& path, const FixedHeader& f, const V2Trailer& t,
                    const std::vector<std::size_t>& blocks,
                    const std::vector<std::vector<char>>& packed, std::size_t r0, std::size_t c0,
@@ -142,27 +163,8 @@ void decode_blocks(const std::string& path, const FixedHeader& f, const V2Traile
       v.reserved = is_cut;
       v.downstream = kNone;
       const bool nodata = v.d8 == kNodata;
-      if (!(v.d8 <= kOutlet || nodata) || !std::isfinite(v.z)) {
-        fail("corrupt .dv (D8 code or elevation of vertex " + std::to_string(gr * C + gc) + ")");
-        break;
-      }
-      if (nodata ? (v.basin != kNone || v.accumulated != 0)
-                 : (v.basin >= f.basins || v.accumulated == 0)) {
-        fail("corrupt .dv (basin of vertex " + std::to_string(gr * C + gc) + ")");
-        break;
-      }
-      if (!nodata && v.accumulated > t.pit_accumulated[v.basin]) {
-        fail("corrupt .dv (accumulated flow of vertex " + std::to_string(gr * C + gc) +
-             " exceeds its basin's)");
-        break;
-      }
-      if (!nodata && (v.d8 >= 8 || is_cut) && t.pit[v.basin] != gr * C + gc) {
-        fail("corrupt .dv (vertex " + std::to_string(gr * C + gc) +
-             " ends its flow but is not its basin's pit)");
-        break;
-      }
-      if (!nodata && t.pit[v.basin] == gr * C + gc && v.accumulated != t.pit_accumulated[v.basin]) {
-        fail("corrupt .dv (pit of basin " + std::to_string(v.basin) + ")");
+      if (const std::string why = vertex_problem(v, is_cut, gr * C + gc, f, t); !why.empty()) {
+        fail(why);
         break;
       }
       v.normalized =
