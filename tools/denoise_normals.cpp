@@ -13,6 +13,49 @@
 
 namespace tt = terrain::tools;
 
+namespace {
+
+void add_options(CLI::App& app, std::string& input, std::string& output,
+                 terrain::DenoiseOptions& o) {
+  app.add_option("MESH", input, "Input mesh (.ply from dem2mesh)")->required();
+  app.add_option("OUTPUT", output, "Output mesh (.ply)")->required();
+  app.add_option(
+         "--sigma-s", o.sigma_s,
+         "Spatial width in metres (face-centroid distance); default: the mean distance between the "
+         "centroids of edge-adjacent faces")
+      ->check(tt::kPositive);
+  app.add_option("--sigma-r", o.sigma_r, "Range width on the normal difference |n_i - n_j| (0..2)")
+      ->check(CLI::Range(0.01, 2.0))
+      ->capture_default_str();
+  app.add_option("--iterations", o.iterations,
+                 "Normal filtering rounds; 0: no denoising, only the weights")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  app.add_flag("--update-vertices", o.update_vertices,
+               "Also move the vertices (vertically) to agree with the filtered normals");
+  app.add_option("--vertex-iterations", o.vertex_iterations, "Rounds of the vertex update")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+}
+
+void print_summary(const std::string& output, const terrain::GridMesh& m,
+                   const terrain::DenoiseStats& s, const terrain::DenoiseOptions& o) {
+  double total_area = 0;
+  for (float a : m.voronoi.vertex_areas) total_area += a;
+  std::cout << "output: " << output << "\n"
+            << "faces: " << m.n_faces() << "\n"
+            << fmt::format("sigma_s: {:.4f}\nsigma_r: {}\niterations: {}\n", s.sigma_s, o.sigma_r,
+                           o.iterations)
+            << "vertices_updated: " << (o.update_vertices && o.iterations > 0 ? "yes" : "no")
+            << "\n"
+            << fmt::format("max_vertex_shift: {:.4f}\n", s.max_vertex_shift)
+            << fmt::format("normal_change_mean_deg: {:.4f}\nnormal_change_max_deg: {:.4f}\n",
+                           s.mean_change_deg, s.max_change_deg)
+            << fmt::format("voronoi_area_total: {:.1f}\n", total_area);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{
       "Denoise a terrain mesh's normals by bilateral normal filtering (Zheng et al. 2011) and "
@@ -33,25 +76,7 @@ int main(int argc, char** argv) {
   std::string input, output;
   terrain::DenoiseOptions o;
   tt::Verbosity verb;
-  app.add_option("MESH", input, "Input mesh (.ply from dem2mesh)")->required();
-  app.add_option("OUTPUT", output, "Output mesh (.ply)")->required();
-  app.add_option(
-         "--sigma-s", o.sigma_s,
-         "Spatial width in metres (face-centroid distance); default: the mean distance between the "
-         "centroids of edge-adjacent faces")
-      ->check(tt::kPositive);
-  app.add_option("--sigma-r", o.sigma_r, "Range width on the normal difference |n_i - n_j| (0..2)")
-      ->check(CLI::Range(0.01, 2.0))
-      ->capture_default_str();
-  app.add_option("--iterations", o.iterations,
-                 "Normal filtering rounds; 0: no denoising, only the weights")
-      ->check(CLI::Range(0, 1000))
-      ->capture_default_str();
-  app.add_flag("--update-vertices", o.update_vertices,
-               "Also move the vertices (vertically) to agree with the filtered normals");
-  app.add_option("--vertex-iterations", o.vertex_iterations, "Rounds of the vertex update")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
+  add_options(app, input, output, o);
   tt::add_verbosity_flags(app, verb);
 
   return tt::run_main(app, argc, argv, [&]() {
@@ -74,18 +99,7 @@ int main(int argc, char** argv) {
     tt::step(verb, fmt::format("Voronoi weights: {:.2f} s", seconds()));
     m.provenance = tt::provenance(argc, argv);
     terrain::write_mesh_ply(m, output);
-    double total_area = 0;
-    for (float a : m.voronoi.vertex_areas) total_area += a;
-    std::cout << "output: " << output << "\n"
-              << "faces: " << m.n_faces() << "\n"
-              << fmt::format("sigma_s: {:.4f}\nsigma_r: {}\niterations: {}\n", s.sigma_s, o.sigma_r,
-                             o.iterations)
-              << "vertices_updated: " << (o.update_vertices && o.iterations > 0 ? "yes" : "no")
-              << "\n"
-              << fmt::format("max_vertex_shift: {:.4f}\n", s.max_vertex_shift)
-              << fmt::format("normal_change_mean_deg: {:.4f}\nnormal_change_max_deg: {:.4f}\n",
-                             s.mean_change_deg, s.max_change_deg)
-              << fmt::format("voronoi_area_total: {:.1f}\n", total_area);
+    print_summary(output, m, s, o);
     return 0;
   });
 }

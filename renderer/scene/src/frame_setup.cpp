@@ -174,14 +174,72 @@ std::vector<std::string> frame_files(const std::string& path, bool map) {
   return {path, std::filesystem::path(path).replace_extension(".pgw").string()};
 }
 
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// The frame's PNGs, the overlays drawn over the pixels, a map's with its world file.
+void write_pngs(const std::vector<std::string>& pngs, const FrameResult& res, FrameOverlays& over,
+                const std::optional<std::array<double, 6>>& gt, const std::string& description,
+                WriteTimes& t) {
+  std::vector<std::uint8_t> drawn;
+  if (over.any()) {
+    const auto t0 = Clock::now();
+    drawn = res.rgba;
+    draw_overlays(over, res.width, res.height, drawn);
+    t.hachure_draw_ms = ms_since(t0);
+  }
+  for (const std::string& p : pngs) {
+    const std::vector<std::string> files = frame_files(p, bool(gt));
+    terrain::OutputSet outputs;  // the PNG and its world file
+    outputs.write([&] {
+      terrain::write_png(outputs.stage(p), res.width, res.height, 4, over.any() ? drawn : res.rgba,
+                         description);
+      if (files.size() > 1) terrain::write_file_atomic(outputs.stage(files[1]), world_file(*gt));
+    });
+    outputs.commit();
+  }
+}
+
+// The frame's SVG and PDF files: its vector art with the overlays as its lowest and top
+// line layers.
+void write_vector_files(const std::vector<std::string>& vectors, const Scene& scene,
+                        const TerrainRenderer& r, const FrameResult& res,
+                        const FrameBuffers& buffers, const ResolvedFrame& f, const VectorOptions& o,
+                        FrameOverlays& over, const std::string& description, WriteTimes& t) {
+  auto t0 = Clock::now();
+  const std::string underlay = !o.underlay.empty() ? o.underlay
+                               : f.layers.shaded   ? "shaded"
+                                                   : "mask";
+  VectorArt art = frame_vector_art(scene, r, res, buffers, f.frame, f.style, f.layers,
+                                   parse_underlay(underlay));
+  if (over.hachures) art.layers.insert(art.layers.begin(), std::move(*over.hachures));
+  if (over.ridges) art.layers.push_back(std::move(*over.ridges));
+  if (art.layers.empty() && art.underlay == VectorUnderlay::None)
+    throw terrain::Error(std::string("the vector file would be empty: --layers draws no lines") +
+                         (f.layers.creases && !scene.creases ? " (creases need a .dv)" : "") +
+                         " and --vector-underlay is none");
+  t.paths_ms += ms_since(t0);
+  for (const VectorLayer& l : art.layers)
+    t.layers += fmt::format(", {} {} paths ({} strokes)", l.name, l.paths.size(), l.strokes);
+  for (const std::string& p : vectors) {
+    t0 = Clock::now();
+    const std::string bytes = vector_bytes(art, vector_format_of(p), o.dpi, description);
+    t.cairo_ms += ms_since(t0);
+    t.vector_bytes += bytes.size();
+    terrain::write_file_atomic(p, bytes);
+  }
+}
+
+}  // namespace
+
 WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene& scene,
                              const TerrainRenderer& r, const FrameResult& res,
                              const ResolvedFrame& f, const VectorOptions& o,
                              const std::string& frame_description, TracedHachures* traced) {
-  using Clock = std::chrono::steady_clock;
-  const auto ms = [](Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-  };
   WriteTimes t;
   std::vector<std::string> vectors, pngs;
   for (const std::string& p : paths) {
@@ -197,7 +255,7 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
   auto t0 = Clock::now();
   if (draws_overlays(scene, f.layers, f.style) || !vectors.empty()) {
     buffers = r.read_buffers();
-    t.readback_ms = ms(t0);
+    t.readback_ms = ms_since(t0);
   }
   // The hachures and ridge lines are made on the CPU from the frame's depth, once: drawn
   // over the PNG; the lowest and the top line layers of the vector files.
@@ -205,49 +263,10 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
   FrameOverlays over;
   if (buffers) over = frame_overlays(scene, r, res, *buffers, f.style, f.layers);
   if (traced && over.traced) *traced = std::move(*over.traced);
-  t.paths_ms = t.hachure_ms = ms(t0);
-  if (!pngs.empty()) {
-    std::vector<std::uint8_t> drawn;
-    if (over.any()) {
-      t0 = Clock::now();
-      drawn = res.rgba;
-      draw_overlays(over, res.width, res.height, drawn);
-      t.hachure_draw_ms = ms(t0);
-    }
-    for (const std::string& p : pngs) {
-      const std::vector<std::string> files = frame_files(p, bool(gt));
-      terrain::OutputSet outputs;  // the PNG and its world file
-      outputs.write([&] {
-        terrain::write_png(outputs.stage(p), res.width, res.height, 4,
-                           over.any() ? drawn : res.rgba, description);
-        if (files.size() > 1) terrain::write_file_atomic(outputs.stage(files[1]), world_file(*gt));
-      });
-      outputs.commit();
-    }
-  }
-  if (vectors.empty()) return t;
-  t0 = Clock::now();
-  const std::string underlay = !o.underlay.empty() ? o.underlay
-                               : f.layers.shaded   ? "shaded"
-                                                   : "mask";
-  VectorArt art = frame_vector_art(scene, r, res, *buffers, f.frame, f.style, f.layers,
-                                   parse_underlay(underlay));
-  if (over.hachures) art.layers.insert(art.layers.begin(), std::move(*over.hachures));
-  if (over.ridges) art.layers.push_back(std::move(*over.ridges));
-  if (art.layers.empty() && art.underlay == VectorUnderlay::None)
-    throw terrain::Error(std::string("the vector file would be empty: --layers draws no lines") +
-                         (f.layers.creases && !scene.creases ? " (creases need a .dv)" : "") +
-                         " and --vector-underlay is none");
-  t.paths_ms += ms(t0);
-  for (const VectorLayer& l : art.layers)
-    t.layers += fmt::format(", {} {} paths ({} strokes)", l.name, l.paths.size(), l.strokes);
-  for (const std::string& p : vectors) {
-    t0 = Clock::now();
-    const std::string bytes = vector_bytes(art, vector_format_of(p), o.dpi, description);
-    t.cairo_ms += ms(t0);
-    t.vector_bytes += bytes.size();
-    terrain::write_file_atomic(p, bytes);
-  }
+  t.paths_ms = t.hachure_ms = ms_since(t0);
+  if (!pngs.empty()) write_pngs(pngs, res, over, gt, description, t);
+  if (!vectors.empty())
+    write_vector_files(vectors, scene, r, res, *buffers, f, o, over, description, t);
   return t;
 }
 
