@@ -12,48 +12,62 @@
 
 namespace terrain {
 
-std::vector<double> terrace_interpolation(const Grid& grid, double h) {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+bool diagonal(int k) { return (k & 1) != 0; }
+
+// Geodesic distance within each terrace (8-connected samples of one value) to its edge
+// with the lower (sign -1) or the higher (sign +1) neighbours: the contour between them
+// lies half a step from the edge sample.
+std::vector<double> terrace_distance(const Grid& grid, int sign) {
   const long R = long(grid.rows), C = long(grid.cols);
   const std::size_t n = grid.size();
-  constexpr double inf = std::numeric_limits<double>::infinity();
+  constexpr double inf = kInf;
   const Neighbours around{R, C};
-  auto diagonal = [](int k) { return (k & 1) != 0; };
-  // Geodesic distance within each terrace (8-connected samples of one value) to its edge
-  // with the lower (sign -1) or the higher (sign +1) neighbours: the contour between them
-  // lies half a step from the edge sample.
-  auto distance_to = [&](int sign) {
-    std::vector<double> d(n, inf);
-    using Item = std::pair<double, std::uint32_t>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<>> heap;
-    for (long r = 0; r < R; ++r)
-      for (long c = 0; c < C; ++c) {
-        const float z = grid.z[r * C + c];
-        if (std::isnan(z)) continue;
-        double best = inf;
-        around.each(r, c, [&](std::size_t j, int k) {
-          if (!std::isnan(grid.z[j]) && (grid.z[j] - z) * float(sign) > 0)
-            best = std::min(best, diagonal(k) ? 0.5 * std::sqrt(2.0) : 0.5);
-        });
-        if (best < inf) d[r * C + c] = best, heap.emplace(best, std::uint32_t(r * C + c));
-      }
-    while (!heap.empty()) {
-      const double di =
-          heap.top().first;  // (not structured bindings: clang 14 cannot capture them)
-      const std::uint32_t i = heap.top().second;
-      heap.pop();
-      if (di > d[i]) continue;
-      around.each(std::size_t(i), [&](std::size_t j, int k) {
-        if (grid.z[j] != grid.z[i]) return;  // another terrace, or no-data (NaN)
-        const double dn = di + (diagonal(k) ? std::sqrt(2.0) : 1.0);
-        if (dn < d[j]) d[j] = dn, heap.emplace(dn, std::uint32_t(j));
+  std::vector<double> d(n, inf);
+  using Item = std::pair<double, std::uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> heap;
+  for (long r = 0; r < R; ++r)
+    for (long c = 0; c < C; ++c) {
+      const float z = grid.z[r * C + c];
+      if (std::isnan(z)) continue;
+      double best = inf;
+      around.each(r, c, [&](std::size_t j, int k) {
+        if (!std::isnan(grid.z[j]) && (grid.z[j] - z) * float(sign) > 0)
+          best = std::min(best, diagonal(k) ? 0.5 * std::sqrt(2.0) : 0.5);
       });
+      if (best < inf) d[r * C + c] = best, heap.emplace(best, std::uint32_t(r * C + c));
     }
-    return d;
-  };
-  const std::vector<double> lo = distance_to(-1), hi = distance_to(+1);
-  // Each terrace's largest distances, for terraces with one kind of edge only (summits, pits).
-  std::vector<std::uint32_t> label(n, std::numeric_limits<std::uint32_t>::max());
+  while (!heap.empty()) {
+    const double di = heap.top().first;  // (not structured bindings: clang 14 cannot capture them)
+    const std::uint32_t i = heap.top().second;
+    heap.pop();
+    if (di > d[i]) continue;
+    around.each(std::size_t(i), [&](std::size_t j, int k) {
+      if (grid.z[j] != grid.z[i]) return;  // another terrace, or no-data (NaN)
+      const double dn = di + (diagonal(k) ? std::sqrt(2.0) : 1.0);
+      if (dn < d[j]) d[j] = dn, heap.emplace(dn, std::uint32_t(j));
+    });
+  }
+  return d;
+}
+
+// Each terrace's label and its largest distances to its lower and higher edges (`lo`, `hi`:
+// terrace_distance), for terraces with one kind of edge only (summits, pits).
+struct TerraceMaxima {
+  std::vector<std::uint32_t> label;
   std::vector<double> max_lo, max_hi;
+};
+TerraceMaxima terrace_maxima(const Grid& grid, const std::vector<double>& lo,
+                             const std::vector<double>& hi) {
+  const std::size_t n = grid.size();
+  constexpr double inf = kInf;
+  const Neighbours around{long(grid.rows), long(grid.cols)};
+  TerraceMaxima t;
+  t.label.assign(n, std::numeric_limits<std::uint32_t>::max());
+  std::vector<std::uint32_t>& label = t.label;
+  std::vector<double>&max_lo = t.max_lo, &max_hi = t.max_hi;
   std::vector<std::uint32_t> stack;
   for (std::size_t s = 0; s < n; ++s) {
     if (std::isnan(grid.z[s]) || label[s] != std::numeric_limits<std::uint32_t>::max()) continue;
@@ -72,6 +86,18 @@ std::vector<double> terrace_interpolation(const Grid& grid, double h) {
     }
     max_lo.push_back(mlo), max_hi.push_back(mhi);
   }
+  return t;
+}
+
+}  // namespace
+
+std::vector<double> terrace_interpolation(const Grid& grid, double h) {
+  const std::size_t n = grid.size();
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const std::vector<double> lo = terrace_distance(grid, -1), hi = terrace_distance(grid, +1);
+  const TerraceMaxima t = terrace_maxima(grid, lo, hi);
+  const std::vector<std::uint32_t>& label = t.label;
+  const std::vector<double>&max_lo = t.max_lo, &max_hi = t.max_hi;
   std::vector<double> z(n, std::numeric_limits<double>::quiet_NaN());
   for (std::size_t i = 0; i < n; ++i) {
     if (std::isnan(grid.z[i])) continue;
