@@ -22,6 +22,38 @@ struct Catchments {
   std::vector<std::uint32_t> depth;   // per label: branches down to its tree's root
 };
 
+// Each branch's depth in the tree of `parent` links: branches down to its tree's root.
+std::vector<std::uint32_t> tree_depths(const std::vector<std::uint32_t>& parent) {
+  std::vector<std::uint32_t> depth(parent.size(), kNone), chain;
+  for (std::uint32_t b = 0; b < depth.size(); ++b) {
+    chain.clear();
+    std::uint32_t x = b;
+    while (x != kNone && depth[x] == kNone) chain.push_back(x), x = parent[x];
+    std::uint32_t d = x == kNone ? 0 : depth[x] + 1;
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) depth[*it] = d++;
+  }
+  return depth;
+}
+
+// The channel points, upstream first (accumulation grows downstream); `inflow` counts each
+// one's channel inflows, up to 2.
+template <class Channel, class Down>
+std::vector<std::uint32_t> channels_upstream_first(const terrain::DrainageLinks& l,
+                                                   const Channel& channel, const Down& down,
+                                                   std::vector<std::uint8_t>& inflow) {
+  std::vector<std::uint32_t> channels;
+  for (std::size_t i = 0; i < l.size(); ++i)
+    if (channel(i)) {
+      channels.push_back(std::uint32_t(i));
+      const std::size_t d = down(i);
+      if (d != kNone && channel(d) && inflow[d] < 2) ++inflow[d];
+    }
+  std::stable_sort(channels.begin(), channels.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return l.accumulated[a] < l.accumulated[b];
+  });
+  return channels;
+}
+
 Catchments catchments(const terrain::DrainageLinks& l, double channel_area) {
   const std::size_t n = l.size();
   const double cell = l.dx * l.dy;
@@ -36,17 +68,7 @@ Catchments catchments(const terrain::DrainageLinks& l, double channel_area) {
   Catchments c;
   c.label.assign(n, kNone);
   std::vector<std::uint8_t> inflow(n, 0);
-  std::vector<std::uint32_t> channels;
-  for (std::size_t i = 0; i < n; ++i)
-    if (channel(i)) {
-      channels.push_back(std::uint32_t(i));
-      const std::size_t d = down(i);
-      if (d != kNone && channel(d) && inflow[d] < 2) ++inflow[d];
-    }
-  // Upstream first: accumulation grows downstream.
-  std::stable_sort(channels.begin(), channels.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return l.accumulated[a] < l.accumulated[b];
-  });
+  const std::vector<std::uint32_t> channels = channels_upstream_first(l, channel, down, inflow);
   std::vector<std::size_t> outlet;  // per label: its lowest point
   auto new_label = [&](std::size_t i) {
     c.outlet_accumulated.push_back(l.accumulated[i]);
@@ -84,15 +106,7 @@ Catchments catchments(const terrain::DrainageLinks& l, double channel_area) {
     const std::size_t d = down(outlet[b]);
     if (d != kNone) c.parent[b] = c.label[d];
   }
-  c.depth.assign(outlet.size(), kNone);
-  std::vector<std::uint32_t> chain;
-  for (std::uint32_t b = 0; b < c.depth.size(); ++b) {
-    chain.clear();
-    std::uint32_t x = b;
-    while (x != kNone && c.depth[x] == kNone) chain.push_back(x), x = c.parent[x];
-    std::uint32_t d = x == kNone ? 0 : c.depth[x] + 1;
-    for (auto it = chain.rbegin(); it != chain.rend(); ++it) c.depth[*it] = d++;
-  }
+  c.depth = tree_depths(c.parent);
   return c;
 }
 
@@ -146,6 +160,45 @@ std::vector<Eigen::Vector2d> resampled(const std::vector<Eigen::Vector2d>& corne
   return p;
 }
 
+// The height of the crest's side at a point: the highest valid network point of the cell
+// about it.
+double crest_z(const terrain::DrainageLinks& l, const Eigen::Vector2d& p) {
+  const double col = p.x() / l.dx, row = -p.y() / l.dy;
+  const long c0 = std::clamp(long(std::floor(col)), 0L, long(l.cols) - 2);
+  const long r0 = std::clamp(long(std::floor(row)), 0L, long(l.rows) - 2);
+  double z = -std::numeric_limits<double>::infinity();
+  for (long r = r0; r <= r0 + 1; ++r)
+    for (long cc = c0; cc <= c0 + 1; ++cc) {
+      const std::size_t i = std::size_t(r) * l.cols + std::size_t(cc);
+      if (l.valid.empty() || l.valid[i]) z = std::max(z, double(l.z[i]));
+    }
+  return z;
+}
+
+// The runs of a divide's points `pts` above a quarter of its relief over `base` (its top
+// `top`), each a ridge line parting basins of `area`.
+void add_runs_above(const std::vector<Eigen::Vector3d>& pts, double base, double top, double area,
+                    std::vector<RidgeLine>& out) {
+  const double relief = top - base, cut = base + 0.25 * relief;
+  // The runs above the cut, each a line.
+  RidgeLine run;
+  auto flush = [&] {
+    if (run.points.size() >= 2) {
+      run.basin_area = area;
+      run.relief = relief;
+      out.push_back(std::move(run));
+    }
+    run = RidgeLine{};
+  };
+  for (const Eigen::Vector3d& p : pts) {
+    if (p.z() >= cut)
+      run.points.push_back(p);
+    else
+      flush();
+  }
+  flush();
+}
+
 }  // namespace
 
 std::vector<RidgeLine> ridge_lines(const terrain::DrainageLinks& l, double channel_area,
@@ -159,20 +212,6 @@ std::vector<RidgeLine> ridge_lines(const terrain::DrainageLinks& l, double chann
   std::sort(edges.begin(), edges.end(), [](const DivideEdge& x, const DivideEdge& y) {
     return std::tie(x.a, x.b, x.from, x.to) < std::tie(y.a, y.b, y.from, y.to);
   });
-  // The height of the crest's side at a point: the highest valid network point of the
-  // cell about it.
-  auto crest_z = [&](const Eigen::Vector2d& p) {
-    const double col = p.x() / l.dx, row = -p.y() / l.dy;
-    const long c0 = std::clamp(long(std::floor(col)), 0L, long(l.cols) - 2);
-    const long r0 = std::clamp(long(std::floor(row)), 0L, long(l.rows) - 2);
-    double z = -std::numeric_limits<double>::infinity();
-    for (long r = r0; r <= r0 + 1; ++r)
-      for (long cc = c0; cc <= c0 + 1; ++cc) {
-        const std::size_t i = std::size_t(r) * l.cols + std::size_t(cc);
-        if (l.valid.empty() || l.valid[i]) z = std::max(z, double(l.z[i]));
-      }
-    return z;
-  };
   for (std::size_t g0 = 0; g0 < edges.size();) {
     std::size_t g1 = g0;
     while (g1 < edges.size() && edges[g1].a == edges[g0].a && edges[g1].b == edges[g0].b) ++g1;
@@ -193,29 +232,12 @@ std::vector<RidgeLine> ridge_lines(const terrain::DrainageLinks& l, double chann
       std::vector<Eigen::Vector3d> pts;
       double top = -std::numeric_limits<double>::infinity();
       for (const Eigen::Vector2d& p : resampled(corners, std::min(l.dx, l.dy))) {
-        const double z = crest_z(p);
+        const double z = crest_z(l, p);
         if (!std::isfinite(z)) continue;
         pts.push_back({p.x(), p.y(), z});
         top = std::max(top, z);
       }
-      const double relief = top - base, cut = base + 0.25 * relief;
-      // The runs above the cut, each a line.
-      RidgeLine run;
-      auto flush = [&] {
-        if (run.points.size() >= 2) {
-          run.basin_area = area;
-          run.relief = relief;
-          out.push_back(std::move(run));
-        }
-        run = RidgeLine{};
-      };
-      for (const Eigen::Vector3d& p : pts) {
-        if (p.z() >= cut)
-          run.points.push_back(p);
-        else
-          flush();
-      }
-      flush();
+      add_runs_above(pts, base, top, area, out);
     }
     g0 = g1;
   }
