@@ -44,30 +44,9 @@ void print_stats(const terrain::ElevationStats& s) {
       s.min, s.max, s.mean, s.stddev);
 }
 
-void info_mesh(const std::string& path) {
-  const terrain::GridMesh m = terrain::read_mesh_ply(path);
-  const terrain::Grid g = terrain::mesh_to_grid(m);
-  double tilt_sum = 0.0, tilt_max = 0.0;
-  for (const auto& n : m.normals) {
-    const double tilt = std::acos(std::clamp(double(n.z()), -1.0, 1.0)) * 180.0 / std::numbers::pi;
-    tilt_sum += tilt;
-    tilt_max = std::max(tilt_max, tilt);
-  }
-  std::cout << "file: " << path << "\n"
-            << "type: terrain mesh (PLY)\n"
-            << "grid: " << m.topo.cols << " x " << m.topo.rows << " (columns x rows)\n"
-            << "vertices: " << m.n_vertices() << "\n"
-            << "faces: " << m.n_faces() << "\n"
-            << "crs: " << crs_line(m.geo.crs_wkt, m.geo.epsg) << "\n"
-            << fmt::format("spacing: {} {}\n", m.geo.dx, m.geo.dy)
-            << fmt::format("origin: {:.3f} {:.3f} {:.3f}\n", m.geo.origin_x, m.geo.origin_y,
-                           m.geo.origin_z)
-            << fmt::format("extent: {:.3f} {:.3f} {:.3f} {:.3f}\n", g.geo.x0,
-                           g.geo.y0 - double(g.rows) * g.geo.dy,
-                           g.geo.x0 + double(g.cols) * g.geo.dx, g.geo.y0);
-  print_stats(terrain::elevation_stats(g.z));
-  std::cout << fmt::format("normal_tilt_mean_deg: {:.3f}\nnormal_tilt_max_deg: {:.3f}\n",
-                           tilt_sum / double(m.normals.size()), tilt_max);
+// What later steps added to a mesh: Voronoi weights, denoising, filled vertices, fitted
+// normals.
+void print_mesh_attributes(const terrain::GridMesh& m) {
   if (m.voronoi.empty()) {
     std::cout << "voronoi_weights: no (add them: denoise-normals MESH OUT --iterations 0)\n";
   } else {
@@ -100,6 +79,33 @@ void info_mesh(const std::string& path) {
         fit.samples, fit.rmse_after, fit.rmse_before, fit.max_after, fit.max_before);
   else
     std::cout << "normals_fitted: no\n";
+}
+
+void info_mesh(const std::string& path) {
+  const terrain::GridMesh m = terrain::read_mesh_ply(path);
+  const terrain::Grid g = terrain::mesh_to_grid(m);
+  double tilt_sum = 0.0, tilt_max = 0.0;
+  for (const auto& n : m.normals) {
+    const double tilt = std::acos(std::clamp(double(n.z()), -1.0, 1.0)) * 180.0 / std::numbers::pi;
+    tilt_sum += tilt;
+    tilt_max = std::max(tilt_max, tilt);
+  }
+  std::cout << "file: " << path << "\n"
+            << "type: terrain mesh (PLY)\n"
+            << "grid: " << m.topo.cols << " x " << m.topo.rows << " (columns x rows)\n"
+            << "vertices: " << m.n_vertices() << "\n"
+            << "faces: " << m.n_faces() << "\n"
+            << "crs: " << crs_line(m.geo.crs_wkt, m.geo.epsg) << "\n"
+            << fmt::format("spacing: {} {}\n", m.geo.dx, m.geo.dy)
+            << fmt::format("origin: {:.3f} {:.3f} {:.3f}\n", m.geo.origin_x, m.geo.origin_y,
+                           m.geo.origin_z)
+            << fmt::format("extent: {:.3f} {:.3f} {:.3f} {:.3f}\n", g.geo.x0,
+                           g.geo.y0 - double(g.rows) * g.geo.dy,
+                           g.geo.x0 + double(g.cols) * g.geo.dx, g.geo.y0);
+  print_stats(terrain::elevation_stats(g.z));
+  std::cout << fmt::format("normal_tilt_mean_deg: {:.3f}\nnormal_tilt_max_deg: {:.3f}\n",
+                           tilt_sum / double(m.normals.size()), tilt_max);
+  print_mesh_attributes(m);
   // The camera terrain-render frame takes with no camera option (the table's size and fov).
   const renderer::RenderSettings d;
   const double e = renderer::auto_exaggeration(m);

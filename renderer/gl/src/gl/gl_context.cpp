@@ -96,6 +96,37 @@ void release(Made& m) {
   m = Made{};
 }
 
+// The newest core context of 4.5, 4.4 and 4.3 that `display` makes, or EGL_NO_CONTEXT.
+EGLContext core_context(EGLDisplay display, EGLConfig config) {
+  for (const auto& [maj, min] : {std::pair{4, 5}, {4, 4}, {4, 3}}) {
+    const EGLint attrs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                            maj,
+                            EGL_CONTEXT_MINOR_VERSION,
+                            min,
+                            EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                            EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                            EGL_NONE};
+    const EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, attrs);
+    if (context != EGL_NO_CONTEXT) return context;
+  }
+  return EGL_NO_CONTEXT;
+}
+
+// The current context's renderer and version, whether it is a software one and usable (4.3
+// or newer).
+void describe_context(GlDeviceInfo& info) {
+  const auto* r = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  const auto* v = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+  info.renderer = r ? r : "?";
+  info.version = v ? v : "?";
+  for (const char* sw : {"llvmpipe", "softpipe", "SWR", "lavapipe", "Software Rasterizer"})
+    if (info.renderer.find(sw) != std::string::npos) info.software = true;
+  GLint gl_major = 0, gl_minor = 0;
+  glGetIntegerv(GL_MAJOR_VERSION, &gl_major);
+  glGetIntegerv(GL_MINOR_VERSION, &gl_minor);
+  info.usable = gl_major > 4 || (gl_major == 4 && gl_minor >= 3);
+}
+
 // Tries a 4.5, 4.4 then 4.3 core context on `c.display`, makes it current and fills
 // c.info. Returns false (context released) when it is not usable.
 bool try_context(Candidate& c, Made& m) {
@@ -127,17 +158,7 @@ bool try_context(Candidate& c, Made& m) {
     }
   }
   m.display = c.display;
-  for (const auto& [maj, min] : {std::pair{4, 5}, {4, 4}, {4, 3}}) {
-    const EGLint attrs[] = {EGL_CONTEXT_MAJOR_VERSION,
-                            maj,
-                            EGL_CONTEXT_MINOR_VERSION,
-                            min,
-                            EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                            EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                            EGL_NONE};
-    m.context = eglCreateContext(c.display, config, EGL_NO_CONTEXT, attrs);
-    if (m.context != EGL_NO_CONTEXT) break;
-  }
+  m.context = core_context(c.display, config);
   if (m.context == EGL_NO_CONTEXT) {
     c.info.renderer = "no OpenGL 4.3 core context";
     release(m);
@@ -152,20 +173,14 @@ bool try_context(Candidate& c, Made& m) {
     release(m);
     return false;
   }
-  const auto* r = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-  const auto* v = reinterpret_cast<const char*>(glGetString(GL_VERSION));
-  c.info.renderer = r ? r : "?";
-  c.info.version = v ? v : "?";
-  for (const char* sw : {"llvmpipe", "softpipe", "SWR", "lavapipe", "Software Rasterizer"})
-    if (c.info.renderer.find(sw) != std::string::npos) c.info.software = true;
-  GLint gl_major = 0, gl_minor = 0;
-  glGetIntegerv(GL_MAJOR_VERSION, &gl_major);
-  glGetIntegerv(GL_MINOR_VERSION, &gl_minor);
-  c.info.usable = gl_major > 4 || (gl_major == 4 && gl_minor >= 3);
+  describe_context(c.info);
   if (!c.info.usable) {
     release(m);
     return false;
   }
+  GLint gl_major = 0, gl_minor = 0;
+  glGetIntegerv(GL_MAJOR_VERSION, &gl_major);
+  glGetIntegerv(GL_MINOR_VERSION, &gl_minor);
   m.clip_control = gl_major > 4 || gl_minor >= 5 || epoxy_has_gl_extension("GL_ARB_clip_control");
   return true;
 }
