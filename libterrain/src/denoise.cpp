@@ -120,6 +120,35 @@ BigVector<Vector3f> bilateral_filter_normals(const GridMesh& m, const BigVector<
   return cur;
 }
 
+// Vertex updating (Zheng et al. 2011): `iterations` rounds moving each interior vertex's
+// height towards the planes of its faces' filtered normals; x, y and the boundary fixed.
+static void update_vertices(GridMesh& m, const BigVector<Vector3f>& filtered, int iterations) {
+  const std::size_t nv = m.n_vertices(), rows = m.topo.rows, cols = m.topo.cols;
+  BigVector<Vector3f> next = m.positions;  // only interior z values change
+  std::vector<Vector3d> centroid(m.n_faces());
+  for (int it = 0; it < iterations; ++it) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t f = 0; f < centroid.size(); ++f) centroid[f] = face_geom(m, f).centroid;
+#pragma omp parallel for schedule(static)
+    for (std::size_t v = 0; v < nv; ++v) {
+      const std::size_t r = v / cols, c = v % cols;
+      if (r == 0 || c == 0 || r + 1 == rows || c + 1 == cols) continue;  // boundary fixed
+      std::array<std::uint32_t, 6> faces;
+      std::array<std::uint8_t, 6> corners;
+      const int k = m.topo.vertex_faces(v, faces, corners);
+      const Vector3d x = m.positions[v].cast<double>();
+      Vector3d step = Vector3d::Zero();
+      for (int i = 0; i < k; ++i) {
+        const std::size_t f = faces[std::size_t(i)];
+        const Vector3d n = filtered[f].cast<double>();
+        step += n * n.dot(centroid[f] - x);
+      }
+      next[v].z() = float(x.z() + step.z() / double(k));
+    }
+    std::swap(m.positions, next);  // both hold the same x, y and boundary z
+  }
+}
+
 DenoiseStats denoise_normals(GridMesh& m, const DenoiseOptions& o, const Progress& progress) {
   if (o.iterations < 0 || o.vertex_iterations < 0) throw Error("iterations must be >= 0");
   if (!(o.sigma_s >= 0) || !std::isfinite(o.sigma_s))
@@ -135,32 +164,10 @@ DenoiseStats denoise_normals(GridMesh& m, const DenoiseOptions& o, const Progres
       o.iterations > 0 ? vertex_normals(m.positions, m.topo, NormalWeighting::Area) : m.normals;
   const BigVector<Vector3f> filtered = bilateral_filter_normals(
       m, face_normals(m), o, stats.sigma_s, sub_progress(progress, 0, 0.8));
-  const std::size_t nv = m.n_vertices(), rows = m.topo.rows, cols = m.topo.cols;
+  const std::size_t nv = m.n_vertices();
   if (o.update_vertices && o.iterations > 0) {
     const BigVector<Vector3f> original = m.positions;
-    BigVector<Vector3f> next = m.positions;  // only interior z values change
-    std::vector<Vector3d> centroid(m.n_faces());
-    for (int it = 0; it < o.vertex_iterations; ++it) {
-#pragma omp parallel for schedule(static)
-      for (std::size_t f = 0; f < centroid.size(); ++f) centroid[f] = face_geom(m, f).centroid;
-#pragma omp parallel for schedule(static)
-      for (std::size_t v = 0; v < nv; ++v) {
-        const std::size_t r = v / cols, c = v % cols;
-        if (r == 0 || c == 0 || r + 1 == rows || c + 1 == cols) continue;  // boundary fixed
-        std::array<std::uint32_t, 6> faces;
-        std::array<std::uint8_t, 6> corners;
-        const int k = m.topo.vertex_faces(v, faces, corners);
-        const Vector3d x = m.positions[v].cast<double>();
-        Vector3d step = Vector3d::Zero();
-        for (int i = 0; i < k; ++i) {
-          const std::size_t f = faces[std::size_t(i)];
-          const Vector3d n = filtered[f].cast<double>();
-          step += n * n.dot(centroid[f] - x);
-        }
-        next[v].z() = float(x.z() + step.z() / double(k));
-      }
-      std::swap(m.positions, next);  // both hold the same x, y and boundary z
-    }
+    update_vertices(m, filtered, o.vertex_iterations);
     for (std::size_t v = 0; v < nv; ++v)
       stats.max_vertex_shift =
           std::max(stats.max_vertex_shift, double((m.positions[v] - original[v]).norm()));

@@ -124,71 +124,92 @@ Box levels_box(const LodHierarchy& h, double exaggeration) {
   return box;
 }
 
+namespace {
+
+// A vertex's index in the grid held: level h.base's (every 2^base-th row and column and the
+// last ones; a drawn block's lines are among them, see select_lod).
+struct HeldGrid {
+  explicit HeldGrid(const LodHierarchy& h)
+      : rows0(h.topo.rows - 1),
+        cols0(h.topo.cols - 1),
+        rows(terrain::level_count(rows0, h.base)),
+        cols(terrain::level_count(cols0, h.base)),
+        base(h.base) {}
+  std::uint32_t operator()(std::size_t r, std::size_t c) const {
+    const std::size_t hr = r == rows0 ? rows - 1 : r >> base;
+    const std::size_t hc = c == cols0 ? cols - 1 : c >> base;
+    return std::uint32_t(hr * cols + hc);
+  }
+  std::size_t rows0, cols0, rows, cols;
+  int base;
+};
+
+// The steps of a block (its level's, s) and of its four sides (the coarser of this block's
+// and the neighbour's across it).
+struct BlockSteps {
+  std::uint32_t s, north, south, west, east;
+};
+
+// Block b at level l: its level grid's vertices (a snapped vertex is on it too: a coarser
+// step is a multiple of this one, and the last line is kept) and its patches, those of a
+// block facing the eye throughout into `facing_patches` but for the cells on a side snapped
+// to a coarser neighbour (their thin triangles are not the level's, whose slope the block
+// was found facing by).
+void add_block(LodMesh& out, std::vector<std::uint32_t>& facing_patches, const LodBlock& b, int l,
+               const BlockSteps& st, bool facing_block, const HeldGrid& held) {
+  const std::uint32_t s = st.s, north = st.north, south = st.south, west = st.west, east = st.east;
+  const auto rs = terrain::level_lines(b.nr, s), cs = terrain::level_lines(b.nc, s);
+  const auto base = std::uint32_t(out.vertices.size());
+  for (const std::uint32_t r : rs)
+    for (const std::uint32_t c : cs)
+      out.vertices.push_back(held(std::size_t(b.r0) + r, std::size_t(b.c0) + c));
+  auto line = [&](std::uint32_t p, std::uint32_t n, std::size_t count) {
+    return p == n ? std::uint32_t(count - 1) : p >> l;
+  };
+  auto vertex = [&](std::uint32_t r, std::uint32_t c) {
+    if (r == 0)
+      c = snap(c, b.nc, north);
+    else if (r == b.nr)
+      c = snap(c, b.nc, south);
+    if (c == 0)
+      r = snap(r, b.nr, west);
+    else if (c == b.nc)
+      r = snap(r, b.nr, east);
+    return base + line(r, b.nr, rs.size()) * std::uint32_t(cs.size()) + line(c, b.nc, cs.size());
+  };
+  for (std::size_t i = 0; i + 1 < rs.size(); ++i)
+    for (std::size_t j = 0; j + 1 < cs.size(); ++j) {
+      const std::uint32_t nw = vertex(rs[i], cs[j]), sw = vertex(rs[i + 1], cs[j]);
+      const std::uint32_t se = vertex(rs[i + 1], cs[j + 1]), ne = vertex(rs[i], cs[j + 1]);
+      const bool snapped = (i == 0 && north > s) || (i + 2 == rs.size() && south > s) ||
+                           (j == 0 && west > s) || (j + 2 == cs.size() && east > s);
+      std::vector<std::uint32_t>& to = facing_block && !snapped ? facing_patches : out.patches;
+      for (const std::array<std::uint32_t, 3>& t : {std::array{nw, sw, se}, std::array{nw, se, ne}})
+        if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) to.insert(to.end(), t.begin(), t.end());
+    }
+}
+
+}  // namespace
+
 LodMesh lod_mesh(const LodHierarchy& h, const std::vector<std::uint8_t>& levels,
                  const std::vector<std::uint8_t>& facing) {
   LodMesh out;
-  // A vertex's index in the grid held: level h.base's (every 2^base-th row and column and
-  // the last ones; a drawn block's lines are among them, see select_lod).
-  const std::size_t rows0 = h.topo.rows - 1, cols0 = h.topo.cols - 1;
-  const std::size_t cols = terrain::level_count(cols0, h.base);
-  auto held = [&](std::size_t r, std::size_t c) {
-    const std::size_t hr = r == rows0 ? terrain::level_count(rows0, h.base) - 1 : r >> h.base;
-    const std::size_t hc = c == cols0 ? cols - 1 : c >> h.base;
-    return std::uint32_t(hr * cols + hc);
-  };
+  const HeldGrid held(h);
   auto step = [&](std::size_t br, std::size_t bc) {
     return std::uint32_t(1) << levels[br * h.block_cols + bc];
   };
-  // The patches of blocks that face the eye throughout (facing_blocks) go after the others,
-  // but for the cells on a side snapped to a coarser neighbour: their thin triangles are
-  // not the level's, whose slope the block was found facing by.
+  // The patches of blocks that face the eye throughout (facing_blocks) go after the others.
   std::vector<std::uint32_t> facing_patches;
   for (std::size_t br = 0; br < h.block_rows; ++br)
     for (std::size_t bc = 0; bc < h.block_cols; ++bc) {
       const std::size_t k = br * h.block_cols + bc;
-      const LodBlock& b = h.blocks[k];
       const std::uint32_t s = step(br, bc);
-      const int l = levels[k];
-      const bool facing_block = k < facing.size() && facing[k] != 0;
-      // Each side's step: the coarser of this block's and the neighbour's across it.
-      const std::uint32_t north = br > 0 ? std::max(s, step(br - 1, bc)) : s;
-      const std::uint32_t south = br + 1 < h.block_rows ? std::max(s, step(br + 1, bc)) : s;
-      const std::uint32_t west = bc > 0 ? std::max(s, step(br, bc - 1)) : s;
-      const std::uint32_t east = bc + 1 < h.block_cols ? std::max(s, step(br, bc + 1)) : s;
-      const auto rs = terrain::level_lines(b.nr, s), cs = terrain::level_lines(b.nc, s);
-      // The block's level grid; a snapped vertex is on it too (a coarser step is a
-      // multiple of this one, and the last line is kept).
-      const auto base = std::uint32_t(out.vertices.size());
-      for (const std::uint32_t r : rs)
-        for (const std::uint32_t c : cs)
-          out.vertices.push_back(held(std::size_t(b.r0) + r, std::size_t(b.c0) + c));
-      auto line = [&](std::uint32_t p, std::uint32_t n, std::size_t count) {
-        return p == n ? std::uint32_t(count - 1) : p >> l;
-      };
-      auto vertex = [&](std::uint32_t r, std::uint32_t c) {
-        if (r == 0)
-          c = snap(c, b.nc, north);
-        else if (r == b.nr)
-          c = snap(c, b.nc, south);
-        if (c == 0)
-          r = snap(r, b.nr, west);
-        else if (c == b.nc)
-          r = snap(r, b.nr, east);
-        return base + line(r, b.nr, rs.size()) * std::uint32_t(cs.size()) +
-               line(c, b.nc, cs.size());
-      };
-      for (std::size_t i = 0; i + 1 < rs.size(); ++i)
-        for (std::size_t j = 0; j + 1 < cs.size(); ++j) {
-          const std::uint32_t nw = vertex(rs[i], cs[j]), sw = vertex(rs[i + 1], cs[j]);
-          const std::uint32_t se = vertex(rs[i + 1], cs[j + 1]), ne = vertex(rs[i], cs[j + 1]);
-          const bool snapped = (i == 0 && north > s) || (i + 2 == rs.size() && south > s) ||
-                               (j == 0 && west > s) || (j + 2 == cs.size() && east > s);
-          std::vector<std::uint32_t>& to = facing_block && !snapped ? facing_patches : out.patches;
-          for (const std::array<std::uint32_t, 3>& t :
-               {std::array{nw, sw, se}, std::array{nw, se, ne}})
-            if (t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
-              to.insert(to.end(), t.begin(), t.end());
-        }
+      const BlockSteps st{s, br > 0 ? std::max(s, step(br - 1, bc)) : s,
+                          br + 1 < h.block_rows ? std::max(s, step(br + 1, bc)) : s,
+                          bc > 0 ? std::max(s, step(br, bc - 1)) : s,
+                          bc + 1 < h.block_cols ? std::max(s, step(br, bc + 1)) : s};
+      add_block(out, facing_patches, h.blocks[k], levels[k], st,
+                k < facing.size() && facing[k] != 0, held);
     }
   out.may_face_away = out.patches.size() / 3;
   out.patches.insert(out.patches.end(), facing_patches.begin(), facing_patches.end());
