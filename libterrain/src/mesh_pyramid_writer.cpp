@@ -311,31 +311,42 @@ void MeshPyramidWriter::flush_tile_row(Level& v, int l, std::size_t nr) {
   ++v.tile_row;
 }
 
-std::uint64_t MeshPyramidWriter::finish() {
-  if (row_ != topo_.rows)
-    throw Error(
-        fmt::format("cannot write '{}': {} of the grid's {} rows given", path_, row_, topo_.rows));
-  const int n_levels = int(grids_.size());
-  Out h;
+namespace {
+
+// The header before the tile index: magic, version, its size (0 until known), the grid,
+// the georeference, the mesh's digest and the blocks with their levels' errors and slopes.
+void put_header_head(Out& h, const GridTopology& topo, const MeshGeoref& geo, std::size_t block,
+                     std::uint64_t digest, const MeshLevels& levels, int n_levels) {
   h.bytes.append(kMagic, 8);
   h.put(kVersion);
-  h.put(std::uint64_t(0));  // the header's bytes, index included: set below
-  h.put(std::uint32_t(block_));
-  h.put(std::uint64_t(topo_.rows));
-  h.put(std::uint64_t(topo_.cols));
-  for (double v : {geo_.origin_x, geo_.origin_y, geo_.origin_z, geo_.dx, geo_.dy}) h.put(v);
-  h.put(std::int32_t(geo_.epsg));
-  h.put(std::uint32_t(geo_.crs_wkt.size()));
-  h.bytes += geo_.crs_wkt;
-  h.put(digest_.value());
+  h.put(std::uint64_t(0));  // the header's bytes, index included: set by finish
+  h.put(std::uint32_t(block));
+  h.put(std::uint64_t(topo.rows));
+  h.put(std::uint64_t(topo.cols));
+  for (double v : {geo.origin_x, geo.origin_y, geo.origin_z, geo.dx, geo.dy}) h.put(v);
+  h.put(std::int32_t(geo.epsg));
+  h.put(std::uint32_t(geo.crs_wkt.size()));
+  h.bytes += geo.crs_wkt;
+  h.put(digest);
   h.put(std::uint32_t(n_levels));
-  for (const MeshLevelBlock& b : levels_.blocks) {
+  for (const MeshLevelBlock& b : levels.blocks) {
     for (int k = 0; k < 3; ++k) h.put(b.lo[k]);
     for (int k = 0; k < 3; ++k) h.put(b.hi[k]);
     h.put(std::uint32_t(b.levels()));
     for (float e : b.error) h.put(e);
     for (float e : b.slope) h.put(e);
   }
+}
+
+}  // namespace
+
+std::uint64_t MeshPyramidWriter::finish() {
+  if (row_ != topo_.rows)
+    throw Error(
+        fmt::format("cannot write '{}': {} of the grid's {} rows given", path_, row_, topo_.rows));
+  const int n_levels = int(grids_.size());
+  Out h;
+  put_header_head(h, topo_, geo_, block_, digest_.value(), levels_, n_levels);
   std::size_t n_tiles = 0;
   for (const auto& v : grids_) n_tiles += v->bytes.size();
   // The index: per level its tile counts, then per tile offset, bytes, CRC-32.
