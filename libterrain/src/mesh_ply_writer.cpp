@@ -100,6 +100,33 @@ constexpr std::size_t kSlots = 3;
 using VertexRows = std::function<void(std::size_t r0, std::size_t r1, int slot,
                                       const Eigen::Vector3f*& p, const Eigen::Vector3f*& n)>;
 
+// The body in chunks of whole rows (vertex rows, then cell rows of two faces each), and the
+// bytes a buffer holds for the largest.
+struct ChunkPlan {
+  std::vector<PlyChunk> chunks;
+  std::size_t buffer_bytes = 0;
+};
+ChunkPlan plan_chunks(const GridTopology& topo, bool voronoi, bool change, bool filled) {
+  const std::size_t rows = topo.rows, cols = topo.cols;
+  const std::size_t vertex_bytes = 24 + (voronoi ? 16 : 0) + (change ? 4 : 0) + (filled ? 4 : 0),
+                    face_bytes = 13 + (voronoi ? 12 : 0);
+  // 1 MiB: 4 MiB chunks tripled the kernel's time in write(2) on ext4, 256 KiB ones spend
+  // it on the helper threads.
+  constexpr std::size_t kChunkBytes = std::size_t(1) << 20;
+  const std::size_t vrow_bytes = cols * vertex_bytes, frow_bytes = 2 * (cols - 1) * face_bytes;
+  const std::size_t vrows =
+      std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(1, vrow_bytes));
+  const std::size_t frows =
+      std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(1, frow_bytes));
+  ChunkPlan plan;
+  for (std::size_t r = 0; r < rows; r += vrows)
+    plan.chunks.push_back({false, r, std::min(rows, r + vrows)});
+  for (std::size_t r = 0; r + 1 < rows; r += frows)
+    plan.chunks.push_back({true, r, std::min(rows - 1, r + frows)});
+  plan.buffer_bytes = std::max(vrows * vrow_bytes, frows * frow_bytes);
+  return plan;
+}
+
 // The PLY of `mesh` (its grid, georeference and optional arrays; the positions and normals
 // from `rows`), its digest taken as the vertices go out and written into the header last.
 void write_ply(const GridMesh& mesh, const VertexRows& rows_of, const std::string& path) {
@@ -111,23 +138,9 @@ void write_ply(const GridMesh& mesh, const VertexRows& rows_of, const std::strin
              filled = mesh.filled.size() == nv;
   const std::string header = ply_header(mesh, 0, voronoi, change, filled);
   const std::size_t digest_at = header.find(kDigestComment) + kDigestComment.size();
-  // The body in chunks of whole rows (vertex rows, then cell rows of two faces each).
-  const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
-  const std::size_t vertex_bytes = 24 + (voronoi ? 16 : 0) + (change ? 4 : 0) + (filled ? 4 : 0),
-                    face_bytes = 13 + (voronoi ? 12 : 0);
-  // 1 MiB: 4 MiB chunks tripled the kernel's time in write(2) on ext4, 256 KiB ones spend
-  // it on the helper threads.
-  constexpr std::size_t kChunkBytes = std::size_t(1) << 20;
-  const std::size_t vrow_bytes = cols * vertex_bytes, frow_bytes = 2 * (cols - 1) * face_bytes;
-  const std::size_t vrows =
-      std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(1, vrow_bytes));
-  const std::size_t frows =
-      std::max<std::size_t>(1, kChunkBytes / std::max<std::size_t>(1, frow_bytes));
-  std::vector<PlyChunk> chunks;
-  for (std::size_t r = 0; r < rows; r += vrows)
-    chunks.push_back({false, r, std::min(rows, r + vrows)});
-  for (std::size_t r = 0; r + 1 < rows; r += frows)
-    chunks.push_back({true, r, std::min(rows - 1, r + frows)});
+  const ChunkPlan plan = plan_chunks(mesh.topo, voronoi, change, filled);
+  const std::vector<PlyChunk>& chunks = plan.chunks;
+  const std::size_t cols = mesh.topo.cols;
   // What the helper gives back: the chunk's byte count and its vertices for the digest.
   struct Filled {
     std::size_t bytes = 0;
@@ -144,7 +157,7 @@ void write_ply(const GridMesh& mesh, const VertexRows& rows_of, const std::strin
     out.write(header.data(), std::streamsize(header.size()));
     // kSlots buffers: helper threads fill the next ones while this one writes and digests.
     std::vector<char> bufs[kSlots];
-    for (auto& b : bufs) b.resize(std::max(vrows * vrow_bytes, frows * frow_bytes));
+    for (auto& b : bufs) b.resize(plan.buffer_bytes);
     std::future<Filled> filling[kSlots];
     const auto launch = [&](std::size_t i) {
       if (i < chunks.size())

@@ -309,6 +309,23 @@ struct BatchLineStats {
   }
 };
 
+// What terrain-render batch prints: the folder, the frames, the device, the timing tables
+// and, with --line-stats (`stats`), the flicker and the hachures' coherence.
+void print_batch(const std::string& out_dir, std::size_t frames, int width, int height,
+                 std::size_t blank, const rr::GlContext& ctx,
+                 const std::vector<rr::FrameTimings>& timings, const BatchLineStats* stats,
+                 bool hachures) {
+  std::cout << "output: " << out_dir << "\nframes: " << frames << "\nsize: " << width << " x "
+            << height << "\n";
+  if (blank > 0) std::cout << "frames without terrain: " << blank << "\n";
+  print_device(ctx);
+  std::cout << rr::timing_tables(timings);
+  if (stats)
+    std::cout << fmt::format("crease flicker: {:.4f}\n", rr::flicker(stats->drawn, stats->pixels));
+  if (stats && hachures)
+    std::cout << fmt::format("hachure coherence: {:.4f}\n", stats->coherence.share());
+}
+
 }  // namespace
 
 int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::string>& inputs,
@@ -366,15 +383,8 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   }
   terrain::write_file_atomic(dir / "timings.csv", rr::timings_csv(timings));
   if (a.line_stats) terrain::write_file_atomic(dir / "line_stats.csv", stats.csv);
-  std::cout << "output: " << out_dir << "\nframes: " << frames.size() << "\nsize: " << s.width
-            << " x " << s.height << "\n";
-  if (blank > 0) std::cout << "frames without terrain: " << blank << "\n";
-  print_device(ctx);
-  std::cout << rr::timing_tables(timings);
-  if (a.line_stats)
-    std::cout << fmt::format("crease flicker: {:.4f}\n", rr::flicker(stats.drawn, stats.pixels));
-  if (a.line_stats && f.layers.hachures)
-    std::cout << fmt::format("hachure coherence: {:.4f}\n", stats.coherence.share());
+  print_batch(out_dir, frames.size(), s.width, s.height, blank, ctx, timings,
+              a.line_stats ? &stats : nullptr, f.layers.hachures);
   return 0;
 }
 
