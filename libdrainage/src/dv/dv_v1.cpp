@@ -55,6 +55,35 @@ void write_dv_v1(const std::string& path, const DvHeader& h, const terrain::Grid
   });
 }
 
+// What the grid says of the flow: every point accumulates 1 .. the grid's points and less
+// than its downstream point in the same basin, and the points that end a flow (class Pit)
+// are the basins, one each.
+static void check_flow(const DrainageDb& db, const FixedHeader& f, const std::string& path) {
+  const std::uint64_t n = db.vertices.size();
+  std::uint64_t pits = 0;
+  for (std::uint64_t i = 0; i < n; ++i) {
+    const DvVertex& v = db.vertices[i];
+    if (v.point_class == std::uint8_t(PointClass::Nodata)) continue;
+    if (v.accumulated == 0 || v.accumulated > n || !(v.normalized > 0.0f && v.normalized <= 1.0f))
+      throw terrain::Error(cannot(path, "corrupt .dv (accumulated or normalized flow of vertex " +
+                                            std::to_string(i) + ")"));
+    // Flow grows downstream within one basin: no D8 cycle passes this local test (version 2
+    // blocks are checked so as they are decoded, dv_v2.cpp).
+    if (v.downstream != kNone && (db.vertices[v.downstream].accumulated <= v.accumulated ||
+                                  db.vertices[v.downstream].basin != v.basin))
+      throw terrain::Error(
+          cannot(path,
+                 "corrupt .dv (flow that does not grow downstream (a D8 cycle or a wrong basin) "
+                 "at vertex " +
+                     std::to_string(i) + ")"));
+    pits += v.point_class == std::uint8_t(PointClass::Pit);
+  }
+  if (pits != f.basins)
+    throw terrain::Error(cannot(path, "corrupt .dv (" + std::to_string(pits) +
+                                          " pits, the header says " + std::to_string(f.basins) +
+                                          " basins)"));
+}
+
 DrainageDb read_dv_v1(const std::string& path, OpenDv& d) {
   const FixedHeader& f = d.f;
   const std::uint64_t n = f.rows * f.cols;
@@ -91,31 +120,7 @@ DrainageDb read_dv_v1(const std::string& path, OpenDv& d) {
   if (std::uint32_t(crc) != f.crc32)
     throw terrain::Error(cannot(path, "checksum mismatch (corrupt file)"));
   check_indices(db, path);
-  // What the grid says of the flow: every point accumulates 1 .. the grid's points and less
-  // than its downstream point in the same basin, and the points that end a flow (class Pit)
-  // are the basins, one each.
-  std::uint64_t pits = 0;
-  for (std::uint64_t i = 0; i < n; ++i) {
-    const DvVertex& v = db.vertices[i];
-    if (v.point_class == std::uint8_t(PointClass::Nodata)) continue;
-    if (v.accumulated == 0 || v.accumulated > n || !(v.normalized > 0.0f && v.normalized <= 1.0f))
-      throw terrain::Error(cannot(path, "corrupt .dv (accumulated or normalized flow of vertex " +
-                                            std::to_string(i) + ")"));
-    // Flow grows downstream within one basin: no D8 cycle passes this local test (version 2
-    // blocks are checked so as they are decoded, dv_v2.cpp).
-    if (v.downstream != kNone && (db.vertices[v.downstream].accumulated <= v.accumulated ||
-                                  db.vertices[v.downstream].basin != v.basin))
-      throw terrain::Error(
-          cannot(path,
-                 "corrupt .dv (flow that does not grow downstream (a D8 cycle or a wrong basin) "
-                 "at vertex " +
-                     std::to_string(i) + ")"));
-    pits += v.point_class == std::uint8_t(PointClass::Pit);
-  }
-  if (pits != f.basins)
-    throw terrain::Error(cannot(path, "corrupt .dv (" + std::to_string(pits) +
-                                          " pits, the header says " + std::to_string(f.basins) +
-                                          " basins)"));
+  check_flow(db, f, path);
   return db;
 }
 

@@ -158,6 +158,30 @@ const std::vector<std::string>& frame_columns() {
   return cols;
 }
 
+// The frames CSV's columns, checked: each an eye column (nullptr) or a per-frame option's;
+// `eye_columns` gets how many eye columns there are (0 or 3).
+static std::vector<const OptionSpec*> header_columns(const std::vector<std::string>& header,
+                                                     const std::string& name, int line_no,
+                                                     int& eye_columns) {
+  auto fail = [&](const std::string& what) {
+    throw terrain::Error(fmt::format("{}:{}: {}", name, line_no, what));
+  };
+  std::vector<const OptionSpec*> columns;
+  for (std::size_t i = 0; i < header.size(); ++i) {
+    const OptionSpec* o = find_option(header[i]);
+    if (eye_index(header[i]) < 0 && (!o || !o->per_frame || csv_column(*o) != header[i]))
+      fail(fmt::format("unknown column '{}' (columns: {})", header[i],
+                       fmt::join(frame_columns(), " ")));
+    if (std::find(header.begin(), header.begin() + long(i), header[i]) != header.begin() + long(i))
+      fail(fmt::format("column '{}' appears twice", header[i]));
+    eye_columns += eye_index(header[i]) >= 0;
+    columns.push_back(eye_index(header[i]) >= 0 ? nullptr : o);
+  }
+  if (eye_columns != 0 && eye_columns != 3)
+    fail("columns easting, northing and elevation go together (all three or none)");
+  return columns;
+}
+
 std::vector<FrameParams> parse_frames_csv(const std::string& text, const FrameParams& defaults,
                                           const std::string& name) {
   std::istringstream in(text);
@@ -178,19 +202,7 @@ std::vector<FrameParams> parse_frames_csv(const std::string& text, const FramePa
     if (header.empty()) {
       header = fields;
       header_line = line_no;
-      for (std::size_t i = 0; i < header.size(); ++i) {
-        const OptionSpec* o = find_option(header[i]);
-        if (eye_index(header[i]) < 0 && (!o || !o->per_frame || csv_column(*o) != header[i]))
-          fail(line_no, fmt::format("unknown column '{}' (columns: {})", header[i],
-                                    fmt::join(frame_columns(), " ")));
-        if (std::find(header.begin(), header.begin() + long(i), header[i]) !=
-            header.begin() + long(i))
-          fail(line_no, fmt::format("column '{}' appears twice", header[i]));
-        eye_columns += eye_index(header[i]) >= 0;
-        columns.push_back(eye_index(header[i]) >= 0 ? nullptr : o);
-      }
-      if (eye_columns != 0 && eye_columns != 3)
-        fail(line_no, "columns easting, northing and elevation go together (all three or none)");
+      columns = header_columns(header, name, line_no, eye_columns);
       continue;
     }
     if (fields.size() != header.size())

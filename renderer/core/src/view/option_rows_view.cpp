@@ -37,8 +37,8 @@ void add_frame_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       [](RenderSettings& s, const std::string& v) { s.layers = parse_layers(v); }));
 }
 
-// Where the eye is: the view, the eye point, azimuth, altitude, field of view, map scale.
-static void add_eye_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+// The view (automatic, top, relief) and the eye point.
+static void add_view_options(std::vector<OptionSpec>& t, const GroupNames& g) {
   const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] =
       g;
   t.push_back(choice(
@@ -80,6 +80,12 @@ static void add_eye_options(std::vector<OptionSpec>& t, const GroupNames& g) {
         else if (std::sscanf(v.c_str(), "%lf %lf %lf", &x, &y, &z) == 3)
           s.frame.camera.eye = Eigen::Vector3d(x, y, z);
       }));
+}
+
+// The view's azimuth, altitude, field of view and map scale.
+static void add_angle_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] =
+      g;
   t.push_back(number(
       "view-az", camera, -1e9, 1e9, "degrees", "225",
       "Bearing of the line of sight, degrees clockwise from grid north",
@@ -99,6 +105,12 @@ static void add_eye_options(std::vector<OptionSpec>& t, const GroupNames& g) {
       "subject, PNG text and a "
       ".pgw world file)",
       [](auto& s) -> auto& { return s.frame.camera.map_scale; }));
+}
+
+// Where the eye is: the view, the eye point, azimuth, altitude, field of view, map scale.
+static void add_eye_options(std::vector<OptionSpec>& t, const GroupNames& g) {
+  add_view_options(t, g);
+  add_angle_options(t, g);
 }
 
 // The light and the exaggeration.
