@@ -47,6 +47,15 @@ const PlyElement* PlyHeader::find(const std::string& element) const {
   return nullptr;
 }
 
+// The rest of a format line: the format, or "" when it is none PLY knows (version 1.0).
+static std::string format_of(std::istringstream& ss) {
+  std::string a, b;
+  ss >> a >> b;
+  if ((a != "ascii" && a != "binary_little_endian" && a != "binary_big_endian") || b != "1.0")
+    return {};
+  return a;
+}
+
 // The rest of an element line (NAME COUNT) into `e`: "" or why it is wrong.
 static std::string parse_element(std::istringstream& ss, PlyElement& e) {
   std::string a, b, extra;
@@ -116,11 +125,8 @@ PlyHeader read_ply_header(std::istream& in, const std::string& name) {
     }
     if (key == "format") {
       if (!h.format.empty()) throw fail("a second format line", line_no);
-      std::string a, b;
-      ss >> a >> b;
-      if ((a != "ascii" && a != "binary_little_endian" && a != "binary_big_endian") || b != "1.0")
+      if (h.format = format_of(ss); h.format.empty())
         throw fail("unknown format '" + line + "'", line_no);
-      h.format = a;
     } else if (key == "element") {
       PlyElement e;
       if (const std::string why = parse_element(ss, e); !why.empty()) throw fail(why, line_no);

@@ -102,6 +102,24 @@ void add_divide_edges(const std::uint32_t* ids, std::size_t row0, std::size_t n,
   }
 }
 
+// A chain of grid corners (W corners a row) without the corners along straight runs.
+static std::vector<std::uint64_t> turning_corners(const std::vector<std::uint64_t>& path,
+                                                  std::uint64_t W) {
+  const auto dr = [&](std::uint64_t p, std::uint64_t q) {
+    return std::int64_t(q / W) - std::int64_t(p / W);
+  };
+  const auto dc = [&](std::uint64_t p, std::uint64_t q) {
+    return std::int64_t(q % W) - std::int64_t(p % W);
+  };
+  std::vector<std::uint64_t> kept = {path.front()};
+  for (std::size_t i = 1; i + 1 < path.size(); ++i)
+    if (dr(path[i - 1], path[i]) != dr(path[i], path[i + 1]) ||
+        dc(path[i - 1], path[i]) != dc(path[i], path[i + 1]))
+      kept.push_back(path[i]);
+  kept.push_back(path.back());
+  return kept;
+}
+
 std::vector<std::vector<std::uint64_t>> chain_divide_edges(std::vector<DivideEdge> edges,
                                                            std::size_t cols) {
   const std::uint64_t W = cols + 1;
@@ -134,21 +152,7 @@ std::vector<std::vector<std::uint64_t>> chain_divide_edges(std::vector<DivideEdg
       path.push_back(cur);
       if (std::distance(at(cur).first, at(cur).second) != 2) break;  // basins meet, or a free end
     }
-    // Leave out corners along straight runs.
-    std::vector<std::uint64_t> kept = {path.front()};
-    for (std::size_t i = 1; i + 1 < path.size(); ++i) {
-      const auto dr = [&](std::uint64_t p, std::uint64_t q) {
-        return std::int64_t(q / W) - std::int64_t(p / W);
-      };
-      const auto dc = [&](std::uint64_t p, std::uint64_t q) {
-        return std::int64_t(q % W) - std::int64_t(p % W);
-      };
-      if (dr(path[i - 1], path[i]) != dr(path[i], path[i + 1]) ||
-          dc(path[i - 1], path[i]) != dc(path[i], path[i + 1]))
-        kept.push_back(path[i]);
-    }
-    kept.push_back(path.back());
-    chains.push_back(std::move(kept));
+    chains.push_back(turning_corners(path, W));
   };
   // Chains from free ends and meeting corners first, then closed rings.
   for (std::size_t i = 0; i < ends.size();) {

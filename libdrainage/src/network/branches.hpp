@@ -10,6 +10,42 @@
 
 namespace drainage {
 
+// The branches headed in points lo .. hi - 1 (head[i] == 1), walked down (branches_from_heads)
+// into `bs` and their vertices into `vs`. In a valid network a point that heads no branch is
+// reached by exactly one walk; the marks (2: listed) keep a corrupt one (a cycle, a link
+// that is no neighbour) finite.
+template <class Down, class Order>
+void walk_band(std::size_t lo, std::size_t hi, std::size_t n,
+               terrain::BigVector<std::uint8_t>& head, Down& down, Order& order,
+               std::vector<Branch>& bs, terrain::BigVector<std::uint32_t>& vs) {
+  const auto mark = [&](std::size_t i) {
+    __atomic_store_n(&head[i], std::uint8_t(2), __ATOMIC_RELAXED);
+  };
+  const auto marked = [&](std::size_t i) {
+    return __atomic_load_n(&head[i], __ATOMIC_RELAXED) != 0;
+  };
+  for (std::size_t i = lo; i < hi; ++i) {
+    if (__atomic_load_n(&head[i], __ATOMIC_RELAXED) != 1) continue;
+    Branch b;
+    b.first = std::uint32_t(vs.size());
+    b.order = order(i);
+    std::uint32_t v = std::uint32_t(i);
+    while (true) {
+      vs.push_back(v);
+      mark(v);
+      const std::uint32_t d = down(v);
+      if (d == kNone || d >= n || order(d) != b.order ||
+          marked(d)) {  // a chain ends where the order changes
+        b.drains_into = d;
+        break;
+      }
+      v = d;
+    }
+    b.count = std::uint32_t(vs.size()) - b.first;
+    bs.push_back(b);
+  }
+}
+
 // The branches of a network whose heads are marked (head[i] = 1 at a head, 0 elsewhere,
 // `points` valid points): a branch starts at each head in ascending point order and follows
 // down(i) while order(i) stays the same and the next point is no head. down(i) and order(i)
@@ -22,14 +58,6 @@ void branches_from_heads(std::size_t rows, std::size_t cols, std::size_t points,
                          Emit&& emit, terrain::BigVector<std::uint32_t>& vertices) {
   const std::size_t n = rows * cols;
   const long R = long(rows);
-  // In a valid network a point that heads no branch is reached by exactly one walk. The
-  // marks (2: listed) keep a corrupt one (a cycle, a link that is no neighbour) finite.
-  const auto mark = [&](std::size_t i) {
-    __atomic_store_n(&head[i], std::uint8_t(2), __ATOMIC_RELAXED);
-  };
-  const auto marked = [&](std::size_t i) {
-    return __atomic_load_n(&head[i], __ATOMIC_RELAXED) != 0;
-  };
   // Bands of rows, walked a wave at a time on all threads and appended in order (a wave's
   // lists are all that is held besides the result).
   constexpr long kBands = 64, kWave = 8;
@@ -47,26 +75,7 @@ void branches_from_heads(std::size_t rows, std::size_t cols, std::size_t points,
       vs.clear();
       const std::size_t lo = std::size_t(band * R / kBands) * cols,
                         hi = std::size_t((band + 1) * R / kBands) * cols;
-      for (std::size_t i = lo; i < hi; ++i) {
-        if (__atomic_load_n(&head[i], __ATOMIC_RELAXED) != 1) continue;
-        Branch b;
-        b.first = std::uint32_t(vs.size());
-        b.order = order(i);
-        std::uint32_t v = std::uint32_t(i);
-        while (true) {
-          vs.push_back(v);
-          mark(v);
-          const std::uint32_t d = down(v);
-          if (d == kNone || d >= n || order(d) != b.order ||
-              marked(d)) {  // a chain ends where the order changes
-            b.drains_into = d;
-            break;
-          }
-          v = d;
-        }
-        b.count = std::uint32_t(vs.size()) - b.first;
-        bs.push_back(b);
-      }
+      walk_band(lo, hi, n, head, down, order, bs, vs);
     }
     for (std::size_t k = 0; k < std::size_t(kWave); ++k) {
       const auto offset = std::uint32_t(vertices.size());

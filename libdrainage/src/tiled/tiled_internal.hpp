@@ -37,6 +37,14 @@ inline std::size_t ring_position(std::size_t r, std::size_t c, std::size_t nr, s
 }
 inline std::size_t ring_size(std::size_t nr, std::size_t nc) { return 2 * nc + 2 * nr; }
 
+// The tiles of 0 .. nt - 1 this rank owns, in order.
+inline std::vector<std::size_t> owned_tiles(const TileComm& comm, std::size_t nt) {
+  std::vector<std::size_t> mine;
+  for (std::size_t t = 0; t < nt; ++t)
+    if (comm.owns(t)) mine.push_back(t);
+  return mine;
+}
+
 // This rank's tiles on all threads: `work(t)` for each tile, on whichever thread is free
 // (tiles differ in work), then `take(t, result)` for each in tile order, one at a time, by
 // the thread that completes the run of tiles ready in order. A thread starts a tile only
@@ -48,9 +56,7 @@ inline std::size_t ring_size(std::size_t nr, std::size_t nc) { return 2 * nc + 2
 // threads.
 template <class Work, class Take>
 void for_each_tile(const TileComm& comm, std::size_t nt, Work&& work, Take&& take) {
-  std::vector<std::size_t> mine;
-  for (std::size_t t = 0; t < nt; ++t)
-    if (comm.owns(t)) mine.push_back(t);
+  const std::vector<std::size_t> mine = owned_tiles(comm, nt);
   using Result = decltype(work(std::size_t(0)));
   const std::size_t m = mine.size(), window = 2 * std::size_t(omp_get_max_threads());
   std::vector<std::optional<Result>> ready(m);
