@@ -46,7 +46,8 @@ int run_banded(const Options& o, const std::string& pyramid, terrain::NormalWeig
                            verb);
   tt::step(verb, fmt::format("{} x {} mesh in bands of {} rows: {:.2f} s", r.topo.cols, r.topo.rows,
                              r.band_rows, since(t0)));
-  tmesh::print_mesh_summary(o.output, r.geo, r.topo, nw, nullptr, pyramid, r.pyramid_bytes);
+  tmesh::print_mesh_summary(o.output, r.geo, r.topo, nw, nullptr, pyramid, r.pyramid_bytes,
+                            r.topo.n_faces(), 0);
   return 0;
 }
 
@@ -119,8 +120,11 @@ int run(const Options& o, const std::string& provenance, const tt::Verbosity& ve
     tt::step(verb, fmt::format("levels of detail and {}: {:.2f} s", pyramid, since(t0)));
   }
   outputs.commit();
+  const std::size_t outside =
+      std::size_t(std::count(mesh.filled.begin(), mesh.filled.end(), terrain::kOutside));
   tmesh::print_mesh_summary(output, grid.geo, mesh.topo, nw, o.fit ? &fit_rep : nullptr, pyramid,
-                            pyramid_bytes);
+                            pyramid_bytes, outside ? mesh.kept_faces().size() : mesh.n_faces(),
+                            outside);
   return 0;
 }
 

@@ -12,6 +12,13 @@ std::vector<std::uint8_t> Grid::nodata_mask() const {
   return mask;
 }
 
+std::size_t Grid::mark_nodata(float value) {
+  std::size_t n = 0;
+  for (float& v : z)
+    if (v == value) v = std::numeric_limits<float>::quiet_NaN(), ++n;
+  return n;
+}
+
 std::size_t Grid::count_nodata() const {
   std::size_t n = 0;
   const float* v = z.data();

@@ -2,6 +2,7 @@
 
 #include <omp.h>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 #include "terrain/error.hpp"
@@ -219,6 +220,25 @@ void GridMeshRows::rows(std::size_t r0, std::size_t r1, Eigen::Vector3f* positio
   const auto [p, n] = rows(r0, r1);
   std::copy(p, p + (r1 - r0) * grid_.cols, positions);
   std::copy(n, n + (r1 - r0) * grid_.cols, normals);
+}
+
+bool GridMesh::face_kept(std::size_t f) const {
+  if (filled.size() != topo.n_vertices()) return true;
+  for (const std::uint32_t v : topo.face(f))
+    if (filled[v] == kOutside) return false;
+  return true;
+}
+
+std::vector<std::uint32_t> GridMesh::kept_faces() const {
+  std::vector<std::uint32_t> kept;
+  kept.reserve(n_faces());
+  for (std::size_t f = 0; f < n_faces(); ++f)
+    if (face_kept(f)) kept.push_back(std::uint32_t(f));
+  return kept;
+}
+
+bool GridMesh::has_holes() const {
+  return std::find(filled.begin(), filled.end(), std::uint8_t(kOutside)) != filled.end();
 }
 
 GridMesh grid_mesh_frame(const Georef& geo, std::size_t rows, std::size_t cols) {

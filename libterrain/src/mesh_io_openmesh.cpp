@@ -76,8 +76,9 @@ class PropertyKernel : public OM::BaseKernel {
 // Presents a GridMesh to OpenMesh's writers (PLY, OBJ) without building a half-edge mesh.
 class GridMeshExporter : public BaseExporter {
  public:
-  explicit GridMeshExporter(const GridMesh& m) : m_(m), kernel_(m.n_vertices(), m.n_faces()) {
-    const std::size_t nv = m.n_vertices(), nf = m.n_faces();
+  explicit GridMeshExporter(const GridMesh& m)
+      : m_(m), kept_(m.kept_faces()), kernel_(m.n_vertices(), kept_.size()) {
+    const std::size_t nv = m.n_vertices(), nf = kept_.size();
     if (!m.voronoi.empty()) {
       kernel_.add_vertex_floats("voronoi_area", nv,
                                 [&](std::size_t i) { return m.voronoi.vertex_areas[i]; });
@@ -86,7 +87,7 @@ class GridMeshExporter : public BaseExporter {
                                   [&](std::size_t i) { return m.voronoi.tangents[i][k]; });
       for (int k = 0; k < 3; ++k)
         kernel_.add_face_floats(kCornerArea[k], nf,
-                                [&](std::size_t i) { return m.voronoi.corner_areas[i][k]; });
+                                [&](std::size_t i) { return m.voronoi.corner_areas[kept_[i]][k]; });
     }
     if (m.normal_change.size() == nv)
       kernel_.add_vertex_floats("normal_change", nv,
@@ -112,14 +113,14 @@ class GridMeshExporter : public BaseExporter {
   OM::Vec3d normald(OM::VertexHandle v) const override { return OM::Vec3d(normal(v)); }
   bool is_normal_double() const override { return false; }
   unsigned int get_vhandles(OM::FaceHandle f, std::vector<OM::VertexHandle>& vh) const override {
-    const auto t = m_.topo.face(std::size_t(f.idx()));
+    const auto t = m_.topo.face(kept_[std::size_t(f.idx())]);
     vh.assign(
         {OM::VertexHandle(int(t[0])), OM::VertexHandle(int(t[1])), OM::VertexHandle(int(t[2]))});
     return 3;
   }
   OM::BaseKernel* kernel() override { return &kernel_; }
   size_t n_vertices() const override { return m_.n_vertices(); }
-  size_t n_faces() const override { return m_.n_faces(); }
+  size_t n_faces() const override { return kept_.size(); }  // outside the data: none
   size_t n_edges() const override { return 0; }
   bool is_triangle_mesh() const override { return true; }
   bool has_vertex_normals() const override { return true; }
@@ -171,6 +172,7 @@ class GridMeshExporter : public BaseExporter {
 
  private:
   const GridMesh& m_;
+  std::vector<std::uint32_t> kept_;  // the faces written (GridMesh::kept_faces)
   PropertyKernel kernel_;
 };
 
@@ -198,16 +200,18 @@ class GridMeshImporter : public BaseImporter {
     if (valid(v)) m_.normals[std::size_t(v.idx())] = {n[0], n[1], n[2]};
   }
   void set_normal(OM::VertexHandle v, const OM::Vec3d& n) override { set_normal(v, OM::Vec3f(n)); }
+  // The faces as read; checked by check_faces once the vertices' sources are known.
   OM::FaceHandle add_face(const VHandles& vh) override {
     const std::size_t f = faces_read++;
-    bool ok = vh.size() == 3 && f < m_.topo.n_faces();
-    if (ok) {
-      const auto t = m_.topo.face(f);
-      for (int k = 0; k < 3; ++k) ok = ok && vh[std::size_t(k)].idx() == int(t[std::size_t(k)]);
+    if (vh.size() != 3 || f >= m_.topo.n_faces()) {
+      ++bad_faces;
+    } else {
+      faces.push_back(
+          {std::uint32_t(vh[0].idx()), std::uint32_t(vh[1].idx()), std::uint32_t(vh[2].idx())});
     }
-    if (!ok) ++bad_faces;
     return OM::FaceHandle(int(f));
   }
+  std::vector<std::array<std::uint32_t, 3>> faces;
   OM::BaseKernel* kernel() override { return &kernel_; }
   PropertyKernel& properties() { return kernel_; }
   bool is_triangle_mesh() const override { return true; }
@@ -373,8 +377,14 @@ void read_optional(const std::string& path, GridMeshImporter& importer, GridMesh
   if (!k.vertex_floats("normal_change", [&](std::size_t i, float v) { m.normal_change[i] = v; }))
     m.normal_change = BigVector<float>{};
   m.filled.resize(m.n_vertices());
-  if (!k.vertex_floats("filled", [&](std::size_t i, float v) { m.filled[i] = v != 0.0f; }))
+  bool bad_source = false;
+  if (!k.vertex_floats("filled", [&](std::size_t i, float v) {
+        bad_source = bad_source || !(v >= 0.0f && v <= float(kVoidFilled) && v == std::floor(v));
+        m.filled[i] = bad_source ? 0 : std::uint8_t(v);
+      }))
     m.filled = BigVector<std::uint8_t>{};
+  if (bad_source)
+    throw Error("cannot read '" + path + "': a vertex's 'filled' is not 0, 1, 2 or 3");
 }
 
 }  // namespace
@@ -407,10 +417,21 @@ void read_body_openmesh(std::ifstream& in, GridMesh& m, const std::string& path)
   if (m.positions.size() != m.topo.n_vertices())
     throw Error(fmt::format("cannot read '{}': {} vertices, but its {} x {} grid needs {}", path,
                             m.positions.size(), m.topo.rows, m.topo.cols, m.topo.n_vertices()));
-  if (importer.faces_read != m.topo.n_faces() || importer.bad_faces != 0)
-    throw faces_error(path, m.topo, importer.faces_read, importer.bad_faces);
   check_vertices(m, path);
   read_optional(path, importer, m);
+  // The faces: the grid's triangulation, less those with a corner outside the data.
+  const std::vector<std::uint32_t> kept = m.kept_faces();
+  std::size_t bad = importer.bad_faces;
+  for (std::size_t j = 0; j < importer.faces.size(); ++j)
+    bad += j >= kept.size() || importer.faces[j] != m.topo.face(kept[j]);
+  if (importer.faces_read != kept.size() || bad != 0)
+    throw faces_error(path, m.topo, importer.faces_read, bad);
+  if (!m.voronoi.empty() && kept.size() != m.n_faces()) {  // read in kept-face order
+    auto by_face = m.voronoi.corner_areas;
+    std::fill(by_face.begin(), by_face.end(), Eigen::Vector3f::Zero());
+    for (std::size_t j = 0; j < kept.size(); ++j) by_face[kept[j]] = m.voronoi.corner_areas[j];
+    m.voronoi.corner_areas = std::move(by_face);
+  }
 }
 
 }  // namespace detail

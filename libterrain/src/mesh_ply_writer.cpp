@@ -34,8 +34,8 @@ std::string ply_header(const GridMesh& mesh, std::uint64_t digest, bool voronoi,
   }
   if (change) header += "property float normal_change\n";
   if (filled) header += "property float filled\n";
-  header +=
-      fmt::format("element face {}\nproperty list uchar int vertex_indices\n", mesh.n_faces());
+  const std::size_t faces = mesh.has_holes() ? mesh.kept_faces().size() : mesh.n_faces();
+  header += fmt::format("element face {}\nproperty list uchar int vertex_indices\n", faces);
   if (voronoi)
     for (const char* name : kCornerArea) header += fmt::format("property float {}\n", name);
   return header + "end_header\n";
@@ -83,6 +83,7 @@ std::size_t fill_ply_chunk(const GridMesh& mesh, const PlyChunk& ch, const Eigen
       // GridTopology::face's order: (NW, SW, SE), then (NW, SE, NE).
       const std::int32_t tri[2][3] = {{nw, sw, se}, {nw, se, ne}};
       for (int k = 0; k < 2; ++k) {
+        if (filled && !mesh.face_kept(f + std::size_t(k))) continue;  // outside the data
         const std::uint8_t three = 3;
         put(&three, 1);
         put(tri[k], 12);

@@ -139,6 +139,15 @@ struct Out {
 
 }  // namespace
 
+// Whether a vertex of block b lies outside the data (GridMesh::filled).
+static bool block_has_hole(const GridMesh& mesh, const MeshLevelBlock& b) {
+  if (mesh.filled.size() != mesh.n_vertices()) return false;
+  for (std::size_t r = b.r0; r <= std::size_t(b.r0) + b.nr; ++r)
+    for (std::size_t c = b.c0; c <= std::size_t(b.c0) + b.nc; ++c)
+      if (mesh.filled[r * mesh.topo.cols + c] == kOutside) return true;
+  return false;
+}
+
 MeshLevels build_mesh_levels(const GridMesh& mesh, std::size_t block) {
   MeshLevels h;
   h.topo = mesh.topo;
@@ -155,6 +164,8 @@ MeshLevels build_mesh_levels(const GridMesh& mesh, std::size_t block) {
     b.nr = std::uint32_t(std::min(block, cells_r - b.r0)),
     b.nc = std::uint32_t(std::min(block, cells_c - b.c0));
     measure_block(mesh, b);
+    if (block_has_hole(mesh, b))  // drawn whole: a coarser level would span the hole
+      for (std::size_t l = 1; l < b.error.size(); ++l) b.error[l] = kHoleError;
   }
   return h;
 }

@@ -124,7 +124,7 @@ void drop_filled_cells(const GridMesh& mesh, Grid& grid) {
       bool filled = false;
       for (std::size_t r = r0; r <= r1 + 1 && !filled; ++r)
         for (std::size_t c = c0; c <= c1 + 1 && !filled; ++c)
-          filled = mesh.filled[r * cols + c] != 0;
+          filled = !drained(mesh.filled[r * cols + c]);
       if (filled) grid.z[std::size_t(j) * grid.cols + i] = std::numeric_limits<float>::quiet_NaN();
     }
   }

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "terrain/dem_io.hpp"
+#include "terrain/grid_mesh.hpp"
 
 namespace terrain {
 
@@ -311,6 +312,37 @@ Grid resample_rows(const Grid& samples, const RasterWindow& w, const GridPlan& p
   return g;
 }
 
+std::vector<std::uint8_t> classify_nodata(const Grid& g, std::size_t max_void) {
+  const long R = long(g.rows), C = long(g.cols);
+  std::vector<std::uint8_t> mask(g.size(), 0);
+  std::vector<std::uint32_t> component, stack;
+  for (std::size_t s = 0; s < g.size(); ++s) {
+    if (!std::isnan(g.z[s]) || mask[s] != 0) continue;
+    component.clear();
+    stack.assign(1, std::uint32_t(s));
+    mask[s] = kOutside;  // visited
+    bool edge = false;
+    while (!stack.empty()) {
+      const std::uint32_t i = stack.back();
+      stack.pop_back();
+      component.push_back(i);
+      const long r = long(i) / C, c = long(i) % C;
+      edge = edge || r == 0 || c == 0 || r == R - 1 || c == C - 1;
+      for (long dr = -1; dr <= 1; ++dr)
+        for (long dc = -1; dc <= 1; ++dc) {
+          const long rr = r + dr, cc = c + dc;
+          if (rr < 0 || cc < 0 || rr >= R || cc >= C) continue;
+          const std::size_t j = std::size_t(rr * C + cc);
+          if (std::isnan(g.z[j]) && mask[j] == 0)
+            mask[j] = kOutside, stack.push_back(std::uint32_t(j));
+        }
+    }
+    if (!edge && component.size() <= max_void)
+      for (const std::uint32_t i : component) mask[i] = kVoidFilled;
+  }
+  return mask;
+}
+
 PreparedGrid resample_to_plan(const Grid& samples, const GridPlan& plan, const GridRequest& req,
                               const Progress& progress) {
   const RasterWindow& w = plan.source_window;
@@ -325,23 +357,12 @@ PreparedGrid resample_to_plan(const Grid& samples, const GridPlan& plan, const G
   g = Grid(plan.rows, plan.cols, tg);
   resample_rows_into(samples, w, plan, req, 0, g, progress);
 
-  const std::size_t missing = g.count_nodata();
-  if (missing > 0) {
-    if (!req.fill_nodata) {
-      std::size_t rmin = g.rows, rmax = 0, cmin = g.cols, cmax = 0;
-      for (std::size_t r = 0; r < g.rows; ++r)
-        for (std::size_t c = 0; c < g.cols; ++c)
-          if (std::isnan(g.at(r, c))) {
-            rmin = std::min(rmin, r), rmax = std::max(rmax, r);
-            cmin = std::min(cmin, c), cmax = std::max(cmax, c);
-          }
-      throw NodataError(fmt::format(
-          "{} no-data samples inside the chosen area (rows {}-{}, columns {}-{} of {} x {}; "
-          "x {:.1f}..{:.1f}, y {:.1f}..{:.1f}); crop them away or pass --fill-nodata",
-          missing, rmin, rmax, cmin, cmax, g.rows, g.cols, tg.x_of_col(double(cmin)),
-          tg.x_of_col(double(cmax)), tg.y_of_row(double(rmax)), tg.y_of_row(double(rmin))));
-    }
-    out.filled_mask = g.nodata_mask();
+  if (g.count_nodata() == g.size())
+    throw NodataError("every sample of the chosen area is no-data: crop to the data (--bbox)");
+  if (g.count_nodata() > 0) {
+    out.filled_mask = req.fill_nodata ? g.nodata_mask() : classify_nodata(g, req.max_void);
+    for (std::uint8_t m : out.filled_mask)
+      out.voids += m == kVoidFilled, out.outside += m == kOutside;
     out.filled = fill_nodata(g);
   }
   return out;

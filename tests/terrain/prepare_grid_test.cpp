@@ -6,9 +6,11 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 
 #include "terrain/dem_io.hpp"
+#include "terrain/grid_mesh.hpp"
 #include "terrain/prepare_grid.hpp"
 #include "terrain/resample.hpp"
 #include "terrain/utm.hpp"
@@ -230,17 +232,20 @@ TEST(PrepareGrid, CropByBboxAndByCenterAgree) {
     for (std::size_t c = 0; c < ga.cols; ++c) ASSERT_EQ(ga.at(r, c), src.at(r0 + r, c0 + c));
 }
 
-TEST(PrepareGrid, NodataIsAnErrorNamingCountAndPlace) {
+// No-data by default (docs/dem2mesh.md, "No-data"): sinmap's no-data lies around its data,
+// at the grid's edge: every no-data sample is outside (no face), filled for the normals
+// beside it, and the data untouched. With fill_nodata, every one is filled and invented.
+TEST(PrepareGrid, NodataAtTheEdgeIsOutsideOrFilled) {
   const Grid src = read_dem(data("sinmap_crop_10m.asc"));
-  try {
-    prepare_grid(src, {});
-    FAIL() << "expected an error";
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find(std::to_string(src.count_nodata()) + " no-data samples"), std::string::npos)
-        << msg;
-    EXPECT_NE(msg.find("rows 0-"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("--fill-nodata"), std::string::npos) << msg;
+  const PreparedGrid out = prepare_grid(src, {});
+  EXPECT_EQ(out.grid.count_nodata(), 0u);
+  EXPECT_EQ(out.outside, src.count_nodata());
+  EXPECT_EQ(out.voids, 0u);
+  for (std::size_t i = 0; i < src.size(); ++i) {
+    ASSERT_EQ(out.filled_mask[i], src.valid(i) ? kFromData : kOutside) << i;
+    if (src.valid(i)) {
+      ASSERT_EQ(out.grid.z[i], src.z[i]);
+    }
   }
   GridRequest fill;
   fill.fill_nodata = true;
@@ -256,6 +261,36 @@ TEST(PrepareGrid, NodataIsAnErrorNamingCountAndPlace) {
       ASSERT_TRUE(p.grid.z[i] >= s.min - 1e-3 && p.grid.z[i] <= s.max + 1e-3);
   }
   ASSERT_EQ(p.warnings.size(), 1u);  // no CRS: taken as metres
+}
+
+// Which no-data is a void (classify_nodata): on a disc of data (radius 40 samples in 101 x
+// 101) with a 3 x 3 void and a 20 x 20 one inside it, the 9 samples are a void (filled, flow
+// runs through), the 400 exceed max_void (256) and stay outside like the ring around the
+// disc, which reaches the grid's edge; with max_void 400 both voids are filled.
+TEST(PrepareGrid, SmallVoidsInsideTheDataAreFilledTheRestIsOutside) {
+  Georef geo;
+  geo.dx = geo.dy = 10;
+  Grid g(101, 101, geo);
+  std::size_t ring = 0;
+  for (long r = 0; r < 101; ++r)
+    for (long c = 0; c < 101; ++c) {
+      const bool out = std::hypot(double(r - 50), double(c - 50)) > 40;
+      const bool small = r >= 49 && r < 52 && c >= 20 && c < 23;
+      const bool big = r >= 40 && r < 60 && c >= 55 && c < 75;
+      g.at(std::size_t(r), std::size_t(c)) =
+          out || small || big ? std::numeric_limits<float>::quiet_NaN() : float(r + c);
+      ring += out;
+    }
+  std::vector<std::uint8_t> m = classify_nodata(g, 256);
+  std::size_t counts[4] = {0, 0, 0, 0};
+  for (const std::uint8_t v : m) ++counts[v];
+  EXPECT_EQ(counts[kVoidFilled], 9u);
+  EXPECT_EQ(counts[kOutside], ring + 400);
+  EXPECT_EQ(m[50 * 101 + 21], kVoidFilled);
+  EXPECT_EQ(m[50 * 101 + 60], kOutside);
+  m = classify_nodata(g, 400);
+  EXPECT_EQ(m[50 * 101 + 60], kVoidFilled);
+  EXPECT_EQ(m[0], kOutside);
 }
 
 TEST(PrepareGrid, ImpossibleRequests) {

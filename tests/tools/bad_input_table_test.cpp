@@ -121,17 +121,8 @@ class BadInput : public ::testing::TestWithParam<Row> {
       src.read(head.data(), 3000);
       std::ofstream(in("truncated.tif"), std::ios::binary) << head;
     }
-    const float nan = std::numeric_limits<float>::quiet_NaN();
     make_tif(in("all_nodata.tif"), 20, 20, std::vector<float>(400, -9999.0f), gt, kUtm10, -9999.0);
     std::vector<float> v = plane(20, 20);
-    v[10 * 20 + 10] = nan;  // NaN cells without a no-data value
-    v[11 * 20 + 12] = nan;
-    make_tif(in("nan_cells.tif"), 20, 20, v, gt, kUtm10);
-    v = plane(20, 20);
-    for (int r = 8; r < 12; ++r)
-      for (int c = 8; c < 12; ++c) v[std::size_t(r * 20 + c)] = -9999.0f;  // a hole in the middle
-    make_tif(in("hole.tif"), 20, 20, v, gt, kUtm10, -9999.0);
-    v = plane(20, 20);
     v[5] = std::numeric_limits<float>::infinity();
     make_tif(in("inf_cell.tif"), 20, 20, v, gt, kUtm10);
     make_tif(in("one_by_one.tif"), 1, 1, {100.0f}, gt, kUtm10);
@@ -407,9 +398,6 @@ INSTANTIATE_TEST_SUITE_P(
         Row{d2m + "NETCDF:IN/missing.nc:Band1 OUT/o.ply -q", 1, "not a raster GDAL can open"},
         // dem2mesh: DEMs with bad values or shapes
         Row{d2m + "IN/all_nodata.tif OUT/o.ply -q", 1, "every sample is no-data"},
-        Row{d2m + "IN/nan_cells.tif OUT/o.ply -q", 1, "2 no-data samples inside the chosen area"},
-        Row{d2m + "IN/hole.tif OUT/o.ply -q", 1,
-            "16 no-data samples inside the chosen area (rows 8-11"},
         Row{d2m + "IN/inf_cell.tif OUT/o.ply -q", 1,
             "1 samples are infinite (the first at row 0, column 5)"},
         Row{d2m + "IN/one_by_one.tif OUT/o.ply -q", 1, "a DEM needs at least 2 x 2"},

@@ -26,6 +26,20 @@ double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+// What became of the no-data samples (GridMesh::filled): a step at -v, no warning (the
+// outline following the data is the rule, docs/dem2mesh.md "No-data").
+void report_nodata(const tt::Verbosity& verb, const std::vector<std::uint8_t>& mask) {
+  std::size_t counts[4] = {0, 0, 0, 0};
+  for (const std::uint8_t m : mask) ++counts[m & 3];
+  if (counts[terrain::kInvented] > 0)
+    tt::warn(verb, fmt::format("filled {} no-data samples by interpolation (--fill-nodata)",
+                               counts[terrain::kInvented]));
+  if (counts[terrain::kOutside] + counts[terrain::kVoidFilled] > 0)
+    tt::step(verb, fmt::format("no-data: {} samples outside the data (no faces), {} in small "
+                               "voids filled",
+                               counts[terrain::kOutside], counts[terrain::kVoidFilled]));
+}
+
 }  // namespace
 
 // A raster DEM: only the source window the crop needs is read (plus the kernel's margin),
@@ -34,8 +48,8 @@ double since(Clock::time_point t0) {
 // `src_crs` (--src-crs) replaces the raster's own CRS, as gdalwarp's -s_srs.
 terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& req,
                           const std::string& dequantize, const std::string& src_crs,
-                          const tt::Verbosity& verb, terrain::Grid* source,
-                          std::vector<std::uint8_t>& filled) {
+                          std::optional<double> nodata, const tt::Verbosity& verb,
+                          terrain::Grid* source, std::vector<std::uint8_t>& filled) {
   auto t0 = Clock::now();
   terrain::DemInfo info = terrain::read_dem_info(input);
   if (!src_crs.empty()) terrain::assign_crs(info.geo, src_crs);
@@ -50,6 +64,7 @@ terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& 
                   win.rows),
       "crop it (--bbox, or --center with --size) or give a coarser --spacing");
   terrain::Grid dem = terrain::read_dem(input, tt::terminal_progress(verb, "read"), win);
+  if (nodata) dem.mark_nodata(float(*nodata));
   if (!src_crs.empty()) terrain::assign_crs(dem.geo, src_crs);
   tt::step(verb, fmt::format("read {} x {} of {} x {} samples: {:.2f} s", win.cols, win.rows,
                              info.cols, info.rows, since(t0)));
@@ -65,9 +80,8 @@ terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& 
   terrain::PreparedGrid prepared =
       terrain::resample_to_plan(dem, plan, req, tt::terminal_progress(verb, "resample"));
   for (const auto& w : prepared.warnings) tt::warn(verb, w);
-  if (prepared.filled > 0)
-    tt::warn(verb, fmt::format("filled {} no-data samples by interpolation", prepared.filled));
   filled = std::move(prepared.filled_mask);
+  report_nodata(verb, filled);
   tt::step(verb, fmt::format("grid {} x {} at {} m: {:.2f} s", prepared.grid.cols,
                              prepared.grid.rows, prepared.grid.geo.dx, since(t0)));
   if (source) *source = std::move(dem);
@@ -75,8 +89,8 @@ terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& 
 }
 
 // Scattered points: read, projected to UTM if geographic, triangulated and interpolated
-// onto the grid; no-data samples (outside the hull, long triangles) are an error unless
-// --fill-nodata, as for rasters.
+// onto the grid; no-data samples (outside the hull, long triangles) are outside the data,
+// as for rasters.
 terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& req,
                           const PointOptions& o, const tt::Verbosity& verb,
                           terrain::SourceSamples* source, std::vector<std::uint8_t>& filled) {
@@ -106,15 +120,15 @@ terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& 
   tt::step(verb, fmt::format(
                      "Delaunay triangulation of {} points, grid {} x {} at {} m ({}): {:.2f} s",
                      r.vertices, r.grid.cols, r.grid.rows, pr.spacing, o.interpolation, since(t0)));
-  if (r.nodata) {
-    if (!req.fill_nodata)
-      throw terrain::Error(fmt::format(
-          "{} of {} grid samples lie outside the points' convex hull{}; crop with --bbox "
-          "or pass --fill-nodata",
-          r.nodata, r.grid.size(), o.max_edge > 0 ? " or in triangles over --max-edge" : ""));
-    filled = r.grid.nodata_mask();
-    tt::warn(verb, fmt::format("filled {} no-data samples by interpolation",
-                               terrain::fill_nodata(r.grid)));
+  if (r.nodata == r.grid.size())
+    throw terrain::Error(fmt::format(
+        "all {} grid samples lie outside the points' convex hull{}; crop with --bbox to the points",
+        r.grid.size(), o.max_edge > 0 ? " or in triangles over --max-edge" : ""));
+  if (r.nodata) {  // outside the points' hull (or in triangles over --max-edge)
+    filled =
+        req.fill_nodata ? r.grid.nodata_mask() : terrain::classify_nodata(r.grid, req.max_void);
+    terrain::fill_nodata(r.grid);
+    report_nodata(verb, filled);
   }
   return std::move(r.grid);
 }
@@ -122,7 +136,7 @@ terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& 
 void print_mesh_summary(const std::string& output, const terrain::Georef& g,
                         const terrain::GridTopology& topo, terrain::NormalWeighting nw,
                         const terrain::NormalFitReport* fit, const std::string& pyramid,
-                        std::uint64_t pyramid_bytes) {
+                        std::uint64_t pyramid_bytes, std::size_t faces, std::size_t outside) {
   std::cout << "output: " << output << "\n"
             << "crs: " << terrain::crs_name(g) << (g.epsg ? fmt::format(" (EPSG:{})", g.epsg) : "")
             << "\n"
@@ -131,7 +145,10 @@ void print_mesh_summary(const std::string& output, const terrain::Georef& g,
             << fmt::format("extent: {:.3f} {:.3f} {:.3f} {:.3f}\n", g.x0,
                            g.y0 - double(topo.rows) * g.dy, g.x0 + double(topo.cols) * g.dx, g.y0)
             << "vertices: " << topo.n_vertices() << "\n"
-            << "faces: " << topo.n_faces() << "\n"
+            << "faces: " << faces << "\n"
+            << (outside
+                    ? fmt::format("outside_vertices: {} (no data: no face touches them)\n", outside)
+                    : "")
             << "normal_weighting: " << terrain::to_string(nw) << "\n";
   if (fit)
     std::cout << fmt::format(

@@ -2,6 +2,7 @@
 // dem2mesh's inputs onto the grid: a raster DEM (only the window the crop needs is read,
 // integer heights dequantized, resampled) or scattered points (projected, triangulated,
 // interpolated), with the source samples kept for --fit-normals.
+#include <optional>
 #include <string>
 
 #include "common.hpp"
@@ -19,8 +20,8 @@ namespace terrain::tools::mesh {
 // 1 where filled; empty when none was), for the mesh to record (GridMesh::filled).
 terrain::Grid raster_grid(const std::string& input, const terrain::GridRequest& req,
                           const std::string& dequantize, const std::string& src_crs,
-                          const Verbosity& verb, terrain::Grid* source,
-                          std::vector<std::uint8_t>& filled);
+                          std::optional<double> nodata, const Verbosity& verb,
+                          terrain::Grid* source, std::vector<std::uint8_t>& filled);
 
 struct PointOptions {
   std::string interpolation;  // linear, natural, natural-c0
@@ -39,6 +40,6 @@ terrain::Grid points_grid(const std::string& input, const terrain::GridRequest& 
 void print_mesh_summary(const std::string& output, const terrain::Georef& g,
                         const terrain::GridTopology& topo, terrain::NormalWeighting nw,
                         const terrain::NormalFitReport* fit, const std::string& pyramid,
-                        std::uint64_t pyramid_bytes);
+                        std::uint64_t pyramid_bytes, std::size_t faces, std::size_t outside);
 
 }  // namespace terrain::tools::mesh

@@ -31,7 +31,17 @@ void add_grid_options(CLI::App& app, Options& o) {
       ->check(CLI::IsMember({"bilinear", "cubic"}))
       ->capture_default_str();
   app.add_flag("--fill-nodata", o.req.fill_nodata,
-               "Interpolate no-data samples inside the area (GDALFillNodata) instead of failing");
+               "Interpolate every no-data sample (GDALFillNodata) and draw it, with no drainage "
+               "over it;\nby default no-data is outside the mesh: no face touches it");
+  app.add_option("--max-void", o.req.max_void,
+                 "A void of at most this many no-data samples inside the data (not at the "
+                 "grid's edge)\nis filled (GDALFillNodata) and flow runs through it; larger "
+                 "ones stay holes")
+      ->check(CLI::Range(std::size_t(0), std::size_t(1) << 30))
+      ->capture_default_str();
+  app.add_option("--nodata", o.nodata,
+                 "This height is no-data too, where the raster does not say so (gdalwarp "
+                 "-srcnodata): --nodata 0\nfor a DEM whose sea is 0");
   app.add_option("--normal-weighting", o.weighting,
                  "Vertex normals: uniform (normalized sum of face normals, the Creases paper), "
                  "angle or area")
@@ -119,8 +129,8 @@ terrain::Grid grid_of(const Options& o, const terrain::GridRequest& req, const V
                            "' is a raster" +
                            (lattice() ? " of XYZ text: pass --input points" : ""));
   try {
-    return raster_grid(input, req, o.dequantize, o.src_crs, verb, o.fit ? &source_dem : nullptr,
-                       filled);
+    return raster_grid(input, req, o.dequantize, o.src_crs, o.nodata, verb,
+                       o.fit ? &source_dem : nullptr, filled);
   } catch (const terrain::NodataError& e) {
     if (!lattice()) throw;
     throw terrain::Error(

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@ namespace terrain::tools::mesh {
 // The options as CLI11 fills them, and the options whose presence matters.
 struct Options {
   std::string input, output, resample = "bilinear", weighting = "uniform", grid_out;
+  std::optional<double> nodata;  // --nodata
   std::string interpolation = "natural", src_crs, utm_zone, dequantize = "auto",
               input_kind = "auto";
   double max_edge = 0.0, spacing = 0.0;

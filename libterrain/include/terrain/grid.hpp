@@ -62,6 +62,8 @@ struct Grid {
 
   // 1 where the sample is no-data, 0 elsewhere (rows * cols).
   std::vector<std::uint8_t> nodata_mask() const;
+  // Marks every sample equal to `value` no-data (NaN); returns how many.
+  std::size_t mark_nodata(float value);
   std::size_t count_nodata() const;
 };
 

@@ -114,15 +114,31 @@ struct GridMesh {
   std::string provenance;                // tool, version, command line (free text)
   VoronoiWeights voronoi;                // empty unless computed (voronoi_weights) or read
   BigVector<float> normal_change;        // #V degrees, written by denoise-normals; else empty
-  // #V, 1 where the vertex's height was invented by dem2mesh --fill-nodata (no-data in the
-  // source), else empty: sample_pn_surface gives no-data over the cells it touches, so no
-  // drainage line is drawn on invented ground.
+  // #V, where each vertex's height comes from (VertexSource) when the source had no-data
+  // under the mesh, else empty. Over the cells an Invented or Outside vertex touches,
+  // sample_pn_surface gives no-data: no drainage line is drawn on invented ground.
   BigVector<std::uint8_t> filled;
   NormalFitInfo normal_fit;  // fitted normals (not after denoise-normals)
 
   std::size_t n_vertices() const { return positions.size(); }
-  std::size_t n_faces() const { return topo.n_faces(); }
+  std::size_t n_faces() const { return topo.n_faces(); }  // the grid's, holes included
+  // Whether face f is part of the surface: none of its corners lies outside the data.
+  bool face_kept(std::size_t f) const;
+  // The faces that are (face_kept), in face order; every face when the mesh has no hole.
+  std::vector<std::uint32_t> kept_faces() const;
+  bool has_holes() const;  // a vertex lies outside the data
 };
+
+// Where a vertex's height comes from (GridMesh::filled). A face with an Outside corner is
+// no face: the mesh's outline follows the data (docs/dem2mesh.md, "No-data").
+enum VertexSource : std::uint8_t {
+  kFromData = 0,
+  kInvented = 1,    // dem2mesh --fill-nodata: drawn, no drainage over its cells
+  kOutside = 2,     // no data around: no face touches it, no drainage over its cells
+  kVoidFilled = 3,  // a small void inside the data, filled: drawn, and flow runs through it
+};
+// Whether the drainage is sampled over the cells a vertex of this source touches.
+inline bool drained(std::uint8_t source) { return source == kFromData || source == kVoidFilled; }
 
 enum class NormalWeighting { Uniform, Angle, Area };
 

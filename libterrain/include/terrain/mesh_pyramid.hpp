@@ -70,6 +70,10 @@ struct MeshLevels {
   std::optional<Window> window;
 };
 
+// The error of a coarser level of a block with a vertex outside the data: so large that no
+// bound draws it (a coarse cell would span the hole; the block is drawn at level 0).
+inline constexpr float kHoleError = 1e30f;
+
 MeshLevels build_mesh_levels(const GridMesh& mesh, std::size_t block = kLevelBlock);
 
 // The kept positions 0..n of a block side of n cells at step s: 0, s, 2s, ... below n, and n.

@@ -22,15 +22,26 @@ struct GridRequest {
   std::optional<std::array<double, 2>> size;    // ... and width height in metres
   std::optional<std::string> utm_zone;          // "17", "17N", "17S": geographic input only
   Resampling resampling = Resampling::Bilinear;
-  bool fill_nodata = false;  // else no-data in the area is an error
+  // No-data in the area (docs/dem2mesh.md, "No-data"): with fill_nodata, every no-data
+  // sample is filled and marked kInvented (drawn, not drained). Without, a void of at most
+  // max_void samples that does not reach the grid's edge is filled and marked kVoidFilled
+  // (drawn and drained); every other no-data sample is filled (for the normals beside it)
+  // and marked kOutside: no face touches it.
+  bool fill_nodata = false;
+  std::size_t max_void = 256;
 };
 
 struct PreparedGrid {
   Grid grid;
   std::vector<std::string> warnings;      // for the tool to print (for example: no CRS)
   std::size_t filled = 0;                 // no-data samples filled by interpolation
-  std::vector<std::uint8_t> filled_mask;  // #samples, 1 where filled; empty when none was
+  std::size_t voids = 0, outside = 0;     // of them: in small voids, outside the data
+  std::vector<std::uint8_t> filled_mask;  // #samples, terrain::VertexSource; empty: no no-data
 };
+
+// Each no-data sample's source (terrain::VertexSource): kVoidFilled in 8-connected voids of at
+// most `max_void` samples that do not touch the grid's edge, else kOutside; 0 for data.
+std::vector<std::uint8_t> classify_nodata(const Grid& g, std::size_t max_void);
 
 // Rules (documented in docs/dem2mesh.md, tested in tests/prepare_grid_test.cpp):
 //  * Geographic source: target = UTM zone of the DEM centre (or `utm_zone`) on the
@@ -45,8 +56,8 @@ struct PreparedGrid {
 //    the source samples themselves. No CRS: taken as metres, with a warning.
 //  * Crop: the target samples are those whose centres lie inside the bbox (or the
 //    centre/size box). A box reaching beyond the DEM's extent is an error.
-//  * No-data in the result: Error naming the count and bounding rows/columns/coordinates,
-//    unless fill_nodata (GDALFillNodata on the result).
+//  * No-data in the result: outside the data or small voids (GridRequest::max_void), or
+//    everything filled with fill_nodata (GDALFillNodata on the result).
 // Throws Error for every impossible request (spacing <= 0, empty area, < 2 x 2 samples,
 // more than 2^31 - 1 samples, all no-data).
 PreparedGrid prepare_grid(const Grid& source, const GridRequest& request,

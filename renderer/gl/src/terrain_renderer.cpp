@@ -118,6 +118,11 @@ struct TerrainRenderer::Impl {
       if (drawn_vertices_only(held, style, layers)) source = &mesh;
       lod = levels ? std::move(levels) : std::make_shared<const LodHierarchy>(build_lod(mesh));
     }
+    if (mesh.has_holes()) {
+      outside.resize(mesh.n_vertices());
+      for (std::size_t i = 0; i < outside.size(); ++i)
+        outside[i] = mesh.filled[i] == terrain::kOutside;
+    }
     GLint max_gen = 64;
     glGetIntegerv(GL_MAX_TESS_GEN_LEVEL, &max_gen);
     max_level = std::min(32, int(max_gen));
@@ -149,6 +154,7 @@ struct TerrainRenderer::Impl {
   std::vector<std::uint8_t>
       lod_levels;  // the levels scene's patches are at (none before the first frame)
   std::vector<std::uint8_t> lod_facing;  // and the blocks marked facing among them (facing_blocks)
+  std::vector<std::uint8_t> outside;     // per vertex: 1 outside the data (its faces not drawn)
 
   // In the order they run.
   std::array<passes::PassBase*, kPassCount> sequence() {
@@ -275,11 +281,13 @@ FrameResult TerrainRenderer::render(const FrameParams& frame) {
         facing_blocks(*m.lod, res.view, m.style.exaggeration, levels);
     if (levels != m.lod_levels || facing != m.lod_facing) {
       if (m.source) {
-        m.scene.set_lod_mesh(lod_mesh(*m.lod, levels, facing), *m.source);
+        LodMesh lm = lod_mesh(*m.lod, levels, facing);
+        drop_outside_patches(lm.patches, m.outside, &lm.vertices, &lm.may_face_away);
+        m.scene.set_lod_mesh(lm, *m.source);
       } else {
         std::size_t may_face_away = 0;
-        const std::vector<std::uint32_t> patches =
-            lod_patches(*m.lod, levels, facing, &may_face_away);
+        std::vector<std::uint32_t> patches = lod_patches(*m.lod, levels, facing, &may_face_away);
+        drop_outside_patches(patches, m.outside, nullptr, &may_face_away);
         m.scene.set_patches(patches, may_face_away);
       }
       m.lod_levels = std::move(levels), m.lod_facing = std::move(facing);

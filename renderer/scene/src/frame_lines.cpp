@@ -202,8 +202,9 @@ void leave_out_filled(HachureField& field, const terrain::GridMesh& mesh, const 
       const long c = std::clamp(long(std::floor(p.x() / mesh.geo.dx)), 0L, long(t.cols) - 2);
       const long r = std::clamp(long(std::floor(-p.y() / mesh.geo.dy)), 0L, long(t.rows) - 2);
       const std::size_t k = std::size_t(r) * t.cols + std::size_t(c);
-      if (mesh.filled[k] || mesh.filled[k + 1] || mesh.filled[k + t.cols] ||
-          mesh.filled[k + t.cols + 1])
+      if (!terrain::drained(mesh.filled[k]) || !terrain::drained(mesh.filled[k + 1]) ||
+          !terrain::drained(mesh.filled[k + t.cols]) ||
+          !terrain::drained(mesh.filled[k + t.cols + 1]))
         field.slope[i] = std::numeric_limits<float>::quiet_NaN();
     }
 }

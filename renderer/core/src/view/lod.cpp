@@ -237,6 +237,21 @@ std::vector<std::uint32_t> lod_patches(const LodHierarchy& h,
   return std::move(m.patches);
 }
 
+void drop_outside_patches(std::vector<std::uint32_t>& patches,
+                          const std::vector<std::uint8_t>& outside,
+                          const std::vector<std::uint32_t>* vertices, std::size_t* may_face_away) {
+  if (outside.empty()) return;
+  const auto out = [&](std::uint32_t i) { return outside[vertices ? (*vertices)[i] : i] != 0; };
+  std::size_t kept = 0, away = 0;
+  for (std::size_t t = 0; t + 2 < patches.size(); t += 3) {
+    if (out(patches[t]) || out(patches[t + 1]) || out(patches[t + 2])) continue;
+    if (may_face_away && t / 3 < *may_face_away) ++away;
+    std::copy_n(patches.begin() + long(t), 3, patches.begin() + long(3 * kept++));
+  }
+  patches.resize(3 * kept);
+  if (may_face_away) *may_face_away = away;
+}
+
 BlockRange blocks_in_view(const LodHierarchy& h, const std::vector<View>& views, double e) {
   BlockRange r{h.block_rows, h.block_cols, 0, 0};
   for (std::size_t k = 0; k < h.blocks.size(); ++k) {

@@ -20,14 +20,17 @@ SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev, bool n
   nrm_buf =
       make_buffer(vertex_capacity * sizeof(Eigen::Vector3f),
                   resident ? mesh.normals.data() : nullptr, resident ? 0 : GL_DYNAMIC_STORAGE_BIT);
-  std::vector<std::uint32_t> idx(all_patches ? mesh.n_faces() * 3 : 3);
-  if (all_patches)
-    for (std::size_t f = 0; f < mesh.n_faces(); ++f) {
-      const auto t = mesh.topo.face(f);
-      std::copy(t.begin(), t.end(), idx.begin() + long(3 * f));
-    }
-  index_buf = make_buffer(idx.size() * 4, idx.data(), GL_DYNAMIC_STORAGE_BIT);
-  n_patches = patch_capacity = n_away_patches = all_patches ? mesh.n_faces() : 0;
+  // The faces drawn: every face of the grid but those outside the data (GridMesh::face_kept).
+  const std::vector<std::uint32_t> faces =
+      all_patches ? mesh.kept_faces() : std::vector<std::uint32_t>{};
+  std::vector<std::uint32_t> idx(all_patches ? faces.size() * 3 : 3);
+  for (std::size_t j = 0; j < faces.size(); ++j) {
+    const auto t = mesh.topo.face(faces[j]);
+    std::copy(t.begin(), t.end(), idx.begin() + long(3 * j));
+  }
+  index_buf =
+      make_buffer(std::max<std::size_t>(idx.size(), 3) * 4, idx.data(), GL_DYNAMIC_STORAGE_BIT);
+  n_patches = patch_capacity = n_away_patches = faces.size();
   vao = GlObject(GlKind::VertexArray);
   for (const auto& [a, buf] : {std::pair<GLuint, const GlObject*>{TR_ATTR_POSITION, &pos_buf},
                                {TR_ATTR_NORMAL, &nrm_buf}}) {

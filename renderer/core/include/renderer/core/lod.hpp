@@ -67,6 +67,13 @@ double nearest_pixel_metres(const LodHierarchy* h, const Box& box, const View& v
 // and the whole mesh's when only a window of it is held (LodHierarchy::window).
 Box levels_box(const LodHierarchy& h, double exaggeration);
 
+// `patches` (triangles of indices into `vertices` when given, else of held vertices) less
+// those with a vertex outside the data (`outside`, per held vertex: non-zero outside; empty:
+// none is), `*may_face_away` (the leading patches that may face away) counted again.
+void drop_outside_patches(std::vector<std::uint32_t>& patches,
+                          const std::vector<std::uint8_t>& outside,
+                          const std::vector<std::uint32_t>* vertices, std::size_t* may_face_away);
+
 // The blocks (rows br0 .. br1 - 1, columns bc0 .. bc1 - 1 of h's) that hold every block in
 // any of `views` (nearest_depth finite, heights times `exaggeration`) and one more around
 // them, for a PN patch's bulge past its block's box; empty (br1 = 0) when none is in view.
