@@ -224,6 +224,83 @@ TEST(Dem2mesh, RastersWithoutACrsGiveMeshesEveryToolTakes) {
   }
 }
 
+// No-data as a hydrologist's clipped DEM has it (docs/dem2mesh.md, "No-data"): a cone on a
+// disc of data (radius 30 samples of 10 m in 80 x 80, no-data around it) and a 2 x 2 void
+// on its flank. With no option: the void is filled (its vertices drawn and drained), the
+// ring is outside (no face touches it: the faces are those of the data's cells, within
+// 3 %); no drainage point outside the disc; the top view draws nothing more than 2 px
+// beyond the disc.
+TEST(Dem2mesh, NodataIsOutsideTheMesh) {
+  terrain::test::ScratchDir dir;
+  Georef geo;
+  geo.x0 = 500000, geo.y0 = 5000000, geo.dx = geo.dy = 10;
+  Grid dem(80, 80, geo);
+  const auto radius = [](std::size_t r, std::size_t c) {
+    return std::hypot(double(r) - 39.5, double(c) - 39.5);
+  };
+  std::size_t data_cells = 0;
+  for (std::size_t r = 0; r < 80; ++r)
+    for (std::size_t c = 0; c < 80; ++c) {
+      const bool out = radius(r, c) > 30, vd = r >= 20 && r < 22 && c >= 40 && c < 42;
+      dem.at(r, c) =
+          out || vd ? std::numeric_limits<float>::quiet_NaN() : float(500 - 8 * radius(r, c));
+    }
+  for (std::size_t r = 0; r + 1 < 80; ++r)
+    for (std::size_t c = 0; c + 1 < 80; ++c)
+      data_cells += radius(r, c) <= 30 && radius(r + 1, c) <= 30 && radius(r, c + 1) <= 30 &&
+                    radius(r + 1, c + 1) <= 30;
+  write_geotiff(dem, dir.path("dem.tif"));
+  const std::string m = dir.path("m.ply"), dv = dir.path("m.dv");
+  const auto made = run(tool("dem2mesh") + " " + dir.path("dem.tif") + " " + m);
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  const GridMesh mesh = read_mesh_ply(m);
+  ASSERT_EQ(mesh.filled.size(), mesh.n_vertices());
+  for (std::size_t r = 0; r < 80; ++r)
+    for (std::size_t c = 0; c < 80; ++c) {
+      const bool vd = r >= 20 && r < 22 && c >= 40 && c < 42;
+      ASSERT_EQ(mesh.filled[r * 80 + c], radius(r, c) > 30 ? kOutside
+                                         : vd              ? kVoidFilled
+                                                           : kFromData)
+          << r << " " << c;
+    }
+  const double faces = double(mesh.kept_faces().size());
+  EXPECT_NEAR(faces / (2.0 * double(data_cells)), 1.0, 0.03) << faces << " " << data_cells;
+  EXPECT_NE(made.out.find(fmt::format("faces: {}\n", mesh.kept_faces().size())), std::string::npos)
+      << made.out;
+  ASSERT_EQ(run(tool("build-drainage") + " " + m + " " + dv + " -q").exit_code, 0);
+  const auto links = drainage::drainage_links(drainage::read_dv(dv));
+  ASSERT_EQ(links.rows, 80u);
+  std::size_t valid_inside = 0;
+  for (std::size_t r = 0; r < 80; ++r)
+    for (std::size_t c = 0; c < 80; ++c) {
+      if (radius(r, c) > 31) {
+        ASSERT_FALSE(links.valid[r * 80 + c]) << r << " " << c;
+      }
+      valid_inside += radius(r, c) < 29 && links.valid[r * 80 + c];
+    }
+  EXPECT_GT(valid_inside, 2400u);  // the void drains: the disc within 29 samples is 2642
+  const auto shot = run(tool("terrain-render") + " frame " + m +
+                        " --view top --size 400x400 --layers mask -o " + dir.path("top.png"));
+  ASSERT_EQ(shot.exit_code, 0) << shot.err;
+  const std::size_t at = shot.out.find(" m a pixel");
+  ASSERT_NE(at, std::string::npos) << shot.out;
+  const double scale = std::stod(shot.out.substr(shot.out.rfind(' ', at - 1) + 1));
+  OIIO::ImageBuf top(dir.path("top.png"));
+  double sx = 0, sy = 0, n = 0;
+  std::vector<std::pair<int, int>> white;
+  for (int y = 0; y < 400; ++y)
+    for (int x = 0; x < 400; ++x) {
+      float px[3];
+      top.getpixel(x, y, px, 3);
+      if (px[0] > 0.99f && px[1] > 0.99f && px[2] > 0.99f)
+        white.push_back({x, y}), sx += x, sy += y, n += 1;
+    }
+  ASSERT_GT(n, 1000);
+  const double reach = 300.0 / scale + 2.0;  // the disc's radius in pixels, and 2
+  for (const auto& [x, y] : white)
+    ASSERT_LE(std::hypot(x - sx / n, y - sy / n), reach) << x << " " << y;
+}
+
 // Issue 50: ground that --fill-nodata invents carries no drainage. A 10 m DEM (a slope with
 // a valley, no CRS) with a 20 x 20 hole of no-data: the mesh records the 400 filled
 // vertices (PLY property `filled`, kept by denoise-normals, counted by terrain-inspect),
@@ -243,8 +320,12 @@ TEST(Dem2mesh, FilledSamplesCarryNoDrainage) {
     }
   write_geotiff(dem, dir.path("dem.tif"));
   const std::string m = dir.path("m.ply"), dv = dir.path("m.dv");
-  ASSERT_EQ(run(tool("dem2mesh") + " " + dir.path("dem.tif") + " " + m + " -q").exit_code,
-            1);  // no-data: refused
+  {  // with no option the hole (400 samples, over --max-void) is outside the mesh
+    ASSERT_EQ(run(tool("dem2mesh") + " " + dir.path("dem.tif") + " " + m + " -q").exit_code, 0);
+    const GridMesh holed = read_mesh_ply(m);
+    ASSERT_EQ(holed.filled.size(), holed.n_vertices());
+    EXPECT_EQ(std::count(holed.filled.begin(), holed.filled.end(), kOutside), 400);
+  }
   const auto made =
       run(tool("dem2mesh") + " " + dir.path("dem.tif") + " " + m + " --fill-nodata -q");
   ASSERT_EQ(made.exit_code, 0) << made.err;
