@@ -27,6 +27,11 @@ constexpr double kMaxAutoAlt = 55, kAutoCoverage = 0.6;
 
 namespace {
 
+// Whether vertex i lies outside the data (no face drawn touches it).
+bool outside(const terrain::GridMesh& mesh, std::size_t i) {
+  return !mesh.filled.empty() && mesh.filled[i] == terrain::kOutside;
+}
+
 // Vertex i of `mesh` as drawn: local frame, height times the exaggeration e.
 Eigen::Vector3d drawn_vertex(const terrain::GridMesh& mesh, std::size_t i, double e) {
   const Eigen::Vector3f& p = mesh.positions[i];
@@ -42,7 +47,8 @@ std::vector<std::size_t> grid_samples(std::size_t n, std::size_t step) {
 }
 
 // The points a default view frames: every vertex, or every s-th in rows and columns (and the
-// last row and column) on a large mesh, at most ~256 k; no-data vertices left out.
+// last row and column) on a large mesh, at most ~256 k; no-data vertices and those outside
+// the data left out: the view frames the data, not the grid's rectangle.
 std::vector<Eigen::Vector3d> framing_points(const terrain::GridMesh& mesh, double e) {
   const std::size_t rows = mesh.topo.rows, cols = mesh.topo.cols;
   const std::size_t s =
@@ -50,7 +56,8 @@ std::vector<Eigen::Vector3d> framing_points(const terrain::GridMesh& mesh, doubl
   std::vector<Eigen::Vector3d> points;
   for (const std::size_t r : grid_samples(rows, s))
     for (const std::size_t c : grid_samples(cols, s))
-      if (const Eigen::Vector3d p = drawn_vertex(mesh, r * cols + c, e); p.allFinite())
+      if (const Eigen::Vector3d p = drawn_vertex(mesh, r * cols + c, e);
+          p.allFinite() && !outside(mesh, r * cols + c))
         points.push_back(p);
   if (points.size() < 3) throw terrain::Error("the mesh has no faces");
   return points;
@@ -342,16 +349,19 @@ ReliefView relief_view(const terrain::GridMesh& mesh, double e, double fov_deg, 
 double auto_exaggeration(const terrain::GridMesh& mesh) {
   const std::size_t n = mesh.n_vertices();
   if (n == 0) return 1.0;
-  std::vector<float> z(n);
+  std::vector<float> z;  // of the data's vertices
+  z.reserve(n);
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::max()), hi = -lo;
   for (std::size_t i = 0; i < n; ++i) {
+    if (outside(mesh, i)) continue;
     const Eigen::Vector3f& p = mesh.positions[i];
-    z[i] = p.z();
+    z.push_back(p.z());
     lo = lo.cwiseMin(Eigen::Vector2d(p.x(), p.y())),
     hi = hi.cwiseMax(Eigen::Vector2d(p.x(), p.y()));
   }
+  if (z.empty()) return 1.0;
   auto percentile = [&](double q) {
-    const auto at = z.begin() + std::ptrdiff_t(q * double(n - 1));
+    const auto at = z.begin() + std::ptrdiff_t(q * double(z.size() - 1));
     std::nth_element(z.begin(), at, z.end());
     return double(*at);
   };

@@ -313,7 +313,9 @@ Box MeshHolding::box(double exaggeration) const {
   if (part()) return levels_box(*levels_, exaggeration);
   Box box{Eigen::Vector3d::Constant(std::numeric_limits<double>::max()),
           Eigen::Vector3d::Constant(-std::numeric_limits<double>::max())};
+  const bool holes = held_.filled.size() == held_.n_vertices();
   for (std::size_t i = 0; i < held_.n_vertices(); ++i) {
+    if (holes && held_.filled[i] == terrain::kOutside) continue;  // not drawn
     Eigen::Vector3d p = held_.positions[i].cast<double>();
     p.z() *= exaggeration;
     box.lo = box.lo.cwiseMin(p);

@@ -107,7 +107,8 @@ class MeshHolding {
   Eigen::Vector2d window_origin() const;
   // The whole mesh's extent in the held mesh's local frame: xmin, ymin, xmax, ymax.
   Eigen::Vector4f local_extent() const;
-  // The whole mesh's box, heights times `exaggeration` (levels_box when a part is held).
+  // The whole mesh's box, heights times `exaggeration` (levels_box when a part is held); of
+  // the vertices drawn: those outside the data left out.
   Box box(double exaggeration) const;
   // Whether it is drawn with levels of detail: always when a part is held, else with a
   // positive bound (Style::levels_of_detail) on a mesh of more than one block.
