@@ -1,4 +1,5 @@
 // The mesh file: round trip and rejection of bad files.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -78,9 +79,21 @@ TEST(MeshIo, BlockWriterWritesOpenMeshsBytes) {
   GridMesh filled = denoised;
   filled.filled.assign(filled.n_vertices(), 0);
   for (std::size_t i = 0; i < filled.n_vertices(); i += 7) filled.filled[i] = 1;
+  // With holes (docs/dem2mesh.md, "No-data"): a disc of data, every source of vertex; the
+  // faces with an outside corner are left out, with their corner areas.
+  GridMesh holed = denoised;
+  holed.filled.assign(holed.n_vertices(), kFromData);
+  const double rc = 0.5 * double(holed.topo.rows - 1), cc = 0.5 * double(holed.topo.cols - 1);
+  for (std::size_t r = 0; r < holed.topo.rows; ++r)
+    for (std::size_t c = 0; c < holed.topo.cols; ++c)
+      if (std::hypot(double(r) - rc, double(c) - cc) > 0.4 * double(holed.topo.rows))
+        holed.filled[r * holed.topo.cols + c] = std::uint8_t(kOutside);
+      else if ((r + c) % 11 == 0)
+        holed.filled[r * holed.topo.cols + c] = std::uint8_t((r + c) % 2 ? kInvented : kVoidFilled);
+  ASSERT_TRUE(holed.has_holes());
   int k = 0;
   for (const GridMesh* m :
-       {&plain, &denoised, &only_change, &fitted, &large, &large_denoised, &filled}) {
+       {&plain, &denoised, &only_change, &fitted, &large, &large_denoised, &filled, &holed}) {
     const std::string n =
         std::to_string(k) + ".ply";  // appended: `"a" + std::string` trips GCC 12's -Wrestrict
     std::string a = "a", b = "b";
@@ -90,7 +103,17 @@ TEST(MeshIo, BlockWriterWritesOpenMeshsBytes) {
     const std::string fa = test::file_bytes(a), fb = test::file_bytes(b);
     EXPECT_GT(fa.size(), 24 * m->n_vertices()) << k;
     EXPECT_TRUE(fa == fb) << "mesh " << k << ": " << fa.size() << " vs " << fb.size() << " bytes";
-    EXPECT_TRUE(read_mesh_ply(a).filled == m->filled) << k;
+    const GridMesh back = read_mesh_ply(a);
+    EXPECT_TRUE(back.filled == m->filled) << k;
+    if (m == &holed) {  // the kept faces' corner areas read back in place, the others 0
+      const std::vector<std::uint32_t> kept = m->kept_faces();
+      ASSERT_LT(kept.size(), m->n_faces());
+      EXPECT_NE(fa.find(fmt::format("element face {}\n", kept.size())), std::string::npos);
+      for (std::size_t f = 0; f < m->n_faces(); ++f)
+        ASSERT_EQ(back.voronoi.corner_areas[f],
+                  m->face_kept(f) ? m->voronoi.corner_areas[f] : Eigen::Vector3f::Zero())
+            << f;
+    }
     ++k;
   }
 }

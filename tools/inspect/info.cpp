@@ -68,9 +68,17 @@ void print_mesh_attributes(const terrain::GridMesh& m) {
   } else {
     std::cout << "denoised: no\n";
   }
-  // Heights dem2mesh --fill-nodata invented: no drainage is sampled over their cells.
-  std::cout << "filled_vertices: " << std::count(m.filled.begin(), m.filled.end(), std::uint8_t(1))
-            << "\n";
+  // Where the heights come from (terrain::VertexSource): invented by --fill-nodata (no
+  // drainage over their cells), outside the data (no face), small voids filled.
+  const auto count = [&](std::uint8_t v) {
+    return std::count(m.filled.begin(), m.filled.end(), v);
+  };
+  const std::size_t kept = m.kept_faces().size();
+  std::cout << "filled_vertices: " << count(terrain::kInvented) << "\n"
+            << "outside_vertices: " << count(terrain::kOutside) << "\n"
+            << "void_filled_vertices: " << count(terrain::kVoidFilled) << "\n"
+            << fmt::format("faces_kept: {} ({:.1f} % of the grid's)\n", kept,
+                           100.0 * double(kept) / double(std::max<std::size_t>(1, m.n_faces())));
   const terrain::NormalFitInfo& fit = m.normal_fit;
   if (fit.fitted)
     std::cout << fmt::format(

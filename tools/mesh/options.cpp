@@ -129,8 +129,13 @@ terrain::Grid grid_of(const Options& o, const terrain::GridRequest& req, const V
                            "' is a raster" +
                            (lattice() ? " of XYZ text: pass --input points" : ""));
   try {
-    return raster_grid(input, req, o.dequantize, o.src_crs, o.nodata, verb,
-                       o.fit ? &source_dem : nullptr, filled);
+    terrain::Grid g = raster_grid(input, req, o.dequantize, o.src_crs, o.nodata, verb,
+                                  o.fit ? &source_dem : nullptr, filled);
+    if (!filled.empty() && o.input_kind == "auto" && lattice())
+      warn(verb, "'" + input +
+                     "' was read as a grid of XYZ text with no-data at its missing points; "
+                     "for scattered points pass --input points");
+    return g;
   } catch (const terrain::NodataError& e) {
     if (!lattice()) throw;
     throw terrain::Error(
