@@ -117,7 +117,7 @@ HachureField plan_hachure_field(const terrain::GridMesh& mesh, const PlanView& p
       const std::size_t i = std::size_t(v) * std::size_t(f.width) + std::size_t(u);
       const Eigen::Vector2d q = plan_to_local(plan, Vector2f(float(u) + 0.5f, float(v) + 0.5f));
       const auto sp = terrain::pn_point_above(mesh, q.x(), q.y());
-      if (!sp) continue;
+      if (!sp || !mesh.face_kept(sp->face)) continue;  // outside the data: no terrain
       const Eigen::Vector3d& nrm = sp->normal;
       f.elevation[i] = float(sp->position.z());
       set_slope_and_tone(f, i, nrm, 1.0, light);

@@ -422,6 +422,27 @@ TEST(Hachures, PlanViewOfAConeRunsDownItInMapCoordinates) {
 // of the 99th-percentile slope), and the ink per area grows with the slope (Lehmann's
 // rule, the plan map's default): the steepest fifth carries at least 3 times the ink of the
 // fifth just above the threshold.
+// A plan map of a mesh with no-data around a disc of data (docs/dem2mesh.md, "No-data"):
+// a cone, its ring outside the data; hachures only on the disc (within a cell of its edge),
+// and there, many of them.
+TEST(Hachures, PlanMapsStopAtTheDatasOutline) {
+  auto cone = terrain::test::function_mesh(101, 101, 10, [](double x, double y) {
+    return 800 - std::hypot(x - 500, y + 500);
+  });
+  cone.filled.assign(cone.n_vertices(), terrain::kFromData);
+  for (std::size_t r = 0; r < 101; ++r)
+    for (std::size_t c = 0; c < 101; ++c)
+      if (std::hypot(double(r) - 50, double(c) - 50) > 35)
+        cone.filled[r * 101 + c] = terrain::kOutside;
+  const renderer::PlanHachures h = renderer::plan_hachures(cone, {});
+  ASSERT_GT(h.hachures.size(), 50u);
+  for (const Hachure& hh : h.hachures)
+    for (const Eigen::Vector2f& p : hh.points) {
+      const Eigen::Vector2d q = renderer::plan_to_local(h.plan, p);
+      ASSERT_LE(std::hypot(q.x() - 500, q.y() + 500), 360.0) << q.transpose();
+    }
+}
+
 TEST(Hachures, PlanMapsLeaveGentleGroundWhiteAndInkTheSteep) {
   auto side =
       terrain::test::function_mesh(101, 101, 10, [](double x, double) { return 0.0005 * x * x; });
