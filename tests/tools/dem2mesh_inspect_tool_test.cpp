@@ -274,6 +274,19 @@ TEST(Dem2mesh, NodataIsOutsideTheMesh) {
             std::string::npos)
       << info;
   EXPECT_NE(info.find("void_filled_vertices: 4\n"), std::string::npos) << info;
+  // The preview leaves the outside clear: grey and alpha, alpha 0 exactly there.
+  ASSERT_EQ(
+      run(tool("terrain-inspect") + " preview " + m + " -o " + dir.path("p.png") + " -q").exit_code,
+      0);
+  OIIO::ImageBuf preview(dir.path("p.png"));
+  ASSERT_EQ(preview.nchannels(), 2);
+  for (int y = 0; y < 80; ++y)
+    for (int x = 0; x < 80; ++x) {
+      float px[2];
+      preview.getpixel(x, y, px, 2);
+      ASSERT_EQ(px[1] == 0.0f, mesh.filled[std::size_t(y) * 80 + std::size_t(x)] == kOutside)
+          << x << " " << y;
+    }
   EXPECT_NEAR(faces / (2.0 * double(data_cells)), 1.0, 0.03) << faces << " " << data_cells;
   EXPECT_NE(made.out.find(fmt::format("faces: {}\n", mesh.kept_faces().size())), std::string::npos)
       << made.out;

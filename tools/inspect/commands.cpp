@@ -82,7 +82,13 @@ void run_preview(const PreviewArgs& a, const std::string& desc, const Verbosity&
                        drainage::dv_preview(db, min_flow), desc);
   } else if (is_mesh) {
     const terrain::GridMesh m = terrain::read_mesh_ply(file);
-    if (colour_by == "shade") {
+    if (colour_by == "shade" && m.has_holes()) {  // grey + alpha: outside the data clear
+      const std::vector<std::uint8_t> grey = terrain::hillshade(m.normals, azimuth, altitude);
+      std::vector<std::uint8_t> ga(2 * grey.size());
+      for (std::size_t i = 0; i < grey.size(); ++i)
+        ga[2 * i] = grey[i], ga[2 * i + 1] = m.filled[i] == terrain::kOutside ? 0 : 255;
+      terrain::write_png(out, int(m.topo.cols), int(m.topo.rows), 2, ga, desc);
+    } else if (colour_by == "shade") {
       terrain::write_png(out, int(m.topo.cols), int(m.topo.rows), 1,
                          terrain::hillshade(m.normals, azimuth, altitude), desc);
     } else {
