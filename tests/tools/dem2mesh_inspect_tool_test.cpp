@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <utility>
 #include <vector>
@@ -322,6 +323,25 @@ TEST(Dem2mesh, NodataIsOutsideTheMesh) {
   const double reach = 300.0 / scale + 2.0;  // the disc's radius in pixels, and 2
   for (const auto& [x, y] : white)
     ASSERT_LE(std::hypot(x - sx / n, y - sy / n), reach) << x << " " << y;
+  // With the silhouettes layer the outline is drawn: ink on most of the disc's rim (the
+  // faces' staircase lies up to a cell inside the circle).
+  ASSERT_EQ(run(tool("terrain-render") + " frame " + m +
+                " --view top --size 400x400 --layers mask,silhouettes -q -o " + dir.path("o.png"))
+                .exit_code,
+            0);
+  const auto ink = terrain::test::ink_of(dir.path("o.png"));
+  int rim = 0, inked = 0;
+  for (int a = 0; a < 360; ++a) {
+    const double t = a * std::numbers::pi / 180, rad = reach - 2.0, cell = 10.0 / scale;
+    bool hit = false;
+    for (double d = -cell - 2; d <= 2 && !hit; d += 0.5) {
+      const int x = int(std::lround(sx / n + (rad + d) * std::cos(t)));
+      const int y = int(std::lround(sy / n + (rad + d) * std::sin(t)));
+      hit = x >= 0 && y >= 0 && x < 400 && y < 400 && ink.on[std::size_t(y) * 400 + std::size_t(x)];
+    }
+    ++rim, inked += hit;
+  }
+  EXPECT_GT(inked, rim * 9 / 10) << inked << " of " << rim;
 }
 
 // Issue 50: ground that --fill-nodata invents carries no drainage. A 10 m DEM (a slope with

@@ -302,6 +302,29 @@ VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const Fram
 }
 
 namespace {
+// FrameOverlays::outline.
+VectorLayer outline_layer(const Scene& scene, const FrameResult& res, const FrameBuffers& buffers,
+                          const Style& style) {
+  VectorLayer l{"outline", style.silhouette_colour, LineCap::Round, {}, 0};
+  const terrain::GridMesh& m = scene.mesh;
+  const double e = style.exaggeration;
+  const auto at = [&](std::uint32_t v) {
+    const Eigen::Vector3f& p = m.positions[v];
+    return Eigen::Vector3d(p.x(), p.y(), double(p.z()) * e);
+  };
+  std::vector<SceneSegment> segs;
+  for (const std::uint32_t f : m.kept_faces())
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t g = m.topo.face_across(f, k);
+      if (g == terrain::GridTopology::kNoFace || m.face_kept(g)) continue;
+      const auto t = m.topo.face(f);  // the edge opposite corner k
+      segs.push_back({at(t[std::size_t((k + 1) % 3)]), at(t[std::size_t((k + 2) % 3)]), 1.0f});
+    }
+  l.paths = segment_paths(segs, res.view, crease_lift(style, m), buffers.toward_depth,
+                          style.antialias, 1.5f * float(style.silhouette_width), &l.strokes);
+  return l;
+}
+
 // Whether a frame draws heavier silhouettes over its picture (Style::silhouette_depth_width).
 bool heavier_silhouettes(const Layers& layers, const Style& style) {
   return layers.silhouettes && style.antialias && style.silhouette_depth_width > 0;
@@ -310,7 +333,7 @@ bool heavier_silhouettes(const Layers& layers, const Style& style) {
 
 bool draws_overlays(const Scene& scene, const Layers& layers, const Style& style) {
   return layers.hachures || (layers.ridges && !scene.ridges.empty()) ||
-         heavier_silhouettes(layers, style);
+         heavier_silhouettes(layers, style) || (layers.silhouettes && scene.mesh.has_holes());
 }
 
 FrameOverlays frame_overlays(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,
@@ -325,10 +348,13 @@ FrameOverlays frame_overlays(const Scene& scene, const TerrainRenderer& r, const
     std::erase_if(l.paths, [&](const VectorPath& p) { return p.width < band + 0.2f; });
     if (!l.paths.empty()) o.silhouettes = std::move(l);
   }
+  if (layers.silhouettes && scene.mesh.has_holes())
+    o.outline = outline_layer(scene, res, buffers, style);
   if (layers.hachures) {
     o.traced = trace_frame_hachures(
         scene, r, res, buffers, style,
-        {o.ridges ? &*o.ridges : nullptr, o.silhouettes ? &*o.silhouettes : nullptr});
+        {o.ridges ? &*o.ridges : nullptr, o.silhouettes ? &*o.silhouettes : nullptr,
+         o.outline ? &*o.outline : nullptr});
     o.hachures = hachure_paths(o.traced->hachures, style);
   }
   return o;
@@ -338,6 +364,7 @@ void draw_overlays(const FrameOverlays& o, int width, int height, std::vector<st
   if (o.hachures) draw_on_rgba(*o.hachures, width, height, rgba);
   if (o.silhouettes) draw_on_rgba(*o.silhouettes, width, height, rgba);
   if (o.ridges) draw_on_rgba(*o.ridges, width, height, rgba);
+  if (o.outline) draw_on_rgba(*o.outline, width, height, rgba);
 }
 
 FrameStats frame_line_stats(const Scene& scene, const TerrainRenderer& r, const FrameResult& res,

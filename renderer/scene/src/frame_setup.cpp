@@ -218,6 +218,7 @@ void write_vector_files(const std::vector<std::string>& vectors, const Scene& sc
                                    parse_underlay(underlay));
   if (over.hachures) art.layers.insert(art.layers.begin(), std::move(*over.hachures));
   if (over.ridges) art.layers.push_back(std::move(*over.ridges));
+  if (over.outline) art.layers.push_back(std::move(*over.outline));
   if (art.layers.empty() && art.underlay == VectorUnderlay::None)
     throw terrain::Error(std::string("the vector file would be empty: --layers draws no lines") +
                          (f.layers.creases && !scene.creases ? " (creases need a .dv)" : "") +

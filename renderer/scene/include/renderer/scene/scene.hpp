@@ -167,10 +167,13 @@ VectorLayer ridge_layer(const Scene& scene, const TerrainRenderer& r, const Fram
 // (silhouette_layer's paths wider than the composite's band), then the hachures stopped at
 // both (traced, and as one path per hachure). Each is empty where `layers` and `style` do
 // not draw it (the ridges also without a database).
+// `outline`: with the silhouettes layer, on a mesh with holes (docs/dem2mesh.md, "No-data"),
+// the data's outline where it shows (a coast, a catchment's divide): every edge between a
+// face drawn and one outside the data, hidden parts left out, in the silhouettes' colour.
 struct FrameOverlays {
   std::optional<TracedHachures> traced;
-  std::optional<VectorLayer> hachures, ridges, silhouettes;
-  bool any() const { return hachures || ridges || silhouettes; }
+  std::optional<VectorLayer> hachures, ridges, silhouettes, outline;
+  bool any() const { return hachures || ridges || silhouettes || outline; }
 };
 // Whether a frame of `layers` over `scene` has any (it needs the frame's buffers).
 bool draws_overlays(const Scene& scene, const Layers& layers, const Style& style);
