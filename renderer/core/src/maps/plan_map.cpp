@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <unordered_map>
 
 #include <fmt/format.h>
 #include <ogrsf_frmts.h>
@@ -48,6 +49,78 @@ void check_plan_memory(const PlanView& p) {
 
 namespace {
 
+// The edges between a face drawn and one outside the data (vertex pairs), chained into
+// lines: from each end or meeting point first, then the closed rings.
+static std::vector<std::vector<std::uint32_t>> outline_chains(const terrain::GridMesh& mesh) {
+  std::vector<std::array<std::uint32_t, 2>> edges;
+  for (const std::uint32_t f : mesh.kept_faces())
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t g = mesh.topo.face_across(f, k);
+      if (g == terrain::GridTopology::kNoFace || mesh.face_kept(g)) continue;
+      const auto t = mesh.topo.face(f);
+      edges.push_back({t[std::size_t((k + 1) % 3)], t[std::size_t((k + 2) % 3)]});
+    }
+  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> at;  // vertex -> its edges
+  for (std::uint32_t e = 0; e < edges.size(); ++e)
+    at[edges[e][0]].push_back(e), at[edges[e][1]].push_back(e);
+  std::vector<char> used(edges.size(), 0);
+  std::vector<std::vector<std::uint32_t>> chains;
+  const auto walk = [&](std::uint32_t v) {
+    std::vector<std::uint32_t> chain{v};
+    for (;;) {
+      const auto& es = at[v];
+      const auto next =
+          std::find_if(es.begin(), es.end(), [&](std::uint32_t e) { return !used[e]; });
+      if (next == es.end()) break;
+      used[*next] = 1;
+      v = edges[*next][0] == v ? edges[*next][1] : edges[*next][0];
+      chain.push_back(v);
+      if (at[v].size() != 2) break;  // an end, or where lines meet
+    }
+    chains.push_back(std::move(chain));
+  };
+  for (const auto& [v, es] : at)
+    if (es.size() != 2)
+      while (std::any_of(es.begin(), es.end(), [&](std::uint32_t e) { return !used[e]; })) walk(v);
+  for (std::uint32_t e = 0; e < edges.size(); ++e)
+    if (!used[e]) walk(edges[e][0]);
+  return chains;
+}
+
+static std::vector<std::vector<Eigen::Vector2f>> plan_outline(const terrain::GridMesh& mesh,
+                                                              const PlanView& plan) {
+  std::vector<std::vector<Eigen::Vector2f>> out;
+  if (!mesh.has_holes()) return out;
+  for (const auto& chain : outline_chains(mesh)) {
+    std::vector<Eigen::Vector2f> line;
+    for (const std::uint32_t v : chain) {
+      const Eigen::Vector3f& p = mesh.positions[v];
+      line.emplace_back(float((double(p.x()) - plan.x0) / plan.scale),
+                        float((plan.y0 - double(p.y())) / plan.scale));
+    }
+    out.push_back(std::move(line));
+  }
+  return out;
+}
+
+// The map's outline (PlanHachures::outline) as the features of the GeoPackage's `layer`.
+static void add_outline(terrain::Gpkg& gpkg, OGRLayer* layer, const terrain::GridMesh& mesh,
+                        const PlanHachures& h) {
+  for (const auto& points : h.outline) {
+    OGRLineString line;
+    double length = 0;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const Eigen::Vector2d q = plan_to_local(h.plan, points[k]);
+      line.addPoint(mesh.geo.origin_x + q.x(), mesh.geo.origin_y + q.y());
+      if (k) length += double((points[k] - points[k - 1]).norm()) * h.plan.scale;
+    }
+    OGRFeature f(layer->GetLayerDefn());
+    f.SetField("length_m", length);
+    f.SetGeometry(&line);
+    gpkg.add(layer, f);
+  }
+}
+
 // The ridges a map of `plan` draws (select_ridges at its scale), in its pixels.
 std::vector<PlanRidge> plan_ridges(const terrain::GridMesh& mesh, const PlanView& plan,
                                    const std::vector<SceneRidge>& ridges,
@@ -84,6 +157,7 @@ PlanHachures plan_hachures(const terrain::GridMesh& mesh, const PlanHachureOptio
   const Eigen::Vector3d light = terrain::light_direction(o.light_azimuth, o.light_altitude);
   HachureField field = plan_hachure_field(mesh, out.plan, o.light_tone ? &light : nullptr);
   out.ridges = plan_ridges(mesh, out.plan, ridges, o);
+  out.outline = plan_outline(mesh, out.plan);
   if (!out.ridges.empty()) {  // the hachures stop at the ridge lines' pixels, as drawn
     std::vector<std::uint8_t> ink(4 * field.slope.size(), 0);
     draw_on_rgba(ridge_paths(out.ridges, o.ridge_width), field.width, field.height, ink);
@@ -132,6 +206,8 @@ std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachure
           ? nullptr
           : gpkg.layer("ridges", wkbLineString,
                        {{"basin_m2", OFTReal}, {"relief_m", OFTReal}, {"length_m", OFTReal}});
+  OGRLayer* ol =
+      h.outline.empty() ? nullptr : gpkg.layer("outline", wkbLineString, {{"length_m", OFTReal}});
   gpkg.begin();
   for (const Hachure& hh : h.hachures) {
     OGRLineString traced;
@@ -171,6 +247,7 @@ std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachure
       f.SetGeometry(&line);
       gpkg.add(rl, f);
     }
+  if (ol) add_outline(gpkg, ol, mesh, h);
   gpkg.commit();
   return h.hachures.size();
 }
@@ -183,6 +260,11 @@ VectorArt plan_vector_art(const PlanHachures& h, const PlanHachureOptions& o) {
   style.hachure_width = o.width;
   art.layers.push_back(hachure_paths(h.hachures, style));
   if (!h.ridges.empty()) art.layers.push_back(ridge_paths(h.ridges, o.ridge_width));
+  if (!h.outline.empty()) {
+    VectorLayer l{"outline", Style{}.silhouette_colour, LineCap::Round, {}, h.outline.size()};
+    for (const auto& line : h.outline) l.paths.push_back({{line, false}, float(o.width), 1.0f, {}});
+    art.layers.push_back(std::move(l));
+  }
   return art;
 }
 

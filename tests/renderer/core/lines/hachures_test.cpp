@@ -424,11 +424,10 @@ TEST(Hachures, PlanViewOfAConeRunsDownItInMapCoordinates) {
 // fifth just above the threshold.
 // A plan map of a mesh with no-data around a disc of data (docs/dem2mesh.md, "No-data"):
 // a cone, its ring outside the data; hachures only on the disc (within a cell of its edge),
-// and there, many of them.
+// and there, many of them; the outline, one ring along the disc's edge.
 TEST(Hachures, PlanMapsStopAtTheDatasOutline) {
-  auto cone = terrain::test::function_mesh(101, 101, 10, [](double x, double y) {
-    return 800 - std::hypot(x - 500, y + 500);
-  });
+  auto cone = terrain::test::function_mesh(
+      101, 101, 10, [](double x, double y) { return 800 - std::hypot(x - 500, y + 500); });
   cone.filled.assign(cone.n_vertices(), terrain::kFromData);
   for (std::size_t r = 0; r < 101; ++r)
     for (std::size_t c = 0; c < 101; ++c)
@@ -441,6 +440,19 @@ TEST(Hachures, PlanMapsStopAtTheDatasOutline) {
       const Eigen::Vector2d q = renderer::plan_to_local(h.plan, p);
       ASSERT_LE(std::hypot(q.x() - 500, q.y() + 500), 360.0) << q.transpose();
     }
+  // The outline: one closed ring on the disc's edge (the data's vertices within 35 cells),
+  // a staircase of cell edges and diagonals, no shorter than the circle.
+  ASSERT_EQ(h.outline.size(), 1u);
+  const auto& ring = h.outline[0];
+  EXPECT_EQ(ring.front(), ring.back());
+  double length = 0;
+  for (std::size_t k = 0; k < ring.size(); ++k) {
+    const Eigen::Vector2d q = renderer::plan_to_local(h.plan, ring[k]);
+    EXPECT_NEAR(std::hypot(q.x() - 500, q.y() + 500), 345.0, 11.0) << q.transpose();
+    if (k) length += double((ring[k] - ring[k - 1]).norm()) * h.plan.scale;
+  }
+  EXPECT_GT(length, 2 * std::numbers::pi * 340);
+  EXPECT_LT(length, 1.35 * 2 * std::numbers::pi * 350);
 }
 
 TEST(Hachures, PlanMapsLeaveGentleGroundWhiteAndInkTheSteep) {

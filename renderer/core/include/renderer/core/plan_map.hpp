@@ -48,6 +48,9 @@ struct PlanHachures {
   double row_interval = 0;  // metres, 0 unless rows
   std::vector<Hachure> hachures;
   std::vector<PlanRidge> ridges;  // those the map draws; the hachures stop at them
+  // The data's outline where the mesh has holes (docs/dem2mesh.md, "No-data"): the edges
+  // between a face drawn and one outside the data, chained, in the map's pixels.
+  std::vector<std::vector<Eigen::Vector2f>> outline;
 };
 
 // The scale a map takes when none is given: its longer side at most 2048 pixels, at 1,
@@ -86,7 +89,8 @@ std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachure
                                 const std::string& path);
 
 // The map as line art on a white page of plan.width x plan.height pixels: a layer
-// "hachures" and, where the map has ridge lines, a layer "ridges" over it.
+// "hachures" and, where the map has ridge lines, a layer "ridges" over it, and where the
+// mesh has holes a layer "outline".
 VectorArt plan_vector_art(const PlanHachures& h, const PlanHachureOptions& o);
 
 }  // namespace renderer
