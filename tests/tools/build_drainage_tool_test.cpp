@@ -384,6 +384,40 @@ TEST(BuildDrainage, BasinsAndDividesAsGisLayers) {
   for (const char* layer : {"branches", "basins", "divides"})
     EXPECT_NE(o.out.find(std::string("Layer name: ") + layer), std::string::npos) << o.out;
 
+  // The branches: a filter on the Strahler order as QGIS writes it (no quoting: the field is
+  // not the SQL keyword `order`), and each branch's max_flow its own, below the junction's
+  // it drains into (the line's last vertex, M the normalized flow there).
+  {
+    auto gpkg = open_vector(dir.path("l.gpkg"));
+    ASSERT_TRUE(gpkg);
+    OGRLayer* all = gpkg->GetLayerByName("branches");
+    ASSERT_NE(all, nullptr);
+    ASSERT_EQ(all->SetAttributeFilter("strahler >= 3"), OGRERR_NONE);
+    const GIntBig high = all->GetFeatureCount();
+    EXPECT_GT(high, 0);
+    EXPECT_LT(high, (all->SetAttributeFilter(nullptr), all->GetFeatureCount()));
+    const DrainageDb db = read_dv(dir.path("l.dv"));
+    std::vector<std::int64_t> own;  // per branch written (a lone pit is none), in order
+    std::size_t stubs = 0, below = 0;
+    for (const DvBranch& br : db.branches) {
+      if (br.count + (br.drains_into != kNone ? 1u : 0u) < 2) continue;
+      std::uint32_t m = 0;
+      for (std::uint32_t k = 0; k < br.count; ++k)
+        m = std::max(m, db.vertices[db.branch_vertices[br.first + k]].accumulated);
+      own.push_back(m);
+      if (br.order == 1 && br.drains_into != kNone)
+        ++stubs, below += m < db.vertices[br.drains_into].accumulated;
+    }
+    all->ResetReading();
+    std::size_t i = 0;
+    for (const auto& f : *all) {
+      ASSERT_LT(i, own.size());
+      ASSERT_EQ(f->GetFieldAsInteger64("max_flow"), own[i++]) << i;
+    }
+    EXPECT_EQ(i, own.size());
+    EXPECT_GT(stubs, 100u);
+    EXPECT_EQ(below, stubs);  // the junction's flow is never a stub's own
+  }
   const DvHeader h = read_dv_header(dir.path("l.dv"));
   const Band basin = band_of(dir.path("r/basin.tif")), order = band_of(dir.path("r/order.tif"));
   const std::size_t C = h.cols, R = h.rows;

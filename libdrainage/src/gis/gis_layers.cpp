@@ -179,17 +179,19 @@ std::size_t write_branches(Gpkg& gpkg, OGRLayer* layer, const DrainageDb& db, in
   for (const DvBranch& b : db.branches) {
     if (b.order < min_order) continue;
     OGRLineString line;
-    std::uint32_t max_flow = 0;
+    std::uint32_t max_flow = 0;  // the branch's own: not the junction's it drains into
     auto add = [&](std::uint32_t v) {
       const DvVertex& p = db.vertices[v];
       line.addPoint(h.origin_x + p.x, h.origin_y + p.y, h.origin_z + p.z, p.normalized);
-      max_flow = std::max(max_flow, p.accumulated);
     };
-    for (std::uint32_t k = 0; k < b.count; ++k) add(db.branch_vertices[b.first + k]);
+    for (std::uint32_t k = 0; k < b.count; ++k) {
+      add(db.branch_vertices[b.first + k]);
+      max_flow = std::max(max_flow, db.vertices[db.branch_vertices[b.first + k]].accumulated);
+    }
     if (b.drains_into != kNone) add(b.drains_into);
     if (line.getNumPoints() < 2) continue;  // a lone pit: no line
     OGRFeature feature(layer->GetLayerDefn());
-    feature.SetField("order", GIntBig(b.order));
+    feature.SetField("strahler", GIntBig(b.order));
     feature.SetField("basin", GIntBig(db.vertices[db.branch_vertices[b.first]].basin));
     feature.SetField("max_flow", GIntBig(max_flow));
     feature.SetField("vertices", GIntBig(line.getNumPoints()));
@@ -202,7 +204,7 @@ std::size_t write_branches(Gpkg& gpkg, OGRLayer* layer, const DrainageDb& db, in
 
 OGRLayer* branches_layer(Gpkg& gpkg) {
   return gpkg.layer("branches", wkbLineStringZM,
-                    {{"order", OFTInteger64},
+                    {{"strahler", OFTInteger64},  // not `order`: an SQL keyword
                      {"basin", OFTInteger64},
                      {"max_flow", OFTInteger64},
                      {"vertices", OFTInteger64}});
