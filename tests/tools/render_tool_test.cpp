@@ -476,7 +476,8 @@ TEST(TerrainRender, HachuresAreALayerOfPngAndSvg) {
 // --view top is a map: orthographic, north up, at --map-scale metres a pixel. The terrain's
 // pixels (the mask) cover exactly the mesh's extent put through the printed geotransform,
 // whatever the heights (a perspective view from above would spread the high ground); GDAL
-// reads the same geotransform from the PNG's world file; the SVG names it and the EPSG
+// reads the same geotransform from the PNG's world file and its CRS from its PAM file
+// (NAME.png.aux.xml); the SVG names it and the EPSG
 // code; --map-scale without the orthographic view is refused.
 TEST(TerrainRender, TopViewIsAMapInMapCoordinates) {
   Inputs in;
@@ -501,6 +502,10 @@ TEST(TerrainRender, TopViewIsAMapInMapCoordinates) {
     ASSERT_TRUE(ds);
     double gt[6];
     ASSERT_EQ(ds->GetGeoTransform(gt), CE_None);  // from t.pgw
+    // and its CRS from t.png.aux.xml, the mesh's (NAD83 / UTM zone 10N, EPSG:26910)
+    const OGRSpatialReference* srs = ds->GetSpatialRef();
+    ASSERT_NE(srs, nullptr);
+    EXPECT_STREQ(srs->GetAuthorityCode(nullptr), "26910");
     EXPECT_NEAR(gt[0], x0, 1e-3);
     EXPECT_NEAR(gt[3], y0, 1e-3);
     EXPECT_DOUBLE_EQ(gt[1], 10.0);

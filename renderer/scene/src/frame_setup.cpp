@@ -171,7 +171,7 @@ std::string no_terrain_problem(const terrain::GridMesh& mesh, const View& view, 
 std::vector<std::string> frame_files(const std::string& path, bool map) {
   const FrameFormat* f = frame_format(path);
   if (!map || !f || !f->world_file) return {path};
-  return {path, std::filesystem::path(path).replace_extension(".pgw").string()};
+  return {path, std::filesystem::path(path).replace_extension(".pgw").string(), path + ".aux.xml"};
 }
 
 namespace {
@@ -181,10 +181,38 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
+// A GDAL PAM file (NAME.png.aux.xml) holding the CRS `wkt`: GDAL and QGIS read a PNG's CRS
+// from it, as they read its geotransform from the world file.
+std::string pam_crs(const std::string& wkt) {
+  std::string escaped;
+  for (const char c : wkt) {
+    switch (c) {
+      case '&':
+        escaped += "&amp;";
+        break;
+      case '<':
+        escaped += "&lt;";
+        break;
+      case '>':
+        escaped += "&gt;";
+        break;
+      case '"':
+        escaped += "&quot;";
+        break;
+      default:
+        escaped += c;
+    }
+  }
+  return "<PAMDataset>\n" +
+         (wkt.empty() ? std::string()
+                      : "  <SRS dataAxisToSRSAxisMapping=\"1,2\">" + escaped + "</SRS>\n") +
+         "</PAMDataset>\n";
+}
+
 // The frame's PNGs, the overlays drawn over the pixels, a map's with its world file.
 void write_pngs(const std::vector<std::string>& pngs, const FrameResult& res, FrameOverlays& over,
-                const std::optional<std::array<double, 6>>& gt, const std::string& description,
-                WriteTimes& t) {
+                const std::optional<std::array<double, 6>>& gt, const std::string& crs_wkt,
+                const std::string& description, WriteTimes& t) {
   std::vector<std::uint8_t> drawn;
   if (over.any()) {
     const auto t0 = Clock::now();
@@ -199,6 +227,8 @@ void write_pngs(const std::vector<std::string>& pngs, const FrameResult& res, Fr
       terrain::write_png(outputs.stage(p), res.width, res.height, 4, over.any() ? drawn : res.rgba,
                          description);
       if (files.size() > 1) terrain::write_file_atomic(outputs.stage(files[1]), world_file(*gt));
+      if (files.size() > 2)  // the CRS, where GDAL and QGIS look for it (empty without one)
+        terrain::write_file_atomic(outputs.stage(files[2]), pam_crs(crs_wkt));
     });
     outputs.commit();
   }
@@ -265,7 +295,7 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
   if (buffers) over = frame_overlays(scene, r, res, *buffers, f.style, f.layers);
   if (traced && over.traced) *traced = std::move(*over.traced);
   t.paths_ms = t.hachure_ms = ms_since(t0);
-  if (!pngs.empty()) write_pngs(pngs, res, over, gt, description, t);
+  if (!pngs.empty()) write_pngs(pngs, res, over, gt, scene.mesh.geo.crs_wkt, description, t);
   if (!vectors.empty())
     write_vector_files(vectors, scene, r, res, *buffers, f, o, over, description, t);
   return t;

@@ -53,8 +53,8 @@ TEST(Scene, LoadsTheMeshTheCreasesAndTheRidges) {
 // its world file, a vector file or a view that is no map none; other extensions are refused.
 TEST(Scene, FrameFilesFollowTheFormatsTable) {
   using V = std::vector<std::string>;
-  EXPECT_EQ(frame_files("d/m.png", true), (V{"d/m.png", "d/m.pgw"}));
-  EXPECT_EQ(frame_files("d/m.PNG", true), (V{"d/m.PNG", "d/m.pgw"}));
+  EXPECT_EQ(frame_files("d/m.png", true), (V{"d/m.png", "d/m.pgw", "d/m.png.aux.xml"}));
+  EXPECT_EQ(frame_files("d/m.PNG", true), (V{"d/m.PNG", "d/m.pgw", "d/m.PNG.aux.xml"}));
   EXPECT_EQ(frame_files("d/m.png", false), (V{"d/m.png"}));
   EXPECT_EQ(frame_files("d/m.svg", true), (V{"d/m.svg"}));
   EXPECT_EQ(frame_files("d/m.pdf", true), (V{"d/m.pdf"}));

@@ -93,8 +93,9 @@ std::string no_terrain_problem(const terrain::GridMesh& mesh, const View& view, 
                                double e);
 
 // The files a frame written to `path` makes: the file and, for a map (`map`: the
-// orthographic top view) written as a PNG, its world file beside it (NAME.pgw). The PNG and
-// its world file land together or not at all. Tools check all of them against their inputs.
+// orthographic top view) written as a PNG, its world file beside it (NAME.pgw) and its CRS
+// (NAME.png.aux.xml, GDAL's PAM file: gdalinfo and QGIS read the PNG's CRS from it). They
+// land together or not at all. Tools check all of them against their inputs.
 std::vector<std::string> frame_files(const std::string& path, bool map);
 
 }  // namespace renderer
