@@ -237,6 +237,19 @@ std::vector<std::uint32_t> GridMesh::kept_faces() const {
   return kept;
 }
 
+std::vector<std::array<std::uint32_t, 2>> GridMesh::outline_edges() const {
+  std::vector<std::array<std::uint32_t, 2>> edges;
+  if (!has_holes()) return edges;
+  for (const std::uint32_t f : kept_faces())
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t g = topo.face_across(f, k);
+      if (g == GridTopology::kNoFace || face_kept(g)) continue;
+      const auto t = topo.face(f);  // the edge opposite corner k
+      edges.push_back({t[std::size_t((k + 1) % 3)], t[std::size_t((k + 2) % 3)]});
+    }
+  return edges;
+}
+
 bool GridMesh::has_holes() const {
   return std::find(filled.begin(), filled.end(), std::uint8_t(kOutside)) != filled.end();
 }

@@ -275,11 +275,7 @@ std::size_t write_basins(Gpkg& gpkg, OGRLayer* basins, const DvHeader& h,
   for (const auto& [id, poly] : polygons) {
     const BasinFacts& b = facts.at(id);
     OGRFeature f(basins->GetLayerDefn());
-    f.SetField("id", GIntBig(id));
-    f.SetField("cells", GIntBig(b.cells));
-    f.SetField("area_m2", double(b.cells) * cell_area);
-    f.SetField("outlet_x", b.x);
-    f.SetField("outlet_y", b.y);
+    detail::set_catchment_fields(f, id, b.cells, cell_area, b.x, b.y);
     f.SetField("outlet", b.edge ? "edge" : "pit");
     f.SetField("max_order", int(b.max_order));
     f.SetGeometry(poly.get());

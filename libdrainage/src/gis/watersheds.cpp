@@ -285,11 +285,7 @@ void write_watershed_layers(
   for (const auto& [k, poly] : polygons) {
     const Watershed& w = ws.at(k);
     OGRFeature f(sheds->GetLayerDefn());
-    f.SetField("id", GIntBig(k));
-    f.SetField("cells", GIntBig(w.cells));
-    f.SetField("area_m2", double(w.cells) * cell_area);
-    f.SetField("outlet_x", w.x);
-    f.SetField("outlet_y", w.y);
+    detail::set_catchment_fields(f, std::uint32_t(k), w.cells, cell_area, w.x, w.y);
     if (w.downstream >= 0) f.SetField("downstream", GIntBig(w.downstream));
     f.SetGeometry(poly.get());
     gpkg.add(sheds, f);

@@ -127,6 +127,9 @@ struct GridMesh {
   // The faces that are (face_kept), in face order; every face when the mesh has no hole.
   std::vector<std::uint32_t> kept_faces() const;
   bool has_holes() const;  // a vertex lies outside the data
+  // The data's outline: each edge between a kept face and one outside the data, as its two
+  // vertices (none when the mesh has no hole).
+  std::vector<std::array<std::uint32_t, 2>> outline_edges() const;
 };
 
 // Where a vertex's height comes from (GridMesh::filled). A face with an Outside corner is

@@ -313,13 +313,7 @@ VectorLayer outline_layer(const Scene& scene, const FrameResult& res, const Fram
     return Eigen::Vector3d(p.x(), p.y(), double(p.z()) * e);
   };
   std::vector<SceneSegment> segs;
-  for (const std::uint32_t f : m.kept_faces())
-    for (int k = 0; k < 3; ++k) {
-      const std::size_t g = m.topo.face_across(f, k);
-      if (g == terrain::GridTopology::kNoFace || m.face_kept(g)) continue;
-      const auto t = m.topo.face(f);  // the edge opposite corner k
-      segs.push_back({at(t[std::size_t((k + 1) % 3)]), at(t[std::size_t((k + 2) % 3)]), 1.0f});
-    }
+  for (const auto& [a, b] : m.outline_edges()) segs.push_back({at(a), at(b), 1.0f});
   l.paths = segment_paths(segs, res.view, crease_lift(style, m), buffers.toward_depth,
                           style.antialias, 1.5f * float(style.silhouette_width), &l.strokes);
   return l;

@@ -52,14 +52,7 @@ namespace {
 // The edges between a face drawn and one outside the data (vertex pairs), chained into
 // lines: from each end or meeting point first, then the closed rings.
 static std::vector<std::vector<std::uint32_t>> outline_chains(const terrain::GridMesh& mesh) {
-  std::vector<std::array<std::uint32_t, 2>> edges;
-  for (const std::uint32_t f : mesh.kept_faces())
-    for (int k = 0; k < 3; ++k) {
-      const std::size_t g = mesh.topo.face_across(f, k);
-      if (g == terrain::GridTopology::kNoFace || mesh.face_kept(g)) continue;
-      const auto t = mesh.topo.face(f);
-      edges.push_back({t[std::size_t((k + 1) % 3)], t[std::size_t((k + 2) % 3)]});
-    }
+  const std::vector<std::array<std::uint32_t, 2>> edges = mesh.outline_edges();
   std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> at;  // vertex -> its edges
   for (std::uint32_t e = 0; e < edges.size(); ++e)
     at[edges[e][0]].push_back(e), at[edges[e][1]].push_back(e);
