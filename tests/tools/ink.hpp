@@ -17,9 +17,12 @@ struct Ink {
   std::vector<std::uint8_t> on;
 };
 
+// The pixels a picture draws: any not the background (#dde4ec) by more than 48 of 255.
+inline Ink drawn_of(const std::string& png);
+
 // Ink: a pixel neither the background (#dde4ec) nor the mask (white), by more than 48 of
 // 255 in some channel (the mask's anti-aliased rim, at most 0x22 from both, is not ink).
-inline Ink ink_of(const std::string& png) {
+inline Ink ink_of(const std::string& png, bool mask_is_ink = false) {
   OIIO::ImageBuf buf(png);
   EXPECT_TRUE(buf.read(0, 0, true, OIIO::TypeDesc::UINT8)) << png;
   const auto& spec = buf.spec();
@@ -35,10 +38,12 @@ inline Ink ink_of(const std::string& png) {
       d_bg = std::max(d_bg, std::abs(px[3 * i + std::size_t(c)] - bg[c]));
       d_mask = std::max(d_mask, 255 - px[3 * i + std::size_t(c)]);
     }
-    ink.on[i] = std::min(d_bg, d_mask) > 48;
+    ink.on[i] = (mask_is_ink ? d_bg : std::min(d_bg, d_mask)) > 48;
   }
   return ink;
 }
+
+inline Ink drawn_of(const std::string& png) { return ink_of(png, true); }
 
 // The share of a's ink pixels with ink of b within `radius` px (their (2 radius + 1)^2
 // window); 1 without ink.
