@@ -154,9 +154,10 @@ TEST(BuildDrainage, TiledAndUntiledRunsPrintTheSameSummary) {
 TEST(BuildDrainage, TiledRunsEqualTheUntiledRun) {
   terrain::test::ScratchDir dir;
   const std::string bd = tool("build-drainage") + " ";
-  // MSH and MED (projected), the Eno crop (geographic: per-row metric cells in every window).
-  for (const char* name :
-       {"msh_2007_utm10n_10m.tif", "med_01_01_10m.tif", "eno_nad83_geographic_crop.tif"}) {
+  // MSH and MED (projected), the Eno crop (geographic: per-row metric cells in every window),
+  // Mandakini (clipped to its catchment: 45 % no-data, its outline across many tiles).
+  for (const char* name : {"msh_2007_utm10n_10m.tif", "med_01_01_10m.tif",
+                           "eno_nad83_geographic_crop.tif", "mandakini_srtm90_utm44n.tif"}) {
     for (const std::string opts : {"", " --fill", " --keep-flats", " --keep-flats --fill"}) {
       const auto u = run(bd + "--raster " + data(name) + " " + dir.path("u.dv") + opts + " -q");
       ASSERT_EQ(u.exit_code, 0) << u.err;
