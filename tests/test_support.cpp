@@ -123,32 +123,34 @@ const GridMesh& msh_50m_mesh() {
   return mesh;
 }
 
-std::string pyramid_as_version1(std::string v3) {
+std::string pyramid_as_version1(std::string v4) {
   auto get = [&](std::size_t at, auto value) {
-    std::memcpy(&value, v3.data() + at, sizeof value);
+    std::memcpy(&value, v4.data() + at, sizeof value);
     return value;
   };
   std::size_t at =
       8 + 4 + 8 + 4 + 16 + 40 + 4;      // magic, version, header bytes, B, grid, georeference, EPSG
   at += 4 + get(at, std::uint32_t(0));  // the CRS
-  std::string v1 = v3.substr(0, at);
-  at += 8;  // the digest, left out
-  std::uint64_t removed = 8;
+  std::string v1 = v4.substr(0, at);
+  // The digest and the flags, left out (no flag: the tiles hold positions and normals only).
+  if (get(at + 8, std::uint32_t(0)) != 0) return {};
+  at += 12;
+  std::uint64_t removed = 12;
   const std::uint32_t n_levels = get(at, std::uint32_t(0));
   const std::uint32_t block = get(20, std::uint32_t(0));
   const std::uint64_t rows = get(24, std::uint64_t(0)), cols = get(32, std::uint64_t(0));
   const std::size_t n_blocks = ((rows - 1 + block - 1) / block) * ((cols - 1 + block - 1) / block);
-  v1 += v3.substr(at, 4);
+  v1 += v4.substr(at, 4);
   at += 4;
   for (std::size_t k = 0; k < n_blocks; ++k) {
     const std::uint32_t n = get(at + 24, std::uint32_t(0));
-    v1 += v3.substr(at, 28 + 4 * std::size_t(n));  // box, n, errors; the slopes left out
+    v1 += v4.substr(at, 28 + 4 * std::size_t(n));  // box, n, errors; the slopes left out
     at += 28 + 8 * std::size_t(n);
     removed += 4 * std::uint64_t(n);
   }
   const std::uint64_t header = get(12, std::uint64_t(0));
   removed += 4;  // the header's CRC
-  std::string index = v3.substr(at, header - 4 - at);
+  std::string index = v4.substr(at, header - 4 - at);
   std::size_t entry = 0;
   for (std::uint32_t l = 0; l < n_levels; ++l) {
     const std::uint64_t tiles =
@@ -160,7 +162,7 @@ std::string pyramid_as_version1(std::string v3) {
     }
   }
   v1 += index;
-  v1 += v3.substr(header);  // the tiles
+  v1 += v4.substr(header);  // the tiles
   const std::uint32_t one = 1;
   std::memcpy(v1.data() + 8, &one, 4);
   const std::uint64_t v1_header = header - removed;

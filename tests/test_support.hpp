@@ -24,10 +24,11 @@ inline std::string file_bytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// A mesh pyramid's bytes (docs/formats.md, version 3) as version 1 wrote them: the mesh's
-// digest, the blocks' slopes and the header's CRC taken out of the header, the header's
-// size and the index's tile offsets moved by the bytes they took, the version set to 1.
-std::string pyramid_as_version1(std::string v2);
+// A mesh pyramid's bytes (docs/formats.md, version 4, no flags) as version 1 wrote them:
+// the mesh's digest, the flags, the blocks' slopes and the header's CRC taken out of the
+// header, the header's size and the index's tile offsets moved by the bytes they took, the
+// version set to 1; "" when its flags are set.
+std::string pyramid_as_version1(std::string v4);
 
 // A fresh directory under the system temp dir, removed at destruction.
 class ScratchDir {

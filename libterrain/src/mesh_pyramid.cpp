@@ -49,12 +49,14 @@ void pyramid_fix_checksums(std::string& bytes) {
   };
   std::uint32_t version = get(8, std::uint32_t(0));
   const std::uint64_t header = get(12, std::uint64_t(0));
-  if (bytes.size() < 20 || version != 3 || header < 24 || header > bytes.size()) return;
+  if (bytes.size() < 20 || version < 3 || version > 4 || header < 24 || header > bytes.size())
+    return;
   const std::uint64_t B = get(20, std::uint32_t(0)), rows = get(24, std::uint64_t(0)),
                       cols = get(32, std::uint64_t(0));
   if (B < 2 || rows < 2 || cols < 2 || rows > (1u << 30) || cols > (1u << 30)) return;
   std::uint64_t at = 84;  // after magic, version, size, B, grid, georeference, EPSG
   at += 4 + std::uint64_t(get(at, std::uint32_t(0))) + 8;  // the CRS, the digest
+  if (version >= 4) at += 4;                               // the flags
   const std::uint32_t n_levels = get(at, std::uint32_t(0));
   at += 4;
   const std::uint64_t n_blocks = ((rows - 1 + B - 1) / B) * ((cols - 1 + B - 1) / B);
@@ -204,6 +206,11 @@ std::uint32_t MeshPyramid::read_grid(const std::string& bytes, std::size_t& at) 
   geo_.crs_wkt = bytes.substr(in.at, wkt);
   in.at += wkt;
   if (version_ >= 3) digest_ = in.get<std::uint64_t>();
+  if (version_ >= 4) {
+    const std::uint32_t flags = in.get<std::uint32_t>();
+    if (flags & ~kTileSources) throw corrupt_pyramid(path_, "its flags");
+    sources_ = flags & kTileSources;
+  }
   const std::uint32_t n_levels = in.get<std::uint32_t>();
   if (n_levels < 1 || n_levels > 32) throw corrupt_pyramid(path_, "its levels");
   levels_.topo = GridTopology{std::size_t(rows), std::size_t(cols)};
@@ -269,8 +276,8 @@ std::uint32_t MeshPyramid::tile_bytes(int l, std::size_t tr, std::size_t tc) con
   return t.tiles.at(tr * t.tiles_c + tc).bytes;
 }
 
-std::vector<Eigen::Vector3f> MeshPyramid::decode_tile(int l, std::size_t tr, std::size_t tc,
-                                                      ZSTD_DCtx* ctx, std::uint64_t& bytes) const {
+MeshPyramid::TileData MeshPyramid::decode_tile(int l, std::size_t tr, std::size_t tc,
+                                               ZSTD_DCtx* ctx, std::uint64_t& bytes) const {
   const LevelTiles& lt = tiles_[std::size_t(l)];
   const Tile& tile = lt.tiles[tr * lt.tiles_c + tc];
   const TileRange t = tile_range(rows(l), cols(l), levels_.block, tr, tc);
@@ -281,10 +288,20 @@ std::vector<Eigen::Vector3f> MeshPyramid::decode_tile(int l, std::size_t tr, std
   std::string z(tile.bytes, '\0');
   read_at(z.data(), z.size(), tile.offset);
   if (crc_of(z) != tile.crc) throw bad("its checksum");
-  std::vector<Eigen::Vector3f> raw(2 * t.nr * t.nc);  // positions, then normals
-  const std::size_t got =
-      ZSTD_decompressDCtx(ctx, raw.data(), raw.size() * sizeof raw[0], z.data(), z.size());
-  if (ZSTD_isError(got) || got != raw.size() * sizeof raw[0]) throw bad("its data");
+  // Positions, then normals, then (with sources) one byte a vertex.
+  const std::size_t m = t.nr * t.nc, vec = sizeof(Eigen::Vector3f);
+  std::string plain(2 * m * vec + (sources_ ? m : 0) + 1, '\0');  // + 1: a longer tile shows
+  const std::size_t got = ZSTD_decompressDCtx(ctx, plain.data(), plain.size(), z.data(), z.size());
+  if (ZSTD_isError(got) || got != plain.size() - 1) throw bad("its data");
+  TileData d;
+  d.raw.resize(2 * m);
+  std::memcpy(static_cast<void*>(d.raw.data()), plain.data(), 2 * m * vec);
+  if (sources_) {
+    d.sources.assign(plain.begin() + long(2 * m * vec), plain.begin() + long(2 * m * vec + m));
+    for (std::uint8_t k : d.sources)
+      if (k > kVoidFilled) throw bad("a vertex's source");
+  }
+  const std::vector<Eigen::Vector3f>& raw = d.raw;
   // Its vertices within its blocks' boxes: at level 0 a tile is one block, and its box is
   // that of these very vertices; a coarser level's vertices are some of the fine ones.
   const std::size_t s = std::size_t(1) << l;
@@ -306,7 +323,7 @@ std::vector<Eigen::Vector3f> MeshPyramid::decode_tile(int l, std::size_t tr, std
              : ((tlo.array() < lo.array()).any() || (thi.array() > hi.array()).any())))
     throw bad("its vertices are not in its block's box");
   bytes += tile.bytes;
-  return raw;
+  return d;
 }
 
 MeshWindow MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr,
@@ -315,13 +332,15 @@ MeshWindow MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::
   w.rows = nr, w.cols = nc;
   w.positions.resize(nr * nc);
   w.normals.resize(nr * nc);
-  read_window(l, r0, c0, nr, nc, w.positions.data(), w.normals.data());
+  if (sources_) w.sources.resize(nr * nc);
+  read_window(l, r0, c0, nr, nc, w.positions.data(), w.normals.data(),
+              sources_ ? w.sources.data() : nullptr);
   return w;
 }
 
 void MeshPyramid::decode_tiles(
     int l, std::size_t tr0, std::size_t tc0, std::size_t tr1, std::size_t tc1,
-    const std::function<void(std::size_t, std::size_t, const std::vector<Eigen::Vector3f>&)>& use) {
+    const std::function<void(std::size_t, std::size_t, const TileData&)>& use) {
   const std::size_t across = tc1 - tc0, n_tiles = (tr1 - tr0) * across;
   std::string failed;
   std::uint64_t bytes = 0;
@@ -345,7 +364,8 @@ void MeshPyramid::decode_tiles(
 }
 
 void MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc,
-                              Eigen::Vector3f* positions, Eigen::Vector3f* normals) {
+                              Eigen::Vector3f* positions, Eigen::Vector3f* normals,
+                              std::uint8_t* sources) {
   if (l < 0 || l >= level_count() || nr == 0 || nc == 0 || r0 + nr > rows(l) || c0 + nc > cols(l))
     throw Error(
         fmt::format("'{}': no window of {} x {} at {}, {} in level {}", path_, nr, nc, r0, c0, l));
@@ -356,25 +376,26 @@ void MeshPyramid::read_window(int l, std::size_t r0, std::size_t c0, std::size_t
                     tr1 = std::min((r0 + nr - 1) / B, lt.tiles_r - 1);
   const std::size_t tc0 = std::min(c0 / B, lt.tiles_c - 1),
                     tc1 = std::min((c0 + nc - 1) / B, lt.tiles_c - 1);
-  decode_tiles(l, tr0, tc0, tr1 + 1, tc1 + 1,
-               [&](std::size_t tr, std::size_t tc, const std::vector<Eigen::Vector3f>& raw) {
-                 const TileRange t = tile_range(rows(l), cols(l), B, tr, tc);
-                 const std::size_t ca = std::max(c0, t.c0), cb = std::min(c0 + nc, t.c0 + t.nc);
-                 for (std::size_t r = std::max(r0, t.r0); r < std::min(r0 + nr, t.r0 + t.nr); ++r) {
-                   const std::size_t to = (r - r0) * nc + (ca - c0),
-                                     from = (r - t.r0) * t.nc + (ca - t.c0);
-                   std::copy_n(raw.begin() + long(from), cb - ca, positions + to);
-                   std::copy_n(raw.begin() + long(t.nr * t.nc + from), cb - ca, normals + to);
-                 }
-               });
+  decode_tiles(
+      l, tr0, tc0, tr1 + 1, tc1 + 1, [&](std::size_t tr, std::size_t tc, const TileData& d) {
+        const std::vector<Eigen::Vector3f>& raw = d.raw;
+        const TileRange t = tile_range(rows(l), cols(l), B, tr, tc);
+        const std::size_t ca = std::max(c0, t.c0), cb = std::min(c0 + nc, t.c0 + t.nc);
+        for (std::size_t r = std::max(r0, t.r0); r < std::min(r0 + nr, t.r0 + t.nr); ++r) {
+          const std::size_t to = (r - r0) * nc + (ca - c0), from = (r - t.r0) * t.nc + (ca - t.c0);
+          std::copy_n(raw.begin() + long(from), cb - ca, positions + to);
+          std::copy_n(raw.begin() + long(t.nr * t.nc + from), cb - ca, normals + to);
+          if (sources && !d.sources.empty())
+            std::copy_n(d.sources.begin() + long(from), cb - ca, sources + to);
+        }
+      });
 }
 
 std::size_t MeshPyramid::check_tiles() {
   std::size_t n = 0;
   for (int l = 0; l < level_count(); ++l) {
     const LevelTiles& lt = tiles_[std::size_t(l)];
-    decode_tiles(l, 0, 0, lt.tiles_r, lt.tiles_c,
-                 [](std::size_t, std::size_t, const std::vector<Eigen::Vector3f>&) {});
+    decode_tiles(l, 0, 0, lt.tiles_r, lt.tiles_c, [](std::size_t, std::size_t, const TileData&) {});
     n += lt.tiles.size();
   }
   return n;

@@ -14,8 +14,11 @@
 namespace terrain::detail {
 
 inline constexpr char kMagic[8] = {'T', 'P', 'Y', 'R', 'A', 'M', 'I', 'D'};
-// 2: the blocks' slopes; 3: the mesh's digest and the header's CRC-32.
-inline constexpr std::uint32_t kVersion = 3;
+// 2: the blocks' slopes; 3: the mesh's digest and the header's CRC-32; 4: the header's
+// flags, and with kTileSources each tile's vertex sources (GridMesh::filled) after its
+// normals.
+inline constexpr std::uint32_t kVersion = 4;
+inline constexpr std::uint32_t kTileSources = 1;
 
 // Little-endian scalars read back (this project's machines are; the format says so).
 struct In {

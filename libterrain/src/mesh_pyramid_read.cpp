@@ -17,16 +17,23 @@ using namespace detail;
 
 namespace {
 
-// The PLY's data that its pyramid does not keep: empty when it has none.
-std::string unkept_data(const PlyHeader& header) {
+// The PLY's data that its pyramid does not keep: empty when it has none. A pyramid with
+// its vertices' sources keeps 'filled' (and the faces follow from it).
+std::string unkept_data(const PlyHeader& header, bool sources) {
   for (const PlyElement& e : header.elements)
     for (const PlyProperty& p : e.properties)
-      if (!(e.name == "vertex" && (p.name == "x" || p.name == "y" || p.name == "z" ||
-                                   p.name == "nx" || p.name == "ny" || p.name == "nz")) &&
+      if (!(e.name == "vertex" &&
+            (p.name == "x" || p.name == "y" || p.name == "z" || p.name == "nx" || p.name == "ny" ||
+             p.name == "nz" || (sources && p.name == "filled"))) &&
           !(e.name == "face" && p.name == "vertex_indices"))
         return "the mesh has data its pyramid does not keep (" + e.name + " property '" + p.name +
                "')";
   return {};
+}
+
+bool header_has_filled(const PlyHeader& header) {
+  const PlyElement* v = header.find("vertex");
+  return v && v->find("filled");
 }
 
 // Why the pyramid at `pyr` was not made from the mesh `m` (its PLY's `header`): empty when
@@ -103,8 +110,8 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(
   PyramidMesh out{read_terrain_header(ply_path, header, in), {}, 0};
   in.close();
   GridMesh& m = out.mesh;
-  if (why = unkept_data(header); !why.empty()) return std::nullopt;
   MeshPyramid pyramid(pyr);
+  if (why = unkept_data(header, pyramid.has_sources()); !why.empty()) return std::nullopt;
   if (why = other_mesh(pyramid, header, m, pyr); !why.empty()) return std::nullopt;
   out.digest = *pyramid.digest();
   const PyramidPart want = part ? part(pyramid) : PyramidPart{};
@@ -133,7 +140,10 @@ std::optional<PyramidMesh> read_mesh_via_pyramid(
   m.topo = GridTopology{rows, cols};
   m.positions.resize(m.topo.n_vertices());
   m.normals.resize(m.topo.n_vertices());
-  pyramid.read_window(l, r0, c0, rows, cols, m.positions.data(), m.normals.data());
+  // Sources only where the PLY has them: a pyramid's of a mesh without are all data.
+  if (pyramid.has_sources() && header_has_filled(header)) m.filled.resize(m.topo.n_vertices());
+  pyramid.read_window(l, r0, c0, rows, cols, m.positions.data(), m.normals.data(),
+                      m.filled.empty() ? nullptr : m.filled.data());
   out.levels = all;
   out.levels.base = l;
   if (window) to_window_frame(out, fine, all, R0, C0, br0, br1, bc0, bc1);

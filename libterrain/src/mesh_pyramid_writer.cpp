@@ -92,8 +92,18 @@ std::pair<float, float> level_measure(const GridMesh& mesh, const MeshLevelBlock
   return {worst, float(steepest)};
 }
 
+// Whether a vertex of block b lies outside the data (GridMesh::filled).
+bool block_has_hole(const GridMesh& mesh, const MeshLevelBlock& b) {
+  if (mesh.filled.size() != mesh.n_vertices()) return false;
+  for (std::size_t r = b.r0; r <= std::size_t(b.r0) + b.nr; ++r)
+    for (std::size_t c = b.c0; c <= std::size_t(b.c0) + b.nc; ++c)
+      if (mesh.filled[r * mesh.topo.cols + c] == kOutside) return true;
+  return false;
+}
+
 // A block's box and its levels' errors and slopes, from `mesh`'s vertices at the block's
-// rows and columns (b.r0, b.c0, b.nr, b.nc set).
+// rows and columns (b.r0, b.c0, b.nr, b.nc set). A block with a hole has kHoleError above
+// level 0: a coarser level would span the hole.
 void measure_block(const GridMesh& mesh, MeshLevelBlock& b) {
   b.lo = Eigen::Vector3f::Constant(1e30f), b.hi = -b.lo;
   // The steepest of the vertex normals and of the mid-edge coefficients of the fine
@@ -126,6 +136,8 @@ void measure_block(const GridMesh& mesh, MeshLevelBlock& b) {
     b.error.push_back(std::max(b.error.back(), error));
     b.slope.push_back(level_slope);
   }
+  if (block_has_hole(mesh, b))
+    for (std::size_t l = 1; l < b.error.size(); ++l) b.error[l] = kHoleError;
 }
 
 // Little-endian scalars (this project's machines are; the format says so).
@@ -138,15 +150,6 @@ struct Out {
 };
 
 }  // namespace
-
-// Whether a vertex of block b lies outside the data (GridMesh::filled).
-static bool block_has_hole(const GridMesh& mesh, const MeshLevelBlock& b) {
-  if (mesh.filled.size() != mesh.n_vertices()) return false;
-  for (std::size_t r = b.r0; r <= std::size_t(b.r0) + b.nr; ++r)
-    for (std::size_t c = b.c0; c <= std::size_t(b.c0) + b.nc; ++c)
-      if (mesh.filled[r * mesh.topo.cols + c] == kOutside) return true;
-  return false;
-}
 
 MeshLevels build_mesh_levels(const GridMesh& mesh, std::size_t block) {
   MeshLevels h;
@@ -164,8 +167,6 @@ MeshLevels build_mesh_levels(const GridMesh& mesh, std::size_t block) {
     b.nr = std::uint32_t(std::min(block, cells_r - b.r0)),
     b.nc = std::uint32_t(std::min(block, cells_c - b.c0));
     measure_block(mesh, b);
-    if (block_has_hole(mesh, b))  // drawn whole: a coarser level would span the hole
-      for (std::size_t l = 1; l < b.error.size(); ++l) b.error[l] = kHoleError;
   }
   return h;
 }
@@ -176,6 +177,7 @@ struct MeshPyramidWriter::Level {
   std::size_t next = 0;                   // the next level row to take
   std::size_t tile_row = 0;               // the tile row being filled
   std::vector<Eigen::Vector3f> pos, nrm;  // its rows tile_row B .. (B + 1 rows at most)
+  std::vector<std::uint8_t> src;          // their sources, with MeshPyramidWriter's sources
   std::size_t held = 0;                   // rows held
   std::vector<std::uint32_t> bytes, crc;  // per tile, row-major
   std::filesystem::path file;             // levels above 0: its tiles, one after another
@@ -185,8 +187,8 @@ struct MeshPyramidWriter::Level {
 
 MeshPyramidWriter::MeshPyramidWriter(const GridTopology& topo, const MeshGeoref& geo,
                                      const std::string& path, std::size_t block,
-                                     const std::string& name_like)
-    : topo_(topo), geo_(geo), path_(path), block_(block) {
+                                     const std::string& name_like, bool sources)
+    : topo_(topo), geo_(geo), path_(path), block_(block), sources_(sources) {
   if (topo.rows < 2 || topo.cols < 2 || block < 2)
     throw Error("cannot write '" + path + "': no cells");
   const std::size_t cells_r = topo.rows - 1, cells_c = topo.cols - 1;
@@ -208,7 +210,8 @@ MeshPyramidWriter::MeshPyramidWriter(const GridTopology& topo, const MeshGeoref&
   // the file after it, in the index's order; the coarser levels' into temporary files,
   // appended at the end (a third of level 0's size at most).
   header_bytes_ =
-      20 + 4 + 16 + 40 + 4 + 4 + geo.crs_wkt.size() + 8 + 4 + 4;  // ... digest, levels, CRC
+      20 + 4 + 16 + 40 + 4 + 4 + geo.crs_wkt.size() + 8 + 4 + 4 + 4;  // ... digest, flags,
+                                                                      // levels, CRC
   for (const MeshLevelBlock& b : levels_.blocks)
     header_bytes_ += 28 + 8 * std::uint64_t(block_levels(b.nr, b.nc));
   for (int l = 0; l < n_levels; ++l) {
@@ -216,6 +219,7 @@ MeshPyramidWriter::MeshPyramidWriter(const GridTopology& topo, const MeshGeoref&
     v->rows = level_count(cells_r, l), v->cols = level_count(cells_c, l);
     v->tiles_r = (v->rows - 1 + block - 1) / block, v->tiles_c = (v->cols - 1 + block - 1) / block;
     v->pos.resize((block + 1) * v->cols), v->nrm.resize((block + 1) * v->cols);
+    if (sources) v->src.resize((block + 1) * v->cols);
     header_bytes_ += 16 + 16 * std::uint64_t(v->tiles_r * v->tiles_c);
     grids_.push_back(std::move(v));
   }
@@ -242,9 +246,11 @@ MeshPyramidWriter::~MeshPyramidWriter() {
 }
 
 void MeshPyramidWriter::add_rows(const Eigen::Vector3f* positions, const Eigen::Vector3f* normals,
-                                 std::size_t n) {
+                                 std::size_t n, const std::uint8_t* sources) {
   const std::size_t cells_r = topo_.rows - 1, cells_c = topo_.cols - 1, cols = topo_.cols,
                     B = block_;
+  if (sources_ != (sources != nullptr))
+    throw Error("internal: a pyramid's rows given with or without their sources unlike its own");
   for (std::size_t k = 0; k < n; ++k, ++row_) {
     if (row_ >= topo_.rows) throw Error("cannot write '" + path_ + "': more rows than the grid's");
     const Eigen::Vector3f *p = positions + k * cols, *q = normals + k * cols;
@@ -256,24 +262,26 @@ void MeshPyramidWriter::add_rows(const Eigen::Vector3f* positions, const Eigen::
         const std::size_t fc = level_index(c, cells_c, int(l));
         v.pos[v.held * v.cols + c] = p[fc];
         v.nrm[v.held * v.cols + c] = q[fc];
+        if (sources_) v.src[v.held * v.cols + c] = sources[k * cols + fc];
       }
       ++v.held, ++v.next;
       const std::size_t r0 = v.tile_row * B, nr = std::min(B, v.rows - 1 - r0) + 1;
       if (v.held < nr) continue;
-      if (l == 0) measure_block_row(v.pos, v.nrm, nr);
+      if (l == 0) measure_block_row(v, nr);
       flush_tile_row(v, int(l), nr);
     }
   }
 }
 
-void MeshPyramidWriter::measure_block_row(const std::vector<Eigen::Vector3f>& pos,
-                                          const std::vector<Eigen::Vector3f>& nrm, std::size_t nr) {
+void MeshPyramidWriter::measure_block_row(const Level& v, std::size_t nr) {
   // The block row's vertices as a mesh of their own, the blocks measured there.
   GridMesh band;
   band.topo = {nr, topo_.cols};
   band.geo = geo_;
-  band.positions.assign(pos.begin(), pos.begin() + long(nr * topo_.cols));
-  band.normals.assign(nrm.begin(), nrm.begin() + long(nr * topo_.cols));
+  const long n = long(nr * topo_.cols);
+  band.positions.assign(v.pos.begin(), v.pos.begin() + n);
+  band.normals.assign(v.nrm.begin(), v.nrm.begin() + n);
+  if (sources_) band.filled.assign(v.src.begin(), v.src.begin() + n);
   const std::size_t br = block_rows_measured_++;
 #pragma omp parallel for schedule(dynamic)
   for (std::ptrdiff_t bc = 0; bc < std::ptrdiff_t(levels_.block_cols); ++bc) {
@@ -292,15 +300,17 @@ void MeshPyramidWriter::flush_tile_row(Level& v, int l, std::size_t nr) {
 #pragma omp parallel for schedule(dynamic)
   for (std::ptrdiff_t tc = 0; tc < std::ptrdiff_t(tc_n); ++tc) {
     const std::size_t c0 = std::size_t(tc) * B, nc = std::min(B, v.cols - 1 - c0) + 1;
-    std::vector<Eigen::Vector3f> raw(2 * nr * nc);
-    for (std::size_t r = 0; r < nr; ++r)
-      for (std::size_t c = 0; c < nc; ++c) {
-        raw[r * nc + c] = v.pos[r * v.cols + c0 + c];
-        raw[nr * nc + r * nc + c] = v.nrm[r * v.cols + c0 + c];
-      }
-    std::string t(ZSTD_compressBound(raw.size() * sizeof raw[0]), '\0');
-    const std::size_t n =
-        ZSTD_compress(t.data(), t.size(), raw.data(), raw.size() * sizeof raw[0], 3);
+    // Positions, normals, then (with sources) one byte a vertex.
+    const std::size_t m = nr * nc, vec = sizeof(Eigen::Vector3f);
+    std::string raw(2 * m * vec + (sources_ ? m : 0), '\0');
+    for (std::size_t r = 0; r < nr; ++r) {
+      const std::size_t from = r * v.cols + c0;
+      std::memcpy(raw.data() + r * nc * vec, v.pos.data() + from, nc * vec);
+      std::memcpy(raw.data() + (m + r * nc) * vec, v.nrm.data() + from, nc * vec);
+      if (sources_) std::memcpy(raw.data() + 2 * m * vec + r * nc, v.src.data() + from, nc);
+    }
+    std::string t(ZSTD_compressBound(raw.size()), '\0');
+    const std::size_t n = ZSTD_compress(t.data(), t.size(), raw.data(), raw.size(), 3);
     if (!ZSTD_isError(n))
       t.resize(n);
     else
@@ -318,6 +328,7 @@ void MeshPyramidWriter::flush_tile_row(Level& v, int l, std::size_t nr) {
   // The last row is the next tile row's first (border vertices are in both tiles).
   std::copy_n(v.pos.begin() + long((nr - 1) * v.cols), v.cols, v.pos.begin());
   std::copy_n(v.nrm.begin() + long((nr - 1) * v.cols), v.cols, v.nrm.begin());
+  if (sources_) std::copy_n(v.src.begin() + long((nr - 1) * v.cols), v.cols, v.src.begin());
   v.held = 1;
   ++v.tile_row;
 }
@@ -325,9 +336,11 @@ void MeshPyramidWriter::flush_tile_row(Level& v, int l, std::size_t nr) {
 namespace {
 
 // The header before the tile index: magic, version, its size (0 until known), the grid,
-// the georeference, the mesh's digest and the blocks with their levels' errors and slopes.
+// the georeference, the mesh's digest, the flags and the blocks with their levels' errors
+// and slopes.
 void put_header_head(Out& h, const GridTopology& topo, const MeshGeoref& geo, std::size_t block,
-                     std::uint64_t digest, const MeshLevels& levels, int n_levels) {
+                     std::uint64_t digest, std::uint32_t flags, const MeshLevels& levels,
+                     int n_levels) {
   h.bytes.append(kMagic, 8);
   h.put(kVersion);
   h.put(std::uint64_t(0));  // the header's bytes, index included: set by finish
@@ -339,6 +352,7 @@ void put_header_head(Out& h, const GridTopology& topo, const MeshGeoref& geo, st
   h.put(std::uint32_t(geo.crs_wkt.size()));
   h.bytes += geo.crs_wkt;
   h.put(digest);
+  h.put(flags);
   h.put(std::uint32_t(n_levels));
   for (const MeshLevelBlock& b : levels.blocks) {
     for (int k = 0; k < 3; ++k) h.put(b.lo[k]);
@@ -357,7 +371,8 @@ std::uint64_t MeshPyramidWriter::finish() {
         fmt::format("cannot write '{}': {} of the grid's {} rows given", path_, row_, topo_.rows));
   const int n_levels = int(grids_.size());
   Out h;
-  put_header_head(h, topo_, geo_, block_, digest_.value(), levels_, n_levels);
+  put_header_head(h, topo_, geo_, block_, digest_.value(), sources_ ? kTileSources : 0u, levels_,
+                  n_levels);
   std::size_t n_tiles = 0;
   for (const auto& v : grids_) n_tiles += v->bytes.size();
   // The index: per level its tile counts, then per tile offset, bytes, CRC-32.
@@ -406,8 +421,10 @@ std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const std::string& path, 
   if (mesh.positions.size() != mesh.topo.n_vertices() ||
       mesh.normals.size() != mesh.topo.n_vertices())
     throw Error("cannot write '" + path + "': positions, normals and grid size disagree");
-  MeshPyramidWriter w(mesh.topo, mesh.geo, path, block, name_like);
-  w.add_rows(mesh.positions.data(), mesh.normals.data(), mesh.topo.rows);
+  const bool sources = mesh.filled.size() == mesh.n_vertices();
+  MeshPyramidWriter w(mesh.topo, mesh.geo, path, block, name_like, sources);
+  w.add_rows(mesh.positions.data(), mesh.normals.data(), mesh.topo.rows,
+             sources ? mesh.filled.data() : nullptr);
   return w.finish();
 }
 

@@ -76,7 +76,7 @@ TEST(FuzzRegressions, PyramidReader) {
       {"error_nan", "corrupt mesh pyramid (a block's errors)"},
       {"wkt_huge", "truncated mesh pyramid"},
       {"version_0", "corrupt mesh pyramid (version 0)"},
-      {"version_99", "mesh pyramid version 99 is newer than this tool's (3)"},
+      {"version_99", "mesh pyramid version 99 is newer than this tool's (4)"},
       {"header_past_end", "truncated mesh pyramid"},
       {"truncated", "truncated mesh pyramid"},
   };

@@ -245,13 +245,43 @@ TEST(MeshPyramid, TheMeshReadFromItsPyramidIsThePly) {
   std::filesystem::last_write_time(pyr, later + std::chrono::seconds(2));
   EXPECT_FALSE(terrain::read_mesh_via_pyramid(ply, why));
   EXPECT_NE(why.find("made from another mesh"), std::string::npos) << why;
-  // Data the pyramid does not keep: the filled flags of dem2mesh --fill-nodata.
-  m.filled.assign(m.n_vertices(), 0);
-  m.filled[7] = 1;
+  // The vertices' sources (dem2mesh's 'filled': no-data outside the mesh, invented, a void
+  // filled) come back from the pyramid (version 4), at every level the vertices' own; a
+  // pyramid without them (as before version 4) is refused for a mesh that has them.
+  m.filled.assign(m.n_vertices(), terrain::kFromData);
+  for (std::size_t r = 0; r < m.topo.rows; ++r)
+    for (std::size_t c = 0; c < m.topo.cols; ++c)
+      if (std::hypot(double(r) - 75, double(c) - 65) > 60)
+        m.filled[r * m.topo.cols + c] = terrain::kOutside;
+  m.filled[75 * m.topo.cols + 65] = terrain::kVoidFilled;
+  m.filled[70 * m.topo.cols + 60] = terrain::kInvented;
   terrain::write_mesh_ply(m, ply);
   terrain::write_mesh_pyramid(m, pyr);
-  std::filesystem::last_write_time(pyr,
-                                   std::filesystem::last_write_time(ply) + std::chrono::seconds(2));
+  for (int l : {0, 1, 3}) {
+    const auto holed = terrain::read_mesh_via_pyramid(
+        ply, why, [&](const terrain::MeshPyramid&) { return terrain::PyramidPart(l); });
+    ASSERT_TRUE(holed) << why;
+    const terrain::GridMesh& h = holed->mesh;
+    ASSERT_EQ(h.filled.size(), h.n_vertices());
+    std::size_t wrong = 0;
+    for (std::size_t r = 0; r < h.topo.rows; ++r)
+      for (std::size_t c = 0; c < h.topo.cols; ++c)
+        wrong += h.filled[r * h.topo.cols + c] !=
+                 m.filled[terrain::level_index(r, m.topo.rows - 1, l) * m.topo.cols +
+                          terrain::level_index(c, m.topo.cols - 1, l)];
+    EXPECT_EQ(wrong, 0u) << "level " << l;
+    EXPECT_TRUE(h.has_holes());
+  }
+  const auto holed = terrain::read_mesh_via_pyramid(ply, why);
+  EXPECT_EQ(holed->mesh.kept_faces(), terrain::read_mesh_ply(ply).kept_faces());
+  // Blocks with an outside vertex are drawn at level 0, as build_mesh_levels says.
+  const terrain::MeshLevels holed_levels = terrain::build_mesh_levels(m);
+  for (std::size_t k = 0; k < holed_levels.blocks.size(); ++k)
+    EXPECT_EQ(holed->levels.blocks[k].error, holed_levels.blocks[k].error);
+  EXPECT_EQ(holed_levels.blocks[0].error.back(), terrain::kHoleError);
+  terrain::GridMesh without = m;
+  without.filled.clear();
+  terrain::write_mesh_pyramid(without, pyr);
   EXPECT_FALSE(terrain::read_mesh_via_pyramid(ply, why));
   EXPECT_NE(why.find("'filled'"), std::string::npos) << why;
 }

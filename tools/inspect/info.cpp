@@ -221,6 +221,10 @@ void info_pyramid(const std::string& path) {
                     ? "not stored (a version-1 pyramid: dem2mesh --pyramid writes them)"
                     : "each block's at each level")
             << "\n"
+            << "vertex_sources: "
+            << (p.has_sources() ? "kept (the mesh's no-data: holed blocks drawn at level 0)"
+                                : "none (every vertex data)")
+            << "\n"
             << "bytes: " << std::filesystem::file_size(path) << "\n"
             << "version: " << p.version() << "\n"
             << "mesh_digest: "

@@ -107,25 +107,30 @@ class MeshPyramidWriter {
   // `name_like`: the target the temporary files are named after (DIR/.STEM.tmpPID-N.tpyr,
   // temp_files.hpp), so that a later run finds any a killed run left; `path` when empty
   // (give the final name when `path` is an OutputSet's staged one).
+  // `sources`: the rows come with each vertex's source (GridMesh::filled), which the tiles
+  // keep and which make a block with an outside vertex drawn at level 0 (kHoleError).
   MeshPyramidWriter(const GridTopology& topo, const MeshGeoref& geo, const std::string& path,
-                    std::size_t block = kLevelBlock, const std::string& name_like = {});
+                    std::size_t block = kLevelBlock, const std::string& name_like = {},
+                    bool sources = false);
   ~MeshPyramidWriter();  // removes the temporary files
   MeshPyramidWriter(const MeshPyramidWriter&) = delete;
   MeshPyramidWriter& operator=(const MeshPyramidWriter&) = delete;
-  // The next n rows of the grid: positions and normals, topo.cols each, local frame.
-  void add_rows(const Eigen::Vector3f* positions, const Eigen::Vector3f* normals, std::size_t n);
+  // The next n rows of the grid: positions and normals, topo.cols each, local frame, and
+  // with `sources` at construction their vertices' sources (VertexSource values).
+  void add_rows(const Eigen::Vector3f* positions, const Eigen::Vector3f* normals, std::size_t n,
+                const std::uint8_t* sources = nullptr);
   // After the last row: writes the file; returns its bytes.
   std::uint64_t finish();
 
  private:
   struct Level;
-  void measure_block_row(const std::vector<Eigen::Vector3f>& pos,
-                         const std::vector<Eigen::Vector3f>& nrm, std::size_t nr);
+  void measure_block_row(const Level& v, std::size_t nr);
   void flush_tile_row(Level& v, int l, std::size_t nr);
   GridTopology topo_;
   MeshGeoref geo_;
   std::string path_;
   std::size_t block_;
+  bool sources_ = false;
   MeshLevels levels_;
   std::vector<std::unique_ptr<Level>> grids_;
   std::size_t row_ = 0, block_rows_measured_ = 0;
@@ -138,8 +143,9 @@ class MeshPyramidWriter {
 // Writes the pyramid of `mesh` at `path` (atomically) through MeshPyramidWriter: its
 // georeference, its blocks of `block` cells (boxes, errors: build_mesh_levels'), and for
 // each level 0 .. (the coarsest of any block) its grid in tiles of `block` cells a side
-// (their border vertices in both neighbours), each tile its positions and normals
-// compressed with zstd. Returns the bytes written.
+// (their border vertices in both neighbours), each tile its positions and normals, and
+// the vertices' sources when the mesh has them (GridMesh::filled), compressed with zstd.
+// Returns the bytes written.
 std::uint64_t write_mesh_pyramid(const GridMesh& mesh, const std::string& path,
                                  std::size_t block = kLevelBlock,
                                  const std::string& name_like = {});
@@ -159,6 +165,7 @@ std::string pyramid_path_of(const std::string& mesh_path);
 struct MeshWindow {
   std::size_t rows = 0, cols = 0;                   // vertices
   std::vector<Eigen::Vector3f> positions, normals;  // row-major, local frame
+  std::vector<std::uint8_t> sources;  // VertexSource values; empty when the pyramid has none
 };
 
 // A pyramid file opened for windowed reads: the header, the blocks and the tile index are
@@ -179,6 +186,8 @@ class MeshPyramid {
   // The digest of the mesh it was made from (mesh_digest.hpp); none before version 3.
   std::optional<std::uint64_t> digest() const { return digest_; }
   const GridTopology& topology() const { return levels_.topo; }
+  // Whether its tiles keep the vertices' sources (GridMesh::filled; from version 4).
+  bool has_sources() const { return sources_; }
   const MeshLevels& levels() const { return levels_; }
   int level_count() const { return int(tiles_.size()); }
   // Level l's grid, in vertices.
@@ -186,10 +195,11 @@ class MeshPyramid {
   std::size_t cols(int l) const { return terrain::level_count(levels_.topo.cols - 1, l); }
   // The vertices of level l's grid rows r0 .. r0 + nr - 1 and columns c0 .. c0 + nc - 1.
   MeshWindow read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc);
-  // The same into `positions` and `normals` (nr x nc each, row-major), its tiles decoded in
-  // parallel.
+  // The same into `positions` and `normals` (nr x nc each, row-major), and `sources` when
+  // given and the pyramid has them, its tiles decoded in parallel.
   void read_window(int l, std::size_t r0, std::size_t c0, std::size_t nr, std::size_t nc,
-                   Eigen::Vector3f* positions, Eigen::Vector3f* normals);
+                   Eigen::Vector3f* positions, Eigen::Vector3f* normals,
+                   std::uint8_t* sources = nullptr);
   // The whole of level l's grid, rows(l) x cols(l) vertices row-major into `positions` and
   // `normals` (read_window's).
   void read_level(int l, Eigen::Vector3f* positions, Eigen::Vector3f* normals);
@@ -212,15 +222,17 @@ class MeshPyramid {
     std::size_t tiles_r = 0, tiles_c = 0;
     std::vector<Tile> tiles;
   };
-  // Tile (tr, tc) of level l read and checked: positions, then normals; its stored bytes
-  // added to `bytes`.
-  std::vector<Eigen::Vector3f> decode_tile(int l, std::size_t tr, std::size_t tc, ZSTD_DCtx* ctx,
-                                           std::uint64_t& bytes) const;
+  struct TileData {
+    std::vector<Eigen::Vector3f> raw;   // positions, then normals
+    std::vector<std::uint8_t> sources;  // empty without
+  };
+  // Tile (tr, tc) of level l read and checked; its stored bytes added to `bytes`.
+  TileData decode_tile(int l, std::size_t tr, std::size_t tc, ZSTD_DCtx* ctx,
+                       std::uint64_t& bytes) const;
   // Tiles rows tr0 .. tr1 - 1, columns tc0 .. tc1 - 1 of level l decoded and checked in
   // parallel, each given to `use` (from any thread); the first failure thrown after.
   void decode_tiles(int l, std::size_t tr0, std::size_t tc0, std::size_t tr1, std::size_t tc1,
-                    const std::function<void(std::size_t, std::size_t,
-                                             const std::vector<Eigen::Vector3f>&)>& use);
+                    const std::function<void(std::size_t, std::size_t, const TileData&)>& use);
   // The header and tile index of a file of `size` bytes, checked; the parts of the header
   // after its head (magic, version, size, checksum), each from `bytes` at `at` onwards:
   void read_header(std::uint64_t size);
@@ -232,6 +244,7 @@ class MeshPyramid {
   std::string path_;
   int fd_ = -1;
   int version_ = 0;
+  bool sources_ = false;
   std::optional<std::uint64_t> digest_;
   MeshGeoref geo_;
   MeshLevels levels_;
