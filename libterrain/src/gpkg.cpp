@@ -3,6 +3,7 @@
 #include <cpl_error.h>
 
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 
@@ -65,7 +66,7 @@ Gpkg::~Gpkg() {
 }
 
 OGRLayer* Gpkg::layer(const char* name, OGRwkbGeometryType type,
-                      std::initializer_list<GpkgField> fields) {
+                      std::initializer_list<GpkgField> fields, const LayerStyle& style) {
   for (int i = 0; i < ds_->GetLayerCount(); ++i)
     if (EQUAL(ds_->GetLayer(i)->GetName(), name)) {
       if (ds_->DeleteLayer(i) != OGRERR_NONE) fail();
@@ -77,7 +78,63 @@ OGRLayer* Gpkg::layer(const char* name, OGRwkbGeometryType type,
     OGRFieldDefn def(f.name, f.type);
     if (l->CreateField(&def) != OGRERR_NONE) fail();
   }
+  styles_.push_back({name, l->GetGeometryColumn(), qgis_style_qml(style, type), style.description});
   return l;
+}
+
+// The layer_styles table as QGIS makes it in a GeoPackage (QgsOgrProviderUtils): created
+// when missing; a row for a layer written here replaces that layer's rows.
+void Gpkg::write_styles() {
+  OGRLayer* t = ds_->GetLayerByName("layer_styles");
+  if (!t) {
+    const char* fid[] = {"FID=id", nullptr};  // QGIS's key column
+    t = ds_->CreateLayer("layer_styles", nullptr, wkbNone, const_cast<char**>(fid));
+    if (!t) fail();
+    const std::pair<const char*, OGRFieldType> fields[] = {{"f_table_catalog", OFTString},
+                                                           {"f_table_schema", OFTString},
+                                                           {"f_table_name", OFTString},
+                                                           {"f_geometry_column", OFTString},
+                                                           {"styleName", OFTString},
+                                                           {"styleQML", OFTString},
+                                                           {"styleSLD", OFTString},
+                                                           {"useAsDefault", OFTInteger},
+                                                           {"description", OFTString},
+                                                           {"owner", OFTString},
+                                                           {"ui", OFTString},
+                                                           {"update_time", OFTDateTime}};
+    for (const auto& [field, type] : fields) {
+      OGRFieldDefn def(field, type);
+      if (field == std::string("useAsDefault")) def.SetSubType(OFSTBoolean);
+      if (t->CreateField(&def) != OGRERR_NONE) fail();
+    }
+  }
+  for (const Styled& s : styles_) {
+    t->SetAttributeFilter(("f_table_name = '" + s.layer + "'").c_str());
+    std::vector<GIntBig> old;
+    for (auto& f : *t) old.push_back(f->GetFID());
+    t->SetAttributeFilter(nullptr);
+    for (GIntBig fid : old)
+      if (t->DeleteFeature(fid) != OGRERR_NONE) fail();
+    OGRFeature f(t->GetLayerDefn());
+    f.SetField("f_table_catalog", "");
+    f.SetField("f_table_schema", "");
+    f.SetField("f_table_name", s.layer.c_str());
+    f.SetField("f_geometry_column", s.geometry_column.c_str());
+    f.SetField("styleName", s.layer.c_str());
+    f.SetField("styleQML", s.qml.c_str());
+    f.SetField("styleSLD", "");
+    f.SetField("useAsDefault", 1);
+    f.SetField("description", s.description.c_str());
+    f.SetField("owner", "");
+    f.SetField("ui", "");
+    const std::time_t now = std::time(nullptr);
+    std::tm utc{};
+    gmtime_r(&now, &utc);
+    f.SetField("update_time", utc.tm_year + 1900, utc.tm_mon + 1, utc.tm_mday, utc.tm_hour,
+               utc.tm_min, float(utc.tm_sec), 100);
+    if (t->CreateFeature(&f) != OGRERR_NONE) fail();
+  }
+  styles_.clear();
 }
 
 void Gpkg::begin() {
@@ -89,6 +146,7 @@ void Gpkg::add(OGRLayer* l, OGRFeature& f) {
 }
 
 void Gpkg::commit() {
+  write_styles();
   if (ds_->CommitTransaction() != OGRERR_NONE) fail();
   CPLErrorReset();
   ds_.reset();

@@ -28,6 +28,16 @@ std::string layers_of(const std::string& gpkg) {
     out += (*it)[1].str() + " ";
   return out;
 }
+// The layers the QGIS styles (layer_styles) are for, one a row, in order.
+std::string styled_layers_of(const std::string& gpkg) {
+  const auto r =
+      run("ogrinfo -q -sql \"SELECT f_table_name FROM layer_styles ORDER BY id\" " + gpkg);
+  std::string out;
+  const std::regex line(R"(f_table_name \(String\) = (\w+))");
+  for (std::sregex_iterator it(r.out.begin(), r.out.end(), line), end; it != end; ++it)
+    out += (*it)[1].str() + " ";
+  return out;
+}
 long count_of(const std::string& gpkg, const std::string& layer) {
   const auto r = run("ogrinfo -q -sql \"SELECT COUNT(*) FROM " + layer + "\" " + gpkg);
   std::smatch m;
@@ -56,8 +66,10 @@ TEST(OutputSets, AGeoPackageExportKeepsTheOtherLayers) {
   const std::string ti = tool("terrain-inspect") + " export ";
   ASSERT_EQ(run(ti + in.dv + " --to gpkg -q").exit_code, 0);
   ASSERT_EQ(run(ti + in.mesh + " --to gpkg -q").exit_code, 0);
-  EXPECT_EQ(layers_of(in.dir.path("m.gpkg")), "branches basins divides ");
-  EXPECT_EQ(layers_of(in.dir.path("m_map.gpkg")), "hachures ");
+  EXPECT_EQ(layers_of(in.dir.path("m.gpkg")), "branches basins divides layer_styles ");
+  EXPECT_EQ(styled_layers_of(in.dir.path("m.gpkg")), "branches basins divides ");
+  EXPECT_EQ(layers_of(in.dir.path("m_map.gpkg")), "hachures layer_styles ");
+  EXPECT_EQ(styled_layers_of(in.dir.path("m_map.gpkg")), "hachures ");
 
   const std::string both = in.dir.path("both.gpkg");
   ASSERT_EQ(run(ti + in.dv + " --to gpkg -o " + both + " -q").exit_code, 0);
@@ -66,12 +78,14 @@ TEST(OutputSets, AGeoPackageExportKeepsTheOtherLayers) {
   ASSERT_EQ(run(ti + in.mesh + " --to gpkg -o " + both + " -q").exit_code, 0);
   const long hachures = count_of(both, "hachures");
   ASSERT_GT(hachures, 100);
-  EXPECT_EQ(layers_of(both), "branches basins divides hachures ");
+  EXPECT_EQ(layers_of(both), "branches basins divides hachures layer_styles ");
   EXPECT_EQ(count_of(both, "branches"), branches);
   EXPECT_EQ(count_of(both, "basins"), basins);
   ASSERT_EQ(run(ti + in.mesh + " --to gpkg -o " + both + " -q").exit_code, 0);
   EXPECT_EQ(count_of(both, "hachures"), hachures);
-  EXPECT_EQ(layers_of(both), "branches basins divides hachures ");
+  EXPECT_EQ(layers_of(both), "branches basins divides hachures layer_styles ");
+  // One style a layer: a layer written again has its style replaced, the others kept.
+  EXPECT_EQ(styled_layers_of(both), "branches basins divides hachures ");
   // The drainage layers added to a map's GeoPackage under a file-size limit they exceed.
   const std::string map = in.dir.path("m_map.gpkg"), before = terrain::test::file_bytes(map);
   const auto failed = run("ulimit -f " + std::to_string(fs::file_size(map) / 512 + 8) + "; exec " +

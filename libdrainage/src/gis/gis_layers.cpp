@@ -207,7 +207,9 @@ OGRLayer* branches_layer(Gpkg& gpkg) {
                     {{"strahler", OFTInteger64},  // not `order`: an SQL keyword
                      {"basin", OFTInteger64},
                      {"max_flow", OFTInteger64},
-                     {"vertices", OFTInteger64}});
+                     {"vertices", OFTInteger64}},
+                    {"31,61,140,255", 0.2, "0.1 + 0.1 * \"strahler\"",
+                     "Rivers: width by Strahler order, as terrain-render draws creases"});
 }
 
 }  // namespace
@@ -334,21 +336,26 @@ GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_pat
   GpkgCounts counts;
   Gpkg gpkg(out_path, h.crs_wkt);
   OGRLayer* branches = layers.branches ? branches_layer(gpkg) : nullptr;
-  OGRLayer* basins = layers.basins ? gpkg.layer("basins", wkbMultiPolygon,
-                                                {{"id", OFTInteger64},
-                                                 {"cells", OFTInteger64},
-                                                 {"area_m2", OFTReal},
-                                                 {"outlet_x", OFTReal},
-                                                 {"outlet_y", OFTReal},
-                                                 {"outlet", OFTString},
-                                                 {"max_order", OFTInteger}})
-                                   : nullptr;
-  OGRLayer* divides = layers.divides ? gpkg.layer("divides", wkbMultiLineString,
-                                                  {{"basin_a", OFTInteger64},
-                                                   {"basin_b", OFTInteger64},
-                                                   {"max_order", OFTInteger},
-                                                   {"length_m", OFTReal}})
-                                     : nullptr;
+  OGRLayer* basins = layers.basins
+                         ? gpkg.layer("basins", wkbMultiPolygon,
+                                      {{"id", OFTInteger64},
+                                       {"cells", OFTInteger64},
+                                       {"area_m2", OFTReal},
+                                       {"outlet_x", OFTReal},
+                                       {"outlet_y", OFTReal},
+                                       {"outlet", OFTString},
+                                       {"max_order", OFTInteger}},
+                                      {"110,110,110,255", 0.2, "", "Basins: their outlines"})
+                         : nullptr;
+  OGRLayer* divides = layers.divides
+                          ? gpkg.layer("divides", wkbMultiLineString,
+                                       {{"basin_a", OFTInteger64},
+                                        {"basin_b", OFTInteger64},
+                                        {"max_order", OFTInteger},
+                                        {"length_m", OFTReal}},
+                                       {"120,72,32,255", 0.2, "0.1 + 0.08 * \"max_order\"",
+                                        "Divides: width by the larger basin's order"})
+                          : nullptr;
   gpkg.begin();
   if (branches)
     counts.branches = write_branches(gpkg, branches, read_dv(dv_path), layers.min_order);

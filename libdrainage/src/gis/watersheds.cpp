@@ -257,14 +257,16 @@ void write_watershed_layers(
                                   {"accumulated", OFTInteger64},
                                   {"cells", OFTInteger64},
                                   {"area_m2", OFTReal},
-                                  {"downstream", OFTInteger64}});
+                                  {"downstream", OFTInteger64}},
+                                 {"200,30,30,255", 2.0, "", "Outlets, as snapped"});
   OGRLayer* sheds = gpkg.layer("watersheds", wkbMultiPolygon,
                                {{"id", OFTInteger64},
                                 {"cells", OFTInteger64},
                                 {"area_m2", OFTReal},
                                 {"outlet_x", OFTReal},
                                 {"outlet_y", OFTReal},
-                                {"downstream", OFTInteger64}});
+                                {"downstream", OFTInteger64}},
+                               {"40,40,40,255", 0.5, "", "Watersheds: their outlines"});
   gpkg.begin();
   for (std::size_t k = 0; k < ws.size(); ++k) {
     const Watershed& w = ws[k];

@@ -193,14 +193,20 @@ std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachure
   terrain::Gpkg gpkg(path, mesh.geo.crs_wkt);
   OGRLayer* layer = gpkg.layer(
       "hachures", wkbLineString,
-      {{"slope_deg", OFTReal}, {"tone", OFTReal}, {"length_m", OFTReal}, {"row_m", OFTReal}});
+      {{"slope_deg", OFTReal}, {"tone", OFTReal}, {"length_m", OFTReal}, {"row_m", OFTReal}},
+      {"0,0,0,255", 0.15, "0.08 + 0.25 * \"tone\"",
+       "Hachures: width by tone (darker where steeper or in shadow)"});
   OGRLayer* rl =
       h.ridges.empty()
           ? nullptr
           : gpkg.layer("ridges", wkbLineString,
-                       {{"basin_m2", OFTReal}, {"relief_m", OFTReal}, {"length_m", OFTReal}});
+                       {{"basin_m2", OFTReal}, {"relief_m", OFTReal}, {"length_m", OFTReal}},
+                       {"60,40,20,255", 0.45, "", "Ridge lines: the crests between basins"});
   OGRLayer* ol =
-      h.outline.empty() ? nullptr : gpkg.layer("outline", wkbLineString, {{"length_m", OFTReal}});
+      h.outline.empty()
+          ? nullptr
+          : gpkg.layer("outline", wkbLineString, {{"length_m", OFTReal}},
+                       {"0,0,0,255", 0.4, "", "The data's outline: where the DEM has data"});
   gpkg.begin();
   for (const Hachure& hh : h.hachures) {
     OGRLineString traced;
