@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <nlohmann/json.hpp>
+
 #include "terrain/error.hpp"
 
 namespace terrain::tools {
@@ -12,6 +14,34 @@ namespace terrain::tools {
 namespace rr = renderer;
 
 // One CLI option per table row (only the per-frame ones for `path`), checked by set_option.
+void print_render_options(std::ostream& out, const std::string& format) {
+  if (format != "json") {
+    for (const rr::OptionSpec& o : rr::render_options())
+      out << o.name << "\t" << o.group << "\t" << rr::option_type_name(o.type) << "\t"
+          << o.default_text << "\n";
+    return;
+  }
+  nlohmann::json all = nlohmann::json::array();
+  for (const rr::OptionSpec& o : rr::render_options()) {
+    const bool ranged = o.type == rr::OptionType::Number || o.type == rr::OptionType::Integer;
+    nlohmann::json j = {
+        {"name", o.name}, {"group", o.group},        {"type", rr::option_type_name(o.type)},
+        {"unit", o.unit}, {"choices", o.choices},    {"default", o.default_text},
+        {"help", o.help}, {"per_frame", o.per_frame}};
+    j["min"] = ranged ? nlohmann::json(o.min) : nlohmann::json();
+    j["max"] = ranged && !o.unbounded() ? nlohmann::json(o.max) : nlohmann::json();
+    all.push_back(std::move(j));
+  }
+  out << all.dump(1) << "\n";
+}
+
+void add_list_options_flag(CLI::App* app, std::string& format) {
+  app->add_flag("--list-options{tsv}", format,
+                "Print the render options and exit: a line each (name, group, type, default), "
+                "or with =json every field as JSON (for programs: a QGIS Processing provider)")
+      ->check(CLI::IsMember({"tsv", "json"}));
+}
+
 void add_table_options(CLI::App* app, TableArgs& a, bool per_frame_only) {
   for (const rr::OptionSpec& o : rr::render_options()) {
     if (per_frame_only && !o.per_frame) continue;

@@ -23,6 +23,14 @@ struct TableArgs {
   }
 };
 
+// The table for people and programs (a QGIS Processing provider builds its parameters from
+// it): `format` tsv, a line an option (name, group, type, default), or json, an array of
+// objects with every field (name, group, type, min, max, unit, choices, default, help,
+// per_frame); --list-options and --list-options=json of terrain-render and terrain-view.
+void print_render_options(std::ostream& out, const std::string& format);
+// Adds that flag to `app`: `format` set to tsv or json when given.
+void add_list_options_flag(CLI::App* app, std::string& format);
+
 // One option per table row (only the per-frame ones with `per_frame_only`), in the table's
 // groups, each checked by renderer::set_option (a bad value is a usage error, exit 2).
 void add_table_options(CLI::App* app, TableArgs& a, bool per_frame_only);

@@ -62,7 +62,8 @@ void add_examples(CLI::App& app) {
       "vertices: read from\n"
       "                                 # logan_2m.tpyr (dem2mesh --pyramid) at the level the view "
       "draws\n"
-      "  terrain-render --device\n\n"
+      "  terrain-render --device\n"
+      "  terrain-render --list-options=json   # every render option, for programs\n\n"
       "See docs/terrain-render.md for the passes, the crease score and the camera conventions.");
 }
 
@@ -128,6 +129,8 @@ int main(int argc, char** argv) {
   bool list_devices_flag = false;
   app.add_flag("--device", list_devices_flag,
                "List the EGL devices and OpenGL renderers found, then exit");
+  std::string list_options;
+  tt::add_list_options_flag(&app, list_options);
   tt::Verbosity verb;
   tt::add_verbosity_flags(app, verb);
   FrameArgs f;
@@ -138,6 +141,10 @@ int main(int argc, char** argv) {
   const CLI::App* path_cmd = add_path_command(app, p);
   return tt::run_main(app, argc, argv, [&]() -> int {
     if (list_devices_flag) return tr::list_devices();
+    if (!list_options.empty()) {
+      tt::print_render_options(std::cout, list_options);
+      return 0;
+    }
     const std::string prov = tt::provenance(argc, argv);
     if (path_cmd->parsed()) return tr::run_path(p.table, p.from, p.to, p.frames, p.out, prov);
     if (frame_cmd->parsed())

@@ -23,7 +23,8 @@ namespace {
 struct Args {
   std::string mesh, dv, replay_path, frames_path, save_dir = ".";
   double memory_mib = 1024;
-  bool offscreen = false, list = false;
+  bool offscreen = false;
+  std::string list;  // --list-options: tsv or json
   tt::Verbosity verb;
   tt::TableArgs opts;
   renderer::VectorOptions vector;
@@ -49,7 +50,7 @@ void add_help(CLI::App& app) {
       "  terrain-view out/msh_50m.ply out/msh_breached.dv --replay tour.txt --offscreen\n"
       "  terrain-view logan_2m.ply logan_2m.dv --memory 512   # a mesh larger than that, read from "
       "its pyramid\n"
-      "  terrain-view --list-options\n\n"
+      "  terrain-view --list-options          # or --list-options=json\n\n"
       "See docs/terrain-view.md.");
 }
 
@@ -62,8 +63,7 @@ void add_options(CLI::App& app, Args& a) {
   app.add_option("--frames", a.frames_path, "A frames CSV to step through (N, or next-frame)");
   app.add_option("--save-dir", a.save_dir, "Where the panel's Save buttons write")
       ->capture_default_str();
-  app.add_flag("--list-options", a.list,
-               "Print the panel's options (name, group, type, default) and exit");
+  tt::add_list_options_flag(&app, a.list);
   tt::add_vertex_memory_option(&app, a.memory_mib,
                                "as terrain-render frame reads it (the level the view draws over "
                                "the blocks in view, within this), again when a still view needs "
@@ -87,10 +87,8 @@ int main(int argc, char** argv) {
   add_options(app, a);
 
   return tt::run_main(app, argc, argv, [&]() -> int {
-    if (a.list) {
-      for (const rr::OptionSpec& o : rr::render_options())
-        std::cout << o.name << "\t" << o.group << "\t" << rr::option_type_name(o.type) << "\t"
-                  << o.default_text << "\n";
+    if (!a.list.empty()) {
+      tt::print_render_options(std::cout, a.list);
       return 0;
     }
     if (a.mesh.empty()) throw CLI::ValidationError("MESH", "give a mesh (.ply)");

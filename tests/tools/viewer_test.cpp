@@ -5,6 +5,8 @@
 // each type); --list-options holds every option of the table.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -304,6 +306,32 @@ TEST(Viewer, ListsEveryOptionOfTheTable) {
     ++lines;
   }
   EXPECT_EQ(std::size_t(std::count(r.out.begin(), r.out.end(), '\n')), lines);
+}
+
+// --list-options=json (terrain-render's and terrain-view's, the same): every row of the
+// table with its range, choices and help, as a program builds its parameters from it.
+TEST(Viewer, ListsEveryOptionAsJson) {
+  for (const char* t : {"terrain-view", "terrain-render"}) {
+    const auto r = run(tool(t) + " --list-options=json");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const nlohmann::json all = nlohmann::json::parse(r.out);
+    const auto& table = renderer::render_options();
+    ASSERT_EQ(all.size(), table.size()) << t;
+    for (std::size_t i = 0; i < table.size(); ++i) {
+      const renderer::OptionSpec& o = table[i];
+      const nlohmann::json& j = all[i];
+      EXPECT_EQ(j["name"], o.name);
+      EXPECT_EQ(j["default"], o.default_text) << o.name;
+      EXPECT_EQ(j["type"], renderer::option_type_name(o.type)) << o.name;
+      EXPECT_EQ(j["choices"].get<std::vector<std::string>>(), o.choices) << o.name;
+      EXPECT_EQ(j["help"], o.help) << o.name;
+      if (o.type == renderer::OptionType::Number && !o.unbounded()) {
+        EXPECT_EQ(j["min"].get<double>(), o.min) << o.name;
+        EXPECT_EQ(j["max"].get<double>(), o.max) << o.name;
+      }
+    }
+  }
+  EXPECT_EQ(run(tool("terrain-render") + " --list-options=yaml").exit_code, 2);
 }
 
 }  // namespace
