@@ -18,6 +18,7 @@ PACKAGES=(
   libcairo2-dev libpotrace-dev             # vector line art: SVG and PDF through cairo, the surface mask traced by potrace
   librsvg2-bin poppler-utils               # tests rasterize the SVG (rsvg-convert) and the PDF (pdftoppm)
   clang-format                             # CI checks the sources' layout (scripts/check-format.sh)
+  python3-qgis                             # the QGIS Processing provider's test (PyQGIS, headless)
 )
 
 missing=()
