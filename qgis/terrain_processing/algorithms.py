@@ -115,7 +115,10 @@ class PenAndInkMapAlgorithm(TerrainAlgorithm):
             QgsProcessingParameterNumber.Double, defaultValue=0, minValue=0))
         self.addParameter(QgsProcessingParameterNumber(
             "MIN_ORDER", "Rivers of at least this Strahler order",
-            QgsProcessingParameterNumber.Integer, defaultValue=2, minValue=1, maxValue=255))
+            QgsProcessingParameterNumber.Integer, defaultValue=1, minValue=1, maxValue=255))
+        self.addParameter(QgsProcessingParameterNumber(
+            "MIN_AREA", "Rivers where at least this many square metres drain (1 ha: 10000)",
+            QgsProcessingParameterNumber.Double, defaultValue=10000, minValue=0))
         self.addParameter(QgsProcessingParameterFileDestination(
             "OUTPUT", "Map layers", "GeoPackage (*.gpkg)"))
 
@@ -135,7 +138,8 @@ class PenAndInkMapAlgorithm(TerrainAlgorithm):
         run_tool("terrain-inspect", ["export"] + args, feedback, (65, 90))
         run_tool("terrain-inspect",
                  ["export", dv, "--to", "gpkg", "-o", gpkg, "--layers", "branches",
-                  "--min-order", self.parameterAsInt(parameters, "MIN_ORDER", context)],
+                  "--min-order", self.parameterAsInt(parameters, "MIN_ORDER", context),
+                  "--min-area", self.parameterAsDouble(parameters, "MIN_AREA", context)],
                  feedback, (90, 100))
         layers = finish_gpkg(gpkg, output, context)
         return {"OUTPUT": output, "LAYERS": layers}

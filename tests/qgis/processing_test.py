@@ -108,7 +108,7 @@ def pen_and_ink_map(dem, name):
     shell_time = shell(["dem2mesh", dem, m], ["build-drainage", m, d],
                        ["terrain-inspect", "export", m, "--to", "gpkg", "-o", g, "--dv", d],
                        ["terrain-inspect", "export", d, "--to", "gpkg", "-o", g, "--layers",
-                        "branches", "--min-order", "2"])
+                        "branches"])
     print(f"figure: {name} penandinkmap {took:.2f} s in Processing, {shell_time:.2f} s from a "
           f"shell ({took / shell_time:.2f}x)")
     same = all(QgsVectorLayer(f"{out}|layername={n}", n, "ogr").featureCount() ==
@@ -124,7 +124,7 @@ michigamme_map = pen_and_ink_map(michigamme, "michigamme")
 
 # terrain:drainage: the rivers, basins and divides, styled, in the DEM's CRS.
 drainage = os.path.join(scratch, "drainage.gpkg")
-result = run("terrain:drainage", {"INPUT": msh, "OUTPUT": drainage, "MIN_ORDER": 2})
+result = run("terrain:drainage", {"INPUT": msh, "OUTPUT": drainage})
 check(result["LAYERS"] == ["branches", "basins", "divides"], f"drainage: {result['LAYERS']}")
 check_layers(drainage, result["LAYERS"], msh, "drainage")
 
@@ -180,12 +180,15 @@ except QgsProcessingException as e:
 
 shots = os.environ.get("TERRAIN_QGIS_SHOTS")
 if shots:
-    from qgis.core import (QgsHillshadeRenderer, QgsMapRendererParallelJob, QgsMapSettings)
+    from qgis.core import (QgsBilinearRasterResampler, QgsHillshadeRenderer,
+                           QgsMapRendererParallelJob, QgsMapSettings)
     from qgis.PyQt.QtCore import QSize
     from qgis.PyQt.QtGui import QColor
     for dem, gpkg, name in ((msh, msh_map, "msh"), (michigamme, michigamme_map, "michigamme")):
         hill = QgsRasterLayer(dem, "hillshade")
         hill.setRenderer(QgsHillshadeRenderer(hill.dataProvider(), 1, 315, 45))
+        hill.resampleFilter().setZoomedInResampler(QgsBilinearRasterResampler())
+        hill.resampleFilter().setZoomedOutResampler(QgsBilinearRasterResampler())
         hill.setOpacity(0.5)
         layers = [QgsVectorLayer(f"{gpkg}|layername={n}", n, "ogr")
                   for n in ("outline", "branches", "ridges", "hachures")]

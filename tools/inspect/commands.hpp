@@ -26,6 +26,8 @@ void run_preview(const PreviewArgs& a, const std::string& provenance, const Verb
 struct ExportArgs {
   std::string file, out, to, d8_encoding = "taudem";
   int min_order = 1;
+  double min_area = 1e4;  // m^2: the branches' channel-initiation area
+  bool d8_lines = false;
   std::vector<std::string> gpkg_layers = {"branches", "basins", "divides"};
   // A mesh's plan-view hachure map (--layers hachures; renderer/core/plan_map.hpp), its
   // defaults the map's (PlanHachureOptions).

@@ -85,7 +85,7 @@ void export_dv_gpkg(ExportArgs& a, const std::string&, const Verbosity& verb) {
     return std::find(a.gpkg_layers.begin(), a.gpkg_layers.end(), name) != a.gpkg_layers.end();
   };
   layers.branches = has("branches"), layers.basins = has("basins"), layers.divides = has("divides");
-  layers.min_order = a.min_order;
+  layers.rivers = {a.min_order, a.min_area, a.d8_lines ? 0.0 : 1.5};
   const drainage::GpkgCounts n =
       drainage::export_dv_gpkg(a.file, a.out, layers, tt::terminal_progress(verb, "gpkg"));
   std::cout << "output: " << a.out << "\n";
@@ -205,9 +205,20 @@ void add_export_options(CLI::App* exp, ExportArgs& a) {
   exp->add_option("--d8-encoding", a.d8_encoding, "A .dv to tif: the codes of d8.tif")
       ->check(CLI::IsMember({"taudem", "esri"}))
       ->capture_default_str();
-  exp->add_option("--min-order", a.min_order, "gpkg: only branches of at least this Strahler order")
+  exp->add_option("--min-order", a.min_order,
+                  "gpkg: only branches of at least this Strahler order (counted on the rivers "
+                  "--min-area keeps)")
       ->check(CLI::Range(1, 255))
       ->capture_default_str();
+  exp->add_option("--min-area", a.min_area,
+                  "gpkg: branches where at least this many square metres drain (a channel-"
+                  "initiation area, as terrain-render's --min-area: 1 ha is 100 points at 10 m; "
+                  "0: every D8 link, the .dv's own network)")
+      ->check(CLI::Range(0.0, 1e15))
+      ->capture_default_str();
+  exp->add_flag("--d8-lines", a.d8_lines,
+                "gpkg: branches as the D8 polylines (steps of 45 degrees), not smoothed as "
+                "terrain-render smooths creases");
   exp->add_option("--layers", a.gpkg_layers,
                   "gpkg: the layers to write, comma-separated; a .dv: branches (LineString ZM, M = "
                   "normalized flow), "

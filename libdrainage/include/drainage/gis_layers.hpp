@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "drainage/d8.hpp"
 #include "drainage/dv_file.hpp"
 #include "terrain/big_vector.hpp"
@@ -104,15 +106,41 @@ std::vector<Watershed> write_watersheds(const std::string& dv_path,
 
 // ---- terrain-inspect export X.dv --to gpkg ------------------------------------------------
 
-// Writes a GeoPackage (GDAL/OGR) with layer "branches": one LineString ZM per branch of
-// order >= min_order, its vertices followed by the vertex it drains into, world
-// coordinates, M = normalized flow; fields order, basin, max_flow (largest accumulated
-// flow, points) and vertices. Atomic. Returns the number of features written.
-std::size_t export_branches_gpkg(const DrainageDb& db, const std::string& path, int min_order = 1);
+// The rivers as a map draws them (docs/build-drainage.md, "GIS layers"): the points through
+// which at least `min_area_m2` drains (a channel-initiation area, as terrain-render's
+// --min-area; 0: every D8 link), Strahler's orders counted on that network (TauDEM's
+// StreamNet does the same on its thresholded grid), and chains of points of one order
+// followed downstream, each ending on the river it joins (that point last) or at its
+// outlet. Points as the .dv's indices; max_flow the chain's own largest accumulation.
+struct RiverLine {
+  std::vector<std::uint32_t> points;
+  int strahler = 0;
+  std::uint32_t max_flow = 0;
+};
+std::vector<RiverLine> river_lines(const DrainageDb& db, double min_area_m2);
+// A river line's points (the .dv's local frame) smoothed as the renderer smooths creases:
+// x, y the Gaussian mean along the line (sigma in points, a window symmetric about each
+// point, up to 2 sigma: its ends stay), z the surface there (bilinear over the grid); as
+// they are with sigma 0.
+std::vector<Eigen::Vector3d> river_shape(const DrainageDb& db, const RiverLine& line,
+                                         double sigma_samples);
+
+struct RiverOptions {
+  int min_order = 1;            // lines of at least this order
+  double min_area_m2 = 1e4;     // river_lines' channel-initiation area (1 ha)
+  double smooth_samples = 1.5;  // river_shape's sigma; 0: the D8 polyline
+};
+
+// Writes a GeoPackage (GDAL/OGR) with layer "branches": one LineString ZM per river line
+// (river_lines, river_shape), world coordinates, M = the normalized flow of its point;
+// fields strahler, basin, max_flow (points) and vertices. Atomic. Returns the number of
+// features written.
+std::size_t export_branches_gpkg(const DrainageDb& db, const std::string& path,
+                                 const RiverOptions& rivers = {});
 
 struct GpkgLayers {
   bool branches = true, basins = true, divides = true;
-  int min_order = 1;  // branches of at least this Strahler order
+  RiverOptions rivers;  // which branches, and their shape
 };
 struct GpkgCounts {
   std::size_t branches = 0, basins = 0, divides = 0;

@@ -173,27 +173,21 @@ std::vector<std::vector<std::uint64_t>> chain_divide_edges(std::vector<DivideEdg
 
 namespace {
 
-std::size_t write_branches(Gpkg& gpkg, OGRLayer* layer, const DrainageDb& db, int min_order) {
+std::size_t write_branches(Gpkg& gpkg, OGRLayer* layer, const DrainageDb& db,
+                           const RiverOptions& rivers) {
   const DvHeader& h = db.header;
   std::size_t written = 0;
-  for (const DvBranch& b : db.branches) {
-    if (b.order < min_order) continue;
+  for (const RiverLine& r : river_lines(db, rivers.min_area_m2)) {
+    if (r.strahler < rivers.min_order) continue;
+    const std::vector<Eigen::Vector3d> shape = river_shape(db, r, rivers.smooth_samples);
     OGRLineString line;
-    std::uint32_t max_flow = 0;  // the branch's own: not the junction's it drains into
-    auto add = [&](std::uint32_t v) {
-      const DvVertex& p = db.vertices[v];
-      line.addPoint(h.origin_x + p.x, h.origin_y + p.y, h.origin_z + p.z, p.normalized);
-    };
-    for (std::uint32_t k = 0; k < b.count; ++k) {
-      add(db.branch_vertices[b.first + k]);
-      max_flow = std::max(max_flow, db.vertices[db.branch_vertices[b.first + k]].accumulated);
-    }
-    if (b.drains_into != kNone) add(b.drains_into);
-    if (line.getNumPoints() < 2) continue;  // a lone pit: no line
+    for (std::size_t k = 0; k < shape.size(); ++k)
+      line.addPoint(h.origin_x + shape[k].x(), h.origin_y + shape[k].y(), h.origin_z + shape[k].z(),
+                    db.vertices[r.points[k]].normalized);
     OGRFeature feature(layer->GetLayerDefn());
-    feature.SetField("strahler", GIntBig(b.order));
-    feature.SetField("basin", GIntBig(db.vertices[db.branch_vertices[b.first]].basin));
-    feature.SetField("max_flow", GIntBig(max_flow));
+    feature.SetField("strahler", GIntBig(r.strahler));
+    feature.SetField("basin", GIntBig(db.vertices[r.points.front()].basin));
+    feature.SetField("max_flow", GIntBig(r.max_flow));
     feature.SetField("vertices", GIntBig(line.getNumPoints()));
     feature.SetGeometry(&line);
     gpkg.add(layer, feature);
@@ -214,11 +208,12 @@ OGRLayer* branches_layer(Gpkg& gpkg) {
 
 }  // namespace
 
-std::size_t export_branches_gpkg(const DrainageDb& db, const std::string& path, int min_order) {
+std::size_t export_branches_gpkg(const DrainageDb& db, const std::string& path,
+                                 const RiverOptions& rivers) {
   Gpkg gpkg(path, db.header.crs_wkt);
   OGRLayer* layer = branches_layer(gpkg);
   gpkg.begin();
-  const std::size_t n = write_branches(gpkg, layer, db, min_order);
+  const std::size_t n = write_branches(gpkg, layer, db, rivers);
   gpkg.commit();
   return n;
 }
@@ -357,8 +352,7 @@ GpkgCounts export_dv_gpkg(const std::string& dv_path, const std::string& out_pat
                                         "Divides: width by the larger basin's order"})
                           : nullptr;
   gpkg.begin();
-  if (branches)
-    counts.branches = write_branches(gpkg, branches, read_dv(dv_path), layers.min_order);
+  if (branches) counts.branches = write_branches(gpkg, branches, read_dv(dv_path), layers.rivers);
   terrain::report(progress, 0.1);
   if (!basins && !divides) {
     gpkg.commit();

@@ -1,6 +1,9 @@
 // Views of a drainage database: the summary counts the network, the elevations are the
-// surface, the preview marks channels, and the GeoPackage has one line per branch.
+// surface, the preview marks channels, and the rivers are the network's lines.
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
 
 #include "drainage/dv_file.hpp"
 #include "drainage/dv_views.hpp"
@@ -54,23 +57,80 @@ TEST(DvViews, SummaryElevationsAndPreview) {
   EXPECT_LT(blue, z.size() / 20);
 }
 
-TEST(DvViews, GeopackageHasOneLinePerBranch) {
+// The rivers with no channel-initiation area are the .dv's own network: Strahler's orders
+// counted again on it equal the .dv's at every point, and the chains are its branches.
+TEST(DvViews, RiversOfEveryLinkAreTheDvsBranches) {
   terrain::test::ScratchDir dir;
-  const DrainageResult r = logan_drainage();
-  write_dv(dir.path("a.dv"), make_dv_header(r.surface, r.net, r.dv_flags, ""), r.surface, r.dirs,
-           r.net);
-  const DrainageDb db = read_dv(dir.path("a.dv"));
-  std::size_t lines = 0, lines_order3 = 0;
-  for (const DvBranch& b : db.branches) {
-    const std::size_t points = b.count + (b.drains_into != kNone ? 1 : 0);
-    lines += points >= 2;
-    lines_order3 += points >= 2 && b.order >= 3;
+  const DrainageDb db = round_trip(logan_drainage(), dir);
+  const std::vector<RiverLine> all = river_lines(db, 0);
+  std::vector<std::vector<std::uint32_t>> mine, theirs;
+  for (const RiverLine& l : all) {
+    mine.push_back(l.points);
+    for (std::size_t k = 0; k + 1 < l.points.size(); ++k)  // the last: the river it joins
+      ASSERT_EQ(int(db.vertices[l.points[k]].order), l.strahler) << l.points[k];
   }
-  EXPECT_EQ(export_branches_gpkg(db, dir.path("all.gpkg")), lines);
-  EXPECT_EQ(export_branches_gpkg(db, dir.path("o3.gpkg"), 3), lines_order3);
-  EXPECT_EQ(dir.n_entries(), 3u);  // no temporary left
-  const auto rgb = dv_preview(db);
-  EXPECT_EQ(rgb.size(), 3 * db.vertices.size());
+  for (const DvBranch& b : db.branches) {
+    std::vector<std::uint32_t> p(db.branch_vertices.begin() + b.first,
+                                 db.branch_vertices.begin() + b.first + b.count);
+    if (b.drains_into != kNone) p.push_back(b.drains_into);
+    if (p.size() >= 2) theirs.push_back(p);
+  }
+  std::sort(mine.begin(), mine.end()), std::sort(theirs.begin(), theirs.end());
+  EXPECT_EQ(mine, theirs);
+  EXPECT_EQ(export_branches_gpkg(db, dir.path("all.gpkg"), {1, 0, 0}), all.size());
+  EXPECT_EQ(dir.n_entries(), 2u);  // no temporary left
+}
+
+// With a channel-initiation area (1 ha = 1 point at 100 m; 50 ha here): every point where
+// that much drains lies on one line, no other does; Strahler's rule holds at every head on
+// that network; smoothed lines keep their ends and stay within a cell's diagonal of the
+// D8 path.
+TEST(DvViews, RiversStartWhereTheirAreaDrains) {
+  terrain::test::ScratchDir dir;
+  const DrainageDb db = round_trip(logan_drainage(), dir);
+  const double area = 50 * 1e4, cell = db.header.dx * db.header.dy;
+  const std::vector<RiverLine> lines = river_lines(db, area);
+  std::vector<int> inner(db.vertices.size(), 0), any(db.vertices.size(), 0);
+  std::map<std::uint32_t, std::vector<int>> ending_at;  // a point: the orders of lines ending there
+  for (const RiverLine& l : lines) {
+    for (std::size_t k = 0; k < l.points.size(); ++k)
+      ++any[l.points[k]], inner[l.points[k]] += k + 1 < l.points.size();
+    ending_at[l.points.back()].push_back(l.strahler);
+  }
+  auto is_river = [&](std::uint32_t i) {
+    const DvVertex& v = db.vertices[i];
+    return PointClass(v.point_class) != PointClass::Nodata && double(v.accumulated) * cell >= area;
+  };
+  std::vector<char> fed(db.vertices.size(), 0);  // a river drains into it
+  for (std::uint32_t i = 0; i < db.vertices.size(); ++i)
+    if (is_river(i) && db.vertices[i].downstream != kNone) fed[db.vertices[i].downstream] = 1;
+  std::size_t rivers = 0;
+  for (std::uint32_t i = 0; i < db.vertices.size(); ++i) {
+    const bool river = is_river(i),
+               alone = river && !fed[i] &&
+                       (db.vertices[i].downstream == kNone || !is_river(db.vertices[i].downstream));
+    rivers += river;
+    ASSERT_EQ(any[i] > 0, river && !alone) << i;  // a river of one point has no line
+    ASSERT_LE(inner[i], 1) << i;
+  }
+  EXPECT_GT(rivers, 1000u);
+  EXPECT_LT(rivers, db.vertices.size() / 10);
+  for (const RiverLine& l : lines) {
+    const auto in = ending_at.find(l.points.front());
+    const std::vector<int> inflow = in == ending_at.end() ? std::vector<int>{} : in->second;
+    const int top = inflow.empty() ? 0 : *std::max_element(inflow.begin(), inflow.end());
+    EXPECT_EQ(l.strahler,
+              inflow.empty() ? 1 : top + (std::count(inflow.begin(), inflow.end(), top) >= 2))
+        << "line from " << l.points.front();
+    const std::vector<Eigen::Vector3d> d8 = river_shape(db, l, 0), smooth = river_shape(db, l, 1.5);
+    ASSERT_EQ(smooth.size(), d8.size());
+    EXPECT_EQ(smooth.front(), d8.front());
+    EXPECT_EQ(smooth.back(), d8.back());
+    for (std::size_t k = 0; k < d8.size(); ++k)
+      EXPECT_LT((smooth[k] - d8[k]).head<2>().norm(), std::sqrt(2.0) * db.header.dx) << k;
+  }
+  // The coarser the area, the fewer and higher-order-first lines: 1 point a line at least.
+  EXPECT_LT(river_lines(db, 4 * area).size(), lines.size());
 }
 
 // The links of a world rectangle (a small mesh over a large database) are the points
