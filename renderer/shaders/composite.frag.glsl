@@ -39,6 +39,20 @@ layout(location = TR_LOC_EDGE_COLOUR) uniform vec3 u_edge_colour;
 layout(location = TR_LOC_EDGES) uniform int u_edges;
 layout(location = 0) out vec4 o_colour;
 
+// A line of colour `col` covering `cov` of a pixel laid over it: over the opaque frame a
+// mix; over a transparent background (TR_COMPOSITE_TRANSPARENT) the "over" operator with
+// straight alpha, so a line's rim outside the terrain is the line's colour, part covered.
+#ifdef TR_COMPOSITE_TRANSPARENT
+void lay(inout vec3 c, inout float a, vec3 col, float cov) {
+  float b = cov + a * (1.0 - cov);
+  c = b > 0.0 ? (col * cov + c * a * (1.0 - cov)) / b : col;
+  a = b;
+}
+#define LAY(col, cov) lay(c, a, col, cov)
+#else
+#define LAY(col, cov) c = mix(c, col, cov)
+#endif
+
 // A line layer's pixel p is drawn when it is covered and not behind the surface (distance t).
 bool line_visible(sampler2D colour, sampler2D depth, ivec2 p, float t) {
   return texelFetch(colour, p, 0).r > 0.0 && far_of(texelFetch(depth, p, 0).r) <= t;
@@ -215,16 +229,20 @@ void main() {
   vec3 c = u_background;
   if (surface && u_layers.x != 0) c = sc.rgb;
   else if (surface && u_layers.y != 0) c = u_mask_colour;
+  float a = 1.0;  // the pixel's alpha: 1 but where the background is none
+#ifdef TR_COMPOSITE_TRANSPARENT
+  if (!surface) a = 0.0;
+#endif
   // A layer the frame does not draw is compiled out (TR_COMPOSITE_NO_*, CompositePass):
   // llvmpipe would run its fetches under a mask.
 #ifndef TR_COMPOSITE_NO_PELS
-  if (u_pels != 0) c = mix(c, u_pel_colour, line_cover(u_pel, u_pel_depth, p, t));
+  if (u_pels != 0) LAY(u_pel_colour, line_cover(u_pel, u_pel_depth, p, t));
 #endif
 #ifndef TR_COMPOSITE_NO_CREASES
-  if (u_layers.z != 0) c = mix(c, u_crease_colour, line_cover(u_crease, u_crease_depth, p, t));
+  if (u_layers.z != 0) LAY(u_crease_colour, line_cover(u_crease, u_crease_depth, p, t));
 #endif
 #ifndef TR_COMPOSITE_NO_EDGES
-  if (u_edges != 0 && line_visible(u_edge, u_edge_depth, p, t)) c = u_edge_colour;
+  if (u_edges != 0 && line_visible(u_edge, u_edge_depth, p, t)) LAY(u_edge_colour, 1.0);
 #endif
 #ifdef TR_COMPOSITE_SILHOUETTES
   float sil = 0.0;
@@ -237,7 +255,7 @@ void main() {
       for (int dx = r0; dx <= r1; ++dx)
         sil = max(sil, texelFetch(u_silhouette, clamp(p + ivec2(dx, dy), ivec2(0), size - 1), 0).r);
   }
-  c = mix(c, u_silhouette_colour, sil);
+  LAY(u_silhouette_colour, sil);
 #endif
-  o_colour = vec4(c, 1.0);
+  o_colour = vec4(c, a);
 }

@@ -565,6 +565,56 @@ TEST(TerrainRender, TopViewIsAMapInMapCoordinates) {
       << oblique.err;
 }
 
+// The top view as a GeoTIFF (-o map.tif) with --background none: GDAL reads its CRS and
+// geotransform (the PNG's), its 4th band is alpha; the pixels the opaque PNG paints with
+// the background are transparent, the terrain's are opaque with the PNG's colours.
+TEST(TerrainRender, TopViewGeoTiffIsATransparentMap) {
+  Inputs in;
+  const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
+                            " --view top --map-scale 10 --layers mask,creases --size 640x480 -o ";
+  ASSERT_EQ(run(frame + in.dir.path("o.png")).exit_code, 0);
+  const auto t = run(frame + in.dir.path("t.tif") + " --background none");
+  ASSERT_EQ(t.exit_code, 0) << t.err;
+  EXPECT_FALSE(std::filesystem::exists(in.dir.path("t.pgw")));  // inside the GeoTIFF
+  terrain::ensure_gdal();
+  std::unique_ptr<GDALDataset> tif(
+      GDALDataset::Open(in.dir.path("t.tif").c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  std::unique_ptr<GDALDataset> png(
+      GDALDataset::Open(in.dir.path("o.png").c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  ASSERT_TRUE(tif && png);
+  ASSERT_EQ(tif->GetRasterCount(), 4);
+  EXPECT_EQ(tif->GetRasterBand(4)->GetColorInterpretation(), GCI_AlphaBand);
+  ASSERT_NE(tif->GetSpatialRef(), nullptr);
+  EXPECT_STREQ(tif->GetSpatialRef()->GetAuthorityCode(nullptr), "26910");
+  double a[6], b[6];
+  ASSERT_EQ(tif->GetGeoTransform(a), CE_None);
+  ASSERT_EQ(png->GetGeoTransform(b), CE_None);
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(a[k], b[k], 1e-3) << k;  // the .pgw: 10 digits
+  const int w = 640, h = 480;
+  std::vector<std::uint8_t> tp(std::size_t(w * h * 4)), op(std::size_t(w * h * 4));
+  int bands[] = {1, 2, 3, 4};
+  ASSERT_EQ(
+      tif->RasterIO(GF_Read, 0, 0, w, h, tp.data(), w, h, GDT_Byte, 4, bands, 4, w * 4, 1, nullptr),
+      CE_None);
+  ASSERT_EQ(
+      png->RasterIO(GF_Read, 0, 0, w, h, op.data(), w, h, GDT_Byte, 4, bands, 4, w * 4, 1, nullptr),
+      CE_None);
+  std::size_t background = 0, opaque = 0, wrong = 0;
+  for (std::size_t i = 0; i < std::size_t(w * h); ++i) {
+    const bool bg = op[4 * i] == op[0] && op[4 * i + 1] == op[1] && op[4 * i + 2] == op[2];
+    const std::uint8_t alpha = tp[4 * i + 3];
+    background += bg;
+    if (bg) wrong += alpha != 0;
+    if (alpha == 255) {
+      ++opaque;
+      for (int c = 0; c < 3; ++c) wrong += std::abs(tp[4 * i + c] - op[4 * i + c]) > 1;
+    }
+  }
+  EXPECT_GT(background, std::size_t(w * h) / 10);  // the map is smaller than the frame
+  EXPECT_GT(opaque, std::size_t(w * h) / 4);
+  EXPECT_EQ(wrong, 0u);
+}
+
 // A mesh's plan-view hachure map (terrain-inspect export --layers hachures): the GeoPackage
 // holds one line feature a hachure, in the mesh's CRS and extent, with slope and tone; its
 // vertices, put through the printed geotransform, lie on the SVG's ink (two paths: OGR's

@@ -223,9 +223,13 @@ void write_pngs(const std::vector<std::string>& pngs, const FrameResult& res, Fr
   for (const std::string& p : pngs) {
     const std::vector<std::string> files = frame_files(p, bool(gt));
     terrain::OutputSet outputs;  // the PNG and its world file
+    const std::vector<std::uint8_t>& pixels = over.any() ? drawn : res.rgba;
     outputs.write([&] {
-      terrain::write_png(outputs.stage(p), res.width, res.height, 4, over.any() ? drawn : res.rgba,
-                         description);
+      if (std::string(frame_format(p)->name) == "tif")  // its georeference inside
+        terrain::write_rgba_geotiff(outputs.stage(p), res.width, res.height, pixels, gt,
+                                    gt ? crs_wkt : std::string(), description);
+      else
+        terrain::write_png(outputs.stage(p), res.width, res.height, 4, pixels, description);
       if (files.size() > 1) terrain::write_file_atomic(outputs.stage(files[1]), world_file(*gt));
       if (files.size() > 2)  // the CRS, where GDAL and QGIS look for it (empty without one)
         terrain::write_file_atomic(outputs.stage(files[2]), pam_crs(crs_wkt));

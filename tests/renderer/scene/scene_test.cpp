@@ -58,8 +58,10 @@ TEST(Scene, FrameFilesFollowTheFormatsTable) {
   EXPECT_EQ(frame_files("d/m.png", false), (V{"d/m.png"}));
   EXPECT_EQ(frame_files("d/m.svg", true), (V{"d/m.svg"}));
   EXPECT_EQ(frame_files("d/m.pdf", true), (V{"d/m.pdf"}));
-  for (const char* ok : {"m.png", "m.SVG", "m.Pdf"}) EXPECT_NO_THROW(check_frame_path(ok)) << ok;
-  for (const char* bad : {"m.jpg", "m", "m.tif"})
+  EXPECT_EQ(frame_files("d/m.tif", true), (V{"d/m.tif"}));  // its georeference inside
+  for (const char* ok : {"m.png", "m.SVG", "m.Pdf", "m.TIF"})
+    EXPECT_NO_THROW(check_frame_path(ok)) << ok;
+  for (const char* bad : {"m.jpg", "m", "m.tiff"})
     EXPECT_THROW(check_frame_path(bad), terrain::Error);
 }
 

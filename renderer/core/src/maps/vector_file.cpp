@@ -367,9 +367,19 @@ std::vector<Region> trace_regions(const std::vector<std::uint8_t>& mask, int w, 
 void draw_on_rgba(const VectorLayer& layer, int width, int height,
                   std::vector<std::uint8_t>& rgba) {
   // cairo's ARGB32 is premultiplied BGRA in a little-endian word: opaque pixels need only
-  // their red and blue swapped, both ways.
+  // their red and blue swapped, both ways; the others (--background none) premultiplied
+  // before and divided after.
   const std::size_t n = std::size_t(width) * std::size_t(height);
-  for (std::size_t i = 0; i < n; ++i) std::swap(rgba[4 * i], rgba[4 * i + 2]);
+  auto scale = [&](std::size_t i, bool multiply) {
+    const unsigned a = rgba[4 * i + 3];
+    if (a == 255) return;
+    for (int k = 0; k < 3; ++k) {
+      std::uint8_t& v = rgba[4 * i + std::size_t(k)];
+      v = multiply ? std::uint8_t((v * a + 127) / 255)
+                   : std::uint8_t(a ? std::min(255u, (v * 255u + a / 2) / a) : 0u);
+    }
+  };
+  for (std::size_t i = 0; i < n; ++i) std::swap(rgba[4 * i], rgba[4 * i + 2]), scale(i, true);
   cairo_surface_t* s = cairo_image_surface_create_for_data(rgba.data(), CAIRO_FORMAT_ARGB32, width,
                                                            height, width * 4);
   cairo_t* cr = cairo_create(s);
@@ -378,7 +388,7 @@ void draw_on_rgba(const VectorLayer& layer, int width, int height,
   cairo_destroy(cr);
   cairo_surface_finish(s);
   cairo_surface_destroy(s);
-  for (std::size_t i = 0; i < n; ++i) std::swap(rgba[4 * i], rgba[4 * i + 2]);
+  for (std::size_t i = 0; i < n; ++i) scale(i, false), std::swap(rgba[4 * i], rgba[4 * i + 2]);
   check(status, "hachures");
 }
 

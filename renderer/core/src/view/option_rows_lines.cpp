@@ -287,8 +287,18 @@ void add_look_options(std::vector<OptionSpec>& t, const GroupNames& g) {
   const auto& [frame, camera, score, rules, strokes, sil, pel, edges, colours, surface, hachure] =
       g;
   t.push_back(colour(
-      "background", colours, "#dde4ec", "Background colour (#rrggbb, r,g,b or a name)",
+      "background", colours, "#dde4ec",
+      "Background colour (#rrggbb, r,g,b or a name), or none: transparent (the PNG's or "
+      "GeoTIFF's alpha, a map to lay over other layers in a GIS)",
       [](auto& s) -> auto& { return s.style.background; }));
+  t.back().accepts = [](const std::string& v) { return v == "none"; };
+  t.back().get = [](const RenderSettings& s) {
+    return s.style.transparent ? std::string("none") : colour_text(s.style.background);
+  };
+  t.back().store = [](RenderSettings& s, const std::string& v) {
+    s.style.transparent = v == "none";
+    if (!s.style.transparent) s.style.background = parse_colour(v);
+  };
   t.push_back(colour(
       "mask-colour", colours, "white", "Surface colour of the mask layer",
       [](auto& s) -> auto& { return s.style.mask; }));

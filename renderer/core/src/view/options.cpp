@@ -137,7 +137,7 @@ void set_option(RenderSettings& s, const OptionSpec& o, const std::string& text)
       break;
     }
     case OptionType::Colour:
-      (void)parse_colour(text);  // throws with the accepted forms
+      if (!(o.accepts && o.accepts(text))) (void)parse_colour(text);  // throws with the forms
       break;
     case OptionType::List:
       break;  // stored below: parse_layers / parse_edge_kinds check names and combinations before

@@ -216,6 +216,7 @@ std::string CompositePass::defines() const {
   if (!layers_.creases) d += "#define TR_COMPOSITE_NO_CREASES 1\n";
   if (!edges_.active()) d += "#define TR_COMPOSITE_NO_EDGES 1\n";
   if (style_.antialias) d += "#define TR_COMPOSITE_ANTIALIASED 1\n";
+  if (style_.transparent) d += "#define TR_COMPOSITE_TRANSPARENT 1\n";
   return d;
 }
 

@@ -306,7 +306,7 @@ TEST(VectorFile, FrameFormatsAreOneTable) {
   }
   EXPECT_FALSE(frame_format_named("png")->vector);
   EXPECT_TRUE(frame_format_named("png")->world_file);
-  for (const char* other : {"x.jpg", "x.tif", "x", "png", "x.png.txt", "x.svgz"})
+  for (const char* other : {"x.jpg", "x.tiff", "x", "png", "x.png.txt", "x.svgz"})
     EXPECT_EQ(frame_format(other), nullptr) << other;
 }
 

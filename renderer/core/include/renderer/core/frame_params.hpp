@@ -117,6 +117,9 @@ enum class EdgeCaps { None, Cheap, Exact };
 
 struct Style {
   Eigen::Vector3f background{0xdd / 255.f, 0xe4 / 255.f, 0xec / 255.f}, mask{1, 1, 1};
+  // --background none: no background; the frame's pixels carry their coverage as alpha
+  // (lines over the ground outside the terrain partly transparent), a map to lay over others.
+  bool transparent = false;
   Eigen::Vector3f crease_colour{0.05f, 0.2f, 0.55f}, silhouette_colour{0, 0, 0};
   double crease_width = 1.0,
          crease_width_max = 3.0;  // pixels at basin share 0 and 1 (by its square root)

@@ -39,8 +39,9 @@ struct FrameFormat {
   bool vector;
   bool world_file;
 };
+// A GeoTIFF (tif) holds its own georeference (a map's) and its alpha band.
 inline constexpr FrameFormat kFrameFormats[] = {
-    {"png", false, true}, {"svg", true, false}, {"pdf", true, false}};
+    {"png", false, true}, {"tif", false, false}, {"svg", true, false}, {"pdf", true, false}};
 // The row of `path`'s extension (any case), or nullptr.
 const FrameFormat* frame_format(const std::string& path);
 // The row named `name` ("png"), or nullptr.
@@ -65,8 +66,8 @@ using Region = std::vector<Outline>;
 // pixel coordinates (y down); specks of under 3 pixels are dropped.
 std::vector<Region> trace_regions(const std::vector<std::uint8_t>& mask, int w, int h);
 
-// Draws `layer` over `rgba` (width x height, row 0 at the top, opaque RGBA: a frame) with
-// cairo, anti-aliased, as the SVG and PDF draw it.
+// Draws `layer` over `rgba` (width x height, row 0 at the top, straight RGBA: a frame,
+// opaque but with --background none) with cairo, anti-aliased, as the SVG and PDF draw it.
 void draw_on_rgba(const VectorLayer& layer, int width, int height, std::vector<std::uint8_t>& rgba);
 
 // The file's bytes; `description`: the provenance line (SVG <desc>, PDF Subject).
