@@ -283,8 +283,9 @@ class RenderAlgorithm(TerrainAlgorithm):
         return ("A pen-and-ink view of a DEM or of a mesh: creases, silhouettes, hachures and "
                 "ridge lines, as terrain-render frame draws it. A DEM is meshed (dem2mesh) and "
                 "drained (build-drainage) first. Every render option is a parameter (most "
-                "under Advanced), from terrain-render --list-options=json; a top view (view: "
-                "top) is a map with its world file and CRS beside it.")
+                "under Advanced), from terrain-render --list-options=json. A top view (view: "
+                "top) is a map: a GeoTIFF or a PNG with its world file and CRS, or its lines "
+                "as styled GeoPackage layers (.gpkg); background none makes it transparent.")
 
     def initAlgorithm(self, config=None):  # noqa: N802
         self.addParameter(QgsProcessingParameterRasterLayer("INPUT", "DEM", optional=True))
@@ -295,7 +296,8 @@ class RenderAlgorithm(TerrainAlgorithm):
         for o in self.options:
             self.addParameter(option_parameter(o))
         self.addParameter(QgsProcessingParameterFileDestination(
-            "OUTPUT", "View", "PNG (*.png);;SVG (*.svg);;PDF (*.pdf)"))
+            "OUTPUT", "View",
+            "PNG (*.png);;GeoTIFF (*.tif);;SVG (*.svg);;PDF (*.pdf);;GeoPackage (*.gpkg)"))
 
     def process(self, parameters, context, feedback, work):
         if not self.options:

@@ -75,7 +75,8 @@ STYLE_COLOURS = {"branches": "#1f3d8c", "basins": "#6e6e6e", "divides": "#784820
                  "hachures": "#000000", "ridges": "#3c2814", "outline": "#000000"}
 
 
-def check_layers(gpkg, names, dem, what):
+def check_layers(gpkg, names, dem, what, colours=None):
+    colours = STYLE_COLOURS if colours is None else colours
     crs = QgsRasterLayer(dem, "dem").crs().authid()
     rows = [f["f_table_name"] for f in
             QgsVectorLayer(f"{gpkg}|layername=layer_styles", "s", "ogr").getFeatures()]
@@ -88,7 +89,7 @@ def check_layers(gpkg, names, dem, what):
         symbol = layer.renderer().symbol().symbolLayer(0)
         colour = symbol.strokeColor() if symbol.layerType() == "SimpleFill" else symbol.color()
         width = symbol.dataDefinedProperties().property(QgsSymbolLayer.PropertyStrokeWidth)
-        check(rows.count(name) == 1 and colour.name() == STYLE_COLOURS[name],
+        check(rows.count(name) == 1 and colour.name() == colours.get(name, colour.name()),
               f"{what}: layer {name} styled ({colour.name()}"
               f"{', width ' + width.expressionString() if width.isActive() else ''})")
 
@@ -145,6 +146,17 @@ check(QImage(view) == QImage(direct) and not QImage(view).isNull(),
       "render: the PNG's pixels equal terrain-render's from a shell")
 check(QgsRasterLayer(view, "v").crs().authid() == "EPSG:26910",
       "render: the map PNG carries its CRS (EPSG:26910)")
+# The same map as a transparent GeoTIFF and as its lines in a GeoPackage.
+tif, lines = os.path.join(scratch, "view.tif"), os.path.join(scratch, "view.gpkg")
+for out in (tif, lines):
+    run("terrain:render", {"MESH": mesh, "DV": dv, "VIEW": views.index("top"), "MAP_SCALE": 10,
+                           "SIZE": "640x480", "BACKGROUND": "none", "OUTPUT": out})
+raster = QgsRasterLayer(tif, "t")
+check(raster.isValid() and raster.crs().authid() == "EPSG:26910" and raster.bandCount() == 4,
+      "render: the map GeoTIFF in EPSG:26910 with 4 bands (RGBA)")
+# In the frame's colours (#0d338c the creases', --crease-colour's default).
+check_layers(lines, ["creases", "silhouettes", "hachures"], msh, "render's GeoPackage",
+             {"creases": "#0d338c", "silhouettes": "#000000"})
 
 # Progress: QGIS's bar moves through the run and ends at 100; cancel stops the tool and
 # writes nothing.

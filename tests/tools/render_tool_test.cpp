@@ -565,6 +565,57 @@ TEST(TerrainRender, TopViewIsAMapInMapCoordinates) {
       << oblique.err;
 }
 
+// The top view's lines as a GeoPackage (-o map.gpkg): a styled line layer per drawn layer,
+// in the mesh's CRS; the creases' vertices, taken back to pixels through the map's
+// geotransform, lie on the creases the PNG of the same frame draws (within 1 px).
+TEST(TerrainRender, TopViewLinesAsAGeoPackage) {
+  Inputs in;
+  const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
+                            " --view top --map-scale 10 --layers mask,creases --size 640x480 -o ";
+  ASSERT_EQ(run(frame + in.dir.path("m.png")).exit_code, 0);
+  const auto g = run(frame + in.dir.path("m.gpkg"));
+  ASSERT_EQ(g.exit_code, 0) << g.err;
+  terrain::ensure_gdal();
+  std::unique_ptr<GDALDataset> png(
+      GDALDataset::Open(in.dir.path("m.png").c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  std::unique_ptr<GDALDataset> gpkg(
+      GDALDataset::Open(in.dir.path("m.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  ASSERT_TRUE(png && gpkg);
+  double gt[6];
+  ASSERT_EQ(png->GetGeoTransform(gt), CE_None);
+  OGRLayer* creases = gpkg->GetLayerByName("creases");
+  ASSERT_NE(creases, nullptr);
+  EXPECT_STREQ(creases->GetSpatialRef()->GetAuthorityCode(nullptr), "26910");
+  OGRLayer* styles = gpkg->GetLayerByName("layer_styles");
+  ASSERT_NE(styles, nullptr);
+  styles->SetAttributeFilter("f_table_name = 'creases'");
+  EXPECT_EQ(styles->GetFeatureCount(), 1);
+  const terrain::test::Ink ink = terrain::test::ink_of(in.dir.path("m.png"));
+  std::size_t vertices = 0, on_ink = 0;
+  for (const auto& f : *creases) {
+    EXPECT_GT(f->GetFieldAsDouble("width_mm"), 0.2);  // 1 px at 96 dpi is 0.26 mm
+    const OGRLineString* line = f->GetGeometryRef()->toLineString();
+    for (int k = 0; k < line->getNumPoints(); ++k, ++vertices) {
+      const int u = int(std::floor((line->getX(k) - gt[0]) / gt[1])),
+                v = int(std::floor((line->getY(k) - gt[3]) / gt[5]));
+      bool hit = false;
+      for (int dv = -1; dv <= 1; ++dv)
+        for (int du = -1; du <= 1; ++du)
+          hit = hit || (u + du >= 0 && v + dv >= 0 && u + du < ink.w && v + dv < ink.h &&
+                        ink.on[std::size_t((v + dv) * ink.w + u + du)]);
+      on_ink += hit;
+    }
+  }
+  EXPECT_GT(vertices, 100u);
+  EXPECT_GE(double(on_ink), 0.95 * double(vertices)) << on_ink << " of " << vertices;
+  // Not a map: refused, nothing written.
+  const auto persp = run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv + " -o " +
+                         in.dir.path("p.gpkg"));
+  EXPECT_EQ(persp.exit_code, 1);
+  EXPECT_NE(persp.err.find("give --view top"), std::string::npos) << persp.err;
+  EXPECT_FALSE(std::filesystem::exists(in.dir.path("p.gpkg")));
+}
+
 // The top view as a GeoTIFF (-o map.tif) with --background none: GDAL reads its CRS and
 // geotransform (the PNG's), its 4th band is alpha; the pixels the opaque PNG paints with
 // the background are transparent, the terrain's are opaque with the PNG's colours.

@@ -243,7 +243,8 @@ void write_pngs(const std::vector<std::string>& pngs, const FrameResult& res, Fr
 void write_vector_files(const std::vector<std::string>& vectors, const Scene& scene,
                         const TerrainRenderer& r, const FrameResult& res,
                         const FrameBuffers& buffers, const ResolvedFrame& f, const VectorOptions& o,
-                        FrameOverlays& over, const std::string& description, WriteTimes& t) {
+                        FrameOverlays& over, const std::optional<std::array<double, 6>>& gt,
+                        const std::string& description, WriteTimes& t) {
   auto t0 = Clock::now();
   const std::string underlay = !o.underlay.empty() ? o.underlay
                                : f.layers.shaded   ? "shaded"
@@ -262,6 +263,15 @@ void write_vector_files(const std::vector<std::string>& vectors, const Scene& sc
     t.layers += fmt::format(", {} {} paths ({} strokes)", l.name, l.paths.size(), l.strokes);
   for (const std::string& p : vectors) {
     t0 = Clock::now();
+    if (std::string(frame_format(p)->name) == "gpkg") {  // a map's lines in map coordinates
+      if (!gt)
+        throw terrain::Error("'" + p +
+                             "': a GeoPackage holds a map's lines in map coordinates: give "
+                             "--view top (the orthographic map)");
+      write_map_gpkg(art, *gt, scene.mesh.geo.crs_wkt, o.dpi, p);
+      t.cairo_ms += ms_since(t0);
+      continue;
+    }
     const std::string bytes = vector_bytes(art, vector_format_of(p), o.dpi, description);
     t.cairo_ms += ms_since(t0);
     t.vector_bytes += bytes.size();
@@ -301,7 +311,7 @@ WriteTimes write_frame_files(const std::vector<std::string>& paths, const Scene&
   t.paths_ms = t.hachure_ms = ms_since(t0);
   if (!pngs.empty()) write_pngs(pngs, res, over, gt, scene.mesh.geo.crs_wkt, description, t);
   if (!vectors.empty())
-    write_vector_files(vectors, scene, r, res, *buffers, f, o, over, description, t);
+    write_vector_files(vectors, scene, r, res, *buffers, f, o, over, gt, description, t);
   return t;
 }
 

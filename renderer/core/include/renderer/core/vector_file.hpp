@@ -39,15 +39,28 @@ struct FrameFormat {
   bool vector;
   bool world_file;
 };
-// A GeoTIFF (tif) holds its own georeference (a map's) and its alpha band.
-inline constexpr FrameFormat kFrameFormats[] = {
-    {"png", false, true}, {"tif", false, false}, {"svg", true, false}, {"pdf", true, false}};
+// A GeoTIFF (tif) holds its own georeference (a map's) and its alpha band; a GeoPackage
+// (gpkg) a map's lines in map coordinates (write_map_gpkg).
+inline constexpr FrameFormat kFrameFormats[] = {{"png", false, true},
+                                                {"tif", false, false},
+                                                {"svg", true, false},
+                                                {"pdf", true, false},
+                                                {"gpkg", true, false}};
 // The row of `path`'s extension (any case), or nullptr.
 const FrameFormat* frame_format(const std::string& path);
 // The row named `name` ("png"), or nullptr.
 const FrameFormat* frame_format_named(const std::string& name);
 // "png, svg, pdf": for messages.
 std::string frame_format_names();
+
+// Writes a map's vector art (the top view's: `gt` its geotransform, pixel corners to map
+// coordinates) as a GeoPackage (atomic; one already there is updated, terrain::Gpkg): a
+// line layer per art layer (hachures, creases, silhouettes, ridges, outline, ...) of its
+// paths in map coordinates, fields width_mm (the line's width on the page at `dpi`, the
+// mean of a varying one) and opacity, each styled in its colour with its width. Returns
+// the lines written.
+std::size_t write_map_gpkg(const VectorArt& art, const std::array<double, 6>& gt,
+                           const std::string& crs_wkt, double dpi, const std::string& path);
 
 enum class VectorFormat { Svg, Pdf };
 // By the path's extension, .svg or .pdf (any case); Error otherwise.
