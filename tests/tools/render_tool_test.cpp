@@ -566,8 +566,9 @@ TEST(TerrainRender, TopViewIsAMapInMapCoordinates) {
 }
 
 // The top view's lines as a GeoPackage (-o map.gpkg): a styled line layer per drawn layer,
-// in the mesh's CRS; the creases' vertices, taken back to pixels through the map's
-// geotransform, lie on the creases the PNG of the same frame draws (within 1 px).
+// in the mesh's CRS, each crease with the basin share its width was drawn from; the creases'
+// vertices, taken back to pixels through the map's geotransform, lie on the creases the PNG of the
+// same frame draws (within 1 px).
 TEST(TerrainRender, TopViewLinesAsAGeoPackage) {
   Inputs in;
   const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
@@ -592,8 +593,15 @@ TEST(TerrainRender, TopViewLinesAsAGeoPackage) {
   EXPECT_EQ(styles->GetFeatureCount(), 1);
   const terrain::test::Ink ink = terrain::test::ink_of(in.dir.path("m.png"));
   std::size_t vertices = 0, on_ink = 0;
+  const double mm = 25.4 / 96;  // a pixel at --dpi 96
   for (const auto& f : *creases) {
-    EXPECT_GT(f->GetFieldAsDouble("width_mm"), 0.2);  // 1 px at 96 dpi is 0.26 mm
+    // Widths from 1 to 3 px by the square root of the basin share (the line's largest; the
+    // width its mean): within the rule's bounds for the share written beside it.
+    const double share = f->GetFieldAsDouble("flow_share"), width = f->GetFieldAsDouble("width_mm");
+    EXPECT_TRUE(share >= 0 && share <= 1) << share;
+    EXPECT_GE(f->GetFieldAsInteger("strahler"), 1);  // on the drawn network (crease_orders)
+    EXPECT_GE(width, (1.0 - 0.125) * mm);            // a stroke's width quantised to 1/4 px
+    EXPECT_LE(width, (1.0 + 2.0 * std::sqrt(share) + 0.125) * mm) << share;
     const OGRLineString* line = f->GetGeometryRef()->toLineString();
     for (int k = 0; k < line->getNumPoints(); ++k, ++vertices) {
       const int u = int(std::floor((line->getX(k) - gt[0]) / gt[1])),

@@ -127,7 +127,8 @@ VectorArt frame_vector_art(const Scene& scene, const TerrainRenderer& r, const F
     if (samples.empty())  // pixel-exact lines: the CPU reference of the anti-aliased test
       samples = stroke_visibility(c.geometry, c.chains, drawn, res.view, e, lift,
                                   buffers.toward_depth, stroke_visibility_rule(style, scene.mesh));
-    VectorLayer l{"creases", style.crease_colour, LineCap::Round, {}, 0};
+    VectorLayer l{"creases", style.crease_colour,       LineCap::Round, {},
+                  0,         {"flow_share", "strahler"}};
     l.paths = crease_paths(c.geometry, drawn, samples, res.view, e, style.crease_width,
                            style.crease_width_max, &l.strokes);
     art.layers.push_back(std::move(l));

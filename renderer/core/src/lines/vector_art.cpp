@@ -1,7 +1,9 @@
 #include "renderer/core/vector_art.hpp"
+
 #include "renderer/core/camera.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 
@@ -24,6 +26,7 @@ float quantise(float x, float q) { return std::round(x / q) * q; }
 struct RunPoint {
   Eigen::Vector2f p;
   float width, opacity;
+  std::array<float, 2> values{-1, -1};  // VectorPath::values at the point (creases)
 };
 
 // Points begin .. end - 1 of a run as one path at `opacity`, simplified: a stroke where its
@@ -39,6 +42,12 @@ void emit_piece(const std::vector<RunPoint>& run, std::size_t begin, std::size_t
     path.widths.push_back(run[begin + k].width);
     lo = std::min(lo, run[begin + k].width);
     hi = std::max(hi, run[begin + k].width);
+  }
+  if (run[begin].values[0] >= 0) {
+    path.values.assign(run[begin].values.begin(), run[begin].values.end());
+    for (std::size_t j = begin; j < end; ++j)
+      for (std::size_t k = 0; k < path.values.size(); ++k)
+        path.values[k] = std::max(path.values[k], run[j].values[k]);
   }
   path.width = quantise(0.5f * (lo + hi), kWidthQuantum);
   if (hi - lo < 0.5f * kWidthQuantum) path.widths.clear();
@@ -77,6 +86,31 @@ VectorUnderlay parse_underlay(const std::string& name) {
   throw terrain::Error("unknown vector underlay '" + name + "' (none, mask, shaded)");
 }
 
+std::vector<std::uint8_t> crease_orders(const CreaseGeometry& g) {
+  const std::size_t n = g.positions.size(), ns = g.n_segments();
+  std::vector<std::uint32_t> in(n, 0);
+  std::vector<std::vector<std::uint32_t>> down(n);  // a vertex's downstream vertices
+  for (std::size_t s = 0; s < ns; ++s)
+    down[g.segments[2 * s]].push_back(g.segments[2 * s + 1]), ++in[g.segments[2 * s + 1]];
+  std::vector<std::uint8_t> order(n, 0), in_max(n, 0), in_n(n, 0);
+  std::vector<std::uint32_t> ready;  // every vertex after all that flow into it (Kahn)
+  for (std::uint32_t v = 0; v < n; ++v)
+    if (in[v] == 0 && !down[v].empty()) ready.push_back(v);
+  while (!ready.empty()) {
+    const std::uint32_t v = ready.back();
+    ready.pop_back();
+    order[v] = in_max[v] == 0 ? 1 : std::uint8_t(std::min(255, in_max[v] + (in_n[v] >= 2)));
+    for (const std::uint32_t d : down[v]) {
+      if (order[v] > in_max[d])
+        in_max[d] = order[v], in_n[d] = 1;
+      else if (order[v] == in_max[d])
+        in_n[d] = std::uint8_t(std::min(2, in_n[d] + 1));
+      if (--in[d] == 0) ready.push_back(d);
+    }
+  }
+  return order;
+}
+
 std::vector<VectorPath> crease_paths(const CreaseGeometry& g, const std::vector<float>& drawn,
                                      const std::vector<SegmentSamples>& samples, const View& view,
                                      double exaggeration, double width_min, double width_max,
@@ -89,6 +123,7 @@ std::vector<VectorPath> crease_paths(const CreaseGeometry& g, const std::vector<
     return float(width_min +
                  (width_max - width_min) * std::sqrt(std::clamp(double(g.share[v]), 0.0, 1.0)));
   };
+  const std::vector<std::uint8_t> order = crease_orders(g);
   for (const auto& stroke : crease_strokes(g, drawn)) {
     const std::size_t before = out.size();
     std::vector<RunPoint> run;
@@ -108,7 +143,10 @@ std::vector<VectorPath> crease_paths(const CreaseGeometry& g, const std::vector<
       const Eigen::Vector2f pa(float(a.u), float(a.v)), pb(float(b.u), float(b.v));
       const float wa = width_of(va), wb = width_of(vb);
       auto point = [&](double t) {
-        return RunPoint{pa + float(t) * (pb - pa), wa + float(t) * (wb - wa), drawn[s]};
+        return RunPoint{pa + float(t) * (pb - pa),
+                        wa + float(t) * (wb - wa),
+                        drawn[s],
+                        {g.share[va] + float(t) * (g.share[vb] - g.share[va]), float(order[va])}};
       };
       const int n = int(m.n);
       for (int k = 0; k < n; ++k) {
@@ -263,10 +301,12 @@ VectorLayer hachure_paths(const std::vector<Hachure>& hachures, const Style& sty
     // --hachure-width (one width a path: an outline per point made the MSH SVG 15 MB).
     double tone = 0;
     for (const float t : h.tone) tone += t;
-    p.width =
-        float(style.hachure_width * (0.5 + tone / double(std::max<std::size_t>(h.tone.size(), 1))));
+    tone /= double(std::max<std::size_t>(h.tone.size(), 1));
+    p.width = float(style.hachure_width * (0.5 + tone));
+    p.values = {float(tone)};
     l.paths.push_back(std::move(p));
   }
+  l.value_names = {"tone"};
   l.strokes = l.paths.size();
   return l;
 }

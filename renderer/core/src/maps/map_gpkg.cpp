@@ -22,8 +22,13 @@ std::size_t write_map_gpkg(const VectorArt& art, const std::array<double, 6>& gt
                               "The top view's " + l.name + ", as terrain-render draws them"};
     const std::string colour = fmt::format("{},{},{},255", c.x(), c.y(), c.z());
     style.colour = colour.c_str();
-    layers.push_back(gpkg.layer(l.name.c_str(), wkbLineString,
-                                {{"width_mm", OFTReal}, {"opacity", OFTReal}}, style));
+    OGRLayer* layer = gpkg.layer(l.name.c_str(), wkbLineString,
+                                 {{"width_mm", OFTReal}, {"opacity", OFTReal}}, style);
+    for (const std::string& name : l.value_names) {  // what it was drawn from
+      OGRFieldDefn def(name.c_str(), name == "strahler" ? OFTInteger : OFTReal);
+      if (layer->CreateField(&def) != OGRERR_NONE) gpkg.fail();
+    }
+    layers.push_back(layer);
   }
   gpkg.begin();
   std::size_t n = 0;
@@ -41,6 +46,9 @@ std::size_t write_map_gpkg(const VectorArt& art, const std::array<double, 6>& gt
       OGRFeature f(layers[k]->GetLayerDefn());
       f.SetField("width_mm", width * mm);
       f.SetField("opacity", double(p.opacity));
+      const auto& names = art.layers[k].value_names;
+      for (std::size_t j = 0; j < names.size() && j < p.values.size(); ++j)
+        f.SetField(names[j].c_str(), double(p.values[j]));
       f.SetGeometry(&line);
       gpkg.add(layers[k], f);
       ++n;

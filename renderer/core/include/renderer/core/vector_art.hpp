@@ -33,6 +33,10 @@ struct VectorPath {
   // ... or, where not empty, one width per point: a line whose width varies, drawn as a
   // filled outline (the union of the capsules of its segments, round ends).
   std::vector<float> widths;
+  // What it was drawn from, as its layer names them (VectorLayer::value_names): a crease's
+  // basin share a / T (its width's source) and Strahler order on the drawn network (their
+  // largest along the path), a hachure's mean tone; empty elsewhere.
+  std::vector<float> values{};
 };
 
 enum class LineCap { Butt, Round, Square };
@@ -43,7 +47,13 @@ struct VectorLayer {
   LineCap cap = LineCap::Round;  // and the join: round, or mitre for square caps
   std::vector<VectorPath> paths;
   std::size_t strokes = 0;  // the strokes, pieces or chains drawn that the paths come from
+  std::vector<std::string> value_names{};  // what VectorPath::values hold ("tone", ...)
 };
+
+// Strahler's order of every crease vertex on the network `g` draws (its segments, the
+// channels the crease rules keep): 1 where no segment comes in, else the largest order
+// coming in, plus one where two or more bring it; 0 on a vertex of no segment.
+std::vector<std::uint8_t> crease_orders(const CreaseGeometry& g);
 
 // What lies under the lines: nothing, the surface as filled regions of the mask colour, or
 // the shaded relief as an embedded image (both over a background rectangle).
