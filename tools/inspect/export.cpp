@@ -183,6 +183,11 @@ void add_map_hachure_option(CLI::App* cmd, const std::string& name, T& value) {
 
 }  // namespace
 
+namespace {
+void add_river_options(CLI::App* exp, ExportArgs& a);
+void add_map_options(CLI::App* exp, ExportArgs& a);
+}  // namespace
+
 void add_export_options(CLI::App* exp, ExportArgs& a) {
   exp->add_option("FILE", a.file, "Terrain mesh (.ply) or drainage database (.dv)")->required();
   std::string help = "Output format:";
@@ -205,6 +210,14 @@ void add_export_options(CLI::App* exp, ExportArgs& a) {
   exp->add_option("--d8-encoding", a.d8_encoding, "A .dv to tif: the codes of d8.tif")
       ->check(CLI::IsMember({"taudem", "esri"}))
       ->capture_default_str();
+  add_river_options(exp, a);
+  add_map_options(exp, a);
+}
+
+namespace {
+
+// The rivers of a .dv's gpkg (drainage::RiverOptions).
+void add_river_options(CLI::App* exp, ExportArgs& a) {
   exp->add_option("--min-order", a.min_order,
                   "gpkg: only branches of at least this Strahler order (counted on the rivers "
                   "--min-area keeps)")
@@ -219,6 +232,10 @@ void add_export_options(CLI::App* exp, ExportArgs& a) {
   exp->add_flag("--d8-lines", a.d8_lines,
                 "gpkg: branches as the D8 polylines (steps of 45 degrees), not smoothed as "
                 "terrain-render smooths creases");
+}
+
+// The layers, and a mesh's hachure map.
+void add_map_options(CLI::App* exp, ExportArgs& a) {
   exp->add_option("--layers", a.gpkg_layers,
                   "gpkg: the layers to write, comma-separated; a .dv: branches (LineString ZM, M = "
                   "normalized flow), "
@@ -249,6 +266,8 @@ void add_export_options(CLI::App* exp, ExportArgs& a) {
                   "them")
       ->check(CLI::ExistingFile);
 }
+
+}  // namespace
 
 void run_export(ExportArgs& a, const std::string& provenance, const Verbosity& verb) {
   std::error_code ec;

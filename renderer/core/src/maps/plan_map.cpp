@@ -188,6 +188,30 @@ std::string world_file(const std::array<double, 6>& gt) {
                      gt[5], gt[0] + 0.5 * gt[1] + 0.5 * gt[2], gt[3] + 0.5 * gt[4] + 0.5 * gt[5]);
 }
 
+namespace {
+
+// The map's ridge lines into layer `rl` (fields basin_m2, relief_m, length_m).
+void add_ridges(terrain::Gpkg& gpkg, OGRLayer* rl, const terrain::GridMesh& mesh,
+                const PlanHachures& h) {
+  for (const PlanRidge& r : h.ridges) {
+    OGRLineString line;
+    double length = 0;
+    for (std::size_t k = 0; k < r.points.size(); ++k) {
+      const Eigen::Vector2d q = plan_to_local(h.plan, r.points[k]);
+      line.addPoint(mesh.geo.origin_x + q.x(), mesh.geo.origin_y + q.y());
+      if (k) length += double((r.points[k] - r.points[k - 1]).norm()) * h.plan.scale;
+    }
+    OGRFeature f(rl->GetLayerDefn());
+    f.SetField("basin_m2", r.basin_area);
+    f.SetField("relief_m", r.relief);
+    f.SetField("length_m", length);
+    f.SetGeometry(&line);
+    gpkg.add(rl, f);
+  }
+}
+
+}  // namespace
+
 std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachures& h,
                                 const std::string& path) {
   terrain::Gpkg gpkg(path, mesh.geo.crs_wkt);
@@ -230,22 +254,7 @@ std::size_t write_hachures_gpkg(const terrain::GridMesh& mesh, const PlanHachure
     f.SetGeometry(&line);  // copied
     gpkg.add(layer, f);
   }
-  if (rl)
-    for (const PlanRidge& r : h.ridges) {
-      OGRLineString line;
-      double length = 0;
-      for (std::size_t k = 0; k < r.points.size(); ++k) {
-        const Eigen::Vector2d q = plan_to_local(h.plan, r.points[k]);
-        line.addPoint(mesh.geo.origin_x + q.x(), mesh.geo.origin_y + q.y());
-        if (k) length += double((r.points[k] - r.points[k - 1]).norm()) * h.plan.scale;
-      }
-      OGRFeature f(rl->GetLayerDefn());
-      f.SetField("basin_m2", r.basin_area);
-      f.SetField("relief_m", r.relief);
-      f.SetField("length_m", length);
-      f.SetGeometry(&line);
-      gpkg.add(rl, f);
-    }
+  if (rl) add_ridges(gpkg, rl, mesh, h);
   if (ol) add_outline(gpkg, ol, mesh, h);
   gpkg.commit();
   return h.hachures.size();
