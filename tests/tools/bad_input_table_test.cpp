@@ -532,7 +532,7 @@ INSTANTIATE_TEST_SUITE_P(
             "not a finite number"},
         // issue 37: vector output
         Row{tr + "frame IN/m.ply -o OUT/f.eps -q", 1,
-            "the output must be a .png, .tif, .svg or .pdf file"},
+            "the output must be a .png, .tif, .svg, .pdf or .gpkg file"},
         Row{tr + "frame IN/m.ply -o OUT/f.svg --vector-underlay relief", 2, "--vector-underlay"},
         Row{tr + "frame IN/m.ply -o OUT/f.pdf --dpi 0", 2, "--dpi"},
         Row{tr + "frame IN/m.ply -o OUT/f.png --line-scale 0", 2, "--line-scale"},

@@ -624,7 +624,7 @@ TEST(TerrainRender, TopViewLinesAsAGeoPackage) {
   EXPECT_FALSE(std::filesystem::exists(in.dir.path("p.gpkg")));
 }
 
-// The top view as a GeoTIFF (-o map.tif) with --background none: GDAL reads its CRS and
+// The top view as a GeoTIFF (-o map.tif; its background none unless given): GDAL reads its CRS and
 // geotransform (the PNG's), its 4th band is alpha; the pixels the opaque PNG paints with
 // the background are transparent, the terrain's are opaque with the PNG's colours.
 TEST(TerrainRender, TopViewGeoTiffIsATransparentMap) {
@@ -632,7 +632,7 @@ TEST(TerrainRender, TopViewGeoTiffIsATransparentMap) {
   const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
                             " --view top --map-scale 10 --layers mask,creases --size 640x480 -o ";
   ASSERT_EQ(run(frame + in.dir.path("o.png")).exit_code, 0);
-  const auto t = run(frame + in.dir.path("t.tif") + " --background none");
+  const auto t = run(frame + in.dir.path("t.tif"));  // transparent: a GeoTIFF's default
   ASSERT_EQ(t.exit_code, 0) << t.err;
   EXPECT_FALSE(std::filesystem::exists(in.dir.path("t.pgw")));  // inside the GeoTIFF
   terrain::ensure_gdal();

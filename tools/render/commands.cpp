@@ -192,6 +192,9 @@ int run_frame(const TableArgs& a, const OutputArgs& o, const std::string& mesh,
               const tt::Verbosity& verb) {
   rr::RenderSettings s = settings_of(a);
   rr::check_frame_path(out);
+  // A GeoTIFF is laid over other layers in a GIS: its background transparent unless given.
+  if (std::string(rr::frame_format(out)->name) == "tif" && !a.was_given("background"))
+    s.style.transparent = true;
   tt::check_distinct_paths({mesh, dv}, {out});
   tt::warn_stale_temporaries(verb, {out});
   terrain::check_output_path(out);
