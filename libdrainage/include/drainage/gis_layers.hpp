@@ -125,10 +125,17 @@ std::vector<RiverLine> river_lines(const DrainageDb& db, double min_area_m2);
 std::vector<Eigen::Vector3d> river_shape(const DrainageDb& db, const RiverLine& line,
                                          double sigma_samples);
 
+// The points of `line` (x, y) a Douglas-Peucker simplification within `tolerance` keeps,
+// ascending; its ends always.
+std::vector<std::size_t> kept_points(const std::vector<Eigen::Vector3d>& line, double tolerance);
+
 struct RiverOptions {
   int min_order = 1;            // lines of at least this order
   double min_area_m2 = 1e4;     // river_lines' channel-initiation area (1 ha)
-  double smooth_samples = 1.5;  // river_shape's sigma; 0: the D8 polyline
+  double smooth_samples = 1.5;  // river_shape's sigma; 0: the D8 polyline (not simplified)
+  // A smoothed line's points kept within this share of the grid's spacing (kept_points):
+  // a curve, not a point every sample.
+  double simplify_spacings = 0.1;
 };
 
 // Writes a GeoPackage (GDAL/OGR) with layer "branches": one LineString ZM per river line

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <utility>
 
@@ -180,8 +181,12 @@ std::size_t write_branches(Gpkg& gpkg, OGRLayer* layer, const DrainageDb& db,
   for (const RiverLine& r : river_lines(db, rivers.min_area_m2)) {
     if (r.strahler < rivers.min_order) continue;
     const std::vector<Eigen::Vector3d> shape = river_shape(db, r, rivers.smooth_samples);
+    std::vector<std::size_t> kept(shape.size());
+    std::iota(kept.begin(), kept.end(), std::size_t(0));
+    if (rivers.smooth_samples > 0)
+      kept = kept_points(shape, rivers.simplify_spacings * std::min(h.dx, h.dy));
     OGRLineString line;
-    for (std::size_t k = 0; k < shape.size(); ++k)
+    for (const std::size_t k : kept)
       line.addPoint(h.origin_x + shape[k].x(), h.origin_y + shape[k].y(), h.origin_z + shape[k].z(),
                     db.vertices[r.points[k]].normalized);
     OGRFeature feature(layer->GetLayerDefn());

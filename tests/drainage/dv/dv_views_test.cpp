@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "drainage/dv_file.hpp"
@@ -131,6 +132,27 @@ TEST(DvViews, RiversStartWhereTheirAreaDrains) {
   }
   // The coarser the area, the fewer and higher-order-first lines: 1 point a line at least.
   EXPECT_LT(river_lines(db, 4 * area).size(), lines.size());
+}
+
+// Douglas-Peucker: a straight run keeps its ends; a bend keeps its corner; every point left
+// out lies within the tolerance of the kept polyline.
+TEST(DvViews, RiverPointsKeptWithinTheTolerance) {
+  std::vector<Eigen::Vector3d> straight, bend, wave;
+  for (int k = 0; k <= 10; ++k) straight.push_back({double(k), 2.0 * k, 0});
+  EXPECT_EQ(kept_points(straight, 0.01), (std::vector<std::size_t>{0, 10}));
+  for (int k = 0; k <= 10; ++k)
+    bend.push_back({double(std::min(k, 5)), double(std::max(k - 5, 0)), 0});
+  EXPECT_EQ(kept_points(bend, 0.01), (std::vector<std::size_t>{0, 5, 10}));
+  for (int k = 0; k <= 200; ++k) wave.push_back({0.1 * k, std::sin(0.1 * k), 0});
+  const double tol = 0.02;
+  const std::vector<std::size_t> kept = kept_points(wave, tol);
+  EXPECT_LT(kept.size(), wave.size() / 4);
+  for (std::size_t j = 0; j + 1 < kept.size(); ++j)
+    for (std::size_t k = kept[j] + 1; k < kept[j + 1]; ++k) {
+      const Eigen::Vector2d a = wave[kept[j]].head<2>(), d = wave[kept[j + 1]].head<2>() - a,
+                            q = wave[k].head<2>() - a;
+      EXPECT_LE(std::abs(d.x() * q.y() - d.y() * q.x()) / d.norm(), tol) << k;
+    }
 }
 
 // The links of a world rectangle (a small mesh over a large database) are the points
