@@ -57,9 +57,13 @@ check(qgis.utils.loadPlugin("terrain_processing") and
       "the plugin zip loads and registers the provider 'terrain'")
 
 
+LAST_CONTEXT = []
+
+
 def run(alg, params, feedback=None):
     context = QgsProcessingContext()
     context.setProject(QgsProject.instance())
+    LAST_CONTEXT[:] = [context]
     return processing.run(alg, params, context=context, feedback=feedback or QgsProcessingFeedback())
 
 
@@ -102,6 +106,9 @@ def pen_and_ink_map(dem, name):
     layers = result["LAYERS"]
     check(len(layers) >= 2 and "hachures" in layers and "branches" in layers,
           f"{name}: penandinkmap wrote {layers}")
+    to_load = sorted(LAST_CONTEXT[0].layersToLoadOnCompletion().keys())
+    check(to_load == sorted(f"{out}|layername={n}" for n in layers),
+          f"{name}: every layer loaded into the project when the run ends")
     check_layers(out, layers, dem, name)
     # The same commands from a shell: the processing run's overhead (figures, no assertion).
     w = tempfile.mkdtemp(dir=scratch)
