@@ -540,6 +540,8 @@ INSTANTIATE_TEST_SUITE_P(
             "unknown format 'gif'"},
         Row{tr + "batch IN/m.ply IN/inf.csv -o OUT/ --format svg,svg -q", 2,
             "'svg' is given twice"},
+        Row{tr + "batch IN/m.ply IN/shot.png.csv -o OUT/ --format png,gpkg -q", 1,
+            "frame 1 is no map (a top view): --format gpkg holds a map's lines"},
         Row{"env TERRAIN_MEMORY_MIB=1000 " + tr + "frame IN/m.ply -o OUT/f.svg --size 4000x4000 -q",
             1, "the vector output of a 4000 x 4000 frame needs"},
         Row{tr + "path --from 0 0 100 --to 1 1 100 --frames 3 -o /dev/null", 1,

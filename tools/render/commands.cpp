@@ -340,6 +340,14 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   if (!dv_path.empty() && !drainage::is_dv_file(dv_path))
     throw terrain::Error("'" + dv_path + "' is not a drainage database (.dv)");
   const auto frames = rr::read_frames_csv(csv, s.frame);
+  // A GeoPackage holds a map's lines: refused before any frame is written unless all are maps.
+  if (std::find(formats.begin(), formats.end(), "gpkg") != formats.end())
+    for (std::size_t i = 0; i < frames.size(); ++i)
+      if (!frames[i].camera.orthographic)
+        throw terrain::Error(fmt::format(
+            "{}: frame {} is no map (a top view): --format gpkg holds a map's lines in map "
+            "coordinates; leave gpkg out",
+            csv, i + 1));
   const std::filesystem::path dir(out_dir);
   const std::vector<std::string> outputs = batch_outputs(a, formats, frames, dir);
   for (const std::string& out : outputs) tt::check_distinct_paths(inputs, {out});
