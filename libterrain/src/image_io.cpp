@@ -51,6 +51,10 @@ void write_rgba_geotiff(const std::string& path, int width, int height,
   static std::atomic<unsigned> serial{0};
   const std::string mem =
       "/vsimem/terrain_" + std::to_string(::getpid()) + "_" + std::to_string(serial++) + ".tif";
+  struct Unlink {  // the memory file goes whatever happens
+    std::string path;
+    ~Unlink() { VSIUnlink(path.c_str()); }
+  } unlink{mem};
   GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("GTiff");
   if (!drv) throw Error("GDAL has no GTiff driver");
   const char* options[] = {"COMPRESS=DEFLATE", "PHOTOMETRIC=RGB", "ALPHA=UNASSOCIATED",
@@ -71,13 +75,7 @@ void write_rgba_geotiff(const std::string& path, int width, int height,
   vsi_l_offset size = 0;
   GByte* data = VSIGetMemFileBuffer(mem.c_str(), &size, FALSE);
   if (!data) throw Error("cannot write '" + path + "': GDAL kept no image");
-  try {
-    write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(data), size));
-  } catch (...) {
-    VSIUnlink(mem.c_str());
-    throw;
-  }
-  VSIUnlink(mem.c_str());
+  write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(data), size));
 }
 
 }  // namespace terrain
