@@ -331,6 +331,22 @@ void print_batch(const std::string& out_dir, std::size_t frames, int width, int 
 
 }  // namespace
 
+namespace {
+
+// A GeoPackage holds a map's lines: refused before any frame is written unless all are maps.
+void check_map_frames(const std::vector<std::string>& formats,
+                      const std::vector<rr::FrameParams>& frames, const std::string& csv) {
+  if (std::find(formats.begin(), formats.end(), "gpkg") == formats.end()) return;
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    if (!frames[i].camera.orthographic)
+      throw terrain::Error(fmt::format(
+          "{}: frame {} is no map (a top view): --format gpkg holds a map's lines in map "
+          "coordinates; leave gpkg out",
+          csv, i + 1));
+}
+
+}  // namespace
+
 int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::string>& inputs,
               const std::string& out_dir, const std::string& prov, const tt::Verbosity& verb) {
   rr::RenderSettings s = settings_of(a);
@@ -340,14 +356,7 @@ int run_batch(const TableArgs& a, const OutputArgs& o, const std::vector<std::st
   if (!dv_path.empty() && !drainage::is_dv_file(dv_path))
     throw terrain::Error("'" + dv_path + "' is not a drainage database (.dv)");
   const auto frames = rr::read_frames_csv(csv, s.frame);
-  // A GeoPackage holds a map's lines: refused before any frame is written unless all are maps.
-  if (std::find(formats.begin(), formats.end(), "gpkg") != formats.end())
-    for (std::size_t i = 0; i < frames.size(); ++i)
-      if (!frames[i].camera.orthographic)
-        throw terrain::Error(fmt::format(
-            "{}: frame {} is no map (a top view): --format gpkg holds a map's lines in map "
-            "coordinates; leave gpkg out",
-            csv, i + 1));
+  check_map_frames(formats, frames, csv);
   const std::filesystem::path dir(out_dir);
   const std::vector<std::string> outputs = batch_outputs(a, formats, frames, dir);
   for (const std::string& out : outputs) tt::check_distinct_paths(inputs, {out});
