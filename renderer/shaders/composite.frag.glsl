@@ -231,7 +231,7 @@ void main() {
   else if (surface && u_layers.y != 0) c = u_mask_colour;
   float a = 1.0;  // the pixel's alpha: 1 but where the background is none
 #ifdef TR_COMPOSITE_TRANSPARENT
-  if (!surface) a = 0.0;
+  if (!(surface && (u_layers.x != 0 || u_layers.y != 0))) a = 0.0;  // no surface drawn there
 #endif
   // A layer the frame does not draw is compiled out (TR_COMPOSITE_NO_*, CompositePass):
   // llvmpipe would run its fetches under a mask.

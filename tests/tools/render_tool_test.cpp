@@ -672,6 +672,23 @@ TEST(TerrainRender, TopViewGeoTiffIsATransparentMap) {
   EXPECT_GT(background, std::size_t(w * h) / 10);  // the map is smaller than the frame
   EXPECT_GT(opaque, std::size_t(w * h) / 4);
   EXPECT_EQ(wrong, 0u);
+  // Without the mask the map is its lines alone: transparent but where a crease covers it.
+  ASSERT_EQ(
+      run(tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
+          " --view top --map-scale 10 --layers creases --size 640x480 -o " + in.dir.path("l.tif"))
+          .exit_code,
+      0);
+  std::unique_ptr<GDALDataset> lines(
+      GDALDataset::Open(in.dir.path("l.tif").c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  ASSERT_TRUE(lines);
+  std::vector<std::uint8_t> alpha(std::size_t(w * h));
+  ASSERT_EQ(
+      lines->GetRasterBand(4)->RasterIO(GF_Read, 0, 0, w, h, alpha.data(), w, h, GDT_Byte, 0, 0),
+      CE_None);
+  const std::size_t inked =
+      std::size_t(std::count_if(alpha.begin(), alpha.end(), [](std::uint8_t v) { return v > 0; }));
+  EXPECT_GT(inked, 100u);
+  EXPECT_LT(inked, opaque / 10);
 }
 
 // A mesh's plan-view hachure map (terrain-inspect export --layers hachures): the GeoPackage
