@@ -13,6 +13,7 @@
 #include "drainage/dv_file.hpp"
 #include "terrain/big_vector.hpp"
 #include "terrain/error.hpp"
+#include "terrain/grid.hpp"
 
 namespace drainage {
 
@@ -120,10 +121,10 @@ struct RiverLine {
 std::vector<RiverLine> river_lines(const DrainageDb& db, double min_area_m2);
 // A river line's points (the .dv's local frame) smoothed as the renderer smooths creases:
 // x, y the Gaussian mean along the line (sigma in points, a window symmetric about each
-// point, up to 2 sigma: its ends stay), z the surface there (bilinear over the grid); as
-// they are with sigma 0.
-std::vector<Eigen::Vector3d> river_shape(const DrainageDb& db, const RiverLine& line,
-                                         double sigma_samples);
+// point, up to 2 sigma: its ends stay), z the surface there (bilinear over `surface`, the
+// .dv's heights: dv_elevations); as they are with sigma 0.
+std::vector<Eigen::Vector3d> river_shape(const DrainageDb& db, const terrain::Grid& surface,
+                                         const RiverLine& line, double sigma_samples);
 
 // The points of `line` (x, y) a Douglas-Peucker simplification within `tolerance` keeps,
 // ascending; its ends always.

@@ -178,9 +178,10 @@ std::size_t write_branches(Gpkg& gpkg, OGRLayer* layer, const DrainageDb& db,
                            const RiverOptions& rivers) {
   const DvHeader& h = db.header;
   std::size_t written = 0;
+  const terrain::Grid surface = dv_elevations(db);  // what smoothed points take heights from
   for (const RiverLine& r : river_lines(db, rivers.min_area_m2)) {
     if (r.strahler < rivers.min_order) continue;
-    const std::vector<Eigen::Vector3d> shape = river_shape(db, r, rivers.smooth_samples);
+    const std::vector<Eigen::Vector3d> shape = river_shape(db, surface, r, rivers.smooth_samples);
     std::vector<std::size_t> kept(shape.size());
     std::iota(kept.begin(), kept.end(), std::size_t(0));
     if (rivers.smooth_samples > 0)

@@ -3,10 +3,11 @@
 // one order, smoothed as the renderer smooths creases.
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 #include "drainage/dv_views.hpp"
 #include "drainage/gis_layers.hpp"
+#include "terrain/drainage_links.hpp"
+#include "terrain/resample.hpp"
 #include "terrain/utm.hpp"
 
 namespace drainage {
@@ -29,41 +30,20 @@ std::vector<char> river_points(const DrainageDb& db, double min_area_m2) {
   return kept;
 }
 
-// Strahler's order of each river point on the river network (0 elsewhere): 1 where no
-// river drains in, else the largest order draining in, plus one where two or more bring
-// it. Points in ascending accumulation: every point after all that drain into it.
-std::vector<std::uint8_t> strahler_orders(const DrainageDb& db, const std::vector<char>& kept) {
-  std::vector<std::uint32_t> order_of;
-  for (std::uint32_t i = 0; i < kept.size(); ++i)
-    if (kept[i]) order_of.push_back(i);
-  std::stable_sort(order_of.begin(), order_of.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return db.vertices[a].accumulated < db.vertices[b].accumulated;
-  });
-  std::vector<std::uint8_t> order(kept.size(), 0), in_max(kept.size(), 0), in_n(kept.size(), 0);
-  for (const std::uint32_t i : order_of) {
-    order[i] = in_max[i] == 0 ? 1 : std::uint8_t(std::min(255, in_max[i] + (in_n[i] >= 2)));
-    const std::uint32_t d = db.vertices[i].downstream;
-    if (d == kNone || !kept[d]) continue;
-    if (order[i] > in_max[d])
-      in_max[d] = order[i], in_n[d] = 1;
-    else if (order[i] == in_max[d])
-      in_n[d] = std::uint8_t(std::min(2, in_n[d] + 1));
-  }
-  return order;
-}
-
 }  // namespace
 
 std::vector<RiverLine> river_lines(const DrainageDb& db, double min_area_m2) {
   const std::vector<char> kept = river_points(db, min_area_m2);
-  const std::vector<std::uint8_t> order = strahler_orders(db, kept);
+  std::vector<std::uint32_t> down(kept.size(), kNone);  // the river network's links
+  for (std::size_t i = 0; i < kept.size(); ++i)
+    if (kept[i] && db.vertices[i].downstream != kNone && kept[db.vertices[i].downstream])
+      down[i] = db.vertices[i].downstream;
+  const std::vector<std::uint8_t> order = terrain::strahler_orders(down, kept);
   // A chain goes on through the point it drains into while that has its order: a point
   // has at most one such predecessor (two of one order make the next order).
   std::vector<char> continued(kept.size(), 0);
-  for (std::size_t i = 0; i < kept.size(); ++i) {
-    const std::uint32_t d = db.vertices[i].downstream;
-    if (kept[i] && d != kNone && kept[d] && order[d] == order[i]) continued[d] = 1;
-  }
+  for (std::size_t i = 0; i < kept.size(); ++i)
+    if (down[i] != kNone && order[down[i]] == order[i]) continued[down[i]] = 1;
   std::vector<RiverLine> lines;
   for (std::uint32_t head = 0; head < kept.size(); ++head) {
     if (!kept[head] || continued[head]) continue;
@@ -73,8 +53,8 @@ std::vector<RiverLine> river_lines(const DrainageDb& db, double min_area_m2) {
     for (;;) {
       line.points.push_back(v);
       line.max_flow = std::max(line.max_flow, db.vertices[v].accumulated);
-      const std::uint32_t d = db.vertices[v].downstream;
-      if (d == kNone || !kept[d]) break;
+      const std::uint32_t d = down[v];
+      if (d == kNone) break;
       if (order[d] != line.strahler) {  // the junction: the line ends on the river it joins
         line.points.push_back(d);
         break;
@@ -86,8 +66,8 @@ std::vector<RiverLine> river_lines(const DrainageDb& db, double min_area_m2) {
   return lines;
 }
 
-std::vector<Eigen::Vector3d> river_shape(const DrainageDb& db, const RiverLine& line,
-                                         double sigma_samples) {
+std::vector<Eigen::Vector3d> river_shape(const DrainageDb& db, const terrain::Grid& surface,
+                                         const RiverLine& line, double sigma_samples) {
   const DvHeader& h = db.header;
   const std::size_t n = line.points.size();
   std::vector<Eigen::Vector3d> p(n);
@@ -97,22 +77,14 @@ std::vector<Eigen::Vector3d> river_shape(const DrainageDb& db, const RiverLine& 
   }
   if (!(sigma_samples > 0) || n < 3) return p;
   // x, y: the Gaussian mean over the line, a window symmetric about the point (so its ends
-  // stay), up to 2 sigma each way; z: the surface there (bilinear over the grid's points).
+  // stay), up to 2 sigma each way; z: the surface there (bilinear; the point's own height
+  // beside no-data).
   const int reach = int(std::ceil(2 * sigma_samples));
   std::vector<Eigen::Vector3d> q = p;
   auto height = [&](double x, double y, double fallback) {
-    const double fc = x / h.dx, fr = -y / h.dy;
-    const long c0 = long(std::floor(fc)), r0 = long(std::floor(fr));
-    if (c0 < 0 || r0 < 0 || c0 + 1 >= long(h.cols) || r0 + 1 >= long(h.rows)) return fallback;
-    double z = 0;
-    for (int dr = 0; dr < 2; ++dr)
-      for (int dc = 0; dc < 2; ++dc) {
-        const DvVertex& v = db.vertices[std::size_t(r0 + dr) * h.cols + std::size_t(c0 + dc)];
-        if (PointClass(v.point_class) == PointClass::Nodata) return fallback;
-        z += v.z * (dr ? fr - double(r0) : 1 - (fr - double(r0))) *
-             (dc ? fc - double(c0) : 1 - (fc - double(c0)));
-      }
-    return z;
+    const float z =
+        terrain::sample_grid(surface, -y / h.dy, x / h.dx, terrain::Resampling::Bilinear);
+    return std::isnan(z) ? fallback : double(z) - h.origin_z;
   };
   for (std::size_t k = 1; k + 1 < n; ++k) {
     const int r = std::min({reach, int(k), int(n - 1 - k)});

@@ -30,4 +30,12 @@ struct DrainageLinks {
   }
 };
 
+// Strahler's order of each vertex of a drainage forest (0 on a vertex of none): `down` is
+// each vertex's downstream vertex in the forest, DrainageLinks::kNone where its flow leaves
+// it, and `member` marks the forest's vertices. 1 where none drains in, else the largest
+// order draining in, plus one where two or more bring it (every vertex after all that drain
+// into it: Kahn's order). The rivers of a .dv's GeoPackage and the drawn creases use it.
+std::vector<std::uint8_t> strahler_orders(const std::vector<std::uint32_t>& down,
+                                          const std::vector<char>& member);
+
 }  // namespace terrain

@@ -91,6 +91,7 @@ TEST(DvViews, RiversStartWhereTheirAreaDrains) {
   const DrainageDb db = round_trip(logan_drainage(), dir);
   const double area = 50 * 1e4, cell = db.header.dx * db.header.dy;
   const std::vector<RiverLine> lines = river_lines(db, area);
+  const terrain::Grid surface = dv_elevations(db);
   std::vector<int> inner(db.vertices.size(), 0), any(db.vertices.size(), 0);
   std::map<std::uint32_t, std::vector<int>> ending_at;  // a point: the orders of lines ending there
   for (const RiverLine& l : lines) {
@@ -123,7 +124,8 @@ TEST(DvViews, RiversStartWhereTheirAreaDrains) {
     EXPECT_EQ(l.strahler,
               inflow.empty() ? 1 : top + (std::count(inflow.begin(), inflow.end(), top) >= 2))
         << "line from " << l.points.front();
-    const std::vector<Eigen::Vector3d> d8 = river_shape(db, l, 0), smooth = river_shape(db, l, 1.5);
+    const std::vector<Eigen::Vector3d> d8 = river_shape(db, surface, l, 0),
+                                       smooth = river_shape(db, surface, l, 1.5);
     ASSERT_EQ(smooth.size(), d8.size());
     EXPECT_EQ(smooth.front(), d8.front());
     EXPECT_EQ(smooth.back(), d8.back());

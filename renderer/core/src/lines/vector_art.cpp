@@ -87,28 +87,14 @@ VectorUnderlay parse_underlay(const std::string& name) {
 }
 
 std::vector<std::uint8_t> crease_orders(const CreaseGeometry& g) {
-  const std::size_t n = g.positions.size(), ns = g.n_segments();
-  std::vector<std::uint32_t> in(n, 0);
-  std::vector<std::vector<std::uint32_t>> down(n);  // a vertex's downstream vertices
-  for (std::size_t s = 0; s < ns; ++s)
-    down[g.segments[2 * s]].push_back(g.segments[2 * s + 1]), ++in[g.segments[2 * s + 1]];
-  std::vector<std::uint8_t> order(n, 0), in_max(n, 0), in_n(n, 0);
-  std::vector<std::uint32_t> ready;  // every vertex after all that flow into it (Kahn)
-  for (std::uint32_t v = 0; v < n; ++v)
-    if (in[v] == 0 && !down[v].empty()) ready.push_back(v);
-  while (!ready.empty()) {
-    const std::uint32_t v = ready.back();
-    ready.pop_back();
-    order[v] = in_max[v] == 0 ? 1 : std::uint8_t(std::min(255, in_max[v] + (in_n[v] >= 2)));
-    for (const std::uint32_t d : down[v]) {
-      if (order[v] > in_max[d])
-        in_max[d] = order[v], in_n[d] = 1;
-      else if (order[v] == in_max[d])
-        in_n[d] = std::uint8_t(std::min(2, in_n[d] + 1));
-      if (--in[d] == 0) ready.push_back(d);
-    }
+  const std::size_t n = g.positions.size();
+  std::vector<std::uint32_t> down(n, terrain::DrainageLinks::kNone);  // a vertex's one segment
+  std::vector<char> member(n, 0);
+  for (std::size_t s = 0; s < g.n_segments(); ++s) {
+    down[g.segments[2 * s]] = g.segments[2 * s + 1];
+    member[g.segments[2 * s]] = member[g.segments[2 * s + 1]] = 1;
   }
-  return order;
+  return terrain::strahler_orders(down, member);
 }
 
 std::vector<VectorPath> crease_paths(const CreaseGeometry& g, const std::vector<float>& drawn,
