@@ -4,34 +4,11 @@
 #include <fmt/format.h>
 
 #include "terrain/gpkg.hpp"
+#include "terrain/xml_text.hpp"
 
 namespace terrain {
 
 namespace {
-
-std::string xml_escaped(const std::string& s) {
-  std::string out;
-  for (char c : s) switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += c;
-    }
-  return out;
-}
 
 std::string option(const char* name, const std::string& value) {
   return fmt::format(R"(<Option name="{}" type="QString" value="{}"/>)", name, xml_escaped(value));

@@ -18,6 +18,7 @@
 #include "terrain/error.hpp"
 #include "terrain/image_io.hpp"
 #include "terrain/memory.hpp"
+#include "terrain/xml_text.hpp"
 
 namespace renderer {
 
@@ -184,25 +185,7 @@ double ms_since(Clock::time_point t0) {
 // A GDAL PAM file (NAME.png.aux.xml) holding the CRS `wkt`: GDAL and QGIS read a PNG's CRS
 // from it, as they read its geotransform from the world file.
 std::string pam_crs(const std::string& wkt) {
-  std::string escaped;
-  for (const char c : wkt) {
-    switch (c) {
-      case '&':
-        escaped += "&amp;";
-        break;
-      case '<':
-        escaped += "&lt;";
-        break;
-      case '>':
-        escaped += "&gt;";
-        break;
-      case '"':
-        escaped += "&quot;";
-        break;
-      default:
-        escaped += c;
-    }
-  }
+  const std::string escaped = terrain::xml_escaped(wkt);
   return "<PAMDataset>\n" +
          (wkt.empty() ? std::string()
                       : "  <SRS dataAxisToSRSAxisMapping=\"1,2\">" + escaped + "</SRS>\n") +
