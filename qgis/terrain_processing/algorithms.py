@@ -205,15 +205,20 @@ class DrainageAlgorithm(TerrainAlgorithm):
         return {"OUTPUT": output, "LAYERS": layers}
 
 
+_RENDER_OPTIONS = []  # the table, read once: QGIS makes an instance per dialog and run
+
+
 def render_options():
     """The render option table (terrain-render --list-options=json), or [] when the tool is
     not found (the algorithm then says so when run)."""
-    try:
-        text = subprocess.run([tool_path("terrain-render"), "--list-options=json"],
-                              capture_output=True, text=True, check=True, timeout=60).stdout
-        return json.loads(text)
-    except (QgsProcessingException, OSError, subprocess.SubprocessError, ValueError):
-        return []
+    if not _RENDER_OPTIONS:
+        try:
+            text = subprocess.run([tool_path("terrain-render"), "--list-options=json"],
+                                  capture_output=True, text=True, check=True, timeout=60).stdout
+            _RENDER_OPTIONS.extend(json.loads(text))
+        except (QgsProcessingException, OSError, subprocess.SubprocessError, ValueError):
+            pass
+    return _RENDER_OPTIONS
 
 
 def parameter_name(option):
@@ -297,7 +302,7 @@ class RenderAlgorithm(TerrainAlgorithm):
         return "render"
 
     def displayName(self):  # noqa: N802
-        return "Render a view (PNG, SVG or PDF)"
+        return "Render a view (PNG, GeoTIFF, SVG, PDF or a map's GeoPackage)"
 
     def shortHelpString(self):  # noqa: N802
         return ("A pen-and-ink view of a DEM or of a mesh: creases, silhouettes, hachures and "

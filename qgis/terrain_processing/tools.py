@@ -49,7 +49,7 @@ def run_tool(name, args, feedback, share=(0.0, 100.0)):
 
     def read_stderr():
         while True:
-            chunk = proc.stderr.read1(4096) if hasattr(proc.stderr, "read1") else proc.stderr.read(1)
+            chunk = proc.stderr.read1(4096)
             if not chunk:
                 return
             err.append(chunk.decode("utf-8", "replace"))
