@@ -4,13 +4,13 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <unordered_map>
 
 #include <fmt/format.h>
 #include <ogrsf_frmts.h>
 
 #include "renderer/core/ridges.hpp"
 #include "renderer/core/vector_file.hpp"
+#include "renderer/core/vector_lines.hpp"
 #include "terrain/gpkg.hpp"
 #include "terrain/hillshade.hpp"
 #include "terrain/memory.hpp"
@@ -49,49 +49,23 @@ void check_plan_memory(const PlanView& p) {
 
 namespace {
 
-// The edges between a face drawn and one outside the data (vertex pairs), chained into
-// lines: from each end or meeting point first, then the closed rings.
-static std::vector<std::vector<std::uint32_t>> outline_chains(const terrain::GridMesh& mesh) {
-  const std::vector<std::array<std::uint32_t, 2>> edges = mesh.outline_edges();
-  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> at;  // vertex -> its edges
-  for (std::uint32_t e = 0; e < edges.size(); ++e)
-    at[edges[e][0]].push_back(e), at[edges[e][1]].push_back(e);
-  std::vector<char> used(edges.size(), 0);
-  std::vector<std::vector<std::uint32_t>> chains;
-  const auto walk = [&](std::uint32_t v) {
-    std::vector<std::uint32_t> chain{v};
-    for (;;) {
-      const auto& es = at[v];
-      const auto next =
-          std::find_if(es.begin(), es.end(), [&](std::uint32_t e) { return !used[e]; });
-      if (next == es.end()) break;
-      used[*next] = 1;
-      v = edges[*next][0] == v ? edges[*next][1] : edges[*next][0];
-      chain.push_back(v);
-      if (at[v].size() != 2) break;  // an end, or where lines meet
-    }
-    chains.push_back(std::move(chain));
-  };
-  for (const auto& [v, es] : at)
-    if (es.size() != 2)
-      while (std::any_of(es.begin(), es.end(), [&](std::uint32_t e) { return !used[e]; })) walk(v);
-  for (std::uint32_t e = 0; e < edges.size(); ++e)
-    if (!used[e]) walk(edges[e][0]);
-  return chains;
-}
-
+// The data's outline on the map: the edges between a face drawn and one outside the data,
+// chained into lines (chain_segments: ends and meeting points end a line, a ring closes and
+// repeats its first point here).
 static std::vector<std::vector<Eigen::Vector2f>> plan_outline(const terrain::GridMesh& mesh,
                                                               const PlanView& plan) {
   std::vector<std::vector<Eigen::Vector2f>> out;
   if (!mesh.has_holes()) return out;
-  for (const auto& chain : outline_chains(mesh)) {
-    std::vector<Eigen::Vector2f> line;
-    for (const std::uint32_t v : chain) {
-      const Eigen::Vector3f& p = mesh.positions[v];
-      line.emplace_back(float((double(p.x()) - plan.x0) / plan.scale),
-                        float((plan.y0 - double(p.y())) / plan.scale));
-    }
-    out.push_back(std::move(line));
+  auto at = [&](std::uint32_t v) {
+    const Eigen::Vector3f& p = mesh.positions[v];
+    return Eigen::Vector2f(float((double(p.x()) - plan.x0) / plan.scale),
+                           float((plan.y0 - double(p.y())) / plan.scale));
+  };
+  std::vector<std::array<Eigen::Vector2f, 2>> segments;
+  for (const auto& [a, b] : mesh.outline_edges()) segments.push_back({at(a), at(b)});
+  for (Polyline& line : chain_segments(segments)) {
+    if (line.closed) line.points.push_back(line.points.front());
+    out.push_back(std::move(line.points));
   }
   return out;
 }
