@@ -29,7 +29,7 @@ struct GpkgField {
 // size) in millimetres on the map, or a QGIS expression of the layer's fields for it;
 // polygons are drawn as their outlines.
 struct LayerStyle {
-  const char* colour = "0,0,0,255";
+  std::string colour = "0,0,0,255";
   double width_mm = 0.26;
   std::string width_expression;  // empty: width_mm everywhere
   std::string description;       // the style's, as QGIS's style manager shows it

@@ -18,10 +18,9 @@ std::size_t write_map_gpkg(const VectorArt& art, const std::array<double, 6>& gt
   std::vector<OGRLayer*> layers;
   for (const VectorLayer& l : art.layers) {
     const Eigen::Vector3i c = (l.colour.cwiseMax(0).cwiseMin(1) * 255).array().round().cast<int>();
-    terrain::LayerStyle style{"", 0.26, "\"width_mm\"",
-                              "The top view's " + l.name + ", as terrain-render draws them"};
-    const std::string colour = fmt::format("{},{},{},255", c.x(), c.y(), c.z());
-    style.colour = colour.c_str();
+    const terrain::LayerStyle style{fmt::format("{},{},{},255", c.x(), c.y(), c.z()), 0.26,
+                                    "\"width_mm\"",
+                                    "The top view's " + l.name + ", as terrain-render draws them"};
     OGRLayer* layer = gpkg.layer(l.name.c_str(), wkbLineString,
                                  {{"width_mm", OFTReal}, {"opacity", OFTReal}}, style);
     for (const std::string& name : l.value_names) {  // what it was drawn from
