@@ -7,7 +7,8 @@
 #include "terrain/error.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = terrain::fuzz::input_file(data, size, ".tif");
+  const terrain::fuzz::InputFile input(data, size, ".tif");
+  const std::string& path = input.path;
   try {
     terrain::Grid grid;
     (void)drainage::read_d8_raster(

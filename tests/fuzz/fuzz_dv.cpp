@@ -14,7 +14,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::vector<std::uint8_t> bytes(data, data + size);
   drainage::dv_fix_checksums(reinterpret_cast<char*>(bytes.data()), bytes.size());
-  const std::string path = terrain::fuzz::input_file(bytes.data(), bytes.size(), ".dv");
+  const terrain::fuzz::InputFile input(bytes.data(), bytes.size(), ".dv");
+  const std::string& path = input.path;
   try {
     const drainage::DrainageDb db = drainage::read_dv(path);
     (void)drainage::summarize(db);

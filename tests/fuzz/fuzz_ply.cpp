@@ -8,7 +8,8 @@
 #include "terrain/error.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = terrain::fuzz::input_file(data, size, ".ply");
+  const terrain::fuzz::InputFile input(data, size, ".ply");
+  const std::string& path = input.path;
   try {
     terrain::fuzz::mesh_target(path);
   } catch (const terrain::Error&) {

@@ -1,4 +1,5 @@
 // libFuzzer harness: the mesh pyramid reader (pyramid_target.hpp).
+#include <cstdio>
 #include <string>
 
 #include "fuzz_support.hpp"
@@ -11,5 +12,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     terrain::fuzz::pyramid_target(std::string(reinterpret_cast<const char*>(data), size), path);
   } catch (const terrain::Error&) {
   }
+  std::remove(path.c_str());
   return 0;
 }

@@ -9,14 +9,20 @@
 
 namespace terrain::fuzz {
 
-// Writes the input to /tmp/terrain_fuzz_PID.EXT and returns the path.
-inline std::string input_file(const std::uint8_t* data, std::size_t size, const std::string& ext) {
-  const std::string path = "/tmp/terrain_fuzz_" + std::to_string(::getpid()) + ext;
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) std::abort();
-  if (size) std::fwrite(data, 1, size, f);
-  std::fclose(f);
-  return path;
-}
+// The input written to /tmp/terrain_fuzz_PID.EXT, removed again when this goes out of scope
+// (the regression test runs the targets in ctest: no file left behind in /tmp).
+struct InputFile {
+  std::string path;
+  InputFile(const std::uint8_t* data, std::size_t size, const std::string& ext)
+      : path("/tmp/terrain_fuzz_" + std::to_string(::getpid()) + ext) {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) std::abort();
+    if (size) std::fwrite(data, 1, size, f);
+    std::fclose(f);
+  }
+  InputFile(const InputFile&) = delete;
+  InputFile& operator=(const InputFile&) = delete;
+  ~InputFile() { std::remove(path.c_str()); }
+};
 
 }  // namespace terrain::fuzz

@@ -12,7 +12,8 @@ namespace terrain::fuzz {
 
 inline void points_target(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return;
-  const std::string path = input_file(data + 1, size - 1, data[0] % 2 ? ".csv" : ".xyz");
+  const InputFile input(data + 1, size - 1, data[0] % 2 ? ".csv" : ".xyz");
+  const std::string& path = input.path;
   if (!is_point_input(path)) return;
   const PointCloud p = read_points(path);
   if (p.size() > 5000) return;  // keep each run short: the triangulation is not the reader

@@ -8,6 +8,7 @@ QGIS's own render of the styled map layers over a hillshade (docs/qgis.md's pict
 
 Usage: processing_test.py REPO_ROOT BIN_DIR DATA_DIR"""
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -25,6 +26,10 @@ except ImportError:
 REPO, BIN, DATA = sys.argv[1:4]
 os.environ["TERRAIN_BIN"] = BIN
 FAILURES = []
+# Every file of the run, QGIS's own temporary folders (processing_*, qt_temp*) included,
+# under one scratch folder removed at the end.
+scratch = tempfile.mkdtemp(prefix="terrain_qgis_test_")
+os.environ["TMPDIR"] = scratch
 
 
 def check(ok, what):
@@ -41,7 +46,6 @@ import qgis.utils  # noqa: E402
 from processing.core.Processing import Processing  # noqa: E402
 
 Processing.initialize()
-scratch = tempfile.mkdtemp(prefix="terrain_qgis_test_")
 # The plugin as a user installs it: the zip scripts/make-qgis-plugin.sh makes, unpacked
 # into a plugin folder, loaded and started by QGIS's own plugin loader.
 plugins = os.path.join(scratch, "plugins")
@@ -226,6 +230,7 @@ if shots:
 
 print(f"{len(FAILURES)} failures")
 sys.stdout.flush()
+shutil.rmtree(scratch, ignore_errors=True)
 app.exitQgis()
 # Straight out: Python's own teardown after exitQgis frees QGIS's objects a second time
 # (a segmentation fault at exit, PyQGIS's known one), which ctest would count as failed.
