@@ -78,6 +78,10 @@ skip+='|BuildDrainage\.TiledRunsEqualTheUntiledRun|Interrupt\.SignalsLeaveNothin
 # The QGIS provider's test is Python over the tools (which the other tests run sanitized); a
 # sanitized tool's leak report at its exit would read as the tool's error there.
 skip+='|Qgis\.ProcessingProvider'
+# Mandakini's whole catchment meshed, drained and drawn (~16 s, minutes sanitized): its
+# subject is the picture's connected share; the no-data mesh, drainage and crease code run
+# here on the circular mask and the clipped Logan basin.
+skip+='|ClippedBasin\.ACatchmentsCreasesReachTheirRivers'
 if ctest --output-on-failure --parallel "$(nproc)" -E "$skip" "$@" 2>&1 | tee "$log"; then exit 0; fi
 failed=$(grep -c . Testing/Temporary/LastTestsFailed.log || true)
 tracer=$(grep -c "LeakSanitizer has encountered a fatal error" "$log" || true)

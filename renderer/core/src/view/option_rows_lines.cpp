@@ -43,9 +43,10 @@ static void add_crease_width_options(std::vector<OptionSpec>& t, const GroupName
       "whichever is longer), where the score dips between two drawn parts (0: this term off)",
       [](auto& s) -> auto& { return s.style.crease_bridge; }));
   t.push_back(number(
-      "crease-bridge-px", strokes, 0, 256, "pixels", "2",
+      "crease-bridge-px", strokes, 0, 256, "pixels", "28",
       "... or up to this long in pixels at the page scale (metres per pixel at the depth of the "
-      "scene's centre; 0: this term off)",
+      "scene's centre): a tributary joins its trunk across a flat, lit mouth that scores below "
+      "the far threshold (0: this term off)",
       [](auto& s) -> auto& { return s.style.crease_bridge_px; }));
   t.push_back(number(
       "crease-min-stroke", strokes, 0, 1e5, "m", "200",
