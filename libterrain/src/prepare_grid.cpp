@@ -302,7 +302,9 @@ Grid resample_rows(const Grid& samples, const RasterWindow& w, const GridPlan& p
   Georef geo = plan.target;
   geo.y0 = plan.target.y0 -
            double(r0) * plan.target.dy;  // for the caller's reference; values use the plan's rows
-  Grid g(nr, plan.cols, geo);
+  Grid g;
+  g.rows = nr, g.cols = plan.cols, g.geo = geo;
+  g.z.resize(nr * plan.cols);  // not zeroed (BigVector): every sample is written below
   resample_rows_into(samples, w, plan, req, long(r0), g, {});
   if (const std::size_t missing = g.count_nodata(); missing > 0)
     throw NodataError(fmt::format(
@@ -354,12 +356,16 @@ PreparedGrid resample_to_plan(const Grid& samples, const GridPlan& plan, const G
   out.warnings = plan.warnings;
   const Georef& tg = plan.target;
   Grid& g = out.grid;
-  g = Grid(plan.rows, plan.cols, tg);
+  g.rows = plan.rows, g.cols = plan.cols, g.geo = tg;
+  // Not zeroed first (BigVector): every sample is written below, and the pages are first
+  // touched by the threads that resample them.
+  g.z.resize(plan.rows * plan.cols);
   resample_rows_into(samples, w, plan, req, 0, g, progress);
 
-  if (g.count_nodata() == g.size())
+  const std::size_t missing = g.count_nodata();
+  if (missing == g.size())
     throw NodataError("every sample of the chosen area is no-data: crop to the data (--bbox)");
-  if (g.count_nodata() > 0) {
+  if (missing > 0) {
     out.filled_mask = req.fill_nodata ? g.nodata_mask() : classify_nodata(g, req.max_void);
     for (std::uint8_t m : out.filled_mask)
       out.voids += m == kVoidFilled, out.outside += m == kOutside;
