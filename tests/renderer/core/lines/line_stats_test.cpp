@@ -342,6 +342,29 @@ TEST(CreaseGeometry, MedianSurfaceOffsetTellsAnotherSurface) {
   }
 }
 
+// Land of closed depressions (an egg crate on a gentle slope), breached as build-drainage
+// does by default: breaching lowers the channels' points through the rims, most of the
+// creases' own vertices, and leaves the hillsides on the surface. The network is this
+// mesh's: measured over all its points, no warning (over the creases' vertices it was
+// one, as on the Minnesota depressions).
+TEST(CreaseGeometry, ABreachedNetworkOfThisMeshIsOnItsSurface) {
+  const Scene s = scene_of(analytic(61, 10,
+                                    [](double x, double y) {
+                                      return 4 * std::cos(x / 40) * std::cos(y / 40) + 0.02 * y;
+                                    }),
+                           false, 10.0);
+  const CreaseGeometry g = build_crease_geometry(s.mesh, s.links, renderer::CreaseRules{});
+  std::size_t off = 0;
+  for (const Eigen::Vector3f& p : g.positions) {
+    const auto sp = terrain::pn_point_above(s.mesh, p.x(), p.y());
+    off += sp && std::abs(double(p.z()) - sp->position.z()) > kSurfaceOffsetShare * 10;
+  }
+  std::cout << off << " of " << g.positions.size() << " crease vertices off the surface\n";
+  EXPECT_GT(2 * off, g.positions.size());  // the creases' own median would warn
+  EXPECT_LT(g.median_surface_offset, 1e-3);
+  EXPECT_EQ(surface_warning(s.mesh, g), "");
+}
+
 // A plane draining south off the grid: every column is its own small basin cut by the
 // edge. As the paper normalizes them, flow reaches 1 on the south edge of every column
 // (a band of creases along it); as pieces of larger basins (edge_basin_min_share), flow

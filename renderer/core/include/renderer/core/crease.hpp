@@ -27,8 +27,9 @@ struct CreaseGeometry {
   std::vector<float> share;
   std::vector<float> area;  // #C the area draining through the vertex, m^2 (points x dx dy)
   std::vector<std::uint32_t> segments;  // 2 x #S: (vertex, its downstream vertex)
-  // The median |z - PN surface z| over the vertices above the mesh, metres (as read,
-  // before smoothing): 0 up to float rounding for a network sampled from this mesh.
+  // The median |z - PN surface z| over the network's points above the mesh (all of them,
+  // not only the creases' vertices, whose channels conditioning moves), metres, as read: 0 up
+  // to float rounding for a network sampled from this mesh.
   double median_surface_offset = 0;
   std::size_t n_segments() const { return segments.size() / 2; }
 };
