@@ -295,11 +295,11 @@ void pn_normals_above(CreaseGeometry& out, const terrain::GridMesh& mesh) {
         "the drainage database does not overlap the mesh (no drainage vertex lies on it)");
 }
 
-// The median |z - PN z| over the network's valid points above the mesh (every point, or an
-// even sample of about 65,536), 0 when none lies on it. Over all points, not the crease
-// vertices: conditioning (--breach, --fill) moves the channels' points, which on land of
-// closed depressions are most of the creases' (Minnesota's: a median 2.6 m off, breached),
-// but leaves the hillsides on the surface.
+// The median |z - PN z| over the network's valid points above the mesh (every point, or
+// every (n >> 16)-th: 65,536 to 131,071 of them), 0 when none lies on it. Over all points,
+// not the crease vertices: conditioning (--breach, --fill) moves the channels' points,
+// which on land of closed depressions are most of the creases' (Minnesota's: a median
+// 2.6 m off, breached), but leaves the hillsides on the surface.
 double median_surface_offset(const terrain::GridMesh& mesh, const terrain::DrainageLinks& links,
                              const Eigen::Vector3d& shift) {
   const std::size_t n = links.size(), stride = std::max<std::size_t>(1, n >> 16);
