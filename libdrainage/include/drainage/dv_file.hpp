@@ -82,6 +82,15 @@ struct DvBlockFields {
   std::vector<std::uint8_t> order;
 };
 std::vector<char> encode_dv_block(const DvBlockFields& fields);
+// The same fields where they already lie (m points each; no copy): a tiled run's tile.
+struct DvBlockView {
+  std::size_t m = 0;
+  const float* z = nullptr;
+  const std::uint8_t *d8 = nullptr, *cut = nullptr;
+  const std::uint32_t *accumulated = nullptr, *basin = nullptr;
+  const std::uint8_t* order = nullptr;
+};
+std::vector<char> encode_dv_block(const DvBlockView& view);
 
 class DvBlockWriter {
  public:

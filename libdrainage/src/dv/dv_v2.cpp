@@ -289,6 +289,12 @@ std::vector<char> encode_dv_block(const DvBlockFields& f) {
   if (f.d8.size() != m || f.cut.size() != m || f.accumulated.size() != m || f.basin.size() != m ||
       f.order.size() != m)
     throw terrain::Error("encode_dv_block: fields of different sizes");
+  return encode_dv_block(DvBlockView{m, f.z.data(), f.d8.data(), f.cut.data(), f.accumulated.data(),
+                                     f.basin.data(), f.order.data()});
+}
+
+std::vector<char> encode_dv_block(const DvBlockView& f) {
+  const std::size_t m = f.m;
   thread_local std::vector<std::uint8_t> raw;  // reused: see the reader
   thread_local std::unique_ptr<ZSTD_CCtx, std::size_t (*)(ZSTD_CCtx*)> ctx(ZSTD_createCCtx(),
                                                                            ZSTD_freeCCtx);
@@ -296,12 +302,12 @@ std::vector<char> encode_dv_block(const DvBlockFields& f) {
   // Plain pointers (restrict): byte stores could alias the vectors' own pointers, which
   // the compiler would then reload on every store.
   std::uint8_t* __restrict const o = raw.data();
-  const float* __restrict const zs = f.z.data();
-  const std::uint8_t* __restrict const d8 = f.d8.data();
-  const std::uint8_t* __restrict const cut = f.cut.data();
-  const std::uint32_t* __restrict const acc = f.accumulated.data();
-  const std::uint32_t* __restrict const basin = f.basin.data();
-  const std::uint8_t* __restrict const order = f.order.data();
+  const float* __restrict const zs = f.z;
+  const std::uint8_t* __restrict const d8 = f.d8;
+  const std::uint8_t* __restrict const cut = f.cut;
+  const std::uint32_t* __restrict const acc = f.accumulated;
+  const std::uint32_t* __restrict const basin = f.basin;
+  const std::uint8_t* __restrict const order = f.order;
   // Deltas first (neighbours share high bits), then each byte plane in its own loop: one
   // output stream per loop vectorizes; fourteen interleaved streams per point did not
   // (the shuffle took three times zstd's time).
@@ -328,12 +334,15 @@ std::vector<char> encode_dv_block(const DvBlockFields& f) {
   for (std::size_t q = 0; q < m; ++q)
     pd[q] = cut[q] && d8[q] < 8 ? std::uint8_t(kCutFlag | d8[q]) : d8[q];
   for (std::size_t q = 0; q < m; ++q) po[q] = order[q];
-  std::vector<char> out(ZSTD_compressBound(raw.size()));
+  // Compressed into a reused buffer of the worst case, then copied out at its size: a block
+  // returned with the worst case's capacity (14 bytes a point) held that much while it
+  // waited to be written (a tiled run's blocks wait for their turn).
+  thread_local std::vector<char> packed;
+  packed.resize(ZSTD_compressBound(raw.size()));
   const std::size_t n =
-      ZSTD_compressCCtx(ctx.get(), out.data(), out.size(), raw.data(), raw.size(), 1);
+      ZSTD_compressCCtx(ctx.get(), packed.data(), packed.size(), raw.data(), raw.size(), 1);
   if (ZSTD_isError(n)) throw terrain::Error(std::string("zstd: ") + ZSTD_getErrorName(n));
-  out.resize(n);
-  return out;
+  return std::vector<char>(packed.begin(), packed.begin() + std::ptrdiff_t(n));
 }
 
 DvBlockWriter::DvBlockWriter(std::ostream& out, std::string path, DvHeader header)

@@ -259,23 +259,25 @@ DoneTile complete_tile(const TileGrid& tiles, std::size_t t, const CodeReader& r
                        const RankSolution& sol,
                        const std::function<void(std::size_t, NetworkTile&)>& prepare) {
   DoneTile d;
-  LocalNetwork L = local_network(tiles, t, read, true);
-  const std::size_t n = L.nr * L.nc;
   NetworkTile& out = d.out;
-  out.window = L.w;
-  out.accumulated.assign(n, 0);
-  out.basin.assign(n, kNone);
-  out.order.assign(n, 0);
-  std::uint32_t next_id = 0;
-  std::vector<std::uint32_t> id(n, kNone);
-  for (std::size_t i = 0; i < n; ++i)
-    if (L.node[i]) id[i] = next_id++;
-  tile_flow(L, sol.tiles[t], id, d);
-  tile_basins(L, tiles, t, sol, id, d);
-  tile_heads(L, d);
-  out.dirs = std::move(L.dirs);
-  out.cut = std::move(L.cut);
-  d.classes = L.classes;
+  {  // the walk's arrays (about 26 bytes a cell) freed before `prepare` makes the .dv block
+    LocalNetwork L = local_network(tiles, t, read, true);
+    const std::size_t n = L.nr * L.nc;
+    out.window = L.w;
+    out.accumulated.assign(n, 0);
+    out.basin.assign(n, kNone);
+    out.order.assign(n, 0);
+    std::uint32_t next_id = 0;
+    std::vector<std::uint32_t> id(n, kNone);
+    for (std::size_t i = 0; i < n; ++i)
+      if (L.node[i]) id[i] = next_id++;
+    tile_flow(L, sol.tiles[t], id, d);
+    tile_basins(L, tiles, t, sol, id, d);
+    tile_heads(L, d);
+    out.dirs = std::move(L.dirs);
+    out.cut = std::move(L.cut);
+    d.classes = L.classes;
+  }
   if (prepare) {  // then only what it made waits for `done`
     prepare(t, out);
     out.dirs = {}, out.cut = {}, out.accumulated = {}, out.basin = {}, out.order = {};

@@ -13,7 +13,10 @@
 
 namespace drainage::tiled {
 
-constexpr int kMaxOrder = 63;  // a Strahler order needs 2^(order-1) points: 33 at most here
+// A Strahler order o needs 2^(o-1) points, and a tiled grid has fewer than 2^32: orders
+// are at most 32, and one more inflow makes 33. (The table was 64 entries: a third of a
+// graph node's bytes, and rank 0 holds every tile's nodes at once.)
+constexpr int kMaxOrder = 33;
 using OrderTable = std::array<std::uint8_t, kMaxOrder + 1>;  // f(o), o = 1..kMaxOrder
 
 // Strahler order from the largest order m of the inflows and how many (k) carry it.
@@ -57,15 +60,15 @@ struct LocalNetwork {
 LocalNetwork local_network(const TileGrid& tiles, std::size_t t, const CodeReader& read,
                            bool count_classes = false);
 
-struct Node {
+struct Node {                   // 72 bytes: the wide fields first
   std::uint64_t cell = 0;       // global index
+  std::uint64_t pit_id = 0;     // pit nodes: the basin id (after pass 1)
   std::uint32_t acc_local = 0;  // 1 + inflows from outside the graph
+  std::uint32_t next = kNone;   // the node it drains into
+  std::uint32_t add = 0;        // accumulation added on the way to next
   std::uint8_t m = 0, k = 0;    // their largest order and its count
   bool pit = false;
-  std::uint32_t next = kNone;  // the node it drains into
-  std::uint32_t add = 0;       // accumulation added on the way to next
-  OrderTable table{};          // order arriving at next, by this node's order
-  std::uint64_t pit_id = 0;    // pit nodes: the basin id (after pass 1)
+  OrderTable table{};  // order arriving at next, by this node's order
 };
 
 // Pass 1 of tiled_network for one tile: its graph nodes (`next` counted from the tile's
