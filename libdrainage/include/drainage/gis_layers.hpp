@@ -127,7 +127,7 @@ std::vector<Eigen::Vector3d> river_shape(const DrainageDb& db, const terrain::Gr
                                          const RiverLine& line, double sigma_samples);
 
 // The points of `line` (x, y) a Douglas-Peucker simplification within `tolerance` keeps,
-// ascending; its ends always.
+// ascending, its ends always (terrain::douglas_peucker).
 std::vector<std::size_t> kept_points(const std::vector<Eigen::Vector3d>& line, double tolerance);
 
 struct RiverOptions {

@@ -7,6 +7,7 @@
 #include "drainage/dv_views.hpp"
 #include "drainage/gis_layers.hpp"
 #include "terrain/drainage_links.hpp"
+#include "terrain/polyline.hpp"
 #include "terrain/resample.hpp"
 #include "terrain/utm.hpp"
 
@@ -101,34 +102,9 @@ std::vector<Eigen::Vector3d> river_shape(const DrainageDb& db, const terrain::Gr
 }
 
 std::vector<std::size_t> kept_points(const std::vector<Eigen::Vector3d>& line, double tolerance) {
-  const std::size_t n = line.size();
-  std::vector<char> keep(n, 1);
-  std::vector<std::pair<std::size_t, std::size_t>> spans;
-  if (n > 2) {
-    std::fill(keep.begin() + 1, keep.end() - 1, 0);
-    spans.push_back({0, n - 1});
-  }
-  while (!spans.empty()) {  // the farthest point from each span's chord, while beyond
-    const auto [a, b] = spans.back();
-    spans.pop_back();
-    const Eigen::Vector2d p = line[a].head<2>(), d = line[b].head<2>() - p;
-    const double len = d.norm();
-    double worst = -1;
-    std::size_t at = a;
-    for (std::size_t k = a + 1; k < b; ++k) {
-      const Eigen::Vector2d q = line[k].head<2>() - p;
-      const double off = len > 0 ? std::abs(d.x() * q.y() - d.y() * q.x()) / len : q.norm();
-      if (off > worst) worst = off, at = k;
-    }
-    if (worst <= tolerance) continue;
-    keep[at] = 1;
-    if (at - a > 1) spans.push_back({a, at});
-    if (b - at > 1) spans.push_back({at, b});
-  }
-  std::vector<std::size_t> out;
-  for (std::size_t k = 0; k < n; ++k)
-    if (keep[k]) out.push_back(k);
-  return out;
+  std::vector<Eigen::Vector2d> xy(line.size());
+  for (std::size_t k = 0; k < line.size(); ++k) xy[k] = line[k].head<2>();
+  return terrain::douglas_peucker(xy, tolerance);
 }
 
 }  // namespace drainage

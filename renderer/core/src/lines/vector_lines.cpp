@@ -5,6 +5,8 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "terrain/polyline.hpp"
+
 namespace renderer {
 
 namespace {
@@ -77,29 +79,6 @@ void thin(std::vector<std::uint8_t>& m, int w, int h) {
       changed = changed || !drop.empty();
     }
   }
-}
-
-double distance_to_segment(const Eigen::Vector2f& p, const Eigen::Vector2f& a,
-                           const Eigen::Vector2f& b) {
-  const Eigen::Vector2d d = (b - a).cast<double>(), q = (p - a).cast<double>();
-  const double len2 = d.squaredNorm();
-  const double t = len2 > 0 ? std::clamp(q.dot(d) / len2, 0.0, 1.0) : 0.0;
-  return (q - t * d).norm();
-}
-
-void douglas_peucker(const std::vector<Eigen::Vector2f>& pts, std::size_t i, std::size_t j,
-                     float tol, std::vector<bool>& keep) {
-  if (j <= i + 1) return;
-  double worst = -1;
-  std::size_t at = i;
-  for (std::size_t k = i + 1; k < j; ++k) {
-    const double d = distance_to_segment(pts[k], pts[i], pts[j]);
-    if (d > worst) worst = d, at = k;
-  }
-  if (worst <= tol) return;
-  keep[at] = true;
-  douglas_peucker(pts, i, at, tol, keep);
-  douglas_peucker(pts, at, j, tol, keep);
 }
 
 }  // namespace
@@ -178,16 +157,9 @@ std::vector<std::size_t> simplified_points(const Polyline& line, float tolerance
   std::vector<Eigen::Vector2f> pts = line.points;
   if (line.closed && !pts.empty())
     pts.push_back(pts.front());  // simplified as an open line from its start
-  std::vector<std::size_t> out;
-  if (pts.size() < 3) {
-    for (std::size_t k = 0; k < line.points.size(); ++k) out.push_back(k);
-    return out;
-  }
-  std::vector<bool> keep(pts.size(), false);
-  keep.front() = keep.back() = true;
-  douglas_peucker(pts, 0, pts.size() - 1, tolerance, keep);
-  for (std::size_t k = 0; k < line.points.size(); ++k)
-    if (keep[k]) out.push_back(k);
+  std::vector<std::size_t> out = terrain::douglas_peucker(pts, tolerance);
+  if (line.closed && out.size() > 1 && out.back() == line.points.size())
+    out.pop_back();  // the closing copy of the start
   return out;
 }
 
