@@ -251,6 +251,15 @@ RasterWindow band_window(const GridPlan& plan, std::size_t r0, std::size_t nr, s
 
 namespace {
 
+// A rows x cols grid whose samples are not zeroed first (BigVector): resample_rows_into
+// writes every one, and the resampling threads touch its pages first.
+Grid unfilled_grid(std::size_t rows, std::size_t cols, const Georef& geo) {
+  Grid g;
+  g.rows = rows, g.cols = cols, g.geo = geo;
+  g.z.resize(rows * cols);
+  return g;
+}
+
 // Rows r0 .. r0 + g.rows - 1 of the plan's grid into g, from the samples of window w.
 void resample_rows_into(const Grid& samples, const RasterWindow& w, const GridPlan& plan,
                         const GridRequest& req, long r0, Grid& g, const Progress& progress) {
@@ -302,9 +311,7 @@ Grid resample_rows(const Grid& samples, const RasterWindow& w, const GridPlan& p
   Georef geo = plan.target;
   geo.y0 = plan.target.y0 -
            double(r0) * plan.target.dy;  // for the caller's reference; values use the plan's rows
-  Grid g;
-  g.rows = nr, g.cols = plan.cols, g.geo = geo;
-  g.z.resize(nr * plan.cols);  // not zeroed (BigVector): every sample is written below
+  Grid g = unfilled_grid(nr, plan.cols, geo);
   resample_rows_into(samples, w, plan, req, long(r0), g, {});
   if (const std::size_t missing = g.count_nodata(); missing > 0)
     throw NodataError(fmt::format(
@@ -356,10 +363,7 @@ PreparedGrid resample_to_plan(const Grid& samples, const GridPlan& plan, const G
   out.warnings = plan.warnings;
   const Georef& tg = plan.target;
   Grid& g = out.grid;
-  g.rows = plan.rows, g.cols = plan.cols, g.geo = tg;
-  // Not zeroed first (BigVector): every sample is written below, and the pages are first
-  // touched by the threads that resample them.
-  g.z.resize(plan.rows * plan.cols);
+  g = unfilled_grid(plan.rows, plan.cols, tg);
   resample_rows_into(samples, w, plan, req, 0, g, progress);
 
   const std::size_t missing = g.count_nodata();

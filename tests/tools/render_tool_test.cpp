@@ -38,6 +38,13 @@ void rsvg_ink(const std::string& svg, const std::string& png) {
   ASSERT_EQ(run("rsvg-convert -b white " + svg + " -o " + png).exit_code, 0);
 }
 
+// A file as GDAL opens it read-only (kind: GDAL_OF_RASTER or GDAL_OF_VECTOR); null if it
+// cannot.
+std::unique_ptr<GDALDataset> opened(const std::string& path, unsigned kind) {
+  terrain::ensure_gdal();
+  return std::unique_ptr<GDALDataset>(GDALDataset::Open(path.c_str(), kind | GDAL_OF_READONLY));
+}
+
 struct Inputs {
   terrain::test::ScratchDir dir;
   std::string mesh, dv;
@@ -49,6 +56,13 @@ struct Inputs {
     EXPECT_EQ(b.exit_code, 0) << b.err;
   }
 };
+
+// terrain-render's top view of the Inputs at 10 m a pixel, 640 x 480, its mask and creases:
+// the command up to the output file ("-o " last).
+std::string map_frame(const Inputs& in) {
+  return tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
+         " --view top --map-scale 10 --layers mask,creases --size 640x480 -o ";
+}
 
 TEST(TerrainRender, BatchWritesFramesAndTimings) {
   Inputs in;
@@ -495,10 +509,8 @@ TEST(TerrainRender, TopViewIsAMapInMapCoordinates) {
                sy = std::stod(m[4]);
   EXPECT_EQ(sx, 10.0);
   EXPECT_EQ(sy, -10.0);
-  terrain::ensure_gdal();
   {
-    std::unique_ptr<GDALDataset> ds(
-        GDALDataset::Open(in.dir.path("t.png").c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    const auto ds = opened(in.dir.path("t.png"), GDAL_OF_RASTER);
     ASSERT_TRUE(ds);
     double gt[6];
     ASSERT_EQ(ds->GetGeoTransform(gt), CE_None);  // from t.pgw
@@ -571,16 +583,12 @@ TEST(TerrainRender, TopViewIsAMapInMapCoordinates) {
 // geotransform, lie on the creases the PNG of the same frame draws (within 1 px).
 TEST(TerrainRender, TopViewLinesAsAGeoPackage) {
   Inputs in;
-  const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
-                            " --view top --map-scale 10 --layers mask,creases --size 640x480 -o ";
+  const std::string frame = map_frame(in);
   ASSERT_EQ(run(frame + in.dir.path("m.png")).exit_code, 0);
   const auto g = run(frame + in.dir.path("m.gpkg"));
   ASSERT_EQ(g.exit_code, 0) << g.err;
-  terrain::ensure_gdal();
-  std::unique_ptr<GDALDataset> png(
-      GDALDataset::Open(in.dir.path("m.png").c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-  std::unique_ptr<GDALDataset> gpkg(
-      GDALDataset::Open(in.dir.path("m.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  const auto png = opened(in.dir.path("m.png"), GDAL_OF_RASTER);
+  const auto gpkg = opened(in.dir.path("m.gpkg"), GDAL_OF_VECTOR);
   ASSERT_TRUE(png && gpkg);
   double gt[6];
   ASSERT_EQ(png->GetGeoTransform(gt), CE_None);
@@ -632,17 +640,13 @@ TEST(TerrainRender, TopViewLinesAsAGeoPackage) {
 // the background are transparent, the terrain's are opaque with the PNG's colours.
 TEST(TerrainRender, TopViewGeoTiffIsATransparentMap) {
   Inputs in;
-  const std::string frame = tool("terrain-render") + " frame " + in.mesh + " " + in.dv +
-                            " --view top --map-scale 10 --layers mask,creases --size 640x480 -o ";
+  const std::string frame = map_frame(in);
   ASSERT_EQ(run(frame + in.dir.path("o.png")).exit_code, 0);
   const auto t = run(frame + in.dir.path("t.tif"));  // transparent: a GeoTIFF's default
   ASSERT_EQ(t.exit_code, 0) << t.err;
   EXPECT_FALSE(std::filesystem::exists(in.dir.path("t.pgw")));  // inside the GeoTIFF
-  terrain::ensure_gdal();
-  std::unique_ptr<GDALDataset> tif(
-      GDALDataset::Open(in.dir.path("t.tif").c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-  std::unique_ptr<GDALDataset> png(
-      GDALDataset::Open(in.dir.path("o.png").c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  const auto tif = opened(in.dir.path("t.tif"), GDAL_OF_RASTER);
+  const auto png = opened(in.dir.path("o.png"), GDAL_OF_RASTER);
   ASSERT_TRUE(tif && png);
   ASSERT_EQ(tif->GetRasterCount(), 4);
   EXPECT_EQ(tif->GetRasterBand(4)->GetColorInterpretation(), GCI_AlphaBand);
@@ -681,8 +685,7 @@ TEST(TerrainRender, TopViewGeoTiffIsATransparentMap) {
           " --view top --map-scale 10 --layers creases --size 640x480 -o " + in.dir.path("l.tif"))
           .exit_code,
       0);
-  std::unique_ptr<GDALDataset> lines(
-      GDALDataset::Open(in.dir.path("l.tif").c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  const auto lines = opened(in.dir.path("l.tif"), GDAL_OF_RASTER);
   ASSERT_TRUE(lines);
   std::vector<std::uint8_t> alpha(std::size_t(w * h));
   ASSERT_EQ(
@@ -720,9 +723,7 @@ TEST(TerrainInspect, HachureMapsInMapCoordinates) {
   const double west = mesh.geo.origin_x, north = mesh.geo.origin_y;
   const double east = west + double(mesh.topo.cols - 1) * mesh.geo.dx,
                south = north - double(mesh.topo.rows - 1) * mesh.geo.dy;
-  terrain::ensure_gdal();
-  std::unique_ptr<GDALDataset> ds(
-      GDALDataset::Open(in.dir.path("h.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  const auto ds = opened(in.dir.path("h.gpkg"), GDAL_OF_VECTOR);
   ASSERT_TRUE(ds);
   OGRLayer* layer = ds->GetLayerByName("hachures");
   ASSERT_TRUE(layer);
@@ -761,8 +762,7 @@ TEST(TerrainInspect, HachureMapsInMapCoordinates) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(form lines: every (\S+) m)"))) << r.out;
   const double interval = std::stod(m[1]);
-  std::unique_ptr<GDALDataset> rows(
-      GDALDataset::Open(in.dir.path("r.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  const auto rows = opened(in.dir.path("r.gpkg"), GDAL_OF_VECTOR);
   ASSERT_TRUE(rows);
   for (auto& f : *rows->GetLayerByName("hachures")) {
     const double row = f->GetFieldAsDouble("row_m");
@@ -805,9 +805,7 @@ TEST(TerrainInspect, PlanMapsDrawTheRidgeLinesAndTheHachuresStopAtThem) {
   const auto e = run(ex + "--dv " + dv + " --to gpkg -o " + dir.path("t.gpkg"));
   ASSERT_EQ(e.exit_code, 0) << e.err;
   EXPECT_NE(e.out.find("ridges: "), std::string::npos) << e.out;
-  terrain::ensure_gdal();
-  std::unique_ptr<GDALDataset> ds(
-      GDALDataset::Open(dir.path("t.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  const auto ds = opened(dir.path("t.gpkg"), GDAL_OF_VECTOR);
   ASSERT_TRUE(ds);
   OGRLayer* ridges = ds->GetLayerByName("ridges");
   ASSERT_TRUE(ridges);
@@ -837,8 +835,7 @@ TEST(TerrainInspect, PlanMapsDrawTheRidgeLinesAndTheHachuresStopAtThem) {
   const std::string text((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("inkscape:label=\"ridges\""), std::string::npos);
   ASSERT_EQ(run(ex + "--to gpkg -o " + dir.path("plain.gpkg")).exit_code, 0);
-  std::unique_ptr<GDALDataset> plain(
-      GDALDataset::Open(dir.path("plain.gpkg").c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+  const auto plain = opened(dir.path("plain.gpkg"), GDAL_OF_VECTOR);
   ASSERT_TRUE(plain);
   EXPECT_EQ(plain->GetLayerByName("ridges"), nullptr);
   const auto bad = run(ex + "--dv " + mesh + " --to gpkg -o " + dir.path("bad.gpkg"));
