@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <queue>
 #include <utility>
 #include <vector>
 
@@ -12,12 +13,23 @@ namespace drainage {
 
 namespace {
 
+// Breaching's queue: lowest elevation first, ties by cell index. Not FloodQueue's radix
+// heap: a breach pushes cells it has lowered below the one it took.
+struct BreachItem {
+  float z;
+  std::uint32_t i;
+  bool operator>(const BreachItem& o) const { return z > o.z || (z == o.z && i > o.i); }
+};
+using BreachQueue =
+    std::priority_queue<BreachItem, std::vector<BreachItem>, std::greater<BreachItem>>;
+
 // Samples on the grid edge or beside no-data, ascending; marks them and no-data closed.
 std::vector<std::uint32_t> flood_seeds(const terrain::Grid& g,
                                        terrain::BigVector<std::uint8_t>& closed) {
   const long rows = long(g.rows), cols = long(g.cols);
   const Neighbours around{rows, cols};
   std::vector<std::uint32_t> seeds;
+  const bool voids = std::any_of(g.z.begin(), g.z.end(), [](float v) { return std::isnan(v); });
   for (long r = 0; r < rows; ++r)
     for (long c = 0; c < cols; ++c) {
       const std::size_t i = std::size_t(r * cols + c);
@@ -26,7 +38,8 @@ std::vector<std::uint32_t> flood_seeds(const terrain::Grid& g,
         continue;
       }
       bool seed = r == 0 || c == 0 || r == rows - 1 || c == cols - 1;
-      if (!seed) around.each(r, c, [&](std::size_t j, int) { seed = seed || std::isnan(g.z[j]); });
+      if (!seed && voids)
+        around.each(r, c, [&](std::size_t j, int) { seed = seed || std::isnan(g.z[j]); });
       if (seed) {
         closed[i] = 1;
         seeds.push_back(std::uint32_t(i));
@@ -56,7 +69,7 @@ BreachStats breach_depressions(terrain::Grid& g, double max_depth) {
   const terrain::BigVector<float> original = z;
   terrain::BigVector<std::uint8_t> closed(g.size(), 0);
   terrain::BigVector<std::uint32_t> from(g.size(), kNone);  // the sample each was reached from
-  FloodQueue open;
+  BreachQueue open;
   for (const std::uint32_t i : flood_seeds(g, closed)) open.push({z[i], i});
   constexpr float kUp = std::numeric_limits<float>::infinity(), kDown = -kUp;
   std::vector<std::pair<std::uint32_t, float>> cut;  // the path to lower and its new elevations

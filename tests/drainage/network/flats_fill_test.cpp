@@ -1,6 +1,12 @@
 // Flat resolution (Barnes et al. 2014b) and Priority-Flood filling (Barnes et al. 2014).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <iterator>
+#include <random>
+#include <set>
+#include <utility>
+
 #include "drainage/fill.hpp"
 #include "drainage/flats.hpp"
 #include "drainage/pipeline.hpp"
@@ -80,6 +86,38 @@ TEST(PriorityFlood, FillsAPitToItsSpillLevel) {
   EXPECT_EQ(g.at(2, 1), 6.0f);
   EXPECT_EQ(g.at(3, 1), 6.0f);
   EXPECT_EQ(g.at(0, 0), 9.0f);
+}
+
+// FloodQueue (the radix heap) takes cells in the order of a binary heap on (elevation,
+// index), as a flood pushes them: each above the one last taken. Elevations from a small set
+// (ties broken by index), negative ones, -0 beside +0 (equal elevations) and a denormal.
+TEST(PriorityFlood, QueueTakesCellsInElevationThenIndexOrder) {
+  const float levels[] = {-1000.5f, -2.0f, -0.0f, 0.0f, 1e-42f, 1.0f, 1.0f, 3.5f, 1.0e6f};
+  std::mt19937 rng(7);
+  FloodQueue queue;
+  std::set<std::pair<float, std::uint32_t>> reference;  // -0 == +0: ties by index
+  std::uint32_t next = 0;
+  const auto push = [&](float z) {
+    const std::uint32_t i = (next++ * 2654435761u) % 1000003u;  // indices out of order
+    queue.push(z, i);
+    reference.insert({z, i});
+  };
+  for (int k = 0; k < 40; ++k) push(levels[rng() % std::size(levels)]);
+  std::size_t taken = 0;
+  while (!reference.empty()) {
+    ASSERT_FALSE(queue.empty());
+    const auto [z, i] = *reference.begin();
+    reference.erase(reference.begin());
+    ASSERT_EQ(queue.pop(), i) << "take " << taken;
+    ++taken;
+    for (unsigned k = rng() % 4; k > 0 && next < 5000; --k) {  // pushes above the one taken
+      const float above[] = {std::nextafter(z, INFINITY), z + 1.0f, z + 100.0f,
+                             2.0f * std::abs(z) + 1.0f};
+      push(std::max(above[rng() % 4], std::nextafter(z, INFINITY)));
+    }
+  }
+  EXPECT_TRUE(queue.empty());
+  EXPECT_GT(taken, 1000u);
 }
 
 // --fill on a real DEM against TauDEM's pitremove: within 1 mm on >= 99.99 % of cells.
