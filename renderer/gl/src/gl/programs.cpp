@@ -56,7 +56,7 @@ std::vector<ProgramSpec> surface_and_line_programs(const Stages& s) {
   };
 }
 
-// ProgramId's other programs, surface_id .. formulated_facing, in its order.
+// ProgramId's other programs, surface_id .. formulated_tiles, in its order.
 std::vector<ProgramSpec> other_programs(const Stages& s) {
   return {
       {"surface_id",
@@ -88,9 +88,15 @@ std::vector<ProgramSpec> other_programs(const Stages& s) {
         {GL_FRAGMENT_SHADER, {s.c, "surface.frag.glsl"}}},
        {}},
       {"formulated",
-       s.fullscreen({"silhouette_list.glsl", "formulated.glsl", "formulated.frag.glsl"}),
+       {{GL_VERTEX_SHADER, {s.c, "tile_rects_list.glsl", "tile_rects.vert.glsl"}},
+        {GL_FRAGMENT_SHADER,
+         {s.c, "silhouette_list.glsl", "formulated.glsl", "formulated.frag.glsl"}}},
        {}},
-      {"formulated_facing", s.fullscreen({"formulated_facing.frag.glsl"}), {}},
+      {"formulated_facing",
+       {{GL_VERTEX_SHADER, {s.c, "tile_rects_list.glsl", "tile_rects.vert.glsl"}},
+        {GL_FRAGMENT_SHADER, {s.c, "formulated_facing.frag.glsl"}}},
+       {}},
+      {"formulated_tiles", s.compute({"formulated_tiles.comp.glsl"}), {}},
   };
 }
 

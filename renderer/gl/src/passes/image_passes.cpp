@@ -70,6 +70,8 @@ SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece
       facing_prog_ = build_program(ProgramId::FormulatedFacing);
       facing_ = make_texture(GL_R32F, scene.width, scene.height);
       facing_fbo_ = make_framebuffer(&facing_, nullptr);
+      formulated_tiles_ = scene.make_tile_texture();
+      formulated_tiles_prog_ = build_program(ProgramId::FormulatedTiles);
       glProgramUniform1f(formulated_prog_.id(), TR_LOC_PIECE_MIN, float(piece_min_px_));
     }
   }
@@ -130,18 +132,24 @@ void SilhouettePass::draw(double pixel_angle, const FormulatedView& formulated) 
     };
     set(prog_, true);
     if (f.active()) {
-      // The smoothed facing of every pixel, once; then the test over it.
+      // The tiles with a pixel facing away from the lowered eye (formulated_tiles.comp.glsl);
+      // the smoothed facing within what the test reads of them, once; then the test within
+      // the reach of a formulated pixel. The same pixels as both over the whole image.
+      set(formulated_tiles_prog_, false);
       set(facing_prog_, false);
       set(formulated_prog_, true);
-      glBindVertexArray(s_.empty_vao.id());
-      glBindFramebuffer(GL_FRAMEBUFFER, facing_fbo_.id());
       glBindTextureUnit(TR_TEX_SURFACE_NORMAL, s_.surface_normal.id());
-      glUseProgram(facing_prog_.id());
-      glDrawArrays(GL_TRIANGLES, 0, 3);
+      glUseProgram(formulated_tiles_prog_.id());
+      glBindImageTexture(TR_IMG_FORMULATED_TILES, formulated_tiles_.id(), 0, GL_FALSE, 0,
+                         GL_WRITE_ONLY, GL_R8);
+      glDispatchCompute(dispatch_groups_x(s_.tile_count()), dispatch_groups_y(s_.tile_count()), 1);
+      glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+      glBindTextureUnit(TR_TEX_FORMULATED_TILES, formulated_tiles_.id());
+      glBindFramebuffer(GL_FRAMEBUFFER, facing_fbo_.id());
+      s_.draw_near_tiles(formulated_tiles_, 2 * TR_FORMULATED_REACH + 1, facing_prog_);
       glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
       glBindTextureUnit(TR_TEX_FORMULATED_FACING, facing_.id());
-      glUseProgram(formulated_prog_.id());
-      glDrawArrays(GL_TRIANGLES, 0, 3);
+      s_.draw_near_tiles(formulated_tiles_, TR_FORMULATED_REACH + 1, formulated_prog_);
     }
   }
   glUseProgram(prog_.id());

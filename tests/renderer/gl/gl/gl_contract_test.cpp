@@ -67,10 +67,12 @@ const std::map<std::string, int> kSamplers = {{"u_toward", TR_TEX_TOWARD_DEPTH},
                                               {"u_away_tiles", TR_TEX_AWAY_TILES},
                                               {"u_marks", TR_TEX_TILE_MARKS},
                                               {"u_normal", TR_TEX_SURFACE_NORMAL},
-                                              {"u_facing", TR_TEX_FORMULATED_FACING}};
+                                              {"u_facing", TR_TEX_FORMULATED_FACING},
+                                              {"u_formulated_tiles", TR_TEX_FORMULATED_TILES}};
 const std::map<std::string, int> kImages = {{"u_opacity", TR_IMG_SILHOUETTE_OPACITY},
                                             {"u_tiles", TR_IMG_SILHOUETTE_TILES},
-                                            {"u_away_tiles", TR_IMG_AWAY_TILES}};
+                                            {"u_away_tiles", TR_IMG_AWAY_TILES},
+                                            {"u_formulated_marks", TR_IMG_FORMULATED_TILES}};
 const std::map<std::string, int> kUniformLocations = {
     {"u_mode", TR_LOC_SURFACE_MODE},
     {"u_flat_coarse", TR_LOC_FLAT_COARSE},
@@ -209,14 +211,15 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
     }
   }
   // The checks ran on the interfaces there are (a program could lose them silently).
-  EXPECT_EQ(computes, 14u);
+  EXPECT_EQ(computes, 15u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 33u);  // silhouette 3, formulated 1, formulated facing 1, away tiles 1, tile
-                             // rects 2, composite 8 + 10 (with silhouettes), adjacency 2, crease
-                             // visibility and PEL draw 1 each, pieces 1, hachure field 2
-  EXPECT_EQ(images,
-            5u);  // pieces (opacity), silhouette, formulated and adjacency (tiles), away tiles
+  EXPECT_EQ(samplers, 38u);  // silhouette 4, formulated 3, formulated facing 2, formulated tiles 1,
+                             // away tiles 1, tile rects 2, composite 8 + 10 (with silhouettes),
+                             // adjacency 2, crease visibility and PEL draw 1 each, pieces 1,
+                             // hachure field 2
+  EXPECT_EQ(images, 6u);     // pieces (opacity), silhouette, formulated and adjacency (tiles), away
+                             // tiles, formulated tiles
   EXPECT_GE(locations, 14u);
 }
 

@@ -145,14 +145,18 @@
 #define TR_TEX_TILE_MARKS 11
 #define TR_TEX_SURFACE_NORMAL 12
 #define TR_TEX_FORMULATED_FACING 13
+#define TR_TEX_FORMULATED_TILES 14
 
 /* Image units: the silhouette opacity the piece rule writes (r8); the tiles of
    TR_SILHOUETTE_TILE x TR_SILHOUETTE_TILE pixels that hold a silhouette pixel (r8, 1),
    where LAY looks for silhouettes near a pixel before its window; the tiles that hold an
-   away-facing surface pixel (r8, 1), where SIL looks for silhouettes. */
+   away-facing surface pixel (r8, 1), where SIL looks for silhouettes; the tiles that hold a
+   pixel facing away from the formulated silhouettes' lowered eye (r8, 1), near which SIL
+   looks for them. */
 #define TR_IMG_SILHOUETTE_OPACITY 0
 #define TR_IMG_SILHOUETTE_TILES 1
 #define TR_IMG_AWAY_TILES 2
+#define TR_IMG_FORMULATED_TILES 3
 #define TR_SILHOUETTE_TILE 8
 
 /* Vertex attributes of the surface. */

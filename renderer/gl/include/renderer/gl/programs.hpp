@@ -37,9 +37,10 @@ enum class ProgramId {
   SurfaceSplit,          // TFT: the patches in view, split into flat ones (one triangle each) and
                          // tessellated ones
   SurfaceFlat,           // TFT: the flat patches as triangles, without the tessellation stages
-  Formulated,            // SIL: formulated silhouettes, full screen, before Toward/Away
-  FormulatedFacing,      // SIL: the smoothed facing towards the lowered eye, full screen, before
-                         // Formulated
+  Formulated,            // SIL: formulated silhouettes, near marked tiles, before Toward/Away
+  FormulatedFacing,      // SIL: the smoothed facing towards the lowered eye, near marked tiles,
+                         // before Formulated
+  FormulatedTiles,       // SIL: the tiles that hold a pixel facing away from the lowered eye
 };
 inline constexpr std::array kAllPrograms = {
     ProgramId::Surface,          ProgramId::PnCapture,        ProgramId::CreaseScore,
@@ -50,7 +51,8 @@ inline constexpr std::array kAllPrograms = {
     ProgramId::EdgeDraw,         ProgramId::SilhouettePieces, ProgramId::PelPieces,
     ProgramId::CreaseVisibility, ProgramId::AwayTiles,        ProgramId::TileRects,
     ProgramId::SurfaceCull,      ProgramId::HachureField,     ProgramId::SurfaceSplit,
-    ProgramId::SurfaceFlat,      ProgramId::Formulated,       ProgramId::FormulatedFacing};
+    ProgramId::SurfaceFlat,      ProgramId::Formulated,       ProgramId::FormulatedFacing,
+    ProgramId::FormulatedTiles};
 
 struct ProgramSpec {
   const char* name;
