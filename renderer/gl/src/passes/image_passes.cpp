@@ -70,8 +70,11 @@ SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece
       facing_prog_ = build_program(ProgramId::FormulatedFacing);
       facing_ = make_texture(GL_R32F, scene.width, scene.height);
       facing_fbo_ = make_framebuffer(&facing_, nullptr);
+      formulated_classes_ = scene.make_tile_texture();
       formulated_tiles_ = scene.make_tile_texture();
-      formulated_tiles_prog_ = build_program(ProgramId::FormulatedTiles);
+      formulated_classes_prog_ = build_program(ProgramId::FormulatedTiles);
+      formulated_tiles_prog_ =
+          build_program(ProgramId::FormulatedTiles, "#define TR_FORMULATED_MARKS 1\n");
       glProgramUniform1f(formulated_prog_.id(), TR_LOC_PIECE_MIN, float(piece_min_px_));
     }
   }
@@ -132,19 +135,24 @@ void SilhouettePass::draw(double pixel_angle, const FormulatedView& formulated) 
     };
     set(prog_, true);
     if (f.active()) {
-      // The tiles with a pixel facing away from the lowered eye (formulated_tiles.comp.glsl);
-      // the smoothed facing within what the test reads of them, once; then the test within
-      // the reach of a formulated pixel. The same pixels as both over the whole image.
-      set(formulated_tiles_prog_, false);
+      // The tiles near which a formulated pixel may lie (formulated_tiles.comp.glsl: each
+      // tile's classes, then the marks); the smoothed facing within what the test reads about
+      // them, once; then the test within the reach of a formulated pixel. The same pixels as
+      // both over the whole image.
+      set(formulated_classes_prog_, false);
       set(facing_prog_, false);
       set(formulated_prog_, true);
       glBindTextureUnit(TR_TEX_SURFACE_NORMAL, s_.surface_normal.id());
-      glUseProgram(formulated_tiles_prog_.id());
-      glBindImageTexture(TR_IMG_FORMULATED_TILES, formulated_tiles_.id(), 0, GL_FALSE, 0,
-                         GL_WRITE_ONLY, GL_R8);
-      glDispatchCompute(dispatch_groups_x(s_.tile_count()), dispatch_groups_y(s_.tile_count()), 1);
-      glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-      glBindTextureUnit(TR_TEX_FORMULATED_TILES, formulated_tiles_.id());
+      for (const auto& [prog, out] : {std::pair{&formulated_classes_prog_, &formulated_classes_},
+                                      std::pair{&formulated_tiles_prog_, &formulated_tiles_}}) {
+        glUseProgram(prog->id());
+        glBindImageTexture(TR_IMG_FORMULATED_TILES, out->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
+                           GL_R8);
+        glDispatchCompute(dispatch_groups_x(s_.tile_count()), dispatch_groups_y(s_.tile_count()),
+                          1);
+        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+        glBindTextureUnit(TR_TEX_FORMULATED_TILES, out->id());
+      }
       glBindFramebuffer(GL_FRAMEBUFFER, facing_fbo_.id());
       s_.draw_near_tiles(formulated_tiles_, 2 * TR_FORMULATED_REACH + 1, facing_prog_);
       glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());

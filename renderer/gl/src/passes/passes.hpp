@@ -333,8 +333,9 @@ class SilhouettePass : public PassBase {
   bool formulated_ = false;
   double formulated_altitude_ = 0, formulated_strength_ = 0;
   GlObject formulated_prog_, facing_prog_, facing_,
-      facing_fbo_;  // facing_: formulated_facing.frag.glsl's (r32f)
-  GlObject formulated_tiles_, formulated_tiles_prog_;       // formulated_tiles.comp.glsl's marks
+      facing_fbo_;                                  // facing_: formulated_facing.frag.glsl's (r32f)
+  GlObject formulated_classes_, formulated_tiles_;  // formulated_tiles.comp.glsl's classes, marks
+  GlObject formulated_classes_prog_, formulated_tiles_prog_;
   GlObject opacity_, labels_, sizes_, list_, pieces_prog_;  // the piece rule (piece_min_px > 0)
 };
 
