@@ -32,41 +32,104 @@ class Occupancy {
   // Whether a point q of another hachure than `self`, of row `row` (-1: any row), lies
   // closer to p than `share` times the smaller of the two points' local spacings (p's is
   // `spacing`): the test is the same seen from either hachure.
-  bool near(const Vector2f& p, double share, double spacing, long self, long row = -1) const {
+  // A point found near is kept in `witness`, and looked at first the next time (a grid's
+  // seeds, two pixels apart, are mostly refused for the same hachure).
+  struct Entry;
+  bool near(const Vector2f& p, double share, double spacing, long self, long row = -1,
+            Entry* witness = nullptr) const {
+    const auto close = [&](const Entry& e, float d2) {
+      const double dq = share * std::min(spacing, double(e.spacing));
+      return d2 < dq * dq;
+    };
+    if (witness && witness->id >= 0 && witness->id != self && (row < 0 || witness->row == row) &&
+        close(*witness, distance2(*witness, p)))
+      return true;
+    bool found = false;
+    scan(p, share * spacing, self, row, [&](const Entry& e, float d2) {
+      if (!close(e, d2)) return false;
+      if (witness) *witness = e;
+      return found = true;
+    });
+    return found;
+  }
+  // near(), and where it is false a room that every such q keeps beyond its distance:
+  // |q - p| - share min(spacing, q's) >= room for them all, those in no cell looked at
+  // included (they lie beyond the cells' border).
+  double room(const Vector2f& p, double share, double spacing, long self, long row,
+              bool& is_near) const {
     const double d = share * spacing;
-    const long reach = long(std::ceil(d / cell_)), cu = long(p.x() / cell_),
-               cv = long(p.y() / cell_);
-    for (long v = std::max(0L, cv - reach); v <= std::min(rows_ - 1, cv + reach); ++v)
-      for (long u = std::max(0L, cu - reach); u <= std::min(cols_ - 1, cu + reach); ++u)
-        for (const Entry& e : cells_[std::size_t(v * cols_ + u)]) {
-          const double dq = share * std::min(spacing, double(e.spacing));
-          if (e.id != self && (row < 0 || e.row == row) && (e.p - p).squaredNorm() < dq * dq)
-            return true;
-        }
-    return false;
+    double room = border(p, d) - d;
+    is_near = false;
+    scan(p, d, self, row, [&](const Entry& e, float d2) {
+      const double dq = share * std::min(spacing, double(e.spacing));
+      if (d2 < dq * dq) return is_near = true;
+      room = std::min(room, std::sqrt(double(d2)) - dq);
+      return false;
+    });
+    return room;
   }
   // Whether a point of another hachure than `self` lies closer than `d` to p.
   bool within(const Vector2f& p, double d, long self) const {
-    const long reach = long(std::ceil(d / cell_)), cu = long(p.x() / cell_),
-               cv = long(p.y() / cell_);
-    for (long v = std::max(0L, cv - reach); v <= std::min(rows_ - 1, cv + reach); ++v)
-      for (long u = std::max(0L, cu - reach); u <= std::min(cols_ - 1, cu + reach); ++u)
-        for (const Entry& e : cells_[std::size_t(v * cols_ + u)])
-          if (e.id != self && (e.p - p).squaredNorm() < d * d) return true;
-    return false;
+    bool found = false;
+    scan(p, d, self, -1, [&](const Entry&, float d2) { return found = d2 < d * d; });
+    return found;
   }
   void add(const Vector2f& p, double spacing, long id, long row) {
     const long u = std::clamp(long(p.x() / cell_), 0L, cols_ - 1),
                v = std::clamp(long(p.y() / cell_), 0L, rows_ - 1);
-    cells_[std::size_t(v * cols_ + u)].push_back({p, float(spacing), id, row});
+    cells_[std::size_t(v * cols_ + u)].push_back(
+        {p.x(), p.y(), float(spacing), std::int32_t(id), std::int32_t(row)});
   }
 
- private:
   struct Entry {
-    Vector2f p;
-    float spacing;
-    long id, row;
+    float x, y, spacing;
+    std::int32_t id = -1, row = -1;
   };
+
+ private:
+  static float distance2(const Entry& e, const Vector2f& p) {
+    const float dx = e.x - p.x(), dy = e.y - p.y();
+    return dx * dx + dy * dy;
+  }
+  // The cells within d of p about p's own.
+  struct Block {
+    long u0, u1, v0, v1;
+  };
+  Block block(const Vector2f& p, double d) const {
+    const long reach = long(std::ceil(d / cell_)), cu = long(p.x() / cell_),
+               cv = long(p.y() / cell_);
+    return {std::max(0L, cu - reach), std::min(cols_ - 1, cu + reach), std::max(0L, cv - reach),
+            std::min(rows_ - 1, cv + reach)};
+  }
+  // How far p lies from the nearest point in no cell of its block (infinite where the block
+  // reaches the grid's edge on every side).
+  double border(const Vector2f& p, double d) const {
+    const Block b = block(p, d);
+    double m = std::numeric_limits<double>::infinity();
+    if (b.u0 > 0) m = std::min(m, double(p.x()) - double(b.u0) * cell_);
+    if (b.u1 < cols_ - 1) m = std::min(m, double(b.u1 + 1) * cell_ - double(p.x()));
+    if (b.v0 > 0) m = std::min(m, double(p.y()) - double(b.v0) * cell_);
+    if (b.v1 < rows_ - 1) m = std::min(m, double(b.v1 + 1) * cell_ - double(p.y()));
+    return m;
+  }
+  // f(entry, squared distance) for the points of the cells within d of p, but self's and
+  // those of another row than `row` (-1: any), until f says true.
+  // p's own cell first (where a near point most often is).
+  template <class F>
+  void scan(const Vector2f& p, double d, long self, long row, F&& f) const {
+    const Block b = block(p, d);
+    const auto cell = [&](long u, long v) {
+      for (const Entry& e : cells_[std::size_t(v * cols_ + u)])
+        if (e.id != self && (row < 0 || e.row == row) && f(e, distance2(e, p))) return true;
+      return false;
+    };
+    const long cu = std::clamp(long(p.x() / cell_), b.u0, b.u1),
+               cv = std::clamp(long(p.y() / cell_), b.v0, b.v1);
+    if (cell(cu, cv)) return;
+    for (long v = b.v0; v <= b.v1; ++v)
+      for (long u = b.u0; u <= b.u1; ++u)
+        if ((u != cu || v != cv) && cell(u, v)) return;
+  }
   double cell_;
   long cols_, rows_;
   std::vector<std::vector<Entry>> cells_;
@@ -158,8 +221,24 @@ struct Tracer {
     return rule.row_interval > 0 ? long(std::floor(double(f.elevation[at(p)]) / rule.row_interval))
                                  : -1;
   }
-  bool free(const Vector2f& p, long self, long r) const {
-    return !occupied.near(p, rule.test_share, spacing(p), self, r);
+  // Whether p keeps its distance from the other hachures (Occupancy::near). `room` is the
+  // trace's: where the last point tested (at, spacing s) had room to spare, a point within
+  // less than it of that one is free untested (the occupancy does not change while a hachure
+  // is traced; Occupancy::room); else p is tested, and its room kept.
+  struct Room {
+    Vector2f at = Vector2f::Zero();
+    double s = 0, room = -1;
+  };
+  bool free(const Vector2f& p, long self, long r, Room& room) const {
+    constexpr double kSlack = 0.01;  // pixels, for the rounding of the distances
+    const double s = spacing(p);
+    if (room.room - double((p - room.at).norm()) - rule.test_share * std::max(0.0, s - room.s) >
+        kSlack)
+      return true;
+    bool is_near = false;
+    const double here = occupied.room(p, rule.test_share, s, self, r, is_near);
+    if (!is_near) room = {p, s, here};
+    return !is_near;
   }
 
   // From `seed` along the fall line (sign +1 downhill, -1 uphill), the points after it. A
@@ -179,6 +258,7 @@ struct Tracer {
       return (std::uint64_t(std::uint32_t(long(2 * q.x()))) << 32) | std::uint32_t(long(2 * q.y()));
     };
     visited.try_emplace(cell(seed), 0);
+    Room room;
     while (length < longest) {
       const Vector2f d1 = sign * fall_at(f, p);
       const Vector2f mid = p + 0.5f * kStep * d1;
@@ -187,7 +267,7 @@ struct Tracer {
       if (d2.dot(last) <= 0.0f)
         break;  // the fall line turns back (a valley or a ridge), or has none
       const Vector2f next = p + kStep * d2;
-      if (!usable(next) || !free(next, self, r)) break;
+      if (!usable(next) || !free(next, self, r, room)) break;
       if (row(next) != r) {  // a form line: end half a pixel before it (the seam)
         if (!out.empty()) out.pop_back();
         break;
@@ -255,10 +335,11 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
   Occupancy occupied(f.width, f.height, std::max(1.0, rule.spacing));
   const Tracer tracer{f, rule, occupied};
   // A seed is traced where the field is usable there and no hachure lies within its spacing.
+  Occupancy::Entry witness;  // the last seed's refusal
   const auto trace_from = [&](const Vector2f& seed) {
     const long id = long(out.size());
     const long row = tracer.row(seed);
-    if (occupied.near(seed, 1.0, tracer.spacing(seed), -1, row)) return;
+    if (occupied.near(seed, 1.0, tracer.spacing(seed), -1, row, &witness)) return;
     const std::vector<Vector2f> up = tracer.run(seed, -1.0f, id, 0.0);
     const std::vector<Vector2f> down = tracer.run(seed, 1.0f, id, 0.5 * double(up.size()));
     if (0.5 * double(up.size() + down.size()) < rule.min_length) return;
