@@ -5,7 +5,8 @@
 # wall clock around glFinish) for the full renderer (shaded surface, creases,
 # silhouettes) and for a plain shaded frame (TFT only), and the ratio of a full frame to
 # a plain one (mean over frames 4-99, wall clock). Needs a built tree (scripts/build.sh).
-# Usage: bench/render_creases.sh [FRAMES]   (TERRAIN_BIN=folder: another build's binaries)
+# Usage: bench/render_creases.sh [FRAMES]   (TERRAIN_BIN=folder: another build's binaries;
+#        RENDER_OPTIONS="...": more options for the full frame, e.g. "--formulated off")
 set -euo pipefail
 cd "$(dirname "$0")/.."
 frames="${1:-99}"
@@ -22,7 +23,7 @@ $bin/terrain-render path --from 446500 4636500 3400 --to 451500 4641500 3100 --f
 
 echo "== full frame (layers shaded,creases,silhouettes), 1280x720"
 $bin/terrain-render batch "$tmp/scene.ply" "$tmp/scene.dv" "$tmp/path.csv" -o "$tmp/full" \
-  --layers shaded,creases,silhouettes -q
+  --layers shaded,creases,silhouettes -q ${RENDER_OPTIONS:-}
 cp "$tmp/full/timings.csv" "$tmp/full.csv"
 echo "== plain shaded frame (layers shaded: TFT + LAY only)"
 $bin/terrain-render batch "$tmp/scene.ply" "$tmp/path.csv" -o "$tmp/plain" --layers shaded -q | grep -E 'Table 3|frames 4-N|TFT' | head -8
