@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <libxml/parser.h>
 #include <libxml/tree.h>
+#include <omp.h>
 #include <potracelib.h>
 
 #include <algorithm>
@@ -13,8 +14,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <numbers>
+#include <optional>
+#include <utility>
 
 #include "terrain/error.hpp"
 
@@ -99,7 +103,21 @@ void fill_outline(cairo_t* cr, const VectorPath& p) {
   cairo_fill(cr);
 }
 
-void draw_layer(cairo_t* cr, const VectorLayer& layer) {
+// Whether path p's ink may reach rows [y0, y1): its points' rows, widened by what a stroke
+// adds about them (a miter join up to cairo's default limit of 10 half-widths).
+bool reaches_rows(const VectorPath& p, LineCap cap, double y0, double y1) {
+  double w = p.width;
+  for (const float x : p.widths) w = std::max(w, double(x));
+  const double margin = (p.widths.empty() && cap != LineCap::Round ? 5.0 : 0.5) * w + 2.0;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& q : p.line.points)
+    lo = std::min(lo, double(q.y())), hi = std::max(hi, double(q.y()));
+  return hi + margin >= y0 && lo - margin < y1;
+}
+
+// The layer's paths, in order; with `rows`, only those that may reach them.
+void draw_layer(cairo_t* cr, const VectorLayer& layer,
+                std::optional<std::pair<double, double>> rows = std::nullopt) {
   cairo_set_line_cap(cr, layer.cap == LineCap::Round    ? CAIRO_LINE_CAP_ROUND
                          : layer.cap == LineCap::Square ? CAIRO_LINE_CAP_SQUARE
                                                         : CAIRO_LINE_CAP_BUTT);
@@ -107,6 +125,7 @@ void draw_layer(cairo_t* cr, const VectorLayer& layer) {
                       layer.cap == LineCap::Round ? CAIRO_LINE_JOIN_ROUND : CAIRO_LINE_JOIN_MITER);
   for (const VectorPath& p : layer.paths) {
     if (p.line.points.empty()) continue;
+    if (rows && !reaches_rows(p, layer.cap, rows->first, rows->second)) continue;
     cairo_set_source_rgba(cr, layer.colour.x(), layer.colour.y(), layer.colour.z(), p.opacity);
     if (!p.widths.empty()) {
       fill_outline(cr, p);
@@ -379,15 +398,31 @@ void draw_on_rgba(const VectorLayer& layer, int width, int height,
                    : std::uint8_t(a ? std::min(255u, (v * 255u + a / 2) / a) : 0u);
     }
   };
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) std::swap(rgba[4 * i], rgba[4 * i + 2]), scale(i, true);
-  cairo_surface_t* s = cairo_image_surface_create_for_data(rgba.data(), CAIRO_FORMAT_ARGB32, width,
-                                                           height, width * 4);
-  cairo_t* cr = cairo_create(s);
-  draw_layer(cr, layer);
-  const cairo_status_t status = cairo_status(cr);
-  cairo_destroy(cr);
-  cairo_surface_finish(s);
-  cairo_surface_destroy(s);
+  // Bands of rows drawn side by side, each a surface of its own over the same pixels with
+  // the paths that reach it: a pixel's coverage is cairo's for the whole image (the bands'
+  // edges lie on pixel edges).
+  const int bands = std::clamp(omp_get_max_threads(), 1, std::max(1, height / 64));
+  cairo_status_t status = CAIRO_STATUS_SUCCESS;
+#pragma omp parallel for schedule(static, 1)
+  for (int b = 0; b < bands; ++b) {
+    const int y0 = int(std::int64_t(height) * b / bands),
+              y1 = int(std::int64_t(height) * (b + 1) / bands);
+    cairo_surface_t* s =
+        cairo_image_surface_create_for_data(rgba.data() + std::size_t(y0) * std::size_t(width) * 4,
+                                            CAIRO_FORMAT_ARGB32, width, y1 - y0, width * 4);
+    cairo_t* cr = cairo_create(s);
+    cairo_translate(cr, 0, -y0);
+    draw_layer(cr, layer, std::pair{double(y0), double(y1)});
+    const cairo_status_t st = cairo_status(cr);
+    cairo_destroy(cr);
+    cairo_surface_finish(s);
+    cairo_surface_destroy(s);
+#pragma omp critical(draw_on_rgba_status)
+    if (st != CAIRO_STATUS_SUCCESS) status = st;
+  }
+#pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) scale(i, false), std::swap(rgba[4 * i], rgba[4 * i + 2]);
   check(status, "hachures");
 }
