@@ -383,8 +383,8 @@ std::vector<Region> trace_regions(const std::vector<std::uint8_t>& mask, int w, 
   return out;
 }
 
-void draw_on_rgba(const VectorLayer& layer, int width, int height,
-                  std::vector<std::uint8_t>& rgba) {
+void draw_on_rgba(const VectorLayer& layer, int width, int height, std::vector<std::uint8_t>& rgba,
+                  int bands) {
   // cairo's ARGB32 is premultiplied BGRA in a little-endian word: opaque pixels need only
   // their red and blue swapped, both ways; the others (--background none) premultiplied
   // before and divided after.
@@ -403,7 +403,8 @@ void draw_on_rgba(const VectorLayer& layer, int width, int height,
   // Bands of rows drawn side by side, each a surface of its own over the same pixels with
   // the paths that reach it: a pixel's coverage is cairo's for the whole image (the bands'
   // edges lie on pixel edges).
-  const int bands = std::clamp(omp_get_max_threads(), 1, std::max(1, height / 64));
+  if (bands <= 0) bands = std::clamp(omp_get_max_threads(), 1, std::max(1, height / 64));
+  bands = std::clamp(bands, 1, std::max(1, height));
   cairo_status_t status = CAIRO_STATUS_SUCCESS;
 #pragma omp parallel for schedule(static, 1)
   for (int b = 0; b < bands; ++b) {

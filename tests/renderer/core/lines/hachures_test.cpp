@@ -200,6 +200,54 @@ TEST(Hachures, ConvergingFallLinesThinOutInsteadOfFanning) {
             << least << " px\n";
 }
 
+// Every point of a hachure keeps the stop share of the smaller local spacing (spacing /
+// tone) from every point of every other hachure, where the tone, and so the spacing, swings
+// from 6 to 36 px over a few pixels and the fall lines converge: the tracer tests a point
+// only where it may have come that near since its last test (the room it then had, and how
+// much the spacing may have grown), so a rule that skipped too much would show here.
+TEST(Hachures, EveryPointKeepsTheStopShareOfTheSmallerSpacing) {
+  const int w = 200, h = 150;
+  const Vector2f centre(100, 75);
+  HachureField f = field(
+      w, h, Vector2f(1, 0), [](int, int) { return 0.4f; },
+      [](int u, int v) { return float(0.6 + 0.45 * std::sin(0.21 * u) * std::cos(0.17 * v)); });
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u) {
+      const Vector2f to = centre - Vector2f(float(u) + 0.5f, float(v) + 0.5f);
+      f.fall[std::size_t(v * w + u)] =
+          to.norm() > 1e-3f
+              ? Vector2f(to.normalized() + 0.6f * Vector2f(-to.y(), to.x()).normalized())
+                    .normalized()
+              : Vector2f(1, 0);
+    }
+  renderer::HachureRule rule;
+  rule.spacing = 6;
+  const auto hs = renderer::trace_hachures(f, rule);
+  ASSERT_GT(hs.size(), 40u);
+  const auto spacing = [&](const Vector2f& p) {
+    const std::size_t i = std::size_t(long(p.y())) * std::size_t(w) + std::size_t(long(p.x()));
+    return rule.spacing / std::clamp(double(f.tone[i]), renderer::kMinTone, 1.0);
+  };
+  std::size_t pairs = 0, close = 0;
+  double least_margin = 1e30;
+  for (std::size_t a = 0; a < hs.size(); ++a)
+    for (std::size_t b = a + 1; b < hs.size(); ++b)
+      for (const Vector2f& p : hs[a].points)
+        for (const Vector2f& q : hs[b].points) {
+          const double d = rule.test_share * std::min(spacing(p), spacing(q));
+          if ((q - p).squaredNorm() > 4 * d * d) continue;
+          ++pairs;
+          const double margin = double((q - p).norm()) - d;
+          least_margin = std::min(least_margin, margin);
+          close += margin < -1e-4;
+        }
+  EXPECT_EQ(close, 0u) << "of " << pairs << " pairs within twice the share; least margin "
+                       << least_margin << " px";
+  EXPECT_GT(pairs, 1000u);  // the test looked at near pairs
+  std::cout << hs.size() << " hachures, " << pairs << " near pairs, least margin " << least_margin
+            << " px\n";
+}
+
 // The field of a frame: a cone seen from straight above (the renderer's TFT depth), every
 // pixel's fall line points away from the apex in the image (>= 95 % of the cone's pixels
 // within 10 degrees), and the slope is the cone's, atan(0.5).

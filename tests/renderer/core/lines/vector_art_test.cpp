@@ -8,6 +8,7 @@
 #include "renderer/top_view.hpp"
 
 #include <cmath>
+#include <random>
 #include <regex>
 #include <string>
 
@@ -292,6 +293,49 @@ TEST(VectorFile, SvgLayersArePathsInInkscapeLayerGroups) {
 // Strahler's order on a hand-made crease network: two heads meet (2), a third head joins
 // that stem lower down (still 2), another stem of order 2 meets it (3); a lone vertex 0.
 //   0 -> 2, 1 -> 2, 2 -> 3, 4 -> 3, 3 -> 5, 6 -> 8, 7 -> 8, 8 -> 5, 5 -> 9; vertex 10 alone
+// draw_on_rgba in bands of rows side by side gives the pixels of one band: strokes of
+// every cap and join, lines of varying width, faint ones, dots, across the bands' edges
+// (rows 13 and 26 of 40 for three bands, every row for 40), over an opaque frame and a
+// transparent one.
+TEST(VectorFile, LinesDrawnInBandsAreTheLinesDrawnAtOnce) {
+  const int w = 90, h = 40;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> x(-5.0f, float(w) + 5.0f), y(-5.0f, float(h) + 5.0f);
+  std::vector<VectorLayer> layers;
+  for (const LineCap cap : {LineCap::Butt, LineCap::Round, LineCap::Square}) {
+    VectorLayer l{"lines", Eigen::Vector3f(0.1f, 0.2f, 0.7f), cap, {}, 0};
+    for (int k = 0; k < 12; ++k) {
+      VectorPath p;
+      for (int j = 0; j < 2 + k % 4; ++j) p.line.points.emplace_back(x(rng), y(rng));
+      p.line.closed = k % 5 == 0;
+      p.width = 0.5f + float(k % 7);
+      p.opacity = k % 3 == 0 ? 0.35f : 1.0f;
+      if (k % 4 == 3)
+        for (std::size_t j = 0; j < p.line.points.size(); ++j) p.widths.push_back(1.0f + float(j));
+      l.paths.push_back(p);
+    }
+    VectorPath dot;
+    dot.line.points = {Eigen::Vector2f(45.0f, 26.0f)};
+    dot.width = 5;
+    l.paths.push_back(dot);
+    layers.push_back(l);
+  }
+  for (const std::uint8_t alpha : {std::uint8_t(255), std::uint8_t(0)})
+    for (const VectorLayer& l : layers) {
+      std::vector<std::uint8_t> frame(std::size_t(4 * w * h));
+      for (std::size_t i = 0; i < frame.size(); ++i)
+        frame[i] = i % 4 == 3 ? alpha : std::uint8_t(i * 37 % 251);
+      std::vector<std::uint8_t> one = frame;
+      draw_on_rgba(l, w, h, one, 1);
+      EXPECT_NE(one, frame);  // something drawn
+      for (const int bands : {2, 3, 40}) {
+        std::vector<std::uint8_t> many = frame;
+        draw_on_rgba(l, w, h, many, bands);
+        EXPECT_EQ(many, one) << bands << " bands, alpha " << int(alpha);
+      }
+    }
+}
+
 TEST(VectorArt, CreaseOrdersAreStrahlers) {
   CreaseGeometry g;
   g.positions.assign(11, Eigen::Vector3f::Zero());

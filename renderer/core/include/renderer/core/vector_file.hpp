@@ -81,7 +81,10 @@ std::vector<Region> trace_regions(const std::vector<std::uint8_t>& mask, int w, 
 
 // Draws `layer` over `rgba` (width x height, row 0 at the top, straight RGBA: a frame,
 // opaque but with --background none) with cairo, anti-aliased, as the SVG and PDF draw it.
-void draw_on_rgba(const VectorLayer& layer, int width, int height, std::vector<std::uint8_t>& rgba);
+// In `bands` of rows side by side (0: one a thread), each with the paths that reach it: the
+// same pixels as in one.
+void draw_on_rgba(const VectorLayer& layer, int width, int height, std::vector<std::uint8_t>& rgba,
+                  int bands = 0);
 
 // The file's bytes; `description`: the provenance line (SVG <desc>, PDF Subject).
 std::string vector_bytes(const VectorArt& art, VectorFormat format, double dpi,
