@@ -115,6 +115,39 @@ void SilhouettePass::pieces() const {
   glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
 }
 
+namespace {
+// The formulated silhouettes' uniforms of `program` (the step: where it reads it).
+void set_formulated(const GlObject& program, const FormulatedView& f, bool step) {
+  glProgramUniform4f(program.id(), TR_LOC_FORMULATED, f.direction.x(), f.direction.y(),
+                     f.direction.z(), f.strength);
+  if (step) glProgramUniform2i(program.id(), TR_LOC_FORMULATED_STEP, f.step_x, f.step_up);
+}
+}  // namespace
+
+void SilhouettePass::draw_formulated(const FormulatedView& f) const {
+  // The tiles near which a formulated pixel may lie (formulated_tiles.comp.glsl: each
+  // tile's classes, then the marks); the smoothed facing within what the test reads about
+  // them, once; then the test within the reach of a formulated pixel. The same pixels as
+  // both over the whole image.
+  set_formulated(formulated_classes_prog_, f, false);
+  set_formulated(facing_prog_, f, false);
+  set_formulated(formulated_prog_, f, true);
+  glBindTextureUnit(TR_TEX_SURFACE_NORMAL, s_.surface_normal.id());
+  for (const auto& [prog, out] : {std::pair{&formulated_classes_prog_, &formulated_classes_},
+                                  std::pair{&formulated_tiles_prog_, &formulated_tiles_}}) {
+    glUseProgram(prog->id());
+    glBindImageTexture(TR_IMG_FORMULATED_TILES, out->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
+    glDispatchCompute(dispatch_groups_x(s_.tile_count()), dispatch_groups_y(s_.tile_count()), 1);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+    glBindTextureUnit(TR_TEX_FORMULATED_TILES, out->id());
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, facing_fbo_.id());
+  s_.draw_near_tiles(formulated_tiles_, 2 * TR_FORMULATED_REACH + 1, facing_prog_);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  glBindTextureUnit(TR_TEX_FORMULATED_FACING, facing_.id());
+  s_.draw_near_tiles(formulated_tiles_, TR_FORMULATED_REACH + 1, formulated_prog_);
+}
+
 void SilhouettePass::draw(double pixel_angle, const FormulatedView& formulated) const {
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glClearTexImage(tiles_.id(), 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
@@ -125,40 +158,11 @@ void SilhouettePass::draw(double pixel_angle, const FormulatedView& formulated) 
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_PIECE_LIST, list_.id());
   }
   if (!ids_) {
-    // The formulated silhouettes first, every pixel; the Toward/Away test then leaves theirs
-    // (it reads the same uniforms: none when the step is 0).
+    // The formulated silhouettes first; the Toward/Away test then leaves theirs (it reads
+    // the same uniforms: none when the step is 0).
     const FormulatedView f = formulated_ ? formulated : FormulatedView{};
-    auto set = [&](const GlObject& program, bool step) {
-      glProgramUniform4f(program.id(), TR_LOC_FORMULATED, f.direction.x(), f.direction.y(),
-                         f.direction.z(), f.strength);
-      if (step) glProgramUniform2i(program.id(), TR_LOC_FORMULATED_STEP, f.step_x, f.step_up);
-    };
-    set(prog_, true);
-    if (f.active()) {
-      // The tiles near which a formulated pixel may lie (formulated_tiles.comp.glsl: each
-      // tile's classes, then the marks); the smoothed facing within what the test reads about
-      // them, once; then the test within the reach of a formulated pixel. The same pixels as
-      // both over the whole image.
-      set(formulated_classes_prog_, false);
-      set(facing_prog_, false);
-      set(formulated_prog_, true);
-      glBindTextureUnit(TR_TEX_SURFACE_NORMAL, s_.surface_normal.id());
-      for (const auto& [prog, out] : {std::pair{&formulated_classes_prog_, &formulated_classes_},
-                                      std::pair{&formulated_tiles_prog_, &formulated_tiles_}}) {
-        glUseProgram(prog->id());
-        glBindImageTexture(TR_IMG_FORMULATED_TILES, out->id(), 0, GL_FALSE, 0, GL_WRITE_ONLY,
-                           GL_R8);
-        glDispatchCompute(dispatch_groups_x(s_.tile_count()), dispatch_groups_y(s_.tile_count()),
-                          1);
-        glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-        glBindTextureUnit(TR_TEX_FORMULATED_TILES, out->id());
-      }
-      glBindFramebuffer(GL_FRAMEBUFFER, facing_fbo_.id());
-      s_.draw_near_tiles(formulated_tiles_, 2 * TR_FORMULATED_REACH + 1, facing_prog_);
-      glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-      glBindTextureUnit(TR_TEX_FORMULATED_FACING, facing_.id());
-      s_.draw_near_tiles(formulated_tiles_, TR_FORMULATED_REACH + 1, formulated_prog_);
-    }
+    set_formulated(prog_, f, true);
+    if (f.active()) draw_formulated(f);
   }
   glUseProgram(prog_.id());
   if (ids_) {

@@ -320,6 +320,7 @@ class SilhouettePass : public PassBase {
  private:
   void execute(const FrameInputs&) override;
   void draw(double pixel_angle, const FormulatedView& formulated) const;
+  void draw_formulated(const FormulatedView& f) const;
   void clear_pieces() const;
   void pieces() const;
   const SceneGpu& s_;
