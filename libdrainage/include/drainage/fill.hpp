@@ -47,7 +47,8 @@ BreachStats breach_depressions(terrain::Grid& z, double max_depth);
 // problem"): a flood only ever pushes a cell above the one it last took, so each key is
 // bucketed by its highest bit that differs from the last key taken, and a bucket is split
 // only when it becomes the lowest. The same order as a binary heap on (elevation, index),
-// about a quarter fewer cycles on Logan 1 m (docs/performance.md, "Fifth session").
+// a fifth fewer cycles in a 2048 x 2048 tile of Logan 1 m (docs/performance.md, "Fifth
+// session").
 class FloodQueue {
  public:
   // Cell i at elevation z (not NaN), above the cell last taken.

@@ -29,12 +29,16 @@ class Occupancy {
         cols_(long(std::ceil(width / cell)) + 1),
         rows_(long(std::ceil(height / cell)) + 1),
         cells_(std::size_t(cols_ * rows_)) {}
+  // A point of an accepted hachure: where, its local spacing, its hachure and row.
+  struct Entry {
+    float x, y, spacing;
+    std::int32_t id = -1, row = -1;
+  };
   // Whether a point q of another hachure than `self`, of row `row` (-1: any row), lies
   // closer to p than `share` times the smaller of the two points' local spacings (p's is
-  // `spacing`): the test is the same seen from either hachure.
-  // A point found near is kept in `witness`, and looked at first the next time (a grid's
-  // seeds, two pixels apart, are mostly refused for the same hachure).
-  struct Entry;
+  // `spacing`): the test is the same seen from either hachure. A point found near is kept
+  // in `witness`, and looked at first the next time (a grid's seeds, two pixels apart, are
+  // mostly refused for the same hachure).
   bool near(const Vector2f& p, double share, double spacing, long self, long row = -1,
             Entry* witness = nullptr) const {
     const auto close = [&](const Entry& e, float d2) {
@@ -81,11 +85,6 @@ class Occupancy {
         {p.x(), p.y(), float(spacing), std::int32_t(id), std::int32_t(row)});
   }
 
-  struct Entry {
-    float x, y, spacing;
-    std::int32_t id = -1, row = -1;
-  };
-
  private:
   static float distance2(const Entry& e, const Vector2f& p) {
     const float dx = e.x - p.x(), dy = e.y - p.y();
@@ -113,8 +112,8 @@ class Occupancy {
     return m;
   }
   // f(entry, squared distance) for the points of the cells within d of p, but self's and
-  // those of another row than `row` (-1: any), until f says true.
-  // p's own cell first (where a near point most often is).
+  // those of another row than `row` (-1: any), until f says true; p's own cell first (where
+  // a near point most often is).
   template <class F>
   void scan(const Vector2f& p, double d, long self, long row, F&& f) const {
     const Block b = block(p, d);

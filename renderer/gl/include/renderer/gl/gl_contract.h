@@ -150,9 +150,9 @@
 /* Image units: the silhouette opacity the piece rule writes (r8); the tiles of
    TR_SILHOUETTE_TILE x TR_SILHOUETTE_TILE pixels that hold a silhouette pixel (r8, 1),
    where LAY looks for silhouettes near a pixel before its window; the tiles that hold an
-   away-facing surface pixel (r8, 1), where SIL looks for silhouettes; the tiles that hold a
-   pixel facing away from the formulated silhouettes' lowered eye (r8, 1), near which SIL
-   looks for them. */
+   away-facing surface pixel (r8, 1), where SIL looks for silhouettes; the tiles' classes
+   for the formulated silhouettes, then the tiles near which they may lie (r8, 1), where SIL
+   looks for them (formulated_tiles.comp.glsl). */
 #define TR_IMG_SILHOUETTE_OPACITY 0
 #define TR_IMG_SILHOUETTE_TILES 1
 #define TR_IMG_AWAY_TILES 2

@@ -40,7 +40,8 @@ enum class ProgramId {
   Formulated,            // SIL: formulated silhouettes, near marked tiles, before Toward/Away
   FormulatedFacing,      // SIL: the smoothed facing towards the lowered eye, near marked tiles,
                          // before Formulated
-  FormulatedTiles,       // SIL: the tiles that hold a pixel facing away from the lowered eye
+  FormulatedTiles,       // SIL: the tiles' classes for the formulated silhouettes (with
+                         // TR_FORMULATED_MARKS: the tiles near which they may lie)
 };
 inline constexpr std::array kAllPrograms = {
     ProgramId::Surface,          ProgramId::PnCapture,        ProgramId::CreaseScore,
