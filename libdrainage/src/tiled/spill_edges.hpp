@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "terrain/least_by_key.hpp"
+
 namespace drainage::tiled {
 
 // The spill graph's edges: pairs of labels and the lowest elevation at which they meet. A
@@ -49,51 +51,19 @@ class SpillEdges {
 
 // One tile's edges while it floods: each meeting of two labels, kept once per pair with its
 // least elevation. A flood of 2048 x 2048 cells meets about 3.3 M times but only about 21 k
-// pairs, so the pairs are kept in an open-addressed table (linear probing, at most half
-// full), not a node per pair.
+// pairs: an open-addressed table, not a node per pair.
 class TileEdges {
  public:
-  void add(std::uint32_t a, std::uint32_t b, float z) {
-    const std::uint64_t k = SpillEdges::key(a, b);  // never kEmpty: a != b
-    for (std::size_t s = slot(k);; s = (s + 1) & mask_) {
-      Slot& e = table_[s];
-      if (e.key == k) {
-        e.z = std::min(e.z, z);
-        return;
-      }
-      if (e.key == kEmpty) {
-        e = {k, z};
-        if (2 * ++used_ > mask_) grow();
-        return;
-      }
-    }
-  }
+  void add(std::uint32_t a, std::uint32_t b, float z) { least_.offer(SpillEdges::key(a, b), z); }
   std::vector<SpillEdges::Entry> entries() const {
     std::vector<SpillEdges::Entry> all;
-    all.reserve(used_);
-    for (const Slot& e : table_)
-      if (e.key != kEmpty) all.push_back({e.key, e.z});
+    all.reserve(least_.size());
+    least_.for_each([&](std::uint64_t key, float z) { all.push_back({key, z}); });
     return all;
   }
 
  private:
-  static constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
-  struct Slot {
-    std::uint64_t key = kEmpty;
-    float z = 0;
-  };
-  std::size_t slot(std::uint64_t k) const {  // Fibonacci hashing
-    return std::size_t((k * 0x9E3779B97F4A7C15ull) >> 24) & mask_;
-  }
-  void grow() {
-    std::vector<Slot> old(2 * table_.size());
-    old.swap(table_);
-    mask_ = table_.size() - 1, used_ = 0;
-    for (const Slot& e : old)
-      if (e.key != kEmpty) add(std::uint32_t(e.key >> 32), std::uint32_t(e.key), e.z);
-  }
-  std::vector<Slot> table_ = std::vector<Slot>(1024);
-  std::size_t mask_ = 1023, used_ = 0;
+  terrain::LeastByKey<float> least_;
 };
 
 }  // namespace drainage::tiled

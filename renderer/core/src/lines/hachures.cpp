@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "terrain/error.hpp"
+#include "terrain/least_by_key.hpp"
 #include "terrain/pn_surface.hpp"
 
 namespace renderer {
@@ -158,63 +159,19 @@ Coherence hachure_coherence(const std::vector<Eigen::Vector3f>& previous, const 
   return c;
 }
 
-namespace {
-
-// surface_seeds' best candidate of each cell (the first offered, or a nearer one), in an
-// open-addressed table (linear probing, at most half full): a frame has some thousands of
-// cells and a hundred times as many candidates.
-class CellSeeds {
- public:
-  struct Best {
-    std::uint64_t key;
-    Vector2f seed;
-    float d2;
-  };
-  void offer(const Best& b) {
-    std::size_t s = slot(b.key);
-    if (used_[s]) {
-      if (b.d2 < best_[s].d2) best_[s] = b;
-      return;
-    }
-    if (2 * (cells_ + 1) > best_.size()) grow(), s = slot(b.key);
-    best_[s] = b, used_[s] = 1, ++cells_;
-  }
-  std::vector<Best> kept() const {
-    std::vector<Best> out;
-    out.reserve(cells_);
-    for (std::size_t s = 0; s < best_.size(); ++s)
-      if (used_[s]) out.push_back(best_[s]);
-    return out;
-  }
-
- private:
-  std::size_t slot(std::uint64_t key) const {
-    const std::size_t mask = best_.size() - 1;
-    std::size_t s = std::size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & mask;
-    while (used_[s] && best_[s].key != key) s = (s + 1) & mask;
-    return s;
-  }
-  void grow() {
-    std::vector<Best> old(2 * best_.size());
-    std::vector<std::uint8_t> was(old.size(), 0);
-    old.swap(best_), was.swap(used_);
-    for (std::size_t k = 0; k < old.size(); ++k)
-      if (was[k]) {
-        const std::size_t t = slot(old[k].key);
-        best_[t] = old[k], used_[t] = 1;
-      }
-  }
-  std::vector<Best> best_ = std::vector<Best>(1024);
-  std::vector<std::uint8_t> used_ = std::vector<std::uint8_t>(1024, 0);
-  std::size_t cells_ = 0;
-};
-
-}  // namespace
-
 std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<float>& depth,
                                            double spacing, double cell,
                                            const Eigen::Vector2d& anchor) {
-  CellSeeds best;
+  // Each cell's candidate nearest its centre (the first of equals): some thousands of
+  // cells, a hundred times as many candidates.
+  struct Best {
+    Vector2f seed;
+    float d2;
+  };
+  struct Nearer {
+    bool operator()(const Best& a, const Best& b) const { return a.d2 < b.d2; }
+  };
+  terrain::LeastByKey<Best, Nearer> best;
   const double step = std::max(1.0, spacing / 3.0);
   const Eigen::Matrix4d inverse = view.view_projection().inverse();
   // The candidates' ground points, unprojected in parallel (NaN off the terrain), then
@@ -241,15 +198,16 @@ std::vector<Eigen::Vector2f> surface_seeds(const View& view, const std::vector<f
       const float d2 = float((g - cell * Eigen::Vector2d(cx + 0.5, cy + 0.5)).squaredNorm());
       const std::uint64_t key =
           (std::uint64_t(std::int64_t(cx)) << 32) ^ std::uint64_t(std::uint32_t(std::int64_t(cy)));
-      best.offer({key, Vector2f(float(u), float(v)), d2});
+      best.offer(key, {Vector2f(float(u), float(v)), d2});
     }
   std::vector<std::pair<std::uint64_t, Vector2f>> order;
-  for (const CellSeeds::Best& b : best.kept()) {
-    std::uint64_t z = b.key + 0x9e3779b97f4a7c15ull;  // splitmix64: a fixed shuffle of the cells
+  order.reserve(best.size());
+  best.for_each([&](std::uint64_t key, const Best& b) {
+    std::uint64_t z = key + 0x9e3779b97f4a7c15ull;  // splitmix64: a fixed shuffle of the cells
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
     order.emplace_back(z ^ (z >> 31), b.seed);
-  }
+  });
   std::sort(order.begin(), order.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<Vector2f> out;
