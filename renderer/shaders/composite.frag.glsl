@@ -215,9 +215,12 @@ void main() {
 #ifdef TR_COMPOSITE_SILHOUETTES
   if (!near_marked_tile(p, size, u_reach)) discard;
 #endif
-#if defined(TR_COMPOSITE_ANTIALIASED) && defined(TR_COMPOSITE_NO_EDGES)
+#if defined(TR_COMPOSITE_ANTIALIASED) && defined(TR_COMPOSITE_NO_EDGES) && \
+    !defined(TR_COMPOSITE_SURFACE_COPIED)
   // Anti-aliased lines do not look at the depth here (line.frag hid them), and the toward
-  // pass wrote alpha 1 exactly where it wrote a depth: one fetch fewer.
+  // pass wrote alpha 1 exactly where it wrote a depth: one fetch fewer. (Not where the
+  // toward pass cleared its colour to the opaque background, CompositePass::surface_is_base:
+  // the background is then u_background, as in the frames that draw every pixel here.)
   vec4 sc = texelFetch(u_surface_colour, p, 0);
   bool surface = sc.a > 0.0;
   float t = surface ? 0.0 : 1.0;

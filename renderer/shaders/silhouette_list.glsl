@@ -7,6 +7,11 @@ layout(std430, binding = TR_SSBO_PIECE_LIST) buffer PieceList {
   uint piece_groups_x, piece_groups_y, piece_groups_z;
   uint piece_pixel[];  // pixel index y * width + x, window rows (0 at the bottom)
 };
+// The union-find's labels and sizes (union_find.glsl), per pixel: set for a pixel when it
+// is listed, so that the buffers need no clearing (the rule reads only listed pixels').
+#define TR_PIECE_BUFFERS 1
+layout(std430, binding = TR_SSBO_PIECE_LABELS) coherent buffer PieceLabels { uint label[]; };
+layout(std430, binding = TR_SSBO_PIECE_SIZES) buffer PieceSizes { uint piece_size[]; };
 layout(location = TR_LOC_PIECE_MIN) uniform float u_piece_min;
 layout(binding = TR_IMG_SILHOUETTE_TILES, r8) uniform writeonly image2D u_tiles;
 
@@ -15,7 +20,9 @@ void mark_silhouette_tile(ivec2 p) { imageStore(u_tiles, p / TR_SILHOUETTE_TILE,
 
 void list_silhouette_pixel(ivec2 p, ivec2 size) {
   if (!(u_piece_min > 0.0)) return;
-  uint k = atomicAdd(piece_count, 1u);
-  piece_pixel[k] = uint(p.y) * uint(size.x) + uint(p.x);
+  uint k = atomicAdd(piece_count, 1u), i = uint(p.y) * uint(size.x) + uint(p.x);
+  piece_pixel[k] = i;
+  label[i] = TR_PIECE_ROOT;
+  piece_size[i] = 0u;
   atomicMax(piece_groups_x, min(k / uint(TR_LOCAL_SIZE) + 1u, 65535u));
 }

@@ -2,8 +2,8 @@
 // reference): the silhouette pixels joined to those within TR_SILHOUETTE_JOIN pixels into pieces, and each
 // pixel's opacity from its piece's size n: clamp((n - (1 - f) m) / (f m), 0, 1), m = u_piece_min
 // pixels, f = TR_SILHOUETTE_FADE. Union-find (union_find.glsl) over pixel indices on the pixels the silhouette
-// pass listed (silhouette_list.glsl), one listed pixel per invocation (the labels are
-// cleared, the sizes and the opacity set to 0 before the silhouette pass). Stages
+// pass listed (silhouette_list.glsl, which sets each listed pixel's label and size), one
+// listed pixel per invocation (the opacity cleared to 0 before the silhouette pass). Stages
 // (u_piece_stage), an indirect dispatch each:
 //   1 each silhouette pixel joined to the silhouette pixels of the half of its window
 //     before it (rows below, and west on its row: every pair once), by atomicMin on the

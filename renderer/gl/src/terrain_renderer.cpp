@@ -78,6 +78,13 @@ static bool draws_formulated(const Layers& layers, const Style& style) {
   return layers.silhouettes && !layers.adjacency && style.formulated;
 }
 
+// TFT's colour where it draws no surface: the background, opaque, where the composite
+// copies TFT's colour as its base (CompositePass::surface_is_base); else transparent black.
+static Eigen::Vector4f toward_clear(const Layers& layers, const Style& style) {
+  if (!passes::CompositePass::surface_is_base(layers, style)) return Eigen::Vector4f::Zero();
+  return {style.background.x(), style.background.y(), style.background.z(), 1.0f};
+}
+
 struct TerrainRenderer::Impl {
   // `held`: the mesh against the whole it is part of (MeshHolding of mesh and levels).
   Impl(const GlContext& context, const terrain::GridMesh& mesh, const MeshHolding& held,
@@ -94,7 +101,7 @@ struct TerrainRenderer::Impl {
         scene(mesh, width, height, context.has_clip_control(),
               layers.hachures || draws_formulated(layers, style),
               !held.uses_lod(style.levels_of_detail()), !drawn_vertices_only(held, style, layers)),
-        toward(scene, style.flat_patches),
+        toward(scene, style.flat_patches, toward_clear(layers, style)),
         away(scene, layers.silhouettes && !layers.adjacency),
         ids(scene, layers.adjacency, id_capacity(width, height)),
         creases(scene, creases, layers.creases, style.antialias, std::move(crease_levels),
@@ -349,7 +356,6 @@ FrameBuffers TerrainRenderer::read_buffers(bool normals) const {
   };
   depth(m.scene.toward_depth, b.toward_depth);
   depth(m.scene.away_depth, b.away_depth);
-  depth(m.creases.depth(), b.crease_depth);
   red(m.silhouettes.mask(), b.silhouette);
   bytes(m.silhouettes.opacity(), b.silhouette_opacity);
   red(m.creases.colour(), b.crease);

@@ -16,6 +16,7 @@
 #include "drainage/pipeline.hpp"
 #include "renderer/core/camera.hpp"
 #include "renderer/core/crease.hpp"
+#include "renderer/core/feature_edges.hpp"
 #include "renderer/core/frames.hpp"
 #include "renderer/core/line_stats.hpp"
 #include "renderer/core/lod.hpp"
@@ -1302,23 +1303,29 @@ TEST(RendererGl, SilhouettePiecesFollowTheCpuRule) {
     renderer::Layers layers{false, true, false, true};
     layers.adjacency = adjacency;
     TerrainRenderer r(ctx, mesh, nullptr, w, h, layers, style);
-    FrameParams fp;
-    fp.camera.view_az = 200;
-    fp.camera.view_alt = 15;
-    r.render(fp);
-    const auto b = r.read_buffers();
-    const std::vector<float> cpu = renderer::silhouette_piece_opacity(b.silhouette, w, h, 0.15 * h);
-    std::size_t differ = 0, dropped = 0, faded = 0, full = 0;
-    for (std::size_t i = 0; i < cpu.size(); ++i) {
-      const int gpu = b.silhouette_opacity[i], want = int(std::lround(255.0 * cpu[i]));
-      differ += std::abs(gpu - want) > 1;
-      if (b.silhouette[i]) (gpu == 0 ? dropped : gpu == 255 ? full : faded) += 1;
+    // Two views with one renderer: the second frame's pieces owe nothing to the first's
+    // (the labels are set as pixels are listed, not cleared).
+    for (const double az : {200.0, 110.0}) {
+      FrameParams fp;
+      fp.camera.view_az = az;
+      fp.camera.view_alt = 15;
+      r.render(fp);
+      const auto b = r.read_buffers();
+      const std::vector<float> cpu =
+          renderer::silhouette_piece_opacity(b.silhouette, w, h, 0.15 * h);
+      std::size_t differ = 0, dropped = 0, faded = 0, full = 0;
+      for (std::size_t i = 0; i < cpu.size(); ++i) {
+        const int gpu = b.silhouette_opacity[i], want = int(std::lround(255.0 * cpu[i]));
+        differ += std::abs(gpu - want) > 1;
+        if (b.silhouette[i]) (gpu == 0 ? dropped : gpu == 255 ? full : faded) += 1;
+      }
+      std::printf("view azimuth %.0f: silhouette pixels %zu in full, %zu faded, %zu dropped\n",
+                  az, full, faded, dropped);
+      EXPECT_EQ(differ, 0u);
+      EXPECT_GT(full, 300u);
+      EXPECT_GT(faded, 0u);
+      EXPECT_GT(dropped, 0u);
     }
-    std::printf("silhouette pixels: %zu in full, %zu faded, %zu dropped\n", full, faded, dropped);
-    EXPECT_EQ(differ, 0u);
-    EXPECT_GT(full, 300u);
-    EXPECT_GT(faded, 0u);
-    EXPECT_GT(dropped, 0u);
   }
 }
 
@@ -1732,4 +1739,53 @@ TEST(RendererGl, MergedCreasesDrawWhereTheFullDetailLinesLie) {
   near.camera.view_az = 0;
   near.camera.view_alt = 10;
   EXPECT_EQ(merged.render(near).crease_level, 0);
+}
+
+// A shaded frame on an opaque background composites its creases over a copy of the surface
+// TFT drew, only on the pixels of the crease quads (CompositePass::surface_is_base). With
+// the edges layer on (here with no edge to draw: only creases of more than 180 degrees),
+// the composite is drawn over every pixel instead: the two frames are the same to the
+// byte, with the creases and silhouettes, pixel-exact and anti-aliased, from a low eye
+// and from above.
+TEST(RendererGl, CreasesOverTheCopiedSurfaceAreTheFullComposite) {
+  const auto& sc = msh_scene();
+  // With the runs along the grid's edge: lines there reach over the background.
+  const auto g = renderer::build_crease_geometry(
+      sc.mesh, sc.links,
+      {.min_area = 0, .min_width = 0, .off_edge_runs = true, .valley_branches = false});
+  renderer::GlContext ctx;
+  const int w = 480, h = 270;
+  const renderer::Layers copied{true, false, true, true};
+  renderer::Layers whole = copied;
+  whole.edges = true;
+  for (const bool antialias : {false, true}) {
+    renderer::Style style = test_style();
+    style.antialias = antialias;
+    style.formulated = true;
+    style.background = {0.5f, 0.3f, 0.7f};  // between two 8-bit values: drawn as they round
+    style.edge_kinds = renderer::kCreaseEdge;
+    style.crease_angle = 180;
+    TerrainRenderer a(ctx, sc.mesh, &g, w, h, copied, style),
+        b(ctx, sc.mesh, &g, w, h, whole, style);
+    for (const double alt : {12.0, 90.0}) {
+      SCOPED_TRACE(std::string(antialias ? "anti-aliased" : "pixel-exact") + ", view altitude " +
+                   std::to_string(alt));
+      FrameParams fp;
+      fp.camera.view_az = 200;
+      fp.camera.view_alt = alt;
+      fp.score.min_score = 0.05;
+      const auto ra = a.render(fp), rb = b.render(fp);
+      EXPECT_EQ(rb.edges, 0u);
+      EXPECT_GT(ra.crease_segments, 500u);
+      ASSERT_EQ(ra.rgba.size(), rb.rgba.size());
+      std::size_t differ = 0, inked = 0;
+      const auto surface = a.read_buffers().surface_rgba;
+      for (std::size_t i = 0; i < ra.rgba.size(); i += 4) {
+        differ += !std::equal(&ra.rgba[i], &ra.rgba[i] + 4, &rb.rgba[i]);
+        inked += !std::equal(&ra.rgba[i], &ra.rgba[i] + 3, &surface[i]);  // a line over it
+      }
+      EXPECT_EQ(differ, 0u);
+      EXPECT_GT(inked, std::size_t(w * h / 50));
+    }
+  }
 }

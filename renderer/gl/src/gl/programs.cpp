@@ -56,7 +56,7 @@ std::vector<ProgramSpec> surface_and_line_programs(const Stages& s) {
   };
 }
 
-// ProgramId's other programs, surface_id .. formulated_tiles, in its order.
+// ProgramId's other programs, surface_id .. composite_creases, in its order.
 std::vector<ProgramSpec> other_programs(const Stages& s) {
   return {
       {"surface_id",
@@ -97,6 +97,10 @@ std::vector<ProgramSpec> other_programs(const Stages& s) {
         {GL_FRAGMENT_SHADER, {s.c, "formulated_facing.frag.glsl"}}},
        {}},
       {"formulated_tiles", s.compute({"formulated_tiles.comp.glsl"}), {}},
+      {"composite_creases",
+       {{GL_VERTEX_SHADER, {s.c, "crease_footprint.glsl", "crease_data.glsl", "crease.vert.glsl"}},
+        {GL_FRAGMENT_SHADER, {s.c, "composite.frag.glsl"}}},
+       {}},
   };
 }
 

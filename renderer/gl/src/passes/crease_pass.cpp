@@ -123,6 +123,22 @@ void CreasePass::execute(const FrameInputs&) {
   target_.draw_indirect(s_, draw_prog_, cmd_buf_);
 }
 
+void CreasePass::draw_again(const GlObject& program) const {
+  if (!active()) return;
+  const Level& l = levels_[std::size_t(level_)];
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_VERTICES, l.cv.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SEGMENTS, l.seg.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_OPACITY, opacity_buf_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SELECTED, selected_buf_.id());
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glUseProgram(program.id());
+  glBindVertexArray(s_.empty_vao.id());
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, cmd_buf_.id());
+  glDrawArraysIndirect(GL_TRIANGLES, nullptr);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+}
+
 std::vector<SegmentSamples> CreasePass::read_samples() const {
   std::vector<SegmentSamples> m;
   if (!active() || !antialias_) return m;

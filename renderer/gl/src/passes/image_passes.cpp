@@ -91,9 +91,8 @@ SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece
 }
 
 void SilhouettePass::clear_pieces() const {
-  const GLuint root = TR_PIECE_ROOT, zero = 0, header[4] = {0, 0, 1, 1};
-  glClearNamedBufferData(labels_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &root);
-  glClearNamedBufferData(sizes_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  // The labels and sizes are set as pixels are listed (silhouette_list.glsl).
+  const GLuint header[4] = {0, 0, 1, 1};
   glNamedBufferSubData(list_.id(), 0, sizeof header, header);
   glClearTexImage(opacity_.id(), 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
 }
@@ -225,10 +224,18 @@ CompositePass::CompositePass(const SceneGpu& scene, const Layers& layers, const 
       pels_(pels),
       edges_(edges),
       silhouettes_(silhouettes),
+      copy_base_(surface_is_base(layers, style)),
       colour_(make_texture(GL_RGBA8, scene.width, scene.height)),
       fbo_(make_framebuffer(&colour_, nullptr)),
-      prog_(build_program(ProgramId::Composite, defines())),
-      silhouettes_prog_(build_program(ProgramId::CompositeSilhouettes, defines())) {}
+      prog_(copy_base_ ? GlObject() : build_program(ProgramId::Composite, defines())),
+      silhouettes_prog_(build_program(ProgramId::CompositeSilhouettes, defines())) {
+  if (copy_base_ && layers.creases)
+    creases_prog_ = build_program(ProgramId::CompositeCreases, defines());
+}
+
+bool CompositePass::surface_is_base(const Layers& layers, const Style& style) {
+  return layers.shaded && !style.transparent && !layers.pels && !layers.edges;
+}
 
 std::string CompositePass::defines() const {
   std::string d;
@@ -237,6 +244,7 @@ std::string CompositePass::defines() const {
   if (!edges_.active()) d += "#define TR_COMPOSITE_NO_EDGES 1\n";
   if (style_.antialias) d += "#define TR_COMPOSITE_ANTIALIASED 1\n";
   if (style_.transparent) d += "#define TR_COMPOSITE_TRANSPARENT 1\n";
+  if (copy_base_) d += "#define TR_COMPOSITE_SURFACE_COPIED 1\n";
   return d;
 }
 
@@ -267,9 +275,22 @@ void CompositePass::execute(const FrameInputs&) {
     glProgramUniform1i(p, TR_LOC_EDGES, edges_.active() ? 1 : 0);
   };
   // Every pixel without the silhouettes, then the pixels near them again with them
-  // (composite.frag.glsl).
-  use(prog_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  // (composite.frag.glsl). Where the surface is the base, it is copied (llvmpipe: a copy of
+  // memory, not a pass over every pixel), and the creases composited again only on the
+  // pixels of their quads, which hold every pixel they cover: the composite of a pixel
+  // they do not cover is its surface's colour. A pixel the quads overlap takes the same
+  // value from each (no blending).
+  if (copy_base_) {
+    glCopyImageSubData(s_.surface_colour.id(), GL_TEXTURE_2D, 0, 0, 0, 0, colour_.id(),
+                       GL_TEXTURE_2D, 0, 0, 0, 0, s_.width, s_.height, 1);
+    if (creases_prog_.id()) {
+      use(creases_prog_.id());
+      creases_.draw_again(creases_prog_);
+    }
+  } else {
+    use(prog_.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  }
   if (!layers_.silhouettes) return;
   const GLuint p = silhouettes_prog_.id();
   use(p);

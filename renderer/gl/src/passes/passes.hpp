@@ -88,8 +88,9 @@ struct SceneGpu {
 GlObject make_framebuffer(const GlObject* colour, const GlObject* depth,
                           const GlObject* colour1 = nullptr);
 
-// The colour and depth targets of a line layer (creases, PELs, edges) and their
-// framebuffer; clear() empties them (colour 0, depth far).
+// The coverage (r8) and depth targets of a line layer (creases, PELs, edges) and their
+// framebuffer; clear() empties them (coverage 0, depth far). Anti-aliased lines keep no
+// depth (draw_indirect), and have no depth target.
 struct LineTarget {
   explicit LineTarget(const SceneGpu& scene, bool antialias = false);
   void clear(const SceneGpu& scene) const;
@@ -151,12 +152,14 @@ inline constexpr std::size_t kMaxSplitPatches = std::size_t(4)
                                                 << 20;  // TFT splits frames of at most 4 M patches
 class TowardPass : public PassBase {
  public:
-  TowardPass(const SceneGpu& scene, bool flat_patches);
+  // `clear`: the colour where no surface is drawn (RGBA).
+  TowardPass(const SceneGpu& scene, bool flat_patches, const Eigen::Vector4f& clear);
 
  private:
   void execute(const FrameInputs&) override;
   const SceneGpu& s_;
   bool flat_patches_;
+  Eigen::Vector4f clear_;
   GlObject fbo_;
   GlObject split_prog_, flat_prog_;
   PatchList tess_;  // the patches tessellated
@@ -204,6 +207,9 @@ class CreasePass : public PassBase {
   // Anti-aliased lines: every segment's samples of the last frame (stroke_visibility.hpp;
   // n = 0 where it was not drawn). Empty otherwise.
   std::vector<SegmentSamples> read_samples() const;
+  // The last frame's selected segments again with `program` (its vertex shader
+  // crease.vert.glsl) into the bound framebuffer, without blending or depth test.
+  void draw_again(const GlObject& program) const;
 
  private:
   void execute(const FrameInputs&) override;
@@ -341,8 +347,14 @@ class SilhouettePass : public PassBase {
 };
 
 // LAY: the composite of the chosen layers, surface first, lines not behind the surface.
+// Where the surface TFT drew is the composite without lines (surface_is_base), it is
+// copied, and the lines composited over it only where they are.
 class CompositePass : public PassBase {
  public:
+  // Whether the composite of a pixel without lines is TFT's colour as drawn over the
+  // background (the shaded layer on an opaque frame, TFT's colour cleared to the
+  // background; the creases the only lines besides the silhouettes).
+  static bool surface_is_base(const Layers& layers, const Style& style);
   CompositePass(const SceneGpu& scene, const Layers& layers, const Style& style,
                 const CreasePass& creases, const PelPass& pels, const EdgePass& edges,
                 const SilhouettePass& silhouettes);
@@ -358,7 +370,8 @@ class CompositePass : public PassBase {
   const PelPass& pels_;
   const EdgePass& edges_;
   const SilhouettePass& silhouettes_;
-  GlObject colour_, fbo_, prog_, silhouettes_prog_;
+  bool copy_base_;
+  GlObject colour_, fbo_, prog_, silhouettes_prog_, creases_prog_;
 };
 
 // HACH: the hachures' field of the last frame (hachure_pass.cpp), computed when asked for

@@ -160,15 +160,15 @@ GlObject make_framebuffer(const GlObject* colour, const GlObject* depth, const G
 }
 
 LineTarget::LineTarget(const SceneGpu& scene, bool antialias)
-    : colour(make_texture(GL_RGBA8, scene.width, scene.height)),
-      depth(make_texture(GL_DEPTH_COMPONENT32F, scene.width, scene.height)),
-      fbo(make_framebuffer(&colour, &depth)),
+    : colour(make_texture(GL_R8, scene.width, scene.height)),
+      depth(antialias ? GlObject() : make_texture(GL_DEPTH_COMPONENT32F, scene.width, scene.height)),
+      fbo(make_framebuffer(&colour, antialias ? nullptr : &depth)),
       antialias(antialias) {}
 
 void LineTarget::clear(const SceneGpu& scene) const {
   const float zero4[4] = {0, 0, 0, 0}, far_depth = scene.clear_depth();
   glClearNamedFramebufferfv(fbo.id(), GL_COLOR, 0, zero4);
-  glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &far_depth);
+  if (!antialias) glClearNamedFramebufferfv(fbo.id(), GL_DEPTH, 0, &far_depth);
 }
 
 void LineTarget::draw_indirect(const SceneGpu& scene, const GlObject& program,

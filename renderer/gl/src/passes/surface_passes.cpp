@@ -28,10 +28,11 @@ void PatchList::draw(const SceneGpu& s, const GlObject& program, int mode) const
                     (s.n_patches + kPatchesPerDraw - 1) / kPatchesPerDraw);
 }
 
-TowardPass::TowardPass(const SceneGpu& scene, bool flat_patches)
+TowardPass::TowardPass(const SceneGpu& scene, bool flat_patches, const Eigen::Vector4f& clear)
     : PassBase(TFT),
       s_(scene),
       flat_patches_(flat_patches),
+      clear_(clear),
       fbo_(make_framebuffer(&scene.surface_colour, &scene.toward_depth,
                             scene.surface_normal.id() ? &scene.surface_normal : nullptr)) {
   if (!flat_patches_) return;
@@ -42,7 +43,7 @@ TowardPass::TowardPass(const SceneGpu& scene, bool flat_patches)
 void TowardPass::execute(const FrameInputs&) {
   const float zero4[4] = {0, 0, 0, 0}, far_depth = s_.clear_depth();
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-  glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero4);
+  glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, clear_.data());
   if (s_.surface_normal.id()) glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 1, zero4);
   glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &far_depth);
   // The lists take 36 bytes a patch: a frame of more patches than kMaxSplitPatches (a large

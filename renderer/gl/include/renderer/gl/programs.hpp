@@ -42,6 +42,7 @@ enum class ProgramId {
                          // before Formulated
   FormulatedTiles,       // SIL: the tiles' classes for the formulated silhouettes (with
                          // TR_FORMULATED_MARKS: the tiles near which they may lie)
+  CompositeCreases,      // LAY over the copied surface: the pixels of DM's quads, with creases
 };
 inline constexpr std::array kAllPrograms = {
     ProgramId::Surface,          ProgramId::PnCapture,        ProgramId::CreaseScore,
@@ -53,7 +54,7 @@ inline constexpr std::array kAllPrograms = {
     ProgramId::CreaseVisibility, ProgramId::AwayTiles,        ProgramId::TileRects,
     ProgramId::SurfaceCull,      ProgramId::HachureField,     ProgramId::SurfaceSplit,
     ProgramId::SurfaceFlat,      ProgramId::Formulated,       ProgramId::FormulatedFacing,
-    ProgramId::FormulatedTiles};
+    ProgramId::FormulatedTiles,  ProgramId::CompositeCreases};
 
 struct ProgramSpec {
   const char* name;

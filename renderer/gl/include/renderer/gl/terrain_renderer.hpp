@@ -58,12 +58,14 @@ struct FrameResult {
 
 // Per-pixel buffers of the last frame, for tests and diagnostics (row 0 at the top).
 struct FrameBuffers {
-  std::vector<float> toward_depth, away_depth, crease_depth;  // window depth (clear: far)
-  std::vector<std::uint8_t> silhouette, crease, edge;         // 0/1 masks before compositing
+  std::vector<float> toward_depth, away_depth;         // window depth (clear: far)
+  std::vector<std::uint8_t> silhouette, crease, edge;  // 0/1 masks before compositing
   std::vector<std::uint8_t>
       silhouette_opacity;  // what LAY draws of the silhouettes (0..255; the piece rule)
   std::vector<std::uint8_t>
-      surface_rgba;  // the shaded surface TFT drew (RGBA; where toward_depth shows surface)
+      surface_rgba;  // the shaded surface TFT drew (RGBA; where toward_depth shows surface;
+                     // elsewhere transparent black or, CompositePass::surface_is_base, the
+                     // opaque background)
   // The drawn surface's unit normal (4 floats a pixel, the 4th 1 on the terrain), when asked
   // for and TFT writes it (hachures, formulated silhouettes); else empty.
   std::vector<float> surface_normal;
