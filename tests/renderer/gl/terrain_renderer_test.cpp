@@ -1319,8 +1319,8 @@ TEST(RendererGl, SilhouettePiecesFollowTheCpuRule) {
         differ += std::abs(gpu - want) > 1;
         if (b.silhouette[i]) (gpu == 0 ? dropped : gpu == 255 ? full : faded) += 1;
       }
-      std::printf("view azimuth %.0f: silhouette pixels %zu in full, %zu faded, %zu dropped\n",
-                  az, full, faded, dropped);
+      std::printf("view azimuth %.0f: silhouette pixels %zu in full, %zu faded, %zu dropped\n", az,
+                  full, faded, dropped);
       EXPECT_EQ(differ, 0u);
       EXPECT_GT(full, 300u);
       EXPECT_GT(faded, 0u);

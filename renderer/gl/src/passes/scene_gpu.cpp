@@ -161,7 +161,8 @@ GlObject make_framebuffer(const GlObject* colour, const GlObject* depth, const G
 
 LineTarget::LineTarget(const SceneGpu& scene, bool antialias)
     : colour(make_texture(GL_R8, scene.width, scene.height)),
-      depth(antialias ? GlObject() : make_texture(GL_DEPTH_COMPONENT32F, scene.width, scene.height)),
+      depth(antialias ? GlObject()
+                      : make_texture(GL_DEPTH_COMPONENT32F, scene.width, scene.height)),
       fbo(make_framebuffer(&colour, antialias ? nullptr : &depth)),
       antialias(antialias) {}
 

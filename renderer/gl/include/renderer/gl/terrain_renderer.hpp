@@ -62,10 +62,9 @@ struct FrameBuffers {
   std::vector<std::uint8_t> silhouette, crease, edge;  // 0/1 masks before compositing
   std::vector<std::uint8_t>
       silhouette_opacity;  // what LAY draws of the silhouettes (0..255; the piece rule)
-  std::vector<std::uint8_t>
-      surface_rgba;  // the shaded surface TFT drew (RGBA; where toward_depth shows surface;
-                     // elsewhere transparent black or, CompositePass::surface_is_base, the
-                     // opaque background)
+  std::vector<std::uint8_t> surface_rgba;  // the shaded surface TFT drew (RGBA; where toward_depth
+                                           // shows surface; elsewhere transparent black or,
+                                           // CompositePass::surface_is_base, the opaque background)
   // The drawn surface's unit normal (4 floats a pixel, the 4th 1 on the terrain), when asked
   // for and TFT writes it (hachures, formulated silhouettes); else empty.
   std::vector<float> surface_normal;
