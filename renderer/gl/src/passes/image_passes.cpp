@@ -58,8 +58,6 @@ SilhouettePass::SilhouettePass(const SceneGpu& scene, bool enabled, double piece
       prog_(build_program(ids ? ProgramId::Adjacency : ProgramId::Silhouette)),
       tiles_(scene.make_tile_texture()) {
   if (!ids_) {
-    away_tiles_ = scene.make_tile_texture();
-    away_prog_ = build_program(ProgramId::AwayTiles);
     formulated_ = enabled && style.formulated;  // Toward/Away only
     if (formulated_ && !scene.surface_normal.id())
       throw std::logic_error("formulated silhouettes need the scene's normals");
@@ -173,15 +171,11 @@ void SilhouettePass::draw(double pixel_angle, const FormulatedView& formulated) 
     glBindVertexArray(s_.empty_vao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
   } else {
-    // Toward/Away: the tiles that hold an away-facing pixel, then the test on the pixels
-    // within one pixel of them (no silhouette pixel lies elsewhere).
+    // Toward/Away: the test on the pixels within one pixel of a tile that holds an away
+    // depth (AFT marked them; no silhouette pixel lies elsewhere).
     glBindTextureUnit(TR_TEX_TOWARD_DEPTH, s_.toward_depth.id());
     glBindTextureUnit(TR_TEX_AWAY_DEPTH, s_.away_depth.id());
-    glUseProgram(away_prog_.id());
-    glBindImageTexture(TR_IMG_AWAY_TILES, away_tiles_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
-    glDispatchCompute(dispatch_groups_x(s_.tile_count()), dispatch_groups_y(s_.tile_count()), 1);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
-    s_.draw_near_tiles(away_tiles_, 1, prog_);
+    s_.draw_near_tiles(s_.away_tiles, 1, prog_);
   }
   glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
 }

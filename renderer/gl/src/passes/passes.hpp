@@ -58,6 +58,9 @@ struct SceneGpu {
   std::size_t vertex_capacity = 0;
   GlObject surface_colour, toward_depth, away_depth;
   GlObject surface_normal;  // empty unless normals were asked for
+  // AFT's marks (r8, one texel per TR_SILHOUETTE_TILE tile): 1 in each tile that holds an
+  // away depth; SIL's Toward/Away test runs only beside them.
+  GlObject away_tiles;
 
   float clear_depth() const { return reversed ? 0.0f : 1.0f; }
   void depth_state() const;
@@ -167,7 +170,7 @@ class TowardPass : public PassBase {
   std::size_t flat_capacity_ = 0;
 };
 
-// AFT: away depth (only when silhouettes are drawn; cleared always).
+// AFT: away depth and the away tiles (only when silhouettes are drawn; cleared always).
 class AwayPass : public PassBase {
  public:
   AwayPass(const SceneGpu& scene, bool enabled);
@@ -177,8 +180,8 @@ class AwayPass : public PassBase {
   const SceneGpu& s_;
   bool enabled_;
   GlObject fbo_;
-  GlObject cull_prog_;
-  PatchList patches_;  // the patches that may face away in view (surface_cull.comp.glsl)
+  GlObject cull_prog_, prog_;  // prog_: the surface program that marks the away tiles
+  PatchList patches_;          // the patches that may face away in view (surface_cull.comp.glsl)
 };
 
 // DM: crease vertices scored, segments selected (indirect draw), drawn as quads.
@@ -336,7 +339,6 @@ class SilhouettePass : public PassBase {
   double tolerance_;
   Eigen::Vector4f extent_;  // the mesh's local extent: xmin, ymin, xmax, ymax
   GlObject mask_, fbo_, prog_, tiles_;
-  GlObject away_tiles_, away_prog_;  // Toward/Away: the tiles SIL draws (not with Adjacency)
   bool formulated_ = false;
   double formulated_altitude_ = 0, formulated_strength_ = 0;
   GlObject formulated_prog_, facing_prog_, facing_,

@@ -49,6 +49,8 @@ SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev, bool n
   if (normals) surface_normal = make_texture(GL_RGBA32F, width, height);
   tile_rects_buf = make_buffer(16 + 16 * tile_count(), nullptr, GL_DYNAMIC_STORAGE_BIT);
   tile_rects_prog = build_program(ProgramId::TileRects);
+  away_tiles = make_tile_texture();
+  glClearTexImage(away_tiles.id(), 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
 }
 
 GlObject SceneGpu::make_tile_texture() const { return make_texture(GL_R8, tiles_x(), tiles_y()); }

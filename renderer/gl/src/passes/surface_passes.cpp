@@ -93,12 +93,14 @@ AwayPass::AwayPass(const SceneGpu& scene, bool enabled)
       fbo_(make_framebuffer(nullptr, &scene.away_depth)) {
   if (!enabled_) return;
   cull_prog_ = build_program(ProgramId::SurfaceCull);
+  prog_ = build_program(ProgramId::SurfaceAway);
 }
 
 void AwayPass::execute(const FrameInputs&) {
   const float far_depth = s_.clear_depth();
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &far_depth);
+  glClearTexImage(s_.away_tiles.id(), 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
   if (!enabled_) return;
   // The patches that may face away in view (all threads), then only those drawn: the
   // tessellation control stage that culls the others runs on one thread in llvmpipe. The
@@ -114,7 +116,9 @@ void AwayPass::execute(const FrameInputs&) {
   glDispatchCompute(dispatch_groups_x(n), dispatch_groups_y(n), 1);
   glMemoryBarrier(GL_ELEMENT_ARRAY_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   s_.depth_state();
-  patches_.draw(s_, s_.surface_prog, 1);
+  glBindImageTexture(TR_IMG_AWAY_TILES, s_.away_tiles.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
+  patches_.draw(s_, prog_, 1);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
 }
 
 }  // namespace renderer::passes

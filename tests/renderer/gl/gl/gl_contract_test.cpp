@@ -211,15 +211,15 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
     }
   }
   // The checks ran on the interfaces there are (a program could lose them silently).
-  EXPECT_EQ(computes, 15u);
+  EXPECT_EQ(computes, 14u);
   EXPECT_GE(frames, 9u);
   EXPECT_GE(blocks, 14u);
-  EXPECT_EQ(samplers, 46u);  // silhouette 4, formulated 3, formulated facing 2, formulated tiles 1,
-                             // away tiles 1, tile rects 2, composite 8 + 10 (with silhouettes)
+  EXPECT_EQ(samplers, 45u);  // silhouette 4, formulated 3, formulated facing 2, formulated tiles 1,
+                             // tile rects 2, composite 8 + 10 (with silhouettes)
                              // + 8 (on the crease quads), adjacency 2, crease visibility and
                              // PEL draw 1 each, pieces 1, hachure field 2
-  EXPECT_EQ(images, 6u);     // pieces (opacity), silhouette, formulated and adjacency (tiles), away
-                             // tiles, formulated tiles
+  EXPECT_EQ(images, 6u);  // pieces (opacity), silhouette, formulated and adjacency (tiles), AFT's
+                          // surface (away tiles), formulated tiles
   EXPECT_GE(locations, 14u);
 }
 

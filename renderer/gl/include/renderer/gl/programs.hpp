@@ -30,7 +30,7 @@ enum class ProgramId {
   SilhouettePieces,      // SIL: silhouette pieces and their opacity (anti-aliased)
   PelPieces,             // PEL: PEL pieces and their segments' opacity (anti-aliased)
   CreaseVisibility,      // DM: crease samples' visibility along strokes (anti-aliased)
-  AwayTiles,             // SIL: the tiles that hold an away-facing surface pixel
+  SurfaceAway,           // AFT: the surface program that also marks the away tiles
   TileRects,             // SIL and LAY: the rectangles of pixels near marked tiles they draw
   SurfaceCull,           // AFT: the patches that may face away in view, listed for the draw
   HachureField,          // hachures: the fall-line field of the frame (after TFT; not a timed pass)
@@ -51,7 +51,7 @@ inline constexpr std::array kAllPrograms = {
     ProgramId::PelFields,        ProgramId::PelExtract,       ProgramId::PelDraw,
     ProgramId::SurfaceId,        ProgramId::Adjacency,        ProgramId::EdgeClassify,
     ProgramId::EdgeDraw,         ProgramId::SilhouettePieces, ProgramId::PelPieces,
-    ProgramId::CreaseVisibility, ProgramId::AwayTiles,        ProgramId::TileRects,
+    ProgramId::CreaseVisibility, ProgramId::SurfaceAway,      ProgramId::TileRects,
     ProgramId::SurfaceCull,      ProgramId::HachureField,     ProgramId::SurfaceSplit,
     ProgramId::SurfaceFlat,      ProgramId::Formulated,       ProgramId::FormulatedFacing,
     ProgramId::FormulatedTiles,  ProgramId::CompositeCreases};
