@@ -27,6 +27,11 @@ void main() {
   float fringe = u_style.x != 0.0 ? 2.0 : 0.0;
 #ifdef TR_CREASE_FOOTPRINT
   fringe += 2.0;  // a pixel more each side: every pixel DM's quad covered, whatever its rounding
+  // Anti-aliased, a segment none of whose samples is shown drew nothing (line.frag.glsl).
+  if (u_style.x != 0.0 && samples[selected[q]].shown == 0u) {
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+    return;
+  }
 #endif
   gl_Position = segment_quad_vertex(clip[0], clip[1], width[0] + fringe, width[1] + fringe, k);
   v_ends = vec4(window_of(clip[0]), window_of(clip[1]));

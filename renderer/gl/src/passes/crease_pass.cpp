@@ -130,6 +130,7 @@ void CreasePass::draw_again(const GlObject& program) const {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SEGMENTS, l.seg.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_OPACITY, opacity_buf_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SELECTED, selected_buf_.id());
+  if (antialias_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SAMPLES, samples_buf_.id());
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
   glUseProgram(program.id());
