@@ -63,19 +63,26 @@ void sample_segment(uint s) {
     float d0 = window_depth(c0), d1 = window_depth(c1), len = distance(a, b);
     m.n = uint(clamp(ceil(len), 1.0, float(TR_STROKE_SAMPLES)));
     m.step = len / float(m.n);
-    ivec2 last = ivec2(u_viewport.xy) - 1;
     for (uint k = 0u; k < m.n; ++k) {
       float t = (float(k) + 0.5) / float(m.n);
       vec2 q = mix(a, b, t);
       if (any(lessThan(q, vec2(0.0))) || any(greaterThanEqual(q, u_viewport.xy))) continue;  // off the image
       float line = mix(d0, d1, t);  // window depth is affine along the segment on screen
       ivec2 p = ivec2(floor(q));
+      // The 3 x 3 window about p, rows dy = -1, 0, 1, in that order (ties keep the first), from
+      // four gathers (each the 2 x 2 at columns and rows c - 1 and c: x (c-1, c), y (c, c),
+      // z (c, c-1), w (c-1, c-1)); beyond the image's edge they clamp as texelFetch's
+      // coordinates were clamped.
+      vec2 fs = u_viewport.xy;
+      vec4 ga = textureGather(u_toward, vec2(p) / fs), gb = textureGather(u_toward, vec2(p + ivec2(1, 0)) / fs);
+      vec4 gc = textureGather(u_toward, vec2(p + ivec2(0, 1)) / fs);
+      float gd = textureGather(u_toward, vec2(p + ivec2(1, 1)) / fs).y;
+      float window[9] = float[9](ga.w, ga.z, gb.z, ga.x, ga.y, gb.y, gc.x, gc.y, gd);
       float farthest = -1.0, farthest_depth = 0.0;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          float d = texelFetch(u_toward, clamp(p + ivec2(dx, dy), ivec2(0), last), 0).r;
-          if (far_of(d) < 1.0 && far_of(d) > farthest) farthest = far_of(d), farthest_depth = d;
-        }
+      for (int j = 0; j < 9; ++j) {
+        float d = window[j];
+        if (far_of(d) < 1.0 && far_of(d) > farthest) farthest = far_of(d), farthest_depth = d;
+      }
       if (farthest < 0.0) continue;  // no surface about the sample
       if (far_of(line) <= farthest) m.visible |= 1u << k;
       else if (eye_distance(line) - eye_distance(farthest_depth) <= u_strokes.y) m.bridgeable |= 1u << k;
