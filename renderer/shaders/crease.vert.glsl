@@ -6,8 +6,6 @@
 // width. Anti-aliased: the quad holds the segment's capsule and a one-pixel fringe, and the
 // segment has its opacity (crease_bridge.comp: fade instead of cut, gaps bridged) and its
 // samples' visibility along the stroke (crease_visibility.comp, read by line.frag).
-// With TR_CREASE_FOOTPRINT (crease_footprint.glsl), the quads a pixel wider each side: LAY
-// composites the creases over the copied surface only on the pixels they cover.
 layout(std430, binding = TR_SSBO_CREASE_SELECTED) readonly buffer Selected { uint selected[]; };
 layout(std430, binding = TR_SSBO_CREASE_OPACITY) readonly buffer Opacity { float opacity[]; };
 flat out vec4 v_ends;
@@ -25,14 +23,6 @@ void main() {
     width[j] = mix(u_lines.x, u_lines.y, sqrt(clamp(nf.w, 0.0, 1.0)));
   }
   float fringe = u_style.x != 0.0 ? 2.0 : 0.0;
-#ifdef TR_CREASE_FOOTPRINT
-  fringe += 2.0;  // a pixel more each side: every pixel DM's quad covered, whatever its rounding
-  // Anti-aliased, a segment none of whose samples is shown drew nothing (line.frag.glsl).
-  if (u_style.x != 0.0 && samples[selected[q]].shown == 0u) {
-    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
-    return;
-  }
-#endif
   gl_Position = segment_quad_vertex(clip[0], clip[1], width[0] + fringe, width[1] + fringe, k);
   v_ends = vec4(window_of(clip[0]), window_of(clip[1]));
   v_shape = vec3(0.5 * width[0], 0.5 * width[1], opacity[selected[q]]);

@@ -8,10 +8,17 @@ flat in vec4 v_ends;   // the segment's ends, window pixels
 flat in vec3 v_shape;  // radius at each end (pixels), opacity
 #ifdef TR_CREASE_SAMPLES
 flat in uint v_segment;
+// Creases: the tiles their fragments cover (LAY composites them over the copied surface
+// only there).
+layout(binding = TR_IMG_CREASE_TILES, r8) uniform writeonly image2D u_crease_tiles;
+void mark_tile() { imageStore(u_crease_tiles, ivec2(gl_FragCoord.xy) / TR_SILHOUETTE_TILE, vec4(1.0)); }
+#else
+void mark_tile() {}
 #endif
 layout(location = 0) out vec4 o_colour;
 void main() {
   if (u_style.x == 0.0) {
+    mark_tile();
     o_colour = vec4(1.0);
     return;
   }
@@ -43,5 +50,7 @@ void main() {
     }
   if (t < 0.0 || far_of(gl_FragCoord.z) > t) discard;
 #endif
-  o_colour = vec4(v_shape.z * capsule_coverage(gl_FragCoord.xy, v_ends.xy, v_ends.zw, v_shape.x, v_shape.y));
+  float cover = v_shape.z * capsule_coverage(gl_FragCoord.xy, v_ends.xy, v_ends.zw, v_shape.x, v_shape.y);
+  if (cover > 0.0) mark_tile();
+  o_colour = vec4(cover);
 }

@@ -101,8 +101,7 @@ std::vector<ProgramSpec> other_programs(const Stages& s) {
        {}},
       {"formulated_tiles", s.compute({"formulated_tiles.comp.glsl"}), {}},
       {"composite_creases",
-       {{GL_VERTEX_SHADER,
-         {s.c, "crease_footprint.glsl", "crease_data.glsl", "crease_samples.glsl", "crease.vert.glsl"}},
+       {{GL_VERTEX_SHADER, {s.c, "tile_rects_list.glsl", "tile_rects.vert.glsl"}},
         {GL_FRAGMENT_SHADER, {s.c, "composite.frag.glsl"}}},
        {}},
   };

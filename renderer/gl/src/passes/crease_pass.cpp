@@ -56,7 +56,12 @@ CreasePass::Level CreasePass::upload(const CreaseGeometry& creases,
 CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, bool enabled,
                        bool antialias, std::shared_ptr<const std::vector<CreaseLevel>> levels,
                        bool merged)
-    : PassBase(DM), s_(scene), enabled_(enabled), antialias_(antialias), target_(scene, antialias) {
+    : PassBase(DM),
+      s_(scene),
+      enabled_(enabled),
+      antialias_(antialias),
+      tiles_(scene.make_tile_texture()),
+      target_(scene, antialias) {
   if (!creases || creases->n_segments() == 0) return;
   levels_.push_back(upload(*creases, segment_chains(*creases)));
   if (merged) {
@@ -85,6 +90,7 @@ CreasePass::CreasePass(const SceneGpu& scene, const CreaseGeometry* creases, boo
 
 void CreasePass::execute(const FrameInputs&) {
   target_.clear(s_);
+  glClearTexImage(tiles_.id(), 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
   if (!active()) return;
   const Level& l = levels_[std::size_t(level_)];
   const std::size_t nv = l.n_vertices, ns = l.n_segments;
@@ -120,24 +126,9 @@ void CreasePass::execute(const FrameInputs&) {
     }
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   }
+  glBindImageTexture(TR_IMG_CREASE_TILES, tiles_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R8);
   target_.draw_indirect(s_, draw_prog_, cmd_buf_);
-}
-
-void CreasePass::draw_again(const GlObject& program) const {
-  if (!active()) return;
-  const Level& l = levels_[std::size_t(level_)];
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_VERTICES, l.cv.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SEGMENTS, l.seg.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_OPACITY, opacity_buf_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SELECTED, selected_buf_.id());
-  if (antialias_) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_CREASE_SAMPLES, samples_buf_.id());
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_BLEND);
-  glUseProgram(program.id());
-  glBindVertexArray(s_.empty_vao.id());
-  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, cmd_buf_.id());
-  glDrawArraysIndirect(GL_TRIANGLES, nullptr);
-  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
 }
 
 std::vector<SegmentSamples> CreasePass::read_samples() const {

@@ -270,16 +270,15 @@ void CompositePass::execute(const FrameInputs&) {
   };
   // Every pixel without the silhouettes, then the pixels near them again with them
   // (composite.frag.glsl). Where the surface is the base, it is copied (llvmpipe: a copy of
-  // memory, not a pass over every pixel), and the creases composited again only on the
-  // pixels of their quads, which hold every pixel they cover: the composite of a pixel
-  // they do not cover is its surface's colour. A pixel the quads overlap takes the same
-  // value from each (no blending).
+  // memory, not a pass over every pixel), and the creases composited only on the tiles
+  // their fragments covered (CreasePass::tiles): the composite of a pixel no crease
+  // covers is its surface's colour.
   if (copy_base_) {
     glCopyImageSubData(s_.surface_colour.id(), GL_TEXTURE_2D, 0, 0, 0, 0, colour_.id(),
                        GL_TEXTURE_2D, 0, 0, 0, 0, s_.width, s_.height, 1);
     if (creases_prog_.id()) {
       use(creases_prog_.id());
-      creases_.draw_again(creases_prog_);
+      s_.draw_near_tiles(creases_.tiles(), 0, creases_prog_);
     }
   } else {
     use(prog_.id());

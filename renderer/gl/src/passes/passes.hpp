@@ -210,9 +210,8 @@ class CreasePass : public PassBase {
   // Anti-aliased lines: every segment's samples of the last frame (stroke_visibility.hpp;
   // n = 0 where it was not drawn). Empty otherwise.
   std::vector<SegmentSamples> read_samples() const;
-  // The last frame's selected segments again with `program` (its vertex shader
-  // crease.vert.glsl) into the bound framebuffer, without blending or depth test.
-  void draw_again(const GlObject& program) const;
+  // 1 in each TR_SILHOUETTE_TILE tile a crease fragment of the last frame covers (r8).
+  const GlObject& tiles() const { return tiles_; }
 
  private:
   void execute(const FrameInputs&) override;
@@ -229,6 +228,7 @@ class CreasePass : public PassBase {
   GlObject score_buf_, opacity_buf_, cmd_buf_, selected_buf_,
       samples_buf_;  // sized for level 0, the largest
   GlObject score_prog_, bridge_prog_, select_prog_, draw_prog_, visibility_prog_;
+  GlObject tiles_;
   LineTarget target_;
 };
 

@@ -72,7 +72,8 @@ const std::map<std::string, int> kSamplers = {{"u_toward", TR_TEX_TOWARD_DEPTH},
 const std::map<std::string, int> kImages = {{"u_opacity", TR_IMG_SILHOUETTE_OPACITY},
                                             {"u_tiles", TR_IMG_SILHOUETTE_TILES},
                                             {"u_away_tiles", TR_IMG_AWAY_TILES},
-                                            {"u_formulated_marks", TR_IMG_FORMULATED_TILES}};
+                                            {"u_formulated_marks", TR_IMG_FORMULATED_TILES},
+                                            {"u_crease_tiles", TR_IMG_CREASE_TILES}};
 const std::map<std::string, int> kUniformLocations = {
     {"u_mode", TR_LOC_SURFACE_MODE},
     {"u_flat_coarse", TR_LOC_FLAT_COARSE},
@@ -218,8 +219,8 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
                              // tile rects 2, composite 8 + 10 (with silhouettes)
                              // + 8 (on the crease quads), adjacency 2, crease visibility and
                              // PEL draw 1 each, pieces 1, hachure field 2
-  EXPECT_EQ(images, 6u);  // pieces (opacity), silhouette, formulated and adjacency (tiles), AFT's
-                          // surface (away tiles), formulated tiles
+  EXPECT_EQ(images, 7u);  // pieces (opacity), silhouette, formulated and adjacency (tiles), AFT's
+                          // surface (away tiles), formulated tiles, crease draw (tiles)
   EXPECT_GE(locations, 14u);
 }
 

@@ -152,11 +152,13 @@
    where LAY looks for silhouettes near a pixel before its window; the tiles that hold an
    away-facing surface pixel (r8, 1), where SIL looks for silhouettes; the tiles' classes
    for the formulated silhouettes, then the tiles near which they may lie (r8, 1), where SIL
-   looks for them (formulated_tiles.comp.glsl). */
+   looks for them (formulated_tiles.comp.glsl); the tiles a crease covers (r8, 1), where LAY
+   composites the creases over the copied surface. */
 #define TR_IMG_SILHOUETTE_OPACITY 0
 #define TR_IMG_SILHOUETTE_TILES 1
 #define TR_IMG_AWAY_TILES 2
 #define TR_IMG_FORMULATED_TILES 3
+#define TR_IMG_CREASE_TILES 4
 #define TR_SILHOUETTE_TILE 8
 
 /* Vertex attributes of the surface. */

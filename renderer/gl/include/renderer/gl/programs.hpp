@@ -42,7 +42,7 @@ enum class ProgramId {
                          // before Formulated
   FormulatedTiles,       // SIL: the tiles' classes for the formulated silhouettes (with
                          // TR_FORMULATED_MARKS: the tiles near which they may lie)
-  CompositeCreases,      // LAY over the copied surface: the pixels of DM's quads, with creases
+  CompositeCreases,      // LAY over the copied surface: the tiles DM's creases cover, with them
 };
 inline constexpr std::array kAllPrograms = {
     ProgramId::Surface,          ProgramId::PnCapture,        ProgramId::CreaseScore,
