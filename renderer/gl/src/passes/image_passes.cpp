@@ -1,6 +1,7 @@
 // SIL and LAY: full-screen passes over the other passes' images.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <numbers>
 #include <stdexcept>
 
@@ -138,8 +139,11 @@ void SilhouettePass::draw_formulated(const FormulatedView& f) const {
     glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
     glBindTextureUnit(TR_TEX_FORMULATED_TILES, out->id());
   }
+  // The test at p, within TR_FORMULATED_REACH + 1 of a marked tile, reads the facing at
+  // p + k step, |k| <= TR_FORMULATED_REACH: the facing is drawn that far more along the step.
   glBindFramebuffer(GL_FRAMEBUFFER, facing_fbo_.id());
-  s_.draw_near_tiles(formulated_tiles_, 2 * TR_FORMULATED_REACH + 1, facing_prog_);
+  s_.draw_near_tiles(formulated_tiles_, TR_FORMULATED_REACH * (1 + std::abs(f.step_x)) + 1,
+                     TR_FORMULATED_REACH * (1 + std::abs(f.step_up)) + 1, facing_prog_);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glBindTextureUnit(TR_TEX_FORMULATED_FACING, facing_.id());
   s_.draw_near_tiles(formulated_tiles_, TR_FORMULATED_REACH + 1, formulated_prog_);

@@ -81,8 +81,13 @@ struct SceneGpu {
   GlObject make_tile_texture() const;
   // Draws with `program` (its vertex shader tile_rects.vert.glsl) only the pixels within
   // `reach` pixels of a TR_SILHOUETTE_TILE tile that `marks` (r8, one texel per tile)
-  // marks: tile_rects.comp.glsl lists their rectangles and the draw command.
-  void draw_near_tiles(const GlObject& marks, int reach, const GlObject& program) const;
+  // marks, or within reach_x columns and reach_y rows: tile_rects.comp.glsl lists their
+  // rectangles and the draw command.
+  void draw_near_tiles(const GlObject& marks, int reach, const GlObject& program) const {
+    draw_near_tiles(marks, reach, reach, program);
+  }
+  void draw_near_tiles(const GlObject& marks, int reach_x, int reach_y,
+                       const GlObject& program) const;
   GlObject tile_rects_buf, tile_rects_prog;
 };
 

@@ -55,14 +55,15 @@ SceneGpu::SceneGpu(const terrain::GridMesh& mesh, int w, int h, bool rev, bool n
 
 GlObject SceneGpu::make_tile_texture() const { return make_texture(GL_R8, tiles_x(), tiles_y()); }
 
-void SceneGpu::draw_near_tiles(const GlObject& marks, int reach, const GlObject& program) const {
+void SceneGpu::draw_near_tiles(const GlObject& marks, int reach_x, int reach_y,
+                               const GlObject& program) const {
   const GLuint header[4] = {0, 1, 0, 0};
   glNamedBufferSubData(tile_rects_buf.id(), 0, sizeof header, header);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TR_SSBO_TILE_RECTS, tile_rects_buf.id());
   glBindTextureUnit(TR_TEX_TILE_MARKS, marks.id());
   glBindTextureUnit(TR_TEX_TOWARD_DEPTH, toward_depth.id());
   glUseProgram(tile_rects_prog.id());
-  glProgramUniform1i(tile_rects_prog.id(), TR_LOC_TILE_REACH, reach);
+  glProgramUniform2i(tile_rects_prog.id(), TR_LOC_TILE_REACH, reach_x, reach_y);
   glDispatchCompute(dispatch_groups_x(tile_count()), dispatch_groups_y(tile_count()), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
   glUseProgram(program.id());
