@@ -1,10 +1,10 @@
 // TFT (u_mode 0): toward-facing fragments write the shaded colour and the toward depth.
 // AFT (u_mode 1): away-facing fragments write the away depth only (and, surface_away.glsl,
-// mark their tiles). Facing uses the PN
-// normal and the line of sight: toward when n . (eye - p) > 0. On a coarse patch (levels
-// of detail) the fine normals it carries may turn from the eye where its geometry faces
-// it, and the ray would find no surface (a hole): there facing is the geometry's, the
-// tessellated triangle's winding (gl_FrontFacing); its shading keeps the fine normals.
+// mark their tiles). Facing uses the PN normal and the line of sight: toward when
+// n . (eye - p) > 0. On a coarse patch (levels of detail) the fine normals it carries may
+// turn from the eye where its geometry faces it, and the ray would find no surface (a
+// hole): there facing is the geometry's, the tessellated triangle's winding
+// (gl_FrontFacing); its shading keeps the fine normals.
 in vec3 f_pos;
 in vec3 f_nrm;
 flat in float f_coarse;

@@ -2,8 +2,9 @@
 // algorithm for parallel connected-component labelling on GPUs"), for the piece rules of
 // silhouettes (silhouette_pieces.comp.glsl, over pixels) and PELs (pel_pieces.comp.glsl,
 // over segments). label[i] is the parent of item i, TR_PIECE_ROOT for a root (set before
-// a frame's pieces: the buffer cleared, or each silhouette pixel's as it is listed); a parent is always a smaller index of the
-// same piece, so the root is the piece's least index, whatever order the joins run in.
+// a frame's pieces: the buffer cleared, or each silhouette pixel's as it is listed); a
+// parent is always a smaller index of the same piece, so the root is the piece's least
+// index, whatever order the joins run in.
 // piece_size[] (0 before the frame's pieces) is for the caller's per-root sums.
 #ifndef TR_PIECE_BUFFERS  // silhouette_list.glsl declares them, for the pixels it lists
 layout(std430, binding = TR_SSBO_PIECE_LABELS) coherent buffer PieceLabels { uint label[]; };
