@@ -241,7 +241,9 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
                                     const Style& style,
                                     const std::vector<const VectorLayer*>& over) {
   HachureField field = r.hachure_field(res.view, style.hachure_light_tone);  // on the GPU
-  if (!scene.mesh.filled.empty())
+  // (Only where some vertex is undrained: a mesh whose source had no-data only beyond it,
+  // or only voids it filled, has none.)
+  if (!std::all_of(scene.mesh.filled.begin(), scene.mesh.filled.end(), terrain::drained))
     leave_out_filled(field, scene.mesh, res.view, buffers.toward_depth);
   // The widest hachure is 1.5 times the width (hachure_paths: by its tone); its cap reaches
   // half that past its end.
