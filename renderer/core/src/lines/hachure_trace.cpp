@@ -21,14 +21,22 @@ namespace {
 
 using Eigen::Vector2f;
 
-// The points of the accepted hachures, by cells of the occupancy grid.
+// The points of the accepted hachures, by cells of the occupancy grid. The cells' vectors
+// are kept from trace to trace on the thread (emptied, not freed): a frame's hundred
+// thousand points would otherwise grow and free each cell's vector every frame.
 class Occupancy {
  public:
   Occupancy(int width, int height, double cell)
       : cell_(cell),
         cols_(long(std::ceil(width / cell)) + 1),
         rows_(long(std::ceil(height / cell)) + 1),
-        cells_(std::size_t(cols_ * rows_)) {}
+        cells_(std::move(pool())) {
+    cells_.resize(std::size_t(cols_ * rows_));
+    for (auto& c : cells_) c.clear();
+  }
+  ~Occupancy() { pool() = std::move(cells_); }
+  Occupancy(const Occupancy&) = delete;
+  Occupancy& operator=(const Occupancy&) = delete;
   // A point of an accepted hachure: where, its local spacing, its hachure and row.
   struct Entry {
     float x, y, spacing;
@@ -128,6 +136,10 @@ class Occupancy {
     for (long v = b.v0; v <= b.v1; ++v)
       for (long u = b.u0; u <= b.u1; ++u)
         if ((u != cu || v != cv) && cell(u, v)) return;
+  }
+  static std::vector<std::vector<Entry>>& pool() {
+    static thread_local std::vector<std::vector<Entry>> cells;
+    return cells;
   }
   double cell_;
   long cols_, rows_;
@@ -347,6 +359,8 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
     h.points.assign(up.rbegin(), up.rend());
     h.points.push_back(seed);
     h.points.insert(h.points.end(), down.begin(), down.end());
+    h.tone.reserve(h.points.size());
+    h.slope.reserve(h.points.size());
     for (const Vector2f& p : h.points) {
       h.tone.push_back(f.tone[tracer.at(p)]);
       h.slope.push_back(f.slope[tracer.at(p)]);
