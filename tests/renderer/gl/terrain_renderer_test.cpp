@@ -1742,7 +1742,8 @@ TEST(RendererGl, MergedCreasesDrawWhereTheFullDetailLinesLie) {
 }
 
 // A shaded frame on an opaque background composites its creases over a copy of the surface
-// TFT drew, only on the pixels of the crease quads (CompositePass::surface_is_base). With
+// TFT drew, only on the 8 x 8 tiles their fragments covered (CompositePass::surface_is_base,
+// CreasePass::tiles). With
 // the edges layer on (here with no edge to draw: only creases of more than 180 degrees),
 // the composite is drawn over every pixel instead: the two frames are the same to the
 // byte, with the creases and silhouettes, pixel-exact and anti-aliased, from a low eye

@@ -217,7 +217,7 @@ TEST(GlContract, EveryProgramMatchesTheContract) {
   EXPECT_GE(blocks, 14u);
   EXPECT_EQ(samplers, 45u);  // silhouette 4, formulated 3, formulated facing 2, formulated tiles 1,
                              // tile rects 2, composite 8 + 10 (with silhouettes)
-                             // + 8 (on the crease quads), adjacency 2, crease visibility and
+                             // + 8 (on the crease tiles), adjacency 2, crease visibility and
                              // PEL draw 1 each, pieces 1, hachure field 2
   EXPECT_EQ(images, 7u);  // pieces (opacity), silhouette, formulated and adjacency (tiles), AFT's
                           // surface (away tiles), formulated tiles, crease draw (tiles)
