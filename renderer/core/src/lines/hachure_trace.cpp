@@ -252,13 +252,15 @@ struct Tracer {
     return !is_near;
   }
 
-  // From `seed` along the fall line (sign +1 downhill, -1 uphill), the points after it. A
-  // trace ends within twice the frame's diagonal, and where it comes back to where it was
-  // (a fall line that loops, on a surface steeper than the field resolves).
-  std::vector<Vector2f> run(const Vector2f& seed, float sign, long self, double length) const {
+  // From `seed` along the fall line (sign +1 downhill, -1 uphill), the points after it, into
+  // `out` (emptied first; its memory kept from trace to trace). A trace ends within twice
+  // the frame's diagonal, and where it comes back to where it was (a fall line that loops,
+  // on a surface steeper than the field resolves).
+  void run(const Vector2f& seed, float sign, long self, double length,
+           std::vector<Vector2f>& out) const {
     constexpr float kStep = 0.5f;
     constexpr std::size_t kLoopSteps = 4;  // a point this many steps back is not its neighbour
-    std::vector<Vector2f> out;
+    out.clear();
     Vector2f p = seed, last = sign * fall_at(f, seed);
     const long r = row(seed);
     const double longest =
@@ -290,7 +292,6 @@ struct Tracer {
       out.push_back(next);
       p = next, last = d2, length += kStep;
     }
-    return out;
   }
 };
 
@@ -351,8 +352,9 @@ std::vector<Hachure> trace_hachures(const HachureField& f, const HachureRule& ru
     const long id = long(out.size());
     const long row = tracer.row(seed);
     if (occupied.near(seed, 1.0, tracer.spacing(seed), -1, row, &witness)) return;
-    const std::vector<Vector2f> up = tracer.run(seed, -1.0f, id, 0.0);
-    const std::vector<Vector2f> down = tracer.run(seed, 1.0f, id, 0.5 * double(up.size()));
+    static thread_local std::vector<Vector2f> up, down;
+    tracer.run(seed, -1.0f, id, 0.0, up);
+    tracer.run(seed, 1.0f, id, 0.5 * double(up.size()), down);
     if (0.5 * double(up.size() + down.size()) < rule.min_length) return;
     Hachure h;
     h.row = row;
