@@ -190,9 +190,11 @@ VectorLayer silhouette_layer(const FrameResult& res, const FrameBuffers& buffers
 namespace {
 
 // Ground that dem2mesh --fill-nodata invented (GridMesh::filled) gets no hachures, as it
-// gets no drainage: its pixels count as no terrain.
+// gets no drainage: its pixels count as no terrain. Nothing to do where every vertex is
+// drained (no no-data under the mesh, or only voids it filled).
 void leave_out_filled(HachureField& field, const terrain::GridMesh& mesh, const View& view,
                       const std::vector<float>& toward_depth) {
+  if (std::all_of(mesh.filled.begin(), mesh.filled.end(), terrain::drained)) return;
   const auto& t = mesh.topo;
   const Eigen::Matrix4d inverse = view.view_projection().inverse();
   for (int v = 0; v < field.height; ++v)
@@ -241,10 +243,7 @@ TracedHachures trace_frame_hachures(const Scene& scene, const TerrainRenderer& r
                                     const Style& style,
                                     const std::vector<const VectorLayer*>& over) {
   HachureField field = r.hachure_field(res.view, style.hachure_light_tone);  // on the GPU
-  // (Only where some vertex is undrained: a mesh whose source had no-data only beyond it,
-  // or only voids it filled, has none.)
-  if (!std::all_of(scene.mesh.filled.begin(), scene.mesh.filled.end(), terrain::drained))
-    leave_out_filled(field, scene.mesh, res.view, buffers.toward_depth);
+  leave_out_filled(field, scene.mesh, res.view, buffers.toward_depth);
   // The widest hachure is 1.5 times the width (hachure_paths: by its tone); its cap reaches
   // half that past its end.
   keep_off_the_outline(field, int(std::ceil(0.75 * style.hachure_width)));
